@@ -1,0 +1,182 @@
+#include "encode/fits.h"
+
+#include <ctype.h>
+#include <fitsio.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "encode/atomic.h"
+
+/* ---- header cards ------------------------------------------------------ */
+
+/* Returns the next free card with its key set (upper case, as FITS wants),
+ * or NULL for an unusable key or a full header. */
+static orr_fits_card *new_card(orr_fits_header *h, const char *key, orr_card_type type, const char *comment)
+{
+    size_t len = key ? strlen(key) : 0;
+    if (len == 0 || len > 8 || h->n >= ORR_FITS_MAX_CARDS)
+        return NULL;
+    orr_fits_card *c = &h->cards[h->n++];
+    memset(c, 0, sizeof *c);
+    for (size_t i = 0; i <= len; i++)
+        c->key[i] = (char)toupper((unsigned char)key[i]);
+    c->type = type;
+    snprintf(c->comment, sizeof c->comment, "%s", comment ? comment : "");
+    return c;
+}
+
+void orr_fits_add_string(orr_fits_header *h, const char *key, const char *value, const char *comment)
+{
+    orr_fits_card *c = new_card(h, key, ORR_CARD_STRING, comment);
+    if (c)
+        snprintf(c->str, sizeof c->str, "%s", value ? value : "");
+}
+
+void orr_fits_add_double(orr_fits_header *h, const char *key, double value, const char *comment)
+{
+    orr_fits_card *c = new_card(h, key, ORR_CARD_DOUBLE, comment);
+    if (c)
+        c->dbl = value;
+}
+
+void orr_fits_add_long(orr_fits_header *h, const char *key, long long value, const char *comment)
+{
+    orr_fits_card *c = new_card(h, key, ORR_CARD_LONG, comment);
+    if (c)
+        c->lng = value;
+}
+
+void orr_fits_add_bool(orr_fits_header *h, const char *key, int value, const char *comment)
+{
+    orr_fits_card *c = new_card(h, key, ORR_CARD_BOOL, comment);
+    if (c)
+        c->lng = value != 0;
+}
+
+/* ---- writing ------------------------------------------------------------ */
+
+/* cfitsio takes non-const pointers for values it only reads, hence the
+ * copies. update (not write) so a caller's card replaces ours of that name. */
+static int write_card(fitsfile *f, const orr_fits_card *c, int *status)
+{
+    char key[sizeof c->key], comment[sizeof c->comment];
+    memcpy(key, c->key, sizeof key);
+    memcpy(comment, c->comment, sizeof comment);
+    switch (c->type) {
+    case ORR_CARD_STRING: {
+        char str[sizeof c->str];
+        memcpy(str, c->str, sizeof str);
+        return fits_update_key(f, TSTRING, key, str, comment, status);
+    }
+    case ORR_CARD_DOUBLE: {
+        double d = c->dbl;
+        return fits_update_key(f, TDOUBLE, key, &d, comment, status);
+    }
+    case ORR_CARD_LONG: {
+        LONGLONG v = c->lng;
+        return fits_update_key(f, TLONGLONG, key, &v, comment, status);
+    }
+    case ORR_CARD_BOOL: {
+        int b = c->lng != 0;
+        return fits_update_key(f, TLOGICAL, key, &b, comment, status);
+    }
+    }
+    return *status;
+}
+
+static int write_string_key(fitsfile *f, const char *key, const char *value, const char *comment, int *status)
+{
+    char k[16], v[ORR_PLANE_NAME_MAX], c[72];
+    snprintf(k, sizeof k, "%s", key);
+    snprintf(v, sizeof v, "%s", value);
+    snprintf(c, sizeof c, "%s", comment);
+    return fits_update_key(f, TSTRING, k, v, c, status);
+}
+
+/* One image HDU: header, then the rows bottom-up, because FITS pixel (1,1)
+ * is the lower left corner while plane row 0 is the top of the picture. */
+static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_fits_header *header, int *status)
+{
+    long naxes[2] = {p->width, p->height};
+    fits_create_img(f, FLOAT_IMG, 2, naxes, status);
+    if (p->name[0])
+        write_string_key(f, "EXTNAME", p->name, "plane", status);
+    if (p->unit[0])
+        write_string_key(f, "BUNIT", p->unit, "unit of the pixel values", status);
+    for (int i = 0; header && i < header->n; i++)
+        write_card(f, &header->cards[i], status);
+    fits_write_date(f, status);
+    for (int y = 0; y < p->height && *status == 0; y++) {
+        LONGLONG first[2] = {1, p->height - y};
+        float *row = p->data + (size_t)y * (size_t)p->width;
+        fits_write_pixll(f, TFLOAT, first, p->width, row, status);
+    }
+    return *status;
+}
+
+static orr_status check_planes(const char *path, const orr_plane *planes, int nplanes, orr_error *err)
+{
+    if (!path || !path[0])
+        return orr_fail(err, ORR_ERR_USAGE, "FITS output: no file name given");
+    if (!planes || nplanes < 1)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: no image plane to write", path);
+    for (int i = 0; i < nplanes; i++) {
+        const orr_plane *p = &planes[i];
+        if (!p->data || p->width <= 0 || p->height <= 0)
+            return orr_fail(err, ORR_ERR_USAGE, "%s: plane %d (%s) is empty", path, i + 1, p->name);
+        if (p->width != planes[0].width || p->height != planes[0].height)
+            return orr_fail(err, ORR_ERR_USAGE, "%s: plane %d (%s) is %d x %d but plane 1 is %d x %d", path,
+                            i + 1, p->name, p->width, p->height, planes[0].width, planes[0].height);
+    }
+    return ORR_OK;
+}
+
+/* cfitsio's short text for the status plus the first detail on its stack. */
+static orr_status fits_failure(const char *path, int status, orr_error *err)
+{
+    char text[FLEN_STATUS] = "", detail[FLEN_ERRMSG] = "";
+    fits_get_errstatus(status, text);
+    fits_read_errmsg(detail);
+    fits_clear_errmsg();
+    if (detail[0])
+        return orr_fail(err, ORR_ERR_IO, "%s: cannot write FITS file: %s (%s)", path, text, detail);
+    return orr_fail(err, ORR_ERR_IO, "%s: cannot write FITS file: %s", path, text);
+}
+
+orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes,
+                          const orr_fits_header *header, orr_error *err)
+{
+    orr_status st = check_planes(path, planes, nplanes, err);
+    if (st != ORR_OK)
+        return st;
+    orr_atomic_file af;
+    st = orr_atomic_begin(&af, path, err);
+    if (st != ORR_OK)
+        return st;
+
+    /* cfitsio's disk-file variant does not parse the name for its extended
+     * syntax (brackets in a file name are harmless) but neither does it
+     * accept "!" to overwrite, so the empty file mkstemp made is removed and
+     * cfitsio creates the name afresh; it refuses should anyone else have
+     * taken the name meanwhile, and then that file is not ours to remove. */
+    unlink(af.temp_path);
+    fitsfile *f = NULL;
+    int status = 0;
+    if (fits_create_diskfile(&f, af.temp_path, &status) != 0) {
+        af.temp_path[0] = '\0';
+        return fits_failure(path, status, err);
+    }
+    for (int i = 0; i < nplanes && status == 0; i++)
+        write_plane_hdu(f, &planes[i], header, &status);
+    int close_status = 0;
+    if (f)
+        fits_close_file(f, &close_status);
+    if (status == 0)
+        status = close_status;
+    if (status != 0) {
+        orr_atomic_abort(&af);
+        return fits_failure(path, status, err);
+    }
+    return orr_atomic_commit(&af, err);
+}

@@ -1,0 +1,42 @@
+/* FITS output through cfitsio: each plane an image HDU of float32 (the first
+ * in the primary HDU, so every viewer opens it by default), with EXTNAME and
+ * BUNIT from the plane and the header cards the caller supplies.
+ * Rows are written bottom-up (FITS pixel (1,1) is the lower left), so DS9
+ * shows the same orientation as the PNG. */
+#ifndef ORR_ENCODE_FITS_H
+#define ORR_ENCODE_FITS_H
+
+#include "core/error.h"
+#include "splat/plane.h"
+
+#define ORR_FITS_MAX_CARDS 64
+
+typedef enum { ORR_CARD_STRING, ORR_CARD_DOUBLE, ORR_CARD_LONG, ORR_CARD_BOOL } orr_card_type;
+
+typedef struct orr_fits_card {
+    char key[9];        /* at most 8 characters, upper case */
+    orr_card_type type;
+    char str[69];
+    double dbl;
+    long long lng;      /* also the BOOL value (0 or 1) */
+    char comment[48];
+} orr_fits_card;
+
+typedef struct orr_fits_header {
+    int n;
+    orr_fits_card cards[ORR_FITS_MAX_CARDS];
+} orr_fits_header;
+
+/* Append a card; keys longer than 8 characters or a full header are
+ * programming errors and are ignored with the header left unchanged. */
+void orr_fits_add_string(orr_fits_header *h, const char *key, const char *value, const char *comment);
+void orr_fits_add_double(orr_fits_header *h, const char *key, double value, const char *comment);
+void orr_fits_add_long(orr_fits_header *h, const char *key, long long value, const char *comment);
+void orr_fits_add_bool(orr_fits_header *h, const char *key, int value, const char *comment);
+
+/* Writes the planes (all the same size) to path, atomically. The header cards
+ * go into every HDU. */
+orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes,
+                          const orr_fits_header *header, orr_error *err);
+
+#endif

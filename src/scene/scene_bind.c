@@ -1,0 +1,730 @@
+#include "scene/scene_bind.h"
+
+#include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+/* ---- the table of keys ---- */
+
+typedef enum {
+    K_STRING,   /* any non-empty text */
+    K_FILENAME, /* non-empty text without '/' */
+    K_PATH,     /* a file path, resolved against the scene's folder */
+    K_NUMBER,   /* double, finite, within the bounds */
+    K_AUTO,     /* double within the bounds, or the word auto (stored as 0) */
+    K_INT,      /* int within ilo..ihi */
+    K_LLONG,    /* long long within ilo..ihi */
+    K_U64,      /* uint64_t within ilo..ihi (ilo >= 0) */
+    K_BOOL,     /* int 0 / 1 */
+    K_ENUM,     /* a word that parse_word accepts */
+    K_VEC3,     /* orr_vec3 from [x, y, z] */
+    K_QUAT,     /* orr_quat from [w, x, y, z] */
+    K_TYPES,    /* unsigned bit mask from a list of particle types 0..5 */
+} key_type;
+
+/* Bounds of K_NUMBER and K_AUTO. */
+enum {
+    HAS_LO = 1,
+    LO_OPEN = 2, /* the bound itself is excluded */
+    HAS_HI = 4,
+    HI_OPEN = 8,
+};
+
+typedef struct key_spec {
+    const char *key;
+    key_type type;
+    size_t offset, size;          /* the field in orr_scene */
+    double lo, hi;                /* K_NUMBER, K_AUTO: with the bounds flags */
+    unsigned bounds;
+    long long ilo, ihi;           /* integers: inclusive range */
+    int (*parse_word)(orr_scene *s, const char *word); /* K_ENUM: 1 when accepted */
+    const char *(*choices)(void); /* K_ENUM: the accepted words, for messages */
+    int has_flag;                 /* a has_* flag to set when the key is present */
+    size_t flag_offset;
+} key_spec;
+
+#define FIELD(m) .offset = offsetof(orr_scene, m), .size = sizeof(((orr_scene *)0)->m)
+#define FLAG(m) .has_flag = 1, .flag_offset = offsetof(orr_scene, m)
+#define IRANGE(a, b) .ilo = (a), .ihi = (b)
+#define ABOVE(a) .lo = (a), .bounds = HAS_LO | LO_OPEN
+
+/* Word parsers for the enumerated keys. */
+static int word_input_format(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "auto") != 0 && strcmp(w, "text") != 0)
+        return 0;
+    snprintf(s->input_format, sizeof s->input_format, "%s", w);
+    return 1;
+}
+static const char *names_input_format(void) { return "auto text"; }
+
+static int word_model_name(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "mw-m31") != 0)
+        return 0;
+    snprintf(s->model_name, sizeof s->model_name, "%s", w);
+    return 1;
+}
+static const char *names_model_name(void) { return "mw-m31"; }
+
+static int word_nonfinite(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "error") == 0)
+        s->skip_nonfinite = 0;
+    else if (strcmp(w, "skip") == 0)
+        s->skip_nonfinite = 1;
+    else
+        return 0;
+    return 1;
+}
+static const char *names_nonfinite(void) { return "error skip"; }
+
+static int word_projection(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "orthographic") == 0)
+        s->projection.kind = ORR_PROJ_ORTHOGRAPHIC;
+    else if (strcmp(w, "perspective") == 0)
+        s->projection.kind = ORR_PROJ_PERSPECTIVE;
+    else
+        return 0;
+    return 1;
+}
+static const char *names_projection(void) { return "orthographic perspective"; }
+
+static int word_deposit(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "ngp") == 0)
+        s->deposit = ORR_DEPOSIT_NGP;
+    else if (strcmp(w, "cic") == 0)
+        s->deposit = ORR_DEPOSIT_CIC;
+    else
+        return 0;
+    return 1;
+}
+static const char *names_deposit(void) { return "ngp cic"; }
+
+static int word_png_bits(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "8") == 0)
+        s->png_bits = 8;
+    else if (strcmp(w, "16") == 0)
+        s->png_bits = 16;
+    else
+        return 0;
+    return 1;
+}
+static const char *names_png_bits(void) { return "8 16"; }
+
+static int word_stretch(orr_scene *s, const char *w) { return orr_stretch_from_name(w, &s->stretch.kind); }
+static const char *names_stretch(void) { return "linear log asinh"; }
+
+static int word_colormap(orr_scene *s, const char *w) { return orr_colormap_from_name(w, &s->colormap); }
+
+#define ENUM(fn) .type = K_ENUM, .parse_word = word_##fn, .choices = names_##fn
+
+static const key_spec KEYS[] = {
+    {.key = "input.file", .type = K_PATH, FIELD(input_file)},
+    {.key = "input.format", ENUM(input_format)},
+    {.key = "input.model.name", ENUM(model_name)},
+    {.key = "input.model.particles", .type = K_LLONG, FIELD(model_particles), IRANGE(100, 2000000000LL)},
+    {.key = "input.model.seed", .type = K_U64, FIELD(model_seed), IRANGE(0, LLONG_MAX)},
+    {.key = "input.model.separation", .type = K_NUMBER, FIELD(model_separation), ABOVE(0)},
+    {.key = "input.weight", .type = K_STRING, FIELD(weight)},
+    {.key = "input.types", .type = K_TYPES, FIELD(type_mask)},
+    {.key = "input.chunk", .type = K_LLONG, FIELD(chunk_size), IRANGE(1, 4294967296LL)},
+    {.key = "input.nonfinite", ENUM(nonfinite)},
+    {.key = "camera.position", .type = K_VEC3, FIELD(camera_position)},
+    {.key = "camera.look_at", .type = K_VEC3, FIELD(camera_look_at), FLAG(has_look_at)},
+    {.key = "camera.direction", .type = K_VEC3, FIELD(camera_direction), FLAG(has_direction)},
+    {.key = "camera.up", .type = K_VEC3, FIELD(camera_up), FLAG(has_up)},
+    {.key = "camera.roll", .type = K_NUMBER, FIELD(camera_roll)},
+    {.key = "camera.quaternion", .type = K_QUAT, FIELD(camera_quaternion), FLAG(has_quaternion)},
+    {.key = "camera.projection", ENUM(projection)},
+    {.key = "camera.width", .type = K_NUMBER, FIELD(projection.ortho_width), ABOVE(0)},
+    {.key = "camera.fov", .type = K_NUMBER, FIELD(projection.fov_deg), .lo = 0, .hi = 180,
+     .bounds = HAS_LO | LO_OPEN | HAS_HI | HI_OPEN},
+    {.key = "camera.near", .type = K_NUMBER, FIELD(projection.near), .lo = 0, .bounds = HAS_LO},
+    {.key = "image.width", .type = K_INT, FIELD(projection.width), IRANGE(1, ORR_IMAGE_SIDE_MAX)},
+    {.key = "image.height", .type = K_INT, FIELD(projection.height), IRANGE(1, ORR_IMAGE_SIDE_MAX)},
+    {.key = "deposit", ENUM(deposit)},
+    {.key = "output.dir", .type = K_STRING, FIELD(out_dir)},
+    {.key = "output.name", .type = K_FILENAME, FIELD(out_name)},
+    {.key = "output.fits", .type = K_BOOL, FIELD(write_fits)},
+    {.key = "output.png", .type = K_BOOL, FIELD(write_png)},
+    {.key = "output.png_bits", ENUM(png_bits)},
+    {.key = "output.stretch", ENUM(stretch)},
+    {.key = "output.white", .type = K_AUTO, FIELD(stretch.white), ABOVE(0)},
+    {.key = "output.white_percentile", .type = K_NUMBER, FIELD(stretch.white_percentile), .lo = 0,
+     .hi = 100, .bounds = HAS_LO | LO_OPEN | HAS_HI},
+    {.key = "output.softening", .type = K_NUMBER, FIELD(stretch.n), ABOVE(0)},
+    {.key = "output.colormap", .type = K_ENUM, .parse_word = word_colormap, .choices = orr_colormap_names},
+    {.key = "output.bunit", .type = K_STRING, FIELD(bunit)},
+};
+
+#define NKEYS (sizeof KEYS / sizeof KEYS[0])
+_Static_assert(NKEYS <= SCENE_MAX_KEYS, "scene_marks has room for every key");
+
+/* Longest dotted path the binder builds; longer keys cannot be in the table. */
+#define PATH_MAX_LEN 128
+
+static const key_spec *find_key(const char *path)
+{
+    for (size_t i = 0; i < NKEYS; i++)
+        if (strcmp(KEYS[i].key, path) == 0)
+            return &KEYS[i];
+    return NULL;
+}
+
+/* A section is a proper prefix of some key, up to a dot ("input.model"). */
+static int is_section(const char *path)
+{
+    size_t len = strlen(path);
+    for (size_t i = 0; i < NKEYS; i++)
+        if (strncmp(KEYS[i].key, path, len) == 0 && KEYS[i].key[len] == '.')
+            return 1;
+    return 0;
+}
+
+const scene_loc *scene_mark(const scene_marks *marks, const char *key)
+{
+    const key_spec *k = find_key(key);
+    if (!k)
+        return NULL;
+    const scene_loc *loc = &marks->loc[k - KEYS];
+    return loc->origin ? loc : NULL;
+}
+
+void scene_loc_prefix(const char *origin, int line, char *buf, size_t size)
+{
+    if (line > 0)
+        snprintf(buf, size, "%s:%d: ", origin, line);
+    else
+        snprintf(buf, size, "%s: ", origin);
+}
+
+/* ---- messages ---- */
+
+/* Fails with ORR_ERR_USAGE and "origin:line: " before the formatted text. */
+static orr_status fail_at(orr_error *err, const char *origin, int line, const char *fmt, ...)
+    __attribute__((format(printf, 4, 5)));
+
+static orr_status fail_at(orr_error *err, const char *origin, int line, const char *fmt, ...)
+{
+    char prefix[ORR_ERROR_MSG_MAX];
+    char text[ORR_ERROR_MSG_MAX];
+    scene_loc_prefix(origin, line, prefix, sizeof prefix);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    return orr_fail(err, ORR_ERR_USAGE, "%s%s", prefix, text);
+}
+
+/* The value's description for "expected ..., got <what>" messages. */
+#define GOT(node) yt_describe((node), got_buf, sizeof got_buf)
+
+/* ---- edit distance, for "did you mean" ---- */
+
+/* Optimal string alignment distance: Levenshtein plus swaps of neighbours,
+ * the usual typing mistakes. Strings longer than 63 give a large distance. */
+static int edit_distance(const char *a, const char *b)
+{
+    enum { N = 64 };
+    size_t la = strlen(a), lb = strlen(b);
+    if (la >= N || lb >= N)
+        return INT_MAX;
+    int prev2[N], prev[N], cur[N];
+    for (size_t j = 0; j <= lb; j++)
+        prev[j] = (int)j;
+    for (size_t i = 1; i <= la; i++) {
+        cur[0] = (int)i;
+        for (size_t j = 1; j <= lb; j++) {
+            int cost = a[i - 1] != b[j - 1];
+            int best = prev[j - 1] + cost;
+            if (prev[j] + 1 < best)
+                best = prev[j] + 1;
+            if (cur[j - 1] + 1 < best)
+                best = cur[j - 1] + 1;
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] && prev2[j - 2] + 1 < best)
+                best = prev2[j - 2] + 1;
+            cur[j] = best;
+        }
+        memcpy(prev2, prev, sizeof prev);
+        memcpy(prev, cur, sizeof cur);
+    }
+    return prev[lb];
+}
+
+static const char *last_part(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    return dot ? dot + 1 : path;
+}
+
+/* The closest key or section to an unknown path: within two edits, or else
+ * the only key with the same last part ("camera.height" -> "image.height"). */
+static void suggest(const char *path, char *buf, size_t size)
+{
+    int best = 3;
+    buf[0] = '\0';
+    for (size_t i = 0; i < NKEYS; i++) {
+        char cand[PATH_MAX_LEN];
+        snprintf(cand, sizeof cand, "%s", KEYS[i].key);
+        /* The key itself, then each of its sections, shortest last. */
+        for (;;) {
+            int d = edit_distance(path, cand);
+            if (d < best) {
+                best = d;
+                snprintf(buf, size, "%s", cand);
+            }
+            char *dot = strrchr(cand, '.');
+            if (!dot)
+                break;
+            *dot = '\0';
+        }
+    }
+    if (buf[0])
+        return;
+    const key_spec *only = NULL;
+    for (size_t i = 0; i < NKEYS; i++) {
+        if (strcmp(last_part(KEYS[i].key), last_part(path)) == 0) {
+            if (only)
+                return; /* ambiguous: say nothing */
+            only = &KEYS[i];
+        }
+    }
+    if (only)
+        snprintf(buf, size, "%s", only->key);
+}
+
+/* ---- scalar conversions (no messages; the callers know the key) ---- */
+
+/* "nan", "-inf", ".inf", "Infinity", ...: words people use for non-finite numbers. */
+static int is_nonfinite_word(const char *t)
+{
+    if (*t == '+' || *t == '-')
+        t++;
+    if (*t == '.')
+        t++;
+    return strcasecmp(t, "nan") == 0 || strcasecmp(t, "inf") == 0 || strcasecmp(t, "infinity") == 0;
+}
+
+/* Returns 1 and *v for a finite decimal number, -1 for a number that is not
+ * finite (1e999, nan, .inf), 0 for anything else. Only digits, signs, '.' and
+ * 'e' are let through to strtod, which keeps out its hex, nan and inf forms,
+ * and the whole text must be used, which keeps out trailing junk. */
+static int parse_number(const char *t, double *v)
+{
+    if (is_nonfinite_word(t))
+        return -1;
+    if (t[0] == '\0' || strspn(t, "0123456789+-.eE") != strlen(t) || !strpbrk(t, "0123456789"))
+        return 0;
+    char *end;
+    *v = strtod(t, &end);
+    if (*end != '\0')
+        return 0;
+    return isfinite(*v) ? 1 : -1;
+}
+
+/* Integers: plain digits (the full long long range), or a number such as
+ * 2e9 or 1.0 whose value is a whole number exactly representable in a double.
+ * Returns 1 and *v, 0 when not an integer, -1 when too large. */
+static int parse_integer(const char *t, long long *v)
+{
+    const char *digits = (*t == '+' || *t == '-') ? t + 1 : t;
+    if (*digits && strspn(digits, "0123456789") == strlen(digits)) {
+        errno = 0;
+        *v = strtoll(t, NULL, 10);
+        return errno == ERANGE ? -1 : 1;
+    }
+    double d;
+    int ok = parse_number(t, &d);
+    if (ok <= 0)
+        return ok;
+    if (d != floor(d))
+        return 0;
+    if (fabs(d) > 9007199254740992.0) /* 2^53: beyond it doubles skip integers */
+        return -1;
+    *v = (long long)d;
+    return 1;
+}
+
+static int parse_bool(const char *t, int *v)
+{
+    static const char *const yes[] = {"true", "yes", "on"};
+    static const char *const no[] = {"false", "no", "off"};
+    for (int i = 0; i < 3; i++) {
+        if (strcasecmp(t, yes[i]) == 0) {
+            *v = 1;
+            return 1;
+        }
+        if (strcasecmp(t, no[i]) == 0) {
+            *v = 0;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static int in_bounds(const key_spec *k, double v)
+{
+    if ((k->bounds & HAS_LO) && ((k->bounds & LO_OPEN) ? !(v > k->lo) : !(v >= k->lo)))
+        return 0;
+    if ((k->bounds & HAS_HI) && ((k->bounds & HI_OPEN) ? !(v < k->hi) : !(v <= k->hi)))
+        return 0;
+    return 1;
+}
+
+/* "1 to 65536", "must be > 0", "must be > 0 and <= 100". */
+static void describe_bounds(const key_spec *k, char *buf, size_t size)
+{
+    const int lo_closed = (k->bounds & HAS_LO) && !(k->bounds & LO_OPEN);
+    const int hi_closed = (k->bounds & HAS_HI) && !(k->bounds & HI_OPEN);
+    if (lo_closed && hi_closed) {
+        snprintf(buf, size, "%g to %g", k->lo, k->hi);
+        return;
+    }
+    char lo[48] = "", hi[48] = "";
+    if (k->bounds & HAS_LO)
+        snprintf(lo, sizeof lo, "%s %g", (k->bounds & LO_OPEN) ? ">" : ">=", k->lo);
+    if (k->bounds & HAS_HI)
+        snprintf(hi, sizeof hi, "%s %g", (k->bounds & HI_OPEN) ? "<" : "<=", k->hi);
+    snprintf(buf, size, "must be %s%s%s", lo, (lo[0] && hi[0]) ? " and " : "", hi);
+}
+
+/* ---- binding values ---- */
+
+typedef struct bind_ctx {
+    orr_scene *s;
+    scene_marks *marks;
+    orr_error *err;
+} bind_ctx;
+
+/* Where a value's messages point: the key that holds it, or a list item. */
+typedef struct value_at {
+    const char *origin;
+    int line;
+    const char *path; /* "camera.position", "camera.position[1]" */
+} value_at;
+
+static void *field(const bind_ctx *c, const key_spec *k) { return (char *)c->s + k->offset; }
+
+/* The scalar text of a value, or an error when it is a list, mapping or null. */
+static orr_status want_scalar(const bind_ctx *c, const value_at *at, const yt_node *n, const char *what,
+                              const char **text)
+{
+    char got_buf[96];
+    if (n->kind != YT_SCALAR || yt_is_null(n))
+        return fail_at(c->err, at->origin, at->line, "%s: expected %s, got %s", at->path, what, GOT(n));
+    *text = n->text;
+    return ORR_OK;
+}
+
+static orr_status get_number(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n,
+                             double *v)
+{
+    const char *t = NULL;
+    orr_status st = want_scalar(c, at, n, "a number", &t);
+    if (st != ORR_OK)
+        return st;
+    int ok = parse_number(t, v);
+    if (ok <= 0)
+        return fail_at(c->err, at->origin, at->line, "%s: expected a %snumber, got '%s'", at->path,
+                       ok < 0 ? "finite " : "", t);
+    if (k && !in_bounds(k, *v)) {
+        char range[128];
+        describe_bounds(k, range, sizeof range);
+        return fail_at(c->err, at->origin, at->line, "%s: %s is out of range (%s)", at->path, t, range);
+    }
+    return ORR_OK;
+}
+
+static orr_status get_integer(const bind_ctx *c, const value_at *at, const yt_node *n, long long lo,
+                              long long hi, long long *v)
+{
+    const char *t = NULL;
+    orr_status st = want_scalar(c, at, n, "an integer", &t);
+    if (st != ORR_OK)
+        return st;
+    int ok = parse_integer(t, v);
+    if (ok == 0)
+        return fail_at(c->err, at->origin, at->line, "%s: expected an integer, got '%s'", at->path, t);
+    if (ok < 0 || *v < lo || *v > hi)
+        return fail_at(c->err, at->origin, at->line, "%s: %s is out of range (%lld to %lld)", at->path, t, lo,
+                       hi);
+    return ORR_OK;
+}
+
+static orr_status bind_text(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    const char *t = NULL;
+    orr_status st = want_scalar(c, at, n, k->type == K_PATH ? "a file path" : "a string", &t);
+    if (st != ORR_OK)
+        return st;
+    if (t[0] == '\0')
+        return fail_at(c->err, at->origin, at->line, "%s: must not be empty", at->path);
+    if (k->type == K_FILENAME && strchr(t, '/'))
+        return fail_at(c->err, at->origin, at->line, "%s: '%s' must be a file name, without '/' (see output.dir)",
+                       at->path, t);
+    /* Paths in the scene are relative to its folder, so a scene and its data
+     * can move together; a --set path (line 0) was typed in a shell, so it
+     * stays relative to the working directory like any other argument. */
+    const int from_scene = at->line > 0;
+    int len;
+    if (k->type == K_PATH && from_scene && t[0] != '/' && strcmp(c->s->dir, ".") != 0)
+        len = snprintf(field(c, k), k->size, "%s/%s", c->s->dir, t);
+    else
+        len = snprintf(field(c, k), k->size, "%s", t);
+    if (len < 0 || (size_t)len >= k->size)
+        return fail_at(c->err, at->origin, at->line, "%s: '%.60s...' is too long (at most %zu characters)",
+                       at->path, t, k->size - 1);
+    return ORR_OK;
+}
+
+static orr_status bind_enum(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    char what[160];
+    snprintf(what, sizeof what, "one of: %s", k->choices());
+    const char *t = NULL;
+    orr_status st = want_scalar(c, at, n, what, &t);
+    if (st != ORR_OK)
+        return st;
+    if (!k->parse_word(c->s, t))
+        return fail_at(c->err, at->origin, at->line, "%s: expected %s, got '%s'", at->path, what, t);
+    return ORR_OK;
+}
+
+static orr_status bind_bool(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    const char *t = NULL;
+    orr_status st = want_scalar(c, at, n, "true or false", &t);
+    if (st != ORR_OK)
+        return st;
+    int v;
+    if (!parse_bool(t, &v))
+        return fail_at(c->err, at->origin, at->line, "%s: expected true or false, got '%s'", at->path, t);
+    memcpy(field(c, k), &v, sizeof v);
+    return ORR_OK;
+}
+
+static orr_status bind_integer(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    long long v;
+    orr_status st = get_integer(c, at, n, k->ilo, k->ihi, &v);
+    if (st != ORR_OK)
+        return st;
+    if (k->type == K_INT) {
+        int i = (int)v; /* the range check above keeps it within int */
+        memcpy(field(c, k), &i, sizeof i);
+    } else if (k->type == K_U64) {
+        uint64_t u = (uint64_t)v; /* ilo >= 0 */
+        memcpy(field(c, k), &u, sizeof u);
+    } else {
+        memcpy(field(c, k), &v, sizeof v);
+    }
+    return ORR_OK;
+}
+
+static orr_status bind_number(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    double v = 0; /* "auto": the stretch takes its white from a percentile */
+    const int is_auto = n->kind == YT_SCALAR && strcmp(n->text, "auto") == 0;
+    if (k->type == K_AUTO && !is_auto && (n->kind != YT_SCALAR || parse_number(n->text, &v) == 0)) {
+        char got_buf[96];
+        return fail_at(c->err, at->origin, at->line, "%s: expected a number or auto, got %s", at->path, GOT(n));
+    }
+    if (k->type != K_AUTO || !is_auto) {
+        orr_status st = get_number(c, k, at, n, &v);
+        if (st != ORR_OK)
+            return st;
+    }
+    memcpy(field(c, k), &v, sizeof v);
+    return ORR_OK;
+}
+
+/* The n numbers of a list value ([x, y, z] or [w, x, y, z]). */
+static orr_status get_numbers(const bind_ctx *c, const value_at *at, const yt_node *n, size_t count,
+                              const char *form, double *out)
+{
+    char got_buf[96];
+    if (n->kind != YT_SEQUENCE)
+        return fail_at(c->err, at->origin, at->line, "%s: expected a list of %zu numbers %s, got %s", at->path,
+                       count, form, GOT(n));
+    if (n->n != count)
+        return fail_at(c->err, at->origin, at->line, "%s: expected a list of %zu numbers %s, got a list of %zu",
+                       at->path, count, form, n->n);
+    for (size_t i = 0; i < count; i++) {
+        char path[PATH_MAX_LEN + 16];
+        snprintf(path, sizeof path, "%s[%zu]", at->path, i);
+        const yt_node *item = n->items[i];
+        value_at item_at = {item->origin, item->line ? item->line : at->line, path};
+        orr_status st = get_number(c, NULL, &item_at, item, &out[i]);
+        if (st != ORR_OK)
+            return st;
+    }
+    return ORR_OK;
+}
+
+static orr_status bind_vector(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    double v[4];
+    if (k->type == K_VEC3) {
+        orr_status st = get_numbers(c, at, n, 3, "[x, y, z]", v);
+        if (st != ORR_OK)
+            return st;
+        orr_vec3 vec = {v[0], v[1], v[2]};
+        memcpy(field(c, k), &vec, sizeof vec);
+    } else {
+        orr_status st = get_numbers(c, at, n, 4, "[w, x, y, z]", v);
+        if (st != ORR_OK)
+            return st;
+        orr_quat q = {v[0], v[1], v[2], v[3]};
+        memcpy(field(c, k), &q, sizeof q);
+    }
+    return ORR_OK;
+}
+
+/* input.types: a list of types 0..5 (or one type alone) to a bit mask. */
+static orr_status bind_types(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    char got_buf[96];
+    const yt_node *const *items = &n;
+    size_t count = 1;
+    if (n->kind == YT_SEQUENCE) {
+        items = (const yt_node *const *)n->items;
+        count = n->n;
+    } else if (n->kind != YT_SCALAR || yt_is_null(n)) {
+        return fail_at(c->err, at->origin, at->line, "%s: expected a list of particle types 0 to 5, got %s",
+                       at->path, GOT(n));
+    }
+    if (count == 0)
+        return fail_at(c->err, at->origin, at->line, "%s: the list is empty; give at least one particle type",
+                       at->path);
+    unsigned mask = 0;
+    for (size_t i = 0; i < count; i++) {
+        char path[PATH_MAX_LEN + 16];
+        if (n->kind == YT_SEQUENCE)
+            snprintf(path, sizeof path, "%s[%zu]", at->path, i);
+        else
+            snprintf(path, sizeof path, "%s", at->path);
+        value_at item_at = {items[i]->origin, items[i]->line ? items[i]->line : at->line, path};
+        long long t;
+        orr_status st = get_integer(c, &item_at, items[i], 0, 5, &t);
+        if (st != ORR_OK)
+            return st;
+        mask |= 1u << t;
+    }
+    memcpy(field(c, k), &mask, sizeof mask);
+    return ORR_OK;
+}
+
+static orr_status bind_value(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    switch (k->type) {
+    case K_STRING:
+    case K_FILENAME:
+    case K_PATH: return bind_text(c, k, at, n);
+    case K_NUMBER:
+    case K_AUTO: return bind_number(c, k, at, n);
+    case K_INT:
+    case K_LLONG:
+    case K_U64: return bind_integer(c, k, at, n);
+    case K_BOOL: return bind_bool(c, k, at, n);
+    case K_ENUM: return bind_enum(c, k, at, n);
+    case K_VEC3:
+    case K_QUAT: return bind_vector(c, k, at, n);
+    case K_TYPES: return bind_types(c, k, at, n);
+    }
+    return orr_fail(c->err, ORR_ERR_INTERNAL, "%s: unknown key type %d", k->key, (int)k->type);
+}
+
+/* ---- walking the tree ---- */
+
+static orr_status bind_mapping(const bind_ctx *c, const yt_node *map, const char *prefix);
+
+/* Checks a key on its own: not empty, no dots (nesting is written as
+ * mappings, so "camera.fov:" in a file would silently bypass the duplicate
+ * check), and not already used in the same mapping. */
+static orr_status check_key(const bind_ctx *c, const yt_node *map, size_t i, const char *prefix)
+{
+    const yt_entry *e = &map->entries[i];
+    const char *sep = prefix[0] ? "." : "";
+    if (e->key[0] == '\0')
+        return fail_at(c->err, e->origin, e->line, "empty key%s%s", prefix[0] ? " in " : "", prefix);
+    if (strchr(e->key, '.'))
+        return fail_at(c->err, e->origin, e->line,
+                       "key '%s%s%s' contains a '.'; write nested keys as indented mappings", prefix, sep, e->key);
+    for (size_t j = 0; j < i; j++) {
+        const yt_entry *first = &map->entries[j];
+        if (strcmp(first->key, e->key) == 0)
+            return fail_at(c->err, e->origin, e->line, "duplicate key '%s%s%s' (first set at line %d)", prefix,
+                           sep, e->key, first->line);
+    }
+    return ORR_OK;
+}
+
+static orr_status unknown_key(const bind_ctx *c, const yt_entry *e, const char *path)
+{
+    char hint[PATH_MAX_LEN];
+    suggest(path, hint, sizeof hint);
+    if (hint[0])
+        return fail_at(c->err, e->origin, e->line, "unknown key '%s' (did you mean '%s'?)", path, hint);
+    return fail_at(c->err, e->origin, e->line, "unknown key '%s' (see docs/scenes.md for the keys)", path);
+}
+
+static orr_status bind_entry(const bind_ctx *c, const yt_entry *e, const char *path)
+{
+    const key_spec *k = find_key(path);
+    if (k) {
+        value_at at = {e->origin, e->line, path};
+        orr_status st = bind_value(c, k, &at, e->value);
+        if (st != ORR_OK)
+            return st;
+        c->marks->loc[k - KEYS] = (scene_loc){e->origin, e->line};
+        if (k->has_flag) {
+            int one = 1;
+            memcpy((char *)c->s + k->flag_offset, &one, sizeof one);
+        }
+        return ORR_OK;
+    }
+    if (!is_section(path))
+        return unknown_key(c, e, path);
+    if (e->value->kind == YT_MAPPING)
+        return bind_mapping(c, e->value, path);
+    if (yt_is_null(e->value))
+        return ORR_OK; /* "camera:" with every key commented out */
+    char got_buf[96];
+    return fail_at(c->err, e->origin, e->line, "%s: expected a mapping of %s.* keys, got %s", path, path,
+                   GOT(e->value));
+}
+
+static orr_status bind_mapping(const bind_ctx *c, const yt_node *map, const char *prefix)
+{
+    for (size_t i = 0; i < map->n; i++) {
+        const yt_entry *e = &map->entries[i];
+        orr_status st = check_key(c, map, i, prefix);
+        if (st != ORR_OK)
+            return st;
+        char path[PATH_MAX_LEN];
+        int len = snprintf(path, sizeof path, "%s%s%s", prefix, prefix[0] ? "." : "", e->key);
+        if (len < 0 || (size_t)len >= sizeof path)
+            return fail_at(c->err, e->origin, e->line, "unknown key '%.60s...' (too long)", path);
+        st = bind_entry(c, e, path);
+        if (st != ORR_OK)
+            return st;
+    }
+    return ORR_OK;
+}
+
+orr_status scene_bind(orr_scene *s, const yt_node *root, scene_marks *marks, orr_error *err)
+{
+    memset(marks, 0, sizeof *marks);
+    bind_ctx c = {s, marks, err};
+    return bind_mapping(&c, root, "");
+}

@@ -1,0 +1,442 @@
+#include "scene/ytree.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include <yaml.h>
+
+/* Scenes are a few levels deep; the limit only stops hostile input from
+ * exhausting the stack through the recursive descent below. */
+#define YT_MAX_DEPTH 64
+
+typedef struct parse_ctx {
+    yaml_parser_t parser;
+    const char *text; /* the input, to look at the character an error points to */
+    size_t len;
+    const char *origin;
+    int with_lines;
+    orr_error *err;
+} parse_ctx;
+
+/* ---- nodes ---- */
+
+static yt_node *node_new(yt_kind kind, const char *origin, int line, orr_error *err)
+{
+    yt_node *n = orr_calloc(1, sizeof *n, "a YAML node", err);
+    if (n) {
+        n->kind = kind;
+        n->origin = origin;
+        n->line = line;
+    }
+    return n;
+}
+
+void yt_free(yt_node *n)
+{
+    if (!n)
+        return;
+    for (size_t i = 0; i < n->n; i++) {
+        if (n->kind == YT_MAPPING) {
+            free(n->entries[i].key);
+            yt_free(n->entries[i].value);
+        } else if (n->kind == YT_SEQUENCE) {
+            yt_free(n->items[i]);
+        }
+    }
+    free(n->entries);
+    free(n->items);
+    free(n->text);
+    free(n);
+}
+
+static char *copy_text(const char *text, size_t len, orr_error *err)
+{
+    char *s = orr_malloc(len + 1, "YAML text", err);
+    if (s) {
+        memcpy(s, text, len);
+        s[len] = '\0';
+    }
+    return s;
+}
+
+/* Makes room for one more child in a mapping or sequence. */
+static orr_status node_reserve(yt_node *n, orr_error *err)
+{
+    if (n->n < n->cap)
+        return ORR_OK;
+    size_t cap = n->cap ? 2 * n->cap : 8;
+    if (n->kind == YT_MAPPING) {
+        yt_entry *e = realloc(n->entries, cap * sizeof *e);
+        if (!e)
+            return orr_fail(err, ORR_ERR_NOMEM, "out of memory growing a YAML mapping");
+        n->entries = e;
+    } else {
+        yt_node **items = realloc(n->items, cap * sizeof *items);
+        if (!items)
+            return orr_fail(err, ORR_ERR_NOMEM, "out of memory growing a YAML list");
+        n->items = items;
+    }
+    n->cap = cap;
+    return ORR_OK;
+}
+
+/* Appends key: value to a mapping, taking ownership of both (also on error). */
+static orr_status map_append(yt_node *map, char *key, int line, const char *origin, yt_node *value,
+                             orr_error *err)
+{
+    orr_status st = node_reserve(map, err);
+    if (st != ORR_OK) {
+        free(key);
+        yt_free(value);
+        return st;
+    }
+    map->entries[map->n++] = (yt_entry){key, line, origin, value};
+    return ORR_OK;
+}
+
+int yt_is_null(const yt_node *n)
+{
+    if (n->kind != YT_SCALAR || n->quoted)
+        return 0;
+    return n->text[0] == '\0' || strcmp(n->text, "~") == 0 || strcasecmp(n->text, "null") == 0;
+}
+
+const char *yt_describe(const yt_node *n, char *buf, size_t size)
+{
+    if (n->kind == YT_MAPPING)
+        return "a mapping";
+    if (n->kind == YT_SEQUENCE)
+        return "a list";
+    if (yt_is_null(n))
+        return "nothing";
+    /* Long values are cut so that the message stays readable. */
+    if (strlen(n->text) > 60)
+        snprintf(buf, size, "'%.57s...'", n->text);
+    else
+        snprintf(buf, size, "'%s'", n->text);
+    return buf;
+}
+
+yt_node *yt_new_scalar(const char *text, int quoted, const char *origin, int line, orr_error *err)
+{
+    yt_node *n = node_new(YT_SCALAR, origin, line, err);
+    if (!n)
+        return NULL;
+    n->quoted = quoted;
+    n->text = copy_text(text, strlen(text), err);
+    if (!n->text) {
+        yt_free(n);
+        return NULL;
+    }
+    return n;
+}
+
+/* ---- parsing ---- */
+
+static int mark_line(const parse_ctx *c, yaml_mark_t mark)
+{
+    return c->with_lines ? (int)mark.line + 1 : 0;
+}
+
+/* "origin:line: " or "origin: " for messages about a place in the text. */
+static void where(const parse_ctx *c, int line, char *buf, size_t size)
+{
+    if (line > 0)
+        snprintf(buf, size, "%s:%d: ", c->origin, line);
+    else
+        snprintf(buf, size, "%s: ", c->origin);
+}
+
+static orr_status syntax_error(parse_ctx *c)
+{
+    const yaml_parser_t *p = &c->parser;
+    const char *problem = p->problem ? p->problem : "unknown error";
+    if (p->error == YAML_MEMORY_ERROR)
+        return orr_fail(c->err, ORR_ERR_NOMEM, "%s: out of memory while reading YAML", c->origin);
+    if (p->error == YAML_READER_ERROR)
+        return orr_fail(c->err, ORR_ERR_USAGE, "%s: YAML read error: %s (at byte %zu)", c->origin, problem,
+                        p->problem_offset);
+    char context[160] = "";
+    if (p->context && c->with_lines)
+        snprintf(context, sizeof context, " (%s at line %zu)", p->context, p->context_mark.line + 1);
+    else if (p->context)
+        snprintf(context, sizeof context, " (%s)", p->context);
+    /* YAML forbids tabs in indentation, and libyaml's message does not say so. */
+    const char *hint = p->problem_mark.index < c->len && c->text[p->problem_mark.index] == '\t'
+                           ? "; indent with spaces, not tabs"
+                           : "";
+    if (c->with_lines)
+        return orr_fail(c->err, ORR_ERR_USAGE, "%s:%zu:%zu: YAML syntax error: %s%s%s", c->origin,
+                        p->problem_mark.line + 1, p->problem_mark.column + 1, problem, context, hint);
+    return orr_fail(c->err, ORR_ERR_USAGE, "%s: YAML syntax error: %s%s%s", c->origin, problem, context, hint);
+}
+
+static orr_status next_event(parse_ctx *c, yaml_event_t *ev)
+{
+    if (!yaml_parser_parse(&c->parser, ev))
+        return syntax_error(c);
+    return ORR_OK;
+}
+
+static orr_status parse_node(parse_ctx *c, const yaml_event_t *ev, int depth, yt_node **out);
+
+static orr_status parse_scalar(parse_ctx *c, const yaml_event_t *ev, yt_node **out)
+{
+    const char *value = (const char *)ev->data.scalar.value;
+    size_t len = ev->data.scalar.length;
+    char at[ORR_ERROR_MSG_MAX];
+    if (memchr(value, '\0', len)) {
+        where(c, mark_line(c, ev->start_mark), at, sizeof at);
+        return orr_fail(c->err, ORR_ERR_USAGE, "%svalue contains a NUL character", at);
+    }
+    yt_node *n = node_new(YT_SCALAR, c->origin, mark_line(c, ev->start_mark), c->err);
+    if (!n)
+        return ORR_ERR_NOMEM;
+    n->quoted = ev->data.scalar.style != YAML_PLAIN_SCALAR_STYLE;
+    n->text = copy_text(value, len, c->err);
+    if (!n->text) {
+        yt_free(n);
+        return ORR_ERR_NOMEM;
+    }
+    *out = n;
+    return ORR_OK;
+}
+
+/* Reads "key: value" pairs until the end of the mapping. */
+static orr_status parse_mapping_body(parse_ctx *c, yt_node *map, int depth)
+{
+    for (;;) {
+        yaml_event_t kev, vev;
+        orr_status st = next_event(c, &kev);
+        if (st != ORR_OK)
+            return st;
+        if (kev.type == YAML_MAPPING_END_EVENT) {
+            yaml_event_delete(&kev);
+            return ORR_OK;
+        }
+        int line = mark_line(c, kev.start_mark);
+        if (kev.type != YAML_SCALAR_EVENT) {
+            /* A list or mapping used as a key ("? [a, b]: c") cannot name anything. */
+            yaml_event_delete(&kev);
+            char at[ORR_ERROR_MSG_MAX];
+            where(c, line, at, sizeof at);
+            return orr_fail(c->err, ORR_ERR_USAGE, "%skeys must be plain words, not lists or mappings", at);
+        }
+        char *key = copy_text((const char *)kev.data.scalar.value, kev.data.scalar.length, c->err);
+        yaml_event_delete(&kev);
+        if (!key)
+            return ORR_ERR_NOMEM;
+        st = next_event(c, &vev);
+        if (st != ORR_OK) {
+            free(key);
+            return st;
+        }
+        yt_node *value = NULL;
+        st = parse_node(c, &vev, depth + 1, &value);
+        yaml_event_delete(&vev);
+        if (st != ORR_OK) {
+            free(key);
+            return st;
+        }
+        st = map_append(map, key, line, c->origin, value, c->err);
+        if (st != ORR_OK)
+            return st;
+    }
+}
+
+static orr_status parse_sequence_body(parse_ctx *c, yt_node *seq, int depth)
+{
+    for (;;) {
+        yaml_event_t ev;
+        orr_status st = next_event(c, &ev);
+        if (st != ORR_OK)
+            return st;
+        if (ev.type == YAML_SEQUENCE_END_EVENT) {
+            yaml_event_delete(&ev);
+            return ORR_OK;
+        }
+        yt_node *item = NULL;
+        st = parse_node(c, &ev, depth + 1, &item);
+        yaml_event_delete(&ev);
+        if (st == ORR_OK && (st = node_reserve(seq, c->err)) != ORR_OK)
+            yt_free(item);
+        if (st != ORR_OK)
+            return st;
+        seq->items[seq->n++] = item;
+    }
+}
+
+/* Builds the node that starts with event ev (which the caller deletes). */
+static orr_status parse_node(parse_ctx *c, const yaml_event_t *ev, int depth, yt_node **out)
+{
+    int line = mark_line(c, ev->start_mark);
+    char at[ORR_ERROR_MSG_MAX];
+    where(c, line, at, sizeof at);
+    if (depth > YT_MAX_DEPTH)
+        return orr_fail(c->err, ORR_ERR_USAGE, "%sYAML nested more than %d levels deep", at, YT_MAX_DEPTH);
+    switch (ev->type) {
+    case YAML_SCALAR_EVENT:
+        return parse_scalar(c, ev, out);
+    case YAML_ALIAS_EVENT:
+        /* Aliases would make one node appear under several keys, and its line
+         * number would then point at the anchor, not the use: not worth it. */
+        return orr_fail(c->err, ORR_ERR_USAGE, "%sYAML aliases (*%s) are not supported in scenes", at,
+                        (const char *)ev->data.alias.anchor);
+    case YAML_MAPPING_START_EVENT:
+    case YAML_SEQUENCE_START_EVENT: {
+        int is_map = ev->type == YAML_MAPPING_START_EVENT;
+        yt_node *n = node_new(is_map ? YT_MAPPING : YT_SEQUENCE, c->origin, line, c->err);
+        if (!n)
+            return ORR_ERR_NOMEM;
+        orr_status st = is_map ? parse_mapping_body(c, n, depth) : parse_sequence_body(c, n, depth);
+        if (st != ORR_OK) {
+            yt_free(n);
+            return st;
+        }
+        *out = n;
+        return ORR_OK;
+    }
+    default:
+        return orr_fail(c->err, ORR_ERR_INTERNAL, "%sunexpected YAML event %d", at, (int)ev->type);
+    }
+}
+
+/* Expects an event of the given type and discards it. */
+static orr_status expect_event(parse_ctx *c, yaml_event_type_t type, yaml_event_t *ev)
+{
+    orr_status st = next_event(c, ev);
+    if (st != ORR_OK)
+        return st;
+    if (ev->type == type)
+        return ORR_OK;
+    yaml_event_delete(ev);
+    return orr_fail(c->err, ORR_ERR_INTERNAL, "%s: unexpected YAML event %d (wanted %d)", c->origin,
+                    (int)ev->type, (int)type);
+}
+
+/* The body of yt_parse, once the parser is set up: STREAM-START, then either
+ * STREAM-END (an empty file) or exactly one document. */
+static orr_status parse_stream(parse_ctx *c, yt_node **out)
+{
+    yaml_event_t ev;
+    orr_status st = expect_event(c, YAML_STREAM_START_EVENT, &ev);
+    if (st != ORR_OK)
+        return st;
+    yaml_event_delete(&ev);
+    if ((st = next_event(c, &ev)) != ORR_OK)
+        return st;
+    yaml_event_type_t type = ev.type;
+    yaml_event_delete(&ev);
+    if (type == YAML_STREAM_END_EVENT)
+        return ORR_OK; /* nothing but comments and blank lines */
+    if (type != YAML_DOCUMENT_START_EVENT)
+        return orr_fail(c->err, ORR_ERR_INTERNAL, "%s: unexpected YAML event %d", c->origin, (int)type);
+
+    if ((st = next_event(c, &ev)) != ORR_OK)
+        return st;
+    yt_node *root = NULL;
+    st = parse_node(c, &ev, 0, &root);
+    yaml_event_delete(&ev);
+    if (st == ORR_OK && (st = expect_event(c, YAML_DOCUMENT_END_EVENT, &ev)) == ORR_OK) {
+        yaml_event_delete(&ev);
+        st = next_event(c, &ev);
+        if (st == ORR_OK) {
+            if (ev.type != YAML_STREAM_END_EVENT) {
+                char at[ORR_ERROR_MSG_MAX];
+                where(c, mark_line(c, ev.start_mark), at, sizeof at);
+                st = orr_fail(c->err, ORR_ERR_USAGE, "%sa scene is one YAML document, but a second one starts here",
+                              at);
+            }
+            yaml_event_delete(&ev);
+        }
+    }
+    if (st != ORR_OK) {
+        yt_free(root);
+        return st;
+    }
+    *out = root;
+    return ORR_OK;
+}
+
+orr_status yt_parse(const char *text, size_t len, const char *origin, int with_lines, yt_node **out,
+                    orr_error *err)
+{
+    parse_ctx c = {.text = text, .len = len, .origin = origin, .with_lines = with_lines, .err = err};
+    *out = NULL;
+    if (!yaml_parser_initialize(&c.parser))
+        return orr_fail(err, ORR_ERR_NOMEM, "%s: cannot initialise the YAML parser", origin);
+    yaml_parser_set_input_string(&c.parser, (const unsigned char *)text, len);
+    orr_status st = parse_stream(&c, out);
+    yaml_parser_delete(&c.parser);
+    return st;
+}
+
+/* ---- overrides ---- */
+
+static yt_entry *map_find(yt_node *map, const char *key)
+{
+    for (size_t i = 0; i < map->n; i++)
+        if (strcmp(map->entries[i].key, key) == 0)
+            return &map->entries[i];
+    return NULL;
+}
+
+/* Puts value under key in map, replacing what was there; the key then counts
+ * as written by the override, so later errors about it name the override. */
+static orr_status map_put(yt_node *map, const char *key, yt_node *value, const char *origin, orr_error *err)
+{
+    yt_entry *e = map_find(map, key);
+    if (e) {
+        yt_free(e->value);
+        e->value = value;
+        e->origin = origin;
+        e->line = 0;
+        return ORR_OK;
+    }
+    char *k = copy_text(key, strlen(key), err);
+    if (!k) {
+        yt_free(value);
+        return ORR_ERR_NOMEM;
+    }
+    return map_append(map, k, 0, origin, value, err);
+}
+
+/* The mapping under key in map, made (or put in place of a scalar or list) when needed. */
+static yt_node *child_mapping(yt_node *map, const char *key, const char *origin, orr_error *err)
+{
+    yt_entry *e = map_find(map, key);
+    if (e && e->value->kind == YT_MAPPING)
+        return e->value;
+    yt_node *child = node_new(YT_MAPPING, origin, 0, err);
+    if (!child || map_put(map, key, child, origin, err) != ORR_OK)
+        return NULL;
+    return child;
+}
+
+orr_status yt_set_path(yt_node *root, const char *dotted, yt_node *value, const char *origin,
+                       orr_error *err)
+{
+    char *path = copy_text(dotted, strlen(dotted), err);
+    if (!path) {
+        yt_free(value);
+        return ORR_ERR_NOMEM;
+    }
+    yt_node *map = root;
+    char *part = path;
+    char *dot;
+    while ((dot = strchr(part, '.')) != NULL) {
+        *dot = '\0';
+        map = child_mapping(map, part, origin, err);
+        if (!map) {
+            free(path);
+            yt_free(value);
+            return err ? err->code : ORR_ERR_NOMEM;
+        }
+        part = dot + 1;
+    }
+    orr_status st = map_put(map, part, value, origin, err);
+    free(path);
+    return st;
+}

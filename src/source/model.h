@@ -1,0 +1,36 @@
+/* The built-in model: a Milky Way-like disc galaxy and an Andromeda-like one
+ * on an approach orbit, with marker particles for the Sun and the two central
+ * black holes. Units: kpc, 1e10 solar masses, km/s. Particle i is a pure
+ * function of (seed, i), so the output does not depend on the chunk size.
+ * docs/model.md describes the components, ids and types. */
+#ifndef ORR_SOURCE_MODEL_H
+#define ORR_SOURCE_MODEL_H
+
+#include <stdint.h>
+
+#include "source/source.h"
+
+/* Well-known ids of the marker particles. */
+#define ORR_MODEL_ID_MW_BH 1
+#define ORR_MODEL_ID_M31_BH 2
+#define ORR_MODEL_ID_SUN 3
+
+/* Particle types (Gadget-like numbering). */
+#define ORR_MODEL_TYPE_HALO 1
+#define ORR_MODEL_TYPE_DISC 2
+#define ORR_MODEL_TYPE_BULGE 3
+#define ORR_MODEL_TYPE_SUN 4
+#define ORR_MODEL_TYPE_BH 5
+
+#define ORR_MODEL_PARTICLES_MAX 2000000000LL
+
+typedef struct orr_model_params {
+    long long particles;   /* total, markers included; at least 100 */
+    uint64_t seed;
+    double separation_kpc; /* distance between the two galaxy centres (780 today) */
+} orr_model_params;
+
+orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_size, orr_source **out,
+                                 orr_error *err);
+
+#endif

@@ -1,0 +1,33 @@
+/* Deposit of per-particle weights into a plane at projected positions.
+ * Nearest grid point puts the whole weight into the pixel containing the
+ * point; cloud-in-cell treats the particle as a square one pixel wide and
+ * shares the weight among the (up to) four pixels it overlaps, in proportion
+ * to the overlapping areas. Weight that falls off the image is counted, so
+ * deposited + outside equals the total weight of the visible particles. */
+#ifndef ORR_SPLAT_DEPOSIT_H
+#define ORR_SPLAT_DEPOSIT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "splat/plane.h"
+
+typedef enum {
+    ORR_DEPOSIT_NGP,
+    ORR_DEPOSIT_CIC,
+} orr_deposit_kind;
+
+typedef struct orr_deposit_stats {
+    double deposited;        /* weight that landed in the image */
+    double outside;          /* weight of visible particles that fell off the image */
+    double culled;           /* weight of particles the projection did not draw */
+    uint64_t n_particles;    /* particles offered */
+    uint64_t n_culled;       /* particles the projection did not draw */
+} orr_deposit_stats;
+
+const char *orr_deposit_name(orr_deposit_kind kind);
+
+void orr_deposit(orr_deposit_kind kind, orr_plane *plane, size_t n, const float *px, const float *py,
+                 const float *w, const uint8_t *visible, orr_deposit_stats *stats);
+
+#endif

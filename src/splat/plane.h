@@ -1,0 +1,25 @@
+/* A float accumulation plane: one channel of an image, row 0 at the top. */
+#ifndef ORR_SPLAT_PLANE_H
+#define ORR_SPLAT_PLANE_H
+
+#include <stddef.h>
+
+#include "core/error.h"
+
+#define ORR_PLANE_NAME_MAX 64
+
+typedef struct orr_plane {
+    int width, height;
+    float *data; /* width * height values, row-major, row 0 at the top */
+    char name[ORR_PLANE_NAME_MAX]; /* e.g. "mass": becomes the FITS EXTNAME */
+    char unit[ORR_PLANE_NAME_MAX]; /* becomes the FITS BUNIT */
+} orr_plane;
+
+/* Allocates a zeroed plane; fails cleanly on absurd sizes. */
+orr_status orr_plane_alloc(orr_plane *p, int width, int height, const char *name, const char *unit,
+                           orr_error *err);
+void orr_plane_free(orr_plane *p);
+/* Sum of all pixels, accumulated in double. */
+double orr_plane_sum(const orr_plane *p);
+
+#endif

@@ -1,0 +1,60 @@
+# Helpers for the command-line tests. Each test script gets the orrery binary
+# as $1 and the source folder as $2, works in a fresh temporary folder, and
+# exits non-zero on the first failed expectation.
+set -u
+ORRERY=$1
+SRC=$2
+WORK=$(mktemp -d /tmp/orrery-cli-XXXXXX)
+trap 'rm -rf "$WORK"' EXIT
+cd "$WORK"
+failures=0
+
+fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
+
+# expect_fail CODE PATTERN OUTDIR -- orrery args...
+# Runs orrery, expects exit CODE, a stderr line matching PATTERN (grep -E),
+# and no file at all in OUTDIR afterwards (no output, no temporary file).
+expect_fail() {
+  local code=$1 pattern=$2 outdir=$3
+  shift 4
+  local got=0
+  "$ORRERY" "$@" >"$WORK/stdout" 2>"$WORK/stderr" || got=$?
+  if [ "$got" -ne "$code" ]; then
+    fail "orrery $* exited $got, expected $code; stderr: $(cat "$WORK/stderr")"
+  elif ! grep -Eq -- "$pattern" "$WORK/stderr"; then
+    fail "orrery $*: stderr does not match /$pattern/: $(cat "$WORK/stderr")"
+  fi
+  if grep -q "AddressSanitizer\|runtime error" "$WORK/stderr"; then
+    fail "orrery $*: sanitizer report: $(cat "$WORK/stderr")"
+  fi
+  if [ -d "$outdir" ] && [ -n "$(ls -A "$outdir")" ]; then
+    fail "orrery $* left files in $outdir: $(ls -A "$outdir")"
+  fi
+}
+
+finish() {
+  if [ "$failures" -ne 0 ]; then
+    echo "$failures failed" >&2
+    exit 1
+  fi
+  echo "all passed"
+}
+
+# A small valid scene around a particle table; extra lines are appended.
+write_scene() {
+  local file=$1 table=$2
+  shift 2
+  {
+    echo "input:"
+    echo "  file: $table"
+    echo "camera:"
+    echo "  projection: orthographic"
+    echo "  width: 10"
+    echo "image:"
+    echo "  width: 64"
+    echo "  height: 48"
+    echo "output:"
+    echo "  dir: out"
+    for line in "$@"; do echo "$line"; done
+  } >"$file"
+}

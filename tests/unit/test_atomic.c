@@ -1,0 +1,247 @@
+#include <dirent.h>
+#include <errno.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "encode/atomic.h"
+
+static char tmpdir[256];
+
+static void make_tmpdir(void)
+{
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/orr_test_atomic_XXXXXX");
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        exit(1);
+    }
+}
+
+/* Removes the test folder's contents (one level of sub-folders is enough). */
+static void remove_tree(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return;
+    struct dirent *e;
+    while ((e = readdir(d))) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+            continue;
+        char p[1024];
+        snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+        if (unlink(p) != 0)
+            remove_tree(p);
+    }
+    closedir(d);
+    rmdir(dir);
+}
+
+static int count_entries(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return -1;
+    int n = 0;
+    struct dirent *e;
+    while ((e = readdir(d)))
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, ".."))
+            n++;
+    closedir(d);
+    return n;
+}
+
+static int exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0;
+}
+
+static void write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        perror(path);
+        exit(1);
+    }
+    fputs(text, f);
+    fclose(f);
+}
+
+static int file_equals(const char *path, const char *text)
+{
+    char buf[256] = "";
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    buf[n] = '\0';
+    fclose(f);
+    return strcmp(buf, text) == 0;
+}
+
+static void test_commit_renames_and_leaves_no_temp(void)
+{
+    make_tmpdir();
+    char final[512], prefix[512];
+    snprintf(final, sizeof final, "%s/out.png", tmpdir);
+    snprintf(prefix, sizeof prefix, "%s/.out.png.tmp-", tmpdir);
+    orr_atomic_file af;
+    orr_error err;
+    CHECK(orr_atomic_begin(&af, final, &err) == ORR_OK);
+    CHECK(strncmp(af.temp_path, prefix, strlen(prefix)) == 0);
+    CHECK(strlen(af.temp_path) == strlen(prefix) + 6);
+    CHECK(exists(af.temp_path));
+    CHECK(!exists(final));
+    write_text(af.temp_path, "new");
+    CHECK(orr_atomic_commit(&af, &err) == ORR_OK);
+    CHECK(file_equals(final, "new"));
+    CHECK(count_entries(tmpdir) == 1);
+    /* The file gets the usual permissions, not mkstemp's 0600. */
+    mode_t mask = umask(022);
+    umask(mask);
+    struct stat st;
+    CHECK(stat(final, &st) == 0 && (st.st_mode & 0777) == (0666 & ~mask));
+    /* An abort after a commit must not touch the final file. */
+    orr_atomic_abort(&af);
+    CHECK(file_equals(final, "new"));
+    remove_tree(tmpdir);
+}
+
+static void test_abort_keeps_old_file(void)
+{
+    make_tmpdir();
+    char final[512];
+    snprintf(final, sizeof final, "%s/image.fits", tmpdir);
+    write_text(final, "old");
+    orr_atomic_file af;
+    orr_error err;
+    CHECK(orr_atomic_begin(&af, final, &err) == ORR_OK);
+    write_text(af.temp_path, "half-written");
+    orr_atomic_abort(&af);
+    orr_atomic_abort(&af); /* twice is harmless */
+    CHECK(file_equals(final, "old"));
+    CHECK(count_entries(tmpdir) == 1);
+    remove_tree(tmpdir);
+}
+
+static void test_abort_creates_nothing(void)
+{
+    make_tmpdir();
+    char final[512];
+    snprintf(final, sizeof final, "%s/new.png", tmpdir);
+    orr_atomic_file af;
+    orr_error err;
+    CHECK(orr_atomic_begin(&af, final, &err) == ORR_OK);
+    orr_atomic_abort(&af);
+    CHECK(!exists(final));
+    CHECK(count_entries(tmpdir) == 0);
+    remove_tree(tmpdir);
+}
+
+static void test_relative_name_without_folder(void)
+{
+    make_tmpdir();
+    char cwd[1024];
+    CHECK(getcwd(cwd, sizeof cwd) != NULL);
+    CHECK(chdir(tmpdir) == 0);
+    orr_atomic_file af;
+    orr_error err;
+    CHECK(orr_atomic_begin(&af, "plain.png", &err) == ORR_OK);
+    CHECK(strncmp(af.temp_path, ".plain.png.tmp-", 15) == 0);
+    CHECK(orr_atomic_commit(&af, &err) == ORR_OK);
+    CHECK(exists("plain.png"));
+    CHECK(count_entries(".") == 1);
+    CHECK(chdir(cwd) == 0);
+    remove_tree(tmpdir);
+}
+
+static void test_begin_fails_in_unwritable_folder(void)
+{
+    make_tmpdir();
+    char file[512], final[600];
+    snprintf(file, sizeof file, "%s/regular", tmpdir);
+    write_text(file, "x");
+    snprintf(final, sizeof final, "%s/sub/out.png", file); /* a folder under a regular file */
+    orr_atomic_file af;
+    orr_error err;
+    orr_error_clear(&err);
+    CHECK(orr_atomic_begin(&af, final, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, "output directory");
+    CHECK_CONTAINS(err.msg, file);
+    CHECK_CONTAINS(err.msg, strerror(ENOTDIR));
+    orr_atomic_abort(&af); /* harmless after a failed begin */
+    CHECK(count_entries(tmpdir) == 1);
+    CHECK(file_equals(file, "x"));
+    remove_tree(tmpdir);
+}
+
+static void test_failed_commit_removes_temp(void)
+{
+    make_tmpdir();
+    char final[512], inside[600];
+    snprintf(final, sizeof final, "%s/taken", tmpdir);
+    CHECK(mkdir(final, 0777) == 0);
+    snprintf(inside, sizeof inside, "%s/keep", final);
+    write_text(inside, "k"); /* a non-empty folder cannot be replaced by a file */
+    orr_atomic_file af;
+    orr_error err;
+    CHECK(orr_atomic_begin(&af, final, &err) == ORR_OK);
+    CHECK(orr_atomic_commit(&af, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, final);
+    orr_atomic_abort(&af);
+    CHECK(count_entries(tmpdir) == 1);
+    CHECK(file_equals(inside, "k"));
+    remove_tree(tmpdir);
+}
+
+static void test_check_output_dir(void)
+{
+    make_tmpdir();
+    orr_error err;
+    char dir[512], deep[600], file[512], under_file[600];
+    /* existing folder: fine, and the probe file is gone again */
+    CHECK(orr_check_output_dir(tmpdir, &err) == ORR_OK);
+    CHECK(count_entries(tmpdir) == 0);
+    /* one missing level is created */
+    snprintf(dir, sizeof dir, "%s/frames", tmpdir);
+    CHECK(orr_check_output_dir(dir, &err) == ORR_OK);
+    struct stat st;
+    CHECK(stat(dir, &st) == 0 && S_ISDIR(st.st_mode));
+    CHECK(count_entries(dir) == 0);
+    /* two missing levels are not */
+    snprintf(deep, sizeof deep, "%s/missing/frames", tmpdir);
+    orr_error_clear(&err);
+    CHECK(orr_check_output_dir(deep, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, deep);
+    CHECK_CONTAINS(err.msg, strerror(ENOENT));
+    CHECK(!exists(deep));
+    /* a regular file where the folder should be, and a folder below one */
+    snprintf(file, sizeof file, "%s/regular", tmpdir);
+    write_text(file, "x");
+    orr_error_clear(&err);
+    CHECK(orr_check_output_dir(file, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, file);
+    CHECK_CONTAINS(err.msg, "not a directory");
+    snprintf(under_file, sizeof under_file, "%s/sub", file);
+    orr_error_clear(&err);
+    CHECK(orr_check_output_dir(under_file, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, "output directory");
+    CHECK_CONTAINS(err.msg, under_file);
+    CHECK_CONTAINS(err.msg, strerror(ENOTDIR));
+    CHECK(file_equals(file, "x"));
+    CHECK(count_entries(tmpdir) == 2); /* frames and regular */
+    remove_tree(tmpdir);
+}
+
+int main(void)
+{
+    RUN(test_commit_renames_and_leaves_no_temp);
+    RUN(test_abort_keeps_old_file);
+    RUN(test_abort_creates_nothing);
+    RUN(test_relative_name_without_folder);
+    RUN(test_begin_fails_in_unwritable_folder);
+    RUN(test_failed_commit_removes_temp);
+    RUN(test_check_output_dir);
+    return check_summary();
+}

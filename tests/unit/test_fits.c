@@ -1,0 +1,284 @@
+#include <dirent.h>
+#include <fitsio.h>
+#include <stdlib.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "encode/fits.h"
+
+enum { W = 5, H = 3 };
+
+static char tmpdir[256];
+
+static void make_tmpdir(void)
+{
+    snprintf(tmpdir, sizeof tmpdir, "/tmp/orr_test_fits_XXXXXX");
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        exit(1);
+    }
+}
+
+static void remove_tmpdir(void)
+{
+    DIR *d = opendir(tmpdir);
+    struct dirent *e;
+    while (d && (e = readdir(d))) {
+        char p[1024];
+        snprintf(p, sizeof p, "%s/%s", tmpdir, e->d_name);
+        if (strcmp(e->d_name, ".") && strcmp(e->d_name, ".."))
+            unlink(p);
+    }
+    if (d)
+        closedir(d);
+    rmdir(tmpdir);
+}
+
+static int count_entries(void)
+{
+    DIR *d = opendir(tmpdir);
+    int n = 0;
+    struct dirent *e;
+    while (d && (e = readdir(d)))
+        n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
+    if (d)
+        closedir(d);
+    return n;
+}
+
+/* Plane value at (x, y), y = 0 the top row; distinct and exactly representable. */
+static float value_at(int plane, int x, int y)
+{
+    return (plane ? -1.0f : 1.0f) * ((float)(y * 100 + x) + 0.25f);
+}
+
+static void make_planes(orr_plane planes[2])
+{
+    orr_error err;
+    CHECK(orr_plane_alloc(&planes[0], W, H, "mass", "Msun / pixel", &err) == ORR_OK);
+    CHECK(orr_plane_alloc(&planes[1], W, H, "count", "particles", &err) == ORR_OK);
+    for (int p = 0; p < 2; p++)
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++)
+                planes[p].data[y * W + x] = value_at(p, x, y);
+    planes[0].data[W + 2] = 1.0e30f; /* an extreme value survives too */
+}
+
+static void make_header(orr_fits_header *h)
+{
+    memset(h, 0, sizeof *h);
+    orr_fits_add_string(h, "creator", "orrery test", "lower-case key is upper-cased");
+    orr_fits_add_double(h, "BOXSIZE", 62.5, "Mpc/h");
+    orr_fits_add_long(h, "NPART", 123456789012LL, "particles");
+    orr_fits_add_bool(h, "PERIODIC", 1, "");
+    orr_fits_add_string(h, "TOOLONGKEY", "x", "ignored: more than 8 characters");
+}
+
+static void check_key_string(fitsfile *f, const char *key, const char *expect)
+{
+    char value[FLEN_VALUE] = "";
+    int status = 0;
+    fits_read_key(f, TSTRING, key, value, NULL, &status);
+    CHECK(status == 0);
+    CHECK(strcmp(value, expect) == 0);
+}
+
+/* Reads one HDU back and compares header and pixels with plane p. */
+static void check_hdu(fitsfile *f, int hdu, const orr_plane *plane, int p)
+{
+    int status = 0, type = 0, bitpix = 0, naxis = 0;
+    long naxes[2] = {0, 0};
+    fits_movabs_hdu(f, hdu, &type, &status);
+    CHECK(status == 0 && type == IMAGE_HDU);
+    fits_get_img_param(f, 2, &bitpix, &naxis, naxes, &status);
+    CHECK(status == 0);
+    CHECK(bitpix == FLOAT_IMG);
+    CHECK(naxis == 2);
+    CHECK(naxes[0] == W);
+    CHECK(naxes[1] == H);
+    check_key_string(f, "EXTNAME", plane->name);
+    check_key_string(f, "BUNIT", plane->unit);
+    check_key_string(f, "CREATOR", "orrery test");
+    double box = 0;
+    LONGLONG npart = 0;
+    int periodic = 0;
+    char date[FLEN_VALUE] = "";
+    fits_read_key(f, TDOUBLE, "BOXSIZE", &box, NULL, &status);
+    fits_read_key(f, TLONGLONG, "NPART", &npart, NULL, &status);
+    fits_read_key(f, TLOGICAL, "PERIODIC", &periodic, NULL, &status);
+    fits_read_key(f, TSTRING, "DATE", date, NULL, &status);
+    CHECK(status == 0);
+    CHECK_NEAR(box, 62.5, 0);
+    CHECK(npart == 123456789012LL);
+    CHECK(periodic == 1);
+    CHECK(strlen(date) >= 10);
+    char card[FLEN_CARD];
+    fits_read_card(f, "TOOLONGK", card, &status);
+    CHECK(status == KEY_NO_EXIST);
+    status = 0;
+    fits_clear_errmsg();
+
+    float pixels[W * H];
+    long first[2] = {1, 1};
+    fits_read_pix(f, TFLOAT, first, W * H, NULL, pixels, NULL, &status);
+    CHECK(status == 0);
+    /* FITS row 1 is the bottom: plane row H-1. */
+    int mismatches = 0;
+    for (int r = 0; r < H; r++)
+        for (int x = 0; x < W; x++)
+            mismatches += pixels[r * W + x] != plane->data[(H - 1 - r) * W + x];
+    CHECK(mismatches == 0);
+    CHECK(pixels[(H - 1) * W + 3] == value_at(p, 3, 0)); /* top-left region: last FITS row */
+}
+
+static void test_round_trip(void)
+{
+    make_tmpdir();
+    orr_plane planes[2];
+    make_planes(planes);
+    orr_fits_header header;
+    make_header(&header);
+    CHECK(header.n == 4);
+    char path[512];
+    snprintf(path, sizeof path, "%s/render[1].fits", tmpdir); /* brackets: no cfitsio filename syntax */
+    orr_error err;
+    orr_error_clear(&err);
+    orr_status st = orr_write_fits(path, planes, 2, &header, &err);
+    CHECK(st == ORR_OK);
+    if (st != ORR_OK)
+        fprintf(stderr, "  %s\n", err.msg);
+    CHECK(count_entries() == 1);
+
+    fitsfile *f = NULL;
+    int status = 0, nhdu = 0;
+    fits_open_diskfile(&f, path, READONLY, &status);
+    CHECK(status == 0);
+    if (status == 0) {
+        fits_get_num_hdus(f, &nhdu, &status);
+        CHECK(nhdu == 2);
+        check_hdu(f, 1, &planes[0], 0);
+        check_hdu(f, 2, &planes[1], 1);
+        char xtension[FLEN_VALUE] = "";
+        fits_read_key(f, TSTRING, "XTENSION", xtension, NULL, &status);
+        CHECK(status == 0 && strcmp(xtension, "IMAGE") == 0);
+        status = 0;
+        fits_close_file(f, &status);
+    }
+    orr_plane_free(&planes[0]);
+    orr_plane_free(&planes[1]);
+    remove_tmpdir();
+}
+
+static void test_overwrites_existing_file(void)
+{
+    make_tmpdir();
+    orr_plane planes[2];
+    make_planes(planes);
+    char path[512];
+    snprintf(path, sizeof path, "%s/out.fits", tmpdir);
+    FILE *old = fopen(path, "w");
+    fputs("old", old);
+    fclose(old);
+    orr_error err;
+    CHECK(orr_write_fits(path, planes, 1, NULL, &err) == ORR_OK);
+    fitsfile *f = NULL;
+    int status = 0, nhdu = 0;
+    fits_open_diskfile(&f, path, READONLY, &status);
+    fits_get_num_hdus(f, &nhdu, &status);
+    CHECK(status == 0 && nhdu == 1);
+    fits_close_file(f, &status);
+    CHECK(count_entries() == 1);
+    orr_plane_free(&planes[0]);
+    orr_plane_free(&planes[1]);
+    remove_tmpdir();
+}
+
+/* A key cfitsio rejects makes the write fail half-way: the old file must
+ * stay as it was and no temporary file may be left. */
+static void test_cfitsio_failure_keeps_old_file(void)
+{
+    make_tmpdir();
+    orr_plane planes[2];
+    make_planes(planes);
+    orr_fits_header header;
+    memset(&header, 0, sizeof header);
+    orr_fits_add_string(&header, "BAD=KEY", "x", "");
+    CHECK(header.n == 1);
+    char path[512];
+    snprintf(path, sizeof path, "%s/keep.fits", tmpdir);
+    FILE *old = fopen(path, "w");
+    fputs("old", old);
+    fclose(old);
+    orr_error err;
+    orr_error_clear(&err);
+    CHECK(orr_write_fits(path, planes, 2, &header, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, path);
+    CHECK_CONTAINS(err.msg, "keyword"); /* cfitsio's own explanation */
+    CHECK(count_entries() == 1);
+    char buf[8] = "";
+    FILE *f = fopen(path, "r");
+    CHECK(f && fgets(buf, sizeof buf, f) && strcmp(buf, "old") == 0);
+    if (f)
+        fclose(f);
+    orr_plane_free(&planes[0]);
+    orr_plane_free(&planes[1]);
+    remove_tmpdir();
+}
+
+static void test_bad_arguments(void)
+{
+    make_tmpdir();
+    orr_plane planes[2];
+    make_planes(planes);
+    char path[512];
+    snprintf(path, sizeof path, "%s/x.fits", tmpdir);
+    orr_error err;
+    CHECK(orr_write_fits(path, planes, 0, NULL, &err) == ORR_ERR_USAGE);
+    CHECK(orr_write_fits(path, NULL, 1, NULL, &err) == ORR_ERR_USAGE);
+    orr_plane other;
+    CHECK(orr_plane_alloc(&other, W + 1, H, "other", "", &err) == ORR_OK);
+    orr_plane mixed[2] = {planes[0], other};
+    orr_error_clear(&err);
+    CHECK(orr_write_fits(path, mixed, 2, NULL, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "other");
+    CHECK(count_entries() == 0);
+    /* an output folder below a regular file cannot be written */
+    char below[600];
+    snprintf(below, sizeof below, "%s/x.fits/y.fits", tmpdir);
+    FILE *blocker = fopen(path, "w");
+    fclose(blocker);
+    CHECK(orr_write_fits(below, planes, 1, NULL, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, path);
+    CHECK(count_entries() == 1);
+    orr_plane_free(&other);
+    orr_plane_free(&planes[0]);
+    orr_plane_free(&planes[1]);
+    remove_tmpdir();
+}
+
+static void test_header_limits(void)
+{
+    orr_fits_header h;
+    memset(&h, 0, sizeof h);
+    for (int i = 0; i < ORR_FITS_MAX_CARDS + 5; i++)
+        orr_fits_add_long(&h, "K", i, "");
+    CHECK(h.n == ORR_FITS_MAX_CARDS);
+    memset(&h, 0, sizeof h);
+    orr_fits_add_long(&h, "", 1, "");
+    orr_fits_add_long(&h, NULL, 1, "");
+    orr_fits_add_long(&h, "NINECHARS", 1, "");
+    orr_fits_add_long(&h, "EIGHTCHR", 1, "");
+    CHECK(h.n == 1);
+    CHECK(strcmp(h.cards[0].key, "EIGHTCHR") == 0);
+}
+
+int main(void)
+{
+    RUN(test_round_trip);
+    RUN(test_overwrites_existing_file);
+    RUN(test_cfitsio_failure_keeps_old_file);
+    RUN(test_bad_arguments);
+    RUN(test_header_limits);
+    return check_summary();
+}

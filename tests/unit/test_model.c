@@ -1,0 +1,393 @@
+/* Tests of the built-in mw-m31 model: markers, geometry, masses, sampling,
+ * rotation, determinism across chunk sizes and parameter checking. The
+ * component masses and scale lengths below are the ones docs/model.md lists. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "source/model.h"
+
+/* All particles of a model, read into flat arrays. */
+typedef struct table {
+    size_t n;
+    float *x, *y, *z, *m, *vx, *vy, *vz;
+    uint64_t *id;
+    uint8_t *type;
+} table;
+
+static void table_free(table *t)
+{
+    free(t->x);
+    free(t->y);
+    free(t->z);
+    free(t->m);
+    free(t->vx);
+    free(t->vy);
+    free(t->vz);
+    free(t->id);
+    free(t->type);
+    memset(t, 0, sizeof *t);
+}
+
+static void copy_chunk(table *t, const orr_chunk *c)
+{
+    size_t f = c->n * sizeof(float), o = t->n;
+    memcpy(t->x + o, c->x, f);
+    memcpy(t->y + o, c->y, f);
+    memcpy(t->z + o, c->z, f);
+    memcpy(t->m + o, c->mass, f);
+    memcpy(t->vx + o, orr_chunk_field(c, "vx"), f);
+    memcpy(t->vy + o, orr_chunk_field(c, "vy"), f);
+    memcpy(t->vz + o, orr_chunk_field(c, "vz"), f);
+    memcpy(t->id + o, c->id, c->n * sizeof(uint64_t));
+    memcpy(t->type + o, c->type, c->n);
+    t->n += c->n;
+}
+
+/* Reads every particle of src; returns 0 on any error or overflow. */
+static int read_source(orr_source *src, size_t expect, table *t)
+{
+    memset(t, 0, sizeof *t);
+    t->x = malloc(expect * sizeof(float));
+    t->y = malloc(expect * sizeof(float));
+    t->z = malloc(expect * sizeof(float));
+    t->m = malloc(expect * sizeof(float));
+    t->vx = malloc(expect * sizeof(float));
+    t->vy = malloc(expect * sizeof(float));
+    t->vz = malloc(expect * sizeof(float));
+    t->id = malloc(expect * sizeof(uint64_t));
+    t->type = malloc(expect);
+    orr_error err = {0};
+    for (;;) {
+        const orr_chunk *c;
+        if (orr_source_next(src, &c, &err) != ORR_OK || c->n > c->capacity) {
+            fprintf(stderr, "read error: %s\n", err.msg);
+            return 0;
+        }
+        if (c->n == 0)
+            return t->n == expect;
+        if (t->n + c->n > expect)
+            return 0;
+        copy_chunk(t, c);
+    }
+}
+
+static int load_model(long long n, uint64_t seed, double sep, size_t chunk, table *t)
+{
+    orr_model_params p = {n, seed, sep};
+    orr_source *src = NULL;
+    orr_error err = {0};
+    if (orr_model_source_open(&p, chunk, &src, &err) != ORR_OK) {
+        fprintf(stderr, "open failed: %s\n", err.msg);
+        return 0;
+    }
+    int ok = read_source(src, (size_t)n, t);
+    orr_source_close(src);
+    return ok;
+}
+
+static double dist3(double ax, double ay, double az, double bx, double by, double bz)
+{
+    return sqrt((ax - bx) * (ax - bx) + (ay - by) * (ay - by) + (az - bz) * (az - bz));
+}
+
+/* Galaxy (0 MW, 1 M31) of each particle from the documented id order:
+ * markers, then MW disc, bulge, halo, then M31 disc, bulge, halo. The
+ * galaxy changes where a halo run is followed by a disc particle. */
+static void galaxy_of(const table *t, int *gal)
+{
+    int g = 0;
+    for (size_t i = 0; i < t->n; i++) {
+        if (i >= 4 && t->type[i] == ORR_MODEL_TYPE_DISC && t->type[i - 1] == ORR_MODEL_TYPE_HALO)
+            g++;
+        gal[i] = i < 3 ? (int)i % 2 : g;
+    }
+}
+
+static void test_markers(void)
+{
+    table t;
+    CHECK(load_model(1000, 42, 780.0, 100, &t));
+    if (t.n != 1000)
+        return;
+    CHECK(t.id[0] == ORR_MODEL_ID_MW_BH && t.type[0] == ORR_MODEL_TYPE_BH);
+    CHECK(t.id[1] == ORR_MODEL_ID_M31_BH && t.type[1] == ORR_MODEL_TYPE_BH);
+    CHECK(t.id[2] == ORR_MODEL_ID_SUN && t.type[2] == ORR_MODEL_TYPE_SUN);
+    CHECK(t.x[0] == 0.0f && t.y[0] == 0.0f && t.z[0] == 0.0f);
+    CHECK_NEAR(t.m[0], 4.3e-4, 1e-9);
+    CHECK_NEAR(t.m[1], 1.4e-2, 1e-8);
+    CHECK_NEAR(t.x[2], -8.0, 1e-6);
+    CHECK_NEAR(t.y[2], 0.0, 1e-6);
+    CHECK_NEAR(t.z[2], 0.02, 1e-6);
+    CHECK_NEAR(dist3(t.x[2], t.y[2], t.z[2], t.x[0], t.y[0], t.z[0]), 8.0, 1e-3);
+    CHECK(fabs(t.z[2] - t.z[0]) < 0.1);
+    CHECK_NEAR(dist3(t.x[1], t.y[1], t.z[1], t.x[0], t.y[0], t.z[0]), 780.0, 1e-3);
+
+    /* M31 seen from the Sun at galactic (l, b) = (121.17, -21.57) deg. */
+    double dx = t.x[1] - t.x[2], dy = t.y[1] - t.y[2], dz = t.z[1] - t.z[2];
+    double l = atan2(dy, dx) * 180.0 / 3.14159265358979, b = atan2(dz, hypot(dx, dy)) * 180.0 / 3.14159265358979;
+    CHECK_NEAR(l, 121.17, 1e-3);
+    CHECK_NEAR(b, -21.57, 1e-3);
+
+    /* The Sun moves towards +y at 220-235 km/s relative to the MW centre. */
+    double vy = t.vy[2] - t.vy[0];
+    CHECK(vy > 215.0 && vy < 240.0);
+    CHECK(fabs(t.vx[2] - t.vx[0]) < 1e-3 && fabs(t.vz[2] - t.vz[0]) < 1e-3);
+
+    /* M31 approaches at ~110 km/s radially, ~17 km/s tangentially. */
+    double rx = t.x[1] - t.x[0], ry = t.y[1] - t.y[0], rz = t.z[1] - t.z[0], r = sqrt(rx * rx + ry * ry + rz * rz);
+    double wx = t.vx[1] - t.vx[0], wy = t.vy[1] - t.vy[0], wz = t.vz[1] - t.vz[0];
+    double vrad = (rx * wx + ry * wy + rz * wz) / r;
+    double vtan = sqrt(fmax(0.0, wx * wx + wy * wy + wz * wz - vrad * vrad));
+    CHECK_NEAR(vrad, -110.0, 0.01);
+    CHECK_NEAR(vtan, 17.0, 0.01);
+    table_free(&t);
+}
+
+static void test_separation_parameter(void)
+{
+    table t;
+    CHECK(load_model(200, 1, 120.0, 64, &t));
+    if (t.n == 200)
+        CHECK_NEAR(dist3(t.x[1], t.y[1], t.z[1], t.x[0], t.y[0], t.z[0]), 120.0, 1e-4);
+    table_free(&t);
+    CHECK(load_model(200, 1, 10.0, 64, &t));
+    if (t.n == 200)
+        CHECK_NEAR(dist3(t.x[1], t.y[1], t.z[1], t.x[0], t.y[0], t.z[0]), 10.0, 1e-5);
+    table_free(&t);
+}
+
+static void test_info(void)
+{
+    orr_model_params p = {12345, 7, 780.0};
+    orr_source *src = NULL;
+    orr_error err = {0};
+    CHECK(orr_model_source_open(&p, 1 << 20, &src, &err) == ORR_OK);
+    if (!src)
+        return;
+    CHECK(strcmp(src->info.format, "model:mw-m31") == 0);
+    CHECK_CONTAINS(src->info.path, "N=12345");
+    CHECK_CONTAINS(src->info.path, "seed=7");
+    CHECK_CONTAINS(src->info.path, "separation=780 kpc");
+    CHECK(src->info.count == 12345);
+    CHECK(src->info.has_id == 1 && src->info.has_type == 1 && src->info.has_h == 0);
+    CHECK(src->info.nextra == 3);
+    CHECK(strcmp(src->info.extra_names[0], "vx") == 0 && strcmp(src->info.extra_names[2], "vz") == 0);
+    CHECK(src->chunk.capacity == 12345); /* min(chunk_size, N) */
+    orr_source_close(src);
+}
+
+/* Component masses as documented: [galaxy][disc, bulge, halo]. */
+static const double COMP_MASS[2][3] = {{5.0, 1.0, 100.0}, {7.0, 2.5, 150.0}};
+
+static int comp_index(uint8_t type)
+{
+    return type == ORR_MODEL_TYPE_DISC ? 0 : type == ORR_MODEL_TYPE_BULGE ? 1 : 2;
+}
+
+static void test_masses_and_split(void)
+{
+    const long long n = 20000;
+    table t;
+    CHECK(load_model(n, 3, 780.0, 4096, &t));
+    if (t.n != (size_t)n)
+        return;
+    int *gal = malloc(t.n * sizeof(int));
+    galaxy_of(&t, gal);
+    double mass[2][3] = {{0}}, count[3] = {0};
+    int ids_ok = 1, finite = 1, kinds_ok = 1;
+    for (size_t i = 0; i < t.n; i++) {
+        ids_ok = ids_ok && t.id[i] == i + 1;
+        finite = finite && isfinite(t.x[i]) && isfinite(t.y[i]) && isfinite(t.z[i]) &&
+                 isfinite(t.vx[i]) && isfinite(t.vy[i]) && isfinite(t.vz[i]) && t.m[i] > 0;
+        if (i < 3)
+            continue;
+        kinds_ok = kinds_ok && t.type[i] >= 1 && t.type[i] <= 3 && gal[i] <= 1;
+        mass[gal[i]][comp_index(t.type[i])] += t.m[i];
+        count[comp_index(t.type[i])] += 1;
+    }
+    CHECK(ids_ok);
+    CHECK(finite);
+    CHECK(kinds_ok);
+    CHECK(gal[t.n - 1] == 1);
+    for (int g = 0; g < 2; g++)
+        for (int c = 0; c < 3; c++)
+            CHECK_NEAR(mass[g][c] / COMP_MASS[g][c], 1.0, 1e-6);
+    /* 45% discs, 15% bulges, 40% halos (of the non-marker particles). */
+    CHECK_NEAR(count[0] / (n - 3), 0.45, 1e-3);
+    CHECK_NEAR(count[1] / (n - 3), 0.15, 1e-3);
+    CHECK_NEAR(count[2] / (n - 3), 0.40, 1e-3);
+    free(gal);
+    table_free(&t);
+}
+
+static int tables_equal(const table *a, const table *b)
+{
+    size_t f = a->n * sizeof(float);
+    return a->n == b->n && memcmp(a->x, b->x, f) == 0 && memcmp(a->y, b->y, f) == 0 &&
+           memcmp(a->z, b->z, f) == 0 && memcmp(a->m, b->m, f) == 0 && memcmp(a->vx, b->vx, f) == 0 &&
+           memcmp(a->vy, b->vy, f) == 0 && memcmp(a->vz, b->vz, f) == 0 &&
+           memcmp(a->id, b->id, a->n * sizeof(uint64_t)) == 0 && memcmp(a->type, b->type, a->n) == 0;
+}
+
+static void test_chunk_size_independence(void)
+{
+    const long long n = 5003;
+    table a, b, c, d;
+    CHECK(load_model(n, 99, 780.0, 1000, &a));
+    CHECK(load_model(n, 99, 780.0, 7, &b));
+    CHECK(load_model(n, 99, 780.0, (size_t)n, &c));
+    CHECK(tables_equal(&a, &b));
+    CHECK(tables_equal(&a, &c));
+    CHECK(load_model(n, 100, 780.0, 1000, &d));
+    CHECK(a.n == d.n && memcmp(a.x + 3, d.x + 3, 100 * sizeof(float)) != 0); /* the seed matters */
+    table_free(&a);
+    table_free(&b);
+    table_free(&c);
+    table_free(&d);
+}
+
+static void test_rewind(void)
+{
+    orr_model_params p = {3000, 5, 780.0};
+    orr_source *src = NULL;
+    orr_error err = {0};
+    CHECK(orr_model_source_open(&p, 512, &src, &err) == ORR_OK);
+    if (!src)
+        return;
+    table a, b;
+    CHECK(read_source(src, 3000, &a));
+    CHECK(orr_source_rewind(src, &err) == ORR_OK);
+    CHECK(read_source(src, 3000, &b));
+    CHECK(tables_equal(&a, &b));
+    const orr_chunk *c;
+    CHECK(orr_source_next(src, &c, &err) == ORR_OK && c->n == 0); /* stays at the end */
+    table_free(&a);
+    table_free(&b);
+    orr_source_close(src);
+}
+
+/* Mean radius of an exponential disc truncated at x = Rmax/Rd, in units of
+ * Rd: the ratio of the lower incomplete gamma functions g(3, x) / g(2, x). */
+static double truncated_disc_mean(double x)
+{
+    double e = exp(-x);
+    return (2.0 - e * (x * x + 2.0 * x + 2.0)) / (1.0 - e * (1.0 + x));
+}
+
+static void test_disc_profile_and_rotation(void)
+{
+    const long long n = 200000;
+    table t;
+    CHECK(load_model(n, 11, 780.0, 65536, &t));
+    if (t.n != (size_t)n)
+        return;
+    int *gal = malloc(t.n * sizeof(int));
+    galaxy_of(&t, gal);
+    double sum_r = 0, sum_absz = 0, cnt = 0, lx = 0, ly = 0, lz = 0;
+    double ml[3] = {0}; /* M31 disc angular momentum */
+    for (size_t i = 3; i < t.n; i++) {
+        if (t.type[i] != ORR_MODEL_TYPE_DISC)
+            continue;
+        int g = gal[i];
+        double x = t.x[i] - t.x[g], y = t.y[i] - t.y[g], z = t.z[i] - t.z[g];
+        double vx = t.vx[i] - t.vx[g], vy = t.vy[i] - t.vy[g], vz = t.vz[i] - t.vz[g];
+        double jx = y * vz - z * vy, jy = z * vx - x * vz, jz = x * vy - y * vx;
+        if (g == 0) {
+            sum_r += sqrt(x * x + y * y);
+            sum_absz += fabs(z);
+            cnt += 1;
+            lx += jx;
+            ly += jy;
+            lz += jz;
+        } else {
+            ml[0] += jx;
+            ml[1] += jy;
+            ml[2] += jz;
+        }
+    }
+    /* MW: Rd = 3 kpc truncated at 25 kpc; exponential vertical, hz = 0.3 kpc. */
+    CHECK_NEAR(sum_r / cnt / (3.0 * truncated_disc_mean(25.0 / 3.0)), 1.0, 0.02);
+    CHECK_NEAR(sum_absz / cnt / 0.3, 1.0, 0.03);
+    /* Angular momentum along -z. */
+    CHECK(lz < 0);
+    CHECK(sqrt(lx * lx + ly * ly) < 0.02 * fabs(lz));
+    /* M31: along the documented spin axis (l, b) = (240, -30) deg. */
+    double d2r = 3.14159265358979 / 180.0;
+    double sx = cos(-30 * d2r) * cos(240 * d2r), sy = cos(-30 * d2r) * sin(240 * d2r), sz = sin(-30 * d2r);
+    double mn = sqrt(ml[0] * ml[0] + ml[1] * ml[1] + ml[2] * ml[2]);
+    CHECK((ml[0] * sx + ml[1] * sy + ml[2] * sz) / mn > cos(2 * d2r));
+    free(gal);
+    table_free(&t);
+}
+
+/* The galaxies' bulk velocities (carried by the black-hole markers) cancel
+ * exactly; the particles' random motions leave a residual of order
+ * M sigma / sqrt(N), 1-5% of M31's momentum at N = 10^5. Were the bulk
+ * velocities unbalanced, it would be ~100%. */
+static void test_momentum(void)
+{
+    const double m_mw = 106.00043, m_m31 = 159.514; /* galaxy totals */
+    table t;
+    CHECK(load_model(100000, 2, 780.0, 10000, &t));
+    if (t.n != 100000)
+        return;
+    double bulk[3] = {m_mw * t.vx[0] + m_m31 * t.vx[1], m_mw * t.vy[0] + m_m31 * t.vy[1],
+                      m_mw * t.vz[0] + m_m31 * t.vz[1]};
+    double p31 = m_m31 * sqrt((double)t.vx[1] * t.vx[1] + (double)t.vy[1] * t.vy[1] + (double)t.vz[1] * t.vz[1]);
+    CHECK(p31 > 0 && sqrt(bulk[0] * bulk[0] + bulk[1] * bulk[1] + bulk[2] * bulk[2]) < 1e-6 * p31);
+    double p[3] = {0};
+    for (size_t i = 0; i < t.n; i++) {
+        p[0] += (double)t.m[i] * t.vx[i];
+        p[1] += (double)t.m[i] * t.vy[i];
+        p[2] += (double)t.m[i] * t.vz[i];
+    }
+    CHECK(sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]) < 0.15 * p31);
+    table_free(&t);
+}
+
+static void expect_usage(long long n, double sep, size_t chunk, const char *word)
+{
+    orr_model_params p = {n, 1, sep};
+    orr_source *src = (orr_source *)&p; /* must be reset to NULL */
+    orr_error err = {0};
+    CHECK(orr_model_source_open(&p, chunk, &src, &err) == ORR_ERR_USAGE);
+    CHECK(src == NULL);
+    CHECK_CONTAINS(err.msg, word);
+}
+
+static void test_bad_parameters(void)
+{
+    expect_usage(99, 780.0, 1000, "99 particles");
+    expect_usage(0, 780.0, 1000, "particles");
+    expect_usage(-5, 780.0, 1000, "particles");
+    expect_usage(ORR_MODEL_PARTICLES_MAX + 1, 780.0, 1000, "particles");
+    expect_usage(1000, NAN, 1000, "separation");
+    expect_usage(1000, INFINITY, 1000, "separation");
+    expect_usage(1000, 5.0, 1000, "separation");
+    expect_usage(1000, -780.0, 1000, "separation");
+    expect_usage(1000, 1e6, 1000, "separation");
+    expect_usage(1000, 780.0, 0, "chunk size");
+    orr_error err = {0};
+    orr_source *src = NULL;
+    CHECK(orr_model_source_open(NULL, 1000, &src, &err) == ORR_ERR_USAGE);
+    table t; /* the minimum is accepted */
+    CHECK(load_model(100, 1, 780.0, 1000, &t));
+    table_free(&t);
+}
+
+int main(void)
+{
+    RUN(test_markers);
+    RUN(test_separation_parameter);
+    RUN(test_info);
+    RUN(test_masses_and_split);
+    RUN(test_chunk_size_independence);
+    RUN(test_rewind);
+    RUN(test_disc_profile_and_rotation);
+    RUN(test_momentum);
+    RUN(test_bad_parameters);
+    return check_summary();
+}

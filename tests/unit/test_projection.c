@@ -1,0 +1,130 @@
+/* Projections: known points land on known pixels; points behind the camera
+ * are rejected; the batch loop agrees with the single-point function. */
+#include <stdlib.h>
+
+#include "check.h"
+#include "frame/projection.h"
+
+static orr_projection ortho(int w, int h, double width)
+{
+    orr_projection p = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = w, .height = h, .ortho_width = width};
+    orr_error err = {0};
+    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
+    return p;
+}
+
+static orr_projection persp(int w, int h, double fov, double near)
+{
+    orr_projection p = {.kind = ORR_PROJ_PERSPECTIVE, .width = w, .height = h, .fov_deg = fov, .near = near};
+    orr_error err = {0};
+    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
+    return p;
+}
+
+static void test_orthographic_known_points(void)
+{
+    orr_projection p = ortho(200, 100, 50.0); /* 4 pixels per unit */
+    double px, py, s;
+    CHECK(orr_project_point(&p, orr_v3(0, 0, -7), &px, &py, &s) == 1);
+    CHECK_NEAR(px, 100, 1e-12);
+    CHECK_NEAR(py, 50, 1e-12);
+    CHECK_NEAR(s, 4, 1e-12);
+    /* The right edge is at x = +25; y grows down the image. */
+    orr_project_point(&p, orr_v3(25, 0, 3), &px, &py, &s);
+    CHECK_NEAR(px, 200, 1e-12);
+    orr_project_point(&p, orr_v3(-12.5, 12.5, 0), &px, &py, &s);
+    CHECK_NEAR(px, 50, 1e-12);
+    CHECK_NEAR(py, 100, 1e-12);
+    /* The centre of pixel (0, 0) is half a pixel (1/8 unit) in from the corner. */
+    orr_project_point(&p, orr_v3(-25 + 0.125, -12.5 + 0.125, 0), &px, &py, &s);
+    CHECK_NEAR(px, 0.5, 1e-12);
+    CHECK_NEAR(py, 0.5, 1e-12);
+}
+
+static void test_perspective_known_points(void)
+{
+    /* 90 degrees across the wider axis (width 400): focal length 200 pixels. */
+    orr_projection p = persp(400, 300, 90.0, 0.1);
+    double px, py, s;
+    CHECK(orr_project_point(&p, orr_v3(0, 0, 5), &px, &py, &s) == 1);
+    CHECK_NEAR(px, 200, 1e-9);
+    CHECK_NEAR(py, 150, 1e-9);
+    CHECK_NEAR(s, 200.0 / 5, 1e-9);
+    /* 45 degrees to the right is the right edge; the same angle down lands
+     * 200 pixels below the centre (off the 300-pixel-high image). */
+    orr_project_point(&p, orr_v3(5, 0, 5), &px, &py, &s);
+    CHECK_NEAR(px, 400, 1e-9);
+    orr_project_point(&p, orr_v3(0, 5, 5), &px, &py, &s);
+    CHECK_NEAR(py, 350, 1e-9);
+    /* A portrait image measures the field of view along its height. */
+    orr_projection q = persp(300, 400, 90.0, 0.1);
+    orr_project_point(&q, orr_v3(0, -2, 2), &px, &py, &s);
+    CHECK_NEAR(py, 0, 1e-9);
+}
+
+static void test_perspective_rejects_behind_camera(void)
+{
+    orr_projection p = persp(100, 100, 60.0, 0.5);
+    double px, py, s;
+    CHECK(orr_project_point(&p, orr_v3(0, 0, -1), &px, &py, &s) == 0);
+    CHECK(orr_project_point(&p, orr_v3(1, 1, 0), &px, &py, &s) == 0);
+    CHECK(orr_project_point(&p, orr_v3(0, 0, 0.5), &px, &py, &s) == 0); /* at the near plane */
+    CHECK(orr_project_point(&p, orr_v3(0, 0, 0.51), &px, &py, &s) == 1);
+}
+
+static void test_batch_matches_single(void)
+{
+    enum { N = 1000 };
+    float x[N], y[N], z[N], px[N], py[N], sc[N];
+    uint8_t vis[N];
+    srand(7);
+    for (int i = 0; i < N; i++) {
+        x[i] = (float)(rand() / (double)RAND_MAX * 20 - 10);
+        y[i] = (float)(rand() / (double)RAND_MAX * 20 - 10);
+        z[i] = (float)(rand() / (double)RAND_MAX * 20 - 10);
+    }
+    orr_projection projs[2] = {ortho(640, 480, 30.0), persp(640, 480, 70.0, 0.01)};
+    for (int k = 0; k < 2; k++) {
+        orr_project_batch(&projs[k], N, x, y, z, px, py, sc, vis);
+        for (int i = 0; i < N; i++) {
+            double qx, qy, qs;
+            int v = orr_project_point(&projs[k], orr_v3(x[i], y[i], z[i]), &qx, &qy, &qs);
+            CHECK(v == vis[i]);
+            if (v) {
+                CHECK_NEAR(px[i], qx, 1e-3 * (1 + fabs(qx)));
+                CHECK_NEAR(py[i], qy, 1e-3 * (1 + fabs(qy)));
+                CHECK_NEAR(sc[i], qs, 1e-4 * qs);
+            }
+        }
+    }
+}
+
+static void test_setup_rejects_bad_parameters(void)
+{
+    orr_error err = {0};
+    orr_projection p = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 0, .height = 10, .ortho_width = 1};
+    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "0 x 10");
+    p = (orr_projection){.kind = ORR_PROJ_ORTHOGRAPHIC, .width = -5, .height = 10, .ortho_width = 1};
+    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+    p = (orr_projection){.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 100000, .height = 10, .ortho_width = 1};
+    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+    p = (orr_projection){.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 10, .height = 10, .ortho_width = 0};
+    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "orthographic width");
+    p = (orr_projection){.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = 180};
+    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "field of view");
+    p = (orr_projection){.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = NAN};
+    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+}
+
+int main(void)
+{
+    RUN(test_orthographic_known_points);
+    RUN(test_perspective_known_points);
+    RUN(test_perspective_rejects_behind_camera);
+    RUN(test_batch_matches_single);
+    RUN(test_setup_rejects_bad_parameters);
+    return check_summary();
+}

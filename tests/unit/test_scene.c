@@ -1,0 +1,487 @@
+/* Scene files: defaults, every key, path resolution, --set overrides, and the
+ * message and code of each kind of bad input. */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "scene/scene.h"
+
+/* Scenes are large (several path buffers); one shared copy keeps the stack small. */
+static orr_scene g_scene;
+
+/* The smallest valid scene: the built-in model with every default. */
+#define MODEL "input:\n  model:\n    name: mw-m31\n"
+/* The same, open for more input.* keys (which start on line 3). */
+#define MODEL_INPUT "input:\n  model: {name: mw-m31}\n"
+
+static orr_status load(const char *yaml, const char *const *sets, int nsets, orr_error *err)
+{
+    orr_error_clear(err);
+    return orr_scene_load_string(&g_scene, yaml, "scene.yaml", "/base", sets, nsets, err);
+}
+
+/* Loads yaml (with optional overrides) and checks the error code and that the
+ * message contains each of the given fragments. */
+#define EXPECT_ERROR_SETS(yaml, sets, nsets, code, ...)                                   \
+    do {                                                                                  \
+        orr_error e_;                                                                     \
+        orr_status st_ = load((yaml), (sets), (nsets), &e_);                              \
+        CHECK(st_ == (code));                                                             \
+        if (st_ != (code))                                                                \
+            fprintf(stderr, "  got status %d: %s\n", (int)st_, e_.msg);                   \
+        const char *needles_[] = {__VA_ARGS__};                                           \
+        for (size_t i_ = 0; i_ < sizeof needles_ / sizeof needles_[0]; i_++)              \
+            CHECK_CONTAINS(e_.msg, needles_[i_]);                                         \
+    } while (0)
+#define EXPECT_ERROR(yaml, code, ...) EXPECT_ERROR_SETS(yaml, NULL, 0, code, __VA_ARGS__)
+
+/* Loads yaml and checks that it succeeds, printing the message when not. */
+#define EXPECT_OK(yaml, sets, nsets)                                    \
+    do {                                                                \
+        orr_error e_;                                                   \
+        orr_status st_ = load((yaml), (sets), (nsets), &e_);            \
+        CHECK(st_ == ORR_OK);                                           \
+        if (st_ != ORR_OK)                                              \
+            fprintf(stderr, "  unexpected error: %s\n", e_.msg);        \
+    } while (0)
+
+static void test_defaults(void)
+{
+    orr_scene *s = &g_scene;
+    orr_scene_defaults(s);
+    CHECK(strcmp(s->path, "<built-in>") == 0);
+    CHECK(strcmp(s->dir, ".") == 0);
+    CHECK(s->input_file[0] == '\0');
+    CHECK(strcmp(s->input_format, "auto") == 0);
+    CHECK(s->model_name[0] == '\0');
+    CHECK(s->model_particles == 200000);
+    CHECK(s->model_seed == 1);
+    CHECK(s->model_separation == 780);
+    CHECK(strcmp(s->weight, "mass") == 0);
+    CHECK(s->type_mask == 0x3f);
+    CHECK(s->chunk_size == 1048576);
+    CHECK(s->skip_nonfinite == 0);
+    CHECK(s->camera_position.x == 0 && s->camera_position.y == 0 && s->camera_position.z == 0);
+    CHECK(!s->has_look_at && !s->has_direction && !s->has_quaternion && !s->has_up);
+    CHECK(s->camera_up.x == 0 && s->camera_up.y == 1 && s->camera_up.z == 0);
+    CHECK(s->camera_roll == 0);
+    CHECK(s->projection.kind == ORR_PROJ_ORTHOGRAPHIC);
+    CHECK(s->projection.width == 1024 && s->projection.height == 1024);
+    CHECK(s->projection.ortho_width == 100);
+    CHECK(s->projection.fov_deg == 60);
+    CHECK(s->projection.near == 1e-3);
+    CHECK(s->deposit == ORR_DEPOSIT_CIC);
+    CHECK(strcmp(s->out_dir, ".") == 0);
+    CHECK(s->write_fits == 1 && s->write_png == 1);
+    CHECK(s->png_bits == 8);
+    CHECK(s->stretch.kind == ORR_STRETCH_LOG);
+    CHECK(s->stretch.white == 0);
+    CHECK(s->stretch.white_percentile == 99.9);
+    CHECK(s->stretch.n == 1000);
+    CHECK(s->colormap == ORR_CMAP_MAGMA);
+    CHECK(strcmp(s->bunit, "mass/pixel") == 0);
+
+    /* A minimal scene keeps them, and names the output after the scene. */
+    EXPECT_OK(MODEL, NULL, 0);
+    CHECK(strcmp(g_scene.model_name, "mw-m31") == 0);
+    CHECK(g_scene.model_particles == 200000);
+    CHECK(g_scene.projection.width == 1024);
+    CHECK(strcmp(g_scene.out_name, "scene") == 0);
+    CHECK(strcmp(g_scene.path, "scene.yaml") == 0);
+    CHECK(strcmp(g_scene.dir, "/base") == 0);
+}
+
+static void test_full_scene(void)
+{
+    const char *yaml = "# every key but input.file, camera.look_at and camera.direction\n"
+                       "input:\n"
+                       "  format: text\n"
+                       "  model:\n"
+                       "    name: mw-m31\n"
+                       "    particles: 2e6\n"
+                       "    seed: 42\n"
+                       "    separation: 700.5\n"
+                       "  weight: luminosity\n"
+                       "  types: [0, 2, 4]\n"
+                       "  chunk: 65536\n"
+                       "  nonfinite: skip\n"
+                       "camera:\n"
+                       "  position: [1, -2.5, 3e2]\n"
+                       "  up: [0, 0, 1]\n"
+                       "  roll: -15\n"
+                       "  quaternion: [0, 0, 0, 2]   # normalised on load\n"
+                       "  projection: perspective\n"
+                       "  width: 250\n"
+                       "  fov: 45\n"
+                       "  near: 0.5\n"
+                       "image: {width: 800, height: 600}\n"
+                       "deposit: ngp\n"
+                       "output:\n"
+                       "  dir: renders/out\n"
+                       "  name: galaxy\n"
+                       "  fits: no\n"
+                       "  png: on\n"
+                       "  png_bits: 16\n"
+                       "  stretch: asinh\n"
+                       "  white: 3.5\n"
+                       "  white_percentile: 99.5\n"
+                       "  softening: 50\n"
+                       "  colormap: gray\n"
+                       "  bunit: 'Msun / pixel'\n";
+    EXPECT_OK(yaml, NULL, 0);
+    const orr_scene *s = &g_scene;
+    CHECK(strcmp(s->input_format, "text") == 0);
+    CHECK(strcmp(s->model_name, "mw-m31") == 0);
+    CHECK(s->model_particles == 2000000);
+    CHECK(s->model_seed == 42);
+    CHECK(s->model_separation == 700.5);
+    CHECK(strcmp(s->weight, "luminosity") == 0);
+    CHECK(s->type_mask == ((1u << 0) | (1u << 2) | (1u << 4)));
+    CHECK(s->chunk_size == 65536);
+    CHECK(s->skip_nonfinite == 1);
+    CHECK(s->camera_position.x == 1 && s->camera_position.y == -2.5 && s->camera_position.z == 300);
+    CHECK(s->has_up && s->camera_up.z == 1 && s->camera_up.y == 0);
+    CHECK(s->camera_roll == -15);
+    CHECK(s->has_quaternion && !s->has_look_at && !s->has_direction);
+    CHECK(s->camera_quaternion.w == 0 && s->camera_quaternion.z == 1);
+    CHECK(s->projection.kind == ORR_PROJ_PERSPECTIVE);
+    CHECK(s->projection.ortho_width == 250);
+    CHECK(s->projection.fov_deg == 45);
+    CHECK(s->projection.near == 0.5);
+    CHECK(s->projection.width == 800 && s->projection.height == 600);
+    CHECK(s->deposit == ORR_DEPOSIT_NGP);
+    CHECK(strcmp(s->out_dir, "renders/out") == 0); /* not resolved against the scene */
+    CHECK(strcmp(s->out_name, "galaxy") == 0);
+    CHECK(s->write_fits == 0 && s->write_png == 1);
+    CHECK(s->png_bits == 16);
+    CHECK(s->stretch.kind == ORR_STRETCH_ASINH);
+    CHECK(s->stretch.white == 3.5);
+    CHECK(s->stretch.white_percentile == 99.5);
+    CHECK(s->stretch.n == 50);
+    CHECK(s->colormap == ORR_CMAP_GREY);
+    CHECK(strcmp(s->bunit, "Msun / pixel") == 0);
+}
+
+static void test_camera_orientations(void)
+{
+    EXPECT_OK(MODEL "camera:\n  position: [0, 0, 10]\n  look_at: [1, 2, 3]\n", NULL, 0);
+    CHECK(g_scene.has_look_at && !g_scene.has_direction && !g_scene.has_up);
+    CHECK(g_scene.camera_look_at.x == 1 && g_scene.camera_look_at.z == 3);
+    EXPECT_OK(MODEL "camera:\n  direction: [0, -1, 0]\n  up: [0, 0, 1]\n", NULL, 0);
+    CHECK(g_scene.has_direction && g_scene.has_up && g_scene.camera_direction.y == -1);
+    /* "camera:" with every key commented out is an empty section, not an error. */
+    EXPECT_OK(MODEL "camera:\n  # look_at: [0, 0, 0]\n", NULL, 0);
+    CHECK(!g_scene.has_look_at);
+    /* white: auto is 0, the automatic white level. */
+    EXPECT_OK(MODEL "output:\n  white: auto\n", NULL, 0);
+    CHECK(g_scene.stretch.white == 0);
+    /* One type alone needs no list; booleans in their other spellings. */
+    EXPECT_OK(MODEL_INPUT "  types: 3\noutput: {fits: off, png: Yes}\n", NULL, 0);
+    CHECK(g_scene.type_mask == 8u && g_scene.write_fits == 0 && g_scene.write_png == 1);
+}
+
+static int write_text(const char *path, const char *text)
+{
+    FILE *f = fopen(path, "w");
+    if (!f)
+        return 0;
+    int ok = fputs(text, f) >= 0;
+    return fclose(f) == 0 && ok;
+}
+
+static void test_file_paths(void)
+{
+    char dir[] = "/tmp/orrery_scene_XXXXXX";
+    if (!mkdtemp(dir)) {
+        CHECK(!"mkdtemp failed");
+        return;
+    }
+    char scene[256], abs_scene[256], bad[256];
+    snprintf(scene, sizeof scene, "%s/face-on.view.yaml", dir);
+    snprintf(abs_scene, sizeof abs_scene, "%s/absolute.yaml", dir);
+    snprintf(bad, sizeof bad, "%s/bad.yaml", dir);
+    CHECK(write_text(scene, "input:\n  file: data/snap.txt\noutput:\n  dir: out\n"));
+    CHECK(write_text(abs_scene, "input:\n  file: /data/snap.txt\n"));
+    CHECK(write_text(bad, "input:\n  file: snap.txt\n\ncamera:\n  fov: sixty\n"));
+
+    orr_error err;
+    orr_status st = orr_scene_load(&g_scene, scene, NULL, 0, &err);
+    CHECK(st == ORR_OK);
+    char want[512];
+    snprintf(want, sizeof want, "%s/data/snap.txt", dir);
+    CHECK(strcmp(g_scene.input_file, want) == 0);
+    CHECK(strcmp(g_scene.dir, dir) == 0);
+    CHECK(strcmp(g_scene.path, scene) == 0);
+    CHECK(strcmp(g_scene.out_dir, "out") == 0);          /* against the working directory */
+    CHECK(strcmp(g_scene.out_name, "face-on.view") == 0); /* the stem drops only the last extension */
+    CHECK(g_scene.model_name[0] == '\0');
+
+    st = orr_scene_load(&g_scene, abs_scene, NULL, 0, &err);
+    CHECK(st == ORR_OK);
+    CHECK(strcmp(g_scene.input_file, "/data/snap.txt") == 0);
+
+    /* Errors from a file name the file as given and the line. */
+    st = orr_scene_load(&g_scene, bad, NULL, 0, &err);
+    CHECK(st == ORR_ERR_USAGE);
+    snprintf(want, sizeof want, "%s:5: camera.fov: expected a number, got 'sixty'", bad);
+    CHECK(strcmp(err.msg, want) == 0);
+
+    /* A --set path was typed in a shell: it stays relative to the working directory. */
+    const char *sets[] = {"input.file=other.txt"};
+    st = orr_scene_load(&g_scene, scene, sets, 1, &err);
+    CHECK(st == ORR_OK);
+    CHECK(strcmp(g_scene.input_file, "other.txt") == 0);
+
+    remove(scene);
+    remove(abs_scene);
+    remove(bad);
+    CHECK(rmdir(dir) == 0);
+}
+
+static void test_missing_file(void)
+{
+    orr_error err;
+    orr_status st = orr_scene_load(&g_scene, "/nonexistent/dir/scene.yaml", NULL, 0, &err);
+    CHECK(st == ORR_ERR_IO);
+    CHECK(strcmp(err.msg, "/nonexistent/dir/scene.yaml: cannot open scene file: No such file or directory") == 0);
+}
+
+static void test_load_string_names(void)
+{
+    orr_error err;
+    /* A relative file in a scene from memory is resolved against base_dir. */
+    CHECK(orr_scene_load_string(&g_scene, "input: {file: a.txt}", "builtin/ortho.yaml", "/srv/data", NULL, 0,
+                                &err) == ORR_OK);
+    CHECK(strcmp(g_scene.input_file, "/srv/data/a.txt") == 0);
+    CHECK(strcmp(g_scene.out_name, "ortho") == 0);
+    /* No base folder: the path stays as written; no origin: output "orrery". */
+    CHECK(orr_scene_load_string(&g_scene, "input: {file: a.txt}", NULL, NULL, NULL, 0, &err) == ORR_OK);
+    CHECK(strcmp(g_scene.input_file, "a.txt") == 0);
+    CHECK(strcmp(g_scene.out_name, "orrery") == 0);
+    CHECK(strcmp(g_scene.path, "<built-in>") == 0);
+    /* Messages name the origin given. */
+    CHECK(orr_scene_load_string(&g_scene, "deposit: tsc\n", "face-on", NULL, NULL, 0, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "face-on:1: deposit: expected one of: ngp cic, got 'tsc'") == 0);
+}
+
+static void test_overrides(void)
+{
+    const char *yaml = MODEL "camera:\n  look_at: [0, 0, 0]\n  position: [0, 0, 5]\nimage:\n  width: 640\n";
+    const char *sets[] = {
+        "image.width=320",                  /* replace a scalar */
+        "camera.position=[0, 0, 10]",       /* a list */
+        "input.types=[2,3]",                /* a list of types */
+        "output.colormap=inferno",          /* a key the file does not have */
+        "camera.projection = perspective",  /* spaces around '=' */
+        "output.name=view-1",
+    };
+    EXPECT_OK(yaml, sets, 6);
+    CHECK(g_scene.projection.width == 320);
+    CHECK(g_scene.projection.height == 1024);
+    CHECK(g_scene.camera_position.z == 10);
+    CHECK(g_scene.has_look_at);
+    CHECK(g_scene.type_mask == ((1u << 2) | (1u << 3)));
+    CHECK(g_scene.colormap == ORR_CMAP_INFERNO);
+    CHECK(g_scene.projection.kind == ORR_PROJ_PERSPECTIVE);
+    CHECK(strcmp(g_scene.out_name, "view-1") == 0);
+
+    /* Replacing a whole mapping drops the keys it had (here look_at), so a
+     * direction no longer conflicts with it. */
+    const char *replace[] = {"camera={direction: [1, 0, 0], up: [0, 0, 1]}"};
+    EXPECT_OK(yaml, replace, 1);
+    CHECK(g_scene.has_direction && !g_scene.has_look_at);
+    CHECK(g_scene.camera_position.z == 0);
+
+    /* Later overrides win; a mapping is made where a scalar was. */
+    const char *later[] = {"image.width=100", "image.width=200", "deposit=ngp"};
+    EXPECT_OK(yaml, later, 3);
+    CHECK(g_scene.projection.width == 200);
+    CHECK(g_scene.deposit == ORR_DEPOSIT_NGP);
+    const char *remap[] = {"image=5", "image.height=7"};
+    EXPECT_OK(yaml, remap, 2);
+    CHECK(g_scene.projection.height == 7 && g_scene.projection.width == 1024);
+
+    /* Overrides can supply keys a file lacks entirely. */
+    const char *input[] = {"input.model.name=mw-m31", "input.model.particles=1000"};
+    EXPECT_OK("deposit: cic\n", input, 2);
+    CHECK(g_scene.model_particles == 1000);
+}
+
+static void test_bad_overrides(void)
+{
+    const char *no_eq[] = {"image.width"};
+    EXPECT_ERROR_SETS(MODEL, no_eq, 1, ORR_ERR_USAGE, "--set image.width: expected key=value");
+    const char *empty_key[] = {"=5"};
+    EXPECT_ERROR_SETS(MODEL, empty_key, 1, ORR_ERR_USAGE, "--set =5: the key before '=' is empty");
+    const char *empty_part[] = {"camera..fov=5"};
+    EXPECT_ERROR_SETS(MODEL, empty_part, 1, ORR_ERR_USAGE, "--set camera..fov=5:", "empty part");
+    const char *trailing[] = {"camera.=5"};
+    EXPECT_ERROR_SETS(MODEL, trailing, 1, ORR_ERR_USAGE, "empty part");
+
+    orr_error err;
+    const char *range[] = {"image.width=-5"};
+    CHECK(load(MODEL, range, 1, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "--set image.width=-5: image.width: -5 is out of range (1 to 65536)") == 0);
+
+    const char *syntax[] = {"camera.position=[0, 0"};
+    EXPECT_ERROR_SETS(MODEL, syntax, 1, ORR_ERR_USAGE, "--set camera.position=[0, 0: YAML syntax error:");
+    const char *unknown[] = {"camera.fvo=30"};
+    EXPECT_ERROR_SETS(MODEL, unknown, 1, ORR_ERR_USAGE,
+                      "--set camera.fvo=30: unknown key 'camera.fvo' (did you mean 'camera.fov'?)");
+    const char *novalue[] = {"camera.fov="};
+    EXPECT_ERROR_SETS(MODEL, novalue, 1, ORR_ERR_USAGE, "--set camera.fov=: camera.fov: expected a number, got nothing");
+    const char *badlist[] = {"camera.position=[0, x, 1]"};
+    EXPECT_ERROR_SETS(MODEL, badlist, 1, ORR_ERR_USAGE,
+                      "--set camera.position=[0, x, 1]: camera.position[1]: expected a number, got 'x'");
+}
+
+static void test_yaml_errors(void)
+{
+    /* libyaml's own messages, with line and column. */
+    EXPECT_ERROR(MODEL "camera:\n  position: [0, 0\n  roll: 1\n", ORR_ERR_USAGE, "scene.yaml:", "YAML syntax error: ");
+    EXPECT_ERROR("input:\n  file: a\n   bad: 1\n", ORR_ERR_USAGE, "scene.yaml:3:7:", "YAML syntax error: ",
+                 "mapping values are not allowed");
+    EXPECT_ERROR("a: 'unclosed\n", ORR_ERR_USAGE, "YAML syntax error");
+    EXPECT_ERROR("input:\n\tfile: a\n", ORR_ERR_USAGE, "scene.yaml:2:1: YAML syntax error: ", "not tabs");
+    /* Empty documents. */
+    EXPECT_ERROR("", ORR_ERR_USAGE, "scene.yaml: the scene is empty");
+    EXPECT_ERROR("# nothing but a comment\n\n", ORR_ERR_USAGE, "scene.yaml: the scene is empty");
+    EXPECT_ERROR("---\n", ORR_ERR_USAGE, "scene.yaml: the scene is empty");
+    /* The top level must be a mapping. */
+    EXPECT_ERROR("- input\n- camera\n", ORR_ERR_USAGE, "scene.yaml:1: the top level of a scene must be a mapping",
+                 "a list");
+    EXPECT_ERROR("just words\n", ORR_ERR_USAGE, "the top level of a scene must be a mapping", "'just words'");
+    /* One document only; no aliases; no complex keys. */
+    EXPECT_ERROR(MODEL "---\ndeposit: ngp\n", ORR_ERR_USAGE, "scene.yaml:4: a scene is one YAML document");
+    EXPECT_ERROR(MODEL "camera:\n  position: &p [0, 0, 1]\n  look_at: *p\n", ORR_ERR_USAGE, "scene.yaml:6:",
+                 "aliases (*p) are not supported");
+    EXPECT_ERROR("? [a, b]\n: c\n", ORR_ERR_USAGE, "scene.yaml:1: keys must be plain words");
+}
+
+static void test_key_errors(void)
+{
+    orr_error err;
+    CHECK(load(MODEL "camera:\n  fvo: 30\n", NULL, 0, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "scene.yaml:5: unknown key 'camera.fvo' (did you mean 'camera.fov'?)") == 0);
+    EXPECT_ERROR(MODEL "camrea:\n  roll: 3\n", ORR_ERR_USAGE, "scene.yaml:4: unknown key 'camrea' (did you mean 'camera'?)");
+    /* No close spelling, but only one key ends the same way. */
+    EXPECT_ERROR(MODEL "camera:\n  height: 3\n", ORR_ERR_USAGE,
+                 "scene.yaml:5: unknown key 'camera.height' (did you mean 'image.height'?)");
+    EXPECT_ERROR(MODEL "colour: red\n", ORR_ERR_USAGE, "scene.yaml:4: unknown key 'colour'");
+    /* Keys below a leaf are unknown, not silently ignored. */
+    EXPECT_ERROR(MODEL "deposit:\n  kind: ngp\n", ORR_ERR_USAGE, "scene.yaml:4: deposit: expected one of: ngp cic, got a mapping");
+    EXPECT_ERROR(MODEL "image:\n  width: 10\n  height: 10\n  width: 20\n", ORR_ERR_USAGE,
+                 "scene.yaml:7: duplicate key 'image.width' (first set at line 5)");
+    EXPECT_ERROR(MODEL "camera.roll: 5\n", ORR_ERR_USAGE, "scene.yaml:4: key 'camera.roll' contains a '.'");
+    EXPECT_ERROR(MODEL "'': 5\n", ORR_ERR_USAGE, "scene.yaml:4: empty key");
+    /* A scalar where a mapping is wanted and the other way round. */
+    EXPECT_ERROR(MODEL "camera: 5\n", ORR_ERR_USAGE, "scene.yaml:4: camera: expected a mapping of camera.* keys, got '5'");
+    EXPECT_ERROR(MODEL "camera: [1, 2]\n", ORR_ERR_USAGE, "camera: expected a mapping of camera.* keys, got a list");
+    EXPECT_ERROR(MODEL "camera:\n  fov:\n    deg: 30\n", ORR_ERR_USAGE,
+                 "scene.yaml:5: camera.fov: expected a number, got a mapping");
+    EXPECT_ERROR(MODEL "output:\n  name: [a, b]\n", ORR_ERR_USAGE, "scene.yaml:5: output.name: expected a string, got a list");
+    EXPECT_ERROR(MODEL "camera:\n  fov:\n", ORR_ERR_USAGE, "scene.yaml:5: camera.fov: expected a number, got nothing");
+}
+
+static void test_value_errors(void)
+{
+    orr_error err;
+    CHECK(load(MODEL "camera:\n  projection: perspective\n  fov: sixty\n", NULL, 0, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "scene.yaml:6: camera.fov: expected a number, got 'sixty'") == 0);
+    /* Non-finite numbers, in every spelling. */
+    EXPECT_ERROR(MODEL "camera:\n  roll: .nan\n", ORR_ERR_USAGE, "scene.yaml:5: camera.roll: expected a finite number, got '.nan'");
+    EXPECT_ERROR(MODEL "camera:\n  roll: -.inf\n", ORR_ERR_USAGE, "expected a finite number, got '-.inf'");
+    EXPECT_ERROR(MODEL "camera:\n  roll: NaN\n", ORR_ERR_USAGE, "expected a finite number, got 'NaN'");
+    EXPECT_ERROR(MODEL "camera:\n  roll: 1e999\n", ORR_ERR_USAGE, "expected a finite number, got '1e999'");
+    EXPECT_ERROR(MODEL "camera:\n  position: [0, inf, 0]\n", ORR_ERR_USAGE,
+                 "scene.yaml:5: camera.position[1]: expected a finite number, got 'inf'");
+    EXPECT_ERROR(MODEL "camera:\n  roll: 0x10\n", ORR_ERR_USAGE, "expected a number, got '0x10'");
+    EXPECT_ERROR(MODEL "camera:\n  roll: 1.2.3\n", ORR_ERR_USAGE, "expected a number, got '1.2.3'");
+    /* Integers. */
+    EXPECT_ERROR(MODEL "image:\n  width: 12abc\n", ORR_ERR_USAGE, "scene.yaml:5: image.width: expected an integer, got '12abc'");
+    EXPECT_ERROR(MODEL "image:\n  width: 12.5\n", ORR_ERR_USAGE, "image.width: expected an integer, got '12.5'");
+    EXPECT_ERROR(MODEL "image:\n  height: 65537\n", ORR_ERR_USAGE, "image.height: 65537 is out of range (1 to 65536)");
+    EXPECT_ERROR(MODEL_INPUT "  chunk: 4294967297\n", ORR_ERR_USAGE, "input.chunk: 4294967297 is out of range (1 to 4294967296)");
+    EXPECT_ERROR(MODEL_INPUT "  chunk: 99999999999999999999\n", ORR_ERR_USAGE, "input.chunk: 99999999999999999999 is out of range");
+    EXPECT_ERROR("input:\n  model:\n    name: mw-m31\n    seed: -1\n", ORR_ERR_USAGE, "scene.yaml:4: input.model.seed: -1 is out of range (0 to");
+    EXPECT_ERROR("input:\n  model:\n    name: mw-m31\n    particles: 50\n", ORR_ERR_USAGE,
+                 "input.model.particles: 50 is out of range (100 to 2000000000)");
+    /* Number bounds. */
+    EXPECT_ERROR(MODEL "camera:\n  width: 0\n", ORR_ERR_USAGE, "scene.yaml:5: camera.width: 0 is out of range (must be > 0)");
+    EXPECT_ERROR(MODEL "camera:\n  fov: 180\n", ORR_ERR_USAGE, "camera.fov: 180 is out of range (must be > 0 and < 180)");
+    EXPECT_ERROR(MODEL "camera:\n  near: -1\n", ORR_ERR_USAGE, "camera.near: -1 is out of range (must be >= 0)");
+    EXPECT_ERROR(MODEL "output:\n  white_percentile: 100.5\n", ORR_ERR_USAGE,
+                 "output.white_percentile: 100.5 is out of range (must be > 0 and <= 100)");
+    EXPECT_ERROR(MODEL "output:\n  white: -1\n", ORR_ERR_USAGE, "output.white: -1 is out of range (must be > 0)");
+    EXPECT_ERROR(MODEL "output:\n  white: bright\n", ORR_ERR_USAGE, "output.white: expected a number or auto, got 'bright'");
+    EXPECT_ERROR("input:\n  model:\n    name: mw-m31\n    separation: 0\n", ORR_ERR_USAGE, "input.model.separation: 0 is out of range (must be > 0)");
+    /* Booleans and words. */
+    EXPECT_ERROR(MODEL "output:\n  fits: maybe\n", ORR_ERR_USAGE, "scene.yaml:5: output.fits: expected true or false, got 'maybe'");
+    EXPECT_ERROR(MODEL "camera:\n  projection: ortho\n", ORR_ERR_USAGE,
+                 "camera.projection: expected one of: orthographic perspective, got 'ortho'");
+    EXPECT_ERROR(MODEL "output:\n  colormap: viridis\n", ORR_ERR_USAGE,
+                 "output.colormap: expected one of: grey magma inferno, got 'viridis'");
+    EXPECT_ERROR(MODEL "output:\n  stretch: sqrt\n", ORR_ERR_USAGE, "output.stretch: expected one of: linear log asinh, got 'sqrt'");
+    EXPECT_ERROR(MODEL "output:\n  png_bits: 12\n", ORR_ERR_USAGE, "output.png_bits: expected one of: 8 16, got '12'");
+    EXPECT_ERROR(MODEL_INPUT "  nonfinite: drop\n", ORR_ERR_USAGE, "input.nonfinite: expected one of: error skip, got 'drop'");
+    EXPECT_ERROR(MODEL_INPUT "  format: hdf5\n", ORR_ERR_USAGE, "input.format: expected one of: auto text, got 'hdf5'");
+    EXPECT_ERROR("input:\n  model:\n    name: plummer\n", ORR_ERR_USAGE, "scene.yaml:3: input.model.name: expected one of: mw-m31, got 'plummer'");
+    /* Strings. */
+    EXPECT_ERROR(MODEL "output:\n  name: a/b\n", ORR_ERR_USAGE, "output.name: 'a/b' must be a file name");
+    EXPECT_ERROR(MODEL "output:\n  bunit: ''\n", ORR_ERR_USAGE, "scene.yaml:5: output.bunit: must not be empty");
+    /* Vectors and types. */
+    EXPECT_ERROR(MODEL "camera:\n  position: [1, 2]\n", ORR_ERR_USAGE,
+                 "scene.yaml:5: camera.position: expected a list of 3 numbers [x, y, z], got a list of 2");
+    EXPECT_ERROR(MODEL "camera:\n  quaternion: 1\n", ORR_ERR_USAGE,
+                 "camera.quaternion: expected a list of 4 numbers [w, x, y, z], got '1'");
+    EXPECT_ERROR(MODEL "camera:\n  position:\n    - 1\n    - two\n    - 3\n", ORR_ERR_USAGE,
+                 "scene.yaml:7: camera.position[1]: expected a number, got 'two'");
+    EXPECT_ERROR(MODEL_INPUT "  types: [1, 7]\n", ORR_ERR_USAGE, "scene.yaml:3: input.types[1]: 7 is out of range (0 to 5)");
+    EXPECT_ERROR(MODEL_INPUT "  types: []\n", ORR_ERR_USAGE, "input.types: the list is empty");
+    EXPECT_ERROR(MODEL_INPUT "  types: {gas: 0}\n", ORR_ERR_USAGE, "input.types: expected a list of particle types 0 to 5, got a mapping");
+}
+
+static void test_cross_checks(void)
+{
+    EXPECT_ERROR("input:\n  file: a.txt\n  model:\n    name: mw-m31\n", ORR_ERR_USAGE,
+                 "scene.yaml:4: input.file and input.model.name are both set");
+    EXPECT_ERROR("deposit: ngp\n", ORR_ERR_USAGE, "scene.yaml: no input: set input.file or input.model.name");
+    EXPECT_ERROR("input:\n  file: a.txt\n  model:\n    seed: 3\n", ORR_ERR_USAGE,
+                 "scene.yaml:4: input.model.seed applies to input.model.name");
+    EXPECT_ERROR(MODEL "camera:\n  look_at: [0, 0, 0]\n  direction: [0, 0, 1]\n", ORR_ERR_USAGE,
+                 "scene.yaml:6: camera.look_at and camera.direction are both set");
+    EXPECT_ERROR(MODEL "camera:\n  quaternion: [1, 0, 0, 0]\n  look_at: [0, 0, 0]\n", ORR_ERR_USAGE,
+                 "scene.yaml:5: camera.look_at and camera.quaternion are both set");
+    EXPECT_ERROR(MODEL "camera:\n  quaternion: [0, 0, 0, 0]\n", ORR_ERR_USAGE,
+                 "scene.yaml:5: camera.quaternion: [0, 0, 0, 0] is not a rotation");
+    EXPECT_ERROR(MODEL "camera:\n  direction: [0, 0, 0]\n", ORR_ERR_USAGE, "scene.yaml:5: camera.direction: must not be [0, 0, 0]");
+    EXPECT_ERROR(MODEL "camera:\n  up: [0, 0, 0]\n", ORR_ERR_USAGE, "camera.up: must not be [0, 0, 0]");
+    EXPECT_ERROR(MODEL "camera:\n  position: [1, 2, 3]\n  look_at: [1, 2, 3]\n", ORR_ERR_USAGE,
+                 "scene.yaml:6: camera.look_at: equals camera.position");
+    EXPECT_ERROR(MODEL "camera:\n  direction: [0, 2, 0]\n  up: [0, -1, 0]\n", ORR_ERR_USAGE,
+                 "scene.yaml:6: camera.up: is parallel to the view direction");
+    /* The cross-checks see the overrides: one can resolve a conflict by replacing camera. */
+    const char *sets[] = {"camera.quaternion=[1,0,0,0]"};
+    EXPECT_ERROR_SETS(MODEL "camera:\n  direction: [0, 0, 1]\n", sets, 1, ORR_ERR_USAGE,
+                      "--set camera.quaternion=[1,0,0,0]: camera.direction and camera.quaternion are both set");
+}
+
+int main(void)
+{
+    RUN(test_defaults);
+    RUN(test_full_scene);
+    RUN(test_camera_orientations);
+    RUN(test_file_paths);
+    RUN(test_missing_file);
+    RUN(test_load_string_names);
+    RUN(test_overrides);
+    RUN(test_bad_overrides);
+    RUN(test_yaml_errors);
+    RUN(test_key_errors);
+    RUN(test_value_errors);
+    RUN(test_cross_checks);
+    return check_summary();
+}

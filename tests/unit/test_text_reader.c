@@ -1,0 +1,168 @@
+/* The plain-text particle reader: good tables in their variants, chunking,
+ * rewinding, and each kind of bad table with its message. */
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "check.h"
+#include "source/source.h"
+
+static char tmpdir[] = "/tmp/orrery-text-XXXXXX";
+
+static const char *write_file(const char *name, const char *text)
+{
+    static char path[512];
+    snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+    FILE *fp = fopen(path, "w");
+    fputs(text, fp);
+    fclose(fp);
+    return path;
+}
+
+/* Opens path, reads everything into one chunk's worth of checks via cb. */
+static orr_status open_text(const char *path, size_t chunk, orr_source **src, orr_error *err)
+{
+    return orr_source_open_file(path, "text", chunk, src, err);
+}
+
+static void test_whitespace_table_with_all_columns(void)
+{
+    const char *path = write_file("good.txt",
+                                  "x y z mass h id type temp\n"
+                                  "1 2 3 0.5 0.1 42 2 5800\n"
+                                  "# a comment between rows\n"
+                                  "\n"
+                                  "-1.5e2 0 1e-3 2 0.2 18446744073709551615 5 3000\n");
+    orr_source *src;
+    orr_error err = {0};
+    CHECK(open_text(path, 100, &src, &err) == ORR_OK);
+    CHECK(src->info.has_h && src->info.has_id && src->info.has_type);
+    CHECK(src->info.nextra == 1 && strcmp(src->info.extra_names[0], "temp") == 0);
+    const orr_chunk *c;
+    CHECK(orr_source_next(src, &c, &err) == ORR_OK);
+    CHECK(c->n == 2);
+    CHECK(c->x[0] == 1.0f && c->y[0] == 2.0f && c->z[0] == 3.0f && c->mass[0] == 0.5f && c->h[0] == 0.1f);
+    CHECK(c->id[0] == 42 && c->type[0] == 2);
+    CHECK(c->x[1] == -150.0f && c->z[1] == 1e-3f && c->id[1] == UINT64_MAX && c->type[1] == 5);
+    CHECK(orr_chunk_field(c, "temp")[1] == 3000.0f);
+    CHECK(orr_source_next(src, &c, &err) == ORR_OK && c->n == 0);
+    orr_source_close(src);
+}
+
+static void test_comma_table_defaults_and_hash_header(void)
+{
+    const char *path = write_file("comma.csv", "# x, y, z\n0.5,1.5,2.5\n 3 , 4 , 5 \n");
+    orr_source *src;
+    orr_error err = {0};
+    CHECK(open_text(path, 10, &src, &err) == ORR_OK);
+    CHECK(!src->info.has_h && !src->info.has_id);
+    const orr_chunk *c;
+    CHECK(orr_source_next(src, &c, &err) == ORR_OK && c->n == 2);
+    /* No mass column: unit masses; no id column: row numbers from 0. */
+    CHECK(c->mass[0] == 1.0f && c->mass[1] == 1.0f);
+    CHECK(c->id[0] == 0 && c->id[1] == 1);
+    CHECK(c->x[1] == 3.0f && c->z[1] == 5.0f);
+    CHECK(c->h == NULL);
+    orr_source_close(src);
+}
+
+static void test_chunks_and_rewind(void)
+{
+    char text[4096] = "x y z m\n";
+    for (int i = 0; i < 10; i++)
+        snprintf(text + strlen(text), sizeof text - strlen(text), "%d 0 0 %d\n", i, i + 1);
+    const char *path = write_file("ten.txt", text);
+    orr_source *src;
+    orr_error err = {0};
+    CHECK(open_text(path, 3, &src, &err) == ORR_OK);
+    for (int pass = 0; pass < 2; pass++) {
+        size_t total = 0, chunks = 0;
+        double mass = 0;
+        const orr_chunk *c;
+        while (orr_source_next(src, &c, &err) == ORR_OK && c->n > 0) {
+            CHECK(c->first_index == total);
+            CHECK(c->x[0] == (float)total);
+            for (size_t i = 0; i < c->n; i++)
+                mass += c->mass[i];
+            total += c->n;
+            chunks++;
+        }
+        CHECK(total == 10 && chunks == 4);
+        CHECK_NEAR(mass, 55, 0);
+        CHECK(orr_source_rewind(src, &err) == ORR_OK);
+    }
+    orr_source_close(src);
+}
+
+/* Reads all of a table and returns the status of the first failure. */
+static orr_status read_all(const char *name, const char *text, orr_error *err)
+{
+    const char *path = write_file(name, text);
+    orr_source *src;
+    orr_status st = open_text(path, 4, &src, err);
+    if (st)
+        return st;
+    const orr_chunk *c;
+    while (!(st = orr_source_next(src, &c, err)) && c->n > 0) {
+    }
+    orr_source_close(src);
+    return st;
+}
+
+static void test_bad_tables(void)
+{
+    orr_error err = {0};
+    CHECK(read_all("short.txt", "x y z mass\n1 2 3 4\n1 2 3\n", &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "short.txt:3: row has 3 values; the header (line 1) names 4 columns");
+    CHECK(read_all("long.txt", "x y z\n1 2 3 4\n", &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "long.txt:2: row has more than 3 values");
+    CHECK(read_all("nan.txt", "x y z mass\n1 2 3 4\n1 2 abc 4\n", &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "nan.txt:3: column 'z': 'abc' is not a number");
+    CHECK(read_all("noz.txt", "x y mass\n1 2 3\n", &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "noz.txt:1: the header has no 'z' column");
+    CHECK(read_all("numhdr.txt", "1 2 3\n4 5 6\n", &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "column 1 name '1' is not a name");
+    CHECK(read_all("dup.txt", "x y z x\n", &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "column 'x' is named twice");
+    CHECK(read_all("empty.txt", "\n\n", &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "empty.txt: no header line");
+    CHECK(read_all("negmass.txt", "x y z mass\n1 2 3 -4\n", &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "negmass.txt:2: column 'mass'");
+    CHECK(read_all("badid.txt", "x y z id\n1 2 3 7.5\n", &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "badid.txt:2: column 'id': '7.5'");
+    CHECK(read_all("badtype.txt", "x y z type\n1 2 3 6\n", &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "badtype.txt:2: column 'type': 6");
+    /* NaN positions are read as they are: the renderer applies input.nonfinite. */
+    CHECK(read_all("nanpos.txt", "x y z\nnan 0 0\ninf 1 1\n", &err) == ORR_OK);
+}
+
+static void test_missing_file(void)
+{
+    orr_source *src;
+    orr_error err = {0};
+    CHECK(open_text("/nonexistent/particles.txt", 10, &src, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, "/nonexistent/particles.txt: cannot open: No such file or directory");
+    CHECK(src == NULL);
+    CHECK(orr_source_open_file("x.bin", "gadget9", 10, &src, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "unknown input format 'gadget9'");
+    /* A directory opens but cannot be read. */
+    CHECK(open_text(tmpdir, 10, &src, &err) != ORR_OK);
+    CHECK_CONTAINS(err.msg, tmpdir);
+}
+
+int main(void)
+{
+    if (!mkdtemp(tmpdir)) {
+        perror("mkdtemp");
+        return 1;
+    }
+    RUN(test_whitespace_table_with_all_columns);
+    RUN(test_comma_table_defaults_and_hash_header);
+    RUN(test_chunks_and_rewind);
+    RUN(test_bad_tables);
+    RUN(test_missing_file);
+    char cmd[600];
+    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+    if (system(cmd) != 0)
+        fprintf(stderr, "could not remove %s\n", tmpdir);
+    return check_summary();
+}
