@@ -13,7 +13,8 @@ static const char info_help[] =
     "Reads every particle of FILE and prints its format, time, particle count\n"
     "per type, fields, position bounds and total mass.\n"
     "\n"
-    "  --format FORMAT   auto (default: detect from the contents) or text\n"
+    "  --format FORMAT   auto (default: detect from the contents) or a format name;\n"
+    "                    (listed below)\n"
     "  -h, --help        this text\n";
 
 typedef struct summary {
@@ -61,6 +62,8 @@ static void print_summary(const orr_source_info *info, const summary *s)
     printf("file:       %s\n", info->path);
     printf("format:     %s\n", info->format);
     printf("time:       %.10g\n", info->time);
+    for (int i = 0; i < info->nheader; i++)
+        printf("  %-24s %s\n", info->header[i].key, info->header[i].value);
     printf("particles:  %llu\n", (unsigned long long)s->n);
     if (info->has_type)
         for (int t = 0; t < 256; t++)
@@ -90,6 +93,7 @@ int cmd_info(int argc, char **argv)
         const char *a = argv[i];
         if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
             fputs(info_help, stdout);
+            printf("\nformats: %s\n", orr_source_format_names());
             return EXIT_OK;
         } else if (strcmp(a, "--format") == 0) {
             if (i + 1 >= argc)
@@ -109,7 +113,8 @@ int cmd_info(int argc, char **argv)
     orr_source *src = NULL;
     summary s;
     summary_init(&s);
-    orr_status st = orr_source_open_file(path, format, 1 << 20, &src, &err);
+    orr_source_options opt = {.format = format, .chunk_size = (size_t)1 << 20};
+    orr_status st = orr_source_open_file(path, &opt, &src, &err);
     while (!st) {
         const orr_chunk *c;
         if ((st = orr_source_next(src, &c, &err)) || c->n == 0)

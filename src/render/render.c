@@ -44,7 +44,11 @@ orr_status orr_scene_open_source(const orr_scene *s, orr_source **out, orr_error
         orr_model_params mp = {s->model_particles, s->model_seed, s->model_separation};
         return orr_model_source_open(&mp, (size_t)s->chunk_size, out, err);
     }
-    return orr_source_open_file(s->input_file, s->input_format, (size_t)s->chunk_size, out, err);
+    /* Ask only for what the render uses, so readers can skip the rest. */
+    int extra = strcmp(s->weight, "mass") != 0 && strcmp(s->weight, "h") != 0;
+    const char *const fields[1] = {s->weight};
+    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, s->type_mask, fields, extra ? 1 : 0};
+    return orr_source_open_file(s->input_file, &opt, out, err);
 }
 
 /* The weight array of a chunk, or an error listing the fields there are. */

@@ -10,15 +10,40 @@
 
 #define ORR_PATH_MAX 4096
 
+#define ORR_SOURCE_MAX_HEADER 64
+
+/* One line of a file's header as `orrery info` shows it ("BoxSize", "50000"). */
+typedef struct orr_header_entry {
+    char key[48];
+    char value[208];
+} orr_header_entry;
+
 typedef struct orr_source_info {
-    char format[32];        /* "text", "model:mw-m31", ... */
+    char format[32];        /* "text", "gadget2", "model:mw-m31", ... */
     char path[ORR_PATH_MAX];/* the file read, or a description of the generator */
     int64_t count;          /* total particles, or -1 when unknown before reading */
     double time;            /* simulation time of the snapshot (0 when unknown) */
     int has_h, has_id, has_type;
-    int nextra;
+    int nextra;             /* the extra fields loaded into every chunk */
     char extra_names[ORR_MAX_EXTRA_FIELDS][ORR_FIELD_NAME_MAX];
+    int nheader;            /* header values and units, for `orrery info` */
+    orr_header_entry header[ORR_SOURCE_MAX_HEADER];
 } orr_source_info;
+
+/* Appends a header entry (printf-style value); silently ignores entries past
+ * ORR_SOURCE_MAX_HEADER, which only shortens what `orrery info` shows. */
+void orr_source_add_header(orr_source_info *info, const char *key, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+
+/* What the caller wants from a file. Readers may use fields and type_mask to
+ * skip data nobody will look at. */
+typedef struct orr_source_options {
+    const char *format;        /* "auto" (detect from the contents) or a format name */
+    size_t chunk_size;         /* particles held at once */
+    unsigned type_mask;        /* bit t set: particles of type t are wanted (0 means all) */
+    const char *const *fields; /* extra fields wanted by name; NULL means every field the file has */
+    int nfields;
+} orr_source_options;
 
 typedef struct orr_source orr_source;
 
@@ -44,9 +69,17 @@ orr_status orr_source_rewind(orr_source *src, orr_error *err);
 /* Frees everything the source holds; src may be NULL. */
 void orr_source_close(orr_source *src);
 
-/* Opens a particle file. format is "auto" (detect from the contents) or a
- * format name ("text"). chunk_size bounds the particles held at once. */
-orr_status orr_source_open_file(const char *path, const char *format, size_t chunk_size,
-                                orr_source **out, orr_error *err);
+/* Opens a particle file with the reader its format names, or (format
+ * "auto") the reader whose probe recognises the file's first bytes. */
+orr_status orr_source_open_file(const char *path, const orr_source_options *opt, orr_source **out,
+                                orr_error *err);
+
+/* Space-separated names of the formats orr_source_open_file knows. */
+const char *orr_source_format_names(void);
+
+/* Whether an options' field list asks for the named field. */
+int orr_source_wants_field(const orr_source_options *opt, const char *name);
+/* Whether an options' type mask asks for type t. */
+int orr_source_wants_type(const orr_source_options *opt, int type);
 
 #endif

@@ -284,8 +284,20 @@ static void text_close(orr_source *src)
 
 static const orr_source_ops text_ops = {text_next, text_rewind, text_close};
 
-orr_status orr_text_source_open(const char *path, size_t chunk_size, orr_source **out, orr_error *err)
+int orr_text_probe(const unsigned char *head, size_t n)
 {
+    if (n == 0)
+        return 0;
+    for (size_t i = 0; i < n; i++)
+        if (head[i] < 0x20 && head[i] != '\n' && head[i] != '\r' && head[i] != '\t' && head[i] != '\f')
+            return 0;
+    return 1;
+}
+
+orr_status orr_text_source_open(const char *path, const orr_source_options *opt, orr_source **out,
+                                orr_error *err)
+{
+    size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : (size_t)1 << 20;
     *out = NULL;
     orr_source *src = orr_calloc(1, sizeof *src, "text source", err);
     if (!src)

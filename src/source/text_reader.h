@@ -8,6 +8,13 @@
 
 #include "source/source.h"
 
-orr_status orr_text_source_open(const char *path, size_t chunk_size, orr_source **out, orr_error *err);
+#include <stddef.h>
+
+/* Loads every column whatever opt->fields says: text tables are small. */
+orr_status orr_text_source_open(const char *path, const orr_source_options *opt, orr_source **out,
+                                orr_error *err);
+
+/* Recognises text: no NUL and no control characters other than white space. */
+int orr_text_probe(const unsigned char *head, size_t n);
 
 #endif

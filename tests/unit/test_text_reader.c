@@ -21,7 +21,8 @@ static const char *write_file(const char *name, const char *text)
 /* Opens path, reads everything into one chunk's worth of checks via cb. */
 static orr_status open_text(const char *path, size_t chunk, orr_source **src, orr_error *err)
 {
-    return orr_source_open_file(path, "text", chunk, src, err);
+    orr_source_options opt = {.format = "text", .chunk_size = chunk};
+    return orr_source_open_file(path, &opt, src, err);
 }
 
 static void test_whitespace_table_with_all_columns(void)
@@ -142,11 +143,33 @@ static void test_missing_file(void)
     CHECK(open_text("/nonexistent/particles.txt", 10, &src, &err) == ORR_ERR_IO);
     CHECK_CONTAINS(err.msg, "/nonexistent/particles.txt: cannot open: No such file or directory");
     CHECK(src == NULL);
-    CHECK(orr_source_open_file("x.bin", "gadget9", 10, &src, &err) == ORR_ERR_USAGE);
+    orr_source_options opt = {.format = "gadget9", .chunk_size = 10};
+    CHECK(orr_source_open_file("x.bin", &opt, &src, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "unknown input format 'gadget9'");
     /* A directory opens but cannot be read. */
     CHECK(open_text(tmpdir, 10, &src, &err) != ORR_OK);
     CHECK_CONTAINS(err.msg, tmpdir);
+}
+
+static void test_format_detection(void)
+{
+    orr_source *src;
+    orr_error err = {0};
+    orr_source_options opt = {.format = "auto", .chunk_size = 10};
+    const char *text = write_file("auto.txt", "x y z\n1 2 3\n");
+    CHECK(orr_source_open_file(text, &opt, &src, &err) == ORR_OK);
+    CHECK(src && strcmp(src->info.format, "text") == 0);
+    orr_source_close(src);
+    /* Binary bytes are not text: auto detection names the file and the formats. */
+    const char *bin = write_file("binary.dat", "x y z\n");
+    FILE *fp = fopen(bin, "ab");
+    fputc(0, fp);
+    fputc(7, fp);
+    fclose(fp);
+    CHECK(orr_source_open_file(bin, &opt, &src, &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "binary.dat: not a particle file orrery recognises");
+    CHECK(orr_source_open_file("/nonexistent.dat", &opt, &src, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, "/nonexistent.dat: cannot open");
 }
 
 int main(void)
@@ -160,6 +183,7 @@ int main(void)
     RUN(test_chunks_and_rewind);
     RUN(test_bad_tables);
     RUN(test_missing_file);
+    RUN(test_format_detection);
     char cmd[600];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
     if (system(cmd) != 0)

@@ -137,7 +137,8 @@ static void test_model_round_trip_reader(void)
     orr_source_close(src);
 
     orr_source *ref = open_model(n, (size_t)n), *back = NULL;
-    CHECK(orr_text_source_open(path, 1000, &back, &err) == ORR_OK);
+    orr_source_options opt = {.format = "text", .chunk_size = 1000};
+    CHECK(orr_text_source_open(path, &opt, &back, &err) == ORR_OK);
     const orr_chunk *a = NULL, *b = NULL;
     if (!ref || !back || orr_source_next(ref, &a, &err) != ORR_OK || orr_source_next(back, &b, &err) != ORR_OK) {
         CHECK(!"reading back failed");
