@@ -8,6 +8,8 @@ packages=(
   libcfitsio-dev                     # FITS output
   libpng-dev zlib1g-dev              # PNG output
   libyaml-dev                        # scene files
+  libhdf5-dev                        # Gadget/SWIFT/AREPO HDF5 snapshots
+  clang libclang-rt-dev              # libFuzzer for the reader fuzz targets
 )
 
 missing=()

@@ -11,6 +11,10 @@ echo "== sanitizer build (AddressSanitizer + UndefinedBehaviorSanitizer)"
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --test-dir "$here/build-sanitize" --output-on-failure -j "$(nproc)"
 
+echo "== reader fuzzing smoke run (clang + libFuzzer + sanitizers)"
+CC=clang "$here/scripts/build.sh" "$here/build-fuzz" -DORRERY_FUZZ=ON -DORRERY_SANITIZE=ON
+ctest --test-dir "$here/build-fuzz" --output-on-failure -j "$(nproc)" -R '^fuzz_'
+
 echo "== release build"
 "$here/scripts/build.sh" "$here/build"
 ctest --test-dir "$here/build" --output-on-failure -j "$(nproc)"
