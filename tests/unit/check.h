@@ -48,6 +48,25 @@ static int check_count = 0;
         fprintf(stderr, "%s %s\n", check_failures == before_ ? "ok  " : "FAIL", #test); \
     } while (0)
 
+/* The path of a shared reference file, or NULL (after saying so) when the
+ * shared data folder is absent; tests then exit with SKIP_CODE. */
+#define SKIP_CODE 77
+static inline const char *shared_data_path(char *buf, size_t size, const char *relative)
+{
+#ifdef ORRERY_SHARED_DATA
+    snprintf(buf, size, "%s/%s", ORRERY_SHARED_DATA, relative);
+    FILE *fp = fopen(buf, "rb");
+    if (fp) {
+        fclose(fp);
+        return buf;
+    }
+#endif
+    fprintf(stderr, "shared reference file %s not found: skipping\n", relative);
+    (void)buf;
+    (void)size;
+    return NULL;
+}
+
 static inline int check_summary(void)
 {
     fprintf(stderr, "%d checks, %d failed\n", check_count, check_failures);
