@@ -10,6 +10,7 @@ packages=(
   libyaml-dev                        # scene files
   libhdf5-dev                        # Gadget/SWIFT/AREPO HDF5 snapshots
   clang libclang-rt-dev              # libFuzzer for the reader fuzz targets
+  python3-astropy python3-numpy      # tests: an independent FITS WCS reader
 )
 
 missing=()

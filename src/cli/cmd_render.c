@@ -10,25 +10,35 @@ static const char render_help[] =
     "usage: orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--quiet]\n"
     "\n"
     "Renders the scene's particles to a FITS file (linear float planes) and a\n"
-    "PNG (stretched, colour-mapped) named after the scene, in output.dir.\n"
+    "PNG (stretched, colour-mapped) named after the scene, in output.dir. A\n"
+    "scene with views (e.g. a dome master and a panorama) renders all of them\n"
+    "from one pass over the particles.\n"
     "\n"
     "  --set KEY=VALUE   override a scene key, e.g. --set camera.fov=60,\n"
-    "                    --set camera.position=[0,0,100] (repeatable; applied in order)\n"
+    "                    --set camera.position=[0,0,100] (repeatable; applied in order);\n"
+    "                    --set views.NAME.KEY=VALUE changes one view\n"
     "  -o, --output DIR  write the outputs into DIR (overrides output.dir; created if missing)\n"
     "  -q, --quiet       no progress or summary, only errors\n"
     "  -h, --help        this text\n"
     "\n"
     "Scene keys: docs/scenes.md. Exit status: 0 success, 1 runtime failure, 2 usage error.\n";
 
-static void print_report(const orr_render_report *r, double seconds)
+static void print_report(const orr_render_report *r, const char *view, double seconds)
 {
+    if (view[0])
+        printf("view %s: ", view);
     printf("read %llu particles from %s in %.2f s (%.3g particles/s)\n", (unsigned long long)r->n_read,
            r->source, seconds, seconds > 0 ? r->n_read / seconds : 0.0);
-    printf("  selected %llu; skipped %llu non-finite; %llu not drawn (behind the camera)\n",
-           (unsigned long long)r->n_selected, (unsigned long long)r->n_nonfinite,
-           (unsigned long long)r->deposit.n_culled);
+    /* Sky maps cull what is outside their field (below a dome's horizon);
+     * flat cameras what is behind them. */
+    printf("  selected %llu; skipped %llu non-finite; %llu not drawn (%s)\n", (unsigned long long)r->n_selected,
+           (unsigned long long)r->n_nonfinite, (unsigned long long)r->deposit.n_culled,
+           r->has_sky_frame ? "outside the sky map" : "behind the camera");
     printf("  weight in the image %.9g, off the image %.9g, not drawn %.9g\n", r->deposit.deposited,
            r->deposit.outside, r->deposit.culled);
+    if (r->has_sky_frame)
+        printf("  observer at (%.6g, %.6g, %.6g); north (b = 90) along (%.4f, %.4f, %.4f)\n", r->sky.origin.x,
+               r->sky.origin.y, r->sky.origin.z, r->sky.z.x, r->sky.z.y, r->sky.z.z);
     for (int i = 0; i < r->noutputs; i++)
         printf("  wrote %s\n", r->outputs[i]);
 }
@@ -77,31 +87,31 @@ int cmd_render(int argc, char **argv)
     }
 
     orr_error err = {0};
-    orr_scene *scene = calloc(1, sizeof *scene);
-    if (!scene) {
-        free(sets);
-        fprintf(stderr, "orrery render: out of memory\n");
-        return EXIT_RUNTIME;
-    }
-    orr_status st = orr_scene_load(scene, scene_path, sets, nsets, &err);
-    if (!st && out_dir) {
-        if (strlen(out_dir) >= sizeof scene->out_dir)
+    orr_scene_views *views = calloc(1, sizeof *views);
+    orr_render_report *reports = calloc(ORR_SCENE_MAX_VIEWS, sizeof *reports);
+    const orr_scene *list[ORR_SCENE_MAX_VIEWS];
+    orr_status st = views && reports ? ORR_OK : orr_fail(&err, ORR_ERR_NOMEM, "out of memory");
+    if (!st)
+        st = orr_scene_load_views(views, scene_path, sets, nsets, &err);
+    for (int k = 0; !st && k < views->n; k++) {
+        if (out_dir && strlen(out_dir) >= sizeof views->view[k].out_dir)
             st = orr_fail(&err, ORR_ERR_USAGE, "output directory name is too long");
-        else
-            snprintf(scene->out_dir, sizeof scene->out_dir, "%s", out_dir);
+        else if (out_dir)
+            snprintf(views->view[k].out_dir, sizeof views->view[k].out_dir, "%s", out_dir);
+        list[k] = &views->view[k];
     }
     if (!st) {
         cli_progress progress;
         cli_progress_init(&progress, !quiet);
-        orr_render_report report;
         double t0 = cli_now();
-        st = orr_render_scene(scene, &report, cli_progress_update, &progress, &err);
+        st = orr_render_views(list, views->n, reports, cli_progress_update, &progress, &err);
         cli_progress_finish(&progress);
-        if (!st && !quiet)
-            print_report(&report, cli_now() - t0);
+        for (int k = 0; !st && !quiet && k < views->n; k++)
+            print_report(&reports[k], views->name[k], cli_now() - t0);
     }
     code = st ? cli_report_error(&err) : EXIT_OK;
-    free(scene);
+    free(views);
+    free(reports);
     free(sets);
     return code;
 }

@@ -2,11 +2,16 @@
 
 #include <math.h>
 
+#include "core/fastmath.h"
+
 const char *orr_projection_name(orr_projection_kind kind)
 {
     switch (kind) {
     case ORR_PROJ_ORTHOGRAPHIC: return "orthographic";
     case ORR_PROJ_PERSPECTIVE: return "perspective";
+    case ORR_PROJ_HAMMER_AITOFF: return "hammer-aitoff";
+    case ORR_PROJ_DOME: return "dome";
+    case ORR_PROJ_EQUIRECTANGULAR: return "equirectangular";
     }
     return "unknown";
 }
@@ -35,12 +40,57 @@ orr_status orr_projection_setup(orr_projection *p, orr_error *err)
                             p->near);
         p->focal = 0.5 * wider / tan(0.5 * p->fov_deg * ORR_PI / 180.0);
         return ORR_OK;
+    case ORR_PROJ_HAMMER_AITOFF:
+        /* The ellipse spans the image: semi-axes W/2 and H/2 (2:1 for true
+         * equal areas). It covers 4 pi sr in pi W H / 4 pixels. */
+        p->half_w = 0.5 * p->width;
+        p->half_h = 0.5 * p->height;
+        p->focal = 0.25 * sqrt((double)p->width * p->height);
+        p->lon_sign = p->lon_flip ? 1.0 : -1.0;
+        return ORR_OK;
+    case ORR_PROJ_EQUIRECTANGULAR:
+        p->focal = sqrt((double)p->width * p->height / (2.0 * ORR_PI * ORR_PI));
+        p->lon_sign = p->lon_flip ? 1.0 : -1.0;
+        return ORR_OK;
+    case ORR_PROJ_DOME:
+        if (!(p->dome_fov_deg >= 90 && p->dome_fov_deg <= 360))
+            return orr_fail(err, ORR_ERR_USAGE, "dome field of view %g degrees must lie between 90 and 360",
+                            p->dome_fov_deg);
+        p->half_w = p->half_h = 0.5 * (p->width < p->height ? p->width : p->height);
+        p->theta_max = 0.5 * p->dome_fov_deg * ORR_PI / 180.0;
+        p->focal = p->half_w / p->theta_max;
+        return ORR_OK;
     }
     return orr_fail(err, ORR_ERR_INTERNAL, "unknown projection kind %d", (int)p->kind);
 }
 
+/* Hammer-Aitoff from a direction given by its components toward the map
+ * centre (fwd), toward l = +90 (left) and toward b = +90 (up), without
+ * trigonometry: with rho = cos b, cos b cos(l/2) = sqrt(rho (rho + fwd) / 2)
+ * and cos b sin(l/2) = sign(left) sqrt(rho (rho - fwd) / 2), so
+ * X = 2 sqrt2 cos b sin(l/2) / sqrt(1 + cos b cos(l/2)),
+ * Y = sqrt2 sin b / sqrt(1 + cos b cos(l/2)), all over the radius r. In
+ * pixels the sqrt2 factors cancel against the ellipse's semi-axes. */
+static inline void hammer_aitoff(double fwd, double left, double up, double r, double half_w, double half_h,
+                                 double lon_sign, double *u, double *v)
+{
+    double rho = sqrt(fwd * fwd + left * left);
+    /* rho + fwd and rho - fwd multiply to left^2: compute the larger
+     * directly and the smaller from it, which avoids cancellation near the
+     * centre and the seam. */
+    double big = rho + fabs(fwd), small = big > 0 ? left * left / big : 0.0;
+    double cbc = sqrt(0.5 * rho * (fwd >= 0 ? big : small));
+    double cbs = sqrt(0.5 * rho * (fwd >= 0 ? small : big));
+    if (left < 0)
+        cbs = -cbs;
+    double k = 1.0 / sqrt(r * (r + cbc));
+    *u = lon_sign * half_w * cbs * k;
+    *v = -half_h * up * k;
+}
+
 int orr_project_point(const orr_projection *p, orr_vec3 c, double *px, double *py, double *scale)
 {
+    double r = orr_v3_norm(c);
     switch (p->kind) {
     case ORR_PROJ_ORTHOGRAPHIC:
         *px = p->cx + p->focal * c.x;
@@ -54,6 +104,41 @@ int orr_project_point(const orr_projection *p, orr_vec3 c, double *px, double *p
         *px = p->cx + *scale * c.x;
         *py = p->cy + *scale * c.y;
         return 1;
+    case ORR_PROJ_HAMMER_AITOFF: {
+        if (!(r > 0))
+            return 0;
+        double u, v;
+        hammer_aitoff(c.z, -c.x, -c.y, r, p->half_w, p->half_h, p->lon_sign, &u, &v);
+        *px = p->cx + u;
+        *py = p->cy + v;
+        *scale = p->focal / r;
+        return 1;
+    }
+    case ORR_PROJ_EQUIRECTANGULAR: {
+        if (!(r > 0))
+            return 0;
+        double l = atan2(-c.x, c.z), b = atan2(-c.y, sqrt(c.x * c.x + c.z * c.z));
+        *px = p->cx + p->lon_sign * l * p->width / (2.0 * ORR_PI);
+        *py = p->cy - b * p->height / ORR_PI;
+        /* Pixel area per steradian grows as 1/cos b toward the poles. */
+        *scale = p->focal / sqrt(fmax(cos(b), 1e-6)) / r;
+        return 1;
+    }
+    case ORR_PROJ_DOME: {
+        double rho = sqrt(c.x * c.x + c.y * c.y);
+        double theta = atan2(rho, c.z);
+        if (!(r > 0) || theta > p->theta_max)
+            return 0;
+        /* Azimuthal equidistant: the radius on the master is proportional to
+         * the angle from the zenith; the camera's x and y keep their
+         * directions, so the front (+y) is at the bottom. */
+        double k = rho > 0 ? p->focal * theta / rho : p->focal;
+        *px = p->cx + k * c.x;
+        *py = p->cy + k * c.y;
+        double stretch = theta > 1e-9 ? theta / sin(theta) : 1.0; /* tangential over radial scale */
+        *scale = p->focal * sqrt(fabs(stretch)) / r;
+        return 1;
+    }
     }
     return 0;
 }
@@ -88,6 +173,161 @@ static void project_perspective(const orr_projection *p, size_t n, const float *
     }
 }
 
+static void project_hammer_aitoff(const orr_projection *p, size_t n, const float *x, const float *y,
+                                  const float *z, float *px, float *py, float *scale, uint8_t *visible)
+{
+    const float hw = (float)p->half_w, hh = (float)p->half_h, sgn = (float)p->lon_sign;
+    const float cx = (float)p->cx, cy = (float)p->cy, f = (float)p->focal;
+    for (size_t i = 0; i < n; i++) {
+        float fwd = z[i], left = -x[i], up = -y[i];
+        float r2 = fwd * fwd + left * left + up * up;
+        float r = sqrtf(r2);
+        float rho = sqrtf(fwd * fwd + left * left);
+        float big = rho + fabsf(fwd), small = left * left / (big > 0.0f ? big : 1.0f);
+        float cbc = sqrtf(0.5f * rho * (fwd >= 0.0f ? big : small));
+        float cbs = sqrtf(0.5f * rho * (fwd >= 0.0f ? small : big));
+        cbs = left < 0.0f ? -cbs : cbs;
+        int vis = r > 0.0f;
+        float k = 1.0f / sqrtf(vis ? r * (r + cbc) : 1.0f);
+        px[i] = cx + sgn * hw * cbs * k;
+        py[i] = cy - hh * up * k;
+        scale[i] = f / (vis ? r : 1.0f);
+        visible[i] = (uint8_t)vis;
+    }
+}
+
+static void project_equirectangular(const orr_projection *p, size_t n, const float *x, const float *y,
+                                    const float *z, float *px, float *py, float *scale, uint8_t *visible)
+{
+    const float ax = (float)(p->lon_sign * p->width / (2.0 * ORR_PI)), ay = (float)(p->height / ORR_PI);
+    const float cx = (float)p->cx, cy = (float)p->cy, f = (float)p->focal;
+    for (size_t i = 0; i < n; i++) {
+        float h = sqrtf(x[i] * x[i] + z[i] * z[i]);
+        float r = sqrtf(h * h + y[i] * y[i]);
+        float l = orr_atan2f(-x[i], z[i]), b = orr_atan2f(-y[i], h);
+        int vis = r > 0.0f;
+        px[i] = cx + ax * l;
+        py[i] = cy - ay * b;
+        float cosb = vis ? h / r : 1.0f;
+        scale[i] = f / (sqrtf(fmaxf(cosb, 1e-6f)) * (vis ? r : 1.0f));
+        visible[i] = (uint8_t)vis;
+    }
+}
+
+static void project_dome(const orr_projection *p, size_t n, const float *x, const float *y, const float *z,
+                         float *px, float *py, float *scale, uint8_t *visible)
+{
+    const float f = (float)p->focal, tmax = (float)p->theta_max;
+    const float cx = (float)p->cx, cy = (float)p->cy;
+    for (size_t i = 0; i < n; i++) {
+        float rho = sqrtf(x[i] * x[i] + y[i] * y[i]);
+        float theta = orr_atan2f(rho, z[i]);
+        float r = sqrtf(rho * rho + z[i] * z[i]);
+        int vis = r > 0.0f && theta <= tmax;
+        float k = rho > 0.0f ? f * theta / rho : f;
+        px[i] = cx + k * x[i];
+        py[i] = cy + k * y[i];
+        /* The isotropic scale: geometric mean of radial f and tangential
+         * f theta / sin theta; sin theta = rho / r. */
+        float stretch = rho > 0.0f ? theta * r / rho : 1.0f;
+        scale[i] = f * sqrtf(stretch) / (vis ? r : 1.0f);
+        visible[i] = (uint8_t)vis;
+    }
+}
+
+int orr_projection_is_sky(const orr_projection *p)
+{
+    return p->kind == ORR_PROJ_HAMMER_AITOFF || p->kind == ORR_PROJ_DOME || p->kind == ORR_PROJ_EQUIRECTANGULAR;
+}
+
+int orr_projection_pixel_in_map(const orr_projection *p, int i, int j)
+{
+    if (i < 0 || j < 0 || i >= p->width || j >= p->height)
+        return 0;
+    double u = (i + 0.5 - p->cx), v = (j + 0.5 - p->cy);
+    switch (p->kind) {
+    case ORR_PROJ_HAMMER_AITOFF:
+        u /= p->half_w;
+        v /= p->half_h;
+        return u * u + v * v <= 1.0;
+    case ORR_PROJ_DOME:
+        return u * u + v * v <= p->half_w * p->half_w;
+    default:
+        return 1;
+    }
+}
+
+/* Half the width, in pixels, of the Hammer-Aitoff ellipse at the centre of row j. */
+static double ellipse_half_width(const orr_projection *p, int j)
+{
+    double v = (j + 0.5 - p->cy) / p->half_h;
+    return v * v < 1.0 ? p->half_w * sqrt(1.0 - v * v) : 0.0;
+}
+
+static int clamp_int(int v, int lo, int hi)
+{
+    return v < lo ? lo : v > hi ? hi : v;
+}
+
+static void fold_hammer_aitoff(const orr_projection *p, int *i, int *j)
+{
+    /* Past the top or bottom: the pole rows. Then, in the row, a pixel past
+     * one edge of the ellipse belongs just inside the other edge (l = +-180
+     * is one meridian), and anything still outside clamps to the row's ends. */
+    *j = clamp_int(*j, 0, p->height - 1);
+    double hw = ellipse_half_width(p, *j);
+    while (hw < 0.5 && *j != (int)p->cy) { /* a row the ellipse misses: step toward the equator */
+        *j += *j < (int)p->cy ? 1 : -1;
+        hw = ellipse_half_width(p, *j);
+    }
+    double x = *i + 0.5 - p->cx;
+    if (x < -hw)
+        x += 2.0 * hw;
+    else if (x > hw)
+        x -= 2.0 * hw;
+    int lo = (int)ceil(p->cx - hw - 0.5), hi = (int)floor(p->cx + hw - 0.5);
+    if (lo > hi)
+        lo = hi = (int)p->cx;
+    *i = clamp_int((int)floor(p->cx + x), lo, hi);
+}
+
+static void fold_dome(const orr_projection *p, int *i, int *j)
+{
+    /* Pull the pixel centre radially back inside the circle, a little further
+     * each time until it lands on a pixel whose centre is inside. */
+    double u = *i + 0.5 - p->cx, v = *j + 0.5 - p->cy;
+    double d = sqrt(u * u + v * v);
+    for (double rmax = p->half_w - 0.5; rmax >= 0; rmax -= 0.5) {
+        double k = d > rmax && d > 0 ? rmax / d : 1.0;
+        *i = clamp_int((int)floor(p->cx + u * k), 0, p->width - 1);
+        *j = clamp_int((int)floor(p->cy + v * k), 0, p->height - 1);
+        if (orr_projection_pixel_in_map(p, *i, *j))
+            return;
+    }
+    *i = (int)p->cx;
+    *j = (int)p->cy;
+}
+
+void orr_projection_fold(const orr_projection *p, int *i, int *j)
+{
+    switch (p->kind) {
+    case ORR_PROJ_HAMMER_AITOFF:
+        fold_hammer_aitoff(p, i, j);
+        return;
+    case ORR_PROJ_DOME:
+        fold_dome(p, i, j);
+        return;
+    case ORR_PROJ_EQUIRECTANGULAR:
+        *i %= p->width;
+        if (*i < 0)
+            *i += p->width;
+        *j = clamp_int(*j, 0, p->height - 1);
+        return;
+    default:
+        return;
+    }
+}
+
 void orr_project_batch(const orr_projection *p, size_t n, const float *x, const float *y,
                        const float *z, float *px, float *py, float *scale, uint8_t *visible)
 {
@@ -97,6 +337,15 @@ void orr_project_batch(const orr_projection *p, size_t n, const float *x, const 
         return;
     case ORR_PROJ_PERSPECTIVE:
         project_perspective(p, n, x, y, z, px, py, scale, visible);
+        return;
+    case ORR_PROJ_HAMMER_AITOFF:
+        project_hammer_aitoff(p, n, x, y, z, px, py, scale, visible);
+        return;
+    case ORR_PROJ_EQUIRECTANGULAR:
+        project_equirectangular(p, n, x, y, z, px, py, scale, visible);
+        return;
+    case ORR_PROJ_DOME:
+        project_dome(p, n, x, y, z, px, py, scale, visible);
         return;
     }
 }

@@ -15,6 +15,9 @@
 typedef enum {
     ORR_PROJ_ORTHOGRAPHIC,
     ORR_PROJ_PERSPECTIVE,
+    ORR_PROJ_HAMMER_AITOFF,   /* full sky in a 2:1 ellipse, centre = view direction */
+    ORR_PROJ_DOME,            /* azimuthal equidistant dome master, centre = dome zenith */
+    ORR_PROJ_EQUIRECTANGULAR, /* full sky, longitude linear in x, 2:1 */
 } orr_projection_kind;
 
 #define ORR_IMAGE_SIDE_MAX 65536
@@ -25,13 +28,40 @@ typedef struct orr_projection {
     double ortho_width; /* orthographic: simulation units across the image width */
     double fov_deg;     /* perspective: field of view along the wider image axis */
     double near;        /* perspective: points with z <= near are not drawn */
+    double dome_fov_deg;/* dome: full angle across the dome (180 for a hemisphere), 90 to 360 */
+    int lon_flip;       /* sky maps: longitude grows to the right ("outside looking in");
+                         * by default it grows to the left, as on the sky seen from inside */
 
     /* Derived by orr_projection_setup. */
     double cx, cy;      /* image centre in pixel coordinates */
-    double focal;       /* orthographic: pixels per unit; perspective: focal length in pixels */
+    double focal;       /* orthographic: pixels per unit; perspective: focal length in pixels;
+                         * sky: pixels per radian (the isotropic equivalent at the centre) */
+    double half_w, half_h; /* Hammer-Aitoff: the ellipse's semi-axes in pixels; dome: the radius */
+    double theta_max;   /* dome: half the field of view, radians */
+    double lon_sign;    /* sky: -1 when longitude grows to the left (the default), +1 when flipped */
 } orr_projection;
 
-/* Checks the parameters and computes the derived fields. */
+/* Whether the projection covers directions all around (sky projections);
+ * their deposits fold pixels outside the map back onto it instead of
+ * counting them as lost. */
+int orr_projection_is_sky(const orr_projection *p);
+
+/* Whether pixel (i, j) of the image shows part of the map (inside the
+ * Hammer-Aitoff ellipse, the dome's circle; every pixel of the others). */
+int orr_projection_pixel_in_map(const orr_projection *p, int i, int j);
+
+/* For a sky projection, moves pixel (i, j), possibly outside the image or
+ * the map, to the pixel of the map where its share of a deposit belongs:
+ * across the l = +-180 seam (Hammer-Aitoff, equirectangular), or to the
+ * nearest pixel of the map (past the poles, the dome's rim). */
+void orr_projection_fold(const orr_projection *p, int *i, int *j);
+
+/* Checks the parameters and computes the derived fields. The sky
+ * projections take their direction from the camera frame: Hammer-Aitoff and
+ * equirectangular put the view direction (+z) at the centre, "up" (-y) at
+ * b = +90 and, by default, longitude growing to the left (-x); the dome puts
+ * the view direction at its zenith (the image centre) and the camera's down
+ * (+y) at the bottom of the master, the dome's front. */
 orr_status orr_projection_setup(orr_projection *p, orr_error *err);
 
 const char *orr_projection_name(orr_projection_kind kind);

@@ -10,6 +10,7 @@
 #include "encode/png.h"
 #include "post/colormap.h"
 #include "post/stretch.h"
+#include "render/wcs.h"
 #include "source/model.h"
 
 /* Particles are processed in blocks of this many: the block's scratch arrays
@@ -23,7 +24,130 @@ typedef struct block_buffers {
     uint8_t visible[BLOCK];
 } block_buffers;
 
-orr_status orr_scene_camera(const orr_scene *s, orr_camera *cam, orr_error *err)
+/* One view being rendered. */
+typedef struct view_state {
+    const orr_scene *scene;
+    orr_projection proj;
+    orr_mat3 world_to_camera;
+    orr_plane plane;
+    orr_render_report *rep;
+} view_state;
+
+orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
+                                 orr_error *err)
+{
+    if (s->model_name[0]) {
+        orr_model_params mp = {s->model_particles, s->model_seed, s->model_separation};
+        return orr_model_source_open(&mp, (size_t)s->chunk_size, out, err);
+    }
+    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, s->type_mask, fields, nfields};
+    return orr_source_open_file(s->input_file, &opt, out, err);
+}
+
+/* ---- the observer frame ---- */
+
+typedef struct markers {
+    int have_observer, have_reference;
+    orr_vec3 observer, reference;
+} markers;
+
+/* One pass over the source for the observer and reference particles. */
+static orr_status find_markers(const orr_scene *s, orr_source *src, markers *m, orr_error *err)
+{
+    memset(m, 0, sizeof *m);
+    for (;;) {
+        const orr_chunk *c;
+        orr_status st = orr_source_next(src, &c, err);
+        if (st || c->n == 0)
+            return st;
+        for (size_t i = 0; i < c->n; i++) {
+            orr_vec3 p = orr_v3(c->x[i], c->y[i], c->z[i]);
+            if (c->id[i] == s->observer_id) {
+                m->observer = p;
+                m->have_observer = 1;
+            } else if (c->id[i] == s->reference_id) {
+                m->reference = p;
+                m->have_reference = 1;
+            }
+        }
+    }
+}
+
+/* The disc normal from the spin of the chosen particles within
+ * normal_radius of the reference: L = sum m (r - c) x (v - <v>). */
+static orr_status spin_normal(const orr_scene *s, orr_source *src, orr_vec3 centre, orr_vec3 *n0, orr_error *err)
+{
+    orr_vec3 mr_x_v = {0, 0, 0}, mr = {0, 0, 0}, mv = {0, 0, 0};
+    double mass = 0, r2max = s->normal_radius * s->normal_radius;
+    for (;;) {
+        const orr_chunk *c;
+        orr_status st = orr_source_next(src, &c, err);
+        if (st)
+            return st;
+        if (c->n == 0)
+            break;
+        const float *vx = orr_chunk_field(c, "vx"), *vy = orr_chunk_field(c, "vy"), *vz = orr_chunk_field(c, "vz");
+        if (!vx || !vy || !vz)
+            return orr_fail(err, ORR_ERR_USAGE, "%s: observer.normal_from needs velocities (vx, vy, vz), which %s lacks",
+                            s->path, src->info.path);
+        for (size_t i = 0; i < c->n; i++) {
+            if (!(s->normal_types & (1u << c->type[i])))
+                continue;
+            orr_vec3 r = orr_v3_sub(orr_v3(c->x[i], c->y[i], c->z[i]), centre), v = orr_v3(vx[i], vy[i], vz[i]);
+            if (!(orr_v3_dot(r, r) <= r2max))
+                continue;
+            double m = c->mass[i];
+            mr_x_v = orr_v3_add(mr_x_v, orr_v3_scale(orr_v3_cross(r, v), m));
+            mr = orr_v3_add(mr, orr_v3_scale(r, m));
+            mv = orr_v3_add(mv, orr_v3_scale(v, m));
+            mass += m;
+        }
+    }
+    if (!(mass > 0))
+        return orr_fail(err, ORR_ERR_DATA, "%s: no particle of the observer.normal_from types lies within %g of the reference particle",
+                        s->path, s->normal_radius);
+    /* Removing the mean velocity: sum m r x (v - <v>) = sum m r x v - (sum m r) x <v>. */
+    orr_vec3 L = orr_v3_sub(mr_x_v, orr_v3_scale(orr_v3_cross(mr, mv), 1.0 / mass));
+    if (!(orr_v3_norm(L) > 0))
+        return orr_fail(err, ORR_ERR_DATA, "%s: the observer.normal_from particles have no net spin", s->path);
+    *n0 = orr_v3_scale(orr_v3_normalize(L), s->normal_sign);
+    return ORR_OK;
+}
+
+/* Finds the observer and reference particles (and the spin normal when
+ * asked) in a pass of their own, with only the fields that needs. */
+static orr_status build_sky_frame(const orr_scene *s, orr_sky_frame *f, orr_error *err)
+{
+    static const char *const velocity[3] = {"vx", "vy", "vz"};
+    int want_spin = s->normal_types != 0;
+    orr_source *src = NULL;
+    orr_status st = orr_scene_open_source(s, velocity, want_spin ? 3 : 0, &src, err);
+    markers m;
+    if (!st)
+        st = find_markers(s, src, &m, err);
+    if (!st && (!m.have_observer || !m.have_reference))
+        st = orr_fail(err, ORR_ERR_DATA, "%s: %s particle id %llu (observer.%s in %s) not found, frame 0",
+                      src->info.path, m.have_observer ? "reference" : "observer",
+                      (unsigned long long)(m.have_observer ? s->reference_id : s->observer_id),
+                      m.have_observer ? "reference_id" : "id", s->path);
+    orr_vec3 n0 = s->observer_normal;
+    if (!st && want_spin && !(st = orr_source_rewind(src, err)))
+        st = spin_normal(s, src, m.reference, &n0, err);
+    if (!st && (st = orr_sky_frame_build(f, m.observer, m.reference, n0, err)))
+        orr_fail_prefix(err, "%s: observer id %llu, reference id %llu, frame 0: ", s->path,
+                        (unsigned long long)s->observer_id, (unsigned long long)s->reference_id);
+    orr_source_close(src);
+    return st;
+}
+
+/* ---- cameras ---- */
+
+static int has_orientation(const orr_scene *s)
+{
+    return s->has_quaternion || s->has_look_at || s->has_direction;
+}
+
+static orr_status scene_camera(const orr_scene *s, orr_camera *cam, orr_error *err)
 {
     if (s->has_quaternion) {
         cam->position = s->camera_position;
@@ -38,18 +162,24 @@ orr_status orr_scene_camera(const orr_scene *s, orr_camera *cam, orr_error *err)
     return orr_camera_look_along(cam, s->camera_position, dir, s->camera_up, s->camera_roll, err);
 }
 
-orr_status orr_scene_open_source(const orr_scene *s, orr_source **out, orr_error *err)
+/* The camera of a view. From an observer, or for a sky map without an
+ * orientation of its own, the camera follows the sky frame: the map centred
+ * on l = 0 with north up, or the dome's zenith and front. */
+static orr_status view_camera(const orr_scene *s, const orr_sky_frame *observer, orr_camera *cam,
+                              orr_sky_frame *sky, orr_error *err)
 {
-    if (s->model_name[0]) {
-        orr_model_params mp = {s->model_particles, s->model_seed, s->model_separation};
-        return orr_model_source_open(&mp, (size_t)s->chunk_size, out, err);
+    int sky_map = orr_projection_is_sky(&s->projection);
+    if (!observer && (!sky_map || has_orientation(s))) {
+        *sky = orr_sky_frame_world(s->camera_position);
+        return scene_camera(s, cam, err);
     }
-    /* Ask only for what the render uses, so readers can skip the rest. */
-    int extra = strcmp(s->weight, "mass") != 0 && strcmp(s->weight, "h") != 0;
-    const char *const fields[1] = {s->weight};
-    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, s->type_mask, fields, extra ? 1 : 0};
-    return orr_source_open_file(s->input_file, &opt, out, err);
+    *sky = observer ? *observer : orr_sky_frame_world(s->camera_position);
+    if (s->projection.kind == ORR_PROJ_DOME)
+        return orr_sky_camera_dome(cam, sky, s->zenith_lb, s->front_lb, s->dome_tilt, err);
+    return orr_sky_camera_centre(cam, sky, s->camera_roll, err);
 }
+
+/* ---- the splat pass ---- */
 
 /* The weight array of a chunk, or an error listing the fields there are. */
 static orr_status weight_field(const orr_scene *s, const orr_source *src, const orr_chunk *c,
@@ -79,91 +209,130 @@ static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, siz
                     (double)c->x[i], (double)c->y[i], (double)c->z[i]);
 }
 
-/* Gathers the selected particles of c[start, end) into the block, already
- * moved into the camera frame; returns how many, or -1 on a bad particle
- * when the scene says to fail. */
-static long gather_block(const orr_scene *s, const orr_source *src, const orr_chunk *c, const float *wsrc,
-                         size_t start, size_t end, const orr_mat3 *R, orr_vec3 origin, block_buffers *b,
-                         orr_render_report *rep, orr_error *err)
+/* Gathers the view's particles of c[start, end) into the block, moved into
+ * the camera frame; returns how many, or -1 (err set) on a bad particle
+ * when the scene says to fail. The observer particle is left out, and with
+ * observer.dim weights fall off as 1/r^2 from the camera. */
+static long gather_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *wsrc,
+                         size_t start, size_t end, block_buffers *b, orr_error *err)
 {
+    const orr_scene *s = v->scene;
+    const orr_mat3 *R = &v->world_to_camera;
+    const orr_vec3 origin = v->rep->camera.position;
     const float r00 = (float)R->m[0][0], r01 = (float)R->m[0][1], r02 = (float)R->m[0][2];
     const float r10 = (float)R->m[1][0], r11 = (float)R->m[1][1], r12 = (float)R->m[1][2];
     const float r20 = (float)R->m[2][0], r21 = (float)R->m[2][1], r22 = (float)R->m[2][2];
-    /* Subtracting the origin in double keeps precision for cameras far from
-     * the coordinate origin (e.g. inside a big box). */
+    const int skip_observer = s->has_observer, dim = s->has_observer && s->dim;
+    const float near2 = (float)(s->dim_near * s->dim_near);
     long n = 0;
     for (size_t i = start; i < end; i++) {
-        if (!(s->type_mask & (1u << c->type[i])))
+        if (!(s->type_mask & (1u << c->type[i])) || (skip_observer && c->id[i] == s->observer_id))
             continue;
-        rep->n_selected++;
+        v->rep->n_selected++;
         if (!isfinite(c->x[i]) || !isfinite(c->y[i]) || !isfinite(c->z[i]) || !isfinite(wsrc[i])) {
             if (!s->skip_nonfinite) {
                 nonfinite_error(src, c, i, isfinite(wsrc[i]) ? "position" : "weight", err);
                 return -1;
             }
-            rep->n_nonfinite++;
+            v->rep->n_nonfinite++;
             continue;
         }
+        /* Subtracting the origin in double keeps precision for cameras far
+         * from the coordinate origin (inside a big box, or at the Sun). */
         float dx = (float)((double)c->x[i] - origin.x);
         float dy = (float)((double)c->y[i] - origin.y);
         float dz = (float)((double)c->z[i] - origin.z);
         b->x[n] = r00 * dx + r01 * dy + r02 * dz;
         b->y[n] = r10 * dx + r11 * dy + r12 * dz;
         b->z[n] = r20 * dx + r21 * dy + r22 * dz;
-        b->w[n] = wsrc[i];
+        float w = wsrc[i];
+        if (dim) {
+            float r2 = dx * dx + dy * dy + dz * dz;
+            w /= r2 > near2 ? r2 : near2;
+        }
+        b->w[n] = w;
         n++;
     }
     return n;
 }
 
-orr_status orr_splat_source(const orr_scene *s, const orr_camera *cam, const orr_projection *proj,
-                            orr_source *src, orr_plane *plane, orr_render_report *rep, orr_progress_fn progress,
-                            void *progress_user, orr_error *err)
+static orr_status splat_chunk(view_state *views, int nviews, const orr_source *src, const orr_chunk *c,
+                              block_buffers *b, orr_error *err)
+{
+    const float *w;
+    orr_status st = weight_field(views[0].scene, src, c, &w, err);
+    if (st)
+        return st;
+    for (int k = 0; k < nviews; k++) {
+        view_state *v = &views[k];
+        for (size_t start = 0; start < c->n; start += BLOCK) {
+            size_t end = start + BLOCK < c->n ? start + BLOCK : c->n;
+            long n = gather_block(v, src, c, w, start, end, b, err);
+            if (n < 0)
+                return err ? err->code : ORR_ERR_DATA;
+            orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
+            orr_deposit(v->scene->deposit, &v->plane, (size_t)n, b->px, b->py, b->w, b->visible, &v->proj,
+                        &v->rep->deposit);
+        }
+        v->rep->n_read += c->n;
+    }
+    return ORR_OK;
+}
+
+static orr_status splat_source(view_state *views, int nviews, orr_source *src, orr_progress_fn progress,
+                               void *progress_user, orr_error *err)
 {
     block_buffers *b = orr_malloc(sizeof *b, "splat block buffers", err);
     if (!b)
         return ORR_ERR_NOMEM;
-    orr_mat3 R = orr_camera_world_to_camera(cam);
-    orr_status st = ORR_OK;
+    orr_status st;
     for (;;) {
         const orr_chunk *c;
-        if ((st = orr_source_next(src, &c, err)))
+        if ((st = orr_source_next(src, &c, err)) || c->n == 0)
             break;
-        if (c->n == 0)
+        if ((st = splat_chunk(views, nviews, src, c, b, err)))
             break;
-        const float *w;
-        if ((st = weight_field(s, src, c, &w, err)))
-            break;
-        for (size_t start = 0; start < c->n; start += BLOCK) {
-            size_t end = start + BLOCK < c->n ? start + BLOCK : c->n;
-            long n = gather_block(s, src, c, w, start, end, &R, cam->position, b, rep, err);
-            if (n < 0) {
-                st = err ? err->code : ORR_ERR_DATA;
-                goto done;
-            }
-            orr_project_batch(proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
-            orr_deposit(s->deposit, plane, (size_t)n, b->px, b->py, b->w, b->visible, &rep->deposit);
-        }
-        rep->n_read += c->n;
         if (progress)
-            progress(progress_user, rep->n_read, src->info.count);
+            progress(progress_user, views[0].rep->n_read, src->info.count);
     }
-done:
     free(b);
     return st;
 }
 
-static void add_frame_cards(const orr_scene *s, const orr_camera *cam, const orr_projection *p,
-                            const orr_render_report *rep, orr_fits_header *h)
+/* ---- outputs ---- */
+
+/* Pixels outside a sky map hold no sky: NaN marks them blank in FITS (and
+ * the stretch shows them black). Deposits never put weight there. */
+static void mask_outside_map(view_state *v)
 {
+    if (!orr_projection_is_sky(&v->proj))
+        return;
+    for (int j = 0; j < v->plane.height; j++)
+        for (int i = 0; i < v->plane.width; i++)
+            if (!orr_projection_pixel_in_map(&v->proj, i, j))
+                v->plane.data[(size_t)j * v->plane.width + i] = NAN;
+}
+
+static void add_frame_cards(const view_state *v, orr_fits_header *h)
+{
+    const orr_scene *s = v->scene;
+    const orr_projection *p = &v->proj;
+    const orr_render_report *rep = v->rep;
+    const orr_camera *cam = &rep->camera;
     orr_fits_add_string(h, "CREATOR", "orrery " ORRERY_VERSION, "software that made this file");
     orr_fits_add_string(h, "ORRVERS", ORRERY_VERSION, "orrery version");
     orr_fits_add_string(h, "PROJTYPE", orr_projection_name(p->kind), "projection");
-    if (p->kind == ORR_PROJ_ORTHOGRAPHIC) {
+    if (p->kind == ORR_PROJ_ORTHOGRAPHIC)
         orr_fits_add_double(h, "ORTHOWID", p->ortho_width, "image width in simulation length units");
-    } else {
+    if (p->kind == ORR_PROJ_PERSPECTIVE) {
         orr_fits_add_double(h, "FOV", p->fov_deg, "[deg] field of view along the wider axis");
         orr_fits_add_double(h, "NEAR", p->near, "near plane distance");
+    }
+    if (p->kind == ORR_PROJ_DOME) {
+        orr_fits_add_double(h, "DOMEFOV", p->dome_fov_deg, "[deg] dome field of view");
+        orr_fits_add_double(h, "DOMETILT", s->dome_tilt, "[deg] dome tilt toward the front");
+        if (s->dome_profile[0])
+            orr_fits_add_string(h, "DOMEPROF", s->dome_profile, "dome profile");
     }
     orr_fits_add_double(h, "CAMPOSX", cam->position.x, "camera position x");
     orr_fits_add_double(h, "CAMPOSY", cam->position.y, "camera position y");
@@ -179,17 +348,28 @@ static void add_frame_cards(const orr_scene *s, const orr_camera *cam, const orr
     orr_fits_add_long(h, "NPART", (long long)rep->n_read, "particles read");
     orr_fits_add_long(h, "NSELECT", (long long)rep->n_selected, "particles of the selected types");
     orr_fits_add_long(h, "NSKIPPED", (long long)rep->n_nonfinite, "particles skipped as non-finite");
-    orr_fits_add_long(h, "NCULLED", (long long)rep->deposit.n_culled, "particles not drawn (behind camera)");
+    orr_fits_add_long(h, "NCULLED", (long long)rep->deposit.n_culled, "particles not drawn (out of view)");
     orr_fits_add_double(h, "WIMAGE", rep->deposit.deposited, "weight deposited in the image");
     orr_fits_add_double(h, "WOUTSIDE", rep->deposit.outside, "weight that fell off the image");
     orr_fits_add_double(h, "SIMTIME", rep->sim_time, "simulation time of the snapshot");
     const char *slash = strrchr(rep->source, '/');
     orr_fits_add_string(h, "SOURCE", slash ? slash + 1 : rep->source, "particle source");
+    if (s->has_observer) {
+        orr_fits_add_long(h, "OBSID", (long long)s->observer_id, "observer particle id");
+        orr_fits_add_long(h, "REFID", (long long)s->reference_id, "reference particle id (l = 0)");
+        orr_fits_add_double(h, "NORMX", rep->sky.z.x, "disc normal n0 (b = 90) x");
+        orr_fits_add_double(h, "NORMY", rep->sky.z.y, "disc normal n0 (b = 90) y");
+        orr_fits_add_double(h, "NORMZ", rep->sky.z.z, "disc normal n0 (b = 90) z");
+        orr_fits_add_bool(h, "DIMMED", s->dim, "weights divided by r^2 from the observer");
+    }
+    orr_wcs_add_cards(h, p, cam, &rep->sky);
 }
 
-static orr_status write_png(const orr_scene *s, const orr_plane *plane, const char *path,
-                            orr_render_report *rep, orr_error *err)
+static orr_status write_png(const view_state *v, const char *path, orr_error *err)
 {
+    const orr_scene *s = v->scene;
+    const orr_plane *plane = &v->plane;
+    orr_render_report *rep = v->rep;
     size_t npix = (size_t)plane->width * (size_t)plane->height;
     float *t = orr_malloc(npix * sizeof(float), "stretched image", err);
     float *rgb = orr_malloc(npix * 3 * sizeof(float), "PNG pixels", err);
@@ -200,8 +380,9 @@ static orr_status write_png(const orr_scene *s, const orr_plane *plane, const ch
         for (size_t i = 0; i < npix; i++)
             orr_colormap_lookup(s->colormap, t[i], &rgb[3 * i]);
         char desc[ORR_PATH_MAX + 256];
-        snprintf(desc, sizeof desc, "%s of %s, %s stretch, white %g, colour map %s", s->weight, rep->source,
-                 orr_stretch_name(s->stretch.kind), rep->white, orr_colormap_name(s->colormap));
+        snprintf(desc, sizeof desc, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->weight,
+                 rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->stretch.kind), rep->white,
+                 orr_colormap_name(s->colormap));
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
         st = orr_write_png_rgb(path, plane->width, plane->height, rgb, s->png_bits, text, 2, err);
     }
@@ -218,52 +399,97 @@ static orr_status output_path(const orr_scene *s, const char *ext, char *path, o
     return ORR_OK;
 }
 
-static orr_status write_outputs(const orr_scene *s, const orr_camera *cam, const orr_projection *proj,
-                                const orr_plane *plane, orr_render_report *rep, orr_error *err)
+static orr_status write_outputs(view_state *v, orr_error *err)
 {
-    orr_status st = ORR_OK;
+    const orr_scene *s = v->scene;
+    orr_render_report *rep = v->rep;
+    orr_status st;
+    mask_outside_map(v);
     if (s->write_fits) {
         char *path = rep->outputs[rep->noutputs];
-        orr_fits_header h = {0};
-        add_frame_cards(s, cam, proj, rep, &h);
-        if ((st = output_path(s, "fits", path, err)) || (st = orr_write_fits(path, plane, 1, &h, err)))
+        orr_fits_header *h = orr_calloc(1, sizeof *h, "FITS header", err);
+        if (!h)
+            return ORR_ERR_NOMEM;
+        add_frame_cards(v, h);
+        st = output_path(s, "fits", path, err);
+        if (!st)
+            st = orr_write_fits(path, &v->plane, 1, h, err);
+        free(h);
+        if (st)
             return st;
         rep->noutputs++;
     }
     if (s->write_png) {
         char *path = rep->outputs[rep->noutputs];
-        if ((st = output_path(s, "png", path, err)) || (st = write_png(s, plane, path, rep, err)))
+        if ((st = output_path(s, "png", path, err)) || (st = write_png(v, path, err)))
             return st;
         rep->noutputs++;
     }
     return ORR_OK;
 }
 
-orr_status orr_render_scene(const orr_scene *s, orr_render_report *rep, orr_progress_fn progress,
-                            void *progress_user, orr_error *err)
+/* ---- the driver ---- */
+
+static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_frame *observer,
+                             orr_render_report *rep, orr_error *err)
 {
     memset(rep, 0, sizeof *rep);
-    orr_camera cam;
-    orr_projection proj = s->projection;
-    orr_status st;
-    if ((st = orr_scene_camera(s, &cam, err)) || (st = orr_projection_setup(&proj, err)))
+    v->scene = s;
+    v->rep = rep;
+    v->proj = s->projection;
+    orr_status st = orr_projection_setup(&v->proj, err);
+    if (!st)
+        st = view_camera(s, observer, &rep->camera, &rep->sky, err);
+    if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
+    rep->has_sky_frame = observer != NULL;
+    v->world_to_camera = orr_camera_world_to_camera(&rep->camera);
+    return orr_plane_alloc(&v->plane, v->proj.width, v->proj.height, s->weight, s->bunit, err);
+}
+
+orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_report *reports,
+                            orr_progress_fn progress, void *progress_user, orr_error *err)
+{
+    if (n < 1)
+        return orr_fail(err, ORR_ERR_USAGE, "no view to render");
+    const orr_scene *s0 = scenes[0];
+    orr_status st = ORR_OK;
     /* Fail on an unwritable output folder before any slow work. */
-    if ((st = orr_check_output_dir(s->out_dir, err)))
-        return st;
+    for (int k = 0; k < n && !st; k++)
+        st = orr_check_output_dir(scenes[k]->out_dir, err);
+    orr_sky_frame observer;
+    if (!st && s0->has_observer)
+        st = build_sky_frame(s0, &observer, err);
+    view_state *views = st ? NULL : orr_calloc((size_t)n, sizeof *views, "views", err);
+    if (!st && !views)
+        st = ORR_ERR_NOMEM;
+    int ready = 0;
+    for (; !st && ready < n; ready++)
+        st = setup_view(&views[ready], scenes[ready], s0->has_observer ? &observer : NULL, &reports[ready], err);
     orr_source *src = NULL;
-    if ((st = orr_scene_open_source(s, &src, err)))
-        return st;
-    snprintf(rep->source, sizeof rep->source, "%s", src->info.path);
-    rep->sim_time = src->info.time;
-    orr_plane plane;
-    st = orr_plane_alloc(&plane, proj.width, proj.height, s->weight, s->bunit, err);
     if (!st) {
-        st = orr_splat_source(s, &cam, &proj, src, &plane, rep, progress, progress_user, err);
-        if (!st)
-            st = write_outputs(s, &cam, &proj, &plane, rep, err);
-        orr_plane_free(&plane);
+        int extra = strcmp(s0->weight, "mass") != 0 && strcmp(s0->weight, "h") != 0;
+        const char *const fields[1] = {s0->weight};
+        st = orr_scene_open_source(s0, fields, extra ? 1 : 0, &src, err);
     }
+    if (!st) {
+        for (int k = 0; k < n; k++) {
+            snprintf(reports[k].source, sizeof reports[k].source, "%s", src->info.path);
+            reports[k].sim_time = src->info.time;
+        }
+        st = splat_source(views, n, src, progress, progress_user, err);
+    }
+    for (int k = 0; k < n && !st; k++)
+        st = write_outputs(&views[k], err);
     orr_source_close(src);
+    for (int k = 0; k < ready && views; k++)
+        orr_plane_free(&views[k].plane);
+    free(views);
     return st;
+}
+
+orr_status orr_render_scene(const orr_scene *scene, orr_render_report *report, orr_progress_fn progress,
+                            void *progress_user, orr_error *err)
+{
+    return orr_render_views(&scene, 1, report, progress, progress_user, err);
 }

@@ -1,17 +1,12 @@
 #include "scene/scene.h"
 
-#include <errno.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "scene/scene_bind.h"
+#include "scene/scene_file.h"
+#include "scene/scene_views.h"
 #include "scene/ytree.h"
-
-/* Scene files are a few hundred bytes; the cap only stops a wrong path (a
- * snapshot, a device) from being read into memory. */
-#define SCENE_FILE_MAX (16u << 20)
 
 void orr_scene_defaults(orr_scene *s)
 {
@@ -39,7 +34,22 @@ void orr_scene_defaults(orr_scene *s)
     s->projection.ortho_width = 100;
     s->projection.fov_deg = 60;
     s->projection.near = 1e-3;
+    s->projection.dome_fov_deg = 180;
+    s->projection.lon_flip = 0;
     s->deposit = ORR_DEPOSIT_CIC;
+
+    s->dome_tilt = 0;
+    s->zenith_lb[0] = 0;
+    s->zenith_lb[1] = 90;
+    s->front_lb[0] = 0;
+    s->front_lb[1] = 0;
+
+    s->observer_normal = orr_v3(0, 0, 1);
+    s->normal_types = 0;
+    s->normal_radius = 30;
+    s->normal_sign = -1;
+    s->dim = 1;
+    s->dim_near = 0.01;
 
     snprintf(s->out_dir, sizeof s->out_dir, ".");
     s->write_fits = 1;
@@ -80,6 +90,8 @@ static orr_status apply_override(yt_node *root, const char *arg, const char *ori
 {
     char key[256];
     orr_status st = override_key(arg, origin, key, sizeof key, err);
+    if (st == ORR_OK)
+        st = scene_views_check_override(root, key, origin, err);
     if (st != ORR_OK)
         return st;
     const char *text = strchr(arg, '=') + 1;
@@ -121,255 +133,143 @@ static void free_origins(char **origins, int n)
     free(origins);
 }
 
-/* ---- checks across keys ---- */
-
-/* Fails with "origin:line: " of key (or the scene path when the key was not
- * set) before the formatted text. */
-static orr_status fail_key(const orr_scene *s, const scene_marks *m, const char *key, orr_error *err,
-                           const char *fmt, ...) __attribute__((format(printf, 5, 6)));
-
-static orr_status fail_key(const orr_scene *s, const scene_marks *m, const char *key, orr_error *err,
-                           const char *fmt, ...)
-{
-    char prefix[ORR_ERROR_MSG_MAX];
-    char text[ORR_ERROR_MSG_MAX];
-    const scene_loc *loc = scene_mark(m, key);
-    scene_loc_prefix(loc ? loc->origin : s->path, loc ? loc->line : 0, prefix, sizeof prefix);
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(text, sizeof text, fmt, ap);
-    va_end(ap);
-    return orr_fail(err, ORR_ERR_USAGE, "%s%s", prefix, text);
-}
-
-static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const model_keys[] = {"input.model.particles", "input.model.seed",
-                                             "input.model.separation"};
-    const int has_file = s->input_file[0] != '\0', has_model = s->model_name[0] != '\0';
-    if (has_file && has_model)
-        return fail_key(s, m, "input.model.name", err,
-                        "input.file and input.model.name are both set; use one of them");
-    if (!has_file && !has_model)
-        return orr_fail(err, ORR_ERR_USAGE, "%s: no input: set input.file or input.model.name", s->path);
-    for (size_t i = 0; has_file && i < sizeof model_keys / sizeof model_keys[0]; i++)
-        if (scene_mark(m, model_keys[i]))
-            return fail_key(s, m, model_keys[i], err, "%s applies to input.model.name, but the input is input.file",
-                            model_keys[i]);
-    return ORR_OK;
-}
-
-static int is_zero(orr_vec3 v) { return v.x == 0 && v.y == 0 && v.z == 0; }
-
-/* True when a and b point along the same line (or either is zero). */
-static int parallel(orr_vec3 a, orr_vec3 b)
-{
-    return orr_v3_norm(orr_v3_cross(a, b)) <= 1e-12 * orr_v3_norm(a) * orr_v3_norm(b);
-}
-
-static orr_status check_orientation_count(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const keys[] = {"camera.look_at", "camera.direction", "camera.quaternion"};
-    const char *first = NULL;
-    for (int i = 0; i < 3; i++) {
-        if (!scene_mark(m, keys[i]))
-            continue;
-        if (first)
-            return fail_key(s, m, keys[i], err,
-                            "%s and %s are both set; use at most one of camera.look_at, camera.direction, "
-                            "camera.quaternion",
-                            first, keys[i]);
-        first = keys[i];
-    }
-    return ORR_OK;
-}
-
-static orr_status check_camera(orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    orr_status st = check_orientation_count(s, m, err);
-    if (st != ORR_OK)
-        return st;
-    if (s->has_quaternion) {
-        orr_quat q = s->camera_quaternion;
-        if (q.w == 0 && q.x == 0 && q.y == 0 && q.z == 0)
-            return fail_key(s, m, "camera.quaternion", err,
-                            "camera.quaternion: [0, 0, 0, 0] is not a rotation (zero length)");
-        /* Users round their quaternions; the renderer wants a unit one. */
-        s->camera_quaternion = orr_quat_normalize(q);
-    }
-    if (s->has_direction && is_zero(s->camera_direction))
-        return fail_key(s, m, "camera.direction", err, "camera.direction: must not be [0, 0, 0]");
-    if (s->has_up && is_zero(s->camera_up))
-        return fail_key(s, m, "camera.up", err, "camera.up: must not be [0, 0, 0]");
-    orr_vec3 view = s->has_look_at ? orr_v3_sub(s->camera_look_at, s->camera_position) : s->camera_direction;
-    if (s->has_look_at && is_zero(view))
-        return fail_key(s, m, "camera.look_at", err,
-                        "camera.look_at: equals camera.position, so there is no direction to look in");
-    if (s->has_up && (s->has_look_at || s->has_direction) && parallel(view, s->camera_up))
-        return fail_key(s, m, "camera.up", err, "camera.up: is parallel to the view direction (%s)",
-                        s->has_look_at ? "camera.look_at - camera.position" : "camera.direction");
-    return ORR_OK;
-}
-
-/* The projection validates its own parameters (image size, width, field of
- * view); a copy keeps the derived fields out of the scene. */
-static orr_status check_projection(const orr_scene *s, orr_error *err)
-{
-    orr_projection copy = s->projection;
-    orr_status st = orr_projection_setup(&copy, err);
-    if (st != ORR_OK)
-        return orr_fail_prefix(err, "%s: ", s->path);
-    return ORR_OK;
-}
-
 /* ---- loading ---- */
 
-/* The file name without folder and extension: "scenes/face-on.yaml" -> "face-on". */
-static void path_stem(const char *path, char *out, size_t size)
+/* Parses the scene text into *root (freed by the caller, also on error) and
+ * applies the overrides to it. */
+static orr_status build_tree(yt_node **root, const char *text, const char *path, char **origins,
+                             const char *const *overrides, int noverrides, orr_error *err)
 {
-    const char *slash = strrchr(path, '/');
-    const char *base = slash ? slash + 1 : path;
-    const char *dot = strrchr(base, '.');
-    size_t len = (dot && dot != base) ? (size_t)(dot - base) : strlen(base);
-    if (len >= size)
-        len = size - 1;
-    memcpy(out, base, len);
-    out[len] = '\0';
-}
-
-/* The folder part of path: "a/b/scene.yaml" -> "a/b", "scene.yaml" -> ".". */
-static void path_dir(const char *path, char *out, size_t size)
-{
-    const char *slash = strrchr(path, '/');
-    if (!slash)
-        snprintf(out, size, ".");
-    else if (slash == path)
-        snprintf(out, size, "/");
-    else
-        snprintf(out, size, "%.*s", (int)(slash - path), path);
-}
-
-/* Builds the tree from text and the overrides, binds it and checks it. */
-static orr_status load_tree(orr_scene *s, yt_node **root, const char *text, char **origins,
-                            const char *const *overrides, int noverrides, orr_error *err)
-{
-    orr_status st = yt_parse(text, strlen(text), s->path, 1, root, err);
+    orr_status st = yt_parse(text, strlen(text), path, 1, root, err);
     if (st != ORR_OK)
         return st;
     if (!*root || yt_is_null(*root))
         return orr_fail(err, ORR_ERR_USAGE, "%s: the scene is empty (expected a mapping of keys such as input:)",
-                        s->path);
+                        path);
     if ((*root)->kind != YT_MAPPING) {
         char got[96];
         return orr_fail(err, ORR_ERR_USAGE, "%s:%d: the top level of a scene must be a mapping of keys, not %s",
-                        s->path, (*root)->line, yt_describe(*root, got, sizeof got));
+                        path, (*root)->line, yt_describe(*root, got, sizeof got));
     }
     for (int i = 0; i < noverrides; i++)
         if ((st = apply_override(*root, overrides[i], origins[i], err)) != ORR_OK)
             return st;
-    scene_marks marks;
-    if ((st = scene_bind(s, *root, &marks, err)) != ORR_OK)
-        return st;
-    if ((st = check_input(s, &marks, err)) != ORR_OK || (st = check_camera(s, &marks, err)) != ORR_OK ||
-        (st = check_projection(s, err)) != ORR_OK)
-        return st;
     return ORR_OK;
 }
 
-/* The common part of both loaders; s->path and s->dir are already set. */
-static orr_status load_text(orr_scene *s, const char *text, const char *name_from,
+/* The common part of every loader: text to tree, overrides, views. */
+static orr_status load_text(orr_scene_views *out, const char *text, const scene_source *src,
                             const char *const *overrides, int noverrides, orr_error *err)
 {
+    out->n = 0;
     if (noverrides < 0 || (noverrides > 0 && !overrides))
-        return orr_fail(err, ORR_ERR_INTERNAL, "%s: bad override list (%d)", s->path, noverrides);
+        return orr_fail(err, ORR_ERR_INTERNAL, "%s: bad override list (%d)", src->path, noverrides);
     char **origins = override_origins(overrides, noverrides, err);
     if (!origins)
         return ORR_ERR_NOMEM;
     yt_node *root = NULL;
-    orr_status st = load_tree(s, &root, text, origins, overrides, noverrides, err);
+    orr_status st = build_tree(&root, text, src->path, origins, overrides, noverrides, err);
+    if (st == ORR_OK)
+        st = scene_views_from_tree(out, root, src, err);
     yt_free(root); /* before the origins: its nodes point at them */
     free_origins(origins, noverrides);
-    if (st == ORR_OK && s->out_name[0] == '\0') {
-        path_stem(name_from ? name_from : "", s->out_name, sizeof s->out_name);
-        if (s->out_name[0] == '\0')
-            snprintf(s->out_name, sizeof s->out_name, "orrery");
-    }
     return st;
 }
 
-/* Reads a whole file into a NUL-terminated buffer. */
-static orr_status read_file(const char *path, char **out, size_t *out_len, orr_error *err)
+/* The default output name: the stem of name_from, or "orrery" without one. */
+static void default_stem(const char *name_from, char *stem, size_t size)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return orr_fail(err, ORR_ERR_IO, "%s: cannot open scene file: %s", path, strerror(errno));
-    size_t cap = 4096, len = 0;
-    char *buf = orr_malloc(cap, "the scene file", err);
-    orr_status st = buf ? ORR_OK : ORR_ERR_NOMEM;
-    while (st == ORR_OK) {
-        if (len + 1 == cap) {
-            char *bigger = cap >= SCENE_FILE_MAX ? NULL : realloc(buf, 2 * cap);
-            if (!bigger) {
-                st = cap >= SCENE_FILE_MAX
-                         ? orr_fail(err, ORR_ERR_USAGE, "%s: larger than %u bytes; not a scene file", path,
-                                    SCENE_FILE_MAX)
-                         : orr_fail(err, ORR_ERR_NOMEM, "%s: out of memory reading the scene file", path);
-                break;
-            }
-            buf = bigger;
-            cap *= 2;
-        }
-        size_t got = fread(buf + len, 1, cap - 1 - len, f);
-        len += got;
-        if (got == 0 && ferror(f))
-            st = orr_fail(err, ORR_ERR_IO, "%s: cannot read scene file: %s", path, strerror(errno));
-        else if (got == 0)
-            break;
-    }
-    fclose(f);
-    if (st != ORR_OK) {
-        free(buf);
+    scene_path_stem(name_from ? name_from : "", stem, size);
+    if (stem[0] == '\0')
+        snprintf(stem, size, "orrery");
+}
+
+orr_status orr_scene_load_views(orr_scene_views *out, const char *path, const char *const *overrides,
+                                int noverrides, orr_error *err)
+{
+    out->n = 0;
+    if (strlen(path) >= ORR_PATH_MAX)
+        return orr_fail(err, ORR_ERR_USAGE, "scene file name is too long (%zu characters)", strlen(path));
+    char dir[ORR_PATH_MAX], stem[ORR_NAME_MAX];
+    scene_path_dir(path, dir, sizeof dir);
+    default_stem(path, stem, sizeof stem);
+    char *text = NULL;
+    orr_status st = scene_read_text(path, "scene file", &text, err);
+    if (st != ORR_OK)
         return st;
+    const scene_source src = {path, dir, stem};
+    st = load_text(out, text, &src, overrides, noverrides, err);
+    free(text);
+    return st;
+}
+
+orr_status orr_scene_load_views_string(orr_scene_views *out, const char *yaml, const char *origin,
+                                       const char *base_dir, const char *const *overrides, int noverrides,
+                                       orr_error *err)
+{
+    out->n = 0;
+    const char *path = origin ? origin : "<built-in>";
+    if (strlen(path) >= ORR_PATH_MAX)
+        return orr_fail(err, ORR_ERR_USAGE, "scene name is too long (%zu characters)", strlen(path));
+    if (base_dir && strlen(base_dir) >= ORR_PATH_MAX)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: base folder name is too long", path);
+    char stem[ORR_NAME_MAX];
+    default_stem(origin, stem, sizeof stem);
+    const scene_source src = {path, base_dir && base_dir[0] ? base_dir : ".", stem};
+    return load_text(out, yaml ? yaml : "", &src, overrides, noverrides, err);
+}
+
+/* The single-scene loaders return the one view there is; a scene with
+ * several views needs the views loaders. */
+static orr_status take_single(orr_scene *s, const orr_scene_views *views, orr_error *err)
+{
+    if (views->n == 1) {
+        *s = views->view[0];
+        return ORR_OK;
     }
-    buf[len] = '\0';
-    *out = buf;
-    *out_len = len;
-    return ORR_OK;
+    char names[ORR_ERROR_MSG_MAX / 2] = "";
+    for (int i = 0; i < views->n; i++) {
+        size_t len = strlen(names);
+        snprintf(names + len, sizeof names - len, "%s%s", i ? ", " : "", views->name[i]);
+    }
+    return orr_fail(err, ORR_ERR_USAGE,
+                    "%s: the scene has %d views (%s) but was loaded as a single scene; load it with "
+                    "orr_scene_load_views to render every view",
+                    views->view[0].path, views->n, names);
+}
+
+/* A failed load leaves s with the defaults and its name, as it always has. */
+static void start_single(orr_scene *s, const char *path)
+{
+    orr_scene_defaults(s);
+    if (path && strlen(path) < sizeof s->path)
+        snprintf(s->path, sizeof s->path, "%s", path);
 }
 
 orr_status orr_scene_load(orr_scene *s, const char *path, const char *const *overrides, int noverrides,
                           orr_error *err)
 {
-    orr_scene_defaults(s);
-    if (strlen(path) >= sizeof s->path)
-        return orr_fail(err, ORR_ERR_USAGE, "scene file name is too long (%zu characters)", strlen(path));
-    snprintf(s->path, sizeof s->path, "%s", path);
-    path_dir(path, s->dir, sizeof s->dir);
-    char *text = NULL;
-    size_t len = 0;
-    orr_status st = read_file(path, &text, &len, err);
-    if (st != ORR_OK)
-        return st;
-    if (strlen(text) != len) {
-        free(text);
-        return orr_fail(err, ORR_ERR_USAGE, "%s: contains a NUL byte; not a text file", path);
-    }
-    st = load_text(s, text, path, overrides, noverrides, err);
-    free(text);
+    start_single(s, path);
+    orr_scene_views *views = orr_malloc(sizeof *views, "the views of a scene", err);
+    if (!views)
+        return ORR_ERR_NOMEM;
+    orr_status st = orr_scene_load_views(views, path, overrides, noverrides, err);
+    if (st == ORR_OK)
+        st = take_single(s, views, err);
+    free(views);
     return st;
 }
 
 orr_status orr_scene_load_string(orr_scene *s, const char *yaml, const char *origin, const char *base_dir,
                                  const char *const *overrides, int noverrides, orr_error *err)
 {
-    orr_scene_defaults(s);
-    if (origin && strlen(origin) >= sizeof s->path)
-        return orr_fail(err, ORR_ERR_USAGE, "scene name is too long (%zu characters)", strlen(origin));
-    if (base_dir && strlen(base_dir) >= sizeof s->dir)
-        return orr_fail(err, ORR_ERR_USAGE, "%s: base folder name is too long", origin ? origin : s->path);
-    if (origin)
-        snprintf(s->path, sizeof s->path, "%s", origin);
-    if (base_dir && base_dir[0])
-        snprintf(s->dir, sizeof s->dir, "%s", base_dir);
-    return load_text(s, yaml ? yaml : "", origin, overrides, noverrides, err);
+    start_single(s, origin);
+    orr_scene_views *views = orr_malloc(sizeof *views, "the views of a scene", err);
+    if (!views)
+        return ORR_ERR_NOMEM;
+    orr_status st = orr_scene_load_views_string(views, yaml, origin, base_dir, overrides, noverrides, err);
+    if (st == ORR_OK)
+        st = take_single(s, views, err);
+    free(views);
+    return st;
 }

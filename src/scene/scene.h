@@ -51,6 +51,37 @@ typedef struct orr_scene {
                                     * image.width, image.height (default 1024 x 1024) */
     orr_deposit_kind deposit;      /* deposit: ngp | cic (default cic) */
 
+    /* Sky projections (camera.projection: hammer-aitoff | dome | equirectangular).
+     * projection.lon_flip:     camera.lon_flip (bool, default false)
+     * projection.dome_fov_deg: camera.dome_fov (90..360; default from the dome profile, else 180) */
+    char dome_profile[ORR_NAME_MAX]; /* camera.dome: a profile name from domes/ (default none) */
+    double dome_tilt;              /* camera.dome_tilt, degrees 0..90 (default from the profile, else 0):
+                                    * the dome's zenith is pitched toward its front by this angle */
+    int has_zenith, has_front;
+    double zenith_lb[2];           /* camera.zenith: [l, b] degrees in the observer frame: the
+                                    * direction at the dome's zenith before tilting (default [0, 90]) */
+    double front_lb[2];            /* camera.front: [l, b] degrees: the direction drawn toward the
+                                    * bottom of the dome master (default [0, 0]) */
+
+    /* observer.* : an observer-centred sky. When observer.id is set the camera
+     * sits on that particle, which is not drawn, and the frame is rebuilt every
+     * frame: z = the disc normal n0, x = the direction to the reference
+     * particle with its n0 component removed, y = z x x. camera.position and
+     * the camera orientation keys are then not allowed. */
+    int has_observer;              /* observer.id was given */
+    uint64_t observer_id;          /* observer.id */
+    uint64_t reference_id;         /* observer.reference_id (required with observer.id) */
+    int has_normal;
+    orr_vec3 observer_normal;      /* observer.normal: n0 (default [0, 0, 1]) */
+    unsigned normal_types;         /* observer.normal_from.types: compute n0 from the angular momentum of
+                                    * these types (bit mask; 0 = use observer.normal) */
+    double normal_radius;          /* observer.normal_from.radius: ... within this distance of the
+                                    * reference particle (default 30) */
+    int normal_sign;               /* observer.normal_from.sign: +1 | -1 (default -1: galactic north is
+                                    * opposite the Milky Way's spin) */
+    int dim;                       /* observer.dim: weights fall off as 1/r^2 from the observer (default true) */
+    double dim_near;               /* observer.dim_near: r below this counts as this (default 0.01) */
+
     /* output.* */
     char out_dir[ORR_PATH_MAX];    /* output.dir, resolved against the current directory (default ".") */
     char out_name[ORR_NAME_MAX];   /* output.name: base file name (default: the scene file's stem) */
@@ -65,19 +96,45 @@ typedef struct orr_scene {
     char bunit[ORR_NAME_MAX];      /* output.bunit: FITS BUNIT (default "mass/pixel") */
 } orr_scene;
 
+/* A scene file may hold several views of the same particles (a dome master
+ * and a panorama, say) under `views:`, a mapping from view name to the keys
+ * that view changes; each view is the scene with those keys merged in. */
+#define ORR_SCENE_MAX_VIEWS 8
+
+typedef struct orr_scene_views {
+    int n;
+    orr_scene view[ORR_SCENE_MAX_VIEWS];
+    char name[ORR_SCENE_MAX_VIEWS][ORR_NAME_MAX]; /* "" for a scene without views */
+} orr_scene_views;
+
 /* Fills s with the defaults above. */
 void orr_scene_defaults(orr_scene *s);
 
 /* Reads a scene file, then applies the overrides ("key=value", value in YAML
  * flow syntax, e.g. "camera.position=[0,0,10]") in order, then validates.
- * Errors name the file and line (or the --set argument) and the key. */
+ * Errors name the file and line (or the --set argument) and the key. A file
+ * with `views:` gives its view when it has exactly one, and is an error
+ * when it has several (load those with orr_scene_load_views). */
 orr_status orr_scene_load(orr_scene *s, const char *path, const char *const *overrides, int noverrides,
                           orr_error *err);
+
+/* Loads every view of a scene file (one, unnamed, when it has no `views:`).
+ * Overrides apply to the scene before the views are merged in, so a view's
+ * own keys win; "views.NAME.KEY=VALUE" overrides one view. Views may not
+ * change input.* or observer.*: all views are rendered from one pass over
+ * the particles. */
+orr_status orr_scene_load_views(orr_scene_views *out, const char *path, const char *const *overrides,
+                                int noverrides, orr_error *err);
 
 /* The same from YAML text in memory (origin names it in messages), with
  * relative paths resolved against base_dir. Used for the built-in scenes and
  * by tests. */
 orr_status orr_scene_load_string(orr_scene *s, const char *yaml, const char *origin, const char *base_dir,
                                  const char *const *overrides, int noverrides, orr_error *err);
+
+/* orr_scene_load_views from YAML text in memory, as orr_scene_load_string. */
+orr_status orr_scene_load_views_string(orr_scene_views *out, const char *yaml, const char *origin,
+                                       const char *base_dir, const char *const *overrides, int noverrides,
+                                       orr_error *err);
 
 #endif

@@ -1,10 +1,13 @@
 #include "scene/scene_bind.h"
 
+#include "source/source.h"
+
 #include <errno.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stddef.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,6 +29,8 @@ typedef enum {
     K_VEC3,     /* orr_vec3 from [x, y, z] */
     K_QUAT,     /* orr_quat from [w, x, y, z] */
     K_TYPES,    /* unsigned bit mask from a list of particle types 0..5 */
+    K_ID,       /* uint64_t, the full range: a particle id */
+    K_LB,       /* double[2] from [l, b], degrees: l any finite number, b in [-90, 90] */
 } key_type;
 
 /* Bounds of K_NUMBER and K_AUTO. */
@@ -39,30 +44,39 @@ enum {
 typedef struct key_spec {
     const char *key;
     key_type type;
-    size_t offset, size;          /* the field in orr_scene */
+    size_t offset, size;          /* the field in the target (orr_scene or dome_profile) */
     double lo, hi;                /* K_NUMBER, K_AUTO: with the bounds flags */
     unsigned bounds;
     long long ilo, ihi;           /* integers: inclusive range */
-    int (*parse_word)(orr_scene *s, const char *word); /* K_ENUM: 1 when accepted */
+    int (*parse_word)(orr_scene *s, const char *word); /* K_ENUM: 1 when accepted (scene keys only) */
     const char *(*choices)(void); /* K_ENUM: the accepted words, for messages */
+    const char *choices_note;     /* K_ENUM: more words, told after the value ("sky maps: ...") */
     int has_flag;                 /* a has_* flag to set when the key is present */
     size_t flag_offset;
 } key_spec;
 
-#define FIELD(m) .offset = offsetof(orr_scene, m), .size = sizeof(((orr_scene *)0)->m)
-#define FLAG(m) .has_flag = 1, .flag_offset = offsetof(orr_scene, m)
+#define FIELD_OF(type, m) .offset = offsetof(type, m), .size = sizeof(((type *)0)->m)
+#define FLAG_OF(type, m) .has_flag = 1, .flag_offset = offsetof(type, m)
+#define FIELD(m) FIELD_OF(orr_scene, m)
+#define FLAG(m) FLAG_OF(orr_scene, m)
 #define IRANGE(a, b) .ilo = (a), .ihi = (b)
 #define ABOVE(a) .lo = (a), .bounds = HAS_LO | LO_OPEN
+#define CLOSED(a, b) .lo = (a), .hi = (b), .bounds = HAS_LO | HAS_HI
 
 /* Word parsers for the enumerated keys. */
 static int word_input_format(orr_scene *s, const char *w)
 {
-    if (strcmp(w, "auto") != 0 && strcmp(w, "text") != 0)
+    if (strcmp(w, "auto") != 0 && !orr_source_format_known(w))
         return 0;
     snprintf(s->input_format, sizeof s->input_format, "%s", w);
     return 1;
 }
-static const char *names_input_format(void) { return "auto text"; }
+static const char *names_input_format(void)
+{
+    static char names[128];
+    snprintf(names, sizeof names, "auto %s", orr_source_format_names());
+    return names;
+}
 
 static int word_model_name(orr_scene *s, const char *w)
 {
@@ -87,15 +101,33 @@ static const char *names_nonfinite(void) { return "error skip"; }
 
 static int word_projection(orr_scene *s, const char *w)
 {
-    if (strcmp(w, "orthographic") == 0)
-        s->projection.kind = ORR_PROJ_ORTHOGRAPHIC;
-    else if (strcmp(w, "perspective") == 0)
-        s->projection.kind = ORR_PROJ_PERSPECTIVE;
+    static const orr_projection_kind kinds[] = {ORR_PROJ_ORTHOGRAPHIC, ORR_PROJ_PERSPECTIVE,
+                                                ORR_PROJ_HAMMER_AITOFF, ORR_PROJ_DOME,
+                                                ORR_PROJ_EQUIRECTANGULAR};
+    for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++) {
+        if (strcmp(w, orr_projection_name(kinds[i])) == 0) {
+            s->projection.kind = kinds[i];
+            return 1;
+        }
+    }
+    return 0;
+}
+/* The flat projections are listed first and the sky maps in a note after
+ * the value, which keeps the message of a mistyped flat one as it was. */
+static const char *names_projection(void) { return "orthographic perspective"; }
+#define SKY_PROJECTIONS "sky maps: hammer-aitoff dome equirectangular"
+
+static int word_normal_sign(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "1") == 0 || strcmp(w, "+1") == 0)
+        s->normal_sign = 1;
+    else if (strcmp(w, "-1") == 0)
+        s->normal_sign = -1;
     else
         return 0;
     return 1;
 }
-static const char *names_projection(void) { return "orthographic perspective"; }
+static const char *names_normal_sign(void) { return "+1 -1"; }
 
 static int word_deposit(orr_scene *s, const char *w)
 {
@@ -145,14 +177,28 @@ static const key_spec KEYS[] = {
     {.key = "camera.up", .type = K_VEC3, FIELD(camera_up), FLAG(has_up)},
     {.key = "camera.roll", .type = K_NUMBER, FIELD(camera_roll)},
     {.key = "camera.quaternion", .type = K_QUAT, FIELD(camera_quaternion), FLAG(has_quaternion)},
-    {.key = "camera.projection", ENUM(projection)},
+    {.key = "camera.projection", ENUM(projection), .choices_note = SKY_PROJECTIONS},
     {.key = "camera.width", .type = K_NUMBER, FIELD(projection.ortho_width), ABOVE(0)},
     {.key = "camera.fov", .type = K_NUMBER, FIELD(projection.fov_deg), .lo = 0, .hi = 180,
      .bounds = HAS_LO | LO_OPEN | HAS_HI | HI_OPEN},
     {.key = "camera.near", .type = K_NUMBER, FIELD(projection.near), .lo = 0, .bounds = HAS_LO},
+    {.key = "camera.lon_flip", .type = K_BOOL, FIELD(projection.lon_flip)},
+    {.key = "camera.dome", .type = K_FILENAME, FIELD(dome_profile)},
+    {.key = "camera.dome_fov", .type = K_NUMBER, FIELD(projection.dome_fov_deg), CLOSED(90, 360)},
+    {.key = "camera.dome_tilt", .type = K_NUMBER, FIELD(dome_tilt), CLOSED(0, 90)},
+    {.key = "camera.zenith", .type = K_LB, FIELD(zenith_lb), FLAG(has_zenith)},
+    {.key = "camera.front", .type = K_LB, FIELD(front_lb), FLAG(has_front)},
     {.key = "image.width", .type = K_INT, FIELD(projection.width), IRANGE(1, ORR_IMAGE_SIDE_MAX)},
     {.key = "image.height", .type = K_INT, FIELD(projection.height), IRANGE(1, ORR_IMAGE_SIDE_MAX)},
     {.key = "deposit", ENUM(deposit)},
+    {.key = "observer.id", .type = K_ID, FIELD(observer_id), FLAG(has_observer)},
+    {.key = "observer.reference_id", .type = K_ID, FIELD(reference_id)},
+    {.key = "observer.normal", .type = K_VEC3, FIELD(observer_normal), FLAG(has_normal)},
+    {.key = "observer.normal_from.types", .type = K_TYPES, FIELD(normal_types)},
+    {.key = "observer.normal_from.radius", .type = K_NUMBER, FIELD(normal_radius), ABOVE(0)},
+    {.key = "observer.normal_from.sign", ENUM(normal_sign)},
+    {.key = "observer.dim", .type = K_BOOL, FIELD(dim)},
+    {.key = "observer.dim_near", .type = K_NUMBER, FIELD(dim_near), ABOVE(0)},
     {.key = "output.dir", .type = K_STRING, FIELD(out_dir)},
     {.key = "output.name", .type = K_FILENAME, FIELD(out_name)},
     {.key = "output.fits", .type = K_BOOL, FIELD(write_fits)},
@@ -167,33 +213,54 @@ static const key_spec KEYS[] = {
     {.key = "output.bunit", .type = K_STRING, FIELD(bunit)},
 };
 
+/* The keys of a dome profile (domes/NAME.yaml). */
+static const key_spec PROFILE_KEYS[] = {
+    {.key = "description", .type = K_STRING, FIELD_OF(dome_profile, description)},
+    {.key = "fov", .type = K_NUMBER, FIELD_OF(dome_profile, fov), CLOSED(90, 360), FLAG_OF(dome_profile, has_fov)},
+    {.key = "tilt", .type = K_NUMBER, FIELD_OF(dome_profile, tilt), CLOSED(0, 90), FLAG_OF(dome_profile, has_tilt)},
+    {.key = "size", .type = K_INT, FIELD_OF(dome_profile, size), IRANGE(1, ORR_IMAGE_SIDE_MAX),
+     FLAG_OF(dome_profile, has_size)},
+};
+
+/* A table of keys, and where its keys are documented (for unknown-key messages). */
+typedef struct key_table {
+    const key_spec *keys;
+    size_t n;
+    const char *doc;
+} key_table;
+
 #define NKEYS (sizeof KEYS / sizeof KEYS[0])
 _Static_assert(NKEYS <= SCENE_MAX_KEYS, "scene_marks has room for every key");
+_Static_assert(sizeof PROFILE_KEYS / sizeof PROFILE_KEYS[0] <= SCENE_MAX_KEYS, "and every profile key");
+
+static const key_table SCENE_TABLE = {KEYS, NKEYS, "docs/scenes.md"};
+static const key_table PROFILE_TABLE = {PROFILE_KEYS, sizeof PROFILE_KEYS / sizeof PROFILE_KEYS[0],
+                                        "domes/README.md"};
 
 /* Longest dotted path the binder builds; longer keys cannot be in the table. */
 #define PATH_MAX_LEN 128
 
-static const key_spec *find_key(const char *path)
+static const key_spec *find_key(const key_table *t, const char *path)
 {
-    for (size_t i = 0; i < NKEYS; i++)
-        if (strcmp(KEYS[i].key, path) == 0)
-            return &KEYS[i];
+    for (size_t i = 0; i < t->n; i++)
+        if (strcmp(t->keys[i].key, path) == 0)
+            return &t->keys[i];
     return NULL;
 }
 
 /* A section is a proper prefix of some key, up to a dot ("input.model"). */
-static int is_section(const char *path)
+static int is_section(const key_table *t, const char *path)
 {
     size_t len = strlen(path);
-    for (size_t i = 0; i < NKEYS; i++)
-        if (strncmp(KEYS[i].key, path, len) == 0 && KEYS[i].key[len] == '.')
+    for (size_t i = 0; i < t->n; i++)
+        if (strncmp(t->keys[i].key, path, len) == 0 && t->keys[i].key[len] == '.')
             return 1;
     return 0;
 }
 
 const scene_loc *scene_mark(const scene_marks *marks, const char *key)
 {
-    const key_spec *k = find_key(key);
+    const key_spec *k = find_key(&SCENE_TABLE, key);
     if (!k)
         return NULL;
     const scene_loc *loc = &marks->loc[k - KEYS];
@@ -210,11 +277,10 @@ void scene_loc_prefix(const char *origin, int line, char *buf, size_t size)
 
 /* ---- messages ---- */
 
-/* Fails with ORR_ERR_USAGE and "origin:line: " before the formatted text. */
-static orr_status fail_at(orr_error *err, const char *origin, int line, const char *fmt, ...)
-    __attribute__((format(printf, 4, 5)));
+/* The short name keeps the binder's many messages readable. */
+#define fail_at scene_fail_at
 
-static orr_status fail_at(orr_error *err, const char *origin, int line, const char *fmt, ...)
+orr_status scene_fail_at(orr_error *err, const char *origin, int line, const char *fmt, ...)
 {
     char prefix[ORR_ERROR_MSG_MAX];
     char text[ORR_ERROR_MSG_MAX];
@@ -269,13 +335,13 @@ static const char *last_part(const char *path)
 
 /* The closest key or section to an unknown path: within two edits, or else
  * the only key with the same last part ("camera.height" -> "image.height"). */
-static void suggest(const char *path, char *buf, size_t size)
+static void suggest(const key_table *t, const char *path, char *buf, size_t size)
 {
     int best = 3;
     buf[0] = '\0';
-    for (size_t i = 0; i < NKEYS; i++) {
+    for (size_t i = 0; i < t->n; i++) {
         char cand[PATH_MAX_LEN];
-        snprintf(cand, sizeof cand, "%s", KEYS[i].key);
+        snprintf(cand, sizeof cand, "%s", t->keys[i].key);
         /* The key itself, then each of its sections, shortest last. */
         for (;;) {
             int d = edit_distance(path, cand);
@@ -292,11 +358,11 @@ static void suggest(const char *path, char *buf, size_t size)
     if (buf[0])
         return;
     const key_spec *only = NULL;
-    for (size_t i = 0; i < NKEYS; i++) {
-        if (strcmp(last_part(KEYS[i].key), last_part(path)) == 0) {
+    for (size_t i = 0; i < t->n; i++) {
+        if (strcmp(last_part(t->keys[i].key), last_part(path)) == 0) {
             if (only)
                 return; /* ambiguous: say nothing */
-            only = &KEYS[i];
+            only = &t->keys[i];
         }
     }
     if (only)
@@ -401,7 +467,9 @@ static void describe_bounds(const key_spec *k, char *buf, size_t size)
 /* ---- binding values ---- */
 
 typedef struct bind_ctx {
-    orr_scene *s;
+    void *target;           /* the orr_scene or dome_profile being filled */
+    const char *dir;        /* the scene's folder, for K_PATH values */
+    const key_table *table;
     scene_marks *marks;
     orr_error *err;
 } bind_ctx;
@@ -413,7 +481,7 @@ typedef struct value_at {
     const char *path; /* "camera.position", "camera.position[1]" */
 } value_at;
 
-static void *field(const bind_ctx *c, const key_spec *k) { return (char *)c->s + k->offset; }
+static void *field(const bind_ctx *c, const key_spec *k) { return (char *)c->target + k->offset; }
 
 /* The scalar text of a value, or an error when it is a list, mapping or null. */
 static orr_status want_scalar(const bind_ctx *c, const value_at *at, const yt_node *n, const char *what,
@@ -477,8 +545,8 @@ static orr_status bind_text(const bind_ctx *c, const key_spec *k, const value_at
      * stays relative to the working directory like any other argument. */
     const int from_scene = at->line > 0;
     int len;
-    if (k->type == K_PATH && from_scene && t[0] != '/' && strcmp(c->s->dir, ".") != 0)
-        len = snprintf(field(c, k), k->size, "%s/%s", c->s->dir, t);
+    if (k->type == K_PATH && from_scene && t[0] != '/' && strcmp(c->dir, ".") != 0)
+        len = snprintf(field(c, k), k->size, "%s/%s", c->dir, t);
     else
         len = snprintf(field(c, k), k->size, "%s", t);
     if (len < 0 || (size_t)len >= k->size)
@@ -489,15 +557,14 @@ static orr_status bind_text(const bind_ctx *c, const key_spec *k, const value_at
 
 static orr_status bind_enum(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
 {
-    char what[160];
+    char what[160], note[160] = "", got_buf[96];
     snprintf(what, sizeof what, "one of: %s", k->choices());
-    const char *t = NULL;
-    orr_status st = want_scalar(c, at, n, what, &t);
-    if (st != ORR_OK)
-        return st;
-    if (!k->parse_word(c->s, t))
-        return fail_at(c->err, at->origin, at->line, "%s: expected %s, got '%s'", at->path, what, t);
-    return ORR_OK;
+    if (k->choices_note)
+        snprintf(note, sizeof note, " (%s)", k->choices_note);
+    /* Only the scene table has words, so the target is an orr_scene. */
+    if (n->kind == YT_SCALAR && !yt_is_null(n) && k->parse_word((orr_scene *)c->target, n->text))
+        return ORR_OK;
+    return fail_at(c->err, at->origin, at->line, "%s: expected %s, got %s%s", at->path, what, GOT(n), note);
 }
 
 static orr_status bind_bool(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
@@ -510,6 +577,33 @@ static orr_status bind_bool(const bind_ctx *c, const key_spec *k, const value_at
     if (!parse_bool(t, &v))
         return fail_at(c->err, at->origin, at->line, "%s: expected true or false, got '%s'", at->path, t);
     memcpy(field(c, k), &v, sizeof v);
+    return ORR_OK;
+}
+
+/* Particle ids: plain digits up to 2^64 - 1 (ids near the top of the range
+ * are real: some codes hash them), or any integer form get_integer takes. */
+static orr_status bind_id(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    const char *t = NULL;
+    orr_status st = want_scalar(c, at, n, "a particle id (an integer >= 0)", &t);
+    if (st != ORR_OK)
+        return st;
+    const char *digits = t[0] == '+' ? t + 1 : t;
+    uint64_t id;
+    if (digits[0] && strspn(digits, "0123456789") == strlen(digits)) {
+        errno = 0;
+        unsigned long long v = strtoull(digits, NULL, 10);
+        if (errno == ERANGE) /* unsigned long long is 64 bits wide on every platform we build on */
+            return fail_at(c->err, at->origin, at->line, "%s: %s is out of range (0 to %llu)", at->path, t,
+                           (unsigned long long)UINT64_MAX);
+        id = (uint64_t)v;
+    } else {
+        long long v;
+        if ((st = get_integer(c, at, n, 0, LLONG_MAX, &v)) != ORR_OK)
+            return st;
+        id = (uint64_t)v;
+    }
+    memcpy(field(c, k), &id, sizeof id);
     return ORR_OK;
 }
 
@@ -590,6 +684,22 @@ static orr_status bind_vector(const bind_ctx *c, const key_spec *k, const value_
     return ORR_OK;
 }
 
+/* [l, b] in degrees: l wraps around, so any finite value is fine; b is a latitude. */
+static orr_status bind_lb(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    double lb[2];
+    orr_status st = get_numbers(c, at, n, 2, "[l, b] in degrees", lb);
+    if (st != ORR_OK)
+        return st;
+    if (!(lb[1] >= -90 && lb[1] <= 90)) {
+        const yt_node *b = n->items[1];
+        return fail_at(c->err, b->origin, b->line ? b->line : at->line,
+                       "%s[1]: %s is out of range (-90 to 90: b is a latitude)", at->path, b->text);
+    }
+    memcpy(field(c, k), lb, sizeof lb);
+    return ORR_OK;
+}
+
 /* input.types: a list of types 0..5 (or one type alone) to a bit mask. */
 static orr_status bind_types(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
 {
@@ -640,6 +750,8 @@ static orr_status bind_value(const bind_ctx *c, const key_spec *k, const value_a
     case K_VEC3:
     case K_QUAT: return bind_vector(c, k, at, n);
     case K_TYPES: return bind_types(c, k, at, n);
+    case K_ID: return bind_id(c, k, at, n);
+    case K_LB: return bind_lb(c, k, at, n);
     }
     return orr_fail(c->err, ORR_ERR_INTERNAL, "%s: unknown key type %d", k->key, (int)k->type);
 }
@@ -672,28 +784,28 @@ static orr_status check_key(const bind_ctx *c, const yt_node *map, size_t i, con
 static orr_status unknown_key(const bind_ctx *c, const yt_entry *e, const char *path)
 {
     char hint[PATH_MAX_LEN];
-    suggest(path, hint, sizeof hint);
+    suggest(c->table, path, hint, sizeof hint);
     if (hint[0])
         return fail_at(c->err, e->origin, e->line, "unknown key '%s' (did you mean '%s'?)", path, hint);
-    return fail_at(c->err, e->origin, e->line, "unknown key '%s' (see docs/scenes.md for the keys)", path);
+    return fail_at(c->err, e->origin, e->line, "unknown key '%s' (see %s for the keys)", path, c->table->doc);
 }
 
 static orr_status bind_entry(const bind_ctx *c, const yt_entry *e, const char *path)
 {
-    const key_spec *k = find_key(path);
+    const key_spec *k = find_key(c->table, path);
     if (k) {
         value_at at = {e->origin, e->line, path};
         orr_status st = bind_value(c, k, &at, e->value);
         if (st != ORR_OK)
             return st;
-        c->marks->loc[k - KEYS] = (scene_loc){e->origin, e->line};
+        c->marks->loc[k - c->table->keys] = (scene_loc){e->origin, e->line};
         if (k->has_flag) {
             int one = 1;
-            memcpy((char *)c->s + k->flag_offset, &one, sizeof one);
+            memcpy((char *)c->target + k->flag_offset, &one, sizeof one);
         }
         return ORR_OK;
     }
-    if (!is_section(path))
+    if (!is_section(c->table, path))
         return unknown_key(c, e, path);
     if (e->value->kind == YT_MAPPING)
         return bind_mapping(c, e->value, path);
@@ -725,6 +837,28 @@ static orr_status bind_mapping(const bind_ctx *c, const yt_node *map, const char
 orr_status scene_bind(orr_scene *s, const yt_node *root, scene_marks *marks, orr_error *err)
 {
     memset(marks, 0, sizeof *marks);
-    bind_ctx c = {s, marks, err};
+    bind_ctx c = {s, s->dir, &SCENE_TABLE, marks, err};
     return bind_mapping(&c, root, "");
+}
+
+orr_status dome_profile_bind(dome_profile *p, const yt_node *root, orr_error *err)
+{
+    scene_marks marks; /* a profile's keys have no checks across them */
+    bind_ctx c = {p, ".", &PROFILE_TABLE, &marks, err};
+    memset(&marks, 0, sizeof marks);
+    return bind_mapping(&c, root, "");
+}
+
+orr_status scene_fail_key(const orr_scene *s, const scene_marks *m, const char *key, orr_error *err,
+                          const char *fmt, ...)
+{
+    char prefix[ORR_PATH_MAX + 32]; /* room for s->path; orr_fail cuts the message to size */
+    char text[ORR_ERROR_MSG_MAX];
+    const scene_loc *loc = scene_mark(m, key);
+    scene_loc_prefix(loc ? loc->origin : s->path, loc ? loc->line : 0, prefix, sizeof prefix);
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    return orr_fail(err, ORR_ERR_USAGE, "%s%s", prefix, text);
 }

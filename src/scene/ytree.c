@@ -440,3 +440,105 @@ orr_status yt_set_path(yt_node *root, const char *dotted, yt_node *value, const 
     free(path);
     return st;
 }
+
+/* ---- views: lookup, copying and merging ---- */
+
+const yt_entry *yt_find(const yt_node *map, const char *key)
+{
+    if (!map || map->kind != YT_MAPPING)
+        return NULL;
+    return map_find((yt_node *)map, key);
+}
+
+yt_node *yt_detach(yt_node *map, const char *key)
+{
+    yt_entry *e = map && map->kind == YT_MAPPING ? map_find(map, key) : NULL;
+    if (!e)
+        return NULL;
+    yt_node *value = e->value;
+    free(e->key);
+    size_t i = (size_t)(e - map->entries);
+    memmove(&map->entries[i], &map->entries[i + 1], (map->n - i - 1) * sizeof *e);
+    map->n--;
+    return value;
+}
+
+/* Copies the children of a mapping or sequence into an empty node of the same kind. */
+static orr_status clone_children(yt_node *copy, const yt_node *n, orr_error *err)
+{
+    for (size_t i = 0; i < n->n; i++) {
+        const yt_node *child = n->kind == YT_MAPPING ? n->entries[i].value : n->items[i];
+        yt_node *child_copy = yt_clone(child, err);
+        if (!child_copy)
+            return ORR_ERR_NOMEM;
+        if (n->kind == YT_SEQUENCE) {
+            if (node_reserve(copy, err) != ORR_OK) {
+                yt_free(child_copy);
+                return ORR_ERR_NOMEM;
+            }
+            copy->items[copy->n++] = child_copy;
+            continue;
+        }
+        const yt_entry *e = &n->entries[i];
+        char *key = copy_text(e->key, strlen(e->key), err);
+        if (!key) {
+            yt_free(child_copy);
+            return ORR_ERR_NOMEM;
+        }
+        orr_status st = map_append(copy, key, e->line, e->origin, child_copy, err);
+        if (st != ORR_OK)
+            return st;
+    }
+    return ORR_OK;
+}
+
+yt_node *yt_clone(const yt_node *n, orr_error *err)
+{
+    if (n->kind == YT_SCALAR)
+        return yt_new_scalar(n->text, n->quoted, n->origin, n->line, err);
+    yt_node *copy = node_new(n->kind, n->origin, n->line, err);
+    if (!copy)
+        return NULL;
+    if (clone_children(copy, n, err) != ORR_OK) {
+        yt_free(copy);
+        return NULL;
+    }
+    return copy;
+}
+
+/* Puts a copy of src's entry e in place of dst's entry d, or appends it when d is NULL. */
+static orr_status merge_replace(yt_node *dst, yt_entry *d, const yt_entry *e, orr_error *err)
+{
+    yt_node *copy = yt_clone(e->value, err);
+    if (!copy)
+        return ORR_ERR_NOMEM;
+    if (d) {
+        yt_free(d->value);
+        d->value = copy;
+        d->origin = e->origin;
+        d->line = e->line;
+        return ORR_OK;
+    }
+    char *key = copy_text(e->key, strlen(e->key), err);
+    if (!key) {
+        yt_free(copy);
+        return ORR_ERR_NOMEM;
+    }
+    return map_append(dst, key, e->line, e->origin, copy, err);
+}
+
+orr_status yt_merge(yt_node *dst, const yt_node *src, orr_error *err)
+{
+    for (size_t i = 0; i < src->n; i++) {
+        const yt_entry *e = &src->entries[i];
+        yt_entry *d = map_find(dst, e->key);
+        orr_status st = ORR_OK;
+        if (d && d->value->kind == YT_MAPPING && e->value->kind == YT_MAPPING)
+            st = yt_merge(d->value, e->value, err);
+        else if (!(d && d->value->kind == YT_MAPPING && yt_is_null(e->value)))
+            st = merge_replace(dst, d, e, err);
+        if (st != ORR_OK)
+            return st;
+    }
+    return ORR_OK;
+}

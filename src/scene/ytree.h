@@ -65,4 +65,23 @@ const char *yt_describe(const yt_node *n, char *buf, size_t size);
 orr_status yt_set_path(yt_node *root, const char *dotted, yt_node *value, const char *origin,
                        orr_error *err);
 
+/* The first entry of mapping map with this key, or NULL (also when map is
+ * not a mapping). */
+const yt_entry *yt_find(const yt_node *map, const char *key);
+
+/* Removes the first entry with this key from mapping map and returns its
+ * value, which the caller then owns; NULL when there is none. */
+yt_node *yt_detach(yt_node *map, const char *key);
+
+/* A deep copy of n (origins stay borrowed); NULL (with err set) when out of memory. */
+yt_node *yt_clone(const yt_node *n, orr_error *err);
+
+/* Merges mapping src into mapping dst: a key in both whose values are
+ * mappings is merged key by key; any other value of src (scalar or list)
+ * replaces dst's, keeping src's origin and line. An empty value in src
+ * ("camera:" with nothing below) leaves a mapping of dst as it is, as an
+ * empty section does everywhere else. src must have no duplicate keys (the
+ * caller checks): the second would silently win. */
+orr_status yt_merge(yt_node *dst, const yt_node *src, orr_error *err);
+
 #endif

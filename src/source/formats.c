@@ -1,8 +1,16 @@
 #include "source/formats.h"
 
+#include "source/gadget.h"
+#include "source/hdf5_reader.h"
 #include "source/text_reader.h"
+#include "source/tipsy.h"
 
+/* Binary formats first: their probes check magic numbers and record
+ * structure, while the text probe accepts any printable table. */
 const orr_format orr_formats[] = {
+    {"hdf5", orr_hdf5_probe, orr_hdf5_source_open},
+    {"gadget", orr_gadget_probe, orr_gadget_source_open},
+    {"tipsy", orr_tipsy_probe, orr_tipsy_source_open},
     {"text", orr_text_probe, orr_text_source_open},
 };
 

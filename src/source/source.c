@@ -72,11 +72,37 @@ const char *orr_source_format_names(void)
     return names;
 }
 
+int orr_source_format_known(const char *name)
+{
+    for (int i = 0; i < orr_nformats; i++)
+        if (strcmp(name, orr_formats[i].name) == 0)
+            return 1;
+    return 0;
+}
+
+/* A multi-file snapshot may be named by its base ("snap_010") when only its
+ * parts exist ("snap_010.0", "snap_010.0.hdf5"): the probes then look at the
+ * first part. */
+static FILE *open_first_part(const char *path)
+{
+    static const char *const suffixes[] = {"", ".0", ".0.hdf5"};
+    char part[4096];
+    for (size_t k = 0; k < sizeof suffixes / sizeof suffixes[0]; k++) {
+        if (snprintf(part, sizeof part, "%s%s", path, suffixes[k]) >= (int)sizeof part)
+            break;
+        FILE *fp = fopen(part, "rb");
+        if (fp || errno != ENOENT)
+            return fp;
+    }
+    errno = ENOENT;
+    return NULL;
+}
+
 /* Reads up to size bytes from the start of path for the probes; returns the
  * count, or -1 with err set when the file cannot be read. */
 static long read_head(const char *path, unsigned char *buf, size_t size, orr_error *err)
 {
-    FILE *fp = fopen(path, "rb");
+    FILE *fp = open_first_part(path);
     if (!fp) {
         orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
         return -1;

@@ -76,6 +76,8 @@ orr_status orr_source_open_file(const char *path, const orr_source_options *opt,
 
 /* Space-separated names of the formats orr_source_open_file knows. */
 const char *orr_source_format_names(void);
+/* Whether name is one of those formats. */
+int orr_source_format_known(const char *name);
 
 /* Whether an options' field list asks for the named field. */
 int orr_source_wants_field(const orr_source_options *opt, const char *name);

@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "frame/projection.h"
 #include "splat/plane.h"
 
 typedef enum {
@@ -27,7 +28,11 @@ typedef struct orr_deposit_stats {
 
 const char *orr_deposit_name(orr_deposit_kind kind);
 
+/* proj may be NULL. For a sky projection, shares that fall outside the map
+ * (past the l = +-180 seam, the poles, the dome's rim, or off the image) are
+ * folded back onto it with orr_projection_fold, so nothing is lost or drawn
+ * twice and pixels outside the map stay empty. */
 void orr_deposit(orr_deposit_kind kind, orr_plane *plane, size_t n, const float *px, const float *py,
-                 const float *w, const uint8_t *visible, orr_deposit_stats *stats);
+                 const float *w, const uint8_t *visible, const orr_projection *proj, orr_deposit_stats *stats);
 
 #endif

@@ -21,7 +21,7 @@ static float at(const orr_plane *p, int i, int j)
 static void deposit_one(orr_deposit_kind kind, orr_plane *p, float x, float y, float w, orr_deposit_stats *st)
 {
     uint8_t vis = 1;
-    orr_deposit(kind, p, 1, &x, &y, &w, &vis, st);
+    orr_deposit(kind, p, 1, &x, &y, &w, &vis, NULL, st);
 }
 
 static void test_particle_at_pixel_centre(void)
@@ -102,7 +102,7 @@ static void test_mass_conserved_random(void)
     for (int k = 0; k < 2; k++) {
         orr_plane p = make_plane(100, 80);
         orr_deposit_stats st = {0};
-        orr_deposit(k ? ORR_DEPOSIT_CIC : ORR_DEPOSIT_NGP, &p, N, x, y, w, vis, &st);
+        orr_deposit(k ? ORR_DEPOSIT_CIC : ORR_DEPOSIT_NGP, &p, N, x, y, w, vis, NULL, &st);
         CHECK_NEAR(st.deposited + st.outside + st.culled, total, 1e-9 * total);
         CHECK_NEAR(st.culled, culled, 1e-9 * total);
         CHECK_NEAR(orr_plane_sum(&p), st.deposited, 1e-6 * st.deposited);

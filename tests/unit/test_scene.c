@@ -427,7 +427,8 @@ static void test_value_errors(void)
     EXPECT_ERROR(MODEL "output:\n  stretch: sqrt\n", ORR_ERR_USAGE, "output.stretch: expected one of: linear log asinh, got 'sqrt'");
     EXPECT_ERROR(MODEL "output:\n  png_bits: 12\n", ORR_ERR_USAGE, "output.png_bits: expected one of: 8 16, got '12'");
     EXPECT_ERROR(MODEL_INPUT "  nonfinite: drop\n", ORR_ERR_USAGE, "input.nonfinite: expected one of: error skip, got 'drop'");
-    EXPECT_ERROR(MODEL_INPUT "  format: hdf5\n", ORR_ERR_USAGE, "input.format: expected one of: auto text, got 'hdf5'");
+    EXPECT_ERROR(MODEL_INPUT "  format: fits\n", ORR_ERR_USAGE,
+                 "input.format: expected one of: auto hdf5 gadget tipsy text, got 'fits'");
     EXPECT_ERROR("input:\n  model:\n    name: plummer\n", ORR_ERR_USAGE, "scene.yaml:3: input.model.name: expected one of: mw-m31, got 'plummer'");
     /* Strings. */
     EXPECT_ERROR(MODEL "output:\n  name: a/b\n", ORR_ERR_USAGE, "output.name: 'a/b' must be a file name");
@@ -469,6 +470,191 @@ static void test_cross_checks(void)
                       "--set camera.quaternion=[1,0,0,0]: camera.direction and camera.quaternion are both set");
 }
 
+/* ---- the observer-centred sky: projections, dome keys, observer ---- */
+
+/* A scene with an observer; more observer.* keys start on line 7. */
+#define OBSERVER MODEL "observer:\n  id: 7\n  reference_id: 9\n"
+
+static void test_sky_defaults(void)
+{
+    orr_scene *s = &g_scene;
+    orr_scene_defaults(s);
+    CHECK(s->projection.lon_flip == 0);
+    CHECK(s->projection.dome_fov_deg == 180);
+    CHECK(s->dome_profile[0] == '\0');
+    CHECK(s->dome_tilt == 0);
+    CHECK(!s->has_zenith && !s->has_front);
+    CHECK(s->zenith_lb[0] == 0 && s->zenith_lb[1] == 90);
+    CHECK(s->front_lb[0] == 0 && s->front_lb[1] == 0);
+    CHECK(!s->has_observer && !s->has_normal);
+    CHECK(s->observer_normal.x == 0 && s->observer_normal.y == 0 && s->observer_normal.z == 1);
+    CHECK(s->normal_types == 0);
+    CHECK(s->normal_radius == 30);
+    CHECK(s->normal_sign == -1);
+    CHECK(s->dim == 1);
+    CHECK(s->dim_near == 0.01);
+}
+
+static void test_sky_keys(void)
+{
+    EXPECT_OK(MODEL "camera:\n  projection: hammer-aitoff\n  lon_flip: true\n", NULL, 0);
+    CHECK(g_scene.projection.kind == ORR_PROJ_HAMMER_AITOFF && g_scene.projection.lon_flip == 1);
+    EXPECT_OK(MODEL "camera: {projection: equirectangular}\nimage: {width: 720, height: 360}\n", NULL, 0);
+    CHECK(g_scene.projection.kind == ORR_PROJ_EQUIRECTANGULAR && g_scene.projection.lon_flip == 0);
+    EXPECT_OK(MODEL "camera:\n"
+                    "  projection: dome\n"
+                    "  dome_fov: 210\n"
+                    "  dome_tilt: 30\n"
+                    "  zenith: [10, 80]\n"
+                    "  front: [-45.5, -10]\n",
+              NULL, 0);
+    const orr_scene *s = &g_scene;
+    CHECK(s->projection.kind == ORR_PROJ_DOME);
+    CHECK(s->projection.dome_fov_deg == 210);
+    CHECK(s->dome_tilt == 30);
+    CHECK(s->has_zenith && s->zenith_lb[0] == 10 && s->zenith_lb[1] == 80);
+    CHECK(s->has_front && s->front_lb[0] == -45.5 && s->front_lb[1] == -10);
+    /* The bounds are inclusive; l is any finite number (it wraps). */
+    EXPECT_OK(MODEL "camera: {projection: dome, dome_fov: 360, dome_tilt: 90, zenith: [720, -90]}\n", NULL, 0);
+    CHECK(g_scene.projection.dome_fov_deg == 360 && g_scene.dome_tilt == 90 && g_scene.zenith_lb[0] == 720);
+    EXPECT_OK(MODEL "camera: {projection: dome, dome_fov: 90, dome_tilt: 0}\n", NULL, 0);
+    /* Dome keys with another projection are checked, and otherwise ignored. */
+    EXPECT_OK(MODEL "camera: {projection: perspective, dome_fov: 200, lon_flip: yes}\n", NULL, 0);
+    CHECK(g_scene.projection.kind == ORR_PROJ_PERSPECTIVE && g_scene.projection.dome_fov_deg == 200);
+    const char *sets[] = {"camera.projection=dome", "camera.zenith=[30, 45]"};
+    EXPECT_OK(MODEL, sets, 2);
+    CHECK(g_scene.projection.kind == ORR_PROJ_DOME && g_scene.zenith_lb[1] == 45);
+}
+
+static void test_sky_key_errors(void)
+{
+    orr_error err;
+    CHECK(load(MODEL "camera:\n  projection: fisheye\n", NULL, 0, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "scene.yaml:5: camera.projection: expected one of: orthographic perspective, got "
+                          "'fisheye' (sky maps: hammer-aitoff dome equirectangular)") == 0);
+    EXPECT_ERROR(MODEL "camera:\n  dome_fov: 89\n", ORR_ERR_USAGE, "scene.yaml:5: camera.dome_fov: 89 is out of range (90 to 360)");
+    EXPECT_ERROR(MODEL "camera:\n  dome_fov: 360.5\n", ORR_ERR_USAGE, "camera.dome_fov: 360.5 is out of range (90 to 360)");
+    EXPECT_ERROR(MODEL "camera:\n  dome_tilt: -1\n", ORR_ERR_USAGE, "camera.dome_tilt: -1 is out of range (0 to 90)");
+    EXPECT_ERROR(MODEL "camera:\n  dome_tilt: 91\n", ORR_ERR_USAGE, "camera.dome_tilt: 91 is out of range (0 to 90)");
+    EXPECT_ERROR(MODEL "camera:\n  lon_flip: left\n", ORR_ERR_USAGE, "scene.yaml:5: camera.lon_flip: expected true or false, got 'left'");
+    EXPECT_ERROR(MODEL "camera:\n  dome: domes/flat-180\n", ORR_ERR_USAGE, "camera.dome: 'domes/flat-180' must be a file name");
+    EXPECT_ERROR(MODEL "camera:\n  dome: ''\n", ORR_ERR_USAGE, "camera.dome: must not be empty");
+    CHECK(load(MODEL "camera:\n  zenith: [0, 91]\n", NULL, 0, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "scene.yaml:5: camera.zenith[1]: 91 is out of range (-90 to 90: b is a latitude)") == 0);
+    EXPECT_ERROR(MODEL "camera:\n  front:\n    - 0\n    - -90.5\n", ORR_ERR_USAGE,
+                 "scene.yaml:7: camera.front[1]: -90.5 is out of range (-90 to 90");
+    EXPECT_ERROR(MODEL "camera:\n  zenith: [0]\n", ORR_ERR_USAGE,
+                 "camera.zenith: expected a list of 2 numbers [l, b] in degrees, got a list of 1");
+    EXPECT_ERROR(MODEL "camera:\n  front: [.nan, 0]\n", ORR_ERR_USAGE, "camera.front[0]: expected a finite number, got '.nan'");
+    EXPECT_ERROR(MODEL "camera:\n  front: 45\n", ORR_ERR_USAGE, "camera.front: expected a list of 2 numbers [l, b] in degrees, got '45'");
+    EXPECT_ERROR(MODEL "camera:\n  domefov: 180\n", ORR_ERR_USAGE, "unknown key 'camera.domefov' (did you mean 'camera.dome_fov'?)");
+}
+
+static void test_zenith_front(void)
+{
+    /* The zenith on the default front [0, 0]: the error names the key that was set. */
+    EXPECT_ERROR(MODEL "camera:\n  projection: dome\n  zenith: [0, 0]\n", ORR_ERR_USAGE,
+                 "scene.yaml:6: camera.front [0, 0] and camera.zenith [0, 0] are the same direction",
+                 "the front is projected perpendicular to the zenith");
+    EXPECT_ERROR(MODEL "camera:\n  front: [123, 90]\n", ORR_ERR_USAGE, "scene.yaml:5: camera.front [123, 90]",
+                 "the same direction");
+    EXPECT_ERROR(MODEL "camera:\n  front: [0, -90]\n", ORR_ERR_USAGE, "opposite directions");
+    EXPECT_ERROR(MODEL "camera:\n  zenith: [370, 0]\n  front: [10, 0]\n", ORR_ERR_USAGE, "scene.yaml:6: camera.front");
+    /* Within 1e-6 degree is parallel; 1e-5 degree is not. */
+    EXPECT_ERROR(MODEL "camera:\n  front: [0, 89.9999999]\n", ORR_ERR_USAGE, "camera.front");
+    EXPECT_OK(MODEL "camera:\n  front: [0, 89.99999]\n", NULL, 0);
+    EXPECT_OK(MODEL "camera:\n  zenith: [90, 0]\n  front: [0, 0]\n", NULL, 0);
+}
+
+static void test_observer_keys(void)
+{
+    EXPECT_OK(OBSERVER, NULL, 0);
+    const orr_scene *s = &g_scene;
+    CHECK(s->has_observer && s->observer_id == 7 && s->reference_id == 9);
+    CHECK(!s->has_normal && s->observer_normal.z == 1 && s->normal_types == 0);
+    CHECK(s->normal_radius == 30 && s->normal_sign == -1 && s->dim == 1 && s->dim_near == 0.01);
+    EXPECT_OK(MODEL "observer:\n"
+                    "  id: 18446744073709551615\n"
+                    "  reference_id: 0\n"
+                    "  normal_from:\n"
+                    "    types: [2, 3]\n"
+                    "    radius: 12.5\n"
+                    "    sign: +1\n"
+                    "  dim: false\n"
+                    "  dim_near: 0.5\n"
+                    "camera: {projection: hammer-aitoff}\n",
+              NULL, 0);
+    CHECK(s->observer_id == UINT64_MAX && s->reference_id == 0);
+    CHECK(s->normal_types == ((1u << 2) | (1u << 3)) && !s->has_normal);
+    CHECK(s->normal_radius == 12.5 && s->normal_sign == 1 && s->dim == 0 && s->dim_near == 0.5);
+    EXPECT_OK(OBSERVER "  normal: [0, 1, 1]\n", NULL, 0);
+    CHECK(s->has_normal && s->observer_normal.y == 1 && s->observer_normal.z == 1);
+    EXPECT_OK(OBSERVER "  normal_from: {types: 2, sign: -1}\n", NULL, 0);
+    CHECK(s->normal_types == 4u && s->normal_sign == -1);
+    EXPECT_OK(OBSERVER "  normal_from: {types: 2, sign: 1}\n", NULL, 0);
+    CHECK(s->normal_sign == 1);
+    /* Ids in exponent form are fine while exact. */
+    EXPECT_OK(MODEL "observer: {id: 1e6, reference_id: 2}\n", NULL, 0);
+    CHECK(s->observer_id == 1000000);
+    /* The camera keys that do not place the camera stay allowed. */
+    EXPECT_OK(OBSERVER "camera: {projection: dome, zenith: [0, 90], roll: 5}\n", NULL, 0);
+}
+
+static void test_observer_key_errors(void)
+{
+    EXPECT_ERROR(MODEL "observer:\n  id: -1\n", ORR_ERR_USAGE, "scene.yaml:5: observer.id: -1 is out of range");
+    EXPECT_ERROR(MODEL "observer:\n  id: 18446744073709551616\n", ORR_ERR_USAGE,
+                 "observer.id: 18446744073709551616 is out of range (0 to 18446744073709551615)");
+    EXPECT_ERROR(MODEL "observer:\n  id: sun\n", ORR_ERR_USAGE, "observer.id: expected an integer, got 'sun'");
+    EXPECT_ERROR(MODEL "observer:\n  id: [1]\n", ORR_ERR_USAGE, "observer.id: expected a particle id");
+    EXPECT_ERROR(OBSERVER "  normal: [0, 0]\n", ORR_ERR_USAGE, "scene.yaml:7: observer.normal: expected a list of 3 numbers");
+    EXPECT_ERROR(OBSERVER "  normal_from:\n    sign: 2\n", ORR_ERR_USAGE,
+                 "scene.yaml:8: observer.normal_from.sign: expected one of: +1 -1, got '2'");
+    EXPECT_ERROR(OBSERVER "  normal_from:\n    radius: 0\n", ORR_ERR_USAGE,
+                 "observer.normal_from.radius: 0 is out of range (must be > 0)");
+    EXPECT_ERROR(OBSERVER "  normal_from:\n    types: [6]\n", ORR_ERR_USAGE,
+                 "observer.normal_from.types[0]: 6 is out of range (0 to 5)");
+    EXPECT_ERROR(OBSERVER "  dim: sometimes\n", ORR_ERR_USAGE, "observer.dim: expected true or false");
+    EXPECT_ERROR(OBSERVER "  dim_near: -0.1\n", ORR_ERR_USAGE, "observer.dim_near: -0.1 is out of range (must be > 0)");
+    EXPECT_ERROR(OBSERVER "  normal_form:\n    types: 2\n", ORR_ERR_USAGE,
+                 "scene.yaml:7: unknown key 'observer.normal_form' (did you mean 'observer.normal_from'?)");
+}
+
+static void test_observer_checks(void)
+{
+    EXPECT_ERROR(MODEL "observer:\n  id: 7\n", ORR_ERR_USAGE, "scene.yaml:5: observer.id needs observer.reference_id");
+    EXPECT_ERROR(MODEL "observer:\n  reference_id: 7\n", ORR_ERR_USAGE,
+                 "scene.yaml:5: observer.reference_id is set but observer.id is not");
+    EXPECT_ERROR(MODEL "observer:\n  dim: false\n", ORR_ERR_USAGE,
+                 "scene.yaml:5: observer.dim applies to an observer-centred sky, but observer.id is not set");
+    EXPECT_ERROR(MODEL "observer:\n  id: 7\n  reference_id: 7\n", ORR_ERR_USAGE,
+                 "scene.yaml:6: observer.reference_id equals observer.id (7)");
+    static const char *const placement[] = {"position: [0, 0, 1]", "look_at: [1, 0, 0]", "direction: [1, 0, 0]",
+                                            "quaternion: [1, 0, 0, 0]"};
+    for (int i = 0; i < 4; i++) {
+        char yaml[256], want[256];
+        snprintf(yaml, sizeof yaml, OBSERVER "camera:\n  %s\n", placement[i]);
+        snprintf(want, sizeof want, "scene.yaml:8: camera.%.*s is not allowed with observer.id: the observer particle "
+                 "places and orients the camera", (int)strcspn(placement[i], ":"), placement[i]);
+        EXPECT_ERROR(yaml, ORR_ERR_USAGE, want);
+    }
+    EXPECT_ERROR(OBSERVER "  normal: [0, 0, 1]\n  normal_from:\n    types: [2]\n", ORR_ERR_USAGE,
+                 "scene.yaml:9: observer.normal and observer.normal_from.types are both set");
+    EXPECT_ERROR(OBSERVER "  normal: [0, 0, 1]\n  normal_from: {radius: 5}\n", ORR_ERR_USAGE,
+                 "observer.normal and observer.normal_from.radius are both set");
+    EXPECT_ERROR(OBSERVER "  normal_from: {radius: 5}\n", ORR_ERR_USAGE,
+                 "scene.yaml:7: observer.normal_from.radius needs observer.normal_from.types");
+    EXPECT_ERROR(OBSERVER "  normal: [0, 0, 0]\n", ORR_ERR_USAGE, "scene.yaml:7: observer.normal: must not be [0, 0, 0]");
+    /* The checks see the overrides and name them. */
+    const char *same[] = {"observer.reference_id=7"};
+    EXPECT_ERROR_SETS(OBSERVER, same, 1, ORR_ERR_USAGE, "--set observer.reference_id=7: observer.reference_id equals");
+    const char *pos[] = {"camera.position=[1,2,3]"};
+    EXPECT_ERROR_SETS(OBSERVER, pos, 1, ORR_ERR_USAGE, "--set camera.position=[1,2,3]: camera.position is not allowed");
+    const char *add[] = {"observer.id=3", "observer.reference_id=4"};
+    EXPECT_OK(MODEL, add, 2);
+    CHECK(g_scene.has_observer && g_scene.observer_id == 3 && g_scene.reference_id == 4);
+}
+
 int main(void)
 {
     RUN(test_defaults);
@@ -483,5 +669,12 @@ int main(void)
     RUN(test_key_errors);
     RUN(test_value_errors);
     RUN(test_cross_checks);
+    RUN(test_sky_defaults);
+    RUN(test_sky_keys);
+    RUN(test_sky_key_errors);
+    RUN(test_zenith_front);
+    RUN(test_observer_keys);
+    RUN(test_observer_key_errors);
+    RUN(test_observer_checks);
     return check_summary();
 }

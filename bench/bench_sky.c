@@ -1,0 +1,126 @@
+/* Splatting throughput of the sky projections next to orthographic, on the
+ * same particles: the renderer's block loop (rotate into the camera frame,
+ * project, deposit) timed over N particles around an observer.
+ *
+ *   bench_sky [N ...]        default: 1e6 1e7
+ *
+ * Prints one line per projection and N: seconds, particles per second, and
+ * the ratio to orthographic. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "frame/camera.h"
+#include "frame/projection.h"
+#include "splat/deposit.h"
+
+#define BLOCK 4096
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* A thick disc of particles around the observer at the origin. */
+static void make_particles(size_t n, float *x, float *y, float *z, float *w)
+{
+    uint64_t s = 12345;
+    for (size_t i = 0; i < n; i++) {
+        float u[3];
+        for (int k = 0; k < 3; k++) {
+            s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+            u[k] = (float)((s >> 11) * (1.0 / 9007199254740992.0));
+        }
+        x[i] = 30.0f * (u[0] - 0.5f);
+        y[i] = 30.0f * (u[1] - 0.5f);
+        z[i] = 2.0f * (u[2] - 0.5f);
+        w[i] = 1.0f;
+    }
+}
+
+static double run(const orr_projection *p, size_t n, const float *x, const float *y, const float *z,
+                  const float *w)
+{
+    static float cx[BLOCK], cy[BLOCK], cz[BLOCK], px[BLOCK], py[BLOCK], sc[BLOCK];
+    static uint8_t vis[BLOCK];
+    orr_plane plane;
+    orr_error err = {0};
+    if (orr_plane_alloc(&plane, p->width, p->height, "m", "", &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        exit(1);
+    }
+    orr_camera cam;
+    orr_camera_look_along(&cam, orr_v3(0, 0, 0), orr_v3(1, 0.2, 0.1), orr_v3(0, 0, 1), 0, &err);
+    orr_mat3 R = orr_camera_world_to_camera(&cam);
+    float r[9];
+    for (int i = 0; i < 9; i++)
+        r[i] = (float)R.m[i / 3][i % 3];
+    orr_deposit_stats st = {0};
+    double t0 = now();
+    for (size_t start = 0; start < n; start += BLOCK) {
+        size_t m = n - start < BLOCK ? n - start : BLOCK;
+        const float *bx = x + start, *by = y + start, *bz = z + start;
+        for (size_t i = 0; i < m; i++) {
+            cx[i] = r[0] * bx[i] + r[1] * by[i] + r[2] * bz[i];
+            cy[i] = r[3] * bx[i] + r[4] * by[i] + r[5] * bz[i];
+            cz[i] = r[6] * bx[i] + r[7] * by[i] + r[8] * bz[i];
+        }
+        orr_project_batch(p, m, cx, cy, cz, px, py, sc, vis);
+        orr_deposit(ORR_DEPOSIT_NGP, &plane, m, px, py, w + start, vis, p, &st);
+    }
+    double t = now() - t0;
+    orr_plane_free(&plane);
+    return t;
+}
+
+int main(int argc, char **argv)
+{
+    size_t sizes[8] = {1000000, 10000000};
+    int nsizes = 2;
+    if (argc > 1) {
+        nsizes = 0;
+        for (int i = 1; i < argc && nsizes < 8; i++)
+            sizes[nsizes++] = (size_t)strtod(argv[i], NULL);
+    }
+    /* Each sky map is compared with an orthographic view of the same size:
+     * scattered writes into a bigger plane miss the cache more, whatever
+     * the projection. */
+    struct { const char *name; orr_projection p; int reference; } projs[] = {
+        {"orthographic 3600^2", {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 3600, .height = 3600, .ortho_width = 40}, 1},
+        {"dome 3600^2", {.kind = ORR_PROJ_DOME, .width = 3600, .height = 3600, .dome_fov_deg = 180}, 0},
+        {"orthographic 4096x2048", {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 4096, .height = 2048, .ortho_width = 40}, 1},
+        {"hammer-aitoff 4096x2048", {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 4096, .height = 2048}, 0},
+        {"equirectangular 4096x2048", {.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 4096, .height = 2048}, 0},
+    };
+    int nprojs = (int)(sizeof projs / sizeof projs[0]);
+    printf("%-28s %12s %10s %14s %10s\n", "projection (NGP)", "particles", "seconds", "particles/s", "vs ortho of the same size");
+    for (int k = 0; k < nsizes; k++) {
+        size_t n = sizes[k];
+        float *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y), *z = malloc(n * sizeof *z),
+              *w = malloc(n * sizeof *w);
+        if (!x || !y || !z || !w)
+            return 1;
+        make_particles(n, x, y, z, w);
+        double ortho = 0;
+        for (int j = 0; j < nprojs; j++) {
+            orr_error err = {0};
+            if (orr_projection_setup(&projs[j].p, &err))
+                return 1;
+            double best = 1e30;
+            for (int rep = 0; rep < 3; rep++) { /* best of three: the machine is shared */
+                double t = run(&projs[j].p, n, x, y, z, w);
+                best = t < best ? t : best;
+            }
+            if (projs[j].reference)
+                ortho = best;
+            printf("%-28s %12zu %10.4f %14.3g %9.2fx\n", projs[j].name, n, best, n / best, best / ortho);
+        }
+        free(x);
+        free(y);
+        free(z);
+        free(w);
+    }
+    return 0;
+}

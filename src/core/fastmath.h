@@ -1,0 +1,38 @@
+/* A branch-free arctangent for the projection loops, which libm's atan2f
+ * would keep from vectorising. atan(t) for t in [0, 1] is t P(t^2) with a
+ * degree-7 polynomial P fitted for this project (least squares on Chebyshev
+ * nodes, reweighted toward the minimax error): the error is below 4e-8 rad
+ * in exact arithmetic and 1.5e-7 rad evaluated in float, about 2e-4 pixel
+ * on a 3600-pixel dome master. Other arguments reduce to [0, 1] by
+ * atan(t) = pi/2 - atan(1/t) and the quadrant. */
+#ifndef ORR_CORE_FASTMATH_H
+#define ORR_CORE_FASTMATH_H
+
+#include <math.h>
+
+static inline float orr_atan01f(float t)
+{
+    const float t2 = t * t;
+    float p = -0.004054562124649386f;
+    p = p * t2 + 0.02186294486781462f;
+    p = p * t2 - 0.05591231835315513f;
+    p = p * t2 + 0.09642197754258813f;
+    p = p * t2 - 0.13908630303516115f;
+    p = p * t2 + 0.19946565982406292f;
+    p = p * t2 - 0.3332986084049284f;
+    p = p * t2 + 0.9999993356069681f;
+    return p * t;
+}
+
+/* atan2(y, x) in (-pi, pi], as libm's up to 1.5e-7; atan2(0, 0) = 0. */
+static inline float orr_atan2f(float y, float x)
+{
+    const float ax = fabsf(x), ay = fabsf(y);
+    const float hi = ax > ay ? ax : ay, lo = ax > ay ? ay : ax;
+    float a = orr_atan01f(hi > 0.0f ? lo / hi : 0.0f);
+    a = ay > ax ? 1.57079632679489662f - a : a;
+    a = x < 0.0f ? 3.14159265358979324f - a : a;
+    return y < 0.0f ? -a : a;
+}
+
+#endif

@@ -1,0 +1,68 @@
+#include "frame/observer.h"
+
+orr_status orr_sky_frame_build(orr_sky_frame *f, orr_vec3 observer, orr_vec3 reference, orr_vec3 n0,
+                               orr_error *err)
+{
+    orr_vec3 z = orr_v3_normalize(n0);
+    if (orr_v3_norm(z) == 0)
+        return orr_fail(err, ORR_ERR_USAGE, "the disc normal n0 is the zero vector");
+    orr_vec3 d = orr_v3_sub(reference, observer);
+    double dist = orr_v3_norm(d);
+    if (!(dist > 0))
+        return orr_fail(err, ORR_ERR_DATA, "the observer and reference particles are at the same position (%g, %g, %g)",
+                        observer.x, observer.y, observer.z);
+    orr_vec3 in_plane = orr_v3_sub(d, orr_v3_scale(z, orr_v3_dot(d, z)));
+    if (orr_v3_norm(in_plane) < 1e-9 * dist)
+        return orr_fail(err, ORR_ERR_DATA,
+                        "the reference particle lies straight along the disc normal from the observer, "
+                        "so longitude 0 is undefined");
+    f->origin = observer;
+    f->z = z;
+    f->x = orr_v3_normalize(in_plane);
+    f->y = orr_v3_cross(f->z, f->x);
+    return ORR_OK;
+}
+
+orr_sky_frame orr_sky_frame_world(orr_vec3 origin)
+{
+    return (orr_sky_frame){origin, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+}
+
+orr_vec3 orr_sky_direction(const orr_sky_frame *f, double l_deg, double b_deg)
+{
+    double l = l_deg * ORR_PI / 180, b = b_deg * ORR_PI / 180;
+    orr_vec3 d = orr_v3_scale(f->x, cos(b) * cos(l));
+    d = orr_v3_add(d, orr_v3_scale(f->y, cos(b) * sin(l)));
+    return orr_v3_add(d, orr_v3_scale(f->z, sin(b)));
+}
+
+void orr_sky_lb(const orr_sky_frame *f, orr_vec3 dir, double *l_deg, double *b_deg)
+{
+    double x = orr_v3_dot(dir, f->x), y = orr_v3_dot(dir, f->y), z = orr_v3_dot(dir, f->z);
+    *l_deg = atan2(y, x) * 180 / ORR_PI;
+    *b_deg = atan2(z, sqrt(x * x + y * y)) * 180 / ORR_PI;
+}
+
+orr_status orr_sky_camera_centre(orr_camera *cam, const orr_sky_frame *f, double roll_deg, orr_error *err)
+{
+    return orr_camera_look_along(cam, f->origin, f->x, f->z, roll_deg, err);
+}
+
+orr_status orr_sky_camera_dome(orr_camera *cam, const orr_sky_frame *f, const double zenith_lb[2],
+                               const double front_lb[2], double tilt_deg, orr_error *err)
+{
+    orr_vec3 zen = orr_sky_direction(f, zenith_lb[0], zenith_lb[1]);
+    orr_vec3 front = orr_sky_direction(f, front_lb[0], front_lb[1]);
+    front = orr_v3_sub(front, orr_v3_scale(zen, orr_v3_dot(front, zen)));
+    if (orr_v3_norm(front) < 1e-9)
+        return orr_fail(err, ORR_ERR_USAGE, "camera.front (%g, %g) is parallel to camera.zenith (%g, %g)",
+                        front_lb[0], front_lb[1], zenith_lb[0], zenith_lb[1]);
+    front = orr_v3_normalize(front);
+    /* A tilted dome leans toward its front: its zenith moves toward the
+     * front by the tilt, and the front moves down by as much. */
+    double t = tilt_deg * ORR_PI / 180;
+    orr_vec3 zt = orr_v3_add(orr_v3_scale(zen, cos(t)), orr_v3_scale(front, sin(t)));
+    orr_vec3 ft = orr_v3_sub(orr_v3_scale(front, cos(t)), orr_v3_scale(zen, sin(t)));
+    /* The dome projection draws the camera's down (+y) at the bottom: the front. */
+    return orr_camera_look_along(cam, f->origin, zt, orr_v3_scale(ft, -1), 0, err);
+}

@@ -1,0 +1,48 @@
+/* The observer frame of an observer-centred sky ("Future Sky"): one particle
+ * is the observer, another the reference direction. Each frame:
+ *   z = n0, the disc normal (fixed for a run);
+ *   x = the observer-to-reference direction with its n0 component removed;
+ *   y = z x x.
+ * So the reference stays on the central meridian (l = 0) and moves along it
+ * as the observer leaves the plane. Longitude l and latitude b are measured
+ * in this frame, as galactic coordinates are. */
+#ifndef ORR_FRAME_OBSERVER_H
+#define ORR_FRAME_OBSERVER_H
+
+#include <stdint.h>
+
+#include "core/error.h"
+#include "core/vecmath.h"
+#include "frame/camera.h"
+
+typedef struct orr_sky_frame {
+    orr_vec3 origin;  /* the observer's position (the world origin without an observer) */
+    orr_vec3 x, y, z; /* unit axes: x toward l = 0, y toward l = 90, z toward b = 90 */
+} orr_sky_frame;
+
+/* The frame from the observer and reference positions and the normal n0.
+ * Fails when the two positions coincide or the reference lies along n0. */
+orr_status orr_sky_frame_build(orr_sky_frame *f, orr_vec3 observer, orr_vec3 reference, orr_vec3 n0,
+                               orr_error *err);
+
+/* The world axes as a sky frame: l = 0 along +x, b = 90 along +z. */
+orr_sky_frame orr_sky_frame_world(orr_vec3 origin);
+
+/* The world direction of (l, b) in degrees. */
+orr_vec3 orr_sky_direction(const orr_sky_frame *f, double l_deg, double b_deg);
+
+/* (l, b) in degrees of a world direction (l in (-180, 180]). */
+void orr_sky_lb(const orr_sky_frame *f, orr_vec3 dir, double *l_deg, double *b_deg);
+
+/* A camera at the frame's origin looking at (l, b) = (0, 0) with north up,
+ * then rolled: the orientation of full-sky maps and flat views from the
+ * observer. */
+orr_status orr_sky_camera_centre(orr_camera *cam, const orr_sky_frame *f, double roll_deg, orr_error *err);
+
+/* A dome camera: the dome's zenith toward `zenith` (l, b), the front toward
+ * `front` (projected perpendicular to the zenith), then the zenith pitched
+ * toward the front by tilt_deg. */
+orr_status orr_sky_camera_dome(orr_camera *cam, const orr_sky_frame *f, const double zenith_lb[2],
+                               const double front_lb[2], double tilt_deg, orr_error *err);
+
+#endif

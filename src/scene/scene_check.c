@@ -1,0 +1,203 @@
+#include "scene/scene_check.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "scene/scene_bind.h"
+#include "scene/scene_dome.h"
+
+/* ---- input ---- */
+
+static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    static const char *const model_keys[] = {"input.model.particles", "input.model.seed",
+                                             "input.model.separation"};
+    const int has_file = s->input_file[0] != '\0', has_model = s->model_name[0] != '\0';
+    if (has_file && has_model)
+        return scene_fail_key(s, m, "input.model.name", err,
+                        "input.file and input.model.name are both set; use one of them");
+    if (!has_file && !has_model)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: no input: set input.file or input.model.name", s->path);
+    for (size_t i = 0; has_file && i < sizeof model_keys / sizeof model_keys[0]; i++)
+        if (scene_mark(m, model_keys[i]))
+            return scene_fail_key(s, m, model_keys[i], err, "%s applies to input.model.name, but the input is input.file",
+                            model_keys[i]);
+    return ORR_OK;
+}
+
+/* ---- camera ---- */
+
+static int is_zero(orr_vec3 v) { return v.x == 0 && v.y == 0 && v.z == 0; }
+
+/* True when a and b point along the same line (or either is zero). */
+static int parallel(orr_vec3 a, orr_vec3 b)
+{
+    return orr_v3_norm(orr_v3_cross(a, b)) <= 1e-12 * orr_v3_norm(a) * orr_v3_norm(b);
+}
+
+static orr_status check_orientation_count(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    static const char *const keys[] = {"camera.look_at", "camera.direction", "camera.quaternion"};
+    const char *first = NULL;
+    for (int i = 0; i < 3; i++) {
+        if (!scene_mark(m, keys[i]))
+            continue;
+        if (first)
+            return scene_fail_key(s, m, keys[i], err,
+                            "%s and %s are both set; use at most one of camera.look_at, camera.direction, "
+                            "camera.quaternion",
+                            first, keys[i]);
+        first = keys[i];
+    }
+    return ORR_OK;
+}
+
+static orr_status check_camera(orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    orr_status st = check_orientation_count(s, m, err);
+    if (st != ORR_OK)
+        return st;
+    if (s->has_quaternion) {
+        orr_quat q = s->camera_quaternion;
+        if (q.w == 0 && q.x == 0 && q.y == 0 && q.z == 0)
+            return scene_fail_key(s, m, "camera.quaternion", err,
+                            "camera.quaternion: [0, 0, 0, 0] is not a rotation (zero length)");
+        /* Users round their quaternions; the renderer wants a unit one. */
+        s->camera_quaternion = orr_quat_normalize(q);
+    }
+    if (s->has_direction && is_zero(s->camera_direction))
+        return scene_fail_key(s, m, "camera.direction", err, "camera.direction: must not be [0, 0, 0]");
+    if (s->has_up && is_zero(s->camera_up))
+        return scene_fail_key(s, m, "camera.up", err, "camera.up: must not be [0, 0, 0]");
+    orr_vec3 view = s->has_look_at ? orr_v3_sub(s->camera_look_at, s->camera_position) : s->camera_direction;
+    if (s->has_look_at && is_zero(view))
+        return scene_fail_key(s, m, "camera.look_at", err,
+                        "camera.look_at: equals camera.position, so there is no direction to look in");
+    if (s->has_up && (s->has_look_at || s->has_direction) && parallel(view, s->camera_up))
+        return scene_fail_key(s, m, "camera.up", err, "camera.up: is parallel to the view direction (%s)",
+                        s->has_look_at ? "camera.look_at - camera.position" : "camera.direction");
+    return ORR_OK;
+}
+
+/* ---- the dome's zenith and front ---- */
+
+static orr_vec3 lb_direction(const double lb[2])
+{
+    const double l = lb[0] * ORR_PI / 180.0, b = lb[1] * ORR_PI / 180.0;
+    return orr_v3(cos(b) * cos(l), cos(b) * sin(l), sin(b));
+}
+
+/* The front is projected perpendicular to the zenith; along the zenith (or
+ * opposite it) nothing is left to project. */
+static orr_status check_zenith_front(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    const orr_vec3 zenith = lb_direction(s->zenith_lb), front = lb_direction(s->front_lb);
+    const double angle = atan2(orr_v3_norm(orr_v3_cross(zenith, front)), orr_v3_dot(zenith, front)) * 180.0 / ORR_PI;
+    if (angle >= 1e-6 && angle <= 180 - 1e-6)
+        return ORR_OK;
+    return scene_fail_key(s, m, scene_mark(m, "camera.front") ? "camera.front" : "camera.zenith", err,
+                    "camera.front [%g, %g] and camera.zenith [%g, %g] are %s: the front is projected "
+                    "perpendicular to the zenith, so it must point some other way",
+                    s->front_lb[0], s->front_lb[1], s->zenith_lb[0], s->zenith_lb[1],
+                    angle < 90 ? "the same direction" : "opposite directions");
+}
+
+/* ---- observer ---- */
+
+/* The observer.* keys that mean something only with observer.id. */
+static const char *const OBSERVER_KEYS[] = {
+    "observer.reference_id", "observer.normal", "observer.normal_from.types", "observer.normal_from.radius",
+    "observer.normal_from.sign", "observer.dim", "observer.dim_near",
+};
+
+/* The camera keys the observer particle replaces. */
+static const char *const PLACEMENT_KEYS[] = {"camera.position", "camera.look_at", "camera.direction",
+                                             "camera.quaternion"};
+
+#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
+
+static orr_status check_without_observer(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (scene_mark(m, "observer.reference_id"))
+        return scene_fail_key(s, m, "observer.reference_id", err,
+                        "observer.reference_id is set but observer.id is not: set both (the observer particle, "
+                        "and the particle that fixes the frame's x axis)");
+    for (size_t i = 0; i < COUNT(OBSERVER_KEYS); i++)
+        if (scene_mark(m, OBSERVER_KEYS[i]))
+            return scene_fail_key(s, m, OBSERVER_KEYS[i], err, "%s applies to an observer-centred sky, but observer.id is not set",
+                            OBSERVER_KEYS[i]);
+    return ORR_OK;
+}
+
+static orr_status check_observer_normal(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    static const char *const from_keys[] = {"observer.normal_from.types", "observer.normal_from.radius",
+                                            "observer.normal_from.sign"};
+    for (size_t i = 0; i < COUNT(from_keys); i++) {
+        if (!scene_mark(m, from_keys[i]))
+            continue;
+        if (s->has_normal)
+            return scene_fail_key(s, m, from_keys[i], err,
+                            "observer.normal and %s are both set; give the normal, or say how to compute it",
+                            from_keys[i]);
+        if (!scene_mark(m, "observer.normal_from.types"))
+            return scene_fail_key(s, m, from_keys[i], err,
+                            "%s needs observer.normal_from.types: the particle types whose spin gives the normal",
+                            from_keys[i]);
+    }
+    if (s->has_normal && is_zero(s->observer_normal))
+        return scene_fail_key(s, m, "observer.normal", err, "observer.normal: must not be [0, 0, 0]");
+    return ORR_OK;
+}
+
+static orr_status check_observer(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (!s->has_observer)
+        return check_without_observer(s, m, err);
+    if (!scene_mark(m, "observer.reference_id"))
+        return scene_fail_key(s, m, "observer.id", err,
+                        "observer.id needs observer.reference_id: the particle that fixes the frame's x axis");
+    if (s->observer_id == s->reference_id)
+        return scene_fail_key(s, m, "observer.reference_id", err,
+                        "observer.reference_id equals observer.id (%llu); the reference must be another particle",
+                        (unsigned long long)s->observer_id);
+    for (size_t i = 0; i < COUNT(PLACEMENT_KEYS); i++)
+        if (scene_mark(m, PLACEMENT_KEYS[i]))
+            return scene_fail_key(s, m, PLACEMENT_KEYS[i], err,
+                            "%s is not allowed with observer.id: the observer particle places and orients the camera",
+                            PLACEMENT_KEYS[i]);
+    return check_observer_normal(s, m, err);
+}
+
+/* ---- projection ---- */
+
+/* The projection validates its own parameters (image size, width, field of
+ * view); a copy keeps the derived fields out of the scene. */
+static orr_status check_projection(const orr_scene *s, orr_error *err)
+{
+    orr_projection copy = s->projection;
+    orr_status st = orr_projection_setup(&copy, err);
+    if (st != ORR_OK)
+        return orr_fail_prefix(err, "%s: ", s->path);
+    return ORR_OK;
+}
+
+orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
+{
+    scene_marks marks;
+    orr_status st = scene_bind(s, root, &marks, err);
+    if (st == ORR_OK)
+        st = check_input(s, &marks, err);
+    if (st == ORR_OK) /* before the camera: its placement keys are not allowed with an observer */
+        st = check_observer(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_camera(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_zenith_front(s, &marks, err);
+    if (st == ORR_OK)
+        st = scene_apply_dome_profile(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_projection(s, err);
+    return st;
+}

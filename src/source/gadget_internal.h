@@ -1,0 +1,80 @@
+/* Shared by the Gadget reader's two halves: gadget_layout.c (header parsing
+ * and the record walk that finds and checks every block of one file) and
+ * gadget.c (multi-file snapshots, the orr_source and streaming). */
+#ifndef ORR_SOURCE_GADGET_INTERNAL_H
+#define ORR_SOURCE_GADGET_INTERNAL_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+#include "core/error.h"
+
+#define GADGET_NTYPES 6
+#define GADGET_HEADER_BYTES 256
+
+/* The blocks the reader uses; others are stepped over. */
+typedef enum {
+    BLK_POS,
+    BLK_VEL,
+    BLK_ID,
+    BLK_MASS,
+    BLK_U,
+    BLK_RHO,
+    BLK_HSML,
+    BLK_POT,
+    BLK_COUNT
+} gadget_block_kind;
+
+extern const char *const gadget_block_names[BLK_COUNT];
+
+/* The 256-byte header (Gadget-2 io_header), decoded to native values. */
+typedef struct gadget_header {
+    int32_t npart[GADGET_NTYPES];
+    double massarr[GADGET_NTYPES];
+    double time, redshift;
+    int32_t flag_sfr, flag_feedback;
+    uint32_t npart_total[GADGET_NTYPES];
+    int32_t flag_cooling, num_files;
+    double box_size, omega0, omega_lambda, hubble_param;
+    int32_t flag_stellarage, flag_metals;
+    uint32_t npart_total_high[GADGET_NTYPES];
+    int32_t flag_entropy;
+} gadget_header;
+
+/* Where one block's data starts in its file and how each element is stored. */
+typedef struct gadget_block {
+    int present;
+    int64_t offset;   /* file offset of the first data byte */
+    int64_t bytes;    /* data length (without the record markers) */
+    int elem;         /* bytes per component: 4 (float / int32) or 8 */
+} gadget_block;
+
+/* One file of a snapshot after its record walk. */
+typedef struct gadget_file {
+    gadget_header h;
+    int64_t size;                 /* file length in bytes */
+    int64_t n;                    /* particles in this file */
+    int64_t type_start[GADGET_NTYPES]; /* index of each type's first particle */
+    int64_t mass_start[GADGET_NTYPES]; /* its index in the MASS block (types with massarr 0) */
+    gadget_block blk[BLK_COUNT];
+} gadget_file;
+
+/* What the first file fixed for every other file of the snapshot. */
+typedef struct gadget_encoding {
+    int known;       /* 0 before the first file: detect instead of check */
+    int swap;        /* the file's byte order differs from the host's */
+    int big_endian;  /* the file's byte order */
+    int snapformat;  /* 1 or 2 */
+} gadget_encoding;
+
+/* Reads the 4-byte Fortran record marker or int32 at p in the file's order. */
+uint32_t gadget_u32(const unsigned char *p, int swap);
+int gadget_host_is_big_endian(void);
+
+/* Opens path, walks its records and fills *f; on the first file (enc->known
+ * 0) detects byte order and SnapFormat into enc, on later ones requires the
+ * same. Every length is checked against the file size and the header's
+ * counts; nothing is allocated. */
+orr_status gadget_scan_file(const char *path, gadget_encoding *enc, gadget_file *f, orr_error *err);
+
+#endif

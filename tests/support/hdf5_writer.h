@@ -1,0 +1,57 @@
+/* A test-only writer of HDF5 snapshots in the Gadget (Gadget-4, AREPO,
+ * GIZMO) and SWIFT layouts, with the HDF5 C API, for the reader's round-trip
+ * tests and the fuzz corpus; plus small editors that spoil a written file
+ * (delete an object, replace a dataset, overwrite an attribute) for the
+ * bad-input tests. Every function returns 0 on success, -1 on failure. */
+#ifndef ORR_TEST_HDF5_WRITER_H
+#define ORR_TEST_HDF5_WRITER_H
+
+#include <hdf5.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define H5W_MAX_TYPES 7
+
+typedef enum {
+    H5W_GADGET, /* scalar attributes, scalar BoxSize, SmoothingLength, Density, ... */
+    H5W_SWIFT   /* 1-element array attributes, 3-vector BoxSize, SmoothingLengths,
+                 * Densities, ..., Code and Units groups, unit attributes per dataset */
+} h5w_style;
+
+/* The particles of one PartTypeN group; any array but pos may be NULL (the
+ * dataset is then not written). Values are written converted to the file
+ * types of the snapshot. A group with n == 0 is not written at all. */
+typedef struct h5w_part {
+    size_t n;
+    const double *pos; /* 3n: x0 y0 z0 x1 ... */
+    const double *vel; /* 3n */
+    const uint64_t *id;
+    const double *mass, *h, *u, *rho, *pot;
+} h5w_part;
+
+typedef struct h5w_snapshot {
+    h5w_style style;
+    int ntypes;      /* entries of the per-type header arrays: 2, 6 or 7 */
+    hid_t pos_type;  /* file type of Coordinates and Velocities (0: H5T_IEEE_F32LE) */
+    hid_t id_type;   /* file type of ParticleIDs (0: H5T_STD_U32LE) */
+    double mass_table[H5W_MAX_TYPES];
+    double time, redshift, box;
+    int nfiles;                    /* NumFilesPerSnapshot (0: 1) */
+    uint64_t total[H5W_MAX_TYPES]; /* NumPart_Total (all 0: this file's counts) */
+    int gadget4_units;             /* Gadget style: Parameters units and a_scaling/h_scaling/to_cgs */
+    h5w_part part[H5W_MAX_TYPES];
+} h5w_snapshot;
+
+int h5w_write(const char *path, const h5w_snapshot *s);
+
+/* Editors of an existing file; object paths like "PartType0/Masses". */
+int h5w_delete(const char *path, const char *object);
+/* Replaces (or adds) a float32 dataset of rows x cols (cols 0: 1-D) filled
+ * with value. */
+int h5w_replace_dataset(const char *path, const char *object, size_t rows, size_t cols, double value);
+/* Writes (replacing) a 1-D int64 attribute of n values on group. */
+int h5w_set_int64_attr(const char *path, const char *group, const char *name, const int64_t *values, int n);
+/* Writes a file with only the named empty groups (a NULL-terminated list). */
+int h5w_write_groups(const char *path, const char *const *groups);
+
+#endif
