@@ -9,8 +9,11 @@ packages=(
   libpng-dev zlib1g-dev              # PNG output
   libyaml-dev                        # scene files
   libhdf5-dev                        # Gadget/SWIFT/AREPO HDF5 snapshots
-  clang libclang-rt-dev              # libFuzzer for the reader fuzz targets
+  libfftw3-dev                       # convolution (Gaussian and PSF)
+  libgomp1                           # OpenMP runtime (gcc's)
+  clang libclang-rt-dev libomp-dev   # libFuzzer for the reader fuzz targets (clang build)
   python3-astropy python3-numpy      # tests: an independent FITS WCS reader
+  splash                             # tests and benchmark: SPLASH, the reference SPH renderer
 )
 
 missing=()

@@ -144,8 +144,9 @@ int orr_project_point(const orr_projection *p, orr_vec3 c, double *px, double *p
 }
 
 /* Each kind has its own loop so the compiler can vectorise it. */
-static void project_orthographic(const orr_projection *p, size_t n, const float *x, const float *y,
-                                 float *px, float *py, float *scale, uint8_t *visible)
+static void project_orthographic(const orr_projection *p, size_t n, const float *restrict x,
+                                 const float *restrict y, float *restrict px, float *restrict py,
+                                 float *restrict scale, uint8_t *restrict visible)
 {
     const float f = (float)p->focal, cx = (float)p->cx, cy = (float)p->cy;
     for (size_t i = 0; i < n; i++) {
@@ -156,8 +157,9 @@ static void project_orthographic(const orr_projection *p, size_t n, const float 
     }
 }
 
-static void project_perspective(const orr_projection *p, size_t n, const float *x, const float *y,
-                                const float *z, float *px, float *py, float *scale, uint8_t *visible)
+static void project_perspective(const orr_projection *p, size_t n, const float *restrict x,
+                                const float *restrict y, const float *restrict z, float *restrict px,
+                                float *restrict py, float *restrict scale, uint8_t *restrict visible)
 {
     const float f = (float)p->focal, cx = (float)p->cx, cy = (float)p->cy;
     const float near = (float)p->near;
@@ -173,8 +175,9 @@ static void project_perspective(const orr_projection *p, size_t n, const float *
     }
 }
 
-static void project_hammer_aitoff(const orr_projection *p, size_t n, const float *x, const float *y,
-                                  const float *z, float *px, float *py, float *scale, uint8_t *visible)
+static void project_hammer_aitoff(const orr_projection *p, size_t n, const float *restrict x,
+                                  const float *restrict y, const float *restrict z, float *restrict px,
+                                  float *restrict py, float *restrict scale, uint8_t *restrict visible)
 {
     const float hw = (float)p->half_w, hh = (float)p->half_h, sgn = (float)p->lon_sign;
     const float cx = (float)p->cx, cy = (float)p->cy, f = (float)p->focal;
@@ -196,8 +199,9 @@ static void project_hammer_aitoff(const orr_projection *p, size_t n, const float
     }
 }
 
-static void project_equirectangular(const orr_projection *p, size_t n, const float *x, const float *y,
-                                    const float *z, float *px, float *py, float *scale, uint8_t *visible)
+static void project_equirectangular(const orr_projection *p, size_t n, const float *restrict x,
+                                    const float *restrict y, const float *restrict z, float *restrict px,
+                                    float *restrict py, float *restrict scale, uint8_t *restrict visible)
 {
     const float ax = (float)(p->lon_sign * p->width / (2.0 * ORR_PI)), ay = (float)(p->height / ORR_PI);
     const float cx = (float)p->cx, cy = (float)p->cy, f = (float)p->focal;
@@ -209,13 +213,15 @@ static void project_equirectangular(const orr_projection *p, size_t n, const flo
         px[i] = cx + ax * l;
         py[i] = cy - ay * b;
         float cosb = vis ? h / r : 1.0f;
-        scale[i] = f / (sqrtf(fmaxf(cosb, 1e-6f)) * (vis ? r : 1.0f));
+        cosb = cosb > 1e-6f ? cosb : 1e-6f; /* not fmaxf: its NaN rule keeps the loop scalar */
+        scale[i] = f / (sqrtf(cosb) * (vis ? r : 1.0f));
         visible[i] = (uint8_t)vis;
     }
 }
 
-static void project_dome(const orr_projection *p, size_t n, const float *x, const float *y, const float *z,
-                         float *px, float *py, float *scale, uint8_t *visible)
+static void project_dome(const orr_projection *p, size_t n, const float *restrict x, const float *restrict y,
+                         const float *restrict z, float *restrict px, float *restrict py,
+                         float *restrict scale, uint8_t *restrict visible)
 {
     const float f = (float)p->focal, tmax = (float)p->theta_max;
     const float cx = (float)p->cx, cy = (float)p->cy;

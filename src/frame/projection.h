@@ -72,7 +72,9 @@ const char *orr_projection_name(orr_projection_kind kind);
 int orr_project_point(const orr_projection *p, orr_vec3 cam, double *px, double *py, double *scale);
 
 /* The same for n camera-frame points in SoA arrays, the form the hot loop
- * uses; visible[i] is 1 or 0, and px, py, scale are set only when visible. */
+ * uses; visible[i] is 1 or 0, and px, py, scale are set only when visible.
+ * The outputs must not overlap the inputs or each other (the loops are
+ * vectorised on that promise). */
 void orr_project_batch(const orr_projection *p, size_t n, const float *x, const float *y,
                        const float *z, float *px, float *py, float *scale, uint8_t *visible);
 

@@ -122,7 +122,11 @@ static inline int surely_in_outline(const map_outline *m, int i, int j)
 static inline void add_to_map(orr_plane *plane, const orr_projection *proj, const map_outline *m, float fx,
                               float fy, float share)
 {
-    int i = (int)fmaxf(fminf(fx, 1e9f), -1e9f), j = (int)fmaxf(fminf(fy, 1e9f), -1e9f);
+    /* Ternaries, not fminf/fmaxf: those are calls that handle NaN, which a
+     * visible point never is. */
+    fx = fx < 1e9f ? (fx > -1e9f ? fx : -1e9f) : 1e9f;
+    fy = fy < 1e9f ? (fy > -1e9f ? fy : -1e9f) : 1e9f;
+    int i = (int)fx, j = (int)fy;
     if (!surely_in_outline(m, i, j) && !orr_projection_pixel_in_map(proj, i, j))
         orr_projection_fold(proj, &i, &j);
     plane->data[(size_t)j * (size_t)plane->width + (size_t)i] += share;

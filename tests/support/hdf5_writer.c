@@ -252,3 +252,148 @@ int h5w_write_groups(const char *path, const char *const *groups)
     H5Fclose(file);
     return bad ? -1 : 0;
 }
+
+/* Opens group (a path, "/" for the root) of a file open for writing and
+ * removes its attribute name if it has one. */
+static hid_t open_for_attr(hid_t file, const char *group, const char *name)
+{
+    hid_t g = H5Oopen(file, group, H5P_DEFAULT);
+    if (g >= 0 && H5Aexists(g, name) > 0)
+        H5Adelete(g, name);
+    return g;
+}
+
+int h5w_set_attr(const char *path, const char *group, const char *name, hid_t type, int rank, const double *values,
+                 int n)
+{
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    if (file < 0)
+        return -1;
+    hid_t g = open_for_attr(file, group, name);
+    hsize_t dims[1] = {(hsize_t)(n > 0 ? n : 0)};
+    hid_t space = rank < 0 ? H5Screate(H5S_NULL) : rank == 0 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, dims, NULL);
+    hid_t a = g >= 0 ? H5Acreate2(g, name, type, space, H5P_DEFAULT, H5P_DEFAULT) : -1;
+    int ok = a >= 0 && (rank < 0 || (rank == 0 ? n >= 1 : n >= 0));
+    if (ok && rank >= 0 && n > 0)
+        ok = H5Awrite(a, H5T_NATIVE_DOUBLE, values) >= 0;
+    if (a >= 0)
+        H5Aclose(a);
+    H5Sclose(space);
+    if (g >= 0)
+        H5Oclose(g);
+    H5Fclose(file);
+    return ok ? 0 : -1;
+}
+
+int h5w_set_string_attr(const char *path, const char *group, const char *name, const char *value)
+{
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    if (file < 0)
+        return -1;
+    hid_t g = open_for_attr(file, group, name);
+    int ok = g >= 0 && attr_string(g, name, value) == 0;
+    if (g >= 0)
+        H5Oclose(g);
+    H5Fclose(file);
+    return ok ? 0 : -1;
+}
+
+int h5w_replace_dataset_spec(const char *path, const char *object, const h5w_dataset_spec *spec)
+{
+    if (spec->rank < -1 || spec->rank > 3)
+        return -1;
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    if (file < 0)
+        return -1;
+    if (H5Lexists(file, object, H5P_DEFAULT) > 0)
+        H5Ldelete(file, object, H5P_DEFAULT);
+    hid_t type = spec->type ? spec->type : H5T_IEEE_F32LE;
+    int rank = spec->rank;
+    int chunked = rank > 0 && spec->chunk_rows;
+    hsize_t chunk[3], maxdims[3] = {H5S_UNLIMITED, H5S_UNLIMITED, H5S_UNLIMITED};
+    hid_t space = rank < 0    ? H5Screate(H5S_NULL)
+                  : rank == 0 ? H5Screate(H5S_SCALAR)
+                              : H5Screate_simple(rank, spec->dims, chunked ? maxdims : NULL);
+    hid_t dcpl = H5Pcreate(H5P_DATASET_CREATE);
+    if (chunked) {
+        for (int i = 0; i < rank; i++)
+            chunk[i] = spec->dims[i] ? spec->dims[i] : 1;
+        chunk[0] = spec->chunk_rows;
+        H5Pset_chunk(dcpl, rank, chunk);
+    }
+    hid_t ds = H5Dcreate2(file, object, type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+    int ok = ds >= 0;
+    /* Elements to write: the first write_rows rows, or the scalar. */
+    hsize_t count[3] = {0, 1, 1};
+    size_t per_row = 1;
+    for (int i = 1; i < rank; i++) {
+        count[i] = spec->dims[i];
+        per_row *= (size_t)spec->dims[i];
+    }
+    size_t rows = rank > 0 ? (size_t)(spec->write_rows < spec->dims[0] ? spec->write_rows : spec->dims[0]) : 1;
+    size_t total = rank < 0 ? 0 : rows * per_row;
+    H5T_class_t cls = H5Tget_class(type);
+    if (ok && total > 0 && (cls == H5T_INTEGER || cls == H5T_FLOAT)) {
+        double *data = malloc(total * sizeof *data);
+        for (size_t i = 0; data && i < total; i++)
+            data[i] = spec->values && spec->nvalues ? spec->values[i % spec->nvalues] : 0.0;
+        hid_t fspace = H5Dget_space(ds);
+        hid_t mspace = -1;
+        if (rank > 0) {
+            hsize_t start[3] = {0, 0, 0};
+            count[0] = rows;
+            mspace = H5Screate_simple(rank, count, NULL);
+            ok = H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, NULL, count, NULL) >= 0;
+        } else {
+            mspace = H5Screate(H5S_SCALAR);
+        }
+        ok = ok && data && H5Dwrite(ds, H5T_NATIVE_DOUBLE, mspace, fspace, H5P_DEFAULT, data) >= 0;
+        H5Sclose(mspace);
+        H5Sclose(fspace);
+        free(data);
+    }
+    if (ds >= 0)
+        H5Dclose(ds);
+    H5Pclose(dcpl);
+    H5Sclose(space);
+    H5Fclose(file);
+    return ok ? 0 : -1;
+}
+
+int h5w_delete_attr(const char *path, const char *group, const char *name)
+{
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    if (file < 0)
+        return -1;
+    hid_t g = H5Oopen(file, group, H5P_DEFAULT);
+    int ok = g >= 0 && H5Adelete(g, name) >= 0;
+    if (g >= 0)
+        H5Oclose(g);
+    H5Fclose(file);
+    return ok ? 0 : -1;
+}
+
+int h5w_add_group(const char *path, const char *object)
+{
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    if (file < 0)
+        return -1;
+    hid_t g = H5Gcreate2(file, object, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    if (g >= 0)
+        H5Gclose(g);
+    H5Fclose(file);
+    return g >= 0 ? 0 : -1;
+}
+
+int h5w_add_link(const char *path, const char *name, const char *target, int hard)
+{
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    if (file < 0)
+        return -1;
+    if (H5Lexists(file, name, H5P_DEFAULT) > 0)
+        H5Ldelete(file, name, H5P_DEFAULT);
+    herr_t r = hard ? H5Lcreate_hard(file, target, file, name, H5P_DEFAULT, H5P_DEFAULT)
+                    : H5Lcreate_soft(target, file, name, H5P_DEFAULT, H5P_DEFAULT);
+    H5Fclose(file);
+    return r >= 0 ? 0 : -1;
+}

@@ -54,4 +54,29 @@ int h5w_set_int64_attr(const char *path, const char *group, const char *name, co
 /* Writes a file with only the named empty groups (a NULL-terminated list). */
 int h5w_write_groups(const char *path, const char *const *groups);
 
+/* A dataset of any type and shape, for h5w_replace_dataset_spec. */
+typedef struct h5w_dataset_spec {
+    hid_t type;           /* file type (0: H5T_IEEE_F32LE); a non-numeric type is created but not written */
+    int rank;             /* 1..3 (dims), 0: a scalar, -1: a null dataspace */
+    hsize_t dims[3];      /* contiguous storage is allocated in full when written: keep it small */
+    hsize_t chunk_rows;   /* 0: contiguous; else chunked (extendible) in chunks of that many rows */
+    hsize_t write_rows;   /* rows written from the start (at most dims[0]); the rest is never written */
+    const double *values; /* cycled over the elements written (NULL: all 0) */
+    size_t nvalues;
+} h5w_dataset_spec;
+/* Replaces (or adds) the dataset object as spec describes. */
+int h5w_replace_dataset_spec(const char *path, const char *object, const h5w_dataset_spec *spec);
+/* Writes (replacing) an attribute of group: n values converted to type
+ * (rank 1), one value as a scalar (rank 0), or a null dataspace (rank -1). */
+int h5w_set_attr(const char *path, const char *group, const char *name, hid_t type, int rank, const double *values,
+                 int n);
+/* Writes (replacing) a fixed-length string attribute of group. */
+int h5w_set_string_attr(const char *path, const char *group, const char *name, const char *value);
+/* Removes attribute name of group (a path, "/" for the root). */
+int h5w_delete_attr(const char *path, const char *group, const char *name);
+/* Adds an empty group (its parent must exist). */
+int h5w_add_group(const char *path, const char *object);
+/* Adds a link name to target: a hard link (target must exist) or a soft one. */
+int h5w_add_link(const char *path, const char *name, const char *target, int hard);
+
 #endif
