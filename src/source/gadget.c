@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <sys/types.h>
 
+#include "core/bytes.h"
 #include "source/gadget_internal.h"
 
 #define GADGET_DEFAULT_CHUNK ((size_t)1 << 20)
@@ -50,30 +51,9 @@ static void part_path(const gadget_state *st, int i, char *buf, size_t size)
 
 /* ---- byte decoding ---- */
 
-static float load_f32(const unsigned char *p, int swap)
-{
-    uint32_t u = gadget_u32(p, swap);
-    float f;
-    memcpy(&f, &u, 4);
-    return f;
-}
-
-static uint64_t load_u64(const unsigned char *p, int swap)
-{
-    unsigned char b[8];
-    for (int i = 0; i < 8; i++)
-        b[i] = swap ? p[7 - i] : p[i];
-    uint64_t v;
-    memcpy(&v, b, 8);
-    return v;
-}
-
 static float load_f64_as_float(const unsigned char *p, int swap)
 {
-    uint64_t u = load_u64(p, swap);
-    double d;
-    memcpy(&d, &u, 8);
-    return (float)d;
+    return (float)orr_load_f64(p, swap);
 }
 
 /* Converts n values stride bytes apart (one component of an interleaved
@@ -86,7 +66,7 @@ static void convert_reals(const unsigned char *p, size_t n, size_t stride, int e
             memcpy(&out[i], p + i * stride, 4);
     else if (elem == 4)
         for (size_t i = 0; i < n; i++)
-            out[i] = load_f32(p + i * stride, 1);
+            out[i] = orr_load_f32(p + i * stride, 1);
     else
         for (size_t i = 0; i < n; i++)
             out[i] = load_f64_as_float(p + i * stride, swap);
@@ -99,7 +79,7 @@ static void convert_ids(const unsigned char *p, size_t n, int elem, int swap, ui
             out[i] = gadget_u32(p + 4 * i, swap);
     else
         for (size_t i = 0; i < n; i++)
-            out[i] = load_u64(p + 8 * i, swap);
+            out[i] = orr_load_u64(p + 8 * i, swap);
 }
 
 /* ---- streaming ---- */
@@ -594,19 +574,11 @@ orr_status orr_gadget_source_open(const char *path, const orr_source_options *op
                                   orr_error *err)
 {
     *out = NULL;
-    orr_source *src = orr_calloc(1, sizeof *src, "Gadget source", err);
+    orr_source *src = orr_source_new("gadget", path, &gadget_ops, sizeof(gadget_state), err);
     if (!src)
         return ORR_ERR_NOMEM;
-    gadget_state *st = orr_calloc(1, sizeof *st, "Gadget reader state", err);
-    if (!st) {
-        free(src);
-        return ORR_ERR_NOMEM;
-    }
+    gadget_state *st = src->state;
     st->fp_file = -1;
-    src->ops = &gadget_ops;
-    src->state = st;
-    snprintf(src->info.format, sizeof src->info.format, "gadget");
-    snprintf(src->info.path, sizeof src->info.path, "%s", path);
     orr_status s = setup(src, st, path, opt, err);
     if (s) {
         orr_source_close(src);

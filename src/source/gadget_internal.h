@@ -69,7 +69,6 @@ typedef struct gadget_encoding {
 
 /* Reads the 4-byte Fortran record marker or int32 at p in the file's order. */
 uint32_t gadget_u32(const unsigned char *p, int swap);
-int gadget_host_is_big_endian(void);
 
 /* Opens path, walks its records and fills *f; on the first file (enc->known
  * 0) detects byte order and SnapFormat into enc, on later ones requires the

@@ -11,68 +11,37 @@
 #include <sys/stat.h>
 #include <sys/types.h>
 
+#include "core/bytes.h"
+
 const char *const gadget_block_names[BLK_COUNT] = {"POS", "VEL", "ID", "MASS", "U", "RHO", "HSML", "POT"};
-
-int gadget_host_is_big_endian(void)
-{
-    const uint16_t one = 1;
-    unsigned char first;
-    memcpy(&first, &one, 1);
-    return first == 0;
-}
-
-static uint32_t swap32(uint32_t v)
-{
-    return (v >> 24) | ((v >> 8) & 0xff00u) | ((v << 8) & 0xff0000u) | (v << 24);
-}
 
 uint32_t gadget_u32(const unsigned char *p, int swap)
 {
-    uint32_t v;
-    memcpy(&v, p, 4);
-    return swap ? swap32(v) : v;
-}
-
-static int32_t get_i32(const unsigned char *p, int swap)
-{
-    uint32_t u = gadget_u32(p, swap);
-    int32_t v;
-    memcpy(&v, &u, 4);
-    return v;
-}
-
-static double get_f64(const unsigned char *p, int swap)
-{
-    unsigned char b[8];
-    for (int i = 0; i < 8; i++)
-        b[i] = swap ? p[7 - i] : p[i];
-    double v;
-    memcpy(&v, b, 8);
-    return v;
+    return orr_load_u32(p, swap);
 }
 
 /* Decodes the Gadget-2 io_header layout (byte offsets from its start). */
 static void decode_header(const unsigned char *b, int swap, gadget_header *h)
 {
     for (int t = 0; t < GADGET_NTYPES; t++) {
-        h->npart[t] = get_i32(b + 4 * t, swap);
-        h->massarr[t] = get_f64(b + 24 + 8 * t, swap);
+        h->npart[t] = orr_load_i32(b + 4 * t, swap);
+        h->massarr[t] = orr_load_f64(b + 24 + 8 * t, swap);
         h->npart_total[t] = gadget_u32(b + 96 + 4 * t, swap);
         h->npart_total_high[t] = gadget_u32(b + 168 + 4 * t, swap);
     }
-    h->time = get_f64(b + 72, swap);
-    h->redshift = get_f64(b + 80, swap);
-    h->flag_sfr = get_i32(b + 88, swap);
-    h->flag_feedback = get_i32(b + 92, swap);
-    h->flag_cooling = get_i32(b + 120, swap);
-    h->num_files = get_i32(b + 124, swap);
-    h->box_size = get_f64(b + 128, swap);
-    h->omega0 = get_f64(b + 136, swap);
-    h->omega_lambda = get_f64(b + 144, swap);
-    h->hubble_param = get_f64(b + 152, swap);
-    h->flag_stellarage = get_i32(b + 160, swap);
-    h->flag_metals = get_i32(b + 164, swap);
-    h->flag_entropy = get_i32(b + 192, swap);
+    h->time = orr_load_f64(b + 72, swap);
+    h->redshift = orr_load_f64(b + 80, swap);
+    h->flag_sfr = orr_load_i32(b + 88, swap);
+    h->flag_feedback = orr_load_i32(b + 92, swap);
+    h->flag_cooling = orr_load_i32(b + 120, swap);
+    h->num_files = orr_load_i32(b + 124, swap);
+    h->box_size = orr_load_f64(b + 128, swap);
+    h->omega0 = orr_load_f64(b + 136, swap);
+    h->omega_lambda = orr_load_f64(b + 144, swap);
+    h->hubble_param = orr_load_f64(b + 152, swap);
+    h->flag_stellarage = orr_load_i32(b + 160, swap);
+    h->flag_metals = orr_load_i32(b + 164, swap);
+    h->flag_entropy = orr_load_i32(b + 192, swap);
 }
 
 typedef struct scan {
@@ -105,7 +74,7 @@ static orr_status detect_encoding(scan *s, gadget_encoding *enc, orr_error *err)
     orr_status st = read_at(s, 0, b, 4, "first record marker", err);
     if (st)
         return st;
-    int host_big = gadget_host_is_big_endian();
+    int host_big = orr_host_big_endian();
     uint32_t native = gadget_u32(b, 0), swapped = gadget_u32(b, 1);
     gadget_encoding found = {1, 0, host_big, 0};
     if (native == 256 || native == 8) {

@@ -711,20 +711,13 @@ orr_status orr_hdf5_source_open(const char *path, const orr_source_options *opt,
 {
     size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : H5R_DEFAULT_CHUNK;
     *out = NULL;
-    orr_source *src = orr_calloc(1, sizeof *src, "HDF5 source", err);
+    orr_source *src = orr_source_new("hdf5", path, &hdf5_ops, sizeof(hdf5_state), err);
     if (!src)
         return ORR_ERR_NOMEM;
-    hdf5_state *st = orr_calloc(1, sizeof *st, "HDF5 reader state", err);
-    if (!st) {
-        free(src);
-        return ORR_ERR_NOMEM;
-    }
+    hdf5_state *st = src->state;
     st->fid = st->gid = -1;
     for (int k = 0; k < DS_COUNT; k++)
         st->ds[k] = -1;
-    src->ops = &hdf5_ops;
-    src->state = st;
-    snprintf(src->info.format, sizeof src->info.format, "hdf5");
     orr_h5_quiet();
     orr_status s = resolve_first_file(st, path, err);
     if (!s) {

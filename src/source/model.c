@@ -507,20 +507,14 @@ orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_si
     orr_status st = check_params(params, chunk_size, err);
     if (st != ORR_OK)
         return st;
-    orr_source *src = orr_calloc(1, sizeof *src, "model source", err);
+    orr_source *src = orr_source_new("model", "", &MODEL_OPS, sizeof(model_state), err);
     if (!src)
         return ORR_ERR_NOMEM;
-    model_state *m = orr_calloc(1, sizeof *m, "model state", err);
-    if (!m) {
-        free(src);
-        return ORR_ERR_NOMEM;
-    }
+    model_state *m = src->state;
     m->params = *params;
     m->total = (uint64_t)params->particles;
     init_galaxies(m);
     split_particles(m);
-    src->state = m;
-    src->ops = &MODEL_OPS;
     fill_info(&src->info, params);
 
     static const char *const extra[3] = {"vx", "vy", "vz"};

@@ -72,6 +72,26 @@ const char *orr_source_format_names(void)
     return names;
 }
 
+orr_source *orr_source_new(const char *format, const char *path, const orr_source_ops *ops, size_t state_size,
+                           orr_error *err)
+{
+    char what[64];
+    snprintf(what, sizeof what, "%s source", format);
+    orr_source *src = orr_calloc(1, sizeof *src, what, err);
+    if (!src)
+        return NULL;
+    snprintf(what, sizeof what, "%s reader state", format);
+    src->state = orr_calloc(1, state_size, what, err);
+    if (!src->state) {
+        free(src);
+        return NULL;
+    }
+    src->ops = ops;
+    snprintf(src->info.format, sizeof src->info.format, "%s", format);
+    snprintf(src->info.path, sizeof src->info.path, "%s", path);
+    return src;
+}
+
 int orr_source_format_known(const char *name)
 {
     for (int i = 0; i < orr_nformats; i++)

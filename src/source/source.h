@@ -62,6 +62,12 @@ struct orr_source {
     void *state;
 };
 
+/* Allocates a source of the named format reading path, with ops and a
+ * zeroed reader state of state_size bytes in src->state; NULL (err set)
+ * when memory runs out. Readers call it first in their open function. */
+orr_source *orr_source_new(const char *format, const char *path, const orr_source_ops *ops, size_t state_size,
+                           orr_error *err);
+
 /* Yields the next chunk in *out (valid until the next call); (*out)->n == 0
  * at the end of the particles. */
 orr_status orr_source_next(orr_source *src, const orr_chunk **out, orr_error *err);

@@ -299,18 +299,10 @@ orr_status orr_text_source_open(const char *path, const orr_source_options *opt,
 {
     size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : (size_t)1 << 20;
     *out = NULL;
-    orr_source *src = orr_calloc(1, sizeof *src, "text source", err);
+    orr_source *src = orr_source_new("text", path, &text_ops, sizeof(text_state), err);
     if (!src)
         return ORR_ERR_NOMEM;
-    text_state *st = orr_calloc(1, sizeof *st, "text reader state", err);
-    if (!st) {
-        free(src);
-        return ORR_ERR_NOMEM;
-    }
-    src->ops = &text_ops;
-    src->state = st;
-    snprintf(src->info.format, sizeof src->info.format, "text");
-    snprintf(src->info.path, sizeof src->info.path, "%s", path);
+    text_state *st = src->state;
     src->info.count = -1;
     st->fp = fopen(path, "r");
     orr_status s;

@@ -9,6 +9,7 @@
 #include <sys/stat.h>
 #include <sys/types.h>
 
+#include "core/bytes.h"
 #include "source/formats.h"
 
 /* Particle families in file order: gas, dark, star. */
@@ -66,47 +67,21 @@ typedef struct tipsy_state {
     size_t block;       /* records per fread */
 } tipsy_state;
 
-static uint32_t load_u32(const unsigned char *p, int big_endian)
+/* Tipsy files say which byte order they are in; the loaders want whether
+ * that is the reverse of the host's. */
+static int swapped(int big_endian)
 {
-    if (big_endian)
-        return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | (uint32_t)p[3];
-    return (uint32_t)p[3] << 24 | (uint32_t)p[2] << 16 | (uint32_t)p[1] << 8 | (uint32_t)p[0];
-}
-
-static float load_float(const unsigned char *p, int big_endian)
-{
-    uint32_t u = load_u32(p, big_endian);
-    float f;
-    memcpy(&f, &u, sizeof f); /* IEEE 754 binary32 with the integer byte order */
-    return f;
-}
-
-static double load_double(const unsigned char *p, int big_endian)
-{
-    uint64_t hi = load_u32(p + (big_endian ? 0 : 4), big_endian);
-    uint64_t lo = load_u32(p + (big_endian ? 4 : 0), big_endian);
-    uint64_t u = hi << 32 | lo;
-    double d;
-    memcpy(&d, &u, sizeof d);
-    return d;
-}
-
-static int32_t load_i32(const unsigned char *p, int big_endian)
-{
-    uint32_t u = load_u32(p, big_endian);
-    int32_t i;
-    memcpy(&i, &u, sizeof i); /* two's complement reinterpretation, no overflow */
-    return i;
+    return big_endian != orr_host_big_endian();
 }
 
 /* Decodes the first 28 bytes of head in one byte order. */
 static void decode_header(const unsigned char *head, int big_endian, tipsy_header *h)
 {
-    h->time = load_double(head, big_endian);
-    h->nbodies = load_i32(head + 8, big_endian);
-    h->ndim = load_i32(head + 12, big_endian);
+    h->time = orr_load_f64(head, swapped(big_endian));
+    h->nbodies = orr_load_i32(head + 8, swapped(big_endian));
+    h->ndim = orr_load_i32(head + 12, swapped(big_endian));
     for (int f = 0; f < NFAMILIES; f++)
-        h->count[f] = load_i32(head + 16 + 4 * f, big_endian);
+        h->count[f] = orr_load_i32(head + 16 + 4 * f, swapped(big_endian));
     h->big_endian = big_endian;
     h->header_size = TIPSY_PADDED_HEADER;
 }
@@ -253,7 +228,7 @@ static void decode_records(tipsy_state *st, orr_chunk *c, size_t k)
         const unsigned char *rec = st->buf + r * (size_t)record_bytes(fam);
         float v[TIPSY_MAX_FLOATS];
         for (int j = 0; j < nf; j++)
-            v[j] = load_float(rec + 4 * j, big);
+            v[j] = orr_load_f32(rec + 4 * j, swapped(big));
         size_t at = c->n + r;
         c->mass[at] = v[Q_MASS];
         c->x[at] = v[Q_X];
@@ -431,18 +406,10 @@ orr_status orr_tipsy_source_open(const char *path, const orr_source_options *opt
 {
     size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : (size_t)1 << 20;
     *out = NULL;
-    orr_source *src = orr_calloc(1, sizeof *src, "Tipsy source", err);
+    orr_source *src = orr_source_new("tipsy", path, &tipsy_ops, sizeof(tipsy_state), err);
     if (!src)
         return ORR_ERR_NOMEM;
-    tipsy_state *st = orr_calloc(1, sizeof *st, "Tipsy reader state", err);
-    if (!st) {
-        free(src);
-        return ORR_ERR_NOMEM;
-    }
-    src->ops = &tipsy_ops;
-    src->state = st;
-    snprintf(src->info.format, sizeof src->info.format, "tipsy");
-    snprintf(src->info.path, sizeof src->info.path, "%s", path);
+    tipsy_state *st = src->state;
     st->fp = fopen(path, "rb");
     orr_status s;
     if (!st->fp)
