@@ -355,3 +355,68 @@ void orr_project_batch(const orr_projection *p, size_t n, const float *x, const 
         return;
     }
 }
+
+/* Inverse Hammer-Aitoff without trigonometry. With U, V the point's offsets
+ * over the semi-axes, the textbook inverse has z^2 = 1 - X^2/16 - Y^2/4 =
+ * 1 - (U^2 + V^2)/2, and z = D / sqrt2 where D^2 = 1 + cos b cos(l/2) is
+ * the forward map's denominator, so cos b sin(l/2) = X z / 2,
+ * cos b cos(l/2) = 2 z^2 - 1 and sin b = Y z; the double-angle formulas
+ * then give cos b cos l and cos b sin l. */
+static int unproject_hammer_aitoff(const orr_projection *p, double px, double py, orr_vec3 *dir)
+{
+    double u = (px - p->cx) / p->half_w, v = (py - p->cy) / p->half_h;
+    double uv = u * u + v * v;
+    if (!(uv <= 1.0))
+        return 0;
+    double z = sqrt(1.0 - 0.5 * uv);
+    double X = p->lon_sign * 2.0 * sqrt(2.0) * u, Y = -sqrt(2.0) * v;
+    double s = 0.5 * X * z, c = 2.0 * z * z - 1.0; /* cos b sin(l/2), cos b cos(l/2) */
+    double cosb = sqrt(s * s + c * c);
+    double fwd = cosb > 0 ? (c * c - s * s) / cosb : 0.0, left = cosb > 0 ? 2.0 * s * c / cosb : 0.0;
+    *dir = orr_v3_normalize(orr_v3(-left, -Y * z, fwd));
+    return 1;
+}
+
+static int unproject_dome(const orr_projection *p, double px, double py, orr_vec3 *dir)
+{
+    double u = px - p->cx, v = py - p->cy;
+    double rho = sqrt(u * u + v * v);
+    if (!(u * u + v * v <= p->half_w * p->half_w))
+        return 0;
+    double theta = rho / p->focal;
+    double k = rho > 0 ? sin(theta) / rho : 0.0;
+    *dir = orr_v3(k * u, k * v, cos(theta));
+    return 1;
+}
+
+static int unproject_equirectangular(const orr_projection *p, double px, double py, orr_vec3 *dir)
+{
+    if (!(px >= 0 && px <= p->width && py >= 0 && py <= p->height))
+        return 0;
+    double l = p->lon_sign * (px - p->cx) * 2.0 * ORR_PI / p->width, b = (p->cy - py) * ORR_PI / p->height;
+    *dir = orr_v3(-cos(b) * sin(l), -sin(b), cos(b) * cos(l));
+    return 1;
+}
+
+int orr_unproject(const orr_projection *p, double px, double py, orr_vec3 *dir)
+{
+    switch (p->kind) {
+    case ORR_PROJ_ORTHOGRAPHIC:
+        if (!isfinite(px) || !isfinite(py))
+            return 0;
+        *dir = orr_v3(0, 0, 1);
+        return 1;
+    case ORR_PROJ_PERSPECTIVE:
+        if (!isfinite(px) || !isfinite(py))
+            return 0;
+        *dir = orr_v3_normalize(orr_v3((px - p->cx) / p->focal, (py - p->cy) / p->focal, 1.0));
+        return 1;
+    case ORR_PROJ_HAMMER_AITOFF:
+        return unproject_hammer_aitoff(p, px, py, dir);
+    case ORR_PROJ_DOME:
+        return unproject_dome(p, px, py, dir);
+    case ORR_PROJ_EQUIRECTANGULAR:
+        return unproject_equirectangular(p, px, py, dir);
+    }
+    return 0;
+}

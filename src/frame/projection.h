@@ -78,4 +78,13 @@ int orr_project_point(const orr_projection *p, orr_vec3 cam, double *px, double 
 void orr_project_batch(const orr_projection *p, size_t n, const float *x, const float *y,
                        const float *z, float *px, float *py, float *scale, uint8_t *visible);
 
+/* The inverse: the unit camera-frame direction (x right, y down, z forward)
+ * of the continuous image point (px, py). Returns 1 and sets *dir when the
+ * point is on the map: inside the Hammer-Aitoff ellipse, the dome's circle,
+ * the equirectangular image; any point for perspective (the ray through
+ * it); any point for orthographic, whose rays all run along +z. Returns 0
+ * (dir untouched) otherwise. For a pixel centre it agrees with
+ * orr_projection_pixel_in_map. */
+int orr_unproject(const orr_projection *p, double px, double py, orr_vec3 *dir);
+
 #endif

@@ -10,8 +10,11 @@
 #include "encode/png.h"
 #include "post/colormap.h"
 #include "post/stretch.h"
+#include "render/lengths.h"
+#include "render/view_psf.h"
 #include "render/wcs.h"
 #include "source/model.h"
+#include "splat/sph.h"
 
 /* Particles are processed in blocks of this many: the block's scratch arrays
  * (about 100 KiB) stay in L2 cache between the gather, project and deposit
@@ -19,7 +22,7 @@
 #define BLOCK 4096
 
 typedef struct block_buffers {
-    float x[BLOCK], y[BLOCK], z[BLOCK], w[BLOCK];
+    float x[BLOCK], y[BLOCK], z[BLOCK], w[BLOCK], h[BLOCK];
     float px[BLOCK], py[BLOCK], scale[BLOCK];
     uint8_t visible[BLOCK];
 } block_buffers;
@@ -31,6 +34,15 @@ typedef struct view_state {
     orr_mat3 world_to_camera;
     orr_plane plane;
     orr_render_report *rep;
+    /* Kernel deposit (deposit: sph, or a sky map's PSF): its kernel, the
+     * deposit's set-up, and where the smoothing lengths come from. */
+    int use_sph, kernel_ready, sph_ready;
+    orr_kernel kernel;
+    orr_sph sph;
+    const orr_lengths *lengths; /* lengths from the neighbours, or NULL: the file's */
+    size_t lengths_next;        /* the next of them in source order */
+    float h_scale;              /* file lengths: to orrery's h (support 2h), times smoothing.h_scale */
+    orr_view_psf psf;
 } view_state;
 
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
@@ -213,7 +225,7 @@ static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, siz
  * the camera frame; returns how many, or -1 (err set) on a bad particle
  * when the scene says to fail. The observer particle is left out, and with
  * observer.dim weights fall off as 1/r^2 from the camera. */
-static long gather_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *wsrc,
+static long gather_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *wsrc,
                          size_t start, size_t end, block_buffers *b, orr_error *err)
 {
     const orr_scene *s = v->scene;
@@ -226,6 +238,13 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
     const float near2 = (float)(s->dim_near * s->dim_near);
     long n = 0;
     for (size_t i = start; i < end; i++) {
+        float h = 0.0f;
+        if (v->lengths) { /* counted before any skip, as the neighbour pass counted them */
+            if (orr_lengths_counts(s, c, i) && v->lengths_next < v->lengths->n)
+                h = v->lengths->h[v->lengths_next++] * v->h_scale;
+        } else if (c->h) {
+            h = c->h[i] * v->h_scale;
+        }
         if (!(s->type_mask & (1u << c->type[i])) || (skip_observer && c->id[i] == s->observer_id))
             continue;
         v->rep->n_selected++;
@@ -251,9 +270,34 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
             w /= r2 > near2 ? r2 : near2;
         }
         b->w[n] = w;
+        b->h[n] = h;
         n++;
     }
     return n;
+}
+
+/* A sky map's PSF widens every particle's kernel to the PSF's angular size
+ * (in quadrature with its own smoothing length). */
+static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
+{
+    const float k = (float)v->psf.h_per_r;
+    if (k <= 0.0f)
+        return;
+    for (size_t i = 0; i < n; i++) {
+        float r2 = b->x[i] * b->x[i] + b->y[i] * b->y[i] + b->z[i] * b->z[i];
+        b->h[i] = sqrtf(b->h[i] * b->h[i] + k * k * r2);
+    }
+}
+
+static void deposit_block(view_state *v, size_t n, block_buffers *b)
+{
+    if (!v->use_sph) {
+        orr_deposit(v->scene->deposit, &v->plane, n, b->px, b->py, b->w, b->visible, &v->proj, &v->rep->deposit);
+        return;
+    }
+    widen_for_psf(v, n, b);
+    orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->w};
+    orr_sph_deposit(&v->sph, &blk, &v->plane, &v->rep->deposit);
 }
 
 static orr_status splat_chunk(view_state *views, int nviews, const orr_source *src, const orr_chunk *c,
@@ -271,8 +315,7 @@ static orr_status splat_chunk(view_state *views, int nviews, const orr_source *s
             if (n < 0)
                 return err ? err->code : ORR_ERR_DATA;
             orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
-            orr_deposit(v->scene->deposit, &v->plane, (size_t)n, b->px, b->py, b->w, b->visible, &v->proj,
-                        &v->rep->deposit);
+            deposit_block(v, (size_t)n, b);
         }
         v->rep->n_read += c->n;
     }
@@ -344,6 +387,21 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
     orr_fits_add_long(h, "IMGWIDTH", p->width, "[pixel] image width");
     orr_fits_add_long(h, "IMGHEIGH", p->height, "[pixel] image height");
     orr_fits_add_string(h, "DEPOSIT", orr_deposit_name(s->deposit), "deposit method");
+    if (v->use_sph) {
+        orr_fits_add_string(h, "KERNEL", orr_kernel_name(s->kernel), "SPH kernel (support 2h)");
+        orr_fits_add_string(h, "HSOURCE", v->lengths ? "neighbours" : "file", "where smoothing lengths came from");
+        if (v->lengths)
+            orr_fits_add_long(h, "NNEIGH", s->neighbours, "h = half the distance to this neighbour");
+        orr_fits_add_double(h, "HSCALE", s->h_scale, "smoothing lengths multiplied by this");
+    }
+    static const char *const psf_names[] = {"none", "gaussian", "hst", "file"};
+    orr_fits_add_string(h, "PSF", psf_names[s->psf], "point spread function");
+    if (s->psf == ORR_PSF_GAUSSIAN && orr_projection_is_sky(p))
+        orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm_arcmin, "[arcmin] PSF FWHM on the sky");
+    else if (s->psf == ORR_PSF_GAUSSIAN)
+        orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm, "[pixel] PSF FWHM");
+    else if (s->psf != ORR_PSF_NONE)
+        orr_fits_add_double(h, "PSFSCALE", s->psf_arcsec_per_pixel, "[arcsec/pixel] image scale for the PSF");
     orr_fits_add_string(h, "WEIGHT", s->weight, "particle field deposited");
     orr_fits_add_long(h, "NPART", (long long)rep->n_read, "particles read");
     orr_fits_add_long(h, "NSELECT", (long long)rep->n_selected, "particles of the selected types");
@@ -444,7 +502,50 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
         return orr_fail_prefix(err, "%s: ", s->path);
     rep->has_sky_frame = observer != NULL;
     v->world_to_camera = orr_camera_world_to_camera(&rep->camera);
-    return orr_plane_alloc(&v->plane, v->proj.width, v->proj.height, s->weight, s->bunit, err);
+    st = orr_plane_alloc(&v->plane, v->proj.width, v->proj.height, s->weight, s->bunit, err);
+    if (!st)
+        st = orr_kernel_init(&v->kernel, s->kernel, err);
+    v->kernel_ready = !st;
+    if (!st)
+        st = orr_view_psf_setup(&v->psf, s, &v->proj, &v->kernel, err);
+    v->use_sph = s->deposit == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
+    if (!st && v->use_sph)
+        st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
+    v->sph_ready = !st && v->use_sph;
+    return st;
+}
+
+static void free_view(view_state *v)
+{
+    orr_plane_free(&v->plane);
+    orr_view_psf_free(&v->psf);
+    if (v->sph_ready)
+        orr_sph_free(&v->sph);
+    if (v->kernel_ready)
+        orr_kernel_free(&v->kernel);
+}
+
+/* Smoothing lengths from the neighbours, computed once for every view that
+ * needs them (views share input.*, so the same particles take them). */
+static orr_status prepare_lengths(view_state *views, int n, orr_source *src, orr_lengths *lengths, orr_error *err)
+{
+    for (int k = 0; k < n; k++) {
+        view_state *v = &views[k];
+        int needed;
+        orr_status st = orr_lengths_needed(v->scene, src, &needed, err);
+        if (st)
+            return st;
+        /* orrery's h is half the kernel's support: convert the file's. */
+        double support = src->info.h_support > 0 ? src->info.h_support : 2.0;
+        v->h_scale = (float)(v->scene->h_scale * support / 2.0);
+        if (!needed)
+            continue;
+        v->h_scale = (float)v->scene->h_scale;
+        if (!lengths->h && (st = orr_lengths_compute(v->scene, src, lengths, err)))
+            return st;
+        v->lengths = lengths;
+    }
+    return ORR_OK;
 }
 
 orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_report *reports,
@@ -467,6 +568,7 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
     for (; !st && ready < n; ready++)
         st = setup_view(&views[ready], scenes[ready], s0->has_observer ? &observer : NULL, &reports[ready], err);
     orr_source *src = NULL;
+    orr_lengths lengths = {0};
     if (!st) {
         int extra = strcmp(s0->weight, "mass") != 0 && strcmp(s0->weight, "h") != 0;
         const char *const fields[1] = {s0->weight};
@@ -477,13 +579,18 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
             snprintf(reports[k].source, sizeof reports[k].source, "%s", src->info.path);
             reports[k].sim_time = src->info.time;
         }
-        st = splat_source(views, n, src, progress, progress_user, err);
+        st = prepare_lengths(views, n, src, &lengths, err);
     }
+    if (!st)
+        st = splat_source(views, n, src, progress, progress_user, err);
+    for (int k = 0; k < n && !st; k++)
+        st = orr_view_psf_apply(&views[k].psf, &views[k].plane, err);
     for (int k = 0; k < n && !st; k++)
         st = write_outputs(&views[k], err);
     orr_source_close(src);
+    orr_lengths_free(&lengths);
     for (int k = 0; k < ready && views; k++)
-        orr_plane_free(&views[k].plane);
+        free_view(&views[k]);
     free(views);
     return st;
 }

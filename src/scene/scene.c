@@ -37,6 +37,17 @@ void orr_scene_defaults(orr_scene *s)
     s->projection.dome_fov_deg = 180;
     s->projection.lon_flip = 0;
     s->deposit = ORR_DEPOSIT_CIC;
+    s->kernel = ORR_KERNEL_CUBIC;
+    s->lengths = ORR_LENGTHS_AUTO;
+    s->neighbours = 32;
+    s->h_scale = 1.0;
+    s->psf = ORR_PSF_NONE;
+    s->psf_fwhm = 2.0;
+    s->psf_fwhm_arcmin = 10.0;
+    s->psf_file_subsample = 1;
+    s->psf_arcsec_per_pixel = 0.04;
+    s->psf_angle = 45.0;
+    s->psf_size = 129;
 
     s->dome_tilt = 0;
     s->zenith_lb[0] = 0;

@@ -14,6 +14,21 @@
 #include "post/stretch.h"
 #include "source/source.h"
 #include "splat/deposit.h"
+#include "splat/kernel.h"
+
+typedef enum {
+    ORR_PSF_NONE,
+    ORR_PSF_GAUSSIAN,
+    ORR_PSF_HST,  /* generated from Hubble's pupil: docs/psf.md */
+    ORR_PSF_FILE, /* a PSF image from FITS (e.g. Tiny Tim) */
+} orr_psf_kind;
+
+/* Where the SPH deposit's smoothing lengths come from. */
+typedef enum {
+    ORR_LENGTHS_AUTO,       /* the file's, or the neighbours' when it has none */
+    ORR_LENGTHS_FILE,       /* the file's; an error when it has none */
+    ORR_LENGTHS_NEIGHBOURS, /* always from the k-th nearest neighbour */
+} orr_smoothing_source;
 
 #define ORR_NAME_MAX 128
 
@@ -49,7 +64,14 @@ typedef struct orr_scene {
                                     * camera.fov (perspective, degrees, default 60),
                                     * camera.near (default 1e-3),
                                     * image.width, image.height (default 1024 x 1024) */
-    orr_deposit_kind deposit;      /* deposit: ngp | cic (default cic) */
+    orr_deposit_kind deposit;      /* deposit: ngp | cic | sph (default cic) */
+
+    /* smoothing.* : the SPH kernel deposit (deposit: sph) */
+    orr_kernel_kind kernel;        /* smoothing.kernel: cubic | wendland-c2 | wendland-c4 (default cubic) */
+    orr_smoothing_source lengths;  /* smoothing.lengths: auto | file | neighbours (default auto: the
+                                    * file's when it has them, else from the neighbours) */
+    int neighbours;                /* smoothing.neighbours: k of the k-th nearest neighbour (default 32) */
+    double h_scale;                /* smoothing.h_scale: multiplies every smoothing length (default 1) */
 
     /* Sky projections (camera.projection: hammer-aitoff | dome | equirectangular).
      * projection.lon_flip:     camera.lon_flip (bool, default false)
@@ -62,6 +84,20 @@ typedef struct orr_scene {
                                     * direction at the dome's zenith before tilting (default [0, 90]) */
     double front_lb[2];            /* camera.front: [l, b] degrees: the direction drawn toward the
                                     * bottom of the dome master (default [0, 0]) */
+
+    /* psf.* : a point spread function. Flat views convolve the splatted
+     * plane with it (FFT); sky maps, whose scale varies across the image,
+     * draw each particle as a kernel of the PSF's angular size instead
+     * (gaussian only). docs/psf.md. */
+    orr_psf_kind psf;              /* psf.kind: none | gaussian | hst | file (default none) */
+    double psf_fwhm;               /* psf.fwhm: Gaussian FWHM in pixels, flat views (default 2) */
+    double psf_fwhm_arcmin;        /* psf.fwhm_arcmin: Gaussian FWHM in arcminutes, sky maps (default 10) */
+    char psf_file[ORR_PATH_MAX];   /* psf.file: a FITS PSF image (psf.kind: file) */
+    int psf_file_subsample;        /* psf.file_subsample: file pixels per detector pixel (default 1) */
+    double psf_arcsec_per_pixel;   /* psf.arcsec_per_pixel: the image's pixel scale for hst and file PSFs
+                                    * (default 0.04, near Hubble ACS/WFC; 0 for a file: its own pixels) */
+    double psf_angle;              /* psf.angle: direction of the spikes, degrees (default 45) */
+    int psf_size;                  /* psf.size: odd kernel side in pixels (default 129) */
 
     /* observer.* : an observer-centred sky. When observer.id is set the camera
      * sits on that particle, which is not drawn, and the frame is rebuilt every

@@ -135,11 +135,49 @@ static int word_deposit(orr_scene *s, const char *w)
         s->deposit = ORR_DEPOSIT_NGP;
     else if (strcmp(w, "cic") == 0)
         s->deposit = ORR_DEPOSIT_CIC;
+    else if (strcmp(w, "sph") == 0)
+        s->deposit = ORR_DEPOSIT_SPH;
     else
         return 0;
     return 1;
 }
-static const char *names_deposit(void) { return "ngp cic"; }
+static const char *names_deposit(void) { return "ngp cic sph"; }
+
+static int word_kernel(orr_scene *s, const char *w)
+{
+    static const orr_kernel_kind kinds[] = {ORR_KERNEL_CUBIC, ORR_KERNEL_WENDLAND_C2, ORR_KERNEL_WENDLAND_C4};
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++)
+        if (strcmp(w, orr_kernel_name(kinds[k])) == 0) {
+            s->kernel = kinds[k];
+            return 1;
+        }
+    return 0;
+}
+static const char *names_kernel(void) { return "cubic wendland-c2 wendland-c4"; }
+
+static int word_lengths(orr_scene *s, const char *w)
+{
+    static const char *const names[] = {"auto", "file", "neighbours"};
+    for (int k = 0; k < 3; k++)
+        if (strcmp(w, names[k]) == 0) {
+            s->lengths = (orr_smoothing_source)k;
+            return 1;
+        }
+    return 0;
+}
+static const char *names_lengths(void) { return "auto file neighbours"; }
+
+static int word_psf(orr_scene *s, const char *w)
+{
+    static const char *const names[] = {"none", "gaussian", "hst", "file"};
+    for (int k = 0; k < 4; k++)
+        if (strcmp(w, names[k]) == 0) {
+            s->psf = (orr_psf_kind)k;
+            return 1;
+        }
+    return 0;
+}
+static const char *names_psf(void) { return "none gaussian hst file"; }
 
 static int word_png_bits(orr_scene *s, const char *w)
 {
@@ -191,6 +229,18 @@ static const key_spec KEYS[] = {
     {.key = "image.width", .type = K_INT, FIELD(projection.width), IRANGE(1, ORR_IMAGE_SIDE_MAX)},
     {.key = "image.height", .type = K_INT, FIELD(projection.height), IRANGE(1, ORR_IMAGE_SIDE_MAX)},
     {.key = "deposit", ENUM(deposit)},
+    {.key = "smoothing.kernel", ENUM(kernel)},
+    {.key = "smoothing.lengths", ENUM(lengths)},
+    {.key = "smoothing.neighbours", .type = K_INT, FIELD(neighbours), IRANGE(1, 4096)},
+    {.key = "smoothing.h_scale", .type = K_NUMBER, FIELD(h_scale), ABOVE(0)},
+    {.key = "psf.kind", ENUM(psf)},
+    {.key = "psf.fwhm", .type = K_NUMBER, FIELD(psf_fwhm), CLOSED(0.1, 1000)},
+    {.key = "psf.fwhm_arcmin", .type = K_NUMBER, FIELD(psf_fwhm_arcmin), CLOSED(0.01, 3000)},
+    {.key = "psf.file", .type = K_PATH, FIELD(psf_file)},
+    {.key = "psf.file_subsample", .type = K_INT, FIELD(psf_file_subsample), IRANGE(1, 64)},
+    {.key = "psf.arcsec_per_pixel", .type = K_NUMBER, FIELD(psf_arcsec_per_pixel), .lo = 0, .bounds = HAS_LO},
+    {.key = "psf.angle", .type = K_NUMBER, FIELD(psf_angle)},
+    {.key = "psf.size", .type = K_INT, FIELD(psf_size), IRANGE(3, 2047)},
     {.key = "observer.id", .type = K_ID, FIELD(observer_id), FLAG(has_observer)},
     {.key = "observer.reference_id", .type = K_ID, FIELD(reference_id)},
     {.key = "observer.normal", .type = K_VEC3, FIELD(observer_normal), FLAG(has_normal)},

@@ -183,6 +183,35 @@ static orr_status check_projection(const orr_scene *s, orr_error *err)
     return ORR_OK;
 }
 
+/* ---- smoothing and PSF ---- */
+
+static orr_status check_psf(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    int sky = orr_projection_is_sky(&s->projection);
+    if (s->psf == ORR_PSF_FILE && !s->psf_file[0])
+        return scene_fail_key(s, m, "psf.kind", err, "psf.kind: file needs psf.file, a FITS PSF image");
+    if (s->psf != ORR_PSF_FILE && scene_mark(m, "psf.file"))
+        return scene_fail_key(s, m, "psf.file", err, "psf.file is used only with psf.kind: file");
+    /* A sky map's pixel scale varies across it, so an image PSF in pixels
+     * has no single meaning there; its particles are drawn at an angular
+     * size instead (docs/psf.md). */
+    if (sky && (s->psf == ORR_PSF_HST || s->psf == ORR_PSF_FILE))
+        return scene_fail_key(s, m, "psf.kind", err,
+                              "psf.kind: %s is for flat views; sky maps (%s) take psf.kind: gaussian with "
+                              "psf.fwhm_arcmin",
+                              s->psf == ORR_PSF_HST ? "hst" : "file", orr_projection_name(s->projection.kind));
+    if (sky && scene_mark(m, "psf.fwhm"))
+        return scene_fail_key(s, m, "psf.fwhm", err,
+                              "psf.fwhm is in pixels, for flat views; a sky map's PSF size is psf.fwhm_arcmin");
+    if (!sky && scene_mark(m, "psf.fwhm_arcmin"))
+        return scene_fail_key(s, m, "psf.fwhm_arcmin", err,
+                              "psf.fwhm_arcmin is for sky maps; a flat view's Gaussian PSF is psf.fwhm, in pixels");
+    if (s->psf_size % 2 == 0)
+        return scene_fail_key(s, m, "psf.size", err, "psf.size must be odd (the PSF's centre is a pixel), got %d",
+                              s->psf_size);
+    return ORR_OK;
+}
+
 orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
 {
     scene_marks marks;
@@ -199,5 +228,7 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = scene_apply_dome_profile(s, &marks, err);
     if (st == ORR_OK)
         st = check_projection(s, err);
+    if (st == ORR_OK)
+        st = check_psf(s, &marks, err);
     return st;
 }

@@ -523,6 +523,7 @@ static orr_status choose_fields(orr_source *src, gadget_state *st, const orr_sou
     }
     src->info.has_id = st->has_id;
     src->info.has_h = st->has_h;
+    src->info.h_support = 1.0; /* HSML is where Gadget's kernel ends */
     src->info.has_type = 1;
     return ORR_OK;
 }

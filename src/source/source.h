@@ -24,6 +24,10 @@ typedef struct orr_source_info {
     int64_t count;          /* total particles, or -1 when unknown before reading */
     double time;            /* simulation time of the snapshot (0 when unknown) */
     int has_h, has_id, has_type;
+    /* The radius where the file's SPH kernel reaches zero, in units of its
+     * h: Gadget's HSML is that radius (1); SWIFT's h is 1/gamma of it; Tipsy
+     * and text files use orrery's convention, support 2h (0 means 2). */
+    double h_support;
     int nextra;             /* the extra fields loaded into every chunk */
     char extra_names[ORR_MAX_EXTRA_FIELDS][ORR_FIELD_NAME_MAX];
     int nheader;            /* header values and units, for `orrery info` */

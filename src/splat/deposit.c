@@ -7,6 +7,7 @@ const char *orr_deposit_name(orr_deposit_kind kind)
     switch (kind) {
     case ORR_DEPOSIT_NGP: return "ngp";
     case ORR_DEPOSIT_CIC: return "cic";
+    case ORR_DEPOSIT_SPH: return "sph";
     }
     return "unknown";
 }
@@ -176,6 +177,7 @@ void orr_deposit(orr_deposit_kind kind, orr_plane *plane, size_t n, const float 
         deposit_ngp(plane, n, px, py, w, visible, stats);
         return;
     case ORR_DEPOSIT_CIC:
+    case ORR_DEPOSIT_SPH: /* without smoothing lengths a kernel deposit is CIC */
         deposit_cic(plane, n, px, py, w, visible, stats);
         return;
     }

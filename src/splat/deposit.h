@@ -16,6 +16,7 @@
 typedef enum {
     ORR_DEPOSIT_NGP,
     ORR_DEPOSIT_CIC,
+    ORR_DEPOSIT_SPH, /* smoothing kernels: splat/sph.h; orr_deposit itself treats it as CIC */
 } orr_deposit_kind;
 
 typedef struct orr_deposit_stats {

@@ -264,7 +264,7 @@ static void test_load_string_names(void)
     CHECK(strcmp(g_scene.path, "<built-in>") == 0);
     /* Messages name the origin given. */
     CHECK(orr_scene_load_string(&g_scene, "deposit: tsc\n", "face-on", NULL, NULL, 0, &err) == ORR_ERR_USAGE);
-    CHECK(strcmp(err.msg, "face-on:1: deposit: expected one of: ngp cic, got 'tsc'") == 0);
+    CHECK(strcmp(err.msg, "face-on:1: deposit: expected one of: ngp cic sph, got 'tsc'") == 0);
 }
 
 static void test_overrides(void)
@@ -372,7 +372,7 @@ static void test_key_errors(void)
                  "scene.yaml:5: unknown key 'camera.height' (did you mean 'image.height'?)");
     EXPECT_ERROR(MODEL "colour: red\n", ORR_ERR_USAGE, "scene.yaml:4: unknown key 'colour'");
     /* Keys below a leaf are unknown, not silently ignored. */
-    EXPECT_ERROR(MODEL "deposit:\n  kind: ngp\n", ORR_ERR_USAGE, "scene.yaml:4: deposit: expected one of: ngp cic, got a mapping");
+    EXPECT_ERROR(MODEL "deposit:\n  kind: ngp\n", ORR_ERR_USAGE, "scene.yaml:4: deposit: expected one of: ngp cic sph, got a mapping");
     EXPECT_ERROR(MODEL "image:\n  width: 10\n  height: 10\n  width: 20\n", ORR_ERR_USAGE,
                  "scene.yaml:7: duplicate key 'image.width' (first set at line 5)");
     EXPECT_ERROR(MODEL "camera.roll: 5\n", ORR_ERR_USAGE, "scene.yaml:4: key 'camera.roll' contains a '.'");

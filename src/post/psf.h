@@ -1,0 +1,150 @@
+/* Point spread functions as convolution kernels (see docs/psf.md).
+ *
+ * Generated: the diffraction pattern of a telescope pupil (by default the
+ * Hubble Space Telescope's, with the geometry Tiny Tim uses), |FT(pupil)|^2
+ * summed over wavelengths within each colour band, each wavelength with its
+ * own angular scale (lambda / aperture), so the spikes and rings spread in
+ * colour as in real Hubble images.
+ *
+ * Loaded: a PSF image from a FITS file (a Tiny Tim model, an empirical star
+ * stamp), binned or resampled to the output pixel scale with flux
+ * conservation, recentred and normalised.
+ *
+ * Angles: counterclockwise from the image's +x axis (to the right) with +y
+ * up the picture, as an astronomer reads a plot. */
+#ifndef ORR_POST_PSF_H
+#define ORR_POST_PSF_H
+
+#include "core/error.h"
+#include "post/convolve.h"
+
+/* ---- the pupil ------------------------------------------------------------ */
+
+#define ORR_PUPIL_MAX_PADS 8
+
+/* Lengths other than the diameter are in units of the primary's radius. */
+typedef struct orr_pupil {
+    double diameter_m;   /* primary mirror diameter */
+    double obscuration;  /* secondary mirror (shadow) radius */
+    double spider_width; /* full width of each of the four vanes */
+    double angle_deg;    /* direction of one vane; the others at +90, +180, +270 */
+    int npads;           /* primary mirror pads (the mirror's mounting points) */
+    /* Pad centres in the vanes' frame (x along the vane at angle_deg), so
+     * they turn with the vanes, and pad radii. */
+    double pad_x[ORR_PUPIL_MAX_PADS], pad_y[ORR_PUPIL_MAX_PADS], pad_radius[ORR_PUPIL_MAX_PADS];
+} orr_pupil;
+
+/* HST's Optical Telescope Assembly as in Tiny Tim's pupil tables: D = 2.4 m,
+ * secondary radius 0.330, vane width 0.022 (26.4 mm), pads of radius 0.065
+ * at (0.8921, 0), (-0.4615, 0.7555), (-0.4564, -0.7606); angle 45 degrees,
+ * so the spikes form an X on the screen. */
+void orr_pupil_hst(orr_pupil *p);
+
+/* 1 where light passes at (x, y) (units of the primary radius, +y up),
+ * 0 where the pupil is dark. */
+int orr_pupil_open(const orr_pupil *p, double x, double y);
+
+/* ---- generated PSFs ---------------------------------------------------- */
+
+#define ORR_PSF_MAX_BANDS 8
+
+/* A colour band: `samples` wavelengths at the midpoints of equal steps
+ * between lambda_min and lambda_max (one sample: the middle), weighted
+ * equally (a flat spectrum across the band). */
+typedef struct orr_psf_band {
+    char name[16];
+    double lambda_min_nm, lambda_max_nm;
+    int samples;
+} orr_psf_band;
+
+typedef struct orr_psf_params {
+    orr_pupil pupil;
+    double arcsec_per_pixel; /* output pixel scale */
+    int size;                /* odd kernel side, pixels */
+    int nbands;
+    orr_psf_band bands[ORR_PSF_MAX_BANDS];
+    /* Sampling (0 = automatic, see docs/psf.md): sub-samples per output
+     * pixel side (odd), the fewest pupil samples across the diameter at the
+     * longest wavelength, and anti-aliasing sub-samples per pupil pixel side
+     * (used only on pixels an edge passes through). */
+    int oversample;
+    int min_pupil_samples;
+    int pupil_supersample;
+    /* Fraction of the kernel's radius over which it is rolled off to zero
+     * (orr_image_kernel_taper), so the wings end softly; 0 = a square cut. */
+    double taper;
+} orr_psf_params;
+
+/* HST pupil; bands B 400-500 nm, G 500-600, R 600-700, 5 wavelengths each;
+ * 0.04 arcsec per pixel (1.2 pixels per lambda/D at 550 nm, near the
+ * sampling of Hubble's ACS/WFC images); 129 x 129; taper 0.3. */
+void orr_psf_hst_defaults(orr_psf_params *p);
+
+/* lambda / D in arcseconds. */
+double orr_lambda_over_d_arcsec(double lambda_nm, double diameter_m);
+
+/* What generation chose, and the fraction of each band's light that fell
+ * inside the square kernel before the taper (the rest, in the far wings,
+ * is dropped by the normalisation to sum 1). */
+typedef struct orr_psf_report {
+    int fft_size;
+    int oversample;
+    double pupil_samples_min, pupil_samples_max; /* across the diameter */
+    double captured[ORR_PSF_MAX_BANDS];
+} orr_psf_report;
+
+/* Fills kernels[0 .. nbands-1] (allocated here; free each with
+ * orr_image_kernel_free), each normalised to sum 1, with arcsec_per_pixel
+ * set. report may be NULL. */
+orr_status orr_psf_generate(const orr_psf_params *p, orr_image_kernel *kernels, orr_psf_report *report,
+                            orr_error *err);
+
+/* ---- PSFs from FITS ------------------------------------------------------- */
+
+typedef enum {
+    ORR_PSF_CENTRE_PEAK,     /* the brightest pixel, refined by a parabola through its neighbours */
+    ORR_PSF_CENTRE_CENTROID, /* flux-weighted centroid in a box around the brightest pixel */
+} orr_psf_centre;
+
+typedef struct orr_psf_fits_options {
+    /* File pixels per detector pixel (Tiny Tim's "subsampling"); 0 or 1
+     * for none. Without an output scale, the PSF is binned by this. */
+    int subsample;
+    /* Scale of the file's pixels; 0 = the PIXSCALE keyword (Tiny Tim). */
+    double file_arcsec_per_pixel;
+    /* Output scale; 0 = the file's detector pixels (file scale x subsample). */
+    double arcsec_per_pixel;
+    int size; /* odd output side; 0 = the largest odd size the image spans */
+    orr_psf_centre centre;
+    /* Subtract the median of the image's outermost pixels (a sky level)
+     * before negative values are clipped to zero. */
+    int subtract_background;
+    double taper; /* as in orr_psf_params; 0 = none */
+} orr_psf_fits_options;
+
+typedef struct orr_psf_fits_info {
+    int file_width, file_height;
+    double file_arcsec_per_pixel; /* 0 when neither given nor in the header */
+    double centre_x, centre_y;    /* in file pixels, pixel (i, j) covering [i, i+1) x [j, j+1), row 0 at the top */
+    double ratio;                 /* output pixel side / file pixel side */
+    double background;            /* subtracted level (0 unless asked) */
+    double clipped;               /* sum of negative values set to zero */
+    double captured;              /* fraction of the file's flux inside the kernel */
+} orr_psf_fits_info;
+
+/* Reads the first image HDU of path into out (allocated here), normalised to
+ * sum 1 with the star in the centre pixel. opt NULL: defaults (subsample 1,
+ * peak centring, no background subtraction). info may be NULL. */
+orr_status orr_psf_load_fits(const char *path, const orr_psf_fits_options *opt, orr_image_kernel *out,
+                             orr_psf_fits_info *info, orr_error *err);
+
+/* Flux-conserving resampling: out (size x size) receives the integral of
+ * img (w x h, row 0 at the top, pixels as unit squares, zero outside) over
+ * square pixels `ratio` image pixels wide, the centre pixel centred on
+ * (xc, yc) in the pixel convention above. With an integer ratio and a centre
+ * on a pixel corner (even ratio) or pixel centre (odd ratio) this is plain
+ * binning. */
+orr_status orr_image_rebin(const float *img, int w, int h, double xc, double yc, double ratio, int size,
+                           float *out, orr_error *err);
+
+#endif

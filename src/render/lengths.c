@@ -1,0 +1,107 @@
+#include "render/lengths.h"
+
+#include <stdlib.h>
+#include <time.h>
+
+#include "particles/smoothing.h"
+
+orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *needed, orr_error *err)
+{
+    *needed = 0;
+    if (s->deposit != ORR_DEPOSIT_SPH)
+        return ORR_OK;
+    if (s->lengths == ORR_LENGTHS_FILE && !src->info.has_h)
+        return orr_fail(err, ORR_ERR_DATA,
+                        "%s: smoothing.lengths is file, but %s has no smoothing lengths; use smoothing.lengths: "
+                        "neighbours (or auto) to compute them",
+                        s->path, src->info.path);
+    *needed = s->lengths == ORR_LENGTHS_NEIGHBOURS || (s->lengths == ORR_LENGTHS_AUTO && !src->info.has_h);
+    return ORR_OK;
+}
+
+/* Positions of the particles that take a length, in source order. */
+typedef struct positions {
+    float *x, *y, *z;
+    size_t n, cap;
+} positions;
+
+static orr_status grow(positions *p, orr_error *err)
+{
+    size_t cap = p->cap ? 2 * p->cap : (size_t)1 << 16;
+    float *a[3] = {p->x, p->y, p->z};
+    for (int k = 0; k < 3; k++) {
+        float *g = realloc(a[k], cap * sizeof *g);
+        if (!g)
+            return orr_fail(err, ORR_ERR_NOMEM, "out of memory for the positions of %zu particles (smoothing "
+                            "lengths from the neighbours need them all at once)", cap);
+        a[k] = g;
+        if (k == 0)
+            p->x = g;
+        else if (k == 1)
+            p->y = g;
+        else
+            p->z = g;
+    }
+    p->cap = cap;
+    return ORR_OK;
+}
+
+static orr_status gather_positions(const orr_scene *s, orr_source *src, positions *p, orr_error *err)
+{
+    for (;;) {
+        const orr_chunk *c;
+        orr_status st = orr_source_next(src, &c, err);
+        if (st || c->n == 0)
+            return st;
+        for (size_t i = 0; i < c->n; i++) {
+            if (!orr_lengths_counts(s, c, i))
+                continue;
+            if (p->n == p->cap && (st = grow(p, err)))
+                return st;
+            p->x[p->n] = c->x[i];
+            p->y[p->n] = c->y[i];
+            p->z[p->n] = c->z[i];
+            p->n++;
+        }
+    }
+}
+
+static double seconds_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, orr_lengths *out, orr_error *err)
+{
+    *out = (orr_lengths){0};
+    positions p = {0};
+    double t0 = seconds_now();
+    orr_status st = gather_positions(s, src, &p, err);
+    if (!st && p.n) {
+        out->h = malloc(p.n * sizeof *out->h);
+        if (!out->h)
+            st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for %zu smoothing lengths", p.n);
+    }
+    if (!st && p.n)
+        st = orr_smoothing_lengths(p.n, p.x, p.y, p.z, s->neighbours, ORR_SMOOTHING_FACTOR_DEFAULT, out->h, err);
+    free(p.x);
+    free(p.y);
+    free(p.z);
+    if (!st)
+        st = orr_source_rewind(src, err);
+    if (st) {
+        orr_lengths_free(out);
+        return orr_fail_prefix(err, "%s: smoothing lengths from the neighbours: ", s->path);
+    }
+    out->n = p.n;
+    out->seconds = seconds_now() - t0;
+    return ORR_OK;
+}
+
+void orr_lengths_free(orr_lengths *l)
+{
+    free(l->h);
+    *l = (orr_lengths){0};
+}

@@ -1,0 +1,39 @@
+/* Smoothing lengths for the SPH deposit when a snapshot has none: one pass
+ * over the source gathers the positions of the particles the scene draws,
+ * a k-d tree finds each one's k-th nearest neighbour (particles/smoothing.h)
+ * and the source is rewound for the splat pass, which takes the lengths in
+ * the same order. Memory: 12 bytes a particle for the positions and about
+ * 20 for the tree while the lengths are computed, then 4 for the lengths. */
+#ifndef ORR_RENDER_LENGTHS_H
+#define ORR_RENDER_LENGTHS_H
+
+#include <math.h>
+#include <stddef.h>
+
+#include "scene/scene.h"
+#include "source/source.h"
+
+typedef struct orr_lengths {
+    float *h;   /* one per particle of a drawn type with a finite position, in source order */
+    size_t n;
+    double seconds; /* time the neighbour search took */
+} orr_lengths;
+
+/* Whether the scene's SPH deposit needs lengths from the neighbours: it asks
+ * for them, or (lengths: auto) the source has none of its own. An error when
+ * it insists on the file's and the source has none. */
+orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *needed, orr_error *err);
+
+/* Computes the lengths (smoothing.neighbours, half the k-th neighbour's
+ * distance: the kernel's support reaches it) and rewinds src. */
+orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, orr_lengths *out, orr_error *err);
+void orr_lengths_free(orr_lengths *l);
+
+/* Whether particle i of chunk c takes a length from the array: it is of a
+ * type the scene draws and has a finite position. Both passes use it. */
+static inline int orr_lengths_counts(const orr_scene *s, const orr_chunk *c, size_t i)
+{
+    return (s->type_mask & (1u << c->type[i])) && isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]);
+}
+
+#endif

@@ -1,0 +1,97 @@
+#include "render/view_psf.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "post/psf.h"
+
+#define ARCMIN (3.14159265358979323846 / (180.0 * 60.0))
+
+double orr_kernel_half_max_q(const orr_kernel *k)
+{
+    /* F falls monotonically from q = 0 to the support's edge: bisect. */
+    double half = 0.5 * orr_kernel_column_exact(k, 0.0), lo = 0.0, hi = ORR_KERNEL_SUPPORT;
+    for (int it = 0; it < 60; it++) {
+        double mid = 0.5 * (lo + hi);
+        if (orr_kernel_column_exact(k, mid) > half)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* The Hubble PSF for a single-channel plane: the three colour bands'
+ * kernels averaged (a flat spectrum over 400-700 nm). */
+static orr_status hst_kernel(const orr_scene *s, orr_image_kernel *out, orr_error *err)
+{
+    orr_psf_params p;
+    orr_psf_hst_defaults(&p);
+    p.pupil.angle_deg = s->psf_angle;
+    p.arcsec_per_pixel = s->psf_arcsec_per_pixel > 0 ? s->psf_arcsec_per_pixel : p.arcsec_per_pixel;
+    p.size = s->psf_size;
+    orr_image_kernel bands[ORR_PSF_MAX_BANDS];
+    memset(bands, 0, sizeof bands);
+    orr_status st = orr_psf_generate(&p, bands, NULL, err);
+    if (!st)
+        st = orr_image_kernel_alloc(out, p.size, p.size, err);
+    for (int b = 0; !st && b < p.nbands; b++)
+        for (size_t i = 0; i < (size_t)p.size * (size_t)p.size; i++)
+            out->data[i] += bands[b].data[i] / (float)p.nbands;
+    for (int b = 0; b < p.nbands; b++)
+        orr_image_kernel_free(&bands[b]);
+    if (!st)
+        st = orr_image_kernel_normalise(out, err);
+    return st;
+}
+
+static orr_status file_kernel(const orr_scene *s, orr_image_kernel *out, orr_error *err)
+{
+    orr_psf_fits_options opt = {0};
+    opt.subsample = s->psf_file_subsample;
+    opt.arcsec_per_pixel = s->psf_arcsec_per_pixel;
+    opt.size = s->psf_size;
+    opt.centre = ORR_PSF_CENTRE_PEAK;
+    opt.taper = 0.3; /* soft wings, as the generated PSF's */
+    return orr_psf_load_fits(s->psf_file, &opt, out, NULL, err);
+}
+
+static orr_status flat_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj, orr_error *err)
+{
+    if (s->psf == ORR_PSF_GAUSSIAN)
+        return orr_convolver_create_gaussian(&vp->conv, proj->width, proj->height, s->psf_fwhm, NULL, err);
+    orr_image_kernel k = {0};
+    orr_status st = s->psf == ORR_PSF_HST ? hst_kernel(s, &k, err) : file_kernel(s, &k, err);
+    if (!st)
+        st = orr_convolver_create(&vp->conv, proj->width, proj->height, &k, NULL, err);
+    orr_image_kernel_free(&k);
+    return st;
+}
+
+orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
+                              const orr_kernel *k, orr_error *err)
+{
+    memset(vp, 0, sizeof *vp);
+    if (s->psf == ORR_PSF_NONE)
+        return ORR_OK;
+    if (orr_projection_is_sky(proj)) {
+        /* The sky deposit measures distances on the sphere as chords: a
+         * half-maximum chord of q_half h / r is an angle of FWHM / 2. */
+        double fwhm = s->psf_fwhm_arcmin * ARCMIN;
+        vp->h_per_r = 2.0 * sin(0.25 * fwhm) / orr_kernel_half_max_q(k);
+        return ORR_OK;
+    }
+    orr_status st = flat_setup(vp, s, proj, err);
+    return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
+}
+
+orr_status orr_view_psf_apply(orr_view_psf *vp, orr_plane *plane, orr_error *err)
+{
+    return vp->conv ? orr_convolver_apply(vp->conv, plane, err) : ORR_OK;
+}
+
+void orr_view_psf_free(orr_view_psf *vp)
+{
+    orr_convolver_free(vp->conv);
+    vp->conv = NULL;
+}

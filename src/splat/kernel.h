@@ -1,0 +1,86 @@
+/* SPH smoothing kernels and their column (line-of-sight) integrals.
+ *
+ * Every kernel has compact support of radius 2h, SPLASH's convention, so
+ * images compare with SPLASH's: W(r, h) = sigma w(r / h) / h^3 with
+ * w(q) = 0 for q >= 2. The column kernel F(q) = h^2 * integral of W along
+ * a line passing at distance q h from the particle is dimensionless, and
+ * a particle of mass m has surface density m F(R / h) / h^2 at projected
+ * distance R; the integral of F over the plane is 1.
+ *
+ * orr_kernel_init tabulates F (and its Laplacian, for the pixel-area
+ * correction) in u = q^2, and the integral of F over rectangles from the
+ * kernel's centre, once, by numerical integration; the splat's inner loops
+ * only read these tables (splat/sph.h). */
+#ifndef ORR_SPLAT_KERNEL_H
+#define ORR_SPLAT_KERNEL_H
+
+#include "core/error.h"
+
+typedef enum {
+    ORR_KERNEL_CUBIC,       /* M4 cubic spline (the default) */
+    ORR_KERNEL_WENDLAND_C2,
+    ORR_KERNEL_WENDLAND_C4,
+} orr_kernel_kind;
+
+#define ORR_KERNEL_SUPPORT 2.0 /* support radius in units of h */
+
+/* The column tables hold F and its Laplacian at u = q^2 = 4 k / ORR_KERNEL_NU,
+ * k = 0 .. ORR_KERNEL_NU (u = 4 is the edge of the support, where both are
+ * zero), interleaved as pairs {F, lap F} so one cache line serves both,
+ * then ORR_KERNEL_PAD zero pairs, so a read a little past the support
+ * (float rounding at a footprint's edge) finds zeros without a test. */
+#define ORR_KERNEL_NU 4096
+#define ORR_KERNEL_PAD 4
+/* The cumulative table holds G(a, b) = integral of F over [0, a] x [0, b] at
+ * a, b = 2 k / ORR_KERNEL_NG, k = 0 .. ORR_KERNEL_NG. */
+#define ORR_KERNEL_NG 256
+
+typedef struct orr_kernel {
+    orr_kernel_kind kind;
+    double sigma;      /* 3-D normalisation: W(r, h) = sigma w(r / h) / h^3 */
+    float *column;     /* 2 (ORR_KERNEL_NU + 1 + ORR_KERNEL_PAD) floats: {F, lap F} pairs */
+    float *cumulative; /* (ORR_KERNEL_NG + 1)^2 floats, row b, column a; G(2, 2) = 1/4 exactly */
+} orr_kernel;
+
+/* Tabulates the kernel (a few milliseconds). Fails only when out of memory. */
+orr_status orr_kernel_init(orr_kernel *k, orr_kernel_kind kind, orr_error *err);
+void orr_kernel_free(orr_kernel *k);
+
+const char *orr_kernel_name(orr_kernel_kind kind);
+/* Accepts "cubic" (also "m4", "cubic-spline"), "wendland-c2" ("wendland2",
+ * "c2") and "wendland-c4" ("wendland4", "c4"); returns ORR_ERR_USAGE, with a
+ * message listing the names, for anything else. */
+orr_status orr_kernel_parse(const char *name, orr_kernel_kind *kind, orr_error *err);
+
+/* The dimensionless shape w(q) and the 3-D kernel W(r, h) = sigma w(r/h) / h^3,
+ * from the formulas. */
+double orr_kernel_shape(const orr_kernel *k, double q);
+double orr_kernel_w3(const orr_kernel *k, double r, double h);
+
+/* The column kernel F(q) by direct numerical integration along the line of
+ * sight (slow: for tests and for building the tables). */
+double orr_kernel_column_exact(const orr_kernel *k, double q);
+/* The column kernel F(q) from the table (linear in q^2). */
+double orr_kernel_column(const orr_kernel *k, double q);
+
+/* The integral of F over the rectangle [x0, x1] x [y0, y1] (in units of h,
+ * relative to the kernel's centre), from the cumulative table: exact
+ * telescoping sums, so adjacent rectangles tiling the support add up to 1. */
+double orr_kernel_rect(const orr_kernel *k, double x0, double x1, double y0, double y1);
+
+/* Table lookups for the inner loops. u = q^2 must be >= 0. */
+static inline float orr_kernel_column_u(const orr_kernel *k, float u, float *laplacian)
+{
+    const float t = u * (float)(ORR_KERNEL_NU / 4.0);
+    if (!(t < (float)ORR_KERNEL_NU)) {
+        *laplacian = 0.0f;
+        return 0.0f;
+    }
+    const int i = (int)t;
+    const float f = t - (float)i;
+    const float *c = k->column + 2 * i;
+    *laplacian = c[1] + f * (c[3] - c[1]);
+    return c[0] + f * (c[2] - c[0]);
+}
+
+#endif

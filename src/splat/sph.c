@@ -1,0 +1,1038 @@
+#include "splat/sph.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* How a particle is drawn (docs/smoothing.md has the measurements behind
+ * the thresholds):
+ *
+ * - h_pix below CUMULATIVE_MAX: the exact pixel integrals of F, as
+ *   differences of the cumulative table at the pixel corners. The corner
+ *   sums telescope, so a whole kernel adds up to exactly 1 and the share
+ *   that falls off the image is known without visiting it.
+ * - larger: F (plus a Laplacian correction for the pixel's area) at pixel
+ *   centres. From 10 pixels per h this midpoint rule is more accurate than
+ *   the table's differences (whose float round-off grows as h_pix^2 over
+ *   the pixel values), and its sum over a whole footprint is 1 to float
+ *   round-off, so no normalising pass is needed.
+ * - sky maps, h_pix below SKY_LOCAL_MIN: the first method with the local
+ *   isotropic scale, folding shares off the map back onto it.
+ * - sky maps, larger: the midpoint rule (sub-sampling pixels below 3
+ *   pixels per h) over an ellipse from the map's local affine model, the
+ *   inverse projection's derivatives, where the model holds (known from an
+ *   index of the map, or checked on the support's edge); elsewhere (large
+ *   caps, poles, strong distortion, the Hammer-Aitoff seam) every pixel the
+ *   cap can reach is mapped back to its direction on the sphere. */
+#define CUMULATIVE_MAX 10
+#define SKY_LOCAL_MIN 2.0
+/* The affine model is trusted when it places the support's edge within
+ * AFFINE_TOL units of q (or half a pixel, if more) of where the inverse
+ * projection puts it, and the pixels' solid angle there is within
+ * AFFINE_AREA_TOL of the centre's. */
+#define AFFINE_TOL 0.05
+#define AFFINE_AREA_TOL 0.02
+/* Corners per side of a footprint drawn from the cumulative table. */
+#define MAX_CORNERS (4 * CUMULATIVE_MAX + 8)
+/* Pixels computed at once in a row of a large footprint. */
+#define ROW_SEGMENT 512
+
+/* Where shares go: the plane, and for sky maps the projection that folds
+ * shares off the map back onto it. */
+typedef struct target {
+    orr_plane *plane;
+    const orr_projection *proj; /* sky maps only */
+    const orr_kernel *kernel;
+    int fold;                   /* this footprint touches pixels off the map */
+    int drop;                   /* ... and those get nothing (the rest is renormalised) */
+    double in;                  /* weight added to the plane */
+} target;
+
+/* Adds scale * wt[m] to pixels (i0 + m, j), m < n. The sums of what was
+ * added are worked out by the callers, mostly without a pass over the
+ * pixels, so this loop is a plain vectorised multiply-add. */
+static void emit_row(target *t, int j, int i0, int n, const float *restrict wt, float scale)
+{
+    float *data = t->plane->data;
+    const int W = t->plane->width;
+    if (!t->fold) {
+        float *restrict row = data + (size_t)j * (size_t)W + (size_t)i0;
+        for (int m = 0; m < n; m++)
+            row[m] += scale * wt[m];
+        return;
+    }
+    for (int m = 0; m < n; m++) {
+        float s = scale * wt[m];
+        if (s == 0.0f)
+            continue;
+        int i = i0 + m, jj = j;
+        if (!orr_projection_pixel_in_map(t->proj, i, jj)) {
+            if (t->drop)
+                continue;
+            orr_projection_fold(t->proj, &i, &jj);
+        }
+        data[(size_t)jj * (size_t)W + (size_t)i] += s;
+    }
+}
+
+/* A footprint's pixel range, [i0, i1] x [j0, j1]. */
+typedef struct box {
+    int i0, i1, j0, j1;
+} box;
+
+/* Whether every pixel of the box is on the map: the maps' outlines
+ * (rectangle, ellipse, circle) are convex, so the four corners decide. */
+static int box_in_map(const orr_projection *p, box b)
+{
+    return orr_projection_pixel_in_map(p, b.i0, b.j0) && orr_projection_pixel_in_map(p, b.i1, b.j0) &&
+           orr_projection_pixel_in_map(p, b.i0, b.j1) && orr_projection_pixel_in_map(p, b.i1, b.j1);
+}
+
+/* Ternaries, not fmin/fmax: those are library calls (for their NaN rules)
+ * in this build, and these values are never NaN. */
+static inline double clamp(double v, double lo, double hi)
+{
+    return v < lo ? lo : v > hi ? hi : v;
+}
+
+/* The pixels covering [c - r, c + r] on both axes; 0 when that lies wholly
+ * off the image (or is not a number). On a sky map nothing is clipped:
+ * pixels off the image are folded back, and the range is small there. */
+static int footprint(const target *t, double cx, double cy, double rx, double ry, box *b, box *full)
+{
+    const double W = t->plane->width, H = t->plane->height;
+    double x0 = floor(cx - rx), x1 = floor(cx + rx), y0 = floor(cy - ry), y1 = floor(cy + ry);
+    if (!(x1 >= 0 && x0 < W && y1 >= 0 && y0 < H))
+        return 0;
+    if (t->proj) {
+        /* Sky: the caller keeps footprints within about a map's size. */
+        b->i0 = (int)clamp(x0, -W, 2 * W), b->i1 = (int)clamp(x1, -W, 2 * W);
+        b->j0 = (int)clamp(y0, -H, 2 * H), b->j1 = (int)clamp(y1, -H, 2 * H);
+        *full = *b;
+        return 1;
+    }
+    /* Flat: clip, converting in double so far-off edges cannot overflow. */
+    full->i0 = (int)clamp(x0, -1e9, 1e9), full->i1 = (int)clamp(x1, -1e9, 1e9);
+    full->j0 = (int)clamp(y0, -1e9, 1e9), full->j1 = (int)clamp(y1, -1e9, 1e9);
+    b->i0 = (int)clamp(x0, 0, W - 1), b->i1 = (int)clamp(x1, 0, W - 1);
+    b->j0 = (int)clamp(y0, 0, H - 1), b->j1 = (int)clamp(y1, 0, H - 1);
+    return 1;
+}
+
+/* ---- exact pixel integrals from the cumulative table ---- */
+
+/* One axis of a footprint's corner grid: for corner k (image coordinate
+ * e0 + k) the table cell, fraction and sign of (e0 + k - centre) / h. */
+typedef struct corner_axis {
+    int n;
+    int cell[MAX_CORNERS];
+    float frac[MAX_CORNERS], sign[MAX_CORNERS];
+} corner_axis;
+
+/* first_edge / last_edge: the first / last corner is the footprint's own
+ * edge, at or beyond the support, and is set exactly there so the whole
+ * kernel adds up to exactly 4 G(2, 2) = 1 whatever the rounding. */
+static void corner_axis_setup(corner_axis *a, double c, double inv_h, int e0, int n, int first_edge,
+                              int last_edge)
+{
+    a->n = n;
+    for (int k = 0; k < n; k++) {
+        double x = (e0 + k - c) * inv_h;
+        if ((k == 0 && first_edge) || x < -ORR_KERNEL_SUPPORT)
+            x = -ORR_KERNEL_SUPPORT;
+        if ((k == n - 1 && last_edge) || x > ORR_KERNEL_SUPPORT)
+            x = ORR_KERNEL_SUPPORT;
+        double g = fabs(x) * (ORR_KERNEL_NG / ORR_KERNEL_SUPPORT);
+        int i = g < ORR_KERNEL_NG ? (int)g : ORR_KERNEL_NG - 1;
+        a->cell[k] = i;
+        a->frac[k] = (float)(g - i);
+        a->sign[k] = x < 0 ? -1.0f : 1.0f;
+    }
+}
+
+/* The signed cumulative integral at the corners of row l of the grid.
+ * Plain arrays with restrict, so GCC vectorises the loop. */
+static void corner_row(const orr_kernel *k, const corner_axis *ax, const corner_axis *ay, int l,
+                       float *restrict out)
+{
+    const float *restrict g0 = k->cumulative + (size_t)ay->cell[l] * (ORR_KERNEL_NG + 1);
+    const float *restrict g1 = g0 + ORR_KERNEL_NG + 1;
+    const int *restrict cell = ax->cell;
+    const float *restrict frac = ax->frac, *restrict sign = ax->sign;
+    const float fy = ay->frac[l], sy = ay->sign[l];
+    const int n = ax->n;
+    for (int m = 0; m < n; m++) {
+        const int i = cell[m];
+        const float fx = frac[m];
+        const float lo = g0[i] + fx * (g0[i + 1] - g0[i]);
+        const float hi = g1[i] + fx * (g1[i + 1] - g1[i]);
+        out[m] = sy * sign[m] * (lo + fy * (hi - lo));
+    }
+}
+
+/* A disc kernel of h pixels (h < CUMULATIVE_MAX) at (cx, cy). */
+static void disc_cumulative(target *t, double cx, double cy, double h, float w)
+{
+    box b, full;
+    const double r = ORR_KERNEL_SUPPORT * h;
+    if (!footprint(t, cx, cy, r, r, &b, &full))
+        return;
+    if (t->proj)
+        t->fold = !box_in_map(t->proj, b);
+    corner_axis ax, ay;
+    const double inv_h = 1.0 / h;
+    corner_axis_setup(&ax, cx, inv_h, b.i0, b.i1 - b.i0 + 2, b.i0 == full.i0, b.i1 == full.i1);
+    corner_axis_setup(&ay, cy, inv_h, b.j0, b.j1 - b.j0 + 2, b.j0 == full.j0, b.j1 == full.j1);
+    /* All corner rows first, then the differences: reading a row shifted
+     * by one corner right after the vector stores that wrote it would stall
+     * on store forwarding, row after row. */
+    float grid[MAX_CORNERS * MAX_CORNERS], wt[MAX_CORNERS];
+    const int n = ax.n - 1;
+    for (int l = 0; l < ay.n; l++)
+        corner_row(t->kernel, &ax, &ay, l, grid + l * ax.n);
+    for (int l = 1; l < ay.n; l++) {
+        const float *prev = grid + (l - 1) * ax.n, *cur = grid + l * ax.n;
+        for (int m = 0; m < n; m++)
+            wt[m] = (cur[m + 1] - cur[m]) - (prev[m + 1] - prev[m]);
+        emit_row(t, b.j0 + l - 1, b.i0, n, wt, w);
+    }
+    /* The drawn pixels' weights telescope to the corners of the box: 1 for
+     * a whole kernel, the share on the image for a clipped one. On a sky
+     * map everything lands (folded). */
+    const float *top = grid, *bottom = grid + (ay.n - 1) * ax.n;
+    t->in += t->proj ? w : w * (((double)bottom[n] - bottom[0]) - ((double)top[n] - top[0]));
+}
+
+/* ---- midpoint rule over an ellipse ---- */
+
+/* A kernel whose footprint is the ellipse u = a dx^2 + 2 b dx dy + c dy^2
+ * < 4 (u = q^2; dx, dy in pixels from the centre). Each pixel's weight is
+ * the mean over ns x ns sub-pixels of F(u) + lap lap_F(u): the midpoint
+ * rule with its leading error term, (sub-pixel area / 24) times the
+ * Laplacian of F, taken for a circle of the ellipse's mean size. */
+typedef struct ellipse {
+    double cx, cy, a, b, c;
+    double det, inv_a; /* a c - b^2, 1 / a */
+    double ex, ey;   /* half-extents in x and y */
+    double hmin;     /* the narrower semi-axis of u = 1, in pixels */
+    float lap;
+    int ns;
+} ellipse;
+
+static void ellipse_setup(ellipse *e, double cx, double cy, double a, double b, double c)
+{
+    double det = a * c - b * b;
+    e->cx = cx, e->cy = cy, e->a = a, e->b = b, e->c = c;
+    e->det = det, e->inv_a = 1.0 / a;
+    e->ex = ORR_KERNEL_SUPPORT * sqrt(c / det);
+    e->ey = ORR_KERNEL_SUPPORT * sqrt(a / det);
+    double lmax = 0.5 * (a + c) + sqrt(0.25 * (a - c) * (a - c) + b * b);
+    e->hmin = 1.0 / sqrt(lmax);
+    /* The narrower axis sets how finely pixels are sampled. Only sky maps
+     * draw ellipses under 10 pixels per h (flat maps use the cumulative
+     * table there), and their affine model holds to about 1 % (AFFINE_TOL):
+     * the corrected midpoint rule, within 1.3e-3 of the peak pixel from 3
+     * pixels per h (docs/smoothing.md), is sub-sampled only below that. */
+    e->ns = e->hmin >= 3.0 ? 1 : e->hmin >= 1.5 ? 2 : e->hmin >= 0.75 ? 4 : 8;
+    e->lap = (float)(0.5 * (a + c) / (24.0 * e->ns * e->ns));
+}
+
+/* Where the row at dy (from the centre) crosses the support: dx in
+ * [*x0, *x1]; 0 when it misses it. */
+static int support_chord(const ellipse *e, double dy, double *x0, double *x1)
+{
+    double disc = ORR_KERNEL_SUPPORT * ORR_KERNEL_SUPPORT * e->a - e->det * dy * dy;
+    if (!(disc >= 0))
+        return 0;
+    double mid = -e->b * dy * e->inv_a, half = sqrt(disc) * e->inv_a;
+    *x0 = mid - half;
+    *x1 = mid + half;
+    return 1;
+}
+
+/* The pixel columns of row j the ellipse can reach (any sub-row): with
+ * one sample a pixel, those whose centres are inside; sub-sampled, those
+ * overlapping the support. Called once a row; the results are kept within
+ * +-1e9 so they convert to int. */
+static int ellipse_row_range(const ellipse *e, int j, int *lo, int *hi)
+{
+    double xmin = HUGE_VAL, xmax = -HUGE_VAL, x0, x1;
+    for (int s = 0; s < e->ns; s++)
+        if (support_chord(e, j + (s + 0.5) / e->ns - e->cy, &x0, &x1)) {
+            xmin = x0 < xmin ? x0 : xmin;
+            xmax = x1 > xmax ? x1 : xmax;
+        }
+    if (xmin > xmax)
+        return 0;
+    double c0 = e->cx + xmin, c1 = e->cx + xmax;
+    c0 = e->ns == 1 ? ceil(c0 - 0.5) : floor(c0);
+    c1 = floor(e->ns == 1 ? c1 - 0.5 : c1);
+    c0 = c0 > -1e9 ? c0 : -1e9;
+    c1 = c1 < 1e9 ? c1 : 1e9;
+    *lo = (int)c0;
+    *hi = (int)c1;
+    return *lo <= *hi;
+}
+
+/* Adds (or with set, stores) F(u) + lap lap_F(u) at samples dx0 + m (m in
+ * [m0, m1)) of the row at dy to out[m]. The callers choose the range so
+ * every sample lies in the support, up to float rounding, which the
+ * table's zero padding absorbs; with no test or clamp in it GCC
+ * vectorises the loop (emulating the table gather on SSE2). */
+static inline void add_samples(const orr_kernel *k, const ellipse *e, float dy, float dx0, int m0, int m1,
+                               float *restrict out, int set)
+{
+    const float a = (float)e->a, b2 = (float)(2.0 * e->b), c = (float)e->c, lap = e->lap;
+    const float tscale = (float)(ORR_KERNEL_NU / 4.0);
+    const float *restrict col = k->column;
+    const float cdy = c * dy * dy, bdy = b2 * dy;
+    for (int m = m0; m < m1; m++) {
+        const float dx = dx0 + (float)m;
+        const float t = ((a * dx + bdy) * dx + cdy) * tscale;
+        const int i = (int)t;
+        const float f = t - (float)i;
+        const float f0 = col[2 * i], f1 = col[2 * i + 2], l0 = col[2 * i + 1], l1 = col[2 * i + 3];
+        out[m] = (set ? 0.0f : out[m]) + (f0 + f * (f1 - f0)) + lap * (l0 + f * (l1 - l0));
+    }
+}
+
+/* Weights of pixels i0 .. i0 + n - 1 of row j: the mean over ns x ns
+ * sub-pixels, each sub-row and sub-column sampled only where it is inside
+ * the support. */
+static void ellipse_weights(const orr_kernel *k, const ellipse *e, int j, int i0, int n, float *restrict out)
+{
+    const int ns = e->ns;
+    const double step = 1.0 / ns;
+    /* One sample a pixel: the row range already holds the centres inside,
+     * so the samples are stored, not added to zeros (which would cost a
+     * memset's start-up on every short row). */
+    if (ns == 1) {
+        double x0, x1, dy = j + 0.5 - e->cy, base = i0 + 0.5 - e->cx;
+        int m0 = 0, m1 = 0;
+        if (support_chord(e, dy, &x0, &x1)) {
+            double lo = ceil(x0 - base), hi = floor(x1 - base);
+            m0 = lo > 0 ? (lo < n ? (int)lo : n) : 0;
+            m1 = hi < n - 1 ? (hi >= 0 ? (int)hi + 1 : 0) : n;
+            m1 = m1 > m0 ? m1 : m0;
+        }
+        for (int m = 0; m < m0; m++)
+            out[m] = 0.0f;
+        add_samples(k, e, (float)dy, (float)base, m0, m1, out, 1);
+        for (int m = m1; m < n; m++)
+            out[m] = 0.0f;
+        return;
+    }
+    for (int m = 0; m < n; m++)
+        out[m] = 0.0f;
+    for (int sy = 0; sy < ns; sy++) {
+        const double dy = j + (sy + 0.5) * step - e->cy;
+        double x0, x1;
+        if (!support_chord(e, dy, &x0, &x1))
+            continue;
+        for (int sx = 0; sx < ns; sx++) {
+            /* Sample m sits at dx = i0 + m + off - cx. */
+            const double base = i0 + (sx + 0.5) * step - e->cx;
+            double lo = ceil(x0 - base), hi = floor(x1 - base);
+            int m0 = lo > 0 ? (lo < n ? (int)lo : n) : 0, m1 = hi < n - 1 ? (hi >= 0 ? (int)hi + 1 : 0) : n;
+            if (m0 < m1)
+                add_samples(k, e, (float)dy, (float)base, m0, m1, out, 0);
+        }
+    }
+    const float inv = 1.0f / (float)(ns * ns);
+    for (int m = 0; m < n; m++)
+        out[m] *= inv;
+}
+
+/* Calls row(j, i, n, weights) for every stretch of at most ROW_SEGMENT
+ * pixels of the ellipse within the box. When the target drops pixels off
+ * the map, their weights are zeroed first, so sums count only the map. */
+typedef struct row_visitor {
+    void (*fn)(struct row_visitor *v, int j, int i, int n, const float *wt);
+} row_visitor;
+
+static void ellipse_visit(const target *t, const ellipse *e, box b, row_visitor *v)
+{
+    const orr_kernel *k = t->kernel;
+    float wt[ROW_SEGMENT];
+    for (int j = b.j0; j <= b.j1; j++) {
+        int lo, hi;
+        if (!ellipse_row_range(e, j, &lo, &hi))
+            continue;
+        lo = lo > b.i0 ? lo : b.i0;
+        hi = hi < b.i1 ? hi : b.i1;
+        for (int i = lo; i <= hi; i += ROW_SEGMENT) {
+            int n = hi - i + 1 < ROW_SEGMENT ? hi - i + 1 : ROW_SEGMENT;
+            ellipse_weights(k, e, j, i, n, wt);
+            if (t->drop)
+                for (int m = 0; m < n; m++)
+                    if (!orr_projection_pixel_in_map(t->proj, i + m, j))
+                        wt[m] = 0.0f;
+            v->fn(v, j, i, n, wt);
+        }
+    }
+}
+
+/* The sum of a row's weights, in eight partial sums so the additions
+ * pipeline (and vectorise) instead of waiting on each other. */
+static double row_sum(const float *wt, int n)
+{
+    float part[8] = {0};
+    int m = 0;
+    for (; m + 8 <= n; m += 8)
+        for (int k = 0; k < 8; k++)
+            part[k] += wt[m + k];
+    float rest = 0.0f;
+    for (; m < n; m++)
+        rest += wt[m];
+    return (double)rest + ((part[0] + part[1]) + (part[2] + part[3])) + ((part[4] + part[5]) + (part[6] + part[7]));
+}
+
+typedef struct summer {
+    row_visitor v;
+    double sum;
+} summer;
+
+static void sum_row(row_visitor *v, int j, int i, int n, const float *wt)
+{
+    (void)j, (void)i;
+    ((summer *)v)->sum += row_sum(wt, n);
+}
+
+typedef struct drawer {
+    row_visitor v;
+    target *t;
+    float scale;
+    int clipped;
+    double drawn; /* sum of the weights drawn, kept only when clipped */
+} drawer;
+
+static void draw_row(row_visitor *v, int j, int i, int n, const float *wt)
+{
+    drawer *d = (drawer *)v;
+    emit_row(d->t, j, i, n, wt, d->scale);
+    if (d->clipped)
+        d->drawn += row_sum(wt, n);
+}
+
+/* Footprints up to this many pixels are computed once into a buffer and
+ * drawn from it; larger ones that need a sum are computed twice. */
+#define BUFFERED_MAX 4096
+
+typedef struct buffer {
+    row_visitor v;
+    float wt[BUFFERED_MAX];
+    int row[BUFFERED_MAX / 4][3]; /* j, i, n of each stretch */
+    int used, rows, full;
+    double sum;
+} buffer;
+
+static void buffer_row(row_visitor *v, int j, int i, int n, const float *wt)
+{
+    buffer *b = (buffer *)v;
+    if (b->full || b->used + n > BUFFERED_MAX || b->rows == BUFFERED_MAX / 4) {
+        b->full = 1;
+        return;
+    }
+    memcpy(b->wt + b->used, wt, sizeof(float) * (size_t)n);
+    b->row[b->rows][0] = j, b->row[b->rows][1] = i, b->row[b->rows][2] = n;
+    b->used += n;
+    b->rows++;
+    b->sum += row_sum(wt, n);
+}
+
+/* Deposits weight w over the ellipse, normalised so the whole footprint
+ * carries exactly w. From 10 pixels per h the midpoint sum over the
+ * footprint equals the table's integral (exactly 1 per unit area, see
+ * splat/kernel.c) to 3 parts in 10^8, below float round-off (measured over
+ * random centres for each kernel, docs/smoothing.md), so it is used as is
+ * for a footprint drawn whole. Others are summed first: from a buffer
+ * when the footprint is small and whole, else by computing the weights
+ * twice. */
+static int ellipse_deposit(target *t, const ellipse *e, float w)
+{
+    box b, full;
+    if (!footprint(t, e->cx, e->cy, e->ex, e->ey, &b, &full))
+        return 1;
+    if (t->proj)
+        t->fold = !box_in_map(t->proj, b);
+    const int clipped = b.i0 != full.i0 || b.i1 != full.i1 || b.j0 != full.j0 || b.j1 != full.j1;
+    const int whole = !t->fold && !clipped && e->hmin >= 10.0;
+    double sum = 1.0 / sqrt(e->a * e->c - e->b * e->b);
+    if (!whole && !clipped) {
+        buffer buf; /* 28 KiB of stack */
+        buf.v.fn = buffer_row;
+        buf.used = buf.rows = buf.full = 0;
+        buf.sum = 0.0;
+        ellipse_visit(t, e, b, &buf.v);
+        if (!buf.full) {
+            if (!(buf.sum > 0))
+                return 0;
+            const float scale = (float)(w / buf.sum);
+            for (int r = 0, at = 0; r < buf.rows; at += buf.row[r][2], r++)
+                emit_row(t, buf.row[r][0], buf.row[r][1], buf.row[r][2], buf.wt + at, scale);
+            t->in += w;
+            return 1;
+        }
+    }
+    if (!whole && !(clipped && (full.i1 - full.i0 + 1.0) * (full.j1 - full.j0 + 1.0) > 65536.0)) {
+        summer sm = {{sum_row}, 0.0};
+        ellipse_visit(t, e, full, &sm.v);
+        sum = sm.sum;
+    }
+    if (!(sum > 0))
+        return 0;
+    drawer d = {{draw_row}, t, (float)(w / sum), clipped, 0.0};
+    ellipse_visit(t, e, b, &d.v);
+    t->in += clipped ? d.drawn * d.scale : w;
+    return 1;
+}
+
+/* A disc kernel of h pixels by whichever method suits its size. */
+static void disc_deposit(target *t, double cx, double cy, double h, float w)
+{
+    if (h < CUMULATIVE_MAX) {
+        disc_cumulative(t, cx, cy, h, w);
+        return;
+    }
+    ellipse e;
+    double a = 1.0 / (h * h);
+    ellipse_setup(&e, cx, cy, a, 0.0, a);
+    ellipse_deposit(t, &e, w);
+}
+
+/* ---- sky maps: the local affine model ---- */
+
+static double chord2(orr_vec3 a, orr_vec3 b)
+{
+    orr_vec3 d = orr_v3_sub(a, b);
+    return orr_v3_dot(d, d);
+}
+
+/* The change of direction per pixel along x and y at (px, py), whose
+ * direction is centre: one-sided differences over half a pixel, toward
+ * whichever side is on the map. */
+static int pixel_tangents(const orr_projection *p, double px, double py, orr_vec3 centre, orr_vec3 *tx,
+                          orr_vec3 *ty)
+{
+    orr_vec3 d;
+    for (int axis = 0; axis < 2; axis++) {
+        double sx = axis == 0 ? 0.5 : 0.0, sy = axis == 0 ? 0.0 : 0.5;
+        orr_vec3 *t = axis == 0 ? tx : ty;
+        if (orr_unproject(p, px + sx, py + sy, &d))
+            *t = orr_v3_scale(orr_v3_sub(d, centre), 2.0);
+        else if (orr_unproject(p, px - sx, py - sy, &d))
+            *t = orr_v3_scale(orr_v3_sub(centre, d), 2.0);
+        else
+            return 0;
+    }
+    return 1;
+}
+
+/* The solid angle of the pixel at direction d: the projection's scale at
+ * unit distance is the isotropic pixels per radian there. */
+static double pixel_solid_angle(const orr_sph *s, orr_vec3 d)
+{
+    if (s->omega > 0)
+        return s->omega;
+    double x, y, sc;
+    if (!orr_project_point(&s->proj, d, &x, &y, &sc) || !(sc > 0))
+        sc = s->proj.focal;
+    return 1.0 / (sc * sc);
+}
+
+/* How the local affine model fits a kernel. */
+typedef enum { AFFINE_NO, AFFINE_INSIDE, AFFINE_CROSSING } affine_fit;
+
+/* Checks the model against the inverse projection at eight points of the
+ * support's edge, for the distance to the centre and the pixels' solid
+ * angle: AFFINE_INSIDE when all are on the map and within tolerance,
+ * AFFINE_CROSSING when the ones on the map are (at least half of them) and
+ * the rest are off it, AFFINE_NO otherwise. Off the equirectangular
+ * image's sides a point is looked up across the seam, where the map
+ * continues. */
+static affine_fit affine_check(const orr_sph *s, const ellipse *e, orr_vec3 centre, double theta)
+{
+    const orr_projection *p = &s->proj;
+    /* Points with u = 4 under the model: (dx, dy) = 2 R^-1 (cos phi, sin phi)
+     * with M = R^T R (Cholesky). */
+    double r11 = sqrt(e->a), r12 = e->b / r11, r22 = sqrt(e->c - r12 * r12);
+    double omega = pixel_solid_angle(s, centre);
+    double tol = fmax(AFFINE_TOL, 0.5 / e->hmin);
+    int off = 0;
+    for (int k = 0; k < 8; k++) {
+        double cs = cos(k * ORR_PI / 4), sn = sin(k * ORR_PI / 4);
+        double vy = sn / r22, vx = (cs - r12 * vy) / r11;
+        double x = e->cx + ORR_KERNEL_SUPPORT * vx, y = e->cy + ORR_KERNEL_SUPPORT * vy;
+        if (p->kind == ORR_PROJ_EQUIRECTANGULAR)
+            x = x < 0 ? x + p->width : x > p->width ? x - p->width : x;
+        orr_vec3 d;
+        if (!orr_unproject(p, x, y, &d)) {
+            off++;
+            continue;
+        }
+        double q = sqrt(chord2(d, centre)) / theta;
+        if (!(fabs(q - ORR_KERNEL_SUPPORT) <= tol) ||
+            !(fabs(pixel_solid_angle(s, d) / omega - 1.0) <= AFFINE_AREA_TOL))
+            return AFFINE_NO;
+    }
+    return off == 0 ? AFFINE_INSIDE : off <= 4 ? AFFINE_CROSSING : AFFINE_NO;
+}
+
+/* The local affine model of the map around the particle's image position:
+ * u(dx, dy) = |tx dx + ty dy|^2 / theta^2 with tx, ty the direction's change
+ * per pixel, every pixel with the solid angle of the centre's. Where the
+ * map's index says the model holds over the whole support and the
+ * footprint is on the map, it is taken as it is; elsewhere it is checked
+ * (affine_check). */
+static affine_fit sky_affine(const orr_sph *s, double px, double py, double theta, ellipse *e)
+{
+    const orr_projection *p = &s->proj;
+    orr_vec3 centre, tx, ty;
+    if (!orr_unproject(p, px, py, &centre) || !pixel_tangents(p, px, py, centre, &tx, &ty))
+        return AFFINE_NO;
+    double t2 = theta * theta;
+    double a = orr_v3_dot(tx, tx) / t2, b = orr_v3_dot(tx, ty) / t2, c = orr_v3_dot(ty, ty) / t2;
+    if (!(a * c - b * b > 0) || !(a > 0))
+        return AFFINE_NO;
+    ellipse_setup(e, px, py, a, b, c);
+    /* Kernels a good part of the map across are no longer local. */
+    if (!(e->ex < 0.25 * p->width && e->ey < 0.25 * p->height))
+        return AFFINE_NO;
+    int ci = (int)(px / ORR_SPH_CELL), cj = (int)(py / ORR_SPH_CELL);
+    ci = ci < 0 ? 0 : ci >= s->cells_x ? s->cells_x - 1 : ci;
+    cj = cj < 0 ? 0 : cj >= s->cells_y ? s->cells_y - 1 : cj;
+    double reach = e->ex > e->ey ? e->ex : e->ey;
+    box bb = {(int)floor(px - e->ex), (int)floor(px + e->ex), (int)floor(py - e->ey), (int)floor(py + e->ey)};
+    if (reach <= s->safe[(size_t)cj * s->cells_x + ci] && box_in_map(p, bb))
+        return AFFINE_INSIDE;
+    return affine_check(s, e, centre, theta);
+}
+
+/* ---- sky maps: the exact path ---- */
+
+/* The cap of a kernel on the sphere of directions. */
+typedef struct cap {
+    orr_vec3 dir;
+    double theta;        /* h / r */
+    double cos_r, sin_r; /* of the support's angular radius */
+    int all;             /* the support covers the whole sphere */
+} cap;
+
+/* Whether the cap can reach a tile: the angle between their centres is at
+ * most the sum of their radii, cos(R + r) = cos R cos r - sin R sin r,
+ * unless R + r reaches pi. */
+static int reachable(const cap *c, const orr_sph_tile *t)
+{
+    if (!(t->cos_r <= 1.0f))
+        return 0;
+    if (c->all)
+        return 1;
+    double sin_sum = c->sin_r * t->cos_r + c->cos_r * t->sin_r, cos_sum = c->cos_r * t->cos_r - c->sin_r * t->sin_r;
+    if (sin_sum < 0 || (sin_sum <= 0 && cos_sum < 0))
+        return 1;
+    double dot = t->x * c->dir.x + t->y * c->dir.y + t->z * c->dir.z;
+    return dot >= cos_sum - 1e-6; /* the tiles' floats, with margin */
+}
+
+/* Weight of pixel (i, j) for the cap: F at the pixel's angular distance
+ * (as a chord) times the pixel's solid angle, with the Laplacian term for
+ * the pixel's size. 0 off the map and beyond the support. */
+static double cap_pixel_weight(const orr_sph *s, const cap *c, int i, int j)
+{
+    orr_vec3 d;
+    if (!orr_projection_pixel_in_map(&s->proj, i, j) || !orr_unproject(&s->proj, i + 0.5, j + 0.5, &d))
+        return 0.0;
+    double u = chord2(d, c->dir) / (c->theta * c->theta);
+    if (!(u < ORR_KERNEL_SUPPORT * ORR_KERNEL_SUPPORT))
+        return 0.0;
+    double omega = pixel_solid_angle(s, d);
+    float lf;
+    double f = orr_kernel_column_u(s->kernel, (float)u, &lf);
+    return omega * (f + omega / (24.0 * c->theta * c->theta) * lf);
+}
+
+/* The weights of the pixels the cap reaches, collected once (when there is
+ * memory to keep them) so they need not be computed twice. */
+typedef struct cap_weights {
+    size_t *pixel; /* index in the plane */
+    float *weight;
+    size_t n, room;
+    int overflow; /* no memory: the caller computes the weights again */
+} cap_weights;
+
+static void cap_weights_add(cap_weights *cw, size_t pixel, double wt)
+{
+    if (cw->overflow)
+        return;
+    if (cw->n == cw->room) {
+        size_t room = cw->room ? 2 * cw->room : 4096;
+        size_t *p = realloc(cw->pixel, room * sizeof *p);
+        if (p)
+            cw->pixel = p;
+        float *w = p ? realloc(cw->weight, room * sizeof *w) : NULL;
+        if (w)
+            cw->weight = w;
+        if (!p || !w) {
+            cw->overflow = 1;
+            return;
+        }
+        cw->room = room;
+    }
+    cw->pixel[cw->n] = pixel;
+    cw->weight[cw->n++] = (float)wt;
+}
+
+/* One pass over the pixels of every tile the cap can reach: returns the
+ * sum of their weights, and either keeps them (cw) or adds scale times
+ * each to the plane. */
+static double cap_pass(const orr_sph *s, const cap *c, cap_weights *cw, orr_plane *plane, double scale)
+{
+    const int T = ORR_SPH_TILE, G = ORR_SPH_GROUP, W = s->proj.width, H = s->proj.height;
+    double sum = 0.0;
+    for (int gy = 0; gy < s->groups_y; gy++)
+        for (int gx = 0; gx < s->groups_x; gx++) {
+            if (!reachable(c, &s->groups[(size_t)gy * s->groups_x + gx]))
+                continue;
+            for (int ty = gy * G; ty < (gy + 1) * G && ty < s->tiles_y; ty++)
+                for (int tx = gx * G; tx < (gx + 1) * G && tx < s->tiles_x; tx++) {
+                    if (!reachable(c, &s->tiles[(size_t)ty * s->tiles_x + tx]))
+                        continue;
+                    for (int j = ty * T; j < (ty + 1) * T && j < H; j++)
+                        for (int i = tx * T; i < (tx + 1) * T && i < W; i++) {
+                            double wt = cap_pixel_weight(s, c, i, j);
+                            if (wt == 0.0)
+                                continue;
+                            sum += wt;
+                            if (cw)
+                                cap_weights_add(cw, (size_t)j * W + i, wt);
+                            else
+                                plane->data[(size_t)j * W + i] += (float)(scale * wt);
+                        }
+                }
+        }
+    return sum;
+}
+
+/* The exact path: every pixel the cap can reach, mapped back to its
+ * direction. Returns 0 (nothing deposited) when no pixel centre on the map
+ * lies inside the support. */
+static int sky_exact(const orr_sph *s, target *t, orr_vec3 dir, double theta, float w)
+{
+    cap c = {dir, theta, 0, 0, theta >= 1.0};
+    double r = c.all ? ORR_PI : 2.0 * asin(theta);
+    c.cos_r = cos(r);
+    c.sin_r = sin(r);
+    cap_weights cw = {NULL, NULL, 0, 0, 0};
+    double sum = cap_pass(s, &c, &cw, NULL, 0.0);
+    if (sum > 0 && !cw.overflow) {
+        float scale = (float)(w / sum);
+        for (size_t k = 0; k < cw.n; k++)
+            t->plane->data[cw.pixel[k]] += scale * cw.weight[k];
+    } else if (sum > 0) {
+        cap_pass(s, &c, NULL, t->plane, w / sum);
+    }
+    free(cw.pixel);
+    free(cw.weight);
+    return sum > 0;
+}
+
+/* A sky kernel of h_pix pixels (local isotropic scale). Small ones are
+ * drawn flat with the local scale; larger ones with the local affine
+ * model where it fits: wholly on the map; across the dome's rim (the
+ * azimuthal-equidistant map continues smoothly there) dropping the part
+ * off the map and renormalising the rest, as the exact path does; across
+ * the equirectangular seam, where the map continues on the other side;
+ * across the Hammer-Aitoff seam only while small (under 4 pixels per h),
+ * folded to the other side, because the map's edge there is sheared
+ * differently on the two sides. Everything else is mapped pixel by pixel. */
+static void sky_particle(const orr_sph *s, target *t, const orr_sph_block *b, size_t i, double hpix)
+{
+    const double px = b->px[i], py = b->py[i];
+    const float w = b->w[i];
+    t->fold = t->drop = 0;
+    if (hpix < SKY_LOCAL_MIN || !b->x || !b->y || !b->z) {
+        disc_deposit(t, px, py, hpix, w);
+        return;
+    }
+    orr_vec3 pos = orr_v3(b->x[i], b->y[i], b->z[i]);
+    double r = orr_v3_norm(pos);
+    double theta = b->h[i] / r;
+    ellipse e;
+    affine_fit fit = theta < 0.5 ? sky_affine(s, px, py, theta, &e) : AFFINE_NO;
+    if (fit == AFFINE_CROSSING) {
+        if (s->proj.kind == ORR_PROJ_DOME)
+            t->drop = 1;
+        else if (!(s->proj.kind == ORR_PROJ_HAMMER_AITOFF && e.hmin < 4.0))
+            fit = AFFINE_NO;
+    }
+    if (fit != AFFINE_NO && ellipse_deposit(t, &e, w))
+        return;
+    t->fold = t->drop = 0;
+    if (sky_exact(s, t, orr_v3_scale(pos, 1.0 / r), theta, w))
+        return;
+    /* No pixel centre on the map within the support (a kernel at the
+     * map's edge, between centres): drawn small where it projects. */
+    disc_deposit(t, px, py, fmin(hpix, SKY_LOCAL_MIN), w);
+}
+
+/* ---- sky maps: the index ---- */
+
+/* The extent of the pixels [i0, i1) x [j0, j1) on the map: the direction
+ * at their centre and the angle r within which all their centres lie.
+ * Wholly on the map, a tile's 3 x 3 corner, edge and centre pixels are
+ * measured and r enlarged by a tenth, which covers the pixels between on
+ * any of the maps over 8 pixels; crossing the map's outline, every pixel
+ * is. Returns 0 when no pixel is on the map. */
+static int tile_extent(const orr_projection *p, int i0, int i1, int j0, int j1, orr_sph_tile *t)
+{
+    box b = {i0, i1 - 1, j0, j1 - 1};
+    const int whole = box_in_map(p, b);
+    /* Whole: columns i0, the middle and i1 - 1 (likewise rows); else all. */
+    const int ni = whole ? 3 : i1 - i0, nj = whole ? 3 : j1 - j0;
+    orr_vec3 d[ORR_SPH_TILE * ORR_SPH_TILE], sum = orr_v3(0, 0, 0);
+    int n = 0;
+    for (int sj = 0; sj < nj; sj++)
+        for (int si = 0; si < ni; si++) {
+            int i = whole ? (si == 0 ? i0 : si == 1 ? (i0 + i1 - 1) / 2 : i1 - 1) : i0 + si;
+            int j = whole ? (sj == 0 ? j0 : sj == 1 ? (j0 + j1 - 1) / 2 : j1 - 1) : j0 + sj;
+            if (orr_projection_pixel_in_map(p, i, j) && orr_unproject(p, i + 0.5, j + 0.5, &d[n]))
+                sum = orr_v3_add(sum, d[n++]);
+        }
+    if (n == 0)
+        return 0;
+    orr_vec3 c = orr_v3_normalize(sum);
+    double far = 0.0;
+    for (int k = 0; k < n; k++)
+        far = fmax(far, chord2(d[k], c));
+    double r = fmin(ORR_PI, 2.0 * asin(fmin(1.0, 0.5 * sqrt(far))) * (whole ? 1.1 : 1.0) + 1e-5);
+    *t = (orr_sph_tile){(float)c.x, (float)c.y, (float)c.z, (float)cos(r), (float)sin(r)};
+    return 1;
+}
+
+/* A coarse tile from its tiles: the mean direction, and the largest angle
+ * to a tile's centre plus that tile's radius. */
+static void group_extent(const orr_sph *s, int gx, int gy, orr_sph_tile *g)
+{
+    const int G = ORR_SPH_GROUP;
+    orr_vec3 sum = orr_v3(0, 0, 0);
+    int any = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        double r = 0.0;
+        for (int ty = gy * G; ty < (gy + 1) * G && ty < s->tiles_y; ty++)
+            for (int tx = gx * G; tx < (gx + 1) * G && tx < s->tiles_x; tx++) {
+                const orr_sph_tile *t = &s->tiles[(size_t)ty * s->tiles_x + tx];
+                if (!(t->cos_r <= 1.0f))
+                    continue;
+                orr_vec3 d = orr_v3(t->x, t->y, t->z);
+                if (pass == 0) {
+                    sum = orr_v3_add(sum, d);
+                    any = 1;
+                } else {
+                    double a = 2.0 * asin(fmin(1.0, 0.5 * sqrt(chord2(d, orr_v3(g->x, g->y, g->z)))));
+                    r = fmax(r, a + atan2(t->sin_r, t->cos_r));
+                }
+            }
+        if (pass == 0) {
+            orr_vec3 c = orr_v3_normalize(sum);
+            *g = (orr_sph_tile){(float)c.x, (float)c.y, (float)c.z, 2.0f, 0.0f};
+            if (!any)
+                return;
+        } else {
+            r = fmin(ORR_PI, r + 1e-5);
+            g->cos_r = (float)cos(r);
+            g->sin_r = (float)sin(r);
+        }
+    }
+}
+
+/* The map's local metric at pixel position (x, y): the squared changes of
+ * direction per pixel (a = |tx|^2, b = tx.ty, c = |ty|^2) and the solid
+ * angle per pixel |tx x ty|; 0 when not wholly on the map. */
+static int metric_at(const orr_projection *p, double x, double y, double m[4])
+{
+    orr_vec3 xp, xm, yp, ym;
+    if (!orr_unproject(p, x + 0.5, y, &xp) || !orr_unproject(p, x - 0.5, y, &xm) ||
+        !orr_unproject(p, x, y + 0.5, &yp) || !orr_unproject(p, x, y - 0.5, &ym))
+        return 0;
+    orr_vec3 tx = orr_v3_sub(xp, xm), ty = orr_v3_sub(yp, ym);
+    m[0] = orr_v3_dot(tx, tx);
+    m[1] = orr_v3_dot(tx, ty);
+    m[2] = orr_v3_dot(ty, ty);
+    m[3] = orr_v3_norm(orr_v3_cross(tx, ty));
+    return m[0] > 0 && m[2] > 0 && m[3] > 0;
+}
+
+/* The relative change of the metric (dm) and of the pixels' solid angle
+ * (da) between two neighbouring grid points. */
+static void metric_change(const double *m, const double *n, float *dm, float *da)
+{
+    double scale = sqrt(m[0] * m[2]);
+    double d = fmax(fabs(log(n[0] / m[0])), fmax(fabs(log(n[2] / m[2])), fabs(n[1] - m[1]) / scale));
+    *dm = (float)fmax(*dm, d);
+    *da = (float)fmax(*da, fabs(log(n[3] / m[3])));
+}
+
+/* Per cell, how far the local affine model may reach: the metric is
+ * sampled on a grid of ORR_SPH_CELL pixels; within two cells of a cell its
+ * largest change between neighbouring samples, per pixel, bounds how far
+ * the model stays within AFFINE_TOL in q and AFFINE_AREA_TOL in area (as
+ * the per-particle check measures them), up to the two cells the samples
+ * cover. Cells near the map's outline get 0: always checked. */
+static orr_status build_cells(orr_sph *s, orr_error *err)
+{
+    const int C = ORR_SPH_CELL, W = s->proj.width, H = s->proj.height;
+    const int nx = s->cells_x + 1, ny = s->cells_y + 1;
+    const size_t ng = (size_t)nx * ny;
+    double *grid = orr_malloc(sizeof(double) * 4 * ng, "sky metric grid", err);
+    float *dm = orr_calloc(ng, sizeof(float), "sky metric grid", err);
+    float *da = orr_calloc(ng, sizeof(float), "sky metric grid", err);
+    uint8_t *ok = orr_malloc(ng, "sky metric grid", err);
+    orr_status st = grid && dm && da && ok ? ORR_OK : ORR_ERR_NOMEM;
+    for (size_t g = 0; !st && g < ng; g++) {
+        double x = clamp((double)(g % nx) * C, 1.0, W - 1.0), y = clamp((double)(g / nx) * C, 1.0, H - 1.0);
+        ok[g] = (uint8_t)metric_at(&s->proj, x, y, grid + 4 * g);
+    }
+    /* Each grid point's changes toward its right and lower neighbours. */
+    for (size_t g = 0; !st && g < ng; g++) {
+        if (!ok[g])
+            continue;
+        if (g % nx + 1 < (size_t)nx && ok[g + 1])
+            metric_change(grid + 4 * g, grid + 4 * (g + 1), &dm[g], &da[g]);
+        if (g / nx + 1 < (size_t)ny && ok[g + nx])
+            metric_change(grid + 4 * g, grid + 4 * (g + nx), &dm[g], &da[g]);
+    }
+    for (int cy = 0; !st && cy < s->cells_y; cy++)
+        for (int cx = 0; cx < s->cells_x; cx++) {
+            float gm = 0.0f, ga = 0.0f;
+            int whole = cx >= 2 && cy >= 2 && cx + 3 < nx && cy + 3 < ny;
+            for (int gy = cy - 2; whole && gy <= cy + 3; gy++)
+                for (int gx = cx - 2; gx <= cx + 3; gx++) {
+                    size_t g = (size_t)gy * nx + gx;
+                    whole &= ok[g];
+                    gm = dm[g] > gm ? dm[g] : gm;
+                    ga = da[g] > ga ? da[g] : ga;
+                }
+            /* A relative change g per pixel in the squared lengths moves the
+             * support's edge by about g R / 4 of q = 2 at radius R. */
+            double reach = 2.0 * C;
+            if (gm > 0)
+                reach = fmin(reach, 2.0 * AFFINE_TOL * C / gm);
+            if (ga > 0)
+                reach = fmin(reach, AFFINE_AREA_TOL * C / ga);
+            s->safe[(size_t)cy * s->cells_x + cx] = whole ? (float)reach : 0.0f;
+        }
+    free(grid);
+    free(dm);
+    free(da);
+    free(ok);
+    return st;
+}
+
+/* Whether the map is equal-area (Hammer-Aitoff): the pixels' solid angle,
+ * from the projection's scale, the same at a spread of points. */
+static double equal_area_omega(const orr_projection *p)
+{
+    double lo = HUGE_VAL, hi = 0.0;
+    for (int k = 0; k < 64; k++) {
+        /* Points scattered over the image (a Lissajous figure). */
+        double x = p->width * (0.5 + 0.45 * cos(k * 2.4)), y = p->height * (0.5 + 0.45 * sin(k * 1.7)), sc;
+        orr_vec3 d;
+        if (!orr_unproject(p, x, y, &d) || !orr_project_point(p, d, &x, &y, &sc))
+            continue;
+        lo = fmin(lo, 1.0 / (sc * sc));
+        hi = fmax(hi, 1.0 / (sc * sc));
+    }
+    return hi > 0 && hi <= lo * (1 + 1e-9) ? hi : 0.0;
+}
+
+static orr_status build_sky_index(orr_sph *s, orr_error *err)
+{
+    const int T = ORR_SPH_TILE, G = ORR_SPH_GROUP, W = s->proj.width, H = s->proj.height;
+    s->omega = equal_area_omega(&s->proj);
+    s->tiles_x = (W + T - 1) / T, s->tiles_y = (H + T - 1) / T;
+    s->groups_x = (s->tiles_x + G - 1) / G, s->groups_y = (s->tiles_y + G - 1) / G;
+    s->cells_x = (W + ORR_SPH_CELL - 1) / ORR_SPH_CELL, s->cells_y = (H + ORR_SPH_CELL - 1) / ORR_SPH_CELL;
+    s->tiles = orr_malloc(sizeof *s->tiles * (size_t)s->tiles_x * s->tiles_y, "sky tile index", err);
+    s->groups = orr_malloc(sizeof *s->groups * (size_t)s->groups_x * s->groups_y, "sky tile index", err);
+    s->safe = orr_malloc(sizeof *s->safe * (size_t)s->cells_x * s->cells_y, "sky cell index", err);
+    if (!s->tiles || !s->groups || !s->safe)
+        return ORR_ERR_NOMEM;
+    for (int ty = 0; ty < s->tiles_y; ty++)
+        for (int tx = 0; tx < s->tiles_x; tx++) {
+            orr_sph_tile *t = &s->tiles[(size_t)ty * s->tiles_x + tx];
+            *t = (orr_sph_tile){0, 0, 1, 2.0f, 0.0f};
+            tile_extent(&s->proj, tx * T, (tx + 1) * T < W ? (tx + 1) * T : W, ty * T,
+                        (ty + 1) * T < H ? (ty + 1) * T : H, t);
+        }
+    for (int gy = 0; gy < s->groups_y; gy++)
+        for (int gx = 0; gx < s->groups_x; gx++)
+            group_extent(s, gx, gy, &s->groups[(size_t)gy * s->groups_x + gx]);
+    return build_cells(s, err);
+}
+
+/* ---- the interface ---- */
+
+orr_status orr_sph_init(orr_sph *s, const orr_kernel *k, const orr_projection *proj, orr_error *err)
+{
+    memset(s, 0, sizeof *s);
+    s->kernel = k;
+    s->proj = *proj;
+    s->sky = orr_projection_is_sky(proj);
+    if (!s->sky)
+        return ORR_OK;
+    orr_status st = build_sky_index(s, err);
+    if (st)
+        orr_sph_free(s);
+    return st;
+}
+
+void orr_sph_free(orr_sph *s)
+{
+    free(s->tiles);
+    free(s->groups);
+    free(s->safe);
+    s->tiles = s->groups = NULL;
+    s->safe = NULL;
+}
+
+/* Particles without a smoothing length: cloud-in-cell, as orr_deposit. */
+static void deposit_cic_one(const orr_sph *s, const orr_sph_block *b, size_t i, target *t)
+{
+    orr_deposit_stats st = {0};
+    uint8_t one = 1;
+    orr_deposit(ORR_DEPOSIT_CIC, t->plane, 1, b->px + i, b->py + i, b->w + i, &one, &s->proj, &st);
+    t->in += st.deposited;
+}
+
+void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane, orr_deposit_stats *stats)
+{
+    if (!b->h) {
+        orr_deposit(ORR_DEPOSIT_CIC, plane, b->n, b->px, b->py, b->w, b->visible, &s->proj, stats);
+        return;
+    }
+    target t = {plane, s->sky ? &s->proj : NULL, s->kernel, 0, 0, 0.0};
+    double total = 0.0, culled = 0.0;
+    uint64_t n_culled = 0;
+    for (size_t i = 0; i < b->n; i++) {
+        if (!b->visible[i]) {
+            culled += b->w[i];
+            n_culled++;
+            continue;
+        }
+        total += b->w[i];
+        double hpix = (double)b->h[i] * b->scale[i];
+        if (!(hpix > 0) || !isfinite(hpix))
+            deposit_cic_one(s, b, i, &t);
+        else if (s->sky)
+            sky_particle(s, &t, b, i, hpix);
+        else
+            disc_deposit(&t, b->px[i], b->py[i], hpix, b->w[i]);
+    }
+    /* Flat maps: what did not land fell off the image. Sky maps fold
+     * everything onto the map (the difference is round-off). */
+    stats->deposited += s->sky ? total : t.in;
+    stats->outside += s->sky ? 0.0 : total - t.in;
+    stats->culled += culled;
+    stats->n_culled += n_culled;
+    stats->n_particles += b->n;
+}

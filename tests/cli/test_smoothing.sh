@@ -1,0 +1,74 @@
+# SPH deposit and PSFs through the command line: smoothing lengths from the
+# neighbours for a table without h, kernels in perspective and on a dome
+# master, Gaussian and Hubble PSFs on flat views. Each render must keep the
+# mass: what lands in the image plus what falls off it is the whole table
+# (1.0: 2000 particles of 0.0005), read back from the FITS header.
+source "$(dirname "$0")/lib.sh"
+table=$SRC/examples/plummer-sphere.txt
+
+py=/usr/bin/python3
+[ -x "$py" ] || py=python3
+
+# header_value FILE KEY: a card of the first HDU, read by astropy.
+header_value() {
+  "$py" -c "import sys; from astropy.io import fits; print(repr(fits.getheader(sys.argv[1])[sys.argv[2]]))" "$1" "$2"
+}
+
+# render NAME EXPECTED_TOTAL SCENE-LINES...: renders, then checks WIMAGE + WOUTSIDE.
+render() {
+  local name=$1 total=$2
+  shift 2
+  {
+    echo "input:"
+    echo "  file: $table"
+    for line in "$@"; do echo "$line"; done
+    echo "output:"
+    echo "  dir: out"
+    echo "  name: $name"
+    echo "  png: false"
+  } >"$name.yaml"
+  if ! "$ORRERY" render --quiet "$name.yaml" 2>err.txt; then
+    fail "$name: $(cat err.txt)"
+    return
+  fi
+  local in off
+  in=$(header_value "out/$name.fits" WIMAGE)
+  off=$(header_value "out/$name.fits" WOUTSIDE)
+  awk -v a="$in" -v b="$off" -v t="$total" 'BEGIN { d = a + b - t; if (d < 0) d = -d; exit !(d <= 1e-5 * t) }' ||
+    fail "$name: image $in + outside $off != $total"
+  grep -q "AddressSanitizer\|runtime error" err.txt && fail "$name: sanitizer report: $(cat err.txt)"
+}
+
+persp=("camera:" "  position: [0, 0, 30]" "  look_at: [0, 0, 0]" "  projection: perspective" "  fov: 40"
+  "image:" "  width: 160" "  height: 120")
+render sph-perspective 1.0 "${persp[@]}" "deposit: sph"
+render sph-wendland 1.0 "${persp[@]}" "deposit: sph" "smoothing:" "  kernel: wendland-c4" "  neighbours: 8"
+grep -q "HSOURCE = 'neighbours'" out/sph-perspective.fits || fail "sph-perspective: lengths not from the neighbours"
+# A Gaussian PSF on a flat view moves light, it does not make or lose it: the
+# convolved plane's sum equals the deposited weight (astropy sums it).
+render psf-gaussian 1.0 "${persp[@]}" "psf:" "  kind: gaussian" "  fwhm: 3"
+render psf-hst 1.0 "${persp[@]}" "psf:" "  kind: hst" "  size: 31"
+for name in psf-gaussian psf-hst; do
+  "$py" -c "
+import sys, numpy as np
+from astropy.io import fits
+h = fits.open(sys.argv[1])[0]
+s, w = float(np.nansum(h.data.astype(np.float64))), h.header['WIMAGE']
+# light the PSF carries past the image's edges is lost, a little
+sys.exit(0 if abs(s - w) <= 2e-2 * w and s <= w * (1 + 1e-5) else 1)" "out/$name.fits" ||
+    fail "$name: the convolved image's sum differs from the deposited weight"
+done
+# On a dome master around the sphere's centre, every particle is on the sky
+# (a 360-degree dome): all the mass but the observer's (not drawn) is in
+# the image, none off it.
+render sph-dome 0.9995 "observer:" "  id: 0" "  reference_id: 1" "  dim: false" \
+  "camera:" "  projection: dome" "  dome_fov: 360" "image:" "  width: 201" "  height: 201" "deposit: sph"
+
+# Errors: a Hubble PSF has no meaning on a sky map; lengths from a file without them.
+mkdir -p empty
+write_scene bad1.yaml "$table" "psf:" "  kind: hst"
+sed -i 's/projection: orthographic/projection: hammer-aitoff/; s/  width: 10$//' bad1.yaml
+expect_fail 2 "psf.kind: hst is for flat views" empty -- render bad1.yaml -o empty
+write_scene bad2.yaml "$table" "deposit: sph" "smoothing:" "  lengths: file"
+expect_fail 1 "smoothing.lengths is file, but .*plummer-sphere.txt has no smoothing lengths" empty -- render bad2.yaml -o empty
+finish
