@@ -22,7 +22,8 @@
 #define BLOCK 4096
 
 typedef struct block_buffers {
-    float x[BLOCK], y[BLOCK], z[BLOCK], w[BLOCK], h[BLOCK];
+    float x[BLOCK], y[BLOCK], z[BLOCK], h[BLOCK];
+    float w[3][BLOCK]; /* the weight, or X, Y, Z with colour */
     float px[BLOCK], py[BLOCK], scale[BLOCK];
     uint8_t visible[BLOCK];
 } block_buffers;
@@ -32,7 +33,8 @@ typedef struct view_state {
     const orr_scene *scene;
     orr_projection proj;
     orr_mat3 world_to_camera;
-    orr_plane plane;
+    orr_plane planes[3]; /* the weight plane, or CIE X, Y, Z with colour */
+    int nplanes;
     orr_render_report *rep;
     /* Kernel deposit (deposit: sph, or a sky map's PSF): its kernel, the
      * deposit's set-up, and where the smoothing lengths come from. */
@@ -225,9 +227,10 @@ static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, siz
  * the camera frame; returns how many, or -1 (err set) on a bad particle
  * when the scene says to fail. The observer particle is left out, and with
  * observer.dim weights fall off as 1/r^2 from the camera. */
-static long gather_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *wsrc,
+static long gather_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wsrcs,
                          size_t start, size_t end, block_buffers *b, orr_error *err)
 {
+    const float *wsrc = wsrcs[v->nplanes - 1]; /* the weight, or Y: checked for finiteness */
     const orr_scene *s = v->scene;
     const orr_mat3 *R = &v->world_to_camera;
     const orr_vec3 origin = v->rep->camera.position;
@@ -264,12 +267,9 @@ static long gather_block(view_state *v, const orr_source *src, const orr_chunk *
         b->x[n] = r00 * dx + r01 * dy + r02 * dz;
         b->y[n] = r10 * dx + r11 * dy + r12 * dz;
         b->z[n] = r20 * dx + r21 * dy + r22 * dz;
-        float w = wsrc[i];
-        if (dim) {
-            float r2 = dx * dx + dy * dy + dz * dz;
-            w /= r2 > near2 ? r2 : near2;
-        }
-        b->w[n] = w;
+        float r2 = dx * dx + dy * dy + dz * dz, dimming = dim ? 1.0f / (r2 > near2 ? r2 : near2) : 1.0f;
+        for (int k = 0; k < v->nplanes; k++)
+            b->w[k][n] = wsrcs[k][i] * dimming;
         b->h[n] = h;
         n++;
     }
@@ -289,22 +289,45 @@ static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
     }
 }
 
+/* Deposits the block into each plane. The report's statistics are of the
+ * first plane's weights (with colour, X; Y's are in the FITS header). */
 static void deposit_block(view_state *v, size_t n, block_buffers *b)
 {
-    if (!v->use_sph) {
-        orr_deposit(v->scene->deposit, &v->plane, n, b->px, b->py, b->w, b->visible, &v->proj, &v->rep->deposit);
-        return;
+    if (v->use_sph)
+        widen_for_psf(v, n, b);
+    for (int k = 0; k < v->nplanes; k++) {
+        orr_deposit_stats scratch = {0};
+        orr_deposit_stats *st = k == 0 ? &v->rep->deposit : k == 1 ? &v->rep->deposit_y : &scratch;
+        if (!v->use_sph) {
+            orr_deposit(v->scene->deposit, &v->planes[k], n, b->px, b->py, b->w[k], b->visible, &v->proj, st);
+            continue;
+        }
+        orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->w[k]};
+        orr_sph_deposit(&v->sph, &blk, &v->planes[k], st);
     }
-    widen_for_psf(v, n, b);
-    orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->w};
-    orr_sph_deposit(&v->sph, &blk, &v->plane, &v->rep->deposit);
+}
+
+/* The per-particle weights of a chunk: the scene's weight field, or with
+ * colour the X, Y, Z of each particle's population (into xyz, room for the
+ * chunk's capacity). */
+static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const orr_chunk *c, float *const *xyz,
+                                const float **w, orr_error *err)
+{
+    if (!s->colour)
+        return weight_field(s, src, c, &w[0], err);
+    orr_status st = orr_population_assign(&s->populations, c, 0, c->n, s->only, NULL, xyz[0], xyz[1], xyz[2], err);
+    if (st)
+        return orr_fail_prefix(err, "%s: colour.populations: ", s->path);
+    for (int k = 0; k < 3; k++)
+        w[k] = xyz[k];
+    return ORR_OK;
 }
 
 static orr_status splat_chunk(view_state *views, int nviews, const orr_source *src, const orr_chunk *c,
-                              block_buffers *b, orr_error *err)
+                              block_buffers *b, float *const *xyz, orr_error *err)
 {
-    const float *w;
-    orr_status st = weight_field(views[0].scene, src, c, &w, err);
+    const float *w[3] = {NULL, NULL, NULL};
+    orr_status st = chunk_weights(views[0].scene, src, c, xyz, w, err);
     if (st)
         return st;
     for (int k = 0; k < nviews; k++) {
@@ -328,16 +351,24 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
     block_buffers *b = orr_malloc(sizeof *b, "splat block buffers", err);
     if (!b)
         return ORR_ERR_NOMEM;
-    orr_status st;
-    for (;;) {
+    /* With colour, a chunk's X, Y, Z weights. */
+    float *xyz[3] = {NULL, NULL, NULL};
+    size_t cap = views[0].scene->colour ? src->chunk.capacity : 0;
+    orr_status st = ORR_OK;
+    for (int k = 0; k < 3 && cap && !st; k++)
+        if (!(xyz[k] = orr_malloc(cap * sizeof(float), "colour weights", err)))
+            st = ORR_ERR_NOMEM;
+    while (!st) {
         const orr_chunk *c;
         if ((st = orr_source_next(src, &c, err)) || c->n == 0)
             break;
-        if ((st = splat_chunk(views, nviews, src, c, b, err)))
+        if ((st = splat_chunk(views, nviews, src, c, b, xyz, err)))
             break;
         if (progress)
             progress(progress_user, views[0].rep->n_read, src->info.count);
     }
+    for (int k = 0; k < 3; k++)
+        free(xyz[k]);
     free(b);
     return st;
 }
@@ -350,10 +381,11 @@ static void mask_outside_map(view_state *v)
 {
     if (!orr_projection_is_sky(&v->proj))
         return;
-    for (int j = 0; j < v->plane.height; j++)
-        for (int i = 0; i < v->plane.width; i++)
+    for (int j = 0; j < v->proj.height; j++)
+        for (int i = 0; i < v->proj.width; i++)
             if (!orr_projection_pixel_in_map(&v->proj, i, j))
-                v->plane.data[(size_t)j * v->plane.width + i] = NAN;
+                for (int k = 0; k < v->nplanes; k++)
+                    v->planes[k].data[(size_t)j * v->proj.width + i] = NAN;
 }
 
 static void add_frame_cards(const view_state *v, orr_fits_header *h)
@@ -409,6 +441,11 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
     orr_fits_add_long(h, "NCULLED", (long long)rep->deposit.n_culled, "particles not drawn (out of view)");
     orr_fits_add_double(h, "WIMAGE", rep->deposit.deposited, "weight deposited in the image");
     orr_fits_add_double(h, "WOUTSIDE", rep->deposit.outside, "weight that fell off the image");
+    if (s->colour) {
+        orr_fits_add_long(h, "NPOPS", s->populations.n, "colour populations");
+        orr_fits_add_double(h, "YIMAGE", rep->deposit_y.deposited, "luminance Y deposited in the image");
+        orr_fits_add_double(h, "YOUTSIDE", rep->deposit_y.outside, "luminance Y that fell off the image");
+    }
     orr_fits_add_double(h, "SIMTIME", rep->sim_time, "simulation time of the snapshot");
     const char *slash = strrchr(rep->source, '/');
     orr_fits_add_string(h, "SOURCE", slash ? slash + 1 : rep->source, "particle source");
@@ -423,10 +460,36 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
     orr_wcs_add_cards(h, p, cam, &rep->sky);
 }
 
+/* A colour view's PNG: the synthesis of its X, Y, Z planes, sRGB-encoded. */
+static orr_status write_colour_png(const view_state *v, const char *path, orr_error *err)
+{
+    const orr_scene *s = v->scene;
+    orr_render_report *rep = v->rep;
+    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    float *rgb = orr_malloc(npix * 3 * sizeof(float), "PNG pixels", err);
+    if (!rgb)
+        return ORR_ERR_NOMEM;
+    orr_status st = orr_colour_synthesise(&s->synth, &v->planes[0], &v->planes[1], &v->planes[2], rgb, &rep->white,
+                                          err);
+    if (!st) {
+        orr_srgb_encode_buffer(rgb, npix * 3);
+        char desc[ORR_PATH_MAX + 256];
+        snprintf(desc, sizeof desc, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
+                 s->populations.n, rep->source, orr_projection_name(v->proj.kind),
+                 orr_lum_stretch_name(s->synth.stretch), rep->white);
+        orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
+        st = orr_write_png_rgb(path, v->proj.width, v->proj.height, rgb, s->png_bits, text, 2, err);
+    }
+    free(rgb);
+    return st;
+}
+
 static orr_status write_png(const view_state *v, const char *path, orr_error *err)
 {
     const orr_scene *s = v->scene;
-    const orr_plane *plane = &v->plane;
+    if (s->colour)
+        return write_colour_png(v, path, err);
+    const orr_plane *plane = &v->planes[0];
     orr_render_report *rep = v->rep;
     size_t npix = (size_t)plane->width * (size_t)plane->height;
     float *t = orr_malloc(npix * sizeof(float), "stretched image", err);
@@ -471,7 +534,7 @@ static orr_status write_outputs(view_state *v, orr_error *err)
         add_frame_cards(v, h);
         st = output_path(s, "fits", path, err);
         if (!st)
-            st = orr_write_fits(path, &v->plane, 1, h, err);
+            st = orr_write_fits(path, v->planes, v->nplanes, h, err);
         free(h);
         if (st)
             return st;
@@ -502,7 +565,12 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
         return orr_fail_prefix(err, "%s: ", s->path);
     rep->has_sky_frame = observer != NULL;
     v->world_to_camera = orr_camera_world_to_camera(&rep->camera);
-    st = orr_plane_alloc(&v->plane, v->proj.width, v->proj.height, s->weight, s->bunit, err);
+    static const char *const xyz_names[3] = {"X", "Y", "Z"};
+    v->nplanes = s->colour ? 3 : 1;
+    st = ORR_OK;
+    for (int k = 0; k < v->nplanes && !st; k++)
+        st = orr_plane_alloc(&v->planes[k], v->proj.width, v->proj.height, s->colour ? xyz_names[k] : s->weight,
+                             s->colour ? "CIE tristimulus/pixel" : s->bunit, err);
     if (!st)
         st = orr_kernel_init(&v->kernel, s->kernel, err);
     v->kernel_ready = !st;
@@ -517,7 +585,8 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
 
 static void free_view(view_state *v)
 {
-    orr_plane_free(&v->plane);
+    for (int k = 0; k < 3; k++)
+        orr_plane_free(&v->planes[k]);
     orr_view_psf_free(&v->psf);
     if (v->sph_ready)
         orr_sph_free(&v->sph);
@@ -584,7 +653,8 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
     if (!st)
         st = splat_source(views, n, src, progress, progress_user, err);
     for (int k = 0; k < n && !st; k++)
-        st = orr_view_psf_apply(&views[k].psf, &views[k].plane, err);
+        for (int j = 0; j < views[k].nplanes && !st; j++)
+            st = orr_view_psf_apply(&views[k].psf, &views[k].planes[j], err);
     for (int k = 0; k < n && !st; k++)
         st = write_outputs(&views[k], err);
     orr_source_close(src);

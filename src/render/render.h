@@ -22,9 +22,10 @@ typedef struct orr_render_report {
     uint64_t n_read;             /* particles read from the source */
     uint64_t n_selected;         /* of those, of a selected type (the observer excluded) */
     uint64_t n_nonfinite;        /* skipped for a non-finite position or weight */
-    orr_deposit_stats deposit;   /* weights deposited, off the image, culled */
+    orr_deposit_stats deposit;   /* weights deposited, off the image, culled (with colour: of X) */
+    orr_deposit_stats deposit_y; /* with colour: the same for Y, the luminance */
     double sim_time;
-    double white;                /* the PNG stretch's white level */
+    double white;                /* the PNG stretch's white level (with colour: Y0) */
     int has_sky_frame;           /* an observer frame was built */
     orr_sky_frame sky;           /* ... this one */
     orr_camera camera;           /* the camera used */

@@ -41,6 +41,11 @@ void orr_scene_defaults(orr_scene *s)
     s->lengths = ORR_LENGTHS_AUTO;
     s->neighbours = 32;
     s->h_scale = 1.0;
+    s->colour = 0;
+    s->colour_seed = 1;
+    s->only = -1;
+    orr_population_set_init(&s->populations, 1);
+    orr_colour_synth_defaults(&s->synth);
     s->psf = ORR_PSF_NONE;
     s->psf_fwhm = 2.0;
     s->psf_fwhm_arcmin = 10.0;

@@ -10,7 +10,9 @@
 #include "core/error.h"
 #include "core/vecmath.h"
 #include "frame/projection.h"
+#include "particles/population.h"
 #include "post/colormap.h"
+#include "post/colour.h"
 #include "post/stretch.h"
 #include "source/source.h"
 #include "splat/deposit.h"
@@ -84,6 +86,21 @@ typedef struct orr_scene {
                                     * direction at the dome's zenith before tilting (default [0, 90]) */
     double front_lb[2];            /* camera.front: [l, b] degrees: the direction drawn toward the
                                     * bottom of the dome master (default [0, 0]) */
+
+    /* colour.* : true colours (docs/colour.md). With colour.populations the
+     * render splats CIE X, Y and Z planes (written to FITS, linear) and the
+     * PNG is their colour synthesis; without, one weight plane and a colour
+     * map. */
+    int colour;                    /* colour.populations was given */
+    orr_population_set populations;/* colour.populations: list of {name, select, colour, luminance} */
+    uint64_t colour_seed;          /* colour.seed: of the populations' random draws (default 1) */
+    char colour_only[ORR_POPULATION_NAME_MAX]; /* colour.only: draw just this population (default: all);
+                                    * the others still take their particles first, so separate renders
+                                    * of each population add up to the render of all */
+    int only;                      /* its index, -1 for all */
+    orr_colour_synth synth;        /* colour.synthesis.stretch: linear | log | gamma | asinh (default log),
+                                    * .softening (10), .gamma (0.5), .white (auto), .white_percentile (99.9),
+                                    * .brightness (1), .contrast (1), .clip: desaturate | channel | none */
 
     /* psf.* : a point spread function. Flat views convolve the splatted
      * plane with it (FFT); sky maps, whose scale varies across the image,

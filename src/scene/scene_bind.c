@@ -1,5 +1,6 @@
 #include "scene/scene_bind.h"
 
+#include "scene/scene_colour.h"
 #include "source/source.h"
 
 #include <errno.h>
@@ -29,6 +30,7 @@ typedef enum {
     K_VEC3,     /* orr_vec3 from [x, y, z] */
     K_QUAT,     /* orr_quat from [w, x, y, z] */
     K_TYPES,    /* unsigned bit mask from a list of particle types 0..5 */
+    K_POPULATIONS, /* colour.populations: a list of mappings (scene_colour.c) */
     K_ID,       /* uint64_t, the full range: a particle id */
     K_LB,       /* double[2] from [l, b], degrees: l any finite number, b in [-90, 90] */
 } key_type;
@@ -167,6 +169,11 @@ static int word_lengths(orr_scene *s, const char *w)
 }
 static const char *names_lengths(void) { return "auto file neighbours"; }
 
+static int word_lum_stretch(orr_scene *s, const char *w) { return orr_lum_stretch_from_name(w, &s->synth.stretch); }
+static const char *names_lum_stretch(void) { return "linear log gamma asinh"; }
+static int word_clip(orr_scene *s, const char *w) { return orr_clip_from_name(w, &s->synth.clip); }
+static const char *names_clip(void) { return "desaturate channel none"; }
+
 static int word_psf(orr_scene *s, const char *w)
 {
     static const char *const names[] = {"none", "gaussian", "hst", "file"};
@@ -233,6 +240,18 @@ static const key_spec KEYS[] = {
     {.key = "smoothing.lengths", ENUM(lengths)},
     {.key = "smoothing.neighbours", .type = K_INT, FIELD(neighbours), IRANGE(1, 4096)},
     {.key = "smoothing.h_scale", .type = K_NUMBER, FIELD(h_scale), ABOVE(0)},
+    {.key = "colour.populations", .type = K_POPULATIONS},
+    {.key = "colour.only", .type = K_STRING, FIELD(colour_only)},
+    {.key = "colour.seed", .type = K_U64, FIELD(colour_seed), IRANGE(0, LLONG_MAX)},
+    {.key = "colour.synthesis.stretch", ENUM(lum_stretch)},
+    {.key = "colour.synthesis.softening", .type = K_NUMBER, FIELD(synth.n), ABOVE(0)},
+    {.key = "colour.synthesis.gamma", .type = K_NUMBER, FIELD(synth.gamma), ABOVE(0)},
+    {.key = "colour.synthesis.white", .type = K_AUTO, FIELD(synth.y0), ABOVE(0)},
+    {.key = "colour.synthesis.white_percentile", .type = K_NUMBER, FIELD(synth.y0_percentile), .lo = 0, .hi = 100,
+     .bounds = HAS_LO | LO_OPEN | HAS_HI},
+    {.key = "colour.synthesis.brightness", .type = K_NUMBER, FIELD(synth.brightness), ABOVE(0)},
+    {.key = "colour.synthesis.contrast", .type = K_NUMBER, FIELD(synth.contrast), ABOVE(0)},
+    {.key = "colour.synthesis.clip", ENUM(clip)},
     {.key = "psf.kind", ENUM(psf)},
     {.key = "psf.fwhm", .type = K_NUMBER, FIELD(psf_fwhm), CLOSED(0.1, 1000)},
     {.key = "psf.fwhm_arcmin", .type = K_NUMBER, FIELD(psf_fwhm_arcmin), CLOSED(0.01, 3000)},
@@ -800,6 +819,7 @@ static orr_status bind_value(const bind_ctx *c, const key_spec *k, const value_a
     case K_VEC3:
     case K_QUAT: return bind_vector(c, k, at, n);
     case K_TYPES: return bind_types(c, k, at, n);
+    case K_POPULATIONS: return scene_bind_populations(c->target, at->origin, at->line, at->path, n, c->err);
     case K_ID: return bind_id(c, k, at, n);
     case K_LB: return bind_lb(c, k, at, n);
     }

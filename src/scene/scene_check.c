@@ -212,6 +212,23 @@ static orr_status check_psf(const orr_scene *s, const scene_marks *m, orr_error 
     return ORR_OK;
 }
 
+static orr_status check_colour(orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    static const char *const keys[] = {"colour.seed", "colour.only", "colour.synthesis.stretch",
+                                       "colour.synthesis.white"};
+    s->populations.seed = s->colour_seed;
+    s->only = s->colour_only[0] ? orr_population_find(&s->populations, s->colour_only) : -1;
+    if (s->colour && s->colour_only[0] && s->only < 0)
+        return scene_fail_key(s, m, "colour.only", err, "colour.only: no population is called '%s'",
+                              s->colour_only);
+    for (size_t i = 0; !s->colour && i < sizeof keys / sizeof keys[0]; i++)
+        if (scene_mark(m, keys[i]))
+            return scene_fail_key(s, m, keys[i], err, "%s applies to colour.populations, which is not set", keys[i]);
+    if (orr_colour_synth_check(&s->synth, err))
+        return orr_fail_prefix(err, "%s: colour.synthesis: ", s->path);
+    return ORR_OK;
+}
+
 orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
 {
     scene_marks marks;
@@ -230,5 +247,7 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_projection(s, err);
     if (st == ORR_OK)
         st = check_psf(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_colour(s, &marks, err);
     return st;
 }

@@ -104,10 +104,15 @@ typedef struct model_state {
     uint64_t total, next_index;
 } model_state;
 
+/* Extra fields of every particle: velocity, and the distance from its own
+ * galaxy's centre (for colours that vary with radius). */
+#define MODEL_FIELDS 4
+
 typedef struct particle {
     orr_vec3 pos, vel;
     float mass;
     uint8_t type;
+    float r; /* distance from its galaxy's centre at generation (0 for markers) */
 } particle;
 
 /* ---- profiles ---------------------------------------------------------- */
@@ -407,6 +412,7 @@ static void make_particle(const model_state *m, uint64_t index, particle *p)
 {
     if (index < MODEL_MARKERS) {
         make_marker(m, index, p);
+        p->r = 0.0f;
         return;
     }
     const block *b = find_block(m, index);
@@ -418,6 +424,7 @@ static void make_particle(const model_state *m, uint64_t index, particle *p)
         sample_sphere(g, b->comp, &r, p);
     p->mass = b->mass;
     p->type = b->type;
+    p->r = (float)orr_v3_norm(orr_v3_sub(p->pos, g->centre));
 }
 
 /* ---- the source -------------------------------------------------------- */
@@ -443,6 +450,7 @@ static orr_status model_next(orr_source *src, orr_error *err)
         c->extra[0].data[k] = (float)p.vel.x;
         c->extra[1].data[k] = (float)p.vel.y;
         c->extra[2].data[k] = (float)p.vel.z;
+        c->extra[3].data[k] = p.r;
     }
     c->n = n;
     m->next_index += n;
@@ -485,7 +493,7 @@ static orr_status check_params(const orr_model_params *params, size_t chunk_size
 
 static void fill_info(orr_source_info *info, const orr_model_params *params)
 {
-    static const char *const names[3] = {"vx", "vy", "vz"};
+    static const char *const names[MODEL_FIELDS] = {"vx", "vy", "vz", "r"};
     snprintf(info->format, sizeof info->format, "model:mw-m31");
     snprintf(info->path, sizeof info->path,
              "built-in model mw-m31 (N=%lld, seed=%llu, separation=%g kpc)", params->particles,
@@ -495,8 +503,8 @@ static void fill_info(orr_source_info *info, const orr_model_params *params)
     info->has_h = 0;
     info->has_id = 1;
     info->has_type = 1;
-    info->nextra = 3;
-    for (int i = 0; i < 3; i++)
+    info->nextra = MODEL_FIELDS;
+    for (int i = 0; i < MODEL_FIELDS; i++)
         snprintf(info->extra_names[i], sizeof info->extra_names[i], "%s", names[i]);
 }
 
@@ -517,9 +525,9 @@ orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_si
     split_particles(m);
     fill_info(&src->info, params);
 
-    static const char *const extra[3] = {"vx", "vy", "vz"};
+    static const char *const extra[MODEL_FIELDS] = {"vx", "vy", "vz", "r"};
     size_t cap = (uint64_t)chunk_size < m->total ? chunk_size : (size_t)m->total;
-    st = orr_chunk_alloc(&src->chunk, cap, 0, extra, 3, err);
+    st = orr_chunk_alloc(&src->chunk, cap, 0, extra, MODEL_FIELDS, err);
     if (st != ORR_OK) {
         orr_source_close(src);
         return st;

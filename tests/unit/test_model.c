@@ -173,8 +173,9 @@ static void test_info(void)
     CHECK_CONTAINS(src->info.path, "separation=780 kpc");
     CHECK(src->info.count == 12345);
     CHECK(src->info.has_id == 1 && src->info.has_type == 1 && src->info.has_h == 0);
-    CHECK(src->info.nextra == 3);
+    CHECK(src->info.nextra == 4);
     CHECK(strcmp(src->info.extra_names[0], "vx") == 0 && strcmp(src->info.extra_names[2], "vz") == 0);
+    CHECK(strcmp(src->info.extra_names[3], "r") == 0);
     CHECK(src->chunk.capacity == 12345); /* min(chunk_size, N) */
     orr_source_close(src);
 }

@@ -370,7 +370,8 @@ static void test_key_errors(void)
     /* No close spelling, but only one key ends the same way. */
     EXPECT_ERROR(MODEL "camera:\n  height: 3\n", ORR_ERR_USAGE,
                  "scene.yaml:5: unknown key 'camera.height' (did you mean 'image.height'?)");
-    EXPECT_ERROR(MODEL "colour: red\n", ORR_ERR_USAGE, "scene.yaml:4: unknown key 'colour'");
+    EXPECT_ERROR(MODEL "colur: red\n", ORR_ERR_USAGE, "scene.yaml:4: unknown key 'colur'");
+    EXPECT_ERROR(MODEL "colour: red\n", ORR_ERR_USAGE, "scene.yaml:4: colour: expected a mapping of colour.* keys, got 'red'");
     /* Keys below a leaf are unknown, not silently ignored. */
     EXPECT_ERROR(MODEL "deposit:\n  kind: ngp\n", ORR_ERR_USAGE, "scene.yaml:4: deposit: expected one of: ngp cic sph, got a mapping");
     EXPECT_ERROR(MODEL "image:\n  width: 10\n  height: 10\n  width: 20\n", ORR_ERR_USAGE,

@@ -1,0 +1,90 @@
+# Colour through the command line: a scene with populations writes X, Y, Z
+# planes to FITS and a colour PNG; rendering two populations separately and
+# adding their planes gives the planes rendered together (additivity), and a
+# population's random draws do not depend on which others are present.
+source "$(dirname "$0")/lib.sh"
+py=/usr/bin/python3
+[ -x "$py" ] || py=python3
+
+# scene NAME POPULATION-BLOCKS...: the built-in model face-on, with colour.
+scene() {
+  local name=$1
+  shift
+  cat >"$name.yaml" <<EOT
+input:
+  model:
+    name: mw-m31
+    particles: 20000
+  types: [2, 3]
+camera:
+  projection: orthographic
+  width: 60
+image:
+  width: 96
+  height: 96
+output:
+  dir: out
+  name: $name
+colour:
+  populations:
+EOT
+  for block in "$@"; do printf '%s\n' "$block" >>"$name.yaml"; done
+}
+bulge='    - name: bulge
+      select: {types: [3]}
+      colour: {temperature: 4000}
+      luminance: {mass: 1}'
+old='    - name: old-disc
+      select:
+        types: [2]
+        random: {field: r, law: logistic, v0: 6, dv: 2}
+      colour: {bv: 1.2}
+      luminance: {mass: 1}'
+young='    - name: young-disc
+      select: {types: [2]}
+      colour: {srgb: [0.6, 0.7, 1.0]}
+      luminance: {mass: 1}'
+scene all "$bulge" "$old" "$young"
+for pop in bulge old young; do
+  scene "$pop" "$bulge" "$old" "$young"
+  printf '  only: %s\n' "$([ $pop = bulge ] && echo bulge || echo $pop-disc)" >>"$pop.yaml"
+done
+for s in all bulge old young; do
+  "$ORRERY" render --quiet "$s.yaml" 2>err.txt || fail "render $s: $(cat err.txt)"
+done
+"$py" - <<'EOT' || fail "colour planes"
+import sys
+import numpy as np
+from astropy.io import fits
+from PIL import Image
+
+def planes(name):
+    with fits.open(f"out/{name}.fits") as h:
+        names = [hdu.header.get("EXTNAME") for hdu in h]
+        assert names == ["X", "Y", "Z"], names
+        return np.array([hdu.data.astype(np.float64) for hdu in h])
+
+a = planes("all")
+parts = planes("bulge") + planes("old") + planes("young")
+err = np.abs(a - parts).max() / a.max()
+print(f"additivity: max |all - (bulge + old + young)| = {err:.2e} of the peak")
+ok = err < 1e-6
+# The bulge is redder than the young disc: x chromaticity of their sums.
+def x_chroma(p):
+    s = p.sum(axis=(1, 2))
+    return s[0] / s.sum()
+xb, xy = x_chroma(planes("bulge")), x_chroma(planes("young"))
+print(f"chromaticity x: bulge {xb:.3f}, young disc {xy:.3f}")
+ok &= xb > xy + 0.05
+img = Image.open("out/all.png")
+ok &= img.mode == "RGB" and img.size == (96, 96)
+sys.exit(0 if ok else 1)
+EOT
+# Errors name the population and the key.
+scene bad '    - name: hot
+      colour: {temperature: -5}'
+expect_fail 2 "colour.populations\[0\].*hot.*temperature" out2 -- render bad.yaml -o out2
+scene bad2 '    - name: a
+      colour: {kelvin: 5000}'
+expect_fail 2 "bad2.yaml:[0-9]+: colour.populations\[0\].colour: unknown key 'kelvin'" out2 -- render bad2.yaml -o out2
+finish
