@@ -6,6 +6,7 @@
 #include "source/hdf5_reader.h"
 
 #include <errno.h>
+#include <float.h>
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
@@ -330,6 +331,10 @@ static orr_status check_group(hdf5_state *st, const char *path, hid_t fid, int t
         else if (!name && k == DS_MASS && st->mass_table[t] == 0)
             s = orr_fail(err, ORR_ERR_FORMAT, "%s: %s has no Masses dataset and Header/MassTable[%d] is 0", path,
                          gname, t);
+        else if (!name && k == DS_MASS && !(st->mass_table[t] > 0 && st->mass_table[t] <= FLT_MAX))
+            s = orr_fail(err, ORR_ERR_FORMAT,
+                         "%s: %s has no Masses dataset and Header/MassTable[%d] = %g is not a finite positive float",
+                         path, gname, t, st->mass_table[t]);
         else if (name)
             s = check_dataset(path, t, g, name, (h5r_dataset)k, n, err);
         if (name && !s) {
@@ -362,14 +367,19 @@ static orr_status check_file(hdf5_state *st, int i, hid_t fid, char example[DS_C
     file_name(st, i, path, sizeof path);
     hid_t header = -1;
     int64_t *counts = st->npart + (size_t)i * (size_t)st->ntypes;
+    /* Read in full first: npart has room for st->ntypes entries per file
+     * only, and this file may have more. */
+    int64_t file_counts[H5R_MAX_TYPES];
     int ntypes = 0;
     orr_status s = open_header(path, fid, &header, err);
     if (!s)
-        s = read_counts(path, header, counts, &ntypes, err);
+        s = read_counts(path, header, file_counts, &ntypes, err);
     orr_h5_close(header);
     if (!s && ntypes != st->ntypes)
         s = orr_fail(err, ORR_ERR_FORMAT, "%s: Header/NumPart_ThisFile has %d entries but %s has %d", path, ntypes,
                      st->first, st->ntypes);
+    if (!s)
+        memcpy(counts, file_counts, (size_t)ntypes * sizeof *counts);
     int64_t sum = 0;
     for (int t = 0; t < st->ntypes && !s; t++)
         sum += counts[t] > INT64_MAX / 64 ? INT64_MAX / 64 : counts[t];

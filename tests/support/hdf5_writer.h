@@ -18,9 +18,10 @@ typedef enum {
                  * Densities, ..., Code and Units groups, unit attributes per dataset */
 } h5w_style;
 
-/* The particles of one PartTypeN group; any array but pos may be NULL (the
- * dataset is then not written). Values are written converted to the file
- * types of the snapshot. A group with n == 0 is not written at all. */
+/* The particles of one PartTypeN group; any array may be NULL (the dataset
+ * is then not written; a group without Coordinates is for the bad-input
+ * tests). Values are written converted to the file types of the snapshot. A
+ * group with n == 0 is not written at all. */
 typedef struct h5w_part {
     size_t n;
     const double *pos; /* 3n: x0 y0 z0 x1 ... */
@@ -54,6 +55,16 @@ int h5w_set_int64_attr(const char *path, const char *group, const char *name, co
 /* Writes a file with only the named empty groups (a NULL-terminated list). */
 int h5w_write_groups(const char *path, const char *const *groups);
 
+/* The same as h5w_write, but leaves the file open (in *file, -1 when it
+ * could not be created) for the editors below, which the fuzz target applies
+ * without reopening the file each time; close it with H5Fclose. */
+int h5w_write_open(const char *path, const h5w_snapshot *s, hid_t *file);
+
+/* Editors of a file open for writing (from h5w_write_open, or H5Fopen with
+ * H5F_ACC_RDWR); object and group paths like "PartType0/Masses", "/" for the
+ * root group. */
+int h5w_delete_in(hid_t file, const char *object);
+
 /* A dataset of any type and shape, for h5w_replace_dataset_spec. */
 typedef struct h5w_dataset_spec {
     hid_t type;           /* file type (0: H5T_IEEE_F32LE); a non-numeric type is created but not written */
@@ -65,18 +76,19 @@ typedef struct h5w_dataset_spec {
     size_t nvalues;
 } h5w_dataset_spec;
 /* Replaces (or adds) the dataset object as spec describes. */
-int h5w_replace_dataset_spec(const char *path, const char *object, const h5w_dataset_spec *spec);
+int h5w_replace_dataset_spec(hid_t file, const char *object, const h5w_dataset_spec *spec);
 /* Writes (replacing) an attribute of group: n values converted to type
  * (rank 1), one value as a scalar (rank 0), or a null dataspace (rank -1). */
-int h5w_set_attr(const char *path, const char *group, const char *name, hid_t type, int rank, const double *values,
-                 int n);
-/* Writes (replacing) a fixed-length string attribute of group. */
-int h5w_set_string_attr(const char *path, const char *group, const char *name, const char *value);
-/* Removes attribute name of group (a path, "/" for the root). */
-int h5w_delete_attr(const char *path, const char *group, const char *name);
+int h5w_set_attr(hid_t file, const char *group, const char *name, hid_t type, int rank, const double *values, int n);
+/* Writes (replacing) a string attribute of group, fixed-length or (when
+ * variable) variable-length. */
+int h5w_set_string_attr(hid_t file, const char *group, const char *name, const char *value, int variable);
+/* Removes attribute name of group. */
+int h5w_delete_attr(hid_t file, const char *group, const char *name);
 /* Adds an empty group (its parent must exist). */
-int h5w_add_group(const char *path, const char *object);
-/* Adds a link name to target: a hard link (target must exist) or a soft one. */
-int h5w_add_link(const char *path, const char *name, const char *target, int hard);
+int h5w_add_group(hid_t file, const char *object);
+/* Adds (replacing) a link name to target: a hard link (target must exist)
+ * or a soft one. */
+int h5w_add_link(hid_t file, const char *name, const char *target, int hard);
 
 #endif
