@@ -43,6 +43,7 @@ typedef struct hdf5_state {
     int64_t *npart;                 /* nfiles x ntypes: NumPart_ThisFile of each file */
     unsigned type_mask;             /* types to read (bit t) */
     int present[DS_COUNT];          /* some group read has this dataset */
+    int swift_h;                    /* smoothing lengths are SWIFT's (SmoothingLengths) */
     int slot[EX_COUNT];             /* chunk extra index of each extra field, or -1 */
     /* Where reading stands. */
     int file, type;
@@ -339,6 +340,8 @@ static orr_status check_group(hdf5_state *st, const char *path, hid_t fid, int t
             s = check_dataset(path, t, g, name, (h5r_dataset)k, n, err);
         if (name && !s) {
             st->present[k] = 1;
+            if (k == DS_H && strcmp(name, "SmoothingLengths") == 0)
+                st->swift_h = 1;
             if (!example[k][0])
                 snprintf(example[k], sizeof example[k], "%s", gname);
         }
@@ -671,6 +674,10 @@ static void choose_fields(hdf5_state *st, orr_source *src, const orr_source_opti
         }
     }
     src->info.has_h = st->present[DS_H];
+    /* Gadget, AREPO and GIZMO store the radius where the kernel ends; SWIFT
+     * stores h with that radius at gamma h, gamma = 1.825742 for its default
+     * cubic spline (Dehnen & Aly 2012, table 1). */
+    src->info.h_support = st->swift_h ? 1.825742 : 1.0;
     src->info.has_id = st->present[DS_ID];
     src->info.has_type = 1;
 }
