@@ -10,6 +10,7 @@
 enum { EXIT_OK = 0, EXIT_RUNTIME = 1, EXIT_USAGE = 2 };
 
 int cmd_render(int argc, char **argv);
+int cmd_compose(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_model(int argc, char **argv);
 

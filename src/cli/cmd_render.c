@@ -1,4 +1,6 @@
-/* orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--quiet] */
+/* orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--quiet]
+ * orrery compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--quiet]
+ * The two take the same arguments: compose is the second half of render. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,6 +25,23 @@ static const char render_help[] =
     "\n"
     "Scene keys: docs/scenes.md. Exit status: 0 success, 1 runtime failure, 2 usage error.\n";
 
+static const char compose_help[] =
+    "usage: orrery compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--quiet]\n"
+    "\n"
+    "Re-grades a render without rendering again: reads the raw planes that\n"
+    "`orrery render` wrote with output.raw: true (DIR/NAME.raw.fits, before\n"
+    "any PSF), applies the scene's PSF, colour synthesis (colour.synthesis.*)\n"
+    "or stretch and colour map (output.*) as they are now, and writes\n"
+    "DIR/NAME.png. Change the grading with --set, e.g.\n"
+    "  orrery compose futuresky.yaml --set colour.synthesis.stretch=asinh\n"
+    "\n"
+    "  --set KEY=VALUE   override a scene key (repeatable; applied in order)\n"
+    "  -o, --output DIR  the folder the render wrote to (overrides output.dir)\n"
+    "  -q, --quiet       nothing but errors\n"
+    "  -h, --help        this text\n"
+    "\n"
+    "Exit status: 0 success, 1 runtime failure, 2 usage error.\n";
+
 static void print_report(const orr_render_report *r, const char *view, double seconds)
 {
     if (view[0])
@@ -43,26 +62,36 @@ static void print_report(const orr_render_report *r, const char *view, double se
         printf("  wrote %s\n", r->outputs[i]);
 }
 
-int cmd_render(int argc, char **argv)
+static void print_compose_report(const orr_render_report *r, const char *view)
 {
+    if (view[0])
+        printf("view %s: ", view);
+    printf("composed from %s (white %g)\n", r->source, r->white);
+    for (int i = 0; i < r->noutputs; i++)
+        printf("  wrote %s\n", r->outputs[i]);
+}
+
+static int run_scene_command(int argc, char **argv, int compose)
+{
+    const char *cmd = compose ? "compose" : "render";
     const char *scene_path = NULL, *out_dir = NULL;
     int quiet = 0;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     int nsets = 0;
     if (!sets) {
-        fprintf(stderr, "orrery render: out of memory\n");
+        fprintf(stderr, "orrery %s: out of memory\n", cmd);
         return EXIT_RUNTIME;
     }
     int code = EXIT_OK;
     for (int i = 1; i < argc && code == EXIT_OK; i++) {
         const char *a = argv[i];
         if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            fputs(render_help, stdout);
+            fputs(compose ? compose_help : render_help, stdout);
             free(sets);
             return EXIT_OK;
         } else if (strcmp(a, "--set") == 0 || strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
             if (i + 1 >= argc)
-                code = cli_usage_error("render", "%s needs a value", a);
+                code = cli_usage_error(cmd, "%s needs a value", a);
             else if (strcmp(a, "--set") == 0)
                 sets[nsets++] = argv[++i];
             else
@@ -72,15 +101,15 @@ int cmd_render(int argc, char **argv)
         } else if (strcmp(a, "-q") == 0 || strcmp(a, "--quiet") == 0) {
             quiet = 1;
         } else if (a[0] == '-' && a[1] != '\0') {
-            code = cli_usage_error("render", "unknown option '%s'", a);
+            code = cli_usage_error(cmd, "unknown option '%s'", a);
         } else if (scene_path) {
-            code = cli_usage_error("render", "one scene file at a time (got '%s' and '%s')", scene_path, a);
+            code = cli_usage_error(cmd, "one scene file at a time (got '%s' and '%s')", scene_path, a);
         } else {
             scene_path = a;
         }
     }
     if (code == EXIT_OK && !scene_path)
-        code = cli_usage_error("render", "no scene file given");
+        code = cli_usage_error(cmd, "no scene file given");
     if (code != EXIT_OK) {
         free(sets);
         return code;
@@ -100,7 +129,11 @@ int cmd_render(int argc, char **argv)
             snprintf(views->view[k].out_dir, sizeof views->view[k].out_dir, "%s", out_dir);
         list[k] = &views->view[k];
     }
-    if (!st) {
+    if (!st && compose) {
+        st = orr_compose_views(list, views->n, reports, &err);
+        for (int k = 0; !st && !quiet && k < views->n; k++)
+            print_compose_report(&reports[k], views->name[k]);
+    } else if (!st) {
         cli_progress progress;
         cli_progress_init(&progress, !quiet);
         double t0 = cli_now();
@@ -115,3 +148,6 @@ int cmd_render(int argc, char **argv)
     free(sets);
     return code;
 }
+
+int cmd_render(int argc, char **argv) { return run_scene_command(argc, argv, 0); }
+int cmd_compose(int argc, char **argv) { return run_scene_command(argc, argv, 1); }

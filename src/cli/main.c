@@ -15,6 +15,7 @@ static const char usage_text[] =
     "\n"
     "commands:\n"
     "  render SCENE.yaml [--set KEY=VALUE ...] [-o DIR]   render a scene to FITS and PNG\n"
+    "  compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR]  re-grade a render from its raw planes\n"
     "  info FILE [--format FORMAT]                        particle count, fields, bounds, mass\n"
     "  model -o FILE [--particles N] [--seed S] [--separation KPC]\n"
     "                                                     write the built-in Milky Way-Andromeda model\n"
@@ -120,6 +121,8 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "render") == 0)
         return cmd_render(argc - 1, argv + 1);
+    if (strcmp(cmd, "compose") == 0)
+        return cmd_compose(argc - 1, argv + 1);
     if (strcmp(cmd, "info") == 0)
         return cmd_info(argc - 1, argv + 1);
     if (strcmp(cmd, "model") == 0)

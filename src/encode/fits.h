@@ -9,7 +9,7 @@
 #include "core/error.h"
 #include "splat/plane.h"
 
-#define ORR_FITS_MAX_CARDS 64
+#define ORR_FITS_MAX_CARDS 160
 
 typedef enum { ORR_CARD_STRING, ORR_CARD_DOUBLE, ORR_CARD_LONG, ORR_CARD_BOOL } orr_card_type;
 

@@ -7,6 +7,7 @@
 
 #include "encode/atomic.h"
 #include "encode/fits.h"
+#include "encode/fits_read.h"
 #include "encode/png.h"
 #include "post/colormap.h"
 #include "post/stretch.h"
@@ -520,26 +521,32 @@ static orr_status output_path(const orr_scene *s, const char *ext, char *path, o
     return ORR_OK;
 }
 
+/* Writes the view's planes, with the frame's cards, to NAME.EXT. */
+static orr_status write_fits_planes(view_state *v, const char *ext, orr_error *err)
+{
+    orr_render_report *rep = v->rep;
+    char *path = rep->outputs[rep->noutputs];
+    orr_fits_header *h = orr_calloc(1, sizeof *h, "FITS header", err);
+    if (!h)
+        return ORR_ERR_NOMEM;
+    add_frame_cards(v, h);
+    orr_status st = output_path(v->scene, ext, path, err);
+    if (!st)
+        st = orr_write_fits(path, v->planes, v->nplanes, h, err);
+    free(h);
+    if (!st)
+        rep->noutputs++;
+    return st;
+}
+
 static orr_status write_outputs(view_state *v, orr_error *err)
 {
     const orr_scene *s = v->scene;
     orr_render_report *rep = v->rep;
     orr_status st;
     mask_outside_map(v);
-    if (s->write_fits) {
-        char *path = rep->outputs[rep->noutputs];
-        orr_fits_header *h = orr_calloc(1, sizeof *h, "FITS header", err);
-        if (!h)
-            return ORR_ERR_NOMEM;
-        add_frame_cards(v, h);
-        st = output_path(s, "fits", path, err);
-        if (!st)
-            st = orr_write_fits(path, v->planes, v->nplanes, h, err);
-        free(h);
-        if (st)
-            return st;
-        rep->noutputs++;
-    }
+    if (s->write_fits && (st = write_fits_planes(v, "fits", err)))
+        return st;
     if (s->write_png) {
         char *path = rep->outputs[rep->noutputs];
         if ((st = output_path(s, "png", path, err)) || (st = write_png(v, path, err)))
@@ -652,6 +659,11 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
     }
     if (!st)
         st = splat_source(views, n, src, progress, progress_user, err);
+    for (int k = 0; k < n && !st; k++) /* the planes before the PSF, for orrery compose */
+        if (views[k].scene->write_raw) {
+            mask_outside_map(&views[k]);
+            st = write_fits_planes(&views[k], "raw.fits", err);
+        }
     for (int k = 0; k < n && !st; k++)
         for (int j = 0; j < views[k].nplanes && !st; j++)
             st = orr_view_psf_apply(&views[k].psf, &views[k].planes[j], err);
@@ -660,6 +672,64 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
     orr_source_close(src);
     orr_lengths_free(&lengths);
     for (int k = 0; k < ready && views; k++)
+        free_view(&views[k]);
+    free(views);
+    return st;
+}
+
+/* One view's raw planes into its planes: the file must hold what the scene
+ * renders (one weight plane, or X, Y, Z) at the scene's image size. */
+static orr_status load_raw(view_state *v, orr_error *err)
+{
+    orr_render_report *rep = v->rep;
+    char path[ORR_PATH_MAX];
+    orr_status st = output_path(v->scene, "raw.fits", path, err);
+    orr_plane raw[3];
+    int n = 0;
+    if (!st)
+        st = orr_read_fits_planes(path, raw, 3, &n, err);
+    if (!st && (n != v->nplanes || raw[0].width != v->proj.width || raw[0].height != v->proj.height))
+        st = orr_fail(err, ORR_ERR_DATA,
+                      "%s: holds %d plane(s) of %d x %d, but %s renders %d of %d x %d (was it rendered from "
+                      "another scene?)",
+                      path, n, raw[0].width, raw[0].height, v->scene->path, v->nplanes, v->proj.width,
+                      v->proj.height);
+    for (int k = 0; !st && k < n; k++)
+        memcpy(v->planes[k].data, raw[k].data, (size_t)v->proj.width * (size_t)v->proj.height * sizeof(float));
+    for (int k = 0; k < n; k++)
+        orr_plane_free(&raw[k]);
+    if (!st)
+        snprintf(rep->source, sizeof rep->source, "%s", path);
+    return st;
+}
+
+orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_report *reports, orr_error *err)
+{
+    if (n < 1)
+        return orr_fail(err, ORR_ERR_USAGE, "no view to compose");
+    /* No particles, so no observer frame: the world's stands in (the camera
+     * matters only for FITS cards, and compose writes PNGs). */
+    orr_sky_frame observer = orr_sky_frame_world(orr_v3(0, 0, 0));
+    view_state *views = orr_calloc((size_t)n, sizeof *views, "views", err);
+    if (!views)
+        return ORR_ERR_NOMEM;
+    orr_status st = ORR_OK;
+    int ready = 0;
+    for (; !st && ready < n; ready++)
+        st = setup_view(&views[ready], scenes[ready], scenes[0]->has_observer ? &observer : NULL, &reports[ready],
+                        err);
+    for (int k = 0; k < n && !st; k++) {
+        view_state *v = &views[k];
+        char *path = v->rep->outputs[v->rep->noutputs];
+        if ((st = load_raw(v, err)))
+            break;
+        for (int j = 0; j < v->nplanes && !st; j++)
+            st = orr_view_psf_apply(&v->psf, &v->planes[j], err);
+        mask_outside_map(v);
+        if (!st && !(st = output_path(v->scene, "png", path, err)) && !(st = write_png(v, path, err)))
+            v->rep->noutputs++;
+    }
+    for (int k = 0; k < ready; k++)
         free_view(&views[k]);
     free(views);
     return st;

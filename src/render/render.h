@@ -47,6 +47,12 @@ orr_status orr_scene_open_source(const orr_scene *scene, const char *const *fiel
 orr_status orr_render_views(const orr_scene *const *views, int n, orr_render_report *reports,
                             orr_progress_fn progress, void *progress_user, orr_error *err);
 
+/* Re-grades views[0..n) from the raw planes a render with output.raw wrote
+ * (DIR/NAME.raw.fits): applies the scene's PSF, colour synthesis or stretch
+ * and colour map as they are now, and writes DIR/NAME.png. Nothing is read
+ * from the particles. */
+orr_status orr_compose_views(const orr_scene *const *views, int n, orr_render_report *reports, orr_error *err);
+
 /* Renders one scene: orr_render_views with one view. */
 orr_status orr_render_scene(const orr_scene *scene, orr_render_report *report, orr_progress_fn progress,
                             void *progress_user, orr_error *err);

@@ -140,6 +140,8 @@ typedef struct orr_scene {
     char out_name[ORR_NAME_MAX];   /* output.name: base file name (default: the scene file's stem) */
     int write_fits;                /* output.fits (default true) */
     int write_png;                 /* output.png (default true) */
+    int write_raw;                 /* output.raw: also NAME.raw.fits, the planes before the PSF, for
+                                    * `orrery compose` (default false) */
     int png_bits;                  /* output.png_bits: 8 | 16 (default 8) */
     orr_stretch stretch;           /* output.stretch: linear | log | asinh (default log),
                                     * output.white: number > 0 or "auto" (default auto),

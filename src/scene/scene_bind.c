@@ -272,6 +272,7 @@ static const key_spec KEYS[] = {
     {.key = "output.name", .type = K_FILENAME, FIELD(out_name)},
     {.key = "output.fits", .type = K_BOOL, FIELD(write_fits)},
     {.key = "output.png", .type = K_BOOL, FIELD(write_png)},
+    {.key = "output.raw", .type = K_BOOL, FIELD(write_raw)},
     {.key = "output.png_bits", ENUM(png_bits)},
     {.key = "output.stretch", ENUM(stretch)},
     {.key = "output.white", .type = K_AUTO, FIELD(stretch.white), ABOVE(0)},

@@ -1,0 +1,89 @@
+#include "encode/fits_read.h"
+
+#include <fitsio.h>
+#include <stdio.h>
+#include <string.h>
+
+static orr_status read_failure(const char *path, int hdu, int status, orr_error *err)
+{
+    char text[FLEN_STATUS] = "";
+    fits_get_errstatus(status, text);
+    fits_clear_errmsg();
+    return orr_fail(err, ORR_ERR_IO, "%s: HDU %d: cannot read FITS image: %s", path, hdu, text);
+}
+
+/* One image HDU (the current one) into p; rows are stored bottom-up. */
+static orr_status read_hdu(fitsfile *f, const char *path, int hdu, int width, int height, orr_plane *p,
+                           orr_error *err)
+{
+    char name[FLEN_VALUE] = "", unit[FLEN_VALUE] = "";
+    int status = 0;
+    fits_read_key(f, TSTRING, "EXTNAME", name, NULL, &status);
+    status = 0;
+    fits_read_key(f, TSTRING, "BUNIT", unit, NULL, &status);
+    orr_status st = orr_plane_alloc(p, width, height, name, unit, err);
+    status = 0;
+    for (int y = 0; !st && y < height && status == 0; y++) {
+        LONGLONG first[2] = {1, height - y};
+        fits_read_pixll(f, TFLOAT, first, width, NULL, p->data + (size_t)y * (size_t)width, NULL, &status);
+    }
+    if (!st && status)
+        st = read_failure(path, hdu, status, err);
+    return st;
+}
+
+static orr_status image_size(fitsfile *f, const char *path, int hdu, int *w, int *h, orr_error *err)
+{
+    int status = 0, naxis = 0;
+    long naxes[2] = {0, 0};
+    fits_get_img_dim(f, &naxis, &status);
+    if (!status && naxis == 2)
+        fits_get_img_size(f, 2, naxes, &status);
+    if (status)
+        return read_failure(path, hdu, status, err);
+    if (naxis != 2 || naxes[0] < 1 || naxes[1] < 1 || naxes[0] > 1 << 20 || naxes[1] > 1 << 20)
+        return orr_fail(err, ORR_ERR_FORMAT, "%s: HDU %d is not a 2-D image (NAXIS = %d)", path, hdu, naxis);
+    *w = (int)naxes[0];
+    *h = (int)naxes[1];
+    return ORR_OK;
+}
+
+orr_status orr_read_fits_planes(const char *path, orr_plane *planes, int max, int *n, orr_error *err)
+{
+    *n = 0;
+    fitsfile *f = NULL;
+    int status = 0, nhdu = 0;
+    if (fits_open_file(&f, path, READONLY, &status) || fits_get_num_hdus(f, &nhdu, &status)) {
+        char text[FLEN_STATUS] = "";
+        fits_get_errstatus(status, text);
+        fits_clear_errmsg();
+        if (f)
+            fits_close_file(f, &status);
+        return orr_fail(err, ORR_ERR_IO, "%s: cannot open FITS file: %s", path, text);
+    }
+    orr_status st = ORR_OK;
+    int w0 = 0, h0 = 0;
+    for (int hdu = 1; hdu <= nhdu && *n < max && !st; hdu++) {
+        int w = 0, h = 0;
+        if (fits_movabs_hdu(f, hdu, NULL, &status))
+            st = read_failure(path, hdu, status, err);
+        if (!st)
+            st = image_size(f, path, hdu, &w, &h, err);
+        if (!st && hdu == 1) {
+            w0 = w;
+            h0 = h;
+        }
+        if (!st && (w != w0 || h != h0))
+            st = orr_fail(err, ORR_ERR_FORMAT, "%s: HDU %d is %d x %d, HDU 1 is %d x %d", path, hdu, w, h, w0, h0);
+        if (!st && !(st = read_hdu(f, path, hdu, w, h, &planes[*n], err)))
+            (*n)++;
+    }
+    status = 0;
+    fits_close_file(f, &status);
+    if (st) {
+        for (int i = 0; i < *n; i++)
+            orr_plane_free(&planes[i]);
+        *n = 0;
+    }
+    return st;
+}

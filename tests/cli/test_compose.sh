@@ -1,0 +1,67 @@
+# orrery compose re-grades a render from its raw planes: with the scene
+# unchanged it reproduces the render's PNG bit for bit (PSF included, since
+# the raw planes are taken before it), with another grading it differs, and
+# without raw planes it says which file is missing.
+source "$(dirname "$0")/lib.sh"
+py=/usr/bin/python3
+[ -x "$py" ] || py=python3
+
+cat >flat.yaml <<'EOT'
+input:
+  model:
+    name: mw-m31
+    particles: 20000
+  types: [2, 3]
+camera:
+  projection: orthographic
+  width: 60
+image:
+  width: 120
+  height: 90
+psf:
+  kind: gaussian
+  fwhm: 2.5
+output:
+  dir: out
+  name: flat
+  raw: true
+EOT
+cp flat.yaml colour.yaml
+sed -i 's/name: flat/name: colour/' colour.yaml
+cat >>colour.yaml <<'EOT'
+colour:
+  populations:
+    - name: bulge
+      select: {types: [3]}
+      colour: {temperature: 4000}
+      luminance: {mass: 1}
+    - name: disc
+      select: {types: [2]}
+      colour: {temperature: 9000}
+      luminance: {mass: 1}
+EOT
+same_pixels() { "$py" -c "
+import sys, numpy as np
+from PIL import Image
+a, b = (np.asarray(Image.open(p)) for p in sys.argv[1:3])
+sys.exit(0 if a.shape == b.shape and (a == b).all() else 1)" "$1" "$2"; }
+
+for s in flat colour; do
+  "$ORRERY" render --quiet "$s.yaml" 2>err.txt || fail "render $s: $(cat err.txt)"
+  [ -f "out/$s.raw.fits" ] || fail "$s: no raw planes written"
+  cp "out/$s.png" "rendered-$s.png"
+  "$ORRERY" compose --quiet "$s.yaml" 2>err.txt || fail "compose $s: $(cat err.txt)"
+  same_pixels "rendered-$s.png" "out/$s.png" || fail "$s: compose with the same scene changed the PNG"
+done
+"$ORRERY" compose --quiet flat.yaml --set output.stretch=linear 2>err.txt || fail "compose flat linear: $(cat err.txt)"
+same_pixels rendered-flat.png out/flat.png && fail "flat: compose with a linear stretch left the PNG unchanged"
+"$ORRERY" compose --quiet colour.yaml --set colour.synthesis.stretch=gamma 2>err.txt ||
+  fail "compose colour gamma: $(cat err.txt)"
+same_pixels rendered-colour.png out/colour.png && fail "colour: compose with a gamma stretch left the PNG unchanged"
+
+# A scene whose image size differs from the raw planes', and one never rendered.
+expect_fail 1 "out/flat.raw.fits: holds 1 plane\(s\) of 120 x 90, but .*flat.yaml renders 1 of 64 x 90" none -- \
+  compose flat.yaml --set image.width=64
+sed 's/name: flat/name: never/' flat.yaml >never.yaml
+expect_fail 1 "out/never.raw.fits: cannot open FITS file" none -- compose never.yaml
+finish
