@@ -10,6 +10,8 @@ packages=(
   libyaml-dev                        # scene files
   libhdf5-dev                        # Gadget/SWIFT/AREPO HDF5 snapshots
   libfftw3-dev                       # convolution (Gaussian and PSF)
+  libopenexr-dev                     # OpenEXR output, through its C API (OpenEXRCore 3.1)
+  libopenimageio-dev                 # TIFF, JPEG, ... output and image reading (OpenImageIO 2.4, C++)
   libgomp1                           # OpenMP runtime (gcc's)
   clang libclang-rt-dev libomp-dev   # libFuzzer for the reader fuzz targets (clang build)
   python3-astropy python3-numpy      # tests: an independent FITS WCS reader
