@@ -8,6 +8,7 @@
 #include "encode/atomic.h"
 #include "encode/fits.h"
 #include "encode/fits_read.h"
+#include "encode/image_out.h"
 #include "encode/png.h"
 #include "post/colormap.h"
 #include "post/stretch.h"
@@ -461,55 +462,113 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
     orr_wcs_add_cards(h, p, cam, &rep->sky);
 }
 
-/* A colour view's PNG: the synthesis of its X, Y, Z planes, sRGB-encoded. */
-static orr_status write_colour_png(const view_state *v, const char *path, orr_error *err)
+/* The view's picture, sRGB-encoded RGB: the colour synthesis of its X, Y, Z
+ * planes, or its weight plane stretched and colour-mapped; desc says how. */
+static orr_status graded_rgb(const view_state *v, float *rgb, char *desc, size_t size, orr_error *err)
 {
     const orr_scene *s = v->scene;
     orr_render_report *rep = v->rep;
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
-    float *rgb = orr_malloc(npix * 3 * sizeof(float), "PNG pixels", err);
+    if (s->colour) {
+        orr_status st = orr_colour_synthesise(&s->synth, &v->planes[0], &v->planes[1], &v->planes[2], rgb,
+                                              &rep->white, err);
+        if (!st) {
+            orr_srgb_encode_buffer(rgb, npix * 3);
+            snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
+                     s->populations.n, rep->source, orr_projection_name(v->proj.kind),
+                     orr_lum_stretch_name(s->synth.stretch), rep->white);
+        }
+        return st;
+    }
+    float *t = orr_malloc(npix * sizeof(float), "stretched image", err);
+    if (!t)
+        return ORR_ERR_NOMEM;
+    orr_status st = orr_stretch_apply(&s->stretch, &v->planes[0], t, &rep->white, err);
+    for (size_t i = 0; !st && i < npix; i++)
+        orr_colormap_lookup(s->colormap, t[i], &rgb[3 * i]);
+    if (!st)
+        snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->weight,
+                 rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->stretch.kind), rep->white,
+                 orr_colormap_name(s->colormap));
+    free(t);
+    return st;
+}
+
+static orr_status output_path(const orr_scene *s, const char *ext, char *path, orr_error *err);
+
+/* What the other image formats record: the scene, projection, time, camera. */
+static orr_image_meta view_meta(const view_state *v, const char *desc, const char **keys, const char **values)
+{
+    const orr_camera *cam = &v->rep->camera;
+    orr_image_meta m = {0};
+    m.scene = v->scene->out_name;
+    m.projection = orr_projection_name(v->proj.kind);
+    m.has_time = 1;
+    m.time = v->rep->sim_time;
+    m.has_camera = 1;
+    m.cam_pos[0] = cam->position.x;
+    m.cam_pos[1] = cam->position.y;
+    m.cam_pos[2] = cam->position.z;
+    m.cam_quat[0] = cam->orientation.w;
+    m.cam_quat[1] = cam->orientation.x;
+    m.cam_quat[2] = cam->orientation.y;
+    m.cam_quat[3] = cam->orientation.z;
+    keys[0] = "description";
+    values[0] = desc;
+    m.nextra = 1;
+    for (int k = 0; k < m.nextra; k++) {
+        m.extra_key[k] = keys[k];
+        m.extra_value[k] = values[k];
+    }
+    return m;
+}
+
+/* The graded picture as PNG (output.png) and as output.image (any format
+ * OpenImageIO writes, by extension). */
+static orr_status write_pictures(view_state *v, orr_error *err)
+{
+    const orr_scene *s = v->scene;
+    orr_render_report *rep = v->rep;
+    if (!s->write_png && !s->image_ext[0])
+        return ORR_OK;
+    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    float *rgb = orr_malloc(npix * 3 * sizeof(float), "picture pixels", err);
     if (!rgb)
         return ORR_ERR_NOMEM;
-    orr_status st = orr_colour_synthesise(&s->synth, &v->planes[0], &v->planes[1], &v->planes[2], rgb, &rep->white,
-                                          err);
-    if (!st) {
-        orr_srgb_encode_buffer(rgb, npix * 3);
-        char desc[ORR_PATH_MAX + 256];
-        snprintf(desc, sizeof desc, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
-                 s->populations.n, rep->source, orr_projection_name(v->proj.kind),
-                 orr_lum_stretch_name(s->synth.stretch), rep->white);
+    char desc[ORR_PATH_MAX + 256];
+    orr_status st = graded_rgb(v, rgb, desc, sizeof desc, err);
+    if (!st && s->write_png) {
+        char *path = rep->outputs[rep->noutputs];
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
-        st = orr_write_png_rgb(path, v->proj.width, v->proj.height, rgb, s->png_bits, text, 2, err);
+        if (!(st = output_path(s, "png", path, err)) &&
+            !(st = orr_write_png_rgb(path, v->proj.width, v->proj.height, rgb, s->png_bits, text, 2, err)))
+            rep->noutputs++;
+    }
+    if (!st && s->image_ext[0]) {
+        char *path = rep->outputs[rep->noutputs];
+        const char *keys[1], *values[1];
+        orr_image_meta meta = view_meta(v, desc, keys, values);
+        if (!(st = output_path(s, s->image_ext, path, err)) &&
+            !(st = orr_write_image_rgb(path, rgb, v->proj.width, v->proj.height, s->png_bits, &meta, err)))
+            rep->noutputs++;
     }
     free(rgb);
     return st;
 }
 
-static orr_status write_png(const view_state *v, const char *path, orr_error *err)
+/* The linear planes as OpenEXR (output.exr): float, named X, Y, Z or after
+ * the weight. */
+static orr_status write_exr(view_state *v, orr_error *err)
 {
-    const orr_scene *s = v->scene;
-    if (s->colour)
-        return write_colour_png(v, path, err);
-    const orr_plane *plane = &v->planes[0];
     orr_render_report *rep = v->rep;
-    size_t npix = (size_t)plane->width * (size_t)plane->height;
-    float *t = orr_malloc(npix * sizeof(float), "stretched image", err);
-    float *rgb = orr_malloc(npix * 3 * sizeof(float), "PNG pixels", err);
-    orr_status st = (t && rgb) ? ORR_OK : ORR_ERR_NOMEM;
+    char *path = rep->outputs[rep->noutputs];
+    const char *keys[1], *values[1];
+    orr_image_meta meta = view_meta(v, "linear planes", keys, values);
+    orr_status st = output_path(v->scene, "exr", path, err);
     if (!st)
-        st = orr_stretch_apply(&s->stretch, plane, t, &rep->white, err);
-    if (!st) {
-        for (size_t i = 0; i < npix; i++)
-            orr_colormap_lookup(s->colormap, t[i], &rgb[3 * i]);
-        char desc[ORR_PATH_MAX + 256];
-        snprintf(desc, sizeof desc, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->weight,
-                 rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->stretch.kind), rep->white,
-                 orr_colormap_name(s->colormap));
-        orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
-        st = orr_write_png_rgb(path, plane->width, plane->height, rgb, s->png_bits, text, 2, err);
-    }
-    free(t);
-    free(rgb);
+        st = orr_write_image_planes(path, v->planes, v->nplanes, &meta, err);
+    if (!st)
+        rep->noutputs++;
     return st;
 }
 
@@ -547,13 +606,10 @@ static orr_status write_outputs(view_state *v, orr_error *err)
     mask_outside_map(v);
     if (s->write_fits && (st = write_fits_planes(v, "fits", err)))
         return st;
-    if (s->write_png) {
-        char *path = rep->outputs[rep->noutputs];
-        if ((st = output_path(s, "png", path, err)) || (st = write_png(v, path, err)))
-            return st;
-        rep->noutputs++;
-    }
-    return ORR_OK;
+    if (s->write_exr && (st = write_exr(v, err)))
+        return st;
+    (void)rep;
+    return write_pictures(v, err);
 }
 
 /* ---- the driver ---- */
@@ -720,14 +776,13 @@ orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_r
                         err);
     for (int k = 0; k < n && !st; k++) {
         view_state *v = &views[k];
-        char *path = v->rep->outputs[v->rep->noutputs];
         if ((st = load_raw(v, err)))
             break;
         for (int j = 0; j < v->nplanes && !st; j++)
             st = orr_view_psf_apply(&v->psf, &v->planes[j], err);
         mask_outside_map(v);
-        if (!st && !(st = output_path(v->scene, "png", path, err)) && !(st = write_png(v, path, err)))
-            v->rep->noutputs++;
+        if (!st)
+            st = write_pictures(v, err);
     }
     for (int k = 0; k < ready; k++)
         free_view(&views[k]);

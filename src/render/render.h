@@ -15,7 +15,7 @@
 #include "splat/deposit.h"
 #include "splat/plane.h"
 
-#define ORR_RENDER_MAX_OUTPUTS 4
+#define ORR_RENDER_MAX_OUTPUTS 6
 
 typedef struct orr_render_report {
     char source[ORR_PATH_MAX];   /* what was read */

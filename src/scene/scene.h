@@ -140,6 +140,10 @@ typedef struct orr_scene {
     char out_name[ORR_NAME_MAX];   /* output.name: base file name (default: the scene file's stem) */
     int write_fits;                /* output.fits (default true) */
     int write_png;                 /* output.png (default true) */
+    int write_exr;                 /* output.exr: also NAME.exr, the linear planes as float OpenEXR
+                                    * (default false) */
+    char image_ext[16];            /* output.image: also the picture as NAME.EXT in this format, e.g.
+                                    * tif, jpg, exr (by OpenImageIO; default none) */
     int write_raw;                 /* output.raw: also NAME.raw.fits, the planes before the PSF, for
                                     * `orrery compose` (default false) */
     int png_bits;                  /* output.png_bits: 8 | 16 (default 8) */

@@ -273,6 +273,8 @@ static const key_spec KEYS[] = {
     {.key = "output.fits", .type = K_BOOL, FIELD(write_fits)},
     {.key = "output.png", .type = K_BOOL, FIELD(write_png)},
     {.key = "output.raw", .type = K_BOOL, FIELD(write_raw)},
+    {.key = "output.exr", .type = K_BOOL, FIELD(write_exr)},
+    {.key = "output.image", .type = K_FILENAME, FIELD(image_ext)},
     {.key = "output.png_bits", ENUM(png_bits)},
     {.key = "output.stretch", ENUM(stretch)},
     {.key = "output.white", .type = K_AUTO, FIELD(stretch.white), ABOVE(0)},

@@ -212,6 +212,16 @@ static orr_status check_psf(const orr_scene *s, const scene_marks *m, orr_error 
     return ORR_OK;
 }
 
+static orr_status check_output(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    for (const char *c = s->image_ext; *c; c++)
+        if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9')))
+            return scene_fail_key(s, m, "output.image", err,
+                                  "output.image: a file extension such as tif, jpg or exr (without the dot), got '%s'",
+                                  s->image_ext);
+    return ORR_OK;
+}
+
 static orr_status check_colour(orr_scene *s, const scene_marks *m, orr_error *err)
 {
     static const char *const keys[] = {"colour.seed", "colour.only", "colour.synthesis.stretch",
@@ -249,5 +259,7 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_psf(s, &marks, err);
     if (st == ORR_OK)
         st = check_colour(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_output(s, &marks, err);
     return st;
 }

@@ -59,6 +59,15 @@ same_pixels rendered-flat.png out/flat.png && fail "flat: compose with a linear 
   fail "compose colour gamma: $(cat err.txt)"
 same_pixels rendered-colour.png out/colour.png && fail "colour: compose with a gamma stretch left the PNG unchanged"
 
+# Other formats: the linear planes as OpenEXR, the picture as TIFF (the
+# PNG's pixels exactly, read back by Pillow).
+"$ORRERY" render --quiet colour.yaml --set output.exr=true --set output.image=tif 2>err.txt ||
+  fail "render colour exr/tif: $(cat err.txt)"
+[ -s out/colour.exr ] || fail "no out/colour.exr"
+head -c 4 out/colour.exr | od -An -tx1 | grep -q "76 2f 31 01" || fail "out/colour.exr is not OpenEXR"
+same_pixels out/colour.png out/colour.tif || fail "the TIFF's pixels differ from the PNG's"
+expect_fail 2 "output.image: a file extension such as tif" none -- render colour.yaml --set output.image=.tif
+
 # A scene whose image size differs from the raw planes', and one never rendered.
 expect_fail 1 "out/flat.raw.fits: holds 1 plane\(s\) of 120 x 90, but .*flat.yaml renders 1 of 64 x 90" none -- \
   compose flat.yaml --set image.width=64
