@@ -469,15 +469,24 @@ static orr_status graded_rgb(const view_state *v, float *rgb, char *desc, size_t
     const orr_scene *s = v->scene;
     orr_render_report *rep = v->rep;
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
-    if (s->colour) {
-        orr_status st = orr_colour_synthesise(&s->synth, &v->planes[0], &v->planes[1], &v->planes[2], rgb,
-                                              &rep->white, err);
-        if (!st) {
+    if (s->colour || s->has_tint) {
+        double xyz[3];
+        orr_status st = ORR_OK;
+        if (s->colour)
+            st = orr_colour_synthesise(&s->synth, &v->planes[0], &v->planes[1], &v->planes[2], rgb, &rep->white,
+                                       err);
+        else if (!(st = orr_colour_path_xyz(&s->tint, s->tint_t, xyz, err)))
+            st = orr_colour_synthesise_mono(&s->synth, &v->planes[0], xyz, rgb, &rep->white, err);
+        if (!st && !s->png_linear)
             orr_srgb_encode_buffer(rgb, npix * 3);
+        if (!st && s->colour)
             snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
                      s->populations.n, rep->source, orr_projection_name(v->proj.kind),
                      orr_lum_stretch_name(s->synth.stretch), rep->white);
-        }
+        else if (!st)
+            snprintf(desc, size, "%s of %s tinted at t = %g of its colour path, %s projection, %s stretch, Y0 %g",
+                     s->weight, rep->source, s->tint_t, orr_projection_name(v->proj.kind),
+                     orr_lum_stretch_name(s->synth.stretch), rep->white);
         return st;
     }
     float *t = orr_malloc(npix * sizeof(float), "stretched image", err);

@@ -102,6 +102,15 @@ typedef struct orr_scene {
                                     * .softening (10), .gamma (0.5), .white (auto), .white_percentile (99.9),
                                     * .brightness (1), .contrast (1), .clip: desaturate | channel | none */
 
+    /* colour.tint.* : a single-channel map (no populations) drawn in one
+     * colour, taken along a path of blackbody temperatures (e.g. a hue from
+     * blue to deep red over a run) instead of a colour map. */
+    int has_tint;                  /* colour.tint.path was given */
+    orr_colour_path tint;          /* colour.tint.path: list of temperatures, K */
+    double tint_t;                 /* colour.tint.t: position along it, 0..1 (default 0) */
+    int png_linear;                /* output.png_transfer: srgb (0, default) | linear (1): the transfer
+                                    * curve of colour PNGs (colour maps are sRGB by definition) */
+
     /* psf.* : a point spread function. Flat views convolve the splatted
      * plane with it (FFT); sky maps, whose scale varies across the image,
      * draw each particle as a kernel of the PSF's angular size instead

@@ -31,6 +31,7 @@ typedef enum {
     K_QUAT,     /* orr_quat from [w, x, y, z] */
     K_TYPES,    /* unsigned bit mask from a list of particle types 0..5 */
     K_POPULATIONS, /* colour.populations: a list of mappings (scene_colour.c) */
+    K_TINT,        /* colour.tint.path: a list of temperatures (scene_colour.c) */
     K_ID,       /* uint64_t, the full range: a particle id */
     K_LB,       /* double[2] from [l, b], degrees: l any finite number, b in [-90, 90] */
 } key_type;
@@ -174,6 +175,15 @@ static const char *names_lum_stretch(void) { return "linear log gamma asinh"; }
 static int word_clip(orr_scene *s, const char *w) { return orr_clip_from_name(w, &s->synth.clip); }
 static const char *names_clip(void) { return "desaturate channel none"; }
 
+static int word_transfer(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "srgb") != 0 && strcmp(w, "linear") != 0)
+        return 0;
+    s->png_linear = w[0] == 'l';
+    return 1;
+}
+static const char *names_transfer(void) { return "srgb linear"; }
+
 static int word_psf(orr_scene *s, const char *w)
 {
     static const char *const names[] = {"none", "gaussian", "hst", "file"};
@@ -252,6 +262,8 @@ static const key_spec KEYS[] = {
     {.key = "colour.synthesis.brightness", .type = K_NUMBER, FIELD(synth.brightness), ABOVE(0)},
     {.key = "colour.synthesis.contrast", .type = K_NUMBER, FIELD(synth.contrast), ABOVE(0)},
     {.key = "colour.synthesis.clip", ENUM(clip)},
+    {.key = "colour.tint.path", .type = K_TINT},
+    {.key = "colour.tint.t", .type = K_NUMBER, FIELD(tint_t), CLOSED(0, 1)},
     {.key = "psf.kind", ENUM(psf)},
     {.key = "psf.fwhm", .type = K_NUMBER, FIELD(psf_fwhm), CLOSED(0.1, 1000)},
     {.key = "psf.fwhm_arcmin", .type = K_NUMBER, FIELD(psf_fwhm_arcmin), CLOSED(0.01, 3000)},
@@ -273,6 +285,7 @@ static const key_spec KEYS[] = {
     {.key = "output.fits", .type = K_BOOL, FIELD(write_fits)},
     {.key = "output.png", .type = K_BOOL, FIELD(write_png)},
     {.key = "output.raw", .type = K_BOOL, FIELD(write_raw)},
+    {.key = "output.png_transfer", ENUM(transfer)},
     {.key = "output.exr", .type = K_BOOL, FIELD(write_exr)},
     {.key = "output.image", .type = K_FILENAME, FIELD(image_ext)},
     {.key = "output.png_bits", ENUM(png_bits)},
@@ -823,6 +836,7 @@ static orr_status bind_value(const bind_ctx *c, const key_spec *k, const value_a
     case K_QUAT: return bind_vector(c, k, at, n);
     case K_TYPES: return bind_types(c, k, at, n);
     case K_POPULATIONS: return scene_bind_populations(c->target, at->origin, at->line, at->path, n, c->err);
+    case K_TINT: return scene_bind_tint(c->target, at->origin, at->line, at->path, n, c->err);
     case K_ID: return bind_id(c, k, at, n);
     case K_LB: return bind_lb(c, k, at, n);
     }

@@ -234,6 +234,12 @@ static orr_status check_colour(orr_scene *s, const scene_marks *m, orr_error *er
     for (size_t i = 0; !s->colour && i < sizeof keys / sizeof keys[0]; i++)
         if (scene_mark(m, keys[i]))
             return scene_fail_key(s, m, keys[i], err, "%s applies to colour.populations, which is not set", keys[i]);
+    if (s->colour && s->has_tint)
+        return scene_fail_key(s, m, "colour.tint.path", err,
+                              "colour.tint is for single-channel maps; with colour.populations each population "
+                              "has its own colour");
+    if (!s->has_tint && scene_mark(m, "colour.tint.t"))
+        return scene_fail_key(s, m, "colour.tint.t", err, "colour.tint.t needs colour.tint.path");
     if (orr_colour_synth_check(&s->synth, err))
         return orr_fail_prefix(err, "%s: colour.synthesis: ", s->path);
     return ORR_OK;

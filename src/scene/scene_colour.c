@@ -294,3 +294,27 @@ orr_status scene_bind_populations(orr_scene *s, const char *origin, int line, co
     s->colour = 1;
     return ORR_OK;
 }
+
+orr_status scene_bind_tint(orr_scene *s, const char *origin, int line, const char *path, const yt_node *n,
+                           orr_error *err)
+{
+    char buf[96];
+    if (n->kind != YT_SEQUENCE || n->n < 1 || n->n > ORR_COLOUR_PATH_MAX)
+        return scene_fail_at(err, origin, line, "%s: expected a list of 1 to %d temperatures (K), got %s", path,
+                             ORR_COLOUR_PATH_MAX, yt_describe(n, buf, sizeof buf));
+    pop_at at = {origin, line, "", err};
+    snprintf(at.path, sizeof at.path, "%s", path);
+    s->tint.n = (int)n->n;
+    for (size_t i = 0; i < n->n; i++) {
+        orr_colour *c = &s->tint.stop[i];
+        memset(c, 0, sizeof *c);
+        c->kind = ORR_COLOUR_TEMPERATURE;
+        orr_status st = get_number(&at, n->items[i], &c->v[0]);
+        if (!st && !(c->v[0] > 0))
+            st = scene_fail_at(err, origin, line, "%s: temperatures are > 0 K, got %g", path, c->v[0]);
+        if (st)
+            return st;
+    }
+    s->has_tint = 1;
+    return ORR_OK;
+}

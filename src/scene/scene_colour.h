@@ -11,4 +11,8 @@
 orr_status scene_bind_populations(orr_scene *s, const char *origin, int line, const char *path, const yt_node *n,
                                   orr_error *err);
 
+/* Binds colour.tint.path, a list of 1 to ORR_COLOUR_PATH_MAX temperatures. */
+orr_status scene_bind_tint(orr_scene *s, const char *origin, int line, const char *path, const yt_node *n,
+                           orr_error *err);
+
 #endif

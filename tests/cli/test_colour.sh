@@ -80,6 +80,30 @@ img = Image.open("out/all.png")
 ok &= img.mode == "RGB" and img.size == (96, 96)
 sys.exit(0 if ok else 1)
 EOT
+# A single-channel map tinted along a path of temperatures: blue at t = 0,
+# red at t = 1 (a hue across a run); the linear transfer curve leaves
+# mid-tones darker than sRGB's.
+tint() {
+  "$ORRERY" render --quiet "$SRC/configs/first-light.yaml" -o tint --set "output.name=$1" \
+    --set "colour.tint.path=[20000,6500,2500]" --set image.width=128 --set image.height=128 "${@:2}" 2>err.txt ||
+    fail "tint $1: $(cat err.txt)"
+}
+tint blue --set colour.tint.t=0
+tint red --set colour.tint.t=1
+tint red-linear --set colour.tint.t=1 --set output.png_transfer=linear
+"$py" - <<'EOT' || fail "tinted maps"
+import sys
+import numpy as np
+from PIL import Image
+def mean_rgb(name):
+    a = np.asarray(Image.open(f"tint/{name}.png")).reshape(-1, 3).astype(float)
+    return a[a.sum(axis=1) > 30].mean(axis=0)
+b, r, rl = mean_rgb("blue"), mean_rgb("red"), mean_rgb("red-linear")
+print("mean RGB: t=0", b.round(1), "t=1", r.round(1), "t=1 linear", rl.round(1))
+sys.exit(0 if b[2] > b[0] and r[0] > r[2] and rl.sum() < r.sum() else 1)
+EOT
+expect_fail 2 "colour.tint is for single-channel maps" none -- render all.yaml --set "colour.tint.path=[3000]"
+
 # Errors name the population and the key.
 scene bad '    - name: hot
       colour: {temperature: -5}'
