@@ -469,17 +469,21 @@ static orr_status graded_rgb(const view_state *v, float *rgb, char *desc, size_t
     const orr_scene *s = v->scene;
     orr_render_report *rep = v->rep;
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
-    if (s->colour || s->has_tint) {
+    if (s->colour || s->nlayers || s->has_tint) {
         double xyz[3];
         orr_status st = ORR_OK;
-        if (s->colour)
+        if (s->colour || s->nlayers)
             st = orr_colour_synthesise(&s->synth, &v->planes[0], &v->planes[1], &v->planes[2], rgb, &rep->white,
                                        err);
         else if (!(st = orr_colour_path_xyz(&s->tint, s->tint_t, xyz, err)))
             st = orr_colour_synthesise_mono(&s->synth, &v->planes[0], xyz, rgb, &rep->white, err);
         if (!st && !s->png_linear)
             orr_srgb_encode_buffer(rgb, npix * 3);
-        if (!st && s->colour)
+        if (!st && s->nlayers)
+            snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
+                     s->nlayers, orr_projection_name(v->proj.kind), orr_lum_stretch_name(s->synth.stretch),
+                     rep->white);
+        else if (!st && s->colour)
             snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
                      s->populations.n, rep->source, orr_projection_name(v->proj.kind),
                      orr_lum_stretch_name(s->synth.stretch), rep->white);
@@ -638,7 +642,7 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     rep->has_sky_frame = observer != NULL;
     v->world_to_camera = orr_camera_world_to_camera(&rep->camera);
     static const char *const xyz_names[3] = {"X", "Y", "Z"};
-    v->nplanes = s->colour ? 3 : 1;
+    v->nplanes = s->colour || s->nlayers ? 3 : 1;
     st = ORR_OK;
     for (int k = 0; k < v->nplanes && !st; k++)
         st = orr_plane_alloc(&v->planes[k], v->proj.width, v->proj.height, s->colour ? xyz_names[k] : s->weight,
@@ -768,6 +772,47 @@ static orr_status load_raw(view_state *v, orr_error *err)
     return st;
 }
 
+/* Adds one layer to the view's X, Y, Z planes: a luminance plane times its
+ * colour, or X, Y, Z planes as they are, times the gain. */
+static orr_status add_layer(view_state *v, const struct orr_compose_layer *l, orr_error *err)
+{
+    orr_plane raw[3];
+    int n = 0;
+    orr_status st = orr_read_fits_planes(l->file, raw, 3, &n, err);
+    if (!st && (raw[0].width != v->proj.width || raw[0].height != v->proj.height))
+        st = orr_fail(err, ORR_ERR_DATA, "%s: compose.layers: the planes are %d x %d, the scene's image %d x %d",
+                      l->file, raw[0].width, raw[0].height, v->proj.width, v->proj.height);
+    if (!st && n != 1 && n != 3)
+        st = orr_fail(err, ORR_ERR_DATA, "%s: compose.layers: %d planes; a layer is one luminance plane or X, Y, Z",
+                      l->file, n);
+    if (!st && n == 1 && !l->has_colour)
+        st = orr_fail(err, ORR_ERR_USAGE, "%s: compose.layers: a single-plane layer needs a colour", l->file);
+    double xyz[3] = {1, 1, 1};
+    if (!st && n == 1 && (st = orr_colour_xyz(&l->colour, xyz, err)) == ORR_OK)
+        orr_xyz_normalise(xyz);
+    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    for (int k = 0; !st && k < 3; k++) {
+        const float *src = raw[n == 1 ? 0 : k].data;
+        float f = (float)(l->gain * (n == 1 ? xyz[k] : 1.0));
+        for (size_t i = 0; i < npix; i++)
+            v->planes[k].data[i] += f * src[i];
+    }
+    for (int k = 0; k < n; k++)
+        orr_plane_free(&raw[k]);
+    return st;
+}
+
+static orr_status load_layers(view_state *v, orr_error *err)
+{
+    const orr_scene *s = v->scene;
+    orr_status st = ORR_OK;
+    for (int k = 0; k < s->nlayers && !st; k++)
+        st = add_layer(v, &s->layers[k], err);
+    if (!st)
+        snprintf(v->rep->source, sizeof v->rep->source, "%d layers (%.200s, ...)", s->nlayers, s->layers[0].file);
+    return st;
+}
+
 orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_report *reports, orr_error *err)
 {
     if (n < 1)
@@ -785,7 +830,7 @@ orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_r
                         err);
     for (int k = 0; k < n && !st; k++) {
         view_state *v = &views[k];
-        if ((st = load_raw(v, err)))
+        if ((st = v->scene->nlayers ? load_layers(v, err) : load_raw(v, err)))
             break;
         for (int j = 0; j < v->nplanes && !st; j++)
             st = orr_view_psf_apply(&v->psf, &v->planes[j], err);

@@ -102,6 +102,17 @@ typedef struct orr_scene {
                                     * .softening (10), .gamma (0.5), .white (auto), .white_percentile (99.9),
                                     * .brightness (1), .contrast (1), .clip: desaturate | channel | none */
 
+    /* compose.layers: `orrery compose` blends raw planes of several renders
+     * (e.g. one per population, or single-channel maps of different
+     * particle types) with colours assigned there, then synthesises. */
+    int nlayers;
+    struct orr_compose_layer {
+        char file[ORR_PATH_MAX];   /* a raw FITS file: one luminance plane, or X, Y, Z */
+        int has_colour;
+        orr_colour colour;         /* required for a luminance plane */
+        double gain;               /* multiplies the layer (default 1) */
+    } layers[8];
+
     /* colour.tint.* : a single-channel map (no populations) drawn in one
      * colour, taken along a path of blackbody temperatures (e.g. a hue from
      * blue to deep red over a run) instead of a colour map. */

@@ -32,6 +32,7 @@ typedef enum {
     K_TYPES,    /* unsigned bit mask from a list of particle types 0..5 */
     K_POPULATIONS, /* colour.populations: a list of mappings (scene_colour.c) */
     K_TINT,        /* colour.tint.path: a list of temperatures (scene_colour.c) */
+    K_LAYERS,      /* compose.layers: a list of mappings (scene_colour.c) */
     K_ID,       /* uint64_t, the full range: a particle id */
     K_LB,       /* double[2] from [l, b], degrees: l any finite number, b in [-90, 90] */
 } key_type;
@@ -263,6 +264,7 @@ static const key_spec KEYS[] = {
     {.key = "colour.synthesis.contrast", .type = K_NUMBER, FIELD(synth.contrast), ABOVE(0)},
     {.key = "colour.synthesis.clip", ENUM(clip)},
     {.key = "colour.tint.path", .type = K_TINT},
+    {.key = "compose.layers", .type = K_LAYERS},
     {.key = "colour.tint.t", .type = K_NUMBER, FIELD(tint_t), CLOSED(0, 1)},
     {.key = "psf.kind", ENUM(psf)},
     {.key = "psf.fwhm", .type = K_NUMBER, FIELD(psf_fwhm), CLOSED(0.1, 1000)},
@@ -837,6 +839,7 @@ static orr_status bind_value(const bind_ctx *c, const key_spec *k, const value_a
     case K_TYPES: return bind_types(c, k, at, n);
     case K_POPULATIONS: return scene_bind_populations(c->target, at->origin, at->line, at->path, n, c->err);
     case K_TINT: return scene_bind_tint(c->target, at->origin, at->line, at->path, n, c->err);
+    case K_LAYERS: return scene_bind_layers(c->target, at->origin, at->line, at->path, n, c->err);
     case K_ID: return bind_id(c, k, at, n);
     case K_LB: return bind_lb(c, k, at, n);
     }

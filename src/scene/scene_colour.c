@@ -318,3 +318,53 @@ orr_status scene_bind_tint(orr_scene *s, const char *origin, int line, const cha
     s->has_tint = 1;
     return ORR_OK;
 }
+
+static orr_status bind_layer(const pop_at *at, const yt_node *n, struct orr_compose_layer *l)
+{
+    orr_status st = want_mapping(at, n, "file, colour, gain");
+    l->gain = 1.0;
+    for (size_t i = 0; !st && i < n->n; i++) {
+        const yt_entry *e = &n->entries[i];
+        pop_at c = child_at(at, e);
+        if (strcmp(e->key, "file") == 0) {
+            st = get_name(&c, e->value, l->file, sizeof l->file);
+        } else if (strcmp(e->key, "gain") == 0) {
+            st = get_number(&c, e->value, &l->gain);
+            if (!st && !(l->gain > 0))
+                st = scene_fail_at(at->err, c.origin, c.line, "%s: expected a number > 0, got %g", c.path, l->gain);
+        } else if (strcmp(e->key, "colour") == 0) {
+            orr_pop_colour pc;
+            memset(&pc, 0, sizeof pc);
+            st = bind_colour(&c, e->value, &pc);
+            if (!st && pc.kind != ORR_POPCOLOUR_FIXED)
+                st = scene_fail_at(at->err, c.origin, c.line, "%s: a layer's colour is fixed (no *_field)", c.path);
+            l->colour = pc.fixed;
+            l->has_colour = 1;
+        } else {
+            st = unknown(at, e, "file colour gain");
+        }
+    }
+    if (!st && !l->file[0])
+        st = scene_fail_at(at->err, at->origin, at->line, "%s: a layer needs a file", at->path);
+    return st;
+}
+
+orr_status scene_bind_layers(orr_scene *s, const char *origin, int line, const char *path, const yt_node *n,
+                             orr_error *err)
+{
+    char buf[96];
+    int max = (int)(sizeof s->layers / sizeof s->layers[0]);
+    if (n->kind != YT_SEQUENCE || n->n < 1 || n->n > (size_t)max)
+        return scene_fail_at(err, origin, line, "%s: expected a list of 1 to %d layers, got %s", path, max,
+                             yt_describe(n, buf, sizeof buf));
+    for (size_t i = 0; i < n->n; i++) {
+        pop_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
+        snprintf(at.path, sizeof at.path, "%.100s[%zu]", path, i);
+        memset(&s->layers[i], 0, sizeof s->layers[i]);
+        orr_status st = bind_layer(&at, n->items[i], &s->layers[i]);
+        if (st)
+            return st;
+    }
+    s->nlayers = (int)n->n;
+    return ORR_OK;
+}

@@ -15,4 +15,8 @@ orr_status scene_bind_populations(orr_scene *s, const char *origin, int line, co
 orr_status scene_bind_tint(orr_scene *s, const char *origin, int line, const char *path, const yt_node *n,
                            orr_error *err);
 
+/* Binds compose.layers, a list of {file, colour, gain}. */
+orr_status scene_bind_layers(orr_scene *s, const char *origin, int line, const char *path, const yt_node *n,
+                             orr_error *err);
+
 #endif

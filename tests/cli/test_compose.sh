@@ -59,6 +59,36 @@ same_pixels rendered-flat.png out/flat.png && fail "flat: compose with a linear 
   fail "compose colour gamma: $(cat err.txt)"
 same_pixels rendered-colour.png out/colour.png && fail "colour: compose with a gamma stretch left the PNG unchanged"
 
+# Blending layers: single-channel raw renders of the bulge and of the disc,
+# given their colours in compose, make the picture the populations render
+# makes (same colours, luminance = mass) to within a level of rounding.
+for part in bulge:3 disc:2; do
+  "$ORRERY" render --quiet flat.yaml --set "output.name=${part%:*}" --set "input.types=[${part#*:}]" \
+    --set psf.kind=none 2>err.txt || fail "render ${part%:*}: $(cat err.txt)"
+done
+"$ORRERY" render --quiet colour.yaml --set output.name=together --set psf.kind=none 2>err.txt ||
+  fail "render together: $(cat err.txt)"
+cp flat.yaml blend.yaml
+sed -i 's/name: flat/name: blend/; s/kind: gaussian/kind: none/' blend.yaml
+cat >>blend.yaml <<'EOT'
+compose:
+  layers:
+    - file: out/bulge.raw.fits
+      colour: {temperature: 4000}
+    - file: out/disc.raw.fits
+      colour: {temperature: 9000}
+EOT
+"$ORRERY" compose --quiet blend.yaml 2>err.txt || fail "compose blend: $(cat err.txt)"
+"$py" -c "
+import sys, numpy as np
+from PIL import Image
+a, b = (np.asarray(Image.open(p)).astype(int) for p in sys.argv[1:3])
+d = np.abs(a - b).max()
+print('blend vs populations: largest difference', d, 'levels')
+sys.exit(0 if a.shape == b.shape and d <= 1 else 1)" out/blend.png out/together.png || fail "blended layers differ from the populations render"
+sed 's/      colour: {temperature: 4000}//' blend.yaml >blend-bad.yaml
+expect_fail 2 "out/bulge.raw.fits: compose.layers: a single-plane layer needs a colour" none -- compose blend-bad.yaml
+
 # Other formats: the linear planes as OpenEXR, the picture as TIFF (the
 # PNG's pixels exactly, read back by Pillow).
 "$ORRERY" render --quiet colour.yaml --set output.exr=true --set output.image=tif 2>err.txt ||
