@@ -614,14 +614,12 @@ static orr_status write_fits_planes(view_state *v, const char *ext, orr_error *e
 static orr_status write_outputs(view_state *v, orr_error *err)
 {
     const orr_scene *s = v->scene;
-    orr_render_report *rep = v->rep;
     orr_status st;
     mask_outside_map(v);
     if (s->write_fits && (st = write_fits_planes(v, "fits", err)))
         return st;
     if (s->write_exr && (st = write_exr(v, err)))
         return st;
-    (void)rep;
     return write_pictures(v, err);
 }
 
