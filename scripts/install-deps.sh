@@ -15,6 +15,7 @@ packages=(
   libgomp1                           # OpenMP runtime (gcc's)
   clang libclang-rt-dev libomp-dev   # libFuzzer for the reader fuzz targets (clang build)
   python3-astropy python3-numpy      # tests: an independent FITS WCS reader
+  python3-pil                        # tests: an independent PNG reader (Pillow)
   splash                             # tests and benchmark: SPLASH, the reference SPH renderer
 )
 
