@@ -1,15 +1,19 @@
-/* orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--quiet]
- * orrery compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--quiet]
+/* orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--force] [--jobs N] [--quiet]
+ * orrery compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--quiet]
  * The two take the same arguments: compose is the second half of render. */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "cli/cli.h"
-#include "render/render.h"
+#include "render/animation.h"
 
 static const char render_help[] =
-    "usage: orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--quiet]\n"
+    "usage: orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--force]\n"
+    "                     [--jobs N] [--quiet]\n"
     "\n"
     "Renders the scene's particles to a FITS file (linear float planes: the\n"
     "weight, or CIE X, Y, Z with colour.populations) and a PNG (stretched and\n"
@@ -18,17 +22,26 @@ static const char render_help[] =
     "PSF, for `orrery compose`. A scene with views (e.g. a dome master and a\n"
     "panorama) renders all of them from one pass over the particles.\n"
     "\n"
+    "A scene with animation.frames > 1 renders a run of frames, each named\n"
+    "NAME_0000.png, NAME_0001.png, ...; frames an earlier run completed are\n"
+    "skipped (a missing or truncated output is redone), so an interrupted run\n"
+    "can simply be started again.\n"
+    "\n"
     "  --set KEY=VALUE   override a scene key, e.g. --set camera.fov=60,\n"
     "                    --set camera.position=[0,0,100] (repeatable; applied in order);\n"
     "                    --set views.NAME.KEY=VALUE changes one view\n"
     "  -o, --output DIR  write the outputs into DIR (overrides output.dir; created if missing)\n"
+    "  --frames A:B      render frames A to B of the run (0-based, inclusive; A: or :B\n"
+    "                    leave an end open; a single number is one frame)\n"
+    "  --force           render frames again even when their outputs are complete\n"
+    "  --jobs N          render frames in N processes at once (each takes every N-th frame)\n"
     "  -q, --quiet       no progress or summary, only errors\n"
     "  -h, --help        this text\n"
     "\n"
     "Scene keys: docs/scenes.md. Exit status: 0 success, 1 runtime failure, 2 usage error.\n";
 
 static const char compose_help[] =
-    "usage: orrery compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--quiet]\n"
+    "usage: orrery compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--quiet]\n"
     "\n"
     "Re-grades a render without rendering again: reads the raw planes that\n"
     "`orrery render` wrote with output.raw: true (DIR/NAME.raw.fits, before\n"
@@ -39,6 +52,7 @@ static const char compose_help[] =
     "\n"
     "  --set KEY=VALUE   override a scene key (repeatable; applied in order)\n"
     "  -o, --output DIR  the folder the render wrote to (overrides output.dir)\n"
+    "  --frames A:B      re-grade only these frames of a run (default: all)\n"
     "  -q, --quiet       nothing but errors\n"
     "  -h, --help        this text\n"
     "\n"
@@ -73,82 +87,279 @@ static void print_compose_report(const orr_render_report *r, const char *view)
         printf("  wrote %s\n", r->outputs[i]);
 }
 
+/* --frames: "A:B", "A:", ":B" or "A". */
+static int parse_frames(const char *text, long *first, long *last)
+{
+    long long a = 0, b = -1;
+    const char *colon = strchr(text, ':');
+    char head[32];
+    size_t len = colon ? (size_t)(colon - text) : strlen(text);
+    if (len >= sizeof head)
+        return 0;
+    memcpy(head, text, len);
+    head[len] = '\0';
+    if (len > 0 && !cli_parse_count(head, 0, 100000000, &a))
+        return 0;
+    if (!colon)
+        b = a;
+    else if (colon[1] != '\0' && !cli_parse_count(colon + 1, 0, 100000000, &b))
+        return 0;
+    if (!colon && len == 0)
+        return 0;
+    if (b >= 0 && b < a)
+        return 0;
+    *first = (long)a;
+    *last = (long)b;
+    return 1;
+}
+
+/* Frames done, on stderr: a line rewritten in place on a terminal, a plain
+ * line per frame otherwise. */
+typedef struct frame_progress {
+    int enabled, tty;
+    long total, rendered, skipped;
+    double start;
+} frame_progress;
+
+static void frame_progress_done(void *user, long frame, int skipped)
+{
+    frame_progress *p = user;
+    if (skipped)
+        p->skipped++;
+    else
+        p->rendered++;
+    if (!p->enabled)
+        return;
+    long done = p->rendered + p->skipped;
+    double elapsed = cli_now() - p->start;
+    double rate = p->rendered / (elapsed > 1e-9 ? elapsed : 1e-9);
+    double left = rate > 0 ? (p->total - done) / rate : 0;
+    if (p->tty) {
+        int width = 30, filled = p->total > 0 ? (int)(width * done / p->total) : width;
+        char bar[32];
+        for (int i = 0; i < width; i++)
+            bar[i] = i < filled ? '#' : '.';
+        bar[width] = '\0';
+        fprintf(stderr, "\r  [%s] %ld/%ld frames, %.2f frames/s, %.0f s left   ", bar, done, p->total, rate, left);
+        if (done == p->total)
+            fputc('\n', stderr);
+    } else {
+        fprintf(stderr, "  frame %ld %s (%ld of %ld, %.2f frames/s, %.0f s left)\n", frame,
+                skipped ? "already complete, skipped" : "done", done, p->total, rate, left);
+    }
+}
+
+/* With --jobs: each child tells the parent of every frame it finishes with
+ * one record on a pipe (smaller than PIPE_BUF, so records never interleave). */
+typedef struct frame_record {
+    long frame;
+    int skipped;
+} frame_record;
+
+static void frame_done_to_pipe(void *user, long frame, int skipped)
+{
+    int fd = *(int *)user;
+    frame_record r = {frame, skipped};
+    ssize_t w;
+    do
+        w = write(fd, &r, sizeof r);
+    while (w < 0 && errno == EINTR);
+}
+
+/* Renders the run in `jobs` processes, frame-parallel; the parent shows the
+ * progress. Returns the first failing child's exit code. */
+static int render_jobs(const orr_scene *const *list, int n, orr_animation_options opt, int jobs,
+                       frame_progress *fp)
+{
+    int fds[2];
+    if (pipe(fds) != 0) {
+        fprintf(stderr, "orrery render: cannot create a pipe for --jobs: %s\n", strerror(errno));
+        return EXIT_RUNTIME;
+    }
+    fflush(NULL);
+    pid_t pids[64];
+    int started = 0;
+    for (; started < jobs; started++) {
+        pid_t pid = fork();
+        if (pid < 0) {
+            fprintf(stderr, "orrery render: cannot start job %d: %s\n", started + 1, strerror(errno));
+            break;
+        }
+        if (pid == 0) {
+            close(fds[0]);
+            orr_animation_options mine = opt;
+            mine.start = started;
+            mine.stride = jobs;
+            mine.done = frame_done_to_pipe;
+            mine.done_user = &fds[1];
+            mine.progress = NULL;
+            orr_render_report *reports = calloc(ORR_SCENE_MAX_VIEWS, sizeof *reports);
+            orr_error err = {0};
+            orr_status st = reports ? orr_render_animation(list, n, &mine, reports, &err)
+                                    : orr_fail(&err, ORR_ERR_NOMEM, "out of memory");
+            int code = st ? cli_report_error(&err) : EXIT_OK;
+            free(reports);
+            _exit(code);
+        }
+        pids[started] = pid;
+    }
+    close(fds[1]);
+    frame_record r;
+    ssize_t got;
+    while ((got = read(fds[0], &r, sizeof r)) != 0) {
+        if (got < 0 && errno == EINTR)
+            continue;
+        if (got != (ssize_t)sizeof r)
+            break;
+        frame_progress_done(fp, r.frame, r.skipped);
+    }
+    close(fds[0]);
+    int code = started == jobs ? EXIT_OK : EXIT_RUNTIME;
+    for (int i = 0; i < started; i++) {
+        int status;
+        while (waitpid(pids[i], &status, 0) < 0 && errno == EINTR)
+            ;
+        int child = WIFEXITED(status) ? WEXITSTATUS(status) : EXIT_RUNTIME;
+        if (code == EXIT_OK && child != EXIT_OK)
+            code = child;
+    }
+    return code;
+}
+
+typedef struct run_args {
+    const char *scene_path, *out_dir;
+    const char **sets;
+    int nsets, quiet, force, jobs;
+    long first, last;
+} run_args;
+
+static int parse_args(int argc, char **argv, const char *cmd, int compose, run_args *a)
+{
+    for (int i = 1; i < argc; i++) {
+        const char *arg = argv[i];
+        int takes_value = strcmp(arg, "--set") == 0 || strcmp(arg, "-o") == 0 || strcmp(arg, "--output") == 0 ||
+                          strcmp(arg, "--frames") == 0 || (!compose && strcmp(arg, "--jobs") == 0);
+        if (takes_value && i + 1 >= argc)
+            return cli_usage_error(cmd, "%s needs a value", arg);
+        const char *value = takes_value ? argv[++i] : NULL;
+        long long jobs;
+        if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
+            fputs(compose ? compose_help : render_help, stdout);
+            return -1;
+        } else if (strcmp(arg, "--set") == 0) {
+            a->sets[a->nsets++] = value;
+        } else if (strncmp(arg, "--set=", 6) == 0) {
+            a->sets[a->nsets++] = arg + 6;
+        } else if (strcmp(arg, "-o") == 0 || strcmp(arg, "--output") == 0) {
+            a->out_dir = value;
+        } else if (strcmp(arg, "--frames") == 0) {
+            if (!parse_frames(value, &a->first, &a->last))
+                return cli_usage_error(cmd, "--frames %s: expected A:B, A:, :B or A (frame numbers from 0, A <= B)",
+                                       value);
+        } else if (!compose && strcmp(arg, "--jobs") == 0) {
+            if (!cli_parse_count(value, 1, 64, &jobs))
+                return cli_usage_error(cmd, "--jobs %s: expected a whole number from 1 to 64", value);
+            a->jobs = (int)jobs;
+        } else if (!compose && strcmp(arg, "--force") == 0) {
+            a->force = 1;
+        } else if (strcmp(arg, "-q") == 0 || strcmp(arg, "--quiet") == 0) {
+            a->quiet = 1;
+        } else if (arg[0] == '-' && arg[1] != '\0') {
+            return cli_usage_error(cmd, "unknown option '%s'", arg);
+        } else if (a->scene_path) {
+            return cli_usage_error(cmd, "one scene file at a time (got '%s' and '%s')", a->scene_path, arg);
+        } else {
+            a->scene_path = arg;
+        }
+    }
+    if (!a->scene_path)
+        return cli_usage_error(cmd, "no scene file given");
+    return EXIT_OK;
+}
+
+static void print_run_summary(const frame_progress *fp, long nframes, double seconds)
+{
+    printf("run of %ld frames: rendered %ld, skipped %ld already complete, in %.1f s", nframes, fp->rendered,
+           fp->skipped, seconds);
+    if (fp->rendered > 0)
+        printf(" (%.2f frames/s)", fp->rendered / (seconds > 0 ? seconds : 1e-9));
+    printf("\n");
+}
+
+static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_report *reports, int compose)
+{
+    const orr_scene *list[ORR_SCENE_MAX_VIEWS];
+    orr_error err = {0};
+    for (int k = 0; k < views->n; k++) {
+        if (a->out_dir && strlen(a->out_dir) >= sizeof views->view[k].out_dir)
+            return cli_report_error(&(orr_error){ORR_ERR_USAGE, "output directory name is too long"});
+        if (a->out_dir)
+            snprintf(views->view[k].out_dir, sizeof views->view[k].out_dir, "%s", a->out_dir);
+        list[k] = &views->view[k];
+    }
+    const long nframes = views->view[0].anim_frames;
+    orr_animation_options opt = orr_animation_defaults();
+    opt.first = a->first;
+    opt.last = a->last;
+    opt.force = a->force;
+    opt.compose = compose;
+    if (a->first >= nframes) {
+        return cli_usage_error(compose ? "compose" : "render", "--frames: frame %ld asked for, but %s has %ld frame%s",
+                               a->first, a->scene_path, nframes, nframes == 1 ? "" : "s");
+    }
+    frame_progress fp = {!a->quiet && nframes > 1, isatty(STDERR_FILENO), orr_animation_count(&opt, nframes), 0, 0,
+                         cli_now()};
+    cli_progress particles;
+    cli_progress_init(&particles, !a->quiet && nframes == 1 && !compose);
+    opt.done = frame_progress_done;
+    opt.done_user = &fp;
+    opt.progress = cli_progress_update;
+    opt.progress_user = &particles;
+    int code;
+    if (a->jobs > 1 && nframes > 1) {
+        code = render_jobs(list, views->n, opt, a->jobs, &fp);
+    } else {
+        orr_status st = orr_render_animation(list, views->n, &opt, reports, &err);
+        cli_progress_finish(&particles);
+        code = st ? cli_report_error(&err) : EXIT_OK;
+    }
+    if (code != EXIT_OK || a->quiet)
+        return code;
+    double seconds = cli_now() - fp.start;
+    if (nframes > 1)
+        print_run_summary(&fp, nframes, seconds);
+    if (a->jobs > 1 && nframes > 1)
+        return code;
+    for (int k = 0; k < views->n && fp.rendered > 0; k++) {
+        if (compose)
+            print_compose_report(&reports[k], views->name[k]);
+        else
+            print_report(&reports[k], views->name[k], nframes > 1 ? seconds / fp.rendered : seconds);
+    }
+    return code;
+}
+
 static int run_scene_command(int argc, char **argv, int compose)
 {
     const char *cmd = compose ? "compose" : "render";
-    const char *scene_path = NULL, *out_dir = NULL;
-    int quiet = 0;
-    const char **sets = calloc((size_t)argc, sizeof *sets);
-    int nsets = 0;
-    if (!sets) {
-        fprintf(stderr, "orrery %s: out of memory\n", cmd);
-        return EXIT_RUNTIME;
-    }
-    int code = EXIT_OK;
-    for (int i = 1; i < argc && code == EXIT_OK; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            fputs(compose ? compose_help : render_help, stdout);
-            free(sets);
-            return EXIT_OK;
-        } else if (strcmp(a, "--set") == 0 || strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
-            if (i + 1 >= argc)
-                code = cli_usage_error(cmd, "%s needs a value", a);
-            else if (strcmp(a, "--set") == 0)
-                sets[nsets++] = argv[++i];
-            else
-                out_dir = argv[++i];
-        } else if (strncmp(a, "--set=", 6) == 0) {
-            sets[nsets++] = a + 6;
-        } else if (strcmp(a, "-q") == 0 || strcmp(a, "--quiet") == 0) {
-            quiet = 1;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            code = cli_usage_error(cmd, "unknown option '%s'", a);
-        } else if (scene_path) {
-            code = cli_usage_error(cmd, "one scene file at a time (got '%s' and '%s')", scene_path, a);
-        } else {
-            scene_path = a;
-        }
-    }
-    if (code == EXIT_OK && !scene_path)
-        code = cli_usage_error(cmd, "no scene file given");
-    if (code != EXIT_OK) {
-        free(sets);
-        return code;
-    }
-
-    orr_error err = {0};
+    run_args a = {.first = 0, .last = -1, .jobs = 1};
+    a.sets = calloc((size_t)argc, sizeof *a.sets);
     orr_scene_views *views = calloc(1, sizeof *views);
     orr_render_report *reports = calloc(ORR_SCENE_MAX_VIEWS, sizeof *reports);
-    const orr_scene *list[ORR_SCENE_MAX_VIEWS];
-    orr_status st = views && reports ? ORR_OK : orr_fail(&err, ORR_ERR_NOMEM, "out of memory");
-    if (!st)
-        st = orr_scene_load_views(views, scene_path, sets, nsets, &err);
-    for (int k = 0; !st && k < views->n; k++) {
-        if (out_dir && strlen(out_dir) >= sizeof views->view[k].out_dir)
-            st = orr_fail(&err, ORR_ERR_USAGE, "output directory name is too long");
-        else if (out_dir)
-            snprintf(views->view[k].out_dir, sizeof views->view[k].out_dir, "%s", out_dir);
-        list[k] = &views->view[k];
+    int code = a.sets && views && reports ? parse_args(argc, argv, cmd, compose, &a) : EXIT_RUNTIME;
+    if (code == EXIT_RUNTIME)
+        fprintf(stderr, "orrery %s: out of memory\n", cmd);
+    if (code == EXIT_OK) {
+        orr_error err = {0};
+        if (orr_scene_load_views(views, a.scene_path, a.sets, a.nsets, &err))
+            code = cli_report_error(&err);
+        else
+            code = run_loaded(&a, views, reports, compose);
     }
-    if (!st && compose) {
-        st = orr_compose_views(list, views->n, reports, &err);
-        for (int k = 0; !st && !quiet && k < views->n; k++)
-            print_compose_report(&reports[k], views->name[k]);
-    } else if (!st) {
-        cli_progress progress;
-        cli_progress_init(&progress, !quiet);
-        double t0 = cli_now();
-        st = orr_render_views(list, views->n, reports, cli_progress_update, &progress, &err);
-        cli_progress_finish(&progress);
-        for (int k = 0; !st && !quiet && k < views->n; k++)
-            print_report(&reports[k], views->name[k], cli_now() - t0);
-    }
-    code = st ? cli_report_error(&err) : EXIT_OK;
     free(views);
     free(reports);
-    free(sets);
-    return code;
+    free(a.sets);
+    return code < 0 ? EXIT_OK : code;
 }
 
 int cmd_render(int argc, char **argv) { return run_scene_command(argc, argv, 0); }

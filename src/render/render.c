@@ -132,27 +132,30 @@ static orr_status spin_normal(const orr_scene *s, orr_source *src, orr_vec3 cent
 
 /* Finds the observer and reference particles (and the spin normal when
  * asked) in a pass of their own, with only the fields that needs. */
-static orr_status build_sky_frame(const orr_scene *s, orr_sky_frame *f, orr_error *err)
+static orr_status build_sky_frame(const orr_scene *s, orr_source *given, long frame, orr_sky_frame *f,
+                                  orr_error *err)
 {
     static const char *const velocity[3] = {"vx", "vy", "vz"};
     int want_spin = s->normal_types != 0;
-    orr_source *src = NULL;
-    orr_status st = orr_scene_open_source(s, velocity, want_spin ? 3 : 0, &src, err);
+    orr_source *src = given;
+    orr_status st = given ? orr_source_rewind(given, err)
+                          : orr_scene_open_source(s, velocity, want_spin ? 3 : 0, &src, err);
     markers m;
     if (!st)
         st = find_markers(s, src, &m, err);
     if (!st && (!m.have_observer || !m.have_reference))
-        st = orr_fail(err, ORR_ERR_DATA, "%s: %s particle id %llu (observer.%s in %s) not found, frame 0",
+        st = orr_fail(err, ORR_ERR_DATA, "%s: %s particle id %llu (observer.%s in %s) not found, frame %ld",
                       src->info.path, m.have_observer ? "reference" : "observer",
                       (unsigned long long)(m.have_observer ? s->reference_id : s->observer_id),
-                      m.have_observer ? "reference_id" : "id", s->path);
+                      m.have_observer ? "reference_id" : "id", s->path, frame);
     orr_vec3 n0 = s->observer_normal;
     if (!st && want_spin && !(st = orr_source_rewind(src, err)))
         st = spin_normal(s, src, m.reference, &n0, err);
     if (!st && (st = orr_sky_frame_build(f, m.observer, m.reference, n0, err)))
-        orr_fail_prefix(err, "%s: observer id %llu, reference id %llu, frame 0: ", s->path,
-                        (unsigned long long)s->observer_id, (unsigned long long)s->reference_id);
-    orr_source_close(src);
+        orr_fail_prefix(err, "%s: observer id %llu, reference id %llu, frame %ld: ", s->path,
+                        (unsigned long long)s->observer_id, (unsigned long long)s->reference_id, frame);
+    if (src != given)
+        orr_source_close(src);
     return st;
 }
 
@@ -449,6 +452,10 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
         orr_fits_add_double(h, "YOUTSIDE", rep->deposit_y.outside, "luminance Y that fell off the image");
     }
     orr_fits_add_double(h, "SIMTIME", rep->sim_time, "simulation time of the snapshot");
+    if (rep->nframes > 1) {
+        orr_fits_add_long(h, "FRAME", rep->frame, "frame number (0-based)");
+        orr_fits_add_long(h, "NFRAMES", rep->nframes, "frames in the run");
+    }
     const char *slash = strrchr(rep->source, '/');
     orr_fits_add_string(h, "SOURCE", slash ? slash + 1 : rep->source, "particle source");
     if (s->has_observer) {
@@ -626,9 +633,11 @@ static orr_status write_outputs(view_state *v, orr_error *err)
 /* ---- the driver ---- */
 
 static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_frame *observer,
-                             orr_render_report *rep, orr_error *err)
+                             const orr_frame_time *when, orr_render_report *rep, orr_error *err)
 {
     memset(rep, 0, sizeof *rep);
+    rep->frame = when->frame;
+    rep->nframes = when->nframes;
     v->scene = s;
     v->rep = rep;
     v->proj = s->projection;
@@ -694,25 +703,37 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, orr
 orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_report *reports,
                             orr_progress_fn progress, void *progress_user, orr_error *err)
 {
+    return orr_render_frame(scenes, n, NULL, reports, progress, progress_user, err);
+}
+
+orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_frame_input *in,
+                            orr_render_report *reports, orr_progress_fn progress, void *progress_user,
+                            orr_error *err)
+{
     if (n < 1)
         return orr_fail(err, ORR_ERR_USAGE, "no view to render");
     const orr_scene *s0 = scenes[0];
+    const orr_frame_time still = orr_frame_at(0, 1, s0->anim_fps, 0, 0);
+    const orr_frame_time *when = in ? &in->time : &still;
     orr_status st = ORR_OK;
     /* Fail on an unwritable output folder before any slow work. */
     for (int k = 0; k < n && !st; k++)
         st = orr_check_output_dir(scenes[k]->out_dir, err);
     orr_sky_frame observer;
     if (!st && s0->has_observer)
-        st = build_sky_frame(s0, &observer, err);
+        st = build_sky_frame(s0, in ? in->source : NULL, when->frame, &observer, err);
     view_state *views = st ? NULL : orr_calloc((size_t)n, sizeof *views, "views", err);
     if (!st && !views)
         st = ORR_ERR_NOMEM;
     int ready = 0;
     for (; !st && ready < n; ready++)
-        st = setup_view(&views[ready], scenes[ready], s0->has_observer ? &observer : NULL, &reports[ready], err);
-    orr_source *src = NULL;
+        st = setup_view(&views[ready], scenes[ready], s0->has_observer ? &observer : NULL, when, &reports[ready],
+                        err);
+    orr_source *src = in ? in->source : NULL;
     orr_lengths lengths = {0};
-    if (!st) {
+    if (!st && src) {
+        st = orr_source_rewind(src, err);
+    } else if (!st) {
         int extra = strcmp(s0->weight, "mass") != 0 && strcmp(s0->weight, "h") != 0;
         const char *const fields[1] = {s0->weight};
         st = orr_scene_open_source(s0, fields, extra ? 1 : 0, &src, err);
@@ -736,7 +757,8 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
             st = orr_view_psf_apply(&views[k].psf, &views[k].planes[j], err);
     for (int k = 0; k < n && !st; k++)
         st = write_outputs(&views[k], err);
-    orr_source_close(src);
+    if (!in || src != in->source)
+        orr_source_close(src);
     orr_lengths_free(&lengths);
     for (int k = 0; k < ready && views; k++)
         free_view(&views[k]);
@@ -818,14 +840,15 @@ orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_r
     /* No particles, so no observer frame: the world's stands in (the camera
      * matters only for FITS cards, and compose writes PNGs). */
     orr_sky_frame observer = orr_sky_frame_world(orr_v3(0, 0, 0));
+    const orr_frame_time still = orr_frame_at(0, 1, scenes[0]->anim_fps, 0, 0);
     view_state *views = orr_calloc((size_t)n, sizeof *views, "views", err);
     if (!views)
         return ORR_ERR_NOMEM;
     orr_status st = ORR_OK;
     int ready = 0;
     for (; !st && ready < n; ready++)
-        st = setup_view(&views[ready], scenes[ready], scenes[0]->has_observer ? &observer : NULL, &reports[ready],
-                        err);
+        st = setup_view(&views[ready], scenes[ready], scenes[0]->has_observer ? &observer : NULL, &still,
+                        &reports[ready], err);
     for (int k = 0; k < n && !st; k++) {
         view_state *v = &views[k];
         if ((st = v->scene->nlayers ? load_layers(v, err) : load_raw(v, err)))

@@ -11,6 +11,7 @@
 
 #include "frame/camera.h"
 #include "frame/observer.h"
+#include "frame/timeline.h"
 #include "scene/scene.h"
 #include "splat/deposit.h"
 #include "splat/plane.h"
@@ -25,6 +26,7 @@ typedef struct orr_render_report {
     orr_deposit_stats deposit;   /* weights deposited, off the image, culled (with colour: of X) */
     orr_deposit_stats deposit_y; /* with colour: the same for Y, the luminance */
     double sim_time;
+    long frame, nframes;         /* the frame rendered, of a run of nframes (1 for a still) */
     double white;                /* the PNG stretch's white level (with colour: Y0) */
     int has_sky_frame;           /* an observer frame was built */
     orr_sky_frame sky;           /* ... this one */
@@ -43,9 +45,23 @@ orr_status orr_scene_open_source(const orr_scene *scene, const char *const *fiel
                                  orr_source **out, orr_error *err);
 
 /* Renders views[0..n) of one scene (they share input.* and observer.*) and
- * writes their outputs; reports[i] describes view i. */
+ * writes their outputs; reports[i] describes view i. A still: the scene's
+ * input as it is, frame 0 of 1. */
 orr_status orr_render_views(const orr_scene *const *views, int n, orr_render_report *reports,
                             orr_progress_fn progress, void *progress_user, orr_error *err);
+
+/* What one frame of a run is drawn from. */
+typedef struct orr_frame_input {
+    orr_frame_time time; /* where the frame sits in the run: moves camera paths */
+    orr_source *source;  /* the particles at that time (rewound and read, not closed), or NULL:
+                          * open the scene's input */
+} orr_frame_input;
+
+/* orr_render_views for one frame of a run. The views' output names are used
+ * as they are (the animation driver gives each frame its own). */
+orr_status orr_render_frame(const orr_scene *const *views, int n, const orr_frame_input *in,
+                            orr_render_report *reports, orr_progress_fn progress, void *progress_user,
+                            orr_error *err);
 
 /* Re-grades views[0..n) from the raw planes a render with output.raw wrote
  * (DIR/NAME.raw.fits): applies the scene's PSF, colour synthesis or stretch

@@ -22,6 +22,8 @@ void orr_scene_defaults(orr_scene *s)
     s->type_mask = 0x3f;
     s->chunk_size = 1048576;
     s->skip_nonfinite = 0;
+    s->anim_frames = 1;
+    s->anim_fps = 30;
 
     s->camera_position = orr_v3(0, 0, 0);
     s->camera_up = orr_v3(0, 1, 0);

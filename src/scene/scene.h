@@ -155,6 +155,14 @@ typedef struct orr_scene {
     int dim;                       /* observer.dim: weights fall off as 1/r^2 from the observer (default true) */
     double dim_near;               /* observer.dim_near: r below this counts as this (default 0.01) */
 
+    /* animation.* : a run of frames (docs/animation.md). Shared by every view. */
+    long long anim_frames;         /* animation.frames: frames in the run (default 1: a still) */
+    double anim_fps;               /* animation.fps: frames per second of the film (default 30) */
+    int has_anim_time;
+    double anim_time[2];           /* animation.time: [t0, t1], the simulation time at the first and the
+                                    * last frame, linear in between (default: a sequence's first and last
+                                    * snapshot; a single snapshot's own time) */
+
     /* output.* */
     char out_dir[ORR_PATH_MAX];    /* output.dir, resolved against the current directory (default ".") */
     char out_name[ORR_NAME_MAX];   /* output.name: base file name (default: the scene file's stem) */

@@ -35,6 +35,7 @@ typedef enum {
     K_LAYERS,      /* compose.layers: a list of mappings (scene_colour.c) */
     K_ID,       /* uint64_t, the full range: a particle id */
     K_LB,       /* double[2] from [l, b], degrees: l any finite number, b in [-90, 90] */
+    K_PAIR,     /* double[2] from [a, b], any finite numbers */
 } key_type;
 
 /* Bounds of K_NUMBER and K_AUTO. */
@@ -282,6 +283,9 @@ static const key_spec KEYS[] = {
     {.key = "observer.normal_from.sign", ENUM(normal_sign)},
     {.key = "observer.dim", .type = K_BOOL, FIELD(dim)},
     {.key = "observer.dim_near", .type = K_NUMBER, FIELD(dim_near), ABOVE(0)},
+    {.key = "animation.frames", .type = K_LLONG, FIELD(anim_frames), IRANGE(1, 10000000)},
+    {.key = "animation.fps", .type = K_NUMBER, FIELD(anim_fps), CLOSED(0.001, 1000)},
+    {.key = "animation.time", .type = K_PAIR, FIELD(anim_time), FLAG(has_anim_time)},
     {.key = "output.dir", .type = K_STRING, FIELD(out_dir)},
     {.key = "output.name", .type = K_FILENAME, FIELD(out_name)},
     {.key = "output.fits", .type = K_BOOL, FIELD(write_fits)},
@@ -787,6 +791,15 @@ static orr_status bind_lb(const bind_ctx *c, const key_spec *k, const value_at *
     return ORR_OK;
 }
 
+static orr_status bind_pair(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    double ab[2];
+    orr_status st = get_numbers(c, at, n, 2, "[first, last]", ab);
+    if (st == ORR_OK)
+        memcpy(field(c, k), ab, sizeof ab);
+    return st;
+}
+
 /* input.types: a list of types 0..5 (or one type alone) to a bit mask. */
 static orr_status bind_types(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
 {
@@ -842,6 +855,7 @@ static orr_status bind_value(const bind_ctx *c, const key_spec *k, const value_a
     case K_LAYERS: return scene_bind_layers(c->target, at->origin, at->line, at->path, n, c->err);
     case K_ID: return bind_id(c, k, at, n);
     case K_LB: return bind_lb(c, k, at, n);
+    case K_PAIR: return bind_pair(c, k, at, n);
     }
     return orr_fail(c->err, ORR_ERR_INTERNAL, "%s: unknown key type %d", k->key, (int)k->type);
 }

@@ -77,7 +77,7 @@ static orr_status check_duplicates(const yt_node *map, const char *prefix, orr_e
 /* One view: a good name, a mapping (or nothing), no keys the views must share. */
 static orr_status check_view(const yt_node *views, size_t i, orr_error *err)
 {
-    static const char *const shared[] = {"input", "observer", "views"};
+    static const char *const shared[] = {"input", "observer", "animation", "views"};
     const yt_entry *v = &views->entries[i];
     char got[96];
     if (!valid_view_name(v->key))

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 char tmpdir[256];
@@ -17,20 +18,29 @@ void make_tmpdir(void)
     }
 }
 
-void remove_tmpdir(void)
+/* Removes a folder and everything below it (render runs leave a folder of
+ * frame markers). */
+static void remove_tree(const char *dir)
 {
-    DIR *d = opendir(tmpdir);
+    DIR *d = opendir(dir);
     struct dirent *e;
     while (d && (e = readdir(d))) {
         char p[1024];
-        snprintf(p, sizeof p, "%s/%s", tmpdir, e->d_name);
-        if (strcmp(e->d_name, ".") && strcmp(e->d_name, ".."))
+        struct stat st;
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+            continue;
+        snprintf(p, sizeof p, "%s/%s", dir, e->d_name);
+        if (lstat(p, &st) == 0 && S_ISDIR(st.st_mode))
+            remove_tree(p);
+        else
             unlink(p);
     }
     if (d)
         closedir(d);
-    rmdir(tmpdir);
+    rmdir(dir);
 }
+
+void remove_tmpdir(void) { remove_tree(tmpdir); }
 
 int count_entries(void)
 {

@@ -7,7 +7,7 @@ extern char tmpdir[256];
 
 /* Makes /tmp/orr_test_XXXXXX into tmpdir; exits on failure. */
 void make_tmpdir(void);
-/* Removes the files in it, then the folder. */
+/* Removes everything in it, then the folder. */
 void remove_tmpdir(void);
 /* Entries in it, . and .. aside. */
 int count_entries(void);

@@ -1,0 +1,239 @@
+#include "render/animation.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "encode/atomic.h"
+
+/* Where frame markers live, inside each view's output folder. */
+#define MARKER_DIR ".orrery-frames"
+#define MARKER_MAGIC "orrery-frame 1"
+#define MARKER_MAX_FILES 32
+
+orr_animation_options orr_animation_defaults(void)
+{
+    orr_animation_options o = {0};
+    o.first = 0;
+    o.last = -1;
+    o.stride = 1;
+    o.start = 0;
+    return o;
+}
+
+/* The frames [first, last] of the run that opt asks for, clamped. */
+static void frame_range(const orr_animation_options *opt, long nframes, long *first, long *last)
+{
+    *first = opt->first > 0 ? opt->first : 0;
+    *last = opt->last < 0 || opt->last >= nframes ? nframes - 1 : opt->last;
+}
+
+long orr_animation_count(const orr_animation_options *opt, long nframes)
+{
+    long first, last;
+    frame_range(opt, nframes, &first, &last);
+    long stride = opt->stride > 0 ? opt->stride : 1;
+    first += opt->start;
+    return first > last ? 0 : (last - first) / stride + 1;
+}
+
+orr_status orr_frame_name(const char *name, long frame, long nframes, char *out, size_t size, orr_error *err)
+{
+    int n;
+    if (nframes <= 1) {
+        n = snprintf(out, size, "%s", name);
+    } else {
+        int digits = 4;
+        for (long top = 10000; nframes - 1 >= top && digits < 18; top *= 10)
+            digits++;
+        n = snprintf(out, size, "%s_%0*ld", name, digits, frame);
+    }
+    if (n < 0 || (size_t)n >= size)
+        return orr_fail(err, ORR_ERR_USAGE, "output name %s with a frame number is too long", name);
+    return ORR_OK;
+}
+
+/* ---- frame markers ---- */
+
+typedef struct marker_entry {
+    long long size;
+    char name[256];
+} marker_entry;
+
+typedef struct marker {
+    int n;
+    marker_entry e[MARKER_MAX_FILES];
+} marker;
+
+static orr_status marker_path(const orr_scene *s, char *path, orr_error *err)
+{
+    int n = snprintf(path, ORR_PATH_MAX, "%s/" MARKER_DIR "/%s.done", s->out_dir, s->out_name);
+    if (n < 0 || n >= ORR_PATH_MAX)
+        return orr_fail(err, ORR_ERR_USAGE, "frame marker path for %s/%s is too long", s->out_dir, s->out_name);
+    return ORR_OK;
+}
+
+/* Reads a marker; 0 when there is none or it is not one (a partial write is
+ * impossible: markers are renamed into place). */
+static int read_marker(const char *path, marker *m)
+{
+    m->n = 0;
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0;
+    char line[512];
+    int ok = fgets(line, sizeof line, f) && strncmp(line, MARKER_MAGIC, strlen(MARKER_MAGIC)) == 0;
+    while (ok && m->n < MARKER_MAX_FILES && fgets(line, sizeof line, f)) {
+        marker_entry *e = &m->e[m->n];
+        if (sscanf(line, "%lld %255[^\n]", &e->size, e->name) == 2)
+            m->n++;
+    }
+    fclose(f);
+    return ok && m->n > 0;
+}
+
+/* Whether every file the marker lists is in dir with the size it had. */
+static int marker_holds(const marker *m, const char *dir)
+{
+    for (int i = 0; i < m->n; i++) {
+        char path[ORR_PATH_MAX];
+        struct stat st;
+        if (snprintf(path, sizeof path, "%s/%s", dir, m->e[i].name) >= (int)sizeof path ||
+            stat(path, &st) != 0 || (long long)st.st_size != m->e[i].size)
+            return 0;
+    }
+    return 1;
+}
+
+static int view_frame_complete(const orr_scene *s)
+{
+    char path[ORR_PATH_MAX];
+    marker m;
+    orr_error ignored;
+    return !marker_path(s, path, &ignored) && read_marker(path, &m) && marker_holds(&m, s->out_dir);
+}
+
+/* Adds (or updates) the entry for output file `path`. */
+static void marker_add(marker *m, const char *path)
+{
+    const char *slash = strrchr(path, '/');
+    const char *name = slash ? slash + 1 : path;
+    struct stat st;
+    if (stat(path, &st) != 0 || strlen(name) >= sizeof m->e[0].name)
+        return;
+    int i = 0;
+    while (i < m->n && strcmp(m->e[i].name, name) != 0)
+        i++;
+    if (i == MARKER_MAX_FILES)
+        return;
+    if (i == m->n)
+        m->n++;
+    m->e[i].size = (long long)st.st_size;
+    snprintf(m->e[i].name, sizeof m->e[i].name, "%s", name);
+}
+
+/* Records the view's outputs of this frame. A compose keeps what the render
+ * recorded and updates the pictures it rewrote. */
+static orr_status write_marker(const orr_scene *s, const orr_render_report *rep, int keep_old, orr_error *err)
+{
+    char dir[ORR_PATH_MAX], path[ORR_PATH_MAX];
+    if (snprintf(dir, sizeof dir, "%s/" MARKER_DIR, s->out_dir) >= (int)sizeof dir)
+        return orr_fail(err, ORR_ERR_USAGE, "frame marker folder in %s: path too long", s->out_dir);
+    orr_status st = marker_path(s, path, err);
+    if (st)
+        return st;
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
+        return orr_fail(err, ORR_ERR_IO, "%s: cannot create the frame marker folder: %s", dir, strerror(errno));
+    marker m;
+    if (!keep_old || !read_marker(path, &m))
+        m.n = 0;
+    for (int i = 0; i < rep->noutputs; i++)
+        marker_add(&m, rep->outputs[i]);
+    orr_atomic_file af;
+    if ((st = orr_atomic_begin(&af, path, err)))
+        return st;
+    FILE *f = fopen(af.temp_path, "w");
+    int ok = f != NULL && fprintf(f, "%s\n", MARKER_MAGIC) > 0;
+    for (int i = 0; ok && i < m.n; i++)
+        ok = fprintf(f, "%lld %s\n", m.e[i].size, m.e[i].name) > 0;
+    if (f && fclose(f) != 0)
+        ok = 0;
+    if (!ok) {
+        orr_atomic_abort(&af);
+        return orr_fail(err, ORR_ERR_IO, "%s: cannot write the frame marker", path);
+    }
+    return orr_atomic_commit(&af, err);
+}
+
+/* ---- the run ---- */
+
+/* Each view's scene for one frame: the view with its frame's output name. */
+static orr_status frame_scenes(const orr_scene *const *views, int n, long frame, orr_scene *out, orr_error *err)
+{
+    for (int k = 0; k < n; k++) {
+        out[k] = *views[k];
+        orr_status st = orr_frame_name(views[k]->out_name, frame, views[k]->anim_frames, out[k].out_name,
+                                       sizeof out[k].out_name, err);
+        if (st)
+            return st;
+    }
+    return ORR_OK;
+}
+
+static int frame_complete(const orr_scene *scenes, int n)
+{
+    for (int k = 0; k < n; k++)
+        if (!view_frame_complete(&scenes[k]))
+            return 0;
+    return 1;
+}
+
+static orr_status do_frame(const orr_scene *scenes, int n, long frame, const orr_animation_options *opt,
+                           orr_render_report *reports, orr_error *err)
+{
+    const orr_scene *s0 = &scenes[0];
+    const orr_scene *list[ORR_SCENE_MAX_VIEWS];
+    for (int k = 0; k < n; k++)
+        list[k] = &scenes[k];
+    double t0 = s0->has_anim_time ? s0->anim_time[0] : 0, t1 = s0->has_anim_time ? s0->anim_time[1] : 0;
+    orr_frame_input in = {orr_frame_at(frame, s0->anim_frames, s0->anim_fps, t0, t1), NULL};
+    orr_status st = opt->compose ? orr_compose_views(list, n, reports, err)
+                                 : orr_render_frame(list, n, &in, reports, opt->progress, opt->progress_user, err);
+    if (st && s0->anim_frames > 1)
+        return orr_fail_prefix(err, "frame %ld: ", frame);
+    for (int k = 0; k < n && !st && s0->anim_frames > 1; k++)
+        st = write_marker(&scenes[k], &reports[k], opt->compose, err);
+    return st;
+}
+
+orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_animation_options *opt,
+                                orr_render_report *reports, orr_error *err)
+{
+    if (n < 1 || n > ORR_SCENE_MAX_VIEWS)
+        return orr_fail(err, ORR_ERR_USAGE, "%d views: expected 1 to %d", n, ORR_SCENE_MAX_VIEWS);
+    const long nframes = views[0]->anim_frames;
+    long first, last;
+    frame_range(opt, nframes, &first, &last);
+    if (opt->first >= nframes)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: frame %ld asked for, but the run has %ld frames (0 to %ld)",
+                        views[0]->path, opt->first, nframes, nframes - 1);
+    const long stride = opt->stride > 0 ? opt->stride : 1;
+    orr_scene *scenes = orr_calloc((size_t)n, sizeof *scenes, "frame scenes", err);
+    if (!scenes)
+        return ORR_ERR_NOMEM;
+    orr_status st = ORR_OK;
+    for (long f = first + opt->start; f <= last && !st; f += stride) {
+        if ((st = frame_scenes(views, n, f, scenes, err)))
+            break;
+        /* A still is always rendered; a compose always re-grades. */
+        int skip = nframes > 1 && !opt->force && !opt->compose && frame_complete(scenes, n);
+        if (!skip)
+            st = do_frame(scenes, n, f, opt, reports, err);
+        if (!st && opt->done)
+            opt->done(opt->done_user, f, skip);
+    }
+    free(scenes);
+    return st;
+}

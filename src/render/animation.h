@@ -1,0 +1,44 @@
+/* Runs of frames: a scene with animation.frames > 1 renders one frame after
+ * another, each with its own output names (NAME_0007.png), skipping frames
+ * an earlier run finished. docs/animation.md. */
+#ifndef ORR_RENDER_ANIMATION_H
+#define ORR_RENDER_ANIMATION_H
+
+#include "render/render.h"
+
+/* Told after each frame of the run: rendered (skipped = 0) or found complete
+ * from an earlier run (skipped = 1). */
+typedef void (*orr_frame_done_fn)(void *user, long frame, int skipped);
+
+typedef struct orr_animation_options {
+    long first, last;   /* frames to do, inclusive; clamped to the run (last < 0: to the end) */
+    long stride, start; /* of those, every stride-th from first + start: how frame-parallel
+                         * jobs share a run (stride 1, start 0: all) */
+    int force;          /* redo frames that are already complete */
+    int compose;        /* re-grade the frames from their raw planes (orrery compose) */
+    orr_frame_done_fn done;
+    void *done_user;
+    orr_progress_fn progress; /* particles read within a frame */
+    void *progress_user;
+} orr_animation_options;
+
+/* Options for every frame of the run, one job. */
+orr_animation_options orr_animation_defaults(void);
+
+/* The frames opt selects of a run of nframes: how many, and the first. */
+long orr_animation_count(const orr_animation_options *opt, long nframes);
+
+/* The output name of frame `frame` of a run of `nframes`: NAME_%04ld, with
+ * more digits when the run needs them; NAME itself for a still. */
+orr_status orr_frame_name(const char *name, long frame, long nframes, char *out, size_t size, orr_error *err);
+
+/* Renders (or composes) the frames of views[0..n) that opt selects. After
+ * a frame's outputs are all written, a marker in DIR/.orrery-frames/
+ * records their sizes; a later run skips a frame whose marker and outputs
+ * agree, and redoes it otherwise (an output missing or truncated), so an
+ * interrupted run loses at most the frame in progress. reports[k] describes
+ * view k's last frame. */
+orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_animation_options *opt,
+                                orr_render_report *reports, orr_error *err);
+
+#endif
