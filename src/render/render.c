@@ -52,6 +52,11 @@ typedef struct view_state {
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
                                  orr_error *err)
 {
+    if (!s->model_name[0] && !s->input_file[0])
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "%s: an in-situ scene (input.insitu) has no particles of its own: a running simulation "
+                        "hands them over through orrery.h; set input.file or input.model.name to render it here",
+                        s->path);
     if (s->model_name[0]) {
         orr_model_params mp = {s->model_particles, s->model_seed, s->model_separation};
         return orr_model_source_open(&mp, (size_t)s->chunk_size, out, err);

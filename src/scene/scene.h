@@ -49,6 +49,9 @@ typedef struct orr_scene {
     unsigned type_mask;            /* input.types: list of types 0..5 to draw; bit t set (default all, 0x3f) */
     long long chunk_size;          /* input.chunk: particles per chunk (default 1048576) */
     int skip_nonfinite;            /* input.nonfinite: error (0, default) | skip (1) */
+    int insitu;                    /* input.insitu: the particles come from a running simulation
+                                    * through orrery.h, which sets it; input.file and input.model.*
+                                    * are then optional and unused (default false) */
 
     /* camera.* : exactly one of look_at, direction, quaternion orients it;
      * none means looking along -z with +y up (the xy plane face-on). */

@@ -228,6 +228,7 @@ static const key_spec KEYS[] = {
     {.key = "input.types", .type = K_TYPES, FIELD(type_mask)},
     {.key = "input.chunk", .type = K_LLONG, FIELD(chunk_size), IRANGE(1, 4294967296LL)},
     {.key = "input.nonfinite", ENUM(nonfinite)},
+    {.key = "input.insitu", .type = K_BOOL, FIELD(insitu)},
     {.key = "camera.position", .type = K_VEC3, FIELD(camera_position)},
     {.key = "camera.look_at", .type = K_VEC3, FIELD(camera_look_at), FLAG(has_look_at)},
     {.key = "camera.direction", .type = K_VEC3, FIELD(camera_direction), FLAG(has_direction)},

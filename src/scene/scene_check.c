@@ -17,7 +17,7 @@ static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_erro
     if (has_file && has_model)
         return scene_fail_key(s, m, "input.model.name", err,
                         "input.file and input.model.name are both set; use one of them");
-    if (!has_file && !has_model)
+    if (!has_file && !has_model && !s->insitu)
         return orr_fail(err, ORR_ERR_USAGE, "%s: no input: set input.file or input.model.name", s->path);
     for (size_t i = 0; has_file && i < sizeof model_keys / sizeof model_keys[0]; i++)
         if (scene_mark(m, model_keys[i]))

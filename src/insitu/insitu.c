@@ -1,0 +1,165 @@
+/* The in-situ API of orrery.h: a scene loaded once, then one frame rendered
+ * from a simulation's arrays at every call. */
+#include "orrery.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "encode/atomic.h"
+#include "render/animation.h"
+#include "render/render.h"
+#include "scene/scene.h"
+#include "source/arrays.h"
+
+struct orrery_renderer {
+    orr_scene_views views;
+    orr_scene frame_views[ORR_SCENE_MAX_VIEWS]; /* the views with this frame's output names */
+    orr_render_report reports[ORR_SCENE_MAX_VIEWS];
+    orr_error err;
+    double seconds;
+    int noutputs;
+    const char *outputs[ORR_SCENE_MAX_VIEWS * ORR_RENDER_MAX_OUTPUTS];
+};
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* The caller's overrides after input.insitu=true, so the scene needs no input. */
+static const char **with_insitu(const char *const *overrides, int n)
+{
+    const char **all = calloc((size_t)n + 1, sizeof *all);
+    if (!all)
+        return NULL;
+    all[0] = "input.insitu=true";
+    for (int i = 0; i < n; i++)
+        all[i + 1] = overrides[i];
+    return all;
+}
+
+static int finish_open(orrery_renderer *r, orr_status st, orrery_renderer **out, char *msg, size_t msg_size)
+{
+    if (msg && msg_size)
+        snprintf(msg, msg_size, "%s", st ? r->err.msg : "");
+    if (st) {
+        free(r);
+        return (int)st;
+    }
+    *out = r;
+    return ORRERY_OK;
+}
+
+static int open_common(orrery_renderer **out, const char *path, const char *yaml, const char *base_dir,
+                       const char *const *overrides, int noverrides, char *msg, size_t msg_size)
+{
+    *out = NULL;
+    orrery_renderer *r = calloc(1, sizeof *r);
+    const char **all = with_insitu(overrides, noverrides > 0 ? noverrides : 0);
+    if (!r || !all) {
+        free(r);
+        free(all);
+        if (msg && msg_size)
+            snprintf(msg, msg_size, "out of memory creating the renderer");
+        return ORRERY_ERR_NOMEM;
+    }
+    int n = (noverrides > 0 ? noverrides : 0) + 1;
+    orr_status st = path ? orr_scene_load_views(&r->views, path, all, n, &r->err)
+                         : orr_scene_load_views_string(&r->views, yaml, "<in-situ scene>", base_dir ? base_dir : ".",
+                                                       all, n, &r->err);
+    for (int k = 0; k < r->views.n && !st; k++)
+        st = orr_check_output_dir(r->views.view[k].out_dir, &r->err);
+    free(all);
+    return finish_open(r, st, out, msg, msg_size);
+}
+
+int orrery_open(orrery_renderer **out, const char *scene_path, const char *const *overrides, int noverrides,
+                char *msg, size_t msg_size)
+{
+    if (!out || !scene_path) {
+        if (msg && msg_size)
+            snprintf(msg, msg_size, "orrery_open: no renderer pointer or scene path");
+        return ORRERY_ERR_USAGE;
+    }
+    return open_common(out, scene_path, NULL, NULL, overrides, noverrides, msg, msg_size);
+}
+
+int orrery_open_yaml(orrery_renderer **out, const char *yaml, const char *base_dir,
+                     const char *const *overrides, int noverrides, char *msg, size_t msg_size)
+{
+    if (!out || !yaml) {
+        if (msg && msg_size)
+            snprintf(msg, msg_size, "orrery_open_yaml: no renderer pointer or YAML text");
+        return ORRERY_ERR_USAGE;
+    }
+    return open_common(out, NULL, yaml, base_dir, overrides, noverrides, msg, msg_size);
+}
+
+/* Each view's scene for this frame: its output name carries the frame number
+ * (in-situ runs are runs of frames however long animation.frames says). */
+static orr_status frame_views(orrery_renderer *r, long frame, long nframes)
+{
+    for (int k = 0; k < r->views.n; k++) {
+        orr_scene *s = &r->frame_views[k];
+        *s = r->views.view[k];
+        s->anim_frames = nframes;
+        orr_status st = orr_frame_name(r->views.view[k].out_name, frame, nframes, s->out_name, sizeof s->out_name,
+                                       &r->err);
+        if (st)
+            return st;
+    }
+    return ORR_OK;
+}
+
+int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
+{
+    if (!r)
+        return ORRERY_ERR_USAGE;
+    double t0 = now_seconds();
+    r->noutputs = 0;
+    orr_error_clear(&r->err);
+    if (!p || frame < 0)
+        return (int)orr_fail(&r->err, ORR_ERR_USAGE, "orrery_render: %s", p ? "negative frame number" : "no particles");
+    const orr_scene *s0 = &r->views.view[0];
+    /* A run at least as long as this frame, and never a still: every frame
+     * gets its own name. */
+    long nframes = s0->anim_frames > frame + 1 ? s0->anim_frames : frame + 1;
+    if (nframes < 2)
+        nframes = 2;
+    orr_source *src = NULL;
+    orr_status st = frame_views(r, frame, nframes);
+    if (!st)
+        st = orr_arrays_source_open(p, "in-situ particles", (size_t)s0->chunk_size, s0->type_mask, &src, &r->err);
+    if (!st) {
+        const orr_scene *list[ORR_SCENE_MAX_VIEWS];
+        for (int k = 0; k < r->views.n; k++)
+            list[k] = &r->frame_views[k];
+        double t_first = s0->has_anim_time ? s0->anim_time[0] : p->time;
+        double t_last = s0->has_anim_time ? s0->anim_time[1] : p->time;
+        orr_frame_input in = {orr_frame_at(frame, nframes, s0->anim_fps, t_first, t_last), src};
+        st = orr_render_frame(list, r->views.n, &in, r->reports, NULL, NULL, &r->err);
+    }
+    orr_source_close(src);
+    for (int k = 0; k < r->views.n && !st; k++)
+        for (int i = 0; i < r->reports[k].noutputs; i++)
+            r->outputs[r->noutputs++] = r->reports[k].outputs[i];
+    r->seconds = now_seconds() - t0;
+    return (int)st;
+}
+
+const char *orrery_error(const orrery_renderer *r) { return r ? r->err.msg : "no renderer"; }
+
+int orrery_output_count(const orrery_renderer *r) { return r ? r->noutputs : 0; }
+
+const char *orrery_output(const orrery_renderer *r, int i)
+{
+    return r && i >= 0 && i < r->noutputs ? r->outputs[i] : NULL;
+}
+
+double orrery_render_seconds(const orrery_renderer *r) { return r ? r->seconds : 0; }
+
+void orrery_close(orrery_renderer *r) { free(r); }

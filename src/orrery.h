@@ -1,0 +1,107 @@
+/* orrery's in-situ API: render a running simulation's particles every step,
+ * without writing snapshots (docs/insitu.md). This is the one header a
+ * simulation code includes; it is stable within a major version.
+ *
+ *   orrery_renderer *r;
+ *   char msg[1024];
+ *   if (orrery_open(&r, "futuresky.yaml", NULL, 0, msg, sizeof msg) != ORRERY_OK) { puts(msg); ... }
+ *   for (step = 0; ...; step++) {
+ *       ... advance the particles ...
+ *       orr_particle_arrays p = {.n = n, .x = {pos, ORR_F64, 3 * sizeof(double)}, ...};
+ *       if (orrery_render(r, &p, step) != ORRERY_OK) puts(orrery_error(r));
+ *   }
+ *   orrery_close(r);
+ *
+ * The library never prints and never exits: every function returns a status
+ * (ORRERY_OK or one of the error codes) and orrery_error() says what went
+ * wrong, naming the scene key, array or file. */
+#ifndef ORRERY_H
+#define ORRERY_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define ORRERY_API_VERSION 1
+
+/* Status codes (the library's orr_status values). */
+#define ORRERY_OK 0
+#define ORRERY_ERR_USAGE 2  /* a bad scene, key, value or argument */
+#define ORRERY_ERR_IO 3     /* an output could not be written */
+#define ORRERY_ERR_FORMAT 4 /* a file's contents are wrong */
+#define ORRERY_ERR_DATA 5   /* the particles are unusable (NaN, a missing observer particle, ...) */
+#define ORRERY_ERR_NOMEM 6
+#define ORRERY_ERR_INTERNAL 7
+
+typedef enum { ORR_F32 = 1, ORR_F64 = 2 } orr_dtype;
+
+/* One per-particle value: element i is at (char *)data + i * stride. */
+typedef struct orr_array {
+    const void *data;  /* NULL: absent */
+    orr_dtype type;    /* ORR_F32 or ORR_F64 */
+    size_t stride;     /* bytes from one particle to the next; 0 means packed */
+} orr_array;
+
+#define ORR_ARRAYS_MAX_FIELDS 8
+
+/* A process's particles, in the simulation's own memory: structure of
+ * arrays (stride 0) or array of structures (stride = the structure's size),
+ * float or double. Nothing is copied whole; orrery reads them in chunks. */
+typedef struct orr_particle_arrays {
+    size_t n;                  /* particles */
+    orr_array x, y, z;         /* positions (required) */
+    orr_array mass;            /* masses; absent: every particle has mass_value */
+    double mass_value;
+    const uint64_t *id;        /* ids (optional; absent: numbered from id_offset) */
+    size_t id_stride;          /* bytes; 0 means packed */
+    uint64_t id_offset;
+    const uint8_t *type;       /* Gadget particle types 0..5 (optional; absent: 0) */
+    size_t type_stride;        /* bytes; 0 means packed */
+    orr_array h;               /* smoothing lengths, orrery's convention: kernel support 2h (optional) */
+    orr_array vx, vy, vz;      /* velocities (optional): the fields "vx", "vy", "vz" */
+    int nfields;               /* other named per-particle fields (e.g. "Vmag", "BV") */
+    const char *field_names[ORR_ARRAYS_MAX_FIELDS];
+    orr_array fields[ORR_ARRAYS_MAX_FIELDS];
+    double time;               /* simulation time of these positions */
+} orr_particle_arrays;
+
+typedef struct orrery_renderer orrery_renderer;
+
+/* Creates a renderer for a scene file (every view it has: dome masters,
+ * panoramas, flat cameras, stereo), with "key=value" overrides as
+ * `orrery render --set` takes them. The scene's input.* keys are ignored:
+ * the particles come from orrery_render. On failure *out is NULL and msg
+ * (msg_size bytes, may be 0) holds the reason. */
+int orrery_open(orrery_renderer **out, const char *scene_path, const char *const *overrides, int noverrides,
+                char *msg, size_t msg_size);
+
+/* The same from YAML text; relative paths in it resolve against base_dir. */
+int orrery_open_yaml(orrery_renderer **out, const char *yaml, const char *base_dir,
+                     const char *const *overrides, int noverrides, char *msg, size_t msg_size);
+
+/* Renders frame `frame` of every view from these particles and writes the
+ * outputs (NAME_0000.png, ...). Camera paths are evaluated at the frame
+ * (animation.frames is the run's length). The arrays are only read, and
+ * need not outlive the call. */
+int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame);
+
+/* The last error's message ("" when none). */
+const char *orrery_error(const orrery_renderer *r);
+
+/* The files the last orrery_render wrote: count, and the i-th path. */
+int orrery_output_count(const orrery_renderer *r);
+const char *orrery_output(const orrery_renderer *r, int i);
+
+/* Wall-clock seconds the last orrery_render took. */
+double orrery_render_seconds(const orrery_renderer *r);
+
+void orrery_close(orrery_renderer *r);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif
