@@ -133,7 +133,9 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
     orr_source *src = NULL;
     orr_status st = frame_views(r, frame, nframes);
     if (!st)
-        st = orr_arrays_source_open(p, "in-situ particles", (size_t)s0->chunk_size, s0->type_mask, &src, &r->err);
+        /* All types: the observer and reference particles may be of types
+         * the scene does not draw (the renderer selects input.types). */
+        st = orr_arrays_source_open(p, "in-situ particles", (size_t)s0->chunk_size, 0, &src, &r->err);
     if (!st) {
         const orr_scene *list[ORR_SCENE_MAX_VIEWS];
         for (int k = 0; k < r->views.n; k++)

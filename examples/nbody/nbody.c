@@ -1,0 +1,319 @@
+/* orrery-nbody: an example N-body code that renders itself in-situ.
+ *
+ * A Barnes-Hut tree code (monopole, Plummer softening, kick-drift-kick
+ * leapfrog, OpenMP) evolving the built-in Milky Way-Andromeda model or a
+ * Gadget snapshot (e.g. GADGET-2's galaxy-merger initial conditions), which
+ * hands its particles to orrery (orrery.h) every few steps, so a scene's
+ * dome master, panorama or flat views are rendered while it runs, with no
+ * snapshot written: the method of Dubinski's paper. It reports the cost of
+ * rendering as a fraction of the cost of gravity. docs/insitu.md.
+ *
+ * Units are those of the model and of GADGET-2's examples: kpc, 1e10 solar
+ * masses, km/s, so G = 43007.1 and the time unit is 0.978 Gyr. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "orrery.h"
+#include "source/model.h"
+#include "source/source.h"
+#include "tree.h"
+
+#define G_KPC_KMS 43007.1
+
+typedef struct bodies {
+    size_t n;
+    double *pos, *vel, *acc; /* x, y, z of particle i at 3i */
+    double *mass;
+    uint64_t *id;
+    uint8_t *type;
+    double *tag;   /* the model's field "r" (each star's initial galactocentric radius, which
+                    * colours it), or NULL */
+    double time;
+} bodies;
+
+typedef struct options {
+    const char *ic;        /* "model" or a snapshot file */
+    long long particles;   /* model particles */
+    double separation;     /* model separation, kpc */
+    const char *scene;     /* rendered in-situ; NULL: no rendering */
+    const char *sets[32];
+    int nsets;
+    long steps;
+    double dt, eps, theta;
+    long render_every;
+    int quiet;
+} options;
+
+static const char usage[] =
+    "usage: orrery-nbody [--ic model|SNAPSHOT] [--particles N] [--separation KPC]\n"
+    "                    [--steps N] [--dt DT] [--eps EPS] [--theta THETA]\n"
+    "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]] [--quiet]\n"
+    "\n"
+    "Evolves N bodies with a Barnes-Hut tree code and renders SCENE in-situ every\n"
+    "K steps (frame = step / K), reporting rendering time against gravity time.\n"
+    "Units: kpc, 1e10 Msun, km/s (time unit 0.978 Gyr).\n"
+    "\n"
+    "  --ic model|FILE    initial conditions: the built-in MW-M31 model (default) or any\n"
+    "                     snapshot orrery reads (e.g. GADGET-2's galaxy_littleendian.dat)\n"
+    "  --particles N      model particles (default 100000)\n"
+    "  --separation KPC   model separation (default 780)\n"
+    "  --steps N          leapfrog steps (default 100)\n"
+    "  --dt DT            time step (default 0.002, about 2 Myr)\n"
+    "  --eps EPS          Plummer softening, kpc (default 0.2)\n"
+    "  --theta THETA      opening angle (default 0.6)\n"
+    "  --scene FILE       the scene rendered in-situ (its input.* keys are not used)\n"
+    "  --set KEY=VALUE    override a scene key (repeatable)\n"
+    "  --render-every K   render every K-th step (default 1)\n";
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int parse_args(int argc, char **argv, options *o)
+{
+    *o = (options){.ic = "model", .particles = 100000, .separation = 780, .steps = 100, .dt = 0.002,
+                   .eps = 0.2, .theta = 0.6, .render_every = 1};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        int has_value = 1;
+        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+            fputs(usage, stdout);
+            exit(0);
+        } else if (strcmp(a, "--quiet") == 0) {
+            o->quiet = 1;
+            has_value = 0;
+        } else if (!v) {
+            fprintf(stderr, "orrery-nbody: %s needs a value\n", a);
+            return 0;
+        } else if (strcmp(a, "--ic") == 0) {
+            o->ic = v;
+        } else if (strcmp(a, "--particles") == 0) {
+            o->particles = atoll(v);
+        } else if (strcmp(a, "--separation") == 0) {
+            o->separation = atof(v);
+        } else if (strcmp(a, "--steps") == 0) {
+            o->steps = atol(v);
+        } else if (strcmp(a, "--dt") == 0) {
+            o->dt = atof(v);
+        } else if (strcmp(a, "--eps") == 0) {
+            o->eps = atof(v);
+        } else if (strcmp(a, "--theta") == 0) {
+            o->theta = atof(v);
+        } else if (strcmp(a, "--scene") == 0) {
+            o->scene = v;
+        } else if (strcmp(a, "--set") == 0 && o->nsets < 32) {
+            o->sets[o->nsets++] = v;
+        } else if (strcmp(a, "--render-every") == 0) {
+            o->render_every = atol(v);
+        } else {
+            fprintf(stderr, "orrery-nbody: unknown option '%s'\n%s", a, usage);
+            return 0;
+        }
+        i += has_value;
+    }
+    if (o->steps < 0 || !(o->dt > 0) || !(o->eps > 0) || !(o->theta > 0 && o->theta < 2) ||
+        o->render_every < 1 || o->particles < 100) {
+        fprintf(stderr, "orrery-nbody: --steps >= 0, --dt > 0, --eps > 0, 0 < --theta < 2, --render-every >= 1 "
+                        "and --particles >= 100 are required\n");
+        return 0;
+    }
+    return 1;
+}
+
+static int alloc_bodies(bodies *b, size_t n)
+{
+    b->n = n;
+    b->pos = malloc(3 * n * sizeof *b->pos);
+    b->vel = malloc(3 * n * sizeof *b->vel);
+    b->acc = calloc(3 * n, sizeof *b->acc);
+    b->mass = malloc(n * sizeof *b->mass);
+    b->id = malloc(n * sizeof *b->id);
+    b->type = malloc(n * sizeof *b->type);
+    b->tag = malloc(n * sizeof *b->tag);
+    return b->tag && b->pos && b->vel && b->acc && b->mass && b->id && b->type;
+}
+
+static void free_bodies(bodies *b)
+{
+    free(b->pos);
+    free(b->vel);
+    free(b->acc);
+    free(b->mass);
+    free(b->id);
+    free(b->type);
+    free(b->tag);
+}
+
+/* Reads every particle of the initial conditions (velocities required). */
+static orr_status load_bodies(const options *o, bodies *b, orr_error *err)
+{
+    static const char *const vel[4] = {"vx", "vy", "vz", "r"};
+    orr_source *src = NULL;
+    orr_status st;
+    if (strcmp(o->ic, "model") == 0) {
+        orr_model_params mp = {o->particles, 1, o->separation};
+        st = orr_model_source_open(&mp, 1 << 20, &src, err);
+    } else {
+        orr_source_options so = {"auto", 1 << 20, 0, vel, 4};
+        st = orr_source_open_file(o->ic, &so, &src, err);
+    }
+    if (st)
+        return st;
+    size_t cap = src->info.count > 0 ? (size_t)src->info.count : 0;
+    if (!cap || !alloc_bodies(b, cap)) {
+        orr_source_close(src);
+        return orr_fail(err, ORR_ERR_NOMEM, "%s: cannot hold %zu particles", o->ic, cap);
+    }
+    size_t n = 0;
+    int has_tag = 0;
+    for (;;) {
+        const orr_chunk *c;
+        if ((st = orr_source_next(src, &c, err)) || c->n == 0)
+            break;
+        const float *v[3] = {orr_chunk_field(c, "vx"), orr_chunk_field(c, "vy"), orr_chunk_field(c, "vz")};
+        const float *tag = orr_chunk_field(c, "r");
+        has_tag = tag != NULL;
+        if (!v[0] || !v[1] || !v[2]) {
+            st = orr_fail(err, ORR_ERR_FORMAT, "%s: no velocities (vx, vy, vz): cannot evolve it", src->info.path);
+            break;
+        }
+        for (size_t i = 0; i < c->n && n < cap; i++, n++) {
+            const float p[3] = {c->x[i], c->y[i], c->z[i]};
+            for (int k = 0; k < 3; k++) {
+                b->pos[3 * n + k] = p[k];
+                b->vel[3 * n + k] = v[k][i];
+            }
+            b->mass[n] = c->mass[i];
+            b->id[n] = c->id[i];
+            b->type[n] = c->type[i];
+            b->tag[n] = tag ? tag[i] : 0;
+        }
+    }
+    b->n = n;
+    b->time = src->info.time;
+    if (!has_tag) {
+        free(b->tag);
+        b->tag = NULL;
+    }
+    orr_source_close(src);
+    return st;
+}
+
+/* The particles as orrery reads them, in place: positions and velocities
+ * are arrays of [x, y, z] doubles. */
+static orr_particle_arrays as_arrays(const bodies *b)
+{
+    orr_particle_arrays p = {0};
+    p.n = b->n;
+    p.x = (orr_array){&b->pos[0], ORR_F64, 3 * sizeof(double)};
+    p.y = (orr_array){&b->pos[1], ORR_F64, 3 * sizeof(double)};
+    p.z = (orr_array){&b->pos[2], ORR_F64, 3 * sizeof(double)};
+    p.vx = (orr_array){&b->vel[0], ORR_F64, 3 * sizeof(double)};
+    p.vy = (orr_array){&b->vel[1], ORR_F64, 3 * sizeof(double)};
+    p.vz = (orr_array){&b->vel[2], ORR_F64, 3 * sizeof(double)};
+    p.mass = (orr_array){b->mass, ORR_F64, 0};
+    p.id = b->id;
+    p.type = b->type;
+    p.time = b->time;
+    if (b->tag) {
+        p.nfields = 1;
+        p.field_names[0] = "r";
+        p.fields[0] = (orr_array){b->tag, ORR_F64, 0};
+    }
+    return p;
+}
+
+static double gravity(bh_tree *t, bodies *b, const options *o, double *interactions)
+{
+    double t0 = now();
+    if (bh_build(t, b->pos, b->mass, b->n) != 0) {
+        fprintf(stderr, "orrery-nbody: out of memory building the tree\n");
+        exit(1);
+    }
+    *interactions = bh_accelerations(t, b->pos, b->mass, G_KPC_KMS, o->eps, o->theta, b->acc);
+    return now() - t0;
+}
+
+static void kick(bodies *b, double dt)
+{
+    for (size_t i = 0; i < 3 * b->n; i++)
+        b->vel[i] += b->acc[i] * dt;
+}
+
+static void drift(bodies *b, double dt)
+{
+    for (size_t i = 0; i < 3 * b->n; i++)
+        b->pos[i] += b->vel[i] * dt;
+    b->time += dt;
+}
+
+static int render(orrery_renderer *r, const bodies *b, long frame, double *seconds)
+{
+    orr_particle_arrays p = as_arrays(b);
+    int st = orrery_render(r, &p, frame);
+    *seconds = orrery_render_seconds(r);
+    if (st != ORRERY_OK)
+        fprintf(stderr, "orrery-nbody: rendering frame %ld: %s\n", frame, orrery_error(r));
+    return st;
+}
+
+int main(int argc, char **argv)
+{
+    options o;
+    if (!parse_args(argc, argv, &o))
+        return 2;
+    bodies b = {0};
+    orr_error err = {0};
+    if (load_bodies(&o, &b, &err)) {
+        fprintf(stderr, "orrery-nbody: %s\n", err.msg);
+        free_bodies(&b);
+        return 1;
+    }
+    orrery_renderer *r = NULL;
+    char msg[1024];
+    if (o.scene && orrery_open(&r, o.scene, o.sets, o.nsets, msg, sizeof msg) != ORRERY_OK) {
+        fprintf(stderr, "orrery-nbody: %s\n", msg);
+        free_bodies(&b);
+        return 2;
+    }
+    if (!o.quiet)
+        printf("%zu bodies from %s, t = %g, dt = %g, eps = %g, theta = %g\n", b.n, o.ic, b.time, o.dt, o.eps,
+               o.theta);
+    bh_tree tree = {0};
+    double interactions, t_gravity = 0, t_render = 0, seconds;
+    t_gravity += gravity(&tree, &b, &o, &interactions);
+    int code = 0;
+    long frames = 0;
+    if (r && (code = render(r, &b, frames++, &seconds)) == 0)
+        t_render += seconds;
+    for (long step = 1; step <= o.steps && code == 0; step++) {
+        kick(&b, 0.5 * o.dt);
+        drift(&b, o.dt);
+        double tg = gravity(&tree, &b, &o, &interactions);
+        t_gravity += tg;
+        kick(&b, 0.5 * o.dt);
+        double tr = 0;
+        if (r && step % o.render_every == 0 && (code = render(r, &b, frames++, &tr)) == 0)
+            t_render += tr;
+        if (!o.quiet)
+            printf("step %ld  t = %.4f  gravity %.3f s (%.3g interactions/s)  render %.3f s\n", step, b.time, tg,
+                   interactions / (tg > 0 ? tg : 1e-9), tr);
+    }
+    if (!o.quiet && code == 0) {
+        printf("gravity %.2f s over %ld force evaluations; rendering %.2f s over %ld frames\n", t_gravity,
+               o.steps + 1, t_render, frames);
+        if (r && frames > 0)
+            printf("rendering per frame = %.1f%% of gravity per step\n",
+                   100.0 * (t_render / frames) / (t_gravity / (double)(o.steps + 1)));
+    }
+    orrery_close(r);
+    bh_free(&tree);
+    free_bodies(&b);
+    return code ? 1 : 0;
+}
