@@ -82,7 +82,7 @@ static void arrays_close(orr_source *src)
     src->state = NULL;
 }
 
-static const orr_source_ops arrays_ops = {arrays_next, arrays_rewind, arrays_close};
+static const orr_source_ops arrays_ops = {.next = arrays_next, .rewind = arrays_rewind, .close = arrays_close};
 
 static int valid_array(const orr_array *a) { return a->type == ORR_F32 || a->type == ORR_F64; }
 

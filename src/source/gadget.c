@@ -266,7 +266,7 @@ static void gadget_close(orr_source *src)
     src->state = NULL;
 }
 
-static const orr_source_ops gadget_ops = {gadget_next, gadget_rewind, gadget_close};
+static const orr_source_ops gadget_ops = {.next = gadget_next, .rewind = gadget_rewind, .close = gadget_close};
 
 /* ---- finding the parts ---- */
 

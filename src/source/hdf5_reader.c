@@ -659,7 +659,7 @@ static void hdf5_close(orr_source *src)
     src->state = NULL;
 }
 
-static const orr_source_ops hdf5_ops = {hdf5_next, hdf5_rewind, hdf5_close};
+static const orr_source_ops hdf5_ops = {.next = hdf5_next, .rewind = hdf5_rewind, .close = hdf5_close};
 
 /* ---- Opening -------------------------------------------------------- */
 

@@ -470,7 +470,18 @@ static void model_close(orr_source *src)
     src->state = NULL;
 }
 
-static const orr_source_ops MODEL_OPS = {model_next, model_rewind, model_close};
+/* Every particle is a pure function of its index: skipping costs nothing. */
+static orr_status model_skip_chunk(orr_source *src, orr_error *err)
+{
+    (void)err;
+    model_state *m = src->state;
+    uint64_t left = m->total - m->next_index;
+    m->next_index += left < src->chunk.capacity ? left : src->chunk.capacity;
+    return ORR_OK;
+}
+
+static const orr_source_ops MODEL_OPS = {
+    .next = model_next, .rewind = model_rewind, .close = model_close, .skip_chunk = model_skip_chunk};
 
 static orr_status check_params(const orr_model_params *params, size_t chunk_size, orr_error *err)
 {

@@ -57,6 +57,11 @@ typedef struct orr_source_ops {
     /* Starts again from the first particle. */
     orr_status (*rewind)(orr_source *src, orr_error *err);
     void (*close)(orr_source *src);
+    /* Optional: passes over the particles the next call of next() would
+     * deliver, without loading them (a source partitioned among processes
+     * skips the chunks other processes take). NULL: they are read and
+     * dropped. */
+    orr_status (*skip_chunk)(orr_source *src, orr_error *err);
 } orr_source_ops;
 
 struct orr_source {

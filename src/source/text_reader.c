@@ -282,7 +282,7 @@ static void text_close(orr_source *src)
     src->state = NULL;
 }
 
-static const orr_source_ops text_ops = {text_next, text_rewind, text_close};
+static const orr_source_ops text_ops = {.next = text_next, .rewind = text_rewind, .close = text_close};
 
 int orr_text_probe(const unsigned char *head, size_t n)
 {

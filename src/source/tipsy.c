@@ -312,7 +312,7 @@ static void tipsy_close(orr_source *src)
     src->state = NULL;
 }
 
-static const orr_source_ops tipsy_ops = {tipsy_next, tipsy_rewind, tipsy_close};
+static const orr_source_ops tipsy_ops = {.next = tipsy_next, .rewind = tipsy_rewind, .close = tipsy_close};
 
 /* Reads the header and checks it against the file size. */
 static orr_status read_header(const char *path, tipsy_state *st, orr_error *err)

@@ -185,7 +185,7 @@ static orr_status fake_next(orr_source *src, orr_error *err)
     return ORR_OK;
 }
 
-static const orr_source_ops FAKE_OPS = {fake_next, NULL, NULL};
+static const orr_source_ops FAKE_OPS = {.next = fake_next};
 
 static void fake_open(orr_source *src, fake_state *st, const char *extra, int fail)
 {
