@@ -13,6 +13,7 @@ packages=(
   libopenexr-dev                     # OpenEXR output, through its C API (OpenEXRCore 3.1)
   libopenimageio-dev                 # TIFF, JPEG, ... output and image reading (OpenImageIO 2.4, C++)
   libgomp1                           # OpenMP runtime (gcc's)
+  libopenmpi-dev openmpi-bin         # orrery-mpi: rendering on MPI ranks (optional at configure time)
   clang libclang-rt-dev libomp-dev   # libFuzzer for the reader fuzz targets (clang build)
   python3-astropy python3-numpy      # tests: an independent FITS WCS reader
   python3-pil                        # tests: an independent PNG reader (Pillow)

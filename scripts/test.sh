@@ -12,7 +12,7 @@ ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:ha
   ctest --test-dir "$here/build-sanitize" --output-on-failure -j "$(nproc)"
 
 echo "== reader fuzzing smoke run (clang + libFuzzer + sanitizers)"
-CC=clang CXX=clang++ "$here/scripts/build.sh" "$here/build-fuzz" -DORRERY_FUZZ=ON -DORRERY_SANITIZE=ON
+CC=clang CXX=clang++ "$here/scripts/build.sh" "$here/build-fuzz" -DORRERY_FUZZ=ON -DORRERY_SANITIZE=ON -DORRERY_MPI=OFF
 ctest --test-dir "$here/build-fuzz" --output-on-failure -j "$(nproc)" -R '^fuzz_'
 
 echo "== release build"

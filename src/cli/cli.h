@@ -6,8 +6,13 @@
 #include <stdint.h>
 
 #include "core/error.h"
+#include "render/render.h"
 
 enum { EXIT_OK = 0, EXIT_RUNTIME = 1, EXIT_USAGE = 2 };
+
+/* Set by orrery-mpi (src/mpi/orrery_mpi.c) before a command runs: the MPI
+ * ranks that render together. NULL in the plain `orrery`. */
+extern const orr_parallel *cli_parallel;
 
 int cmd_render(int argc, char **argv);
 int cmd_compose(int argc, char **argv);

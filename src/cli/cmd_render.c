@@ -230,6 +230,7 @@ typedef struct run_args {
     const char *scene_path, *out_dir;
     const char **sets;
     int nsets, quiet, force, jobs;
+    int frame_parallel; /* orrery-mpi: each rank renders whole frames of its own */
     long first, last;
 } run_args;
 
@@ -260,6 +261,8 @@ static int parse_args(int argc, char **argv, const char *cmd, int compose, run_a
             if (!cli_parse_count(value, 1, 64, &jobs))
                 return cli_usage_error(cmd, "--jobs %s: expected a whole number from 1 to 64", value);
             a->jobs = (int)jobs;
+        } else if (cli_parallel && strcmp(arg, "--frame-parallel") == 0) {
+            a->frame_parallel = 1;
         } else if (!compose && strcmp(arg, "--force") == 0) {
             a->force = 1;
         } else if (strcmp(arg, "-q") == 0 || strcmp(arg, "--quiet") == 0) {
@@ -274,6 +277,8 @@ static int parse_args(int argc, char **argv, const char *cmd, int compose, run_a
     }
     if (!a->scene_path)
         return cli_usage_error(cmd, "no scene file given");
+    if (cli_parallel && cli_parallel->rank != 0)
+        a->quiet = 1; /* rank 0 speaks for all; every rank reports its own errors */
     return EXIT_OK;
 }
 
@@ -303,6 +308,14 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
     opt.last = a->last;
     opt.force = a->force;
     opt.compose = compose;
+    /* Under orrery-mpi the ranks share each frame's particles, or (with
+     * --frame-parallel) take every nranks-th frame each. */
+    if (cli_parallel && (a->frame_parallel || compose)) {
+        opt.start = cli_parallel->rank;
+        opt.stride = cli_parallel->nranks;
+    } else if (!compose) {
+        opt.parallel = cli_parallel;
+    }
     if (a->first >= nframes) {
         return cli_usage_error(compose ? "compose" : "render", "--frames: frame %ld asked for, but %s has %ld frame%s",
                                a->first, a->scene_path, nframes, nframes == 1 ? "" : "s");
@@ -338,6 +351,8 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
     }
     return code;
 }
+
+const orr_parallel *cli_parallel = NULL;
 
 static int run_scene_command(int argc, char **argv, int compose)
 {

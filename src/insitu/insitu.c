@@ -142,7 +142,7 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
             list[k] = &r->frame_views[k];
         double t_first = s0->has_anim_time ? s0->anim_time[0] : p->time;
         double t_last = s0->has_anim_time ? s0->anim_time[1] : p->time;
-        orr_frame_input in = {orr_frame_at(frame, nframes, s0->anim_fps, t_first, t_last), src};
+        orr_frame_input in = {orr_frame_at(frame, nframes, s0->anim_fps, t_first, t_last), src, NULL};
         st = orr_render_frame(list, r->views.n, &in, r->reports, NULL, NULL, &r->err);
     }
     orr_source_close(src);

@@ -198,13 +198,27 @@ static orr_status do_frame(const orr_scene *scenes, int n, long frame, const orr
     for (int k = 0; k < n; k++)
         list[k] = &scenes[k];
     double t0 = s0->has_anim_time ? s0->anim_time[0] : 0, t1 = s0->has_anim_time ? s0->anim_time[1] : 0;
-    orr_frame_input in = {orr_frame_at(frame, s0->anim_frames, s0->anim_fps, t0, t1), NULL};
+    orr_frame_input in = {orr_frame_at(frame, s0->anim_frames, s0->anim_fps, t0, t1), NULL, opt->parallel};
     orr_status st = opt->compose ? orr_compose_views(list, n, reports, err)
                                  : orr_render_frame(list, n, &in, reports, opt->progress, opt->progress_user, err);
     if (st && s0->anim_frames > 1)
         return orr_fail_prefix(err, "frame %ld: ", frame);
-    for (int k = 0; k < n && !st && s0->anim_frames > 1; k++)
+    /* The writer (rank 0 of several processes) records the frame. */
+    int writer = !opt->parallel || opt->parallel->rank == 0;
+    for (int k = 0; k < n && !st && s0->anim_frames > 1 && writer; k++)
         st = write_marker(&scenes[k], &reports[k], opt->compose, err);
+    return st;
+}
+
+/* Whether every process found the frame complete: they must agree, since
+ * they render it together. */
+static orr_status agree_complete(const orr_parallel *par, int *complete, orr_error *err)
+{
+    if (!par || par->nranks <= 1)
+        return ORR_OK;
+    double votes = *complete;
+    orr_status st = par->allreduce_sum(par->user, &votes, 1, err);
+    *complete = votes == par->nranks;
     return st;
 }
 
@@ -229,6 +243,8 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
             break;
         /* A still is always rendered; a compose always re-grades. */
         int skip = nframes > 1 && !opt->force && !opt->compose && frame_complete(scenes, n);
+        if (nframes > 1 && !opt->force && !opt->compose && (st = agree_complete(opt->parallel, &skip, err)))
+            break;
         if (!skip)
             st = do_frame(scenes, n, f, opt, reports, err);
         if (!st && opt->done)

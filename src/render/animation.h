@@ -20,6 +20,7 @@ typedef struct orr_animation_options {
     void *done_user;
     orr_progress_fn progress; /* particles read within a frame */
     void *progress_user;
+    const orr_parallel *parallel; /* several processes render each frame together (MPI); NULL: one */
 } orr_animation_options;
 
 /* Options for every frame of the run, one job. */

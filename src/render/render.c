@@ -16,6 +16,7 @@
 #include "render/view_psf.h"
 #include "render/wcs.h"
 #include "source/model.h"
+#include "source/partition.h"
 #include "splat/sph.h"
 
 /* Particles are processed in blocks of this many: the block's scratch arrays
@@ -96,7 +97,8 @@ static orr_status find_markers(const orr_scene *s, orr_source *src, markers *m, 
 
 /* The disc normal from the spin of the chosen particles within
  * normal_radius of the reference: L = sum m (r - c) x (v - <v>). */
-static orr_status spin_normal(const orr_scene *s, orr_source *src, orr_vec3 centre, orr_vec3 *n0, orr_error *err)
+static orr_status spin_normal(const orr_scene *s, orr_source *src, orr_vec3 centre, const orr_parallel *par,
+                              orr_vec3 *n0, orr_error *err)
 {
     orr_vec3 mr_x_v = {0, 0, 0}, mr = {0, 0, 0}, mv = {0, 0, 0};
     double mass = 0, r2max = s->normal_radius * s->normal_radius;
@@ -124,6 +126,16 @@ static orr_status spin_normal(const orr_scene *s, orr_source *src, orr_vec3 cent
             mass += m;
         }
     }
+    if (par && par->nranks > 1) {
+        double v[10] = {mr_x_v.x, mr_x_v.y, mr_x_v.z, mr.x, mr.y, mr.z, mv.x, mv.y, mv.z, mass};
+        orr_status st = par->allreduce_sum(par->user, v, 10, err);
+        if (st)
+            return st;
+        mr_x_v = orr_v3(v[0], v[1], v[2]);
+        mr = orr_v3(v[3], v[4], v[5]);
+        mv = orr_v3(v[6], v[7], v[8]);
+        mass = v[9];
+    }
     if (!(mass > 0))
         return orr_fail(err, ORR_ERR_DATA, "%s: no particle of the observer.normal_from types lies within %g of the reference particle",
                         s->path, s->normal_radius);
@@ -135,10 +147,26 @@ static orr_status spin_normal(const orr_scene *s, orr_source *src, orr_vec3 cent
     return ORR_OK;
 }
 
+/* With several processes, each found what its share holds: sum the finds
+ * (a particle is in exactly one share). */
+static orr_status combine_markers(const orr_parallel *par, markers *m, orr_error *err)
+{
+    if (!par || par->nranks <= 1)
+        return ORR_OK;
+    double v[8] = {m->have_observer, m->have_reference, m->observer.x, m->observer.y, m->observer.z,
+                   m->reference.x, m->reference.y, m->reference.z};
+    orr_status st = par->allreduce_sum(par->user, v, 8, err);
+    m->have_observer = v[0] > 0;
+    m->have_reference = v[1] > 0;
+    m->observer = orr_v3(v[2], v[3], v[4]);
+    m->reference = orr_v3(v[5], v[6], v[7]);
+    return st;
+}
+
 /* Finds the observer and reference particles (and the spin normal when
  * asked) in a pass of their own, with only the fields that needs. */
-static orr_status build_sky_frame(const orr_scene *s, orr_source *given, long frame, orr_sky_frame *f,
-                                  orr_error *err)
+static orr_status build_sky_frame(const orr_scene *s, orr_source *given, long frame, const orr_parallel *par,
+                                  orr_sky_frame *f, orr_error *err)
 {
     static const char *const velocity[3] = {"vx", "vy", "vz"};
     int want_spin = s->normal_types != 0;
@@ -148,6 +176,8 @@ static orr_status build_sky_frame(const orr_scene *s, orr_source *given, long fr
     markers m;
     if (!st)
         st = find_markers(s, src, &m, err);
+    if (par && par->nranks > 1 && !(st = par->any_failed(par->user, st, err)))
+        st = combine_markers(par, &m, err);
     if (!st && (!m.have_observer || !m.have_reference))
         st = orr_fail(err, ORR_ERR_DATA, "%s: %s particle id %llu (observer.%s in %s) not found, frame %ld",
                       src->info.path, m.have_observer ? "reference" : "observer",
@@ -155,7 +185,7 @@ static orr_status build_sky_frame(const orr_scene *s, orr_source *given, long fr
                       m.have_observer ? "reference_id" : "id", s->path, frame);
     orr_vec3 n0 = s->observer_normal;
     if (!st && want_spin && !(st = orr_source_rewind(src, err)))
-        st = spin_normal(s, src, m.reference, &n0, err);
+        st = spin_normal(s, src, m.reference, par, &n0, err);
     if (!st && (st = orr_sky_frame_build(f, m.observer, m.reference, n0, err)))
         orr_fail_prefix(err, "%s: observer id %llu, reference id %llu, frame %ld: ", s->path,
                         (unsigned long long)s->observer_id, (unsigned long long)s->reference_id, frame);
@@ -684,7 +714,8 @@ static void free_view(view_state *v)
 
 /* Smoothing lengths from the neighbours, computed once for every view that
  * needs them (views share input.*, so the same particles take them). */
-static orr_status prepare_lengths(view_state *views, int n, orr_source *src, orr_lengths *lengths, orr_error *err)
+static orr_status prepare_lengths(view_state *views, int n, orr_source *src, const orr_parallel *par,
+                                  orr_lengths *lengths, orr_error *err)
 {
     for (int k = 0; k < n; k++) {
         view_state *v = &views[k];
@@ -697,6 +728,11 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, orr
         v->h_scale = (float)(v->scene->h_scale * support / 2.0);
         if (!needed)
             continue;
+        if (par)
+            return orr_fail(err, ORR_ERR_USAGE,
+                            "%s: smoothing lengths from the neighbours need every particle in one process; with "
+                            "%d MPI ranks use lengths from the file (smoothing.lengths: file)",
+                            v->scene->path, par->nranks);
         v->h_scale = (float)v->scene->h_scale;
         if (!lengths->h && (st = orr_lengths_compute(v->scene, src, lengths, err)))
             return st;
@@ -711,6 +747,70 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
     return orr_render_frame(scenes, n, NULL, reports, progress, progress_user, err);
 }
 
+/* This process's share of the scene's input, when several processes render
+ * the frame: with the fields the sky frame and the weight need. */
+static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_source **out, orr_error *err)
+{
+    const char *fields[4];
+    int nfields = 0;
+    if (strcmp(s->weight, "mass") != 0 && strcmp(s->weight, "h") != 0)
+        fields[nfields++] = s->weight;
+    if (s->has_observer && s->normal_types) {
+        fields[nfields++] = "vx";
+        fields[nfields++] = "vy";
+        fields[nfields++] = "vz";
+    }
+    orr_source *whole = NULL;
+    orr_status st = orr_scene_open_source(s, fields, nfields, &whole, err);
+    return st ? st : orr_source_partition(whole, par->rank, par->nranks, out, err);
+}
+
+/* Sums what every process splatted onto rank 0: the planes, and the counts
+ * of the reports. */
+static orr_status reduce_views(view_state *views, int n, const orr_parallel *par, orr_error *err)
+{
+    orr_status st = ORR_OK;
+    for (int k = 0; k < n && !st; k++) {
+        view_state *v = &views[k];
+        for (int j = 0; j < v->nplanes && !st; j++)
+            st = par->reduce_sum(par->user, v->planes[j].data, (size_t)v->proj.width * (size_t)v->proj.height, err);
+        orr_render_report *r = v->rep;
+        orr_deposit_stats *d[2] = {&r->deposit, &r->deposit_y};
+        double sums[3 + 2 * 5] = {(double)r->n_read, (double)r->n_selected, (double)r->n_nonfinite};
+        for (int i = 0; i < 2; i++) {
+            double *t = &sums[3 + 5 * i];
+            t[0] = d[i]->deposited, t[1] = d[i]->outside, t[2] = d[i]->culled;
+            t[3] = (double)d[i]->n_particles, t[4] = (double)d[i]->n_culled;
+        }
+        if (!st)
+            st = par->allreduce_sum(par->user, sums, sizeof sums / sizeof sums[0], err);
+        r->n_read = (uint64_t)sums[0], r->n_selected = (uint64_t)sums[1], r->n_nonfinite = (uint64_t)sums[2];
+        for (int i = 0; i < 2; i++) {
+            const double *t = &sums[3 + 5 * i];
+            d[i]->deposited = t[0], d[i]->outside = t[1], d[i]->culled = t[2];
+            d[i]->n_particles = (uint64_t)t[3], d[i]->n_culled = (uint64_t)t[4];
+        }
+    }
+    return st;
+}
+
+/* The planes before the PSF (for orrery compose), the PSF, and the outputs. */
+static orr_status finish_views(view_state *views, int n, orr_error *err)
+{
+    orr_status st = ORR_OK;
+    for (int k = 0; k < n && !st; k++)
+        if (views[k].scene->write_raw) {
+            mask_outside_map(&views[k]);
+            st = write_fits_planes(&views[k], "raw.fits", err);
+        }
+    for (int k = 0; k < n && !st; k++)
+        for (int j = 0; j < views[k].nplanes && !st; j++)
+            st = orr_view_psf_apply(&views[k].psf, &views[k].planes[j], err);
+    for (int k = 0; k < n && !st; k++)
+        st = write_outputs(&views[k], err);
+    return st;
+}
+
 orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_frame_input *in,
                             orr_render_report *reports, orr_progress_fn progress, void *progress_user,
                             orr_error *err)
@@ -720,13 +820,17 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     const orr_scene *s0 = scenes[0];
     const orr_frame_time still = orr_frame_at(0, 1, s0->anim_fps, 0, 0);
     const orr_frame_time *when = in ? &in->time : &still;
+    const orr_parallel *par = in && in->parallel && in->parallel->nranks > 1 ? in->parallel : NULL;
+    orr_source *given = in ? in->source : NULL, *src = NULL;
     orr_status st = ORR_OK;
     /* Fail on an unwritable output folder before any slow work. */
     for (int k = 0; k < n && !st; k++)
         st = orr_check_output_dir(scenes[k]->out_dir, err);
+    if (!st && par && !given && !(st = open_share(s0, par, &src, err)))
+        given = src;
     orr_sky_frame observer;
     if (!st && s0->has_observer)
-        st = build_sky_frame(s0, in ? in->source : NULL, when->frame, &observer, err);
+        st = build_sky_frame(s0, given, when->frame, par, &observer, err);
     view_state *views = st ? NULL : orr_calloc((size_t)n, sizeof *views, "views", err);
     if (!st && !views)
         st = ORR_ERR_NOMEM;
@@ -734,9 +838,9 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     for (; !st && ready < n; ready++)
         st = setup_view(&views[ready], scenes[ready], s0->has_observer ? &observer : NULL, when, &reports[ready],
                         err);
-    orr_source *src = in ? in->source : NULL;
     orr_lengths lengths = {0};
-    if (!st && src) {
+    if (!st && given) {
+        src = given;
         st = orr_source_rewind(src, err);
     } else if (!st) {
         int extra = strcmp(s0->weight, "mass") != 0 && strcmp(s0->weight, "h") != 0;
@@ -748,20 +852,14 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
             snprintf(reports[k].source, sizeof reports[k].source, "%s", src->info.path);
             reports[k].sim_time = src->info.time;
         }
-        st = prepare_lengths(views, n, src, &lengths, err);
+        st = prepare_lengths(views, n, src, par, &lengths, err);
     }
     if (!st)
         st = splat_source(views, n, src, progress, progress_user, err);
-    for (int k = 0; k < n && !st; k++) /* the planes before the PSF, for orrery compose */
-        if (views[k].scene->write_raw) {
-            mask_outside_map(&views[k]);
-            st = write_fits_planes(&views[k], "raw.fits", err);
-        }
-    for (int k = 0; k < n && !st; k++)
-        for (int j = 0; j < views[k].nplanes && !st; j++)
-            st = orr_view_psf_apply(&views[k].psf, &views[k].planes[j], err);
-    for (int k = 0; k < n && !st; k++)
-        st = write_outputs(&views[k], err);
+    if (par && !(st = par->any_failed(par->user, st, err)))
+        st = reduce_views(views, n, par, err);
+    if (!st && (!par || par->rank == 0))
+        st = finish_views(views, n, err);
     if (!in || src != in->source)
         orr_source_close(src);
     orr_lengths_free(&lengths);

@@ -7,6 +7,7 @@
 #ifndef ORR_RENDER_RENDER_H
 #define ORR_RENDER_RENDER_H
 
+#include <stddef.h>
 #include <stdint.h>
 
 #include "frame/camera.h"
@@ -50,11 +51,27 @@ orr_status orr_scene_open_source(const orr_scene *scene, const char *const *fiel
 orr_status orr_render_views(const orr_scene *const *views, int n, orr_render_report *reports,
                             orr_progress_fn progress, void *progress_user, orr_error *err);
 
+/* How the processes rendering one frame together combine their work (MPI
+ * ranks; src/mpi/ provides these over a communicator). Each process splats
+ * its share of the particles; the sums are reduced onto rank 0, which alone
+ * post-processes and writes. The library itself knows nothing of MPI. */
+typedef struct orr_parallel {
+    int rank, nranks;
+    /* Sums v[0..n) over the processes; every process gets the sums. */
+    orr_status (*allreduce_sum)(void *user, double *v, size_t n, orr_error *err);
+    /* Sums v[0..n) of every process into rank 0's v; the others' v is left as it was. */
+    orr_status (*reduce_sum)(void *user, float *v, size_t n, orr_error *err);
+    /* Collective: returns mine, or an error when any other process failed. */
+    orr_status (*any_failed)(void *user, orr_status mine, orr_error *err);
+    void *user;
+} orr_parallel;
+
 /* What one frame of a run is drawn from. */
 typedef struct orr_frame_input {
     orr_frame_time time; /* where the frame sits in the run: moves camera paths */
     orr_source *source;  /* the particles at that time (rewound and read, not closed), or NULL:
-                          * open the scene's input */
+                          * open the scene's input (each process takes its share) */
+    const orr_parallel *parallel; /* NULL: this process alone */
 } orr_frame_input;
 
 /* orr_render_views for one frame of a run. The views' output names are used

@@ -1,0 +1,57 @@
+# orrery-mpi: 1, 2 and 4 ranks (oversubscribed on a 2-core machine) give the
+# same images to float round-off (each rank sums its share of the particles;
+# the shares are summed onto rank 0 in a different order), the observer
+# particle is found on whichever rank holds it, and --frame-parallel shares
+# a run's frames among the ranks.
+source "$(dirname "$0")/lib.sh"
+MPI=$(dirname "$ORRERY")/orrery-mpi
+if [ ! -x "$MPI" ]; then
+  echo "orrery-mpi was not built (MPI not found): skipping"
+  exit 77
+fi
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+# OpenMPI's own start-up allocations are not freed at exit: not ours to find.
+export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
+py=/usr/bin/python3
+[ -x "$py" ] || py=python3
+
+small="--set input.model.particles=60000 --set input.chunk=5000 -q"
+small="$small --set views.dome.image.width=120 --set views.dome.image.height=120"
+small="$small --set views.panorama.image.width=160 --set views.panorama.image.height=80"
+for np in 1 2 4; do
+  mpirun -np $np "$MPI" render "$SRC/configs/futuresky.yaml" -o np$np $small >mpi$np.log 2>&1 \
+    || fail "mpirun -np $np: $(tail -5 mpi$np.log)"
+done
+"$ORRERY" render "$SRC/configs/futuresky.yaml" -o serial $small || fail "serial render"
+
+"$py" - <<'PY' || fail "images differ between rank counts"
+import numpy as np
+from astropy.io import fits
+bad = 0
+for view in ("dome", "panorama"):
+    ref = fits.open(f"serial/futuresky-{view}.fits")
+    for np_ in (1, 2, 4):
+        got = fits.open(f"np{np_}/futuresky-{view}.fits")
+        for a, b in zip(ref, got):
+            x, y = np.nan_to_num(a.data.astype(float)), np.nan_to_num(b.data.astype(float))
+            tol = 1e-5 * np.abs(x).max()
+            if np_ == 1 and not np.array_equal(x, y):
+                print(f"{view} {a.name}: 1 rank differs from the serial render"); bad += 1
+            if np.abs(x - y).max() > tol or abs(x.sum() - y.sum()) > 1e-6 * abs(x.sum()):
+                print(f"{view} {a.name}, {np_} ranks: max diff {np.abs(x - y).max()} > {tol}"); bad += 1
+        if got[0].header["NPART"] != ref[0].header["NPART"]:
+            print(f"{view}: NPART {got[0].header['NPART']} != {ref[0].header['NPART']}"); bad += 1
+raise SystemExit(bad)
+PY
+
+# Frame-parallel: 5 frames on 2 ranks, each frame once.
+mpirun -np 2 "$MPI" render "$SRC/configs/first-light.yaml" -o frames --frame-parallel \
+  --set animation.frames=5 --set image.width=32 --set image.height=32 --set input.model.particles=2000 -q \
+  >fp.log 2>&1 || fail "frame-parallel: $(cat fp.log)"
+[ "$(ls frames/*.png 2>/dev/null | wc -l)" -eq 5 ] || fail "frame-parallel frames: $(ls frames)"
+
+# A missing observer is an error on every rank, and a non-zero exit.
+mpirun -np 2 "$MPI" render "$SRC/configs/futuresky.yaml" -o bad $small --set observer.id=999999999 >bad.log 2>&1 \
+  && fail "missing observer accepted"
+grep -q "observer particle id 999999999" bad.log || fail "missing observer message: $(cat bad.log)"
+finish
