@@ -28,7 +28,7 @@ p3=$(grep -ao "CAMPOSX = *[-0-9.E+]*" out/futuresky-dome_0003.fits)
 ic="${ORRERY_SHARED_DATA:-}/gadget2/gadget2_examples/galaxy_littleendian.dat"
 if [ -f "$ic" ]; then
   printf 'camera: {projection: orthographic, width: 400}\nimage: {width: 64, height: 64}\noutput: {dir: merger}\n' >merger.yaml
-  "$NBODY" --ic "$ic" --steps 1 --dt 0.01 --eps 1 --scene merger.yaml >run.out 2>run.err || fail "merger: $(cat run.err)"
+  "$NBODY" --ic "$ic" --steps 1 --dt 0.01 --eps 1 --theta 1.0 --scene merger.yaml >run.out 2>run.err || fail "merger: $(cat run.err)"
   grep -q "^60000 bodies" run.out || fail "merger count: $(cat run.out)"
   [ -s merger/merger_0001.png ] || fail "merger frame 1: $(ls merger)"
 fi
