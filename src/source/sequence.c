@@ -701,7 +701,10 @@ static orr_status seq_rewind(orr_source *src, orr_error *err)
 
 static void seq_close(orr_source *src)
 {
-    (void)src; /* the snapshots belong to the sequence; orr_source_close frees the state and chunk */
+    /* Only the cursor: the snapshots belong to the sequence, which keeps
+     * them for the next frame. orr_source_close frees the chunk. */
+    free(src->state);
+    src->state = NULL;
 }
 
 static const orr_source_ops SEQ_OPS = {seq_next, seq_rewind, seq_close};
