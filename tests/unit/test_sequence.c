@@ -7,6 +7,7 @@
 
 #include "check.h"
 #include "gadget_writer.h"
+#include "render/sequence_open.h"
 #include "scene/scene.h"
 #include "source/sequence.h"
 #include "tmpdir.h"
@@ -607,6 +608,43 @@ static void test_scene_keys(void)
     }
 }
 
+/* A scene's sequence, by pattern and by files, relative to the scene's folder. */
+static void test_open_from_scene(void)
+{
+    static snap_def a;
+    make_snap(&a, 6, 0.0, 1, 0);
+    write_snap("scn_010.g2", 0.5, &a, 1);
+    write_snap("scn_020.g2", 1.5, &a, 1);
+    write_snap("scn_030.g2", 4.0, &a, 1);
+    orr_error err;
+    orr_sequence *seq = NULL;
+    CHECK(orr_scene_load_string(&g_scene,
+                                "input: {sequence: {pattern: scn_%03d.g2, first: 10, last: 30, step: 10}, "
+                                "types: [1]}",
+                                "seq.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
+    CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_OK);
+    CHECK(seq && orr_sequence_count(seq) == 3);
+    double t0 = 0, t1 = 0;
+    if (seq)
+        orr_sequence_time_range(seq, &t0, &t1);
+    CHECK(t0 == 0.5 && t1 == 4.0);
+    orr_sequence_close(seq);
+
+    CHECK(orr_scene_load_string(&g_scene, "input: {sequence: {files: [scn_030.g2, scn_010.g2]}}", "seq.yaml",
+                                tmpdir, NULL, 0, &err) == ORR_OK);
+    CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "seq.yaml: sequence: snapshot times must strictly increase");
+    CHECK_CONTAINS(err.msg, "scn_030.g2 has time 4");
+
+    CHECK(orr_scene_load_string(&g_scene, "input: {sequence: {pattern: scn_%03d.g2, first: 10, last: 40, step: 10}}",
+                                "seq.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
+    CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, "scn_040.g2: cannot open");
+
+    CHECK(orr_scene_load_string(&g_scene, "input: {file: x}", "seq.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
+    CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_ERR_USAGE);
+}
+
 int main(void)
 {
     make_tmpdir();
@@ -624,6 +662,7 @@ int main(void)
     RUN(test_memory_limit);
     RUN(test_patterns);
     RUN(test_scene_keys);
+    RUN(test_open_from_scene);
     remove_tmpdir();
     return check_summary();
 }
