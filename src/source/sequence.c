@@ -316,8 +316,10 @@ orr_status orr_sequence_open_pattern(const char *pattern, long first, long last,
                                      const orr_sequence_options *opt, orr_sequence **out, orr_error *err)
 {
     *out = NULL;
-    if (step < 1 || last < first)
-        return orr_fail(err, ORR_ERR_USAGE, "sequence pattern '%s': needs first <= last and step >= 1 (got %ld, %ld, %ld)",
+    if (first < 0 || step < 1 || last < first)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "sequence pattern '%s': needs 0 <= first <= last and step >= 1 (got first %ld, last %ld, "
+                        "step %ld)",
                         pattern, first, last, step);
     long count = (last - first) / step + 1;
     if (count > 1000000)
@@ -400,6 +402,9 @@ static void snapshot_describe(snapshot *sn, const orr_source_info *info)
 static orr_status snapshot_append(snapshot *sn, const orr_chunk *c, const orr_source_options *opt, size_t *cap,
                                   orr_error *err)
 {
+    const float *fields[ORR_MAX_EXTRA_FIELDS];
+    for (int e = 0; e < sn->nextra; e++)
+        fields[e] = orr_chunk_field(c, sn->names[e]);
     for (size_t i = 0; i < c->n; i++) {
         if (!orr_source_wants_type(opt, c->type[i]))
             continue;
@@ -418,10 +423,8 @@ static orr_status snapshot_append(snapshot *sn, const orr_chunk *c, const orr_so
         sn->type[j] = c->type[i];
         if (sn->h)
             sn->h[j] = c->h ? c->h[i] : 0.0f;
-        for (int e = 0; e < sn->nextra; e++) {
-            const float *f = orr_chunk_field(c, sn->names[e]);
-            sn->extra[e][j] = f ? f[i] : 0.0f;
-        }
+        for (int e = 0; e < sn->nextra; e++)
+            sn->extra[e][j] = fields[e] ? fields[e][i] : 0.0f;
     }
     return ORR_OK;
 }
