@@ -434,10 +434,42 @@ typedef struct id_key {
     size_t index;
 } id_key;
 
-static int compare_keys(const void *a, const void *b)
+#define RADIX_BITS 11
+#define RADIX_SIZE (1u << RADIX_BITS)
+
+/* Sorts keys by id: a least-significant-digit radix sort, 11 bits a pass,
+ * which is stable (so duplicate ids end up side by side) and several times
+ * faster than qsort for millions of keys. Digits that are the same in every
+ * id (the high bits of ids below 2^32, say) take no pass. tmp holds n keys.
+ * Returns the array that holds the result (keys or tmp). */
+static id_key *radix_sort(id_key *keys, id_key *tmp, size_t n)
 {
-    const id_key *x = a, *y = b;
-    return (x->id > y->id) - (x->id < y->id);
+    uint64_t any = 0, every = ~(uint64_t)0;
+    for (size_t i = 0; i < n; i++) {
+        any |= keys[i].id;
+        every &= keys[i].id;
+    }
+    const uint64_t varying = any ^ every;
+    size_t count[RADIX_SIZE];
+    for (unsigned shift = 0; shift < 64; shift += RADIX_BITS) {
+        if (((varying >> shift) & (RADIX_SIZE - 1)) == 0)
+            continue;
+        memset(count, 0, sizeof count);
+        for (size_t i = 0; i < n; i++)
+            count[(keys[i].id >> shift) & (RADIX_SIZE - 1)]++;
+        size_t sum = 0;
+        for (size_t d = 0; d < RADIX_SIZE; d++) {
+            size_t c = count[d];
+            count[d] = sum;
+            sum += c;
+        }
+        for (size_t i = 0; i < n; i++)
+            tmp[count[(keys[i].id >> shift) & (RADIX_SIZE - 1)]++] = keys[i];
+        id_key *swap = keys;
+        keys = tmp;
+        tmp = swap;
+    }
+    return keys;
 }
 
 /* Reorders a float array by keys (scratch holds n floats). */
@@ -448,8 +480,9 @@ static void permute_floats(float *v, float *scratch, const id_key *keys, size_t 
     memcpy(v, scratch, n * sizeof *v);
 }
 
-/* Sorts the snapshot by id (qsort of an index: 16 bytes per particle while
- * it runs, plus 8 of scratch), and rejects duplicate ids. */
+/* Sorts the snapshot by id (two arrays of 16-byte keys while it runs, the
+ * second reused as scratch for reordering the fields), and rejects
+ * duplicate ids. */
 static orr_status snapshot_sort(snapshot *sn, const char *path, orr_error *err)
 {
     size_t n = sn->n;
@@ -458,37 +491,33 @@ static orr_status snapshot_sort(snapshot *sn, const char *path, orr_error *err)
         sorted = sn->id[i - 1] < sn->id[i];
     if (sorted)
         return ORR_OK; /* snapshots are often written in id order */
-    id_key *keys = orr_malloc(n * sizeof *keys, "sorting a snapshot by id", err);
-    uint64_t *scratch = keys ? orr_malloc(n * sizeof *scratch, "sorting a snapshot by id", err) : NULL;
-    if (!scratch) {
-        free(keys);
+    id_key *buf = orr_malloc(2 * n * sizeof *buf, "sorting a snapshot by id", err);
+    if (!buf)
         return ORR_ERR_NOMEM;
-    }
     for (size_t i = 0; i < n; i++)
-        keys[i] = (id_key){sn->id[i], i};
-    qsort(keys, n, sizeof *keys, compare_keys);
+        buf[i] = (id_key){sn->id[i], i};
+    id_key *keys = radix_sort(buf, buf + n, n);
+    void *scratch = keys == buf ? (void *)(buf + n) : (void *)buf;
     orr_status st = ORR_OK;
     for (size_t i = 1; i < n && !st; i++)
         if (keys[i].id == keys[i - 1].id)
             st = orr_fail(err, ORR_ERR_DATA, "%s: particle id %llu appears more than once; a sequence matches "
                           "particles by id, so ids must be unique", path, (unsigned long long)keys[i].id);
     if (!st) {
-        float *fs = (float *)scratch;
         float *arrays[4 + 1 + ORR_MAX_EXTRA_FIELDS] = {sn->x, sn->y, sn->z, sn->mass, sn->h};
         for (int e = 0; e < sn->nextra; e++)
             arrays[5 + e] = sn->extra[e];
         for (int a = 0; a < 5 + sn->nextra; a++)
             if (arrays[a])
-                permute_floats(arrays[a], fs, keys, n);
-        uint8_t *ts = (uint8_t *)scratch;
+                permute_floats(arrays[a], scratch, keys, n);
+        uint8_t *ts = scratch;
         for (size_t i = 0; i < n; i++)
             ts[i] = sn->type[keys[i].index];
         memcpy(sn->type, ts, n);
         for (size_t i = 0; i < n; i++)
             sn->id[i] = keys[i].id;
     }
-    free(keys);
-    free(scratch);
+    free(buf);
     return st;
 }
 

@@ -335,6 +335,57 @@ static void test_missing_ids_dropped_and_counted(void)
     orr_sequence_close(seq);
 }
 
+/* Ids spread over all 64 bits (hashed ids, as some codes write): every
+ * digit of the sort varies. Particle i has id mix(i). */
+static uint64_t mix(uint64_t i)
+{
+    uint64_t z = (i + 1) * 0x9e3779b97f4a7c15ull;
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    return z ^ (z >> 31);
+}
+
+static void test_large_ids(void)
+{
+    static snap_def a, b;
+    make_snap(&a, MAXP, 0.0, 1, 0);
+    make_snap(&b, MAXP, 1.0, 1, 1);
+    for (int k = 0; k < MAXP; k++) {
+        a.id[k] = mix(a.id[k] - 100);
+        b.id[k] = mix(b.id[k] - 100);
+    }
+    const char *paths[] = {write_snap("big0", 0.0, &a, 1), write_snap("big1", 1.0, &b, 1)};
+    orr_sequence *seq = NULL;
+    orr_error err;
+    orr_sequence_options o = options(ORR_INTERP_AUTO, 1000);
+    CHECK(orr_sequence_open(paths, 2, &o, &seq, &err) == ORR_OK);
+    if (!seq)
+        return;
+    static gathered g;
+    CHECK(gather(seq, 0.25, &g, &err) == ORR_OK);
+    CHECK(g.n == MAXP);
+    CHECK(orr_sequence_get_stats(seq).only_earlier == 0);
+    for (size_t k = 0; k < g.n; k++) {
+        CHECK(k == 0 || g.id[k] > g.id[k - 1]);
+        int i = 0;
+        while (i < MAXP && mix((uint64_t)i) != g.id[k])
+            i++;
+        CHECK(i < MAXP);
+        cubic q = trajectory(i, 1, 1);
+        CHECK_NEAR(g.y[k], cubic_x(&q, 0.25), 1e-6);
+    }
+    orr_sequence_close(seq);
+    /* Two ids equal only once the high digits are sorted too. */
+    b.id[5] = b.id[40];
+    paths[1] = write_snap("big1", 1.0, &b, 1);
+    CHECK(orr_sequence_open(paths, 2, &o, &seq, &err) == ORR_OK);
+    orr_source *src = NULL;
+    CHECK(seq && orr_sequence_source_at(seq, 0.5, &src, &err) == ORR_ERR_DATA);
+    char want[64];
+    snprintf(want, sizeof want, "id %llu appears more than once", (unsigned long long)b.id[40]);
+    CHECK_CONTAINS(err.msg, want);
+    orr_sequence_close(seq);
+}
+
 static void test_duplicate_ids(void)
 {
     static snap_def a, b;
@@ -653,6 +704,7 @@ int main(void)
     RUN(test_hermite_cubic_exact);
     RUN(test_matched_by_id_and_extras_from_earlier);
     RUN(test_missing_ids_dropped_and_counted);
+    RUN(test_large_ids);
     RUN(test_duplicate_ids);
     RUN(test_times_must_increase);
     RUN(test_time_outside_range);
