@@ -841,7 +841,11 @@ static orr_status make_source(orr_sequence *seq, seq_cursor *proto, double time,
         orr_source_add_header(info, "dropped", "%lld only in the earlier, %lld only in the later",
                               (long long)seq->stats.only_earlier, (long long)seq->stats.only_later);
     }
-    orr_status st = orr_chunk_alloc(&src->chunk, seq->opt.source.chunk_size, info->has_h, names, cur->nyield, err);
+    /* No larger than the particles there are: a frame allocates its chunk anew. */
+    size_t capacity = seq->opt.source.chunk_size;
+    if (info->count >= 0 && (uint64_t)info->count < capacity)
+        capacity = info->count > 0 ? (size_t)info->count : 1;
+    orr_status st = orr_chunk_alloc(&src->chunk, capacity, info->has_h, names, cur->nyield, err);
     if (st) {
         orr_source_close(src);
         return st;
