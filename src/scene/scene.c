@@ -24,6 +24,10 @@ void orr_scene_defaults(orr_scene *s)
     s->skip_nonfinite = 0;
     s->anim_frames = 1;
     s->anim_fps = 30;
+    s->seq_first = 0;
+    s->seq_step = 1;
+    s->seq_interpolation = ORR_INTERP_AUTO;
+    s->seq_max_memory = 16;
 
     s->camera_position = orr_v3(0, 0, 0);
     s->camera_up = orr_v3(0, 1, 0);

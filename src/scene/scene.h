@@ -14,6 +14,7 @@
 #include "post/colormap.h"
 #include "post/colour.h"
 #include "post/stretch.h"
+#include "source/sequence.h"
 #include "source/source.h"
 #include "splat/deposit.h"
 #include "splat/kernel.h"
@@ -34,6 +35,11 @@ typedef enum {
 
 #define ORR_NAME_MAX 128
 
+/* Room for input.sequence.files: at most this many paths, in this many
+ * bytes together (a pattern has no such limit). */
+#define ORR_SEQ_FILES_MAX 1024
+#define ORR_SEQ_FILES_BYTES 32768
+
 typedef struct orr_scene {
     char path[ORR_PATH_MAX]; /* the scene file, for messages ("<built-in>" when none) */
     char dir[ORR_PATH_MAX];  /* its folder: relative paths in the scene are resolved against it */
@@ -52,6 +58,19 @@ typedef struct orr_scene {
     int insitu;                    /* input.insitu: the particles come from a running simulation
                                     * through orrery.h, which sets it; input.file and input.model.*
                                     * are then optional and unused (default false) */
+
+    /* input.sequence.* : snapshots interpolated in time (docs/sequences.md),
+     * instead of input.file; listed by a pattern and a range, or by files. */
+    char seq_pattern[ORR_PATH_MAX];  /* input.sequence.pattern: "snap_%03d.hdf5", resolved; empty when none */
+    long long seq_first;             /* input.sequence.first (default 0) */
+    long long seq_last;              /* input.sequence.last (required with a pattern) */
+    long long seq_step;              /* input.sequence.step (default 1) */
+    int seq_nfiles;                  /* input.sequence.files: how many (0 when none) */
+    char seq_files[ORR_SEQ_FILES_BYTES]; /* ...the paths, resolved, one after another, each ending in NUL;
+                                      * read them with orr_scene_sequence_file */
+    orr_interpolation seq_interpolation; /* input.sequence.interpolation: auto | linear | hermite (default auto) */
+    double seq_max_memory;           /* input.sequence.max_memory: GiB two resident snapshots may take
+                                      * (default 16) */
 
     /* camera.* : exactly one of look_at, direction, quaternion orients it;
      * none means looking along -z with +y up (the xy plane face-on). */
@@ -199,6 +218,11 @@ typedef struct orr_scene_views {
 
 /* Fills s with the defaults above. */
 void orr_scene_defaults(orr_scene *s);
+
+/* Whether the scene's input is a sequence (input.sequence.pattern or .files). */
+int orr_scene_has_sequence(const orr_scene *s);
+/* Path i (0 <= i < s->seq_nfiles) of input.sequence.files. */
+const char *orr_scene_sequence_file(const orr_scene *s, int i);
 
 /* Reads a scene file, then applies the overrides ("key=value", value in YAML
  * flow syntax, e.g. "camera.position=[0,0,10]") in order, then validates.

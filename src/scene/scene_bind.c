@@ -1,6 +1,7 @@
 #include "scene/scene_bind.h"
 
 #include "scene/scene_colour.h"
+#include "scene/scene_sequence.h"
 #include "source/source.h"
 
 #include <errno.h>
@@ -33,6 +34,7 @@ typedef enum {
     K_POPULATIONS, /* colour.populations: a list of mappings (scene_colour.c) */
     K_TINT,        /* colour.tint.path: a list of temperatures (scene_colour.c) */
     K_LAYERS,      /* compose.layers: a list of mappings (scene_colour.c) */
+    K_SEQ_FILES,   /* input.sequence.files: a list of paths (scene_sequence.c) */
     K_ID,       /* uint64_t, the full range: a particle id */
     K_LB,       /* double[2] from [l, b], degrees: l any finite number, b in [-90, 90] */
     K_PAIR,     /* double[2] from [a, b], any finite numbers */
@@ -103,6 +105,12 @@ static int word_nonfinite(orr_scene *s, const char *w)
     return 1;
 }
 static const char *names_nonfinite(void) { return "error skip"; }
+
+static int word_interpolation(orr_scene *s, const char *w)
+{
+    return orr_interpolation_from_name(w, &s->seq_interpolation);
+}
+static const char *names_interpolation(void) { return "auto linear hermite"; }
 
 static int word_projection(orr_scene *s, const char *w)
 {
@@ -229,6 +237,13 @@ static const key_spec KEYS[] = {
     {.key = "input.chunk", .type = K_LLONG, FIELD(chunk_size), IRANGE(1, 4294967296LL)},
     {.key = "input.nonfinite", ENUM(nonfinite)},
     {.key = "input.insitu", .type = K_BOOL, FIELD(insitu)},
+    {.key = "input.sequence.pattern", .type = K_PATH, FIELD(seq_pattern)},
+    {.key = "input.sequence.first", .type = K_LLONG, FIELD(seq_first), IRANGE(0, 1000000000LL)},
+    {.key = "input.sequence.last", .type = K_LLONG, FIELD(seq_last), IRANGE(0, 1000000000LL)},
+    {.key = "input.sequence.step", .type = K_LLONG, FIELD(seq_step), IRANGE(1, 1000000000LL)},
+    {.key = "input.sequence.files", .type = K_SEQ_FILES},
+    {.key = "input.sequence.interpolation", ENUM(interpolation)},
+    {.key = "input.sequence.max_memory", .type = K_NUMBER, FIELD(seq_max_memory), ABOVE(0)},
     {.key = "camera.position", .type = K_VEC3, FIELD(camera_position)},
     {.key = "camera.look_at", .type = K_VEC3, FIELD(camera_look_at), FLAG(has_look_at)},
     {.key = "camera.direction", .type = K_VEC3, FIELD(camera_direction), FLAG(has_direction)},
@@ -854,6 +869,7 @@ static orr_status bind_value(const bind_ctx *c, const key_spec *k, const value_a
     case K_POPULATIONS: return scene_bind_populations(c->target, at->origin, at->line, at->path, n, c->err);
     case K_TINT: return scene_bind_tint(c->target, at->origin, at->line, at->path, n, c->err);
     case K_LAYERS: return scene_bind_layers(c->target, at->origin, at->line, at->path, n, c->err);
+    case K_SEQ_FILES: return scene_bind_sequence_files(c->target, at->origin, at->line, at->path, n, c->err);
     case K_ID: return bind_id(c, k, at, n);
     case K_LB: return bind_lb(c, k, at, n);
     case K_PAIR: return bind_pair(c, k, at, n);

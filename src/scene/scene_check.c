@@ -9,21 +9,82 @@
 
 /* ---- input ---- */
 
+static const char *const SEQUENCE_KEYS[] = {
+    "input.sequence.pattern", "input.sequence.first", "input.sequence.last", "input.sequence.step",
+    "input.sequence.files", "input.sequence.interpolation", "input.sequence.max_memory",
+};
+static const char *const RANGE_KEYS[] = {"input.sequence.first", "input.sequence.last", "input.sequence.step"};
+
+#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
+
 static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     static const char *const model_keys[] = {"input.model.particles", "input.model.seed",
                                              "input.model.separation"};
     const int has_file = s->input_file[0] != '\0', has_model = s->model_name[0] != '\0';
+    const int has_sequence = orr_scene_has_sequence(s);
+    const char *sequence_key = s->seq_pattern[0] ? "input.sequence.pattern" : "input.sequence.files";
     if (has_file && has_model)
         return scene_fail_key(s, m, "input.model.name", err,
                         "input.file and input.model.name are both set; use one of them");
-    if (!has_file && !has_model && !s->insitu)
-        return orr_fail(err, ORR_ERR_USAGE, "%s: no input: set input.file or input.model.name", s->path);
-    for (size_t i = 0; has_file && i < sizeof model_keys / sizeof model_keys[0]; i++)
+    if (has_sequence && (has_file || has_model))
+        return scene_fail_key(s, m, sequence_key, err, "%s and %s are both set; use one of them", sequence_key,
+                              has_file ? "input.file" : "input.model.name");
+    if (!has_file && !has_model && !has_sequence && !s->insitu)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "%s: no input: set input.file or input.model.name, or a sequence (input.sequence.pattern or "
+                        "input.sequence.files)",
+                        s->path);
+    for (size_t i = 0; !has_model && i < COUNT(model_keys); i++)
         if (scene_mark(m, model_keys[i]))
-            return scene_fail_key(s, m, model_keys[i], err, "%s applies to input.model.name, but the input is input.file",
-                            model_keys[i]);
+            return scene_fail_key(s, m, model_keys[i], err, "%s applies to input.model.name, but the input is %s",
+                                  model_keys[i], has_file ? "input.file" : sequence_key);
     return ORR_OK;
+}
+
+/* The pattern: one integer conversion, and a range of at least 2 files. */
+static orr_status check_sequence_pattern(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    orr_error why;
+    if (orr_sequence_pattern_check(s->seq_pattern, &why))
+        return scene_fail_key(s, m, "input.sequence.pattern", err, "input.sequence.pattern: %s", why.msg);
+    if (!scene_mark(m, "input.sequence.last"))
+        return scene_fail_key(s, m, "input.sequence.pattern", err,
+                              "input.sequence.pattern needs input.sequence.last, the number of the last snapshot");
+    if (s->seq_last < s->seq_first)
+        return scene_fail_key(s, m, "input.sequence.last", err,
+                              "input.sequence.last (%lld) is below input.sequence.first (%lld)", s->seq_last,
+                              s->seq_first);
+    if ((s->seq_last - s->seq_first) / s->seq_step + 1 < 2)
+        return scene_fail_key(s, m, "input.sequence.last", err,
+                              "input.sequence.first %lld, last %lld, step %lld give one snapshot; a sequence needs "
+                              "at least 2 (use input.file for one)",
+                              s->seq_first, s->seq_last, s->seq_step);
+    return ORR_OK;
+}
+
+static orr_status check_sequence(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (!orr_scene_has_sequence(s)) {
+        for (size_t i = 0; i < COUNT(SEQUENCE_KEYS); i++)
+            if (scene_mark(m, SEQUENCE_KEYS[i]))
+                return scene_fail_key(s, m, SEQUENCE_KEYS[i], err,
+                                      "%s applies to a sequence, but neither input.sequence.pattern nor "
+                                      "input.sequence.files is set",
+                                      SEQUENCE_KEYS[i]);
+        return ORR_OK;
+    }
+    if (s->seq_pattern[0] && s->seq_nfiles > 0)
+        return scene_fail_key(s, m, "input.sequence.files", err,
+                              "input.sequence.pattern and input.sequence.files are both set; list the snapshots "
+                              "one way");
+    for (size_t i = 0; s->seq_nfiles > 0 && i < COUNT(RANGE_KEYS); i++)
+        if (scene_mark(m, RANGE_KEYS[i]))
+            return scene_fail_key(s, m, RANGE_KEYS[i], err,
+                                  "%s applies to input.sequence.pattern, but the snapshots are listed by "
+                                  "input.sequence.files",
+                                  RANGE_KEYS[i]);
+    return s->seq_pattern[0] ? check_sequence_pattern(s, m, err) : ORR_OK;
 }
 
 /* ---- camera ---- */
@@ -114,8 +175,6 @@ static const char *const OBSERVER_KEYS[] = {
 /* The camera keys the observer particle replaces. */
 static const char *const PLACEMENT_KEYS[] = {"camera.position", "camera.look_at", "camera.direction",
                                              "camera.quaternion"};
-
-#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
 
 static orr_status check_without_observer(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
@@ -251,6 +310,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
     orr_status st = scene_bind(s, root, &marks, err);
     if (st == ORR_OK)
         st = check_input(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_sequence(s, &marks, err);
     if (st == ORR_OK) /* before the camera: its placement keys are not allowed with an observer */
         st = check_observer(s, &marks, err);
     if (st == ORR_OK)

@@ -1,0 +1,33 @@
+#include "render/sequence_open.h"
+
+#include <stdlib.h>
+
+orr_status orr_sequence_open_scene(const orr_scene *s, const char *const *fields, int nfields, orr_sequence **out,
+                                   orr_error *err)
+{
+    *out = NULL;
+    if (!orr_scene_has_sequence(s))
+        return orr_fail(err, ORR_ERR_USAGE, "%s: the input is not a sequence (no input.sequence.pattern or .files)",
+                        s->path);
+    orr_sequence_options opt = {
+        .source = {s->input_format, (size_t)s->chunk_size, s->type_mask, fields, nfields},
+        .interpolation = s->seq_interpolation,
+        .max_memory = s->seq_max_memory * 1024.0 * 1024.0 * 1024.0,
+    };
+    orr_status st;
+    if (s->seq_pattern[0]) {
+        st = orr_sequence_open_pattern(s->seq_pattern, (long)s->seq_first, (long)s->seq_last, (long)s->seq_step,
+                                       &opt, out, err);
+    } else {
+        const char **paths = orr_malloc((size_t)s->seq_nfiles * sizeof *paths, "the sequence's paths", err);
+        if (!paths)
+            return ORR_ERR_NOMEM;
+        for (int i = 0; i < s->seq_nfiles; i++)
+            paths[i] = orr_scene_sequence_file(s, i);
+        st = orr_sequence_open(paths, s->seq_nfiles, &opt, out, err);
+        free(paths);
+    }
+    if (st)
+        orr_fail_prefix(err, "%s: ", s->path);
+    return st;
+}
