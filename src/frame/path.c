@@ -234,6 +234,24 @@ static orr_quat squad_control(const orr_camera_path *p, int i)
     return orr_quat_normalize(orr_quat_mul(q, quat_exp(orr_v3_scale(l, -0.25))));
 }
 
+/* Slerp along the arc from a to b as given, without orr_quat_slerp's
+ * shorter-arc flip: squad blends two slerps whose ends may be more than 90
+ * degrees apart, and a flip half way through would turn the camera
+ * suddenly. The caller puts its quaternions on one side beforehand. */
+static orr_quat slerp_direct(orr_quat a, orr_quat b, double t)
+{
+    double d = quat_dot(a, b);
+    d = d > 1 ? 1 : d < -1 ? -1 : d;
+    double wa = 1.0 - t, wb = t;
+    if (fabs(d) < 0.9995) {
+        double theta = acos(d), s = sin(theta);
+        wa = sin((1.0 - t) * theta) / s;
+        wb = sin(t * theta) / s;
+    }
+    return orr_quat_normalize((orr_quat){wa * a.w + wb * b.w, wa * a.x + wb * b.x, wa * a.y + wb * b.y,
+                                         wa * a.z + wb * b.z});
+}
+
 static orr_quat key_orientation(const orr_camera_path *p, int i, double s)
 {
     orr_quat q0 = p->keys[i].orientation, q1 = quat_near(q0, p->keys[i + 1].orientation);
@@ -242,7 +260,7 @@ static orr_quat key_orientation(const orr_camera_path *p, int i, double s)
     /* squad(s) = slerp(slerp(q0, q1, s), slerp(a0, a1, s), 2 s (1 - s)); the
      * control points of both ends are built on the same side as q0. */
     orr_quat a0 = squad_control(p, i), a1 = quat_near(q0, squad_control(p, i + 1));
-    return orr_quat_slerp(orr_quat_slerp(q0, q1, s), orr_quat_slerp(a0, a1, s), 2 * s * (1 - s));
+    return slerp_direct(slerp_direct(q0, q1, s), slerp_direct(a0, a1, s), 2 * s * (1 - s));
 }
 
 static void eval_keyframes(const orr_camera_path *p, double frame, orr_camera *cam)

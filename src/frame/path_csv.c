@@ -201,8 +201,12 @@ static orr_status read_rows(FILE *fp, const char *file, orr_keyframe *keys, int 
             return orr_fail(err, ORR_ERR_FORMAT,
                             "%s:%d: frame %g is not after the previous keyframe's frame %g; keyframes must be in "
                             "increasing frame order", file, line, spec.frame, keys[*nkeys - 1].frame);
-        if ((st = orr_keyframe_from_spec(&spec, &keys[*nkeys], err)))
-            return orr_fail_prefix(err, "%s:%d: ", file, line);
+        if ((st = orr_keyframe_from_spec(&spec, &keys[*nkeys], err))) {
+            orr_fail_prefix(err, "%s:%d: ", file, line);
+            if (err)
+                err->code = ORR_ERR_FORMAT; /* the file's contents are wrong, as for the other rows */
+            return ORR_ERR_FORMAT;
+        }
         ++*nkeys;
     }
     if (ferror(fp))
