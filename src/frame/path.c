@@ -220,18 +220,27 @@ static orr_quat quat_exp(orr_vec3 v)
     return (orr_quat){cos(t), k * v.x, k * v.y, k * v.z};
 }
 
-/* Shoemake's inner control point a_i = q_i exp(-(log(q_i^-1 q_{i+1}) +
- * log(q_i^-1 q_{i-1})) / 4), which makes the angular velocity continuous
- * at q_i. The ends use a_i = q_i. */
-static orr_quat squad_control(const orr_camera_path *p, int i)
+/* Shoemake's inner control points, generalised to unevenly spaced
+ * keyframes. A squad segment leaves q_i with the (half-angle, body-frame)
+ * log-velocity L_next + 2 log(q_i^-1 a_i) per unit of s, where L_next =
+ * log(q_i^-1 q_{i+1}) and L_prev = log(q_i^-1 q_{i-1}). We ask for the
+ * same velocity per frame on both sides of q_i, the Catmull-Rom-like
+ * T = (L_next - L_prev) / (h_prev + h_next), so the control point leaving
+ * q_i is a_out = q_i exp((h_next T - L_next) / 2) and the one arriving is
+ * a_in = q_i exp((-h_prev T - L_prev) / 2). With even spacing both are
+ * Shoemake's a_i = q_i exp(-(L_next + L_prev) / 4). The ends use a = q. */
+static orr_quat squad_control(const orr_camera_path *p, int i, int outgoing)
 {
     if (i == 0 || i == p->nkeys - 1)
         return p->keys[i].orientation;
     orr_quat q = p->keys[i].orientation;
     orr_quat prev = quat_near(q, p->keys[i - 1].orientation), next = quat_near(q, p->keys[i + 1].orientation);
     orr_quat inv = orr_quat_conj(q);
-    orr_vec3 l = orr_v3_add(quat_log(orr_quat_mul(inv, next)), quat_log(orr_quat_mul(inv, prev)));
-    return orr_quat_normalize(orr_quat_mul(q, quat_exp(orr_v3_scale(l, -0.25))));
+    orr_vec3 l_next = quat_log(orr_quat_mul(inv, next)), l_prev = quat_log(orr_quat_mul(inv, prev));
+    const double h_prev = p->keys[i].frame - p->keys[i - 1].frame, h_next = p->keys[i + 1].frame - p->keys[i].frame;
+    orr_vec3 t = orr_v3_scale(orr_v3_sub(l_next, l_prev), 1.0 / (h_prev + h_next));
+    orr_vec3 v = outgoing ? orr_v3_sub(orr_v3_scale(t, h_next), l_next) : orr_v3_sub(orr_v3_scale(t, -h_prev), l_prev);
+    return orr_quat_normalize(orr_quat_mul(q, quat_exp(orr_v3_scale(v, 0.5))));
 }
 
 /* Slerp along the arc from a to b as given, without orr_quat_slerp's
@@ -257,9 +266,10 @@ static orr_quat key_orientation(const orr_camera_path *p, int i, double s)
     orr_quat q0 = p->keys[i].orientation, q1 = quat_near(q0, p->keys[i + 1].orientation);
     if (p->orientation == ORR_ORIENT_SLERP)
         return orr_quat_slerp(q0, q1, s);
-    /* squad(s) = slerp(slerp(q0, q1, s), slerp(a0, a1, s), 2 s (1 - s)); the
-     * control points of both ends are built on the same side as q0. */
-    orr_quat a0 = squad_control(p, i), a1 = quat_near(q0, squad_control(p, i + 1));
+    /* squad(s) = slerp(slerp(q0, q1, s), slerp(a0, a1, s), 2 s (1 - s)). */
+    orr_quat a0 = squad_control(p, i, 1), a1 = squad_control(p, i + 1, 0);
+    if (quat_dot(q0, p->keys[i + 1].orientation) < 0) /* q1 was flipped: its control point goes with it */
+        a1 = (orr_quat){-a1.w, -a1.x, -a1.y, -a1.z};
     return slerp_direct(slerp_direct(q0, q1, s), slerp_direct(a0, a1, s), 2 * s * (1 - s));
 }
 

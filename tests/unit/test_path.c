@@ -128,6 +128,38 @@ static void test_unit_quaternions(void)
     }
 }
 
+/* The body-frame angular velocity 2 log(a^-1 b) / h between two orientations h frames apart. */
+static orr_vec3 angular_velocity(orr_quat a, orr_quat b, double h)
+{
+    orr_quat d = orr_quat_mul(orr_quat_conj(a), b);
+    if (d.w < 0)
+        d = (orr_quat){-d.w, -d.x, -d.y, -d.z};
+    orr_vec3 v = orr_v3(d.x, d.y, d.z);
+    double s = orr_v3_norm(v);
+    return s > 0 ? orr_v3_scale(v, 2 * atan2(s, d.w) / s / h) : v;
+}
+
+/* Squad turns smoothly through the keyframes; slerp does not (the check's teeth). */
+static void test_squad_smooth(void)
+{
+    for (int orient = 0; orient < 2; orient++) {
+        make_keyframes(&g_path);
+        g_path.orientation = (orr_path_orient)orient;
+        double worst = 0;
+        for (int i = 1; i + 1 < g_path.nkeys; i++) {
+            const double f = g_path.keys[i].frame, h = 1e-5;
+            orr_quat q = eval(&g_path, f, 0).orientation;
+            orr_vec3 left = angular_velocity(eval(&g_path, f - h, 0).orientation, q, h);
+            orr_vec3 right = angular_velocity(q, eval(&g_path, f + h, 0).orientation, h);
+            worst = fmax(worst, orr_v3_norm(orr_v3_sub(left, right)) / orr_v3_norm(left));
+        }
+        if (orient == ORR_ORIENT_SQUAD)
+            CHECK(worst < 1e-3);
+        else
+            CHECK(worst > 0.05);
+    }
+}
+
 static void test_orbit(void)
 {
     orr_path_defaults(&g_path, ORR_PATH_ORBIT);
@@ -458,6 +490,7 @@ int main(void)
     RUN(test_through_keyframes);
     RUN(test_velocity_continuous);
     RUN(test_unit_quaternions);
+    RUN(test_squad_smooth);
     RUN(test_orbit);
     RUN(test_line);
     RUN(test_inspiral);
