@@ -71,7 +71,9 @@ static const float *weights_of(const orr_scene *s, const orr_chunk *c) { return 
 
 static int selected(const orr_scene *s, const orr_chunk *c, size_t i)
 {
-    return (s->type_mask >> c->type[i] & 1u) && isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]);
+    /* input.types is a mask of types 0..5; a text table may hold others. */
+    return c->type[i] < 32 && (s->type_mask >> c->type[i] & 1u) && isfinite(c->x[i]) && isfinite(c->y[i]) &&
+           isfinite(c->z[i]);
 }
 
 /* Pass 1: the particles' extent in the view's plane. */
@@ -356,7 +358,8 @@ orr_status orr_path_overview_write(const orr_scene *s, const orr_camera *cams, l
         canvas cv = {rgb, ov->width, ov->height};
         draw_path(&cv, &proj, &ov->view, cams, n);
         char desc[ORR_PATH_MAX + 160];
-        snprintf(desc, sizeof desc, "camera path (%s, %ld frames) of %s over its particles, seen down (%.4g, %.4g, %.4g)",
+        snprintf(desc, sizeof desc,
+                 "camera path (%s, %ld frames) of %s over its particles, seen down (%.4g, %.4g, %.4g)",
                  orr_path_kind_name(s->camera_path.kind), n, s->path, ov->normal.x, ov->normal.y, ov->normal.z);
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
         st = orr_write_png_rgb(png_path, ov->width, ov->height, rgb, 8, text, 2, err);

@@ -8,6 +8,7 @@
 
 #include "check.h"
 #include "frame/path.h"
+#include "render/path_overview.h"
 #include "scene/scene.h"
 #include "tmpdir.h"
 
@@ -96,8 +97,10 @@ static void test_velocity_continuous(void)
             CHECK(speed > 0.1);
             CHECK(jump < 1e-4 * speed);
             /* The check has teeth: straight segments would jump here. */
-            orr_vec3 chord_in = orr_v3_scale(orr_v3_sub(k[i].position, k[i - 1].position), 1 / (k[i].frame - k[i - 1].frame));
-            orr_vec3 chord_out = orr_v3_scale(orr_v3_sub(k[i + 1].position, k[i].position), 1 / (k[i + 1].frame - k[i].frame));
+            orr_vec3 chord_in =
+                orr_v3_scale(orr_v3_sub(k[i].position, k[i - 1].position), 1 / (k[i].frame - k[i - 1].frame));
+            orr_vec3 chord_out =
+                orr_v3_scale(orr_v3_sub(k[i + 1].position, k[i].position), 1 / (k[i + 1].frame - k[i].frame));
             CHECK(orr_v3_norm(orr_v3_sub(chord_in, chord_out)) > 0.05);
         }
     }
@@ -484,6 +487,36 @@ static void test_scene_bad(void)
     CHECK_CONTAINS(err.msg, "missing.csv: cannot open");
 }
 
+/* The overview looks down an orbit's axis, across a tilted keyframe loop's
+ * plane, and across a straight line. */
+static void test_overview_axis(void)
+{
+    static orr_camera cams[64];
+    orr_path_defaults(&g_path, ORR_PATH_ORBIT);
+    g_path.axis = orr_v3(0, 3, 4);
+    orr_vec3 n = orr_path_main_axis(&g_path, cams, 0);
+    CHECK_NEAR(n.y, 0.6, 1e-15);
+    /* A loop in the plane normal to (1, 1, 1) / sqrt(3), counter-clockwise about it. */
+    const orr_vec3 a = orr_v3_normalize(orr_v3(1, -1, 0)), b = orr_v3_cross(orr_v3_normalize(orr_v3(1, 1, 1)), a);
+    for (int i = 0; i < 64; i++) {
+        double t = 2 * ORR_PI * i / 64;
+        orr_vec3 offset = orr_v3_add(orr_v3_scale(a, 3 * cos(t)), orr_v3_scale(b, 2 * sin(t)));
+        cams[i].position = orr_v3_add(orr_v3(5, 5, 5), offset);
+    }
+    orr_path_defaults(&g_path, ORR_PATH_KEYFRAMES);
+    n = orr_path_main_axis(&g_path, cams, 64);
+    CHECK_NEAR(n.x, 1 / sqrt(3), 1e-12);
+    CHECK_NEAR(n.z, 1 / sqrt(3), 1e-12);
+    for (int i = 0; i < 64; i++)
+        cams[i].position = orr_v3(i, 2 * i, 0);
+    n = orr_path_main_axis(&g_path, cams, 64);
+    CHECK_NEAR(n.z, 1, 0);
+    for (int i = 0; i < 64; i++)
+        cams[i].position = orr_v3(0, 0.1 * i, i);
+    n = orr_path_main_axis(&g_path, cams, 64);
+    CHECK_NEAR(fabs(orr_v3_dot(n, orr_v3(0, 0.1, 1))), 0, 0.2);
+}
+
 int main(void)
 {
     make_tmpdir();
@@ -496,6 +529,7 @@ int main(void)
     RUN(test_inspiral);
     RUN(test_rotate);
     RUN(test_ease);
+    RUN(test_overview_axis);
     RUN(test_csv_round_trip);
     RUN(test_csv_errors);
     RUN(test_scene_good);
