@@ -175,7 +175,7 @@ static int skippable(const char *line)
 static orr_status read_rows(FILE *fp, const char *file, orr_keyframe *keys, int max, int *nkeys, orr_error *err)
 {
     char text[LINE_MAX_LEN];
-    csv_layout layout;
+    csv_layout layout = {0};
     int have_header = 0, line = 0;
     *nkeys = 0;
     while (fgets(text, sizeof text, fp)) {
