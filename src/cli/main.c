@@ -16,6 +16,8 @@ static const char usage_text[] =
     "  info FILE [--format FORMAT]                        particle count, fields, bounds, mass\n"
     "  model -o FILE [--particles N] [--seed S] [--separation KPC]\n"
     "                                                     write the built-in Milky Way-Andromeda model\n"
+    "  path SCENE.yaml [--set KEY=VALUE ...] [--frames N] [-o FILE.png]\n"
+    "                                                     print a camera path; draw it over the particles\n"
     "\n"
     "options:\n"
     "  -h, --help      this text (also 'orrery COMMAND --help')\n"
@@ -47,6 +49,8 @@ int main(int argc, char **argv)
         return cmd_info(argc - 1, argv + 1);
     if (strcmp(cmd, "model") == 0)
         return cmd_model(argc - 1, argv + 1);
+    if (strcmp(cmd, "path") == 0)
+        return cmd_path(argc - 1, argv + 1);
     fprintf(stderr, "orrery: unknown command '%s'\n\n%s", cmd, usage_text);
     return EXIT_USAGE;
 }

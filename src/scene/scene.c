@@ -21,6 +21,7 @@ void orr_scene_defaults(orr_scene *s)
     snprintf(s->weight, sizeof s->weight, "mass");
     s->type_mask = 0x3f;
     s->chunk_size = 1048576;
+    orr_path_defaults(&s->camera_path, ORR_PATH_KEYFRAMES);
     s->skip_nonfinite = 0;
     s->anim_frames = 1;
     s->anim_fps = 30;

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/vecmath.h"
+#include "frame/path.h"
 #include "frame/projection.h"
 #include "particles/population.h"
 #include "post/colormap.h"
@@ -81,6 +82,18 @@ typedef struct orr_scene {
     orr_vec3 camera_up;            /* camera.up (default 0,1,0) */
     double camera_roll;            /* camera.roll, degrees (default 0) */
     orr_quat camera_quaternion;    /* camera.quaternion: [w, x, y, z] */
+
+    /* camera.path.* : a camera that moves over an animation (docs/paths.md).
+     * The path places and orients the camera in every frame, so camera.position
+     * and the orientation keys are not allowed with it (except with kind
+     * rotate, whose start they are), nor is observer.id. The renderer asks
+     * orr_path_camera(&s->camera_path, frame_time, ...) for each frame. */
+    int has_path;                  /* camera.path.kind was given */
+    orr_camera_path camera_path;   /* camera.path.kind: keyframes | orbit | line | inspiral | rotate,
+                                    * and the keys of each kind */
+    char path_file[ORR_PATH_MAX];  /* camera.path.file: keyframes from CSV, resolved */
+    int has_path_start;
+    orr_vec3 path_start;           /* camera.path.start: an orbit's first point */
 
     /* camera.projection, camera.width, camera.fov, camera.near and image.* */
     orr_projection projection;     /* camera.projection (orthographic | perspective),

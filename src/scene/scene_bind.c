@@ -2,6 +2,7 @@
 
 #include "scene/scene_colour.h"
 #include "scene/scene_sequence.h"
+#include "scene/scene_path.h"
 #include "source/source.h"
 
 #include <errno.h>
@@ -38,6 +39,7 @@ typedef enum {
     K_ID,       /* uint64_t, the full range: a particle id */
     K_LB,       /* double[2] from [l, b], degrees: l any finite number, b in [-90, 90] */
     K_PAIR,     /* double[2] from [a, b], any finite numbers */
+    K_KEYFRAMES, /* camera.path.keyframes: a list of mappings (scene_path.c) */
 } key_type;
 
 /* Bounds of K_NUMBER and K_AUTO. */
@@ -223,6 +225,54 @@ static const char *names_stretch(void) { return "linear log asinh"; }
 
 static int word_colormap(orr_scene *s, const char *w) { return orr_colormap_from_name(w, &s->colormap); }
 
+static int word_path_kind(orr_scene *s, const char *w)
+{
+    if (!orr_path_kind_from_name(w, &s->camera_path.kind))
+        return 0;
+    s->has_path = 1;
+    return 1;
+}
+static const char *names_path_kind(void) { return "keyframes orbit line inspiral rotate"; }
+
+static int word_path_interp(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "catmull-rom") == 0)
+        s->camera_path.interpolation = ORR_PATH_CATMULL_ROM;
+    else if (strcmp(w, "hermite") == 0)
+        s->camera_path.interpolation = ORR_PATH_HERMITE;
+    else
+        return 0;
+    return 1;
+}
+static const char *names_path_interp(void) { return "catmull-rom hermite"; }
+
+static int word_path_orient(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "slerp") == 0)
+        s->camera_path.orientation = ORR_ORIENT_SLERP;
+    else if (strcmp(w, "squad") == 0)
+        s->camera_path.orientation = ORR_ORIENT_SQUAD;
+    else
+        return 0;
+    return 1;
+}
+static const char *names_path_orient(void) { return "slerp squad"; }
+
+static int word_path_ease(orr_scene *s, const char *w) { return orr_ease_from_name(w, &s->camera_path.ease); }
+static const char *names_path_ease(void) { return "none in out in-out"; }
+
+static int word_path_radial(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "exponential") == 0)
+        s->camera_path.radial = ORR_RADIAL_EXPONENTIAL;
+    else if (strcmp(w, "linear") == 0)
+        s->camera_path.radial = ORR_RADIAL_LINEAR;
+    else
+        return 0;
+    return 1;
+}
+static const char *names_path_radial(void) { return "exponential linear"; }
+
 #define ENUM(fn) .type = K_ENUM, .parse_word = word_##fn, .choices = names_##fn
 
 static const key_spec KEYS[] = {
@@ -250,6 +300,27 @@ static const key_spec KEYS[] = {
     {.key = "camera.up", .type = K_VEC3, FIELD(camera_up), FLAG(has_up)},
     {.key = "camera.roll", .type = K_NUMBER, FIELD(camera_roll)},
     {.key = "camera.quaternion", .type = K_QUAT, FIELD(camera_quaternion), FLAG(has_quaternion)},
+    {.key = "camera.path.kind", ENUM(path_kind)},
+    {.key = "camera.path.keyframes", .type = K_KEYFRAMES},
+    {.key = "camera.path.file", .type = K_PATH, FIELD(path_file)},
+    {.key = "camera.path.interpolation", ENUM(path_interp)},
+    {.key = "camera.path.orientation", ENUM(path_orient)},
+    {.key = "camera.path.ease", ENUM(path_ease)},
+    {.key = "camera.path.centre", .type = K_VEC3, FIELD(camera_path.centre)},
+    {.key = "camera.path.target", .type = K_VEC3, FIELD(camera_path.centre)},
+    {.key = "camera.path.axis", .type = K_VEC3, FIELD(camera_path.axis)},
+    {.key = "camera.path.radius", .type = K_NUMBER, FIELD(camera_path.radius), ABOVE(0)},
+    {.key = "camera.path.start", .type = K_VEC3, FIELD(path_start), FLAG(has_path_start)},
+    {.key = "camera.path.start_angle", .type = K_NUMBER, FIELD(camera_path.start_angle)},
+    {.key = "camera.path.turns", .type = K_NUMBER, FIELD(camera_path.turns)},
+    {.key = "camera.path.r0", .type = K_NUMBER, FIELD(camera_path.r0), ABOVE(0)},
+    {.key = "camera.path.r1", .type = K_NUMBER, FIELD(camera_path.r1), ABOVE(0)},
+    {.key = "camera.path.radial", ENUM(path_radial)},
+    {.key = "camera.path.from", .type = K_VEC3, FIELD(camera_path.from)},
+    {.key = "camera.path.to", .type = K_VEC3, FIELD(camera_path.to)},
+    {.key = "camera.path.look_at", .type = K_VEC3, FIELD(camera_path.look_at), FLAG(camera_path.has_look_at)},
+    {.key = "camera.path.up", .type = K_VEC3, FIELD(camera_path.up)},
+    {.key = "camera.path.angle", .type = K_NUMBER, FIELD(camera_path.angle)},
     {.key = "camera.projection", ENUM(projection), .choices_note = SKY_PROJECTIONS},
     {.key = "camera.width", .type = K_NUMBER, FIELD(projection.ortho_width), ABOVE(0)},
     {.key = "camera.fov", .type = K_NUMBER, FIELD(projection.fov_deg), .lo = 0, .hi = 180,
@@ -873,6 +944,7 @@ static orr_status bind_value(const bind_ctx *c, const key_spec *k, const value_a
     case K_ID: return bind_id(c, k, at, n);
     case K_LB: return bind_lb(c, k, at, n);
     case K_PAIR: return bind_pair(c, k, at, n);
+    case K_KEYFRAMES: return scene_bind_keyframes(c->target, at->origin, at->line, at->path, n, c->err);
     }
     return orr_fail(c->err, ORR_ERR_INTERNAL, "%s: unknown key type %d", k->key, (int)k->type);
 }

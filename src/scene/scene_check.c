@@ -6,6 +6,7 @@
 
 #include "scene/scene_bind.h"
 #include "scene/scene_dome.h"
+#include "scene/scene_path.h"
 
 /* ---- input ---- */
 
@@ -314,6 +315,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_sequence(s, &marks, err);
     if (st == ORR_OK) /* before the camera: its placement keys are not allowed with an observer */
         st = check_observer(s, &marks, err);
+    if (st == ORR_OK) /* before the camera: a path excludes its placement keys */
+        st = scene_check_path(s, &marks, err);
     if (st == ORR_OK)
         st = check_camera(s, &marks, err);
     if (st == ORR_OK)

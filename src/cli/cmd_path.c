@@ -1,0 +1,181 @@
+/* orrery path SCENE.yaml [--set KEY=VALUE ...] [--frames N] [--every K] [-o FILE.png] [--size WxH]
+ * [--fit all|path]: the scene's camera path as a table, and as a picture. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/cli.h"
+#include "frame/path.h"
+#include "render/path_overview.h"
+#include "scene/scene.h"
+
+static const char path_help[] =
+    "usage: orrery path SCENE.yaml [--set KEY=VALUE ...] [--frames N] [--every K]\n"
+    "                   [-o FILE.png] [--size WxH] [--fit all|path]\n"
+    "\n"
+    "Prints the scene's camera path (camera.path.*) frame by frame: the\n"
+    "camera's position and view direction. With -o, also draws it over the\n"
+    "scene's particles seen from above (down the path's axis) as a PNG.\n"
+    "\n"
+    "  --set KEY=VALUE   override a scene key (repeatable; applied in order)\n"
+    "  --frames N        frames in the run (default 100)\n"
+    "  --every K         print every K-th frame (default: about 50 rows; the last frame always)\n"
+    "  -o, --output FILE write the overview picture (PNG)\n"
+    "  --size WxH        its size in pixels (default 800x800; --size N for N x N)\n"
+    "  --fit all|path    frame the path and every particle (all, default) or the path alone\n"
+    "  -h, --help        this text\n"
+    "\n"
+    "Paths: docs/paths.md. Exit status: 0 success, 1 runtime failure, 2 usage error.\n";
+
+typedef struct path_args {
+    const char *scene, *png;
+    const char **sets;
+    int nsets;
+    long long frames, every;
+    int width, height, fit_path;
+} path_args;
+
+static int parse_size(const char *text, int *w, int *h)
+{
+    char *end;
+    long a = strtol(text, &end, 10), b = a;
+    if (end == text)
+        return 0;
+    if (*end == 'x' || *end == 'X') {
+        const char *second = end + 1;
+        b = strtol(second, &end, 10);
+        if (end == second)
+            return 0;
+    }
+    if (*end != '\0' || a < 16 || b < 16 || a > 65536 || b > 65536)
+        return 0;
+    *w = (int)a;
+    *h = (int)b;
+    return 1;
+}
+
+/* One option with a value; returns EXIT_OK, or a usage error. */
+static int take_option(path_args *pa, const char *opt, const char *value)
+{
+    if (strcmp(opt, "--set") == 0) {
+        pa->sets[pa->nsets++] = value;
+    } else if (strcmp(opt, "-o") == 0 || strcmp(opt, "--output") == 0) {
+        pa->png = value;
+    } else if (strcmp(opt, "--frames") == 0) {
+        if (!cli_parse_count(value, 1, 1000000, &pa->frames))
+            return cli_usage_error("path", "--frames: expected a whole number from 1 to 1000000, got '%s'", value);
+    } else if (strcmp(opt, "--every") == 0) {
+        if (!cli_parse_count(value, 1, 1000000, &pa->every))
+            return cli_usage_error("path", "--every: expected a whole number from 1 to 1000000, got '%s'", value);
+    } else if (strcmp(opt, "--size") == 0) {
+        if (!parse_size(value, &pa->width, &pa->height))
+            return cli_usage_error("path", "--size: expected WxH or N, 16 to 65536 pixels a side, got '%s'", value);
+    } else if (strcmp(opt, "--fit") == 0) {
+        if (strcmp(value, "all") != 0 && strcmp(value, "path") != 0)
+            return cli_usage_error("path", "--fit: expected all or path, got '%s'", value);
+        pa->fit_path = value[0] == 'p';
+    }
+    return EXIT_OK;
+}
+
+static int parse_args(int argc, char **argv, path_args *pa, int *help)
+{
+    static const char *const with_value[] = {"--set", "-o", "--output", "--frames", "--every", "--size", "--fit"};
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i];
+        int takes = 0;
+        for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
+            takes |= strcmp(a, with_value[k]) == 0;
+        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+            *help = 1;
+            return EXIT_OK;
+        } else if (takes) {
+            if (i + 1 >= argc)
+                return cli_usage_error("path", "%s needs a value", a);
+            int code = take_option(pa, a, argv[++i]);
+            if (code != EXIT_OK)
+                return code;
+        } else if (strncmp(a, "--set=", 6) == 0) {
+            pa->sets[pa->nsets++] = a + 6;
+        } else if (a[0] == '-' && a[1] != '\0') {
+            return cli_usage_error("path", "unknown option '%s'", a);
+        } else if (pa->scene) {
+            return cli_usage_error("path", "one scene file at a time (got '%s' and '%s')", pa->scene, a);
+        } else {
+            pa->scene = a;
+        }
+    }
+    if (!pa->scene)
+        return cli_usage_error("path", "no scene file given");
+    return EXIT_OK;
+}
+
+static orr_status eval_frames(const orr_scene *s, long n, orr_camera *cams, orr_error *err)
+{
+    for (long f = 0; f < n; f++) {
+        orr_frame_time t = orr_frame_at(f, n, 30, 0, 0);
+        orr_status st = orr_path_camera(&s->camera_path, &t, &cams[f], err);
+        if (st)
+            return st;
+    }
+    return ORR_OK;
+}
+
+static void print_table(const orr_scene *s, const orr_camera *cams, long n, long every)
+{
+    printf("camera path of %s: %s, %ld frames\n", s->path, orr_path_kind_name(s->camera_path.kind), n);
+    printf("%7s %8s  %12s %12s %12s  %9s %9s %9s\n", "frame", "u", "x", "y", "z", "dir_x", "dir_y", "dir_z");
+    for (long f = 0; f < n; f++) {
+        if (f % every != 0 && f != n - 1)
+            continue;
+        const orr_camera *c = &cams[f];
+        orr_vec3 d = orr_quat_rotate(c->orientation, orr_v3(0, 0, 1));
+        double u = n > 1 ? (double)f / (double)(n - 1) : 0.0;
+        printf("%7ld %8.5f  %12.6g %12.6g %12.6g  %9.5f %9.5f %9.5f\n", f, u, c->position.x, c->position.y,
+               c->position.z, d.x, d.y, d.z);
+    }
+}
+
+int cmd_path(int argc, char **argv)
+{
+    path_args pa = {.frames = 100, .width = 800, .height = 800};
+    pa.sets = calloc((size_t)argc, sizeof *pa.sets);
+    if (!pa.sets) {
+        fprintf(stderr, "orrery path: out of memory\n");
+        return EXIT_RUNTIME;
+    }
+    int help = 0, code = parse_args(argc, argv, &pa, &help);
+    if (help)
+        fputs(path_help, stdout);
+    if (help || code != EXIT_OK) {
+        free(pa.sets);
+        return code;
+    }
+    orr_error err = {0};
+    orr_scene *s = calloc(1, sizeof *s);
+    orr_camera *cams = calloc((size_t)pa.frames, sizeof *cams);
+    orr_status st = s && cams ? ORR_OK : orr_fail(&err, ORR_ERR_NOMEM, "out of memory");
+    if (!st)
+        st = orr_scene_load(s, pa.scene, pa.sets, pa.nsets, &err);
+    if (!st && !s->has_path)
+        st = orr_fail(&err, ORR_ERR_USAGE, "%s: no camera path: set camera.path.kind (docs/paths.md)", s->path);
+    if (!st)
+        st = eval_frames(s, (long)pa.frames, cams, &err);
+    if (!st) {
+        long every = pa.every ? (long)pa.every : (long)((pa.frames + 49) / 50);
+        print_table(s, cams, (long)pa.frames, every);
+    }
+    if (!st && pa.png) {
+        orr_path_overview ov = {.width = pa.width, .height = pa.height, .fit_path = pa.fit_path};
+        st = orr_path_overview_write(s, cams, (long)pa.frames, &ov, pa.png, &err);
+        if (!st)
+            printf("wrote %s: %dx%d, %.6g units across, seen down (%.4f, %.4f, %.4f), %llu particles\n", pa.png,
+                   ov.width, ov.height, ov.view_width, ov.normal.x, ov.normal.y, ov.normal.z, ov.n_particles);
+    }
+    code = st ? cli_report_error(&err) : EXIT_OK;
+    free(cams);
+    free(s);
+    free(pa.sets);
+    return code;
+}
