@@ -10,7 +10,9 @@
 #include "core/error.h"
 #include "core/vecmath.h"
 #include "frame/projection.h"
+#include "frame/stereo.h"
 #include "particles/population.h"
+#include "post/anaglyph.h"
 #include "post/colormap.h"
 #include "post/colour.h"
 #include "post/stretch.h"
@@ -154,6 +156,20 @@ typedef struct orr_scene {
                                     * opposite the Milky Way's spin) */
     int dim;                       /* observer.dim: weights fall off as 1/r^2 from the observer (default true) */
     double dim_near;               /* observer.dim_near: r below this counts as this (default 0.01) */
+
+    /* stereo.* : stereo pairs (perspective) and omni-directional stereo
+     * (sky maps); docs/stereo.md. */
+    orr_stereo_mode stereo;        /* stereo.mode: none | anaglyph | side-by-side | over-under | separate
+                                    * (default none) */
+    double eye_separation;         /* stereo.eye_separation: interocular distance, scene units (> 0;
+                                    * required with a stereo mode) */
+    double convergence;            /* stereo.convergence: distance of the zero-parallax plane,
+                                    * perspective only (default auto: |camera.look_at - camera.position|) */
+    orr_anaglyph_kind anaglyph;    /* stereo.anaglyph: grey | colour | dubois (default dubois) */
+    double zenith_fade;            /* stereo.zenith_fade: degrees from the pole over which an ODS eye
+                                    * separation falls to zero (0..90, default 0: no fade) */
+    int stereo_eye;                /* not a key: 0, or ORR_EYE_LEFT / ORR_EYE_RIGHT in the copy of the
+                                    * scene the renderer makes for each eye (render/stereo_view.h) */
 
     /* output.* */
     char out_dir[ORR_PATH_MAX];    /* output.dir, resolved against the current directory (default ".") */

@@ -214,6 +214,11 @@ static const char *names_stretch(void) { return "linear log asinh"; }
 
 static int word_colormap(orr_scene *s, const char *w) { return orr_colormap_from_name(w, &s->colormap); }
 
+static int word_stereo(orr_scene *s, const char *w) { return orr_stereo_mode_from_name(w, &s->stereo); }
+static const char *names_stereo(void) { return "none anaglyph side-by-side over-under separate"; }
+static int word_anaglyph(orr_scene *s, const char *w) { return orr_anaglyph_from_name(w, &s->anaglyph); }
+static const char *names_anaglyph(void) { return "grey colour dubois"; }
+
 #define ENUM(fn) .type = K_ENUM, .parse_word = word_##fn, .choices = names_##fn
 
 static const key_spec KEYS[] = {
@@ -282,6 +287,11 @@ static const key_spec KEYS[] = {
     {.key = "observer.normal_from.sign", ENUM(normal_sign)},
     {.key = "observer.dim", .type = K_BOOL, FIELD(dim)},
     {.key = "observer.dim_near", .type = K_NUMBER, FIELD(dim_near), ABOVE(0)},
+    {.key = "stereo.mode", ENUM(stereo)},
+    {.key = "stereo.eye_separation", .type = K_NUMBER, FIELD(eye_separation), ABOVE(0)},
+    {.key = "stereo.convergence", .type = K_AUTO, FIELD(convergence), ABOVE(0)},
+    {.key = "stereo.anaglyph", ENUM(anaglyph)},
+    {.key = "stereo.zenith_fade", .type = K_NUMBER, FIELD(zenith_fade), CLOSED(0, 90)},
     {.key = "output.dir", .type = K_STRING, FIELD(out_dir)},
     {.key = "output.name", .type = K_FILENAME, FIELD(out_name)},
     {.key = "output.fits", .type = K_BOOL, FIELD(write_fits)},
