@@ -204,7 +204,7 @@ static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report 
     const orr_scene *s = p->scene;
     orr_plane planes[6];
     pair_planes(p, planes);
-    char *path;
+    char *path = NULL;
     orr_status st = ORR_OK;
     if (s->write_fits && !(st = add_output(p, "fits", rep, &path, err)) &&
         !(st = orr_write_fits(path, planes, 2 * p->nplanes, p->cards, err)))
@@ -231,7 +231,7 @@ static orr_status write_pair_picture(const orr_stereo_pair *p, orr_render_report
     snprintf(desc, sizeof desc, "stereo %s%s%s: %s", orr_stereo_mode_name(s->stereo),
              s->stereo == ORR_STEREO_ANAGLYPH ? " " : "",
              s->stereo == ORR_STEREO_ANAGLYPH ? orr_anaglyph_name(s->anaglyph) : "", p->desc);
-    char *path;
+    char *path = NULL;
     orr_status st = ORR_OK;
     if (s->write_png && !(st = add_output(p, "png", rep, &path, err))) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
