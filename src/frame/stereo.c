@@ -57,6 +57,7 @@ orr_status orr_stereo_ods_setup(orr_stereo_ods *ods, const orr_projection *proj,
         return orr_fail(err, ORR_ERR_USAGE, "stereo zenith fade %g degrees must lie between 0 and 90",
                         zenith_fade_deg);
     ods->eye = eye < 0 ? ORR_EYE_LEFT : ORR_EYE_RIGHT;
+    ods->side = proj->kind != ORR_PROJ_DOME && proj->lon_flip ? -ods->eye : ods->eye;
     ods->pole_is_z = proj->kind == ORR_PROJ_DOME;
     ods->radius = (float)(0.5 * separation);
     ods->inv_sin_fade = zenith_fade_deg > 0 ? (float)(1.0 / sin(zenith_fade_deg * ORR_PI / 180.0)) : 0.0f;
@@ -76,7 +77,7 @@ orr_status orr_stereo_ods_setup(orr_stereo_ods *ods, const orr_projection *proj,
 static size_t ods_plane(const orr_stereo_ods *ods, size_t n, float *restrict a, float *restrict b,
                         const float *restrict c, uint8_t *restrict keep)
 {
-    const float r0 = ods->radius, side = (float)ods->eye, inv_sin_fade = ods->inv_sin_fade;
+    const float r0 = ods->radius, side = (float)ods->side, inv_sin_fade = ods->inv_sin_fade;
     const int fade = inv_sin_fade > 0.0f;
     size_t skipped = 0;
     for (size_t i = 0; i < n; i++) {

@@ -53,13 +53,19 @@ orr_status orr_stereo_perspective_eye(orr_camera *cam, orr_projection *proj, int
 /* One eye of omni-directional stereo, for the per-block transform. */
 typedef struct orr_stereo_ods {
     int eye;              /* ORR_EYE_LEFT or ORR_EYE_RIGHT */
+    int side;             /* the side of the viewing direction the eye is on, -1 left, +1 right,
+                           * in the camera frame: the eye itself, except on a map drawn mirrored
+                           * (camera.lon_flip), where the opposite eye keeps the depth right */
     int pole_is_z;        /* the dome: its zenith is the view direction (+z); the horizontal
                            * plane is x, y. Sky maps: the pole is "up" (-y); the plane is x, z */
     float radius;         /* separation / 2 */
     float inv_sin_fade;   /* 1 / sin(zenith_fade); 0 when there is no fade */
 } orr_stereo_ods;
 
-/* Sets up one eye of ODS for a sky projection. zenith_fade_deg (0 to 90,
+/* Sets up one eye of ODS for a sky projection. A mirrored map (lon_flip,
+ * "outside looking in") mirrors parallax too, which would turn depth
+ * inside out; the eyes swap sides in the camera frame so that in the
+ * picture near things still stand out. zenith_fade_deg (0 to 90,
  * 0 = none) is the angle from the pole over which the separation falls to
  * zero: separation * min(1, sin(angle from the pole) / sin(fade)).
  * Fails for a projection that is not a sky map or a bad separation. */

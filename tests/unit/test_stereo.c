@@ -160,6 +160,23 @@ static void test_ods_equirectangular_ahead(void)
     }
 }
 
+/* A mirrored map (lon_flip) keeps the left eye's near point to the right
+ * in the picture: the depth does not turn inside out. */
+static void test_ods_mirrored_map(void)
+{
+    for (int flip = 0; flip <= 1; flip++) {
+        orr_projection p = {.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 360, .height = 180, .lon_flip = flip};
+        orr_error err = {0};
+        CHECK(orr_projection_setup(&p, &err) == ORR_OK);
+        orr_stereo_ods l = ods_eye(&p, ORR_EYE_LEFT, 1, 0);
+        float x = 0, y = 0, z = 5;
+        CHECK(ods_point(&l, &x, &y, &z) == 1);
+        double px, py, s;
+        CHECK(orr_project_point(&p, orr_v3(x, y, z), &px, &py, &s) == 1);
+        CHECK_NEAR(px - p.cx, asin(0.1) / DEG, 1e-3);
+    }
+}
+
 static void test_ods_dome_horizon_and_zenith(void)
 {
     orr_projection p = sky(ORR_PROJ_DOME, 1000, 1000);
@@ -388,6 +405,7 @@ int main(void)
     RUN(test_perspective_parallax);
     RUN(test_perspective_eye_rejects_bad_input);
     RUN(test_ods_equirectangular_ahead);
+    RUN(test_ods_mirrored_map);
     RUN(test_ods_dome_horizon_and_zenith);
     RUN(test_ods_skips_inside_eye_circle);
     RUN(test_ods_zenith_fade);
