@@ -469,7 +469,7 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
     }
     orr_wcs_add_cards(h, p, cam, &rep->sky);
     if (s->stereo)
-        orr_stereo_add_cards(h, s);
+        orr_stereo_add_cards(h, s, rep);
 }
 
 /* The view's picture, sRGB-encoded RGB: the colour synthesis of its X, Y, Z
@@ -689,7 +689,7 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
         st = view_camera(s, observer, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
-    if ((st = orr_stereo_setup_eye(s, &v->proj, &rep->camera, &v->ods, &v->use_ods, err)))
+    if ((st = orr_stereo_setup_eye(s, &v->proj, rep, &v->ods, &v->use_ods, err)))
         return st;
     rep->has_sky_frame = observer != NULL;
     v->world_to_camera = orr_camera_world_to_camera(&rep->camera);

@@ -30,7 +30,8 @@ typedef struct orr_render_report {
     double white;                /* the PNG stretch's white level (with colour: Y0) */
     int has_sky_frame;           /* an observer frame was built */
     orr_sky_frame sky;           /* ... this one */
-    orr_camera camera;           /* the camera used */
+    orr_camera camera;           /* the camera used (a stereo eye's, for an eye) */
+    double stereo_convergence;   /* perspective stereo: the zero-parallax distance used */
     int noutputs;
     char outputs[ORR_RENDER_MAX_OUTPUTS][ORR_PATH_MAX];
 } orr_render_report;

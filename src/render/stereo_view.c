@@ -91,15 +91,24 @@ int orr_eye_views_pair_at(const orr_eye_views *ev, int k)
     return k + 1 < ev->n && ev->scene[k]->stereo_eye == ORR_EYE_LEFT && is_pair_mode(ev->scene[k]->stereo);
 }
 
-orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_camera *cam, orr_stereo_ods *ods,
-                                int *use_ods, orr_error *err)
+double orr_stereo_convergence(const orr_scene *s, orr_vec3 position)
+{
+    if (s->convergence > 0)
+        return s->convergence;
+    return s->has_look_at ? orr_v3_norm(orr_v3_sub(s->camera_look_at, position)) : 0.0;
+}
+
+orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_render_report *rep,
+                                orr_stereo_ods *ods, int *use_ods, orr_error *err)
 {
     *use_ods = 0;
     if (!s->stereo_eye)
         return ORR_OK;
     orr_status st;
     if (proj->kind == ORR_PROJ_PERSPECTIVE) {
-        st = orr_stereo_perspective_eye(cam, proj, s->stereo_eye, s->eye_separation, s->convergence, err);
+        rep->stereo_convergence = orr_stereo_convergence(s, rep->camera.position);
+        st = orr_stereo_perspective_eye(&rep->camera, proj, s->stereo_eye, s->eye_separation,
+                                        rep->stereo_convergence, err);
     } else {
         st = orr_stereo_ods_setup(ods, proj, s->stereo_eye, s->eye_separation, s->zenith_fade, err);
         *use_ods = !st;
@@ -115,7 +124,7 @@ void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep)
         visible[i] &= keep[i];
 }
 
-void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s)
+void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s, const orr_render_report *rep)
 {
     orr_fits_add_string(h, "STEREO", orr_stereo_mode_name(s->stereo), "stereo mode");
     if (s->stereo == ORR_STEREO_SEPARATE && s->stereo_eye)
@@ -124,7 +133,7 @@ void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s)
         orr_fits_add_string(h, "EYES", "left, right", "HDUs: the left eye's planes, then the right's");
     orr_fits_add_double(h, "EYESEP", s->eye_separation, "interocular distance, scene units");
     if (s->projection.kind == ORR_PROJ_PERSPECTIVE)
-        orr_fits_add_double(h, "CONVERG", s->convergence, "distance of zero parallax, scene units");
+        orr_fits_add_double(h, "CONVERG", rep->stereo_convergence, "distance of zero parallax, scene units");
     else
         orr_fits_add_double(h, "ZENFADE", s->zenith_fade, "[deg] ODS separation fades to 0 at the pole");
     if (s->stereo == ORR_STEREO_ANAGLYPH)

@@ -42,18 +42,24 @@ void orr_eye_views_finish(orr_eye_views *ev);
  * (anaglyph, side-by-side, over-under); view k + 1 is then its right eye. */
 int orr_eye_views_pair_at(const orr_eye_views *ev, int k);
 
+/* The convergence distance of a perspective pair whose centre camera is
+ * at `position`: stereo.convergence, or with auto the distance to
+ * camera.look_at. */
+double orr_stereo_convergence(const orr_scene *s, orr_vec3 position);
+
 /* Places the camera and projection of one eye of scene s (a no-op when
- * s->stereo_eye is 0): a perspective eye moves its camera and principal
- * point; a sky map's eye sets *use_ods and *ods for the per-block
- * transform. proj must be set up. */
-orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_camera *cam, orr_stereo_ods *ods,
-                                int *use_ods, orr_error *err);
+ * s->stereo_eye is 0): a perspective eye moves rep->camera and the
+ * principal point (and sets rep->stereo_convergence); a sky map's eye sets
+ * *use_ods and *ods for the per-block transform. proj must be set up and
+ * rep->camera be the view's camera. */
+orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_render_report *rep,
+                                orr_stereo_ods *ods, int *use_ods, orr_error *err);
 
 /* visible[i] &= keep[i]: the particles inside an ODS eye circle are not drawn. */
 void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep);
 
 /* The stereo cards of a FITS header (mode, eye, separation, convergence). */
-void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s);
+void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s, const orr_render_report *rep);
 
 /* How the driver makes an output's path (DIR/NAME.EXT, or a frame's). */
 typedef orr_status (*orr_output_path_fn)(const orr_scene *s, const char *ext, char *path, orr_error *err);

@@ -164,7 +164,9 @@ typedef struct orr_scene {
     double eye_separation;         /* stereo.eye_separation: interocular distance, scene units (> 0;
                                     * required with a stereo mode) */
     double convergence;            /* stereo.convergence: distance of the zero-parallax plane,
-                                    * perspective only (default auto: |camera.look_at - camera.position|) */
+                                    * perspective only (default auto, stored as 0: the distance from the
+                                    * camera to camera.look_at, taken when the frame is rendered, so a
+                                    * moving camera keeps converging on its target) */
     orr_anaglyph_kind anaglyph;    /* stereo.anaglyph: grey | colour | dubois (default dubois) */
     double zenith_fade;            /* stereo.zenith_fade: degrees from the pole over which an ODS eye
                                     * separation falls to zero (0..90, default 0: no fade) */

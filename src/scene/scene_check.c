@@ -259,21 +259,18 @@ static orr_status check_without_stereo(const orr_scene *s, const scene_marks *m,
 
 /* A perspective pair converges where stereo.convergence says, or by
  * default on camera.look_at. */
-static orr_status check_convergence(orr_scene *s, const scene_marks *m, orr_error *err)
+static orr_status check_convergence(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     if (scene_mark(m, "stereo.zenith_fade"))
         return scene_fail_key(s, m, "stereo.zenith_fade", err,
                               "stereo.zenith_fade is for omni-directional stereo (dome, equirectangular, "
                               "hammer-aitoff), not a perspective camera");
-    if (s->convergence > 0)
+    if (s->convergence > 0 || s->has_look_at) /* auto (0): at render time, from the camera to look_at */
         return ORR_OK;
-    if (!s->has_look_at)
-        return scene_fail_key(s, m, "stereo.mode", err,
-                              "stereo.mode: %s with a perspective camera needs stereo.convergence (the distance "
-                              "of the zero-parallax plane) or camera.look_at (converge there)",
-                              orr_stereo_mode_name(s->stereo));
-    s->convergence = orr_v3_norm(orr_v3_sub(s->camera_look_at, s->camera_position));
-    return ORR_OK;
+    return scene_fail_key(s, m, "stereo.mode", err,
+                          "stereo.mode: %s with a perspective camera needs stereo.convergence (the distance of "
+                          "the zero-parallax plane) or camera.look_at (converge there)",
+                          orr_stereo_mode_name(s->stereo));
 }
 
 static orr_status check_stereo(orr_scene *s, const scene_marks *m, orr_error *err)
