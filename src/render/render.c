@@ -622,8 +622,8 @@ static orr_status write_fits_planes(view_state *v, const char *ext, orr_error *e
 }
 
 /* A stereo pair written as one picture (render/stereo_view.h): the right
- * eye is graded with the left eye's white level, so the eyes match. */
-static orr_status write_stereo_pair(view_state *l, view_state *r, orr_error *err)
+ * eye (view k + 1 of eyes) is graded with the left eye's white level. */
+static orr_status write_stereo_pair(view_state *l, view_state *r, orr_eye_views *eyes, int k, orr_error *err)
 {
     const orr_scene *s = l->scene;
     mask_outside_map(l);
@@ -632,17 +632,13 @@ static orr_status write_stereo_pair(view_state *l, view_state *r, orr_error *err
     int want_rgb = s->write_png || s->image_ext[0];
     float *rgb = want_rgb ? orr_malloc(2 * npix * 3 * sizeof *rgb, "stereo pictures", err) : NULL;
     orr_fits_header *h = orr_calloc(1, sizeof *h, "FITS header", err);
-    orr_scene *rs = orr_malloc(sizeof *rs, "right eye scene", err);
-    orr_status st = !h || !rs || (want_rgb && !rgb) ? ORR_ERR_NOMEM : ORR_OK;
+    orr_status st = !h || (want_rgb && !rgb) ? ORR_ERR_NOMEM : ORR_OK;
     char desc[ORR_PATH_MAX + 256] = "stereo pair", rdesc[ORR_PATH_MAX + 256];
     if (!st && want_rgb)
         st = graded_rgb(l, rgb, desc, sizeof desc, err);
     if (!st && want_rgb) {
-        view_state rv = *r;
-        *rs = *r->scene;
-        rs->stretch.white = rs->synth.y0 = l->rep->white;
-        rv.scene = rs;
-        st = graded_rgb(&rv, rgb + 3 * npix, rdesc, sizeof rdesc, err);
+        orr_eye_views_share_white(eyes, k, l->rep->white);
+        st = graded_rgb(r, rgb + 3 * npix, rdesc, sizeof rdesc, err);
     }
     if (!st) {
         add_frame_cards(l, h);
@@ -659,7 +655,6 @@ static orr_status write_stereo_pair(view_state *l, view_state *r, orr_error *err
     }
     free(rgb);
     free(h);
-    free(rs);
     return st;
 }
 
@@ -795,12 +790,13 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
         for (int j = 0; j < views[k].nplanes && !st; j++)
             st = orr_view_psf_apply(&views[k].psf, &views[k].planes[j], err);
     for (int k = 0; k < n && !st; k++) {
-        if (!orr_eye_views_pair_at(&eyes, k)) {
-            st = write_outputs(&views[k], err);
+        if (orr_eye_views_pair_at(&eyes, k)) {
+            st = write_stereo_pair(&views[k], &views[k + 1], &eyes, k, err);
+            k++; /* the right eye was written with the left */
             continue;
         }
-        st = write_stereo_pair(&views[k], &views[k + 1], err);
-        k++; /* the right eye was written with the left */
+        st = write_outputs(&views[k], err);
+        orr_eye_views_share_white(&eyes, k, views[k].rep->white); /* separate eyes: grade the right alike */
     }
     orr_source_close(src);
     orr_lengths_free(&lengths);

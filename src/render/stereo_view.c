@@ -86,6 +86,16 @@ void orr_eye_views_finish(orr_eye_views *ev)
     memset(ev, 0, sizeof *ev);
 }
 
+void orr_eye_views_share_white(orr_eye_views *ev, int k, double white)
+{
+    if (k + 1 >= ev->n || ev->scene[k]->stereo_eye != ORR_EYE_LEFT || !(white > 0))
+        return;
+    /* The right eye's scene is one of the copies this owns. */
+    orr_scene *right = &ev->copies[ev->scene[k + 1] - ev->copies];
+    right->stretch.white = white;
+    right->synth.y0 = white;
+}
+
 int orr_eye_views_pair_at(const orr_eye_views *ev, int k)
 {
     return k + 1 < ev->n && ev->scene[k]->stereo_eye == ORR_EYE_LEFT && is_pair_mode(ev->scene[k]->stereo);

@@ -38,6 +38,11 @@ orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr
 /* Merges each right eye's outputs into its left eye's report, then frees. */
 void orr_eye_views_finish(orr_eye_views *ev);
 
+/* When view k of ev is a left eye, makes its white level (output.white,
+ * colour.synthesis.white: automatic or given) its right eye's, so that the
+ * eyes are graded alike; call after grading the left. */
+void orr_eye_views_share_white(orr_eye_views *ev, int k, double white);
+
 /* Whether view k of ev is the left eye of a pair written as one picture
  * (anaglyph, side-by-side, over-under); view k + 1 is then its right eye. */
 int orr_eye_views_pair_at(const orr_eye_views *ev, int k);

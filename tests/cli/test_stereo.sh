@@ -48,7 +48,13 @@ scene sbs near.txt side-by-side
 scene ou near.txt over-under
 scene sep near.txt separate
 sed -i 's/^  name: sep$/  name: sep\n  exr: true/' sep.yaml
-for s in anaglyph far grey sbs ou sep; do
+# Two particles, the brighter pixel in the left eye: with a linear stretch
+# the right eye, graded with the left's white, peaks below full white.
+printf 'x y z mass\n0 0 6 1\n0.35 0.3 2 1\n' >two.txt
+scene white two.txt separate
+scene whiteou two.txt over-under
+sed -i 's/^  colormap: grey$/  colormap: grey\n  stretch: linear/' white.yaml whiteou.yaml
+for s in anaglyph far grey sbs ou sep white whiteou; do
   "$ORRERY" render --quiet "$s.yaml" 2>err.txt || fail "render $s: $(cat err.txt)"
   grep -q "AddressSanitizer\|runtime error" err.txt && fail "render $s: sanitizer report: $(cat err.txt)"
 done
@@ -135,6 +141,16 @@ l, r = centroid_x(ou[:60]), centroid_x(ou[60:])
 expect(abs((l - r) - near_parallax) < 0.6, f"over-under: top {l:.2f}, bottom {r:.2f}")
 sl, sr = rgb("sep-left.png").sum(axis=2), rgb("sep-right.png").sum(axis=2)
 expect(abs(centroid_x(sl) - l) < 1e-6 and abs(centroid_x(sr) - r) < 1e-6, "separate eyes differ from the pair")
+
+# Both eyes graded with the left eye's white level.
+peaks = [fits.getdata(f"out/white-{e}.fits").max() for e in ("left", "right")]
+expect(peaks[0] > peaks[1], f"white test: left peak {peaks[0]} should be the brighter")
+expected = 255 * peaks[1] / peaks[0]
+got = rgb("white-right.png")[:, :, 0].max()
+expect(rgb("white-left.png")[:, :, 0].max() == 255 and abs(got - expected) <= 1,
+       f"separate right eye peaks at {got}, expected {expected:.1f} (the left eye's white)")
+got = rgb("whiteou.png")[60:, :, 0].max()
+expect(abs(got - expected) <= 1, f"over-under right eye peaks at {got}, expected {expected:.1f}")
 
 # ODS: one degree per pixel; the left eye (top) sees the particle asin(0.5/5)
 # to the right of the centre, the right eye as far to the left, both on the
