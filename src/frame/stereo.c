@@ -74,32 +74,40 @@ orr_status orr_stereo_ods_setup(orr_stereo_ods *ods, const orr_projection *proj,
  * rho^2 * (b, -a): e is on the circle and perpendicular to q - e. A point
  * straight ahead at distance d is then seen asin(r / d) to the right in the
  * left eye and to the left in the right eye. */
-static size_t ods_plane(const orr_stereo_ods *ods, size_t n, float *restrict a, float *restrict b,
-                        const float *restrict c, uint8_t *restrict keep)
+static inline size_t ods_plane(const orr_stereo_ods *ods, size_t n, float *restrict a, float *restrict b,
+                               const float *restrict c, uint8_t *restrict keep, const int fade)
 {
     const float r0 = ods->radius, side = (float)ods->side, inv_sin_fade = ods->inv_sin_fade;
-    const int fade = inv_sin_fade > 0.0f;
-    size_t skipped = 0;
+    unsigned skipped = 0;
+    /* Selects, not branches, so the loop vectorises (fade is a constant in
+     * each of the two copies below). */
     for (size_t i = 0; i < n; i++) {
         const float ai = a[i], bi = b[i], ci = c[i];
         const float rho2 = ai * ai + bi * bi;
-        /* The fade: sin(angle from the pole) = rho / |p|. */
-        const float sin_pole = sqrtf(rho2 / (rho2 + ci * ci + 1e-30f));
-        const float r = fade ? r0 * fminf(1.0f, sin_pole * inv_sin_fade) : r0;
+        float r = r0;
+        if (fade) /* sin(angle from the pole) = rho / |p| */
+            r = r0 * fminf(1.0f, sqrtf(rho2 / (rho2 + ci * ci + 1e-30f)) * inv_sin_fade);
         const float r2 = r * r;
         const int inside = rho2 < r2;
-        const float inv_rho2 = rho2 > 0.0f ? 1.0f / rho2 : 0.0f;
-        const float along = inside ? 0.0f : r2 * inv_rho2;
-        const float across = inside ? 0.0f : side * r * sqrtf(fmaxf(rho2 - r2, 0.0f)) * inv_rho2;
+        /* With a fade the circle shrinks to a point on the pole axis, where
+         * rho2 = r2 = 0: that eye sits at the centre (e = 0). */
+        const float inv_rho2 = inside || rho2 == 0.0f ? 0.0f : 1.0f / rho2;
+        const float along = r2 * inv_rho2;
+        const float across = side * r * sqrtf(inside ? 0.0f : rho2 - r2) * inv_rho2;
         a[i] = ai - (along * ai + across * bi);
         b[i] = bi - (along * bi - across * ai);
         keep[i] = (uint8_t)!inside;
-        skipped += (size_t)inside;
+        skipped += (unsigned)inside;
     }
     return skipped;
 }
 
+static size_t ods_block(const orr_stereo_ods *ods, size_t n, float *a, float *b, const float *c, uint8_t *keep)
+{
+    return ods->inv_sin_fade > 0.0f ? ods_plane(ods, n, a, b, c, keep, 1) : ods_plane(ods, n, a, b, c, keep, 0);
+}
+
 size_t orr_stereo_ods_apply(const orr_stereo_ods *ods, size_t n, float *x, float *y, float *z, uint8_t *keep)
 {
-    return ods->pole_is_z ? ods_plane(ods, n, x, y, z, keep) : ods_plane(ods, n, x, z, y, keep);
+    return ods->pole_is_z ? ods_block(ods, n, x, y, z, keep) : ods_block(ods, n, x, z, y, keep);
 }

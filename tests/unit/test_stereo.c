@@ -241,6 +241,10 @@ static void test_ods_zenith_fade(void)
     x = 0, y = (float)rho, z = (float)(rho / tan(15 * DEG));
     CHECK(ods_point(&o, &x, &y, &z) == 1);
     CHECK_NEAR(atan2(x, y), asin(0.5 * sin(15 * DEG) / sin(30 * DEG) / rho), 1e-6);
+    /* With the fade, a point on the zenith axis is drawn where it is. */
+    x = 0, y = 0, z = 10;
+    CHECK(ods_point(&o, &x, &y, &z) == 1);
+    CHECK(x == 0 && y == 0 && z == 10);
     /* With the fade, a point near the zenith axis is drawn, barely moved. */
     x = 0.01f, y = 0, z = 10;
     CHECK(ods_point(&o, &x, &y, &z) == 1);
