@@ -71,6 +71,10 @@ static void print_report(const orr_render_report *r, const char *view, double se
            r->has_sky_frame ? "outside the sky map" : "behind the camera");
     printf("  weight in the image %.9g, off the image %.9g, not drawn %.9g\n", r->deposit.deposited,
            r->deposit.outside, r->deposit.culled);
+    if (r->n_stereo_skipped)
+        printf("  of those not drawn, %llu inside the stereo eye circle (closer to the viewer than half the eye "
+               "separation, horizontally)\n",
+               (unsigned long long)r->n_stereo_skipped);
     if (r->has_sky_frame)
         printf("  observer at (%.6g, %.6g, %.6g); north (b = 90) along (%.4f, %.4f, %.4f)\n", r->sky.origin.x,
                r->sky.origin.y, r->sky.origin.z, r->sky.z.x, r->sky.z.y, r->sky.z.z);

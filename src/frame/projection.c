@@ -38,7 +38,11 @@ orr_status orr_projection_setup(orr_projection *p, orr_error *err)
         if (!(p->near >= 0) || !isfinite(p->near))
             return orr_fail(err, ORR_ERR_USAGE, "perspective near distance %g must be zero or positive",
                             p->near);
+        if (!isfinite(p->shift_x))
+            return orr_fail(err, ORR_ERR_USAGE, "perspective principal-point shift %g is not a number",
+                            p->shift_x);
         p->focal = 0.5 * wider / tan(0.5 * p->fov_deg * ORR_PI / 180.0);
+        p->cx += p->shift_x;
         return ORR_OK;
     case ORR_PROJ_HAMMER_AITOFF:
         /* The ellipse spans the image: semi-axes W/2 and H/2 (2:1 for true

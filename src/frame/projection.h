@@ -28,6 +28,9 @@ typedef struct orr_projection {
     double ortho_width; /* orthographic: simulation units across the image width */
     double fov_deg;     /* perspective: field of view along the wider image axis */
     double near;        /* perspective: points with z <= near are not drawn */
+    double shift_x;     /* perspective: horizontal principal-point shift in pixels (the image
+                         * centre moves right by this much); 0 by default. Stereo's off-axis
+                         * convergence shifts each eye's image this way (frame/stereo.h). */
     double dome_fov_deg;/* dome: full angle across the dome (180 for a hemisphere), 90 to 360 */
     int lon_flip;       /* sky maps: longitude grows to the right ("outside looking in");
                          * by default it grows to the left, as on the sky seen from inside */

@@ -13,6 +13,7 @@
 #include "post/colormap.h"
 #include "post/stretch.h"
 #include "render/lengths.h"
+#include "render/stereo_view.h"
 #include "render/view_psf.h"
 #include "render/wcs.h"
 #include "source/model.h"
@@ -29,6 +30,7 @@ typedef struct block_buffers {
     float w[3][BLOCK]; /* the weight, or X, Y, Z with colour */
     float px[BLOCK], py[BLOCK], scale[BLOCK];
     uint8_t visible[BLOCK];
+    uint8_t keep[BLOCK]; /* omni-directional stereo: 0 inside the eye circle */
 } block_buffers;
 
 /* One view being rendered. */
@@ -48,6 +50,8 @@ typedef struct view_state {
     size_t lengths_next;        /* the next of them in source order */
     float h_scale;              /* file lengths: to orrery's h (support 2h), times smoothing.h_scale */
     orr_view_psf psf;
+    int use_ods;        /* an eye of omni-directional stereo: its per-block transform */
+    orr_stereo_ods ods;
 } view_state;
 
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
@@ -377,7 +381,11 @@ static orr_status splat_chunk(view_state *views, int nviews, const orr_source *s
             long n = gather_block(v, src, c, w, start, end, b, err);
             if (n < 0)
                 return err ? err->code : ORR_ERR_DATA;
+            if (v->use_ods)
+                v->rep->n_stereo_skipped += orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
             orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
+            if (v->use_ods)
+                orr_stereo_mask((size_t)n, b->visible, b->keep);
             deposit_block(v, (size_t)n, b);
         }
         v->rep->n_read += c->n;
@@ -502,6 +510,8 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
         orr_fits_add_bool(h, "DIMMED", s->dim, "weights divided by r^2 from the observer");
     }
     orr_wcs_add_cards(h, p, cam, &rep->sky);
+    if (s->stereo)
+        orr_stereo_add_cards(h, s, rep);
 }
 
 /* The view's picture, sRGB-encoded RGB: the colour synthesis of its X, Y, Z
@@ -653,6 +663,43 @@ static orr_status write_fits_planes(view_state *v, const char *ext, orr_error *e
     return st;
 }
 
+/* A stereo pair written as one picture (render/stereo_view.h): the right
+ * eye (view k + 1 of eyes) is graded with the left eye's white level. */
+static orr_status write_stereo_pair(view_state *l, view_state *r, orr_eye_views *eyes, int k, orr_error *err)
+{
+    const orr_scene *s = l->scene;
+    mask_outside_map(l);
+    mask_outside_map(r);
+    size_t npix = (size_t)l->proj.width * (size_t)l->proj.height;
+    int want_rgb = s->write_png || s->image_ext[0];
+    float *rgb = want_rgb ? orr_malloc(2 * npix * 3 * sizeof *rgb, "stereo pictures", err) : NULL;
+    orr_fits_header *h = orr_calloc(1, sizeof *h, "FITS header", err);
+    orr_status st = !h || (want_rgb && !rgb) ? ORR_ERR_NOMEM : ORR_OK;
+    char desc[ORR_PATH_MAX + 256] = "stereo pair", rdesc[ORR_PATH_MAX + 256];
+    if (!st && want_rgb)
+        st = graded_rgb(l, rgb, desc, sizeof desc, err);
+    if (!st && want_rgb) {
+        orr_eye_views_share_white(eyes, k, l->rep->white);
+        st = graded_rgb(r, rgb + 3 * npix, rdesc, sizeof rdesc, err);
+    }
+    if (!st) {
+        add_frame_cards(l, h);
+        const char *keys[1], *values[1];
+        orr_image_meta meta = view_meta(l, desc, keys, values);
+        orr_stereo_pair pair = {
+            .scene = s, .planes = {l->planes, r->planes}, .nplanes = l->nplanes,
+            .width = l->proj.width, .height = l->proj.height,
+            .rgb = {want_rgb ? rgb : NULL, want_rgb ? rgb + 3 * npix : NULL},
+            .rgb_linear = (s->colour || s->nlayers || s->has_tint) && s->png_linear,
+            .cards = h, .meta = &meta, .desc = desc, .path = output_path,
+        };
+        st = orr_stereo_write_pair(&pair, l->rep, err);
+    }
+    free(rgb);
+    free(h);
+    return st;
+}
+
 static orr_status write_outputs(view_state *v, orr_error *err)
 {
     const orr_scene *s = v->scene;
@@ -681,6 +728,8 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
         st = view_camera(s, observer, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
+    if ((st = orr_stereo_setup_eye(s, &v->proj, rep, &v->ods, &v->use_ods, err)))
+        return st;
     rep->has_sky_frame = observer != NULL;
     v->world_to_camera = orr_camera_world_to_camera(&rep->camera);
     static const char *const xyz_names[3] = {"X", "Y", "Z"};
@@ -795,7 +844,7 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
 }
 
 /* The planes before the PSF (for orrery compose), the PSF, and the outputs. */
-static orr_status finish_views(view_state *views, int n, orr_error *err)
+static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, orr_error *err)
 {
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++)
@@ -806,8 +855,15 @@ static orr_status finish_views(view_state *views, int n, orr_error *err)
     for (int k = 0; k < n && !st; k++)
         for (int j = 0; j < views[k].nplanes && !st; j++)
             st = orr_view_psf_apply(&views[k].psf, &views[k].planes[j], err);
-    for (int k = 0; k < n && !st; k++)
+    for (int k = 0; k < n && !st; k++) {
+        if (orr_eye_views_pair_at(eyes, k)) {
+            st = write_stereo_pair(&views[k], &views[k + 1], eyes, k, err);
+            k++; /* the right eye was written with the left */
+            continue;
+        }
         st = write_outputs(&views[k], err);
+        orr_eye_views_share_white(eyes, k, views[k].rep->white); /* separate eyes: grade the right alike */
+    }
     return st;
 }
 
@@ -831,13 +887,18 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     orr_sky_frame observer;
     if (!st && s0->has_observer)
         st = build_sky_frame(s0, given, when->frame, par, &observer, err);
+    /* A stereo view renders as two views, its eyes. */
+    orr_eye_views eyes = {0};
+    if (!st)
+        st = orr_eye_views_expand(scenes, n, reports, &eyes, err);
+    n = eyes.n;
     view_state *views = st ? NULL : orr_calloc((size_t)n, sizeof *views, "views", err);
     if (!st && !views)
         st = ORR_ERR_NOMEM;
     int ready = 0;
     for (; !st && ready < n; ready++)
-        st = setup_view(&views[ready], scenes[ready], s0->has_observer ? &observer : NULL, when, &reports[ready],
-                        err);
+        st = setup_view(&views[ready], eyes.scene[ready], s0->has_observer ? &observer : NULL, when,
+                        eyes.report[ready], err);
     orr_lengths lengths = {0};
     if (!st && given) {
         src = given;
@@ -849,8 +910,8 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     }
     if (!st) {
         for (int k = 0; k < n; k++) {
-            snprintf(reports[k].source, sizeof reports[k].source, "%s", src->info.path);
-            reports[k].sim_time = src->info.time;
+            snprintf(views[k].rep->source, sizeof views[k].rep->source, "%s", src->info.path);
+            views[k].rep->sim_time = src->info.time;
         }
         st = prepare_lengths(views, n, src, par, &lengths, err);
     }
@@ -859,13 +920,14 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     if (par && !(st = par->any_failed(par->user, st, err)))
         st = reduce_views(views, n, par, err);
     if (!st && (!par || par->rank == 0))
-        st = finish_views(views, n, err);
+        st = finish_views(views, n, &eyes, err);
     if (!in || src != in->source)
         orr_source_close(src);
     orr_lengths_free(&lengths);
     for (int k = 0; k < ready && views; k++)
         free_view(&views[k]);
     free(views);
+    orr_eye_views_finish(&eyes);
     return st;
 }
 

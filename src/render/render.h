@@ -17,13 +17,15 @@
 #include "splat/deposit.h"
 #include "splat/plane.h"
 
-#define ORR_RENDER_MAX_OUTPUTS 6
+#define ORR_RENDER_MAX_OUTPUTS 10 /* stereo.mode: separate writes each format twice */
 
 typedef struct orr_render_report {
     char source[ORR_PATH_MAX];   /* what was read */
     uint64_t n_read;             /* particles read from the source */
     uint64_t n_selected;         /* of those, of a selected type (the observer excluded) */
     uint64_t n_nonfinite;        /* skipped for a non-finite position or weight */
+    uint64_t n_stereo_skipped;   /* omni-directional stereo: not drawn, inside the eye circle
+                                  * (counted in deposit.n_culled too) */
     orr_deposit_stats deposit;   /* weights deposited, off the image, culled (with colour: of X) */
     orr_deposit_stats deposit_y; /* with colour: the same for Y, the luminance */
     double sim_time;
@@ -31,7 +33,8 @@ typedef struct orr_render_report {
     double white;                /* the PNG stretch's white level (with colour: Y0) */
     int has_sky_frame;           /* an observer frame was built */
     orr_sky_frame sky;           /* ... this one */
-    orr_camera camera;           /* the camera used */
+    orr_camera camera;           /* the camera used (a stereo eye's, for an eye) */
+    double stereo_convergence;   /* perspective stereo: the zero-parallax distance used */
     int noutputs;
     char outputs[ORR_RENDER_MAX_OUTPUTS][ORR_PATH_MAX];
 } orr_render_report;

@@ -74,6 +74,13 @@ void orr_scene_defaults(orr_scene *s)
     s->dim = 1;
     s->dim_near = 0.01;
 
+    s->stereo = ORR_STEREO_NONE;
+    s->eye_separation = 0;
+    s->convergence = 0; /* auto */
+    s->anaglyph = ORR_ANAGLYPH_DUBOIS;
+    s->zenith_fade = 0;
+    s->stereo_eye = 0;
+
     snprintf(s->out_dir, sizeof s->out_dir, ".");
     s->write_fits = 1;
     s->write_png = 1;

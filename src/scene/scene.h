@@ -11,7 +11,9 @@
 #include "core/vecmath.h"
 #include "frame/path.h"
 #include "frame/projection.h"
+#include "frame/stereo.h"
 #include "particles/population.h"
+#include "post/anaglyph.h"
 #include "post/colormap.h"
 #include "post/colour.h"
 #include "post/stretch.h"
@@ -197,6 +199,22 @@ typedef struct orr_scene {
     double anim_time[2];           /* animation.time: [t0, t1], the simulation time at the first and the
                                     * last frame, linear in between (default: a sequence's first and last
                                     * snapshot; a single snapshot's own time) */
+
+    /* stereo.* : stereo pairs (perspective) and omni-directional stereo
+     * (sky maps); docs/stereo.md. */
+    orr_stereo_mode stereo;        /* stereo.mode: none | anaglyph | side-by-side | over-under | separate
+                                    * (default none) */
+    double eye_separation;         /* stereo.eye_separation: interocular distance, scene units (> 0;
+                                    * required with a stereo mode) */
+    double convergence;            /* stereo.convergence: distance of the zero-parallax plane,
+                                    * perspective only (default auto, stored as 0: the distance from the
+                                    * camera to camera.look_at, taken when the frame is rendered, so a
+                                    * moving camera keeps converging on its target) */
+    orr_anaglyph_kind anaglyph;    /* stereo.anaglyph: grey | colour | dubois (default dubois) */
+    double zenith_fade;            /* stereo.zenith_fade: degrees from the pole over which an ODS eye
+                                    * separation falls to zero (0..90, default 0: no fade) */
+    int stereo_eye;                /* not a key: 0, or ORR_EYE_LEFT / ORR_EYE_RIGHT in the copy of the
+                                    * scene the renderer makes for each eye (render/stereo_view.h) */
 
     /* output.* */
     char out_dir[ORR_PATH_MAX];    /* output.dir, resolved against the current directory (default ".") */

@@ -273,6 +273,11 @@ static int word_path_radial(orr_scene *s, const char *w)
 }
 static const char *names_path_radial(void) { return "exponential linear"; }
 
+static int word_stereo(orr_scene *s, const char *w) { return orr_stereo_mode_from_name(w, &s->stereo); }
+static const char *names_stereo(void) { return "none anaglyph side-by-side over-under separate"; }
+static int word_anaglyph(orr_scene *s, const char *w) { return orr_anaglyph_from_name(w, &s->anaglyph); }
+static const char *names_anaglyph(void) { return "grey colour dubois"; }
+
 #define ENUM(fn) .type = K_ENUM, .parse_word = word_##fn, .choices = names_##fn
 
 static const key_spec KEYS[] = {
@@ -373,6 +378,12 @@ static const key_spec KEYS[] = {
     {.key = "animation.frames", .type = K_LLONG, FIELD(anim_frames), IRANGE(1, 10000000)},
     {.key = "animation.fps", .type = K_NUMBER, FIELD(anim_fps), CLOSED(0.001, 1000)},
     {.key = "animation.time", .type = K_PAIR, FIELD(anim_time), FLAG(has_anim_time)},
+
+    {.key = "stereo.mode", ENUM(stereo)},
+    {.key = "stereo.eye_separation", .type = K_NUMBER, FIELD(eye_separation), ABOVE(0)},
+    {.key = "stereo.convergence", .type = K_AUTO, FIELD(convergence), ABOVE(0)},
+    {.key = "stereo.anaglyph", ENUM(anaglyph)},
+    {.key = "stereo.zenith_fade", .type = K_NUMBER, FIELD(zenith_fade), CLOSED(0, 90)},
     {.key = "output.dir", .type = K_STRING, FIELD(out_dir)},
     {.key = "output.name", .type = K_FILENAME, FIELD(out_name)},
     {.key = "output.fits", .type = K_BOOL, FIELD(write_fits)},

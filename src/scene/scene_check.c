@@ -305,6 +305,67 @@ static orr_status check_colour(orr_scene *s, const scene_marks *m, orr_error *er
     return ORR_OK;
 }
 
+/* ---- stereo ---- */
+
+static orr_status check_without_stereo(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    static const char *const keys[] = {"stereo.eye_separation", "stereo.convergence", "stereo.anaglyph",
+                                       "stereo.zenith_fade"};
+    for (size_t i = 0; i < COUNT(keys); i++)
+        if (scene_mark(m, keys[i]))
+            return scene_fail_key(s, m, keys[i], err, "%s applies to stereo, but stereo.mode is none", keys[i]);
+    return ORR_OK;
+}
+
+/* A perspective pair converges where stereo.convergence says, or by
+ * default on camera.look_at. */
+static orr_status check_convergence(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (scene_mark(m, "stereo.zenith_fade"))
+        return scene_fail_key(s, m, "stereo.zenith_fade", err,
+                              "stereo.zenith_fade is for omni-directional stereo (dome, equirectangular, "
+                              "hammer-aitoff), not a perspective camera");
+    if (s->convergence > 0 || s->has_look_at) /* auto (0): at render time, from the camera to look_at */
+        return ORR_OK;
+    return scene_fail_key(s, m, "stereo.mode", err,
+                          "stereo.mode: %s with a perspective camera needs stereo.convergence (the distance of "
+                          "the zero-parallax plane) or camera.look_at (converge there)",
+                          orr_stereo_mode_name(s->stereo));
+}
+
+static orr_status check_stereo(orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (s->stereo == ORR_STEREO_NONE)
+        return check_without_stereo(s, m, err);
+    const char *mode = orr_stereo_mode_name(s->stereo);
+    if (s->projection.kind == ORR_PROJ_ORTHOGRAPHIC)
+        return scene_fail_key(s, m, "stereo.mode", err,
+                              "stereo.mode: %s needs parallax, which an orthographic camera has none of; use "
+                              "camera.projection: perspective (or a sky map for omni-directional stereo)",
+                              mode);
+    if (!scene_mark(m, "stereo.eye_separation"))
+        return scene_fail_key(s, m, "stereo.mode", err,
+                              "stereo.mode: %s needs stereo.eye_separation, the distance between the eyes in "
+                              "scene units",
+                              mode);
+    if (s->stereo != ORR_STEREO_ANAGLYPH && scene_mark(m, "stereo.anaglyph"))
+        return scene_fail_key(s, m, "stereo.anaglyph", err,
+                              "stereo.anaglyph applies to stereo.mode: anaglyph, not %s", mode);
+    if (s->write_raw || s->nlayers)
+        return scene_fail_key(s, m, "stereo.mode", err,
+                              "stereo.mode: %s cannot yet be combined with %s (orrery compose works on one "
+                              "eye's planes)",
+                              mode, s->write_raw ? "output.raw" : "compose.layers");
+    if (s->projection.kind == ORR_PROJ_PERSPECTIVE)
+        return check_convergence(s, m, err);
+    if (scene_mark(m, "stereo.convergence"))
+        return scene_fail_key(s, m, "stereo.convergence", err,
+                              "stereo.convergence is for a perspective camera; omni-directional stereo (%s) has "
+                              "its zero parallax at infinity",
+                              orr_projection_name(s->projection.kind));
+    return ORR_OK;
+}
+
 orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
 {
     scene_marks marks;
@@ -331,5 +392,7 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_colour(s, &marks, err);
     if (st == ORR_OK)
         st = check_output(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_stereo(s, &marks, err);
     return st;
 }

@@ -1,0 +1,271 @@
+#include "render/stereo_view.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "encode/png.h"
+#include "post/anaglyph.h"
+#include "post/colour.h"
+
+/* ---- the eyes ---- */
+
+static int is_pair_mode(orr_stereo_mode m)
+{
+    return m == ORR_STEREO_ANAGLYPH || m == ORR_STEREO_SIDE_BY_SIDE || m == ORR_STEREO_OVER_UNDER;
+}
+
+/* The scene of one eye: a copy that knows which eye it is, with its own
+ * output name when the eyes are written separately. */
+static orr_status eye_scene(const orr_scene *s, int eye, orr_scene *out, orr_error *err)
+{
+    *out = *s;
+    out->stereo_eye = eye;
+    if (s->stereo != ORR_STEREO_SEPARATE)
+        return ORR_OK;
+    int len = snprintf(out->out_name, sizeof out->out_name, "%s-%s", s->out_name, orr_eye_name(eye));
+    if (len < 0 || (size_t)len >= sizeof out->out_name)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: output.name '%s' is too long to add -%s for stereo", s->path,
+                        s->out_name, orr_eye_name(eye));
+    return ORR_OK;
+}
+
+orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,
+                                orr_eye_views *ev, orr_error *err)
+{
+    memset(ev, 0, sizeof *ev);
+    int pairs = 0;
+    for (int k = 0; k < nscenes; k++)
+        pairs += scenes[k]->stereo != ORR_STEREO_NONE;
+    size_t n = (size_t)(nscenes + pairs);
+    ev->scene = orr_calloc(n, sizeof *ev->scene, "stereo views", err);
+    ev->report = orr_calloc(n, sizeof *ev->report, "stereo views", err);
+    ev->copies = pairs ? orr_calloc(2 * (size_t)pairs, sizeof *ev->copies, "stereo eye scenes", err) : NULL;
+    ev->right = pairs ? orr_calloc((size_t)pairs, sizeof *ev->right, "stereo eye reports", err) : NULL;
+    if (!ev->scene || !ev->report || (pairs && (!ev->copies || !ev->right))) {
+        orr_eye_views_finish(ev);
+        return ORR_ERR_NOMEM;
+    }
+    int pair = 0;
+    for (int k = 0; k < nscenes; k++) {
+        if (scenes[k]->stereo == ORR_STEREO_NONE) {
+            ev->scene[ev->n] = scenes[k];
+            ev->report[ev->n++] = &reports[k];
+            continue;
+        }
+        orr_scene *left = &ev->copies[2 * pair], *right = left + 1;
+        orr_status st = eye_scene(scenes[k], ORR_EYE_LEFT, left, err);
+        if (!st)
+            st = eye_scene(scenes[k], ORR_EYE_RIGHT, right, err);
+        if (st) {
+            orr_eye_views_finish(ev);
+            return st;
+        }
+        ev->scene[ev->n] = left;
+        ev->report[ev->n++] = &reports[k];
+        ev->scene[ev->n] = right;
+        ev->report[ev->n++] = &ev->right[pair++];
+    }
+    return ORR_OK;
+}
+
+void orr_eye_views_finish(orr_eye_views *ev)
+{
+    for (int k = 0; ev->report && k + 1 < ev->n; k++) {
+        if (ev->scene[k]->stereo_eye != ORR_EYE_LEFT)
+            continue;
+        orr_render_report *l = ev->report[k];
+        const orr_render_report *r = ev->report[k + 1];
+        for (int i = 0; i < r->noutputs && l->noutputs < ORR_RENDER_MAX_OUTPUTS; i++)
+            memcpy(l->outputs[l->noutputs++], r->outputs[i], ORR_PATH_MAX);
+    }
+    free(ev->scene);
+    free(ev->report);
+    free(ev->copies);
+    free(ev->right);
+    memset(ev, 0, sizeof *ev);
+}
+
+void orr_eye_views_share_white(orr_eye_views *ev, int k, double white)
+{
+    if (k + 1 >= ev->n || ev->scene[k]->stereo_eye != ORR_EYE_LEFT || !(white > 0))
+        return;
+    /* The right eye's scene is one of the copies this owns. */
+    orr_scene *right = &ev->copies[ev->scene[k + 1] - ev->copies];
+    right->stretch.white = white;
+    right->synth.y0 = white;
+}
+
+int orr_eye_views_pair_at(const orr_eye_views *ev, int k)
+{
+    return k + 1 < ev->n && ev->scene[k]->stereo_eye == ORR_EYE_LEFT && is_pair_mode(ev->scene[k]->stereo);
+}
+
+double orr_stereo_convergence(const orr_scene *s, orr_vec3 position)
+{
+    if (s->convergence > 0)
+        return s->convergence;
+    return s->has_look_at ? orr_v3_norm(orr_v3_sub(s->camera_look_at, position)) : 0.0;
+}
+
+orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_render_report *rep,
+                                orr_stereo_ods *ods, int *use_ods, orr_error *err)
+{
+    *use_ods = 0;
+    if (!s->stereo_eye)
+        return ORR_OK;
+    orr_status st;
+    if (proj->kind == ORR_PROJ_PERSPECTIVE) {
+        rep->stereo_convergence = orr_stereo_convergence(s, rep->camera.position);
+        st = orr_stereo_perspective_eye(&rep->camera, proj, s->stereo_eye, s->eye_separation,
+                                        rep->stereo_convergence, err);
+    } else {
+        st = orr_stereo_ods_setup(ods, proj, s->stereo_eye, s->eye_separation, s->zenith_fade, err);
+        *use_ods = !st;
+    }
+    if (st)
+        return orr_fail_prefix(err, "%s: %s eye: ", s->path, orr_eye_name(s->stereo_eye));
+    return ORR_OK;
+}
+
+void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep)
+{
+    for (size_t i = 0; i < n; i++)
+        visible[i] &= keep[i];
+}
+
+void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s, const orr_render_report *rep)
+{
+    orr_fits_add_string(h, "STEREO", orr_stereo_mode_name(s->stereo), "stereo mode");
+    if (s->stereo == ORR_STEREO_SEPARATE && s->stereo_eye)
+        orr_fits_add_string(h, "EYE", orr_eye_name(s->stereo_eye), "the eye of this file");
+    else
+        orr_fits_add_string(h, "EYES", "left, right", "HDUs: the left eye's planes, then the right's");
+    orr_fits_add_double(h, "EYESEP", s->eye_separation, "interocular distance, scene units");
+    if (s->projection.kind == ORR_PROJ_PERSPECTIVE)
+        orr_fits_add_double(h, "CONVERG", rep->stereo_convergence, "distance of zero parallax, scene units");
+    else
+        orr_fits_add_double(h, "ZENFADE", s->zenith_fade, "[deg] ODS separation fades to 0 at the pole");
+    if (s->stereo == ORR_STEREO_ANAGLYPH)
+        orr_fits_add_string(h, "ANAGLYPH", orr_anaglyph_name(s->anaglyph), "anaglyph of the PNG");
+}
+
+/* ---- the picture of a pair ---- */
+
+static void decode_srgb(const float *in, float *out, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        out[i] = (float)orr_srgb_decode(in[i]);
+}
+
+void orr_stereo_picture(orr_stereo_mode mode, orr_anaglyph_kind kind, const float *left, const float *right,
+                        int width, int height, int rgb_linear, float *out, int *out_width, int *out_height)
+{
+    const size_t row = (size_t)width * 3, npix = (size_t)width * (size_t)height;
+    if (mode == ORR_STEREO_ANAGLYPH) {
+        /* The anaglyph mixes light, so it works on linear values: the left
+         * eye's in out's first half, the right eye's in its second. */
+        float *l = out, *r = out + 3 * npix;
+        if (rgb_linear) {
+            memcpy(l, left, 3 * npix * sizeof *l);
+            memcpy(r, right, 3 * npix * sizeof *r);
+        } else {
+            decode_srgb(left, l, 3 * npix);
+            decode_srgb(right, r, 3 * npix);
+        }
+        orr_anaglyph_compose(kind, l, r, npix, out);
+        if (!rgb_linear)
+            orr_srgb_encode_buffer(out, 3 * npix);
+        *out_width = width;
+        *out_height = height;
+        return;
+    }
+    if (mode == ORR_STEREO_OVER_UNDER) {
+        memcpy(out, left, 3 * npix * sizeof *out);
+        memcpy(out + 3 * npix, right, 3 * npix * sizeof *out);
+        *out_width = width;
+        *out_height = 2 * height;
+        return;
+    }
+    for (int j = 0; j < height; j++) { /* side by side */
+        memcpy(out + 2 * row * j, left + row * j, row * sizeof *out);
+        memcpy(out + 2 * row * j + row, right + row * j, row * sizeof *out);
+    }
+    *out_width = 2 * width;
+    *out_height = height;
+}
+
+/* ---- writing a pair ---- */
+
+/* Both eyes' planes, sharing their pixels, renamed left.NAME and right.NAME. */
+static void pair_planes(const orr_stereo_pair *p, orr_plane out[6])
+{
+    for (int e = 0; e < 2; e++)
+        for (int k = 0; k < p->nplanes; k++) {
+            orr_plane *o = &out[e * p->nplanes + k];
+            *o = p->planes[e][k];
+            snprintf(o->name, sizeof o->name, "%s.%.*s", e == 0 ? "left" : "right",
+                     (int)(sizeof o->name - 8), p->planes[e][k].name);
+        }
+}
+
+static orr_status add_output(const orr_stereo_pair *p, const char *ext, orr_render_report *rep, char **path,
+                             orr_error *err)
+{
+    if (rep->noutputs >= ORR_RENDER_MAX_OUTPUTS)
+        return orr_fail(err, ORR_ERR_INTERNAL, "too many outputs for one view");
+    *path = rep->outputs[rep->noutputs];
+    return p->path(p->scene, ext, *path, err);
+}
+
+static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report *rep, orr_error *err)
+{
+    const orr_scene *s = p->scene;
+    orr_plane planes[6];
+    pair_planes(p, planes);
+    char *path = NULL;
+    orr_status st = ORR_OK;
+    if (s->write_fits && !(st = add_output(p, "fits", rep, &path, err)) &&
+        !(st = orr_write_fits(path, planes, 2 * p->nplanes, p->cards, err)))
+        rep->noutputs++;
+    if (!st && s->write_exr && !(st = add_output(p, "exr", rep, &path, err)) &&
+        !(st = orr_write_image_planes(path, planes, 2 * p->nplanes, p->meta, err)))
+        rep->noutputs++;
+    return st;
+}
+
+static orr_status write_pair_picture(const orr_stereo_pair *p, orr_render_report *rep, orr_error *err)
+{
+    const orr_scene *s = p->scene;
+    if (!p->rgb[0] || !p->rgb[1] || (!s->write_png && !s->image_ext[0]))
+        return ORR_OK;
+    size_t npix = (size_t)p->width * (size_t)p->height;
+    float *pic = orr_malloc(2 * npix * 3 * sizeof *pic, "stereo picture", err);
+    if (!pic)
+        return ORR_ERR_NOMEM;
+    int w, h;
+    orr_stereo_picture(s->stereo, s->anaglyph, p->rgb[0], p->rgb[1], p->width, p->height, p->rgb_linear, pic, &w,
+                       &h);
+    char desc[ORR_PATH_MAX + 384];
+    snprintf(desc, sizeof desc, "stereo %s%s%s: %s", orr_stereo_mode_name(s->stereo),
+             s->stereo == ORR_STEREO_ANAGLYPH ? " " : "",
+             s->stereo == ORR_STEREO_ANAGLYPH ? orr_anaglyph_name(s->anaglyph) : "", p->desc);
+    char *path = NULL;
+    orr_status st = ORR_OK;
+    if (s->write_png && !(st = add_output(p, "png", rep, &path, err))) {
+        orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
+        if (!(st = orr_write_png_rgb(path, w, h, pic, s->png_bits, text, 2, err)))
+            rep->noutputs++;
+    }
+    if (!st && s->image_ext[0] && !(st = add_output(p, s->image_ext, rep, &path, err)) &&
+        !(st = orr_write_image_rgb(path, pic, w, h, s->png_bits, p->meta, err)))
+        rep->noutputs++;
+    free(pic);
+    return st;
+}
+
+orr_status orr_stereo_write_pair(const orr_stereo_pair *pair, orr_render_report *rep, orr_error *err)
+{
+    orr_status st = write_pair_planes(pair, rep, err);
+    return st ? st : write_pair_picture(pair, rep, err);
+}

@@ -1,0 +1,100 @@
+/* Stereo in the renderer (docs/stereo.md). A view with stereo.mode is
+ * rendered as two eyes from one pass over the particles: the driver treats
+ * each eye as a view of its own (a copy of the scene with stereo_eye set),
+ * so every chunk is splatted into both eyes' planes before the next is
+ * read. This file holds what is particular to stereo: making the eyes,
+ * placing each eye's camera, the omni-directional per-block transform's
+ * mask, and writing a pair as one picture (side-by-side, over-under,
+ * anaglyph) with both eyes' planes in FITS and EXR. */
+#ifndef ORR_RENDER_STEREO_VIEW_H
+#define ORR_RENDER_STEREO_VIEW_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "encode/fits.h"
+#include "encode/image_out.h"
+#include "frame/stereo.h"
+#include "render/render.h"
+#include "scene/scene.h"
+
+/* The views as the driver renders them: a stereo view becomes its left eye
+ * followed by its right eye. The left eye reports into the caller's
+ * report; the right eye into one of its own, whose outputs
+ * orr_eye_views_finish appends to the left's. */
+typedef struct orr_eye_views {
+    int n;                       /* views to render */
+    const orr_scene **scene;     /* [n] the scene of each (the caller's, or an eye's copy) */
+    orr_render_report **report;  /* [n] where each reports */
+    orr_scene *copies;           /* the eyes' scenes */
+    orr_render_report *right;    /* the right eyes' reports */
+} orr_eye_views;
+
+/* Expands scenes[0..nscenes) (reports[i] for scene i) into eyes. For
+ * stereo.mode: separate each eye writes its own files, named
+ * output.name-left and output.name-right. */
+orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,
+                                orr_eye_views *ev, orr_error *err);
+/* Merges each right eye's outputs into its left eye's report, then frees. */
+void orr_eye_views_finish(orr_eye_views *ev);
+
+/* When view k of ev is a left eye, makes its white level (output.white,
+ * colour.synthesis.white: automatic or given) its right eye's, so that the
+ * eyes are graded alike; call after grading the left. */
+void orr_eye_views_share_white(orr_eye_views *ev, int k, double white);
+
+/* Whether view k of ev is the left eye of a pair written as one picture
+ * (anaglyph, side-by-side, over-under); view k + 1 is then its right eye. */
+int orr_eye_views_pair_at(const orr_eye_views *ev, int k);
+
+/* The convergence distance of a perspective pair whose centre camera is
+ * at `position`: stereo.convergence, or with auto the distance to
+ * camera.look_at. */
+double orr_stereo_convergence(const orr_scene *s, orr_vec3 position);
+
+/* Places the camera and projection of one eye of scene s (a no-op when
+ * s->stereo_eye is 0): a perspective eye moves rep->camera and the
+ * principal point (and sets rep->stereo_convergence); a sky map's eye sets
+ * *use_ods and *ods for the per-block transform. proj must be set up and
+ * rep->camera be the view's camera. */
+orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_render_report *rep,
+                                orr_stereo_ods *ods, int *use_ods, orr_error *err);
+
+/* visible[i] &= keep[i]: the particles inside an ODS eye circle are not drawn. */
+void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep);
+
+/* The stereo cards of a FITS header (mode, eye, separation, convergence). */
+void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s, const orr_render_report *rep);
+
+/* How the driver makes an output's path (DIR/NAME.EXT, or a frame's). */
+typedef orr_status (*orr_output_path_fn)(const orr_scene *s, const char *ext, char *path, orr_error *err);
+
+/* One stereo pair, ready to write as one picture. */
+typedef struct orr_stereo_pair {
+    const orr_scene *scene;        /* the left eye's scene (its output.* keys apply) */
+    const orr_plane *planes[2];    /* each eye's planes (linear, after the PSF) */
+    int nplanes;                   /* per eye: 1, or X, Y, Z */
+    int width, height;             /* of one eye's image */
+    const float *rgb[2];           /* each eye's picture as graded for display, or NULL when
+                                    * neither output.png nor output.image is asked for */
+    int rgb_linear;                /* rgb holds linear values (colour with output.png_transfer: linear) */
+    const orr_fits_header *cards;  /* the left eye's FITS cards */
+    const orr_image_meta *meta;    /* for output.image and EXR */
+    const char *desc;              /* what the picture shows, for PNG's Description */
+    orr_output_path_fn path;
+} orr_stereo_pair;
+
+/* The picture of a pair: side-by-side (2W x H, left eye on the left),
+ * over-under (W x 2H, left eye on top) or a red-cyan anaglyph (W x H, from
+ * the eyes' linear RGB: display-encoded sRGB input is decoded first and
+ * the result encoded again). out has room for 2 W H * 3 values. */
+void orr_stereo_picture(orr_stereo_mode mode, orr_anaglyph_kind kind, const float *left, const float *right,
+                        int width, int height, int rgb_linear, float *out, int *out_width, int *out_height);
+
+/* Writes the pair: NAME.fits (output.fits) and NAME.exr (output.exr) with
+ * both eyes' planes, named left.NAME and right.NAME; NAME.png (output.png)
+ * and NAME.EXT (output.image) with the picture of orr_stereo_picture.
+ * Each file written is added to rep->outputs. */
+orr_status orr_stereo_write_pair(const orr_stereo_pair *pair, orr_render_report *rep, orr_error *err);
+
+#endif
