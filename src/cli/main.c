@@ -19,6 +19,8 @@ static const char usage_text[] =
     "  info FILE [--format FORMAT]                        particle count, fields, bounds, mass\n"
     "  model -o FILE [--particles N] [--seed S] [--separation KPC]\n"
     "                                                     write the built-in Milky Way-Andromeda model\n"
+    "  video SCENE.yaml [--codec h264|h265|prores|png] [--fps F] [--frames N] [--out FILE] ...\n"
+    "                                                     encode rendered frames into a video (ffmpeg)\n"
     "\n"
     "options:\n"
     "  -h, --help      this text (also 'orrery COMMAND --help')\n"
@@ -127,6 +129,8 @@ int main(int argc, char **argv)
         return cmd_info(argc - 1, argv + 1);
     if (strcmp(cmd, "model") == 0)
         return cmd_model(argc - 1, argv + 1);
+    if (strcmp(cmd, "video") == 0)
+        return cmd_video(argc - 1, argv + 1);
     fprintf(stderr, "orrery: unknown command '%s'\n\n%s", cmd, usage_text);
     return EXIT_USAGE;
 }
