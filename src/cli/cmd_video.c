@@ -1,11 +1,12 @@
 /* orrery video SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--view NAME] [--codec C] [--crf N]
  *                         [--fps F] [--frames N] [--out FILE] [--force] [--quiet]
  * Encodes the frames a render wrote (DIR/NAME_0000.png, ...) into a video
- * with ffmpeg, one per view. The ffmpeg command itself is built in
- * video_command.c. */
+ * with ffmpeg, one per view: the frames are checked here and written to
+ * ffmpeg's standard input; the ffmpeg command is built in video_command.c. */
 #include <dirent.h>
 #include <errno.h>
-#include <math.h>
+#include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -303,17 +304,96 @@ static int has_extension(const char *name, const char *ext)
     return n > e + 1 && name[n - e - 1] == '.' && strcasecmp(name + n - e, ext) == 0;
 }
 
-/* Runs the command and waits for it. */
-static orr_status run_ffmpeg(const video_command *cmd, const char *output, orr_error *err)
+/* Writes all of buf to fd; returns errno on failure (EPIPE when ffmpeg has
+ * stopped reading). */
+static int write_all(int fd, const unsigned char *buf, size_t n)
 {
+    while (n > 0) {
+        ssize_t w = write(fd, buf, n);
+        if (w < 0 && errno == EINTR)
+            continue;
+        if (w < 0)
+            return errno;
+        buf += w;
+        n -= (size_t)w;
+    }
+    return 0;
+}
+
+/* Copies the view's frames, in order, to fd. Returns ORR_OK when all were
+ * sent or ffmpeg stopped reading (its exit status then says why). */
+static orr_status send_frames(int fd, const frame_set *fs, orr_error *err)
+{
+    enum { BUFFER = 1 << 20 };
+    unsigned char *buf = malloc(BUFFER);
+    if (!buf)
+        return orr_fail(err, ORR_ERR_NOMEM, "out of memory");
+    char path[ORR_PATH_MAX];
+    orr_status st = ORR_OK;
+    int broken_pipe = 0;
+    for (long k = 0; !st && !broken_pipe && k < fs->count; k++) {
+        frame_path(path, sizeof path, fs, k);
+        FILE *fp = fopen(path, "rb");
+        if (!fp) {
+            st = orr_fail(err, ORR_ERR_IO, "cannot open frame %s: %s", path, strerror(errno));
+            break;
+        }
+        size_t got;
+        while (!broken_pipe && (got = fread(buf, 1, BUFFER, fp)) > 0) {
+            int e = write_all(fd, buf, got);
+            if (e == EPIPE)
+                broken_pipe = 1;
+            else if (e)
+                st = orr_fail(err, ORR_ERR_IO, "sending frame %s to ffmpeg: %s", path, strerror(e));
+            if (e)
+                break;
+        }
+        if (!st && !broken_pipe && ferror(fp))
+            st = orr_fail(err, ORR_ERR_IO, "cannot read frame %s", path);
+        fclose(fp);
+    }
+    free(buf);
+    return st;
+}
+
+/* Runs the command with the frames on its standard input and waits for it. */
+static orr_status run_ffmpeg(const video_command *cmd, const frame_set *fs, const char *output, orr_error *err)
+{
+    int fds[2];
+    if (pipe(fds) != 0)
+        return orr_fail(err, ORR_ERR_IO, "cannot make a pipe to ffmpeg: %s", strerror(errno));
+    /* ffmpeg gets the reading end as its standard input and nothing else. */
+    fcntl(fds[0], F_SETFD, FD_CLOEXEC);
+    fcntl(fds[1], F_SETFD, FD_CLOEXEC);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_adddup2(&actions, fds[0], STDIN_FILENO); /* dup2 clears close-on-exec */
     pid_t pid;
-    int rc = posix_spawn(&pid, cmd->argv[0], NULL, NULL, (char *const *)cmd->argv, environ);
-    if (rc != 0)
+    int rc = posix_spawn(&pid, cmd->argv[0], &actions, NULL, (char *const *)cmd->argv, environ);
+    posix_spawn_file_actions_destroy(&actions);
+    close(fds[0]);
+    if (rc != 0) {
+        close(fds[1]);
         return orr_fail(err, ORR_ERR_IO, "cannot run %s: %s", cmd->argv[0], strerror(rc));
+    }
+    /* When ffmpeg fails it stops reading: the write then fails with EPIPE
+     * instead of the signal ending orrery. */
+    struct sigaction ignore = {.sa_handler = SIG_IGN}, previous;
+    sigemptyset(&ignore.sa_mask);
+    sigaction(SIGPIPE, &ignore, &previous);
+    orr_status st = send_frames(fds[1], fs, err);
+    if (st)
+        kill(pid, SIGTERM); /* it would otherwise finish a video without the remaining frames */
+    close(fds[1]);
     int status;
-    while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR)
-            return orr_fail(err, ORR_ERR_INTERNAL, "waiting for ffmpeg: %s", strerror(errno));
+    pid_t waited;
+    while ((waited = waitpid(pid, &status, 0)) < 0 && errno == EINTR)
+        ;
+    sigaction(SIGPIPE, &previous, NULL);
+    if (st)
+        return st;
+    if (waited < 0)
+        return orr_fail(err, ORR_ERR_INTERNAL, "waiting for ffmpeg: %s", strerror(errno));
     if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
         return ORR_OK;
     if (WIFSIGNALED(status))
@@ -327,15 +407,7 @@ static orr_status run_ffmpeg(const video_command *cmd, const char *output, orr_e
 static orr_status encode_view(const video_options *o, const char *ffmpeg, const frame_set *fs, const char *output,
                               orr_error *err)
 {
-    char pattern[ORR_PATH_MAX], escaped_dir[2 * ORR_PATH_MAX], escaped_name[2 * ORR_NAME_MAX];
-    if (!video_escape_pattern(escaped_dir, sizeof escaped_dir, fs->dir) ||
-        !video_escape_pattern(escaped_name, sizeof escaped_name, fs->name) ||
-        snprintf(pattern, sizeof pattern, "%s/%s_%%0%dd.png", escaped_dir, escaped_name, fs->digits) >=
-            (int)sizeof pattern)
-        return orr_fail(err, ORR_ERR_USAGE, "frame path is too long: %.200s/%s_...", fs->dir, fs->name);
-
-    video_settings s = {.ffmpeg = ffmpeg, .input_pattern = pattern, .nframes = fs->count, .fps = o->fps,
-                        .codec = o->codec, .crf = o->crf};
+    video_settings s = {.ffmpeg = ffmpeg, .fps = o->fps, .codec = o->codec, .crf = o->crf};
     int pad_w = video_codec_needs_even_width(o->codec) && fs->width % 2;
     int pad_h = video_codec_needs_even_height(o->codec) && fs->height % 2;
     if (pad_w || pad_h) {
@@ -358,7 +430,7 @@ static orr_status encode_view(const video_options *o, const char *ffmpeg, const 
     else if (!video_command_build(cmd, &s))
         st = orr_fail(err, ORR_ERR_USAGE, "the ffmpeg command for %s is too long", output);
     else
-        st = run_ffmpeg(cmd, output, err);
+        st = run_ffmpeg(cmd, fs, output, err);
     free(cmd);
     if (!st)
         st = orr_atomic_commit(&af, err);

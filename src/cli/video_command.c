@@ -42,23 +42,6 @@ int video_codec_default_crf(video_codec codec) { return CODECS[codec].default_cr
 int video_codec_needs_even_width(video_codec codec) { return CODECS[codec].even_width; }
 int video_codec_needs_even_height(video_codec codec) { return CODECS[codec].even_height; }
 
-int video_escape_pattern(char *out, size_t size, const char *text)
-{
-    size_t n = 0;
-    for (const char *p = text; *p; p++) {
-        size_t need = *p == '%' ? 2 : 1;
-        if (n + need >= size)
-            return 0;
-        out[n++] = *p;
-        if (*p == '%')
-            out[n++] = '%';
-    }
-    if (size == 0)
-        return 0;
-    out[n] = '\0';
-    return 1;
-}
-
 static int add(video_command *cmd, const char *word)
 {
     if (cmd->argc >= VIDEO_MAX_ARGS - 1)
@@ -98,19 +81,16 @@ int video_command_build(video_command *cmd, const video_settings *s)
 {
     const codec_info *c = &CODECS[s->codec];
     memset(cmd, 0, sizeof *cmd);
-    snprintf(cmd->nframes, sizeof cmd->nframes, "%ld", s->nframes);
     snprintf(cmd->crf, sizeof cmd->crf, "%d", s->crf);
-    if (!file_url(cmd->input, sizeof cmd->input, s->input_pattern) ||
-        !file_url(cmd->output, sizeof cmd->output, s->output))
+    if (!file_url(cmd->output, sizeof cmd->output, s->output))
         return 0;
-    /* -nostdin: ffmpeg would otherwise read keys from the terminal (and
-     * stop when run in the background). The input is a numbered sequence
-     * from frame 0 (no globbing), read at the film's frame rate. */
+    /* The frames come as PNG files one after another on the standard
+     * input, at the film's frame rate. -xerror: without it ffmpeg skips a
+     * frame it cannot decode and still succeeds, with a short video. */
     int ok = add(cmd, s->ffmpeg) && add(cmd, "-hide_banner") && add(cmd, "-loglevel") && add(cmd, "error") &&
-             add(cmd, "-nostdin") && add(cmd, "-y") && add(cmd, "-f") && add(cmd, "image2") &&
-             add(cmd, "-pattern_type") && add(cmd, "sequence") && add(cmd, "-start_number") && add(cmd, "0") &&
-             add(cmd, "-framerate") && add(cmd, s->fps) && add(cmd, "-i") && add(cmd, cmd->input) &&
-             add(cmd, "-frames:v") && add(cmd, cmd->nframes);
+             add(cmd, "-xerror") && add(cmd, "-y") && add(cmd, "-f") && add(cmd, "image2pipe") &&
+             add(cmd, "-framerate") && add(cmd, s->fps) && add(cmd, "-c:v") && add(cmd, "png") &&
+             add(cmd, "-i") && add(cmd, "pipe:0");
     if (ok && c->pix_fmt)
         ok = yuv_filter(cmd, s, c->pix_fmt) && add(cmd, "-vf") && add(cmd, cmd->filter);
     ok = ok && add(cmd, "-c:v") && add(cmd, c->encoder);

@@ -1,7 +1,11 @@
 /* The ffmpeg command line of `orrery video`, built by a pure function so a
  * unit test can check it word for word (tests/unit/test_video_command.c).
- * No shell is involved: the words go to posix_spawn as they are, so file
- * names may hold spaces, quotes or any other character. */
+ * ffmpeg reads the PNG frames from its standard input, where `orrery
+ * video` writes them one after the other: so exactly the frames found are
+ * encoded, in order, whatever their names (ffmpeg's own numbered-sequence
+ * reader would skip over a gap to later frames, and reads '%' in names as
+ * a pattern). No shell is involved: the words go to posix_spawn as they
+ * are, so the output name may hold spaces, quotes or any other character. */
 #ifndef ORR_CLI_VIDEO_COMMAND_H
 #define ORR_CLI_VIDEO_COMMAND_H
 
@@ -28,9 +32,6 @@ int video_codec_needs_even_height(video_codec codec);
 
 typedef struct video_settings {
     const char *ffmpeg;        /* the program to run (a path, or "ffmpeg") */
-    const char *input_pattern; /* an image2 sequence pattern, e.g. "out/clip_%04d.png", with any '%'
-                                * of the folder or name already doubled (video_escape_pattern) */
-    long nframes;              /* frames to encode, starting at frame 0 */
     const char *fps;           /* frame rate as ffmpeg takes it: "30", "24", "30000/1001" */
     video_codec codec;
     int crf;                   /* quality for h264/h265 (lower is better); ignored by the others */
@@ -44,16 +45,12 @@ typedef struct video_command {
     int argc;
     const char *argv[VIDEO_MAX_ARGS]; /* NULL-terminated, for posix_spawn */
     /* Storage for the words made here; argv points into it or into settings. */
-    char nframes[24], crf[16], filter[256];
-    char input[2 * 4096 + 8], output[4096 + 8]; /* "file:" + the pattern, "file:" + the output */
+    char crf[16], filter[256];
+    char output[4096 + 8]; /* "file:" + the output */
 } video_command;
 
 /* Fills cmd with the ffmpeg command for s. Returns 0 when the command
  * would not fit (it always does for valid settings). */
 int video_command_build(video_command *cmd, const video_settings *s);
-
-/* Copies text to out doubling every '%', so ffmpeg's sequence pattern reads
- * it literally. Returns 0 when it does not fit in size bytes. */
-int video_escape_pattern(char *out, size_t size, const char *text);
 
 #endif
