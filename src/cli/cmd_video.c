@@ -220,8 +220,11 @@ static orr_status png_size(const char *path, unsigned *width, unsigned *height, 
         return orr_fail(err, ORR_ERR_FORMAT, "frame %s is not a PNG file", path);
     *width = (unsigned)head[16] << 24 | (unsigned)head[17] << 16 | (unsigned)head[18] << 8 | head[19];
     *height = (unsigned)head[20] << 24 | (unsigned)head[21] << 16 | (unsigned)head[22] << 8 | head[23];
-    if (*width == 0 || *height == 0)
-        return orr_fail(err, ORR_ERR_FORMAT, "frame %s: its header gives a size of %ux%u", path, *width, *height);
+    /* The codecs stop far below this (h264 at 8192 or so); the bound keeps
+     * the padded size within an int. */
+    if (*width == 0 || *height == 0 || *width > 1u << 20 || *height > 1u << 20)
+        return orr_fail(err, ORR_ERR_FORMAT, "frame %s: its header gives a size of %ux%u, which no video takes",
+                        path, *width, *height);
     return ORR_OK;
 }
 
@@ -278,7 +281,7 @@ static orr_status find_frames(frame_set *fs, long long frames, orr_error *err)
                 return orr_fail(err, ORR_ERR_IO, "no frames found: %s is missing (render the animation first)",
                                 path);
             if (frames > 0)
-                return orr_fail(err, ORR_ERR_IO, "frame %ld of %lld is missing: %s", k, frames, path);
+                return orr_fail(err, ORR_ERR_IO, "--frames %lld: frame %ld is missing: %s", frames, k, path);
             break;
         }
         unsigned w, h;

@@ -132,7 +132,7 @@ expect_probe "odd dir/odd clip.mov" width 33
 
 # --frames N requires N frames and names the first missing one.
 rm -f out/*.mp4 out/*.mov
-run_video 1 "frame 3 of 5 is missing: out/clip_0003.png" -- clip.yaml --frames 5
+run_video 1 "--frames 5: frame 3 is missing: out/clip_0003.png" -- clip.yaml --frames 5
 only_frames_in out
 "$ORRERY" video clip.yaml --frames 2 --quiet 2>stderr.txt || fail "video --frames 2: $(cat stderr.txt)"
 expect_probe out/clip.mp4 nb_read_frames 2
