@@ -284,7 +284,7 @@ static orr_status find_frames(frame_set *fs, long long frames, orr_error *err)
                 return orr_fail(err, ORR_ERR_IO, "--frames %lld: frame %ld is missing: %s", frames, k, path);
             break;
         }
-        unsigned w, h;
+        unsigned w = 0, h = 0;
         orr_status st = png_size(path, &w, &h, err);
         if (st)
             return st;
@@ -335,8 +335,7 @@ static orr_status send_frames(int fd, const frame_set *fs, orr_error *err)
     orr_status st = ORR_OK;
     int broken_pipe = 0;
     for (long k = 0; !st && !broken_pipe && k < fs->count; k++) {
-        frame_path(path, sizeof path, fs, k);
-        FILE *fp = fopen(path, "rb");
+        FILE *fp = frame_path(path, sizeof path, fs, k) ? fopen(path, "rb") : NULL;
         if (!fp) {
             st = orr_fail(err, ORR_ERR_IO, "cannot open frame %s: %s", path, strerror(errno));
             break;
@@ -479,8 +478,9 @@ static orr_status make_view_video(const video_options *o, const char *ffmpeg, co
     if (o->frames == 0) {
         long last = last_frame_number(&fs);
         if (last >= fs.count) {
-            char missing[ORR_PATH_MAX];
-            frame_path(missing, sizeof missing, &fs, fs.count);
+            char missing[ORR_PATH_MAX] = "";
+            if (!frame_path(missing, sizeof missing, &fs, fs.count))
+                snprintf(missing, sizeof missing, "frame %ld", fs.count);
             fprintf(stderr, "orrery video: warning: %s is missing, so only frames 0 to %ld are encoded "
                             "(frames up to %ld exist; --frames N requires N frames)\n", missing, fs.count - 1, last);
         }
