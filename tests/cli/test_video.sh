@@ -12,16 +12,19 @@ for tool in ffmpeg ffprobe; do
   command -v "$tool" >/dev/null || { echo "FAIL: $tool not found (scripts/install-deps.sh installs ffmpeg)" >&2; exit 1; }
 done
 
-# probe FILE FIELD: one stream field, the frames counted by decoding them.
+# probe FILE: reads the video's stream fields with ffprobe, counting the
+# frames by decoding them; expect FIELD VALUE then checks one of them.
+probed=""
 probe() {
+  probed=$1
   ffprobe -v error -count_frames -select_streams v:0 \
     -show_entries stream=codec_name,codec_tag_string,width,height,r_frame_rate,nb_read_frames,pix_fmt,color_space \
-    -of default=noprint_wrappers=1 "$1" | sed -n "s/^$2=//p"
+    -of default=noprint_wrappers=1 "$1" >probe.txt 2>&1 || fail "ffprobe $1: $(cat probe.txt)"
 }
-expect_probe() { # FILE FIELD EXPECTED
+expect() {
   local got
-  got=$(probe "$1" "$2")
-  [ "$got" = "$3" ] || fail "$1: $2 is '$got', expected '$3'"
+  got=$(sed -n "s/^$1=//p" probe.txt)
+  [ "$got" = "$2" ] || fail "$probed: $1 is '$got', expected '$2'"
 }
 # No video and no temporary file in DIR: only the frames.
 only_frames_in() {
@@ -64,54 +67,59 @@ done
 # h264, the default: 3 frames, 64x48, 30 fps, an MP4 beside the frames.
 "$ORRERY" video clip.yaml >stdout.txt 2>stderr.txt || fail "video h264: $(cat stderr.txt)"
 grep -q "wrote out/clip.mp4: 3 frames of 64x48 at 30 fps, h264" stdout.txt || fail "h264 summary: $(cat stdout.txt)"
-expect_probe out/clip.mp4 codec_name h264
-expect_probe out/clip.mp4 nb_read_frames 3
-expect_probe out/clip.mp4 width 64
-expect_probe out/clip.mp4 height 48
-expect_probe out/clip.mp4 r_frame_rate 30/1
-expect_probe out/clip.mp4 pix_fmt yuv420p
-expect_probe out/clip.mp4 color_space bt709
+probe out/clip.mp4
+expect codec_name h264
+expect nb_read_frames 3
+expect width 64
+expect height 48
+expect r_frame_rate 30/1
+expect pix_fmt yuv420p
+expect color_space bt709
 [ -z "$(ls -A out | grep tmp)" ] || fail "temporary files left: $(ls -A out)"
 
 # An existing video is kept unless --force.
 run_video 1 "out/clip.mp4 exists \(--force replaces it\)" -- clip.yaml
 "$ORRERY" video clip.yaml --force --quiet --fps 25 2>stderr.txt || fail "video --force: $(cat stderr.txt)"
-expect_probe out/clip.mp4 r_frame_rate 25/1
+probe out/clip.mp4
+expect r_frame_rate 25/1
 
 # ProRes master at 24 fps: a .mov, 4:2:2 10-bit, profile 3 (tag apch).
 "$ORRERY" video clip.yaml --codec prores --fps 24 --quiet 2>stderr.txt || fail "video prores: $(cat stderr.txt)"
-expect_probe out/clip.mov codec_name prores
-expect_probe out/clip.mov codec_tag_string apch
-expect_probe out/clip.mov nb_read_frames 3
-expect_probe out/clip.mov width 64
-expect_probe out/clip.mov height 48
-expect_probe out/clip.mov r_frame_rate 24/1
-expect_probe out/clip.mov pix_fmt yuv422p10le
+probe out/clip.mov
+expect codec_name prores
+expect codec_tag_string apch
+expect nb_read_frames 3
+expect width 64
+expect height 48
+expect r_frame_rate 24/1
+expect pix_fmt yuv422p10le
 
 # h265, tagged hvc1, NTSC rate, to a name of our choosing.
 "$ORRERY" video clip.yaml --codec h265 --fps 30000/1001 --out "clip h265.mp4" --quiet 2>stderr.txt ||
   fail "video h265: $(cat stderr.txt)"
-expect_probe "clip h265.mp4" codec_name hevc
-expect_probe "clip h265.mp4" codec_tag_string hvc1
-expect_probe "clip h265.mp4" nb_read_frames 3
-expect_probe "clip h265.mp4" r_frame_rate 30000/1001
+probe "clip h265.mp4"
+expect codec_name hevc
+expect codec_tag_string hvc1
+expect nb_read_frames 3
+expect r_frame_rate 30000/1001
 
 # Frames with an odd size (33x17), a distinct colour each, in a folder and
-# under a name with spaces: h264 pads them to 34x18 and says so; the
+# under a name with spaces and a '%' (which ffmpeg's own file patterns use): h264 pads them to 34x18 and says so; the
 # decoded frames keep their order and colours (BT.709 both ways).
 mkdir "odd dir"
 "$py" - <<'EOT' || fail "writing the odd frames"
 from PIL import Image
 for k in range(4):
-    Image.new("RGB", (33, 17), (40 + 50 * k, 160 - 30 * k, 90 + 30 * k)).save("odd dir/odd clip_%04d.png" % k)
+    Image.new("RGB", (33, 17), (40 + 50 * k, 160 - 30 * k, 90 + 30 * k)).save("odd dir/odd 100%% clip_%04d.png" % k)
 EOT
 cp clip.yaml odd.yaml
 sed -i 's/^  dir: out/  dir: odd dir/' odd.yaml
-"$ORRERY" video odd.yaml --set "output.name=odd clip" >stdout.txt 2>stderr.txt || fail "video odd: $(cat stderr.txt)"
+"$ORRERY" video odd.yaml --set "output.name=odd 100% clip" >stdout.txt 2>stderr.txt || fail "video odd: $(cat stderr.txt)"
 grep -q "padded to 34x18" stderr.txt || fail "odd size: no note of the padding: $(cat stderr.txt)"
-expect_probe "odd dir/odd clip.mp4" nb_read_frames 4
-expect_probe "odd dir/odd clip.mp4" width 34
-expect_probe "odd dir/odd clip.mp4" height 18
+probe "odd dir/odd 100% clip.mp4"
+expect nb_read_frames 4
+expect width 34
+expect height 18
 # decoded_pixel FILE FRAME: the RGB of pixel (10, 8) of that frame.
 decoded_pixel() {
   ffmpeg -v error -nostdin -i "$1" -vf "select=eq(n\,$2)" -frames:v 1 -f rawvideo -pix_fmt rgb24 - |
@@ -119,29 +127,32 @@ decoded_pixel() {
 }
 for k in 0 3; do
   want="$((40 + 50 * k)) $((160 - 30 * k)) $((90 + 30 * k))"
-  got=$(decoded_pixel "odd dir/odd clip.mp4" $k 34)
+  got=$(decoded_pixel "odd dir/odd 100% clip.mp4" $k 34)
   "$py" -c "import sys; a, b = sys.argv[1].split(), sys.argv[2].split(); sys.exit(0 if len(a) == 3 and all(abs(int(x) - int(y)) <= 3 for x, y in zip(a, b)) else 1)" "$got" "$want" ||
     fail "odd h264 frame $k: decoded colour '$got', the PNG's is '$want'"
 done
 # The png codec keeps the pixels exactly, at the odd size.
-"$ORRERY" video odd.yaml --set "output.name=odd clip" --codec png --quiet 2>stderr.txt || fail "video png: $(cat stderr.txt)"
-expect_probe "odd dir/odd clip.mov" codec_name png
-expect_probe "odd dir/odd clip.mov" width 33
-[ "$(decoded_pixel "odd dir/odd clip.mov" 2 33)" = "140 100 150" ] ||
-  fail "png frame 2: decoded $(decoded_pixel "odd dir/odd clip.mov" 2 33), the PNG's is 140 100 150"
+"$ORRERY" video odd.yaml --set "output.name=odd 100% clip" --codec png --quiet 2>stderr.txt || fail "video png: $(cat stderr.txt)"
+probe "odd dir/odd 100% clip.mov"
+expect codec_name png
+expect width 33
+[ "$(decoded_pixel "odd dir/odd 100% clip.mov" 2 33)" = "140 100 150" ] ||
+  fail "png frame 2: decoded $(decoded_pixel "odd dir/odd 100% clip.mov" 2 33), the PNG's is 140 100 150"
 
 # --frames N requires N frames and names the first missing one.
 rm -f out/*.mp4 out/*.mov
 run_video 1 "--frames 5: frame 3 is missing: out/clip_0003.png" -- clip.yaml --frames 5
 only_frames_in out
 "$ORRERY" video clip.yaml --frames 2 --quiet 2>stderr.txt || fail "video --frames 2: $(cat stderr.txt)"
-expect_probe out/clip.mp4 nb_read_frames 2
+probe out/clip.mp4
+expect nb_read_frames 2
 rm -f out/clip.mp4
 
 # Without --frames, a gap ends the sequence, with a warning naming it.
 cp out/clip_0002.png out/clip_0004.png
 run_video 0 "warning: out/clip_0003.png is missing, so only frames 0 to 2 are encoded" -- clip.yaml --quiet
-expect_probe out/clip.mp4 nb_read_frames 3
+probe out/clip.mp4
+expect nb_read_frames 3
 rm -f out/clip.mp4 out/clip_0004.png
 
 # No frames at all.
