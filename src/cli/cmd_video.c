@@ -42,7 +42,7 @@ static const char video_help[] =
     "                    prores ProRes 422 HQ (prores_ks profile 3), yuv422p10le, MOV: masters\n"
     "                    png    the PNG frames, lossless, in a MOV\n"
     "                    h264 and h265 need even sizes: odd frames are padded by one\n"
-    "                    black pixel on the right or bottom (and a note says so)\n"
+    "                    black pixel on the right and/or bottom (a note says so)\n"
     "  --crf N           quality of h264 and h265, 0 (lossless) to 51 (default 18 for h264,\n"
     "                    23 for h265; lower is better and bigger)\n"
     "  --fps F           frames per second, e.g. 24, 29.97 or 30000/1001 (default 30)\n"
