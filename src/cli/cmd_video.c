@@ -458,39 +458,54 @@ static orr_status output_path(const video_options *o, const frame_set *fs, char 
     return ORR_OK;
 }
 
-static orr_status make_view_video(const video_options *o, const char *ffmpeg, const orr_scene *view,
-                                  const char *view_name, orr_error *err)
-{
-    frame_set fs = {0};
-    const char *dir = o->out_dir ? o->out_dir : view->out_dir;
-    if (snprintf(fs.dir, sizeof fs.dir, "%s", dir) >= (int)sizeof fs.dir)
-        return orr_fail(err, ORR_ERR_USAGE, "output directory name is too long");
-    snprintf(fs.name, sizeof fs.name, "%s", view->out_name);
+/* One view's video: its frames and where it goes. */
+typedef struct view_job {
+    frame_set frames;
     char output[ORR_PATH_MAX];
-    orr_status st = output_path(o, &fs, output, sizeof output, err);
+    const char *view_name; /* "" for a scene without views */
+} view_job;
+
+/* Finds a view's frames and names its video, checking everything that can
+ * be checked before ffmpeg runs. */
+static orr_status prepare_view(const video_options *o, const orr_scene *view, const char *view_name, view_job *job,
+                               orr_error *err)
+{
+    frame_set *fs = &job->frames;
+    job->view_name = view_name;
+    const char *dir = o->out_dir ? o->out_dir : view->out_dir;
+    if (snprintf(fs->dir, sizeof fs->dir, "%s", dir) >= (int)sizeof fs->dir)
+        return orr_fail(err, ORR_ERR_USAGE, "output directory name is too long");
+    snprintf(fs->name, sizeof fs->name, "%s", view->out_name);
+    orr_status st = output_path(o, fs, job->output, sizeof job->output, err);
     if (st)
         return st;
-    if (!o->force && is_file(output))
-        return orr_fail(err, ORR_ERR_IO, "%s exists (--force replaces it)", output);
-    st = find_frames(&fs, o->frames, err);
+    if (!o->force && is_file(job->output))
+        return orr_fail(err, ORR_ERR_IO, "%s exists (--force replaces it)", job->output);
+    st = find_frames(fs, o->frames, err);
     if (st)
         return st;
     if (o->frames == 0) {
-        long last = last_frame_number(&fs);
-        if (last >= fs.count) {
+        long last = last_frame_number(fs);
+        if (last >= fs->count) {
             char missing[ORR_PATH_MAX] = "";
-            if (!frame_path(missing, sizeof missing, &fs, fs.count))
-                snprintf(missing, sizeof missing, "frame %ld", fs.count);
+            if (!frame_path(missing, sizeof missing, fs, fs->count))
+                snprintf(missing, sizeof missing, "frame %ld", fs->count);
             fprintf(stderr, "orrery video: warning: %s is missing, so only frames 0 to %ld are encoded "
-                            "(frames up to %ld exist; --frames N requires N frames)\n", missing, fs.count - 1, last);
+                            "(frames up to %ld exist; --frames N requires N frames)\n", missing, fs->count - 1, last);
         }
     }
-    st = encode_view(o, ffmpeg, &fs, output, err);
+    return ORR_OK;
+}
+
+static orr_status make_video(const video_options *o, const char *ffmpeg, const view_job *job, orr_error *err)
+{
+    const frame_set *fs = &job->frames;
+    orr_status st = encode_view(o, ffmpeg, fs, job->output, err);
     if (!st && !o->quiet) {
-        if (view_name[0])
-            printf("view %s: ", view_name);
-        printf("wrote %s: %ld frames of %ux%u at %s fps, %s\n", output, fs.count, fs.width, fs.height, o->fps,
-               video_codec_name(o->codec));
+        if (job->view_name[0])
+            printf("view %s: ", job->view_name);
+        printf("wrote %s: %ld frame%s of %ux%u at %s fps, %s\n", job->output, fs->count, fs->count == 1 ? "" : "s",
+               fs->width, fs->height, o->fps, video_codec_name(o->codec));
     }
     return st;
 }
@@ -512,7 +527,8 @@ int cmd_video(int argc, char **argv)
     orr_error err = {0};
     char ffmpeg[ORR_PATH_MAX];
     orr_scene_views *views = calloc(1, sizeof *views);
-    orr_status st = views ? ORR_OK : orr_fail(&err, ORR_ERR_NOMEM, "out of memory");
+    view_job *jobs = calloc(ORR_SCENE_MAX_VIEWS, sizeof *jobs);
+    orr_status st = views && jobs ? ORR_OK : orr_fail(&err, ORR_ERR_NOMEM, "out of memory");
     if (!st && !find_program("ffmpeg", ffmpeg, sizeof ffmpeg))
         st = orr_fail(&err, ORR_ERR_IO, "ffmpeg not found: install it (scripts/install-deps.sh installs it)");
     if (!st)
@@ -533,10 +549,16 @@ int cmd_video(int argc, char **argv)
     if (!st && o.out_file && chosen < 0 && views->n > 1)
         st = orr_fail(&err, ORR_ERR_USAGE, "--out names one video, but %s has %d views: choose one with --view",
                       o.scene_path, views->n);
+    /* Every view's frames are checked before any video is made, so a view
+     * with missing frames does not leave the others half done. */
+    int njobs = 0;
     for (int k = 0; !st && k < views->n; k++)
         if (chosen < 0 || k == chosen)
-            st = make_view_video(&o, ffmpeg, &views->view[k], views->name[k], &err);
+            st = prepare_view(&o, &views->view[k], views->name[k], &jobs[njobs++], &err);
+    for (int j = 0; !st && j < njobs; j++)
+        st = make_video(&o, ffmpeg, &jobs[j], &err);
     code = st ? cli_report_error(&err) : EXIT_OK;
+    free(jobs);
     free(views);
     free(o.sets);
     return code;

@@ -193,5 +193,45 @@ run_video 2 "--view dome: clip.yaml has no views" -- clip.yaml --view dome
 run_video 2 "no scene file given" -- --codec h264
 only_frames_in out
 
+# Frame numbers of five digits (a run of over 10000 frames) are found too.
+"$py" -c "
+from PIL import Image
+for k in range(3): Image.new('RGB', (16, 16), (80 * k, 0, 0)).save('out/long_%05d.png' % k)"
+"$ORRERY" video clip.yaml --set output.name=long --codec png --quiet 2>stderr.txt || fail "video long: $(cat stderr.txt)"
+probe out/long.mov
+expect nb_read_frames 3
+rm -f out/long*
+
+# A scene with two views: both are checked before either video is made;
+# --out needs --view.
+cat >views.yaml <<'EOT'
+input:
+  model:
+    name: mw-m31
+    particles: 100
+output:
+  dir: views
+views:
+  near:
+    output: {name: near}
+  far:
+    output: {name: far}
+EOT
+mkdir views
+"$py" -c "
+from PIL import Image
+for k in range(2): Image.new('RGB', (16, 16)).save('views/near_%04d.png' % k)"
+run_video 1 "no frames found: views/far_0000.png is missing" -- views.yaml
+only_frames_in views
+cp views/near_0000.png views/far_0000.png
+run_video 2 "--out names one video, but views.yaml has 2 views: choose one with --view" -- views.yaml --out x.mp4
+run_video 2 "--view middle: views.yaml has no such view \(its views: near, far\)" -- views.yaml --view middle
+"$ORRERY" video views.yaml --codec png >stdout.txt 2>stderr.txt || fail "video views: $(cat stderr.txt)"
+grep -q "view near: wrote views/near.mov: 2 frames" stdout.txt || fail "views: $(cat stdout.txt)"
+grep -q "view far: wrote views/far.mov: 1 frame of 16x16" stdout.txt || fail "views: $(cat stdout.txt)"
+"$ORRERY" video views.yaml --codec png --view far --out "far one.mov" --quiet 2>stderr.txt || fail "video --view far: $(cat stderr.txt)"
+probe "far one.mov"
+expect nb_read_frames 1
+
 "$ORRERY" video --help | grep -q "usage: orrery video SCENE.yaml" || fail "video --help"
 finish
