@@ -18,6 +18,7 @@ packages=(
   python3-astropy python3-numpy      # tests: an independent FITS WCS reader
   python3-pil                        # tests: an independent PNG reader (Pillow)
   splash                             # tests and benchmark: SPLASH, the reference SPH renderer
+  ffmpeg                             # orrery video: encodes frame sequences (ffmpeg; ffprobe for its tests)
 )
 
 missing=()

@@ -19,6 +19,7 @@ int cmd_compose(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_model(int argc, char **argv);
 int cmd_path(int argc, char **argv);
+int cmd_video(int argc, char **argv);
 
 /* Prints "orrery: <message>" to stderr and returns the exit code for it. */
 int cli_report_error(const orr_error *err);

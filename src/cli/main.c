@@ -18,6 +18,8 @@ static const char usage_text[] =
     "                                                     write the built-in Milky Way-Andromeda model\n"
     "  path SCENE.yaml [--set KEY=VALUE ...] [--frames N] [-o FILE.png]\n"
     "                                                     print a camera path; draw it over the particles\n"
+    "  video SCENE.yaml [--codec h264|h265|prores|png] [--fps F] [--frames N] [--out FILE] ...\n"
+    "                                                     encode rendered frames into a video (ffmpeg)\n"
     "\n"
     "options:\n"
     "  -h, --help      this text (also 'orrery COMMAND --help')\n"
@@ -51,6 +53,8 @@ int main(int argc, char **argv)
         return cmd_model(argc - 1, argv + 1);
     if (strcmp(cmd, "path") == 0)
         return cmd_path(argc - 1, argv + 1);
+    if (strcmp(cmd, "video") == 0)
+        return cmd_video(argc - 1, argv + 1);
     fprintf(stderr, "orrery: unknown command '%s'\n\n%s", cmd, usage_text);
     return EXIT_USAGE;
 }
