@@ -19,7 +19,7 @@ static const char path_help[] =
     "scene's particles seen from above (down the path's axis) as a PNG.\n"
     "\n"
     "  --set KEY=VALUE   override a scene key (repeatable; applied in order)\n"
-    "  --frames N        frames in the run (default 100)\n"
+    "  --frames N        frames in the run (default: the scene's animation.frames, or 100 for a still)\n"
     "  --every K         print every K-th frame (default: about 50 rows; the last frame always)\n"
     "  -o, --output FILE write the overview picture (PNG)\n"
     "  --size WxH        its size in pixels (default 800x800; --size N for N x N)\n"
@@ -139,7 +139,7 @@ static void print_table(const orr_scene *s, const orr_camera *cams, long n, long
 
 int cmd_path(int argc, char **argv)
 {
-    path_args pa = {.frames = 100, .width = 800, .height = 800};
+    path_args pa = {.frames = 0, .width = 800, .height = 800};
     pa.sets = calloc((size_t)argc, sizeof *pa.sets);
     if (!pa.sets) {
         fprintf(stderr, "orrery path: out of memory\n");
@@ -154,10 +154,15 @@ int cmd_path(int argc, char **argv)
     }
     orr_error err = {0};
     orr_scene *s = calloc(1, sizeof *s);
-    orr_camera *cams = calloc((size_t)pa.frames, sizeof *cams);
-    orr_status st = s && cams ? ORR_OK : orr_fail(&err, ORR_ERR_NOMEM, "out of memory");
+    orr_camera *cams = NULL;
+    orr_status st = s ? ORR_OK : orr_fail(&err, ORR_ERR_NOMEM, "out of memory");
     if (!st)
         st = orr_scene_load(s, pa.scene, pa.sets, pa.nsets, &err);
+    /* The run's length: --frames, or the scene's animation.frames, or 100. */
+    if (!st && pa.frames == 0)
+        pa.frames = s->anim_frames > 1 ? s->anim_frames : 100;
+    if (!st && !(cams = calloc((size_t)pa.frames, sizeof *cams)))
+        st = orr_fail(&err, ORR_ERR_NOMEM, "out of memory for %lld cameras", pa.frames);
     if (!st && !s->has_path)
         st = orr_fail(&err, ORR_ERR_USAGE, "%s: no camera path: set camera.path.kind (docs/paths.md)", s->path);
     if (!st)

@@ -31,7 +31,8 @@ static const char video_help[] =
     "Encodes the frames that `orrery render` wrote for an animation,\n"
     "DIR/NAME_0000.png, DIR/NAME_0001.png, ... (NAME is the view's\n"
     "output.name, DIR its output.dir), into one video per view with ffmpeg,\n"
-    "DIR/NAME.mp4 (DIR/NAME.mov for prores and png). Without --frames it\n"
+    "DIR/NAME.mp4 (DIR/NAME.mov for prores and png), at animation.fps. The\n"
+    "scene's animation.frames frames must all be there; for a still scene it\n"
     "takes the frames present from 0 up to the first missing one.\n"
     "\n"
     "  --set KEY=VALUE   override a scene key, as for render (repeatable)\n"
@@ -45,8 +46,9 @@ static const char video_help[] =
     "                    black pixel on the right and/or bottom (a note says so)\n"
     "  --crf N           quality of h264 and h265, 0 (lossless) to 51 (default 18 for h264,\n"
     "                    23 for h265; lower is better and bigger)\n"
-    "  --fps F           frames per second, e.g. 24, 29.97 or 30000/1001 (default 30)\n"
-    "  --frames N        require exactly frames 0 to N-1 (an error names the first missing one)\n"
+    "  --fps F           frames per second, e.g. 24, 29.97 or 30000/1001 (default: animation.fps)\n"
+    "  --frames N        require exactly frames 0 to N-1 (an error names the first missing one;\n"
+    "                    default: animation.frames when the scene is a run of frames)\n"
     "  --out FILE        the video's name (one view only); .mp4 for h264/h265, .mov otherwise\n"
     "  --force           replace an existing video (otherwise it is an error)\n"
     "  -q, --quiet       no notes or summary, only errors and warnings\n"
@@ -63,6 +65,7 @@ typedef struct video_options {
     video_codec codec;
     int crf;          /* -1: the codec's default */
     char fps[48];     /* as ffmpeg takes it */
+    int fps_given;    /* --fps was given; otherwise the scene's animation.fps */
     long long frames; /* 0: count the frames present */
     int force, quiet;
 } video_options;
@@ -138,6 +141,7 @@ static int parse_options(int argc, char **argv, video_options *o)
                 return cli_usage_error("video", "--crf %s: expected a whole number from 0 to 51", v);
             o->crf = (int)n;
         } else if (strcmp(a, "--fps") == 0) {
+            o->fps_given = 1;
             if (!parse_fps(v, o->fps, sizeof o->fps))
                 return cli_usage_error("video", "--fps %s: expected a rate above 0 and up to 1000, e.g. 24, "
                                                 "29.97 or 30000/1001", v);
@@ -533,6 +537,11 @@ int cmd_video(int argc, char **argv)
         st = orr_fail(&err, ORR_ERR_IO, "ffmpeg not found: install it (scripts/install-deps.sh installs it)");
     if (!st)
         st = orr_scene_load_views(views, o.scene_path, o.sets, o.nsets, &err);
+    /* The scene's run: its frame rate and length, unless given here. */
+    if (!st && !o.fps_given)
+        snprintf(o.fps, sizeof o.fps, "%.10g", views->view[0].anim_fps);
+    if (!st && o.frames == 0 && views->view[0].anim_frames > 1)
+        o.frames = views->view[0].anim_frames;
     int chosen = -1; /* the --view, or -1 for all */
     for (int k = 0; !st && o.view && k < views->n; k++)
         if (strcmp(views->name[k], o.view) == 0)

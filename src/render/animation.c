@@ -1,12 +1,15 @@
 #include "render/animation.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
 #include "encode/atomic.h"
+#include "render/sequence_open.h"
+#include "source/partition.h"
 
 /* Where frame markers live, inside each view's output folder. */
 #define MARKER_DIR ".orrery-frames"
@@ -190,17 +193,79 @@ static int frame_complete(const orr_scene *scenes, int n)
     return 1;
 }
 
-static orr_status do_frame(const orr_scene *scenes, int n, long frame, const orr_animation_options *opt,
-                           orr_render_report *reports, orr_error *err)
+/* The run's snapshot sequence, when the scene has one: opened once, each
+ * frame's particles interpolated from it at the frame's time. */
+typedef struct run_input {
+    orr_sequence *seq;
+    double t0, t1; /* simulation time at the first and last frame */
+} run_input;
+
+static orr_status open_run_input(const orr_scene *s, int compose, run_input *ri, orr_error *err)
+{
+    memset(ri, 0, sizeof *ri);
+    if (s->has_anim_time) {
+        ri->t0 = s->anim_time[0];
+        ri->t1 = s->anim_time[1];
+    }
+    if (compose || !orr_scene_has_sequence(s))
+        return ORR_OK;
+    /* Every field a frame may ask for: the weight, and velocities for the
+     * observer's spin normal. */
+    const char *fields[4];
+    int nfields = 0;
+    if (strcmp(s->weight, "mass") != 0 && strcmp(s->weight, "h") != 0)
+        fields[nfields++] = s->weight;
+    if (s->has_observer && s->normal_types) {
+        fields[nfields++] = "vx";
+        fields[nfields++] = "vy";
+        fields[nfields++] = "vz";
+    }
+    orr_status st = orr_sequence_open_scene(s, fields, nfields, &ri->seq, err);
+    if (st)
+        return st;
+    double first, last;
+    orr_sequence_time_range(ri->seq, &first, &last);
+    if (!s->has_anim_time) {
+        ri->t0 = first;
+        ri->t1 = last;
+    } else if (!(fmin(ri->t0, ri->t1) >= first && fmax(ri->t0, ri->t1) <= last)) {
+        /* Said before any frame is drawn, not at the first frame outside. */
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "%s: animation.time [%g, %g] reaches outside the sequence's snapshots, times %g to %g",
+                        s->path, s->anim_time[0], s->anim_time[1], first, last);
+    }
+    return ORR_OK;
+}
+
+/* The frame's particles from the sequence (this process's share of them
+ * when several render together), or NULL: the scene's own input. */
+static orr_status frame_source(const run_input *ri, const orr_frame_time *when, const orr_parallel *par,
+                               orr_source **out, orr_error *err)
+{
+    *out = NULL;
+    if (!ri->seq)
+        return ORR_OK;
+    orr_source *src = NULL;
+    orr_status st = orr_sequence_source_at(ri->seq, when->time, &src, err);
+    if (!st && par && par->nranks > 1)
+        return orr_source_partition(src, par->rank, par->nranks, out, err);
+    *out = src;
+    return st;
+}
+
+static orr_status do_frame(const orr_scene *scenes, int n, long frame, const run_input *ri,
+                           const orr_animation_options *opt, orr_render_report *reports, orr_error *err)
 {
     const orr_scene *s0 = &scenes[0];
     const orr_scene *list[ORR_SCENE_MAX_VIEWS];
     for (int k = 0; k < n; k++)
         list[k] = &scenes[k];
-    double t0 = s0->has_anim_time ? s0->anim_time[0] : 0, t1 = s0->has_anim_time ? s0->anim_time[1] : 0;
-    orr_frame_input in = {orr_frame_at(frame, s0->anim_frames, s0->anim_fps, t0, t1), NULL, opt->parallel};
-    orr_status st = opt->compose ? orr_compose_views(list, n, reports, err)
-                                 : orr_render_frame(list, n, &in, reports, opt->progress, opt->progress_user, err);
+    orr_frame_input in = {orr_frame_at(frame, s0->anim_frames, s0->anim_fps, ri->t0, ri->t1), NULL, opt->parallel};
+    orr_status st = opt->compose ? ORR_OK : frame_source(ri, &in.time, opt->parallel, &in.source, err);
+    if (!st)
+        st = opt->compose ? orr_compose_views(list, n, reports, err)
+                          : orr_render_frame(list, n, &in, reports, opt->progress, opt->progress_user, err);
+    orr_source_close(in.source);
     if (st && s0->anim_frames > 1)
         return orr_fail_prefix(err, "frame %ld: ", frame);
     /* The writer (rank 0 of several processes) records the frame. */
@@ -237,7 +302,8 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
     orr_scene *scenes = orr_calloc((size_t)n, sizeof *scenes, "frame scenes", err);
     if (!scenes)
         return ORR_ERR_NOMEM;
-    orr_status st = ORR_OK;
+    run_input ri;
+    orr_status st = open_run_input(views[0], opt->compose, &ri, err);
     for (long f = first + opt->start; f <= last && !st; f += stride) {
         if ((st = frame_scenes(views, n, f, scenes, err)))
             break;
@@ -246,10 +312,11 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
         if (nframes > 1 && !opt->force && !opt->compose && (st = agree_complete(opt->parallel, &skip, err)))
             break;
         if (!skip)
-            st = do_frame(scenes, n, f, opt, reports, err);
+            st = do_frame(scenes, n, f, &ri, opt, reports, err);
         if (!st && opt->done)
             opt->done(opt->done_user, f, skip);
     }
+    orr_sequence_close(ri.seq);
     free(scenes);
     return st;
 }

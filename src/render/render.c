@@ -18,6 +18,7 @@
 #include "render/wcs.h"
 #include "source/model.h"
 #include "source/partition.h"
+#include "source/sequence.h"
 #include "splat/sph.h"
 
 /* Particles are processed in blocks of this many: the block's scratch arrays
@@ -57,6 +58,19 @@ typedef struct view_state {
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
                                  orr_error *err)
 {
+    if (orr_scene_has_sequence(s)) {
+        /* A sequence's frames come from orr_render_animation, which opens it
+         * once for the run; alone (a path overview), its first snapshot. */
+        char first[ORR_PATH_MAX];
+        orr_status st = ORR_OK;
+        if (s->seq_nfiles > 0)
+            snprintf(first, sizeof first, "%s", orr_scene_sequence_file(s, 0));
+        else
+            st = orr_sequence_pattern_path(s->seq_pattern, s->seq_first, first, sizeof first, err);
+        orr_source_options opt = {s->input_format, (size_t)s->chunk_size, s->has_observer ? 0 : s->type_mask,
+                                  fields, nfields};
+        return st ? st : orr_source_open_file(first, &opt, out, err);
+    }
     if (!s->model_name[0] && !s->input_file[0])
         return orr_fail(err, ORR_ERR_USAGE,
                         "%s: an in-situ scene (input.insitu) has no particles of its own: a running simulation "
@@ -66,7 +80,11 @@ orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, 
         orr_model_params mp = {s->model_particles, s->model_seed, s->model_separation};
         return orr_model_source_open(&mp, (size_t)s->chunk_size, out, err);
     }
-    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, s->type_mask, fields, nfields};
+    /* The observer and reference particles may be of types the scene does
+     * not draw: then the reader must not drop them (the splat selects
+     * input.types itself). */
+    unsigned types = s->has_observer ? 0 : s->type_mask;
+    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, types, fields, nfields};
     return orr_source_open_file(s->input_file, &opt, out, err);
 }
 
@@ -205,8 +223,10 @@ static int has_orientation(const orr_scene *s)
     return s->has_quaternion || s->has_look_at || s->has_direction;
 }
 
-static orr_status scene_camera(const orr_scene *s, orr_camera *cam, orr_error *err)
+static orr_status scene_camera(const orr_scene *s, const orr_frame_time *when, orr_camera *cam, orr_error *err)
 {
+    if (s->has_path)
+        return orr_path_camera(&s->camera_path, when, cam, err);
     if (s->has_quaternion) {
         cam->position = s->camera_position;
         cam->orientation = orr_quat_normalize(s->camera_quaternion);
@@ -223,13 +243,20 @@ static orr_status scene_camera(const orr_scene *s, orr_camera *cam, orr_error *e
 /* The camera of a view. From an observer, or for a sky map without an
  * orientation of its own, the camera follows the sky frame: the map centred
  * on l = 0 with north up, or the dome's zenith and front. */
-static orr_status view_camera(const orr_scene *s, const orr_sky_frame *observer, orr_camera *cam,
-                              orr_sky_frame *sky, orr_error *err)
+static orr_status view_camera(const orr_scene *s, const orr_sky_frame *observer, const orr_frame_time *when,
+                              orr_camera *cam, orr_sky_frame *sky, orr_error *err)
 {
+    /* A camera path moves and turns the camera frame by frame, sky maps
+     * included (scenes with a path have no observer: scene_check). */
+    if (s->has_path) {
+        orr_status st = scene_camera(s, when, cam, err);
+        *sky = orr_sky_frame_world(cam->position);
+        return st;
+    }
     int sky_map = orr_projection_is_sky(&s->projection);
     if (!observer && (!sky_map || has_orientation(s))) {
         *sky = orr_sky_frame_world(s->camera_position);
-        return scene_camera(s, cam, err);
+        return scene_camera(s, when, cam, err);
     }
     *sky = observer ? *observer : orr_sky_frame_world(s->camera_position);
     if (s->projection.kind == ORR_PROJ_DOME)
@@ -725,7 +752,7 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     v->proj = s->projection;
     orr_status st = orr_projection_setup(&v->proj, err);
     if (!st)
-        st = view_camera(s, observer, &rep->camera, &rep->sky, err);
+        st = view_camera(s, observer, when, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
     if ((st = orr_stereo_setup_eye(s, &v->proj, rep, &v->ods, &v->use_ods, err)))

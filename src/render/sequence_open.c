@@ -10,7 +10,8 @@ orr_status orr_sequence_open_scene(const orr_scene *s, const char *const *fields
         return orr_fail(err, ORR_ERR_USAGE, "%s: the input is not a sequence (no input.sequence.pattern or .files)",
                         s->path);
     orr_sequence_options opt = {
-        .source = {s->input_format, (size_t)s->chunk_size, s->type_mask, fields, nfields},
+        /* As orr_scene_open_source: keep the observer's particles whatever their type. */
+        .source = {s->input_format, (size_t)s->chunk_size, s->has_observer ? 0 : s->type_mask, fields, nfields},
         .interpolation = s->seq_interpolation,
         .max_memory = s->seq_max_memory * 1024.0 * 1024.0 * 1024.0,
     };

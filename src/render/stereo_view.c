@@ -105,7 +105,8 @@ double orr_stereo_convergence(const orr_scene *s, orr_vec3 position)
 {
     if (s->convergence > 0)
         return s->convergence;
-    return s->has_look_at ? orr_v3_norm(orr_v3_sub(s->camera_look_at, position)) : 0.0;
+    orr_vec3 target;
+    return orr_scene_look_target(s, &target) ? orr_v3_norm(orr_v3_sub(target, position)) : 0.0;
 }
 
 orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_render_report *rep,

@@ -303,3 +303,21 @@ orr_status orr_scene_load_string(orr_scene *s, const char *yaml, const char *ori
     free(views);
     return st;
 }
+
+int orr_scene_look_target(const orr_scene *s, orr_vec3 *target)
+{
+    const orr_camera_path *p = &s->camera_path;
+    if (s->has_path && (p->kind == ORR_PATH_ORBIT || p->kind == ORR_PATH_INSPIRAL)) {
+        *target = p->centre;
+        return 1;
+    }
+    if (s->has_path && p->kind == ORR_PATH_LINE && p->has_look_at) {
+        *target = p->look_at;
+        return 1;
+    }
+    if (!s->has_path && s->has_look_at) {
+        *target = s->camera_look_at;
+        return 1;
+    }
+    return 0;
+}

@@ -252,6 +252,11 @@ void orr_scene_defaults(orr_scene *s);
 
 /* Whether the scene's input is a sequence (input.sequence.pattern or .files). */
 int orr_scene_has_sequence(const orr_scene *s);
+
+/* The point the camera keeps looking at, where there is one: camera.look_at,
+ * an orbit's centre, an inspiral's target, a line's look_at. A stereo pair
+ * converges there by default. Returns 0 when there is none. */
+int orr_scene_look_target(const orr_scene *s, orr_vec3 *target);
 /* Path i (0 <= i < s->seq_nfiles) of input.sequence.files. */
 const char *orr_scene_sequence_file(const orr_scene *s, int i);
 

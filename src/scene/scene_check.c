@@ -325,11 +325,13 @@ static orr_status check_convergence(const orr_scene *s, const scene_marks *m, or
         return scene_fail_key(s, m, "stereo.zenith_fade", err,
                               "stereo.zenith_fade is for omni-directional stereo (dome, equirectangular, "
                               "hammer-aitoff), not a perspective camera");
-    if (s->convergence > 0 || s->has_look_at) /* auto (0): at render time, from the camera to look_at */
+    orr_vec3 target;
+    if (s->convergence > 0 || orr_scene_look_target(s, &target)) /* auto: at render time, to the target */
         return ORR_OK;
     return scene_fail_key(s, m, "stereo.mode", err,
                           "stereo.mode: %s with a perspective camera needs stereo.convergence (the distance of "
-                          "the zero-parallax plane) or camera.look_at (converge there)",
+                          "the zero-parallax plane) or a point the camera looks at (camera.look_at, or an orbit "
+                          "or inspiral path's centre: converge there)",
                           orr_stereo_mode_name(s->stereo));
 }
 
