@@ -173,9 +173,24 @@ scene ortho near.txt anaglyph
 sed -i 's/projection: perspective/projection: orthographic\n  width: 10/; /look_at/d; /up:/d; /fov:/d' ortho.yaml
 expect_fail 2 "stereo.mode.*orthographic" out_ortho -- render ortho.yaml --set output.dir=out_ortho
 
-# The shipped anaglyph scene renders (smaller here).
-"$ORRERY" render --quiet "$SRC/configs/anaglyph-orbit.yaml" --set output.dir=orbit \
+# The shipped anaglyph scene renders (smaller here: 4 frames of its orbit),
+# the camera orbiting at a constant distance from the centre it converges on.
+"$ORRERY" render --quiet "$SRC/configs/anaglyph-orbit.yaml" --set output.dir=orbit --set animation.frames=4 \
   --set input.model.particles=20000 --set image.width=192 --set image.height=108 2>err.txt ||
   fail "configs/anaglyph-orbit.yaml: $(cat err.txt)"
-[ -s orbit/anaglyph-orbit.png ] || fail "configs/anaglyph-orbit.yaml wrote no PNG"
+for f in 0 1 2 3; do
+  [ -s orbit/anaglyph-orbit_000$f.png ] || fail "configs/anaglyph-orbit.yaml wrote no PNG for frame $f"
+done
+"$py" - <<'PY' || fail "orbit: camera distance or convergence wrong"
+import math
+from astropy.io import fits
+xs = []
+for f in range(4):
+    h = fits.getheader(f"orbit/anaglyph-orbit_000{f}.fits")
+    # the left eye's camera: half the eye separation from the centre camera
+    d = math.dist((h["CAMPOSX"], h["CAMPOSY"], h["CAMPOSZ"]), (0, 0, 0))
+    assert abs(d - math.hypot(86.0232526, 45)) < 0.05, (f, d)
+    xs.append(h["CAMPOSX"])
+assert len(set(round(x, 3) for x in xs)) == 4, xs
+PY
 finish
