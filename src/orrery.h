@@ -78,7 +78,8 @@ typedef struct orrery_renderer orrery_renderer;
 int orrery_open(orrery_renderer **out, const char *scene_path, const char *const *overrides, int noverrides,
                 char *msg, size_t msg_size);
 
-/* The same from YAML text; relative paths in it resolve against base_dir. */
+/* The same from YAML text; relative paths in it resolve against base_dir.
+ * Without output.name the outputs are named insitu_0000.png, ... */
 int orrery_open_yaml(orrery_renderer **out, const char *yaml, const char *base_dir,
                      const char *const *overrides, int noverrides, char *msg, size_t msg_size);
 

@@ -94,6 +94,24 @@ void orr_atomic_abort(orr_atomic_file *af)
     af->temp_path[0] = '\0';
 }
 
+/* mkdir -p: creates dir and any missing folders above it. Returns 0 or an
+ * errno value. Another process creating one meanwhile is fine. */
+static int make_dirs(const char *dir)
+{
+    char path[ORR_PATH_MAX];
+    if (snprintf(path, sizeof path, "%s", dir) >= (int)sizeof path)
+        return ENAMETOOLONG;
+    for (char *p = path + 1; *p; p++) {
+        if (*p != '/')
+            continue;
+        *p = '\0';
+        if (mkdir(path, 0777) != 0 && errno != EEXIST)
+            return errno;
+        *p = '/';
+    }
+    return mkdir(path, 0777) != 0 && errno != EEXIST ? errno : 0;
+}
+
 orr_status orr_check_output_dir(const char *dir, orr_error *err)
 {
     if (!dir || !dir[0])
@@ -103,12 +121,8 @@ orr_status orr_check_output_dir(const char *dir, orr_error *err)
         int e = errno;
         if (e != ENOENT)
             return orr_fail(err, ORR_ERR_IO, "output directory %s: cannot access it: %s", dir, strerror(e));
-        if (mkdir(dir, 0777) != 0) {
-            e = errno;
-            /* Another process may have created it meanwhile: that is fine. */
-            if (e != EEXIST)
-                return orr_fail(err, ORR_ERR_IO, "output directory %s: cannot create it: %s", dir, strerror(e));
-        }
+        if ((e = make_dirs(dir)) != 0)
+            return orr_fail(err, ORR_ERR_IO, "output directory %s: cannot create it: %s", dir, strerror(e));
     } else if (!S_ISDIR(st.st_mode)) {
         return orr_fail(err, ORR_ERR_IO, "output directory %s: exists but is not a directory", dir);
     }

@@ -20,7 +20,8 @@ orr_status orr_atomic_commit(orr_atomic_file *af, orr_error *err);
 /* Removes the temporary file (safe to call after a failed commit). */
 void orr_atomic_abort(orr_atomic_file *af);
 
-/* Checks that directory dir exists (creating it, one level, when missing)
+/* Checks that directory dir exists (creating it, and the folders above it,
+ * when missing)
  * and that a file can be created in it. */
 orr_status orr_check_output_dir(const char *dir, orr_error *err);
 

@@ -2,12 +2,14 @@
  * from a simulation's arrays at every call. */
 #include "orrery.h"
 
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
 #include "encode/atomic.h"
+#include "insitu/insitu_internal.h"
 #include "render/animation.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -19,6 +21,9 @@ struct orrery_renderer {
     orr_render_report reports[ORR_SCENE_MAX_VIEWS];
     orr_error err;
     double seconds;
+    orr_parallel parallel; /* set by orrery_use_mpi: the ranks that render each frame together */
+    int has_parallel;
+    _Alignas(max_align_t) unsigned char parallel_user[64]; /* what parallel.user points at (a communicator) */
     int noutputs;
     const char *outputs[ORR_SCENE_MAX_VIEWS * ORR_RENDER_MAX_OUTPUTS];
 };
@@ -69,7 +74,7 @@ static int open_common(orrery_renderer **out, const char *path, const char *yaml
     }
     int n = (noverrides > 0 ? noverrides : 0) + 1;
     orr_status st = path ? orr_scene_load_views(&r->views, path, all, n, &r->err)
-                         : orr_scene_load_views_string(&r->views, yaml, "<in-situ scene>", base_dir ? base_dir : ".",
+                         : orr_scene_load_views_string(&r->views, yaml, "insitu", base_dir ? base_dir : ".",
                                                        all, n, &r->err);
     for (int k = 0; k < r->views.n && !st; k++)
         st = orr_check_output_dir(r->views.view[k].out_dir, &r->err);
@@ -142,7 +147,8 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
             list[k] = &r->frame_views[k];
         double t_first = s0->has_anim_time ? s0->anim_time[0] : p->time;
         double t_last = s0->has_anim_time ? s0->anim_time[1] : p->time;
-        orr_frame_input in = {orr_frame_at(frame, nframes, s0->anim_fps, t_first, t_last), src, NULL};
+        orr_frame_input in = {orr_frame_at(frame, nframes, s0->anim_fps, t_first, t_last), src,
+                              r->has_parallel ? &r->parallel : NULL};
         st = orr_render_frame(list, r->views.n, &in, r->reports, NULL, NULL, &r->err);
     }
     orr_source_close(src);
@@ -151,6 +157,18 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
             r->outputs[r->noutputs++] = r->reports[k].outputs[i];
     r->seconds = now_seconds() - t0;
     return (int)st;
+}
+
+int orr_insitu_set_parallel(orrery_renderer *r, const orr_parallel *par, const void *user, size_t user_size)
+{
+    if (user_size > sizeof r->parallel_user)
+        return (int)orr_fail(&r->err, ORR_ERR_INTERNAL, "parallel context of %zu bytes: at most %zu", user_size,
+                             sizeof r->parallel_user);
+    memcpy(r->parallel_user, user, user_size);
+    r->parallel = *par;
+    r->parallel.user = r->parallel_user;
+    r->has_parallel = 1;
+    return ORRERY_OK;
 }
 
 const char *orrery_error(const orrery_renderer *r) { return r ? r->err.msg : "no renderer"; }
