@@ -62,29 +62,48 @@ static void generate_particle(void *user, uint64_t i, int type, gw_particle *p)
     p->id = i + 1;
 }
 
+/* Particles per file: a block's Fortran record marker is a 32-bit length,
+ * so a POS block (12 bytes a particle) must stay under 2 GiB. Larger
+ * snapshots are written as FILE.0, FILE.1, ... as Gadget itself does. */
+#define PER_FILE 150000000LL
+
+typedef struct file_offset {
+    uint64_t first; /* global index of the file's first particle */
+} file_offset;
+
+static void generate_in_file(void *user, uint64_t i, int type, gw_particle *p)
+{
+    generate_particle(NULL, ((const file_offset *)user)->first + i, type, p);
+}
+
+/* Writes n particles of type 1 to path, or to path.0, path.1, ... when
+ * they do not fit in one file. Returns the number of files, or -1. */
 static int generate(const char *path, long long n)
 {
-    gw_spec spec = {.snapformat = 2, .blocks = GW_VEL | GW_ID, .num_files = 1, .time = 1.0, .box_size = 100,
+    if (n > 4000000000LL) {
+        fprintf(stderr, "too many particles: at most 4e9 (npartTotal is 32-bit)\n");
+        return -1;
+    }
+    int nfiles = (int)((n + PER_FILE - 1) / PER_FILE);
+    gw_spec spec = {.snapformat = 2, .blocks = GW_VEL | GW_ID, .num_files = nfiles, .time = 1.0, .box_size = 100,
                     .omega0 = 0.3, .omega_lambda = 0.7, .hubble_param = 0.7};
-    /* Types 1, 2, ... take up to 2^31 - 1 particles each (npart is int32). */
-    for (int t = 1; t < 6 && n > 0; t++) {
-        long long take = n < MAX_PER_TYPE ? n : MAX_PER_TYPE;
-        spec.npart[t] = (int32_t)take;
-        spec.npart_total[t] = (uint32_t)take;
-        spec.massarr[t] = 1e-3 * t;
-        n -= take;
-    }
-    if (n > 0) {
-        fprintf(stderr, "too many particles for one file\n");
-        return 1;
-    }
+    spec.massarr[1] = 1e-3;
+    spec.npart_total[1] = (uint32_t)n;
     double t0 = now();
-    if (gw_write(path, &spec, generate_particle, NULL) != 0) {
-        fprintf(stderr, "%s: cannot write: %s\n", path, strerror(errno));
-        return 1;
+    for (int f = 0; f < nfiles; f++) {
+        file_offset off = {(uint64_t)f * PER_FILE};
+        long long left = n - (long long)off.first;
+        spec.npart[1] = (int32_t)(left < PER_FILE ? left : PER_FILE);
+        char name[4096];
+        snprintf(name, sizeof name, nfiles > 1 ? "%s.%d" : "%s", path, f);
+        if (gw_write(name, &spec, generate_in_file, &off) != 0) {
+            fprintf(stderr, "%s: cannot write: %s\n", name, strerror(errno));
+            return -1;
+        }
     }
-    printf("generate:    %.2f s, peak RSS so far %.1f MiB\n", now() - t0, peak_rss_mib());
-    return 0;
+    printf("generate:    %.2f s, %d file%s, peak RSS so far %.1f MiB\n", now() - t0, nfiles, nfiles > 1 ? "s" : "",
+           peak_rss_mib());
+    return nfiles;
 }
 
 static int plain_read(const char *path, double size)
@@ -172,8 +191,13 @@ int main(int argc, char **argv)
     }
     if (!path || (gen && particles <= 0))
         return usage();
-    if (gen && generate(gen, particles) != 0)
+    int nfiles = gen ? generate(gen, particles) : 1;
+    if (nfiles < 0)
         return 1;
+    if (nfiles > 1) { /* the timed reads below are of one file */
+        printf("wrote %s.0 to %s.%d: read them with orrery render (bench/bench_billion.sh)\n", gen, gen, nfiles - 1);
+        return 0;
+    }
     struct stat sb;
     if (stat(path, &sb) != 0) {
         perror(path);
