@@ -33,7 +33,7 @@ if [ ! -f "$snap" ] && [ ! -f "$snap.0" ]; then
 fi
 parts=("$snap")
 [ -f "$snap.0" ] && parts=("$snap".*)
-size=$(stat -c %s "${parts[@]}" | awk '{ s += $1 } END { print s }')
+size=$(stat -c %s "${parts[@]}" | awk '{ s += $1 } END { printf "%.0f\n", s }')
 cat >"$scene" <<Y
 input: {file: $snap, chunk: 4194304}
 camera: {projection: orthographic, width: 100, position: [50, 50, 50]}
