@@ -588,6 +588,11 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
     orr_fits_add_long(h, "NSELECT", (long long)rep->n_selected, "particles of the selected types");
     orr_fits_add_long(h, "NSKIPPED", (long long)rep->n_nonfinite, "particles skipped as non-finite");
     orr_fits_add_long(h, "NCULLED", (long long)rep->deposit.n_culled, "particles not drawn (out of view)");
+    if (rep->n_replicas) {
+        orr_fits_add_double(h, "PERBOX", v->periodic.box, "periodic box side, drawn in copies");
+        orr_fits_add_long(h, "NREPLIC", rep->n_replicas, "copies of the periodic box drawn");
+        orr_fits_add_long(h, "NBLKCULL", (long long)rep->n_blocks_culled, "copies of blocks culled out of view");
+    }
     orr_fits_add_double(h, "WIMAGE", rep->deposit.deposited, "weight deposited in the image");
     orr_fits_add_double(h, "WOUTSIDE", rep->deposit.outside, "weight that fell off the image");
     if (s->colour) {
@@ -938,12 +943,15 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
             st = par->reduce_sum(par->user, v->planes[j].data, (size_t)v->proj.width * (size_t)v->proj.height, err);
         orr_render_report *r = v->rep;
         orr_deposit_stats *d[2] = {&r->deposit, &r->deposit_y};
-        double sums[3 + 2 * 5] = {(double)r->n_read, (double)r->n_selected, (double)r->n_nonfinite};
+        double sums[3 + 2 * 5 + 3] = {(double)r->n_read, (double)r->n_selected, (double)r->n_nonfinite};
         for (int i = 0; i < 2; i++) {
             double *t = &sums[3 + 5 * i];
             t[0] = d[i]->deposited, t[1] = d[i]->outside, t[2] = d[i]->culled;
             t[3] = (double)d[i]->n_particles, t[4] = (double)d[i]->n_culled;
         }
+        double *culling = &sums[3 + 2 * 5]; /* a periodic box's culled copies and blocks */
+        culling[0] = (double)r->n_replicas_culled, culling[1] = (double)r->n_blocks;
+        culling[2] = (double)r->n_blocks_culled;
         if (!st)
             st = par->allreduce_sum(par->user, sums, sizeof sums / sizeof sums[0], err);
         r->n_read = (uint64_t)sums[0], r->n_selected = (uint64_t)sums[1], r->n_nonfinite = (uint64_t)sums[2];
@@ -952,6 +960,8 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
             d[i]->deposited = t[0], d[i]->outside = t[1], d[i]->culled = t[2];
             d[i]->n_particles = (uint64_t)t[3], d[i]->n_culled = (uint64_t)t[4];
         }
+        r->n_replicas_culled = (uint64_t)culling[0], r->n_blocks = (uint64_t)culling[1];
+        r->n_blocks_culled = (uint64_t)culling[2];
     }
     return st;
 }

@@ -174,16 +174,17 @@ static void write_uniform_box(const char *path)
  * 120 x 80 pixels: its copies (x from 0 to 3, z from 0 to 3) fill the view
  * to the depth 1.5 of the plane z = 0 (the view's half-width there is
  * 1.5 tan 30 = 0.87 < 1). */
-static orr_status render_box(const char *name, orr_render_report *rep, orr_plane *plane, int *nplanes)
+static orr_status render_box(const char *name, const char *deposit, orr_render_report *rep, orr_plane *plane,
+                             int *nplanes)
 {
     char yaml[1024], fits[600];
     snprintf(yaml, sizeof yaml,
              "input: {file: box.txt, periodic: {box: 1, replicas: 3}}\n"
              "camera: {position: [1, 1.5, 1.5], projection: perspective, fov: 60, near: 0.001}\n"
              "image: {width: 120, height: 80}\n"
-             "deposit: cic\n"
+             "deposit: %s\n"
              "output: {dir: %s, name: %s, png: false}\n",
-             tmpdir, name);
+             deposit, tmpdir, name);
     orr_scene s;
     orr_error err;
     orr_status st = orr_scene_load_string(&s, yaml, name, tmpdir, NULL, 0, &err);
@@ -215,9 +216,9 @@ static void test_render_uniform_box(void)
     orr_plane a, b;
     int na = 0, nb = 0;
     unsetenv("ORRERY_NO_CULL");
-    CHECK(render_box("culled", &culled, &a, &na) == ORR_OK && na == 1);
+    CHECK(render_box("culled", "cic", &culled, &a, &na) == ORR_OK && na == 1);
     setenv("ORRERY_NO_CULL", "1", 1);
-    CHECK(render_box("full", &full, &b, &nb) == ORR_OK && nb == 1);
+    CHECK(render_box("full", "cic", &full, &b, &nb) == ORR_OK && nb == 1);
     unsetenv("ORRERY_NO_CULL");
     if (na != 1 || nb != 1)
         return;
@@ -265,6 +266,30 @@ static void test_render_uniform_box(void)
     orr_plane_free(&b);
 }
 
+/* SPH kernels reach past their centres (support 2h, h from the 32nd
+ * neighbour here): culling allows for the largest kernel of a block, and
+ * the copies take the same lengths from the neighbour pass. */
+static void test_render_sph_same_image(void)
+{
+    orr_render_report culled, full;
+    orr_plane a, b;
+    int na = 0, nb = 0;
+    CHECK(render_box("sph_culled", "sph", &culled, &a, &na) == ORR_OK && na == 1);
+    setenv("ORRERY_NO_CULL", "1", 1);
+    CHECK(render_box("sph_full", "sph", &full, &b, &nb) == ORR_OK && nb == 1);
+    unsetenv("ORRERY_NO_CULL");
+    if (na != 1 || nb != 1)
+        return;
+    CHECK(memcmp(a.data, b.data, (size_t)a.width * a.height * sizeof(float)) == 0);
+    CHECK(culled.n_blocks_culled > 0);
+    CHECK_NEAR(culled.deposit.deposited, full.deposit.deposited, 1e-9 * NPART);
+    const orr_deposit_stats *d = &culled.deposit;
+    CHECK_NEAR(d->deposited + d->outside + d->culled, 27.0 * NPART, 1e-6 * NPART);
+    fprintf(stderr, "  sph: culled %llu of 135 blocks\n", (unsigned long long)culled.n_blocks_culled);
+    orr_plane_free(&a);
+    orr_plane_free(&b);
+}
+
 int main(void)
 {
     if (!mkdtemp(tmpdir))
@@ -275,6 +300,7 @@ int main(void)
     RUN(test_box_side_from_header);
     RUN(test_scene_keys);
     RUN(test_render_uniform_box);
+    RUN(test_render_sph_same_image); /* after: uses its box.txt */
     char cmd[700];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
     if (system(cmd) != 0)
