@@ -75,6 +75,11 @@ static void print_report(const orr_render_report *r, const char *view, double se
         printf("  of those not drawn, %llu inside the stereo eye circle (closer to the viewer than half the eye "
                "separation, horizontally)\n",
                (unsigned long long)r->n_stereo_skipped);
+    if (r->n_replicas)
+        printf("  periodic box drawn %d times; out of view, skipped whole: %llu chunk copies; skipped: %llu of "
+               "%llu blocks (%.1f %%, counted as not drawn)\n",
+               r->n_replicas, (unsigned long long)r->n_replicas_culled, (unsigned long long)r->n_blocks_culled,
+               (unsigned long long)r->n_blocks, r->n_blocks ? 100.0 * r->n_blocks_culled / r->n_blocks : 0.0);
     if (r->has_sky_frame)
         printf("  observer at (%.6g, %.6g, %.6g); north (b = 90) along (%.4f, %.4f, %.4f)\n", r->sky.origin.x,
                r->sky.origin.y, r->sky.origin.z, r->sky.z.x, r->sky.z.y, r->sky.z.z);

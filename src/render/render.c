@@ -13,6 +13,7 @@
 #include "post/colormap.h"
 #include "post/stretch.h"
 #include "render/lengths.h"
+#include "render/periodic_view.h"
 #include "render/stereo_view.h"
 #include "render/view_psf.h"
 #include "render/wcs.h"
@@ -53,6 +54,7 @@ typedef struct view_state {
     orr_view_psf psf;
     int use_ods;        /* an eye of omni-directional stereo: its per-block transform */
     orr_stereo_ods ods;
+    orr_periodic_view periodic; /* input.periodic: the box's copies and what is culled */
 } view_state;
 
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
@@ -294,17 +296,17 @@ static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, siz
                     (double)c->x[i], (double)c->y[i], (double)c->z[i]);
 }
 
-/* Gathers the view's particles of c[start, end) into the block, moved into
- * the camera frame; returns how many, or -1 (err set) on a bad particle
+/* Gathers the view's particles of c[start, end) into the block, moved by
+ * shift (a periodic box's copy) and into the camera frame; returns how many, or -1 (err set) on a bad particle
  * when the scene says to fail. The observer particle is left out, and with
  * observer.dim weights fall off as 1/r^2 from the camera. */
 static long gather_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wsrcs,
-                         size_t start, size_t end, block_buffers *b, orr_error *err)
+                         size_t start, size_t end, orr_vec3 shift, block_buffers *b, orr_error *err)
 {
     const float *wsrc = wsrcs[v->nplanes - 1]; /* the weight, or Y: checked for finiteness */
     const orr_scene *s = v->scene;
     const orr_mat3 *R = &v->world_to_camera;
-    const orr_vec3 origin = v->rep->camera.position;
+    const orr_vec3 origin = orr_v3_sub(v->rep->camera.position, shift); /* p + shift - camera */
     const float r00 = (float)R->m[0][0], r01 = (float)R->m[0][1], r02 = (float)R->m[0][2];
     const float r10 = (float)R->m[1][0], r11 = (float)R->m[1][1], r12 = (float)R->m[1][2];
     const float r20 = (float)R->m[2][0], r21 = (float)R->m[2][1], r22 = (float)R->m[2][2];
@@ -394,6 +396,83 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
     return ORR_OK;
 }
 
+/* Gathers, projects and deposits particles [start, end) of c, moved by shift. */
+static orr_status draw_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *w,
+                             size_t start, size_t end, orr_vec3 shift, block_buffers *b, orr_error *err)
+{
+    long n = gather_block(v, src, c, w, start, end, shift, b, err);
+    if (n < 0)
+        return err ? err->code : ORR_ERR_DATA;
+    if (v->use_ods)
+        v->rep->n_stereo_skipped += orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
+    orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
+    if (v->use_ods)
+        orr_stereo_mask((size_t)n, b->visible, b->keep);
+    deposit_block(v, (size_t)n, b);
+    return ORR_OK;
+}
+
+/* A copy of a block (or of a whole chunk) skipped out of view: its weight
+ * counts as not drawn, as the projection would have counted it. */
+static void count_culled(view_state *v, const orr_block_summary *sum)
+{
+    orr_deposit_stats *d[2] = {&v->rep->deposit, &v->rep->deposit_y};
+    v->rep->n_selected += sum->n;
+    for (int k = 0; k < v->nplanes && k < 2; k++) {
+        d[k]->culled += sum->w[k];
+        d[k]->n_culled += sum->n;
+        d[k]->n_particles += sum->n;
+    }
+}
+
+/* A periodic box: the chunk drawn once per copy of the box. Each block is
+ * summarised once (bounds, largest kernel, weights); then a copy of the
+ * chunk wholly out of view is skipped, and within the others each copy of
+ * a block out of view, before their particles are touched. */
+static orr_status splat_chunk_periodic(view_state *v, const orr_source *src, const orr_chunk *c,
+                                       const float *const *w, block_buffers *b, orr_error *err)
+{
+    const orr_periodic_view *pv = &v->periodic;
+    const size_t nblocks = (c->n + BLOCK - 1) / BLOCK, first_length = v->lengths_next;
+    orr_block_summary *sum = orr_malloc((nblocks ? nblocks : 1) * sizeof *sum, "block summaries", err), whole;
+    if (!sum)
+        return ORR_ERR_NOMEM;
+    orr_block_lengths bl = {v->lengths, first_length, v->h_scale, v->use_sph};
+    memset(&whole, 0, sizeof whole);
+    for (size_t q = 0; q < nblocks; q++) {
+        size_t end = (q + 1) * BLOCK < c->n ? (q + 1) * BLOCK : c->n;
+        orr_block_summarise(v->scene, c, q * BLOCK, end, &bl, w, v->nplanes, &sum[q]);
+        bl.next += sum[q].lengths_used;
+        orr_block_summary_merge(&whole, &sum[q]);
+    }
+    orr_status st = ORR_OK;
+    for (int r = 0; r < pv->replicas.n && !st; r++) {
+        const orr_vec3 shift = pv->replicas.offset[r];
+        v->rep->n_blocks += nblocks;
+        if (pv->cull && !whole.must_gather && orr_view_cull_box(&pv->view, whole.lo, whole.hi, shift, whole.radius)) {
+            count_culled(v, &whole);
+            v->rep->n_replicas_culled++;
+            v->rep->n_blocks_culled += nblocks;
+            continue;
+        }
+        v->lengths_next = first_length; /* every copy takes the same lengths */
+        for (size_t q = 0; q < nblocks && !st; q++) {
+            size_t end = (q + 1) * BLOCK < c->n ? (q + 1) * BLOCK : c->n;
+            if (pv->cull && !sum[q].must_gather &&
+                orr_view_cull_box(&pv->view, sum[q].lo, sum[q].hi, shift, sum[q].radius)) {
+                count_culled(v, &sum[q]);
+                v->rep->n_blocks_culled++;
+                v->lengths_next += sum[q].lengths_used;
+                continue;
+            }
+            st = draw_block(v, src, c, w, q * BLOCK, end, shift, b, err);
+        }
+    }
+    v->lengths_next = first_length + whole.lengths_used;
+    free(sum);
+    return st;
+}
+
 static orr_status splat_chunk(view_state *views, int nviews, const orr_source *src, const orr_chunk *c,
                               block_buffers *b, float *const *xyz, orr_error *err)
 {
@@ -403,17 +482,12 @@ static orr_status splat_chunk(view_state *views, int nviews, const orr_source *s
         return st;
     for (int k = 0; k < nviews; k++) {
         view_state *v = &views[k];
-        for (size_t start = 0; start < c->n; start += BLOCK) {
+        if (v->periodic.active && (st = splat_chunk_periodic(v, src, c, w, b, err)))
+            return st;
+        for (size_t start = 0; start < c->n && !v->periodic.active; start += BLOCK) {
             size_t end = start + BLOCK < c->n ? start + BLOCK : c->n;
-            long n = gather_block(v, src, c, w, start, end, b, err);
-            if (n < 0)
-                return err ? err->code : ORR_ERR_DATA;
-            if (v->use_ods)
-                v->rep->n_stereo_skipped += orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
-            orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
-            if (v->use_ods)
-                orr_stereo_mask((size_t)n, b->visible, b->keep);
-            deposit_block(v, (size_t)n, b);
+            if ((st = draw_block(v, src, c, w, start, end, orr_v3(0, 0, 0), b, err)))
+                return st;
         }
         v->rep->n_read += c->n;
     }
@@ -514,6 +588,11 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
     orr_fits_add_long(h, "NSELECT", (long long)rep->n_selected, "particles of the selected types");
     orr_fits_add_long(h, "NSKIPPED", (long long)rep->n_nonfinite, "particles skipped as non-finite");
     orr_fits_add_long(h, "NCULLED", (long long)rep->deposit.n_culled, "particles not drawn (out of view)");
+    if (rep->n_replicas) {
+        orr_fits_add_double(h, "PERBOX", v->periodic.box, "periodic box side, drawn in copies");
+        orr_fits_add_long(h, "NREPLIC", rep->n_replicas, "copies of the periodic box drawn");
+        orr_fits_add_long(h, "NBLKCULL", (long long)rep->n_blocks_culled, "copies of blocks culled out of view");
+    }
     orr_fits_add_double(h, "WIMAGE", rep->deposit.deposited, "weight deposited in the image");
     orr_fits_add_double(h, "WOUTSIDE", rep->deposit.outside, "weight that fell off the image");
     if (s->colour) {
@@ -817,6 +896,18 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
     return ORR_OK;
 }
 
+/* A periodic box's copies around the view's camera. Skipping what is out
+ * of view needs particles drawn where they are: not with omni-directional
+ * stereo, a sky map's PSF widening kernels, or weights dimmed with distance. */
+static orr_status setup_periodic(view_state *v, const orr_source_info *info, orr_error *err)
+{
+    const orr_scene *s = v->scene;
+    int can_cull = !v->use_ods && !(v->psf.h_per_r > 0) && !(s->has_observer && s->dim);
+    orr_status st = orr_periodic_view_setup(&v->periodic, s, info, &v->proj, &v->rep->camera, can_cull, err);
+    v->rep->n_replicas = v->periodic.active ? v->periodic.replicas.n : 0;
+    return st;
+}
+
 orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_report *reports,
                             orr_progress_fn progress, void *progress_user, orr_error *err)
 {
@@ -852,12 +943,15 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
             st = par->reduce_sum(par->user, v->planes[j].data, (size_t)v->proj.width * (size_t)v->proj.height, err);
         orr_render_report *r = v->rep;
         orr_deposit_stats *d[2] = {&r->deposit, &r->deposit_y};
-        double sums[3 + 2 * 5] = {(double)r->n_read, (double)r->n_selected, (double)r->n_nonfinite};
+        double sums[3 + 2 * 5 + 3] = {(double)r->n_read, (double)r->n_selected, (double)r->n_nonfinite};
         for (int i = 0; i < 2; i++) {
             double *t = &sums[3 + 5 * i];
             t[0] = d[i]->deposited, t[1] = d[i]->outside, t[2] = d[i]->culled;
             t[3] = (double)d[i]->n_particles, t[4] = (double)d[i]->n_culled;
         }
+        double *culling = &sums[3 + 2 * 5]; /* a periodic box's culled copies and blocks */
+        culling[0] = (double)r->n_replicas_culled, culling[1] = (double)r->n_blocks;
+        culling[2] = (double)r->n_blocks_culled;
         if (!st)
             st = par->allreduce_sum(par->user, sums, sizeof sums / sizeof sums[0], err);
         r->n_read = (uint64_t)sums[0], r->n_selected = (uint64_t)sums[1], r->n_nonfinite = (uint64_t)sums[2];
@@ -866,6 +960,8 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
             d[i]->deposited = t[0], d[i]->outside = t[1], d[i]->culled = t[2];
             d[i]->n_particles = (uint64_t)t[3], d[i]->n_culled = (uint64_t)t[4];
         }
+        r->n_replicas_culled = (uint64_t)culling[0], r->n_blocks = (uint64_t)culling[1];
+        r->n_blocks_culled = (uint64_t)culling[2];
     }
     return st;
 }
@@ -942,6 +1038,8 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
         }
         st = prepare_lengths(views, n, src, par, &lengths, err);
     }
+    for (int k = 0; k < n && !st; k++)
+        st = setup_periodic(&views[k], &src->info, err);
     if (!st)
         st = splat_source(views, n, src, progress, progress_user, err);
     if (par && !(st = par->any_failed(par->user, st, err)))

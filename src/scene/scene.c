@@ -23,6 +23,9 @@ void orr_scene_defaults(orr_scene *s)
     s->chunk_size = 1048576;
     orr_path_defaults(&s->camera_path, ORR_PATH_KEYFRAMES);
     s->skip_nonfinite = 0;
+    s->periodic_box = 0;
+    s->periodic_replicas = 1;
+    s->periodic_around_camera = 1;
     s->anim_frames = 1;
     s->anim_fps = 30;
     s->seq_first = 0;

@@ -58,6 +58,10 @@ typedef struct orr_scene {
     unsigned type_mask;            /* input.types: list of types 0..5 to draw; bit t set (default all, 0x3f) */
     long long chunk_size;          /* input.chunk: particles per chunk (default 1048576) */
     int skip_nonfinite;            /* input.nonfinite: error (0, default) | skip (1) */
+    /* input.periodic.* : a periodic box drawn replicated (docs/periodic.md). */
+    double periodic_box;           /* input.periodic.box: the box side (0 = auto: the file's BoxSize) */
+    int periodic_replicas;         /* input.periodic.replicas: copies per axis, odd (default 1 = off) */
+    int periodic_around_camera;    /* input.periodic.centre: camera (1, default) | origin (0) */
     int insitu;                    /* input.insitu: the particles come from a running simulation
                                     * through orrery.h, which sets it; input.file and input.model.*
                                     * are then optional and unused (default false) */

@@ -108,6 +108,18 @@ static int word_nonfinite(orr_scene *s, const char *w)
 }
 static const char *names_nonfinite(void) { return "error skip"; }
 
+static int word_periodic_centre(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "camera") == 0)
+        s->periodic_around_camera = 1;
+    else if (strcmp(w, "origin") == 0)
+        s->periodic_around_camera = 0;
+    else
+        return 0;
+    return 1;
+}
+static const char *names_periodic_centre(void) { return "camera origin"; }
+
 static int word_interpolation(orr_scene *s, const char *w)
 {
     return orr_interpolation_from_name(w, &s->seq_interpolation);
@@ -291,6 +303,9 @@ static const key_spec KEYS[] = {
     {.key = "input.types", .type = K_TYPES, FIELD(type_mask)},
     {.key = "input.chunk", .type = K_LLONG, FIELD(chunk_size), IRANGE(1, 4294967296LL)},
     {.key = "input.nonfinite", ENUM(nonfinite)},
+    {.key = "input.periodic.box", .type = K_AUTO, FIELD(periodic_box), ABOVE(0)},
+    {.key = "input.periodic.replicas", .type = K_INT, FIELD(periodic_replicas), IRANGE(1, 9)},
+    {.key = "input.periodic.centre", ENUM(periodic_centre)},
     {.key = "input.insitu", .type = K_BOOL, FIELD(insitu)},
     {.key = "input.sequence.pattern", .type = K_PATH, FIELD(seq_pattern)},
     {.key = "input.sequence.first", .type = K_LLONG, FIELD(seq_first), IRANGE(0, 1000000000LL)},

@@ -43,6 +43,17 @@ static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_erro
     return ORR_OK;
 }
 
+/* Replicas sit symmetrically around a middle one: an odd count per axis. */
+static orr_status check_periodic(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (s->periodic_replicas % 2 == 0)
+        return scene_fail_key(s, m, "input.periodic.replicas", err,
+                              "input.periodic.replicas is %d; it must be odd (1, 3, 5, ...): copies of the box "
+                              "sit symmetrically around the middle one",
+                              s->periodic_replicas);
+    return ORR_OK;
+}
+
 /* The pattern: one integer conversion, and a range of at least 2 files. */
 static orr_status check_sequence_pattern(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
@@ -374,6 +385,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
     orr_status st = scene_bind(s, root, &marks, err);
     if (st == ORR_OK)
         st = check_input(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_periodic(s, &marks, err);
     if (st == ORR_OK)
         st = check_sequence(s, &marks, err);
     if (st == ORR_OK) /* before the camera: its placement keys are not allowed with an observer */

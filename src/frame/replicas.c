@@ -1,0 +1,96 @@
+#include "frame/replicas.h"
+
+#include <math.h>
+
+orr_status orr_replicas_place(orr_replicas *r, double box, int per_axis, int around_camera, orr_vec3 camera,
+                              orr_error *err)
+{
+    r->n = 0;
+    if (!(box > 0) || !isfinite(box))
+        return orr_fail(err, ORR_ERR_USAGE, "input.periodic.box is %g; the box side must be a positive number", box);
+    if (per_axis < 1 || per_axis > ORR_REPLICAS_PER_AXIS_MAX || per_axis % 2 == 0)
+        return orr_fail(err, ORR_ERR_USAGE, "input.periodic.replicas is %d; it must be odd, 1 to %d", per_axis,
+                        ORR_REPLICAS_PER_AXIS_MAX);
+    double cell[3] = {0, 0, 0};
+    if (around_camera) {
+        const double c[3] = {camera.x, camera.y, camera.z};
+        for (int a = 0; a < 3; a++) {
+            if (!isfinite(c[a]) || fabs(c[a] / box) > 1e15)
+                return orr_fail(err, ORR_ERR_USAGE,
+                                "input.periodic.centre camera: the camera position (%g, %g, %g) is not a finite "
+                                "number of boxes of side %g from the origin",
+                                camera.x, camera.y, camera.z, box);
+            cell[a] = floor(c[a] / box);
+        }
+    }
+    const int half = per_axis / 2;
+    /* The middle copy first, then the others in order. */
+    r->offset[r->n++] = orr_v3(cell[0] * box, cell[1] * box, cell[2] * box);
+    for (int i = -half; i <= half; i++)
+        for (int j = -half; j <= half; j++)
+            for (int k = -half; k <= half; k++)
+                if (i || j || k)
+                    r->offset[r->n++] = orr_v3((cell[0] + i) * box, (cell[1] + j) * box, (cell[2] + k) * box);
+    return ORR_OK;
+}
+
+/* A camera-frame half-space n . q + d >= 0 (q = R (p - c)) as a world one:
+ * (R^T n) . p + d - (R^T n) . c >= 0. */
+static void add_plane(orr_view_cull *vc, const orr_mat3 *world_to_camera, orr_vec3 camera, orr_vec3 n, double d,
+                      int is_side)
+{
+    orr_vec3 nw = orr_mat3_apply(orr_mat3_transpose(*world_to_camera), n);
+    int k = vc->nplanes++;
+    vc->n[k] = nw;
+    vc->d[k] = d - orr_v3_dot(nw, camera);
+    vc->reach[k] = is_side ? orr_v3_norm(n) : 0.0;
+}
+
+void orr_view_cull_setup(orr_view_cull *vc, const orr_projection *p, const orr_camera *cam, double margin)
+{
+    vc->active = 0;
+    vc->nplanes = 0;
+    vc->camera = cam->position;
+    if (p->kind != ORR_PROJ_PERSPECTIVE && p->kind != ORR_PROJ_ORTHOGRAPHIC)
+        return;
+    const orr_mat3 R = orr_camera_world_to_camera(cam);
+    const orr_vec3 c = cam->position;
+    const double f = p->focal, m = margin;
+    const double left = p->cx + m, right = p->width + m - p->cx, top = p->cy + m, bottom = p->height + m - p->cy;
+    if (p->kind == ORR_PROJ_PERSPECTIVE) {
+        /* px = cx + f x / z >= -m  <=>  f x + (cx + m) z >= 0 for z > 0; likewise the others. */
+        add_plane(vc, &R, c, orr_v3(f, 0, left), 0, 1);
+        add_plane(vc, &R, c, orr_v3(-f, 0, right), 0, 1);
+        add_plane(vc, &R, c, orr_v3(0, f, top), 0, 1);
+        add_plane(vc, &R, c, orr_v3(0, -f, bottom), 0, 1);
+        /* Points with z <= near (and z <= 0) are not drawn at all, kernel or not. */
+        add_plane(vc, &R, c, orr_v3(0, 0, 1), -(p->near > 0 ? p->near : 0.0), 0);
+    } else {
+        /* px = cx + f x >= -m  <=>  f x + (cx + m) >= 0; every depth is drawn. */
+        add_plane(vc, &R, c, orr_v3(f, 0, 0), left, 1);
+        add_plane(vc, &R, c, orr_v3(-f, 0, 0), right, 1);
+        add_plane(vc, &R, c, orr_v3(0, f, 0), top, 1);
+        add_plane(vc, &R, c, orr_v3(0, -f, 0), bottom, 1);
+    }
+    vc->active = 1;
+}
+
+int orr_view_cull_box(const orr_view_cull *vc, orr_vec3 lo, orr_vec3 hi, orr_vec3 offset, double radius)
+{
+    if (!vc->active)
+        return 0;
+    const orr_vec3 centre = orr_v3_add(orr_v3_scale(orr_v3_add(lo, hi), 0.5), offset);
+    const orr_vec3 half = orr_v3_scale(orr_v3_sub(hi, lo), 0.5);
+    /* The renderer moves particles into the camera frame in float: a point
+     * on the near plane may land on either side of it, so the near plane
+     * culls only boxes clearly behind it. (The sides have the pixel margin.) */
+    const double slack = 1e-5 * (orr_v3_norm(orr_v3_sub(centre, vc->camera)) + orr_v3_norm(half));
+    for (int k = 0; k < vc->nplanes; k++) {
+        const orr_vec3 n = vc->n[k];
+        /* The largest n . p + d over the box is at the corner n points to. */
+        double most = orr_v3_dot(n, centre) + fabs(n.x) * half.x + fabs(n.y) * half.y + fabs(n.z) * half.z + vc->d[k];
+        if (vc->reach[k] > 0 ? most + radius * vc->reach[k] < 0 : most < -slack * orr_v3_norm(n))
+            return 1;
+    }
+    return 0;
+}

@@ -1,0 +1,55 @@
+/* Periodic boxes drawn as copies (replicas) of the box around the camera,
+ * and the test that lets the renderer skip a copy, or a block of particles
+ * of a copy, that the view cannot see, before touching its particles
+ * (docs/periodic.md). */
+#ifndef ORR_FRAME_REPLICAS_H
+#define ORR_FRAME_REPLICAS_H
+
+#include "core/error.h"
+#include "core/vecmath.h"
+#include "frame/camera.h"
+#include "frame/projection.h"
+
+/* 9 copies per axis at most (input.periodic.replicas). */
+#define ORR_REPLICAS_PER_AXIS_MAX 9
+#define ORR_REPLICAS_MAX (ORR_REPLICAS_PER_AXIS_MAX * ORR_REPLICAS_PER_AXIS_MAX * ORR_REPLICAS_PER_AXIS_MAX)
+
+/* The shifts of the copies: particle p is drawn at p + offset[k] for each k. */
+typedef struct orr_replicas {
+    int n;
+    orr_vec3 offset[ORR_REPLICAS_MAX];
+} orr_replicas;
+
+/* Places per_axis^3 copies (per_axis odd) of a periodic box of side box,
+ * taken as [0, box)^3: around the box itself (around_camera 0), or around
+ * the copy holding the camera (around_camera 1), so that a camera moving
+ * through the box is always at least (per_axis - 1) / 2 box sides from the
+ * edge of what is drawn. The middle copy comes first. */
+orr_status orr_replicas_place(orr_replicas *r, double box, int per_axis, int around_camera, orr_vec3 camera,
+                              orr_error *err);
+
+/* A view's visible region as half-spaces in world coordinates: a point p is
+ * inside when n . p + d >= 0 for every plane. Perspective: the four sides
+ * of the frustum and the near plane; orthographic: the four sides of the
+ * slab (every depth is drawn). Sky maps see every direction: inactive. */
+typedef struct orr_view_cull {
+    int active;
+    int nplanes;
+    orr_vec3 n[5];
+    double d[5];
+    double reach[5]; /* |n| for the sides (a kernel of radius r reaches r |n|); 0 for the near plane */
+    orr_vec3 camera;
+} orr_view_cull;
+
+/* The view of a camera through a projection (set up), widened by margin
+ * pixels on every side of the image: deposits spread a particle over a
+ * pixel or two beyond its centre (cloud-in-cell, a kernel's smallest disc). */
+void orr_view_cull_setup(orr_view_cull *vc, const orr_projection *p, const orr_camera *cam, double margin);
+
+/* Whether nothing in the box [lo, hi] shifted by offset, with kernels of
+ * radius up to radius around its points, can land in the image: 1 when the
+ * box lies wholly outside one of the planes (conservative: a box outside
+ * the view but across no single plane is kept). Never 1 when inactive. */
+int orr_view_cull_box(const orr_view_cull *vc, orr_vec3 lo, orr_vec3 hi, orr_vec3 offset, double radius);
+
+#endif
