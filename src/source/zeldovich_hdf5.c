@@ -30,9 +30,21 @@ static int put_double(hid_t loc, const char *name, double v)
     return put_attr(loc, name, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, &v, 0);
 }
 
+/* Object creation properties without modification times, so that the same
+ * seed gives the same bytes. */
+static hid_t untimed(hid_t class_id)
+{
+    hid_t p = H5Pcreate(class_id);
+    if (p >= 0)
+        H5Pset_obj_track_times(p, 0);
+    return p;
+}
+
 static int write_header(hid_t file, const orr_zeldovich *z)
 {
-    hid_t h = H5Gcreate2(file, "Header", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t gcpl = untimed(H5P_GROUP_CREATE);
+    hid_t h = H5Gcreate2(file, "Header", H5P_DEFAULT, gcpl, H5P_DEFAULT);
+    H5Pclose(gcpl);
     if (h < 0)
         return 1;
     uint32_t count[NTYPES] = {0}, high[NTYPES] = {0};
@@ -66,10 +78,13 @@ static int write_dataset(hid_t group, const char *name, hid_t ftype, hid_t mtype
 {
     hsize_t dims[2] = {rows, (hsize_t)cols};
     hid_t space = H5Screate_simple(cols > 1 ? 2 : 1, dims, NULL);
-    hid_t ds = space >= 0 ? H5Dcreate2(group, name, ftype, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT) : -1;
+    hid_t dcpl = untimed(H5P_DATASET_CREATE);
+    hid_t ds = space >= 0 && dcpl >= 0 ? H5Dcreate2(group, name, ftype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT) : -1;
     int bad = ds < 0 || H5Dwrite(ds, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0;
     if (ds >= 0)
         H5Dclose(ds);
+    if (dcpl >= 0)
+        H5Pclose(dcpl);
     if (space >= 0)
         H5Sclose(space);
     return bad;
@@ -77,7 +92,9 @@ static int write_dataset(hid_t group, const char *name, hid_t ftype, hid_t mtype
 
 static int write_particles(hid_t file, const orr_zeldovich *z, const uint32_t *ids)
 {
-    hid_t g = H5Gcreate2(file, "PartType1", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t gcpl = untimed(H5P_GROUP_CREATE);
+    hid_t g = H5Gcreate2(file, "PartType1", H5P_DEFAULT, gcpl, H5P_DEFAULT);
+    H5Pclose(gcpl);
     if (g < 0)
         return 1;
     hsize_t n = (hsize_t)z->n;
@@ -106,7 +123,9 @@ orr_status orr_zeldovich_write_hdf5(const orr_zeldovich *z, const char *path, or
     void *old_data;
     H5Eget_auto2(H5E_DEFAULT, &old_fn, &old_data);
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-    hid_t file = H5Fcreate(af.temp_path, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+    hid_t fcpl = untimed(H5P_FILE_CREATE); /* the root group's times */
+    hid_t file = H5Fcreate(af.temp_path, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    H5Pclose(fcpl);
     int bad = file < 0 || write_header(file, z) || write_particles(file, z, ids);
     if (file >= 0 && H5Fclose(file) < 0)
         bad = 1;
