@@ -1,5 +1,5 @@
 /* orrery ics --zeldovich -o FILE [--grid N] [--box L] [--z Z] [--seed S]
- *            [--omega-m X] [--omega-lambda X] [--omega-b X] [--h X]
+ *            [--truncate K] [--omega-m X] [--omega-lambda X] [--omega-b X] [--h X]
  *            [--sigma8 X] [--ns X] */
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,7 +9,7 @@
 #include "source/zeldovich.h"
 
 static const char ics_help[] =
-    "usage: orrery ics --zeldovich -o FILE.hdf5 [--grid N] [--box MPC_H] [--z Z] [--seed S]\n"
+    "usage: orrery ics --zeldovich -o FILE.hdf5 [--grid N] [--box MPC_H] [--z Z] [--seed S] [--truncate K]\n"
     "                  [--omega-m X] [--omega-lambda X] [--omega-b X] [--h X] [--sigma8 X] [--ns X]\n"
     "\n"
     "Writes cosmological initial conditions: N^3 dark-matter particles displaced\n"
@@ -24,6 +24,8 @@ static const char ics_help[] =
     "  --box L               box side in Mpc/h (default 100)\n"
     "  --z Z                 redshift of the particles (default 0)\n"
     "  --seed S              random seed (default 1); the same seed and grid give the same box\n"
+    "  --truncate K          truncated Zel'dovich: P(k) times exp(-k^2/K^2), K in h/Mpc\n"
+    "                        (about the non-linear wavenumber; default 0: none)\n"
     "  --omega-m, --omega-lambda, --omega-b, --h, --sigma8, --ns\n"
     "                        cosmology (default Planck 2018: 0.315 0.685 0.049 0.674 0.811 0.965)\n"
     "  -h, --help            this text\n";
@@ -40,6 +42,8 @@ static double *number_option(const char *a, orr_zeldovich_params *p)
         return &p->box;
     if (is_option(a, "--z"))
         return &p->redshift;
+    if (is_option(a, "--truncate"))
+        return &p->truncate;
     if (is_option(a, "--omega-m"))
         return &p->cosmo.omega_m;
     if (is_option(a, "--omega-lambda"))

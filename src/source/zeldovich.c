@@ -89,8 +89,9 @@ static int wave_index(int i, int n)
     return i <= n / 2 ? i : i - n;
 }
 
-/* δ_k from the white noise: scaled by sqrt(P(k) D² / V) / N^(3/2). */
-static void shape_field(field *f, const orr_power *power, double box, double growth)
+/* δ_k from the white noise: scaled by sqrt(P(k) D² / V) / N^(3/2), and by
+ * exp(−k²/(2 k_t²)) when truncated (k_t > 0). */
+static void shape_field(field *f, const orr_power *power, double box, double growth, double truncate)
 {
     int n = f->n, nh = n / 2 + 1;
     double kf = 2 * PI / box, volume = box * box * box;
@@ -105,6 +106,8 @@ static void shape_field(field *f, const orr_power *power, double box, double gro
                 if (!nyquist && (kx || ky || kz)) {
                     double k = kf * sqrt((double)kx * kx + (double)ky * ky + (double)kz * kz);
                     scale = norm * sqrt(orr_power_at(power, k));
+                    if (truncate > 0)
+                        scale *= exp(-0.5 * k * k / (truncate * truncate));
                 }
                 f->delta[c][0] = (float)(f->delta[c][0] * scale);
                 f->delta[c][1] = (float)(f->delta[c][1] * scale);
@@ -168,6 +171,9 @@ static orr_status check_params(const orr_zeldovich_params *p, orr_error *err)
         return orr_fail(err, ORR_ERR_USAGE, "box %g: expected a side in Mpc/h above 0 (and below 1e6)", p->box);
     if (!(p->redshift >= 0 && p->redshift < 1e4))
         return orr_fail(err, ORR_ERR_USAGE, "redshift %g: expected a value from 0 to 1e4", p->redshift);
+    if (!(p->truncate >= 0 && p->truncate < 1e6))
+        return orr_fail(err, ORR_ERR_USAGE, "truncate %g: expected a wavenumber in h/Mpc >= 0 (0: none)",
+                        p->truncate);
     return orr_cosmology_check(&p->cosmo, err);
 }
 
@@ -209,7 +215,7 @@ orr_status orr_zeldovich_generate(const orr_zeldovich_params *p, orr_zeldovich *
     }
     white_noise(&f, p->seed);
     fftwf_execute(f.forward);
-    shape_field(&f, &power, p->box, z->growth);
+    shape_field(&f, &power, p->box, z->growth, p->truncate);
     double sum2 = 0;
     for (int axis = 0; axis < 3; axis++) {
         displacement_modes(&f, axis, p->box);

@@ -61,6 +61,8 @@ typedef struct orr_zeldovich_params {
     double box;      /* side of the periodic box, Mpc/h */
     double redshift; /* the particles' epoch, >= 0 */
     uint64_t seed;   /* the same seed and grid give the same field */
+    double truncate; /* k_t, h/Mpc: P(k) exp(−k²/k_t²), the truncated Zel'dovich
+                      * approximation (Coles, Melott & Shandarin 1993); 0: none */
 } orr_zeldovich_params;
 
 #define ORR_ZELDOVICH_GRID_MAX 1024

@@ -169,10 +169,11 @@ static void test_deterministic(void)
  * P(k) D(a)². Each independent mode's |δ_k|² / (P(k)/V) is exponentially
  * distributed with mean 1, so a shell of M independent modes has a mean
  * ratio of 1 ± 1/sqrt(M) (cosmic variance). */
-static void test_power_spectrum(void)
+static void check_power_spectrum(double truncate)
 {
     enum { N = 32 };
     orr_zeldovich_params p = small_box(N, 3);
+    p.truncate = truncate;
     orr_zeldovich z;
     orr_error err = {0};
     orr_power power;
@@ -218,7 +219,10 @@ static void test_power_spectrum(void)
                 int bin = (int)kmag;
                 if (bin >= NBIN)
                     continue;
-                double expected = orr_power_at(&power, kf * kmag) * d2 / volume;
+                double k = kf * kmag;
+                double expected = orr_power_at(&power, k) * d2 / volume;
+                if (truncate > 0)
+                    expected *= exp(-k * k / (truncate * truncate));
                 ratio_sum[bin] += (re * re + im * im) / expected;
                 count[bin]++;
             }
@@ -240,6 +244,18 @@ static void test_power_spectrum(void)
     for (int k = 0; k < 3; k++)
         fftwf_free(modes[k]);
     orr_zeldovich_free(&z);
+}
+
+static void test_power_spectrum(void)
+{
+    check_power_spectrum(0);
+}
+
+/* Truncated: P(k) exp(−k²/k_t²), here with k_t = 0.3 h/Mpc, about a third
+ * of the grid's Nyquist wavenumber (0.5 h/Mpc). */
+static void test_power_spectrum_truncated(void)
+{
+    check_power_spectrum(0.3);
 }
 
 static void test_snapshot_round_trip(void)
@@ -292,6 +308,10 @@ static void test_bad_parameters(void)
     CHECK(orr_zeldovich_generate(&p, &z, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "box -1");
     p = small_box(8, 1);
+    p.truncate = -0.5;
+    CHECK(orr_zeldovich_generate(&p, &z, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "truncate -0.5");
+    p = small_box(8, 1);
     p.cosmo.omega_m = 0;
     CHECK(orr_zeldovich_generate(&p, &z, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "omega_m 0");
@@ -317,6 +337,7 @@ int main(void)
     RUN(test_counts_mean_and_velocities);
     RUN(test_deterministic);
     RUN(test_power_spectrum);
+    RUN(test_power_spectrum_truncated);
     RUN(test_snapshot_round_trip);
     RUN(test_bad_parameters);
     remove_tmpdir();
