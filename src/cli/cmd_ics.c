@@ -20,7 +20,7 @@ static const char ics_help[] =
     "\n"
     "  --zeldovich           the method (the only one so far; required)\n"
     "  -o, --output FILE     where to write (required)\n"
-    "  --grid N              particles per side, even, 2 to 1024 (default 64)\n"
+    "  --grid N              particles per side, even, 2 to 512 (default 64)\n"
     "  --box L               box side in Mpc/h (default 100)\n"
     "  --z Z                 redshift of the particles (default 0)\n"
     "  --seed S              random seed (default 1); the same seed and grid give the same box\n"

@@ -65,7 +65,8 @@ typedef struct orr_zeldovich_params {
                       * approximation (Coles, Melott & Shandarin 1993); 0: none */
 } orr_zeldovich_params;
 
-#define ORR_ZELDOVICH_GRID_MAX 1024
+/* 512³ = 1.3e8 particles take about 5.5 GB; 1024³ would need about 43 GB. */
+#define ORR_ZELDOVICH_GRID_MAX 512
 
 /* Particle i (0-based, id i + 1) started at grid point (ix, iy, iz) with
  * i = (ix N + iy) N + iz, at q = ((ix, iy, iz) + ½) box / N, and is now at

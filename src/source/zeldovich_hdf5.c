@@ -49,7 +49,7 @@ static int write_header(hid_t file, const orr_zeldovich *z)
         return 1;
     uint32_t count[NTYPES] = {0}, high[NTYPES] = {0};
     double mass[NTYPES] = {0};
-    count[1] = (uint32_t)z->n; /* grid <= 1024: fewer than 2^32 particles */
+    count[1] = (uint32_t)z->n; /* grid <= 512: fewer than 2^32 particles */
     mass[1] = z->particle_mass;
     int nfiles = 1;
     int bad = put_attr(h, "NumPart_ThisFile", H5T_STD_U32LE, H5T_NATIVE_UINT32, count, NTYPES);
