@@ -18,6 +18,7 @@ int cmd_render(int argc, char **argv);
 int cmd_compose(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_model(int argc, char **argv);
+int cmd_ics(int argc, char **argv);
 int cmd_path(int argc, char **argv);
 int cmd_video(int argc, char **argv);
 

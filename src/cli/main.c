@@ -16,6 +16,8 @@ static const char usage_text[] =
     "  info FILE [--format FORMAT]                        particle count, fields, bounds, mass\n"
     "  model -o FILE [--particles N] [--seed S] [--separation KPC]\n"
     "                                                     write the built-in Milky Way-Andromeda model\n"
+    "  ics --zeldovich -o FILE.hdf5 [--grid N] [--box MPC_H] [--z Z] [--seed S] ...\n"
+    "                                                     write a ΛCDM box (Zel'dovich initial conditions)\n"
     "  path SCENE.yaml [--set KEY=VALUE ...] [--frames N] [-o FILE.png]\n"
     "                                                     print a camera path; draw it over the particles\n"
     "  video SCENE.yaml [--codec h264|h265|prores|png] [--fps F] [--frames N] [--out FILE] ...\n"
@@ -51,6 +53,8 @@ int main(int argc, char **argv)
         return cmd_info(argc - 1, argv + 1);
     if (strcmp(cmd, "model") == 0)
         return cmd_model(argc - 1, argv + 1);
+    if (strcmp(cmd, "ics") == 0)
+        return cmd_ics(argc - 1, argv + 1);
     if (strcmp(cmd, "path") == 0)
         return cmd_path(argc - 1, argv + 1);
     if (strcmp(cmd, "video") == 0)

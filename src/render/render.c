@@ -52,6 +52,7 @@ typedef struct view_state {
     size_t lengths_next;        /* the next of them in source order */
     float h_scale;              /* file lengths: to orrery's h (support 2h), times smoothing.h_scale */
     orr_view_psf psf;
+    double tint_t;      /* the position along colour.tint.path in this frame */
     int use_ods;        /* an eye of omni-directional stereo: its per-block transform */
     orr_stereo_ods ods;
     orr_periodic_view periodic; /* input.periodic: the box's copies and what is culled */
@@ -633,7 +634,7 @@ static orr_status graded_rgb(const view_state *v, float *rgb, char *desc, size_t
         if (s->colour || s->nlayers)
             st = orr_colour_synthesise(&s->synth, &v->planes[0], &v->planes[1], &v->planes[2], rgb, &rep->white,
                                        err);
-        else if (!(st = orr_colour_path_xyz(&s->tint, s->tint_t, xyz, err)))
+        else if (!(st = orr_colour_path_xyz(&s->tint, v->tint_t, xyz, err)))
             st = orr_colour_synthesise_mono(&s->synth, &v->planes[0], xyz, rgb, &rep->white, err);
         if (!st && !s->png_linear)
             orr_srgb_encode_buffer(rgb, npix * 3);
@@ -647,7 +648,7 @@ static orr_status graded_rgb(const view_state *v, float *rgb, char *desc, size_t
                      orr_lum_stretch_name(s->synth.stretch), rep->white);
         else if (!st)
             snprintf(desc, size, "%s of %s tinted at t = %g of its colour path, %s projection, %s stretch, Y0 %g",
-                     s->weight, rep->source, s->tint_t, orr_projection_name(v->proj.kind),
+                     s->weight, rep->source, v->tint_t, orr_projection_name(v->proj.kind),
                      orr_lum_stretch_name(s->synth.stretch), rep->white);
         return st;
     }
@@ -829,6 +830,7 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     v->scene = s;
     v->rep = rep;
     v->proj = s->projection;
+    v->tint_t = s->tint_run ? when->u : s->tint_t;
     orr_status st = orr_projection_setup(&v->proj, err);
     if (!st)
         st = view_camera(s, observer, when, &rep->camera, &rep->sky, err);

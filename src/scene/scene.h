@@ -160,6 +160,8 @@ typedef struct orr_scene {
     int has_tint;                  /* colour.tint.path was given */
     orr_colour_path tint;          /* colour.tint.path: list of temperatures, K */
     double tint_t;                 /* colour.tint.t: position along it, 0..1 (default 0) */
+    int tint_run;                  /* colour.tint.t: run: the position is the frame's u in the run
+                                    * (0 at the first frame, 1 at the last) instead of tint_t */
     int png_linear;                /* output.png_transfer: srgb (0, default) | linear (1): the transfer
                                     * curve of colour PNGs (colour maps are sRGB by definition) */
 

@@ -24,6 +24,7 @@ typedef enum {
     K_PATH,     /* a file path, resolved against the scene's folder */
     K_NUMBER,   /* double, finite, within the bounds */
     K_AUTO,     /* double within the bounds, or the word auto (stored as 0) */
+    K_RUN,      /* double within the bounds, or the word run (stored as 0, sets the has_* flag) */
     K_INT,      /* int within ilo..ihi */
     K_LLONG,    /* long long within ilo..ihi */
     K_U64,      /* uint64_t within ilo..ihi (ilo >= 0) */
@@ -42,7 +43,7 @@ typedef enum {
     K_KEYFRAMES, /* camera.path.keyframes: a list of mappings (scene_path.c) */
 } key_type;
 
-/* Bounds of K_NUMBER and K_AUTO. */
+/* Bounds of K_NUMBER, K_AUTO and K_RUN. */
 enum {
     HAS_LO = 1,
     LO_OPEN = 2, /* the bound itself is excluded */
@@ -54,7 +55,7 @@ typedef struct key_spec {
     const char *key;
     key_type type;
     size_t offset, size;          /* the field in the target (orr_scene or dome_profile) */
-    double lo, hi;                /* K_NUMBER, K_AUTO: with the bounds flags */
+    double lo, hi;                /* K_NUMBER, K_AUTO, K_RUN: with the bounds flags */
     unsigned bounds;
     long long ilo, ihi;           /* integers: inclusive range */
     int (*parse_word)(orr_scene *s, const char *word); /* K_ENUM: 1 when accepted (scene keys only) */
@@ -68,6 +69,8 @@ typedef struct key_spec {
 #define FLAG_OF(type, m) .has_flag = 1, .flag_offset = offsetof(type, m)
 #define FIELD(m) FIELD_OF(orr_scene, m)
 #define FLAG(m) FLAG_OF(orr_scene, m)
+/* K_RUN: the int field set to 1 for the word run, 0 for a number. */
+#define RUN_FLAG(m) .flag_offset = offsetof(orr_scene, m)
 #define IRANGE(a, b) .ilo = (a), .ihi = (b)
 #define ABOVE(a) .lo = (a), .bounds = HAS_LO | LO_OPEN
 #define CLOSED(a, b) .lo = (a), .hi = (b), .bounds = HAS_LO | HAS_HI
@@ -373,7 +376,7 @@ static const key_spec KEYS[] = {
     {.key = "colour.synthesis.clip", ENUM(clip)},
     {.key = "colour.tint.path", .type = K_TINT},
     {.key = "compose.layers", .type = K_LAYERS},
-    {.key = "colour.tint.t", .type = K_NUMBER, FIELD(tint_t), CLOSED(0, 1)},
+    {.key = "colour.tint.t", .type = K_RUN, FIELD(tint_t), CLOSED(0, 1), RUN_FLAG(tint_run)},
     {.key = "psf.kind", ENUM(psf)},
     {.key = "psf.fwhm", .type = K_NUMBER, FIELD(psf_fwhm), CLOSED(0.1, 1000)},
     {.key = "psf.fwhm_arcmin", .type = K_NUMBER, FIELD(psf_fwhm_arcmin), CLOSED(0.01, 3000)},
@@ -846,6 +849,30 @@ static orr_status bind_number(const bind_ctx *c, const key_spec *k, const value_
     return ORR_OK;
 }
 
+/* A number, or the word run: the value then follows the frame's place in
+ * the run (0 at the first frame, 1 at the last), which the renderer reads
+ * from the int the table's RUN_FLAG names: 1 for run, 0 for a number, so
+ * that a --set number overrides a file's run and the other way round. */
+static orr_status bind_run(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    const int is_run = n->kind == YT_SCALAR && strcmp(n->text, "run") == 0;
+    double v = 0;
+    if (!is_run) {
+        double probe;
+        if (n->kind != YT_SCALAR || parse_number(n->text, &probe) == 0) {
+            char got_buf[96];
+            return fail_at(c->err, at->origin, at->line, "%s: expected a number or run, got %s", at->path,
+                           GOT(n));
+        }
+        orr_status st = get_number(c, k, at, n, &v);
+        if (st != ORR_OK)
+            return st;
+    }
+    memcpy(field(c, k), &v, sizeof v);
+    memcpy((char *)c->target + k->flag_offset, &is_run, sizeof is_run);
+    return ORR_OK;
+}
+
 /* The n numbers of a list value ([x, y, z] or [w, x, y, z]). */
 static orr_status get_numbers(const bind_ctx *c, const value_at *at, const yt_node *n, size_t count,
                               const char *form, double *out)
@@ -955,6 +982,7 @@ static orr_status bind_value(const bind_ctx *c, const key_spec *k, const value_a
     case K_PATH: return bind_text(c, k, at, n);
     case K_NUMBER:
     case K_AUTO: return bind_number(c, k, at, n);
+    case K_RUN: return bind_run(c, k, at, n);
     case K_INT:
     case K_LLONG:
     case K_U64: return bind_integer(c, k, at, n);

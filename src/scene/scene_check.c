@@ -302,9 +302,14 @@ static orr_status check_colour(orr_scene *s, const scene_marks *m, orr_error *er
     if (s->colour && s->colour_only[0] && s->only < 0)
         return scene_fail_key(s, m, "colour.only", err, "colour.only: no population is called '%s'",
                               s->colour_only);
-    for (size_t i = 0; !s->colour && i < sizeof keys / sizeof keys[0]; i++)
-        if (scene_mark(m, keys[i]))
-            return scene_fail_key(s, m, keys[i], err, "%s applies to colour.populations, which is not set", keys[i]);
+    for (size_t i = 0; !s->colour && i < sizeof keys / sizeof keys[0]; i++) {
+        /* A tinted map is graded by colour.synthesis too (its stretch and
+         * white), though it has no populations. */
+        int synthesis_key = strncmp(keys[i], "colour.synthesis.", 17) == 0;
+        if (scene_mark(m, keys[i]) && !(synthesis_key && s->has_tint))
+            return scene_fail_key(s, m, keys[i], err, "%s applies to colour.populations%s, which is not set",
+                                  keys[i], synthesis_key ? " or colour.tint" : "");
+    }
     if (s->colour && s->has_tint)
         return scene_fail_key(s, m, "colour.tint.path", err,
                               "colour.tint is for single-channel maps; with colour.populations each population "

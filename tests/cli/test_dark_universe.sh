@@ -1,0 +1,71 @@
+# The Dark Universe case study end to end: `orrery ics` writes a tiny
+# Zel'dovich box (16³), the scene configs/dark-universe.yaml flies through it
+# in 3 tiny frames, and the tint follows the run (colour.tint.t: run): frame 0
+# blue, frame 2 red. Also the generator's and the key's bad input.
+source "$(dirname "$0")/lib.sh"
+py=/usr/bin/python3
+[ -x "$py" ] || py=python3
+
+mkdir -p out
+"$ORRERY" ics --zeldovich --grid 16 --box 100 --z 0 --seed 3 -o out/box.hdf5 >ics.txt 2>err.txt ||
+  fail "ics: $(cat err.txt)"
+grep -q "wrote 4096 particles to out/box.hdf5" ics.txt || fail "ics output: $(cat ics.txt)"
+"$ORRERY" info out/box.hdf5 >info.txt 2>err.txt || fail "info: $(cat err.txt)"
+grep -q "4096" info.txt && grep -q "BoxSize" info.txt || fail "info of the box: $(cat info.txt)"
+# The same seed gives the same bytes (the writer records no times); another
+# seed another box.
+"$ORRERY" ics --zeldovich --grid 16 --box 100 --z 0 --seed 3 -o out/again.hdf5 >/dev/null 2>&1
+"$ORRERY" ics --zeldovich --grid 16 --box 100 --z 0 --seed 4 -o out/other.hdf5 >/dev/null 2>&1
+cmp -s out/box.hdf5 out/again.hdf5 || fail "the same seed gave different files"
+cmp -s out/box.hdf5 out/other.hdf5 && fail "seeds 3 and 4 gave the same file"
+
+frames() {
+  "$ORRERY" render --quiet "$SRC/configs/dark-universe.yaml" -o frames --set input.file=out/box.hdf5 \
+    --set animation.frames=3 --set image.width=96 --set image.height=51 --set psf.fwhm=1 \
+    --set camera.path.from=[5,40,45] --set camera.path.to=[60,50,50] "$@" 2>err.txt || fail "render: $(cat err.txt)"
+}
+frames
+for f in 0 1 2; do
+  [ -f "frames/dark-universe_000$f.png" ] || fail "frame $f missing: $(ls frames)"
+done
+"$py" - <<'EOT' || fail "the tint does not run from blue to red"
+import sys
+import numpy as np
+from PIL import Image
+def mean_rgb(f):
+    a = np.asarray(Image.open(f"frames/dark-universe_000{f}.png")).reshape(-1, 3).astype(float)
+    a = a[a.sum(axis=1) > 60]
+    return a.mean(axis=0) if len(a) else np.zeros(3)
+first, middle, last = mean_rgb(0), mean_rgb(1), mean_rgb(2)
+print("mean RGB of lit pixels: frame 0", first.round(1), "frame 1", middle.round(1), "frame 2", last.round(1))
+ok = first[2] > 1.1 * first[0] and last[0] > 1.5 * last[2]
+ok &= first[2] / first[0] > middle[2] / middle[0] > last[2] / last[0]
+sys.exit(0 if ok else 1)
+EOT
+# A number still fixes the tint: every frame as frame 0 of the run.
+rm -rf frames
+frames --set colour.tint.t=0
+"$py" - <<'EOT' || fail "colour.tint.t=0 does not hold the tint"
+import sys
+import numpy as np
+from PIL import Image
+ratios = []
+for f in range(3):
+    a = np.asarray(Image.open(f"frames/dark-universe_000{f}.png")).reshape(-1, 3).astype(float)
+    a = a[a.sum(axis=1) > 60].mean(axis=0)
+    ratios.append(a[2] / a[0])
+print("blue/red by frame:", np.round(ratios, 3))
+sys.exit(0 if min(ratios) > 1.1 else 1)
+EOT
+
+expect_fail 2 "colour.tint.t: expected a number or run, got .*walk" none -- render "$SRC/configs/dark-universe.yaml" \
+  --set input.file=out/box.hdf5 --set colour.tint.t=walk
+expect_fail 2 "colour.tint.t.*1.5" none -- render "$SRC/configs/dark-universe.yaml" \
+  --set input.file=out/box.hdf5 --set colour.tint.t=1.5
+expect_fail 2 "orrery ics: --grid 15: expected an even whole number" none -- ics --zeldovich --grid 15 -o none/x.hdf5
+expect_fail 2 "orrery ics: give the method: --zeldovich" none -- ics --grid 16 -o none/x.hdf5
+expect_fail 2 "omega_m 0: expected a value in \(0, 2\]" none -- ics --zeldovich --grid 4 --omega-m 0 -o none/x.hdf5
+expect_fail 2 "box -5: expected a side in Mpc/h" none -- ics --zeldovich --grid 4 --box -5 -o none/x.hdf5
+expect_fail 2 "unknown argument '--frobnicate'" none -- ics --zeldovich --frobnicate -o none/x.hdf5
+expect_fail 1 "/nonexistent-orrery-dir" none -- ics --zeldovich --grid 4 -o /nonexistent-orrery-dir/x.hdf5
+finish
