@@ -41,12 +41,12 @@ static void test_h264_odd_size_word_for_word(void)
     s.pad_height = 50;
     video_command cmd;
     CHECK(video_command_build(&cmd, &s));
+    static const char filter[] = "pad=66:50:0:0:black,scale=out_color_matrix=bt709:out_range=tv,format=yuv420p,"
+                                 "setparams=range=tv:color_primaries=bt709:color_trc=bt709:colorspace=bt709";
     static const char *const expected[] = {
         "/usr/bin/ffmpeg", "-hide_banner", "-loglevel", "error", "-xerror", "-y",
         "-f", "image2pipe", "-framerate", "24", "-c:v", "png", "-i", "pipe:0",
-        "-vf",
-        "pad=66:50:0:0:black,scale=out_color_matrix=bt709:out_range=tv,format=yuv420p,"
-        "setparams=range=tv:color_primaries=bt709:color_trc=bt709:colorspace=bt709",
+        "-vf", filter,
         "-c:v", "libx264", "-crf", "18", "-pix_fmt", "yuv420p", "-movflags", "+faststart",
         "-f", "mp4", "file:out dir/.clip.mp4.tmp-AbC123"};
     int n = (int)(sizeof expected / sizeof expected[0]);
