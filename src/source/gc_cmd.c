@@ -40,12 +40,19 @@ static const cmd_node ASYMPTOTIC_GIANT[] = {
 
 #define NODES(a) ((int)(sizeof(a) / sizeof((a)[0])))
 
-/* Number fractions of the phases (stars from M_V = 10 up). The giant-branch
- * ones follow the ratios above; the rest is the main sequence. */
-#define FRAC_SUBGIANT 0.010
-#define FRAC_RED_GIANT 0.022
-#define FRAC_HB 0.005
-#define FRAC_AGB 0.0006
+/* Number fractions of the phases (stars from M_V = 10 up). The red giants
+ * follow the fuel-consumption theorem (Renzini & Buzzoni 1986): about 2e-11
+ * stars per year per solar luminosity leave the main sequence, and a
+ * population of M/L_V ~ 2 has some 1.5 stars brighter than M_V = 10 per
+ * Lsun, so a phase lasting t holds ~1.3e-11 t / yr of the stars: 0.5% for
+ * the ~4e8 yr red giant branch, 0.13% for the ~1e8 yr horizontal branch.
+ * Then R = N_HB / N_RGB(brighter than the HB) = 1.35 with the giants'
+ * luminosity function below, and N_AGB / N_HB = 0.12. The rest is the main
+ * sequence. */
+#define FRAC_SUBGIANT 0.004
+#define FRAC_RED_GIANT 0.006
+#define FRAC_HB 0.0013
+#define FRAC_AGB 0.00016
 #define FRAC_MAIN_SEQUENCE (1.0 - FRAC_SUBGIANT - FRAC_RED_GIANT - FRAC_HB - FRAC_AGB)
 
 /* Luminosity functions dN/dM_V ~ 10^(slope M_V): the red giant branch's

@@ -228,7 +228,7 @@ static void test_determinism(void)
  * fraction; main-sequence stars no brighter or bluer than the turnoff. */
 static void test_cmd(void)
 {
-    const int n = 200000;
+    const int n = 1000000;
     int count[ORR_GC_PHASES + 1] = {0}, hb_blue = 0, ms_bad = 0, hb_bad = 0;
     double rg_dev = 0.0;
     orr_rng r = orr_rng_seed(5, 0, 0);
