@@ -223,13 +223,16 @@ typedef struct king_state {
     uint64_t total, next_index;
 } king_state;
 
-/* g's maximum grows with W, so the value at the next node up bounds it. */
+/* g's maximum grows with W, so the value at the next node up bounds it.
+ * Below the first node it falls as W^2 towards the tidal radius, and the
+ * node's value would make the rejection loop arbitrarily long: there (a
+ * rare star near the tidal radius) the maximum is found for this W. */
 static double envelope(const king_state *k, double w)
 {
     double t = w / k->params.w0 * (KING_GMAX_N - 1);
+    if (t < 1.0)
+        return speed_density_max(w) * 1.000001;
     int j = (int)ceil(t);
-    if (j < 0)
-        j = 0;
     if (j > KING_GMAX_N - 1)
         j = KING_GMAX_N - 1;
     return k->gmax[j] * 1.000001;

@@ -263,6 +263,29 @@ static void test_cmd(void)
     CHECK(isnan(orr_gc_fiducial_bv(ORR_GC_HORIZONTAL_BRANCH, 0.6)));
 }
 
+/* The ends of the W0 range solve and sample (W0 = 15: rt ~ 10^3.6 r0; W0 =
+ * 0.5: stars sit where W is small, and near the tidal radius the speed
+ * rejection's envelope is computed per star), in virial equilibrium to
+ * within the noise (measured 0.991 and 0.979). */
+static void test_w0_limits(void)
+{
+    const double w0s[] = {ORR_KING_W0_MIN, ORR_KING_W0_MAX};
+    for (int t = 0; t < 2; t++) {
+        stars s;
+        CHECK(load_king(1500, 9, w0s[t], 512, &s));
+        double kin = 0.0, pot = 0.0;
+        for (size_t i = 0; i < s.n; i++) {
+            kin += 0.5 * s.m[i] * (s.vx[i] * s.vx[i] + s.vy[i] * s.vy[i] + s.vz[i] * s.vz[i]);
+            for (size_t j = i + 1; j < s.n; j++) {
+                double dx = s.x[i] - s.x[j], dy = s.y[i] - s.y[j], dz = s.z[i] - s.z[j];
+                pot -= ORR_KING_G * s.m[i] * s.m[j] / sqrt(dx * dx + dy * dy + dz * dz);
+            }
+        }
+        CHECK_NEAR(2.0 * kin / fabs(pot), 1.0, 0.06);
+        stars_free(&s);
+    }
+}
+
 static void test_bad_input(void)
 {
     orr_error err;
@@ -318,6 +341,7 @@ int main(void)
     RUN(test_mass_profile);
     RUN(test_virial_and_escape);
     RUN(test_determinism);
+    RUN(test_w0_limits);
     RUN(test_cmd);
     RUN(test_bad_input);
     RUN(test_scene_keys);
