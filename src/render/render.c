@@ -17,6 +17,7 @@
 #include "render/stereo_view.h"
 #include "render/view_psf.h"
 #include "render/wcs.h"
+#include "source/king.h"
 #include "source/model.h"
 #include "source/partition.h"
 #include "source/sequence.h"
@@ -79,6 +80,10 @@ orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, 
                         "%s: an in-situ scene (input.insitu) has no particles of its own: a running simulation "
                         "hands them over through orrery.h; set input.file or input.model.name to render it here",
                         s->path);
+    if (strcmp(s->model_name, "king") == 0) {
+        orr_king_params kp = {s->model_particles, s->model_seed, s->model_w0, s->model_core_radius, s->model_mass};
+        return orr_king_source_open(&kp, (size_t)s->chunk_size, out, err);
+    }
     if (s->model_name[0]) {
         orr_model_params mp = {s->model_particles, s->model_seed, s->model_separation};
         return orr_model_source_open(&mp, (size_t)s->chunk_size, out, err);
@@ -300,7 +305,7 @@ static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, siz
 /* Gathers the view's particles of c[start, end) into the block, moved by
  * shift (a periodic box's copy) and into the camera frame; returns how many, or -1 (err set) on a bad particle
  * when the scene says to fail. The observer particle is left out, and with
- * observer.dim weights fall off as 1/r^2 from the camera. */
+ * observer.dim or camera.dim weights fall off as 1/r^2 from the camera. */
 static long gather_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wsrcs,
                          size_t start, size_t end, orr_vec3 shift, block_buffers *b, orr_error *err)
 {
@@ -311,8 +316,9 @@ static long gather_block(view_state *v, const orr_source *src, const orr_chunk *
     const float r00 = (float)R->m[0][0], r01 = (float)R->m[0][1], r02 = (float)R->m[0][2];
     const float r10 = (float)R->m[1][0], r11 = (float)R->m[1][1], r12 = (float)R->m[1][2];
     const float r20 = (float)R->m[2][0], r21 = (float)R->m[2][1], r22 = (float)R->m[2][2];
-    const int skip_observer = s->has_observer, dim = s->has_observer && s->dim;
-    const float near2 = (float)(s->dim_near * s->dim_near);
+    const int skip_observer = s->has_observer, dim = (s->has_observer && s->dim) || s->camera_dim;
+    const double near = s->camera_dim ? s->camera_dim_near : s->dim_near;
+    const float near2 = (float)(near * near);
     long n = 0;
     for (size_t i = start; i < end; i++) {
         float h = 0.0f;
@@ -615,6 +621,8 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
         orr_fits_add_double(h, "NORMY", rep->sky.z.y, "disc normal n0 (b = 90) y");
         orr_fits_add_double(h, "NORMZ", rep->sky.z.z, "disc normal n0 (b = 90) z");
         orr_fits_add_bool(h, "DIMMED", s->dim, "weights divided by r^2 from the observer");
+    } else if (s->camera_dim) {
+        orr_fits_add_bool(h, "DIMMED", 1, "weights divided by r^2 from the camera");
     }
     orr_wcs_add_cards(h, p, cam, &rep->sky);
     if (s->stereo)

@@ -18,6 +18,9 @@ void orr_scene_defaults(orr_scene *s)
     s->model_particles = 200000;
     s->model_seed = 1;
     s->model_separation = 780;
+    s->model_w0 = 7;
+    s->model_core_radius = 1;
+    s->model_mass = 5e5;
     snprintf(s->weight, sizeof s->weight, "mass");
     s->type_mask = 0x3f;
     s->chunk_size = 1048576;
@@ -76,6 +79,7 @@ void orr_scene_defaults(orr_scene *s)
     s->normal_sign = -1;
     s->dim = 1;
     s->dim_near = 0.01;
+    s->camera_dim_near = 0.01;
 
     s->stereo = ORR_STEREO_NONE;
     s->eye_separation = 0;

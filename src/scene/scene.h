@@ -54,6 +54,9 @@ typedef struct orr_scene {
     long long model_particles;     /* input.model.particles (default 200000) */
     uint64_t model_seed;           /* input.model.seed (default 1) */
     double model_separation;       /* input.model.separation, kpc (default 780) */
+    double model_w0;               /* input.model.w0: king's central potential W0 (default 7) */
+    double model_core_radius;      /* input.model.core_radius: king's r0, pc (default 1) */
+    double model_mass;             /* input.model.mass: king's total mass, Msun (default 5e5) */
     char weight[ORR_FIELD_NAME_MAX]; /* input.weight: "mass" or a field name (default mass) */
     unsigned type_mask;            /* input.types: list of types 0..5 to draw; bit t set (default all, 0x3f) */
     long long chunk_size;          /* input.chunk: particles per chunk (default 1048576) */
@@ -197,6 +200,8 @@ typedef struct orr_scene {
                                     * opposite the Milky Way's spin) */
     int dim;                       /* observer.dim: weights fall off as 1/r^2 from the observer (default true) */
     double dim_near;               /* observer.dim_near: r below this counts as this (default 0.01) */
+    int camera_dim;                /* camera.dim: weights fall off as 1/r^2 from the camera (default false) */
+    double camera_dim_near;        /* camera.dim_near: r below this counts as this (default 0.01) */
 
     /* animation.* : a run of frames (docs/animation.md). Shared by every view. */
     long long anim_frames;         /* animation.frames: frames in the run (default 1: a still) */

@@ -92,12 +92,12 @@ static const char *names_input_format(void)
 
 static int word_model_name(orr_scene *s, const char *w)
 {
-    if (strcmp(w, "mw-m31") != 0)
+    if (strcmp(w, "mw-m31") != 0 && strcmp(w, "king") != 0)
         return 0;
     snprintf(s->model_name, sizeof s->model_name, "%s", w);
     return 1;
 }
-static const char *names_model_name(void) { return "mw-m31"; }
+static const char *names_model_name(void) { return "mw-m31 king"; }
 
 static int word_nonfinite(orr_scene *s, const char *w)
 {
@@ -302,6 +302,9 @@ static const key_spec KEYS[] = {
     {.key = "input.model.particles", .type = K_LLONG, FIELD(model_particles), IRANGE(100, 2000000000LL)},
     {.key = "input.model.seed", .type = K_U64, FIELD(model_seed), IRANGE(0, LLONG_MAX)},
     {.key = "input.model.separation", .type = K_NUMBER, FIELD(model_separation), ABOVE(0)},
+    {.key = "input.model.w0", .type = K_NUMBER, FIELD(model_w0), CLOSED(0.5, 15)},
+    {.key = "input.model.core_radius", .type = K_NUMBER, FIELD(model_core_radius), ABOVE(0)},
+    {.key = "input.model.mass", .type = K_NUMBER, FIELD(model_mass), ABOVE(0)},
     {.key = "input.weight", .type = K_STRING, FIELD(weight)},
     {.key = "input.types", .type = K_TYPES, FIELD(type_mask)},
     {.key = "input.chunk", .type = K_LLONG, FIELD(chunk_size), IRANGE(1, 4294967296LL)},
@@ -393,6 +396,8 @@ static const key_spec KEYS[] = {
     {.key = "observer.normal_from.sign", ENUM(normal_sign)},
     {.key = "observer.dim", .type = K_BOOL, FIELD(dim)},
     {.key = "observer.dim_near", .type = K_NUMBER, FIELD(dim_near), ABOVE(0)},
+    {.key = "camera.dim", .type = K_BOOL, FIELD(camera_dim)},
+    {.key = "camera.dim_near", .type = K_NUMBER, FIELD(camera_dim_near), ABOVE(0)},
     {.key = "animation.frames", .type = K_LLONG, FIELD(anim_frames), IRANGE(1, 10000000)},
     {.key = "animation.fps", .type = K_NUMBER, FIELD(anim_fps), CLOSED(0.001, 1000)},
     {.key = "animation.time", .type = K_PAIR, FIELD(anim_time), FLAG(has_anim_time)},

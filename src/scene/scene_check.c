@@ -18,10 +18,26 @@ static const char *const RANGE_KEYS[] = {"input.sequence.first", "input.sequence
 
 #define COUNT(a) (sizeof(a) / sizeof((a)[0]))
 
+/* Each built-in model has its own parameters: another model's are errors. */
+static orr_status check_model_keys(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    static const char *const mw_m31_only[] = {"input.model.separation"};
+    static const char *const king_only[] = {"input.model.w0", "input.model.core_radius", "input.model.mass"};
+    const int king = strcmp(s->model_name, "king") == 0;
+    const char *const *foreign = king ? mw_m31_only : king_only;
+    size_t nforeign = king ? COUNT(mw_m31_only) : COUNT(king_only);
+    for (size_t i = 0; i < nforeign; i++)
+        if (scene_mark(m, foreign[i]))
+            return scene_fail_key(s, m, foreign[i], err, "%s does not apply to input.model.name: %s", foreign[i],
+                                  s->model_name);
+    return ORR_OK;
+}
+
 static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     static const char *const model_keys[] = {"input.model.particles", "input.model.seed",
-                                             "input.model.separation"};
+                                             "input.model.separation", "input.model.w0",
+                                             "input.model.core_radius", "input.model.mass"};
     const int has_file = s->input_file[0] != '\0', has_model = s->model_name[0] != '\0';
     const int has_sequence = orr_scene_has_sequence(s);
     const char *sequence_key = s->seq_pattern[0] ? "input.sequence.pattern" : "input.sequence.files";
@@ -40,7 +56,7 @@ static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_erro
         if (scene_mark(m, model_keys[i]))
             return scene_fail_key(s, m, model_keys[i], err, "%s applies to input.model.name, but the input is %s",
                                   model_keys[i], has_file ? "input.file" : sequence_key);
-    return ORR_OK;
+    return has_model ? check_model_keys(s, m, err) : ORR_OK;
 }
 
 /* Replicas sit symmetrically around a middle one: an odd count per axis. */
@@ -222,8 +238,24 @@ static orr_status check_observer_normal(const orr_scene *s, const scene_marks *m
     return ORR_OK;
 }
 
+/* camera.dim dims from any camera; with an observer, observer.dim does
+ * that already, and two switches for one thing would only confuse. */
+static orr_status check_camera_dim(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (s->has_observer && scene_mark(m, "camera.dim"))
+        return scene_fail_key(s, m, "camera.dim", err,
+                              "camera.dim is not allowed with observer.id: use observer.dim for an observer's sky");
+    if (!s->camera_dim && scene_mark(m, "camera.dim_near"))
+        return scene_fail_key(s, m, "camera.dim_near", err,
+                              "camera.dim_near applies to camera.dim: true, but camera.dim is off");
+    return ORR_OK;
+}
+
 static orr_status check_observer(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
+    orr_status st = check_camera_dim(s, m, err);
+    if (st)
+        return st;
     if (!s->has_observer)
         return check_without_observer(s, m, err);
     if (!scene_mark(m, "observer.reference_id"))

@@ -430,7 +430,7 @@ static void test_value_errors(void)
     EXPECT_ERROR(MODEL_INPUT "  nonfinite: drop\n", ORR_ERR_USAGE, "input.nonfinite: expected one of: error skip, got 'drop'");
     EXPECT_ERROR(MODEL_INPUT "  format: fits\n", ORR_ERR_USAGE,
                  "input.format: expected one of: auto hdf5 gadget tipsy text, got 'fits'");
-    EXPECT_ERROR("input:\n  model:\n    name: plummer\n", ORR_ERR_USAGE, "scene.yaml:3: input.model.name: expected one of: mw-m31, got 'plummer'");
+    EXPECT_ERROR("input:\n  model:\n    name: plummer\n", ORR_ERR_USAGE, "scene.yaml:3: input.model.name: expected one of: mw-m31 king, got 'plummer'");
     /* Strings. */
     EXPECT_ERROR(MODEL "output:\n  name: a/b\n", ORR_ERR_USAGE, "output.name: 'a/b' must be a file name");
     EXPECT_ERROR(MODEL "output:\n  bunit: ''\n", ORR_ERR_USAGE, "scene.yaml:5: output.bunit: must not be empty");
