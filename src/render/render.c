@@ -793,8 +793,11 @@ static orr_status graded_rgb(const view_state *v, float *rgb, char *desc, size_t
     if (!t)
         return ORR_ERR_NOMEM;
     orr_status st = orr_stretch_apply(&s->stretch, &v->planes[0], t, &rep->white, err);
-    for (size_t i = 0; !st && i < npix; i++)
-        orr_colormap_lookup(s->colormap, t[i], &rgb[3 * i]);
+    if (!st) {
+#pragma omp parallel for schedule(static)
+        for (size_t i = 0; i < npix; i++)
+            orr_colormap_lookup(s->colormap, t[i], &rgb[3 * i]);
+    }
     if (!st)
         snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->weight,
                  rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->stretch.kind), rep->white,
