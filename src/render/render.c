@@ -484,8 +484,10 @@ static void lengths_starts(view_state *v, const orr_chunk *c, size_t nblocks, si
     size_t next = v->lengths_next;
     for (size_t blk = 0; blk < nblocks; blk++) {
         first[blk] = next;
+        if (!v->lengths)
+            continue; /* the file's lengths, or none: nothing to count */
         size_t end = (blk + 1) * BLOCK < c->n ? (blk + 1) * BLOCK : c->n;
-        for (size_t i = blk * BLOCK; i < end && v->lengths; i++)
+        for (size_t i = blk * BLOCK; i < end; i++)
             if (orr_lengths_counts(v->scene, c, i) && next < v->lengths->n)
                 next++;
     }
