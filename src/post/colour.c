@@ -295,6 +295,7 @@ double orr_srgb_decode(double v)
 
 void orr_srgb_encode_buffer(float *values, size_t n)
 {
+#pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++)
         values[i] = (float)orr_srgb_encode(values[i]);
 }

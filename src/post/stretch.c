@@ -176,13 +176,16 @@ orr_status orr_stretch_apply(const orr_stretch *s, const orr_plane *plane, float
     size_t npix = (size_t)plane->width * (size_t)plane->height;
     double inv_white = 1.0 / white;
     double n = s->n;
+    /* Pixel by pixel, so the threads change nothing in the result. */
     switch (s->kind) {
     case ORR_STRETCH_LINEAR:
+#pragma omp parallel for schedule(static)
         for (size_t i = 0; i < npix; i++)
             out[i] = clip01(plane->data[i] * inv_white);
         break;
     case ORR_STRETCH_LOG: {
         double norm = 1.0 / log1p(n);
+#pragma omp parallel for schedule(static)
         for (size_t i = 0; i < npix; i++) {
             double x = plane->data[i] * inv_white;
             /* Negative values would take log1p below -1: they show black anyway. */
@@ -192,6 +195,7 @@ orr_status orr_stretch_apply(const orr_stretch *s, const orr_plane *plane, float
     }
     case ORR_STRETCH_ASINH: {
         double norm = 1.0 / asinh(n);
+#pragma omp parallel for schedule(static)
         for (size_t i = 0; i < npix; i++)
             out[i] = clip01(asinh(n * plane->data[i] * inv_white) * norm);
         break;

@@ -28,6 +28,19 @@
  * passes. */
 #define BLOCK 4096
 
+/* Threads splat a chunk's blocks in lanes: block b goes to lane b % nlanes,
+ * each lane deposits its blocks in order into planes of its own, and at the
+ * end of the frame the lanes are added pixel by pixel in lane order. The
+ * number of lanes comes from the image size alone, never from the number of
+ * threads, so every pixel sums the same terms in the same order whatever
+ * OMP_NUM_THREADS is: the planes come out bit for bit the same. Lanes past
+ * the first cost a copy of the view's planes each; they are kept within
+ * LANE_BUDGET bytes per view (a 3600 x 3600 dome master gets 4 lanes, with
+ * colour 2; an image too large for even one extra lane is splatted by one
+ * thread). */
+#define MAX_LANES 4
+#define LANE_BUDGET ((size_t)256 << 20)
+
 typedef struct block_buffers {
     float x[BLOCK], y[BLOCK], z[BLOCK], h[BLOCK];
     float w[3][BLOCK]; /* the weight, or X, Y, Z with colour */
@@ -57,7 +70,16 @@ typedef struct view_state {
     int use_ods;        /* an eye of omni-directional stereo: its per-block transform */
     orr_stereo_ods ods;
     orr_periodic_view periodic; /* input.periodic: the box's copies and what is culled */
+    int nlanes;                 /* lanes of the splat (MAX_LANES above) */
+    orr_plane *lane_planes;     /* lanes 1 .. nlanes-1: nplanes planes each; lane 0 is planes[] */
 } view_state;
+
+/* What one block added to the report, kept per block and summed in block
+ * order, so the sums do not depend on which thread took which block. */
+typedef struct block_tally {
+    uint64_t n_selected, n_nonfinite, n_stereo_skipped;
+    orr_deposit_stats deposit[2]; /* of the first two planes: the report's deposit and deposit_y */
+} block_tally;
 
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
                                  orr_error *err)
@@ -303,11 +325,14 @@ static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, siz
 }
 
 /* Gathers the view's particles of c[start, end) into the block, moved by
- * shift (a periodic box's copy) and into the camera frame; returns how many, or -1 (err set) on a bad particle
- * when the scene says to fail. The observer particle is left out, and with
+ * shift (a periodic box's copy) and into the camera frame, their smoothing
+ * lengths from the neighbours' starting at lengths_next; returns how many,
+ * or -1 (err set) on a bad particle when the scene says to fail. What it
+ * counts goes into *t. The observer particle is left out, and with
  * observer.dim or camera.dim weights fall off as 1/r^2 from the camera. */
-static long gather_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wsrcs,
-                         size_t start, size_t end, orr_vec3 shift, block_buffers *b, orr_error *err)
+static long gather_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wsrcs,
+                         size_t start, size_t end, orr_vec3 shift, size_t lengths_next, block_buffers *b,
+                         block_tally *t, orr_error *err)
 {
     const float *wsrc = wsrcs[v->nplanes - 1]; /* the weight, or Y: checked for finiteness */
     const orr_scene *s = v->scene;
@@ -323,20 +348,20 @@ static long gather_block(view_state *v, const orr_source *src, const orr_chunk *
     for (size_t i = start; i < end; i++) {
         float h = 0.0f;
         if (v->lengths) { /* counted before any skip, as the neighbour pass counted them */
-            if (orr_lengths_counts(s, c, i) && v->lengths_next < v->lengths->n)
-                h = v->lengths->h[v->lengths_next++] * v->h_scale;
+            if (orr_lengths_counts(s, c, i) && lengths_next < v->lengths->n)
+                h = v->lengths->h[lengths_next++] * v->h_scale;
         } else if (c->h) {
             h = c->h[i] * v->h_scale;
         }
         if (!(s->type_mask & (1u << c->type[i])) || (skip_observer && c->id[i] == s->observer_id))
             continue;
-        v->rep->n_selected++;
+        t->n_selected++;
         if (!isfinite(c->x[i]) || !isfinite(c->y[i]) || !isfinite(c->z[i]) || !isfinite(wsrc[i])) {
             if (!s->skip_nonfinite) {
                 nonfinite_error(src, c, i, isfinite(wsrc[i]) ? "position" : "weight", err);
                 return -1;
             }
-            v->rep->n_nonfinite++;
+            t->n_nonfinite++;
             continue;
         }
         /* Subtracting the origin in double keeps precision for cameras far
@@ -369,53 +394,242 @@ static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
     }
 }
 
-/* Deposits the block into each plane. The report's statistics are of the
- * first plane's weights (with colour, X; Y's are in the FITS header). */
-static void deposit_block(view_state *v, size_t n, block_buffers *b)
+/* Deposits the block into planes (a lane's: the view's own or a private
+ * copy). The report's statistics are of the first plane's weights (with
+ * colour, X; Y's are in the FITS header). */
+static void deposit_block(const view_state *v, orr_plane *planes, size_t n, block_buffers *b, block_tally *t)
 {
     if (v->use_sph)
         widen_for_psf(v, n, b);
     for (int k = 0; k < v->nplanes; k++) {
         orr_deposit_stats scratch = {0};
-        orr_deposit_stats *st = k == 0 ? &v->rep->deposit : k == 1 ? &v->rep->deposit_y : &scratch;
+        orr_deposit_stats *st = k < 2 ? &t->deposit[k] : &scratch;
         if (!v->use_sph) {
-            orr_deposit(v->scene->deposit, &v->planes[k], n, b->px, b->py, b->w[k], b->visible, &v->proj, st);
+            orr_deposit(v->scene->deposit, &planes[k], n, b->px, b->py, b->w[k], b->visible, &v->proj, st);
             continue;
         }
         orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->w[k]};
-        orr_sph_deposit(&v->sph, &blk, &v->planes[k], st);
+        orr_sph_deposit(&v->sph, &blk, &planes[k], st);
     }
+}
+
+/* How many lanes a view splats in: as many as MAX_LANES allows within
+ * LANE_BUDGET bytes of extra planes; a function of the image alone. */
+static int lanes_for(const view_state *v)
+{
+    size_t lane_bytes = (size_t)v->proj.width * (size_t)v->proj.height * sizeof(float) * (size_t)v->nplanes;
+    size_t extra = lane_bytes ? LANE_BUDGET / lane_bytes : 0;
+    return extra + 1 < MAX_LANES ? (int)extra + 1 : MAX_LANES;
+}
+
+static orr_status alloc_lanes(view_state *v, orr_error *err)
+{
+    v->nlanes = lanes_for(v);
+    if (v->nlanes == 1)
+        return ORR_OK;
+    size_t n = (size_t)(v->nlanes - 1) * (size_t)v->nplanes;
+    v->lane_planes = orr_calloc(n, sizeof *v->lane_planes, "splat lanes", err);
+    if (!v->lane_planes)
+        return ORR_ERR_NOMEM;
+    orr_status st = ORR_OK;
+    for (size_t i = 0; i < n && !st; i++)
+        st = orr_plane_alloc(&v->lane_planes[i], v->proj.width, v->proj.height, "lane", "", err);
+    return st;
+}
+
+static void free_lanes(view_state *v)
+{
+    if (v->lane_planes)
+        for (int i = 0; i < (v->nlanes - 1) * v->nplanes; i++)
+            orr_plane_free(&v->lane_planes[i]);
+    free(v->lane_planes);
+    v->lane_planes = NULL;
+}
+
+static orr_plane *lane_planes(view_state *v, int lane)
+{
+    return lane == 0 ? v->planes : &v->lane_planes[(size_t)(lane - 1) * (size_t)v->nplanes];
+}
+
+/* Adds the lanes into the view's planes, in lane order at every pixel (the
+ * ordered reduction: the same sums whatever the threads). */
+static void merge_lanes(view_state *v)
+{
+    if (v->nlanes == 1)
+        return;
+    const long npix = (long)v->proj.width * v->proj.height;
+    const int nlanes = v->nlanes;
+    for (int k = 0; k < v->nplanes; k++) {
+        float *out = v->planes[k].data;
+        const float *lane_data[MAX_LANES] = {NULL};
+        for (int lane = 1; lane < nlanes; lane++)
+            lane_data[lane] = lane_planes(v, lane)[k].data;
+#pragma omp parallel for schedule(static)
+        for (long i = 0; i < npix; i++) {
+            float sum = out[i];
+            for (int lane = 1; lane < nlanes; lane++)
+                sum += lane_data[lane][i];
+            out[i] = sum;
+        }
+    }
+    free_lanes(v);
+    v->nlanes = 1;
+}
+
+/* The scratch of a chunk's splat: block buffers and an error per lane, and
+ * per block where its smoothing lengths start and what it added. */
+typedef struct splat_work {
+    block_buffers *buffers; /* MAX_LANES */
+    orr_error lane_err[MAX_LANES];
+    size_t failed[MAX_LANES]; /* the block at which a lane stopped, or SIZE_MAX */
+    size_t nblocks_cap;
+    size_t *lengths_first; /* per block */
+    block_tally *tally;    /* per block */
+} splat_work;
+
+/* Where each block's neighbour smoothing lengths start: they are taken in
+ * source order by the particles orr_lengths_counts counts, so each block's
+ * start is the count before it (a serial pass, cheap beside the splat). */
+static void lengths_starts(view_state *v, const orr_chunk *c, size_t nblocks, size_t *first)
+{
+    size_t next = v->lengths_next;
+    for (size_t blk = 0; blk < nblocks; blk++) {
+        first[blk] = next;
+        if (!v->lengths)
+            continue; /* the file's lengths, or none: nothing to count */
+        size_t end = (blk + 1) * BLOCK < c->n ? (blk + 1) * BLOCK : c->n;
+        for (size_t i = blk * BLOCK; i < end; i++)
+            if (orr_lengths_counts(v->scene, c, i) && next < v->lengths->n)
+                next++;
+    }
+    v->lengths_next = next;
+}
+
+/* One lane's blocks of the chunk, in order; stops at a bad particle,
+ * recording the block in w->failed[lane] and the error in w->lane_err. */
+static void splat_lane(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+                       size_t nblocks, int lane, splat_work *w)
+{
+    block_buffers *b = &w->buffers[lane];
+    orr_plane *planes = lane_planes(v, lane);
+    for (size_t blk = (size_t)lane; blk < nblocks; blk += (size_t)v->nlanes) {
+        size_t start = blk * BLOCK, end = start + BLOCK < c->n ? start + BLOCK : c->n;
+        block_tally *t = &w->tally[blk];
+        memset(t, 0, sizeof *t);
+        long n = gather_block(v, src, c, wts, start, end, orr_v3(0, 0, 0), w->lengths_first[blk], b, t,
+                              &w->lane_err[lane]);
+        if (n < 0) {
+            w->failed[lane] = blk;
+            return;
+        }
+        if (v->use_ods)
+            t->n_stereo_skipped = orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
+        orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
+        if (v->use_ods)
+            orr_stereo_mask((size_t)n, b->visible, b->keep);
+        deposit_block(v, planes, (size_t)n, b, t);
+    }
+}
+
+static void add_stats(orr_deposit_stats *to, const orr_deposit_stats *from)
+{
+    to->deposited += from->deposited;
+    to->outside += from->outside;
+    to->culled += from->culled;
+    to->n_particles += from->n_particles;
+    to->n_culled += from->n_culled;
+}
+
+/* Adds what one block added to the report. */
+static void add_tally(orr_render_report *r, const block_tally *t)
+{
+    r->n_selected += t->n_selected;
+    r->n_nonfinite += t->n_nonfinite;
+    r->n_stereo_skipped += t->n_stereo_skipped;
+    add_stats(&r->deposit, &t->deposit[0]);
+    add_stats(&r->deposit_y, &t->deposit[1]);
+}
+
+/* Splats the chunk into one view, its lanes in parallel; the report's sums
+ * are taken in block order afterwards. On a bad particle the error is that
+ * of the first bad block, as a single thread would have found it. */
+static orr_status splat_view(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+                             splat_work *w, orr_error *err)
+{
+    size_t nblocks = (c->n + BLOCK - 1) / BLOCK;
+    lengths_starts(v, c, nblocks, w->lengths_first);
+    for (int lane = 0; lane < MAX_LANES; lane++)
+        w->failed[lane] = SIZE_MAX;
+    const int nlanes = v->nlanes;
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int lane = 0; lane < nlanes; lane++)
+        splat_lane(v, src, c, wts, nblocks, lane, w);
+    int bad = -1;
+    for (int lane = 0; lane < nlanes; lane++)
+        if (w->failed[lane] != SIZE_MAX && (bad < 0 || w->failed[lane] < w->failed[bad]))
+            bad = lane;
+    if (bad >= 0) {
+        if (err)
+            *err = w->lane_err[bad];
+        return w->lane_err[bad].code ? w->lane_err[bad].code : ORR_ERR_DATA;
+    }
+    for (size_t blk = 0; blk < nblocks; blk++)
+        add_tally(v->rep, &w->tally[blk]);
+    v->rep->n_read += c->n;
+    return ORR_OK;
 }
 
 /* The per-particle weights of a chunk: the scene's weight field, or with
  * colour the X, Y, Z of each particle's population (into xyz, room for the
- * chunk's capacity). */
+ * chunk's capacity), assigned in MAX_LANES parallel stretches; an error is
+ * the first stretch's that failed, as one thread would have met it. */
 static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const orr_chunk *c, float *const *xyz,
-                                const float **w, orr_error *err)
+                                const float **w, splat_work *work, orr_error *err)
 {
     if (!s->colour)
         return weight_field(s, src, c, &w[0], err);
-    orr_status st = orr_population_assign(&s->populations, c, 0, c->n, s->only, NULL, xyz[0], xyz[1], xyz[2], err);
-    if (st)
-        return orr_fail_prefix(err, "%s: colour.populations: ", s->path);
+    orr_status st_part[MAX_LANES];
+    const size_t n = c->n, per = (n + MAX_LANES - 1) / MAX_LANES;
+#pragma omp parallel for schedule(static, 1)
+    for (int part = 0; part < MAX_LANES; part++) {
+        size_t start = (size_t)part * per < n ? (size_t)part * per : n;
+        size_t count = start + per < n ? per : n - start;
+        st_part[part] = orr_population_assign(&s->populations, c, start, count, s->only, NULL, xyz[0] + start,
+                                              xyz[1] + start, xyz[2] + start, &work->lane_err[part]);
+    }
+    for (int part = 0; part < MAX_LANES; part++)
+        if (st_part[part]) {
+            if (err)
+                *err = work->lane_err[part];
+            orr_fail_prefix(err, "%s: colour.populations: ", s->path);
+            return st_part[part];
+        }
     for (int k = 0; k < 3; k++)
         w[k] = xyz[k];
     return ORR_OK;
 }
 
-/* Gathers, projects and deposits particles [start, end) of c, moved by shift. */
+/* ---- periodic boxes ---- */
+
+/* Gathers, projects and deposits particles [start, end) of c, moved by
+ * shift, into the view's own planes, starting at smoothing length
+ * lengths_next; what the block added goes into the report. */
 static orr_status draw_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *w,
-                             size_t start, size_t end, orr_vec3 shift, block_buffers *b, orr_error *err)
+                             size_t start, size_t end, orr_vec3 shift, size_t lengths_next, block_buffers *b,
+                             orr_error *err)
 {
-    long n = gather_block(v, src, c, w, start, end, shift, b, err);
+    block_tally t;
+    memset(&t, 0, sizeof t);
+    long n = gather_block(v, src, c, w, start, end, shift, lengths_next, b, &t, err);
     if (n < 0)
         return err ? err->code : ORR_ERR_DATA;
     if (v->use_ods)
-        v->rep->n_stereo_skipped += orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
+        t.n_stereo_skipped = orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
     orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
     if (v->use_ods)
         orr_stereo_mask((size_t)n, b->visible, b->keep);
-    deposit_block(v, (size_t)n, b);
+    deposit_block(v, v->planes, (size_t)n, b, &t);
+    add_tally(v->rep, &t);
     return ORR_OK;
 }
 
@@ -435,7 +649,9 @@ static void count_culled(view_state *v, const orr_block_summary *sum)
 /* A periodic box: the chunk drawn once per copy of the box. Each block is
  * summarised once (bounds, largest kernel, weights); then a copy of the
  * chunk wholly out of view is skipped, and within the others each copy of
- * a block out of view, before their particles are touched. */
+ * a block out of view, before their particles are touched. Drawn on one
+ * thread into the view's own planes, in block order (in a fly-through the
+ * culling, not threads, is what saves the time). */
 static orr_status splat_chunk_periodic(view_state *v, const orr_source *src, const orr_chunk *c,
                                        const float *const *w, block_buffers *b, orr_error *err)
 {
@@ -462,73 +678,99 @@ static orr_status splat_chunk_periodic(view_state *v, const orr_source *src, con
             v->rep->n_blocks_culled += nblocks;
             continue;
         }
-        v->lengths_next = first_length; /* every copy takes the same lengths */
+        size_t next = first_length; /* every copy takes the same lengths */
         for (size_t q = 0; q < nblocks && !st; q++) {
             size_t end = (q + 1) * BLOCK < c->n ? (q + 1) * BLOCK : c->n;
             if (pv->cull && !sum[q].must_gather &&
                 orr_view_cull_box(&pv->view, sum[q].lo, sum[q].hi, shift, sum[q].radius)) {
                 count_culled(v, &sum[q]);
                 v->rep->n_blocks_culled++;
-                v->lengths_next += sum[q].lengths_used;
-                continue;
+            } else {
+                st = draw_block(v, src, c, w, q * BLOCK, end, shift, next, b, err);
             }
-            st = draw_block(v, src, c, w, q * BLOCK, end, shift, b, err);
+            next += sum[q].lengths_used;
         }
     }
     v->lengths_next = first_length + whole.lengths_used;
+    v->rep->n_read += c->n;
     free(sum);
     return st;
 }
 
 static orr_status splat_chunk(view_state *views, int nviews, const orr_source *src, const orr_chunk *c,
-                              block_buffers *b, float *const *xyz, orr_error *err)
+                              splat_work *work, float *const *xyz, orr_error *err)
 {
     const float *w[3] = {NULL, NULL, NULL};
-    orr_status st = chunk_weights(views[0].scene, src, c, xyz, w, err);
-    if (st)
-        return st;
-    for (int k = 0; k < nviews; k++) {
-        view_state *v = &views[k];
-        if (v->periodic.active && (st = splat_chunk_periodic(v, src, c, w, b, err)))
-            return st;
-        for (size_t start = 0; start < c->n && !v->periodic.active; start += BLOCK) {
-            size_t end = start + BLOCK < c->n ? start + BLOCK : c->n;
-            if ((st = draw_block(v, src, c, w, start, end, orr_v3(0, 0, 0), b, err)))
-                return st;
-        }
-        v->rep->n_read += c->n;
-    }
-    return ORR_OK;
+    orr_status st = chunk_weights(views[0].scene, src, c, xyz, w, work, err);
+    for (int k = 0; k < nviews && !st; k++)
+        st = views[k].periodic.active ? splat_chunk_periodic(&views[k], src, c, w, &work->buffers[0], err)
+                                      : splat_view(&views[k], src, c, w, work, err);
+    return st;
+}
+
+/* Room for the per-block records of a chunk of n particles. */
+static orr_status reserve_blocks(splat_work *w, size_t n, orr_error *err)
+{
+    size_t nblocks = (n + BLOCK - 1) / BLOCK;
+    if (nblocks <= w->nblocks_cap && w->tally)
+        return ORR_OK;
+    nblocks = nblocks ? nblocks : 1;
+    free(w->lengths_first);
+    free(w->tally);
+    w->lengths_first = orr_malloc(nblocks * sizeof *w->lengths_first, "splat blocks", err);
+    w->tally = w->lengths_first ? orr_malloc(nblocks * sizeof *w->tally, "splat blocks", err) : NULL;
+    w->nblocks_cap = w->tally ? nblocks : 0;
+    return w->tally ? ORR_OK : ORR_ERR_NOMEM;
+}
+
+static orr_status alloc_work(splat_work *w, size_t capacity, orr_error *err)
+{
+    memset(w, 0, sizeof *w);
+    w->buffers = orr_malloc(MAX_LANES * sizeof *w->buffers, "splat block buffers", err);
+    return w->buffers ? reserve_blocks(w, capacity, err) : ORR_ERR_NOMEM;
+}
+
+static void free_work(splat_work *w)
+{
+    free(w->buffers);
+    free(w->lengths_first);
+    free(w->tally);
 }
 
 static orr_status splat_source(view_state *views, int nviews, orr_source *src, orr_progress_fn progress,
                                void *progress_user, orr_error *err)
 {
-    block_buffers *b = orr_malloc(sizeof *b, "splat block buffers", err);
-    if (!b)
+    splat_work *work = orr_malloc(sizeof *work, "splat work", err);
+    if (!work)
         return ORR_ERR_NOMEM;
+    orr_status st = alloc_work(work, src->chunk.capacity, err);
     /* With colour, a chunk's X, Y, Z weights. */
     float *xyz[3] = {NULL, NULL, NULL};
     size_t cap = views[0].scene->colour ? src->chunk.capacity : 0;
-    orr_status st = ORR_OK;
     for (int k = 0; k < 3 && cap && !st; k++)
         if (!(xyz[k] = orr_malloc(cap * sizeof(float), "colour weights", err)))
             st = ORR_ERR_NOMEM;
+    for (int k = 0; k < nviews && !st; k++)
+        st = alloc_lanes(&views[k], err);
     while (!st) {
         const orr_chunk *c;
         if ((st = orr_source_next(src, &c, err)) || c->n == 0)
             break;
-        if ((st = splat_chunk(views, nviews, src, c, b, xyz, err)))
+        if ((st = reserve_blocks(work, c->n, err)) || (st = splat_chunk(views, nviews, src, c, work, xyz, err)))
             break;
+        /* From this thread alone, between chunks. */
         if (progress)
             progress(progress_user, views[0].rep->n_read, src->info.count);
     }
+    for (int k = 0; k < nviews; k++)
+        if (!st)
+            merge_lanes(&views[k]);
     for (int k = 0; k < 3; k++)
         free(xyz[k]);
-    free(b);
+    free_work(work);
+    free(work);
     return st;
 }
-
 /* ---- outputs ---- */
 
 /* Pixels outside a sky map hold no sky: NaN marks them blank in FITS (and
@@ -664,8 +906,11 @@ static orr_status graded_rgb(const view_state *v, float *rgb, char *desc, size_t
     if (!t)
         return ORR_ERR_NOMEM;
     orr_status st = orr_stretch_apply(&s->stretch, &v->planes[0], t, &rep->white, err);
-    for (size_t i = 0; !st && i < npix; i++)
-        orr_colormap_lookup(s->colormap, t[i], &rgb[3 * i]);
+    if (!st) {
+#pragma omp parallel for schedule(static)
+        for (size_t i = 0; i < npix; i++)
+            orr_colormap_lookup(s->colormap, t[i], &rgb[3 * i]);
+    }
     if (!st)
         snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->weight,
                  rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->stretch.kind), rep->white,
@@ -868,6 +1113,7 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
 
 static void free_view(view_state *v)
 {
+    free_lanes(v);
     for (int k = 0; k < 3; k++)
         orr_plane_free(&v->planes[k]);
     orr_view_psf_free(&v->psf);

@@ -1,0 +1,149 @@
+/* The renderer's splat (orr_render_frame: gather, project, deposit in
+ * lanes, the lanes' reduction) timed on N particles held in memory, so that
+ * no reader or model generator is timed with it. Threads come from
+ * OMP_NUM_THREADS (or the machine's cores).
+ *
+ *   OMP_NUM_THREADS=2 bench_threads [N [repeats]]     default: 4e6, 3
+ *
+ * Cases: NGP orthographic 1024^2, CIC dome master 3600^2 (from inside the
+ * particles), SPH orthographic 1024^2 (h about 1.7 pixels; N / 4
+ * particles, the kernel costing more). Prints, per case, the best of the
+ * repeats: seconds from the start of the frame to the end of the splat
+ * (the last progress call: set-up, splat and lanes included, FITS output
+ * excluded), particles per second, and the CPU seconds of that repeat. */
+#include <omp.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+#include "render/render.h"
+#include "scene/scene.h"
+#include "source/arrays.h"
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* A thick disc 30 units across and 2 thick, centred on the origin. */
+static void make_particles(size_t n, float *x, float *y, float *z)
+{
+    uint64_t s = 12345;
+    for (size_t i = 0; i < n; i++) {
+        float u[3];
+        for (int k = 0; k < 3; k++) {
+            s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+            u[k] = (float)((s >> 11) * (1.0 / 9007199254740992.0));
+        }
+        x[i] = 30.0f * (u[0] - 0.5f);
+        y[i] = 30.0f * (u[1] - 0.5f);
+        z[i] = 2.0f * (u[2] - 0.5f);
+    }
+}
+
+/* CPU seconds of all this process's threads: on a shared machine, what
+ * the work cost, whatever the wall clock says. */
+static double cpu_now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+typedef struct clock_mark {
+    double start, splat_end, cpu_start, cpu_end;
+} clock_mark;
+
+static void mark_progress(void *user, uint64_t done, int64_t total)
+{
+    (void)done, (void)total;
+    ((clock_mark *)user)->splat_end = now();
+    ((clock_mark *)user)->cpu_end = cpu_now();
+}
+
+/* Seconds from the frame's start to the end of its splat, best of repeats
+ * (wall clock; *cpu: the CPU seconds of that repeat). */
+static double time_case(const char *yaml, const orr_particle_arrays *a, int repeats, double *cpu)
+{
+    orr_scene *s = calloc(1, sizeof *s);
+    orr_error err = {0};
+    if (!s || orr_scene_load_string(s, yaml, "bench.yaml", ".", NULL, 0, &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        exit(1);
+    }
+    snprintf(s->out_dir, sizeof s->out_dir, "%s", "/tmp");
+    s->write_png = 0;
+    double best = 1e300;
+    for (int r = 0; r < repeats; r++) {
+        orr_source *src;
+        if (orr_arrays_source_open(a, "bench arrays", (size_t)s->chunk_size, 0, &src, &err)) {
+            fprintf(stderr, "%s\n", err.msg);
+            exit(1);
+        }
+        orr_frame_input in = {orr_frame_at(0, 1, 25, 0, 0), src, NULL};
+        orr_render_report rep;
+        const orr_scene *list[1] = {s};
+        clock_mark m = {now(), 0, cpu_now(), 0};
+        if (orr_render_frame(list, 1, &in, &rep, mark_progress, &m, &err)) {
+            fprintf(stderr, "%s\n", err.msg);
+            exit(1);
+        }
+        orr_source_close(src);
+        if (m.splat_end - m.start < best) {
+            best = m.splat_end - m.start;
+            *cpu = m.cpu_end - m.cpu_start;
+        }
+    }
+    free(s);
+    return best;
+}
+
+int main(int argc, char **argv)
+{
+    size_t n = argc > 1 ? (size_t)atof(argv[1]) : 4000000;
+    int repeats = argc > 2 ? atoi(argv[2]) : 3;
+    float *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y), *z = malloc(n * sizeof *z);
+    float *h = malloc(n * sizeof *h);
+    if (!x || !y || !z || !h || n == 0 || repeats < 1) {
+        fprintf(stderr, "usage: bench_threads [N [repeats]]\n");
+        return 1;
+    }
+    make_particles(n, x, y, z);
+    for (size_t i = 0; i < n; i++)
+        h[i] = 0.05f;
+    orr_particle_arrays a = {.n = n, .x = {x, ORR_F32, 0}, .y = {y, ORR_F32, 0}, .z = {z, ORR_F32, 0},
+                             .mass_value = 1.0, .h = {h, ORR_F32, 0}};
+    orr_particle_arrays quarter = a;
+    quarter.n = n / 4;
+    static const struct {
+        const char *name;
+        const char *yaml;
+        int quarter;
+    } cases[] = {
+        {"ngp orthographic 1024^2",
+         "input: {insitu: true}\ncamera: {projection: orthographic, width: 30}\nimage: {width: 1024, height: 1024}\n"
+         "deposit: ngp\noutput: {name: bench_threads, fits: false}\n",
+         0},
+        {"cic dome 3600^2",
+         "input: {insitu: true}\ncamera: {projection: dome, position: [0.5, 0.5, 0]}\nimage: {width: 3600, height: 3600}\n"
+         "deposit: cic\noutput: {name: bench_threads, fits: false}\n",
+         0},
+        {"sph orthographic 1024^2",
+         "input: {insitu: true}\ncamera: {projection: orthographic, width: 30}\nimage: {width: 1024, height: 1024}\n"
+         "deposit: sph\nsmoothing: {lengths: file}\noutput: {name: bench_threads, fits: false}\n",
+         1},
+    };
+    printf("threads %d, best of %d\n", omp_get_max_threads(), repeats);
+    for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+        const orr_particle_arrays *p = cases[k].quarter ? &quarter : &a;
+        double cpu = 0, t = time_case(cases[k].yaml, p, repeats, &cpu);
+        printf("%-26s N %9zu  %7.3f s  %6.2f M particles/s  (CPU %.3f s)\n", cases[k].name, p->n, t,
+               p->n / t / 1e6, cpu);
+        fflush(stdout);
+    }
+    free(x), free(y), free(z), free(h);
+    return 0;
+}
