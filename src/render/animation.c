@@ -209,17 +209,8 @@ static orr_status open_run_input(const orr_scene *s, int compose, run_input *ri,
     }
     if (compose || !orr_scene_has_sequence(s))
         return ORR_OK;
-    /* Every field a frame may ask for: the weight, and velocities for the
-     * observer's spin normal. */
     const char *fields[4];
-    int nfields = 0;
-    if (strcmp(s->weight, "mass") != 0 && strcmp(s->weight, "h") != 0)
-        fields[nfields++] = s->weight;
-    if (s->has_observer && s->normal_types) {
-        fields[nfields++] = "vx";
-        fields[nfields++] = "vy";
-        fields[nfields++] = "vz";
-    }
+    int nfields = orr_render_fields(s, fields);
     orr_status st = orr_sequence_open_scene(s, fields, nfields, &ri->seq, err);
     if (st)
         return st;

@@ -1172,9 +1172,8 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
 
 /* This process's share of the scene's input, when several processes render
  * the frame: with the fields the sky frame and the weight need. */
-static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_source **out, orr_error *err)
+int orr_render_fields(const orr_scene *s, const char *fields[4])
 {
-    const char *fields[4];
     int nfields = 0;
     if (strcmp(s->weight, "mass") != 0 && strcmp(s->weight, "h") != 0)
         fields[nfields++] = s->weight;
@@ -1183,6 +1182,13 @@ static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_so
         fields[nfields++] = "vy";
         fields[nfields++] = "vz";
     }
+    return nfields;
+}
+
+static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_source **out, orr_error *err)
+{
+    const char *fields[4];
+    int nfields = orr_render_fields(s, fields);
     orr_source *whole = NULL;
     orr_status st = orr_scene_open_source(s, fields, nfields, &whole, err);
     return st ? st : orr_source_partition(whole, par->rank, par->nranks, out, err);

@@ -48,6 +48,11 @@ typedef struct orr_render_report {
  * (-1 when the source does not know it). */
 typedef void (*orr_progress_fn)(void *user, uint64_t done, int64_t total);
 
+/* The extra fields a frame of the scene may ask its source for: the weight
+ * (when not mass or h), and velocities for the observer's spin normal.
+ * Fills fields[0..4) and returns how many. */
+int orr_render_fields(const orr_scene *s, const char *fields[4]);
+
 /* Opens the scene's particle source (file or built-in model), asking for
  * the given extra fields only (NULL: all). */
 orr_status orr_scene_open_source(const orr_scene *scene, const char *const *fields, int nfields,
