@@ -4,7 +4,9 @@
 # downscaled to PNGs of at most 150 KB. Needs a build (build/orrery, or
 # $ORRERY) and /usr/bin/python3 with numpy and PIL. Case studies whose
 # configs are not in configs/ yet are skipped, saying so.
-#   scripts/gallery.sh            # a minute or two on two cores
+#   scripts/gallery.sh              # a minute or two on two cores
+#   scripts/gallery.sh --collision  # also Spiral Metamorphosis's encounter:
+#                                   # the short in-situ N-body run, ~3 more minutes
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 orrery=${ORRERY:-$here/build/orrery}
@@ -66,6 +68,20 @@ shrink "$work/spiral.png" "$dest/spiral-metamorphosis.png" 640
 echo "Spiral Metamorphosis anaglyph (configs/spiral-metamorphosis-anaglyph.yaml)"
 render "$here/configs/spiral-metamorphosis-anaglyph.yaml" -o "$work/an" --set image.width=640 --set image.height=360
 shrink "$work/an/spiral-anaglyph.png" "$dest/spiral-metamorphosis-anaglyph.png" 640
+
+if [ "${1:-}" = "--collision" ]; then
+  echo "Spiral Metamorphosis in-situ (orrery-nbody, 20000 particles, 240 steps), frame 27"
+  nbody=$(dirname "$orrery")/examples/orrery-nbody
+  C="-229.2, 371.0, -171.4" # the galaxies' centre of mass, where they meet (docs/gallery.md)
+  "$nbody" --particles 20000 --steps 240 --dt 0.02 --render-every 8 --quiet \
+    --scene "$here/configs/spiral-metamorphosis.yaml" --set output.dir="$work/run" \
+    --set animation.frames=31 --set image.width=400 --set image.height=400 \
+    --set "views.faceon.camera.position=[-229.2, 371.0, 148.6]" --set "views.faceon.camera.look_at=[$C]" \
+    --set "views.edgeon.camera.position=[-229.2, 51.0, -171.4]" --set "views.edgeon.camera.look_at=[$C]" \
+    --set views.faceon.camera.fov=40 --set views.edgeon.camera.fov=40
+  side_by_side "$work/run/spiral-faceon_0027.png" "$work/run/spiral-edgeon_0027.png" "$work/collision.png"
+  shrink "$work/collision.png" "$dest/spiral-metamorphosis-collision.png" 640
+fi
 
 # The other two case studies, when their configs have landed.
 for study in dark-universe nightfall; do
