@@ -29,8 +29,12 @@ typedef struct bodies {
     double *mass;
     uint64_t *id;
     uint8_t *type;
-    double *tag;   /* the model's field "r" (each star's initial galactocentric radius, which
-                    * colours it), or NULL */
+    /* The initial conditions' other per-particle fields (the model's "r" and
+     * "E0", a snapshot's potential, ...), handed to orrery unchanged every
+     * frame so colours chosen by them stay with each particle for the run. */
+    int nfields;
+    char field_name[ORR_ARRAYS_MAX_FIELDS][ORR_FIELD_NAME_MAX];
+    float *field[ORR_ARRAYS_MAX_FIELDS];
     double time;
 } bodies;
 
@@ -135,8 +139,7 @@ static int alloc_bodies(bodies *b, size_t n)
     b->mass = malloc(n * sizeof *b->mass);
     b->id = malloc(n * sizeof *b->id);
     b->type = malloc(n * sizeof *b->type);
-    b->tag = malloc(n * sizeof *b->tag);
-    return b->tag && b->pos && b->vel && b->acc && b->mass && b->id && b->type;
+    return b->pos && b->vel && b->acc && b->mass && b->id && b->type;
 }
 
 static void free_bodies(bodies *b)
@@ -147,38 +150,57 @@ static void free_bodies(bodies *b)
     free(b->mass);
     free(b->id);
     free(b->type);
-    free(b->tag);
+    for (int f = 0; f < b->nfields; f++)
+        free(b->field[f]);
+}
+
+static int is_velocity(const char *name)
+{
+    return strcmp(name, "vx") == 0 || strcmp(name, "vy") == 0 || strcmp(name, "vz") == 0;
+}
+
+/* Room for every extra field of the source but the velocities, as many as
+ * orr_particle_arrays can carry (the rest are dropped). */
+static int alloc_fields(bodies *b, const orr_source_info *info, size_t n)
+{
+    for (int i = 0; i < info->nextra && b->nfields < ORR_ARRAYS_MAX_FIELDS; i++) {
+        if (is_velocity(info->extra_names[i]))
+            continue;
+        snprintf(b->field_name[b->nfields], ORR_FIELD_NAME_MAX, "%s", info->extra_names[i]);
+        if (!(b->field[b->nfields++] = malloc(n * sizeof(float))))
+            return 0;
+    }
+    return 1;
 }
 
 /* Reads every particle of the initial conditions (velocities required). */
 static orr_status load_bodies(const options *o, bodies *b, orr_error *err)
 {
-    static const char *const vel[4] = {"vx", "vy", "vz", "r"};
     orr_source *src = NULL;
     orr_status st;
     if (strcmp(o->ic, "model") == 0) {
         orr_model_params mp = {o->particles, 1, o->separation};
         st = orr_model_source_open(&mp, 1 << 20, &src, err);
     } else {
-        orr_source_options so = {"auto", 1 << 20, 0, vel, 4};
+        orr_source_options so = {"auto", 1 << 20, 0, NULL, 0}; /* every field the file has */
         st = orr_source_open_file(o->ic, &so, &src, err);
     }
     if (st)
         return st;
     size_t cap = src->info.count > 0 ? (size_t)src->info.count : 0;
-    if (!cap || !alloc_bodies(b, cap)) {
+    if (!cap || !alloc_bodies(b, cap) || !alloc_fields(b, &src->info, cap)) {
         orr_source_close(src);
         return orr_fail(err, ORR_ERR_NOMEM, "%s: cannot hold %zu particles", o->ic, cap);
     }
     size_t n = 0;
-    int has_tag = 0;
     for (;;) {
         const orr_chunk *c;
         if ((st = orr_source_next(src, &c, err)) || c->n == 0)
             break;
         const float *v[3] = {orr_chunk_field(c, "vx"), orr_chunk_field(c, "vy"), orr_chunk_field(c, "vz")};
-        const float *tag = orr_chunk_field(c, "r");
-        has_tag = tag != NULL;
+        const float *field[ORR_ARRAYS_MAX_FIELDS];
+        for (int f = 0; f < b->nfields; f++)
+            field[f] = orr_chunk_field(c, b->field_name[f]);
         if (!v[0] || !v[1] || !v[2]) {
             st = orr_fail(err, ORR_ERR_FORMAT, "%s: no velocities (vx, vy, vz): cannot evolve it", src->info.path);
             break;
@@ -192,15 +214,12 @@ static orr_status load_bodies(const options *o, bodies *b, orr_error *err)
             b->mass[n] = c->mass[i];
             b->id[n] = c->id[i];
             b->type[n] = c->type[i];
-            b->tag[n] = tag ? tag[i] : 0;
+            for (int f = 0; f < b->nfields; f++)
+                b->field[f][n] = field[f] ? field[f][i] : 0.0f;
         }
     }
     b->n = n;
     b->time = src->info.time;
-    if (!has_tag) {
-        free(b->tag);
-        b->tag = NULL;
-    }
     orr_source_close(src);
     return st;
 }
@@ -221,10 +240,10 @@ static orr_particle_arrays as_arrays(const bodies *b)
     p.id = b->id;
     p.type = b->type;
     p.time = b->time;
-    if (b->tag) {
-        p.nfields = 1;
-        p.field_names[0] = "r";
-        p.fields[0] = (orr_array){b->tag, ORR_F64, 0};
+    p.nfields = b->nfields;
+    for (int f = 0; f < b->nfields; f++) {
+        p.field_names[f] = b->field_name[f];
+        p.fields[f] = (orr_array){b->field[f], ORR_F32, 0};
     }
     return p;
 }

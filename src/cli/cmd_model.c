@@ -11,7 +11,7 @@ static const char model_help[] =
     "usage: orrery model -o FILE [--particles N] [--seed S] [--separation KPC]\n"
     "\n"
     "Writes the built-in Milky Way-Andromeda model as a text table (columns\n"
-    "x y z mass id type vx vy vz; kpc, 1e10 Msun, km/s) that 'orrery render'\n"
+    "x y z mass id type vx vy vz r E0; kpc, 1e10 Msun, km/s) that 'orrery render'\n"
     "and 'orrery info' read. Scenes can also use the model directly with\n"
     "input.model.name: mw-m31, without a file. See docs/model.md.\n"
     "\n"

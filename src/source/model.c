@@ -58,6 +58,11 @@
 #define JEANS_N 512
 #define JEANS_R_MIN 1e-3
 
+/* Potential table: Phi(r) on a grid uniform in ln r from POT_R_MIN to the
+ * halo's truncation radius (the outermost of the galaxy's components). */
+#define POT_N 1024
+#define POT_R_MIN 1e-3
+
 enum { COMP_DISC, COMP_BULGE, COMP_HALO, COMP_COUNT };
 enum { GAL_MW, GAL_M31, GAL_COUNT };
 
@@ -87,6 +92,8 @@ typedef struct galaxy {
     orr_vec3 e1, e2, spin; /* disc frame: e1 x e2 = spin (angular momentum) */
     double jeans_ln_rmin[COMP_COUNT], jeans_dln[COMP_COUNT];
     double sigma[COMP_COUNT][JEANS_N]; /* bulge and halo rows used */
+    double pot_ln_rmin, pot_dln;
+    double pot[POT_N]; /* spherically averaged potential, (km/s)^2 */
 } galaxy;
 
 /* A contiguous run of particle indices of one component of one galaxy. */
@@ -104,15 +111,18 @@ typedef struct model_state {
     uint64_t total, next_index;
 } model_state;
 
-/* Extra fields of every particle: velocity, and the distance from its own
- * galaxy's centre (for colours that vary with radius). */
-#define MODEL_FIELDS 4
+/* Extra fields of every particle: velocity, the distance from its own
+ * galaxy's centre and its specific binding energy there (for colours that
+ * vary with radius or with how deeply bound a star is). */
+#define MODEL_FIELDS 5
+static const char *const FIELD_NAMES[MODEL_FIELDS] = {"vx", "vy", "vz", "r", "E0"};
 
 typedef struct particle {
     orr_vec3 pos, vel;
     float mass;
     uint8_t type;
-    float r; /* distance from its galaxy's centre at generation (0 for markers) */
+    float r;  /* distance from its galaxy's centre at generation (0 for markers) */
+    float e0; /* specific binding energy in its galaxy at generation, (km/s)^2 (0 for markers) */
 } particle;
 
 /* ---- profiles ---------------------------------------------------------- */
@@ -199,6 +209,49 @@ static double jeans_sigma(const galaxy *g, int comp, double r)
     return tab[j] + f * (tab[j + 1] - tab[j]);
 }
 
+/* ---- potential table -------------------------------------------------- */
+
+/* The galaxy's spherically averaged potential from its own enclosed mass:
+ *   Phi(r) = -G M(rmax) / rmax - G integral_r^rmax M(r') / r'^2 dr',
+ * with rmax the halo's truncation radius (all the mass is inside it).
+ * Integrated inward with the trapezoid rule in ln r (dr = r d ln r), as the
+ * Jeans tables are. */
+static void build_potential_table(galaxy *g)
+{
+    double rmax = g->s.halo_rmax;
+    double ln_lo = log(POT_R_MIN), dln = (log(rmax) - ln_lo) / (POT_N - 1);
+    double integrand[POT_N];
+    for (int j = 0; j < POT_N; j++) {
+        double r = exp(ln_lo + j * dln);
+        integrand[j] = MODEL_G * enclosed_mass(g, r) / r;
+    }
+    double phi = -MODEL_G * enclosed_mass(g, rmax) / rmax;
+    g->pot[POT_N - 1] = phi;
+    for (int j = POT_N - 2; j >= 0; j--) {
+        phi -= 0.5 * (integrand[j] + integrand[j + 1]) * dln;
+        g->pot[j] = phi;
+    }
+    g->pot_ln_rmin = ln_lo;
+    g->pot_dln = dln;
+}
+
+/* Phi(r) by linear interpolation in ln r. Outside the truncation radius the
+ * galaxy is a point mass; inside POT_R_MIN (1 pc) the value at 1 pc is kept
+ * (the black hole's -G M / r would diverge). */
+static double potential(const galaxy *g, double r)
+{
+    if (r >= g->s.halo_rmax)
+        return -MODEL_G * enclosed_mass(g, r) / r;
+    if (r <= POT_R_MIN)
+        return g->pot[0];
+    double t = (log(r) - g->pot_ln_rmin) / g->pot_dln;
+    int j = (int)t;
+    if (j >= POT_N - 1)
+        return g->pot[POT_N - 1];
+    double f = t - j;
+    return g->pot[j] + f * (g->pot[j + 1] - g->pot[j]);
+}
+
 /* ---- geometry ---------------------------------------------------------- */
 
 /* Unit vector towards galactic longitude l, latitude b (degrees) in the
@@ -273,6 +326,7 @@ static void init_galaxies(model_state *m)
         galaxy *g = &m->gal[i];
         build_jeans_table(g, COMP_BULGE, g->s.bulge_a, g->s.bulge_rmax);
         build_jeans_table(g, COMP_HALO, g->s.halo_a, g->s.halo_rmax);
+        build_potential_table(g);
     }
 }
 
@@ -413,6 +467,7 @@ static void make_particle(const model_state *m, uint64_t index, particle *p)
     if (index < MODEL_MARKERS) {
         make_marker(m, index, p);
         p->r = 0.0f;
+        p->e0 = 0.0f;
         return;
     }
     const block *b = find_block(m, index);
@@ -424,7 +479,10 @@ static void make_particle(const model_state *m, uint64_t index, particle *p)
         sample_sphere(g, b->comp, &r, p);
     p->mass = b->mass;
     p->type = b->type;
-    p->r = (float)orr_v3_norm(orr_v3_sub(p->pos, g->centre));
+    double rad = orr_v3_norm(orr_v3_sub(p->pos, g->centre));
+    orr_vec3 v = orr_v3_sub(p->vel, g->velocity);
+    p->r = (float)rad;
+    p->e0 = (float)(potential(g, rad) + 0.5 * orr_v3_dot(v, v));
 }
 
 /* ---- the source -------------------------------------------------------- */
@@ -451,6 +509,7 @@ static orr_status model_next(orr_source *src, orr_error *err)
         c->extra[1].data[k] = (float)p.vel.y;
         c->extra[2].data[k] = (float)p.vel.z;
         c->extra[3].data[k] = p.r;
+        c->extra[4].data[k] = p.e0;
     }
     c->n = n;
     m->next_index += n;
@@ -504,7 +563,6 @@ static orr_status check_params(const orr_model_params *params, size_t chunk_size
 
 static void fill_info(orr_source_info *info, const orr_model_params *params)
 {
-    static const char *const names[MODEL_FIELDS] = {"vx", "vy", "vz", "r"};
     snprintf(info->format, sizeof info->format, "model:mw-m31");
     snprintf(info->path, sizeof info->path,
              "built-in model mw-m31 (N=%lld, seed=%llu, separation=%g kpc)", params->particles,
@@ -516,7 +574,7 @@ static void fill_info(orr_source_info *info, const orr_model_params *params)
     info->has_type = 1;
     info->nextra = MODEL_FIELDS;
     for (int i = 0; i < MODEL_FIELDS; i++)
-        snprintf(info->extra_names[i], sizeof info->extra_names[i], "%s", names[i]);
+        snprintf(info->extra_names[i], sizeof info->extra_names[i], "%s", FIELD_NAMES[i]);
 }
 
 orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_size, orr_source **out,
@@ -536,9 +594,8 @@ orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_si
     split_particles(m);
     fill_info(&src->info, params);
 
-    static const char *const extra[MODEL_FIELDS] = {"vx", "vy", "vz", "r"};
     size_t cap = (uint64_t)chunk_size < m->total ? chunk_size : (size_t)m->total;
-    st = orr_chunk_alloc(&src->chunk, cap, 0, extra, MODEL_FIELDS, err);
+    st = orr_chunk_alloc(&src->chunk, cap, 0, FIELD_NAMES, MODEL_FIELDS, err);
     if (st != ORR_OK) {
         orr_source_close(src);
         return st;

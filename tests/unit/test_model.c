@@ -173,9 +173,10 @@ static void test_info(void)
     CHECK_CONTAINS(src->info.path, "separation=780 kpc");
     CHECK(src->info.count == 12345);
     CHECK(src->info.has_id == 1 && src->info.has_type == 1 && src->info.has_h == 0);
-    CHECK(src->info.nextra == 4);
+    CHECK(src->info.nextra == 5);
     CHECK(strcmp(src->info.extra_names[0], "vx") == 0 && strcmp(src->info.extra_names[2], "vz") == 0);
     CHECK(strcmp(src->info.extra_names[3], "r") == 0);
+    CHECK(strcmp(src->info.extra_names[4], "E0") == 0);
     CHECK(src->chunk.capacity == 12345); /* min(chunk_size, N) */
     orr_source_close(src);
 }
@@ -379,6 +380,105 @@ static void test_bad_parameters(void)
     table_free(&t);
 }
 
+/* ---- binding energy E0 -------------------------------------------------- */
+
+#define G_MODEL 4.30091e4 /* kpc (km/s)^2 per 1e10 Msun, as docs/model.md */
+
+/* The Milky Way's potential beyond its disc and bulge truncation radii
+ * (25 and 10 kpc), where everything but the halo is enclosed: a point mass
+ * Mc = black hole + disc + bulge plus a Hernquist halo of scale a whose
+ * untruncated mass is Mh / F(rmax), truncated at rmax = 250 kpc. Integrating
+ * -G M(r)/r^2 in from the point-mass potential at rmax analytically:
+ *   Phi(r) = -G Mtot/rmax - G [Mc (1/r - 1/rmax) + Mh' (1/(r+a) - 1/(rmax+a))]. */
+static double mw_outer_potential(double r)
+{
+    const double mc = 4.3e-4 + 5.0 + 1.0, mh = 100.0, a = 33.0, rmax = 250.0;
+    double q = rmax / (rmax + a), mh_full = mh / (q * q);
+    return -G_MODEL * (mc + mh) / rmax -
+           G_MODEL * (mc * (1.0 / r - 1.0 / rmax) + mh_full * (1.0 / (r + a) - 1.0 / (rmax + a)));
+}
+
+typedef struct energy_stats {
+    size_t halo_checked, disc_bound, disc_total;
+    double worst_rel;                /* |Phi_particle - Phi_analytic| / |Phi_analytic| */
+    double bin_sum[3], bin_count[3]; /* mean E0 of MW disc stars: r < 3, 3-6, 6-12 kpc */
+} energy_stats;
+
+static void energy_from_chunk(const orr_chunk *c, const float vbulk[3], int *galaxy, energy_stats *s)
+{
+    const float *vx = orr_chunk_field(c, "vx"), *vy = orr_chunk_field(c, "vy"), *vz = orr_chunk_field(c, "vz");
+    const float *r = orr_chunk_field(c, "r"), *e0 = orr_chunk_field(c, "E0");
+    for (size_t k = 0; k < c->n; k++) {
+        uint64_t i = c->first_index + k;
+        /* Documented id order: markers, MW disc, bulge, halo, then M31's
+         * runs; the one chunk holds every particle, so k - 1 is i - 1. */
+        if (i >= 4 && c->type[k] == ORR_MODEL_TYPE_DISC && c->type[k - 1] == ORR_MODEL_TYPE_HALO)
+            *galaxy = 1;
+        if (i < 3) {
+            CHECK(e0[k] == 0.0f); /* markers */
+            continue;
+        }
+        if (*galaxy != 0)
+            continue;
+        double dv[3] = {vx[k] - vbulk[0], vy[k] - vbulk[1], vz[k] - vbulk[2]};
+        double kin = 0.5 * (dv[0] * dv[0] + dv[1] * dv[1] + dv[2] * dv[2]);
+        if (c->type[k] == ORR_MODEL_TYPE_HALO && r[k] > 30.0 && r[k] < 240.0) {
+            double want = mw_outer_potential(r[k]), got = e0[k] - kin;
+            double rel = fabs(got - want) / fabs(want);
+            if (rel > s->worst_rel)
+                s->worst_rel = rel;
+            s->halo_checked++;
+        }
+        if (c->type[k] == ORR_MODEL_TYPE_DISC) {
+            s->disc_total++;
+            s->disc_bound += e0[k] < 0;
+            int b = r[k] < 3 ? 0 : r[k] < 6 ? 1 : r[k] < 12 ? 2 : -1;
+            if (b >= 0) {
+                s->bin_sum[b] += e0[k];
+                s->bin_count[b]++;
+            }
+        }
+    }
+}
+
+/* E0 = Phi(r) + |v - v_galaxy|^2 / 2: the potential part matches the
+ * analytic Hernquist-plus-point-mass potential where that is exact, disc
+ * stars are bound, and binding weakens outward. */
+static void test_binding_energy(void)
+{
+    const long long n = 40000;
+    orr_model_params p = {n, 3, 780.0};
+    orr_source *src = NULL;
+    orr_error err = {0};
+    CHECK(orr_model_source_open(&p, (size_t)n, &src, &err) == ORR_OK);
+    if (!src)
+        return;
+    const orr_chunk *c;
+    CHECK(orr_source_next(src, &c, &err) == ORR_OK && c->n == (size_t)n);
+    CHECK(orr_chunk_field(c, "E0") != NULL);
+    if (c->n != (size_t)n || !orr_chunk_field(c, "E0")) {
+        orr_source_close(src);
+        return;
+    }
+    /* The Milky Way's bulk velocity is its black hole's (index 0). */
+    const float vbulk[3] = {orr_chunk_field(c, "vx")[0], orr_chunk_field(c, "vy")[0], orr_chunk_field(c, "vz")[0]};
+    energy_stats s = {0};
+    int galaxy = 0;
+    energy_from_chunk(c, vbulk, &galaxy, &s);
+    orr_source_close(src);
+
+    CHECK(galaxy == 1);
+    CHECK(s.halo_checked > 1000);
+    CHECK(s.worst_rel < 1e-3);
+    CHECK(s.disc_total > 5000);
+    CHECK(s.disc_bound == s.disc_total); /* 0.1 v_c random motions cannot unbind a disc star */
+    for (int b = 0; b < 3; b++)
+        CHECK(s.bin_count[b] > 100);
+    double m0 = s.bin_sum[0] / s.bin_count[0], m1 = s.bin_sum[1] / s.bin_count[1];
+    double m2 = s.bin_sum[2] / s.bin_count[2];
+    CHECK(m0 < m1 && m1 < m2 && m2 < 0);
+}
+
 int main(void)
 {
     RUN(test_markers);
@@ -390,5 +490,6 @@ int main(void)
     RUN(test_disc_profile_and_rotation);
     RUN(test_momentum);
     RUN(test_bad_parameters);
+    RUN(test_binding_energy);
     return check_summary();
 }

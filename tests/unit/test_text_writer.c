@@ -73,11 +73,11 @@ static int same_float(float a, float b)
 /* Parses one data row (9 columns) and compares it with particle i of c. */
 static int row_matches(char *line, const orr_chunk *c, size_t i)
 {
-    char *tok[11];
+    char *tok[12];
     int n = 0;
-    for (char *s = strtok(line, " \n"); s && n < 11; s = strtok(NULL, " \n"))
+    for (char *s = strtok(line, " \n"); s && n < 12; s = strtok(NULL, " \n"))
         tok[n++] = s;
-    if (n != 10)
+    if (n != 11)
         return 0;
     const float want[4] = {c->x[i], c->y[i], c->z[i], c->mass[i]};
     for (int k = 0; k < 4; k++)
@@ -85,7 +85,7 @@ static int row_matches(char *line, const orr_chunk *c, size_t i)
             return 0;
     if (strtoull(tok[4], NULL, 10) != c->id[i] || strtoul(tok[5], NULL, 10) != c->type[i])
         return 0;
-    for (int k = 0; k < 4; k++)
+    for (int k = 0; k < 5; k++)
         if (!same_float(strtof(tok[6 + k], NULL), c->extra[k].data[i]))
             return 0;
     return 1;
@@ -112,7 +112,7 @@ static void test_model_round_trip_stdio(void)
         return;
     }
     char line[1024];
-    CHECK(fgets(line, sizeof line, f) && strcmp(line, "x y z mass id type vx vy vz r\n") == 0);
+    CHECK(fgets(line, sizeof line, f) && strcmp(line, "x y z mass id type vx vy vz r E0\n") == 0);
     size_t rows = 0, good = 0;
     while (fgets(line, sizeof line, f)) {
         if (rows < c->n)
@@ -145,7 +145,7 @@ static void test_model_round_trip_reader(void)
         fprintf(stderr, "%s\n", err.msg);
     } else {
         CHECK(b->n == a->n);
-        CHECK(back->info.has_id && back->info.has_type && !back->info.has_h && back->info.nextra == 4);
+        CHECK(back->info.has_id && back->info.has_type && !back->info.has_h && back->info.nextra == 5);
         size_t fl = a->n * sizeof(float);
         CHECK(b->n == a->n && memcmp(a->x, b->x, fl) == 0 && memcmp(a->y, b->y, fl) == 0 &&
               memcmp(a->z, b->z, fl) == 0 && memcmp(a->mass, b->mass, fl) == 0 &&
