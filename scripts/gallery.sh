@@ -2,9 +2,8 @@
 # Regenerates the gallery's preview pictures (docs/gallery.md) in
 # docs/images/gallery/: one frame of each case study rendered at small size,
 # downscaled to PNGs of at most 150 KB. Needs a build (build/orrery, or
-# $ORRERY) and /usr/bin/python3 with numpy and PIL. Case studies whose
-# configs are not in configs/ yet are skipped, saying so.
-#   scripts/gallery.sh              # a minute or two on two cores
+# $ORRERY) and /usr/bin/python3 with numpy and PIL.
+#   scripts/gallery.sh              # a few minutes on two cores
 #   scripts/gallery.sh --collision  # also Spiral Metamorphosis's encounter:
 #                                   # the short in-situ N-body run, ~3 more minutes
 set -euo pipefail
@@ -83,16 +82,13 @@ if [ "${1:-}" = "--collision" ]; then
   shrink "$work/collision.png" "$dest/spiral-metamorphosis-collision.png" 640
 fi
 
-# The other two case studies, when their configs have landed.
-for study in dark-universe nightfall; do
-  cfg=$here/configs/$study.yaml
-  if [ ! -f "$cfg" ]; then
-    echo "$study: skipped (no configs/$study.yaml yet; see docs/$study.md when it lands)"
-    continue
-  fi
-  echo "$study ($cfg)"
-  render "$cfg" -o "$work/$study" --set image.width=640 --set image.height=360
-  for png in "$work/$study"/*.png; do
-    shrink "$png" "$dest/$study-$(basename "$png")" 640
-  done
-done
+echo "Dark Universe (configs/dark-universe.yaml): a 64^3 box, frame 150 of 600"
+"$orrery" ics --zeldovich --grid 64 --box 100 --z 0 --truncate 1 --seed 1 -o "$work/box.hdf5" >"$work/log" 2>&1 ||
+  { cat "$work/log" >&2; exit 1; }
+render "$here/configs/dark-universe.yaml" -o "$work/du" --frames 150 --set input.file="$work/box.hdf5" \
+  --set image.width=1024 --set image.height=540 --set psf.fwhm=1
+shrink "$work/du/dark-universe_0150.png" "$dest/dark-universe.png" 480
+
+echo "Nightfall (configs/nightfall.yaml): 300000 stars, frame 0 of 36"
+render "$here/configs/nightfall.yaml" -o "$work/nf" --frames 0 --set input.model.particles=300000
+shrink "$work/nf/nightfall_0000.png" "$dest/nightfall.png" 480
