@@ -14,7 +14,7 @@ py=/usr/bin/python3
 awk '/^```yaml/ { inblock = 1; text = ""; next }
      /^```/ && inblock { inblock = 0; if (text ~ /kind: line/) { printf "%s", text; exit } next }
      inblock { text = text $0 "\n" }' "$SRC/docs/periodic.md" |
-  sed "s|/work/shared/data|$DATA|" >fly.yaml
+  sed "s|\.\./\.\./shared/data|$DATA|" >fly.yaml
 grep -q "replicas: 3" fly.yaml || fail "no fly-through example found in docs/periodic.md"
 
 small=(--set image.width=192 --set image.height=108)
