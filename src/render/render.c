@@ -257,17 +257,7 @@ static orr_status scene_camera(const orr_scene *s, const orr_frame_time *when, o
 {
     if (s->has_path)
         return orr_path_camera(&s->camera_path, when, cam, err);
-    if (s->has_quaternion) {
-        cam->position = s->camera_position;
-        cam->orientation = orr_quat_normalize(s->camera_quaternion);
-        return ORR_OK;
-    }
-    if (s->has_look_at)
-        return orr_camera_look_at(cam, s->camera_position, s->camera_look_at, s->camera_up, s->camera_roll, err);
-    if (s->has_direction && !s->has_up)
-        return orr_camera_look_along_roll(cam, s->camera_position, s->camera_direction, s->camera_roll, err);
-    orr_vec3 dir = s->has_direction ? s->camera_direction : orr_v3(0, 0, -1);
-    return orr_camera_look_along(cam, s->camera_position, dir, s->camera_up, s->camera_roll, err);
+    return orr_scene_static_camera(s, cam, err);
 }
 
 /* The camera of a view. From an observer, or for a sky map without an

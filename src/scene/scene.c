@@ -328,3 +328,18 @@ int orr_scene_look_target(const orr_scene *s, orr_vec3 *target)
     }
     return 0;
 }
+
+orr_status orr_scene_static_camera(const orr_scene *s, orr_camera *cam, orr_error *err)
+{
+    if (s->has_quaternion) {
+        cam->position = s->camera_position;
+        cam->orientation = orr_quat_normalize(s->camera_quaternion);
+        return ORR_OK;
+    }
+    if (s->has_look_at)
+        return orr_camera_look_at(cam, s->camera_position, s->camera_look_at, s->camera_up, s->camera_roll, err);
+    if (s->has_direction && !s->has_up)
+        return orr_camera_look_along_roll(cam, s->camera_position, s->camera_direction, s->camera_roll, err);
+    orr_vec3 dir = s->has_direction ? s->camera_direction : orr_v3(0, 0, -1);
+    return orr_camera_look_along(cam, s->camera_position, dir, s->camera_up, s->camera_roll, err);
+}

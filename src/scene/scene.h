@@ -268,6 +268,11 @@ int orr_scene_has_sequence(const orr_scene *s);
  * an orbit's centre, an inspiral's target, a line's look_at. A stereo pair
  * converges there by default. Returns 0 when there is none. */
 int orr_scene_look_target(const orr_scene *s, orr_vec3 *target);
+
+/* The camera of camera.position and its orientation keys (quaternion,
+ * look_at, direction with up or roll; none: looking along -z with +y up),
+ * ignoring any path: a still's camera, and where a rotate path starts. */
+orr_status orr_scene_static_camera(const orr_scene *s, orr_camera *cam, orr_error *err);
 /* Path i (0 <= i < s->seq_nfiles) of input.sequence.files. */
 const char *orr_scene_sequence_file(const orr_scene *s, int i);
 

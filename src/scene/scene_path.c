@@ -318,23 +318,6 @@ static orr_status complete_orbit(orr_scene *s, const scene_marks *m, orr_error *
     return ORR_OK;
 }
 
-/* The scene's static camera, the start of a rotate path (as the renderer
- * places a flat view's camera). */
-static orr_status static_camera(const orr_scene *s, orr_camera *cam, orr_error *err)
-{
-    if (s->has_quaternion) {
-        cam->position = s->camera_position;
-        cam->orientation = orr_quat_normalize(s->camera_quaternion);
-        return ORR_OK;
-    }
-    if (s->has_look_at)
-        return orr_camera_look_at(cam, s->camera_position, s->camera_look_at, s->camera_up, s->camera_roll, err);
-    if (s->has_direction && !s->has_up)
-        return orr_camera_look_along_roll(cam, s->camera_position, s->camera_direction, s->camera_roll, err);
-    orr_vec3 dir = s->has_direction ? s->camera_direction : orr_v3(0, 0, -1);
-    return orr_camera_look_along(cam, s->camera_position, dir, s->camera_up, s->camera_roll, err);
-}
-
 static orr_status complete_path(orr_scene *s, const scene_marks *m, orr_error *err)
 {
     orr_camera_path *p = &s->camera_path;
@@ -349,7 +332,7 @@ static orr_status complete_path(orr_scene *s, const scene_marks *m, orr_error *e
         break;
     case ORR_PATH_INSPIRAL: st = orr_path_plane_ref(p->axis, &p->ref, err); break;
     case ORR_PATH_ROTATE:
-        if (static_camera(s, &p->start, err))
+        if (orr_scene_static_camera(s, &p->start, err))
             return orr_fail_prefix(err, "%s: camera.path.kind: rotate starts from the scene's camera: ", s->path);
         break;
     case ORR_PATH_LINE: break;
