@@ -404,17 +404,32 @@ static void deposit_block(const view_state *v, orr_plane *planes, size_t n, bloc
 }
 
 /* How many lanes a view splats in: as many as MAX_LANES allows within
- * LANE_BUDGET bytes of extra planes; a function of the image alone. */
-static int lanes_for(const view_state *v)
+ * LANE_BUDGET bytes of extra planes, and for point deposits no more than
+ * the source's particles per pixel; a function of the image and the input
+ * (count: the source's particles, -1 when unknown), never of the threads. */
+static int lanes_for(const view_state *v, int64_t count)
 {
-    size_t lane_bytes = (size_t)v->proj.width * (size_t)v->proj.height * sizeof(float) * (size_t)v->nplanes;
+    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    size_t lane_bytes = npix * sizeof(float) * (size_t)v->nplanes;
     size_t extra = lane_bytes ? LANE_BUDGET / lane_bytes : 0;
-    return extra + 1 < MAX_LANES ? (int)extra + 1 : MAX_LANES;
+    int lanes = extra + 1 < MAX_LANES ? (int)extra + 1 : MAX_LANES;
+    /* A lane's planes are zeroed and merged every frame, a pass over every
+     * pixel: for point deposits that only pays when each lane has more
+     * particles than pixels (measured: 4e6 particles on a 3600^2 dome ran
+     * slower on 4 lanes than on 1; docs/performance.md). Kernels cost many
+     * pixels a particle, so SPH keeps its lanes. The particle count is the
+     * source's, not the threads': the result still does not depend on them. */
+    if (!v->use_sph && count >= 0 && npix > 0) {
+        int64_t by_count = count / (int64_t)npix;
+        if (by_count < lanes)
+            lanes = by_count > 1 ? (int)by_count : 1;
+    }
+    return lanes;
 }
 
-static orr_status alloc_lanes(view_state *v, orr_error *err)
+static orr_status alloc_lanes(view_state *v, int64_t count, orr_error *err)
 {
-    v->nlanes = lanes_for(v);
+    v->nlanes = lanes_for(v, count);
     if (v->nlanes == 1)
         return ORR_OK;
     size_t n = (size_t)(v->nlanes - 1) * (size_t)v->nplanes;
@@ -741,7 +756,7 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
         if (!(xyz[k] = orr_malloc(cap * sizeof(float), "colour weights", err)))
             st = ORR_ERR_NOMEM;
     for (int k = 0; k < nviews && !st; k++)
-        st = alloc_lanes(&views[k], err);
+        st = alloc_lanes(&views[k], src->info.count, err);
     while (!st) {
         const orr_chunk *c;
         if ((st = orr_source_next(src, &c, err)) || c->n == 0)

@@ -115,6 +115,9 @@ done:
         free_rendering(&r[t]);
 }
 
+/* Point deposits get more than one lane only with more particles than
+ * pixels per lane (lanes_for), so their images here are at most 7500
+ * pixels: four lanes for 30000 particles. */
 /* 30000 particles in chunks of 20000 (five blocks: lane 0 takes two) and a
  * last chunk of 10000 (three blocks, one lane idle). Every type is drawn,
  * weighted by mass. */
@@ -139,10 +142,10 @@ static double total; /* the model's mass: model_total_mass() */
 static void test_deposits(void)
 {
     check_independent("ngp", MODEL "camera: {projection: orthographic, width: 60}\n"
-                                   "image: {width: 200, height: 150}\ndeposit: ngp\n",
+                                   "image: {width: 100, height: 75}\ndeposit: ngp\n",
                       1, total);
     check_independent("cic", MODEL "camera: {projection: orthographic, width: 60}\n"
-                                   "image: {width: 200, height: 150}\ndeposit: cic\n",
+                                   "image: {width: 100, height: 75}\ndeposit: cic\n",
                       1, total);
     check_independent("sph", MODEL "camera: {projection: orthographic, width: 60}\n"
                                    "image: {width: 160, height: 120}\ndeposit: sph\n"
@@ -153,7 +156,7 @@ static void test_deposits(void)
 static void test_sky_maps(void)
 {
     check_independent("dome", MODEL "camera: {projection: dome, position: [8, 0, 0]}\n"
-                                    "image: {width: 180, height: 180}\ndeposit: cic\n",
+                                    "image: {width: 86, height: 86}\ndeposit: cic\n",
                       1, total);
     check_independent("dome_sph", MODEL "camera: {projection: dome, position: [8, 0, 0]}\n"
                                         "image: {width: 128, height: 128}\ndeposit: sph\n"
@@ -168,7 +171,7 @@ static void test_sky_maps(void)
 static void test_colour(void)
 {
     check_independent("colour", MODEL "camera: {projection: orthographic, width: 60}\n"
-                                      "image: {width: 160, height: 120}\ndeposit: cic\n"
+                                      "image: {width: 100, height: 75}\ndeposit: cic\n"
                                       "colour:\n"
                                       "  populations:\n"
                                       "    - {name: bulge, select: {types: [3]}, colour: {temperature: 4000},"
