@@ -6,55 +6,9 @@
 #include <string.h>
 
 #include "scene/scene_bind.h"
+#include "scene/scene_value.h"
 
-/* Where the value being read sits, for messages:
- * "scene.yaml:12: colour.populations[1].colour.temperature: ...". */
-typedef struct pop_at {
-    const char *origin;
-    int line;
-    char path[160];
-    orr_error *err;
-} pop_at;
-
-static pop_at child_at(const pop_at *at, const yt_entry *e)
-{
-    pop_at c = *at;
-    /* Keys are short; a path that would not fit is cut, only in messages. */
-    int len = snprintf(c.path, sizeof c.path, "%.100s.%.50s", at->path, e->key);
-    (void)len;
-    c.line = e->line ? e->line : at->line;
-    return c;
-}
-
-static orr_status get_number(const pop_at *at, const yt_node *n, double *v)
-{
-    char *end = NULL;
-    if (n->kind == YT_SCALAR && !yt_is_null(n)) {
-        *v = strtod(n->text, &end);
-        if (end != n->text && *end == '\0' && isfinite(*v))
-            return ORR_OK;
-    }
-    char buf[96];
-    return scene_fail_at(at->err, at->origin, at->line, "%s: expected a finite number, got %s", at->path,
-                         yt_describe(n, buf, sizeof buf));
-}
-
-/* A list of exactly count numbers. */
-static orr_status get_numbers(const pop_at *at, const yt_node *n, double *v, size_t count)
-{
-    char buf[96];
-    if (n->kind != YT_SEQUENCE || n->n != count)
-        return scene_fail_at(at->err, at->origin, at->line, "%s: expected a list of %zu numbers, got %s", at->path,
-                             count, yt_describe(n, buf, sizeof buf));
-    for (size_t i = 0; i < count; i++) {
-        orr_status st = get_number(at, n->items[i], &v[i]);
-        if (st)
-            return st;
-    }
-    return ORR_OK;
-}
-
-static orr_status get_name(const pop_at *at, const yt_node *n, char *out, size_t size)
+static orr_status get_name(const scene_at *at, const yt_node *n, char *out, size_t size)
 {
     char buf[96];
     if (n->kind != YT_SCALAR || yt_is_null(n) || !n->text[0] || strlen(n->text) >= size)
@@ -64,13 +18,13 @@ static orr_status get_name(const pop_at *at, const yt_node *n, char *out, size_t
     return ORR_OK;
 }
 
-static orr_status unknown(const pop_at *at, const yt_entry *e, const char *known)
+static orr_status unknown(const scene_at *at, const yt_entry *e, const char *known)
 {
     return scene_fail_at(at->err, at->origin, e->line ? e->line : at->line, "%s: unknown key '%s' (known: %s)",
                          at->path, e->key, known);
 }
 
-static orr_status want_mapping(const pop_at *at, const yt_node *n, const char *keys)
+static orr_status want_mapping(const scene_at *at, const yt_node *n, const char *keys)
 {
     char buf[96];
     if (n->kind == YT_MAPPING)
@@ -81,7 +35,7 @@ static orr_status want_mapping(const pop_at *at, const yt_node *n, const char *k
 
 /* ---- select ---- */
 
-static orr_status bind_types(const pop_at *at, const yt_node *n, uint32_t *mask)
+static orr_status bind_types(const scene_at *at, const yt_node *n, uint32_t *mask)
 {
     char buf[96];
     if (n->kind != YT_SEQUENCE || n->n == 0)
@@ -90,7 +44,7 @@ static orr_status bind_types(const pop_at *at, const yt_node *n, uint32_t *mask)
     *mask = 0;
     for (size_t i = 0; i < n->n; i++) {
         double t;
-        orr_status st = get_number(at, n->items[i], &t);
+        orr_status st = scene_get_number(at, n->items[i], &t);
         if (st)
             return st;
         if (t != floor(t) || t < 0 || t > 5)
@@ -100,36 +54,36 @@ static orr_status bind_types(const pop_at *at, const yt_node *n, uint32_t *mask)
     return ORR_OK;
 }
 
-static orr_status bind_field_range(const pop_at *at, const yt_node *n, orr_pop_select *sel)
+static orr_status bind_field_range(const scene_at *at, const yt_node *n, orr_pop_select *sel)
 {
     orr_status st = want_mapping(at, n, "name, min, max");
     sel->field_min = -INFINITY;
     sel->field_max = INFINITY;
     for (size_t i = 0; !st && i < n->n; i++) {
         const yt_entry *e = &n->entries[i];
-        pop_at c = child_at(at, e);
+        scene_at c = scene_child_at(at, e);
         if (strcmp(e->key, "name") == 0)
             st = get_name(&c, e->value, sel->range_field, sizeof sel->range_field);
         else if (strcmp(e->key, "min") == 0)
-            st = get_number(&c, e->value, &sel->field_min);
+            st = scene_get_number(&c, e->value, &sel->field_min);
         else if (strcmp(e->key, "max") == 0)
-            st = get_number(&c, e->value, &sel->field_max);
+            st = scene_get_number(&c, e->value, &sel->field_max);
         else
             st = unknown(at, e, "name min max");
     }
     return st;
 }
 
-static orr_status bind_random(const pop_at *at, const yt_node *n, orr_pop_select *sel)
+static orr_status bind_random(const scene_at *at, const yt_node *n, orr_pop_select *sel)
 {
     orr_status st = want_mapping(at, n, "p, or field, law, v0, dv");
     sel->random = 1;
     sel->prob = ORR_PROB_CONSTANT;
     for (size_t i = 0; !st && i < n->n; i++) {
         const yt_entry *e = &n->entries[i];
-        pop_at c = child_at(at, e);
+        scene_at c = scene_child_at(at, e);
         if (strcmp(e->key, "p") == 0) {
-            st = get_number(&c, e->value, &sel->p);
+            st = scene_get_number(&c, e->value, &sel->p);
         } else if (strcmp(e->key, "field") == 0) {
             st = get_name(&c, e->value, sel->prob_field, sizeof sel->prob_field);
         } else if (strcmp(e->key, "law") == 0) {
@@ -139,9 +93,9 @@ static orr_status bind_random(const pop_at *at, const yt_node *n, orr_pop_select
                 st = scene_fail_at(at->err, c.origin, c.line, "%s: expected one of: exp logistic, got '%s'", c.path,
                                    word);
         } else if (strcmp(e->key, "v0") == 0) {
-            st = get_number(&c, e->value, &sel->v0);
+            st = scene_get_number(&c, e->value, &sel->v0);
         } else if (strcmp(e->key, "dv") == 0) {
-            st = get_number(&c, e->value, &sel->dv);
+            st = scene_get_number(&c, e->value, &sel->dv);
         } else {
             st = unknown(at, e, "p field law v0 dv");
         }
@@ -152,17 +106,17 @@ static orr_status bind_random(const pop_at *at, const yt_node *n, orr_pop_select
     return st;
 }
 
-static orr_status bind_select(const pop_at *at, const yt_node *n, orr_pop_select *sel)
+static orr_status bind_select(const scene_at *at, const yt_node *n, orr_pop_select *sel)
 {
     orr_status st = want_mapping(at, n, "types, ids, field, random");
     for (size_t i = 0; !st && i < n->n; i++) {
         const yt_entry *e = &n->entries[i];
-        pop_at c = child_at(at, e);
+        scene_at c = scene_child_at(at, e);
         if (strcmp(e->key, "types") == 0) {
             st = bind_types(&c, e->value, &sel->types);
         } else if (strcmp(e->key, "ids") == 0) {
             double r[2];
-            st = get_numbers(&c, e->value, r, 2);
+            st = scene_get_numbers(&c, e->value, r, 2, NULL);
             if (!st && !(r[0] >= 0 && r[1] >= r[0] && r[1] < 1.8e19))
                 st = scene_fail_at(at->err, c.origin, c.line, "%s: expected [first, last] ids, first <= last", c.path);
             sel->has_id_range = 1;
@@ -181,27 +135,27 @@ static orr_status bind_select(const pop_at *at, const yt_node *n, orr_pop_select
 
 /* ---- colour and luminance ---- */
 
-static orr_status bind_colour(const pop_at *at, const yt_node *n, orr_pop_colour *col)
+static orr_status bind_colour(const scene_at *at, const yt_node *n, orr_pop_colour *col)
 {
     static const char *const keys = "temperature bv srgb linear_srgb xy temperature_field bv_field";
     orr_status st = want_mapping(at, n, keys);
     if (!st && n->n != 1)
         return scene_fail_at(at->err, at->origin, at->line, "%s: give exactly one of: %s", at->path, keys);
     const yt_entry *e = st ? NULL : &n->entries[0];
-    pop_at c = e ? child_at(at, e) : *at;
+    scene_at c = e ? scene_child_at(at, e) : *at;
     if (st) {
     } else if (strcmp(e->key, "temperature") == 0) {
         col->fixed.kind = ORR_COLOUR_TEMPERATURE;
-        st = get_number(&c, e->value, &col->fixed.v[0]);
+        st = scene_get_number(&c, e->value, &col->fixed.v[0]);
     } else if (strcmp(e->key, "bv") == 0) {
         col->fixed.kind = ORR_COLOUR_BV;
-        st = get_number(&c, e->value, &col->fixed.v[0]);
+        st = scene_get_number(&c, e->value, &col->fixed.v[0]);
     } else if (strcmp(e->key, "srgb") == 0 || strcmp(e->key, "linear_srgb") == 0) {
         col->fixed.kind = e->key[0] == 's' ? ORR_COLOUR_SRGB : ORR_COLOUR_LINEAR_SRGB;
-        st = get_numbers(&c, e->value, col->fixed.v, 3);
+        st = scene_get_numbers(&c, e->value, col->fixed.v, 3, NULL);
     } else if (strcmp(e->key, "xy") == 0) {
         col->fixed.kind = ORR_COLOUR_XY;
-        st = get_numbers(&c, e->value, col->fixed.v, 2);
+        st = scene_get_numbers(&c, e->value, col->fixed.v, 2, NULL);
     } else if (strcmp(e->key, "temperature_field") == 0 || strcmp(e->key, "bv_field") == 0) {
         col->kind = e->key[0] == 't' ? ORR_POPCOLOUR_TEMPERATURE : ORR_POPCOLOUR_BV;
         st = get_name(&c, e->value, col->field, sizeof col->field);
@@ -211,19 +165,19 @@ static orr_status bind_colour(const pop_at *at, const yt_node *n, orr_pop_colour
     return st;
 }
 
-static orr_status bind_luminance(const pop_at *at, const yt_node *n, orr_pop_luminance *lum)
+static orr_status bind_luminance(const scene_at *at, const yt_node *n, orr_pop_luminance *lum)
 {
     static const char *const keys = "constant, mass, field or magnitude_field (with scale)";
     orr_status st = want_mapping(at, n, keys);
     int rules = 0;
     for (size_t i = 0; !st && i < n->n; i++) {
         const yt_entry *e = &n->entries[i];
-        pop_at c = child_at(at, e);
+        scene_at c = scene_child_at(at, e);
         if (strcmp(e->key, "scale") == 0) {
-            st = get_number(&c, e->value, &lum->scale);
+            st = scene_get_number(&c, e->value, &lum->scale);
         } else if (strcmp(e->key, "constant") == 0 || strcmp(e->key, "mass") == 0) {
             lum->kind = e->key[0] == 'c' ? ORR_POPLUM_CONSTANT : ORR_POPLUM_MASS;
-            st = get_number(&c, e->value, &lum->scale);
+            st = scene_get_number(&c, e->value, &lum->scale);
             rules++;
         } else if (strcmp(e->key, "field") == 0 || strcmp(e->key, "magnitude_field") == 0) {
             lum->kind = e->key[0] == 'f' ? ORR_POPLUM_FIELD : ORR_POPLUM_MAGNITUDE;
@@ -240,7 +194,7 @@ static orr_status bind_luminance(const pop_at *at, const yt_node *n, orr_pop_lum
 
 /* ---- one population, and the list ---- */
 
-static orr_status bind_population(const pop_at *at, const yt_node *n, orr_population *p)
+static orr_status bind_population(const scene_at *at, const yt_node *n, orr_population *p)
 {
     orr_status st = want_mapping(at, n, "name, select, colour, luminance");
     const yt_entry *name = st ? NULL : yt_find(n, "name");
@@ -248,14 +202,14 @@ static orr_status bind_population(const pop_at *at, const yt_node *n, orr_popula
         return scene_fail_at(at->err, at->origin, at->line, "%s: a population needs a name", at->path);
     char pname[ORR_POPULATION_NAME_MAX] = "";
     if (!st) {
-        pop_at c = child_at(at, name);
+        scene_at c = scene_child_at(at, name);
         st = get_name(&c, name->value, pname, sizeof pname);
     }
     if (!st)
         orr_population_defaults(p, pname);
     for (size_t i = 0; !st && i < n->n; i++) {
         const yt_entry *e = &n->entries[i];
-        pop_at c = child_at(at, e);
+        scene_at c = scene_child_at(at, e);
         if (strcmp(e->key, "name") == 0)
             continue;
         if (strcmp(e->key, "select") == 0)
@@ -279,7 +233,7 @@ orr_status scene_bind_populations(orr_scene *s, const char *origin, int line, co
                              yt_describe(n, buf, sizeof buf));
     orr_population_set_init(&s->populations, s->populations.seed);
     for (size_t i = 0; i < n->n; i++) {
-        pop_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
+        scene_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
         snprintf(at.path, sizeof at.path, "%s[%zu]", path, i);
         orr_population p;
         orr_status st = bind_population(&at, n->items[i], &p);
@@ -302,14 +256,14 @@ orr_status scene_bind_tint(orr_scene *s, const char *origin, int line, const cha
     if (n->kind != YT_SEQUENCE || n->n < 1 || n->n > ORR_COLOUR_PATH_MAX)
         return scene_fail_at(err, origin, line, "%s: expected a list of 1 to %d temperatures (K), got %s", path,
                              ORR_COLOUR_PATH_MAX, yt_describe(n, buf, sizeof buf));
-    pop_at at = {origin, line, "", err};
+    scene_at at = {origin, line, "", err};
     snprintf(at.path, sizeof at.path, "%s", path);
     s->tint.n = (int)n->n;
     for (size_t i = 0; i < n->n; i++) {
         orr_colour *c = &s->tint.stop[i];
         memset(c, 0, sizeof *c);
         c->kind = ORR_COLOUR_TEMPERATURE;
-        orr_status st = get_number(&at, n->items[i], &c->v[0]);
+        orr_status st = scene_get_number(&at, n->items[i], &c->v[0]);
         if (!st && !(c->v[0] > 0))
             st = scene_fail_at(err, origin, line, "%s: temperatures are > 0 K, got %g", path, c->v[0]);
         if (st)
@@ -319,17 +273,17 @@ orr_status scene_bind_tint(orr_scene *s, const char *origin, int line, const cha
     return ORR_OK;
 }
 
-static orr_status bind_layer(const pop_at *at, const yt_node *n, struct orr_compose_layer *l)
+static orr_status bind_layer(const scene_at *at, const yt_node *n, struct orr_compose_layer *l)
 {
     orr_status st = want_mapping(at, n, "file, colour, gain");
     l->gain = 1.0;
     for (size_t i = 0; !st && i < n->n; i++) {
         const yt_entry *e = &n->entries[i];
-        pop_at c = child_at(at, e);
+        scene_at c = scene_child_at(at, e);
         if (strcmp(e->key, "file") == 0) {
             st = get_name(&c, e->value, l->file, sizeof l->file);
         } else if (strcmp(e->key, "gain") == 0) {
-            st = get_number(&c, e->value, &l->gain);
+            st = scene_get_number(&c, e->value, &l->gain);
             if (!st && !(l->gain > 0))
                 st = scene_fail_at(at->err, c.origin, c.line, "%s: expected a number > 0, got %g", c.path, l->gain);
         } else if (strcmp(e->key, "colour") == 0) {
@@ -358,7 +312,7 @@ orr_status scene_bind_layers(orr_scene *s, const char *origin, int line, const c
         return scene_fail_at(err, origin, line, "%s: expected a list of 1 to %d layers, got %s", path, max,
                              yt_describe(n, buf, sizeof buf));
     for (size_t i = 0; i < n->n; i++) {
-        pop_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
+        scene_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
         snprintf(at.path, sizeof at.path, "%.100s[%zu]", path, i);
         memset(&s->layers[i], 0, sizeof s->layers[i]);
         orr_status st = bind_layer(&at, n->items[i], &s->layers[i]);

@@ -5,56 +5,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "scene/scene_value.h"
+
 /* ---- camera.path.keyframes ---- */
 
-/* Where the value being read sits, for messages:
- * "scene.yaml:12: camera.path.keyframes[1].position: ...". */
-typedef struct key_at {
-    const char *origin;
-    int line;
-    char path[160];
-    orr_error *err;
-} key_at;
-
-static key_at child_at(const key_at *at, const yt_entry *e)
-{
-    key_at c = *at;
-    snprintf(c.path, sizeof c.path, "%.100s.%.50s", at->path, e->key);
-    c.line = e->line ? e->line : at->line;
-    return c;
-}
-
-static orr_status get_number(const key_at *at, const yt_node *n, double *v)
-{
-    char *end = NULL;
-    if (n->kind == YT_SCALAR && !yt_is_null(n)) {
-        *v = strtod(n->text, &end);
-        if (end != n->text && *end == '\0' && isfinite(*v))
-            return ORR_OK;
-    }
-    char buf[96];
-    return scene_fail_at(at->err, at->origin, at->line, "%s: expected a finite number, got %s", at->path,
-                         yt_describe(n, buf, sizeof buf));
-}
-
-static orr_status get_numbers(const key_at *at, const yt_node *n, double *v, size_t count, const char *form)
-{
-    char buf[96];
-    if (n->kind != YT_SEQUENCE || n->n != count)
-        return scene_fail_at(at->err, at->origin, at->line, "%s: expected a list of %zu numbers %s, got %s",
-                             at->path, count, form, yt_describe(n, buf, sizeof buf));
-    for (size_t i = 0; i < count; i++) {
-        orr_status st = get_number(at, n->items[i], &v[i]);
-        if (st)
-            return st;
-    }
-    return ORR_OK;
-}
-
-static orr_status get_vec3(const key_at *at, const yt_node *n, orr_vec3 *v)
+static orr_status get_vec3(const scene_at *at, const yt_node *n, orr_vec3 *v)
 {
     double d[3];
-    orr_status st = get_numbers(at, n, d, 3, "[x, y, z]");
+    orr_status st = scene_get_numbers(at, n, d, 3, "[x, y, z]");
     if (!st)
         *v = orr_v3(d[0], d[1], d[2]);
     return st;
@@ -66,13 +24,13 @@ static orr_status get_vec3(const key_at *at, const yt_node *n, orr_vec3 *v)
 enum { SEEN_FRAME = 1, SEEN_POSITION = 2, SEEN_LOOK_AT = 4, SEEN_DIRECTION = 8, SEEN_QUATERNION = 16,
        SEEN_UP = 32, SEEN_ROLL = 64 };
 
-static orr_status bind_keyframe_entry(const key_at *at, const yt_entry *e, orr_keyframe_spec *spec, unsigned *seen)
+static orr_status bind_keyframe_entry(const scene_at *at, const yt_entry *e, orr_keyframe_spec *spec, unsigned *seen)
 {
-    key_at c = child_at(at, e);
+    scene_at c = scene_child_at(at, e);
     const yt_node *v = e->value;
     if (strcmp(e->key, "frame") == 0) {
         *seen |= SEEN_FRAME;
-        return get_number(&c, v, &spec->frame);
+        return scene_get_number(&c, v, &spec->frame);
     }
     if (strcmp(e->key, "position") == 0) {
         *seen |= SEEN_POSITION;
@@ -88,7 +46,7 @@ static orr_status bind_keyframe_entry(const key_at *at, const yt_entry *e, orr_k
         double q[4];
         *seen |= SEEN_QUATERNION;
         spec->aim = ORR_AIM_QUATERNION;
-        orr_status st = get_numbers(&c, v, q, 4, "[w, x, y, z]");
+        orr_status st = scene_get_numbers(&c, v, q, 4, "[w, x, y, z]");
         spec->quaternion = (orr_quat){q[0], q[1], q[2], q[3]};
         return st;
     }
@@ -99,7 +57,7 @@ static orr_status bind_keyframe_entry(const key_at *at, const yt_entry *e, orr_k
     }
     if (strcmp(e->key, "roll") == 0) {
         *seen |= SEEN_ROLL;
-        return get_number(&c, v, &spec->roll);
+        return scene_get_number(&c, v, &spec->roll);
     }
     return scene_fail_at(at->err, at->origin, c.line, "%s: unknown key '%s' (known: %s)", at->path, e->key,
                          KEYFRAME_KEYS);
@@ -113,7 +71,7 @@ static int count_bits(unsigned v)
     return n;
 }
 
-static orr_status bind_keyframe(const key_at *at, const yt_node *n, orr_keyframe *key)
+static orr_status bind_keyframe(const scene_at *at, const yt_node *n, orr_keyframe *key)
 {
     char buf[96];
     if (n->kind != YT_MAPPING)
@@ -155,7 +113,7 @@ orr_status scene_bind_keyframes(orr_scene *s, const char *origin, int line, cons
                              ORR_PATH_KEYFRAMES_MAX, KEYFRAME_KEYS, yt_describe(n, buf, sizeof buf));
     orr_camera_path *p = &s->camera_path;
     for (size_t i = 0; i < n->n; i++) {
-        key_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
+        scene_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
         snprintf(at.path, sizeof at.path, "%.100s[%zu]", path, i);
         orr_status st = bind_keyframe(&at, n->items[i], &p->keys[i]);
         if (st)
