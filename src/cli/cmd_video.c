@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "render/animation.h"
 #include "cli/video_command.h"
 #include "encode/atomic.h"
 #include "scene/scene.h"
@@ -188,16 +189,6 @@ static int find_program(const char *program, char *out, size_t size)
     }
 }
 
-/* Frame numbers have 4 digits, more when a run has over 10000 frames (the
- * naming contract of `orrery render`). */
-static int digits_for(long long nframes)
-{
-    int digits = 1;
-    for (long long last = nframes - 1; last >= 10; last /= 10)
-        digits++;
-    return digits < 4 ? 4 : digits;
-}
-
 static int frame_path(char *out, size_t size, const frame_set *fs, long frame)
 {
     int n = snprintf(out, size, "%s/%s_%0*ld.png", fs->dir, fs->name, fs->digits, frame);
@@ -264,7 +255,7 @@ static orr_status find_frames(frame_set *fs, long long frames, orr_error *err)
     char path[ORR_PATH_MAX];
     fs->count = 0;
     if (frames > 0) {
-        fs->digits = digits_for(frames);
+        fs->digits = orr_frame_digits((long)frames); /* the naming contract of orrery render */
     } else {
         /* The run's length is unknown, so neither is the width of its frame
          * numbers: the first width whose frame 0 exists. */

@@ -42,17 +42,18 @@ long orr_animation_count(const orr_animation_options *opt, long nframes)
     return first > last ? 0 : (last - first) / stride + 1;
 }
 
+int orr_frame_digits(long nframes)
+{
+    int digits = 4;
+    for (long top = 10000; nframes - 1 >= top && digits < 18; top *= 10)
+        digits++;
+    return digits;
+}
+
 orr_status orr_frame_name(const char *name, long frame, long nframes, char *out, size_t size, orr_error *err)
 {
-    int n;
-    if (nframes <= 1) {
-        n = snprintf(out, size, "%s", name);
-    } else {
-        int digits = 4;
-        for (long top = 10000; nframes - 1 >= top && digits < 18; top *= 10)
-            digits++;
-        n = snprintf(out, size, "%s_%0*ld", name, digits, frame);
-    }
+    int n = nframes <= 1 ? snprintf(out, size, "%s", name)
+                         : snprintf(out, size, "%s_%0*ld", name, orr_frame_digits(nframes), frame);
     if (n < 0 || (size_t)n >= size)
         return orr_fail(err, ORR_ERR_USAGE, "output name %s with a frame number is too long", name);
     return ORR_OK;

@@ -29,6 +29,10 @@ orr_animation_options orr_animation_defaults(void);
 /* The frames opt selects of a run of nframes: how many, and the first. */
 long orr_animation_count(const orr_animation_options *opt, long nframes);
 
+/* Digits of the frame numbers in a run of nframes: 4, more when the last
+ * frame number needs them. */
+int orr_frame_digits(long nframes);
+
 /* The output name of frame `frame` of a run of `nframes`: NAME_%04ld, with
  * more digits when the run needs them; NAME itself for a still. */
 orr_status orr_frame_name(const char *name, long frame, long nframes, char *out, size_t size, orr_error *err);
