@@ -1,6 +1,7 @@
 /* The splat gives the same planes, bit for bit, and the same report sums on
  * 1, 2 and 4 OpenMP threads (render.c's lanes: a fixed assignment of blocks
- * to lanes and a fixed-order reduction), for every kind of deposit, a sky
+ * to lanes and a fixed-order reduction; for point deposits into large
+ * images, bands), for every kind of deposit, a sky
  * map, colour populations and neighbour smoothing lengths; and a bad
  * particle is reported as one thread would report it. */
 #include <math.h>
@@ -185,6 +186,19 @@ static void test_colour(void)
                       3, 0);
 }
 
+/* Point deposits into images of more than 2^22 pixels are splatted in
+ * bands (splat/bands.h), not lanes: the same bits on every thread count,
+ * on a flat image and on a dome master (whose shares fold at the rim). */
+static void test_bands(void)
+{
+    check_independent("ngp_bands", MODEL "camera: {projection: orthographic, width: 60}\n"
+                                         "image: {width: 2100, height: 2048}\ndeposit: ngp\n",
+                      1, total);
+    check_independent("dome_bands", MODEL "camera: {projection: dome, position: [8, 0, 0]}\n"
+                                          "image: {width: 2100, height: 2100}\ndeposit: cic\n",
+                      1, total);
+}
+
 /* Two bad particles, in different blocks (so different lanes): every
  * thread count names the first, as a single thread meets it. */
 static void test_first_error(void)
@@ -218,6 +232,17 @@ static void test_first_error(void)
         CHECK(strcmp(r[t].msg, r[0].msg) == 0);
         free_rendering(&r[t]);
     }
+    /* ... and in bands (blocks shared out among the threads) */
+    snprintf(yaml, sizeof yaml,
+             "input: {file: %s}\ncamera: {projection: orthographic, width: 2, position: [0.5, 0.5, 0]}\n"
+             "image: {width: 2100, height: 2100}\n",
+             path);
+    for (int t = 0; t < 3; t++) {
+        render_with(yaml, "bad_bands", thread_counts[t], &r[t]);
+        CHECK(r[t].st == ORR_ERR_DATA);
+        CHECK_CONTAINS(r[t].msg, "particle 4500 ");
+        free_rendering(&r[t]);
+    }
 }
 
 int main(void)
@@ -228,6 +253,7 @@ int main(void)
     RUN(test_deposits);
     RUN(test_sky_maps);
     RUN(test_colour);
+    RUN(test_bands);
     RUN(test_first_error);
     remove_tmpdir();
     return check_summary();
