@@ -5,8 +5,8 @@
  *
  *   OMP_NUM_THREADS=2 bench_threads [N [repeats [CASE]]]     default: 4e6, 3, all
  *
- * Cases: NGP orthographic 1024^2, CIC dome master 3600^2 (from inside the
- * particles), SPH orthographic 1024^2 (h about 1.7 pixels; N / 4
+ * Cases: NGP orthographic 1024^2, NGP and CIC dome master 3600^2 (from
+ * inside the particles), SPH orthographic 1024^2 (h about 1.7 pixels; N / 4
  * particles, the kernel costing more). Prints, per case, the best of the
  * repeats: seconds from the start of the frame to the end of the splat
  * (the last progress call: set-up, splat and lanes included, FITS output
@@ -128,6 +128,10 @@ int main(int argc, char **argv)
     } cases[] = {
         {"ngp orthographic 1024^2",
          "input: {insitu: true}\ncamera: {projection: orthographic, width: 30}\nimage: {width: 1024, height: 1024}\n"
+         "deposit: ngp\noutput: {name: bench_threads, fits: false}\n",
+         0},
+        {"ngp dome 3600^2",
+         "input: {insitu: true}\ncamera: {projection: dome, position: [0.5, 0.5, 0]}\nimage: {width: 3600, height: 3600}\n"
          "deposit: ngp\noutput: {name: bench_threads, fits: false}\n",
          0},
         {"cic dome 3600^2",

@@ -1,4 +1,5 @@
 #include "render/render.h"
+#include "core/simd.h"
 
 #include <math.h>
 #include <omp.h>
@@ -336,6 +337,7 @@ static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, siz
 /* 1 when every float of a[start, end) is finite. On the bits, so that the
  * loop is an integer OR the compiler vectorises (a float sum would need
  * -ffast-math to be reordered, and isfinite() is a branch a particle). */
+ORR_VECTOR_CLONES
 static int all_finite(const float *a, size_t start, size_t end)
 {
     uint32_t bad = 0;
@@ -434,6 +436,20 @@ static inline void transform_positions(const orr_chunk *c, size_t start, size_t 
     }
 }
 
+ORR_VECTOR_CLONES
+static void transform_dimmed(const orr_chunk *c, size_t start, size_t n, const camera_transform *t,
+                             block_buffers *b, float *dimming)
+{
+    transform_positions(c, start, n, t, 1, b, dimming);
+}
+
+ORR_VECTOR_CLONES
+static void transform_undimmed(const orr_chunk *c, size_t start, size_t n, const camera_transform *t,
+                               block_buffers *b)
+{
+    transform_positions(c, start, n, t, 0, b, NULL);
+}
+
 /* The gather of a block that takes every particle (block_takes_all):
  * positions, weights (dimmed with observer.dim or camera.dim) and the
  * file's smoothing lengths, one vectorised loop per array. */
@@ -443,9 +459,9 @@ static size_t gather_all(const view_state *v, const orr_chunk *c, const float *c
     const size_t n = end - start;
     float *dimming = b->scale; /* free until the projection fills it */
     if (t->dim)
-        transform_positions(c, start, n, t, 1, b, dimming);
+        transform_dimmed(c, start, n, t, b, dimming);
     else
-        transform_positions(c, start, n, t, 0, b, dimming);
+        transform_undimmed(c, start, n, t, b);
     for (int k = 0; k < v->nplanes; k++) {
         const float *restrict w = wsrcs[k] + start;
         float *restrict bw = b->w[k];
@@ -1046,13 +1062,45 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
  * the stretch shows them black). Deposits never put weight there. */
 static void mask_outside_map(view_state *v)
 {
-    if (!orr_projection_is_sky(&v->proj))
+    const orr_projection *p = &v->proj;
+    if (!orr_projection_is_sky(p))
         return;
-    for (int j = 0; j < v->proj.height; j++)
-        for (int i = 0; i < v->proj.width; i++)
-            if (!orr_projection_pixel_in_map(&v->proj, i, j))
-                for (int k = 0; k < v->nplanes; k++)
-                    v->planes[k].data[(size_t)j * v->proj.width + i] = NAN;
+    /* A row's pixels on the map are one run about the centre column (the
+     * outline is an ellipse, a circle or the whole image): its ends are
+     * found by bisection with the projection's own test, and only the
+     * pixels outside are visited. */
+    const int W = p->width, centre = (int)lround(p->cx - 0.5);
+    for (int j = 0; j < p->height; j++) {
+        int first = W, last = -1; /* the run [first, last], empty when last < first */
+        if (centre >= 0 && centre < W && orr_projection_pixel_in_map(p, centre, j)) {
+            int lo = 0, hi = centre; /* the first inside is in [lo, hi] */
+            while (lo < hi) {
+                int mid = lo + (hi - lo) / 2;
+                if (orr_projection_pixel_in_map(p, mid, j))
+                    hi = mid;
+                else
+                    lo = mid + 1;
+            }
+            first = lo;
+            lo = centre, hi = W - 1; /* the last inside is in [lo, hi] */
+            while (lo < hi) {
+                int mid = hi - (hi - lo) / 2;
+                if (orr_projection_pixel_in_map(p, mid, j))
+                    lo = mid;
+                else
+                    hi = mid - 1;
+            }
+            last = lo;
+        }
+        const int left_end = first < W ? first : W, right_start = last + 1 > left_end ? last + 1 : left_end;
+        for (int k = 0; k < v->nplanes; k++) {
+            float *row = v->planes[k].data + (size_t)j * (size_t)W;
+            for (int i = 0; i < left_end; i++)
+                row[i] = NAN;
+            for (int i = right_start; i < W; i++)
+                row[i] = NAN;
+        }
+    }
 }
 
 static void add_frame_cards(const view_state *v, orr_fits_header *h)

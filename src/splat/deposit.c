@@ -1,4 +1,5 @@
 #include "splat/deposit.h"
+#include "core/simd.h"
 
 #include <math.h>
 #include <string.h>
@@ -23,13 +24,14 @@ const char *orr_deposit_name(orr_deposit_kind kind)
  * (converting a float that does not fit an int is undefined) and its index
  * then replaced. For non-negative values truncation is floor, and the
  * bounds test is done in float first, so the conversions are exact. */
+ORR_VECTOR_CLONES
 static void ngp_indices(int W, int H, size_t n, const float *restrict px, const float *restrict py,
                         const uint8_t *restrict visible, int32_t *restrict index)
 {
     const float fw = (float)W, fh = (float)H;
     for (size_t i = 0; i < n; i++) {
         float x = px[i], y = py[i];
-        int in = visible[i] && x >= 0.0f && x < fw && y >= 0.0f && y < fh;
+        int in = (visible[i] != 0) & (x >= 0.0f) & (x < fw) & (y >= 0.0f) & (y < fh);
         int32_t ix = (int32_t)(in ? x : 0.0f), iy = (int32_t)(in ? y : 0.0f);
         index[i] = in ? iy * W + ix : -1;
     }
@@ -80,6 +82,7 @@ static double sum_inside(const float *restrict w, const int32_t *restrict index,
     return s0 + s1;
 }
 
+ORR_VECTOR_CLONES
 static size_t count_visible(const uint8_t *restrict visible, size_t n)
 {
     size_t count = 0;
@@ -88,6 +91,7 @@ static size_t count_visible(const uint8_t *restrict visible, size_t n)
     return count;
 }
 
+ORR_VECTOR_CLONES
 static size_t count_negative(const int32_t *restrict index, size_t n)
 {
     size_t count = 0;
@@ -239,10 +243,74 @@ static inline void add_share(const orr_point_batch *b, size_t i, int32_t pixel, 
         out->w[p][k] = b->w[p][i] * frac;
 }
 
+/* The pixel index of each visible point of a sky map that is surely on
+ * the map (surely_in_outline, in a loop that vectorises), or -1: culled,
+ * or near the rim, the seam or off the image, where map_pixel decides. */
+ORR_VECTOR_CLONES
+static void sky_ngp_indices(const map_outline *m, size_t n, const float *restrict px, const float *restrict py,
+                            const uint8_t *restrict visible, int32_t *restrict index)
+{
+    const float fw = (float)m->width, fh = (float)m->height, cx = m->cx, cy = m->cy, ax = m->ax, ay = m->ay;
+    const int W = m->width;
+    for (size_t i = 0; i < n; i++) {
+        float x = px[i], y = py[i];
+        int on_image = (visible[i] != 0) & (x >= 0.0f) & (x < fw) & (y >= 0.0f) & (y < fh);
+        int32_t ix = (int32_t)(on_image ? x : 0.0f), iy = (int32_t)(on_image ? y : 0.0f);
+        float u = (float)ix + 0.5f - cx, v = (float)iy + 0.5f - cy;
+        /* A rectangular map has ax = ay = 0: every pixel is surely on it. */
+        int sure = on_image & (u * u * ax + v * v * ay <= 0.9999f);
+        index[i] = sure ? iy * W + ix : -1;
+    }
+}
+
+/* NGP on a sky map: every visible point's weight lands (folded onto the
+ * map where it falls outside). */
+static void sky_ngp_shares(const orr_point_batch *b, const orr_projection *proj, const map_outline *m,
+                           orr_shares *out, orr_deposit_stats *st)
+{
+    int32_t index[POINT_BATCH];
+    for (size_t start = 0; start < b->n; start += POINT_BATCH) {
+        size_t n = b->n - start < POINT_BATCH ? b->n - start : POINT_BATCH;
+        const uint8_t *visible = b->visible + start;
+        sky_ngp_indices(m, n, b->px + start, b->py + start, visible, index);
+        for (size_t i = 0; i < n; i++)
+            if (index[i] < 0 && visible[i])
+                index[i] = map_pixel(proj, m, floorf(b->px[start + i]), floorf(b->py[start + i]));
+        size_t k = out->n;
+        for (size_t i = 0; i < n; i++) {
+            out->pixel[k] = index[i];
+            k += index[i] >= 0;
+        }
+        for (int p = 0; p < b->nw; p++) {
+            const float *restrict w = b->w[p] + start;
+            float *restrict ow = out->w[p];
+            size_t kp = out->n;
+            for (size_t i = 0; i < n; i++) {
+                ow[kp] = w[i];
+                kp += index[i] >= 0;
+            }
+        }
+        out->n = k;
+        const size_t nvis = count_visible(visible, n);
+        for (int p = 0; p < b->nw; p++) {
+            double all = sum_floats(b->w[p] + start, n);
+            double vis = nvis == n ? all : sum_visible(b->w[p] + start, visible, n);
+            st[p].deposited += vis;
+            st[p].culled += all - vis;
+            st[p].n_culled += n - nvis;
+            st[p].n_particles += n;
+        }
+    }
+}
+
 static void sky_shares(orr_deposit_kind kind, const orr_point_batch *b, const orr_projection *proj,
                        orr_shares *out, orr_deposit_stats *st)
 {
     const map_outline m = outline_of(proj);
+    if (kind == ORR_DEPOSIT_NGP) {
+        sky_ngp_shares(b, proj, &m, out, st);
+        return;
+    }
     for (size_t i = 0; i < b->n; i++) {
         if (!b->visible[i]) {
             for (int p = 0; p < b->nw; p++) {
@@ -253,10 +321,6 @@ static void sky_shares(orr_deposit_kind kind, const orr_point_batch *b, const or
         }
         for (int p = 0; p < b->nw; p++)
             st[p].deposited += b->w[p][i];
-        if (kind == ORR_DEPOSIT_NGP) {
-            add_share(b, i, map_pixel(proj, &m, floorf(b->px[i]), floorf(b->py[i])), 1.0f, out);
-            continue;
-        }
         float gx = b->px[i] - 0.5f, gy = b->py[i] - 0.5f;
         float fx = floorf(gx), fy = floorf(gy);
         float tx = gx - fx, ty = gy - fy;

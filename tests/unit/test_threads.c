@@ -199,6 +199,40 @@ static void test_bands(void)
                       1, total);
 }
 
+/* Pixels off a sky map are NaN in the FITS planes, and only those: the
+ * dome master's circle and the Hammer-Aitoff ellipse (pixel centres within
+ * the outline, centred on the image, semi-axes half its sides), for even
+ * and odd sizes. */
+static void check_outline(const char *name, const char *projection, int W, int H)
+{
+    char yaml[512];
+    snprintf(yaml, sizeof yaml, MODEL "camera: {projection: %s, position: [8, 0, 0]}\n"
+                                      "image: {width: %d, height: %d}\ndeposit: ngp\n",
+             projection, W, H);
+    rendering r;
+    render_with(yaml, name, 1, &r);
+    CHECK(r.st == ORR_OK && r.nplanes == 1);
+    if (r.st == ORR_OK && r.nplanes == 1) {
+        size_t wrong = 0;
+        for (int j = 0; j < H; j++)
+            for (int i = 0; i < W; i++) {
+                double u = (i + 0.5 - 0.5 * W) / (0.5 * W), v = (j + 0.5 - 0.5 * H) / (0.5 * H);
+                int inside = u * u + v * v <= 1.0;
+                wrong += inside == (int)isnan(r.planes[0].data[(size_t)j * W + i]);
+            }
+        CHECK(wrong == 0);
+    }
+    free_rendering(&r);
+}
+
+static void test_map_outline(void)
+{
+    check_outline("outline_dome", "dome", 86, 86);
+    check_outline("outline_dome_odd", "dome", 87, 87);
+    check_outline("outline_aitoff", "hammer-aitoff", 200, 100);
+    check_outline("outline_aitoff_odd", "hammer-aitoff", 201, 101);
+}
+
 /* Two bad particles, in different blocks (so different lanes): every
  * thread count names the first, as a single thread meets it. */
 static void test_first_error(void)
@@ -254,6 +288,7 @@ int main(void)
     RUN(test_sky_maps);
     RUN(test_colour);
     RUN(test_bands);
+    RUN(test_map_outline);
     RUN(test_first_error);
     remove_tmpdir();
     return check_summary();
