@@ -182,7 +182,7 @@ static orr_status load_bodies(const options *o, bodies *b, orr_error *err)
         orr_model_params mp = {o->particles, 1, o->separation};
         st = orr_model_source_open(&mp, 1 << 20, &src, err);
     } else {
-        orr_source_options so = {"auto", 1 << 20, 0, NULL, 0}; /* every field the file has */
+        orr_source_options so = {.format = "auto", .chunk_size = 1 << 20}; /* every field the file has */
         st = orr_source_open_file(o->ic, &so, &src, err);
     }
     if (st)
