@@ -222,6 +222,13 @@ static orr_status load_bodies(const options *o, int rank, int size, bodies *b, o
     orr_status st = open_share(o, rank, size, &src, err);
     if (st)
         return st;
+    if (src->info.count < 0) {
+        orr_source_close(src);
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "%s: its particle count is not known before reading it (a text table); orrery-nbody needs "
+                        "initial conditions whose header gives it (Gadget, HDF5, Tipsy) or the model",
+                        o->ic);
+    }
     /* A rank's share may be empty; an empty snapshot is found once the
      * shares are counted. */
     size_t cap = src->info.count > 0 ? (size_t)src->info.count : 1;

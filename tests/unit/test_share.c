@@ -3,7 +3,8 @@
  * and for Tipsy files, the parts 0..n-1 of n = 1..5 together give every
  * particle exactly once, in the order of the whole file, with the count and
  * the total mass the test wrote; each part reads only about its share of
- * the file's bytes; orr_source_partition passes such a share through. */
+ * the file's bytes; orr_source_partition passes such a share through (and
+ * refuses to deal it out again among another number of parts). */
 #include <stdint.h>
 #include <stdlib.h>
 
@@ -326,6 +327,12 @@ int main(void)
     check_shares("tipsy", path, 0, n, mass);
 
     check_bytes_read();
+
+    /* A share cannot be dealt out again among another number of parts. */
+    orr_source *half = open_part(path, 0, 0, 2, 8), *dealt = NULL;
+    orr_error deal_err = {0};
+    CHECK(half && orr_source_partition(half, 0, 3, &dealt, &deal_err) == ORR_ERR_USAGE && !dealt);
+    CHECK_CONTAINS(deal_err.msg, "share of 2 parts");
 
     /* A part outside the parts is an error naming the file. */
     orr_source_options opt = {.format = "tipsy", .part = 3, .nparts = 3};
