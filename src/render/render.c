@@ -104,6 +104,12 @@ typedef struct block_tally {
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
                                  orr_error *err)
 {
+    return orr_scene_open_share(s, fields, nfields, 0, 1, out, err);
+}
+
+orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, int nfields, int part, int nparts,
+                                orr_source **out, orr_error *err)
+{
     if (orr_scene_has_sequence(s)) {
         /* A sequence's frames come from orr_render_animation, which opens it
          * once for the run; alone (a path overview), its first snapshot. */
@@ -114,7 +120,7 @@ orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, 
         else
             st = orr_sequence_pattern_path(s->seq_pattern, s->seq_first, first, sizeof first, err);
         orr_source_options opt = {s->input_format, (size_t)s->chunk_size, s->has_observer ? 0 : s->type_mask,
-                                  fields, nfields};
+                                  fields, nfields, 0, 1};
         return st ? st : orr_source_open_file(first, &opt, out, err);
     }
     if (!s->model_name[0] && !s->input_file[0])
@@ -134,7 +140,7 @@ orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, 
      * not draw: then the reader must not drop them (the splat selects
      * input.types itself). */
     unsigned types = s->has_observer ? 0 : s->type_mask;
-    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, types, fields, nfields};
+    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, types, fields, nfields, part, nparts};
     return orr_source_open_file(s->input_file, &opt, out, err);
 }
 
@@ -1512,7 +1518,9 @@ static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_so
     const char *fields[4];
     int nfields = orr_render_fields(s, fields);
     orr_source *whole = NULL;
-    orr_status st = orr_scene_open_source(s, fields, nfields, &whole, err);
+    /* File readers that can seek read only this rank's share; the others,
+     * and the generators, are dealt out by chunks. */
+    orr_status st = orr_scene_open_share(s, fields, nfields, par->rank, par->nranks, &whole, err);
     return st ? st : orr_source_partition(whole, par->rank, par->nranks, out, err);
 }
 
