@@ -110,7 +110,7 @@ measure() {
   echo "$t $(tail -1 rss.txt)" | awk '{ printf "%s %.3f %s\n", $1, $2 + $3, $4 }'
 }
 
-# orrery_scene FILE SNAP KIND NPIX EMPTY(0|1) MODEL [insitu]: SNAP "insitu"
+# orrery_scene FILE SNAP KIND NPIX EMPTY(0|1) MODEL: SNAP "insitu"
 # makes the scene of bench_inmemory (particles from memory, nothing written).
 orrery_scene() {
   local file=$1 snap=$2 kind=$3 npix=$4 empty=$5 model=$6 camera deposit input="{file: $2}"
@@ -303,10 +303,10 @@ done
 
 echo
 echo "load average at the end:$(cut -d' ' -f1-3 /proc/loadavg | sed 's/^/ /')"
-row='%-8s %4s %5s %-13s %8s %8s %10s %9s %11s %8s %10s %11s  %-31s %s\n'
+row='%-8s %4s %5s %-13s %8s %8s %10s %9s %11s %8s %10s %8s %11s  %-31s %s\n'
 # shellcheck disable=SC2059
 printf "$row" model N image run "wall s" "CPU s" "splat wall" "splat CPU" "particles/s" "peak MB" \
-  "mem splat" "mem part/s" "SPLASH splat / orrery's" goal
+  "mem splat" "mem CPU" "mem part/s" "SPLASH splat / orrery's" goal
 for key in "${key_list[@]}"; do
   read -r model n npix kind <<<"$key"
   rate=$(calc "if (${SWALL[$key]} > 0) printf \"%.3g\", $n / ${SWALL[$key]}; else print \"-\"")
@@ -314,7 +314,7 @@ for key in "${key_list[@]}"; do
   # shellcheck disable=SC2059
   printf "$row" "$model" "$(calc "printf \"%.0e\", $n" | sed 's/e+0*/e/')" \
     "$npix" "$kind" "${WALL[$key]}" "${CPU[$key]}" "${SWALL[$key]}" "${SCPU[$key]}" "$rate" "${RSS[$key]}" \
-    "${MWALL[$key]:--}" "$mrate" "$(versus $key)" "$(goal $key)"
+    "${MWALL[$key]:--}" "${MCPU[$key]:--}" "$mrate" "$(versus $key)" "$(goal $key)"
 done
 if [ ${#agreement[@]} -gt 0 ]; then
   echo

@@ -1,3 +1,4 @@
+#!/bin/bash
 # The benchmark's snapshot generator (bench_snapshot): orrery reads the
 # files it writes with the right count and total mass (the built-in model's
 # documented component masses, docs/model.md; 1 for the Plummer sphere), every
