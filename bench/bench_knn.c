@@ -18,33 +18,7 @@
 
 #include "particles/kdtree.h"
 #include "particles/smoothing.h"
-
-static uint64_t rng = 12345;
-
-static double uniform01(void)
-{
-    rng = rng * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(rng >> 11) * (1.0 / 9007199254740992.0);
-}
-
-/* Plummer sphere of scale radius 1: the enclosed mass fraction is
- * m = r^3 / (1 + r^2)^(3/2), so r = 1 / sqrt(m^(-2/3) - 1). Mass fractions
- * above 0.999 (r > 30, a sparse tail) are redrawn. */
-static void plummer(size_t n, float *x, float *y, float *z)
-{
-    for (size_t i = 0; i < n; i++) {
-        double m;
-        do
-            m = uniform01();
-        while (m <= 0.0 || m > 0.999);
-        double r = 1.0 / sqrt(pow(m, -2.0 / 3.0) - 1.0);
-        double cz = 2.0 * uniform01() - 1.0, phi = 6.283185307179586 * uniform01();
-        double s = sqrt(1.0 - cz * cz);
-        x[i] = (float)(r * s * cos(phi));
-        y[i] = (float)(r * s * sin(phi));
-        z[i] = (float)(r * cz);
-    }
-}
+#include "plummer.h"
 
 static double cpu_seconds(void)
 {
@@ -100,7 +74,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "bench_knn: out of memory for %zu particles\n", n);
             return 1;
         }
-        plummer(n, x, y, z);
+        plummer_positions(n, 12345, 30.0, x, y, z);
         run(n, x, y, z, 1, h1, NULL);
         run(n, x, y, z, 2, h2, h1);
         free(x);

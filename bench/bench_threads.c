@@ -19,16 +19,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "render/render.h"
-#include "scene/scene.h"
-#include "source/arrays.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
+#include "frame_timer.h"
 
 /* A thick disc 30 units across and 2 thick, centred on the origin. */
 static void make_particles(size_t n, float *x, float *y, float *z)
@@ -44,63 +35,6 @@ static void make_particles(size_t n, float *x, float *y, float *z)
         y[i] = 30.0f * (u[1] - 0.5f);
         z[i] = 2.0f * (u[2] - 0.5f);
     }
-}
-
-/* CPU seconds of all this process's threads: on a shared machine, what
- * the work cost, whatever the wall clock says. */
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-typedef struct clock_mark {
-    double start, splat_end, cpu_start, cpu_end;
-} clock_mark;
-
-static void mark_progress(void *user, uint64_t done, int64_t total)
-{
-    (void)done, (void)total;
-    ((clock_mark *)user)->splat_end = now();
-    ((clock_mark *)user)->cpu_end = cpu_now();
-}
-
-/* Seconds from the frame's start to the end of its splat, best of repeats
- * (wall clock; *cpu: the CPU seconds of that repeat). */
-static double time_case(const char *yaml, const orr_particle_arrays *a, int repeats, double *cpu)
-{
-    orr_scene *s = calloc(1, sizeof *s);
-    orr_error err = {0};
-    if (!s || orr_scene_load_string(s, yaml, "bench.yaml", ".", NULL, 0, &err)) {
-        fprintf(stderr, "%s\n", err.msg);
-        exit(1);
-    }
-    snprintf(s->out_dir, sizeof s->out_dir, "%s", "/tmp");
-    s->write_png = 0;
-    double best = 1e300;
-    for (int r = 0; r < repeats; r++) {
-        orr_source *src;
-        if (orr_arrays_source_open(a, "bench arrays", (size_t)s->chunk_size, 0, &src, &err)) {
-            fprintf(stderr, "%s\n", err.msg);
-            exit(1);
-        }
-        orr_frame_input in = {orr_frame_at(0, 1, 25, 0, 0), src, NULL};
-        orr_render_report rep;
-        const orr_scene *list[1] = {s};
-        clock_mark m = {now(), 0, cpu_now(), 0};
-        if (orr_render_frame(list, 1, &in, &rep, mark_progress, &m, &err)) {
-            fprintf(stderr, "%s\n", err.msg);
-            exit(1);
-        }
-        orr_source_close(src);
-        if (m.splat_end - m.start < best) {
-            best = m.splat_end - m.start;
-            *cpu = m.cpu_end - m.cpu_start;
-        }
-    }
-    free(s);
-    return best;
 }
 
 int main(int argc, char **argv)
@@ -148,7 +82,7 @@ int main(int argc, char **argv)
         if (only && !strstr(cases[k].name, only))
             continue;
         const orr_particle_arrays *p = cases[k].quarter ? &quarter : &a;
-        double cpu = 0, t = time_case(cases[k].yaml, p, repeats, &cpu);
+        double cpu = 0, t = frame_timer_best(cases[k].yaml, p, repeats, &cpu);
         printf("%-26s N %9zu  %7.3f s  %6.2f M particles/s  (CPU %.3f s)\n", cases[k].name, p->n, t,
                p->n / t / 1e6, cpu);
         fflush(stdout);
