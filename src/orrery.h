@@ -49,7 +49,9 @@ typedef struct orr_array {
 
 /* A process's particles, in the simulation's own memory: structure of
  * arrays (stride 0) or array of structures (stride = the structure's size),
- * float or double. Nothing is copied whole; orrery reads them in chunks. */
+ * float or double. Packed float arrays (and packed ids and types) are read
+ * where they are, without a copy; other layouts are converted a chunk at a
+ * time. They are only read. */
 typedef struct orr_particle_arrays {
     size_t n;                  /* particles */
     orr_array x, y, z;         /* positions (required) */

@@ -1,13 +1,20 @@
 #include "source/arrays.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+/* The chunk hands out the caller's arrays themselves where they are packed
+ * floats (or packed ids and types): no copy. The renderer only reads a
+ * source's chunks, so the const the caller gave them keeps its promise.
+ * Other arrays are converted into the chunk's own buffers (kept in `own`,
+ * restored before the chunk is freed). */
 typedef struct arrays_state {
     orr_particle_arrays a;
     unsigned type_mask;
     size_t next; /* the next particle to read */
+    orr_chunk own; /* the chunk's own buffers */
     /* Where each extra field of the chunk comes from. */
     const orr_array *extra_from[ORR_MAX_EXTRA_FIELDS];
 } arrays_state;
@@ -40,57 +47,63 @@ static uint8_t type_of(const orr_particle_arrays *a, size_t i)
     return a->type ? a->type[i * (a->type_stride ? a->type_stride : 1)] : 0;
 }
 
-/* Column copies of elements [first, first + n) into the chunk: a packed
- * float array is a memcpy, the others a plain conversion loop. */
-static void copy_column(float *restrict out, const orr_array *a, size_t first, size_t n)
+/* Elements [first, first + n) of a column as floats: the caller's array
+ * itself when it is packed floats, otherwise converted into own. */
+static float *column(float *own, const orr_array *a, size_t first, size_t n)
 {
     size_t size = a->type == ORR_F64 ? sizeof(double) : sizeof(float);
     size_t stride = a->stride ? a->stride : size;
     const char *p = (const char *)a->data + first * stride;
-    if (a->type == ORR_F32 && stride == sizeof(float)) {
-        memcpy(out, p, n * sizeof(float));
-    } else if (a->type == ORR_F64 && stride == sizeof(double)) {
+    if (a->type == ORR_F32 && stride == sizeof(float))
+        return (float *)(uintptr_t)p; /* read only: see arrays_state */
+    if (a->type == ORR_F64 && stride == sizeof(double)) {
         const double *restrict d = (const double *)(const void *)p;
         for (size_t i = 0; i < n; i++)
-            out[i] = (float)d[i];
+            own[i] = (float)d[i];
     } else {
         for (size_t i = 0; i < n; i++)
-            out[i] = (float)element(a, first + i);
+            own[i] = (float)element(a, first + i);
     }
+    return own;
 }
 
-/* The next n particles, all taken (no type selection): column by column. */
-static void copy_all(arrays_state *st, orr_chunk *c, size_t n)
+/* The next n particles, all taken (no type selection): column by column,
+ * the caller's arrays themselves where they can be. A constant mass and
+ * absent types are in the own buffers from the start. */
+static void take_all(arrays_state *st, orr_chunk *c, size_t n)
 {
     const orr_particle_arrays *a = &st->a;
+    const orr_chunk *own = &st->own;
     const size_t first = st->next;
-    copy_column(c->x, &a->x, first, n);
-    copy_column(c->y, &a->y, first, n);
-    copy_column(c->z, &a->z, first, n);
-    if (a->mass.data) {
-        copy_column(c->mass, &a->mass, first, n);
+    c->x = column(own->x, &a->x, first, n);
+    c->y = column(own->y, &a->y, first, n);
+    c->z = column(own->z, &a->z, first, n);
+    c->mass = a->mass.data ? column(own->mass, &a->mass, first, n) : own->mass;
+    if (a->id && (a->id_stride == 0 || a->id_stride == sizeof(uint64_t))) {
+        c->id = (uint64_t *)(uintptr_t)(a->id + first);
     } else {
-        const float m = (float)a->mass_value;
-        for (size_t i = 0; i < n; i++)
-            c->mass[i] = m;
-    }
-    if (a->id && (a->id_stride == 0 || a->id_stride == sizeof(uint64_t)))
-        memcpy(c->id, (const uint64_t *)a->id + first, n * sizeof *c->id);
-    else
         for (size_t i = 0; i < n; i++)
             c->id[i] = id_of(a, first + i);
-    if (!a->type)
-        memset(c->type, 0, n);
-    else if (a->type_stride <= 1)
-        memcpy(c->type, a->type + first, n);
-    else
+    }
+    if (a->type && a->type_stride <= 1)
+        c->type = (uint8_t *)(uintptr_t)(a->type + first);
+    else if (a->type)
         for (size_t i = 0; i < n; i++)
             c->type[i] = type_of(a, first + i);
     if (c->h)
-        copy_column(c->h, &a->h, first, n);
+        c->h = column(own->h, &a->h, first, n);
     for (int k = 0; k < c->nextra; k++)
-        copy_column(c->extra[k].data, st->extra_from[k], first, n);
+        c->extra[k].data = column(own->extra[k].data, st->extra_from[k], first, n);
     st->next += n;
+}
+
+/* Points the chunk back at its own buffers. */
+static void own_buffers(arrays_state *st, orr_chunk *c)
+{
+    c->x = st->own.x, c->y = st->own.y, c->z = st->own.z, c->mass = st->own.mass, c->h = st->own.h;
+    c->id = st->own.id, c->type = st->own.type;
+    for (int k = 0; k < c->nextra; k++)
+        c->extra[k].data = st->own.extra[k].data;
 }
 
 static orr_status arrays_next(orr_source *src, orr_error *err)
@@ -100,11 +113,12 @@ static orr_status arrays_next(orr_source *src, orr_error *err)
     const orr_particle_arrays *a = &st->a;
     orr_chunk *c = &src->chunk;
     c->first_index = st->next;
+    own_buffers(st, c);
     /* Every particle taken: no selection, or no types and type 0 selected. */
     if (!st->type_mask || (!a->type && (st->type_mask & 1u))) {
         size_t left = a->n - st->next;
         c->n = left < c->capacity ? left : c->capacity;
-        copy_all(st, c, c->n);
+        take_all(st, c, c->n);
         return ORR_OK;
     }
     size_t n = 0;
@@ -138,6 +152,8 @@ static orr_status arrays_rewind(orr_source *src, orr_error *err)
 
 static void arrays_close(orr_source *src)
 {
+    if (src->state)
+        own_buffers(src->state, &src->chunk); /* what orr_source_close frees */
     free(src->state);
     src->state = NULL;
 }
@@ -203,6 +219,13 @@ orr_status orr_arrays_source_open(const orr_particle_arrays *a, const char *what
         orr_source_close(src);
         return s;
     }
+    st->own = src->chunk;
+    /* A constant mass and absent types never change: written once. */
+    if (!a->mass.data)
+        for (size_t i = 0; i < cap; i++)
+            st->own.mass[i] = (float)a->mass_value;
+    if (!a->type)
+        memset(st->own.type, 0, cap);
     orr_source_info *info = &src->info;
     info->count = (int64_t)a->n;
     info->time = a->time;
