@@ -713,6 +713,23 @@ static void lengths_starts(view_state *v, const orr_chunk *c, size_t nblocks, si
     v->lengths_next = next;
 }
 
+/* Gathers and projects block blk of the chunk into b for worker k (a lane,
+ * or a thread of the bands), its report in *t, freshly zeroed. Returns the
+ * particles gathered, or -1 on a bad particle, recorded in w->failed[k]
+ * and w->lane_err[k]. */
+static long take_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+                       size_t blk, splat_work *w, int k, block_buffers *b, block_tally **t)
+{
+    size_t start = blk * BLOCK, end = start + BLOCK < c->n ? start + BLOCK : c->n;
+    *t = &w->tally[blk];
+    memset(*t, 0, sizeof **t);
+    long n = project_block(v, src, c, wts, start, end, orr_v3(0, 0, 0), w->lengths_first[blk], b, *t,
+                           &w->lane_err[k]);
+    if (n < 0)
+        w->failed[k] = blk;
+    return n;
+}
+
 /* One lane's blocks of the chunk, in order; stops at a bad particle,
  * recording the block in w->failed[lane] and the error in w->lane_err. */
 static void splat_lane(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
@@ -721,15 +738,10 @@ static void splat_lane(view_state *v, const orr_source *src, const orr_chunk *c,
     block_buffers *b = &w->buffers[lane];
     orr_plane *planes = lane_planes(v, lane);
     for (size_t blk = (size_t)lane; blk < nblocks; blk += (size_t)v->nlanes) {
-        size_t start = blk * BLOCK, end = start + BLOCK < c->n ? start + BLOCK : c->n;
-        block_tally *t = &w->tally[blk];
-        memset(t, 0, sizeof *t);
-        long n = project_block(v, src, c, wts, start, end, orr_v3(0, 0, 0), w->lengths_first[blk], b, t,
-                               &w->lane_err[lane]);
-        if (n < 0) {
-            w->failed[lane] = blk;
+        block_tally *t;
+        long n = take_block(v, src, c, wts, blk, w, lane, b, &t);
+        if (n < 0)
             return;
-        }
         deposit_block(v, planes, (size_t)n, b, t);
     }
 }
@@ -820,15 +832,10 @@ static void window_shares(view_state *v, const orr_source *src, const orr_chunk 
         for (size_t q = 0; q < count; q++) {
             if (w->failed[me] != SIZE_MAX)
                 continue;
-            size_t blk = first + q, start = blk * BLOCK, end = start + BLOCK < c->n ? start + BLOCK : c->n;
-            block_tally *t = &w->tally[blk];
-            memset(t, 0, sizeof *t);
-            long n = project_block(v, src, c, wts, start, end, orr_v3(0, 0, 0), w->lengths_first[blk], b, t,
-                                   &w->lane_err[me]);
-            if (n < 0) {
-                w->failed[me] = blk;
+            block_tally *t;
+            long n = take_block(v, src, c, wts, first + q, w, me, b, &t);
+            if (n < 0)
                 continue;
-            }
             orr_deposit_stats st[3];
             memset(st, 0, sizeof st);
             orr_point_batch pb = {(size_t)n, b->px, b->py, b->visible, {b->w[0], b->w[1], b->w[2]}, v->nplanes};
