@@ -1,5 +1,6 @@
 #include "splat/plane.h"
 
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +11,11 @@ orr_status orr_plane_alloc(orr_plane *p, int width, int height, const char *name
     memset(p, 0, sizeof *p);
     if (width <= 0 || height <= 0 || width > 65536 || height > 65536)
         return orr_fail(err, ORR_ERR_USAGE, "image size %d x %d is out of range (1 to 65536 pixels a side)",
+                        width, height);
+    /* Deposits address pixels with 32-bit indices (splat/deposit.h). */
+    if ((size_t)width * (size_t)height > (size_t)INT32_MAX)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "image size %d x %d has more than 2^31 - 1 pixels (8 GiB a plane), the most orrery draws",
                         width, height);
     p->data = orr_calloc((size_t)width * (size_t)height, sizeof(float), "image plane", err);
     if (!p->data)

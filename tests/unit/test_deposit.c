@@ -117,11 +117,26 @@ static void test_mass_conserved_random(void)
     free(vis);
 }
 
+/* Planes are addressed with 32-bit pixel indices: 46341 x 46341 (just
+ * over 2^31 pixels) is refused with a message, before any memory is
+ * asked for; 46340 x 46340 passes the size check (not allocated here). */
+static void test_plane_size_limit(void)
+{
+    orr_plane p;
+    orr_error err = {0};
+    CHECK(orr_plane_alloc(&p, 46341, 46341, "mass", "", &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "46341 x 46341 has more than 2^31 - 1 pixels");
+    CHECK(p.data == NULL);
+    CHECK(orr_plane_alloc(&p, 65536, 1, "mass", "", &err) == ORR_OK);
+    orr_plane_free(&p);
+}
+
 int main(void)
 {
     RUN(test_particle_at_pixel_centre);
     RUN(test_cic_shares);
     RUN(test_edges_count_outside_weight);
     RUN(test_mass_conserved_random);
+    RUN(test_plane_size_limit);
     return check_summary();
 }
