@@ -39,6 +39,7 @@
  * colour 2; an image too large for even one extra lane is splatted by one
  * thread). */
 #define MAX_LANES 4
+_Static_assert(MAX_LANES <= ORR_SKY_PSF_LANES, "a sky PSF collects stars in every lane");
 #define LANE_BUDGET ((size_t)256 << 20)
 
 typedef struct block_buffers {
@@ -387,7 +388,8 @@ static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
 /* Deposits the block into planes (a lane's: the view's own or a private
  * copy). The report's statistics are of the first plane's weights (with
  * colour, X; Y's are in the FITS header). */
-static void deposit_block(const view_state *v, orr_plane *planes, size_t n, block_buffers *b, block_tally *t)
+static void deposit_block(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+                          block_tally *t)
 {
     if (v->use_sph)
         widen_for_psf(v, n, b);
@@ -400,6 +402,13 @@ static void deposit_block(const view_state *v, orr_plane *planes, size_t n, bloc
         }
         orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->w[k]};
         orr_sph_deposit(&v->sph, &blk, &planes[k], st);
+    }
+    /* A sky map's hst/file PSF: the brightest stars are redrawn with the
+     * whole PSF after the splat (render/sky_psf.h). */
+    if (v->psf.sky) {
+        orr_sph_block geom = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
+        const float *w[3] = {b->w[0], b->w[1], b->w[2]};
+        orr_sky_psf_collect(v->psf.sky, lane, &geom, w, v->nplanes);
     }
 }
 
@@ -532,7 +541,7 @@ static void splat_lane(view_state *v, const orr_source *src, const orr_chunk *c,
         orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
         if (v->use_ods)
             orr_stereo_mask((size_t)n, b->visible, b->keep);
-        deposit_block(v, planes, (size_t)n, b, t);
+        deposit_block(v, planes, lane, (size_t)n, b, t);
     }
 }
 
@@ -633,7 +642,7 @@ static orr_status draw_block(view_state *v, const orr_source *src, const orr_chu
     orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
     if (v->use_ods)
         orr_stereo_mask((size_t)n, b->visible, b->keep);
-    deposit_block(v, v->planes, (size_t)n, b, &t);
+    deposit_block(v, v->planes, 0, (size_t)n, b, &t);
     add_tally(v->rep, &t);
     return ORR_OK;
 }
@@ -770,6 +779,9 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
     for (int k = 0; k < nviews; k++)
         if (!st)
             merge_lanes(&views[k]);
+    for (int k = 0; k < nviews && !st; k++)
+        if (views[k].psf.sky)
+            st = orr_sky_psf_draw(views[k].psf.sky, &views[k].sph, views[k].planes, views[k].nplanes, err);
     for (int k = 0; k < 3; k++)
         free(xyz[k]);
     free_work(work);
@@ -837,6 +849,12 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
         orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm, "[pixel] PSF FWHM");
     else if (s->psf != ORR_PSF_NONE)
         orr_fits_add_double(h, "PSFSCALE", s->psf_arcsec_per_pixel, "[arcsec/pixel] image scale for the PSF");
+    if (v->psf.sky) {
+        orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm_arcmin, "[arcmin] the PSF core's FWHM on the sky");
+        orr_fits_add_double(h, "PSFSKYSC", v->psf.sky->rad_per_pixel * (180.0 * 3600.0 / ORR_PI),
+                            "[arcsec] one PSF pixel on the sky");
+        orr_fits_add_long(h, "PSFSTARS", v->psf.sky->stars_drawn, "stars drawn with the whole PSF");
+    }
     orr_fits_add_string(h, "WEIGHT", s->weight, "particle field deposited");
     orr_fits_add_long(h, "NPART", (long long)rep->n_read, "particles read");
     orr_fits_add_long(h, "NSELECT", (long long)rep->n_selected, "particles of the selected types");
