@@ -781,7 +781,7 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
             merge_lanes(&views[k]);
     for (int k = 0; k < nviews && !st; k++)
         if (views[k].psf.sky)
-            st = orr_sky_psf_draw(views[k].psf.sky, &views[k].sph, views[k].planes, views[k].nplanes, err);
+            st = orr_sky_psf_select(views[k].psf.sky, err);
     for (int k = 0; k < 3; k++)
         free(xyz[k]);
     free_work(work);
@@ -1247,6 +1247,8 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
         }
         r->n_replicas_culled = (uint64_t)culling[0], r->n_blocks = (uint64_t)culling[1];
         r->n_blocks_culled = (uint64_t)culling[2];
+        if (!st && v->psf.sky) /* rank 0 draws the whole frame's brightest stars */
+            st = orr_sky_psf_share(v->psf.sky, par->rank, par->nranks, par->allreduce_sum, par->user, err);
     }
     return st;
 }
@@ -1255,6 +1257,9 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
 static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, orr_error *err)
 {
     orr_status st = ORR_OK;
+    for (int k = 0; k < n && !st; k++) /* a sky map's bright stars: part of the raw planes, as their cores */
+        if (views[k].psf.sky)
+            st = orr_sky_psf_draw(views[k].psf.sky, &views[k].sph, views[k].planes, views[k].nplanes, err);
     for (int k = 0; k < n && !st; k++)
         if (views[k].scene->write_raw) {
             mask_outside_map(&views[k]);

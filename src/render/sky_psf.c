@@ -33,6 +33,21 @@ orr_status orr_psf_core_fwhm(const orr_image_kernel *psf, double *fwhm_pixels, o
     return ORR_OK;
 }
 
+/* The distance from the centre of the farthest pixel with light, plus the
+ * one pixel over which bilinear sampling falls to zero: a tapered PSF is
+ * round, so its square's corners need not be visited. */
+static double light_reach(const orr_image_kernel *k)
+{
+    double far2 = 0.0;
+    for (int j = 0; j < k->height; j++)
+        for (int i = 0; i < k->width; i++) {
+            double dx = i - k->width / 2, dy = j - k->height / 2;
+            if (k->data[(size_t)j * k->width + i] != 0.0f && dx * dx + dy * dy > far2)
+                far2 = dx * dx + dy * dy;
+        }
+    return sqrt(far2) + 1.5;
+}
+
 orr_status orr_sky_psf_init(orr_sky_psf *sp, orr_image_kernel *psf, double core_fwhm_rad, int max_stars,
                             double min_flux, int key_plane, orr_error *err)
 {
@@ -47,6 +62,7 @@ orr_status orr_sky_psf_init(orr_sky_psf *sp, orr_image_kernel *psf, double core_
     if (st)
         return st;
     sp->rad_per_pixel = core_fwhm_rad / fwhm_pixels;
+    sp->reach_pixels = light_reach(&sp->kernel);
     for (int lane = 0; lane < ORR_SKY_PSF_LANES && max_stars > 0; lane++)
         if (!(sp->lane[lane] = orr_malloc((size_t)max_stars * sizeof(orr_sky_star), "spike stars", err)))
             return ORR_ERR_NOMEM;
@@ -58,6 +74,7 @@ void orr_sky_psf_free(orr_sky_psf *sp)
     orr_image_kernel_free(&sp->kernel);
     for (int lane = 0; lane < ORR_SKY_PSF_LANES; lane++)
         free(sp->lane[lane]);
+    free(sp->stars);
     memset(sp, 0, sizeof *sp);
 }
 
@@ -228,8 +245,7 @@ static orr_status make_stamp(const orr_sky_psf *sp, const orr_sph *sph, orr_vec3
 {
     const orr_projection *p = &sph->proj;
     const tangent t = tangent_at(p, dir);
-    const double half = 0.5 * (sp->kernel.width > sp->kernel.height ? sp->kernel.width : sp->kernel.height);
-    const double reach = (half + 1.0) * sp->rad_per_pixel * 1.4142135623730951; /* the kernel's corners */
+    const double reach = sp->reach_pixels * sp->rad_per_pixel;
     const double pixel_rad = 1.0 / p->focal;
     const double cap = fmin(reach + 2.0 * pixel_rad, ORR_PI);
     const double cos_cap = cos(cap), sin_cap = sin(cap), cos_reach = cos(fmin(reach, 0.5 * ORR_PI));
@@ -271,34 +287,81 @@ static void undo_core(const orr_sph *sph, const orr_sky_star *s, orr_plane *plan
     }
 }
 
-/* Every lane's stars, brightest first. */
-static orr_sky_star *gather_stars(orr_sky_psf *sp, int *count, orr_error *err)
+orr_status orr_sky_psf_select(orr_sky_psf *sp, orr_error *err)
 {
     int n = 0;
     for (int lane = 0; lane < ORR_SKY_PSF_LANES; lane++)
         n += sp->nlane[lane];
-    *count = n;
-    orr_sky_star *all = orr_malloc((size_t)(n ? n : 1) * sizeof *all, "spike stars", err);
-    if (!all)
-        return NULL;
-    n = 0;
+    free(sp->stars);
+    sp->nstars = 0;
+    if (!(sp->stars = orr_malloc((size_t)(n ? n : 1) * sizeof *sp->stars, "spike stars", err)))
+        return ORR_ERR_NOMEM;
     for (int lane = 0; lane < ORR_SKY_PSF_LANES; lane++) {
-        memcpy(all + n, sp->lane[lane], (size_t)sp->nlane[lane] * sizeof *all);
-        n += sp->nlane[lane];
+        memcpy(sp->stars + sp->nstars, sp->lane[lane], (size_t)sp->nlane[lane] * sizeof *sp->stars);
+        sp->nstars += sp->nlane[lane];
         sp->nlane[lane] = 0;
     }
-    qsort(all, (size_t)n, sizeof *all, brighter_first);
-    return all;
+    qsort(sp->stars, (size_t)sp->nstars, sizeof *sp->stars, brighter_first);
+    if (sp->nstars > sp->max_stars)
+        sp->nstars = sp->max_stars;
+    return ORR_OK;
+}
+
+/* A star as doubles (exactly: they are floats), for sums over processes. */
+#define STAR_FIELDS 11
+
+static void star_pack(const orr_sky_star *s, double *d)
+{
+    const float f[STAR_FIELDS] = {s->key, s->x, s->y, s->z, s->px, s->py, s->scale, s->h, s->w[0], s->w[1], s->w[2]};
+    for (int k = 0; k < STAR_FIELDS; k++)
+        d[k] = f[k];
+}
+
+static orr_sky_star star_unpack(const double *d)
+{
+    return (orr_sky_star){(float)d[0], (float)d[1], (float)d[2], (float)d[3], (float)d[4], (float)d[5],
+                          (float)d[6], (float)d[7], {(float)d[8], (float)d[9], (float)d[10]}};
+}
+
+orr_status orr_sky_psf_share(orr_sky_psf *sp, int rank, int nranks,
+                             orr_status (*allreduce_sum)(void *user, double *v, size_t n, orr_error *err),
+                             void *user, orr_error *err)
+{
+    /* An all-gather by summing: each process fills its own slots, zeros
+     * elsewhere (a slot with key 0 is empty: stars are brighter than 0). */
+    const size_t per = (size_t)sp->max_stars * STAR_FIELDS, n = per * (size_t)nranks;
+    double *all = orr_calloc(n ? n : 1, sizeof *all, "spike stars of every process", err);
+    orr_sky_star *stars = all ? orr_malloc((size_t)(sp->max_stars ? sp->max_stars : 1) * (size_t)nranks *
+                                               sizeof *stars, "spike stars of every process", err)
+                              : NULL;
+    if (!stars) {
+        free(all);
+        return ORR_ERR_NOMEM;
+    }
+    for (int k = 0; k < sp->nstars; k++)
+        star_pack(&sp->stars[k], all + (size_t)rank * per + (size_t)k * STAR_FIELDS);
+    orr_status st = allreduce_sum(user, all, n, err);
+    int count = 0;
+    for (size_t k = 0; !st && k < n / STAR_FIELDS; k++)
+        if (all[k * STAR_FIELDS] > 0)
+            stars[count++] = star_unpack(all + k * STAR_FIELDS);
+    free(all);
+    if (st) {
+        free(stars);
+        return st;
+    }
+    qsort(stars, (size_t)count, sizeof *stars, brighter_first);
+    free(sp->stars);
+    sp->stars = stars;
+    sp->nstars = count < sp->max_stars ? count : sp->max_stars;
+    return ORR_OK;
 }
 
 orr_status orr_sky_psf_draw(orr_sky_psf *sp, const orr_sph *sph, orr_plane *planes, int nplanes, orr_error *err)
 {
     sp->stars_drawn = 0;
-    int count;
-    orr_sky_star *stars = gather_stars(sp, &count, err);
-    if (!stars)
-        return ORR_ERR_NOMEM;
-    const int n = count < sp->max_stars ? count : sp->max_stars;
+    const orr_sky_star *stars = sp->stars;
+    const int n = stars ? sp->nstars : 0;
     const float faintest = n > 0 ? (float)(sp->min_flux * stars[0].key) : 0.0f;
     stamp st = {0};
     orr_status status = ORR_OK;
@@ -323,6 +386,5 @@ orr_status orr_sky_psf_draw(orr_sky_psf *sp, const orr_sph *sph, orr_plane *plan
     }
     free(st.pixel);
     free(st.value);
-    free(stars);
     return status;
 }

@@ -37,11 +37,14 @@ typedef struct orr_sky_star {
 typedef struct orr_sky_psf {
     orr_image_kernel kernel; /* the PSF, normalised to 1, row 0 at the top */
     double rad_per_pixel;    /* the angle on the sky of one PSF pixel */
+    double reach_pixels;     /* the PSF's light lies within this many PSF pixels of its centre */
     int max_stars;           /* psf.spike_stars */
     double min_flux;         /* psf.spike_min_flux: relative to the brightest star */
     int key_plane;           /* the plane that says how bright a star is */
     orr_sky_star *lane[ORR_SKY_PSF_LANES]; /* per lane: the brightest so far, a min-heap */
     int nlane[ORR_SKY_PSF_LANES];
+    orr_sky_star *stars; /* after orr_sky_psf_select: the brightest, brightest first */
+    int nstars;
     int stars_drawn; /* after orr_sky_psf_draw: how many stars got the whole PSF */
 } orr_sky_psf;
 
@@ -61,9 +64,20 @@ void orr_sky_psf_free(orr_sky_psf *sp);
  * Lanes are independent: one thread per lane. */
 void orr_sky_psf_collect(orr_sky_psf *sp, int lane, const orr_sph_block *b, const float *const *w, int nplanes);
 
-/* After the splat (all lanes' planes merged into planes): draws the whole
- * PSF for the brightest stars collected, in a fixed order (the same bits
- * whatever the threads). sph is the deposit that drew the cores. */
+/* After the splat: the brightest of every lane's stars, in a fixed order
+ * (the same whatever the threads). */
+orr_status orr_sky_psf_select(orr_sky_psf *sp, orr_error *err);
+
+/* With several processes (each having selected its own): every process
+ * gets the brightest of all of them. allreduce_sum sums doubles over the
+ * processes (render.h's orr_parallel). A collective call. */
+orr_status orr_sky_psf_share(orr_sky_psf *sp, int rank, int nranks,
+                             orr_status (*allreduce_sum)(void *user, double *v, size_t n, orr_error *err),
+                             void *user, orr_error *err);
+
+/* Draws the whole PSF for the selected stars into planes, which hold every
+ * star's core (the sum of all processes' planes). sph is the deposit that
+ * drew the cores. */
 orr_status orr_sky_psf_draw(orr_sky_psf *sp, const orr_sph *sph, orr_plane *planes, int nplanes, orr_error *err);
 
 #endif

@@ -57,9 +57,60 @@ static orr_status file_kernel(const orr_scene *s, orr_image_kernel *out, orr_err
     return orr_psf_load_fits(s->psf_file, &opt, out, NULL, err);
 }
 
+/* Generating the Hubble PSF takes 0.3-2 s, and every frame of a run and
+ * every view asks for the same one: the last one made is kept, with what
+ * it depends on, for the life of the process (one kernel, 66 KB for 129^2;
+ * guarded, as views are set up on one thread but the library may be used
+ * from several). */
+typedef struct hst_key {
+    double angle, arcsec_per_pixel;
+    int size;
+} hst_key;
+
+static struct {
+    int ready;
+    hst_key key;
+    orr_image_kernel kernel;
+} hst_cache;
+
+static orr_status kernel_copy(const orr_image_kernel *from, orr_image_kernel *to, orr_error *err)
+{
+    orr_status st = orr_image_kernel_alloc(to, from->width, from->height, err);
+    if (!st) {
+        memcpy(to->data, from->data, (size_t)from->width * (size_t)from->height * sizeof(float));
+        to->arcsec_per_pixel = from->arcsec_per_pixel;
+    }
+    return st;
+}
+
+static orr_status hst_kernel_cached(const orr_scene *s, orr_image_kernel *out, orr_error *err)
+{
+    hst_key key;
+    memset(&key, 0, sizeof key); /* compared with memcmp: no stray padding bytes */
+    key.angle = s->psf_angle;
+    key.arcsec_per_pixel = s->psf_arcsec_per_pixel;
+    key.size = s->psf_size;
+    orr_status st = ORR_OK;
+    int hit = 0;
+#pragma omp critical(orr_hst_psf_cache)
+    if (hst_cache.ready && memcmp(&key, &hst_cache.key, sizeof key) == 0) {
+        hit = 1;
+        st = kernel_copy(&hst_cache.kernel, out, err);
+    }
+    if (hit || (st = hst_kernel(s, out, err)))
+        return st;
+#pragma omp critical(orr_hst_psf_cache)
+    {
+        orr_image_kernel_free(&hst_cache.kernel);
+        hst_cache.ready = kernel_copy(out, &hst_cache.kernel, NULL) == ORR_OK;
+        hst_cache.key = key;
+    }
+    return ORR_OK;
+}
+
 orr_status orr_view_psf_kernel(const orr_scene *s, orr_image_kernel *out, orr_error *err)
 {
-    return s->psf == ORR_PSF_HST ? hst_kernel(s, out, err) : file_kernel(s, out, err);
+    return s->psf == ORR_PSF_HST ? hst_kernel_cached(s, out, err) : file_kernel(s, out, err);
 }
 
 static orr_status flat_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj, orr_error *err)
