@@ -301,8 +301,8 @@ static orr_status check_psf(const orr_scene *s, const scene_marks *m, orr_error 
     for (int k = 0; k < 2; k++)
         if (scene_mark(m, spike_keys[k]) && !(sky && (s->psf == ORR_PSF_HST || s->psf == ORR_PSF_FILE)))
             return scene_fail_key(s, m, spike_keys[k], err,
-                                  "%s is for sky maps with psf.kind: hst or file (a flat view convolves every "
-                                  "star with the whole PSF)",
+                                  "%s is for sky maps with psf.kind: hst or file (a Gaussian has no spikes; a "
+                                  "flat view convolves every star with the whole PSF)",
                                   spike_keys[k]);
     if (sky && scene_mark(m, "psf.fwhm"))
         return scene_fail_key(s, m, "psf.fwhm", err,
