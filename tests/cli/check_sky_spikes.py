@@ -20,8 +20,11 @@ from east):
 Hammer-Aitoff panorama (1024x512): a bright star 1 degree from the l = 180
 seam and one near the pole; the flux is conserved to 1e-4 and the star's
 spikes reach both edges of the map.
+psf.kind: file (Tiny Tim's NICMOS 2 PSF from the shared data, when there):
+a star on a dome master keeps its flux to 1e-4 and has wings beyond 1 degree.
 usage: check_sky_spikes.py ORRERY WORKDIR"""
 import math
+import os
 import subprocess
 import sys
 
@@ -44,7 +47,7 @@ def unit(t_deg, a_deg):
     return (math.sin(t) * math.cos(a), math.sin(t) * math.sin(a), math.cos(t))
 
 
-def render(name, stars, camera, size):
+def render(name, stars, camera, size, psf="  kind: hst"):
     rows = ["x y z mass id", "0 0 0 1 1", "1000 0 0 1e-9 2"]
     for k, (d, m) in enumerate(stars):
         rows.append("%r %r %r %r %d" % (10 * d[0], 10 * d[1], 10 * d[2], m, k + 3))
@@ -64,7 +67,7 @@ image:
   height: {size[1]}
 deposit: ngp
 psf:
-  kind: hst
+{psf}
   fwhm_arcmin: 12
   spike_min_flux: 0.001
 output:
@@ -175,4 +178,21 @@ light = np.nan_to_num(data)
 rows = slice(200, 312)
 left, right = light[rows, :256].sum(), light[rows, 768:].sum()
 check(left > 0.01 and right > 0.01, f"panorama: the star at the seam lights both edges ({left:.3g}, {right:.3g})")
+
+# ---- a PSF from a FITS file ----
+shared = os.environ.get("ORRERY_SHARED_DATA", "")
+tinytim = os.path.join(shared, "psf", "nic2_f160w_4xsub00.fits")
+if shared and os.path.exists(tinytim):
+    data, head = render("file", [(unit(40.0, 100.0), 1.0)], dome_camera, (401, 401),
+                        f"  kind: file\n  file: {tinytim}\n  file_subsample: 4")
+    flux_conserved(data, 1.0, "psf.kind file")
+    light = np.nan_to_num(data)
+    f = (401 / 2.0) / (math.pi / 2)  # pixels per radian
+    jj, ii = np.mgrid[0:401, 0:401]
+    j0, i0 = np.unravel_index(np.argmax(light), light.shape)
+    far = np.hypot(ii - i0, jj - j0) > f * math.radians(1.0)
+    check(head["PSFSTARS"] == 1 and light[far].sum() > 0.01,
+          f"psf.kind file: the star drawn with its wings ({light[far].sum():.3g} of its light beyond 1 deg)")
+else:
+    print("skip psf.kind file: no shared data (ORRERY_SHARED_DATA)")
 sys.exit(1 if failures else 0)
