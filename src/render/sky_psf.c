@@ -357,34 +357,58 @@ orr_status orr_sky_psf_share(orr_sky_psf *sp, int rank, int nranks,
     return ORR_OK;
 }
 
+/* Stamps are made in parallel, this many at a time, and added in order. */
+#define STAMP_BATCH 16
+
+/* Undoes the star's core and adds its stamp, scaled to the star's flux. */
+static void apply_stamp(const orr_sph *sph, const orr_sky_star *s, const stamp *st, orr_plane *planes, int nplanes,
+                        int *drawn)
+{
+    double total = 0.0;
+    for (size_t i = 0; i < st->n; i++)
+        total += st->value[i];
+    if (!(total > 0.0))
+        return; /* nothing of the PSF on the map: the core stays */
+    undo_core(sph, s, planes, nplanes);
+    for (int p = 0; p < nplanes; p++) {
+        const double f = s->w[p] / total; /* the stamp holds exactly the star's flux */
+        float *data = planes[p].data;
+        for (size_t i = 0; i < st->n; i++)
+            data[st->pixel[i]] += (float)(f * st->value[i]);
+    }
+    (*drawn)++;
+}
+
 orr_status orr_sky_psf_draw(orr_sky_psf *sp, const orr_sph *sph, orr_plane *planes, int nplanes, orr_error *err)
 {
     sp->stars_drawn = 0;
     const orr_sky_star *stars = sp->stars;
-    const int n = stars ? sp->nstars : 0;
+    int n = stars ? sp->nstars : 0;
     const float faintest = n > 0 ? (float)(sp->min_flux * stars[0].key) : 0.0f;
-    stamp st = {0};
-    orr_status status = ORR_OK;
-    for (int k = 0; k < n && !status && stars[k].key >= faintest; k++) {
-        const orr_sky_star *s = &stars[k];
-        orr_vec3 dir = orr_v3_normalize(orr_v3(s->x, s->y, s->z));
-        if ((status = make_stamp(sp, sph, dir, &st, err)))
-            break;
-        double total = 0.0;
-        for (size_t i = 0; i < st.n; i++)
-            total += st.value[i];
-        if (!(total > 0.0))
-            continue; /* nothing of the PSF on the map: the core stays */
-        undo_core(sph, s, planes, nplanes);
-        for (int p = 0; p < nplanes; p++) {
-            const double f = s->w[p] / total; /* the stamp holds exactly the star's flux */
-            float *data = planes[p].data;
-            for (size_t i = 0; i < st.n; i++)
-                data[st.pixel[i]] += (float)(f * st.value[i]);
+    while (n > 0 && stars[n - 1].key < faintest)
+        n--;
+    stamp st[STAMP_BATCH];
+    orr_error errs[STAMP_BATCH];
+    orr_status status[STAMP_BATCH];
+    memset(st, 0, sizeof st);
+    orr_status result = ORR_OK;
+    for (int first = 0; first < n && !result; first += STAMP_BATCH) {
+        const int count = n - first < STAMP_BATCH ? n - first : STAMP_BATCH;
+#pragma omp parallel for schedule(dynamic, 1)
+        for (int b = 0; b < count; b++) {
+            const orr_sky_star *s = &stars[first + b];
+            status[b] = make_stamp(sp, sph, orr_v3_normalize(orr_v3(s->x, s->y, s->z)), &st[b], &errs[b]);
         }
-        sp->stars_drawn++;
+        for (int b = 0; b < count && !result; b++) {
+            if ((result = status[b]) != ORR_OK && err)
+                *err = errs[b];
+            else if (!result)
+                apply_stamp(sph, &stars[first + b], &st[b], planes, nplanes, &sp->stars_drawn);
+        }
     }
-    free(st.pixel);
-    free(st.value);
-    return status;
+    for (int b = 0; b < STAMP_BATCH; b++) {
+        free(st[b].pixel);
+        free(st[b].value);
+    }
+    return result;
 }
