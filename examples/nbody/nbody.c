@@ -8,6 +8,14 @@
  * snapshot written: the method of Dubinski's paper. It reports the cost of
  * rendering as a fraction of the cost of gravity. docs/insitu.md.
  *
+ * Built as orrery-nbody-mpi (ranks_mpi.c), it runs on MPI ranks: each rank
+ * reads and owns a contiguous slice of the particles, every rank builds the
+ * tree over all positions (gathered from every rank each step) and computes
+ * the forces on its own slice, and the ranks render together, each handing
+ * over only its own particles (orrery_use_mpi). The replicated tree is for
+ * demonstration: every rank holds every position, so it does not scale to
+ * billions of particles.
+ *
  * Units are those of the model and of GADGET-2's examples: kpc, 1e10 solar
  * masses, km/s, so G = 43007.1 and the time unit is 0.978 Gyr. */
 #include <math.h>
@@ -17,16 +25,23 @@
 #include <time.h>
 
 #include "orrery.h"
+#include "ranks.h"
 #include "source/model.h"
+#include "source/partition.h"
 #include "source/source.h"
 #include "tree.h"
 
 #define G_KPC_KMS 43007.1
 
+/* The particles this process owns, n of them from number first on, and the
+ * positions and masses of all n_all of them, which every process holds for
+ * the tree (with one process, its slice is all of them). */
 typedef struct bodies {
-    size_t n;
-    double *pos, *vel, *acc; /* x, y, z of particle i at 3i */
-    double *mass;
+    size_t n, first, n_all;
+    double *pos_all, *mass_all; /* x, y, z of particle i at 3i */
+    double *pos, *mass;         /* this process's: pos_all + 3 first, mass_all + first */
+    size_t *counts;             /* every process's n, in rank order */
+    double *vel, *acc;
     uint64_t *id;
     uint8_t *type;
     /* The initial conditions' other per-particle fields (the model's "r" and
@@ -144,6 +159,12 @@ static int alloc_bodies(bodies *b, size_t n)
 
 static void free_bodies(bodies *b)
 {
+    if (b->pos_all) { /* pos and mass point into them */
+        b->pos = b->mass = NULL;
+        free(b->pos_all);
+        free(b->mass_all);
+    }
+    free(b->counts);
     free(b->pos);
     free(b->vel);
     free(b->acc);
@@ -173,22 +194,45 @@ static int alloc_fields(bodies *b, const orr_source_info *info, size_t n)
     return 1;
 }
 
-/* Reads every particle of the initial conditions (velocities required). */
-static orr_status load_bodies(const options *o, bodies *b, orr_error *err)
+/* This process's share of the initial conditions, in the order of the
+ * whole: a file reader that can reads only it (source/share.h); the model
+ * is made in chunks of one share each, so chunk r is rank r's. */
+static orr_status open_share(const options *o, int rank, int size, orr_source **out, orr_error *err)
 {
     orr_source *src = NULL;
     orr_status st;
     if (strcmp(o->ic, "model") == 0) {
         orr_model_params mp = {o->particles, 1, o->separation};
-        st = orr_model_source_open(&mp, 1 << 20, &src, err);
+        size_t chunk = size > 1 ? (size_t)((o->particles + size - 1) / size) : (size_t)1 << 20;
+        st = orr_model_source_open(&mp, chunk, &src, err);
     } else {
-        orr_source_options so = {"auto", 1 << 20, 0, NULL, 0}; /* every field the file has */
+        /* every field the file has */
+        orr_source_options so = {.format = "auto", .chunk_size = 1 << 20, .part = rank, .nparts = size};
         st = orr_source_open_file(o->ic, &so, &src, err);
     }
+    /* Passed through when the reader read only its share already. */
+    return st ? st : orr_source_partition(src, rank, size, out, err);
+}
+
+/* Reads this process's particles of the initial conditions (velocities
+ * required). */
+static orr_status load_bodies(const options *o, int rank, int size, bodies *b, orr_error *err)
+{
+    orr_source *src = NULL;
+    orr_status st = open_share(o, rank, size, &src, err);
     if (st)
         return st;
-    size_t cap = src->info.count > 0 ? (size_t)src->info.count : 0;
-    if (!cap || !alloc_bodies(b, cap) || !alloc_fields(b, &src->info, cap)) {
+    if (src->info.count < 0) {
+        orr_source_close(src);
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "%s: its particle count is not known before reading it (a text table); orrery-nbody needs "
+                        "initial conditions whose header gives it (Gadget, HDF5, Tipsy) or the model",
+                        o->ic);
+    }
+    /* A rank's share may be empty; an empty snapshot is found once the
+     * shares are counted. */
+    size_t cap = src->info.count > 0 ? (size_t)src->info.count : 1;
+    if (!alloc_bodies(b, cap) || !alloc_fields(b, &src->info, cap)) {
         orr_source_close(src);
         return orr_fail(err, ORR_ERR_NOMEM, "%s: cannot hold %zu particles", o->ic, cap);
     }
@@ -224,6 +268,39 @@ static orr_status load_bodies(const options *o, bodies *b, orr_error *err)
     return st;
 }
 
+/* Gives every process every position and mass: the slices in rank order,
+ * this process's at b->first. */
+static int share_bodies(bodies *b, int rank, int size)
+{
+    b->counts = calloc((size_t)size, sizeof *b->counts);
+    if (!b->counts || ranks_counts(b->n, b->counts) != 0)
+        return 0;
+    b->n_all = b->first = 0;
+    for (int r = 0; r < size; r++) {
+        b->first += r < rank ? b->counts[r] : 0;
+        b->n_all += b->counts[r];
+    }
+    double *pos_all = malloc((3 * b->n_all + 1) * sizeof *pos_all);
+    double *mass_all = malloc((b->n_all + 1) * sizeof *mass_all);
+    int failed = !pos_all || !mass_all;
+    if (failed)
+        fprintf(stderr, "orrery-nbody: out of memory for %zu positions\n", b->n_all);
+    if (ranks_any(failed)) { /* before the gathers, which every process must join */
+        free(pos_all);
+        free(mass_all);
+        return 0;
+    }
+    memcpy(pos_all + 3 * b->first, b->pos, 3 * b->n * sizeof *b->pos);
+    memcpy(mass_all + b->first, b->mass, b->n * sizeof *b->mass);
+    free(b->pos);
+    free(b->mass);
+    b->pos_all = pos_all;
+    b->mass_all = mass_all;
+    b->pos = pos_all + 3 * b->first;
+    b->mass = mass_all + b->first;
+    return ranks_gather(b->pos_all, 3, b->counts) == 0 && ranks_gather(b->mass_all, 1, b->counts) == 0;
+}
+
 /* The particles as orrery reads them, in place: positions and velocities
  * are arrays of [x, y, z] doubles. */
 static orr_particle_arrays as_arrays(const bodies *b)
@@ -248,14 +325,16 @@ static orr_particle_arrays as_arrays(const bodies *b)
     return p;
 }
 
+/* The accelerations of this process's particles, from a tree over all. */
 static double gravity(bh_tree *t, bodies *b, const options *o, double *interactions)
 {
     double t0 = now();
-    if (bh_build(t, b->pos, b->mass, b->n) != 0) {
+    if (bh_build(t, b->pos_all, b->mass_all, b->n_all) != 0) {
         fprintf(stderr, "orrery-nbody: out of memory building the tree\n");
         exit(1);
     }
-    *interactions = bh_accelerations(t, b->pos, b->mass, G_KPC_KMS, o->eps, o->theta, b->acc);
+    *interactions =
+        bh_accelerations_of(t, b->pos_all, b->mass_all, G_KPC_KMS, o->eps, o->theta, b->first, b->n, b->acc);
     return now() - t0;
 }
 
@@ -265,11 +344,13 @@ static void kick(bodies *b, double dt)
         b->vel[i] += b->acc[i] * dt;
 }
 
-static void drift(bodies *b, double dt)
+/* Moves this process's particles, then gathers every process's. */
+static int drift(bodies *b, double dt)
 {
     for (size_t i = 0; i < 3 * b->n; i++)
         b->pos[i] += b->vel[i] * dt;
     b->time += dt;
+    return ranks_gather(b->pos_all, 3, b->counts);
 }
 
 static int render(orrery_renderer *r, const bodies *b, long frame, double *seconds)
@@ -282,38 +363,75 @@ static int render(orrery_renderer *r, const bodies *b, long frame, double *secon
     return st;
 }
 
+/* Loads this process's particles and shares the positions; whether every
+ * process succeeded (each prints its own error). */
+static int start_bodies(const options *o, int rank, int size, bodies *b)
+{
+    orr_error err = {0};
+    int ok = load_bodies(o, rank, size, b, &err) == ORR_OK;
+    if (!ok)
+        fprintf(stderr, "orrery-nbody: %s\n", err.msg);
+    if (ranks_any(!ok) || !share_bodies(b, rank, size))
+        return 0;
+    if (b->n_all == 0) {
+        if (rank == 0)
+            fprintf(stderr, "orrery-nbody: %s: no particles\n", o->ic);
+        return 0;
+    }
+    return 1;
+}
+
+/* Opens the scene on every process, rendering together when there are
+ * several; 0 (NULL renderer) without a scene, else an exit status. */
+static int open_renderer(const options *o, int size, orrery_renderer **r)
+{
+    char msg[1024];
+    int code = 0;
+    if (o->scene && orrery_open(r, o->scene, o->sets, o->nsets, msg, sizeof msg) != ORRERY_OK) {
+        fprintf(stderr, "orrery-nbody: %s\n", msg);
+        code = 2;
+    }
+    if (!code && *r && size > 1 && ranks_render_together(*r) != ORRERY_OK) {
+        fprintf(stderr, "orrery-nbody: %s\n", orrery_error(*r));
+        code = 1;
+    }
+    return ranks_any(code) && !code ? 1 : code;
+}
+
 int main(int argc, char **argv)
 {
+    int rank, size;
+    ranks_start(&argc, &argv, &rank, &size);
     options o;
-    if (!parse_args(argc, argv, &o))
+    if (!parse_args(argc, argv, &o)) {
+        ranks_finish();
         return 2;
-    bodies b = {0};
-    orr_error err = {0};
-    if (load_bodies(&o, &b, &err)) {
-        fprintf(stderr, "orrery-nbody: %s\n", err.msg);
-        free_bodies(&b);
-        return 1;
     }
+    o.quiet |= rank != 0; /* rank 0 reports for all */
+    bodies b = {0};
     orrery_renderer *r = NULL;
-    char msg[1024];
-    if (o.scene && orrery_open(&r, o.scene, o.sets, o.nsets, msg, sizeof msg) != ORRERY_OK) {
-        fprintf(stderr, "orrery-nbody: %s\n", msg);
+    int code = start_bodies(&o, rank, size, &b) ? open_renderer(&o, size, &r) : 1;
+    if (code) {
+        orrery_close(r);
         free_bodies(&b);
-        return 2;
+        ranks_finish();
+        return code;
     }
     if (!o.quiet)
-        printf("%zu bodies from %s, t = %g, dt = %g, eps = %g, theta = %g\n", b.n, o.ic, b.time, o.dt, o.eps,
-               o.theta);
+        printf("%zu bodies from %s on %d process%s, t = %g, dt = %g, eps = %g, theta = %g\n", b.n_all, o.ic, size,
+               size > 1 ? "es" : "", b.time, o.dt, o.eps, o.theta);
     bh_tree tree = {0};
     double interactions, t_gravity = 0, t_render = 0, seconds;
     t_gravity += gravity(&tree, &b, &o, &interactions);
-    int code = 0;
     long frames = 0;
     if (r && (code = render(r, &b, frames++, &seconds)) == 0)
         t_render += seconds;
     for (long step = 1; step <= o.steps && code == 0; step++) {
         kick(&b, 0.5 * o.dt);
-        drift(&b, o.dt);
+        if (drift(&b, o.dt) != 0) {
+            code = 1;
+            break;
+        }
         double tg = gravity(&tree, &b, &o, &interactions);
         t_gravity += tg;
         kick(&b, 0.5 * o.dt);
@@ -334,5 +452,6 @@ int main(int argc, char **argv)
     orrery_close(r);
     bh_free(&tree);
     free_bodies(&b);
+    ranks_finish();
     return code ? 1 : 0;
 }

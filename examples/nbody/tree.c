@@ -170,13 +170,20 @@ static double walk(const bh_tree *t, const double *pos, const double *mass, size
 double bh_accelerations(const bh_tree *t, const double *pos, const double *mass, double G, double eps,
                         double theta, double *acc)
 {
+    return bh_accelerations_of(t, pos, mass, G, eps, theta, 0, t->n, acc);
+}
+
+double bh_accelerations_of(const bh_tree *t, const double *pos, const double *mass, double G, double eps,
+                           double theta, size_t first, size_t count, double *acc)
+{
     double total = 0;
-    const long n = (long)t->n;
+    const long n = (long)count;
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : total)
     for (long i = 0; i < n; i++) {
-        total += walk(t, pos, mass, (size_t)i, eps * eps, theta * theta, &acc[3 * i]);
+        double *a = &acc[3 * i];
+        total += walk(t, pos, mass, first + (size_t)i, eps * eps, theta * theta, a);
         for (int k = 0; k < 3; k++)
-            acc[3 * i + k] *= G;
+            a[k] *= G;
     }
     return total;
 }

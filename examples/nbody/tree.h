@@ -34,6 +34,11 @@ int bh_build(bh_tree *t, const double *pos, const double *mass, size_t n);
 double bh_accelerations(const bh_tree *t, const double *pos, const double *mass, double G, double eps,
                         double theta, double *acc);
 
+/* The same for particles first .. first + count - 1 only, into acc[0 ..
+ * 3 count): a process's own particles, the tree being over all of them. */
+double bh_accelerations_of(const bh_tree *t, const double *pos, const double *mass, double G, double eps,
+                           double theta, size_t first, size_t count, double *acc);
+
 /* The same by direct summation, O(n^2): the reference for tests. */
 void direct_accelerations(const double *pos, const double *mass, size_t n, double G, double eps, double *acc);
 

@@ -1,4 +1,5 @@
 #include "frame/projection.h"
+#include "core/simd.h"
 
 #include <math.h>
 
@@ -148,6 +149,7 @@ int orr_project_point(const orr_projection *p, orr_vec3 c, double *px, double *p
 }
 
 /* Each kind has its own loop so the compiler can vectorise it. */
+ORR_VECTOR_CLONES
 static void project_orthographic(const orr_projection *p, size_t n, const float *restrict x,
                                  const float *restrict y, float *restrict px, float *restrict py,
                                  float *restrict scale, uint8_t *restrict visible)
@@ -161,6 +163,7 @@ static void project_orthographic(const orr_projection *p, size_t n, const float 
     }
 }
 
+ORR_VECTOR_CLONES
 static void project_perspective(const orr_projection *p, size_t n, const float *restrict x,
                                 const float *restrict y, const float *restrict z, float *restrict px,
                                 float *restrict py, float *restrict scale, uint8_t *restrict visible)
@@ -179,6 +182,7 @@ static void project_perspective(const orr_projection *p, size_t n, const float *
     }
 }
 
+ORR_VECTOR_CLONES
 static void project_hammer_aitoff(const orr_projection *p, size_t n, const float *restrict x,
                                   const float *restrict y, const float *restrict z, float *restrict px,
                                   float *restrict py, float *restrict scale, uint8_t *restrict visible)
@@ -203,6 +207,7 @@ static void project_hammer_aitoff(const orr_projection *p, size_t n, const float
     }
 }
 
+ORR_VECTOR_CLONES
 static void project_equirectangular(const orr_projection *p, size_t n, const float *restrict x,
                                     const float *restrict y, const float *restrict z, float *restrict px,
                                     float *restrict py, float *restrict scale, uint8_t *restrict visible)
@@ -223,6 +228,7 @@ static void project_equirectangular(const orr_projection *p, size_t n, const flo
     }
 }
 
+ORR_VECTOR_CLONES
 static void project_dome(const orr_projection *p, size_t n, const float *restrict x, const float *restrict y,
                          const float *restrict z, float *restrict px, float *restrict py,
                          float *restrict scale, uint8_t *restrict visible)

@@ -1,6 +1,8 @@
 #include "render/render.h"
+#include "core/simd.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,6 +23,7 @@
 #include "source/model.h"
 #include "source/partition.h"
 #include "source/sequence.h"
+#include "splat/bands.h"
 #include "splat/sph.h"
 
 /* Particles are processed in blocks of this many: the block's scratch arrays
@@ -42,12 +45,27 @@
 _Static_assert(MAX_LANES <= ORR_SKY_PSF_LANES, "a sky PSF collects stars in every lane");
 #define LANE_BUDGET ((size_t)256 << 20)
 
+/* Point deposits (NGP, CIC, on flat images and sky maps) into images of
+ * more than BAND_MIN_PIXELS pixels are not splatted in lanes but in bands
+ * (splat/bands.h): threads compute the shares of up to WINDOW_BLOCKS
+ * blocks at once, then add them band by band. A lane's copy of such an
+ * image would not fit in the cache (16 MB a plane at the threshold), nor
+ * would the image itself: the bands keep the pixels being added to in
+ * cache, and need no copies. Below it, lanes cost less than sorting the
+ * shares (docs/performance.md). */
+#define BAND_MIN_PIXELS ((size_t)1 << 22)
+#define WINDOW_BLOCKS 64
+
 typedef struct block_buffers {
     float x[BLOCK], y[BLOCK], z[BLOCK], h[BLOCK];
     float w[3][BLOCK]; /* the weight, or X, Y, Z with colour */
     float px[BLOCK], py[BLOCK], scale[BLOCK];
     uint8_t visible[BLOCK];
     uint8_t keep[BLOCK]; /* omni-directional stereo: 0 inside the eye circle */
+    /* Point deposits: the block's shares, before they are sorted by band. */
+    int32_t share_pixel[ORR_MAX_SHARES_PER_POINT * BLOCK];
+    float share_w[3][ORR_MAX_SHARES_PER_POINT * BLOCK];
+    uint32_t band_cursor[ORR_MAX_BANDS];
 } block_buffers;
 
 /* One view being rendered. */
@@ -71,6 +89,8 @@ typedef struct view_state {
     int use_ods;        /* an eye of omni-directional stereo: its per-block transform */
     orr_stereo_ods ods;
     orr_periodic_view periodic; /* input.periodic: the box's copies and what is culled */
+    int banded;                 /* a point deposit, splatted in bands (WINDOW_BLOCKS above) */
+    orr_bands bands;
     int nlanes;                 /* lanes of the splat (MAX_LANES above) */
     orr_plane *lane_planes;     /* lanes 1 .. nlanes-1: nplanes planes each; lane 0 is planes[] */
 } view_state;
@@ -85,6 +105,12 @@ typedef struct block_tally {
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
                                  orr_error *err)
 {
+    return orr_scene_open_share(s, fields, nfields, 0, 1, out, err);
+}
+
+orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, int nfields, int part, int nparts,
+                                orr_source **out, orr_error *err)
+{
     if (orr_scene_has_sequence(s)) {
         /* A sequence's frames come from orr_render_animation, which opens it
          * once for the run; alone (a path overview), its first snapshot. */
@@ -95,7 +121,7 @@ orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, 
         else
             st = orr_sequence_pattern_path(s->seq_pattern, s->seq_first, first, sizeof first, err);
         orr_source_options opt = {s->input_format, (size_t)s->chunk_size, s->has_observer ? 0 : s->type_mask,
-                                  fields, nfields};
+                                  fields, nfields, 0, 1};
         return st ? st : orr_source_open_file(first, &opt, out, err);
     }
     if (!s->model_name[0] && !s->input_file[0])
@@ -115,7 +141,7 @@ orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, 
      * not draw: then the reader must not drop them (the splat selects
      * input.types itself). */
     unsigned types = s->has_observer ? 0 : s->type_mask;
-    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, types, fields, nfields};
+    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, types, fields, nfields, part, nparts};
     return orr_source_open_file(s->input_file, &opt, out, err);
 }
 
@@ -315,6 +341,154 @@ static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, siz
                     (double)c->x[i], (double)c->y[i], (double)c->z[i]);
 }
 
+/* 1 when every float of a[start, end) is finite. On the bits, so that the
+ * loop is an integer OR the compiler vectorises (a float sum would need
+ * -ffast-math to be reordered, and isfinite() is a branch a particle). */
+ORR_VECTOR_CLONES
+static int all_finite(const float *a, size_t start, size_t end)
+{
+    uint32_t bad = 0;
+    for (size_t i = start; i < end; i++) {
+        uint32_t u;
+        memcpy(&u, &a[i], sizeof u);
+        bad |= (uint32_t)((u & 0x7f800000u) == 0x7f800000u);
+    }
+    return bad == 0;
+}
+
+/* 1 when the gather may take every particle of c[start, end) as it is: no
+ * neighbour lengths to count, every type drawn, no observer among them and
+ * nothing non-finite. This is by far the common block, and its gather is a
+ * straight loop without a branch a particle (gather_all). */
+static int block_takes_all(const view_state *v, const orr_chunk *c, const float *wsrc, size_t start, size_t end)
+{
+    const orr_scene *s = v->scene;
+    if (v->lengths)
+        return 0;
+    /* Blocks mostly hold one type: checked with a byte loop that vectorises;
+     * otherwise each particle's type against the mask. */
+    const uint8_t *type = c->type, first_type = type[start];
+    uint8_t differ = 0;
+    for (size_t i = start; i < end; i++)
+        differ |= type[i] ^ first_type;
+    if (!differ) {
+        if (first_type > 31 || !(s->type_mask & (1u << first_type)))
+            return 0;
+    } else {
+        uint32_t types = 0;
+        for (size_t i = start; i < end; i++)
+            types |= type[i] > 31 ? ~0u : 1u << type[i];
+        if (types & ~s->type_mask)
+            return 0;
+    }
+    if (s->has_observer) {
+        const uint64_t observer = s->observer_id;
+        int found = 0;
+        for (size_t i = start; i < end; i++)
+            found |= c->id[i] == observer;
+        if (found)
+            return 0;
+    }
+    return all_finite(c->x, start, end) && all_finite(c->y, start, end) && all_finite(c->z, start, end) &&
+           all_finite(wsrc, start, end);
+}
+
+/* Moves particles into the camera frame: positions less origin (in double,
+ * which keeps precision for cameras far from the coordinate origin, inside
+ * a big box or at the Sun) turned by the view's rotation. */
+typedef struct camera_transform {
+    double ox, oy, oz;
+    float r[3][3];
+    int dim;
+    float near2;
+} camera_transform;
+
+static camera_transform transform_of(const view_state *v, orr_vec3 shift)
+{
+    const orr_scene *s = v->scene;
+    const orr_vec3 origin = orr_v3_sub(v->rep->camera.position, shift); /* p + shift - camera */
+    camera_transform t = {origin.x, origin.y, origin.z, {{0}}, 0, 0};
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            t.r[a][b] = (float)v->world_to_camera.m[a][b];
+    t.dim = (s->has_observer && s->dim) || s->camera_dim;
+    const double near = s->camera_dim ? s->camera_dim_near : s->dim_near;
+    t.near2 = (float)(near * near);
+    return t;
+}
+
+/* Positions of c[start, start + n) into the camera frame, and with dim
+ * the 1/r^2 dimming of each (into dimming); dim is a constant at each call,
+ * so the compiler makes a loop without the division for views that do not
+ * dim. */
+static inline void transform_positions(const orr_chunk *c, size_t start, size_t n, const camera_transform *t,
+                                       const int dim, block_buffers *b, float *restrict dimming)
+{
+    const float r00 = t->r[0][0], r01 = t->r[0][1], r02 = t->r[0][2];
+    const float r10 = t->r[1][0], r11 = t->r[1][1], r12 = t->r[1][2];
+    const float r20 = t->r[2][0], r21 = t->r[2][1], r22 = t->r[2][2];
+    const double ox = t->ox, oy = t->oy, oz = t->oz;
+    const float near2 = t->near2;
+    const float *restrict x = c->x + start, *restrict y = c->y + start, *restrict z = c->z + start;
+    float *restrict bx = b->x, *restrict by = b->y, *restrict bz = b->z;
+    for (size_t i = 0; i < n; i++) {
+        float dx = (float)((double)x[i] - ox), dy = (float)((double)y[i] - oy), dz = (float)((double)z[i] - oz);
+        bx[i] = r00 * dx + r01 * dy + r02 * dz;
+        by[i] = r10 * dx + r11 * dy + r12 * dz;
+        bz[i] = r20 * dx + r21 * dy + r22 * dz;
+        if (dim) {
+            float r2 = dx * dx + dy * dy + dz * dz;
+            dimming[i] = 1.0f / (r2 > near2 ? r2 : near2);
+        }
+    }
+}
+
+ORR_VECTOR_CLONES
+static void transform_dimmed(const orr_chunk *c, size_t start, size_t n, const camera_transform *t,
+                             block_buffers *b, float *dimming)
+{
+    transform_positions(c, start, n, t, 1, b, dimming);
+}
+
+ORR_VECTOR_CLONES
+static void transform_undimmed(const orr_chunk *c, size_t start, size_t n, const camera_transform *t,
+                               block_buffers *b)
+{
+    transform_positions(c, start, n, t, 0, b, NULL);
+}
+
+/* The gather of a block that takes every particle (block_takes_all):
+ * positions, weights (dimmed with observer.dim or camera.dim) and the
+ * file's smoothing lengths, one vectorised loop per array. */
+static size_t gather_all(const view_state *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
+                         size_t end, const camera_transform *t, block_buffers *b)
+{
+    const size_t n = end - start;
+    float *dimming = b->scale; /* free until the projection fills it */
+    if (t->dim)
+        transform_dimmed(c, start, n, t, b, dimming);
+    else
+        transform_undimmed(c, start, n, t, b);
+    for (int k = 0; k < v->nplanes; k++) {
+        const float *restrict w = wsrcs[k] + start;
+        float *restrict bw = b->w[k];
+        if (t->dim)
+            for (size_t i = 0; i < n; i++)
+                bw[i] = w[i] * dimming[i];
+        else
+            memcpy(bw, w, n * sizeof *bw);
+    }
+    if (c->h) {
+        const float *restrict h = c->h + start;
+        const float hs = v->h_scale;
+        for (size_t i = 0; i < n; i++)
+            b->h[i] = h[i] * hs;
+    } else {
+        memset(b->h, 0, n * sizeof *b->h);
+    }
+    return n;
+}
+
 /* Gathers the view's particles of c[start, end) into the block, moved by
  * shift (a periodic box's copy) and into the camera frame, their smoothing
  * lengths from the neighbours' starting at lengths_next; returns how many,
@@ -327,14 +501,16 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
 {
     const float *wsrc = wsrcs[v->nplanes - 1]; /* the weight, or Y: checked for finiteness */
     const orr_scene *s = v->scene;
-    const orr_mat3 *R = &v->world_to_camera;
-    const orr_vec3 origin = orr_v3_sub(v->rep->camera.position, shift); /* p + shift - camera */
-    const float r00 = (float)R->m[0][0], r01 = (float)R->m[0][1], r02 = (float)R->m[0][2];
-    const float r10 = (float)R->m[1][0], r11 = (float)R->m[1][1], r12 = (float)R->m[1][2];
-    const float r20 = (float)R->m[2][0], r21 = (float)R->m[2][1], r22 = (float)R->m[2][2];
-    const int skip_observer = s->has_observer, dim = (s->has_observer && s->dim) || s->camera_dim;
-    const double near = s->camera_dim ? s->camera_dim_near : s->dim_near;
-    const float near2 = (float)(near * near);
+    const camera_transform tf = transform_of(v, shift);
+    if (block_takes_all(v, c, wsrc, start, end)) {
+        t->n_selected += end - start;
+        return (long)gather_all(v, c, wsrcs, start, end, &tf, b);
+    }
+    const float r00 = tf.r[0][0], r01 = tf.r[0][1], r02 = tf.r[0][2];
+    const float r10 = tf.r[1][0], r11 = tf.r[1][1], r12 = tf.r[1][2];
+    const float r20 = tf.r[2][0], r21 = tf.r[2][1], r22 = tf.r[2][2];
+    const int skip_observer = s->has_observer, dim = tf.dim;
+    const float near2 = tf.near2;
     long n = 0;
     for (size_t i = start; i < end; i++) {
         float h = 0.0f;
@@ -355,11 +531,9 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
             t->n_nonfinite++;
             continue;
         }
-        /* Subtracting the origin in double keeps precision for cameras far
-         * from the coordinate origin (inside a big box, or at the Sun). */
-        float dx = (float)((double)c->x[i] - origin.x);
-        float dy = (float)((double)c->y[i] - origin.y);
-        float dz = (float)((double)c->z[i] - origin.z);
+        float dx = (float)((double)c->x[i] - tf.ox);
+        float dy = (float)((double)c->y[i] - tf.oy);
+        float dz = (float)((double)c->z[i] - tf.oz);
         b->x[n] = r00 * dx + r01 * dy + r02 * dz;
         b->y[n] = r10 * dx + r11 * dy + r12 * dz;
         b->z[n] = r20 * dx + r21 * dy + r22 * dz;
@@ -369,6 +543,24 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         b->h[n] = h;
         n++;
     }
+    return n;
+}
+
+/* Gathers particles [start, end) of c (moved by shift) into the block and
+ * projects them: positions in pixels and what the projection (and an eye
+ * of omni-directional stereo) draws. Returns how many, or -1 (err set). */
+static long project_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+                          size_t start, size_t end, orr_vec3 shift, size_t lengths_next, block_buffers *b,
+                          block_tally *t, orr_error *err)
+{
+    long n = gather_block(v, src, c, wts, start, end, shift, lengths_next, b, t, err);
+    if (n < 0)
+        return n;
+    if (v->use_ods)
+        t->n_stereo_skipped = orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
+    orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
+    if (v->use_ods)
+        orr_stereo_mask((size_t)n, b->visible, b->keep);
     return n;
 }
 
@@ -451,6 +643,17 @@ static orr_status alloc_lanes(view_state *v, int64_t count, orr_error *err)
     return st;
 }
 
+/* The bands of a point deposit: a window of blocks of a chunk of up to
+ * capacity particles, each block's shares in a region of its own. */
+static orr_status alloc_bands(view_state *v, size_t capacity, orr_error *err)
+{
+    v->nlanes = 1;
+    size_t nblocks = (capacity + BLOCK - 1) / BLOCK, window = nblocks < WINDOW_BLOCKS ? nblocks : WINDOW_BLOCKS;
+    size_t per_point = v->scene->deposit == ORR_DEPOSIT_NGP ? 1 : ORR_MAX_SHARES_PER_POINT;
+    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    return orr_bands_init(&v->bands, npix, v->nplanes, window ? window : 1, per_point * BLOCK, err);
+}
+
 static void free_lanes(view_state *v)
 {
     if (v->lane_planes)
@@ -530,17 +733,12 @@ static void splat_lane(view_state *v, const orr_source *src, const orr_chunk *c,
         size_t start = blk * BLOCK, end = start + BLOCK < c->n ? start + BLOCK : c->n;
         block_tally *t = &w->tally[blk];
         memset(t, 0, sizeof *t);
-        long n = gather_block(v, src, c, wts, start, end, orr_v3(0, 0, 0), w->lengths_first[blk], b, t,
-                              &w->lane_err[lane]);
+        long n = project_block(v, src, c, wts, start, end, orr_v3(0, 0, 0), w->lengths_first[blk], b, t,
+                               &w->lane_err[lane]);
         if (n < 0) {
             w->failed[lane] = blk;
             return;
         }
-        if (v->use_ods)
-            t->n_stereo_skipped = orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
-        orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
-        if (v->use_ods)
-            orr_stereo_mask((size_t)n, b->visible, b->keep);
         deposit_block(v, planes, lane, (size_t)n, b, t);
     }
 }
@@ -564,11 +762,34 @@ static void add_tally(orr_render_report *r, const block_tally *t)
     add_stats(&r->deposit_y, &t->deposit[1]);
 }
 
+/* The error of the first bad block, as a single thread would have met it:
+ * each worker records the block it stopped at (or SIZE_MAX). */
+static orr_status first_failure(const splat_work *w, int nworkers, orr_error *err)
+{
+    int bad = -1;
+    for (int k = 0; k < nworkers; k++)
+        if (w->failed[k] != SIZE_MAX && (bad < 0 || w->failed[k] < w->failed[bad]))
+            bad = k;
+    if (bad < 0)
+        return ORR_OK;
+    if (err)
+        *err = w->lane_err[bad];
+    return w->lane_err[bad].code ? w->lane_err[bad].code : ORR_ERR_DATA;
+}
+
+/* Adds the chunk's blocks to the report, in block order. */
+static void add_chunk_tally(view_state *v, const orr_chunk *c, const splat_work *w, size_t nblocks)
+{
+    for (size_t blk = 0; blk < nblocks; blk++)
+        add_tally(v->rep, &w->tally[blk]);
+    v->rep->n_read += c->n;
+}
+
 /* Splats the chunk into one view, its lanes in parallel; the report's sums
  * are taken in block order afterwards. On a bad particle the error is that
  * of the first bad block, as a single thread would have found it. */
-static orr_status splat_view(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
-                             splat_work *w, orr_error *err)
+static orr_status splat_view_lanes(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+                                   splat_work *w, orr_error *err)
 {
     size_t nblocks = (c->n + BLOCK - 1) / BLOCK;
     lengths_starts(v, c, nblocks, w->lengths_first);
@@ -578,19 +799,86 @@ static orr_status splat_view(view_state *v, const orr_source *src, const orr_chu
 #pragma omp parallel for schedule(dynamic, 1)
     for (int lane = 0; lane < nlanes; lane++)
         splat_lane(v, src, c, wts, nblocks, lane, w);
-    int bad = -1;
-    for (int lane = 0; lane < nlanes; lane++)
-        if (w->failed[lane] != SIZE_MAX && (bad < 0 || w->failed[lane] < w->failed[bad]))
-            bad = lane;
-    if (bad >= 0) {
-        if (err)
-            *err = w->lane_err[bad];
-        return w->lane_err[bad].code ? w->lane_err[bad].code : ORR_ERR_DATA;
+    orr_status st = first_failure(w, nlanes, err);
+    if (!st)
+        add_chunk_tally(v, c, w, nblocks);
+    return st;
+}
+
+/* Threads of the splat: the machine's, at most MAX_LANES (the work's
+ * buffers). */
+static int splat_threads(void)
+{
+    int n = omp_get_max_threads();
+    return n < MAX_LANES ? n : MAX_LANES;
+}
+
+/* The shares of blocks [first, first + count) of the chunk, sorted by band
+ * into regions 0 .. count-1, the blocks shared out among the threads. A
+ * thread stops at a bad particle (w->failed); its later blocks are all
+ * after it, so the first failure is the one a single thread would meet. */
+static void window_shares(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+                          size_t first, size_t count, splat_work *w, int nthreads)
+{
+    const int W = v->proj.width, H = v->proj.height;
+#pragma omp parallel num_threads(nthreads)
+    {
+        const int me = omp_get_thread_num();
+        block_buffers *b = &w->buffers[me];
+#pragma omp for schedule(dynamic, 1)
+        for (size_t q = 0; q < count; q++) {
+            if (w->failed[me] != SIZE_MAX)
+                continue;
+            size_t blk = first + q, start = blk * BLOCK, end = start + BLOCK < c->n ? start + BLOCK : c->n;
+            block_tally *t = &w->tally[blk];
+            memset(t, 0, sizeof *t);
+            long n = project_block(v, src, c, wts, start, end, orr_v3(0, 0, 0), w->lengths_first[blk], b, t,
+                                   &w->lane_err[me]);
+            if (n < 0) {
+                w->failed[me] = blk;
+                continue;
+            }
+            orr_deposit_stats st[3];
+            memset(st, 0, sizeof st);
+            orr_point_batch pb = {(size_t)n, b->px, b->py, b->visible, {b->w[0], b->w[1], b->w[2]}, v->nplanes};
+            orr_shares shares = {b->share_pixel, {b->share_w[0], b->share_w[1], b->share_w[2]}, 0};
+            orr_deposit_shares(v->scene->deposit, &pb, &v->proj, W, H, &shares, st);
+            t->deposit[0] = st[0];
+            t->deposit[1] = st[1];
+            orr_bands_put(&v->bands, q, &shares, b->band_cursor);
+        }
     }
-    for (size_t blk = 0; blk < nblocks; blk++)
-        add_tally(v->rep, &w->tally[blk]);
-    v->rep->n_read += c->n;
+}
+
+/* Splats the chunk into a view of point deposits: window by window, the
+ * blocks' shares in parallel, then the bands in parallel (splat/bands.h:
+ * the same sums in the same order whatever the threads). */
+static orr_status splat_view_banded(view_state *v, const orr_source *src, const orr_chunk *c,
+                                    const float *const *wts, splat_work *w, orr_error *err)
+{
+    const size_t nblocks = (c->n + BLOCK - 1) / BLOCK, window = v->bands.nregions;
+    const int nthreads = splat_threads(), nbands = v->bands.nbands;
+    lengths_starts(v, c, nblocks, w->lengths_first);
+    for (int k = 0; k < MAX_LANES; k++)
+        w->failed[k] = SIZE_MAX;
+    for (size_t first = 0; first < nblocks; first += window) {
+        size_t count = nblocks - first < window ? nblocks - first : window;
+        window_shares(v, src, c, wts, first, count, w, nthreads);
+        orr_status st = first_failure(w, nthreads, err);
+        if (st)
+            return st;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
+        for (int band = 0; band < nbands; band++)
+            orr_bands_apply(&v->bands, band, count, v->planes);
+    }
+    add_chunk_tally(v, c, w, nblocks);
     return ORR_OK;
+}
+
+static orr_status splat_view(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+                             splat_work *w, orr_error *err)
+{
+    return v->banded ? splat_view_banded(v, src, c, wts, w, err) : splat_view_lanes(v, src, c, wts, w, err);
 }
 
 /* The per-particle weights of a chunk: the scene's weight field, or with
@@ -634,14 +922,9 @@ static orr_status draw_block(view_state *v, const orr_source *src, const orr_chu
 {
     block_tally t;
     memset(&t, 0, sizeof t);
-    long n = gather_block(v, src, c, w, start, end, shift, lengths_next, b, &t, err);
+    long n = project_block(v, src, c, w, start, end, shift, lengths_next, b, &t, err);
     if (n < 0)
         return err ? err->code : ORR_ERR_DATA;
-    if (v->use_ods)
-        t.n_stereo_skipped = orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
-    orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
-    if (v->use_ods)
-        orr_stereo_mask((size_t)n, b->visible, b->keep);
     deposit_block(v, v->planes, 0, (size_t)n, b, &t);
     add_tally(v->rep, &t);
     return ORR_OK;
@@ -765,7 +1048,8 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
         if (!(xyz[k] = orr_malloc(cap * sizeof(float), "colour weights", err)))
             st = ORR_ERR_NOMEM;
     for (int k = 0; k < nviews && !st; k++)
-        st = alloc_lanes(&views[k], src->info.count, err);
+        st = views[k].banded && !views[k].periodic.active ? alloc_bands(&views[k], src->chunk.capacity, err)
+                             : alloc_lanes(&views[k], src->info.count, err);
     while (!st) {
         const orr_chunk *c;
         if ((st = orr_source_next(src, &c, err)) || c->n == 0)
@@ -776,9 +1060,11 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
         if (progress)
             progress(progress_user, views[0].rep->n_read, src->info.count);
     }
-    for (int k = 0; k < nviews; k++)
+    for (int k = 0; k < nviews; k++) {
+        orr_bands_free(&views[k].bands);
         if (!st)
             merge_lanes(&views[k]);
+    }
     for (int k = 0; k < nviews && !st; k++)
         if (views[k].psf.sky)
             st = orr_sky_psf_select(views[k].psf.sky, err);
@@ -794,13 +1080,45 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
  * the stretch shows them black). Deposits never put weight there. */
 static void mask_outside_map(view_state *v)
 {
-    if (!orr_projection_is_sky(&v->proj))
+    const orr_projection *p = &v->proj;
+    if (!orr_projection_is_sky(p))
         return;
-    for (int j = 0; j < v->proj.height; j++)
-        for (int i = 0; i < v->proj.width; i++)
-            if (!orr_projection_pixel_in_map(&v->proj, i, j))
-                for (int k = 0; k < v->nplanes; k++)
-                    v->planes[k].data[(size_t)j * v->proj.width + i] = NAN;
+    /* A row's pixels on the map are one run about the centre column (the
+     * outline is an ellipse, a circle or the whole image): its ends are
+     * found by bisection with the projection's own test, and only the
+     * pixels outside are visited. */
+    const int W = p->width, centre = (int)lround(p->cx - 0.5);
+    for (int j = 0; j < p->height; j++) {
+        int first = W, last = -1; /* the run [first, last], empty when last < first */
+        if (centre >= 0 && centre < W && orr_projection_pixel_in_map(p, centre, j)) {
+            int lo = 0, hi = centre; /* the first inside is in [lo, hi] */
+            while (lo < hi) {
+                int mid = lo + (hi - lo) / 2;
+                if (orr_projection_pixel_in_map(p, mid, j))
+                    hi = mid;
+                else
+                    lo = mid + 1;
+            }
+            first = lo;
+            lo = centre, hi = W - 1; /* the last inside is in [lo, hi] */
+            while (lo < hi) {
+                int mid = hi - (hi - lo) / 2;
+                if (orr_projection_pixel_in_map(p, mid, j))
+                    lo = mid;
+                else
+                    hi = mid - 1;
+            }
+            last = lo;
+        }
+        const int left_end = first < W ? first : W, right_start = last + 1 > left_end ? last + 1 : left_end;
+        for (int k = 0; k < v->nplanes; k++) {
+            float *row = v->planes[k].data + (size_t)j * (size_t)W;
+            for (int i = 0; i < left_end; i++)
+                row[i] = NAN;
+            for (int i = right_start; i < W; i++)
+                row[i] = NAN;
+        }
+    }
 }
 
 static void add_frame_cards(const view_state *v, orr_fits_header *h)
@@ -1122,12 +1440,16 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     for (int k = 0; k < v->nplanes && !st; k++)
         st = orr_plane_alloc(&v->planes[k], v->proj.width, v->proj.height, s->colour ? xyz_names[k] : s->weight,
                              s->colour ? "CIE tristimulus/pixel" : s->bunit, err);
-    if (!st)
+    /* The kernel's tables take milliseconds to build: only for kernel
+     * deposits and PSFs (a sky map's is drawn with the kernel). */
+    int needs_kernel = s->deposit == ORR_DEPOSIT_SPH || s->psf != ORR_PSF_NONE;
+    if (!st && needs_kernel)
         st = orr_kernel_init(&v->kernel, s->kernel, err);
-    v->kernel_ready = !st;
+    v->kernel_ready = !st && needs_kernel;
     if (!st)
         st = orr_view_psf_setup(&v->psf, s, &v->proj, &v->kernel, err);
     v->use_sph = s->deposit == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
+    v->banded = !v->use_sph && (size_t)v->proj.width * (size_t)v->proj.height > BAND_MIN_PIXELS;
     if (!st && v->use_sph)
         st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
     v->sph_ready = !st && v->use_sph;
@@ -1137,6 +1459,7 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
 static void free_view(view_state *v)
 {
     free_lanes(v);
+    orr_bands_free(&v->bands);
     for (int k = 0; k < 3; k++)
         orr_plane_free(&v->planes[k]);
     orr_view_psf_free(&v->psf);
@@ -1213,7 +1536,9 @@ static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_so
     const char *fields[4];
     int nfields = orr_render_fields(s, fields);
     orr_source *whole = NULL;
-    orr_status st = orr_scene_open_source(s, fields, nfields, &whole, err);
+    /* File readers that can seek read only this rank's share; the others,
+     * and the generators, are dealt out by chunks. */
+    orr_status st = orr_scene_open_share(s, fields, nfields, par->rank, par->nranks, &whole, err);
     return st ? st : orr_source_partition(whole, par->rank, par->nranks, out, err);
 }
 

@@ -57,6 +57,12 @@ int orr_render_fields(const orr_scene *s, const char *fields[4]);
  * the given extra fields only (NULL: all). */
 orr_status orr_scene_open_source(const orr_scene *scene, const char *const *fields, int nfields,
                                  orr_source **out, orr_error *err);
+/* The same, asking a file's reader for part `part` of `nparts` only
+ * (orr_source_options): readers that can seek read just that share, the
+ * others (and the generators) give everything, to be dealt out by
+ * orr_source_partition. */
+orr_status orr_scene_open_share(const orr_scene *scene, const char *const *fields, int nfields, int part, int nparts,
+                                orr_source **out, orr_error *err);
 
 /* Renders views[0..n) of one scene (they share input.* and observer.*) and
  * writes their outputs; reports[i] describes view i. A still: the scene's

@@ -11,7 +11,11 @@ orr_status orr_sequence_open_scene(const orr_scene *s, const char *const *fields
                         s->path);
     orr_sequence_options opt = {
         /* As orr_scene_open_source: keep the observer's particles whatever their type. */
-        .source = {s->input_format, (size_t)s->chunk_size, s->has_observer ? 0 : s->type_mask, fields, nfields},
+        .source = {.format = s->input_format,
+                   .chunk_size = (size_t)s->chunk_size,
+                   .type_mask = s->has_observer ? 0 : s->type_mask,
+                   .fields = fields,
+                   .nfields = nfields},
         .interpolation = s->seq_interpolation,
         .max_memory = s->seq_max_memory * 1024.0 * 1024.0 * 1024.0,
     };

@@ -40,6 +40,59 @@ static uint8_t type_of(const orr_particle_arrays *a, size_t i)
     return a->type ? a->type[i * (a->type_stride ? a->type_stride : 1)] : 0;
 }
 
+/* Column copies of elements [first, first + n) into the chunk: a packed
+ * float array is a memcpy, the others a plain conversion loop. */
+static void copy_column(float *restrict out, const orr_array *a, size_t first, size_t n)
+{
+    size_t size = a->type == ORR_F64 ? sizeof(double) : sizeof(float);
+    size_t stride = a->stride ? a->stride : size;
+    const char *p = (const char *)a->data + first * stride;
+    if (a->type == ORR_F32 && stride == sizeof(float)) {
+        memcpy(out, p, n * sizeof(float));
+    } else if (a->type == ORR_F64 && stride == sizeof(double)) {
+        const double *restrict d = (const double *)(const void *)p;
+        for (size_t i = 0; i < n; i++)
+            out[i] = (float)d[i];
+    } else {
+        for (size_t i = 0; i < n; i++)
+            out[i] = (float)element(a, first + i);
+    }
+}
+
+/* The next n particles, all taken (no type selection): column by column. */
+static void copy_all(arrays_state *st, orr_chunk *c, size_t n)
+{
+    const orr_particle_arrays *a = &st->a;
+    const size_t first = st->next;
+    copy_column(c->x, &a->x, first, n);
+    copy_column(c->y, &a->y, first, n);
+    copy_column(c->z, &a->z, first, n);
+    if (a->mass.data) {
+        copy_column(c->mass, &a->mass, first, n);
+    } else {
+        const float m = (float)a->mass_value;
+        for (size_t i = 0; i < n; i++)
+            c->mass[i] = m;
+    }
+    if (a->id && (a->id_stride == 0 || a->id_stride == sizeof(uint64_t)))
+        memcpy(c->id, (const uint64_t *)a->id + first, n * sizeof *c->id);
+    else
+        for (size_t i = 0; i < n; i++)
+            c->id[i] = id_of(a, first + i);
+    if (!a->type)
+        memset(c->type, 0, n);
+    else if (a->type_stride <= 1)
+        memcpy(c->type, a->type + first, n);
+    else
+        for (size_t i = 0; i < n; i++)
+            c->type[i] = type_of(a, first + i);
+    if (c->h)
+        copy_column(c->h, &a->h, first, n);
+    for (int k = 0; k < c->nextra; k++)
+        copy_column(c->extra[k].data, st->extra_from[k], first, n);
+    st->next += n;
+}
+
 static orr_status arrays_next(orr_source *src, orr_error *err)
 {
     (void)err;
@@ -47,11 +100,18 @@ static orr_status arrays_next(orr_source *src, orr_error *err)
     const orr_particle_arrays *a = &st->a;
     orr_chunk *c = &src->chunk;
     c->first_index = st->next;
+    /* Every particle taken: no selection, or no types and type 0 selected. */
+    if (!st->type_mask || (!a->type && (st->type_mask & 1u))) {
+        size_t left = a->n - st->next;
+        c->n = left < c->capacity ? left : c->capacity;
+        copy_all(st, c, c->n);
+        return ORR_OK;
+    }
     size_t n = 0;
     for (; st->next < a->n && n < c->capacity; st->next++) {
         size_t i = st->next;
         uint8_t t = type_of(a, i);
-        if (st->type_mask && (t > 31 || !(st->type_mask & (1u << t))))
+        if (t > 31 || !(st->type_mask & (1u << t)))
             continue;
         c->x[n] = (float)element(&a->x, i);
         c->y[n] = (float)element(&a->y, i);

@@ -13,6 +13,7 @@
 
 #include "core/bytes.h"
 #include "source/gadget_internal.h"
+#include "source/share.h"
 
 #define GADGET_DEFAULT_CHUNK ((size_t)1 << 20)
 /* Values converted per fread; bounds the raw buffer (8 bytes each). */
@@ -30,6 +31,9 @@ typedef struct gadget_state {
     gadget_file *files;
     gadget_encoding enc;
     int want_type[GADGET_NTYPES];
+    /* This process's rows of each file and type (run file * GADGET_NTYPES +
+     * type), none of the types not wanted. */
+    orr_share share;
     int slot[X_COUNT]; /* chunk extra index of each field, -1 when not loaded */
     int has_id, has_h;
     /* The read position: next particle is number `done` of type `type` in file `file`. */
@@ -218,15 +222,17 @@ static orr_status gadget_next(orr_source *src, orr_error *err)
     orr_chunk *c = &src->chunk;
     c->first_index = st->next_index;
     while (c->n < c->capacity && st->file < st->nfiles) {
-        const gadget_file *f = &st->files[st->file];
         if (st->type == GADGET_NTYPES) {
             st->file++;
             st->type = 0;
             st->done = 0;
             continue;
         }
-        int64_t left = f->h.npart[st->type] - st->done;
-        if (left <= 0 || !st->want_type[st->type]) {
+        size_t run = (size_t)st->file * GADGET_NTYPES + (size_t)st->type;
+        if (st->done < st->share.lo[run])
+            st->done = st->share.lo[run]; /* the rows before are other processes' */
+        int64_t left = st->share.hi[run] - st->done;
+        if (left <= 0) {
             st->type++;
             st->done = 0;
             continue;
@@ -249,7 +255,7 @@ static orr_status gadget_rewind(orr_source *src, orr_error *err)
     gadget_state *st = src->state;
     st->file = st->type = 0;
     st->done = 0;
-    st->next_index = 0;
+    st->next_index = st->share.first;
     return ORR_OK;
 }
 
@@ -261,6 +267,7 @@ static void gadget_close(orr_source *src)
     if (st->fp)
         fclose(st->fp);
     free(st->files);
+    orr_share_free(&st->share);
     free(st->raw);
     free(st);
     src->state = NULL;
@@ -528,6 +535,22 @@ static orr_status choose_fields(orr_source *src, gadget_state *st, const orr_sou
     return ORR_OK;
 }
 
+/* Which rows of each file and type this process reads (all of the wanted
+ * types' when the options ask for no share). */
+static orr_status choose_share(orr_source *src, gadget_state *st, const orr_source_options *opt, orr_error *err)
+{
+    size_t nruns = (size_t)st->nfiles * GADGET_NTYPES;
+    orr_status s = orr_share_alloc(&st->share, nruns, err);
+    if (s)
+        return s;
+    for (int i = 0; i < st->nfiles; i++)
+        for (int t = 0; t < GADGET_NTYPES; t++)
+            st->share.hi[(size_t)i * GADGET_NTYPES + (size_t)t] = st->want_type[t] ? st->files[i].h.npart[t] : 0;
+    s = orr_share_divide(&st->share, nruns, src, opt, err);
+    st->next_index = st->share.first;
+    return s;
+}
+
 static orr_status setup(orr_source *src, gadget_state *st, const char *path, const orr_source_options *opt,
                         orr_error *err)
 {
@@ -543,9 +566,11 @@ static orr_status setup(orr_source *src, gadget_state *st, const char *path, con
         if (st->want_type[t])
             wanted += sum[t];
     }
-    src->info.count = wanted;
     src->info.time = st->files[0].h.time;
     describe(src, st, sum);
+    if ((s = choose_share(src, st, opt, err)))
+        return s;
+    wanted = src->info.count;
     size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : GADGET_DEFAULT_CHUNK;
     size_t capacity = wanted < 1 ? 1 : (uint64_t)wanted < chunk_size ? (size_t)wanted : chunk_size;
     const char *names[ORR_MAX_EXTRA_FIELDS];

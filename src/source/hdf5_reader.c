@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "source/hdf5_internal.h"
+#include "source/share.h"
 
 #define H5R_DEFAULT_CHUNK ((size_t)1 << 20)
 /* More files than this is not a snapshot but a corrupt header. */
@@ -41,6 +42,9 @@ typedef struct hdf5_state {
     int ntypes;
     double mass_table[H5R_MAX_TYPES];
     int64_t *npart;                 /* nfiles x ntypes: NumPart_ThisFile of each file */
+    /* nfiles x ntypes: the rows of each group this process reads (all of a
+     * wanted type's without a share, none of an unwanted one's). */
+    orr_share share;
     unsigned type_mask;             /* types to read (bit t) */
     int present[DS_COUNT];          /* some group read has this dataset */
     int swift_h;                    /* smoothing lengths are SWIFT's (SmoothingLengths) */
@@ -599,8 +603,10 @@ static int advance(hdf5_state *st)
 {
     while (st->file < st->nfiles) {
         if (st->type < st->ntypes) {
-            int64_t n = st->npart[(size_t)st->file * (size_t)st->ntypes + (size_t)st->type];
-            if ((st->type_mask >> st->type & 1u) && st->row < (uint64_t)n)
+            size_t run = (size_t)st->file * (size_t)st->ntypes + (size_t)st->type;
+            if (st->row < (uint64_t)st->share.lo[run])
+                st->row = (uint64_t)st->share.lo[run]; /* the rows before are other processes' */
+            if (st->row < (uint64_t)st->share.hi[run])
                 return 1;
             close_group(st);
             st->type++;
@@ -624,7 +630,7 @@ static orr_status hdf5_next(orr_source *src, orr_error *err)
         orr_status s = st->gid < 0 ? open_current_group(st, err) : ORR_OK;
         if (s)
             return s;
-        uint64_t left = (uint64_t)st->npart[(size_t)st->file * (size_t)st->ntypes + (size_t)st->type] - st->row;
+        uint64_t left = (uint64_t)st->share.hi[(size_t)st->file * (size_t)st->ntypes + (size_t)st->type] - st->row;
         size_t n = c->capacity - c->n;
         if (left < n)
             n = (size_t)left;
@@ -643,7 +649,8 @@ static orr_status hdf5_rewind(orr_source *src, orr_error *err)
     hdf5_state *st = src->state;
     close_file(st);
     st->file = st->type = 0;
-    st->row = st->emitted = 0;
+    st->row = 0;
+    st->emitted = st->share.first;
     return ORR_OK;
 }
 
@@ -654,6 +661,7 @@ static void hdf5_close(orr_source *src)
         return;
     close_file(st);
     free(st->npart);
+    orr_share_free(&st->share);
     free(st->scratch);
     free(st);
     src->state = NULL;
@@ -680,6 +688,20 @@ static void choose_fields(hdf5_state *st, orr_source *src, const orr_source_opti
     src->info.h_support = st->swift_h ? 1.825742 : 1.0;
     src->info.has_id = st->present[DS_ID];
     src->info.has_type = 1;
+}
+
+/* Which rows of each group this process reads; the count becomes theirs. */
+static orr_status choose_share(hdf5_state *st, orr_source *src, const orr_source_options *opt, orr_error *err)
+{
+    size_t nruns = (size_t)st->nfiles * (size_t)st->ntypes;
+    orr_status s = orr_share_alloc(&st->share, nruns, err);
+    if (s)
+        return s;
+    for (size_t r = 0; r < nruns; r++)
+        st->share.hi[r] = st->type_mask >> (r % (size_t)st->ntypes) & 1u ? st->npart[r] : 0;
+    s = orr_share_divide(&st->share, nruns, src, opt, err);
+    st->emitted = st->share.first;
+    return s;
 }
 
 static orr_status alloc_buffers(hdf5_state *st, orr_source *src, size_t chunk_size, orr_error *err)
@@ -743,6 +765,9 @@ orr_status orr_hdf5_source_open(const char *path, const orr_source_options *opt,
     }
     if (!s) {
         choose_fields(st, src, opt);
+        s = choose_share(st, src, opt, err);
+    }
+    if (!s) {
         s = alloc_buffers(st, src, chunk_size, err);
     }
     if (s) {

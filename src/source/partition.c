@@ -66,7 +66,14 @@ orr_status orr_source_partition(orr_source *inner, int part, int nparts, orr_sou
         orr_source_close(inner);
         return orr_fail(err, ORR_ERR_USAGE, "partition %d of %d: out of range", part, nparts);
     }
-    if (nparts == 1) {
+    int already = inner->info.share_nparts == nparts && inner->info.share_part == part;
+    if (inner->info.share_nparts > 1 && !already) {
+        int had = inner->info.share_nparts;
+        orr_source_close(inner);
+        return orr_fail(err, ORR_ERR_USAGE, "partition %d of %d of a source already read as a share of %d parts",
+                        part, nparts, had);
+    }
+    if (nparts == 1 || already) {
         *out = inner;
         return ORR_OK;
     }

@@ -30,6 +30,10 @@ typedef struct orr_source_info {
     double h_support;
     int nextra;             /* the extra fields loaded into every chunk */
     char extra_names[ORR_MAX_EXTRA_FIELDS][ORR_FIELD_NAME_MAX];
+    /* A reader that divided the file itself (orr_source_options' part and
+     * nparts) yields only part share_part of share_nparts, and count is
+     * that part's; share_nparts 0: the whole source. */
+    int share_part, share_nparts;
     int nheader;            /* header values and units, for `orrery info` */
     orr_header_entry header[ORR_SOURCE_MAX_HEADER];
 } orr_source_info;
@@ -47,6 +51,11 @@ typedef struct orr_source_options {
     unsigned type_mask;        /* bit t set: particles of type t are wanted (0 means all) */
     const char *const *fields; /* extra fields wanted by name; NULL means every field the file has */
     int nfields;
+    /* Part `part` of `nparts` (nparts 0 or 1: the whole file). Readers that
+     * can seek to their share (Gadget, HDF5, Tipsy: source/share.h) read
+     * only it and say so in info.share_nparts; the others ignore it and
+     * orr_source_partition deals their chunks out instead. */
+    int part, nparts;
 } orr_source_options;
 
 typedef struct orr_source orr_source;

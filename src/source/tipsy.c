@@ -11,6 +11,7 @@
 
 #include "core/bytes.h"
 #include "source/formats.h"
+#include "source/share.h"
 
 /* Particle families in file order: gas, dark, star. */
 enum { GAS, DARK, STAR, NFAMILIES };
@@ -58,6 +59,7 @@ typedef struct tipsy_state {
     FILE *fp;
     tipsy_header hdr;
     int wanted[NFAMILIES];
+    orr_share share;    /* the records of each family this process reads */
     int extra_column[NFAMILIES][ORR_MAX_EXTRA_FIELDS]; /* -1: fill 0 */
     int family;         /* family being read */
     int64_t index;      /* next record within that family */
@@ -267,9 +269,11 @@ static orr_status tipsy_next(orr_source *src, orr_error *err)
     tipsy_state *st = src->state;
     orr_chunk *c = &src->chunk;
     while (c->n < c->capacity && st->family < NFAMILIES) {
-        int64_t left = st->hdr.count[st->family] - st->index;
-        if (!st->wanted[st->family] || left == 0) {
-            next_family(st); /* unwanted families are skipped without reading */
+        if (st->index < st->share.lo[st->family])
+            st->index = st->share.lo[st->family]; /* the records before are other processes' */
+        int64_t left = st->share.hi[st->family] - st->index;
+        if (left <= 0) {
+            next_family(st); /* unwanted families and others' records are skipped without reading */
             continue;
         }
         orr_status s;
@@ -307,6 +311,7 @@ static void tipsy_close(orr_source *src)
         return;
     if (st->fp)
         fclose(st->fp);
+    orr_share_free(&st->share);
     free(st->buf);
     free(st);
     src->state = NULL;
@@ -382,6 +387,18 @@ static void add_header_entries(orr_source_info *info, const tipsy_header *h)
     orr_source_add_header(info, "time", "%.17g", h->time);
 }
 
+/* Which records of each family this process reads: a range of each, as the
+ * records have a fixed size. */
+static orr_status choose_share(orr_source *src, tipsy_state *st, const orr_source_options *opt, orr_error *err)
+{
+    orr_status s = orr_share_alloc(&st->share, NFAMILIES, err);
+    if (s)
+        return s;
+    for (int f = 0; f < NFAMILIES; f++)
+        st->share.hi[f] = st->wanted[f] ? st->hdr.count[f] : 0;
+    return orr_share_divide(&st->share, NFAMILIES, src, opt, err);
+}
+
 /* Allocates the chunk and the I/O buffer, both bounded by the chunk size
  * (and by the particle count, so small files stay small). */
 static orr_status alloc_buffers(orr_source *src, tipsy_state *st, size_t chunk_size, orr_error *err)
@@ -419,8 +436,10 @@ orr_status orr_tipsy_source_open(const char *path, const orr_source_options *opt
     if (!s) {
         choose_contents(src, st, opt);
         add_header_entries(&src->info, &st->hdr);
-        s = alloc_buffers(src, st, chunk_size, err);
+        s = choose_share(src, st, opt, err);
     }
+    if (!s)
+        s = alloc_buffers(src, st, chunk_size, err);
     if (s) {
         orr_source_close(src);
         return s;

@@ -24,6 +24,10 @@ p3=$(grep -ao "CAMPOSX = *[-0-9.E+]*" out/futuresky-dome_0003.fits)
 "$NBODY" --particles 3000 --steps 1 --scene "$SRC/configs/futuresky.yaml" --set camera.fov=500 >/dev/null 2>err.txt
 [ $? -eq 2 ] && grep -q "camera.fov" err.txt || fail "bad key: $(cat err.txt)"
 
+# A text table's count is known only once read: refused, not truncated.
+"$NBODY" --ic "$SRC/examples/plummer-sphere.txt" --steps 1 >/dev/null 2>err.txt
+[ $? -eq 1 ] && grep -q "plummer-sphere.txt: its particle count is not known" err.txt || fail "text ICs: $(cat err.txt)"
+
 # GADGET-2's galaxy-merger initial conditions, when the shared data is there.
 ic="${ORRERY_SHARED_DATA:-}/gadget2/gadget2_examples/galaxy_littleendian.dat"
 if [ -f "$ic" ]; then

@@ -84,6 +84,13 @@ int main(void)
     CHECK(median[0] > median[1] && median[1] > median[2]);
     CHECK(median[1] < 5e-3);
 
+    /* A process's slice (orrery-nbody-mpi): the same accelerations, bit for
+     * bit, as those of the whole. */
+    bh_accelerations(&t, pos, mass, G, eps, 0.5, acc_tree);
+    const size_t first = N / 3, count = N / 4;
+    bh_accelerations_of(&t, pos, mass, G, eps, 0.5, first, count, acc_direct);
+    CHECK(memcmp(acc_direct, &acc_tree[3 * first], 3 * count * sizeof *acc_direct) == 0);
+
     /* Coincident particles end in one deep leaf, and still come out finite. */
     for (int i = 0; i < 20; i++)
         for (int k = 0; k < 3; k++)

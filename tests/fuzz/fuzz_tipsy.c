@@ -66,7 +66,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     orr_source_options all = {.format = "tipsy", .chunk_size = 257};
     int opened = read_with(path, &all, 1);
     static const char *const fields[] = {"rho", "eps", "tform"};
-    orr_source_options some = {"tipsy", 3, 1u << 1 | 1u << 4, fields, 3};
+    orr_source_options some = {.format = "tipsy", .chunk_size = 3, .type_mask = 1u << 1 | 1u << 4, .fields = fields, .nfields = 3};
     if (read_with(path, &some, 0) != opened)
         abort();
     /* Below ORR_PROBE_BYTES the probe sees the whole file: what it accepts

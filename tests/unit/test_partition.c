@@ -20,7 +20,7 @@ static orr_source *open_model(size_t chunk)
 
 static orr_source *open_table(const char *path, size_t chunk)
 {
-    orr_source_options opt = {"auto", chunk, 0, NULL, 0};
+    orr_source_options opt = {.format = "auto", .chunk_size = chunk};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_source_open_file(path, &opt, &src, &err) == ORR_OK);

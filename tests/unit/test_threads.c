@@ -1,6 +1,7 @@
 /* The splat gives the same planes, bit for bit, and the same report sums on
  * 1, 2 and 4 OpenMP threads (render.c's lanes: a fixed assignment of blocks
- * to lanes and a fixed-order reduction), for every kind of deposit, a sky
+ * to lanes and a fixed-order reduction; for point deposits into large
+ * images, bands), for every kind of deposit, a sky
  * map, colour populations and neighbour smoothing lengths; and a bad
  * particle is reported as one thread would report it. */
 #include <math.h>
@@ -185,6 +186,53 @@ static void test_colour(void)
                       3, 0);
 }
 
+/* Point deposits into images of more than 2^22 pixels are splatted in
+ * bands (splat/bands.h), not lanes: the same bits on every thread count,
+ * on a flat image and on a dome master (whose shares fold at the rim). */
+static void test_bands(void)
+{
+    check_independent("ngp_bands", MODEL "camera: {projection: orthographic, width: 60}\n"
+                                         "image: {width: 2100, height: 2048}\ndeposit: ngp\n",
+                      1, total);
+    check_independent("dome_bands", MODEL "camera: {projection: dome, position: [8, 0, 0]}\n"
+                                          "image: {width: 2100, height: 2100}\ndeposit: cic\n",
+                      1, total);
+}
+
+/* Pixels off a sky map are NaN in the FITS planes, and only those: the
+ * dome master's circle and the Hammer-Aitoff ellipse (pixel centres within
+ * the outline, centred on the image, semi-axes half its sides), for even
+ * and odd sizes. */
+static void check_outline(const char *name, const char *projection, int W, int H)
+{
+    char yaml[512];
+    snprintf(yaml, sizeof yaml, MODEL "camera: {projection: %s, position: [8, 0, 0]}\n"
+                                      "image: {width: %d, height: %d}\ndeposit: ngp\n",
+             projection, W, H);
+    rendering r;
+    render_with(yaml, name, 1, &r);
+    CHECK(r.st == ORR_OK && r.nplanes == 1);
+    if (r.st == ORR_OK && r.nplanes == 1) {
+        size_t wrong = 0;
+        for (int j = 0; j < H; j++)
+            for (int i = 0; i < W; i++) {
+                double u = (i + 0.5 - 0.5 * W) / (0.5 * W), v = (j + 0.5 - 0.5 * H) / (0.5 * H);
+                int inside = u * u + v * v <= 1.0;
+                wrong += inside == (int)isnan(r.planes[0].data[(size_t)j * W + i]);
+            }
+        CHECK(wrong == 0);
+    }
+    free_rendering(&r);
+}
+
+static void test_map_outline(void)
+{
+    check_outline("outline_dome", "dome", 86, 86);
+    check_outline("outline_dome_odd", "dome", 87, 87);
+    check_outline("outline_aitoff", "hammer-aitoff", 200, 100);
+    check_outline("outline_aitoff_odd", "hammer-aitoff", 201, 101);
+}
+
 /* Two bad particles, in different blocks (so different lanes): every
  * thread count names the first, as a single thread meets it. */
 static void test_first_error(void)
@@ -218,6 +266,17 @@ static void test_first_error(void)
         CHECK(strcmp(r[t].msg, r[0].msg) == 0);
         free_rendering(&r[t]);
     }
+    /* ... and in bands (blocks shared out among the threads) */
+    snprintf(yaml, sizeof yaml,
+             "input: {file: %s}\ncamera: {projection: orthographic, width: 2, position: [0.5, 0.5, 0]}\n"
+             "image: {width: 2100, height: 2100}\n",
+             path);
+    for (int t = 0; t < 3; t++) {
+        render_with(yaml, "bad_bands", thread_counts[t], &r[t]);
+        CHECK(r[t].st == ORR_ERR_DATA);
+        CHECK_CONTAINS(r[t].msg, "particle 4500 ");
+        free_rendering(&r[t]);
+    }
 }
 
 int main(void)
@@ -228,6 +287,8 @@ int main(void)
     RUN(test_deposits);
     RUN(test_sky_maps);
     RUN(test_colour);
+    RUN(test_bands);
+    RUN(test_map_outline);
     RUN(test_first_error);
     remove_tmpdir();
     return check_summary();

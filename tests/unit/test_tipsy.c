@@ -105,7 +105,7 @@ static const char *write_sample(const char *name, int big_endian, int header_siz
 static orr_status open_tipsy(const char *path, size_t chunk, unsigned mask, const char *const *fields, int nfields,
                              orr_source **src, orr_error *err)
 {
-    orr_source_options opt = {"tipsy", chunk, mask, fields, nfields};
+    orr_source_options opt = {.format = "tipsy", .chunk_size = chunk, .type_mask = mask, .fields = fields, .nfields = nfields};
     return orr_tipsy_source_open(path, &opt, src, err);
 }
 

@@ -1,0 +1,32 @@
+/* The processes orrery-nbody runs on: one (ranks_serial.c, orrery-nbody) or
+ * the ranks of MPI_COMM_WORLD (ranks_mpi.c, orrery-nbody-mpi). Each rank
+ * owns a contiguous slice of the particles, in rank order; the functions
+ * below are collective: every rank calls them. */
+#ifndef NBODY_RANKS_H
+#define NBODY_RANKS_H
+
+#include <stddef.h>
+
+#include "orrery.h"
+
+/* Starts the processes (MPI_Init) and says which this one is of how many. */
+void ranks_start(int *argc, char ***argv, int *rank, int *size);
+void ranks_finish(void);
+
+/* Every rank's count, counts[0 .. size). Returns 0, or -1 (a message on
+ * stderr) when MPI fails. */
+int ranks_counts(size_t mine, size_t *counts);
+
+/* Fills all[] (per doubles a particle, every rank's slice in rank order)
+ * from each rank's own slice, which is already in place in all[] at its
+ * offset. Returns 0, or -1 when MPI fails or a slice is too large for an
+ * MPI count. */
+int ranks_gather(double *all, size_t per, const size_t *counts);
+
+/* Whether any rank failed (failed != 0 on it). */
+int ranks_any(int failed);
+
+/* Makes r's renders collective over the ranks (orrery_use_mpi). */
+int ranks_render_together(orrery_renderer *r);
+
+#endif

@@ -1,0 +1,16 @@
+/* Hot loops get a second copy compiled for AVX2 (eight floats an
+ * instruction instead of SSE2's four), picked at run time for the CPU it
+ * runs on (GCC's and Clang's function multi-versioning; the build stays
+ * portable to any x86-64). AVX2 alone, without FMA: the clones do the same
+ * IEEE operations on wider registers, so the results do not depend on the
+ * machine. Elsewhere the attribute is empty. */
+#ifndef ORR_CORE_SIMD_H
+#define ORR_CORE_SIMD_H
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(ORR_NO_CLONES)
+#define ORR_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define ORR_VECTOR_CLONES
+#endif
+
+#endif
