@@ -52,12 +52,15 @@ PY
 
 render() { "$orrery" render "$@" >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }; }
 
-echo "Future Sky (configs/futuresky.yaml), 1/4 size"
-render "$here/configs/futuresky.yaml" -o "$work/fs" --set input.model.particles=1000000 \
-  --set views.dome.image.width=900 --set views.dome.image.height=900 \
-  --set views.panorama.image.width=1024 --set views.panorama.image.height=512
+echo "Future Sky (configs/futuresky.yaml), full size, downscaled, and a full-resolution detail of the dome"
+render "$here/configs/futuresky.yaml" -o "$work/fs"
 shrink "$work/fs/futuresky-panorama.png" "$dest/futuresky-panorama.png" 640
 shrink "$work/fs/futuresky-dome.png" "$dest/futuresky-dome.png" 400
+# Pixels 1040-1680 x 1260-1620 of the master, at its own scale: bright
+# stars with spikes 20-35 degrees from the zenith, left of the Milky Way.
+"$py" -c "import sys; from PIL import Image; Image.open(sys.argv[1]).crop((1040, 1260, 1680, 1620)).save(sys.argv[2])" \
+  "$work/fs/futuresky-dome.png" "$work/fs/detail.png"
+shrink "$work/fs/detail.png" "$dest/futuresky-dome-detail.png" 640
 
 echo "Spiral Metamorphosis (configs/spiral-metamorphosis.yaml), the model today"
 render "$here/configs/spiral-metamorphosis.yaml" -o "$work/sp" --set image.width=400 --set image.height=400
@@ -71,13 +74,8 @@ shrink "$work/an/spiral-anaglyph.png" "$dest/spiral-metamorphosis-anaglyph.png" 
 if [ "${1:-}" = "--collision" ]; then
   echo "Spiral Metamorphosis in-situ (orrery-nbody, 20000 particles, 240 steps), frame 27"
   nbody=$(dirname "$orrery")/examples/orrery-nbody
-  C="-229.2, 371.0, -171.4" # the galaxies' centre of mass, where they meet (docs/gallery.md)
   "$nbody" --particles 20000 --steps 240 --dt 0.02 --render-every 8 --quiet \
-    --scene "$here/configs/spiral-metamorphosis.yaml" --set output.dir="$work/run" \
-    --set animation.frames=31 --set image.width=400 --set image.height=400 \
-    --set "views.faceon.camera.position=[-229.2, 371.0, 148.6]" --set "views.faceon.camera.look_at=[$C]" \
-    --set "views.edgeon.camera.position=[-229.2, 51.0, -171.4]" --set "views.edgeon.camera.look_at=[$C]" \
-    --set views.faceon.camera.fov=40 --set views.edgeon.camera.fov=40
+    --scene "$here/configs/spiral-metamorphosis-insitu.yaml" --set output.dir="$work/run"
   side_by_side "$work/run/spiral-faceon_0027.png" "$work/run/spiral-edgeon_0027.png" "$work/collision.png"
   shrink "$work/collision.png" "$dest/spiral-metamorphosis-collision.png" 640
 fi
@@ -86,7 +84,7 @@ echo "Dark Universe (configs/dark-universe.yaml): a 64^3 box, frame 150 of 600"
 "$orrery" ics --zeldovich --grid 64 --box 100 --z 0 --truncate 1 --seed 1 -o "$work/box.hdf5" >"$work/log" 2>&1 ||
   { cat "$work/log" >&2; exit 1; }
 render "$here/configs/dark-universe.yaml" -o "$work/du" --frames 150 --set input.file="$work/box.hdf5" \
-  --set image.width=1024 --set image.height=540 --set psf.fwhm=1
+  --set image.width=1024 --set image.height=540 --set psf.fwhm=1 --set colour.synthesis.white=90
 shrink "$work/du/dark-universe_0150.png" "$dest/dark-universe.png" 480
 
 echo "Nightfall (configs/nightfall.yaml): 300000 stars, frame 0 of 36"

@@ -42,6 +42,7 @@
  * colour 2; an image too large for even one extra lane is splatted by one
  * thread). */
 #define MAX_LANES 4
+_Static_assert(MAX_LANES <= ORR_SKY_PSF_LANES, "a sky PSF collects stars in every lane");
 #define LANE_BUDGET ((size_t)256 << 20)
 
 /* Point deposits (NGP, CIC, on flat images and sky maps) into images of
@@ -579,7 +580,8 @@ static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
 /* Deposits the block into planes (a lane's: the view's own or a private
  * copy). The report's statistics are of the first plane's weights (with
  * colour, X; Y's are in the FITS header). */
-static void deposit_block(const view_state *v, orr_plane *planes, size_t n, block_buffers *b, block_tally *t)
+static void deposit_block(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+                          block_tally *t)
 {
     if (v->use_sph)
         widen_for_psf(v, n, b);
@@ -592,6 +594,13 @@ static void deposit_block(const view_state *v, orr_plane *planes, size_t n, bloc
         }
         orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->w[k]};
         orr_sph_deposit(&v->sph, &blk, &planes[k], st);
+    }
+    /* A sky map's hst/file PSF: the brightest stars are redrawn with the
+     * whole PSF after the splat (render/sky_psf.h). */
+    if (v->psf.sky) {
+        orr_sph_block geom = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
+        const float *w[3] = {b->w[0], b->w[1], b->w[2]};
+        orr_sky_psf_collect(v->psf.sky, lane, &geom, w, v->nplanes);
     }
 }
 
@@ -742,7 +751,7 @@ static void splat_lane(view_state *v, const orr_source *src, const orr_chunk *c,
         long n = take_block(v, src, c, wts, blk, w, lane, b, &t);
         if (n < 0)
             return;
-        deposit_block(v, planes, (size_t)n, b, t);
+        deposit_block(v, planes, lane, (size_t)n, b, t);
     }
 }
 
@@ -923,7 +932,7 @@ static orr_status draw_block(view_state *v, const orr_source *src, const orr_chu
     long n = project_block(v, src, c, w, start, end, shift, lengths_next, b, &t, err);
     if (n < 0)
         return err ? err->code : ORR_ERR_DATA;
-    deposit_block(v, v->planes, (size_t)n, b, &t);
+    deposit_block(v, v->planes, 0, (size_t)n, b, &t);
     add_tally(v->rep, &t);
     return ORR_OK;
 }
@@ -1063,6 +1072,9 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
         if (!st)
             merge_lanes(&views[k]);
     }
+    for (int k = 0; k < nviews && !st; k++)
+        if (views[k].psf.sky)
+            st = orr_sky_psf_select(views[k].psf.sky, err);
     for (int k = 0; k < 3; k++)
         free(xyz[k]);
     free_work(work);
@@ -1162,6 +1174,12 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
         orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm, "[pixel] PSF FWHM");
     else if (s->psf != ORR_PSF_NONE)
         orr_fits_add_double(h, "PSFSCALE", s->psf_arcsec_per_pixel, "[arcsec/pixel] image scale for the PSF");
+    if (v->psf.sky) {
+        orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm_arcmin, "[arcmin] the PSF core's FWHM on the sky");
+        orr_fits_add_double(h, "PSFSKYSC", v->psf.sky->rad_per_pixel * (180.0 * 3600.0 / ORR_PI),
+                            "[arcsec] one PSF pixel on the sky");
+        orr_fits_add_long(h, "PSFSTARS", v->psf.sky->stars_drawn, "stars drawn with the whole PSF");
+    }
     orr_fits_add_string(h, "WEIGHT", s->weight, "particle field deposited");
     orr_fits_add_long(h, "NPART", (long long)rep->n_read, "particles read");
     orr_fits_add_long(h, "NSELECT", (long long)rep->n_selected, "particles of the selected types");
@@ -1438,7 +1456,8 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     if (!st)
         st = orr_view_psf_setup(&v->psf, s, &v->proj, &v->kernel, err);
     v->use_sph = s->deposit == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
-    v->banded = !v->use_sph && (size_t)v->proj.width * (size_t)v->proj.height > BAND_MIN_PIXELS;
+    /* (A sky PSF collects its stars per lane: it keeps lanes.) */
+    v->banded = !v->use_sph && !v->psf.sky && (size_t)v->proj.width * (size_t)v->proj.height > BAND_MIN_PIXELS;
     if (!st && v->use_sph)
         st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
     v->sph_ready = !st && v->use_sph;
@@ -1561,6 +1580,8 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
         }
         r->n_replicas_culled = (uint64_t)culling[0], r->n_blocks = (uint64_t)culling[1];
         r->n_blocks_culled = (uint64_t)culling[2];
+        if (!st && v->psf.sky) /* rank 0 draws the whole frame's brightest stars */
+            st = orr_sky_psf_share(v->psf.sky, par->rank, par->nranks, par->allreduce_sum, par->user, err);
     }
     return st;
 }
@@ -1569,6 +1590,9 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
 static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, orr_error *err)
 {
     orr_status st = ORR_OK;
+    for (int k = 0; k < n && !st; k++) /* a sky map's bright stars: part of the raw planes, as their cores */
+        if (views[k].psf.sky)
+            st = orr_sky_psf_draw(views[k].psf.sky, &views[k].sph, views[k].planes, views[k].nplanes, err);
     for (int k = 0; k < n && !st; k++)
         if (views[k].scene->write_raw) {
             mask_outside_map(&views[k]);

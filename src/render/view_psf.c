@@ -1,6 +1,7 @@
 #include "render/view_psf.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "post/psf.h"
@@ -56,16 +57,87 @@ static orr_status file_kernel(const orr_scene *s, orr_image_kernel *out, orr_err
     return orr_psf_load_fits(s->psf_file, &opt, out, NULL, err);
 }
 
+/* Generating the Hubble PSF takes 0.3-2 s, and every frame of a run and
+ * every view asks for the same one: the last one made is kept, with what
+ * it depends on, for the life of the process (one kernel, 66 KB for 129^2;
+ * guarded, as views are set up on one thread but the library may be used
+ * from several). */
+typedef struct hst_key {
+    double angle, arcsec_per_pixel;
+    int size;
+} hst_key;
+
+static struct {
+    int ready;
+    hst_key key;
+    orr_image_kernel kernel;
+} hst_cache;
+
+static orr_status kernel_copy(const orr_image_kernel *from, orr_image_kernel *to, orr_error *err)
+{
+    orr_status st = orr_image_kernel_alloc(to, from->width, from->height, err);
+    if (!st) {
+        memcpy(to->data, from->data, (size_t)from->width * (size_t)from->height * sizeof(float));
+        to->arcsec_per_pixel = from->arcsec_per_pixel;
+    }
+    return st;
+}
+
+static orr_status hst_kernel_cached(const orr_scene *s, orr_image_kernel *out, orr_error *err)
+{
+    hst_key key;
+    memset(&key, 0, sizeof key); /* compared with memcmp: no stray padding bytes */
+    key.angle = s->psf_angle;
+    key.arcsec_per_pixel = s->psf_arcsec_per_pixel;
+    key.size = s->psf_size;
+    orr_status st = ORR_OK;
+    int hit = 0;
+#pragma omp critical(orr_hst_psf_cache)
+    if (hst_cache.ready && memcmp(&key, &hst_cache.key, sizeof key) == 0) {
+        hit = 1;
+        st = kernel_copy(&hst_cache.kernel, out, err);
+    }
+    if (hit || (st = hst_kernel(s, out, err)))
+        return st;
+#pragma omp critical(orr_hst_psf_cache)
+    {
+        orr_image_kernel_free(&hst_cache.kernel);
+        hst_cache.ready = kernel_copy(out, &hst_cache.kernel, NULL) == ORR_OK;
+        hst_cache.key = key;
+    }
+    return ORR_OK;
+}
+
+orr_status orr_view_psf_kernel(const orr_scene *s, orr_image_kernel *out, orr_error *err)
+{
+    return s->psf == ORR_PSF_HST ? hst_kernel_cached(s, out, err) : file_kernel(s, out, err);
+}
+
 static orr_status flat_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj, orr_error *err)
 {
     if (s->psf == ORR_PSF_GAUSSIAN)
         return orr_convolver_create_gaussian(&vp->conv, proj->width, proj->height, s->psf_fwhm, NULL, err);
     orr_image_kernel k = {0};
-    orr_status st = s->psf == ORR_PSF_HST ? hst_kernel(s, &k, err) : file_kernel(s, &k, err);
+    orr_status st = orr_view_psf_kernel(s, &k, err);
     if (!st)
         st = orr_convolver_create(&vp->conv, proj->width, proj->height, &k, NULL, err);
     orr_image_kernel_free(&k);
     return st;
+}
+
+/* Sky maps, hst or file: the whole PSF for the brightest stars, scaled so
+ * its core is as wide as the kernels the other stars are drawn with. */
+static orr_status sky_setup(orr_view_psf *vp, const orr_scene *s, double core_fwhm_rad, orr_error *err)
+{
+    orr_image_kernel k = {0};
+    orr_status st = orr_view_psf_kernel(s, &k, err);
+    if (!st && !(vp->sky = orr_calloc(1, sizeof *vp->sky, "sky PSF", err)))
+        st = ORR_ERR_NOMEM;
+    if (!st)
+        st = orr_sky_psf_init(vp->sky, &k, core_fwhm_rad, s->psf_spike_stars, s->psf_spike_min_flux,
+                              s->colour || s->nlayers ? 1 : 0, err);
+    orr_image_kernel_free(&k);
+    return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
 }
 
 orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
@@ -79,7 +151,7 @@ orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_scene *s, const orr_pr
          * half-maximum chord of q_half h / r is an angle of FWHM / 2. */
         double fwhm = s->psf_fwhm_arcmin * ARCMIN;
         vp->h_per_r = 2.0 * sin(0.25 * fwhm) / orr_kernel_half_max_q(k);
-        return ORR_OK;
+        return s->psf == ORR_PSF_GAUSSIAN ? ORR_OK : sky_setup(vp, s, fwhm, err);
     }
     orr_status st = flat_setup(vp, s, proj, err);
     return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
@@ -94,4 +166,8 @@ void orr_view_psf_free(orr_view_psf *vp)
 {
     orr_convolver_free(vp->conv);
     vp->conv = NULL;
+    if (vp->sky)
+        orr_sky_psf_free(vp->sky);
+    free(vp->sky);
+    vp->sky = NULL;
 }

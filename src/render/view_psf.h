@@ -3,25 +3,31 @@
  * scale varies across it (a dome master's tangential scale is theta/sin theta
  * times its radial one), so one pixel kernel cannot give stars the same
  * angular size everywhere; there each particle is drawn instead as an SPH
- * kernel whose half-maximum width on the sky is the PSF's FWHM (and a
- * particle that has a smoothing length of its own as both, added in
- * quadrature). docs/psf.md. */
+ * kernel whose half-maximum width on the sky is the PSF's (core's) FWHM
+ * (and a particle that has a smoothing length of its own as both, added in
+ * quadrature), and with psf.kind hst or file the brightest stars are then
+ * redrawn with the whole PSF in angle (render/sky_psf.h). docs/psf.md. */
 #ifndef ORR_RENDER_VIEW_PSF_H
 #define ORR_RENDER_VIEW_PSF_H
 
 #include "post/convolve.h"
 #include "scene/scene.h"
+#include "render/sky_psf.h"
 #include "splat/kernel.h"
 
 typedef struct orr_view_psf {
     orr_convolver *conv; /* flat views: the convolution; NULL for none */
     double h_per_r;      /* sky maps: kernel h per unit distance giving the PSF's FWHM; 0 for none */
+    orr_sky_psf *sky;    /* sky maps with an hst or file PSF: the bright stars' whole PSF; else NULL */
 } orr_view_psf;
 
 /* Prepares the scene's PSF for a projection that has been set up; k is the
  * kernel sky maps draw with. */
 orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
                               const orr_kernel *k, orr_error *err);
+/* The PSF as an image kernel (psf.kind hst or file), normalised, with its
+ * angular scale. */
+orr_status orr_view_psf_kernel(const orr_scene *s, orr_image_kernel *out, orr_error *err);
 /* Convolves a flat view's plane (nothing for a sky map or no PSF). */
 orr_status orr_view_psf_apply(orr_view_psf *vp, orr_plane *plane, orr_error *err);
 void orr_view_psf_free(orr_view_psf *vp);

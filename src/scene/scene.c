@@ -66,6 +66,8 @@ void orr_scene_defaults(orr_scene *s)
     s->psf_arcsec_per_pixel = 0.04;
     s->psf_angle = 45.0;
     s->psf_size = 129;
+    s->psf_spike_stars = 200;
+    s->psf_spike_min_flux = 0.001;
 
     s->dome_tilt = 0;
     s->zenith_lb[0] = 0;

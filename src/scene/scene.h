@@ -170,17 +170,23 @@ typedef struct orr_scene {
 
     /* psf.* : a point spread function. Flat views convolve the splatted
      * plane with it (FFT); sky maps, whose scale varies across the image,
-     * draw each particle as a kernel of the PSF's angular size instead
-     * (gaussian only). docs/psf.md. */
+     * draw each particle as a kernel of the PSF core's angular size instead,
+     * and the brightest stars with the whole PSF (render/sky_psf.h).
+     * docs/psf.md. */
     orr_psf_kind psf;              /* psf.kind: none | gaussian | hst | file (default none) */
     double psf_fwhm;               /* psf.fwhm: Gaussian FWHM in pixels, flat views (default 2) */
-    double psf_fwhm_arcmin;        /* psf.fwhm_arcmin: Gaussian FWHM in arcminutes, sky maps (default 10) */
+    double psf_fwhm_arcmin;        /* psf.fwhm_arcmin: FWHM in arcminutes on sky maps, of the Gaussian or of
+                                    * the hst/file PSF's core, which scales the whole PSF (default 10) */
     char psf_file[ORR_PATH_MAX];   /* psf.file: a FITS PSF image (psf.kind: file) */
     int psf_file_subsample;        /* psf.file_subsample: file pixels per detector pixel (default 1) */
     double psf_arcsec_per_pixel;   /* psf.arcsec_per_pixel: the image's pixel scale for hst and file PSFs
                                     * (default 0.04, near Hubble ACS/WFC; 0 for a file: its own pixels) */
     double psf_angle;              /* psf.angle: direction of the spikes, degrees (default 45) */
     int psf_size;                  /* psf.size: odd kernel side in pixels (default 129) */
+    int psf_spike_stars;           /* psf.spike_stars: sky maps, hst/file: at most this many of the brightest
+                                    * stars are drawn with the whole PSF, the others as its core (default 200) */
+    double psf_spike_min_flux;     /* psf.spike_min_flux: and none fainter than this fraction of the
+                                    * brightest star (default 0.001) */
 
     /* observer.* : an observer-centred sky. When observer.id is set the camera
      * sits on that particle, which is not drawn, and the frame is rebuilt every

@@ -388,6 +388,8 @@ static const key_spec KEYS[] = {
     {.key = "psf.arcsec_per_pixel", .type = K_NUMBER, FIELD(psf_arcsec_per_pixel), .lo = 0, .bounds = HAS_LO},
     {.key = "psf.angle", .type = K_NUMBER, FIELD(psf_angle)},
     {.key = "psf.size", .type = K_INT, FIELD(psf_size), IRANGE(3, 2047)},
+    {.key = "psf.spike_stars", .type = K_INT, FIELD(psf_spike_stars), IRANGE(0, 100000)},
+    {.key = "psf.spike_min_flux", .type = K_NUMBER, FIELD(psf_spike_min_flux), CLOSED(0, 1)},
     {.key = "observer.id", .type = K_ID, FIELD(observer_id), FLAG(has_observer)},
     {.key = "observer.reference_id", .type = K_ID, FIELD(reference_id)},
     {.key = "observer.normal", .type = K_VEC3, FIELD(observer_normal), FLAG(has_normal)},

@@ -295,14 +295,15 @@ static orr_status check_psf(const orr_scene *s, const scene_marks *m, orr_error 
         return scene_fail_key(s, m, "psf.kind", err, "psf.kind: file needs psf.file, a FITS PSF image");
     if (s->psf != ORR_PSF_FILE && scene_mark(m, "psf.file"))
         return scene_fail_key(s, m, "psf.file", err, "psf.file is used only with psf.kind: file");
-    /* A sky map's pixel scale varies across it, so an image PSF in pixels
-     * has no single meaning there; its particles are drawn at an angular
-     * size instead (docs/psf.md). */
-    if (sky && (s->psf == ORR_PSF_HST || s->psf == ORR_PSF_FILE))
-        return scene_fail_key(s, m, "psf.kind", err,
-                              "psf.kind: %s is for flat views; sky maps (%s) take psf.kind: gaussian with "
-                              "psf.fwhm_arcmin",
-                              s->psf == ORR_PSF_HST ? "hst" : "file", orr_projection_name(s->projection.kind));
+    /* A sky map draws the brightest stars with the whole PSF, the rest as
+     * its core (docs/psf.md); a flat view convolves every star with it. */
+    const char *spike_keys[2] = {"psf.spike_stars", "psf.spike_min_flux"};
+    for (int k = 0; k < 2; k++)
+        if (scene_mark(m, spike_keys[k]) && !(sky && (s->psf == ORR_PSF_HST || s->psf == ORR_PSF_FILE)))
+            return scene_fail_key(s, m, spike_keys[k], err,
+                                  "%s is for sky maps with psf.kind: hst or file (a Gaussian has no spikes; a "
+                                  "flat view convolves every star with the whole PSF)",
+                                  spike_keys[k]);
     if (sky && scene_mark(m, "psf.fwhm"))
         return scene_fail_key(s, m, "psf.fwhm", err,
                               "psf.fwhm is in pixels, for flat views; a sky map's PSF size is psf.fwhm_arcmin");

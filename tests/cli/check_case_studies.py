@@ -3,6 +3,7 @@
   check_case_studies.py band PANORAMA.fits
   check_case_studies.py views FACEON.fits EDGEON.fits FACEON.png
   check_case_studies.py parallax ANAGLYPH.png ANAGLYPH.fits
+  check_case_studies.py cameras MODEL.txt SCENE.yaml VIEW:DX,DY,DZ ...
 
 Each prints what it measured and exits 1 when a property does not hold."""
 import sys
@@ -85,8 +86,32 @@ def parallax(png, fits_path):
     return ok
 
 
+def cameras(model, scene, *expected):
+    """Spiral Metamorphosis in-situ: every camera looks at the model's
+    centre of mass (mass-weighted mean of all particles, from `orrery model`
+    output) and sits at the given offset (kpc) from it. A view named "-" is
+    the scene's own camera (no views:)."""
+    import yaml
+
+    table = np.loadtxt(model, skiprows=1, usecols=(0, 1, 2, 3))
+    com = (table[:, :3] * table[:, 3:4]).sum(axis=0) / table[:, 3].sum()
+    with open(scene) as f:
+        doc = yaml.safe_load(f)
+    ok = True
+    for item in expected:
+        name, offset = item.split(":")
+        cam = doc["camera"] if name == "-" else doc["views"][name]["camera"]
+        want = np.array([float(v) for v in offset.split(",")])
+        look = np.linalg.norm(np.array(cam["look_at"]) - com)
+        place = np.linalg.norm(np.array(cam["position"]) - com - want)
+        print(f"cameras {name}: look_at {look:.2f} kpc from the centre of mass {np.round(com, 1)}, "
+              f"position {place:.2f} kpc from the centre of mass + {want}")
+        ok = ok and look < 2.0 and place < 2.0
+    return ok
+
+
 if __name__ == "__main__":
-    checks = {"band": band, "views": views, "parallax": parallax}
+    checks = {"band": band, "views": views, "parallax": parallax, "cameras": cameras}
     if len(sys.argv) < 3 or sys.argv[1] not in checks:
         raise SystemExit(__doc__)
     sys.exit(0 if checks[sys.argv[1]](*sys.argv[2:]) else 1)

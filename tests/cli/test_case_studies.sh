@@ -30,16 +30,39 @@ $check views sp/spiral-faceon.fits sp/spiral-edgeon.fits sp/spiral-faceon.png ||
   || fail "anaglyph: $(cat run.err)"
 $check parallax an/spiral-anaglyph.png an/spiral-anaglyph.fits || fail "anaglyph: parallax sign"
 
-# The evolving version: the example N-body code renders the spiral scene
-# in-situ, E0 handed over (the populations select by it: without it every
-# star would be young and blue, and the centre no redder).
+# The evolving version (configs/spiral-metamorphosis-insitu.yaml and its
+# anaglyph): the cameras look at the pair's centre of mass, where the
+# galaxies meet, from the offsets the paper's views need...
+"$ORRERY" model -o model.txt --particles 20000 >run.out 2>run.err || fail "model: $(cat run.err)"
+$check cameras model.txt "$SRC/configs/spiral-metamorphosis-insitu.yaml" faceon:0,0,320 edgeon:0,-320,0 ||
+  fail "spiral in-situ: cameras not on the centre of mass"
+$check cameras model.txt "$SRC/configs/spiral-metamorphosis-anaglyph-insitu.yaml" -:0,-277.1,160 ||
+  fail "spiral anaglyph in-situ: camera not on the centre of mass"
+# ...which the galaxies reach only after 4 Gyr: for two steps the cameras
+# are moved by the centre of mass back onto the Milky Way, and the example
+# N-body code renders both views with E0 handed over (the populations select
+# by it: without it every star would be young and blue, the centre no
+# redder), with the scene's fixed white level.
 NBODY=$(dirname "$ORRERY")/examples/orrery-nbody
 if [ -x "$NBODY" ]; then
-  "$NBODY" --particles 6000 --steps 2 --dt 0.01 --scene "$SRC/configs/spiral-metamorphosis.yaml" \
-    --set output.dir=ns --set image.width=160 --set image.height=160 >run.out 2>run.err \
+  "$NBODY" --particles 6000 --steps 2 --dt 0.01 --scene "$SRC/configs/spiral-metamorphosis-insitu.yaml" \
+    --set output.dir=ns --set image.width=160 --set image.height=160 \
+    --set "views.faceon.camera.position=[0, 0, 320]" --set "views.faceon.camera.look_at=[0, 0, 0]" \
+    --set "views.edgeon.camera.position=[0, -320, 0]" --set "views.edgeon.camera.look_at=[0, 0, 0]" \
+    --set views.faceon.camera.fov=20 --set views.edgeon.camera.fov=20 >run.out 2>run.err \
     || fail "spiral in-situ: $(cat run.err)"
   [ -s ns/spiral-faceon_0002.png ] && [ -s ns/spiral-edgeon_0002.png ] || fail "spiral in-situ frames: $(ls ns)"
   $check views ns/spiral-faceon_0002.fits ns/spiral-edgeon_0002.fits ns/spiral-faceon_0002.png \
     || fail "spiral in-situ: view shapes or colours"
+  white=$(sed -n 's/^ *white: \([0-9.e+-]*\).*/\1/p' "$SRC/configs/spiral-metamorphosis-insitu.yaml")
+  "$py" -c "import sys; from PIL import Image; d = Image.open(sys.argv[1]).info['Description']; \
+sys.exit(0 if abs(float(d.rsplit(' ', 1)[1]) / float(sys.argv[2]) - 1) < 1e-5 else 'white: ' + d)" \
+    ns/spiral-faceon_0002.png "$white" \
+    || fail "spiral in-situ: not graded with the fixed white level $white"
+  "$NBODY" --particles 6000 --steps 2 --dt 0.01 --scene "$SRC/configs/spiral-metamorphosis-anaglyph-insitu.yaml" \
+    --set output.dir=na --set image.width=192 --set image.height=108 --set stereo.eye_separation=40 \
+    --set "camera.position=[0, -277.1, 160]" --set "camera.look_at=[0, 0, 0]" --set camera.fov=24 \
+    >run.out 2>run.err || fail "spiral anaglyph in-situ: $(cat run.err)"
+  $check parallax na/spiral-anaglyph_0002.png na/spiral-anaglyph_0002.fits || fail "anaglyph in-situ: parallax sign"
 fi
 finish

@@ -22,7 +22,8 @@ cmp -s out/box.hdf5 out/other.hdf5 && fail "seeds 3 and 4 gave the same file"
 frames() {
   "$ORRERY" render --quiet "$SRC/configs/dark-universe.yaml" -o frames --set input.file=out/box.hdf5 \
     --set animation.frames=3 --set image.width=96 --set image.height=51 --set psf.fwhm=1 \
-    --set camera.path.from=[5,40,45] --set camera.path.to=[60,50,50] "$@" 2>err.txt || fail "render: $(cat err.txt)"
+    --set camera.path.from=[5,40,45] --set camera.path.to=[60,50,50] --set colour.synthesis.white=auto \
+    "$@" 2>err.txt || fail "render: $(cat err.txt)"
 }
 frames
 for f in 0 1 2; do

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Future Sky, short: 24 frames of the Milky Way-Andromeda collision seen from
+# the Sun over 4.6 Gyr, evolved by the example N-body code (30 000 particles)
+# and rendered in-situ with configs/futuresky-sequence.yaml at a quarter of
+# its size: a 1024x1024 dome master and a 1024x512 panorama per frame, then
+# a film of each when ffmpeg is there. docs/gallery.md gives the time it
+# took here; the full-length run is the config's own command.
+#
+#   examples/futuresky-short.sh [OUT_DIR]      (default out/futuresky-short)
+#
+# The white levels are the config's, scaled by the pixels' solid angle (a
+# pixel of the 1024^2 master covers (3600/1024)^2 = 12.4 of the full one's,
+# one of the 1024x512 panorama 16 of the 4096x2048 one's), so the short run
+# is graded like the full one.
+set -euo pipefail
+here=$(cd "$(dirname "$0")/.." && pwd)
+build=${ORRERY_BUILD:-$here/build}
+out=${1:-out/futuresky-short}
+scene=$here/configs/futuresky-sequence.yaml
+"$build/examples/orrery-nbody" --particles 30000 --steps 115 --render-every 5 --dt 0.04 --quiet \
+  --scene "$scene" --set output.dir="$out" --set animation.frames=24 \
+  --set views.dome.image.width=1024 --set views.dome.image.height=1024 \
+  --set views.dome.colour.synthesis.white=2.5e-4 \
+  --set views.panorama.image.width=1024 --set views.panorama.image.height=512 \
+  --set views.panorama.colour.synthesis.white=4.0e-4
+if command -v ffmpeg >/dev/null; then
+  "$build/orrery" video "$scene" --set output.dir="$out" --set animation.frames=24
+fi
