@@ -203,6 +203,96 @@ static void disc_cumulative(target *t, double cx, double cy, double h, float w)
     t->in += t->proj ? w : w * (((double)bottom[n] - bottom[0]) - ((double)top[n] - top[0]));
 }
 
+/* ---- small kernels on flat images: fixed-size corner grids ----
+ *
+ * Most particles of a dense region are smaller than a pixel or two. For
+ * them the general path's set-up (footprint, clipping, variable-length
+ * loops, a call a row) costs more than the corners themselves, so a
+ * footprint of at most FIXED_SMALL - 1 (or FIXED_LARGE - 1) pixels a side,
+ * inside the image, takes a corner grid of that fixed width: loops of known
+ * length that GCC unrolls and vectorises, in float (the positions are
+ * floats already). Only the footprint's own rows are computed and touched
+ * (each row is a cache line to fetch); its columns are padded to the fixed
+ * width with corners beyond the support, which read the same table entry
+ * as the support's edge, so the padding pixels get exactly 0. Same table,
+ * same corner formula, same telescoping as disc_cumulative: the whole
+ * kernel adds up to exactly 1. */
+#define FIXED_SMALL 4
+#define FIXED_LARGE 8
+
+/* Corners k < n of one axis, at image coordinates e0 + k, in units of h
+ * from the centre c: table cell, fraction and sign. Corner 0 and corners
+ * from `edge` on lie on or beyond the support's edge (the caller checked)
+ * and are set exactly there, whatever the rounding. */
+static inline void fixed_axis(float c, float inv_h, float e0, int n, int edge, int *restrict cell,
+                              float *restrict frac, float *restrict sign)
+{
+    const float to_cell = (float)(ORR_KERNEL_NG / ORR_KERNEL_SUPPORT), support = (float)ORR_KERNEL_SUPPORT;
+    for (int k = 0; k < n; k++) {
+        float x = (e0 + (float)k - c) * inv_h;
+        x = k == 0 ? -support : k >= edge ? support : x < -support ? -support : x > support ? support : x;
+        const float g = (x < 0.0f ? -x : x) * to_cell;
+        const int i = (int)g < ORR_KERNEL_NG - 1 ? (int)g : ORR_KERNEL_NG - 1;
+        cell[k] = i;
+        frac[k] = g - (float)i;
+        sign[k] = x < 0.0f ? -1.0f : 1.0f;
+    }
+}
+
+/* Deposits a kernel of r = 2 h pixels' support at (cx, cy), whose
+ * footprint is nx x ny pixels from (x0, y0), all on the image, with a
+ * corner grid n wide (nx < n, ny < n). */
+static inline void disc_fixed(target *t, float cx, float cy, float h, float w, int x0, int y0, int nx, int ny,
+                              const int n)
+{
+    int cell_x[FIXED_LARGE], cell_y[FIXED_LARGE];
+    float frac_x[FIXED_LARGE], frac_y[FIXED_LARGE], sign_x[FIXED_LARGE], sign_y[FIXED_LARGE];
+    const float inv_h = 1.0f / h;
+    fixed_axis(cx, inv_h, (float)x0, n, nx, cell_x, frac_x, sign_x);
+    fixed_axis(cy, inv_h, (float)y0, n, ny, cell_y, frac_y, sign_y);
+    float grid[FIXED_LARGE][FIXED_LARGE];
+    const float *table = t->kernel->cumulative;
+    for (int l = 0; l <= ny; l++) {
+        const float *g0 = table + (size_t)cell_y[l] * (ORR_KERNEL_NG + 1), *g1 = g0 + ORR_KERNEL_NG + 1;
+        const float fy = frac_y[l], sy = sign_y[l];
+        for (int m = 0; m < n; m++) {
+            const int i = cell_x[m];
+            const float fx = frac_x[m];
+            const float lo = g0[i] + fx * (g0[i + 1] - g0[i]);
+            const float hi = g1[i] + fx * (g1[i + 1] - g1[i]);
+            grid[l][m] = sy * sign_x[m] * (lo + fy * (hi - lo));
+        }
+    }
+    const int width = t->plane->width;
+    float *row = t->plane->data + (size_t)y0 * (size_t)width + (size_t)x0;
+    for (int l = 0; l < ny; l++, row += width)
+        for (int m = 0; m + 1 < n; m++)
+            row[m] += w * ((grid[l + 1][m + 1] - grid[l + 1][m]) - (grid[l][m + 1] - grid[l][m]));
+    t->in += w;
+}
+
+/* Deposits a kernel of h pixels by a fixed-size grid when it fits one;
+ * returns 0, having done nothing, when it does not. */
+static int disc_small(target *t, float cx, float cy, float h, float w)
+{
+    const float r = (float)ORR_KERNEL_SUPPORT * h;
+    const int width = t->plane->width, height = t->plane->height;
+    /* floor(c - r) as a truncation (floorf is a library call without
+     * SSE4.1), once c - r is known to be on the image. */
+    if (!(cx - r >= 0.0f && cy - r >= 0.0f && cx + r < (float)width && cy + r < (float)height &&
+          r < 0.5f * FIXED_LARGE))
+        return 0;
+    const int x0 = (int)(cx - r), y0 = (int)(cy - r);
+    const int nx = (int)(cx + r) - x0 + 1, ny = (int)(cy + r) - y0 + 1, n = nx > ny ? nx : ny;
+    if (n < FIXED_SMALL && x0 + FIXED_SMALL - 1 <= width)
+        disc_fixed(t, cx, cy, h, w, x0, y0, nx, ny, FIXED_SMALL);
+    else if (n < FIXED_LARGE && x0 + FIXED_LARGE - 1 <= width)
+        disc_fixed(t, cx, cy, h, w, x0, y0, nx, ny, FIXED_LARGE);
+    else
+        return 0;
+    return 1;
+}
+
 /* ---- midpoint rule over an ellipse ---- */
 
 /* A kernel whose footprint is the ellipse u = a dx^2 + 2 b dx dy + c dy^2
@@ -490,6 +580,8 @@ static int ellipse_deposit(target *t, const ellipse *e, float w)
 /* A disc kernel of h pixels by whichever method suits its size. */
 static void disc_deposit(target *t, double cx, double cy, double h, float w)
 {
+    if (!t->proj && h < 0.25 * FIXED_LARGE && disc_small(t, (float)cx, (float)cy, (float)h, w))
+        return;
     if (h < CUMULATIVE_MAX) {
         disc_cumulative(t, cx, cy, h, w);
         return;
