@@ -622,6 +622,85 @@ static void disc_deposit(target *t, double cx, double cy, double h, float w)
     ellipse_deposit(t, &e, w);
 }
 
+/* ---- large kernels on flat images, band by band ----
+ *
+ * A kernel of 10 or more pixels per h adds into hundreds of pixels over
+ * dozens of rows, and on an image larger than the core's cache every row
+ * comes from memory: the image update was 40 % of a Plummer sphere's time
+ * (docs/splash.md). So a block's large kernels are collected and drawn a
+ * band of image rows (about BAND_BYTES) at a time, the band staying in
+ * cache while every kernel crossing it is drawn there. Each pixel's weight
+ * is its own midpoint sample, normalised analytically (ellipse_deposit),
+ * so a kernel drawn in pieces has the same pixels as drawn at once; only
+ * the order in which kernels add into a pixel changes, and that is set by
+ * the block, not by the threads. */
+#define BAND_BYTES (128 * 1024)
+#define BAND_MIN_ROWS 8
+
+typedef struct large_kernel {
+    double cx, cy, h;
+    float w;
+    int j0, j1; /* the image rows its footprint covers */
+} large_kernel;
+
+/* Room for a whole block's kernels: the fewer lists, the fewer passes
+ * over the bands. */
+typedef struct large_list {
+    large_kernel *k;
+    size_t n;
+} large_list;
+
+/* Rows j0 .. j1 of a large kernel's footprint. */
+static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
+{
+    ellipse e;
+    const double a = 1.0 / (k->h * k->h);
+    ellipse_setup(&e, k->cx, k->cy, a, 0.0, a);
+    box b, full;
+    if (!footprint(t, e.cx, e.cy, e.ex, e.ey, &b, &full))
+        return;
+    const int clipped = b.i0 != full.i0 || b.i1 != full.i1 || b.j0 != full.j0 || b.j1 != full.j1;
+    /* A whole kernel lands whole: counted once, with its first piece. */
+    if (!clipped && j0 <= b.j0 && b.j0 <= j1)
+        t->in += k->w;
+    b.j0 = b.j0 > j0 ? b.j0 : j0;
+    b.j1 = b.j1 < j1 ? b.j1 : j1;
+    if (b.j0 > b.j1)
+        return;
+    drawer d = {{draw_row}, t, (float)(k->w * sqrt(e.a * e.c - e.b * e.b)), clipped, 0.0};
+    ellipse_visit(t, &e, b, &d.v);
+    if (clipped)
+        t->in += d.drawn * d.scale;
+}
+
+static void draw_large(target *t, large_list *list)
+{
+    const int width = t->plane->width;
+    int rows = BAND_BYTES / (int)sizeof(float) / (width > 0 ? width : 1);
+    rows = rows > BAND_MIN_ROWS ? rows : BAND_MIN_ROWS;
+    int lo = t->plane->height, hi = -1;
+    for (size_t k = 0; k < list->n; k++) {
+        lo = list->k[k].j0 < lo ? list->k[k].j0 : lo;
+        hi = list->k[k].j1 > hi ? list->k[k].j1 : hi;
+    }
+    for (int band = lo - lo % rows; band <= hi; band += rows)
+        for (size_t k = 0; k < list->n; k++)
+            if (list->k[k].j0 < band + rows && list->k[k].j1 >= band)
+                draw_large_piece(t, &list->k[k], band, band + rows - 1);
+    list->n = 0;
+}
+
+/* Adds a large kernel to the list; kernels wholly above or below the
+ * image are dropped (nothing lands). */
+static void defer_large(target *t, large_list *list, double cx, double cy, double h, float w)
+{
+    const double r = ORR_KERNEL_SUPPORT * h, last = t->plane->height - 1;
+    if (!(cy + r >= 0 && cy - r < t->plane->height))
+        return;
+    list->k[list->n++] =
+        (large_kernel){cx, cy, h, w, (int)clamp(floor(cy - r), 0, last), (int)clamp(floor(cy + r), 0, last)};
+}
+
 /* ---- sky maps: the local affine model ---- */
 
 static double chord2(orr_vec3 a, orr_vec3 b)
@@ -1133,6 +1212,8 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
         return;
     }
     target t = {plane, s->sky ? &s->proj : NULL, s->kernel, 0, 0, 0.0};
+    /* Without memory for the list, large kernels are drawn one by one. */
+    large_list list = {s->sky || !b->n ? NULL : malloc(b->n * sizeof *list.k), 0};
     double total = 0.0, culled = 0.0;
     uint64_t n_culled = 0;
     for (size_t i = 0; i < b->n; i++) {
@@ -1147,9 +1228,13 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
             deposit_cic_one(s, b, i, &t);
         else if (s->sky)
             sky_particle(s, &t, b, i, hpix);
+        else if (list.k && hpix >= CUMULATIVE_MAX)
+            defer_large(&t, &list, b->px[i], b->py[i], hpix, b->w[i]);
         else
             disc_deposit(&t, b->px[i], b->py[i], hpix, b->w[i]);
     }
+    draw_large(&t, &list);
+    free(list.k);
     /* Flat maps: what did not land fell off the image. Sky maps fold
      * everything onto the map (the difference is round-off). */
     stats->deposited += s->sky ? total : t.in;
