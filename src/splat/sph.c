@@ -372,8 +372,14 @@ static int ellipse_row_range(const ellipse *e, int j, int *lo, int *hi)
  * every sample lies in the support, up to float rounding, which the
  * table's zero padding absorbs; with no test or clamp in it GCC
  * vectorises the loop (emulating the table gather on SSE2). */
+enum sample_mode {
+    SAMPLES_SET,  /* out[m] = sample */
+    SAMPLES_ADD,  /* out[m] += sample */
+    SAMPLES_DRAW, /* out[m] += scale * sample: out is an image row */
+};
+
 static inline void add_samples(const orr_kernel *k, const ellipse *e, float dy, float dx0, int m0, int m1,
-                               float *restrict out, int set)
+                               float *restrict out, enum sample_mode mode, float scale)
 {
     const float a = (float)e->a, b2 = (float)(2.0 * e->b), c = (float)e->c, lap = e->lap;
     const float tscale = (float)(ORR_KERNEL_NU / 4.0);
@@ -401,7 +407,12 @@ static inline void add_samples(const orr_kernel *k, const ellipse *e, float dy, 
         _MM_TRANSPOSE4_PS(f0, l0, f1, l1);
         const __m128 fv = _mm_add_ps(f0, _mm_mul_ps(f, _mm_sub_ps(f1, f0)));
         const __m128 lv = _mm_mul_ps(vlap, _mm_add_ps(l0, _mm_mul_ps(f, _mm_sub_ps(l1, l0))));
-        const __m128 base = set ? _mm_setzero_ps() : _mm_loadu_ps(out + m);
+        if (mode == SAMPLES_DRAW) {
+            const __m128 sample = _mm_add_ps(fv, lv);
+            _mm_storeu_ps(out + m, _mm_add_ps(_mm_loadu_ps(out + m), _mm_mul_ps(_mm_set1_ps(scale), sample)));
+            continue;
+        }
+        const __m128 base = mode == SAMPLES_SET ? _mm_setzero_ps() : _mm_loadu_ps(out + m);
         _mm_storeu_ps(out + m, _mm_add_ps(_mm_add_ps(base, fv), lv));
     }
 #endif
@@ -411,7 +422,10 @@ static inline void add_samples(const orr_kernel *k, const ellipse *e, float dy, 
         const int i = (int)t;
         const float f = t - (float)i;
         const float f0 = col[2 * i], f1 = col[2 * i + 2], l0 = col[2 * i + 1], l1 = col[2 * i + 3];
-        out[m] = (set ? 0.0f : out[m]) + (f0 + f * (f1 - f0)) + lap * (l0 + f * (l1 - l0));
+        if (mode == SAMPLES_DRAW)
+            out[m] += scale * ((f0 + f * (f1 - f0)) + lap * (l0 + f * (l1 - l0)));
+        else
+            out[m] = (mode == SAMPLES_SET ? 0.0f : out[m]) + (f0 + f * (f1 - f0)) + lap * (l0 + f * (l1 - l0));
     }
 }
 
@@ -436,7 +450,7 @@ static void ellipse_weights(const orr_kernel *k, const ellipse *e, int j, int i0
         }
         for (int m = 0; m < m0; m++)
             out[m] = 0.0f;
-        add_samples(k, e, (float)dy, (float)base, m0, m1, out, 1);
+        add_samples(k, e, (float)dy, (float)base, m0, m1, out, SAMPLES_SET, 1.0f);
         for (int m = m1; m < n; m++)
             out[m] = 0.0f;
         return;
@@ -454,7 +468,7 @@ static void ellipse_weights(const orr_kernel *k, const ellipse *e, int j, int i0
             double lo = ceil(x0 - base), hi = floor(x1 - base);
             int m0 = lo > 0 ? (lo < n ? (int)lo : n) : 0, m1 = hi < n - 1 ? (hi >= 0 ? (int)hi + 1 : 0) : n;
             if (m0 < m1)
-                add_samples(k, e, (float)dy, (float)base, m0, m1, out, 0);
+                add_samples(k, e, (float)dy, (float)base, m0, m1, out, SAMPLES_ADD, 1.0f);
         }
     }
     const float inv = 1.0f / (float)(ns * ns);
@@ -667,10 +681,27 @@ static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
     b.j1 = b.j1 < j1 ? b.j1 : j1;
     if (b.j0 > b.j1)
         return;
-    drawer d = {{draw_row}, t, (float)(k->w * sqrt(e.a * e.c - e.b * e.b)), clipped, 0.0};
-    ellipse_visit(t, &e, b, &d.v);
-    if (clipped)
+    const float scale = (float)(k->w * sqrt(e.a * e.c - e.b * e.b));
+    if (clipped) {
+        drawer d = {{draw_row}, t, scale, 1, 0.0};
+        ellipse_visit(t, &e, b, &d.v);
         t->in += d.drawn * d.scale;
+        return;
+    }
+    /* Whole: nothing to add up, so each row's samples go straight into the
+     * image (one sample a pixel, the centres inside the support). */
+    const int width = t->plane->width;
+    for (int j = b.j0; j <= b.j1; j++) {
+        const double dy = j + 0.5 - e.cy;
+        double x0, x1;
+        if (!support_chord(&e, dy, &x0, &x1))
+            continue;
+        const double lo = ceil(e.cx + x0 - 0.5), hi = floor(e.cx + x1 - 0.5);
+        const int m0 = lo > b.i0 ? (int)lo : b.i0, m1 = hi < b.i1 ? (int)hi + 1 : b.i1 + 1;
+        if (m0 < m1)
+            add_samples(t->kernel, &e, (float)dy, (float)(0.5 - e.cx), m0, m1,
+                        t->plane->data + (size_t)j * (size_t)width, SAMPLES_DRAW, scale);
+    }
 }
 
 static void draw_large(target *t, large_list *list)
