@@ -621,6 +621,13 @@ static int ellipse_deposit(target *t, const ellipse *e, float w)
     return 1;
 }
 
+/* A disc kernel of h pixels as an ellipse. */
+static void disc_ellipse(ellipse *e, double cx, double cy, double h)
+{
+    const double a = 1.0 / (h * h);
+    ellipse_setup(e, cx, cy, a, 0.0, a);
+}
+
 /* A disc kernel of h pixels by whichever method suits its size. */
 static void disc_deposit(target *t, double cx, double cy, double h, float w)
 {
@@ -631,8 +638,7 @@ static void disc_deposit(target *t, double cx, double cy, double h, float w)
         return;
     }
     ellipse e;
-    double a = 1.0 / (h * h);
-    ellipse_setup(&e, cx, cy, a, 0.0, a);
+    disc_ellipse(&e, cx, cy, h);
     ellipse_deposit(t, &e, w);
 }
 
@@ -668,8 +674,7 @@ typedef struct large_list {
 static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
 {
     ellipse e;
-    const double a = 1.0 / (k->h * k->h);
-    ellipse_setup(&e, k->cx, k->cy, a, 0.0, a);
+    disc_ellipse(&e, k->cx, k->cy, k->h);
     box b, full;
     if (!footprint(t, e.cx, e.cy, e.ex, e.ey, &b, &full))
         return;
@@ -721,15 +726,15 @@ static void draw_large(target *t, large_list *list)
     list->n = 0;
 }
 
-/* Adds a large kernel to the list; kernels wholly above or below the
- * image are dropped (nothing lands). */
+/* Adds a large kernel to the list, with the rows draw_large_piece will
+ * find for it; kernels wholly off the image are dropped (nothing lands). */
 static void defer_large(target *t, large_list *list, double cx, double cy, double h, float w)
 {
-    const double r = ORR_KERNEL_SUPPORT * h, last = t->plane->height - 1;
-    if (!(cy + r >= 0 && cy - r < t->plane->height))
-        return;
-    list->k[list->n++] =
-        (large_kernel){cx, cy, h, w, (int)clamp(floor(cy - r), 0, last), (int)clamp(floor(cy + r), 0, last)};
+    ellipse e;
+    disc_ellipse(&e, cx, cy, h);
+    box b, full;
+    if (footprint(t, e.cx, e.cy, e.ex, e.ey, &b, &full))
+        list->k[list->n++] = (large_kernel){cx, cy, h, w, b.j0, b.j1};
 }
 
 /* ---- sky maps: the local affine model ---- */
