@@ -13,12 +13,14 @@
  * - h_pix below CUMULATIVE_MAX: the exact pixel integrals of F, as
  *   differences of the cumulative table at the pixel corners. The corner
  *   sums telescope, so a whole kernel adds up to exactly 1 and the share
- *   that falls off the image is known without visiting it.
+ *   that falls off the image is known without visiting it. Kernels of up
+ *   to 7 pixels a side inside a flat image take fixed-size grids.
  * - larger: F (plus a Laplacian correction for the pixel's area) at pixel
  *   centres. From 10 pixels per h this midpoint rule is more accurate than
  *   the table's differences (whose float round-off grows as h_pix^2 over
  *   the pixel values), and its sum over a whole footprint is 1 to float
- *   round-off, so no normalising pass is needed.
+ *   round-off, so no normalising pass is needed. On flat images a block's
+ *   large kernels are drawn band by band, to keep the image in cache.
  * - sky maps, h_pix below SKY_LOCAL_MIN: the first method with the local
  *   isotropic scale, folding shares off the map back onto it.
  * - sky maps, larger: the midpoint rule (sub-sampling pixels below 3
@@ -367,17 +369,17 @@ static int ellipse_row_range(const ellipse *e, int j, int *lo, int *hi)
     return *lo <= *hi;
 }
 
-/* Adds (or with set, stores) F(u) + lap lap_F(u) at samples dx0 + m (m in
- * [m0, m1)) of the row at dy to out[m]. The callers choose the range so
- * every sample lies in the support, up to float rounding, which the
- * table's zero padding absorbs; with no test or clamp in it GCC
- * vectorises the loop (emulating the table gather on SSE2). */
 enum sample_mode {
     SAMPLES_SET,  /* out[m] = sample */
     SAMPLES_ADD,  /* out[m] += sample */
     SAMPLES_DRAW, /* out[m] += scale * sample: out is an image row */
 };
 
+/* Adds (or stores, or scales and adds: mode) F(u) + lap lap_F(u) at
+ * samples dx0 + m (m in [m0, m1)) of the row at dy to out[m]. The callers
+ * choose the range so every sample lies in the support, up to float
+ * rounding, which the table's zero padding absorbs, so the loops need no
+ * test or clamp. */
 static inline void add_samples(const orr_kernel *k, const ellipse *e, float dy, float dx0, int m0, int m1,
                                float *restrict out, enum sample_mode mode, float scale)
 {
