@@ -3,6 +3,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 /* How a particle is drawn (docs/smoothing.md has the measurements behind
  * the thresholds):
@@ -10,12 +13,14 @@
  * - h_pix below CUMULATIVE_MAX: the exact pixel integrals of F, as
  *   differences of the cumulative table at the pixel corners. The corner
  *   sums telescope, so a whole kernel adds up to exactly 1 and the share
- *   that falls off the image is known without visiting it.
+ *   that falls off the image is known without visiting it. Kernels of up
+ *   to 7 pixels a side inside a flat image take fixed-size grids.
  * - larger: F (plus a Laplacian correction for the pixel's area) at pixel
  *   centres. From 10 pixels per h this midpoint rule is more accurate than
  *   the table's differences (whose float round-off grows as h_pix^2 over
  *   the pixel values), and its sum over a whole footprint is 1 to float
- *   round-off, so no normalising pass is needed.
+ *   round-off, so no normalising pass is needed. On flat images a block's
+ *   large kernels are drawn band by band, to keep the image in cache.
  * - sky maps, h_pix below SKY_LOCAL_MIN: the first method with the local
  *   isotropic scale, folding shares off the map back onto it.
  * - sky maps, larger: the midpoint rule (sub-sampling pixels below 3
@@ -203,6 +208,96 @@ static void disc_cumulative(target *t, double cx, double cy, double h, float w)
     t->in += t->proj ? w : w * (((double)bottom[n] - bottom[0]) - ((double)top[n] - top[0]));
 }
 
+/* ---- small kernels on flat images: fixed-size corner grids ----
+ *
+ * Most particles of a dense region are smaller than a pixel or two. For
+ * them the general path's set-up (footprint, clipping, variable-length
+ * loops, a call a row) costs more than the corners themselves, so a
+ * footprint of at most FIXED_SMALL - 1 (or FIXED_LARGE - 1) pixels a side,
+ * inside the image, takes a corner grid of that fixed width: loops of known
+ * length that GCC unrolls and vectorises, in float (the positions are
+ * floats already). Only the footprint's own rows are computed and touched
+ * (each row is a cache line to fetch); its columns are padded to the fixed
+ * width with corners beyond the support, which read the same table entry
+ * as the support's edge, so the padding pixels get exactly 0. Same table,
+ * same corner formula, same telescoping as disc_cumulative: the whole
+ * kernel adds up to exactly 1. */
+#define FIXED_SMALL 4
+#define FIXED_LARGE 8
+
+/* Corners k < n of one axis, at image coordinates e0 + k, in units of h
+ * from the centre c: table cell, fraction and sign. Corner 0 and corners
+ * from `edge` on lie on or beyond the support's edge (the caller checked)
+ * and are set exactly there, whatever the rounding. */
+static inline void fixed_axis(float c, float inv_h, float e0, int n, int edge, int *restrict cell,
+                              float *restrict frac, float *restrict sign)
+{
+    const float to_cell = (float)(ORR_KERNEL_NG / ORR_KERNEL_SUPPORT), support = (float)ORR_KERNEL_SUPPORT;
+    for (int k = 0; k < n; k++) {
+        float x = (e0 + (float)k - c) * inv_h;
+        x = k == 0 ? -support : k >= edge ? support : x < -support ? -support : x > support ? support : x;
+        const float g = (x < 0.0f ? -x : x) * to_cell;
+        const int i = (int)g < ORR_KERNEL_NG - 1 ? (int)g : ORR_KERNEL_NG - 1;
+        cell[k] = i;
+        frac[k] = g - (float)i;
+        sign[k] = x < 0.0f ? -1.0f : 1.0f;
+    }
+}
+
+/* Deposits a kernel of r = 2 h pixels' support at (cx, cy), whose
+ * footprint is nx x ny pixels from (x0, y0), all on the image, with a
+ * corner grid n wide (nx < n, ny < n). */
+static inline void disc_fixed(target *t, float cx, float cy, float h, float w, int x0, int y0, int nx, int ny,
+                              const int n)
+{
+    int cell_x[FIXED_LARGE], cell_y[FIXED_LARGE];
+    float frac_x[FIXED_LARGE], frac_y[FIXED_LARGE], sign_x[FIXED_LARGE], sign_y[FIXED_LARGE];
+    const float inv_h = 1.0f / h;
+    fixed_axis(cx, inv_h, (float)x0, n, nx, cell_x, frac_x, sign_x);
+    fixed_axis(cy, inv_h, (float)y0, n, ny, cell_y, frac_y, sign_y);
+    float grid[FIXED_LARGE][FIXED_LARGE];
+    const float *table = t->kernel->cumulative;
+    for (int l = 0; l <= ny; l++) {
+        const float *g0 = table + (size_t)cell_y[l] * (ORR_KERNEL_NG + 1), *g1 = g0 + ORR_KERNEL_NG + 1;
+        const float fy = frac_y[l], sy = sign_y[l];
+        for (int m = 0; m < n; m++) {
+            const int i = cell_x[m];
+            const float fx = frac_x[m];
+            const float lo = g0[i] + fx * (g0[i + 1] - g0[i]);
+            const float hi = g1[i] + fx * (g1[i + 1] - g1[i]);
+            grid[l][m] = sy * sign_x[m] * (lo + fy * (hi - lo));
+        }
+    }
+    const int width = t->plane->width;
+    float *row = t->plane->data + (size_t)y0 * (size_t)width + (size_t)x0;
+    for (int l = 0; l < ny; l++, row += width)
+        for (int m = 0; m + 1 < n; m++)
+            row[m] += w * ((grid[l + 1][m + 1] - grid[l + 1][m]) - (grid[l][m + 1] - grid[l][m]));
+    t->in += w;
+}
+
+/* Deposits a kernel of h pixels by a fixed-size grid when it fits one;
+ * returns 0, having done nothing, when it does not. */
+static int disc_small(target *t, float cx, float cy, float h, float w)
+{
+    const float r = (float)ORR_KERNEL_SUPPORT * h;
+    const int width = t->plane->width, height = t->plane->height;
+    /* floor(c - r) as a truncation (floorf is a library call without
+     * SSE4.1), once c - r is known to be on the image. */
+    if (!(cx - r >= 0.0f && cy - r >= 0.0f && cx + r < (float)width && cy + r < (float)height &&
+          r < 0.5f * FIXED_LARGE))
+        return 0;
+    const int x0 = (int)(cx - r), y0 = (int)(cy - r);
+    const int nx = (int)(cx + r) - x0 + 1, ny = (int)(cy + r) - y0 + 1, n = nx > ny ? nx : ny;
+    if (n < FIXED_SMALL && x0 + FIXED_SMALL - 1 <= width)
+        disc_fixed(t, cx, cy, h, w, x0, y0, nx, ny, FIXED_SMALL);
+    else if (n < FIXED_LARGE && x0 + FIXED_LARGE - 1 <= width)
+        disc_fixed(t, cx, cy, h, w, x0, y0, nx, ny, FIXED_LARGE);
+    else
+        return 0;
+    return 1;
+}
+
 /* ---- midpoint rule over an ellipse ---- */
 
 /* A kernel whose footprint is the ellipse u = a dx^2 + 2 b dx dy + c dy^2
@@ -274,25 +369,65 @@ static int ellipse_row_range(const ellipse *e, int j, int *lo, int *hi)
     return *lo <= *hi;
 }
 
-/* Adds (or with set, stores) F(u) + lap lap_F(u) at samples dx0 + m (m in
- * [m0, m1)) of the row at dy to out[m]. The callers choose the range so
- * every sample lies in the support, up to float rounding, which the
- * table's zero padding absorbs; with no test or clamp in it GCC
- * vectorises the loop (emulating the table gather on SSE2). */
+enum sample_mode {
+    SAMPLES_SET,  /* out[m] = sample */
+    SAMPLES_ADD,  /* out[m] += sample */
+    SAMPLES_DRAW, /* out[m] += scale * sample: out is an image row */
+};
+
+/* Adds (or stores, or scales and adds: mode) F(u) + lap lap_F(u) at
+ * samples dx0 + m (m in [m0, m1)) of the row at dy to out[m]. The callers
+ * choose the range so every sample lies in the support, up to float
+ * rounding, which the table's zero padding absorbs, so the loops need no
+ * test or clamp. */
 static inline void add_samples(const orr_kernel *k, const ellipse *e, float dy, float dx0, int m0, int m1,
-                               float *restrict out, int set)
+                               float *restrict out, enum sample_mode mode, float scale)
 {
     const float a = (float)e->a, b2 = (float)(2.0 * e->b), c = (float)e->c, lap = e->lap;
     const float tscale = (float)(ORR_KERNEL_NU / 4.0);
     const float *restrict col = k->column;
     const float cdy = c * dy * dy, bdy = b2 * dy;
-    for (int m = m0; m < m1; m++) {
+    int m = m0;
+#if defined(__SSE2__)
+    /* Four samples at a time. A sample's two table nodes, {F, lap F} at i
+     * and i + 1, are 16 contiguous bytes: one unaligned load each, and a
+     * 4 x 4 transpose gives vectors of F_i, lap F_i, F_i+1, lap F_i+1 (GCC
+     * left to itself loads the 16 floats one by one). The same operations
+     * in the same order as the loop below, so the same results. */
+    const __m128 va = _mm_set1_ps(a), vbdy = _mm_set1_ps(bdy), vcdy = _mm_set1_ps(cdy);
+    const __m128 vts = _mm_set1_ps(tscale), vlap = _mm_set1_ps(lap), vdx0 = _mm_set1_ps(dx0);
+    const __m128i lanes = _mm_set_epi32(3, 2, 1, 0);
+    for (; m + 4 <= m1; m += 4) {
+        const __m128 dx = _mm_add_ps(vdx0, _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(m), lanes)));
+        const __m128 t = _mm_mul_ps(_mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(va, dx), vbdy), dx), vcdy), vts);
+        const __m128i i = _mm_cvttps_epi32(t);
+        const __m128 f = _mm_sub_ps(t, _mm_cvtepi32_ps(i));
+        int idx[4];
+        _mm_storeu_si128((__m128i *)idx, i);
+        __m128 f0 = _mm_loadu_ps(col + 2 * idx[0]), l0 = _mm_loadu_ps(col + 2 * idx[1]);
+        __m128 f1 = _mm_loadu_ps(col + 2 * idx[2]), l1 = _mm_loadu_ps(col + 2 * idx[3]);
+        _MM_TRANSPOSE4_PS(f0, l0, f1, l1);
+        const __m128 fv = _mm_add_ps(f0, _mm_mul_ps(f, _mm_sub_ps(f1, f0)));
+        const __m128 lv = _mm_mul_ps(vlap, _mm_add_ps(l0, _mm_mul_ps(f, _mm_sub_ps(l1, l0))));
+        if (mode == SAMPLES_DRAW) {
+            const __m128 sample = _mm_add_ps(fv, lv);
+            _mm_storeu_ps(out + m, _mm_add_ps(_mm_loadu_ps(out + m), _mm_mul_ps(_mm_set1_ps(scale), sample)));
+            continue;
+        }
+        const __m128 base = mode == SAMPLES_SET ? _mm_setzero_ps() : _mm_loadu_ps(out + m);
+        _mm_storeu_ps(out + m, _mm_add_ps(_mm_add_ps(base, fv), lv));
+    }
+#endif
+    for (; m < m1; m++) {
         const float dx = dx0 + (float)m;
         const float t = ((a * dx + bdy) * dx + cdy) * tscale;
         const int i = (int)t;
         const float f = t - (float)i;
         const float f0 = col[2 * i], f1 = col[2 * i + 2], l0 = col[2 * i + 1], l1 = col[2 * i + 3];
-        out[m] = (set ? 0.0f : out[m]) + (f0 + f * (f1 - f0)) + lap * (l0 + f * (l1 - l0));
+        if (mode == SAMPLES_DRAW)
+            out[m] += scale * ((f0 + f * (f1 - f0)) + lap * (l0 + f * (l1 - l0)));
+        else
+            out[m] = (mode == SAMPLES_SET ? 0.0f : out[m]) + (f0 + f * (f1 - f0)) + lap * (l0 + f * (l1 - l0));
     }
 }
 
@@ -317,7 +452,7 @@ static void ellipse_weights(const orr_kernel *k, const ellipse *e, int j, int i0
         }
         for (int m = 0; m < m0; m++)
             out[m] = 0.0f;
-        add_samples(k, e, (float)dy, (float)base, m0, m1, out, 1);
+        add_samples(k, e, (float)dy, (float)base, m0, m1, out, SAMPLES_SET, 1.0f);
         for (int m = m1; m < n; m++)
             out[m] = 0.0f;
         return;
@@ -335,7 +470,7 @@ static void ellipse_weights(const orr_kernel *k, const ellipse *e, int j, int i0
             double lo = ceil(x0 - base), hi = floor(x1 - base);
             int m0 = lo > 0 ? (lo < n ? (int)lo : n) : 0, m1 = hi < n - 1 ? (hi >= 0 ? (int)hi + 1 : 0) : n;
             if (m0 < m1)
-                add_samples(k, e, (float)dy, (float)base, m0, m1, out, 0);
+                add_samples(k, e, (float)dy, (float)base, m0, m1, out, SAMPLES_ADD, 1.0f);
         }
     }
     const float inv = 1.0f / (float)(ns * ns);
@@ -445,9 +580,10 @@ static void buffer_row(row_visitor *v, int j, int i, int n, const float *wt)
  * footprint equals the table's integral (exactly 1 per unit area, see
  * splat/kernel.c) to 3 parts in 10^8, below float round-off (measured over
  * random centres for each kernel, docs/smoothing.md), so it is used as is
- * for a footprint drawn whole. Others are summed first: from a buffer
- * when the footprint is small and whole, else by computing the weights
- * twice. */
+ * for a footprint wholly on the map, whether or not the image's edge
+ * clips it (a clipped one then costs only its pixels on the image). Others
+ * are summed first: from a buffer when the footprint is small and whole,
+ * else by computing the weights twice. */
 static int ellipse_deposit(target *t, const ellipse *e, float w)
 {
     box b, full;
@@ -456,9 +592,9 @@ static int ellipse_deposit(target *t, const ellipse *e, float w)
     if (t->proj)
         t->fold = !box_in_map(t->proj, b);
     const int clipped = b.i0 != full.i0 || b.i1 != full.i1 || b.j0 != full.j0 || b.j1 != full.j1;
-    const int whole = !t->fold && !clipped && e->hmin >= 10.0;
+    const int analytic = !t->fold && e->hmin >= 10.0;
     double sum = 1.0 / sqrt(e->a * e->c - e->b * e->b);
-    if (!whole && !clipped) {
+    if (!analytic && !clipped) {
         buffer buf; /* 28 KiB of stack */
         buf.v.fn = buffer_row;
         buf.used = buf.rows = buf.full = 0;
@@ -474,7 +610,7 @@ static int ellipse_deposit(target *t, const ellipse *e, float w)
             return 1;
         }
     }
-    if (!whole && !(clipped && (full.i1 - full.i0 + 1.0) * (full.j1 - full.j0 + 1.0) > 65536.0)) {
+    if (!analytic && !(clipped && (full.i1 - full.i0 + 1.0) * (full.j1 - full.j0 + 1.0) > 65536.0)) {
         summer sm = {{sum_row}, 0.0};
         ellipse_visit(t, e, full, &sm.v);
         sum = sm.sum;
@@ -487,17 +623,120 @@ static int ellipse_deposit(target *t, const ellipse *e, float w)
     return 1;
 }
 
+/* A disc kernel of h pixels as an ellipse. */
+static void disc_ellipse(ellipse *e, double cx, double cy, double h)
+{
+    const double a = 1.0 / (h * h);
+    ellipse_setup(e, cx, cy, a, 0.0, a);
+}
+
 /* A disc kernel of h pixels by whichever method suits its size. */
 static void disc_deposit(target *t, double cx, double cy, double h, float w)
 {
+    if (!t->proj && h < 0.25 * FIXED_LARGE && disc_small(t, (float)cx, (float)cy, (float)h, w))
+        return;
     if (h < CUMULATIVE_MAX) {
         disc_cumulative(t, cx, cy, h, w);
         return;
     }
     ellipse e;
-    double a = 1.0 / (h * h);
-    ellipse_setup(&e, cx, cy, a, 0.0, a);
+    disc_ellipse(&e, cx, cy, h);
     ellipse_deposit(t, &e, w);
+}
+
+/* ---- large kernels on flat images, band by band ----
+ *
+ * A kernel of 10 or more pixels per h adds into hundreds of pixels over
+ * dozens of rows, and on an image larger than the core's cache every row
+ * comes from memory: the image update was 40 % of a Plummer sphere's time
+ * (docs/splash.md). So a block's large kernels are collected and drawn a
+ * band of image rows (about BAND_BYTES) at a time, the band staying in
+ * cache while every kernel crossing it is drawn there. Each pixel's weight
+ * is its own midpoint sample, normalised analytically (ellipse_deposit),
+ * so a kernel drawn in pieces has the same pixels as drawn at once; only
+ * the order in which kernels add into a pixel changes, and that is set by
+ * the block, not by the threads. */
+#define BAND_BYTES (128 * 1024)
+#define BAND_MIN_ROWS 8
+
+typedef struct large_kernel {
+    double cx, cy, h;
+    float w;
+    int j0, j1; /* the image rows its footprint covers */
+} large_kernel;
+
+/* Room for a whole block's kernels: the fewer lists, the fewer passes
+ * over the bands. */
+typedef struct large_list {
+    large_kernel *k;
+    size_t n;
+} large_list;
+
+/* Rows j0 .. j1 of a large kernel's footprint. */
+static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
+{
+    ellipse e;
+    disc_ellipse(&e, k->cx, k->cy, k->h);
+    box b, full;
+    if (!footprint(t, e.cx, e.cy, e.ex, e.ey, &b, &full))
+        return;
+    const int clipped = b.i0 != full.i0 || b.i1 != full.i1 || b.j0 != full.j0 || b.j1 != full.j1;
+    /* A whole kernel lands whole: counted once, with its first piece. */
+    if (!clipped && j0 <= b.j0 && b.j0 <= j1)
+        t->in += k->w;
+    b.j0 = b.j0 > j0 ? b.j0 : j0;
+    b.j1 = b.j1 < j1 ? b.j1 : j1;
+    if (b.j0 > b.j1)
+        return;
+    const float scale = (float)(k->w * sqrt(e.a * e.c - e.b * e.b));
+    if (clipped) {
+        drawer d = {{draw_row}, t, scale, 1, 0.0};
+        ellipse_visit(t, &e, b, &d.v);
+        t->in += d.drawn * d.scale;
+        return;
+    }
+    /* Whole: nothing to add up, so each row's samples go straight into the
+     * image (one sample a pixel, the centres inside the support). */
+    const int width = t->plane->width;
+    for (int j = b.j0; j <= b.j1; j++) {
+        const double dy = j + 0.5 - e.cy;
+        double x0, x1;
+        if (!support_chord(&e, dy, &x0, &x1))
+            continue;
+        const double lo = ceil(e.cx + x0 - 0.5), hi = floor(e.cx + x1 - 0.5);
+        const int m0 = lo > b.i0 ? (int)lo : b.i0, m1 = hi < b.i1 ? (int)hi + 1 : b.i1 + 1;
+        if (m0 < m1)
+            add_samples(t->kernel, &e, (float)dy, (float)(0.5 - e.cx), m0, m1,
+                        t->plane->data + (size_t)j * (size_t)width, SAMPLES_DRAW, scale);
+    }
+}
+
+static void draw_large(target *t, large_list *list)
+{
+    const int width = t->plane->width;
+    int rows = BAND_BYTES / (int)sizeof(float) / (width > 0 ? width : 1);
+    rows = rows > BAND_MIN_ROWS ? rows : BAND_MIN_ROWS;
+    int lo = t->plane->height, hi = -1;
+    for (size_t k = 0; k < list->n; k++) {
+        lo = list->k[k].j0 < lo ? list->k[k].j0 : lo;
+        hi = list->k[k].j1 > hi ? list->k[k].j1 : hi;
+    }
+    for (int band = lo - lo % rows; band <= hi; band += rows)
+        for (size_t k = 0; k < list->n; k++)
+            if (list->k[k].j0 < band + rows && list->k[k].j1 >= band)
+                draw_large_piece(t, &list->k[k], band, band + rows - 1);
+    list->n = 0;
+}
+
+/* Adds a large kernel to the list, with the rows draw_large_piece will
+ * find for it; kernels wholly off the image are dropped (nothing lands). */
+static void defer_large(target *t, large_list *list, double cx, double cy, double h, float w)
+{
+    ellipse e;
+    disc_ellipse(&e, cx, cy, h);
+    box b, full;
+    if (footprint(t, e.cx, e.cy, e.ex, e.ey, &b, &full))
+        list->k[list->n++] = (large_kernel){cx, cy, h, w, b.j0, b.j1};
 }
 
 /* ---- sky maps: the local affine model ---- */
@@ -1011,6 +1250,8 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
         return;
     }
     target t = {plane, s->sky ? &s->proj : NULL, s->kernel, 0, 0, 0.0};
+    /* Without memory for the list, large kernels are drawn one by one. */
+    large_list list = {s->sky || !b->n ? NULL : malloc(b->n * sizeof *list.k), 0};
     double total = 0.0, culled = 0.0;
     uint64_t n_culled = 0;
     for (size_t i = 0; i < b->n; i++) {
@@ -1025,9 +1266,13 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
             deposit_cic_one(s, b, i, &t);
         else if (s->sky)
             sky_particle(s, &t, b, i, hpix);
+        else if (list.k && hpix >= CUMULATIVE_MAX)
+            defer_large(&t, &list, b->px[i], b->py[i], hpix, b->w[i]);
         else
             disc_deposit(&t, b->px[i], b->py[i], hpix, b->w[i]);
     }
+    draw_large(&t, &list);
+    free(list.k);
     /* Flat maps: what did not land fell off the image. Sky maps fold
      * everything onto the map (the difference is round-off). */
     stats->deposited += s->sky ? total : t.in;
