@@ -16,13 +16,7 @@
 
 #include "post/convolve.h"
 #include "post/psf.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
+#include "clocks.h"
 
 static void die(const orr_error *err)
 {
@@ -53,17 +47,17 @@ static void run_case(int w, int h, const char *kname, const orr_image_kernel *k,
     fill(&p);
     orr_convolve_options opt = {.threads = threads, .rigor = rigor};
     orr_convolver *c;
-    double t0 = now();
+    double t0 = wall_seconds();
     if (orr_convolver_create(&c, w, h, k, &opt, &err))
         die(&err);
-    double t1 = now();
+    double t1 = wall_seconds();
     if (orr_convolver_apply(c, &p, &err))
         die(&err);
-    double t2 = now();
+    double t2 = wall_seconds();
     for (int r = 0; r < repeats; r++)
         if (orr_convolver_apply(c, &p, &err))
             die(&err);
-    double t3 = now();
+    double t3 = wall_seconds();
     orr_convolver_info info;
     orr_convolver_get_info(c, &info);
     printf("%4d x %-4d  %-14s %d thr  fft %4d x %-4d  create %7.3f s  first %7.3f s  next %7.3f s\n", w, h,
@@ -90,11 +84,11 @@ int main(int argc, char **argv)
     orr_psf_params pp;
     orr_psf_hst_defaults(&pp);
     orr_psf_report rep;
-    double t0 = now();
+    double t0 = wall_seconds();
     if (orr_psf_generate(&pp, psf, &rep, &err))
         die(&err);
     printf("HST PSF, 3 bands x 5 wavelengths, %d x %d at %g arcsec/px: %.3f s (transform %d, oversample %d)\n",
-           pp.size, pp.size, pp.arcsec_per_pixel, now() - t0, rep.fft_size, rep.oversample);
+           pp.size, pp.size, pp.arcsec_per_pixel, wall_seconds() - t0, rep.fft_size, rep.oversample);
     printf("FFTW_%s, %d repeats\n", rigor == ORR_FFT_MEASURE ? "MEASURE" : "ESTIMATE", repeats);
     const int sizes[2][2] = {{3600, 3600}, {4096, 2160}};
     char gname[32];

@@ -24,15 +24,9 @@
 #include "gadget_writer.h"
 #include "source/gadget.h"
 #include "source/source.h"
+#include "clocks.h"
 
 #define MAX_PER_TYPE 2147483647LL
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 static double peak_rss_mib(void)
 {
@@ -89,7 +83,7 @@ static int generate(const char *path, long long n)
                     .omega0 = 0.3, .omega_lambda = 0.7, .hubble_param = 0.7};
     spec.massarr[1] = 1e-3;
     spec.npart_total[1] = (uint32_t)n;
-    double t0 = now();
+    double t0 = wall_seconds();
     for (int f = 0; f < nfiles; f++) {
         file_offset off = {(uint64_t)f * PER_FILE};
         long long left = n - (long long)off.first;
@@ -101,7 +95,7 @@ static int generate(const char *path, long long n)
             return -1;
         }
     }
-    printf("generate:    %.2f s, %d file%s, peak RSS so far %.1f MiB\n", now() - t0, nfiles, nfiles > 1 ? "s" : "",
+    printf("generate:    %.2f s, %d file%s, peak RSS so far %.1f MiB\n", wall_seconds() - t0, nfiles, nfiles > 1 ? "s" : "",
            peak_rss_mib());
     return nfiles;
 }
@@ -114,12 +108,12 @@ static int plain_read(const char *path, double size)
         perror(path);
         return 1;
     }
-    double t0 = now();
+    double t0 = wall_seconds();
     ssize_t got;
     long long total = 0;
     while ((got = read(fd, buf, sizeof buf)) > 0)
         total += got;
-    double dt = now() - t0;
+    double dt = wall_seconds() - t0;
     close(fd);
     if (got < 0 || (double)total != size) {
         fprintf(stderr, "%s: read error\n", path);
@@ -135,7 +129,7 @@ static int reader_read(const char *path, double size, size_t chunk)
     orr_source_options opt = {.format = "gadget", .chunk_size = chunk, .fields = no_fields, .nfields = 0};
     orr_source *src;
     orr_error err = {0};
-    double t0 = now();
+    double t0 = wall_seconds();
     if (orr_gadget_source_open(path, &opt, &src, &err) != ORR_OK) {
         fprintf(stderr, "%s\n", err.msg);
         return 1;
@@ -151,7 +145,7 @@ static int reader_read(const char *path, double size, size_t chunk)
         }
         n += c->n;
     }
-    double dt = now() - t0;
+    double dt = wall_seconds() - t0;
     orr_source_close(src);
     if (st != ORR_OK) {
         fprintf(stderr, "%s\n", err.msg);

@@ -19,13 +19,7 @@
 #include "particles/kdtree.h"
 #include "particles/smoothing.h"
 #include "plummer.h"
-
-static double cpu_seconds(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+#include "clocks.h"
 
 static void die(const orr_error *err)
 {

@@ -15,15 +15,9 @@
 #include "frame/camera.h"
 #include "frame/projection.h"
 #include "splat/deposit.h"
+#include "clocks.h"
 
 #define BLOCK 4096
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 /* A thick disc of particles around the observer at the origin. */
 static void make_particles(size_t n, float *x, float *y, float *z, float *w)
@@ -64,7 +58,7 @@ static timing run(const orr_projection *p, size_t n, const float *x, const float
     for (int i = 0; i < 9; i++)
         r[i] = (float)R.m[i / 3][i % 3];
     orr_deposit_stats st = {0};
-    double t0 = now(), t_project = 0;
+    double t0 = wall_seconds(), t_project = 0;
     for (size_t start = 0; start < n; start += BLOCK) {
         size_t m = n - start < BLOCK ? n - start : BLOCK;
         const float *bx = x + start, *by = y + start, *bz = z + start;
@@ -73,12 +67,12 @@ static timing run(const orr_projection *p, size_t n, const float *x, const float
             cy[i] = r[3] * bx[i] + r[4] * by[i] + r[5] * bz[i];
             cz[i] = r[6] * bx[i] + r[7] * by[i] + r[8] * bz[i];
         }
-        double t1 = now();
+        double t1 = wall_seconds();
         orr_project_batch(p, m, cx, cy, cz, px, py, sc, vis);
-        t_project += now() - t1;
+        t_project += wall_seconds() - t1;
         orr_deposit(ORR_DEPOSIT_NGP, &plane, m, px, py, w + start, vis, p, &st);
     }
-    timing t = {now() - t0, t_project};
+    timing t = {wall_seconds() - t0, t_project};
     orr_plane_free(&plane);
     return t;
 }

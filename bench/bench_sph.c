@@ -17,24 +17,9 @@
 #include <time.h>
 
 #include "splat/sph.h"
+#include "clocks.h"
 
 #define BLOCK 4096
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-/* CPU time of this process: on a machine shared with other jobs, the
- * fairer measure of a single-threaded loop than the wall clock. */
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 static double uniform(uint64_t *s)
 {
@@ -83,17 +68,17 @@ static result run(const orr_sph *sph, const orr_projection *p, size_t n, const f
     result r = {0, 0, 0};
     for (size_t start = 0; start < n; start += BLOCK) {
         size_t m = n - start < BLOCK ? n - start : BLOCK;
-        double t0 = now();
+        double t0 = wall_seconds();
         orr_project_batch(p, m, x + start, y + start, z + start, px, py, sc, vis);
-        double t1 = now(), c1 = cpu_now();
+        double t1 = wall_seconds(), c1 = cpu_seconds();
         if (cic) {
             orr_deposit(ORR_DEPOSIT_CIC, plane, m, px, py, w, vis, p, &st);
         } else {
             orr_sph_block b = {m, x + start, y + start, z + start, px, py, sc, vis, h, w};
             orr_sph_deposit(sph, &b, plane, &st);
         }
-        r.deposit += now() - t1;
-        r.deposit_cpu += cpu_now() - c1;
+        r.deposit += wall_seconds() - t1;
+        r.deposit_cpu += cpu_seconds() - c1;
         r.project += t1 - t0;
     }
     double total = st.deposited + st.outside + st.culled;
@@ -110,12 +95,12 @@ static void bench_view(const char *name, orr_projection *p, const orr_kernel *k,
         exit(1);
     }
     orr_sph sph;
-    double t0 = now();
+    double t0 = wall_seconds();
     if (orr_sph_init(&sph, k, p, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }
-    double t_init = now() - t0;
+    double t_init = wall_seconds() - t0;
     float *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y), *z = malloc(n * sizeof *z);
     orr_plane plane;
     if (!x || !y || !z || orr_plane_alloc(&plane, p->width, p->height, "m", "", &err)) {
@@ -155,12 +140,12 @@ int main(int argc, char **argv)
         return 2;
     }
     orr_kernel k;
-    double t0 = now();
+    double t0 = wall_seconds();
     if (orr_kernel_init(&k, kind, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         return 1;
     }
-    printf("kernel %s tabulated in %.3f s; %zu particles\n", orr_kernel_name(kind), now() - t0, n);
+    printf("kernel %s tabulated in %.3f s; %zu particles\n", orr_kernel_name(kind), wall_seconds() - t0, n);
     orr_projection ortho = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 2048, .height = 2048, .ortho_width = 1.0};
     orr_projection dome = {.kind = ORR_PROJ_DOME, .width = 3600, .height = 3600, .dome_fov_deg = 180};
     orr_projection ait = {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 4096, .height = 2048};

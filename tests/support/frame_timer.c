@@ -9,22 +9,7 @@
 #include "render/render.h"
 #include "scene/scene.h"
 #include "source/arrays.h"
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
-
-/* CPU seconds of all this process's threads: on a shared machine, what
- * the work cost, whatever the wall clock says. */
-static double cpu_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
+#include "clocks.h"
 
 typedef struct clock_mark {
     double start, splat_end, cpu_start, cpu_end;
@@ -33,8 +18,8 @@ typedef struct clock_mark {
 static void mark_progress(void *user, uint64_t done, int64_t total)
 {
     (void)done, (void)total;
-    ((clock_mark *)user)->splat_end = now();
-    ((clock_mark *)user)->cpu_end = cpu_now();
+    ((clock_mark *)user)->splat_end = wall_seconds();
+    ((clock_mark *)user)->cpu_end = cpu_seconds();
 }
 
 double frame_timer_best(const char *yaml, const orr_particle_arrays *a, int repeats, double *cpu)
@@ -57,7 +42,7 @@ double frame_timer_best(const char *yaml, const orr_particle_arrays *a, int repe
         orr_frame_input in = {orr_frame_at(0, 1, 25, 0, 0), src, NULL};
         orr_render_report rep;
         const orr_scene *list[1] = {s};
-        clock_mark m = {now(), 0, cpu_now(), 0};
+        clock_mark m = {wall_seconds(), 0, cpu_seconds(), 0};
         if (orr_render_frame(list, 1, &in, &rep, mark_progress, &m, &err)) {
             fprintf(stderr, "%s\n", err.msg);
             exit(1);
