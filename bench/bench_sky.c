@@ -16,25 +16,9 @@
 #include "frame/projection.h"
 #include "splat/deposit.h"
 #include "clocks.h"
+#include "thick_disc.h"
 
 #define BLOCK 4096
-
-/* A thick disc of particles around the observer at the origin. */
-static void make_particles(size_t n, float *x, float *y, float *z, float *w)
-{
-    uint64_t s = 12345;
-    for (size_t i = 0; i < n; i++) {
-        float u[3];
-        for (int k = 0; k < 3; k++) {
-            s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-            u[k] = (float)((s >> 11) * (1.0 / 9007199254740992.0));
-        }
-        x[i] = 30.0f * (u[0] - 0.5f);
-        y[i] = 30.0f * (u[1] - 0.5f);
-        z[i] = 2.0f * (u[2] - 0.5f);
-        w[i] = 1.0f;
-    }
-}
 
 typedef struct timing {
     double total, project;
@@ -105,7 +89,9 @@ int main(int argc, char **argv)
               *w = malloc(n * sizeof *w);
         if (!x || !y || !z || !w)
             return 1;
-        make_particles(n, x, y, z, w);
+        thick_disc(n, x, y, z); /* around the observer at the origin */
+        for (size_t i = 0; i < n; i++)
+            w[i] = 1.0f;
         timing ortho = {0, 0};
         for (int j = 0; j < nprojs; j++) {
             orr_error err = {0};

@@ -20,22 +20,7 @@
 #include <time.h>
 
 #include "frame_timer.h"
-
-/* A thick disc 30 units across and 2 thick, centred on the origin. */
-static void make_particles(size_t n, float *x, float *y, float *z)
-{
-    uint64_t s = 12345;
-    for (size_t i = 0; i < n; i++) {
-        float u[3];
-        for (int k = 0; k < 3; k++) {
-            s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-            u[k] = (float)((s >> 11) * (1.0 / 9007199254740992.0));
-        }
-        x[i] = 30.0f * (u[0] - 0.5f);
-        y[i] = 30.0f * (u[1] - 0.5f);
-        z[i] = 2.0f * (u[2] - 0.5f);
-    }
-}
+#include "thick_disc.h"
 
 int main(int argc, char **argv)
 {
@@ -48,7 +33,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "usage: bench_threads [N [repeats]]\n");
         return 1;
     }
-    make_particles(n, x, y, z);
+    thick_disc(n, x, y, z);
     for (size_t i = 0; i < n; i++)
         h[i] = 0.05f;
     orr_particle_arrays a = {.n = n, .x = {x, ORR_F32, 0}, .y = {y, ORR_F32, 0}, .z = {z, ORR_F32, 0},

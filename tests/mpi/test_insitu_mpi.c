@@ -2,12 +2,12 @@
  * particles, and the frame rank 0 writes equals (to float round-off) the
  * frame one process renders from all of them, the observer particle living
  * on the last rank. Run under mpirun with any number of ranks. */
-#include <fitsio.h>
 #include <math.h>
 #include <mpi.h>
 #include <stdlib.h>
 
 #include "check.h"
+#include "fits_image.h"
 #include "mpi/orrery_mpi.h"
 
 #define N 20000
@@ -44,22 +44,6 @@ static orr_particle_arrays share(int first, int last)
     p.id = &ids[first];
     p.time = 1.5;
     return p;
-}
-
-static float *read_plane(const char *path, long *npix)
-{
-    fitsfile *f;
-    int status = 0, anynul = 0;
-    long size[2] = {0, 0};
-    fits_open_file(&f, path, READONLY, &status);
-    fits_get_img_size(f, 2, size, &status);
-    if (status)
-        return NULL;
-    *npix = size[0] * size[1];
-    float *d = malloc((size_t)*npix * sizeof *d);
-    fits_read_img(f, TFLOAT, 1, *npix, NULL, d, &anynul, &status);
-    fits_close_file(f, &status);
-    return d;
 }
 
 static const char *const scenes[2] = {
@@ -99,7 +83,7 @@ int main(int argc, char **argv)
             snprintf(a_path, sizeof a_path, "insitu-mpi-%d/insitu_0003.fits", k);
             snprintf(b_path, sizeof b_path, "insitu-one-%d/insitu_0003.fits", k);
             long na = 0, nb = 0;
-            float *a = read_plane(a_path, &na), *b = read_plane(b_path, &nb);
+            float *a = read_fits_image(a_path, &na), *b = read_fits_image(b_path, &nb);
             CHECK(a && b && na == nb && na > 0);
             double max = 0, diff = 0, sum_a = 0, sum_b = 0;
             for (long i = 0; a && b && i < na; i++) {

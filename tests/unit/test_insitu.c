@@ -1,12 +1,12 @@
 /* The in-situ API (orrery.h): arrays read in place in any layout, frames
  * rendered from them with the same pixels as a file of the same particles,
  * and errors that come back as codes and messages. */
-#include <fitsio.h>
 #include <math.h>
 #include <stdlib.h>
 #include <unistd.h>
 
 #include "check.h"
+#include "fits_image.h"
 #include "orrery.h"
 #include "source/arrays.h"
 #include "tmpdir.h"
@@ -105,22 +105,6 @@ static void test_arrays_source(void)
     CHECK_CONTAINS(err.msg, "array y");
 }
 
-static float *read_fits(const char *path, long *npix)
-{
-    fitsfile *f;
-    int status = 0, anynul = 0;
-    long size[2] = {0, 0};
-    fits_open_file(&f, path, READONLY, &status);
-    fits_get_img_size(f, 2, size, &status);
-    if (status)
-        return NULL;
-    *npix = size[0] * size[1];
-    float *d = malloc((size_t)*npix * sizeof *d);
-    fits_read_img(f, TFLOAT, 1, *npix, NULL, d, &anynul, &status);
-    fits_close_file(f, &status);
-    return status ? (free(d), NULL) : d;
-}
-
 static const char scene_yaml[] = "camera: {projection: orthographic, width: 10}\n"
                                  "image: {width: 40, height: 30}\n"
                                  "deposit: ngp\n"
@@ -148,7 +132,7 @@ static void test_render_steps(void)
 
     /* Mass conservation: every body lies within the 10 x 7.5 view. */
     long npix = 0;
-    float *a = read_fits(path, &npix);
+    float *a = read_fits_image(path, &npix);
     double sum = 0, mass = 0;
     for (long i = 0; a && i < npix; i++)
         sum += a[i];
@@ -161,7 +145,7 @@ static void test_render_steps(void)
         bodies[i].pos[0] += 0.5;
     CHECK(orrery_render(r, &p, 1) == ORRERY_OK);
     snprintf(path, sizeof path, "%s/step_0001.fits", tmpdir);
-    float *b = read_fits(path, &npix);
+    float *b = read_fits_image(path, &npix);
     int differ = 0;
     for (long i = 0; a && b && i < npix; i++)
         differ |= a[i] != b[i];
