@@ -4,6 +4,7 @@
 #include <math.h>
 
 #include "core/fastmath.h"
+#include "frame/project_point.h"
 
 const char *orr_projection_name(orr_projection_kind kind)
 {
@@ -148,108 +149,36 @@ int orr_project_point(const orr_projection *p, orr_vec3 c, double *px, double *p
     return 0;
 }
 
-/* Each kind has its own loop so the compiler can vectorise it. */
-ORR_VECTOR_CLONES
-static void project_orthographic(const orr_projection *p, size_t n, const float *restrict x,
-                                 const float *restrict y, float *restrict px, float *restrict py,
-                                 float *restrict scale, uint8_t *restrict visible)
+/* Each kind has its own loop (a constant kind for orr_project_point_f), so
+ * the compiler can vectorise it. */
+static inline void project_loop(orr_projection_kind kind, const orr_projection *p, size_t n,
+                                const float *restrict x, const float *restrict y, const float *restrict z,
+                                float *restrict px, float *restrict py, float *restrict scale,
+                                uint8_t *restrict visible)
 {
-    const float f = (float)p->focal, cx = (float)p->cx, cy = (float)p->cy;
+    const orr_proj_consts k = orr_proj_consts_of(p);
     for (size_t i = 0; i < n; i++) {
-        px[i] = cx + f * x[i];
-        py[i] = cy + f * y[i];
-        scale[i] = f;
-        visible[i] = 1;
+        orr_projected q = orr_project_point_f(kind, &k, x[i], y[i], z[i]);
+        px[i] = q.px;
+        py[i] = q.py;
+        scale[i] = q.scale;
+        visible[i] = (uint8_t)q.visible;
     }
 }
 
-ORR_VECTOR_CLONES
-static void project_perspective(const orr_projection *p, size_t n, const float *restrict x,
-                                const float *restrict y, const float *restrict z, float *restrict px,
-                                float *restrict py, float *restrict scale, uint8_t *restrict visible)
-{
-    const float f = (float)p->focal, cx = (float)p->cx, cy = (float)p->cy;
-    const float near = (float)p->near;
-    for (size_t i = 0; i < n; i++) {
-        int vis = z[i] > near && z[i] > 0.0f;
-        /* Dividing by a safe denominator keeps the loop branch-free; the
-         * results of invisible points are never read. */
-        float s = f / (vis ? z[i] : 1.0f);
-        px[i] = cx + s * x[i];
-        py[i] = cy + s * y[i];
-        scale[i] = s;
-        visible[i] = (uint8_t)vis;
+#define PROJECT_LOOP(name, kind)                                                                            \
+    ORR_VECTOR_CLONES                                                                                        \
+    static void name(const orr_projection *p, size_t n, const float *restrict x, const float *restrict y,    \
+                     const float *restrict z, float *restrict px, float *restrict py, float *restrict scale, \
+                     uint8_t *restrict visible)                                                              \
+    {                                                                                                        \
+        project_loop(kind, p, n, x, y, z, px, py, scale, visible);                                           \
     }
-}
-
-ORR_VECTOR_CLONES
-static void project_hammer_aitoff(const orr_projection *p, size_t n, const float *restrict x,
-                                  const float *restrict y, const float *restrict z, float *restrict px,
-                                  float *restrict py, float *restrict scale, uint8_t *restrict visible)
-{
-    const float hw = (float)p->half_w, hh = (float)p->half_h, sgn = (float)p->lon_sign;
-    const float cx = (float)p->cx, cy = (float)p->cy, f = (float)p->focal;
-    for (size_t i = 0; i < n; i++) {
-        float fwd = z[i], left = -x[i], up = -y[i];
-        float r2 = fwd * fwd + left * left + up * up;
-        float r = sqrtf(r2);
-        float rho = sqrtf(fwd * fwd + left * left);
-        float big = rho + fabsf(fwd), small = left * left / (big > 0.0f ? big : 1.0f);
-        float cbc = sqrtf(0.5f * rho * (fwd >= 0.0f ? big : small));
-        float cbs = sqrtf(0.5f * rho * (fwd >= 0.0f ? small : big));
-        cbs = left < 0.0f ? -cbs : cbs;
-        int vis = r > 0.0f;
-        float k = 1.0f / sqrtf(vis ? r * (r + cbc) : 1.0f);
-        px[i] = cx + sgn * hw * cbs * k;
-        py[i] = cy - hh * up * k;
-        scale[i] = f / (vis ? r : 1.0f);
-        visible[i] = (uint8_t)vis;
-    }
-}
-
-ORR_VECTOR_CLONES
-static void project_equirectangular(const orr_projection *p, size_t n, const float *restrict x,
-                                    const float *restrict y, const float *restrict z, float *restrict px,
-                                    float *restrict py, float *restrict scale, uint8_t *restrict visible)
-{
-    const float ax = (float)(p->lon_sign * p->width / (2.0 * ORR_PI)), ay = (float)(p->height / ORR_PI);
-    const float cx = (float)p->cx, cy = (float)p->cy, f = (float)p->focal;
-    for (size_t i = 0; i < n; i++) {
-        float h = sqrtf(x[i] * x[i] + z[i] * z[i]);
-        float r = sqrtf(h * h + y[i] * y[i]);
-        float l = orr_atan2f(-x[i], z[i]), b = orr_atan2f(-y[i], h);
-        int vis = r > 0.0f;
-        px[i] = cx + ax * l;
-        py[i] = cy - ay * b;
-        float cosb = vis ? h / r : 1.0f;
-        cosb = cosb > 1e-6f ? cosb : 1e-6f; /* not fmaxf: its NaN rule keeps the loop scalar */
-        scale[i] = f / (sqrtf(cosb) * (vis ? r : 1.0f));
-        visible[i] = (uint8_t)vis;
-    }
-}
-
-ORR_VECTOR_CLONES
-static void project_dome(const orr_projection *p, size_t n, const float *restrict x, const float *restrict y,
-                         const float *restrict z, float *restrict px, float *restrict py,
-                         float *restrict scale, uint8_t *restrict visible)
-{
-    const float f = (float)p->focal, tmax = (float)p->theta_max;
-    const float cx = (float)p->cx, cy = (float)p->cy;
-    for (size_t i = 0; i < n; i++) {
-        float rho = sqrtf(x[i] * x[i] + y[i] * y[i]);
-        float theta = orr_atan2f(rho, z[i]);
-        float r = sqrtf(rho * rho + z[i] * z[i]);
-        int vis = r > 0.0f && theta <= tmax;
-        float k = rho > 0.0f ? f * theta / rho : f;
-        px[i] = cx + k * x[i];
-        py[i] = cy + k * y[i];
-        /* The isotropic scale: geometric mean of radial f and tangential
-         * f theta / sin theta; sin theta = rho / r. */
-        float stretch = rho > 0.0f ? theta * r / rho : 1.0f;
-        scale[i] = f * sqrtf(stretch) / (vis ? r : 1.0f);
-        visible[i] = (uint8_t)vis;
-    }
-}
+PROJECT_LOOP(project_orthographic, ORR_PROJ_ORTHOGRAPHIC)
+PROJECT_LOOP(project_perspective, ORR_PROJ_PERSPECTIVE)
+PROJECT_LOOP(project_hammer_aitoff, ORR_PROJ_HAMMER_AITOFF)
+PROJECT_LOOP(project_equirectangular, ORR_PROJ_EQUIRECTANGULAR)
+PROJECT_LOOP(project_dome, ORR_PROJ_DOME)
 
 int orr_projection_is_sky(const orr_projection *p)
 {
@@ -349,7 +278,7 @@ void orr_project_batch(const orr_projection *p, size_t n, const float *x, const 
 {
     switch (p->kind) {
     case ORR_PROJ_ORTHOGRAPHIC:
-        project_orthographic(p, n, x, y, px, py, scale, visible);
+        project_orthographic(p, n, x, y, z, px, py, scale, visible);
         return;
     case ORR_PROJ_PERSPECTIVE:
         project_perspective(p, n, x, y, z, px, py, scale, visible);

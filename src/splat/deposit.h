@@ -67,4 +67,74 @@ void orr_shares_apply(const orr_shares *s, size_t first, size_t end, orr_plane *
 void orr_deposit(orr_deposit_kind kind, orr_plane *plane, size_t n, const float *px, const float *py,
                  const float *w, const uint8_t *visible, const orr_projection *proj, orr_deposit_stats *stats);
 
+/* ---- Nearest pixel, by pixel indices ----
+ * NGP deposits go through one pixel index a point: a pixel of the image,
+ * or one of these. The indices are made from projected positions
+ * (orr_deposit, orr_deposit_shares) or, for the renderer's commonest
+ * blocks, in the same loop that reads and projects the particles
+ * (render/ngp_gather.c); both use the inline functions below. */
+#define ORR_NGP_OFF (-1)    /* visible, but not surely on a pixel: off a flat image (its weight is \
+                             * lost), or near a sky map's rim or seam (orr_ngp_place folds it on) */
+#define ORR_NGP_CULLED (-2) /* not drawn by the projection */
+
+/* The image's map, set up once per batch so the per-point test is a few
+ * multiplications: inside the ellipse or circle of a sky map, or the whole
+ * image (ax = ay = 0). */
+typedef struct orr_map_outline {
+    int width, height;
+    float cx, cy;
+    float ax, ay; /* squared reciprocal semi-axes; 0 for a rectangular map */
+} orr_map_outline;
+
+/* The outline of a width x height image under proj (NULL: a flat image). */
+orr_map_outline orr_map_outline_of(const orr_projection *proj, int width, int height);
+
+/* The pixel of a point on a flat width x height image. Branch-free, so
+ * loops over it vectorise: a point outside is clamped to pixel 0 before
+ * the conversion (converting a float that does not fit an int is
+ * undefined) and its index then replaced. For non-negative values
+ * truncation is floor, and the bounds test is done in float first, so
+ * the conversions are exact. */
+static inline int32_t orr_ngp_flat_index(int width, int height, float x, float y, int visible)
+{
+    int in = (visible != 0) & (x >= 0.0f) & (x < (float)width) & (y >= 0.0f) & (y < (float)height);
+    int32_t ix = (int32_t)(in ? x : 0.0f), iy = (int32_t)(in ? y : 0.0f);
+    return in ? iy * width + ix : (visible ? ORR_NGP_OFF : ORR_NGP_CULLED);
+}
+
+/* The same on a sky map: a pixel only when surely on the map; near the
+ * rim, the seam or off the image ORR_NGP_OFF, for orr_ngp_place. */
+static inline int32_t orr_ngp_sky_index(const orr_map_outline *m, float x, float y, int visible)
+{
+    int on_image = (visible != 0) & (x >= 0.0f) & (x < (float)m->width) & (y >= 0.0f) & (y < (float)m->height);
+    int32_t ix = (int32_t)(on_image ? x : 0.0f), iy = (int32_t)(on_image ? y : 0.0f);
+    float u = (float)ix + 0.5f - m->cx, v = (float)iy + 0.5f - m->cy;
+    int sure = on_image & (u * u * m->ax + v * v * m->ay <= 0.9999f);
+    return sure ? iy * m->width + ix : (visible ? ORR_NGP_OFF : ORR_NGP_CULLED);
+}
+
+/* Points with their NGP indices, and nw weights each. */
+typedef struct orr_ngp_batch {
+    size_t n;
+    int32_t *index;       /* a pixel, ORR_NGP_OFF or ORR_NGP_CULLED */
+    const float *px, *py; /* sky maps: positions, read for the points ORR_NGP_OFF */
+    const float *w[3];
+    int nw;
+    size_t n_missing;     /* set by orr_ngp_place: points left without a pixel */
+} orr_ngp_batch;
+
+/* Completes the batch's indices for the image of outline m under proj
+ * (NULL: flat): on a sky map every visible point gets a pixel (folded onto
+ * the map where it falls outside, so nothing is lost or drawn twice); adds
+ * to stats (nw of them) what lands, falls off and is culled. */
+void orr_ngp_place(const orr_projection *proj, const orr_map_outline *m, orr_ngp_batch *b,
+                   orr_deposit_stats *stats);
+
+/* Adds the placed batch's weights at their pixels into planes [0, nw). */
+void orr_ngp_add(const orr_ngp_batch *b, orr_plane *planes);
+
+/* Appends the placed batch's shares (one a point with a pixel) to out. The
+ * batch's index may be out's own pixel array from out->n on. */
+void orr_ngp_shares(const orr_ngp_batch *b, orr_shares *out);
+
 #endif
