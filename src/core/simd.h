@@ -13,4 +13,13 @@
 #define ORR_VECTOR_CLONES
 #endif
 
+/* For the body of a loop shared by such clones: inlined into each, so each
+ * clone compiles it for its own target (left to itself, the compiler may
+ * keep one out-of-line copy, built for the baseline). */
+#if defined(__GNUC__) || defined(__clang__)
+#define ORR_ALWAYS_INLINE inline __attribute__((always_inline))
+#else
+#define ORR_ALWAYS_INLINE inline
+#endif
+
 #endif

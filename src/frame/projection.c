@@ -151,7 +151,7 @@ int orr_project_point(const orr_projection *p, orr_vec3 c, double *px, double *p
 
 /* Each kind has its own loop (a constant kind for orr_project_point_f), so
  * the compiler can vectorise it. */
-static inline void project_loop(orr_projection_kind kind, const orr_projection *p, size_t n,
+static ORR_ALWAYS_INLINE void project_loop(orr_projection_kind kind, const orr_projection *p, size_t n,
                                 const float *restrict x, const float *restrict y, const float *restrict z,
                                 float *restrict px, float *restrict py, float *restrict scale,
                                 uint8_t *restrict visible)

@@ -14,7 +14,9 @@
 #include "encode/png.h"
 #include "post/colormap.h"
 #include "post/stretch.h"
+#include "render/camera_transform.h"
 #include "render/lengths.h"
+#include "render/ngp_gather.h"
 #include "render/periodic_view.h"
 #include "render/stereo_view.h"
 #include "render/view_psf.h"
@@ -66,6 +68,11 @@ typedef struct block_buffers {
     int32_t share_pixel[ORR_MAX_SHARES_PER_POINT * BLOCK];
     float share_w[3][ORR_MAX_SHARES_PER_POINT * BLOCK];
     uint32_t band_cursor[ORR_MAX_BANDS];
+    /* A block of the fused NGP gather (render/ngp_gather.h): its indices are
+     * in share_pixel, and its weights are read from wp (the source's arrays,
+     * or w when dimmed). */
+    int indexed;
+    const float *wp[3];
 } block_buffers;
 
 /* One view being rendered. */
@@ -90,6 +97,8 @@ typedef struct view_state {
     orr_stereo_ods ods;
     orr_periodic_view periodic; /* input.periodic: the box's copies and what is culled */
     int banded;                 /* a point deposit, splatted in bands (WINDOW_BLOCKS above) */
+    int ngp_fused;              /* NGP blocks taken whole go through the fused gather */
+    orr_map_outline outline;    /* the image's map, for NGP indices */
     orr_bands bands;
     int nlanes;                 /* lanes of the splat (MAX_LANES above) */
     orr_plane *lane_planes;     /* lanes 1 .. nlanes-1: nplanes planes each; lane 0 is planes[] */
@@ -356,11 +365,12 @@ static int all_finite(const float *a, size_t start, size_t end)
     return bad == 0;
 }
 
-/* 1 when the gather may take every particle of c[start, end) as it is: no
- * neighbour lengths to count, every type drawn, no observer among them and
- * nothing non-finite. This is by far the common block, and its gather is a
- * straight loop without a branch a particle (gather_all). */
-static int block_takes_all(const view_state *v, const orr_chunk *c, const float *wsrc, size_t start, size_t end)
+/* 1 when the gather may select every particle of c[start, end): no
+ * neighbour lengths to count, every type drawn, no observer among them.
+ * This is by far the common block, and (when its particles are finite
+ * too) its gather is a straight loop without a branch a particle:
+ * gather_all, or for NGP the fused gather. */
+static int block_selects_all(const view_state *v, const orr_chunk *c, size_t start, size_t end)
 {
     const orr_scene *s = v->scene;
     if (v->lengths)
@@ -389,25 +399,20 @@ static int block_takes_all(const view_state *v, const orr_chunk *c, const float 
         if (found)
             return 0;
     }
+    return 1;
+}
+
+static int block_all_finite(const orr_chunk *c, const float *wsrc, size_t start, size_t end)
+{
     return all_finite(c->x, start, end) && all_finite(c->y, start, end) && all_finite(c->z, start, end) &&
            all_finite(wsrc, start, end);
 }
 
-/* Moves particles into the camera frame: positions less origin (in double,
- * which keeps precision for cameras far from the coordinate origin, inside
- * a big box or at the Sun) turned by the view's rotation. */
-typedef struct camera_transform {
-    double ox, oy, oz;
-    float r[3][3];
-    int dim;
-    float near2;
-} camera_transform;
-
-static camera_transform transform_of(const view_state *v, orr_vec3 shift)
+static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift)
 {
     const orr_scene *s = v->scene;
     const orr_vec3 origin = orr_v3_sub(v->rep->camera.position, shift); /* p + shift - camera */
-    camera_transform t = {origin.x, origin.y, origin.z, {{0}}, 0, 0};
+    orr_camera_transform t = {origin.x, origin.y, origin.z, {{0}}, 0, 0};
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++)
             t.r[a][b] = (float)v->world_to_camera.m[a][b];
@@ -421,37 +426,31 @@ static camera_transform transform_of(const view_state *v, orr_vec3 shift)
  * the 1/r^2 dimming of each (into dimming); dim is a constant at each call,
  * so the compiler makes a loop without the division for views that do not
  * dim. */
-static inline void transform_positions(const orr_chunk *c, size_t start, size_t n, const camera_transform *t,
+static inline void transform_positions(const orr_chunk *c, size_t start, size_t n, const orr_camera_transform *t,
                                        const int dim, block_buffers *b, float *restrict dimming)
 {
-    const float r00 = t->r[0][0], r01 = t->r[0][1], r02 = t->r[0][2];
-    const float r10 = t->r[1][0], r11 = t->r[1][1], r12 = t->r[1][2];
-    const float r20 = t->r[2][0], r21 = t->r[2][1], r22 = t->r[2][2];
-    const double ox = t->ox, oy = t->oy, oz = t->oz;
-    const float near2 = t->near2;
+    const orr_camera_transform tt = *t;
     const float *restrict x = c->x + start, *restrict y = c->y + start, *restrict z = c->z + start;
     float *restrict bx = b->x, *restrict by = b->y, *restrict bz = b->z;
     for (size_t i = 0; i < n; i++) {
-        float dx = (float)((double)x[i] - ox), dy = (float)((double)y[i] - oy), dz = (float)((double)z[i] - oz);
-        bx[i] = r00 * dx + r01 * dy + r02 * dz;
-        by[i] = r10 * dx + r11 * dy + r12 * dz;
-        bz[i] = r20 * dx + r21 * dy + r22 * dz;
-        if (dim) {
-            float r2 = dx * dx + dy * dy + dz * dz;
-            dimming[i] = 1.0f / (r2 > near2 ? r2 : near2);
-        }
+        orr_camera_point p = orr_to_camera(&tt, x[i], y[i], z[i]);
+        bx[i] = p.x;
+        by[i] = p.y;
+        bz[i] = p.z;
+        if (dim)
+            dimming[i] = orr_camera_dimming(&tt, p.r2);
     }
 }
 
 ORR_VECTOR_CLONES
-static void transform_dimmed(const orr_chunk *c, size_t start, size_t n, const camera_transform *t,
+static void transform_dimmed(const orr_chunk *c, size_t start, size_t n, const orr_camera_transform *t,
                              block_buffers *b, float *dimming)
 {
     transform_positions(c, start, n, t, 1, b, dimming);
 }
 
 ORR_VECTOR_CLONES
-static void transform_undimmed(const orr_chunk *c, size_t start, size_t n, const camera_transform *t,
+static void transform_undimmed(const orr_chunk *c, size_t start, size_t n, const orr_camera_transform *t,
                                block_buffers *b)
 {
     transform_positions(c, start, n, t, 0, b, NULL);
@@ -461,7 +460,7 @@ static void transform_undimmed(const orr_chunk *c, size_t start, size_t n, const
  * positions, weights (dimmed with observer.dim or camera.dim) and the
  * file's smoothing lengths, one vectorised loop per array. */
 static size_t gather_all(const view_state *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
-                         size_t end, const camera_transform *t, block_buffers *b)
+                         size_t end, const orr_camera_transform *t, block_buffers *b)
 {
     const size_t n = end - start;
     float *dimming = b->scale; /* free until the projection fills it */
@@ -489,6 +488,29 @@ static size_t gather_all(const view_state *v, const orr_chunk *c, const float *c
     return n;
 }
 
+/* The fused gather (render/ngp_gather.h) of a block that takes every
+ * particle: indices into b->share_pixel, weights read in place unless
+ * dimmed. Returns 0 when the block has a non-finite value (b->indexed 0). */
+static int ngp_gather_all(const view_state *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
+                          size_t end, const orr_camera_transform *t, block_buffers *b)
+{
+    const size_t n = end - start;
+    orr_ngp_gather_out out = {b->share_pixel, b->px, b->py, b->scale};
+    if (!orr_ngp_gather(&v->proj, &v->outline, t, n, c->x + start, c->y + start, c->z + start,
+                        wsrcs[v->nplanes - 1] + start, &out))
+        return 0;
+    for (int k = 0; k < v->nplanes; k++) {
+        const float *restrict w = wsrcs[k] + start;
+        float *restrict bw = b->w[k];
+        b->wp[k] = t->dim ? bw : w;
+        if (t->dim)
+            for (size_t i = 0; i < n; i++)
+                bw[i] = w[i] * out.dimming[i];
+    }
+    b->indexed = 1;
+    return 1;
+}
+
 /* Gathers the view's particles of c[start, end) into the block, moved by
  * shift (a periodic box's copy) and into the camera frame, their smoothing
  * lengths from the neighbours' starting at lengths_next; returns how many,
@@ -501,16 +523,21 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
 {
     const float *wsrc = wsrcs[v->nplanes - 1]; /* the weight, or Y: checked for finiteness */
     const orr_scene *s = v->scene;
-    const camera_transform tf = transform_of(v, shift);
-    if (block_takes_all(v, c, wsrc, start, end)) {
-        t->n_selected += end - start;
-        return (long)gather_all(v, c, wsrcs, start, end, &tf, b);
+    const orr_camera_transform tf = transform_of(v, shift);
+    for (int k = 0; k < v->nplanes; k++)
+        b->wp[k] = b->w[k];
+    b->indexed = 0;
+    if (block_selects_all(v, c, start, end)) {
+        if (v->ngp_fused && ngp_gather_all(v, c, wsrcs, start, end, &tf, b)) {
+            t->n_selected += end - start;
+            return (long)(end - start);
+        }
+        if (block_all_finite(c, wsrc, start, end)) {
+            t->n_selected += end - start;
+            return (long)gather_all(v, c, wsrcs, start, end, &tf, b);
+        }
     }
-    const float r00 = tf.r[0][0], r01 = tf.r[0][1], r02 = tf.r[0][2];
-    const float r10 = tf.r[1][0], r11 = tf.r[1][1], r12 = tf.r[1][2];
-    const float r20 = tf.r[2][0], r21 = tf.r[2][1], r22 = tf.r[2][2];
-    const int skip_observer = s->has_observer, dim = tf.dim;
-    const float near2 = tf.near2;
+    const int skip_observer = s->has_observer;
     long n = 0;
     for (size_t i = start; i < end; i++) {
         float h = 0.0f;
@@ -531,13 +558,11 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
             t->n_nonfinite++;
             continue;
         }
-        float dx = (float)((double)c->x[i] - tf.ox);
-        float dy = (float)((double)c->y[i] - tf.oy);
-        float dz = (float)((double)c->z[i] - tf.oz);
-        b->x[n] = r00 * dx + r01 * dy + r02 * dz;
-        b->y[n] = r10 * dx + r11 * dy + r12 * dz;
-        b->z[n] = r20 * dx + r21 * dy + r22 * dz;
-        float r2 = dx * dx + dy * dy + dz * dz, dimming = dim ? 1.0f / (r2 > near2 ? r2 : near2) : 1.0f;
+        orr_camera_point p = orr_to_camera(&tf, c->x[i], c->y[i], c->z[i]);
+        b->x[n] = p.x;
+        b->y[n] = p.y;
+        b->z[n] = p.z;
+        float dimming = tf.dim ? orr_camera_dimming(&tf, p.r2) : 1.0f;
         for (int k = 0; k < v->nplanes; k++)
             b->w[k][n] = wsrcs[k][i] * dimming;
         b->h[n] = h;
@@ -554,7 +579,7 @@ static long project_block(const view_state *v, const orr_source *src, const orr_
                           block_tally *t, orr_error *err)
 {
     long n = gather_block(v, src, c, wts, start, end, shift, lengths_next, b, t, err);
-    if (n < 0)
+    if (n < 0 || b->indexed)
         return n;
     if (v->use_ods)
         t->n_stereo_skipped = orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
@@ -577,12 +602,29 @@ static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
     }
 }
 
+/* The NGP batch of a block of the fused gather. */
+static orr_ngp_batch indexed_batch(const view_state *v, size_t n, const block_buffers *b)
+{
+    orr_ngp_batch nb = {n, (int32_t *)b->share_pixel, b->px, b->py, {b->wp[0], b->wp[1], b->wp[2]}, v->nplanes, 0};
+    return nb;
+}
+
 /* Deposits the block into planes (a lane's: the view's own or a private
  * copy). The report's statistics are of the first plane's weights (with
  * colour, X; Y's are in the FITS header). */
 static void deposit_block(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
                           block_tally *t)
 {
+    if (b->indexed) {
+        orr_deposit_stats st[3];
+        memset(st, 0, sizeof st);
+        orr_ngp_batch nb = indexed_batch(v, n, b);
+        orr_ngp_place(&v->proj, &v->outline, &nb, st);
+        orr_ngp_add(&nb, planes);
+        t->deposit[0] = st[0];
+        t->deposit[1] = st[1];
+        return;
+    }
     if (v->use_sph)
         widen_for_psf(v, n, b);
     for (int k = 0; k < v->nplanes; k++) {
@@ -847,9 +889,15 @@ static void window_shares(view_state *v, const orr_source *src, const orr_chunk 
                 continue;
             orr_deposit_stats st[3];
             memset(st, 0, sizeof st);
-            orr_point_batch pb = {(size_t)n, b->px, b->py, b->visible, {b->w[0], b->w[1], b->w[2]}, v->nplanes};
             orr_shares shares = {b->share_pixel, {b->share_w[0], b->share_w[1], b->share_w[2]}, 0};
-            orr_deposit_shares(v->scene->deposit, &pb, &v->proj, W, H, &shares, st);
+            if (b->indexed) {
+                orr_ngp_batch nb = indexed_batch(v, (size_t)n, b);
+                orr_ngp_place(&v->proj, &v->outline, &nb, st);
+                orr_ngp_shares(&nb, &shares);
+            } else {
+                orr_point_batch pb = {(size_t)n, b->px, b->py, b->visible, {b->w[0], b->w[1], b->w[2]}, v->nplanes};
+                orr_deposit_shares(v->scene->deposit, &pb, &v->proj, W, H, &shares, st);
+            }
             t->deposit[0] = st[0];
             t->deposit[1] = st[1];
             orr_bands_put(&v->bands, q, &shares, b->band_cursor);
@@ -1458,6 +1506,8 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     v->use_sph = s->deposit == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
     /* (A sky PSF collects its stars per lane: it keeps lanes.) */
     v->banded = !v->use_sph && !v->psf.sky && (size_t)v->proj.width * (size_t)v->proj.height > BAND_MIN_PIXELS;
+    v->ngp_fused = s->deposit == ORR_DEPOSIT_NGP && !v->use_sph && !v->psf.sky && !v->use_ods;
+    v->outline = orr_map_outline_of(&v->proj, v->proj.width, v->proj.height);
     if (!st && v->use_sph)
         st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
     v->sph_ready = !st && v->use_sph;

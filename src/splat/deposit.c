@@ -18,35 +18,33 @@ const char *orr_deposit_name(orr_deposit_kind kind)
  * L1 cache). */
 #define POINT_BATCH 512
 
-/* The sum of n floats in double; four accumulators break the chain of
- * dependent additions. */
-static double sum_floats(const float *restrict a, size_t n)
-{
-    double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-    size_t i = 0;
-    for (; i + 3 < n; i += 4) {
-        s0 += a[i];
-        s1 += a[i + 1];
-        s2 += a[i + 2];
-        s3 += a[i + 3];
-    }
-    for (; i < n; i++)
-        s0 += a[i];
-    return (s0 + s1) + (s2 + s3);
-}
-
-/* The sum of the weights of the points whose index is at least lo. */
+/* The sum in double of the weights w[i] of the points whose index[i] is
+ * at least lo (every point when index is NULL). Eight independent
+ * accumulators, which the compiler turns into vector additions (a single
+ * running sum could not be reordered); the order of the terms is fixed, so
+ * the sums do not depend on the machine. */
+ORR_VECTOR_CLONES
 static double sum_from(const float *restrict w, const int32_t *restrict index, int32_t lo, size_t n)
 {
-    double s0 = 0, s1 = 0;
+    double acc[8] = {0, 0, 0, 0, 0, 0, 0, 0};
     size_t i = 0;
-    for (; i + 1 < n; i += 2) {
-        s0 += index[i] >= lo ? w[i] : 0.0;
-        s1 += index[i + 1] >= lo ? w[i + 1] : 0.0;
+    if (!index) {
+        for (; i + 8 <= n; i += 8)
+            for (int j = 0; j < 8; j++)
+                acc[j] += w[i + j];
+    } else {
+        for (; i + 8 <= n; i += 8)
+            for (int j = 0; j < 8; j++)
+                acc[j] += index[i + j] >= lo ? w[i + j] : 0.0f;
     }
     for (; i < n; i++)
-        s0 += index[i] >= lo ? w[i] : 0.0;
-    return s0 + s1;
+        acc[0] += !index || index[i] >= lo ? w[i] : 0.0f;
+    return ((acc[0] + acc[1]) + (acc[2] + acc[3])) + ((acc[4] + acc[5]) + (acc[6] + acc[7]));
+}
+
+static double sum_floats(const float *w, size_t n)
+{
+    return sum_from(w, NULL, 0, n);
 }
 
 ORR_VECTOR_CLONES
@@ -236,17 +234,29 @@ void orr_ngp_place(const orr_projection *proj, const orr_map_outline *m, orr_ngp
 
 void orr_ngp_add(const orr_ngp_batch *b, orr_plane *planes)
 {
-    const int32_t *restrict index = b->index;
     for (int p = 0; p < b->nw; p++) {
         float *restrict data = planes[p].data;
-        const float *restrict w = b->w[p];
         if (b->n_missing == 0) {
+            const int32_t *restrict index = b->index;
+            const float *restrict w = b->w[p];
             for (size_t i = 0; i < b->n; i++)
                 data[index[i]] += w[i];
-        } else {
-            for (size_t i = 0; i < b->n; i++)
-                if (index[i] >= 0)
-                    data[index[i]] += w[i];
+            continue;
+        }
+        /* Some points have no pixel: a stack batch at a time, those with one
+         * are packed first, without a branch a point (a test in the adding
+         * loop mispredicts whenever points off the image come at random). */
+        int32_t index[POINT_BATCH];
+        float w[POINT_BATCH];
+        for (size_t start = 0; start < b->n; start += POINT_BATCH) {
+            size_t m = b->n - start < POINT_BATCH ? b->n - start : POINT_BATCH, k = 0;
+            for (size_t i = start; i < start + m; i++) {
+                index[k] = b->index[i];
+                w[k] = b->w[p][i];
+                k += b->index[i] >= 0;
+            }
+            for (size_t i = 0; i < k; i++)
+                data[index[i]] += w[i];
         }
     }
 }

@@ -75,7 +75,7 @@ void orr_deposit(orr_deposit_kind kind, orr_plane *plane, size_t n, const float 
  * (render/ngp_gather.c); both use the inline functions below. */
 #define ORR_NGP_OFF (-1)    /* visible, but not surely on a pixel: off a flat image (its weight is \
                              * lost), or near a sky map's rim or seam (orr_ngp_place folds it on) */
-#define ORR_NGP_CULLED (-2) /* not drawn by the projection */
+#define ORR_NGP_CULLED (-2) /* not drawn by the projection (ORR_NGP_OFF - 1) */
 
 /* The image's map, set up once per batch so the per-point test is a few
  * multiplications: inside the ellipse or circle of a sky map, or the whole
@@ -99,7 +99,7 @@ static inline int32_t orr_ngp_flat_index(int width, int height, float x, float y
 {
     int in = (visible != 0) & (x >= 0.0f) & (x < (float)width) & (y >= 0.0f) & (y < (float)height);
     int32_t ix = (int32_t)(in ? x : 0.0f), iy = (int32_t)(in ? y : 0.0f);
-    return in ? iy * width + ix : (visible ? ORR_NGP_OFF : ORR_NGP_CULLED);
+    return in ? iy * width + ix : ORR_NGP_CULLED + (visible != 0); /* not a ternary: it vectorises */
 }
 
 /* The same on a sky map: a pixel only when surely on the map; near the
@@ -108,9 +108,12 @@ static inline int32_t orr_ngp_sky_index(const orr_map_outline *m, float x, float
 {
     int on_image = (visible != 0) & (x >= 0.0f) & (x < (float)m->width) & (y >= 0.0f) & (y < (float)m->height);
     int32_t ix = (int32_t)(on_image ? x : 0.0f), iy = (int32_t)(on_image ? y : 0.0f);
-    float u = (float)ix + 0.5f - m->cx, v = (float)iy + 0.5f - m->cy;
+    /* The pixel centre's offsets, (ix + 0.5) - cx, in a form that is exact
+     * too but that GCC does not turn into a truncf call, which would keep
+     * the loop from vectorising. */
+    float u = 0.5f * ((float)(2 * ix + 1) - 2.0f * m->cx), v = 0.5f * ((float)(2 * iy + 1) - 2.0f * m->cy);
     int sure = on_image & (u * u * m->ax + v * v * m->ay <= 0.9999f);
-    return sure ? iy * m->width + ix : (visible ? ORR_NGP_OFF : ORR_NGP_CULLED);
+    return sure ? iy * m->width + ix : ORR_NGP_CULLED + (visible != 0);
 }
 
 /* Points with their NGP indices, and nw weights each. */

@@ -1,0 +1,37 @@
+/* Moving particles into the camera frame: position less the camera's (in
+ * double, which keeps precision for cameras far from the coordinate origin,
+ * inside a big box or at the Sun), turned by the view's rotation. Inline,
+ * for the renderer's gather loops (render.c, ngp_gather.c), which the
+ * compiler vectorises; copy the transform into a local before such a loop,
+ * so the compiler knows the loop's stores cannot change it. */
+#ifndef ORR_RENDER_CAMERA_TRANSFORM_H
+#define ORR_RENDER_CAMERA_TRANSFORM_H
+
+typedef struct orr_camera_transform {
+    double ox, oy, oz; /* the camera's position, less a periodic copy's shift */
+    float r[3][3];     /* world to camera */
+    int dim;           /* weights fall off as 1/r^2 from the camera (observer.dim, camera.dim) */
+    float near2;       /* ... but no faster than at this distance, squared */
+} orr_camera_transform;
+
+/* A point in the camera frame, and its distance from the camera squared. */
+typedef struct orr_camera_point {
+    float x, y, z, r2;
+} orr_camera_point;
+
+static inline orr_camera_point orr_to_camera(const orr_camera_transform *t, float x, float y, float z)
+{
+    float dx = (float)((double)x - t->ox), dy = (float)((double)y - t->oy), dz = (float)((double)z - t->oz);
+    orr_camera_point c = {t->r[0][0] * dx + t->r[0][1] * dy + t->r[0][2] * dz,
+                          t->r[1][0] * dx + t->r[1][1] * dy + t->r[1][2] * dz,
+                          t->r[2][0] * dx + t->r[2][1] * dy + t->r[2][2] * dz, dx * dx + dy * dy + dz * dz};
+    return c;
+}
+
+/* The 1/r^2 dimming factor of a point at distance^2 r2. */
+static inline float orr_camera_dimming(const orr_camera_transform *t, float r2)
+{
+    return 1.0f / (r2 > t->near2 ? r2 : t->near2);
+}
+
+#endif

@@ -1,0 +1,68 @@
+#include "render/ngp_gather.h"
+
+#include "core/simd.h"
+#include "frame/project_point.h"
+
+/* The loop, for a constant kind and dim (so that each caller below is a
+ * straight loop the compiler vectorises). */
+static ORR_ALWAYS_INLINE int gather_loop(orr_projection_kind kind, int dim, const orr_projection *p,
+                              const orr_map_outline *outline, const orr_camera_transform *transform, size_t n,
+                              const float *restrict x, const float *restrict y, const float *restrict z,
+                              const float *restrict w, int32_t *restrict index, float *restrict px,
+                              float *restrict py, float *restrict dimming)
+{
+    const orr_proj_consts k = orr_proj_consts_of(p);
+    const orr_map_outline m = *outline;
+    const orr_camera_transform t = *transform;
+    const int sky = kind == ORR_PROJ_HAMMER_AITOFF || kind == ORR_PROJ_DOME || kind == ORR_PROJ_EQUIRECTANGULAR;
+    uint32_t bad = 0;
+    for (size_t i = 0; i < n; i++) {
+        /* a - a is 0 for a finite a and NaN otherwise (the build honours
+         * NaNs, so it is not folded away); a test on the values, not on
+         * their bits through memcpy, which the compiler must assume may
+         * alias the outputs. */
+        float zero = (x[i] - x[i]) + (y[i] - y[i]) + (z[i] - z[i]) + (w[i] - w[i]);
+        bad |= !(zero == 0.0f);
+        orr_camera_point c = orr_to_camera(&t, x[i], y[i], z[i]);
+        if (dim)
+            dimming[i] = orr_camera_dimming(&t, c.r2);
+        orr_projected q = orr_project_point_f(kind, &k, c.x, c.y, c.z);
+        if (sky) {
+            index[i] = orr_ngp_sky_index(&m, q.px, q.py, q.visible);
+            px[i] = q.px;
+            py[i] = q.py;
+        } else {
+            index[i] = orr_ngp_flat_index(m.width, m.height, q.px, q.py, q.visible);
+        }
+    }
+    return bad == 0;
+}
+
+#define GATHER_KIND(name, kind)                                                                                 \
+    ORR_VECTOR_CLONES                                                                                            \
+    static int name(const orr_projection *p, const orr_map_outline *m, const orr_camera_transform *t, size_t n, \
+                    const float *x, const float *y, const float *z, const float *w,                              \
+                    const orr_ngp_gather_out *o)                                                                 \
+    {                                                                                                            \
+        if (t->dim)                                                                                              \
+            return gather_loop(kind, 1, p, m, t, n, x, y, z, w, o->index, o->px, o->py, o->dimming);             \
+        return gather_loop(kind, 0, p, m, t, n, x, y, z, w, o->index, o->px, o->py, o->dimming);                 \
+    }
+GATHER_KIND(gather_orthographic, ORR_PROJ_ORTHOGRAPHIC)
+GATHER_KIND(gather_perspective, ORR_PROJ_PERSPECTIVE)
+GATHER_KIND(gather_hammer_aitoff, ORR_PROJ_HAMMER_AITOFF)
+GATHER_KIND(gather_equirectangular, ORR_PROJ_EQUIRECTANGULAR)
+GATHER_KIND(gather_dome, ORR_PROJ_DOME)
+
+int orr_ngp_gather(const orr_projection *p, const orr_map_outline *m, const orr_camera_transform *t, size_t n,
+                   const float *x, const float *y, const float *z, const float *w, const orr_ngp_gather_out *out)
+{
+    switch (p->kind) {
+    case ORR_PROJ_ORTHOGRAPHIC: return gather_orthographic(p, m, t, n, x, y, z, w, out);
+    case ORR_PROJ_PERSPECTIVE: return gather_perspective(p, m, t, n, x, y, z, w, out);
+    case ORR_PROJ_HAMMER_AITOFF: return gather_hammer_aitoff(p, m, t, n, x, y, z, w, out);
+    case ORR_PROJ_EQUIRECTANGULAR: return gather_equirectangular(p, m, t, n, x, y, z, w, out);
+    case ORR_PROJ_DOME: break;
+    }
+    return gather_dome(p, m, t, n, x, y, z, w, out);
+}
