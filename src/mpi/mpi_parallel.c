@@ -1,5 +1,8 @@
 #include "mpi/mpi_parallel.h"
 
+#include <stdlib.h>
+#include <string.h>
+
 static orr_status mpi_fail(int rc, orr_error *err, const char *what)
 {
     char msg[MPI_MAX_ERROR_STRING];
@@ -15,20 +18,50 @@ static orr_status allreduce_sum(void *user, double *v, size_t n, orr_error *err)
     return rc == MPI_SUCCESS ? ORR_OK : mpi_fail(rc, err, "all-reduce");
 }
 
-/* Sums every rank's plane into rank 0's, tile by tile. */
+/* MPI_Reduce_scatter leaves each rank the sum of its tile of the group
+ * (so the ranks share the additions, and no buffer of MPI's or ours holds
+ * more than a group), then rank 0 gathers the tiles into its plane. The
+ * last group's tiles are shorter, some perhaps empty. */
+orr_status orr_mpi_reduce_plane(MPI_Comm comm, float *v, size_t n, size_t group_floats, orr_error *err)
+{
+    int rank, nranks;
+    MPI_Comm_rank(comm, &rank);
+    MPI_Comm_size(comm, &nranks);
+    const size_t tile = group_floats / (size_t)nranks ? group_floats / (size_t)nranks : 1;
+    int *count = orr_malloc(2 * (size_t)nranks * sizeof *count, "MPI tile counts", err);
+    float *mine = count ? orr_malloc(tile * sizeof *mine, "MPI reduction tile", err) : NULL;
+    if (!mine) {
+        free(count);
+        return ORR_ERR_NOMEM;
+    }
+    int *offset = count + nranks;
+    orr_status st = ORR_OK;
+    for (size_t group = 0; group < n && !st; group += tile * (size_t)nranks) {
+        size_t at = group;
+        for (int r = 0; r < nranks; r++) {
+            size_t len = n - at < tile ? n - at : tile;
+            count[r] = (int)len;
+            offset[r] = (int)(at - group);
+            at += len;
+        }
+        int rc = MPI_Reduce_scatter(v + group, mine, count, MPI_FLOAT, MPI_SUM, comm);
+        if (rc == MPI_SUCCESS && rank == 0) {
+            memcpy(v + group, mine, (size_t)count[0] * sizeof *mine); /* rank 0's tile is first */
+            rc = MPI_Gatherv(MPI_IN_PLACE, count[0], MPI_FLOAT, v + group, count, offset, MPI_FLOAT, 0, comm);
+        } else if (rc == MPI_SUCCESS) {
+            rc = MPI_Gatherv(mine, count[rank], MPI_FLOAT, NULL, NULL, NULL, MPI_FLOAT, 0, comm);
+        }
+        if (rc != MPI_SUCCESS)
+            st = mpi_fail(rc, err, "reduction of an image plane");
+    }
+    free(mine);
+    free(count);
+    return st;
+}
+
 static orr_status reduce_sum(void *user, float *v, size_t n, orr_error *err)
 {
-    MPI_Comm comm = *(MPI_Comm *)user;
-    int rank;
-    MPI_Comm_rank(comm, &rank);
-    for (size_t off = 0; off < n; off += ORR_MPI_TILE_FLOATS) {
-        int len = (int)(n - off < ORR_MPI_TILE_FLOATS ? n - off : ORR_MPI_TILE_FLOATS);
-        int rc = rank == 0 ? MPI_Reduce(MPI_IN_PLACE, v + off, len, MPI_FLOAT, MPI_SUM, 0, comm)
-                           : MPI_Reduce(v + off, NULL, len, MPI_FLOAT, MPI_SUM, 0, comm);
-        if (rc != MPI_SUCCESS)
-            return mpi_fail(rc, err, "reduction of an image plane");
-    }
-    return ORR_OK;
+    return orr_mpi_reduce_plane(*(MPI_Comm *)user, v, n, ORR_MPI_TILE_FLOATS, err);
 }
 
 /* One rank's error stops them all: each says whether it failed, and all
