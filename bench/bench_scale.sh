@@ -37,6 +37,8 @@
 #   ORRERY    orrery binary (default: build/orrery of the source tree)
 #   SNAPSHOT_TOOL  the generator (default: bench/bench_snapshot next to ORRERY)
 #   INMEMORY  the in-memory timer (default: bench/bench_inmemory next to ORRERY)
+#   PLAIN     the yardstick for the ngp runs, a plain C binning loop on the
+#             same particles and view (default: bench/bench_plain_ngp next to ORRERY)
 #   MODELS    "pair plummer"      SIZES   "1e6"      IMAGES  "1024"
 #   RUNS      "ngp dome sph splash splash-exact"
 #   EXACT_MAX_N, EXACT_MAX_NPIX   SPLASH exact runs only up to these (1e6,
@@ -53,6 +55,7 @@ root=$(dirname "$here")
 ORRERY=${ORRERY:-$root/build/orrery}
 SNAPSHOT_TOOL=${SNAPSHOT_TOOL:-$(dirname "$ORRERY")/bench/bench_snapshot}
 INMEMORY=${INMEMORY:-$(dirname "$ORRERY")/bench/bench_inmemory}
+PLAIN=${PLAIN:-$(dirname "$ORRERY")/bench/bench_plain_ngp}
 MODELS=${MODELS:-pair plummer}
 SIZES=${SIZES:-1e6}
 IMAGES=${IMAGES:-1024}
@@ -68,6 +71,7 @@ die() { echo "bench_scale: $*" >&2; exit 2; }
 [ -x "$ORRERY" ] || die "orrery binary not found: $ORRERY (set ORRERY)"
 [ -x "$SNAPSHOT_TOOL" ] || die "generator not found: $SNAPSHOT_TOOL (build bench_snapshot, or set SNAPSHOT_TOOL)"
 [ -x "$INMEMORY" ] || die "in-memory timer not found: $INMEMORY (build bench_inmemory, or set INMEMORY)"
+[ -x "$PLAIN" ] || die "plain C yardstick not found: $PLAIN (build bench_plain_ngp, or set PLAIN)"
 [ -x /usr/bin/time ] || die "GNU time (/usr/bin/time) is needed for peak memory"
 have_splash=0
 command -v splash >/dev/null && have_splash=1
@@ -215,6 +219,13 @@ bench() {
     MWALL[$key]=$mw MCPU[$key]=$mc
     ;;
   esac
+  if [ "$4" = ngp ]; then # the yardstick: a plain C loop on the same particles and view
+    read -r cx cy <<<"$(view_centre "$1")"
+    "$PLAIN" "$5" "$cx" "$cy" "$(view_width "$1")" "$3" "$REPEAT" >plain.log 2>&1 ||
+      die "bench_plain_ngp failed: $(cat plain.log)"
+    sed 's/^/    /' plain.log
+    plain+=("$1 N=$2 $3^2: $(awk '{ print $10 }' plain.log) particles/s (orrery in memory: $(calc "printf \"%.3g\", $2 / ${MWALL[$key]}"))")
+  fi
   case $4 in splash*) grep -h "pixel size > 2h" "$4-view.log" | sed 's/^ */    SPLASH: /' ;; esac
   WALL[$key]=$bw CPU[$key]=$bc SWALL[$key]=$(calc "printf \"%.3f\", $bw - $ew") SCPU[$key]=$(calc "printf \"%.3f\", $bc - $ec")
   RSS[$key]=$((rss / 1024))
@@ -231,7 +242,8 @@ verdict() {
 # The goal column of a row, from the figures of its case.
 goal() {
   local model=$1 n=$2 npix=$3 kind=$4 key="$1 $2 $3 $4" s rate words=""
-  rate=$(calc "print ${MWALL[$key]:-0} > 0 ? $n / ${MWALL[$key]:-0} : 0")
+  # (not "print a > 0 ? ...": awk reads that as printing to a file named 0)
+  rate=$(calc "if (${MWALL[$key]:-0} > 0) print $n / ${MWALL[$key]:-0}; else print 0")
   [ "$kind" = ngp ] && [ "$npix" = 1024 ] && words=">= 4e8/s: $(verdict "$rate" 4e8)"
   [ "$kind" = dome ] && [ "$npix" = 3600 ] && words=">= 2e8/s: $(verdict "$rate" 2e8)"
   if [ "$kind" = sph ] && [ "$npix" = 1024 ]; then
@@ -266,6 +278,7 @@ echo "orrery: $ORRERY"
 [ "$have_splash" = 1 ] && echo "splash: $(command -v splash)" || echo "splash: not installed, SPLASH rows skipped"
 echo "threads: $THREADS, repeats: $REPEAT; $(date -u '+%Y-%m-%d %H:%M UTC'); load average at start:$(cut -d' ' -f1-3 /proc/loadavg | sed 's/^/ /')"
 agreement=()
+plain=()
 for model in $MODELS; do
   for n in $SIZES; do
     nn=$(calc "printf \"%d\", $n")
@@ -316,6 +329,11 @@ for key in "${key_list[@]}"; do
     "$npix" "$kind" "${WALL[$key]}" "${CPU[$key]}" "${SWALL[$key]}" "${SCPU[$key]}" "$rate" "${RSS[$key]}" \
     "${MWALL[$key]:--}" "${MCPU[$key]:--}" "$mrate" "$(versus $key)" "$(goal $key)"
 done
+if [ ${#plain[@]} -gt 0 ]; then
+  echo
+  echo "yardstick: a plain C loop binning the same particles into the orthographic view (bench_plain_ngp):"
+  printf '  %s\n' "${plain[@]}"
+fi
 if [ ${#agreement[@]} -gt 0 ]; then
   echo
   echo "agreement with SPLASH exact (goal: within 1 % in every well-sampled pixel):"
