@@ -46,6 +46,7 @@
 #define MAX_LANES 4
 _Static_assert(MAX_LANES <= ORR_SKY_PSF_LANES, "a sky PSF collects stars in every lane");
 #define LANE_BUDGET ((size_t)256 << 20)
+#define LANE_SHARES_PER_PIXEL 4 /* point deposits: lanes_for */
 
 /* Point deposits (NGP, CIC, on flat images and sky maps) into images of
  * more than BAND_MIN_PIXELS pixels are not splatted in lanes but in bands
@@ -663,14 +664,18 @@ static int lanes_for(const view_state *v, int64_t count)
     size_t lane_bytes = npix * sizeof(float) * (size_t)v->nplanes;
     size_t extra = lane_bytes ? LANE_BUDGET / lane_bytes : 0;
     int lanes = extra + 1 < MAX_LANES ? (int)extra + 1 : MAX_LANES;
-    /* A lane's planes are zeroed and merged every frame, a pass over every
-     * pixel: for point deposits that only pays when each lane has more
-     * particles than pixels (measured: 4e6 particles on a 3600^2 dome ran
-     * slower on 4 lanes than on 1; docs/performance.md). Kernels cost many
-     * pixels a particle, so SPH keeps its lanes. The particle count is the
-     * source's, not the threads': the result still does not depend on them. */
+    /* A lane's planes are zeroed and merged every frame, passes over every
+     * pixel that cost about as much as adding four shares to it (measured:
+     * 10^7 particles NGP on 1024^2, two threads, splat 15 % faster on 2
+     * lanes than on 4; 4e6 particles on a 3600^2 dome slower on 4 lanes
+     * than on 1; docs/performance.md). So point deposits take a lane for
+     * every four shares a pixel (NGP one a particle, CIC four). Kernels
+     * cost many pixels a particle, so SPH keeps its lanes. The particle
+     * count is the source's, not the threads': the result still does not
+     * depend on them. */
     if (!v->use_sph && count >= 0 && npix > 0) {
-        int64_t by_count = count / (int64_t)npix;
+        const int64_t shares = v->scene->deposit == ORR_DEPOSIT_NGP ? count : ORR_MAX_SHARES_PER_POINT * count;
+        int64_t by_count = shares / (LANE_SHARES_PER_PIXEL * (int64_t)npix);
         if (by_count < lanes)
             lanes = by_count > 1 ? (int)by_count : 1;
     }

@@ -116,9 +116,9 @@ done:
         free_rendering(&r[t]);
 }
 
-/* Point deposits get more than one lane only with more particles than
- * pixels per lane (lanes_for), so their images here are at most 7500
- * pixels: four lanes for 30000 particles. */
+/* Point deposits get a lane for every four shares a pixel (lanes_for: NGP
+ * one a particle, CIC four), so their images here are at most 1875 pixels
+ * for NGP and 7500 for CIC: four lanes for 30000 particles. */
 /* 30000 particles in chunks of 20000 (five blocks: lane 0 takes two) and a
  * last chunk of 10000 (three blocks, one lane idle). Every type is drawn,
  * weighted by mass. */
@@ -143,7 +143,7 @@ static double total; /* the model's mass: model_total_mass() */
 static void test_deposits(void)
 {
     check_independent("ngp", MODEL "camera: {projection: orthographic, width: 60}\n"
-                                   "image: {width: 100, height: 75}\ndeposit: ngp\n",
+                                   "image: {width: 50, height: 37}\ndeposit: ngp\n",
                       1, total);
     check_independent("cic", MODEL "camera: {projection: orthographic, width: 60}\n"
                                    "image: {width: 100, height: 75}\ndeposit: cic\n",
