@@ -934,7 +934,8 @@ static orr_status splat_view_banded(view_state *v, const orr_source *src, const 
         orr_status st = first_failure(w, nthreads, err);
         if (st)
             return st;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
+        /* Runs of eight bands a thread: each band prefetches the next. */
+#pragma omp parallel for schedule(static, 8) num_threads(nthreads)
         for (int band = 0; band < nbands; band++)
             orr_bands_apply(&v->bands, band, count, v->planes);
     }

@@ -41,7 +41,9 @@ void orr_bands_free(orr_bands *b);
  * order within each band. cursor: scratch room for nbands values. */
 void orr_bands_put(orr_bands *b, size_t r, const orr_shares *s, uint32_t *cursor);
 
-/* Adds band `band` of regions [0, nregions) to the planes, in region order. */
+/* Adds band `band` of regions [0, nregions) to the planes, in region order,
+ * prefetching band + 1's pixels: give each thread runs of consecutive
+ * bands. */
 void orr_bands_apply(const orr_bands *b, int band, size_t nregions, orr_plane *planes);
 
 #endif
