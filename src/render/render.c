@@ -57,14 +57,14 @@ _Static_assert(MAX_LANES <= ORR_SKY_PSF_LANES, "a sky PSF collects stars in ever
  * cache, and need no copies. Below it, lanes cost less than sorting the
  * shares (docs/performance.md). */
 #define BAND_MIN_PIXELS ((size_t)1 << 22)
-/* A window is a million particles: a band's pixels come from main memory
- * once a window, so the more shares a window brings each of them, the
- * fewer misses a share (a 3600^2 master has 810,000 cache lines of
- * pixels). Measured at 10^7 particles on a dome master: 256 blocks
- * splat 15 % faster than 64, 1024 no faster than 256. The window's
- * shares take 8 MB for NGP, 32 MB for CIC (one plane; 16 and 64 MB with
- * colour). */
-#define WINDOW_BLOCKS 256
+/* A window is a quarter of a million particles. A band's pixels come from
+ * main memory about once a window, so larger windows bring each more
+ * shares (measured at 10^7 particles on a dome master, before the bands
+ * prefetched: 256 blocks 15 % faster than 64); with the prefetch
+ * (bands.c) 64, 128, 256 and 512 blocks run within 4 % of each other,
+ * and 64 keeps the window's shares to 2 MB for NGP, 8 MB for CIC (one
+ * plane; 4 and 16 MB with colour). */
+#define WINDOW_BLOCKS 64
 
 typedef struct block_buffers {
     float x[BLOCK], y[BLOCK], z[BLOCK], h[BLOCK];
@@ -934,8 +934,8 @@ static orr_status splat_view_banded(view_state *v, const orr_source *src, const 
         orr_status st = first_failure(w, nthreads, err);
         if (st)
             return st;
-        /* Runs of eight bands a thread: each band prefetches the next. */
-#pragma omp parallel for schedule(static, 8) num_threads(nthreads)
+        /* Runs of eight consecutive bands: each band prefetches the next. */
+#pragma omp parallel for schedule(dynamic, 8) num_threads(nthreads)
         for (int band = 0; band < nbands; band++)
             orr_bands_apply(&v->bands, band, count, v->planes);
     }
