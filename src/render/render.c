@@ -529,7 +529,10 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
                          size_t start, size_t end, orr_vec3 shift, size_t lengths_next, block_buffers *b,
                          block_tally *t, orr_error *err)
 {
-    const float *wsrc = wsrcs[v->nplanes - 1]; /* the weight, or Y: checked for finiteness */
+    /* Checked for finiteness: the weight, or with colour Z, the last plane
+     * (orr_population_assign already refuses a luminance or colour that is
+     * not finite, so a particle's X, Y and Z are finite together) */
+    const float *wsrc = wsrcs[v->nplanes - 1];
     const orr_scene *s = v->scene;
     const orr_camera_transform tf = transform_of(v, shift);
     for (int k = 0; k < v->nplanes; k++)
