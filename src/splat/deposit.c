@@ -236,27 +236,21 @@ void orr_ngp_add(const orr_ngp_batch *b, orr_plane *planes)
 {
     for (int p = 0; p < b->nw; p++) {
         float *restrict data = planes[p].data;
+        const int32_t *restrict index = b->index;
+        const float *restrict w = b->w[p];
         if (b->n_missing == 0) {
-            const int32_t *restrict index = b->index;
-            const float *restrict w = b->w[p];
             for (size_t i = 0; i < b->n; i++)
                 data[index[i]] += w[i];
             continue;
         }
-        /* Some points have no pixel: a stack batch at a time, those with one
-         * are packed first, without a branch a point (a test in the adding
-         * loop mispredicts whenever points off the image come at random). */
-        int32_t index[POINT_BATCH];
-        float w[POINT_BATCH];
-        for (size_t start = 0; start < b->n; start += POINT_BATCH) {
-            size_t m = b->n - start < POINT_BATCH ? b->n - start : POINT_BATCH, k = 0;
-            for (size_t i = start; i < start + m; i++) {
-                index[k] = b->index[i];
-                w[k] = b->w[p][i];
-                k += b->index[i] >= 0;
-            }
-            for (size_t i = 0; i < k; i++)
-                data[index[i]] += w[i];
+        /* Points without a pixel add 0 to pixel 0, which leaves its value
+         * as it is (x + 0 = x; only -0 turns +0, the same number): no branch
+         * a point, which mispredicted where points fall off the image at
+         * random (the Plummer sphere's tenth: 7-19 % slower), and no second
+         * pass to pack the others first. */
+        for (size_t i = 0; i < b->n; i++) {
+            const int in = index[i] >= 0;
+            data[in ? index[i] : 0] += in ? w[i] : 0.0f;
         }
     }
 }
