@@ -22,4 +22,11 @@
 #define ORR_ALWAYS_INLINE inline
 #endif
 
+/* Asks for the cache line at p, to be written soon; nothing elsewhere. */
+#if defined(__GNUC__) || defined(__clang__)
+#define ORR_PREFETCH_FOR_WRITE(p) __builtin_prefetch((p), 1, 1)
+#else
+#define ORR_PREFETCH_FOR_WRITE(p) ((void)(p))
+#endif
+
 #endif

@@ -99,8 +99,9 @@ static inline orr_projected orr_project_dome_f(const orr_proj_consts *k, float x
     float rho = sqrtf(x * x + y * y);
     float theta = orr_atan2f(rho, z);
     float r2 = rho * rho + z * z, r = sqrtf(r2);
-    int vis = r2 > 0.0f && theta <= k->tmax; /* r > 0, without the square root a caller
-                                                * that needs no scale would wait on */
+    /* r > 0, tested on r2: a caller that needs no scale (the NGP gather)
+     * then takes no square root. */
+    int vis = r2 > 0.0f && theta <= k->tmax;
     float s = rho > 0.0f ? k->f * theta / rho : k->f;
     /* The isotropic scale: geometric mean of radial f and tangential
      * f theta / sin theta; sin theta = rho / r. */

@@ -152,9 +152,9 @@ int orr_project_point(const orr_projection *p, orr_vec3 c, double *px, double *p
 /* Each kind has its own loop (a constant kind for orr_project_point_f), so
  * the compiler can vectorise it. */
 static ORR_ALWAYS_INLINE void project_loop(orr_projection_kind kind, const orr_projection *p, size_t n,
-                                const float *restrict x, const float *restrict y, const float *restrict z,
-                                float *restrict px, float *restrict py, float *restrict scale,
-                                uint8_t *restrict visible)
+                                            const float *restrict x, const float *restrict y,
+                                            const float *restrict z, float *restrict px, float *restrict py,
+                                            float *restrict scale, uint8_t *restrict visible)
 {
     const orr_proj_consts k = orr_proj_consts_of(p);
     for (size_t i = 0; i < n; i++) {

@@ -3,6 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/simd.h"
+
 /* 2^16 pixels: 256 KiB of floats a plane, within a core's L2 cache. */
 #define BAND_SHIFT_MIN 16
 
@@ -90,7 +92,7 @@ static void prefetch_band(const orr_bands *b, int band, const uint32_t *start, s
         return;
     const int32_t *pixel = b->pixel + base;
     for (uint32_t k = start[band]; k < start[band + 1]; k++)
-        __builtin_prefetch(data + pixel[k], 1, 1);
+        ORR_PREFETCH_FOR_WRITE(data + pixel[k]);
 }
 
 void orr_bands_apply(const orr_bands *b, int band, size_t nregions, orr_plane *planes)

@@ -272,11 +272,11 @@ void orr_ngp_shares(const orr_ngp_batch *b, orr_shares *out)
      * allows index to be pixel + first. */
     size_t k = first;
     for (size_t i = 0; i < n; i++) {
-        int32_t px = b->index[i];
-        pixel[k] = px;
+        const int32_t at = b->index[i];
+        pixel[k] = at;
         for (int p = 0; p < b->nw; p++)
             out->w[p][k] = b->w[p][i];
-        k += px >= 0;
+        k += at >= 0;
     }
     out->n = k;
 }
