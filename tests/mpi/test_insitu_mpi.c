@@ -65,6 +65,9 @@ static void test_reduce_plane(int rank, int nranks)
         for (int g = 0; g < 3; g++) {
             size_t n = sizes[s];
             float *v = malloc(n * sizeof *v);
+            CHECK(v != NULL);
+            if (!v)
+                return;
             for (size_t i = 0; i < n; i++)
                 v[i] = (float)(rank + 1 + (int)(i % 7));
             orr_error err;
