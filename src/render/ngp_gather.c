@@ -6,10 +6,11 @@
 /* The loop, for a constant kind and dim (so that each caller below is a
  * straight loop the compiler vectorises). */
 static ORR_ALWAYS_INLINE int gather_loop(orr_projection_kind kind, int dim, const orr_projection *p,
-                              const orr_map_outline *outline, const orr_camera_transform *transform, size_t n,
-                              const float *restrict x, const float *restrict y, const float *restrict z,
-                              const float *restrict w, int32_t *restrict index, float *restrict px,
-                              float *restrict py, float *restrict dimming)
+                                          const orr_map_outline *outline, const orr_camera_transform *transform,
+                                          size_t n, const float *restrict x, const float *restrict y,
+                                          const float *restrict z, const float *restrict w,
+                                          int32_t *restrict index, float *restrict px, float *restrict py,
+                                          float *restrict dimming)
 {
     const orr_proj_consts k = orr_proj_consts_of(p);
     const orr_map_outline m = *outline;

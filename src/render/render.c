@@ -614,9 +614,9 @@ static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
 }
 
 /* The NGP batch of a block of the fused gather. */
-static orr_ngp_batch indexed_batch(const view_state *v, size_t n, const block_buffers *b)
+static orr_ngp_batch indexed_batch(const view_state *v, size_t n, block_buffers *b)
 {
-    orr_ngp_batch nb = {n, (int32_t *)b->share_pixel, b->px, b->py, {b->wp[0], b->wp[1], b->wp[2]}, v->nplanes, 0};
+    orr_ngp_batch nb = {n, b->share_pixel, b->px, b->py, {b->wp[0], b->wp[1], b->wp[2]}, v->nplanes, 0};
     return nb;
 }
 
@@ -669,7 +669,7 @@ static int lanes_for(const view_state *v, int64_t count)
     int lanes = extra + 1 < MAX_LANES ? (int)extra + 1 : MAX_LANES;
     /* A lane's planes are zeroed and merged every frame, passes over every
      * pixel that cost about as much as adding four shares to it (measured:
-     * 10^7 particles NGP on 1024^2, two threads, splat 15 % faster on 2
+     * 10^7 particles NGP on 1024^2, two threads, splat 7-20 % faster on 2
      * lanes than on 4; 4e6 particles on a 3600^2 dome slower on 4 lanes
      * than on 1; docs/performance.md). So point deposits take a lane for
      * every four shares a pixel (NGP one a particle, CIC four). Kernels
