@@ -76,11 +76,12 @@ typedef struct block_buffers {
     int32_t share_pixel[ORR_MAX_SHARES_PER_POINT * BLOCK];
     float share_w[3][ORR_MAX_SHARES_PER_POINT * BLOCK];
     uint32_t band_cursor[ORR_MAX_BANDS];
-    /* A block of the fused NGP gather (render/ngp_gather.h): its indices are
-     * in share_pixel, and its weights are read from wp (the source's arrays,
-     * or w when dimmed). */
-    int indexed;
+    /* The block's weights, as the deposits read them: the source's arrays
+     * themselves for a block taken whole (take_weights), otherwise w. */
     const float *wp[3];
+    /* A block of the fused NGP gather (render/ngp_gather.h): its pixel
+     * indices are in share_pixel. */
+    int indexed;
 } block_buffers;
 
 /* One view being rendered. */
@@ -464,9 +465,28 @@ static void transform_undimmed(const orr_chunk *c, size_t start, size_t n, const
     transform_positions(c, start, n, t, 0, b, NULL);
 }
 
-/* The gather of a block that takes every particle (block_takes_all):
- * positions, weights (dimmed with observer.dim or camera.dim) and the
- * file's smoothing lengths, one vectorised loop per array. */
+/* The weights of a block taken whole, particles [start, start + n): the
+ * source's arrays themselves, or with dimming (observer.dim, camera.dim;
+ * NULL without) the dimmed copies in b->w. */
+static void take_weights(const view_state *v, const float *const *wsrcs, size_t start, size_t n,
+                         const float *restrict dimming, block_buffers *b)
+{
+    for (int k = 0; k < v->nplanes; k++) {
+        const float *restrict w = wsrcs[k] + start;
+        if (!dimming) {
+            b->wp[k] = w;
+            continue;
+        }
+        float *restrict bw = b->w[k];
+        for (size_t i = 0; i < n; i++)
+            bw[i] = w[i] * dimming[i];
+        b->wp[k] = bw;
+    }
+}
+
+/* The gather of a block that takes every particle (block_selects_all and
+ * finite): positions, weights and the file's smoothing lengths, one
+ * vectorised loop per array. */
 static size_t gather_all(const view_state *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
                          size_t end, const orr_camera_transform *t, block_buffers *b)
 {
@@ -476,15 +496,7 @@ static size_t gather_all(const view_state *v, const orr_chunk *c, const float *c
         transform_dimmed(c, start, n, t, b, dimming);
     else
         transform_undimmed(c, start, n, t, b);
-    for (int k = 0; k < v->nplanes; k++) {
-        const float *restrict w = wsrcs[k] + start;
-        float *restrict bw = b->w[k];
-        if (t->dim)
-            for (size_t i = 0; i < n; i++)
-                bw[i] = w[i] * dimming[i];
-        else
-            memcpy(bw, w, n * sizeof *bw);
-    }
+    take_weights(v, wsrcs, start, n, t->dim ? dimming : NULL, b);
     if (c->h) {
         const float *restrict h = c->h + start;
         const float hs = v->h_scale;
@@ -497,8 +509,8 @@ static size_t gather_all(const view_state *v, const orr_chunk *c, const float *c
 }
 
 /* The fused gather (render/ngp_gather.h) of a block that takes every
- * particle: indices into b->share_pixel, weights read in place unless
- * dimmed. Returns 0 when the block has a non-finite value (b->indexed 0). */
+ * particle: indices into b->share_pixel. Returns 0 when the block has a
+ * non-finite value (b->indexed 0). */
 static int ngp_gather_all(const view_state *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
                           size_t end, const orr_camera_transform *t, block_buffers *b)
 {
@@ -507,14 +519,7 @@ static int ngp_gather_all(const view_state *v, const orr_chunk *c, const float *
     if (!orr_ngp_gather(&v->proj, &v->outline, t, n, c->x + start, c->y + start, c->z + start,
                         wsrcs[v->nplanes - 1] + start, &out))
         return 0;
-    for (int k = 0; k < v->nplanes; k++) {
-        const float *restrict w = wsrcs[k] + start;
-        float *restrict bw = b->w[k];
-        b->wp[k] = t->dim ? bw : w;
-        if (t->dim)
-            for (size_t i = 0; i < n; i++)
-                bw[i] = w[i] * out.dimming[i];
-    }
+    take_weights(v, wsrcs, start, n, t->dim ? out.dimming : NULL, b);
     b->indexed = 1;
     return 1;
 }
@@ -535,7 +540,7 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
     const float *wsrc = wsrcs[v->nplanes - 1];
     const orr_scene *s = v->scene;
     const orr_camera_transform tf = transform_of(v, shift);
-    for (int k = 0; k < v->nplanes; k++)
+    for (int k = 0; k < 3; k++)
         b->wp[k] = b->w[k];
     b->indexed = 0;
     if (block_selects_all(v, c, start, end)) {
@@ -613,10 +618,16 @@ static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
     }
 }
 
-/* The NGP batch of a block of the fused gather. */
-static orr_ngp_batch indexed_batch(const view_state *v, size_t n, block_buffers *b)
+/* A block of the fused gather as an NGP batch, its indices completed (a
+ * sky map's rim folded) and its report in t. */
+static orr_ngp_batch place_indexed(const view_state *v, size_t n, block_buffers *b, block_tally *t)
 {
+    orr_deposit_stats st[3];
+    memset(st, 0, sizeof st);
     orr_ngp_batch nb = {n, b->share_pixel, b->px, b->py, {b->wp[0], b->wp[1], b->wp[2]}, v->nplanes, 0};
+    orr_ngp_place(&v->proj, &v->outline, &nb, st);
+    t->deposit[0] = st[0];
+    t->deposit[1] = st[1];
     return nb;
 }
 
@@ -627,13 +638,8 @@ static void deposit_block(const view_state *v, orr_plane *planes, int lane, size
                           block_tally *t)
 {
     if (b->indexed) {
-        orr_deposit_stats st[3];
-        memset(st, 0, sizeof st);
-        orr_ngp_batch nb = indexed_batch(v, n, b);
-        orr_ngp_place(&v->proj, &v->outline, &nb, st);
+        orr_ngp_batch nb = place_indexed(v, n, b, t);
         orr_ngp_add(&nb, planes);
-        t->deposit[0] = st[0];
-        t->deposit[1] = st[1];
         return;
     }
     if (v->use_sph)
@@ -642,18 +648,17 @@ static void deposit_block(const view_state *v, orr_plane *planes, int lane, size
         orr_deposit_stats scratch = {0};
         orr_deposit_stats *st = k < 2 ? &t->deposit[k] : &scratch;
         if (!v->use_sph) {
-            orr_deposit(v->scene->deposit, &planes[k], n, b->px, b->py, b->w[k], b->visible, &v->proj, st);
+            orr_deposit(v->scene->deposit, &planes[k], n, b->px, b->py, b->wp[k], b->visible, &v->proj, st);
             continue;
         }
-        orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->w[k]};
+        orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->wp[k]};
         orr_sph_deposit(&v->sph, &blk, &planes[k], st);
     }
     /* A sky map's hst/file PSF: the brightest stars are redrawn with the
      * whole PSF after the splat (render/sky_psf.h). */
     if (v->psf.sky) {
         orr_sph_block geom = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
-        const float *w[3] = {b->w[0], b->w[1], b->w[2]};
-        orr_sky_psf_collect(v->psf.sky, lane, &geom, w, v->nplanes);
+        orr_sky_psf_collect(v->psf.sky, lane, &geom, b->wp, v->nplanes);
     }
 }
 
@@ -902,19 +907,19 @@ static void window_shares(view_state *v, const orr_source *src, const orr_chunk 
             long n = take_block(v, src, c, wts, first + q, w, me, b, &t);
             if (n < 0)
                 continue;
-            orr_deposit_stats st[3];
-            memset(st, 0, sizeof st);
             orr_shares shares = {b->share_pixel, {b->share_w[0], b->share_w[1], b->share_w[2]}, 0};
             if (b->indexed) {
-                orr_ngp_batch nb = indexed_batch(v, (size_t)n, b);
-                orr_ngp_place(&v->proj, &v->outline, &nb, st);
+                orr_ngp_batch nb = place_indexed(v, (size_t)n, b, t);
                 orr_ngp_shares(&nb, &shares);
             } else {
-                orr_point_batch pb = {(size_t)n, b->px, b->py, b->visible, {b->w[0], b->w[1], b->w[2]}, v->nplanes};
+                orr_deposit_stats st[3];
+                memset(st, 0, sizeof st);
+                orr_point_batch pb = {(size_t)n, b->px, b->py, b->visible, {b->wp[0], b->wp[1], b->wp[2]},
+                                      v->nplanes};
                 orr_deposit_shares(v->scene->deposit, &pb, &v->proj, W, H, &shares, st);
+                t->deposit[0] = st[0];
+                t->deposit[1] = st[1];
             }
-            t->deposit[0] = st[0];
-            t->deposit[1] = st[1];
             orr_bands_put(&v->bands, q, &shares, b->band_cursor);
         }
     }
