@@ -36,4 +36,14 @@ static inline float orr_atan2f(float y, float x)
     return y < 0.0f ? -a : a;
 }
 
+/* 1 when a is a NaN or an infinity. a - a is 0 for a finite a and NaN
+ * otherwise; the build honours NaNs, so it is not folded away. Unlike
+ * isfinite() it is no branch, and unlike a test of the bits it reads the
+ * float itself, so a loop of it vectorises without the compiler fearing
+ * the float aliases the loop's outputs. */
+static inline int orr_not_finite_f(float a)
+{
+    return !((a - a) == 0.0f);
+}
+
 #endif

@@ -1,5 +1,6 @@
 #include "render/ngp_gather.h"
 
+#include "core/fastmath.h"
 #include "core/simd.h"
 #include "frame/project_point.h"
 
@@ -18,12 +19,8 @@ static ORR_ALWAYS_INLINE int gather_loop(orr_projection_kind kind, int dim, cons
     const int sky = kind == ORR_PROJ_HAMMER_AITOFF || kind == ORR_PROJ_DOME || kind == ORR_PROJ_EQUIRECTANGULAR;
     uint32_t bad = 0;
     for (size_t i = 0; i < n; i++) {
-        /* a - a is 0 for a finite a and NaN otherwise (the build honours
-         * NaNs, so it is not folded away); a test on the values, not on
-         * their bits through memcpy, which the compiler must assume may
-         * alias the outputs. */
-        float zero = (x[i] - x[i]) + (y[i] - y[i]) + (z[i] - z[i]) + (w[i] - w[i]);
-        bad |= !(zero == 0.0f);
+        bad |= (uint32_t)(orr_not_finite_f(x[i]) | orr_not_finite_f(y[i]) | orr_not_finite_f(z[i]) |
+                          orr_not_finite_f(w[i]));
         orr_camera_point c = orr_to_camera(&t, x[i], y[i], z[i]);
         if (dim)
             dimming[i] = orr_camera_dimming(&t, c.r2);

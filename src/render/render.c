@@ -1,4 +1,5 @@
 #include "render/render.h"
+#include "core/fastmath.h"
 #include "core/simd.h"
 
 #include <math.h>
@@ -359,18 +360,14 @@ static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, siz
                     (double)c->x[i], (double)c->y[i], (double)c->z[i]);
 }
 
-/* 1 when every float of a[start, end) is finite. On the bits, so that the
- * loop is an integer OR the compiler vectorises (a float sum would need
- * -ffast-math to be reordered, and isfinite() is a branch a particle). */
+/* 1 when every float of a[start, end) is finite: an OR over the block
+ * that the compiler vectorises (isfinite() would be a branch a particle). */
 ORR_VECTOR_CLONES
 static int all_finite(const float *a, size_t start, size_t end)
 {
-    uint32_t bad = 0;
-    for (size_t i = start; i < end; i++) {
-        uint32_t u;
-        memcpy(&u, &a[i], sizeof u);
-        bad |= (uint32_t)((u & 0x7f800000u) == 0x7f800000u);
-    }
+    int bad = 0;
+    for (size_t i = start; i < end; i++)
+        bad |= orr_not_finite_f(a[i]);
     return bad == 0;
 }
 
