@@ -36,8 +36,8 @@ static ORR_ALWAYS_INLINE int gather_loop(orr_projection_kind kind, int dim, cons
     return bad == 0;
 }
 
-#define GATHER_KIND(name, kind)                                                                                 \
-    ORR_VECTOR_CLONES                                                                                            \
+#define GATHER_KIND(name, kind, clones)                                                                         \
+    clones                                                                                                       \
     static int name(const orr_projection *p, const orr_map_outline *m, const orr_camera_transform *t, size_t n, \
                     const float *x, const float *y, const float *z, const float *w,                              \
                     const orr_ngp_gather_out *o)                                                                 \
@@ -46,11 +46,11 @@ static ORR_ALWAYS_INLINE int gather_loop(orr_projection_kind kind, int dim, cons
             return gather_loop(kind, 1, p, m, t, n, x, y, z, w, o->index, o->px, o->py, o->dimming);             \
         return gather_loop(kind, 0, p, m, t, n, x, y, z, w, o->index, o->px, o->py, o->dimming);                 \
     }
-GATHER_KIND(gather_orthographic, ORR_PROJ_ORTHOGRAPHIC)
-GATHER_KIND(gather_perspective, ORR_PROJ_PERSPECTIVE)
-GATHER_KIND(gather_hammer_aitoff, ORR_PROJ_HAMMER_AITOFF)
-GATHER_KIND(gather_equirectangular, ORR_PROJ_EQUIRECTANGULAR)
-GATHER_KIND(gather_dome, ORR_PROJ_DOME)
+GATHER_KIND(gather_orthographic, ORR_PROJ_ORTHOGRAPHIC, ORR_VECTOR_CLONES)
+GATHER_KIND(gather_perspective, ORR_PROJ_PERSPECTIVE, ORR_VECTOR_CLONES)
+GATHER_KIND(gather_hammer_aitoff, ORR_PROJ_HAMMER_AITOFF, ORR_WIDE_VECTOR_CLONES)
+GATHER_KIND(gather_equirectangular, ORR_PROJ_EQUIRECTANGULAR, ORR_WIDE_VECTOR_CLONES)
+GATHER_KIND(gather_dome, ORR_PROJ_DOME, ORR_WIDE_VECTOR_CLONES)
 
 int orr_ngp_gather(const orr_projection *p, const orr_map_outline *m, const orr_camera_transform *t, size_t n,
                    const float *x, const float *y, const float *z, const float *w, const orr_ngp_gather_out *out)
