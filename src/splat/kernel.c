@@ -219,6 +219,109 @@ static void fill_column(orr_kernel *k, const gauss_rule *g)
         k->column[i] = 0.0f;
 }
 
+/* ---- piecewise polynomials ---- */
+
+/* The range of t = ORR_KERNEL_POLY_T u that piece p covers, and the value
+ * subtracted from t to give its local variable x. */
+static void poly_piece_range(int p, double *t0, double *t1, double *base)
+{
+    *t0 = p == 0 ? 0.0 : p == 1 ? 0.25 : p - 1.0;
+    *t1 = p == 0 ? 0.25 : p == 1 ? 1.0 : p == ORR_KERNEL_POLY_PIECES - 1 ? 2.0 * (ORR_KERNEL_POLY_PIECES / 2) : p;
+    *base = p <= 1 ? 0.0 : p - 1.0;
+}
+
+/* Solves the n x n system a c = b in place (Gaussian elimination with
+ * partial pivoting; n is small and the system well conditioned). */
+static void solve_small(int n, double a[][ORR_KERNEL_POLY_DEGREE + 1], double *b)
+{
+    for (int col = 0; col < n; col++) {
+        int piv = col;
+        for (int r = col + 1; r < n; r++)
+            if (fabs(a[r][col]) > fabs(a[piv][col]))
+                piv = r;
+        for (int c = 0; c < n; c++) {
+            double tmp = a[col][c];
+            a[col][c] = a[piv][c];
+            a[piv][c] = tmp;
+        }
+        double tmp = b[col];
+        b[col] = b[piv];
+        b[piv] = tmp;
+        for (int r = col + 1; r < n; r++) {
+            double f = a[r][col] / a[col][col];
+            for (int c = col; c < n; c++)
+                a[r][c] -= f * a[col][c];
+            b[r] -= f * b[col];
+        }
+    }
+    for (int r = n - 1; r >= 0; r--) {
+        for (int c = r + 1; c < n; c++)
+            b[r] -= a[r][c] * b[c];
+        b[r] /= a[r][r];
+    }
+}
+
+/* The monomial coefficients (in x) of f over one piece: the Legendre
+ * series of f to degree ORR_KERNEL_POLY_DEGREE from the Gauss rule's nodes
+ * (the least-squares polynomial, whose integral over the piece is the
+ * rule's integral of f), then re-expressed in powers of x by solving for
+ * the polynomial through that series' values at DEGREE + 1 points. */
+static void fit_piece(const gauss_rule *g, double (*f)(orr_kernel_kind, double), orr_kernel_kind kind,
+                      double sigma, int p, double *coef)
+{
+    enum { D = ORR_KERNEL_POLY_DEGREE };
+    double t0, t1, base, fx[GL_N], leg[D + 1] = {0};
+    poly_piece_range(p, &t0, &t1, &base);
+    const double mid = 0.5 * (t0 + t1), half = 0.5 * (t1 - t0);
+    for (int i = 0; i < GL_N; i++)
+        fx[i] = line_of_sight(g, f, kind, sigma, sqrt((mid + half * g->x[i]) / ORR_KERNEL_POLY_T));
+    for (int i = 0; i < GL_N; i++) {
+        double p0 = 1.0, p1 = g->x[i];
+        for (int n = 0; n <= D; n++) {
+            leg[n] += (2 * n + 1) * 0.5 * g->w[i] * fx[i] * p0;
+            double p2 = ((2 * n + 3) * g->x[i] * p1 - (n + 1) * p0) / (n + 2);
+            p0 = p1;
+            p1 = p2;
+        }
+    }
+    double a[D + 1][D + 1];
+    for (int r = 0; r <= D; r++) {
+        double s = -1.0 + 2.0 * r / D, x = mid + half * s - base, v = 0.0, p0 = 1.0, p1 = s, xp = 1.0;
+        for (int n = 0; n <= D; n++) {
+            v += leg[n] * p0;
+            double p2 = ((2 * n + 3) * s * p1 - (n + 1) * p0) / (n + 2);
+            p0 = p1;
+            p1 = p2;
+        }
+        for (int c = 0; c <= D; c++, xp *= x)
+            a[r][c] = xp;
+        coef[r] = v;
+    }
+    solve_small(D + 1, a, coef);
+}
+
+/* Fits both polynomials, F's scaled so it integrates over the plane
+ * (dA = pi du) to exactly 1, as the column table does. */
+static void fill_poly(orr_kernel *k, const gauss_rule *g)
+{
+    enum { D = ORR_KERNEL_POLY_DEGREE, P = ORR_KERNEL_POLY_PIECES };
+    double cf[P][D + 1], cl[P][D + 1], integral = 0.0;
+    for (int p = 0; p < P; p++) {
+        fit_piece(g, shape, k->kind, k->sigma, p, cf[p]);
+        fit_piece(g, shape_laplacian, k->kind, k->sigma, p, cl[p]);
+        double t0, t1, base;
+        poly_piece_range(p, &t0, &t1, &base);
+        for (int d = 0; d <= D; d++)
+            integral += cf[p][d] * (pow(t1 - base, d + 1) - pow(t0 - base, d + 1)) / (d + 1);
+    }
+    const double scale = 1.0 / (ORR_PI * integral / ORR_KERNEL_POLY_T);
+    for (int p = 0; p < P; p++)
+        for (int d = 0; d <= D; d++) {
+            k->poly_f[d * P + p] = (float)(cf[p][d] * scale);
+            k->poly_lap[d * P + p] = (float)cl[p][d];
+        }
+}
+
 /* The integral of F over one cell of the cumulative table, by a 4 x 4
  * Gauss-Legendre rule on the column table (accurate to ~1e-7 of F). */
 static double cell_integral(const orr_kernel *k, double a0, double b0, double d)
@@ -285,6 +388,7 @@ orr_status orr_kernel_init(orr_kernel *k, orr_kernel_kind kind, orr_error *err)
     }
     gauss_rule g = gauss_legendre();
     fill_column(k, &g);
+    fill_poly(k, &g);
     orr_status st = fill_cumulative(k, err);
     if (st)
         orr_kernel_free(k);

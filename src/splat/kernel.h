@@ -8,9 +8,10 @@
  * distance R; the integral of F over the plane is 1.
  *
  * orr_kernel_init tabulates F (and its Laplacian, for the pixel-area
- * correction) in u = q^2, and the integral of F over rectangles from the
- * kernel's centre, once, by numerical integration; the splat's inner loops
- * only read these tables (splat/sph.h). */
+ * correction) in u = q^2, fits both with piecewise polynomials in u, and
+ * tabulates the integral of F over rectangles from the kernel's centre,
+ * once, by numerical integration; the splat's inner loops only read these
+ * tables and coefficients (splat/sph.h, splat/kernel_row.h). */
 #ifndef ORR_SPLAT_KERNEL_H
 #define ORR_SPLAT_KERNEL_H
 
@@ -35,11 +36,29 @@ typedef enum {
  * a, b = 2 k / ORR_KERNEL_NG, k = 0 .. ORR_KERNEL_NG. */
 #define ORR_KERNEL_NG 256
 
+/* F and lap F as piecewise polynomials in t = ORR_KERNEL_POLY_T u, for the
+ * vectorised sample loops (splat/kernel_row.h), which pick each sample's
+ * coefficients with a register permute instead of reading a table.
+ * Piece p covers t in [0, 1/4) (p = 0), [1/4, 1) (p = 1), [p - 1, p)
+ * (p = 2 .. 30) and [30, 32) (p = 31), and is a polynomial of degree
+ * ORR_KERNEL_POLY_DEGREE in x = t - min(trunc(t), 30). The two narrow
+ * pieces at the centre are there because F is not smooth at u = 0 (the
+ * kernels' odd powers of q give u^2 log u terms); the cubic spline's joint
+ * at q = 1 (t = 8) is a piece edge. */
+#define ORR_KERNEL_POLY_T 8.0f
+#define ORR_KERNEL_POLY_PIECES 32
+#define ORR_KERNEL_POLY_DEGREE 5
+#define ORR_KERNEL_POLY_LAST 30 /* the largest truncation of t that is subtracted */
+
 typedef struct orr_kernel {
     orr_kernel_kind kind;
     double sigma;      /* 3-D normalisation: W(r, h) = sigma w(r / h) / h^3 */
     float *column;     /* 2 (ORR_KERNEL_NU + 1 + ORR_KERNEL_PAD) floats: {F, lap F} pairs */
     float *cumulative; /* (ORR_KERNEL_NG + 1)^2 floats, row b, column a; G(2, 2) = 1/4 exactly */
+    /* Coefficient d of piece p at poly_f[d * ORR_KERNEL_POLY_PIECES + p]
+     * (lap F: poly_lap), so one coefficient of all pieces is one row. */
+    float poly_f[(ORR_KERNEL_POLY_DEGREE + 1) * ORR_KERNEL_POLY_PIECES];
+    float poly_lap[(ORR_KERNEL_POLY_DEGREE + 1) * ORR_KERNEL_POLY_PIECES];
 } orr_kernel;
 
 /* Tabulates the kernel (a few milliseconds). Fails only when out of memory. */
@@ -67,6 +86,14 @@ double orr_kernel_column(const orr_kernel *k, double q);
  * relative to the kernel's centre), from the cumulative table: exact
  * telescoping sums, so adjacent rectangles tiling the support add up to 1. */
 double orr_kernel_rect(const orr_kernel *k, double x0, double x1, double y0, double y1);
+
+/* The piece of t = ORR_KERNEL_POLY_T u (t >= 0) and the local variable x. */
+static inline int orr_kernel_poly_piece(float t, float *x)
+{
+    const int ti = t < (float)ORR_KERNEL_POLY_LAST ? (int)t : ORR_KERNEL_POLY_LAST;
+    *x = t - (float)ti;
+    return t < 1.0f ? (t < 0.25f ? 0 : 1) : ti + 1;
+}
 
 /* Table lookups for the inner loops. u = q^2 must be >= 0. */
 static inline float orr_kernel_column_u(const orr_kernel *k, float u, float *laplacian)

@@ -3,9 +3,8 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
+
+#include "splat/kernel_row.h"
 
 /* How a particle is drawn (docs/smoothing.md has the measurements behind
  * the thresholds):
@@ -369,72 +368,21 @@ static int ellipse_row_range(const ellipse *e, int j, int *lo, int *hi)
     return *lo <= *hi;
 }
 
-enum sample_mode {
-    SAMPLES_SET,  /* out[m] = sample */
-    SAMPLES_ADD,  /* out[m] += sample */
-    SAMPLES_DRAW, /* out[m] += scale * sample: out is an image row */
-};
-
 /* Adds (or stores, or scales and adds: mode) F(u) + lap lap_F(u) at
  * samples dx0 + m (m in [m0, m1)) of the row at dy to out[m]. The callers
  * choose the range so every sample lies in the support, up to float
- * rounding, which the table's zero padding absorbs, so the loops need no
- * test or clamp. */
-static inline void add_samples(const orr_kernel *k, const ellipse *e, float dy, float dx0, int m0, int m1,
-                               float *restrict out, enum sample_mode mode, float scale)
+ * rounding, where the samples are zero. */
+static inline void add_samples(const orr_sample_poly *poly, const ellipse *e, float dy, float dx0, int m0, int m1,
+                               float *restrict out, orr_sample_mode mode, float scale)
 {
-    const float a = (float)e->a, b2 = (float)(2.0 * e->b), c = (float)e->c, lap = e->lap;
-    const float tscale = (float)(ORR_KERNEL_NU / 4.0);
-    const float *restrict col = k->column;
-    const float cdy = c * dy * dy, bdy = b2 * dy;
-    int m = m0;
-#if defined(__SSE2__)
-    /* Four samples at a time. A sample's two table nodes, {F, lap F} at i
-     * and i + 1, are 16 contiguous bytes: one unaligned load each, and a
-     * 4 x 4 transpose gives vectors of F_i, lap F_i, F_i+1, lap F_i+1 (GCC
-     * left to itself loads the 16 floats one by one). The same operations
-     * in the same order as the loop below, so the same results. */
-    const __m128 va = _mm_set1_ps(a), vbdy = _mm_set1_ps(bdy), vcdy = _mm_set1_ps(cdy);
-    const __m128 vts = _mm_set1_ps(tscale), vlap = _mm_set1_ps(lap), vdx0 = _mm_set1_ps(dx0);
-    const __m128i lanes = _mm_set_epi32(3, 2, 1, 0);
-    for (; m + 4 <= m1; m += 4) {
-        const __m128 dx = _mm_add_ps(vdx0, _mm_cvtepi32_ps(_mm_add_epi32(_mm_set1_epi32(m), lanes)));
-        const __m128 t = _mm_mul_ps(_mm_add_ps(_mm_mul_ps(_mm_add_ps(_mm_mul_ps(va, dx), vbdy), dx), vcdy), vts);
-        const __m128i i = _mm_cvttps_epi32(t);
-        const __m128 f = _mm_sub_ps(t, _mm_cvtepi32_ps(i));
-        int idx[4];
-        _mm_storeu_si128((__m128i *)idx, i);
-        __m128 f0 = _mm_loadu_ps(col + 2 * idx[0]), l0 = _mm_loadu_ps(col + 2 * idx[1]);
-        __m128 f1 = _mm_loadu_ps(col + 2 * idx[2]), l1 = _mm_loadu_ps(col + 2 * idx[3]);
-        _MM_TRANSPOSE4_PS(f0, l0, f1, l1);
-        const __m128 fv = _mm_add_ps(f0, _mm_mul_ps(f, _mm_sub_ps(f1, f0)));
-        const __m128 lv = _mm_mul_ps(vlap, _mm_add_ps(l0, _mm_mul_ps(f, _mm_sub_ps(l1, l0))));
-        if (mode == SAMPLES_DRAW) {
-            const __m128 sample = _mm_add_ps(fv, lv);
-            _mm_storeu_ps(out + m, _mm_add_ps(_mm_loadu_ps(out + m), _mm_mul_ps(_mm_set1_ps(scale), sample)));
-            continue;
-        }
-        const __m128 base = mode == SAMPLES_SET ? _mm_setzero_ps() : _mm_loadu_ps(out + m);
-        _mm_storeu_ps(out + m, _mm_add_ps(_mm_add_ps(base, fv), lv));
-    }
-#endif
-    for (; m < m1; m++) {
-        const float dx = dx0 + (float)m;
-        const float t = ((a * dx + bdy) * dx + cdy) * tscale;
-        const int i = (int)t;
-        const float f = t - (float)i;
-        const float f0 = col[2 * i], f1 = col[2 * i + 2], l0 = col[2 * i + 1], l1 = col[2 * i + 3];
-        if (mode == SAMPLES_DRAW)
-            out[m] += scale * ((f0 + f * (f1 - f0)) + lap * (l0 + f * (l1 - l0)));
-        else
-            out[m] = (mode == SAMPLES_SET ? 0.0f : out[m]) + (f0 + f * (f1 - f0)) + lap * (l0 + f * (l1 - l0));
-    }
+    const float b2 = (float)(2.0 * e->b), c = (float)e->c;
+    orr_sample_row(poly, (float)e->a, b2 * dy, c * dy * dy, dx0, m0, m1, out, mode, scale);
 }
 
 /* Weights of pixels i0 .. i0 + n - 1 of row j: the mean over ns x ns
  * sub-pixels, each sub-row and sub-column sampled only where it is inside
  * the support. */
-static void ellipse_weights(const orr_kernel *k, const ellipse *e, int j, int i0, int n, float *restrict out)
+static void ellipse_weights(const orr_sample_poly *poly, const ellipse *e, int j, int i0, int n, float *restrict out)
 {
     const int ns = e->ns;
     const double step = 1.0 / ns;
@@ -452,7 +400,7 @@ static void ellipse_weights(const orr_kernel *k, const ellipse *e, int j, int i0
         }
         for (int m = 0; m < m0; m++)
             out[m] = 0.0f;
-        add_samples(k, e, (float)dy, (float)base, m0, m1, out, SAMPLES_SET, 1.0f);
+        add_samples(poly, e, (float)dy, (float)base, m0, m1, out, ORR_SAMPLES_SET, 1.0f);
         for (int m = m1; m < n; m++)
             out[m] = 0.0f;
         return;
@@ -470,7 +418,7 @@ static void ellipse_weights(const orr_kernel *k, const ellipse *e, int j, int i0
             double lo = ceil(x0 - base), hi = floor(x1 - base);
             int m0 = lo > 0 ? (lo < n ? (int)lo : n) : 0, m1 = hi < n - 1 ? (hi >= 0 ? (int)hi + 1 : 0) : n;
             if (m0 < m1)
-                add_samples(k, e, (float)dy, (float)base, m0, m1, out, SAMPLES_ADD, 1.0f);
+                add_samples(poly, e, (float)dy, (float)base, m0, m1, out, ORR_SAMPLES_ADD, 1.0f);
         }
     }
     const float inv = 1.0f / (float)(ns * ns);
@@ -487,7 +435,8 @@ typedef struct row_visitor {
 
 static void ellipse_visit(const target *t, const ellipse *e, box b, row_visitor *v)
 {
-    const orr_kernel *k = t->kernel;
+    orr_sample_poly poly;
+    orr_sample_poly_make(&poly, t->kernel, e->lap);
     float wt[ROW_SEGMENT];
     for (int j = b.j0; j <= b.j1; j++) {
         int lo, hi;
@@ -497,7 +446,7 @@ static void ellipse_visit(const target *t, const ellipse *e, box b, row_visitor 
         hi = hi < b.i1 ? hi : b.i1;
         for (int i = lo; i <= hi; i += ROW_SEGMENT) {
             int n = hi - i + 1 < ROW_SEGMENT ? hi - i + 1 : ROW_SEGMENT;
-            ellipse_weights(k, e, j, i, n, wt);
+            ellipse_weights(&poly, e, j, i, n, wt);
             if (t->drop)
                 for (int m = 0; m < n; m++)
                     if (!orr_projection_pixel_in_map(t->proj, i + m, j))
@@ -697,6 +646,8 @@ static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
     }
     /* Whole: nothing to add up, so each row's samples go straight into the
      * image (one sample a pixel, the centres inside the support). */
+    orr_sample_poly poly;
+    orr_sample_poly_make(&poly, t->kernel, e.lap);
     const int width = t->plane->width;
     for (int j = b.j0; j <= b.j1; j++) {
         const double dy = j + 0.5 - e.cy;
@@ -706,8 +657,8 @@ static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
         const double lo = ceil(e.cx + x0 - 0.5), hi = floor(e.cx + x1 - 0.5);
         const int m0 = lo > b.i0 ? (int)lo : b.i0, m1 = hi < b.i1 ? (int)hi + 1 : b.i1 + 1;
         if (m0 < m1)
-            add_samples(t->kernel, &e, (float)dy, (float)(0.5 - e.cx), m0, m1,
-                        t->plane->data + (size_t)j * (size_t)width, SAMPLES_DRAW, scale);
+            add_samples(&poly, &e, (float)dy, (float)(0.5 - e.cx), m0, m1,
+                        t->plane->data + (size_t)j * (size_t)width, ORR_SAMPLES_DRAW, scale);
     }
 }
 
