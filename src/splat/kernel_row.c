@@ -3,7 +3,7 @@
 #include "core/simd.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(ORR_NO_CLONES)
-#define HAVE_AVX512_ROW 1
+#define HAVE_VECTOR_ROWS 1
 #include <immintrin.h>
 #endif
 
@@ -22,7 +22,7 @@ void orr_sample_poly_make(orr_sample_poly *p, const orr_kernel *k, float lap)
 /* Every path below computes a sample exactly so: the same operations in
  * the same order, none fused (the build does not contract, CMakeLists.txt),
  * so the vector loop and the plain one agree to the bit. */
-static inline float sample_at(const orr_sample_poly *p, float t)
+static ORR_ALWAYS_INLINE float sample_at(const orr_sample_poly *p, float t)
 {
     float x;
     const int piece = orr_kernel_poly_piece(t, &x);
@@ -38,13 +38,15 @@ float orr_sample_poly_at(const orr_sample_poly *p, float t)
 }
 
 /* t of sample m: the ellipse's quadratic form at dx, times 8 (exact). */
-static inline float sample_t(float a, float bdy, float cdy, float dx)
+static ORR_ALWAYS_INLINE float sample_t(float a, float bdy, float cdy, float dx)
 {
     return ((a * dx + bdy) * dx + cdy) * ORR_KERNEL_POLY_T;
 }
 
-void orr_sample_row_plain(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0, int m1,
-                          float *out, orr_sample_mode mode, float scale)
+/* The mode is a constant in each inlined copy, so the loops have no
+ * branch and the compiler vectorises them (gathering the coefficients). */
+static ORR_ALWAYS_INLINE void plain_loop(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0,
+                                         int m1, float *restrict out, orr_sample_mode mode, float scale)
 {
     for (int m = m0; m < m1; m++) {
         const float s = sample_at(p, sample_t(a, bdy, cdy, dx0 + (float)m));
@@ -57,8 +59,19 @@ void orr_sample_row_plain(const orr_sample_poly *p, float a, float bdy, float cd
     }
 }
 
-#ifdef HAVE_AVX512_ROW
-/* Sixteen samples an iteration; the last, partial one masked. The 32
+ORR_VECTOR_CLONES
+void orr_sample_row_plain(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0, int m1,
+                          float *out, orr_sample_mode mode, float scale)
+{
+    switch (mode) {
+    case ORR_SAMPLES_SET: plain_loop(p, a, bdy, cdy, dx0, m0, m1, out, ORR_SAMPLES_SET, scale); break;
+    case ORR_SAMPLES_ADD: plain_loop(p, a, bdy, cdy, dx0, m0, m1, out, ORR_SAMPLES_ADD, scale); break;
+    case ORR_SAMPLES_DRAW: plain_loop(p, a, bdy, cdy, dx0, m0, m1, out, ORR_SAMPLES_DRAW, scale); break;
+    }
+}
+
+#ifdef HAVE_VECTOR_ROWS
+/* AVX-512: sixteen samples an iteration; the last, partial one masked. The 32
  * pieces' values of coefficient d sit in lo[d] (pieces 0-15) and hi[d]
  * (16-31), and _mm512_permutex2var_ps picks each lane's from the two. */
 __attribute__((target("avx512f"))) static void row_avx512(const orr_sample_poly *p, float a, float bdy, float cdy,
@@ -102,25 +115,85 @@ __attribute__((target("avx512f"))) static void row_avx512(const orr_sample_poly 
     }
 }
 
-int orr_sample_row_vector(void)
+/* Eight samples an iteration with AVX2: each lane's coefficient from four
+ * registers, by one permute of each and two blends on bits 3 and 4 of the
+ * piece. */
+__attribute__((target("avx2"))) static void row_avx2(const orr_sample_poly *p, float a, float bdy, float cdy,
+                                                     float dx0, int m0, int m1, float *out, orr_sample_mode mode,
+                                                     float scale)
 {
-    return __builtin_cpu_supports("avx512f");
+    const __m256 va = _mm256_set1_ps(a), vbdy = _mm256_set1_ps(bdy), vcdy = _mm256_set1_ps(cdy);
+    const __m256 vt = _mm256_set1_ps(ORR_KERNEL_POLY_T), vdx0 = _mm256_set1_ps(dx0), vscale = _mm256_set1_ps(scale);
+    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i last = _mm256_set1_epi32(ORR_KERNEL_POLY_LAST), one = _mm256_set1_epi32(1);
+    int m = m0;
+    for (; m + 8 <= m1; m += 8) {
+        const __m256 dx = _mm256_add_ps(vdx0, _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(m), lanes)));
+        const __m256 t = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(va, dx), vbdy), dx), vcdy), vt);
+        const __m256i below_last = _mm256_castps_si256(_mm256_cmp_ps(t, _mm256_set1_ps((float)ORR_KERNEL_POLY_LAST), _CMP_LT_OQ));
+        const __m256i ti = _mm256_blendv_epi8(last, _mm256_cvttps_epi32(t), below_last);
+        const __m256 x = _mm256_sub_ps(t, _mm256_cvtepi32_ps(ti));
+        const __m256i below_1 = _mm256_castps_si256(_mm256_cmp_ps(t, _mm256_set1_ps(1.0f), _CMP_LT_OQ));
+        const __m256i below_q = _mm256_castps_si256(_mm256_cmp_ps(t, _mm256_set1_ps(0.25f), _CMP_LT_OQ));
+        const __m256i centre = _mm256_andnot_si256(below_q, one);
+        const __m256i piece = _mm256_blendv_epi8(_mm256_add_epi32(ti, one), centre, below_1);
+        const __m256 bit3 = _mm256_castsi256_ps(_mm256_slli_epi32(piece, 28));
+        const __m256 bit4 = _mm256_castsi256_ps(_mm256_slli_epi32(piece, 27));
+        __m256 c[DEGREE + 1];
+        for (int d = 0; d <= DEGREE; d++) {
+            const float *row = p->c[d];
+            const __m256 r0 = _mm256_permutevar8x32_ps(_mm256_load_ps(row), piece);
+            const __m256 r1 = _mm256_permutevar8x32_ps(_mm256_load_ps(row + 8), piece);
+            const __m256 r2 = _mm256_permutevar8x32_ps(_mm256_load_ps(row + 16), piece);
+            const __m256 r3 = _mm256_permutevar8x32_ps(_mm256_load_ps(row + 24), piece);
+            c[d] = _mm256_blendv_ps(_mm256_blendv_ps(r0, r1, bit3), _mm256_blendv_ps(r2, r3, bit3), bit4);
+        }
+        __m256 s = c[DEGREE];
+        for (int d = DEGREE - 1; d >= 0; d--)
+            s = _mm256_add_ps(_mm256_mul_ps(s, x), c[d]);
+        s = _mm256_and_ps(s, _mm256_cmp_ps(t, _mm256_set1_ps(T_EDGE), _CMP_LT_OQ));
+        if (mode == ORR_SAMPLES_SET) {
+            _mm256_storeu_ps(out + m, s);
+            continue;
+        }
+        const __m256 add = mode == ORR_SAMPLES_DRAW ? _mm256_mul_ps(vscale, s) : s;
+        _mm256_storeu_ps(out + m, _mm256_add_ps(_mm256_loadu_ps(out + m), add));
+    }
+    orr_sample_row_plain(p, a, bdy, cdy, dx0, m, m1, out, mode, scale);
+}
+
+orr_sample_rows orr_sample_rows_best(void)
+{
+    return __builtin_cpu_supports("avx512f") ? ORR_ROWS_AVX512
+           : __builtin_cpu_supports("avx2")  ? ORR_ROWS_AVX2
+                                             : ORR_ROWS_PLAIN;
 }
 #else
-int orr_sample_row_vector(void)
+orr_sample_rows orr_sample_rows_best(void)
 {
-    return 0;
+    return ORR_ROWS_PLAIN;
 }
 #endif
+
+void orr_sample_row_with(orr_sample_rows rows, const orr_sample_poly *p, float a, float bdy, float cdy, float dx0,
+                         int m0, int m1, float *out, orr_sample_mode mode, float scale)
+{
+#ifdef HAVE_VECTOR_ROWS
+    if (rows == ORR_ROWS_AVX512) {
+        row_avx512(p, a, bdy, cdy, dx0, m0, m1, out, mode, scale);
+        return;
+    }
+    if (rows == ORR_ROWS_AVX2) {
+        row_avx2(p, a, bdy, cdy, dx0, m0, m1, out, mode, scale);
+        return;
+    }
+#endif
+    (void)rows;
+    orr_sample_row_plain(p, a, bdy, cdy, dx0, m0, m1, out, mode, scale);
+}
 
 void orr_sample_row(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0, int m1,
                     float *out, orr_sample_mode mode, float scale)
 {
-#ifdef HAVE_AVX512_ROW
-    if (__builtin_cpu_supports("avx512f")) {
-        row_avx512(p, a, bdy, cdy, dx0, m0, m1, out, mode, scale);
-        return;
-    }
-#endif
-    orr_sample_row_plain(p, a, bdy, cdy, dx0, m0, m1, out, mode, scale);
+    orr_sample_row_with(orr_sample_rows_best(), p, a, bdy, cdy, dx0, m0, m1, out, mode, scale);
 }

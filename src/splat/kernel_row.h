@@ -3,12 +3,12 @@
  * image row, u = q^2 from the kernel's ellipse.
  *
  * The samples come from the kernel's piecewise polynomials (splat/kernel.h),
- * evaluated by Horner's rule with fused multiply-adds. On a CPU with
- * AVX-512 sixteen samples are computed at once, each picking its piece's
- * coefficients from two registers with one permute (the 32 pieces' values
- * of one coefficient fill two registers); elsewhere a plain loop does the
- * same operations in the same order. A fused multiply-add is rounded once
- * (fmaf, exactly as the instruction), so both give the same bits. */
+ * evaluated by Horner's rule. On a CPU with AVX-512 sixteen samples are
+ * computed at once, each picking its piece's coefficients from two
+ * registers with one permute (the 32 pieces' values of one coefficient
+ * fill two registers); with AVX2, eight, from four registers; elsewhere a
+ * plain loop. All do the same operations in the same order, none fused,
+ * so every CPU gives the same bits. */
 #ifndef ORR_SPLAT_KERNEL_ROW_H
 #define ORR_SPLAT_KERNEL_ROW_H
 
@@ -36,17 +36,26 @@ typedef enum orr_sample_mode {
 
 /* The samples of a row at dx = dx0 + m, m in [m0, m1), where
  * u = (a dx + bdy) dx + cdy (bdy = 2 b dy, cdy = c dy^2 for the ellipse
- * a dx^2 + 2 b dx dy + c dy^2), into out[m] as mode says. Picks the AVX-512
- * loop when the CPU has it. */
+ * a dx^2 + 2 b dx dy + c dy^2), into out[m] as mode says, by the fastest
+ * loop this CPU has. */
 void orr_sample_row(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0, int m1,
                     float *out, orr_sample_mode mode, float scale);
 
-/* The plain loop alone (for the tests: it must match the vector loop bit
- * for bit). */
+/* The loops, for the tests (each must match the plain one bit for bit). */
+typedef enum orr_sample_rows {
+    ORR_ROWS_PLAIN,  /* a loop a sample (vectorised by the compiler with gathers) */
+    ORR_ROWS_AVX2,   /* eight samples, coefficients by four permutes and two blends */
+    ORR_ROWS_AVX512, /* sixteen samples, coefficients by one two-register permute */
+} orr_sample_rows;
+
+/* The fastest this CPU runs. */
+orr_sample_rows orr_sample_rows_best(void);
+
+/* With the given loop, which the CPU must run (rows <= orr_sample_rows_best()). */
+void orr_sample_row_with(orr_sample_rows rows, const orr_sample_poly *p, float a, float bdy, float cdy, float dx0,
+                         int m0, int m1, float *out, orr_sample_mode mode, float scale);
+
 void orr_sample_row_plain(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0, int m1,
                           float *out, orr_sample_mode mode, float scale);
-
-/* 1 when orr_sample_row uses the AVX-512 loop on this CPU. */
-int orr_sample_row_vector(void);
 
 #endif

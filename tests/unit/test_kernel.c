@@ -255,37 +255,43 @@ static uint64_t lcg(uint64_t *s)
     return *s >> 33;
 }
 
-/* orr_sample_row (AVX-512 where the CPU has it) against the plain loop, bit
- * for bit, for every mode and every row length 0 .. 40 at odd offsets
- * (the vector loop's masked last iteration), for tilted ellipses whose
+/* Every vector loop this CPU runs (AVX2, AVX-512) against the plain loop,
+ * bit for bit, for every mode and every row length 0 .. 40 at odd offsets
+ * (the vector loops' masked or plain tails), for tilted ellipses whose
  * rows cross every piece, including samples past the support's edge. */
 static void test_sample_rows(void)
 {
-    printf("  the rows %s the AVX-512 loop\n", orr_sample_row_vector() ? "use" : "do not use (this CPU lacks it):");
+    static const char *names[] = {"plain", "AVX2", "AVX-512"};
+    const orr_sample_rows best = orr_sample_rows_best();
+    printf("  this CPU's rows: %s%s\n", names[best],
+           best == ORR_ROWS_AVX512 ? "" : " (the AVX-512 loop is not tested here)");
     orr_kernel k = make(ORR_KERNEL_CUBIC);
     orr_sample_poly p;
     orr_sample_poly_make(&p, &k, 1.0f / 24.0f / 9.0f);
-    uint64_t seed = 7;
-    int differ = 0, rows = 0;
-    for (int mode = ORR_SAMPLES_SET; mode <= ORR_SAMPLES_DRAW; mode++)
-        for (int n = 0; n <= 40; n++)
-            for (int rep = 0; rep < 5; rep++) {
-                const float h = 0.5f + (float)(lcg(&seed) % 1000) * 0.03f;
-                const float a = 1.0f / (h * h), b = 0.3f * a * ((float)(lcg(&seed) % 200) / 100.0f - 1.0f);
-                const float dy = ((float)(lcg(&seed) % 1000) / 250.0f - 2.0f) * h;
-                const float dx0 = -2.2f * h + (float)(lcg(&seed) % 100) * 0.01f;
-                const int m0 = (int)(lcg(&seed) % 3);
-                float v[48], s[48];
-                for (int m = 0; m < 48; m++)
-                    v[m] = s[m] = (float)(lcg(&seed) % 1000) * 1e-3f;
-                orr_sample_row(&p, a, 2.0f * b * dy, a * dy * dy, dx0, m0, m0 + n, v, (orr_sample_mode)mode, 0.7f);
-                orr_sample_row_plain(&p, a, 2.0f * b * dy, a * dy * dy, dx0, m0, m0 + n, s, (orr_sample_mode)mode,
-                                     0.7f);
-                differ += memcmp(v, s, sizeof v) != 0;
-                rows++;
-            }
-    CHECK(differ == 0);
-    printf("  %d of %d rows differ\n", differ, rows);
+    for (int rows = ORR_ROWS_AVX2; rows <= (int)best; rows++) {
+        uint64_t seed = 7;
+        int differ = 0, count = 0;
+        for (int mode = ORR_SAMPLES_SET; mode <= ORR_SAMPLES_DRAW; mode++)
+            for (int n = 0; n <= 40; n++)
+                for (int rep = 0; rep < 5; rep++) {
+                    const float h = 0.5f + (float)(lcg(&seed) % 1000) * 0.03f;
+                    const float a = 1.0f / (h * h), b = 0.3f * a * ((float)(lcg(&seed) % 200) / 100.0f - 1.0f);
+                    const float dy = ((float)(lcg(&seed) % 1000) / 250.0f - 2.0f) * h;
+                    const float dx0 = -2.2f * h + (float)(lcg(&seed) % 100) * 0.01f;
+                    const int m0 = (int)(lcg(&seed) % 3);
+                    float v[48], s[48];
+                    for (int m = 0; m < 48; m++)
+                        v[m] = s[m] = (float)(lcg(&seed) % 1000) * 1e-3f;
+                    orr_sample_row_with((orr_sample_rows)rows, &p, a, 2.0f * b * dy, a * dy * dy, dx0, m0, m0 + n, v,
+                                        (orr_sample_mode)mode, 0.7f);
+                    orr_sample_row_plain(&p, a, 2.0f * b * dy, a * dy * dy, dx0, m0, m0 + n, s,
+                                         (orr_sample_mode)mode, 0.7f);
+                    differ += memcmp(v, s, sizeof v) != 0;
+                    count++;
+                }
+        CHECK(differ == 0);
+        printf("  %s: %d of %d rows differ from the plain loop's\n", names[rows], differ, count);
+    }
     /* The plain loop is the scalar sample: a row of one. */
     float one = 0.0f;
     orr_sample_row_plain(&p, 0.01f, 0.0f, 0.5f, 3.0f, 0, 1, &one, ORR_SAMPLES_SET, 1.0f);
