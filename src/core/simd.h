@@ -9,8 +9,7 @@
  * dome master 4-11 % faster; the orthographic gather and the projection
  * batches were no faster). AVX-512F brings FMA instructions, but the build
  * passes -ffp-contract=off (CMakeLists.txt), so these clones too do the
- * same operations. Elsewhere the attributes are
- * empty. */
+ * same operations. Elsewhere the attributes are empty. */
 #ifndef ORR_CORE_SIMD_H
 #define ORR_CORE_SIMD_H
 

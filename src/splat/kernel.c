@@ -226,7 +226,7 @@ static void fill_column(orr_kernel *k, const gauss_rule *g)
 static void poly_piece_range(int p, double *t0, double *t1, double *base)
 {
     *t0 = p == 0 ? 0.0 : p == 1 ? 0.25 : p - 1.0;
-    *t1 = p == 0 ? 0.25 : p == 1 ? 1.0 : p == ORR_KERNEL_POLY_PIECES - 1 ? 2.0 * (ORR_KERNEL_POLY_PIECES / 2) : p;
+    *t1 = p == 0 ? 0.25 : p == 1 ? 1.0 : p == ORR_KERNEL_POLY_PIECES - 1 ? 4.0 * ORR_KERNEL_POLY_T : p;
     *base = p <= 1 ? 0.0 : p - 1.0;
 }
 

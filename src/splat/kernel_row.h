@@ -55,6 +55,7 @@ orr_sample_rows orr_sample_rows_best(void);
 void orr_sample_row_with(orr_sample_rows rows, const orr_sample_poly *p, float a, float bdy, float cdy, float dx0,
                          int m0, int m1, float *out, orr_sample_mode mode, float scale);
 
+/* The plain loop, which every CPU runs. */
 void orr_sample_row_plain(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0, int m1,
                           float *out, orr_sample_mode mode, float scale);
 
