@@ -59,15 +59,23 @@ static ORR_ALWAYS_INLINE void plain_loop(const orr_sample_poly *p, float a, floa
     }
 }
 
+/* Static, with an exported wrapper below: Clang does not export a
+ * multi-versioned function under its plain name. */
 ORR_VECTOR_CLONES
-void orr_sample_row_plain(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0, int m1,
-                          float *out, orr_sample_mode mode, float scale)
+static void plain_row(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0, int m1, float *out,
+                      orr_sample_mode mode, float scale)
 {
     switch (mode) {
     case ORR_SAMPLES_SET: plain_loop(p, a, bdy, cdy, dx0, m0, m1, out, ORR_SAMPLES_SET, scale); break;
     case ORR_SAMPLES_ADD: plain_loop(p, a, bdy, cdy, dx0, m0, m1, out, ORR_SAMPLES_ADD, scale); break;
     case ORR_SAMPLES_DRAW: plain_loop(p, a, bdy, cdy, dx0, m0, m1, out, ORR_SAMPLES_DRAW, scale); break;
     }
+}
+
+void orr_sample_row_plain(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0, int m1,
+                          float *out, orr_sample_mode mode, float scale)
+{
+    plain_row(p, a, bdy, cdy, dx0, m0, m1, out, mode, scale);
 }
 
 #ifdef HAVE_VECTOR_ROWS
