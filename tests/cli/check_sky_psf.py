@@ -7,11 +7,12 @@ Gaussian PSF of 2 degrees FWHM, and measures each star's size in degrees,
 radially and tangentially, from the image's second moments.
 usage: check_sky_psf.py ORRERY WORKDIR"""
 import math
-import subprocess
 import sys
 
 import numpy as np
-from astropy.io import fits
+
+import sky_stars
+from sky_stars import unit
 
 orrery, work = sys.argv[1], sys.argv[2]
 SIZE, FWHM_DEG = 721, 2.0
@@ -19,40 +20,11 @@ SIZE, FWHM_DEG = 721, 2.0
 # [0, 90] with observer.normal +z); the reference particle sets l = 0 along +x.
 angles = [0.0, 30.0, 60.0, 85.0]  # degrees from the zenith
 azimuth = 200.0                   # degrees, away from the reference direction
-rows = ["x y z mass id", "0 0 0 1 1", "1000 0 0 1e-9 2"]
-for k, t in enumerate(angles):
-    tr, ar = math.radians(t), math.radians(azimuth)
-    d = (math.sin(tr) * math.cos(ar), math.sin(tr) * math.sin(ar), math.cos(tr))
-    rows.append("%r %r %r 1 %d" % (10 * d[0], 10 * d[1], 10 * d[2], k + 3))
-with open(f"{work}/stars.txt", "w") as f:
-    f.write("\n".join(rows) + "\n")
-scene = f"""input:
-  file: stars.txt
-observer:
-  id: 1
-  reference_id: 2
-  normal: [0, 0, 1]
-  dim: false
-camera:
-  projection: dome
-  dome_fov: 180
-  zenith: [0, 90]
-image:
-  width: {SIZE}
-  height: {SIZE}
-deposit: ngp
-psf:
-  kind: gaussian
-  fwhm_arcmin: {FWHM_DEG * 60}
-output:
-  dir: out
-  name: psf
-  png: false
-"""
-with open(f"{work}/psf.yaml", "w") as f:
-    f.write(scene)
-subprocess.run([orrery, "render", "--quiet", "psf.yaml"], cwd=work, check=True)
-data = np.nan_to_num(fits.getdata(f"{work}/out/psf.fits").astype(np.float64))[::-1]  # FITS rows bottom-up
+stars = [(unit(t, azimuth), 1.0) for t in angles]
+camera = "  projection: dome\n  dome_fov: 180\n  zenith: [0, 90]"
+data, _ = sky_stars.render(orrery, work, "psf", stars, camera, (SIZE, SIZE),
+                           f"  kind: gaussian\n  fwhm_arcmin: {FWHM_DEG * 60}")
+data = np.nan_to_num(data)
 c = SIZE / 2.0
 f_pix_per_rad = (SIZE / 2.0) / (math.pi / 2)  # 180-degree dome: the rim is 90 degrees out
 jj, ii = np.mgrid[0:SIZE, 0:SIZE]

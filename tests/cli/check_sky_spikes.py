@@ -25,11 +25,12 @@ a star on a dome master keeps its flux to 1e-4 and has wings beyond 1 degree.
 usage: check_sky_spikes.py ORRERY WORKDIR"""
 import math
 import os
-import subprocess
 import sys
 
 import numpy as np
-from astropy.io import fits
+
+import sky_stars
+from sky_stars import unit
 
 orrery, work = sys.argv[1], sys.argv[2]
 failures = 0
@@ -42,44 +43,13 @@ def check(ok, what):
         failures += 1
 
 
-def unit(t_deg, a_deg):
-    t, a = math.radians(t_deg), math.radians(a_deg)
-    return (math.sin(t) * math.cos(a), math.sin(t) * math.sin(a), math.cos(t))
+# The PSF's size and the spikes' flux threshold for every star field below,
+# after its psf.kind.
+PSF_SIZE = "  fwhm_arcmin: 12\n  spike_min_flux: 0.001"
 
 
 def render(name, stars, camera, size, psf="  kind: hst"):
-    rows = ["x y z mass id", "0 0 0 1 1", "1000 0 0 1e-9 2"]
-    for k, (d, m) in enumerate(stars):
-        rows.append("%r %r %r %r %d" % (10 * d[0], 10 * d[1], 10 * d[2], m, k + 3))
-    with open(f"{work}/{name}.txt", "w") as f:
-        f.write("\n".join(rows) + "\n")
-    scene = f"""input:
-  file: {name}.txt
-observer:
-  id: 1
-  reference_id: 2
-  normal: [0, 0, 1]
-  dim: false
-camera:
-{camera}
-image:
-  width: {size[0]}
-  height: {size[1]}
-deposit: ngp
-psf:
-{psf}
-  fwhm_arcmin: 12
-  spike_min_flux: 0.001
-output:
-  dir: out
-  name: {name}
-  png: false
-"""
-    with open(f"{work}/{name}.yaml", "w") as f:
-        f.write(scene)
-    subprocess.run([orrery, "render", "--quiet", f"{name}.yaml"], cwd=work, check=True)
-    data = fits.getdata(f"{work}/out/{name}.fits").astype(np.float64)[::-1]  # FITS rows bottom-up
-    return data, fits.getheader(f"{work}/out/{name}.fits")
+    return sky_stars.render(orrery, work, name, stars, camera, size, psf + "\n" + PSF_SIZE)
 
 
 def flux_conserved(data, total, what):
