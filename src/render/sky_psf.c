@@ -80,13 +80,33 @@ void orr_sky_psf_free(orr_sky_psf *sp)
 
 /* ---- the brightest stars ---- */
 
+/* A star's fields as doubles (exactly: they are floats), brightness first:
+ * the order stars are ranked in (star_cmp) and the slots they are shared
+ * between processes in (orr_sky_psf_share). */
+#define STAR_FIELDS 11
+
+static void star_pack(const orr_sky_star *s, double *d)
+{
+    const float f[STAR_FIELDS] = {s->key, s->x, s->y, s->z, s->w[0], s->w[1], s->w[2], s->h, s->px, s->py, s->scale};
+    for (int k = 0; k < STAR_FIELDS; k++)
+        d[k] = f[k];
+}
+
+static orr_sky_star star_unpack(const double *d)
+{
+    return (orr_sky_star){.key = (float)d[0], .x = (float)d[1], .y = (float)d[2], .z = (float)d[3],
+                          .w = {(float)d[4], (float)d[5], (float)d[6]}, .h = (float)d[7], .px = (float)d[8],
+                          .py = (float)d[9], .scale = (float)d[10]};
+}
+
 /* A total order (brightness first), so which stars win and in what order
  * they are drawn never depends on the order they arrived in. */
 static int star_cmp(const orr_sky_star *a, const orr_sky_star *b)
 {
-    const float fa[11] = {a->key, a->x, a->y, a->z, a->w[0], a->w[1], a->w[2], a->h, a->px, a->py, a->scale};
-    const float fb[11] = {b->key, b->x, b->y, b->z, b->w[0], b->w[1], b->w[2], b->h, b->px, b->py, b->scale};
-    for (int k = 0; k < 11; k++)
+    double fa[STAR_FIELDS], fb[STAR_FIELDS];
+    star_pack(a, fa);
+    star_pack(b, fb);
+    for (int k = 0; k < STAR_FIELDS; k++)
         if (fa[k] != fb[k])
             return fa[k] < fb[k] ? -1 : 1;
     return 0;
@@ -305,22 +325,6 @@ orr_status orr_sky_psf_select(orr_sky_psf *sp, orr_error *err)
     if (sp->nstars > sp->max_stars)
         sp->nstars = sp->max_stars;
     return ORR_OK;
-}
-
-/* A star as doubles (exactly: they are floats), for sums over processes. */
-#define STAR_FIELDS 11
-
-static void star_pack(const orr_sky_star *s, double *d)
-{
-    const float f[STAR_FIELDS] = {s->key, s->x, s->y, s->z, s->px, s->py, s->scale, s->h, s->w[0], s->w[1], s->w[2]};
-    for (int k = 0; k < STAR_FIELDS; k++)
-        d[k] = f[k];
-}
-
-static orr_sky_star star_unpack(const double *d)
-{
-    return (orr_sky_star){(float)d[0], (float)d[1], (float)d[2], (float)d[3], (float)d[4], (float)d[5],
-                          (float)d[6], (float)d[7], {(float)d[8], (float)d[9], (float)d[10]}};
 }
 
 orr_status orr_sky_psf_share(orr_sky_psf *sp, int rank, int nranks,
