@@ -20,20 +20,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "clocks.h"
 #include "splat/sph.h"
 
 #define BLOCK 4096
 #define NPIX 1024
 #define VIEW 8.0 /* units across the image */
-
-static double clock_of(clockid_t id)
-{
-    struct timespec ts;
-    clock_gettime(id, &ts);
-    return ts.tv_sec + 1e-9 * ts.tv_nsec;
-}
 
 static double uniform(uint64_t *s)
 {
@@ -97,14 +90,14 @@ static void bench_case(const char *name, const orr_sph *sph, const orr_projectio
     orr_project_batch(proj, p->n, p->x, p->y, p->z, p->px, p->py, p->scale, p->visible);
     orr_deposit_stats st = {0};
     memset(planes[0].data, 0, sizeof(float) * NPIX * NPIX);
-    double c0 = clock_of(CLOCK_PROCESS_CPUTIME_ID);
+    double c0 = cpu_seconds();
     deposit_blocks(sph, p, 0, 1, &planes[0], &st);
-    double cpu1 = clock_of(CLOCK_PROCESS_CPUTIME_ID) - c0;
+    double cpu1 = cpu_seconds() - c0;
     double total = st.deposited + st.outside + st.culled;
     if (fabs(total - (double)p->n) > 1e-3 * p->n)
         fprintf(stderr, "warning: weight %g of %zu not accounted for\n", total, p->n);
-    double w0 = clock_of(CLOCK_MONOTONIC);
-    c0 = clock_of(CLOCK_PROCESS_CPUTIME_ID);
+    double w0 = wall_seconds();
+    c0 = cpu_seconds();
 #pragma omp parallel num_threads(threads)
     {
         orr_deposit_stats mine = {0};
@@ -112,7 +105,7 @@ static void bench_case(const char *name, const orr_sph *sph, const orr_projectio
         memset(planes[t].data, 0, sizeof(float) * NPIX * NPIX);
         deposit_blocks(sph, p, (size_t)t, (size_t)nt, &planes[t], &mine);
     }
-    double wall = clock_of(CLOCK_MONOTONIC) - w0, cpun = clock_of(CLOCK_PROCESS_CPUTIME_ID) - c0;
+    double wall = wall_seconds() - w0, cpun = cpu_seconds() - c0;
     printf("  %-12s 1 thread %7.3f s cpu %10.3g particles/s | %d threads %7.3f s wall %7.3f s cpu\n", name, cpu1,
            p->n / cpu1, threads, wall, cpun);
     fflush(stdout);
