@@ -18,14 +18,9 @@
 
 #include "splat/sph.h"
 #include "clocks.h"
+#include "test_random.h"
 
 #define BLOCK 4096
-
-static double uniform(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (*s >> 11) * (1.0 / 9007199254740992.0);
-}
 
 /* Camera-frame positions: a unit square in front of the camera for the
  * flat view, directions uniform over the visible sky (at distance 1) for
@@ -35,13 +30,13 @@ static void make_particles(const orr_projection *p, size_t n, float *x, float *y
     uint64_t s = 12345;
     for (size_t i = 0; i < n; i++) {
         if (!orr_projection_is_sky(p)) {
-            x[i] = (float)(uniform(&s) - 0.5);
-            y[i] = (float)(uniform(&s) - 0.5);
+            x[i] = (float)(test_uniform(&s) - 0.5);
+            y[i] = (float)(test_uniform(&s) - 0.5);
             z[i] = 1.0f;
             continue;
         }
         /* Uniform on the sphere, or on the hemisphere z > 0 for the dome. */
-        double cz = 2.0 * uniform(&s) - 1.0, phi = 2.0 * ORR_PI * uniform(&s);
+        double cz = 2.0 * test_uniform(&s) - 1.0, phi = 2.0 * ORR_PI * test_uniform(&s);
         if (p->kind == ORR_PROJ_DOME)
             cz = fabs(cz);
         double sz = sqrt(1.0 - cz * cz);

@@ -23,24 +23,19 @@
 
 #include "clocks.h"
 #include "splat/sph.h"
+#include "test_random.h"
 
 #define BLOCK 4096
 #define NPIX 1024
 #define VIEW 8.0 /* units across the image */
-
-static double uniform(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (*s >> 11) * (1.0 / 9007199254740992.0);
-}
 
 /* Camera-frame positions and smoothing lengths (units of the view). */
 static void make_uniform(size_t n, double hpix, float *x, float *y, float *z, float *h)
 {
     uint64_t s = 12345;
     for (size_t i = 0; i < n; i++) {
-        x[i] = (float)(VIEW * (uniform(&s) - 0.5));
-        y[i] = (float)(VIEW * (uniform(&s) - 0.5));
+        x[i] = (float)(VIEW * (test_uniform(&s) - 0.5));
+        y[i] = (float)(VIEW * (test_uniform(&s) - 0.5));
         z[i] = 20.0f;
         h[i] = (float)(hpix * VIEW / NPIX);
     }
@@ -54,11 +49,11 @@ static void make_plummer(size_t n, float *x, float *y, float *z, float *h)
     uint64_t s = 6789;
     const double rmax = 10.0, mmax = pow(rmax * rmax / (rmax * rmax + 1.0), 1.5), m = 1.0 / n;
     for (size_t i = 0; i < n; i++) {
-        double u = mmax * uniform(&s);
+        double u = mmax * test_uniform(&s);
         while (!(u > 0))
-            u = mmax * uniform(&s);
+            u = mmax * test_uniform(&s);
         double r = 1.0 / sqrt(pow(u, -2.0 / 3.0) - 1.0);
-        double cz = 2.0 * uniform(&s) - 1.0, phi = 2.0 * ORR_PI * uniform(&s), sz = sqrt(1.0 - cz * cz);
+        double cz = 2.0 * test_uniform(&s) - 1.0, phi = 2.0 * ORR_PI * test_uniform(&s), sz = sqrt(1.0 - cz * cz);
         double rho = 3.0 / (4.0 * ORR_PI) * pow(1.0 + r * r, -2.5);
         x[i] = (float)(r * sz * cos(phi));
         y[i] = (float)(r * sz * sin(phi));

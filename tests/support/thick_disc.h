@@ -1,5 +1,5 @@
 /* Particles for the benchmarks: a thick disc 30 units across and 2 thick,
- * centred on the origin, the same for every run (a fixed LCG). */
+ * centred on the origin, the same for every run (test_random.h). */
 #ifndef ORR_TEST_THICK_DISC_H
 #define ORR_TEST_THICK_DISC_H
 

@@ -6,6 +6,7 @@
 
 #include "check.h"
 #include "post/convolve.h"
+#include "test_random.h"
 
 static orr_plane make_plane(int w, int h)
 {
@@ -16,12 +17,6 @@ static orr_plane make_plane(int w, int h)
         exit(1);
     }
     return p;
-}
-
-static double uniform(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(*s >> 11) * (1.0 / 9007199254740992.0);
 }
 
 /* The Gaussian's integral over pixel offset i (no truncation). */
@@ -118,7 +113,7 @@ static void test_flux_conserved(void)
     double before = 0;
     for (int y = margin; y < h - margin; y++)
         for (int x = margin; x < w - margin; x++) {
-            float v = (float)(uniform(&s) < 0.05 ? 1000 * uniform(&s) : uniform(&s));
+            float v = (float)(test_uniform(&s) < 0.05 ? 1000 * test_uniform(&s) : test_uniform(&s));
             p.data[(size_t)y * w + x] = v;
             before += v;
         }
@@ -187,12 +182,12 @@ static void test_matches_direct_convolution(void)
     CHECK(orr_image_kernel_alloc(&k, 7, 5, &err) == ORR_OK);
     uint64_t s = 99;
     for (int i = 0; i < 35; i++)
-        k.data[i] = (float)uniform(&s);
+        k.data[i] = (float)test_uniform(&s);
     k.data[0] = 5.0f; /* top-left: offset (-3, -2) */
     CHECK(orr_image_kernel_normalise(&k, &err) == ORR_OK);
     orr_plane p = make_plane(w, h), q = make_plane(w, h);
     for (int i = 0; i < w * h; i++)
-        p.data[i] = q.data[i] = (float)uniform(&s);
+        p.data[i] = q.data[i] = (float)test_uniform(&s);
     CHECK(orr_convolve_plane(&q, &k, NULL, &err) == ORR_OK);
     double worst = 0;
     for (int y = 0; y < h; y++)
@@ -266,7 +261,7 @@ static void test_reproducible(void)
     orr_plane p1 = make_plane(w, h), p2 = make_plane(w, h), p3 = make_plane(w, h);
     uint64_t s = 3;
     for (int i = 0; i < w * h; i++)
-        p1.data[i] = p2.data[i] = p3.data[i] = (float)(uniform(&s) * uniform(&s) * 100);
+        p1.data[i] = p2.data[i] = p3.data[i] = (float)(test_uniform(&s) * test_uniform(&s) * 100);
     orr_error err;
     orr_convolve_options one = {.threads = 1}, two = {.threads = 2};
     orr_convolver *a, *b;
@@ -298,7 +293,7 @@ static void test_measure_agrees(void)
     orr_plane p = make_plane(w, h), q = make_plane(w, h);
     uint64_t s = 11;
     for (int i = 0; i < w * h; i++)
-        p.data[i] = q.data[i] = (float)uniform(&s);
+        p.data[i] = q.data[i] = (float)test_uniform(&s);
     orr_error err;
     orr_convolve_options measure = {.threads = 1, .rigor = ORR_FFT_MEASURE};
     orr_image_kernel k;

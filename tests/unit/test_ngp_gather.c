@@ -9,14 +9,14 @@
 #include "frame/project_point.h"
 #include "render/ngp_gather.h"
 #include "splat/deposit.h"
+#include "test_random.h"
 
 #define N 1999 /* not a multiple of any vector width: the loops' tails run */
 
-static unsigned long long rng_state = 12345;
+static uint64_t rng_state = 12345;
 static double uniform(void)
 {
-    rng_state = rng_state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(rng_state >> 11) / 9007199254740992.0;
+    return test_uniform(&rng_state);
 }
 
 typedef struct particles {

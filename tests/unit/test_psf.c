@@ -8,18 +8,13 @@
 #include "post/convolve.h"
 #include "post/psf.h"
 #include "post/stretch.h"
+#include "test_random.h"
 
 #define PI 3.14159265358979323846
 
 /* Set when a shared reference file is absent: the other checks still run,
  * then the program exits with SKIP_CODE if they passed. */
 static int shared_skipped;
-
-static double uniform(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(*s >> 11) * (1.0 / 9007199254740992.0);
-}
 
 static float kat(const orr_image_kernel *k, int x, int y)
 {
@@ -278,7 +273,7 @@ static void test_rebin_is_binning(void)
     float img[12 * 12], out[25];
     uint64_t s = 5;
     for (int i = 0; i < 144; i++)
-        img[i] = (float)uniform(&s);
+        img[i] = (float)test_uniform(&s);
     orr_error err;
     /* odd ratio, centre on a pixel centre: 3x3 blocks starting at pixel 2 */
     CHECK(orr_image_rebin(img, 12, 12, 6.5, 6.5, 3, 3, out, &err) == ORR_OK);
@@ -405,12 +400,12 @@ static void make_cluster(cluster *c, int size)
     c->n = 300;
     for (int i = 0; i < c->n; i++) {
         /* a concentrated cluster: radius ~ Plummer-like */
-        double r = 0.3 * size * sqrt(pow(uniform(&s), -2.0 / 3.0) - 1) / 3, a = 2 * PI * uniform(&s);
+        double r = 0.3 * size * sqrt(pow(test_uniform(&s), -2.0 / 3.0) - 1) / 3, a = 2 * PI * test_uniform(&s);
         r = fmin(r, 0.5 * size - 70);
         c->x[i] = size / 2 + (int)(r * cos(a));
         c->y[i] = size / 2 + (int)(r * sin(a));
-        c->f[i] = (float)pow(uniform(&s) + 1e-4, -1.5); /* dN/dF ~ F^(-5/3) */
-        double t = uniform(&s); /* 0 = red giant, 1 = blue */
+        c->f[i] = (float)pow(test_uniform(&s) + 1e-4, -1.5); /* dN/dF ~ F^(-5/3) */
+        double t = test_uniform(&s); /* 0 = red giant, 1 = blue */
         c->colour[i][0] = (float)(1.0 - 0.5 * t);
         c->colour[i][1] = 0.85f;
         c->colour[i][2] = (float)(0.5 + 0.5 * t);

@@ -8,14 +8,9 @@
 
 #include "check.h"
 #include "splat/sph.h"
+#include "test_random.h"
 
 static const orr_kernel_kind kinds[] = {ORR_KERNEL_CUBIC, ORR_KERNEL_WENDLAND_C2, ORR_KERNEL_WENDLAND_C4};
-
-static double uniform(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (*s >> 11) * (1.0 / 9007199254740992.0);
-}
 
 static orr_kernel make_kernel(orr_kernel_kind kind)
 {
@@ -155,7 +150,7 @@ static void test_single_particle_matches_pixel_integral(void)
         reference *ref = make_reference(&k);
         orr_sph s = make_sph(&k, &p);
         for (size_t m = 0; m < sizeof hs / sizeof hs[0]; m++) {
-            double h = hs[m], cx = 112 + uniform(&seed), cy = 112 + uniform(&seed);
+            double h = hs[m], cx = 112 + test_uniform(&seed), cy = 112 + test_uniform(&seed);
             orr_plane pl = make_plane(&p);
             orr_deposit_stats st = {0};
             deposit_one(&s, &pl, (float)cx, (float)cy, (float)h, 1.0f, &st);
@@ -204,10 +199,10 @@ static void test_mass_conserved_inside(void)
             float px[N], py[N], h[N], w[N];
             double total = 0.0;
             for (int i = 0; i < N; i++) {
-                px[i] = (float)(256 + 100 * (uniform(&seed) - 0.5));
-                py[i] = (float)(256 + 100 * (uniform(&seed) - 0.5));
-                h[i] = (float)(hs[m] * (0.8 + 0.2 * uniform(&seed)));
-                w[i] = (float)(0.5 + uniform(&seed));
+                px[i] = (float)(256 + 100 * (test_uniform(&seed) - 0.5));
+                py[i] = (float)(256 + 100 * (test_uniform(&seed) - 0.5));
+                h[i] = (float)(hs[m] * (0.8 + 0.2 * test_uniform(&seed)));
+                w[i] = (float)(0.5 + test_uniform(&seed));
                 total += w[i];
             }
             orr_plane pl = make_plane(&p);
@@ -239,7 +234,7 @@ static void test_mass_across_edges(void)
         double total = 0.0;
         for (int i = 0; i < N; i++) {
             /* Within a support radius of one of the four edges. */
-            double r = 2 * hs[m] * (2 * uniform(&seed) - 1), along = uniform(&seed);
+            double r = 2 * hs[m] * (2 * test_uniform(&seed) - 1), along = test_uniform(&seed);
             int edge = i % 4;
             px[i] = (float)(edge == 0 ? r : edge == 1 ? 300 + r : 300 * along);
             py[i] = (float)(edge == 2 ? r : edge == 3 ? 200 + r : 200 * along);
@@ -300,10 +295,10 @@ static void test_block_matches_single_deposits(void)
     uint64_t seed = 23;
     float px[N], py[N], h[N], w[N];
     for (int i = 0; i < N; i++) {
-        px[i] = (float)(-40 + 400 * uniform(&seed));
-        py[i] = (float)(-40 + 780 * uniform(&seed));
-        h[i] = (float)(0.2 * pow(300.0, uniform(&seed)));
-        w[i] = (float)(0.5 + uniform(&seed));
+        px[i] = (float)(-40 + 400 * test_uniform(&seed));
+        py[i] = (float)(-40 + 780 * test_uniform(&seed));
+        h[i] = (float)(0.2 * pow(300.0, test_uniform(&seed)));
+        w[i] = (float)(0.5 + test_uniform(&seed));
     }
     orr_plane block = make_plane(&p), single = make_plane(&p);
     orr_deposit_stats st_block = {0}, st_single = {0};
@@ -464,7 +459,7 @@ static void test_unproject(void)
         const orr_projection *p = &ps[k];
         int bad = 0;
         for (int t = 0; t < 2000; t++) {
-            double x = uniform(&seed) * p->width, y = uniform(&seed) * p->height;
+            double x = test_uniform(&seed) * p->width, y = test_uniform(&seed) * p->height;
             orr_vec3 d;
             if (!orr_unproject(p, x, y, &d))
                 continue;
@@ -566,7 +561,7 @@ static void test_sky_mass_conserved(void)
             for (int i = 0; i < N; i++) {
                 /* Random directions, and some at the awkward places: the
                  * seam, the poles, near the dome's rim. */
-                double l = 360 * uniform(&seed) - 180, b = asin(2 * uniform(&seed) - 1) * 180 / ORR_PI;
+                double l = 360 * test_uniform(&seed) - 180, b = asin(2 * test_uniform(&seed) - 1) * 180 / ORR_PI;
                 if (i == 0)
                     l = 179.5, b = 3;
                 if (i == 1)
@@ -583,9 +578,9 @@ static void test_sky_mass_conserved(void)
                     if (i < 2)
                         d[i] = orr_v3_normalize(orr_v3(d[i].x, d[i].y, 0.01));
                 }
-                r[i] = 1 + 9 * uniform(&seed);
+                r[i] = 1 + 9 * test_uniform(&seed);
                 h[i] = thetas[t] * r[i];
-                w[i] = (float)(0.5 + uniform(&seed));
+                w[i] = (float)(0.5 + test_uniform(&seed));
                 total += w[i];
             }
             orr_plane pl = make_plane(p);
