@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/vecmath.h"
+#include "splat/kernel_separable.h"
 
 /* ---- the kernels ----
  *
@@ -342,23 +343,29 @@ static double cell_integral(const orr_kernel *k, double a0, double b0, double d)
     return s * 0.25 * d * d;
 }
 
-/* G(a, b) = integral of F over [0, a] x [0, b] as prefix sums of the cell
- * integrals (F is symmetric, so only cells with a <= b are integrated),
- * scaled so G(2, 2) is exactly 1/4 and a whole kernel deposits exactly 1. */
-static orr_status fill_cumulative(orr_kernel *k, orr_error *err)
+/* The integrals of F over the n x n cells of width 2 / n tiling [0, 2]^2
+ * (F is symmetric, so only cells with a <= b are integrated). */
+static double *cell_table(const orr_kernel *k, int n, orr_error *err)
 {
-    const int n = ORR_KERNEL_NG, m = n + 1;
     const double d = 2.0 / n;
     double *cell = orr_malloc(sizeof(double) * (size_t)n * n, "kernel table scratch", err);
-    double *g = orr_calloc((size_t)m * m, sizeof(double), "kernel table scratch", err);
-    if (!cell || !g) {
-        free(cell);
-        free(g);
-        return ORR_ERR_NOMEM;
-    }
+    if (!cell)
+        return NULL;
     for (int j = 0; j < n; j++)
         for (int i = 0; i <= j; i++)
             cell[(size_t)j * n + i] = cell[(size_t)i * n + j] = cell_integral(k, i * d, j * d, d);
+    return cell;
+}
+
+/* G(a, b) = integral of F over [0, a] x [0, b] as prefix sums of the cell
+ * integrals, scaled so G(2, 2) is exactly 1/4 and a whole kernel deposits
+ * exactly 1. */
+static orr_status fill_cumulative(orr_kernel *k, const double *cell, orr_error *err)
+{
+    const int n = ORR_KERNEL_NG, m = n + 1;
+    double *g = orr_calloc((size_t)m * m, sizeof(double), "kernel table scratch", err);
+    if (!g)
+        return ORR_ERR_NOMEM;
     for (int j = 1; j < m; j++)
         for (int i = 1; i < m; i++)
             g[(size_t)j * m + i] = cell[(size_t)(j - 1) * n + (i - 1)] + g[(size_t)(j - 1) * m + i] +
@@ -367,7 +374,6 @@ static orr_status fill_cumulative(orr_kernel *k, orr_error *err)
     for (size_t i = 0; i < (size_t)m * m; i++)
         k->cumulative[i] = (float)(g[i] * scale);
     k->cumulative[(size_t)m * m - 1] = 0.25f;
-    free(cell);
     free(g);
     return ORR_OK;
 }
@@ -389,7 +395,11 @@ orr_status orr_kernel_init(orr_kernel *k, orr_kernel_kind kind, orr_error *err)
     gauss_rule g = gauss_legendre();
     fill_column(k, &g);
     fill_poly(k, &g);
-    orr_status st = fill_cumulative(k, err);
+    double *cell = cell_table(k, ORR_KERNEL_NG, err);
+    orr_status st = cell ? fill_cumulative(k, cell, err) : ORR_ERR_NOMEM;
+    if (!st)
+        st = orr_kernel_fill_separable(k, cell, ORR_KERNEL_NG, err);
+    free(cell);
     if (st)
         orr_kernel_free(k);
     return st;
@@ -399,8 +409,10 @@ void orr_kernel_free(orr_kernel *k)
 {
     free(k->column);
     free(k->cumulative);
+    free(k->separable);
     k->column = NULL;
     k->cumulative = NULL;
+    k->separable = NULL;
 }
 
 /* ---- rectangles ---- */

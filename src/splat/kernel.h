@@ -9,8 +9,8 @@
  *
  * orr_kernel_init tabulates F (and its Laplacian, for the pixel-area
  * correction) in u = q^2, fits both with piecewise polynomials in u, and
- * tabulates the integral of F over rectangles from the kernel's centre,
- * once, by numerical integration; the splat's inner loops only read these
+ * tabulates the integral of F over rectangles from the kernel's centre
+ * and the separable expansion, once, by numerical integration; the splat's inner loops only read these
  * tables and coefficients (splat/sph.h, splat/kernel_row.h). */
 #ifndef ORR_SPLAT_KERNEL_H
 #define ORR_SPLAT_KERNEL_H
@@ -50,6 +50,19 @@ typedef enum {
 #define ORR_KERNEL_POLY_DEGREE 5
 #define ORR_KERNEL_POLY_LAST 30 /* the largest truncation of t that is subtracted */
 
+/* The separable expansion of F over the plane (splat/kernel_separable.c):
+ * F(x, y) ~ sum over k < ORR_KERNEL_SEP_RANK of s_k f_k(x) f_k(y), the
+ * leading terms of its eigen-expansion (s_k = +1 or -1, the sign of the
+ * k-th eigenvalue), so the integral of F over any pixel is
+ * sum_k s_k (E_k(x1) - E_k(x0)) (E_k(y1) - E_k(y0)) with E_k the integral
+ * of f_k from 0: a pixel costs ORR_KERNEL_SEP_RANK multiply-adds once the
+ * differences along each axis are known. E_k is odd; the table holds
+ * E_k(x) for x = 2 i / ORR_KERNEL_SEP_N, i = 0 .. ORR_KERNEL_SEP_N, the
+ * ORR_KERNEL_SEP_RANK values of one x together, then one copy of the last
+ * row, so a read at the support's edge needs no test. */
+#define ORR_KERNEL_SEP_RANK 8
+#define ORR_KERNEL_SEP_N 4096
+
 typedef struct orr_kernel {
     orr_kernel_kind kind;
     double sigma;      /* 3-D normalisation: W(r, h) = sigma w(r / h) / h^3 */
@@ -59,6 +72,8 @@ typedef struct orr_kernel {
      * (lap F: poly_lap), so one coefficient of all pieces is one row. */
     float poly_f[(ORR_KERNEL_POLY_DEGREE + 1) * ORR_KERNEL_POLY_PIECES];
     float poly_lap[(ORR_KERNEL_POLY_DEGREE + 1) * ORR_KERNEL_POLY_PIECES];
+    float *separable; /* (ORR_KERNEL_SEP_N + 2) * ORR_KERNEL_SEP_RANK floats: E_k(x) */
+    float separable_sign[ORR_KERNEL_SEP_RANK];
 } orr_kernel;
 
 /* Tabulates the kernel (a few milliseconds). Fails only when out of memory. */
@@ -93,6 +108,20 @@ static inline int orr_kernel_poly_piece(float t, float *x)
     const int ti = t < (float)ORR_KERNEL_POLY_LAST ? (int)t : ORR_KERNEL_POLY_LAST;
     *x = t - (float)ti;
     return t < 1.0f ? (t < 0.25f ? 0 : 1) : ti + 1;
+}
+
+/* The separable expansion's integrals E_k at x (in units of h, any sign:
+ * clamped to the support), all ORR_KERNEL_SEP_RANK of them into e. */
+static inline void orr_kernel_separable_at(const orr_kernel *k, float x, float *restrict e)
+{
+    const float support = (float)ORR_KERNEL_SUPPORT;
+    const float ax = x < 0.0f ? (x > -support ? -x : support) : (x < support ? x : support);
+    const float t = ax * (float)(ORR_KERNEL_SEP_N / ORR_KERNEL_SUPPORT);
+    const int i = (int)t;
+    const float f = t - (float)i, sign = x < 0.0f ? -1.0f : 1.0f;
+    const float *restrict row = k->separable + (size_t)i * ORR_KERNEL_SEP_RANK;
+    for (int r = 0; r < ORR_KERNEL_SEP_RANK; r++)
+        e[r] = sign * (row[r] + f * (row[r + ORR_KERNEL_SEP_RANK] - row[r]));
 }
 
 /* Table lookups for the inner loops. u = q^2 must be >= 0. */

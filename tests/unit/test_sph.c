@@ -161,18 +161,23 @@ static void test_single_particle_matches_pixel_integral(void)
             cx = (float)cx;
             cy = (float)cy;
             int r = (int)ceil(2 * h) + 1;
-            double peak = 0.0, worst = 0.0;
+            double peak = 0.0, worst = 0.0, lowest = 0.0;
             for (int j = (int)cy - r; j <= (int)cy + r; j++)
                 for (int i = (int)cx - r; i <= (int)cx + r; i++) {
                     double want = pixel_integral(ref, cx, cy, h, i, j, n, x, w);
                     peak = fmax(peak, want);
                     worst = fmax(worst, fabs(at(&pl, i, j) - want));
+                    lowest = fmin(lowest, at(&pl, i, j));
                 }
             worst /= peak;
             worst_all = fmax(worst_all, worst);
-            if (!(worst < 1e-3))
+            if (!(worst < 1e-4))
                 fprintf(stderr, "%s h = %g: error %.3g of the peak pixel\n", orr_kernel_name(kinds[kk]), h, worst);
-            CHECK(worst < 1e-3);
+            CHECK(worst < 1e-4);
+            /* Nothing below zero beyond round-off (the table differences
+             * give -1.5e-8 at most; the separable expansion, which dips to
+             * -1e-5 of the peak near the support's edge, is clamped). */
+            CHECK(lowest >= -1e-7 * peak);
             CHECK_NEAR(orr_plane_sum(&pl), 1.0, 1e-6);
             free(x);
             free(w);
