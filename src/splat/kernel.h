@@ -10,8 +10,9 @@
  * orr_kernel_init tabulates F (and its Laplacian, for the pixel-area
  * correction) in u = q^2, fits both with piecewise polynomials in u, and
  * tabulates the integral of F over rectangles from the kernel's centre
- * and the separable expansion, once, by numerical integration; the splat's inner loops only read these
- * tables and coefficients (splat/sph.h, splat/kernel_row.h). */
+ * and the separable expansion, once, by numerical integration; the
+ * splat's inner loops only read these tables and coefficients
+ * (splat/sph.h, splat/kernel_row.h). */
 #ifndef ORR_SPLAT_KERNEL_H
 #define ORR_SPLAT_KERNEL_H
 
@@ -52,8 +53,9 @@ typedef enum {
 
 /* The separable expansion of F over the plane (splat/kernel_separable.c):
  * F(x, y) ~ sum over k < ORR_KERNEL_SEP_RANK of s_k f_k(x) f_k(y), the
- * leading terms of its eigen-expansion (s_k = +1 or -1, the sign of the
- * k-th eigenvalue), so the integral of F over any pixel is
+ * leading terms of its eigen-expansion (f_k the k-th eigenfunction times
+ * the square root of |lambda_k|, s_k = +1 or -1 the sign of lambda_k),
+ * so the integral of F over any pixel is
  * sum_k s_k (E_k(x1) - E_k(x0)) (E_k(y1) - E_k(y0)) with E_k the integral
  * of f_k from 0: a pixel costs ORR_KERNEL_SEP_RANK multiply-adds once the
  * differences along each axis are known. E_k is odd; the table holds
@@ -76,7 +78,9 @@ typedef struct orr_kernel {
     float separable_sign[ORR_KERNEL_SEP_RANK];
 } orr_kernel;
 
-/* Tabulates the kernel (a few milliseconds). Fails only when out of memory. */
+/* Tabulates the kernel (about 10 ms). Fails only when out of memory (or,
+ * which the tests would show, if the expansion's eigenvectors did not
+ * converge). */
 orr_status orr_kernel_init(orr_kernel *k, orr_kernel_kind kind, orr_error *err);
 void orr_kernel_free(orr_kernel *k);
 

@@ -224,7 +224,7 @@ orr_status orr_kernel_fill_separable(orr_kernel *k, const double *cell, int n, o
          * over [-2, 2] is 1 (the eigenvector has unit length), with
          * sqrt |lambda_r| folded in; E_r at the cell edges and f_r there. */
         const double scale = sqrt(fabs(lambda[r]) / (2.0 * d));
-        double *avg = a, *edge_e = e, *edge_f = e + n + 1;
+        double *avg = a /* free once the eigenvectors are known */, *edge_e = e, *edge_f = e + n + 1;
         for (int i = 0; i < n; i++)
             avg[i] = scale * v[(size_t)i * BLOCK + r];
         edge_e[0] = 0.0;
