@@ -278,23 +278,40 @@ static inline void disc_fixed(target *t, float cx, float cy, float h, float w, i
     t->in += w;
 }
 
-/* Deposits a kernel of h pixels by a fixed-size grid when it fits one;
- * returns 0, having done nothing, when it does not. */
-static int disc_small(target *t, float cx, float cy, float h, float w)
+/* A footprint wholly on a flat image: nx x ny pixels from (x0, y0). */
+typedef struct flat_footprint {
+    int x0, y0, nx, ny;
+} flat_footprint;
+
+/* Whether the support of a kernel of h pixels at (cx, cy) lies wholly on a
+ * flat image (the fast paths below take only such kernels), and its
+ * pixels. */
+static int on_flat_image(const target *t, float cx, float cy, float h, flat_footprint *f)
 {
     const float r = (float)ORR_KERNEL_SUPPORT * h;
-    const int width = t->plane->width, height = t->plane->height;
     /* floor(c - r) as a truncation (floorf is a library call without
      * SSE4.1), once c - r is known to be on the image. */
-    if (!(cx - r >= 0.0f && cy - r >= 0.0f && cx + r < (float)width && cy + r < (float)height &&
-          r < 0.5f * FIXED_LARGE))
+    if (t->proj || !(cx - r >= 0.0f && cy - r >= 0.0f && cx + r < (float)t->plane->width &&
+                     cy + r < (float)t->plane->height))
         return 0;
-    const int x0 = (int)(cx - r), y0 = (int)(cy - r);
-    const int nx = (int)(cx + r) - x0 + 1, ny = (int)(cy + r) - y0 + 1, n = nx > ny ? nx : ny;
-    if (n < FIXED_SMALL && x0 + FIXED_SMALL - 1 <= width)
-        disc_fixed(t, cx, cy, h, w, x0, y0, nx, ny, FIXED_SMALL);
-    else if (n < FIXED_LARGE && x0 + FIXED_LARGE - 1 <= width)
-        disc_fixed(t, cx, cy, h, w, x0, y0, nx, ny, FIXED_LARGE);
+    f->x0 = (int)(cx - r);
+    f->y0 = (int)(cy - r);
+    f->nx = (int)(cx + r) - f->x0 + 1;
+    f->ny = (int)(cy + r) - f->y0 + 1;
+    return 1;
+}
+
+/* Deposits a kernel of h pixels with footprint f by a fixed-size grid when
+ * it fits one; returns 0, having done nothing, when it does not. */
+static int disc_small(target *t, float cx, float cy, float h, float w, const flat_footprint *f)
+{
+    const int n = f->nx > f->ny ? f->nx : f->ny, width = t->plane->width;
+    if (!((float)ORR_KERNEL_SUPPORT * h < 0.5f * FIXED_LARGE))
+        return 0;
+    if (n < FIXED_SMALL && f->x0 + FIXED_SMALL - 1 <= width)
+        disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, FIXED_SMALL);
+    else if (n < FIXED_LARGE && f->x0 + FIXED_LARGE - 1 <= width)
+        disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, FIXED_LARGE);
     else
         return 0;
     return 1;
@@ -390,21 +407,13 @@ static int separable_draw(const orr_kernel *k, float cx, float cy, float inv_h, 
     return 1;
 }
 
-/* Deposits a kernel of h pixels (h < CUMULATIVE_MAX) at (cx, cy) by the
- * separable expansion when its footprint lies wholly on a flat image;
- * returns 0, having done nothing, otherwise. */
-static int disc_separable(target *t, float cx, float cy, float h, float w)
+/* Deposits a kernel of h pixels (h < CUMULATIVE_MAX) at (cx, cy), with
+ * footprint f, by the separable expansion; returns 0, having done nothing,
+ * if it does not fit the buffers (it always should). */
+static int disc_separable(target *t, float cx, float cy, float h, float w, const flat_footprint *f)
 {
-    const float r = (float)ORR_KERNEL_SUPPORT * h;
-    const int width = t->plane->width, height = t->plane->height;
-    /* floor(c - r) as a truncation, once c - r is known to be on the image. */
-    if (t->proj || !(cx - r >= 0.0f && cy - r >= 0.0f && cx + r < (float)width && cy + r < (float)height &&
-                     h < (float)CUMULATIVE_MAX))
-        return 0;
-    const int x0 = (int)(cx - r), y0 = (int)(cy - r);
-    const int nx = (int)(cx + r) - x0 + 1, ny = (int)(cy + r) - y0 + 1;
-    if (nx > 4 * CUMULATIVE_MAX + 1 || ny > 4 * CUMULATIVE_MAX + 1 ||
-        !separable_draw(t->kernel, cx, cy, 1.0f / h, x0, y0, nx, ny, t->plane, w))
+    if (!(h < (float)CUMULATIVE_MAX) || f->nx > 4 * CUMULATIVE_MAX + 1 || f->ny > 4 * CUMULATIVE_MAX + 1 ||
+        !separable_draw(t->kernel, cx, cy, 1.0f / h, f->x0, f->y0, f->nx, f->ny, t->plane, w))
         return 0;
     t->in += w;
     return 1;
@@ -695,10 +704,11 @@ static void disc_ellipse(ellipse *e, double cx, double cy, double h)
 /* A disc kernel of h pixels by whichever method suits its size. */
 static void disc_deposit(target *t, double cx, double cy, double h, float w)
 {
-    if (!t->proj && h < 0.25 * FIXED_LARGE && disc_small(t, (float)cx, (float)cy, (float)h, w))
-        return;
     if (h < CUMULATIVE_MAX) {
-        if (!disc_separable(t, (float)cx, (float)cy, (float)h, w))
+        const float fx = (float)cx, fy = (float)cy, fh = (float)h;
+        flat_footprint f;
+        if (!on_flat_image(t, fx, fy, fh, &f) ||
+            !(disc_small(t, fx, fy, fh, w, &f) || disc_separable(t, fx, fy, fh, w, &f)))
             disc_cumulative(t, cx, cy, h, w);
         return;
     }
