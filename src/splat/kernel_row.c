@@ -79,40 +79,74 @@ void orr_sample_row_plain(const orr_sample_poly *p, float a, float bdy, float cd
 }
 
 #ifdef HAVE_VECTOR_ROWS
-/* AVX-512: sixteen samples an iteration; the last, partial one masked. The 32
- * pieces' values of coefficient d sit in lo[d] (pieces 0-15) and hi[d]
- * (16-31), and _mm512_permutex2var_ps picks each lane's from the two. */
+/* AVX-512: sixteen samples at once. The 32 pieces' values of coefficient d
+ * sit in lo[d] (pieces 0-15) and hi[d] (16-31), and _mm512_permutex2var_ps
+ * picks each lane's from the two. */
+typedef struct poly512 {
+    __m512 lo[DEGREE + 1], hi[DEGREE + 1];
+} poly512;
+
+__attribute__((target("avx512f"))) static ORR_ALWAYS_INLINE void poly512_load(poly512 *q, const orr_sample_poly *p)
+{
+    for (int d = 0; d <= DEGREE; d++) {
+        q->lo[d] = _mm512_load_ps(p->c[d]);
+        q->hi[d] = _mm512_load_ps(p->c[d] + 16);
+    }
+}
+
+/* The samples at dx = dx0 + mf, mf holding sixteen consecutive columns (as
+ * floats, exact below 2^24): sample_at's operations and values lane-wise,
+ * in as few instructions as give them, as the loop is bound by their
+ * number. */
+__attribute__((target("avx512f"))) static ORR_ALWAYS_INLINE __m512 samples16(const poly512 *q, __m512 va, __m512 vbdy,
+                                                                            __m512 vcdy, __m512 vdx0, __m512 mf)
+{
+    const __m512 dx = _mm512_add_ps(vdx0, mf);
+    const __m512 t = _mm512_mul_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_add_ps(_mm512_mul_ps(va, dx), vbdy), dx), vcdy),
+                                   _mm512_set1_ps(ORR_KERNEL_POLY_T));
+    /* orr_kernel_poly_piece: ti = min(trunc(t), 30) (a NaN t gives 30, as
+     * there), x = t - ti, and the piece ti + 1, less one below t = 0.25
+     * (below t = 1, ti is 0: pieces 0 and 1). */
+    const __m512i ti = _mm512_cvttps_epi32(_mm512_min_ps(t, _mm512_set1_ps((float)ORR_KERNEL_POLY_LAST)));
+    const __m512 x = _mm512_sub_ps(t, _mm512_cvtepi32_ps(ti));
+    const __m512i one = _mm512_set1_epi32(1), next = _mm512_add_epi32(ti, one);
+    const __mmask16 below_q = _mm512_cmp_ps_mask(t, _mm512_set1_ps(0.25f), _CMP_LT_OQ);
+    const __m512i piece = _mm512_mask_sub_epi32(next, below_q, next, one);
+    __m512 s = _mm512_permutex2var_ps(q->lo[DEGREE], piece, q->hi[DEGREE]);
+    for (int d = DEGREE - 1; d >= 0; d--)
+        s = _mm512_add_ps(_mm512_mul_ps(s, x), _mm512_permutex2var_ps(q->lo[d], piece, q->hi[d]));
+    const __mmask16 inside = _mm512_cmp_ps_mask(t, _mm512_set1_ps(T_EDGE), _CMP_LT_OQ);
+    return _mm512_maskz_mov_ps(inside, s);
+}
+
+/* Columns m .. m + 15 as floats. */
+__attribute__((target("avx512f"))) static ORR_ALWAYS_INLINE __m512 columns16(int m)
+{
+    const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    return _mm512_cvtepi32_ps(_mm512_add_epi32(_mm512_set1_epi32(m), lanes));
+}
+
+/* The lanes of the 16 samples from m that fall in [m0, m1). */
+static inline __mmask16 live16(int m, int m0, int m1)
+{
+    const int from = m0 > m ? m0 - m : 0, to = m1 - m < 16 ? m1 - m : 16;
+    return to > from ? (__mmask16)(((1u << to) - 1u) & ~((1u << from) - 1u)) : (__mmask16)0;
+}
+
+/* Sixteen samples an iteration; the last, partial one masked. */
 __attribute__((target("avx512f"))) static void row_avx512(const orr_sample_poly *p, float a, float bdy, float cdy,
                                                           float dx0, int m0, int m1, float *out,
                                                           orr_sample_mode mode, float scale)
 {
-    __m512 lo[DEGREE + 1], hi[DEGREE + 1];
-    for (int d = 0; d <= DEGREE; d++) {
-        lo[d] = _mm512_load_ps(p->c[d]);
-        hi[d] = _mm512_load_ps(p->c[d] + 16);
-    }
+    poly512 q;
+    poly512_load(&q, p);
     const __m512 va = _mm512_set1_ps(a), vbdy = _mm512_set1_ps(bdy), vcdy = _mm512_set1_ps(cdy);
-    const __m512 vt = _mm512_set1_ps(ORR_KERNEL_POLY_T), vdx0 = _mm512_set1_ps(dx0), vscale = _mm512_set1_ps(scale);
-    const __m512i lanes = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    const __m512i last = _mm512_set1_epi32(ORR_KERNEL_POLY_LAST), one = _mm512_set1_epi32(1);
-    for (int m = m0; m < m1; m += 16) {
-        const __mmask16 live = m1 - m >= 16 ? (__mmask16)0xffff : (__mmask16)((1u << (m1 - m)) - 1u);
-        const __m512 dx = _mm512_add_ps(vdx0, _mm512_cvtepi32_ps(_mm512_add_epi32(_mm512_set1_epi32(m), lanes)));
-        const __m512 t = _mm512_mul_ps(_mm512_add_ps(_mm512_mul_ps(_mm512_add_ps(_mm512_mul_ps(va, dx), vbdy), dx), vcdy), vt);
-        /* orr_kernel_poly_piece, lane-wise: t < 30 truncates (t >= 0 up to
-         * rounding, where truncation and the scalar (int) agree). */
-        const __mmask16 below_last = _mm512_cmp_ps_mask(t, _mm512_set1_ps((float)ORR_KERNEL_POLY_LAST), _CMP_LT_OQ);
-        const __m512i ti = _mm512_mask_blend_epi32(below_last, last, _mm512_cvttps_epi32(t));
-        const __m512 x = _mm512_sub_ps(t, _mm512_cvtepi32_ps(ti));
-        const __mmask16 below_1 = _mm512_cmp_ps_mask(t, _mm512_set1_ps(1.0f), _CMP_LT_OQ);
-        const __mmask16 below_q = _mm512_cmp_ps_mask(t, _mm512_set1_ps(0.25f), _CMP_LT_OQ);
-        const __m512i centre = _mm512_mask_blend_epi32(below_q, one, _mm512_setzero_si512());
-        const __m512i piece = _mm512_mask_blend_epi32(below_1, _mm512_add_epi32(ti, one), centre);
-        __m512 s = _mm512_permutex2var_ps(lo[DEGREE], piece, hi[DEGREE]);
-        for (int d = DEGREE - 1; d >= 0; d--)
-            s = _mm512_add_ps(_mm512_mul_ps(s, x), _mm512_permutex2var_ps(lo[d], piece, hi[d]));
-        const __mmask16 inside = _mm512_cmp_ps_mask(t, _mm512_set1_ps(T_EDGE), _CMP_LT_OQ);
-        s = _mm512_maskz_mov_ps(inside, s);
+    const __m512 vdx0 = _mm512_set1_ps(dx0), vscale = _mm512_set1_ps(scale);
+    const __m512 step = _mm512_set1_ps(16.0f);
+    __m512 mf = columns16(m0);
+    for (int m = m0; m < m1; m += 16, mf = _mm512_add_ps(mf, step)) {
+        const __mmask16 live = live16(m, m0, m1);
+        const __m512 s = samples16(&q, va, vbdy, vcdy, vdx0, mf);
         if (mode == ORR_SAMPLES_SET) {
             _mm512_mask_storeu_ps(out + m, live, s);
             continue;
@@ -121,6 +155,41 @@ __attribute__((target("avx512f"))) static void row_avx512(const orr_sample_poly 
         const __m512 add = mode == ORR_SAMPLES_DRAW ? _mm512_mul_ps(vscale, s) : s;
         _mm512_mask_storeu_ps(out + m, live, _mm512_add_ps(o, add));
     }
+}
+
+/* SPAN_GROUP spans at once, over the union of their columns: the spans'
+ * samples are independent chains of operations, which the core overlaps.
+ * A lane outside its span is computed but neither read nor written. */
+#define SPAN_GROUP 4
+__attribute__((target("avx512f"))) static void spans_avx512(const orr_sample_poly *p, float a, float dx0,
+                                                            const orr_sample_span *sp, int n, float scale)
+{
+    poly512 q;
+    poly512_load(&q, p);
+    const __m512 va = _mm512_set1_ps(a), vdx0 = _mm512_set1_ps(dx0), vscale = _mm512_set1_ps(scale);
+    const __m512 step = _mm512_set1_ps(16.0f);
+    int g = 0;
+    for (; g + SPAN_GROUP <= n; g += SPAN_GROUP) {
+        const orr_sample_span *s = sp + g;
+        __m512 vbdy[SPAN_GROUP], vcdy[SPAN_GROUP];
+        int lo = s[0].m0, hi = s[0].m1;
+        for (int r = 0; r < SPAN_GROUP; r++) {
+            vbdy[r] = _mm512_set1_ps(s[r].bdy);
+            vcdy[r] = _mm512_set1_ps(s[r].cdy);
+            lo = s[r].m0 < lo ? s[r].m0 : lo;
+            hi = s[r].m1 > hi ? s[r].m1 : hi;
+        }
+        __m512 mf = columns16(lo);
+        for (int m = lo; m < hi; m += 16, mf = _mm512_add_ps(mf, step))
+            for (int r = 0; r < SPAN_GROUP; r++) {
+                const __mmask16 live = live16(m, s[r].m0, s[r].m1);
+                const __m512 v = samples16(&q, va, vbdy[r], vcdy[r], vdx0, mf);
+                const __m512 o = _mm512_maskz_loadu_ps(live, s[r].out + m);
+                _mm512_mask_storeu_ps(s[r].out + m, live, _mm512_add_ps(o, _mm512_mul_ps(vscale, v)));
+            }
+    }
+    for (; g < n; g++)
+        row_avx512(p, a, sp[g].bdy, sp[g].cdy, dx0, sp[g].m0, sp[g].m1, sp[g].out, ORR_SAMPLES_DRAW, scale);
 }
 
 /* Eight samples an iteration with AVX2: each lane's coefficient from four
@@ -204,4 +273,18 @@ void orr_sample_row(const orr_sample_poly *p, float a, float bdy, float cdy, flo
                     float *out, orr_sample_mode mode, float scale)
 {
     orr_sample_row_with(orr_sample_rows_best(), p, a, bdy, cdy, dx0, m0, m1, out, mode, scale);
+}
+
+void orr_sample_spans_draw(const orr_sample_poly *p, float a, float dx0, const orr_sample_span *spans, int n,
+                           float scale)
+{
+#ifdef HAVE_VECTOR_ROWS
+    if (orr_sample_rows_best() == ORR_ROWS_AVX512) {
+        spans_avx512(p, a, dx0, spans, n, scale);
+        return;
+    }
+#endif
+    for (int r = 0; r < n; r++)
+        orr_sample_row(p, a, spans[r].bdy, spans[r].cdy, dx0, spans[r].m0, spans[r].m1, spans[r].out,
+                       ORR_SAMPLES_DRAW, scale);
 }

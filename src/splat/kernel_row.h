@@ -41,6 +41,23 @@ typedef enum orr_sample_mode {
 void orr_sample_row(const orr_sample_poly *p, float a, float bdy, float cdy, float dx0, int m0, int m1,
                     float *out, orr_sample_mode mode, float scale);
 
+/* One image row's samples for orr_sample_spans_draw: dx = dx0 + m, m in
+ * [m0, m1), bdy and cdy as for orr_sample_row, into out[m]. */
+typedef struct orr_sample_span {
+    float bdy, cdy;
+    int m0, m1;
+    float *out;
+} orr_sample_span;
+
+/* out[m] += scale * sample over each of n spans (one ellipse: the same a
+ * and dx0), with the same bits as orr_sample_row in ORR_SAMPLES_DRAW mode
+ * span by span. The spans must not overlap. With AVX-512 four spans are
+ * computed at once: one row's samples are a chain of dependent operations
+ * some 60 cycles long, and a large kernel's rows are only a few vectors
+ * wide, so a row alone leaves the core waiting. */
+void orr_sample_spans_draw(const orr_sample_poly *p, float a, float dx0, const orr_sample_span *spans, int n,
+                           float scale);
+
 /* The loops, for the tests (each must match the plain one bit for bit). */
 typedef enum orr_sample_rows {
     ORR_ROWS_PLAIN,  /* a loop a sample (vectorised by the compiler with gathers) */

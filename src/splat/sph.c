@@ -731,6 +731,8 @@ static void disc_deposit(target *t, double cx, double cy, double h, float w)
  * the block, not by the threads. */
 #define BAND_BYTES (128 * 1024)
 #define BAND_MIN_ROWS 8
+/* Rows of a kernel's piece handed to orr_sample_spans_draw at once. */
+#define SPANS 64
 
 typedef struct large_kernel {
     double cx, cy, h;
@@ -769,10 +771,14 @@ static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
         return;
     }
     /* Whole: nothing to add up, so each row's samples go straight into the
-     * image (one sample a pixel, the centres inside the support). */
+     * image (one sample a pixel, the centres inside the support), the rows
+     * handed over SPANS at a time to be computed side by side. */
     orr_sample_poly poly;
     orr_sample_poly_make(&poly, t->kernel, e.lap);
     const int width = t->plane->width;
+    const float a = (float)e.a, b2 = (float)(2.0 * e.b), c = (float)e.c, dx0 = (float)(0.5 - e.cx);
+    orr_sample_span spans[SPANS];
+    int n = 0;
     for (int j = b.j0; j <= b.j1; j++) {
         const double dy = j + 0.5 - e.cy;
         double x0, x1;
@@ -780,10 +786,16 @@ static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
             continue;
         const double lo = ceil(e.cx + x0 - 0.5), hi = floor(e.cx + x1 - 0.5);
         const int m0 = lo > b.i0 ? (int)lo : b.i0, m1 = hi < b.i1 ? (int)hi + 1 : b.i1 + 1;
-        if (m0 < m1)
-            add_samples(&poly, &e, (float)dy, (float)(0.5 - e.cx), m0, m1,
-                        t->plane->data + (size_t)j * (size_t)width, ORR_SAMPLES_DRAW, scale);
+        if (m0 >= m1)
+            continue;
+        const float fdy = (float)dy;
+        spans[n++] = (orr_sample_span){b2 * fdy, c * fdy * fdy, m0, m1, t->plane->data + (size_t)j * (size_t)width};
+        if (n == SPANS) {
+            orr_sample_spans_draw(&poly, a, dx0, spans, n, scale);
+            n = 0;
+        }
     }
+    orr_sample_spans_draw(&poly, a, dx0, spans, n, scale);
 }
 
 static void draw_large(target *t, large_list *list)
