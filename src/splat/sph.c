@@ -494,11 +494,19 @@ static int ellipse_row_range(const ellipse *e, int j, int *lo, int *hi)
  * samples dx0 + m (m in [m0, m1)) of the row at dy to out[m]. The callers
  * choose the range so every sample lies in the support, up to float
  * rounding, where the samples are zero. */
+/* The samples of the ellipse's row at dy, columns [m0, m1), into out
+ * (orr_sample_span's terms of u = (a dx + bdy) dx + cdy). */
+static inline orr_sample_span ellipse_span(const ellipse *e, float dy, int m0, int m1, float *out)
+{
+    const float b2 = (float)(2.0 * e->b), c = (float)e->c;
+    return (orr_sample_span){b2 * dy, c * dy * dy, m0, m1, out};
+}
+
 static inline void add_samples(const orr_sample_poly *poly, const ellipse *e, float dy, float dx0, int m0, int m1,
                                float *restrict out, orr_sample_mode mode, float scale)
 {
-    const float b2 = (float)(2.0 * e->b), c = (float)e->c;
-    orr_sample_row(poly, (float)e->a, b2 * dy, c * dy * dy, dx0, m0, m1, out, mode, scale);
+    const orr_sample_span s = ellipse_span(e, dy, m0, m1, out);
+    orr_sample_row(poly, (float)e->a, s.bdy, s.cdy, dx0, m0, m1, out, mode, scale);
 }
 
 /* Weights of pixels i0 .. i0 + n - 1 of row j: the mean over ns x ns
@@ -776,7 +784,7 @@ static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
     orr_sample_poly poly;
     orr_sample_poly_make(&poly, t->kernel, e.lap);
     const int width = t->plane->width;
-    const float a = (float)e.a, b2 = (float)(2.0 * e.b), c = (float)e.c, dx0 = (float)(0.5 - e.cx);
+    const float a = (float)e.a, dx0 = (float)(0.5 - e.cx);
     orr_sample_span spans[SPANS];
     int n = 0;
     for (int j = b.j0; j <= b.j1; j++) {
@@ -788,8 +796,7 @@ static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
         const int m0 = lo > b.i0 ? (int)lo : b.i0, m1 = hi < b.i1 ? (int)hi + 1 : b.i1 + 1;
         if (m0 >= m1)
             continue;
-        const float fdy = (float)dy;
-        spans[n++] = (orr_sample_span){b2 * fdy, c * fdy * fdy, m0, m1, t->plane->data + (size_t)j * (size_t)width};
+        spans[n++] = ellipse_span(&e, (float)dy, m0, m1, t->plane->data + (size_t)j * (size_t)width);
         if (n == SPANS) {
             orr_sample_spans_draw(&poly, a, dx0, spans, n, scale);
             n = 0;
