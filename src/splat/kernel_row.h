@@ -51,7 +51,10 @@ typedef struct orr_sample_span {
 
 /* out[m] += scale * sample over each of n spans (one ellipse: the same a
  * and dx0), with the same bits as orr_sample_row in ORR_SAMPLES_DRAW mode
- * span by span. The spans must not overlap. With AVX-512 four spans are
+ * span by span. The spans must not overlap, and each one's out must take
+ * the columns of the others (rows of one image, columns on the image: the
+ * vector loop forms out + m over their union, touching only its own
+ * columns). With AVX-512 four spans are
  * computed at once: one row's samples are a chain of dependent operations
  * some 60 cycles long, and a large kernel's rows are only a few vectors
  * wide, so a row alone leaves the core waiting. */
