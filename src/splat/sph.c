@@ -490,10 +490,6 @@ static int ellipse_row_range(const ellipse *e, int j, int *lo, int *hi)
     return *lo <= *hi;
 }
 
-/* Adds (or stores, or scales and adds: mode) F(u) + lap lap_F(u) at
- * samples dx0 + m (m in [m0, m1)) of the row at dy to out[m]. The callers
- * choose the range so every sample lies in the support, up to float
- * rounding, where the samples are zero. */
 /* The samples of the ellipse's row at dy, columns [m0, m1), into out
  * (orr_sample_span's terms of u = (a dx + bdy) dx + cdy). */
 static inline orr_sample_span ellipse_span(const ellipse *e, float dy, int m0, int m1, float *out)
@@ -502,6 +498,10 @@ static inline orr_sample_span ellipse_span(const ellipse *e, float dy, int m0, i
     return (orr_sample_span){b2 * dy, c * dy * dy, m0, m1, out};
 }
 
+/* Adds (or stores, or scales and adds: mode) F(u) + lap lap_F(u) at
+ * samples dx0 + m (m in [m0, m1)) of the row at dy to out[m]. The callers
+ * choose the range so every sample lies in the support, up to float
+ * rounding, where the samples are zero. */
 static inline void add_samples(const orr_sample_poly *poly, const ellipse *e, float dy, float dx0, int m0, int m1,
                                float *restrict out, orr_sample_mode mode, float scale)
 {
