@@ -17,6 +17,7 @@
 #include "post/convolve.h"
 #include "post/psf.h"
 #include "clocks.h"
+#include "test_random.h"
 
 static void die(const orr_error *err)
 {
@@ -32,8 +33,8 @@ static void fill(orr_plane *p)
     for (size_t i = 0; i < n; i++)
         p->data[i] = 0.01f;
     for (int k = 0; k < 5000; k++) {
-        s = s * 6364136223846793005ULL + 1442695040888963407ULL;
-        p->data[(s >> 20) % n] += (float)((s >> 8) % 1000);
+        const size_t at = (size_t)test_below(&s, n);
+        p->data[at] += (float)test_below(&s, 1000);
     }
 }
 

@@ -301,12 +301,6 @@ static void test_polynomial_integral(void)
     }
 }
 
-static uint64_t lcg(uint64_t *s)
-{
-    *s = *s * 6364136223846793005ULL + 1442695040888963407ULL;
-    return *s >> 33;
-}
-
 /* Every vector loop this CPU runs (AVX2, AVX-512) against the plain loop,
  * bit for bit, for every mode and every row length 0 .. 40 at odd offsets
  * (the vector loops' masked or plain tails), for tilted ellipses whose
@@ -326,14 +320,14 @@ static void test_sample_rows(void)
         for (int mode = ORR_SAMPLES_SET; mode <= ORR_SAMPLES_DRAW; mode++)
             for (int n = 0; n <= 40; n++)
                 for (int rep = 0; rep < 5; rep++) {
-                    const float h = 0.5f + (float)(lcg(&seed) % 1000) * 0.03f;
-                    const float a = 1.0f / (h * h), b = 0.3f * a * ((float)(lcg(&seed) % 200) / 100.0f - 1.0f);
-                    const float dy = ((float)(lcg(&seed) % 1000) / 250.0f - 2.0f) * h;
-                    const float dx0 = -2.2f * h + (float)(lcg(&seed) % 100) * 0.01f;
-                    const int m0 = (int)(lcg(&seed) % 3);
+                    const float h = 0.5f + (float)test_below(&seed, 1000) * 0.03f;
+                    const float a = 1.0f / (h * h), b = 0.3f * a * ((float)test_below(&seed, 200) / 100.0f - 1.0f);
+                    const float dy = ((float)test_below(&seed, 1000) / 250.0f - 2.0f) * h;
+                    const float dx0 = -2.2f * h + (float)test_below(&seed, 100) * 0.01f;
+                    const int m0 = (int)test_below(&seed, 3);
                     float v[48], s[48];
                     for (int m = 0; m < 48; m++)
-                        v[m] = s[m] = (float)(lcg(&seed) % 1000) * 1e-3f;
+                        v[m] = s[m] = (float)test_below(&seed, 1000) * 1e-3f;
                     orr_sample_row_with((orr_sample_rows)rows, &p, a, 2.0f * b * dy, a * dy * dy, dx0, m0, m0 + n, v,
                                         (orr_sample_mode)mode, 0.7f);
                     orr_sample_row_plain(&p, a, 2.0f * b * dy, a * dy * dy, dx0, m0, m0 + n, s,
@@ -365,17 +359,17 @@ static void test_sample_spans(void)
     int differ = 0, count = 0;
     for (int n = 0; n <= ROWS; n++)
         for (int rep = 0; rep < 20; rep++) {
-            const float h = 0.5f + (float)(lcg(&seed) % 1000) * 0.012f;
-            const float a = 1.0f / (h * h), b = 0.3f * a * ((float)(lcg(&seed) % 200) / 100.0f - 1.0f);
-            const float dx0 = -2.2f * h + (float)(lcg(&seed) % 100) * 0.01f;
+            const float h = 0.5f + (float)test_below(&seed, 1000) * 0.012f;
+            const float a = 1.0f / (h * h), b = 0.3f * a * ((float)test_below(&seed, 200) / 100.0f - 1.0f);
+            const float dx0 = -2.2f * h + (float)test_below(&seed, 100) * 0.01f;
             float v[ROWS][COLS], s[ROWS][COLS];
             for (int r = 0; r < ROWS; r++)
                 for (int m = 0; m < COLS; m++)
-                    v[r][m] = s[r][m] = (float)(lcg(&seed) % 1000) * 1e-3f;
+                    v[r][m] = s[r][m] = (float)test_below(&seed, 1000) * 1e-3f;
             orr_sample_span spans[ROWS];
             for (int r = 0; r < n; r++) {
-                const float dy = ((float)(lcg(&seed) % 1000) / 250.0f - 2.0f) * h;
-                const int m0 = (int)(lcg(&seed) % 20), len = (int)(lcg(&seed) % (COLS - 20 + 1));
+                const float dy = ((float)test_below(&seed, 1000) / 250.0f - 2.0f) * h;
+                const int m0 = (int)test_below(&seed, 20), len = (int)test_below(&seed, COLS - 20 + 1);
                 spans[r] = (orr_sample_span){2.0f * b * dy, a * dy * dy, m0, m0 + len, v[r]};
                 orr_sample_row_plain(&p, a, spans[r].bdy, spans[r].cdy, dx0, m0, m0 + len, s[r], ORR_SAMPLES_DRAW,
                                      0.7f);
