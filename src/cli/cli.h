@@ -41,4 +41,8 @@ void cli_progress_update(void *user, uint64_t done, int64_t total);
 void cli_progress_finish(cli_progress *p);
 double cli_now(void);
 
+/* On SIGINT, SIGTERM and SIGHUP: removes the temporary files of outputs
+ * being written, then dies of the signal. */
+void cli_clean_up_on_signals(void);
+
 #endif

@@ -1,5 +1,6 @@
 /* The pieces every command shares: error reporting, number parsing, the
  * clock and the particle progress line (also linked into orrery-mpi). */
+#include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -8,6 +9,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "encode/atomic.h"
 
 int cli_report_error(const orr_error *err)
 {
@@ -84,4 +86,28 @@ void cli_progress_finish(cli_progress *p)
 {
     if (p->enabled && p->tty && cli_now() - p->start >= 0.2)
         fprintf(stderr, "\r%80s\r", "");
+}
+
+/* ---- interruptions ---- */
+
+static void remove_temporaries_and_die(int sig)
+{
+    orr_remove_live_temporaries();
+    signal(sig, SIG_DFL);
+    raise(sig); /* die of the signal, so the shell and a parent see it */
+}
+
+void cli_clean_up_on_signals(void)
+{
+    const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
+    for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {
+        struct sigaction sa;
+        memset(&sa, 0, sizeof sa);
+        sa.sa_handler = remove_temporaries_and_die;
+        sigemptyset(&sa.sa_mask);
+        struct sigaction old;
+        /* A signal the caller chose to ignore (nohup) stays ignored. */
+        if (sigaction(sigs[i], NULL, &old) == 0 && old.sa_handler != SIG_IGN)
+            sigaction(sigs[i], &sa, NULL);
+    }
 }

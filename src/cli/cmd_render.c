@@ -126,17 +126,32 @@ static int parse_frames(const char *text, long *first, long *last)
  * line per frame otherwise. */
 typedef struct frame_progress {
     int enabled, tty;
-    long total, rendered, skipped;
+    long total, rendered, skipped, redone;
     double start;
 } frame_progress;
 
-static void frame_progress_done(void *user, long frame, int skipped)
+/* Says why an earlier run's frame was rendered again: the first few of a
+ * run, so that a changed setting redoing thousands of frames is one note,
+ * not thousands. */
+#define REDONE_NOTES 3
+
+static void note_redone(frame_progress *p, long frame, const char *why)
+{
+    if (++p->redone > REDONE_NOTES || !p->enabled)
+        return;
+    fprintf(stderr, "%sorrery: frame %ld of an earlier run rendered again: %s%s\n", p->tty ? "\r" : "", frame, why,
+            p->redone == REDONE_NOTES ? " (further such frames are not listed)" : "");
+}
+
+static void frame_progress_done(void *user, long frame, int skipped, const char *redone)
 {
     frame_progress *p = user;
     if (skipped)
         p->skipped++;
     else
         p->rendered++;
+    if (redone)
+        note_redone(p, frame, redone);
     if (!p->enabled)
         return;
     long done = p->rendered + p->skipped;
@@ -162,13 +177,16 @@ static void frame_progress_done(void *user, long frame, int skipped)
  * one record on a pipe (smaller than PIPE_BUF, so records never interleave). */
 typedef struct frame_record {
     long frame;
-    int skipped;
+    int skipped, redone;
+    char why[256];
 } frame_record;
 
-static void frame_done_to_pipe(void *user, long frame, int skipped)
+static void frame_done_to_pipe(void *user, long frame, int skipped, const char *redone)
 {
     int fd = *(int *)user;
-    frame_record r = {frame, skipped};
+    frame_record r = {frame, skipped, redone != NULL, ""};
+    if (redone)
+        snprintf(r.why, sizeof r.why, "%s", redone);
     ssize_t w;
     do
         w = write(fd, &r, sizeof r);
@@ -220,7 +238,7 @@ static int render_jobs(const orr_scene *const *list, int n, orr_animation_option
             continue;
         if (got != (ssize_t)sizeof r)
             break;
-        frame_progress_done(fp, r.frame, r.skipped);
+        frame_progress_done(fp, r.frame, r.skipped, r.redone ? r.why : NULL);
     }
     close(fds[0]);
     int code = started == jobs ? EXIT_OK : EXIT_RUNTIME;
@@ -297,6 +315,9 @@ static void print_run_summary(const frame_progress *fp, long nframes, double sec
            fp->skipped, seconds);
     if (fp->rendered > 0)
         printf(" (%.2f frames/s)", fp->rendered / (seconds > 0 ? seconds : 1e-9));
+    if (fp->redone > 0)
+        printf("; %ld of them were an earlier run's, made with other settings or inputs, or changed since",
+               fp->redone);
     printf("\n");
 }
 
@@ -330,7 +351,7 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
                                a->first, a->scene_path, nframes, nframes == 1 ? "" : "s");
     }
     frame_progress fp = {!a->quiet && nframes > 1, isatty(STDERR_FILENO), orr_animation_count(&opt, nframes), 0, 0,
-                         cli_now()};
+                         0, cli_now()};
     cli_progress particles;
     cli_progress_init(&particles, !a->quiet && nframes == 1 && !compose);
     opt.done = frame_progress_done;

@@ -30,6 +30,7 @@ int main(int argc, char **argv)
     MPI_Comm comm = MPI_COMM_WORLD;
     MPI_Comm_set_errhandler(comm, MPI_ERRORS_RETURN);
     orr_parallel par = orr_mpi_parallel(&comm);
+    cli_clean_up_on_signals();
     int code;
     if (argc < 2 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "--help") == 0) {
         if (par.rank == 0)

@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/digest.h"
+
 /* ---- hashing ------------------------------------------------------------------ */
 
 uint64_t orr_hash64(uint64_t x)
@@ -33,13 +35,7 @@ double orr_id_uniform(uint64_t id, uint64_t seed, uint64_t salt)
     return keyed_uniform(id, draw_key(seed, salt));
 }
 
-uint64_t orr_name_salt(const char *name)
-{
-    uint64_t h = 0xcbf29ce484222325u; /* FNV-1a 64-bit offset basis and prime */
-    for (const unsigned char *p = (const unsigned char *)name; *p; p++)
-        h = (h ^ *p) * 0x100000001b3u;
-    return h;
-}
+uint64_t orr_name_salt(const char *name) { return orr_digest_text(ORR_DIGEST_START, name); }
 
 /* ---- names --------------------------------------------------------------------- */
 

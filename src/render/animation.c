@@ -2,19 +2,22 @@
 
 #include <errno.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
 
+#include "core/digest.h"
 #include "encode/atomic.h"
 #include "render/sequence_open.h"
 #include "source/partition.h"
 
 /* Where frame markers live, inside each view's output folder. */
 #define MARKER_DIR ".orrery-frames"
-#define MARKER_MAGIC "orrery-frame 1"
-#define MARKER_MAX_FILES 32
+#define MARKER_MAGIC "orrery-frame"
 
 orr_animation_options orr_animation_defaults(void)
 {
@@ -59,17 +62,121 @@ orr_status orr_frame_name(const char *name, long frame, long nframes, char *out,
     return ORR_OK;
 }
 
-/* ---- frame markers ---- */
+/* ---- frame markers ----
+ *
+ * A marker, DIR/.orrery-frames/NAME_0007.done, says what made the frame and
+ * what it wrote:
+ *
+ *   orrery-frame 2
+ *   version 0.1.0
+ *   settings 1f0c2d33a9e5b871          digest of the scene's settings text
+ *   input input.file 1234 1700000000.123456789 5a6b7c8d PATH
+ *   inputs input.sequence 12 9e3779b97f4a7c15
+ *   output 1048576 0c1d2e3f NAME_0007.fits   size, CRC-32 of the bytes, name
+ *   setting image.width=640                  the settings text, to name a change
+ *
+ * A frame is skipped when the lines before the outputs equal what this run
+ * would write and every output is there with its size and checksum. */
 
-typedef struct marker_entry {
-    long long size;
-    char name[256];
-} marker_entry;
+#define MARKER_FORMAT 2
+#define SMALL_INPUT_BYTES (1 << 20) /* inputs up to this size get a checksum too */
 
-typedef struct marker {
-    int n;
-    marker_entry e[MARKER_MAX_FILES];
-} marker;
+/* What determines a view's frames, as the marker's head lines. */
+typedef struct view_identity {
+    char *head;               /* "version ...\nsettings ...\ninput ...\n", allocated */
+    const char *settings;     /* the scene's settings text */
+} view_identity;
+
+/* Appends a formatted line to an allocated text. */
+static orr_status append(char **text, orr_error *err, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+static orr_status append(char **text, orr_error *err, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int add = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    size_t len = *text ? strlen(*text) : 0;
+    char *grown = add < 0 ? NULL : realloc(*text, len + (size_t)add + 1);
+    if (!grown)
+        return orr_fail(err, ORR_ERR_NOMEM, "out of memory for a frame marker");
+    va_start(ap, fmt);
+    vsnprintf(grown + len, (size_t)add + 1, fmt, ap);
+    va_end(ap);
+    *text = grown;
+    return ORR_OK;
+}
+
+/* CRC-32 of the file's bytes; 0 with *ok = 0 when it cannot be read. */
+static unsigned long file_crc(const char *path, int *ok)
+{
+    FILE *f = fopen(path, "rb");
+    unsigned long crc = crc32(0L, Z_NULL, 0);
+    *ok = f != NULL;
+    if (!f)
+        return 0;
+    static _Thread_local unsigned char buf[1 << 16];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof buf, f)) > 0)
+        crc = crc32(crc, buf, (uInt)n);
+    *ok = !ferror(f);
+    fclose(f);
+    return crc;
+}
+
+/* "input LABEL SIZE MTIME CRC PATH": an input file's identity. Its size and
+ * modification time always, its checksum when small ("-" otherwise). */
+static orr_status add_input(char **head, const char *label, const char *path, orr_error *err)
+{
+    struct stat st;
+    if (stat(path, &st) != 0)
+        return append(head, err, "input %s missing - - %s\n", label, path);
+    char crc[16] = "-";
+    int ok = 0;
+    if (st.st_size <= SMALL_INPUT_BYTES) {
+        unsigned long c = file_crc(path, &ok);
+        if (ok)
+            snprintf(crc, sizeof crc, "%08lx", c);
+    }
+    return append(head, err, "input %s %lld %lld.%09ld %s %s\n", label, (long long)st.st_size,
+                  (long long)st.st_mtim.tv_sec, (long)st.st_mtim.tv_nsec, crc, path);
+}
+
+/* "inputs LABEL COUNT DIGEST": many files (a sequence's snapshots) as one
+ * digest of their paths, sizes and modification times. */
+static orr_status add_input_set(char **head, const char *label, const orr_sequence *seq, orr_error *err)
+{
+    uint64_t h = ORR_DIGEST_START;
+    int n = orr_sequence_count(seq);
+    for (int k = 0; k < n; k++) {
+        const char *path = orr_sequence_path(seq, k);
+        struct stat st;
+        long long stamp[3] = {-1, -1, -1};
+        if (stat(path, &st) == 0) {
+            stamp[0] = (long long)st.st_size;
+            stamp[1] = (long long)st.st_mtim.tv_sec;
+            stamp[2] = (long long)st.st_mtim.tv_nsec;
+        }
+        h = orr_digest(orr_digest_text(h, path), stamp, sizeof stamp);
+    }
+    return append(head, err, "inputs %s %d %016llx\n", label, n, (unsigned long long)h);
+}
+
+static orr_status view_identity_make(const orr_scene *s, const orr_sequence *seq, view_identity *id, orr_error *err)
+{
+    id->head = NULL;
+    id->settings = s->settings;
+    orr_status st = append(&id->head, err, "version %s\nsettings %016llx\n", ORRERY_VERSION,
+                           (unsigned long long)s->settings_digest);
+    if (!st && s->input_file[0] && !seq)
+        st = add_input(&id->head, "input.file", s->input_file, err);
+    if (!st && seq)
+        st = add_input_set(&id->head, "input.sequence", seq, err);
+    if (!st && s->psf == ORR_PSF_FILE && s->psf_file[0])
+        st = add_input(&id->head, "psf.file", s->psf_file, err);
+    if (!st && s->path_file[0])
+        st = add_input(&id->head, "camera.path.file", s->path_file, err);
+    return st;
+}
 
 static orr_status marker_path(const orr_scene *s, char *path, orr_error *err)
 {
@@ -79,96 +186,283 @@ static orr_status marker_path(const orr_scene *s, char *path, orr_error *err)
     return ORR_OK;
 }
 
-/* Reads a marker; 0 when there is none or it is not one (a partial write is
- * impossible: markers are renamed into place). */
-static int read_marker(const char *path, marker *m)
+/* The whole marker as text, or NULL when there is none (or it is huge:
+ * not ours). */
+static char *read_marker(const char *path)
 {
-    m->n = 0;
-    FILE *f = fopen(path, "r");
+    FILE *f = fopen(path, "rb");
     if (!f)
-        return 0;
-    char line[512];
-    int ok = fgets(line, sizeof line, f) && strncmp(line, MARKER_MAGIC, strlen(MARKER_MAGIC)) == 0;
-    while (ok && m->n < MARKER_MAX_FILES && fgets(line, sizeof line, f)) {
-        marker_entry *e = &m->e[m->n];
-        if (sscanf(line, "%lld %255[^\n]", &e->size, e->name) == 2)
-            m->n++;
-    }
+        return NULL;
+    size_t cap = 1 << 20;
+    char *text = malloc(cap + 1);
+    size_t n = text ? fread(text, 1, cap, f) : 0;
+    int whole = text && n < cap && !ferror(f);
     fclose(f);
-    return ok && m->n > 0;
-}
-
-/* Whether every file the marker lists is in dir with the size it had. */
-static int marker_holds(const marker *m, const char *dir)
-{
-    for (int i = 0; i < m->n; i++) {
-        char path[ORR_PATH_MAX];
-        struct stat st;
-        if (snprintf(path, sizeof path, "%s/%s", dir, m->e[i].name) >= (int)sizeof path ||
-            stat(path, &st) != 0 || (long long)st.st_size != m->e[i].size)
-            return 0;
+    if (!whole) {
+        free(text);
+        return NULL;
     }
-    return 1;
+    text[n] = '\0';
+    return text;
 }
 
-static int view_frame_complete(const orr_scene *s)
+/* The line of text that starts with prefix (at a line start), or NULL;
+ * *len is its length without the newline. */
+static const char *find_line(const char *text, const char *prefix, size_t *len)
+{
+    size_t plen = strlen(prefix);
+    for (const char *p = text; p && *p;) {
+        const char *end = strchr(p, '\n');
+        size_t n = end ? (size_t)(end - p) : strlen(p);
+        if (n >= plen && strncmp(p, prefix, plen) == 0) {
+            *len = n;
+            return p;
+        }
+        p = end ? end + 1 : NULL;
+    }
+    return NULL;
+}
+
+/* Says which setting differs between the marker's "setting " lines and the
+ * scene's text: the first key whose value changed, was added or removed. */
+static void name_setting_change(const char *marker, const char *now, char *why, size_t size)
+{
+    for (const char *p = now; *p;) {
+        const char *end = strchr(p, '\n');
+        size_t n = end ? (size_t)(end - p) : strlen(p);
+        const char *eq = memchr(p, '=', n);
+        char key[300], line[600];
+        size_t klen = eq ? (size_t)(eq - p) : n;
+        snprintf(key, sizeof key, "setting %.*s=", (int)(klen < 280 ? klen : 280), p);
+        snprintf(line, sizeof line, "setting %.*s\n", (int)(n < 580 ? n : 580), p);
+        size_t olen;
+        const char *old = find_line(marker, key, &olen);
+        if (!old) {
+            snprintf(why, size, "%.*s is set now", (int)(n < 200 ? n : 200), p);
+            return;
+        }
+        if (!strstr(marker, line)) {
+            snprintf(why, size, "%.*s was %.*s", (int)(n < 200 ? n : 200), p,
+                     (int)((olen - strlen(key)) < 200 ? olen - strlen(key) : 200), old + strlen(key));
+            return;
+        }
+        p = end ? end + 1 : p + n;
+    }
+    snprintf(why, size, "a setting the scene no longer has");
+}
+
+/* Why the marker's head differs from this run's: the first line that does. */
+static void name_head_change(const char *marker, const view_identity *id, char *why, size_t size)
+{
+    for (const char *p = id->head; *p;) {
+        const char *end = strchr(p, '\n');
+        size_t n = (size_t)(end - p);
+        char line[ORR_PATH_MAX + 256];
+        snprintf(line, sizeof line, "%.*s\n", (int)(n < sizeof line - 2 ? n : sizeof line - 2), p);
+        if (!strstr(marker, line)) {
+            char what[64] = "";
+            sscanf(p, "%63s", what);
+            if (strcmp(what, "settings") == 0)
+                name_setting_change(marker, id->settings, why, size);
+            else if (strcmp(what, "version") == 0)
+                snprintf(why, size, "made by another version of orrery (this is %s)", ORRERY_VERSION);
+            else
+                snprintf(why, size, "an input changed since: %.*s", (int)(n < 300 ? n : 300), p);
+            return;
+        }
+        p = end + 1;
+    }
+    snprintf(why, size, "an input is gone");
+}
+
+/* Whether every output the marker lists is in dir as written; else why not. */
+static int outputs_hold(const char *marker, const char *dir, char *why, size_t size)
+{
+    int n = 0;
+    for (const char *p = marker; *p;) {
+        const char *end = strchr(p, '\n');
+        long long bytes;
+        unsigned long crc;
+        char name[256], path[ORR_PATH_MAX];
+        if (sscanf(p, "output %lld %lx %255[^\n]", &bytes, &crc, name) == 3) {
+            n++;
+            struct stat st;
+            int ok;
+            if (snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path || stat(path, &st) != 0) {
+                snprintf(why, size, "%s is missing", name);
+                return 0;
+            }
+            if ((long long)st.st_size != bytes) {
+                snprintf(why, size, "%s is %lld bytes, %lld when written", name, (long long)st.st_size, bytes);
+                return 0;
+            }
+            if (file_crc(path, &ok) != crc || !ok) {
+                snprintf(why, size, "%s changed since it was written (its checksum differs)", name);
+                return 0;
+            }
+        }
+        p = end ? end + 1 : p + strlen(p);
+    }
+    if (n == 0)
+        snprintf(why, size, "its marker lists no output");
+    return n > 0;
+}
+
+/* Whether the view's frame is complete and made as this run would make it.
+ * why is "" when there is no marker (never rendered), else the reason. */
+static int view_frame_complete(const orr_scene *s, const view_identity *id, char *why, size_t size)
 {
     char path[ORR_PATH_MAX];
-    marker m;
     orr_error ignored;
-    return !marker_path(s, path, &ignored) && read_marker(path, &m) && marker_holds(&m, s->out_dir);
+    why[0] = '\0';
+    char *marker = marker_path(s, path, &ignored) ? NULL : read_marker(path);
+    if (!marker)
+        return 0;
+    char magic[32];
+    snprintf(magic, sizeof magic, MARKER_MAGIC " %d\n", MARKER_FORMAT);
+    int ok = 0;
+    if (strncmp(marker, magic, strlen(magic)) != 0)
+        snprintf(why, size, "its marker is from an older orrery");
+    else if (!strstr(marker, id->head))
+        name_head_change(marker, id, why, size);
+    else
+        ok = outputs_hold(marker, s->out_dir, why, size);
+    free(marker);
+    return ok;
 }
 
-/* Adds (or updates) the entry for output file `path`. */
-static void marker_add(marker *m, const char *path)
+/* The marker's output lines for this frame's files. */
+static orr_status add_outputs(char **text, const orr_render_report *rep, orr_error *err)
 {
-    const char *slash = strrchr(path, '/');
-    const char *name = slash ? slash + 1 : path;
-    struct stat st;
-    if (stat(path, &st) != 0 || strlen(name) >= sizeof m->e[0].name)
-        return;
-    int i = 0;
-    while (i < m->n && strcmp(m->e[i].name, name) != 0)
-        i++;
-    if (i == MARKER_MAX_FILES)
-        return;
-    if (i == m->n)
-        m->n++;
-    m->e[i].size = (long long)st.st_size;
-    snprintf(m->e[i].name, sizeof m->e[i].name, "%s", name);
+    orr_status st = ORR_OK;
+    for (int i = 0; i < rep->noutputs && !st; i++) {
+        const char *path = rep->outputs[i];
+        const char *slash = strrchr(path, '/');
+        struct stat sb;
+        int ok;
+        unsigned long crc = file_crc(path, &ok);
+        if (!ok || stat(path, &sb) != 0)
+            return orr_fail(err, ORR_ERR_IO, "%s: cannot read it back for the frame marker: %s", path,
+                            strerror(errno));
+        st = append(text, err, "output %lld %08lx %s\n", (long long)sb.st_size, crc, slash ? slash + 1 : path);
+    }
+    return st;
 }
 
-/* Records the view's outputs of this frame. A compose keeps what the render
- * recorded and updates the pictures it rewrote. */
-static orr_status write_marker(const orr_scene *s, const orr_render_report *rep, int keep_old, orr_error *err)
+/* Each settings line as "setting KEY=VALUE". */
+static orr_status add_settings(char **text, const char *settings, orr_error *err)
 {
-    char dir[ORR_PATH_MAX], path[ORR_PATH_MAX];
+    orr_status st = ORR_OK;
+    for (const char *p = settings; *p && !st;) {
+        const char *end = strchr(p, '\n');
+        int n = end ? (int)(end - p) : (int)strlen(p);
+        st = append(text, err, "setting %.*s\n", n, p);
+        p += n + (end != NULL);
+    }
+    return st;
+}
+
+/* Whether marker line p (of n characters) lists an output the report has. */
+static int lists_output_of(const char *p, int n, const orr_render_report *rep)
+{
+    if (strncmp(p, "output ", 7) != 0)
+        return 0;
+    for (int i = 0; i < rep->noutputs; i++) {
+        const char *slash = strrchr(rep->outputs[i], '/');
+        const char *name = slash ? slash + 1 : rep->outputs[i];
+        int len = (int)strlen(name);
+        if (n > len && p[n - len - 1] == ' ' && strncmp(p + n - len, name, (size_t)len) == 0)
+            return 1;
+    }
+    return 0;
+}
+
+/* A compose keeps the render's marker and replaces the lines of the
+ * pictures it rewrote. */
+static orr_status compose_marker_text(const char *old, const orr_render_report *rep, char **text, orr_error *err)
+{
+    orr_status st = ORR_OK;
+    for (const char *p = old; *p && !st;) {
+        const char *end = strchr(p, '\n');
+        int n = end ? (int)(end - p) : (int)strlen(p);
+        if (!lists_output_of(p, n, rep))
+            st = append(text, err, "%.*s\n", n, p);
+        p += n + (end != NULL);
+    }
+    return st ? st : add_outputs(text, rep, err);
+}
+
+/* The marker's text: a render's whole, or a compose's update of the
+ * render's (NULL when the frame has no marker: nothing to update). */
+static orr_status marker_text(const orr_scene *s, const view_identity *id, const orr_render_report *rep,
+                              int compose, char **text, orr_error *err)
+{
+    *text = NULL;
+    char path[ORR_PATH_MAX];
+    orr_status st = marker_path(s, path, err);
+    if (!st && compose) {
+        char *old = read_marker(path);
+        st = old ? compose_marker_text(old, rep, text, err) : ORR_OK;
+        free(old);
+        return st;
+    }
+    if (!st)
+        st = append(text, err, MARKER_MAGIC " %d\n%s", MARKER_FORMAT, id->head);
+    if (!st)
+        st = add_outputs(text, rep, err);
+    return st ? st : add_settings(text, id->settings, err);
+}
+
+static orr_status marker_folder(const orr_scene *s, orr_error *err)
+{
+    char dir[ORR_PATH_MAX];
     if (snprintf(dir, sizeof dir, "%s/" MARKER_DIR, s->out_dir) >= (int)sizeof dir)
         return orr_fail(err, ORR_ERR_USAGE, "frame marker folder in %s: path too long", s->out_dir);
-    orr_status st = marker_path(s, path, err);
-    if (st)
-        return st;
     if (mkdir(dir, 0777) != 0 && errno != EEXIST)
         return orr_fail(err, ORR_ERR_IO, "%s: cannot create the frame marker folder: %s", dir, strerror(errno));
-    marker m;
-    if (!keep_old || !read_marker(path, &m))
-        m.n = 0;
-    for (int i = 0; i < rep->noutputs; i++)
-        marker_add(&m, rep->outputs[i]);
+    return ORR_OK;
+}
+
+/* Records the view's outputs of this frame. */
+static orr_status write_marker(const orr_scene *s, const view_identity *id, const orr_render_report *rep,
+                               int compose, orr_error *err)
+{
+    char path[ORR_PATH_MAX], *text = NULL;
+    orr_status st = marker_folder(s, err);
+    if (!st)
+        st = marker_path(s, path, err);
+    if (!st)
+        st = marker_text(s, id, rep, compose, &text, err);
     orr_atomic_file af;
-    if ((st = orr_atomic_begin(&af, path, err)))
+    if (!st && !text)
+        return ORR_OK;
+    if (!st)
+        st = orr_atomic_begin(&af, path, err);
+    if (st) {
+        free(text);
         return st;
+    }
     FILE *f = fopen(af.temp_path, "w");
-    int ok = f != NULL && fprintf(f, "%s\n", MARKER_MAGIC) > 0;
-    for (int i = 0; ok && i < m.n; i++)
-        ok = fprintf(f, "%lld %s\n", m.e[i].size, m.e[i].name) > 0;
+    int ok = f != NULL && fputs(text, f) >= 0;
     if (f && fclose(f) != 0)
         ok = 0;
+    free(text);
     if (!ok) {
         orr_atomic_abort(&af);
         return orr_fail(err, ORR_ERR_IO, "%s: cannot write the frame marker", path);
     }
     return orr_atomic_commit(&af, err);
+}
+
+/* A frame about to be rendered is not complete until its new marker is
+ * written, whatever an old marker said: should the run stop part-way, the
+ * next one must not take the old files for this frame's. */
+static void remove_marker(const orr_scene *s)
+{
+    char path[ORR_PATH_MAX];
+    orr_error ignored;
+    if (!marker_path(s, path, &ignored))
+        unlink(path);
 }
 
 /* ---- the run ---- */
@@ -186,10 +480,11 @@ static orr_status frame_scenes(const orr_scene *const *views, int n, long frame,
     return ORR_OK;
 }
 
-static int frame_complete(const orr_scene *scenes, int n)
+/* Whether every view's frame is complete; else why (empty: never rendered). */
+static int frame_complete(const orr_scene *scenes, const view_identity *ids, int n, char *why, size_t size)
 {
     for (int k = 0; k < n; k++)
-        if (!view_frame_complete(&scenes[k]))
+        if (!view_frame_complete(&scenes[k], &ids[k], why, size))
             return 0;
     return 1;
 }
@@ -245,13 +540,18 @@ static orr_status frame_source(const run_input *ri, const orr_frame_time *when, 
     return st;
 }
 
-static orr_status do_frame(const orr_scene *scenes, int n, long frame, const run_input *ri,
-                           const orr_animation_options *opt, orr_render_report *reports, orr_error *err)
+static orr_status do_frame(const orr_scene *scenes, const view_identity *ids, int n, long frame,
+                           const run_input *ri, const orr_animation_options *opt, orr_render_report *reports,
+                           orr_error *err)
 {
     const orr_scene *s0 = &scenes[0];
     const orr_scene *list[ORR_SCENE_MAX_VIEWS];
-    for (int k = 0; k < n; k++)
+    int writer = !opt->parallel || opt->parallel->rank == 0; /* rank 0 of several processes writes */
+    for (int k = 0; k < n; k++) {
         list[k] = &scenes[k];
+        if (writer && !opt->compose && s0->anim_frames > 1)
+            remove_marker(&scenes[k]);
+    }
     orr_frame_input in = {orr_frame_at(frame, s0->anim_frames, s0->anim_fps, ri->t0, ri->t1), NULL, opt->parallel};
     orr_status st = opt->compose ? ORR_OK : frame_source(ri, &in.time, opt->parallel, &in.source, err);
     if (!st)
@@ -260,10 +560,8 @@ static orr_status do_frame(const orr_scene *scenes, int n, long frame, const run
     orr_source_close(in.source);
     if (st && s0->anim_frames > 1)
         return orr_fail_prefix(err, "frame %ld: ", frame);
-    /* The writer (rank 0 of several processes) records the frame. */
-    int writer = !opt->parallel || opt->parallel->rank == 0;
     for (int k = 0; k < n && !st && s0->anim_frames > 1 && writer; k++)
-        st = write_marker(&scenes[k], &reports[k], opt->compose, err);
+        st = write_marker(&scenes[k], &ids[k], &reports[k], opt->compose, err);
     return st;
 }
 
@@ -277,6 +575,28 @@ static orr_status agree_complete(const orr_parallel *par, int *complete, orr_err
     orr_status st = par->allreduce_sum(par->user, &votes, 1, err);
     *complete = votes == par->nranks;
     return st;
+}
+
+/* What determines each view's frames in this run; and, once per run, the
+ * removal of the temporary files a killed earlier run left in its folders. */
+static orr_status run_identities(const orr_scene *const *views, int n, const run_input *ri, int compose,
+                                 view_identity *ids, orr_error *err)
+{
+    orr_status st = ORR_OK;
+    for (int k = 0; k < n && !st; k++) {
+        char markers[ORR_PATH_MAX];
+        orr_remove_stale_temporaries(views[k]->out_dir);
+        if (snprintf(markers, sizeof markers, "%s/" MARKER_DIR, views[k]->out_dir) < (int)sizeof markers)
+            orr_remove_stale_temporaries(markers);
+        st = compose ? ORR_OK : view_identity_make(views[k], ri->seq, &ids[k], err);
+    }
+    return st;
+}
+
+static void free_identities(view_identity *ids, int n)
+{
+    for (int k = 0; k < n; k++)
+        free(ids[k].head);
 }
 
 orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_animation_options *opt,
@@ -294,20 +614,26 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
     orr_scene *scenes = orr_calloc((size_t)n, sizeof *scenes, "frame scenes", err);
     if (!scenes)
         return ORR_ERR_NOMEM;
+    view_identity ids[ORR_SCENE_MAX_VIEWS] = {{0}};
     run_input ri;
     orr_status st = open_run_input(views[0], opt->compose, &ri, err);
+    if (!st)
+        st = run_identities(views, n, &ri, opt->compose, ids, err);
+    /* A still is always rendered; a compose always re-grades. */
+    const int resumable = nframes > 1 && !opt->force && !opt->compose;
     for (long f = first + opt->start; f <= last && !st; f += stride) {
         if ((st = frame_scenes(views, n, f, scenes, err)))
             break;
-        /* A still is always rendered; a compose always re-grades. */
-        int skip = nframes > 1 && !opt->force && !opt->compose && frame_complete(scenes, n);
-        if (nframes > 1 && !opt->force && !opt->compose && (st = agree_complete(opt->parallel, &skip, err)))
+        char why[512] = "";
+        int skip = resumable && frame_complete(scenes, ids, n, why, sizeof why);
+        if (resumable && (st = agree_complete(opt->parallel, &skip, err)))
             break;
         if (!skip)
-            st = do_frame(scenes, n, f, &ri, opt, reports, err);
+            st = do_frame(scenes, ids, n, f, &ri, opt, reports, err);
         if (!st && opt->done)
-            opt->done(opt->done_user, f, skip);
+            opt->done(opt->done_user, f, skip, skip || !why[0] ? NULL : why);
     }
+    free_identities(ids, n);
     orr_sequence_close(ri.seq);
     free(scenes);
     return st;

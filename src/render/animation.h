@@ -7,8 +7,10 @@
 #include "render/render.h"
 
 /* Told after each frame of the run: rendered (skipped = 0) or found complete
- * from an earlier run (skipped = 1). */
-typedef void (*orr_frame_done_fn)(void *user, long frame, int skipped);
+ * from an earlier run (skipped = 1). redone is NULL, or why an earlier
+ * run's frame was not taken: its scene settings, an input or an output
+ * changed since ("image.width=640 was 320"). */
+typedef void (*orr_frame_done_fn)(void *user, long frame, int skipped, const char *redone);
 
 typedef struct orr_animation_options {
     long first, last;   /* frames to do, inclusive; clamped to the run (last < 0: to the end) */
@@ -39,10 +41,13 @@ orr_status orr_frame_name(const char *name, long frame, long nframes, char *out,
 
 /* Renders (or composes) the frames of views[0..n) that opt selects. After
  * a frame's outputs are all written, a marker in DIR/.orrery-frames/
- * records their sizes; a later run skips a frame whose marker and outputs
- * agree, and redoes it otherwise (an output missing or truncated), so an
- * interrupted run loses at most the frame in progress. reports[k] describes
- * view k's last frame. */
+ * records what made them (orrery's version, the scene's effective
+ * settings, the identity of each input file) and each output's size and
+ * checksum; a later run skips a frame whose marker says what this run
+ * would write and whose outputs are all as written, and redoes it
+ * otherwise, so an interrupted run loses at most the frame in progress and
+ * a run with other settings never keeps an old frame. reports[k]
+ * describes view k's last frame. */
 orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_animation_options *opt,
                                 orr_render_report *reports, orr_error *err);
 

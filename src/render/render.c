@@ -112,6 +112,7 @@ typedef struct view_state {
     orr_bands bands;
     int nlanes;                 /* lanes of the splat (MAX_LANES above) */
     orr_plane *lane_planes;     /* lanes 1 .. nlanes-1: nplanes planes each; lane 0 is planes[] */
+    orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
 } view_state;
 
 /* What one block added to the report, kept per block and summed in block
@@ -1333,7 +1334,7 @@ static orr_status graded_rgb(const view_state *v, float *rgb, char *desc, size_t
     return st;
 }
 
-static orr_status output_path(const orr_scene *s, const char *ext, char *path, orr_error *err);
+static orr_status view_output(view_state *v, const char *ext, const char **write_path, orr_error *err);
 
 /* What the other image formats record: the scene, projection, time, camera. */
 static orr_image_meta view_meta(const view_state *v, const char *desc, const char **keys, const char **values)
@@ -1376,18 +1377,17 @@ static orr_status write_pictures(view_state *v, orr_error *err)
         return ORR_ERR_NOMEM;
     char desc[ORR_PATH_MAX + 256];
     orr_status st = graded_rgb(v, rgb, desc, sizeof desc, err);
+    const char *path;
     if (!st && s->write_png) {
-        char *path = rep->outputs[rep->noutputs];
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
-        if (!(st = output_path(s, "png", path, err)) &&
+        if (!(st = view_output(v, "png", &path, err)) &&
             !(st = orr_write_png_rgb(path, v->proj.width, v->proj.height, rgb, s->png_bits, text, 2, err)))
             rep->noutputs++;
     }
     if (!st && s->image_ext[0]) {
-        char *path = rep->outputs[rep->noutputs];
         const char *keys[1], *values[1];
         orr_image_meta meta = view_meta(v, desc, keys, values);
-        if (!(st = output_path(s, s->image_ext, path, err)) &&
+        if (!(st = view_output(v, s->image_ext, &path, err)) &&
             !(st = orr_write_image_rgb(path, rgb, v->proj.width, v->proj.height, s->png_bits, &meta, err)))
             rep->noutputs++;
     }
@@ -1400,10 +1400,10 @@ static orr_status write_pictures(view_state *v, orr_error *err)
 static orr_status write_exr(view_state *v, orr_error *err)
 {
     orr_render_report *rep = v->rep;
-    char *path = rep->outputs[rep->noutputs];
+    const char *path;
     const char *keys[1], *values[1];
     orr_image_meta meta = view_meta(v, "linear planes", keys, values);
-    orr_status st = output_path(v->scene, "exr", path, err);
+    orr_status st = view_output(v, "exr", &path, err);
     if (!st)
         st = orr_write_image_planes(path, v->planes, v->nplanes, &meta, err);
     if (!st)
@@ -1419,16 +1419,34 @@ static orr_status output_path(const orr_scene *s, const char *ext, char *path, o
     return ORR_OK;
 }
 
+/* The output NAME.ext of scene s, added to the frame's outputs: its final
+ * path goes into the report (not yet counted), and *write_path is where to
+ * write it until the frame's outputs are all written. */
+static orr_status stage_output(void *outputs, const orr_scene *s, orr_render_report *rep, const char *ext,
+                               const char **write_path, orr_error *err)
+{
+    if (rep->noutputs >= ORR_RENDER_MAX_OUTPUTS)
+        return orr_fail(err, ORR_ERR_INTERNAL, "too many outputs for one view");
+    char *final_path = rep->outputs[rep->noutputs];
+    orr_status st = output_path(s, ext, final_path, err);
+    return st ? st : orr_output_batch_add(outputs, final_path, write_path, err);
+}
+
+static orr_status view_output(view_state *v, const char *ext, const char **write_path, orr_error *err)
+{
+    return stage_output(v->outputs, v->scene, v->rep, ext, write_path, err);
+}
+
 /* Writes the view's planes, with the frame's cards, to NAME.EXT. */
 static orr_status write_fits_planes(view_state *v, const char *ext, orr_error *err)
 {
     orr_render_report *rep = v->rep;
-    char *path = rep->outputs[rep->noutputs];
+    const char *path;
     orr_fits_header *h = orr_calloc(1, sizeof *h, "FITS header", err);
     if (!h)
         return ORR_ERR_NOMEM;
     add_frame_cards(v, h);
-    orr_status st = output_path(v->scene, ext, path, err);
+    orr_status st = view_output(v, ext, &path, err);
     if (!st)
         st = orr_write_fits(path, v->planes, v->nplanes, h, err);
     free(h);
@@ -1465,7 +1483,7 @@ static orr_status write_stereo_pair(view_state *l, view_state *r, orr_eye_views 
             .width = l->proj.width, .height = l->proj.height,
             .rgb = {want_rgb ? rgb : NULL, want_rgb ? rgb + 3 * npix : NULL},
             .rgb_linear = (s->colour || s->nlayers || s->has_tint) && s->png_linear,
-            .cards = h, .meta = &meta, .desc = desc, .path = output_path,
+            .cards = h, .meta = &meta, .desc = desc, .stage = stage_output, .outputs = l->outputs,
         };
         st = orr_stereo_write_pair(&pair, l->rep, err);
     }
@@ -1735,8 +1753,16 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
         st = splat_source(views, n, src, progress, progress_user, err);
     if (par && !(st = par->any_failed(par->user, st, err)))
         st = reduce_views(views, n, par, err);
+    orr_output_batch outputs;
+    orr_output_batch_init(&outputs);
+    for (int k = 0; k < ready; k++)
+        views[k].outputs = &outputs;
     if (!st && (!par || par->rank == 0))
         st = finish_views(views, n, &eyes, err);
+    /* All of the frame's files, or none of them. */
+    if (!st)
+        st = orr_output_batch_commit(&outputs, err);
+    orr_output_batch_abort(&outputs);
     if (!in || src != in->source)
         orr_source_close(src);
     orr_lengths_free(&lengths);
@@ -1826,10 +1852,14 @@ orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_r
     if (!views)
         return ORR_ERR_NOMEM;
     orr_status st = ORR_OK;
+    orr_output_batch outputs;
+    orr_output_batch_init(&outputs);
     int ready = 0;
-    for (; !st && ready < n; ready++)
+    for (; !st && ready < n; ready++) {
         st = setup_view(&views[ready], scenes[ready], scenes[0]->has_observer ? &observer : NULL, &still,
                         &reports[ready], err);
+        views[ready].outputs = &outputs;
+    }
     for (int k = 0; k < n && !st; k++) {
         view_state *v = &views[k];
         if ((st = v->scene->nlayers ? load_layers(v, err) : load_raw(v, err)))
@@ -1840,6 +1870,9 @@ orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_r
         if (!st)
             st = write_pictures(v, err);
     }
+    if (!st)
+        st = orr_output_batch_commit(&outputs, err);
+    orr_output_batch_abort(&outputs);
     for (int k = 0; k < ready; k++)
         free_view(&views[k]);
     free(views);

@@ -210,13 +210,10 @@ static void pair_planes(const orr_stereo_pair *p, orr_plane out[6])
         }
 }
 
-static orr_status add_output(const orr_stereo_pair *p, const char *ext, orr_render_report *rep, char **path,
+static orr_status add_output(const orr_stereo_pair *p, const char *ext, orr_render_report *rep, const char **path,
                              orr_error *err)
 {
-    if (rep->noutputs >= ORR_RENDER_MAX_OUTPUTS)
-        return orr_fail(err, ORR_ERR_INTERNAL, "too many outputs for one view");
-    *path = rep->outputs[rep->noutputs];
-    return p->path(p->scene, ext, *path, err);
+    return p->stage(p->outputs, p->scene, rep, ext, path, err);
 }
 
 static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report *rep, orr_error *err)
@@ -224,7 +221,7 @@ static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report 
     const orr_scene *s = p->scene;
     orr_plane planes[6];
     pair_planes(p, planes);
-    char *path = NULL;
+    const char *path = NULL;
     orr_status st = ORR_OK;
     if (s->write_fits && !(st = add_output(p, "fits", rep, &path, err)) &&
         !(st = orr_write_fits(path, planes, 2 * p->nplanes, p->cards, err)))
@@ -251,7 +248,7 @@ static orr_status write_pair_picture(const orr_stereo_pair *p, orr_render_report
     snprintf(desc, sizeof desc, "stereo %s%s%s: %s", orr_stereo_mode_name(s->stereo),
              s->stereo == ORR_STEREO_ANAGLYPH ? " " : "",
              s->stereo == ORR_STEREO_ANAGLYPH ? orr_anaglyph_name(s->anaglyph) : "", p->desc);
-    char *path = NULL;
+    const char *path = NULL;
     orr_status st = ORR_OK;
     if (s->write_png && !(st = add_output(p, "png", rep, &path, err))) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};

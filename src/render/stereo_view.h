@@ -66,8 +66,11 @@ void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep);
 /* The stereo cards of a FITS header (mode, eye, separation, convergence). */
 void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s, const orr_render_report *rep);
 
-/* How the driver makes an output's path (DIR/NAME.EXT, or a frame's). */
-typedef orr_status (*orr_output_path_fn)(const orr_scene *s, const char *ext, char *path, orr_error *err);
+/* How the driver adds output NAME.EXT of scene s to the frame's outputs:
+ * the final path goes to rep->outputs[rep->noutputs] (counted by the
+ * caller once written) and *write_path is the file to write now. */
+typedef orr_status (*orr_output_stage_fn)(void *outputs, const orr_scene *s, orr_render_report *rep,
+                                          const char *ext, const char **write_path, orr_error *err);
 
 /* One stereo pair, ready to write as one picture. */
 typedef struct orr_stereo_pair {
@@ -81,7 +84,8 @@ typedef struct orr_stereo_pair {
     const orr_fits_header *cards;  /* the left eye's FITS cards */
     const orr_image_meta *meta;    /* for output.image and EXR */
     const char *desc;              /* what the picture shows, for PNG's Description */
-    orr_output_path_fn path;
+    orr_output_stage_fn stage;
+    void *outputs;                 /* the driver's list of the frame's outputs, for stage */
 } orr_stereo_pair;
 
 /* The picture of a pair: side-by-side (2W x H, left eye on the left),

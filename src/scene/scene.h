@@ -37,6 +37,7 @@ typedef enum {
 } orr_smoothing_source;
 
 #define ORR_NAME_MAX 128
+#define ORR_SETTINGS_MAX 16384
 
 /* Room for input.sequence.files: at most this many paths, in this many
  * bytes together (a pattern has no such limit). */
@@ -251,6 +252,14 @@ typedef struct orr_scene {
                                     * output.softening: n of log/asinh (default 1000) */
     orr_colormap_kind colormap;    /* output.colormap: grey | magma | inferno (default magma) */
     char bunit[ORR_NAME_MAX];      /* output.bunit: FITS BUNIT (default "mass/pixel") */
+
+    /* Not keys: what the scene says, for frame markers (render/animation.c),
+     * which redo a frame made with other settings. The effective keys after
+     * overrides and merging a view, one "key=value" line each in document
+     * order (yt_settings_text), then the dome profile's values; cut short
+     * when longer than the buffer, but the digest covers the whole text. */
+    char settings[ORR_SETTINGS_MAX];
+    uint64_t settings_digest;
 } orr_scene;
 
 /* A scene file may hold several views of the same particles (a dome master

@@ -2,11 +2,15 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+
+#include "core/digest.h"
 
 #include "scene/scene_bind.h"
 #include "scene/scene_dome.h"
 #include "scene/scene_path.h"
+#include "scene/ytree.h"
 
 /* ---- input ---- */
 
@@ -417,6 +421,23 @@ static orr_status check_stereo(orr_scene *s, const scene_marks *m, orr_error *er
     return ORR_OK;
 }
 
+/* The settings text and its digest: the tree's keys, then what the dome
+ * profile (a file of its own) put into the scene. */
+static orr_status record_settings(orr_scene *s, const yt_node *root, orr_error *err)
+{
+    char *text = yt_settings_text(root, err);
+    if (!text)
+        return ORR_ERR_NOMEM;
+    char profile[256] = "";
+    if (s->dome_profile[0])
+        snprintf(profile, sizeof profile, "(dome profile %s)=fov %.17g, tilt %.17g, size %dx%d\n", s->dome_profile,
+                 s->projection.dome_fov_deg, s->dome_tilt, s->projection.width, s->projection.height);
+    s->settings_digest = orr_digest_text(orr_digest_text(ORR_DIGEST_START, text), profile);
+    snprintf(s->settings, sizeof s->settings, "%s%s", text, profile);
+    free(text);
+    return ORR_OK;
+}
+
 orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
 {
     scene_marks marks;
@@ -447,5 +468,7 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_output(s, &marks, err);
     if (st == ORR_OK)
         st = check_stereo(s, &marks, err);
+    if (st == ORR_OK)
+        st = record_settings(s, root, err);
     return st;
 }

@@ -542,3 +542,91 @@ orr_status yt_merge(yt_node *dst, const yt_node *src, orr_error *err)
     }
     return ORR_OK;
 }
+
+/* ---- the tree as settings lines ---- */
+
+/* Appends text to a growing buffer; a failed allocation leaves ok = 0. */
+typedef struct text_buf {
+    char *text;
+    size_t len, cap;
+    int ok;
+} text_buf;
+
+static void put(text_buf *b, const char *text)
+{
+    size_t n = strlen(text);
+    if (!b->ok)
+        return;
+    if (b->len + n + 1 > b->cap) {
+        size_t cap = b->cap ? 2 * b->cap : 1024;
+        while (cap < b->len + n + 1)
+            cap *= 2;
+        char *t = realloc(b->text, cap);
+        if (!t) {
+            b->ok = 0;
+            return;
+        }
+        b->text = t;
+        b->cap = cap;
+    }
+    memcpy(b->text + b->len, text, n + 1);
+    b->len += n;
+}
+
+/* A value on one line: a scalar's text, [a, b] for a list, {k: v} for a
+ * mapping inside a list. */
+static void put_inline(text_buf *b, const yt_node *n)
+{
+    if (n->kind == YT_SCALAR) {
+        put(b, n->text);
+        return;
+    }
+    put(b, n->kind == YT_SEQUENCE ? "[" : "{");
+    for (size_t i = 0; i < n->n; i++) {
+        if (i)
+            put(b, ", ");
+        if (n->kind == YT_MAPPING) {
+            put(b, n->entries[i].key);
+            put(b, ": ");
+        }
+        put_inline(b, n->kind == YT_SEQUENCE ? n->items[i] : n->entries[i].value);
+    }
+    put(b, n->kind == YT_SEQUENCE ? "]" : "}");
+}
+
+static void put_lines(text_buf *b, const yt_node *map, const char *prefix)
+{
+    for (size_t i = 0; i < map->n; i++) {
+        const yt_entry *e = &map->entries[i];
+        size_t len = strlen(prefix) + strlen(e->key) + 2;
+        char *key = malloc(len);
+        if (!key) {
+            b->ok = 0;
+            return;
+        }
+        snprintf(key, len, "%s%s%s", prefix, prefix[0] ? "." : "", e->key);
+        if (e->value->kind == YT_MAPPING && e->value->n > 0) {
+            put_lines(b, e->value, key);
+        } else {
+            put(b, key);
+            put(b, "=");
+            put_inline(b, e->value);
+            put(b, "\n");
+        }
+        free(key);
+    }
+}
+
+char *yt_settings_text(const yt_node *root, orr_error *err)
+{
+    text_buf b = {NULL, 0, 0, 1};
+    put(&b, "");
+    if (root && root->kind == YT_MAPPING)
+        put_lines(&b, root, "");
+    if (!b.ok) {
+        free(b.text);
+        orr_fail(err, ORR_ERR_NOMEM, "out of memory for the scene's settings text");
+        return NULL;
+    }
+    return b.text;
+}

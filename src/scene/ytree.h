@@ -84,4 +84,10 @@ yt_node *yt_clone(const yt_node *n, orr_error *err);
  * caller checks): the second would silently win. */
 orr_status yt_merge(yt_node *dst, const yt_node *src, orr_error *err);
 
+/* The tree below mapping root as "key.path=value" lines in document order
+ * (nested mappings as dotted keys; lists and mappings within them on one
+ * line, as [a, b] and {key: value}), each ending in '\n'. A new string the
+ * caller frees; NULL (with err set) when out of memory. */
+char *yt_settings_text(const yt_node *root, orr_error *err);
+
 #endif

@@ -6,9 +6,8 @@
 
 #include <stdint.h>
 
+#include "core/limits.h"
 #include "particles/chunk.h"
-
-#define ORR_PATH_MAX 4096
 
 #define ORR_SOURCE_MAX_HEADER 64
 

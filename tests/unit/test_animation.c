@@ -63,14 +63,17 @@ static void test_jobs_share_frames(void)
 }
 
 typedef struct tally {
-    int rendered, skipped;
+    int rendered, skipped, redone;
     long frames[16];
     int n;
+    char why[512]; /* the first reason a frame was redone */
 } tally;
 
-static void count_frame(void *user, long frame, int skipped)
+static void count_frame(void *user, long frame, int skipped, const char *redone)
 {
     tally *t = user;
+    if (redone && t->redone++ == 0)
+        snprintf(t->why, sizeof t->why, "%s", redone);
     if (skipped)
         t->skipped++;
     else
@@ -162,11 +165,136 @@ static void test_resume(void)
     remove_tmpdir();
 }
 
+/* Loads the clip scene of the tests below with overrides, into tmpdir. */
+static orr_scene *load_clip(const char *yaml, const char *const *sets, int nsets)
+{
+    orr_scene *s = calloc(1, sizeof *s);
+    orr_error err = {0};
+    if (orr_scene_load_string(s, yaml, "clip.yaml", tmpdir, sets, nsets, &err) != ORR_OK) {
+        fprintf(stderr, "scene: %s\n", err.msg);
+        exit(1);
+    }
+    snprintf(s->out_dir, sizeof s->out_dir, "%s", tmpdir);
+    return s;
+}
+
+/* A frame made with other settings is redone, and the reason names the
+ * key; so is one whose input file changed, or whose output changed without
+ * changing size. */
+static void test_resume_checks_what_made_the_frame(void)
+{
+    make_tmpdir();
+    char table[600];
+    snprintf(table, sizeof table, "%s/stars.txt", tmpdir);
+    FILE *f = fopen(table, "w");
+    fputs("x y z mass\n0 0 0 1\n1 2 0 1\n-3 1 0 2\n", f);
+    fclose(f);
+    static const char yaml[] = "input: {file: stars.txt}\n"
+                               "camera: {projection: orthographic, width: 10}\n"
+                               "image: {width: 24, height: 24}\n"
+                               "animation: {frames: 4}\n"
+                               "output: {name: clip, fits: false}\n";
+    /* Frames 0-1 of a run at one size, as `--frames 0:1` would... */
+    const char *small[] = {"image.width=16"};
+    orr_scene *s = load_clip(yaml, small, 1);
+    orr_animation_options o = orr_animation_defaults();
+    tally t = {0};
+    o.last = 1;
+    o.done = count_frame;
+    o.done_user = &t;
+    orr_render_report rep;
+    orr_error err = {0};
+    const orr_scene *list[1] = {s};
+    CHECK(orr_render_animation(list, 1, &o, &rep, &err) == ORR_OK);
+    CHECK(t.rendered == 2);
+    free(s);
+
+    /* ...then the whole run at another: every frame is this run's. */
+    s = load_clip(yaml, NULL, 0);
+    CHECK(run(s, 0, &t) == ORR_OK);
+    CHECK(t.rendered == 4 && t.skipped == 0 && t.redone == 2);
+    CHECK(strstr(t.why, "image.width=24 was 16") != NULL);
+    CHECK(run(s, 0, &t) == ORR_OK);
+    CHECK(t.skipped == 4 && t.redone == 0);
+
+    /* A longer run of the same path moves every frame's camera. */
+    const char *longer[] = {"animation.frames=5"};
+    orr_scene *s5 = load_clip(yaml, longer, 1);
+    CHECK(run(s5, 0, &t) == ORR_OK);
+    CHECK(t.rendered == 5 && t.redone == 4);
+    CHECK(strstr(t.why, "animation.frames=5 was 4") != NULL);
+    free(s5);
+
+    /* An output changed in place, same size: caught by its checksum. */
+    char png[700];
+    snprintf(png, sizeof png, "%s/clip_0002.png", tmpdir);
+    CHECK(run(s, 0, &t) == ORR_OK); /* back to 4 frames */
+    FILE *g = fopen(png, "r+b");
+    CHECK(g != NULL);
+    if (g) {
+        fseek(g, 100, SEEK_SET);
+        int c = fgetc(g);
+        fseek(g, 100, SEEK_SET);
+        fputc(c ^ 0x5a, g);
+        fclose(g);
+    }
+    CHECK(run(s, 0, &t) == ORR_OK);
+    CHECK(t.rendered == 1 && t.skipped == 3 && strstr(t.why, "checksum") != NULL);
+
+    /* The input file rewritten: every frame again. */
+    f = fopen(table, "a");
+    fputs("2 2 0 1\n", f);
+    fclose(f);
+    CHECK(run(s, 0, &t) == ORR_OK);
+    CHECK(t.rendered == 4 && strstr(t.why, "input.file") != NULL);
+    CHECK(run(s, 0, &t) == ORR_OK);
+    CHECK(t.skipped == 4);
+
+    /* A marker from an older orrery is not trusted. */
+    char marker[700];
+    snprintf(marker, sizeof marker, "%s/.orrery-frames/clip_0000.done", tmpdir);
+    f = fopen(marker, "w");
+    fputs("orrery-frame 1\n100 clip_0000.png\n", f);
+    fclose(f);
+    CHECK(run(s, 0, &t) == ORR_OK);
+    CHECK(t.rendered == 1 && strstr(t.why, "older") != NULL);
+    free(s);
+    remove_tmpdir();
+}
+
+/* A frame that fails part-way leaves none of its new outputs and no
+ * marker: the earlier frame's files are untouched, and the next run
+ * redoes it. */
+static void test_failed_frame_writes_nothing(void)
+{
+    make_tmpdir();
+    static const char yaml[] = "input: {model: {name: mw-m31, particles: 1000}}\n"
+                               "camera: {projection: orthographic, width: 300}\n"
+                               "image: {width: 16, height: 16}\n"
+                               "output: {name: s, raw: true, exr: true}\n";
+    orr_scene *s = load_clip(yaml, NULL, 0);
+    char dir[700], path[700];
+    snprintf(dir, sizeof dir, "%s/s.png", tmpdir); /* a folder where the PNG would go */
+    CHECK(mkdir(dir, 0777) == 0);
+    tally t;
+    CHECK(run(s, 0, &t) != ORR_OK);
+    const char *names[] = {"s.fits", "s.raw.fits", "s.exr"};
+    for (int i = 0; i < 3; i++) {
+        snprintf(path, sizeof path, "%s/%s", tmpdir, names[i]);
+        CHECK(access(path, F_OK) != 0);
+    }
+    CHECK(count_entries() == 1); /* the folder alone: no temporary file either */
+    free(s);
+    remove_tmpdir();
+}
+
 int main(void)
 {
     test_frame_names();
     test_frame_times();
     test_jobs_share_frames();
     test_resume();
+    test_resume_checks_what_made_the_frame();
+    test_failed_frame_writes_nothing();
     return check_summary();
 }

@@ -2,6 +2,7 @@
 #include <errno.h>
 #include <stdlib.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "check.h"
@@ -85,12 +86,12 @@ static void test_commit_renames_and_leaves_no_temp(void)
     make_tmpdir();
     char final[512], prefix[512];
     snprintf(final, sizeof final, "%s/out.png", tmpdir);
-    snprintf(prefix, sizeof prefix, "%s/.out.png.tmp-", tmpdir);
+    snprintf(prefix, sizeof prefix, "%s/" ORR_TEMP_PREFIX, tmpdir);
     orr_atomic_file af;
     orr_error err;
     CHECK(orr_atomic_begin(&af, final, &err) == ORR_OK);
     CHECK(strncmp(af.temp_path, prefix, strlen(prefix)) == 0);
-    CHECK(strlen(af.temp_path) == strlen(prefix) + 6);
+    CHECK(strcmp(af.temp_path + strlen(af.temp_path) - 8, "-out.png") == 0); /* keeps the extension */
     CHECK(exists(af.temp_path));
     CHECK(!exists(final));
     write_text(af.temp_path, "new");
@@ -148,7 +149,7 @@ static void test_relative_name_without_folder(void)
     orr_atomic_file af;
     orr_error err;
     CHECK(orr_atomic_begin(&af, "plain.png", &err) == ORR_OK);
-    CHECK(strncmp(af.temp_path, ".plain.png.tmp-", 15) == 0);
+    CHECK(strncmp(af.temp_path, ORR_TEMP_PREFIX, strlen(ORR_TEMP_PREFIX)) == 0);
     CHECK(orr_atomic_commit(&af, &err) == ORR_OK);
     CHECK(exists("plain.png"));
     CHECK(count_entries(".") == 1);
@@ -186,12 +187,117 @@ static void test_failed_commit_removes_temp(void)
     write_text(inside, "k"); /* a non-empty folder cannot be replaced by a file */
     orr_atomic_file af;
     orr_error err;
+    /* A folder already in the way is refused before anything is written. */
+    CHECK(orr_atomic_begin(&af, final, &err) == ORR_ERR_IO);
+    CHECK_CONTAINS(err.msg, "a folder of that name");
+    CHECK(count_entries(tmpdir) == 1);
+    /* One that appears while the file is written fails the rename. */
+    CHECK(unlink(inside) == 0 && rmdir(final) == 0);
     CHECK(orr_atomic_begin(&af, final, &err) == ORR_OK);
+    CHECK(mkdir(final, 0777) == 0);
+    write_text(inside, "k"); /* a non-empty folder cannot be replaced by a file */
     CHECK(orr_atomic_commit(&af, &err) == ORR_ERR_IO);
     CHECK_CONTAINS(err.msg, final);
     orr_atomic_abort(&af);
     CHECK(count_entries(tmpdir) == 1);
     CHECK(file_equals(inside, "k"));
+    remove_tree(tmpdir);
+}
+
+/* A frame's outputs: renamed together, or none of them. */
+static void test_batch_all_or_nothing(void)
+{
+    make_tmpdir();
+    char a[512], b[512], c[512];
+    snprintf(a, sizeof a, "%s/s.fits", tmpdir);
+    snprintf(b, sizeof b, "%s/s.png", tmpdir);
+    snprintf(c, sizeof c, "%s/s.exr", tmpdir);
+    write_text(b, "old picture");
+    orr_output_batch batch;
+    orr_output_batch_init(&batch);
+    const char *wa, *wb, *wc;
+    orr_error err;
+    CHECK(orr_output_batch_add(&batch, a, &wa, &err) == ORR_OK);
+    CHECK(orr_output_batch_add(&batch, b, &wb, &err) == ORR_OK);
+    CHECK(orr_output_batch_add(&batch, a, &wc, &err) == ORR_ERR_USAGE); /* the same name twice */
+    write_text(wa, "new planes");
+    write_text(wb, "new picture");
+    CHECK(!exists(a) && file_equals(b, "old picture")); /* nothing in place before the commit */
+    CHECK(orr_output_batch_commit(&batch, &err) == ORR_OK);
+    CHECK(file_equals(a, "new planes") && file_equals(b, "new picture"));
+    CHECK(count_entries(tmpdir) == 2);
+
+    /* A failure before the commit: the batch is dropped whole. */
+    CHECK(orr_output_batch_add(&batch, a, &wa, &err) == ORR_OK);
+    CHECK(orr_output_batch_add(&batch, c, &wc, &err) == ORR_OK);
+    write_text(wa, "newer planes");
+    orr_output_batch_abort(&batch);
+    CHECK(file_equals(a, "new planes") && !exists(c));
+    CHECK(count_entries(tmpdir) == 2);
+    remove_tree(tmpdir);
+}
+
+/* The name a temporary of process pid would have, from one of ours. */
+static void temp_name_of(const char *ours, long pid, char *out, size_t size)
+{
+    const char *tag = strstr(ours, ORR_TEMP_PREFIX) + strlen(ORR_TEMP_PREFIX); /* HOST-PID-N-NAME */
+    const char *rest = strchr(strchr(tag, '-') + 1, '-');                      /* -N-NAME */
+    snprintf(out, size, "%.*s%ld%s", (int)(strchr(tag, '-') + 1 - ours), ours, pid, rest);
+}
+
+/* A killed run's temporaries are removed by the next; a running one's, or
+ * another host's, are kept. */
+static void test_stale_temporaries(void)
+{
+    make_tmpdir();
+    char final[512], dead[600], alive[600], other_host[600], other[600];
+    snprintf(final, sizeof final, "%s/frame.png", tmpdir);
+    orr_atomic_file af;
+    orr_error err;
+    CHECK(orr_atomic_begin(&af, final, &err) == ORR_OK);
+    pid_t child = fork();
+    if (child == 0)
+        _exit(0);
+    waitpid(child, NULL, 0); /* a process that is gone */
+    temp_name_of(af.temp_path, (long)child, dead, sizeof dead);
+    temp_name_of(af.temp_path, (long)getppid(), alive, sizeof alive);
+    write_text(dead, "19 GB of a killed render");
+    write_text(alive, "another run, still going");
+    snprintf(other_host, sizeof other_host, "%s/" ORR_TEMP_PREFIX "00000000-%ld-0-x.png", tmpdir, (long)child);
+    if (strstr(dead, ORR_TEMP_PREFIX "00000000-"))
+        other_host[strlen(tmpdir) + 1 + strlen(ORR_TEMP_PREFIX)] = '1'; /* never this host's tag */
+    write_text(other_host, "a shared folder's");
+    snprintf(other, sizeof other, "%s/.frame.png.tmp-AbC123", tmpdir);
+    write_text(other, "not named like ours");
+    CHECK(orr_remove_stale_temporaries(tmpdir) == 1);
+    CHECK(!exists(dead) && exists(alive) && exists(other_host) && exists(other));
+    CHECK(exists(af.temp_path)); /* this process's own */
+    orr_atomic_abort(&af);
+    remove_tree(tmpdir);
+}
+
+/* What a SIGINT handler does: the open temporaries go, the rest stays. */
+static void test_live_temporaries_removed(void)
+{
+    make_tmpdir();
+    char a[512], b[512], done[512];
+    snprintf(a, sizeof a, "%s/a.fits", tmpdir);
+    snprintf(b, sizeof b, "%s/b.fits", tmpdir);
+    snprintf(done, sizeof done, "%s/done.png", tmpdir);
+    pid_t child = fork();
+    if (child == 0) {
+        orr_atomic_file fa, fb, fd;
+        orr_error err;
+        if (orr_atomic_begin(&fd, done, &err) || orr_atomic_commit(&fd, &err) || orr_atomic_begin(&fa, a, &err) ||
+            orr_atomic_begin(&fb, b, &err))
+            _exit(2);
+        orr_remove_live_temporaries();
+        _exit(0);
+    }
+    int status = -1;
+    waitpid(child, &status, 0);
+    CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    CHECK(count_entries(tmpdir) == 1 && exists(done));
     remove_tree(tmpdir);
 }
 
@@ -242,5 +348,8 @@ int main(void)
     RUN(test_begin_fails_in_unwritable_folder);
     RUN(test_failed_commit_removes_temp);
     RUN(test_check_output_dir);
+    RUN(test_batch_all_or_nothing);
+    RUN(test_stale_temporaries);
+    RUN(test_live_temporaries_removed);
     return check_summary();
 }

@@ -1,0 +1,8 @@
+/* Sizes shared by every stage. */
+#ifndef ORR_CORE_LIMITS_H
+#define ORR_CORE_LIMITS_H
+
+/* Longest path a file name may have, terminator included (Linux PATH_MAX). */
+#define ORR_PATH_MAX 4096
+
+#endif
