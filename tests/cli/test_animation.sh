@@ -24,6 +24,70 @@ grep -q "frame 1 already complete, skipped" run.err || fail "resume progress: $(
 [ "$(stat -c %s out/s_0003.fits)" -gt 7 ] || fail "truncated frame not redone"
 [ -s out/s_0004.png ] || fail "lost frame not redone"
 
+# The issue's resume attack: frames 0-1 of a 4-frame anaglyph orbit at
+# 320x180, then the whole run at 640x360 in grey: all four frames must be
+# the new run's (size, colours), and the first redo names what changed.
+scene="$2/configs/anaglyph-orbit.yaml"
+py=/usr/bin/python3 # Debian's, with Pillow
+[ -x "$py" ] || py=python3
+small=(--set input.model.particles=3000 --set animation.frames=4 --set output.fits=false)
+"$ORRERY" render "$scene" -o orbit "${small[@]}" --frames 0:1 --set image.width=320 --set image.height=180 \
+  >run.out 2>run.err || fail "orbit frames 0-1: $(cat run.err)"
+"$ORRERY" render "$scene" -o orbit "${small[@]}" --set image.width=640 --set image.height=360 \
+  --set stereo.anaglyph=grey >run.out 2>run.err || fail "orbit, whole run: $(cat run.err)"
+grep -q "rendered 4, skipped 0" run.out || fail "orbit resume summary: $(cat run.out)"
+grep -q "frame 0 of an earlier run rendered again: image.width=640 was 320" run.err \
+  || fail "orbit: the change is not named: $(cat run.err)"
+"$ORRERY" render "$scene" -o fresh "${small[@]}" --set image.width=640 --set image.height=360 \
+  --set stereo.anaglyph=grey --frames 0 >/dev/null 2>run.err || fail "fresh frame 0: $(cat run.err)"
+"$py" - orbit/anaglyph-orbit_000{0,1,2,3}.png fresh/anaglyph-orbit_0000.png <<'PY' || fail "orbit frames are not all the new run's"
+import sys
+from PIL import Image
+ims = [Image.open(p) for p in sys.argv[1:]]
+assert all(im.size == (640, 360) for im in ims), [im.size for im in ims]
+assert list(ims[0].getdata()) == list(ims[-1].getdata()), "frame 0 differs from a fresh render of it"
+PY
+# The same scene again: nothing to do. A longer run moves every camera.
+"$ORRERY" render "$scene" -o orbit "${small[@]}" --set image.width=640 --set image.height=360 \
+  --set stereo.anaglyph=grey >run.out 2>run.err || fail "orbit again: $(cat run.err)"
+grep -q "rendered 0, skipped 4" run.out || fail "orbit again: $(cat run.out)"
+"$ORRERY" render "$scene" -o orbit "${small[@]}" --set image.width=640 --set image.height=360 \
+  --set stereo.anaglyph=grey --set animation.frames=6 >run.out 2>run.err || fail "orbit of 6: $(cat run.err)"
+grep -q "rendered 6, skipped 0" run.out || fail "6 frames after 4 must all be new: $(cat run.out)"
+
+# Interrupted: SIGTERM (a batch system's kill; SIGINT and SIGHUP alike,
+# but a shell starts background jobs with SIGINT ignored) while a large
+# frame is being written leaves no temporary file, and the run dies of the
+# signal.
+printf 'x y z mass\n0 0 0 1\n' >one.txt
+write_scene big.yaml one.txt
+big=(--set image.width=6000 --set image.height=6000 --set output.png=false --set output.raw=true)
+"$ORRERY" render big.yaml -o big "${big[@]}" >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 600); do
+  ls -a big 2>/dev/null | grep -q '^\.orrery-tmp-' && break
+  sleep 0.05
+done
+ls -a big 2>/dev/null | grep -q '^\.orrery-tmp-' || fail "no temporary file seen while writing"
+kill -TERM $pid
+wait $pid
+code=$?
+[ $code -eq 143 ] || fail "SIGTERM: exit status $code, expected 143"
+! ls -a big | grep -q 'tmp' || fail "SIGTERM left a temporary file: $(ls -a big)"
+[ ! -e big/big.fits ] || fail "SIGTERM left a FITS under its final name"
+# A killed run's leftovers (same host, process gone) go with the next run.
+"$ORRERY" render big.yaml -o big "${big[@]}" >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 1 600); do
+  ls -a big 2>/dev/null | grep -q '^\.orrery-tmp-' && break
+  sleep 0.05
+done
+kill -KILL $pid
+wait $pid 2>/dev/null
+ls -a big | grep -q '^\.orrery-tmp-' || fail "SIGKILL: expected a leftover to test with"
+"$ORRERY" render big.yaml -o big --set output.png=false >/dev/null 2>run.err || fail "render after a kill: $(cat run.err)"
+! ls -a big | grep -q 'tmp' || fail "a killed run's temporary was not removed: $(ls -a big)"
+
 # --frames and --force.
 "$ORRERY" render s.yaml --frames 1:2 --force >run.out 2>&1 || fail "--frames 1:2 --force"
 grep -q "rendered 2, skipped 0" run.out || fail "--frames 1:2 summary: $(cat run.out)"
