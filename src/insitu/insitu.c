@@ -76,8 +76,10 @@ static int open_common(orrery_renderer **out, const char *path, const char *yaml
     orr_status st = path ? orr_scene_load_views(&r->views, path, all, n, &r->err)
                          : orr_scene_load_views_string(&r->views, yaml, "insitu", base_dir ? base_dir : ".",
                                                        all, n, &r->err);
-    for (int k = 0; k < r->views.n && !st; k++)
+    for (int k = 0; k < r->views.n && !st; k++) {
         st = orr_check_output_dir(r->views.view[k].out_dir, &r->err);
+        orr_remove_stale_temporaries(r->views.view[k].out_dir); /* a killed simulation's last frame */
+    }
     free(all);
     return finish_open(r, st, out, msg, msg_size);
 }
