@@ -477,6 +477,8 @@ static orr_status prepare_view(const video_options *o, const orr_scene *view, co
     if (!o->force && is_file(job->output))
         return orr_fail(err, ORR_ERR_IO, "%s exists (--force replaces it)", job->output);
     st = find_frames(fs, o->frames, err);
+    if (!st) /* never a video of two runs' frames */
+        st = orr_frames_agree(fs->dir, fs->name, fs->digits, fs->count, err);
     if (st)
         return st;
     if (o->frames == 0) {

@@ -223,32 +223,53 @@ static const char *find_line(const char *text, const char *prefix, size_t *len)
     return NULL;
 }
 
-/* Says which setting differs between the marker's "setting " lines and the
- * scene's text: the first key whose value changed, was added or removed. */
+/* The key of settings line p ("key=value"), as prefix + key + "=". */
+static void key_prefix(const char *p, size_t n, const char *prefix, char *out, size_t size)
+{
+    const char *eq = memchr(p, '=', n);
+    size_t klen = eq ? (size_t)(eq - p) : n;
+    snprintf(out, size, "%s%.*s=", prefix, (int)(klen < 280 ? klen : 280), p);
+}
+
+/* Says which setting differs between the marker's "setting " lines (the
+ * earlier frame's) and the text now: "KEY changed from A to B", "KEY=B
+ * added" or "KEY=A removed", for the first such key. */
 static void name_setting_change(const char *marker, const char *now, char *why, size_t size)
 {
     for (const char *p = now; *p;) {
         const char *end = strchr(p, '\n');
-        size_t n = end ? (size_t)(end - p) : strlen(p);
-        const char *eq = memchr(p, '=', n);
+        size_t n = end ? (size_t)(end - p) : strlen(p), olen;
         char key[300], line[600];
-        size_t klen = eq ? (size_t)(eq - p) : n;
-        snprintf(key, sizeof key, "setting %.*s=", (int)(klen < 280 ? klen : 280), p);
+        key_prefix(p, n, "setting ", key, sizeof key);
         snprintf(line, sizeof line, "setting %.*s\n", (int)(n < 580 ? n : 580), p);
-        size_t olen;
         const char *old = find_line(marker, key, &olen);
+        size_t klen = strlen(key) - strlen("setting ");
         if (!old) {
-            snprintf(why, size, "%.*s is set now", (int)(n < 200 ? n : 200), p);
+            snprintf(why, size, "%.*s added", (int)(n < 200 ? n : 200), p);
             return;
         }
         if (!strstr(marker, line)) {
-            snprintf(why, size, "%.*s was %.*s", (int)(n < 200 ? n : 200), p,
-                     (int)((olen - strlen(key)) < 200 ? olen - strlen(key) : 200), old + strlen(key));
+            size_t vlen = olen - strlen(key);
+            snprintf(why, size, "%.*s changed from %.*s to %.*s", (int)(klen - 1), p, (int)(vlen < 200 ? vlen : 200),
+                     old + strlen(key), (int)(n - klen < 200 ? n - klen : 200), p + klen);
             return;
         }
         p = end ? end + 1 : p + n;
     }
-    snprintf(why, size, "a setting the scene no longer has");
+    for (const char *p = marker; *p;) {
+        const char *end = strchr(p, '\n');
+        size_t n = end ? (size_t)(end - p) : strlen(p), nlen;
+        char key[300];
+        if (strncmp(p, "setting ", 8) == 0) {
+            key_prefix(p + 8, n - 8, "", key, sizeof key);
+            if (!find_line(now, key, &nlen)) {
+                snprintf(why, size, "%.*s removed", (int)(n - 8 < 200 ? n - 8 : 200), p + 8);
+                return;
+            }
+        }
+        p = end ? end + 1 : p + n;
+    }
+    snprintf(why, size, "the settings changed");
 }
 
 /* Why the marker's head differs from this run's: the first line that does. */
@@ -463,6 +484,78 @@ static void remove_marker(const orr_scene *s)
     orr_error ignored;
     if (!marker_path(s, path, &ignored))
         unlink(path);
+}
+
+/* ---- one run's frames together ---- */
+
+/* The marker's head: the lines before its first output line. */
+static size_t head_length(const char *marker)
+{
+    const char *out = strstr(marker, "\noutput ");
+    return out ? (size_t)(out - marker) + 1 : strlen(marker);
+}
+
+/* The marker's settings lines without their "setting " prefix, allocated. */
+static char *marker_settings(const char *marker)
+{
+    char *text = NULL;
+    orr_error ignored;
+    for (const char *p = marker; p && *p;) {
+        const char *end = strchr(p, '\n');
+        int n = end ? (int)(end - p) : (int)strlen(p);
+        if (strncmp(p, "setting ", 8) == 0 && append(&text, &ignored, "%.*s\n", n - 8, p + 8))
+            break;
+        p = end ? end + 1 : NULL;
+    }
+    return text;
+}
+
+/* Fails when frame k's marker was made otherwise than frame `first_k`'s:
+ * names the first difference, as "KEY=VALUE (frame first_k) was OTHER". */
+static orr_status same_making(const char *first, long first_k, const char *marker, const char *path, long k,
+                              orr_error *err)
+{
+    size_t len = head_length(first);
+    if (len == head_length(marker) && strncmp(first, marker, len) == 0)
+        return ORR_OK;
+    char why[512] = "its marker differs";
+    size_t klen = head_length(marker);
+    view_identity id = {malloc(klen + 1), marker_settings(marker)}; /* frame k's, against the first's */
+    if (id.head && id.settings) {
+        memcpy(id.head, marker, klen);
+        id.head[klen] = '\0';
+        name_head_change(first, &id, why, sizeof why);
+    }
+    free(id.head);
+    free((char *)id.settings);
+    return orr_fail(err, ORR_ERR_USAGE,
+                    "%s: frame %ld was made otherwise than frame %ld (from frame %ld to frame %ld: %s): the folder "
+                    "holds frames of two runs; render the run again",
+                    path, k, first_k, first_k, k, why);
+}
+
+orr_status orr_frames_agree(const char *dir, const char *name, int digits, long count, orr_error *err)
+{
+    char *first = NULL;
+    long first_k = -1;
+    orr_status st = ORR_OK;
+    for (long k = 0; k < count && !st; k++) {
+        char path[ORR_PATH_MAX];
+        if (snprintf(path, sizeof path, "%s/" MARKER_DIR "/%s_%0*ld.done", dir, name, digits, k) >= (int)sizeof path)
+            st = orr_fail(err, ORR_ERR_USAGE, "frame marker path for %s/%s is too long", dir, name);
+        char *marker = st ? NULL : read_marker(path);
+        if (!marker)
+            continue; /* not rendered by this orrery, or by hand: nothing to compare */
+        if (!first) {
+            first = marker;
+            first_k = k;
+            continue;
+        }
+        st = same_making(first, first_k, marker, path, k, err);
+        free(marker);
+    }
+    free(first);
+    return st;
 }
 
 /* ---- the run ---- */

@@ -9,7 +9,7 @@
 /* Told after each frame of the run: rendered (skipped = 0) or found complete
  * from an earlier run (skipped = 1). redone is NULL, or why an earlier
  * run's frame was not taken: its scene settings, an input or an output
- * changed since ("image.width=640 was 320"). */
+ * changed since ("image.width changed from 320 to 640"). */
 typedef void (*orr_frame_done_fn)(void *user, long frame, int skipped, const char *redone);
 
 typedef struct orr_animation_options {
@@ -50,5 +50,13 @@ orr_status orr_frame_name(const char *name, long frame, long nframes, char *out,
  * describes view k's last frame. */
 orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_animation_options *opt,
                                 orr_render_report *reports, orr_error *err);
+
+/* Checks that the frames 0..count-1 of DIR/NAME (numbers of `digits`
+ * digits) were all made alike, by their markers: the same orrery, scene
+ * settings and inputs. Fails naming the first frame made otherwise and
+ * how, so that a video never mixes two runs (frames rendered in pieces
+ * with --frames and other settings). Frames without a marker are not
+ * compared. */
+orr_status orr_frames_agree(const char *dir, const char *name, int digits, long count, orr_error *err);
 
 #endif

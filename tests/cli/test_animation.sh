@@ -36,7 +36,7 @@ small=(--set input.model.particles=3000 --set animation.frames=4 --set output.fi
 "$ORRERY" render "$scene" -o orbit "${small[@]}" --set image.width=640 --set image.height=360 \
   --set stereo.anaglyph=grey >run.out 2>run.err || fail "orbit, whole run: $(cat run.err)"
 grep -q "rendered 4, skipped 0" run.out || fail "orbit resume summary: $(cat run.out)"
-grep -q "frame 0 of an earlier run rendered again: image.width=640 was 320" run.err \
+grep -q "frame 0 of an earlier run rendered again: image.width changed from 320 to 640" run.err \
   || fail "orbit: the change is not named: $(cat run.err)"
 "$ORRERY" render "$scene" -o fresh "${small[@]}" --set image.width=640 --set image.height=360 \
   --set stereo.anaglyph=grey --frames 0 >/dev/null 2>run.err || fail "fresh frame 0: $(cat run.err)"

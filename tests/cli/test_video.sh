@@ -234,4 +234,15 @@ probe "far one.mov"
 expect nb_read_frames 1
 
 "$ORRERY" video --help | grep -q "usage: orrery video SCENE.yaml" || fail "video --help"
+# A folder holding two runs' frames (rendered in pieces with --frames and
+# other settings) is refused, naming the first frame made otherwise.
+printf 'x y z mass\n0 0 0 1\n1 1 0 2\n' >mix.txt
+write_scene mix.yaml mix.txt "animation:" "  frames: 4"
+"$ORRERY" render mix.yaml -o mixed --frames 0:1 --set output.colormap=grey >/dev/null 2>&1 || fail "mix frames 0-1"
+"$ORRERY" render mix.yaml -o mixed --frames 2:3 >/dev/null 2>&1 || fail "mix frames 2-3"
+expect_fail 2 "frame 2 was made otherwise than frame 0 \(from frame 0 to frame 2: output.colormap=grey removed" none -- video mix.yaml -o mixed
+[ ! -e mixed/mix.mp4 ] || fail "a video of a mix was written"
+"$ORRERY" render mix.yaml -o mixed >/dev/null 2>&1 || fail "mix: the whole run"
+"$ORRERY" video mix.yaml -o mixed --quiet >/dev/null 2>run.err || fail "video after the run was made whole: $(cat run.err)"
+
 finish

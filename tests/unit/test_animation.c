@@ -213,7 +213,7 @@ static void test_resume_checks_what_made_the_frame(void)
     s = load_clip(yaml, NULL, 0);
     CHECK(run(s, 0, &t) == ORR_OK);
     CHECK(t.rendered == 4 && t.skipped == 0 && t.redone == 2);
-    CHECK(strstr(t.why, "image.width=24 was 16") != NULL);
+    CHECK(strstr(t.why, "image.width changed from 16 to 24") != NULL);
     CHECK(run(s, 0, &t) == ORR_OK);
     CHECK(t.skipped == 4 && t.redone == 0);
 
@@ -222,7 +222,7 @@ static void test_resume_checks_what_made_the_frame(void)
     orr_scene *s5 = load_clip(yaml, longer, 1);
     CHECK(run(s5, 0, &t) == ORR_OK);
     CHECK(t.rendered == 5 && t.redone == 4);
-    CHECK(strstr(t.why, "animation.frames=5 was 4") != NULL);
+    CHECK(strstr(t.why, "animation.frames changed from 4 to 5") != NULL);
     free(s5);
 
     /* An output changed in place, same size: caught by its checksum. */
