@@ -3,7 +3,7 @@ for bench/bench_scale.sh, in the pixels where the particles are well sampled.
 
   compare_scale.py ORRERY.fits SPLASH.pix SNAPSHOT WIDTH CX CY
 
-ORRERY.fits: orrery's image (mass per pixel), orthographic, WIDTH across,
+ORRERY.fits: orrery's image (mass per area), orthographic, WIDTH across,
 centred on (CX, CY), looking along -z. SPLASH.pix: SPLASH's `-o ascii` map
 of the same view (column density, mass per area). SNAPSHOT: the Gadget-1
 file both read (POS and HSML blocks; bench_snapshot's layout).
@@ -87,6 +87,7 @@ def main():
     width, cx, cy = (float(v) for v in sys.argv[4:7])
     o = fits.getdata(o_path).astype(np.float64)
     ny, nx = o.shape
+    o *= (width / nx) ** 2  # orrery's column density (mass per area) -> mass per pixel
     s = read_pix(s_path)
     if s.shape != o.shape:
         sys.exit("%s is %d x %d, %s %d x %d" % (s_path, s.shape[1], s.shape[0], o_path, nx, ny))

@@ -8,10 +8,8 @@
 #
 #   examples/futuresky-short.sh [OUT_DIR]      (default out/futuresky-short)
 #
-# The white levels are the config's, scaled by the pixels' solid angle (a
-# pixel of the 1024^2 master covers (3600/1024)^2 = 12.4 of the full one's,
-# one of the 1024x512 panorama 16 of the 4096x2048 one's), so the short run
-# is graded like the full one.
+# Pixels hold surface brightness (per steradian), so the config's white
+# levels grade the smaller frames like the full-size ones.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 build=${ORRERY_BUILD:-$here/build}
@@ -20,9 +18,7 @@ scene=$here/configs/futuresky-sequence.yaml
 "$build/examples/orrery-nbody" --particles 30000 --steps 115 --render-every 5 --dt 0.04 --quiet \
   --scene "$scene" --set output.dir="$out" --set animation.frames=24 \
   --set views.dome.image.width=1024 --set views.dome.image.height=1024 \
-  --set views.dome.colour.synthesis.white=2.5e-4 \
-  --set views.panorama.image.width=1024 --set views.panorama.image.height=512 \
-  --set views.panorama.colour.synthesis.white=4.0e-4
+  --set views.panorama.image.width=1024 --set views.panorama.image.height=512
 if command -v ffmpeg >/dev/null; then
   "$build/orrery" video "$scene" --set output.dir="$out" --set animation.frames=24
 fi

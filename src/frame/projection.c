@@ -253,6 +253,45 @@ static void fold_dome(const orr_projection *p, int *i, int *j)
     *j = (int)p->cy;
 }
 
+/* The solid angle of the rectangle [x0, x1] x [y0, y1] of the image plane
+ * at distance f from the eye: the corners' F(x, y) = atan(x y / (f r))
+ * with r the distance to the corner (Oosterom & Strackee's formula for a
+ * rectangle with a corner at the foot of the perpendicular). */
+static double corner_angle(double x, double y, double f)
+{
+    return atan2(x * y, f * sqrt(x * x + y * y + f * f));
+}
+
+static double rectangle_solid_angle(double x0, double x1, double y0, double y1, double f)
+{
+    return corner_angle(x1, y1, f) - corner_angle(x0, y1, f) - corner_angle(x1, y0, f) + corner_angle(x0, y0, f);
+}
+
+double orr_pixel_measure(const orr_projection *p, int i, int j)
+{
+    switch (p->kind) {
+    case ORR_PROJ_ORTHOGRAPHIC:
+        return 1.0 / (p->focal * p->focal);
+    case ORR_PROJ_PERSPECTIVE: {
+        double x0 = i - p->cx, y0 = j - p->cy;
+        return rectangle_solid_angle(x0, x0 + 1.0, y0, y0 + 1.0, p->focal);
+    }
+    case ORR_PROJ_HAMMER_AITOFF:
+        return 4.0 * ORR_PI / (ORR_PI * p->half_w * p->half_h);
+    case ORR_PROJ_EQUIRECTANGULAR: {
+        double top = (p->cy - j) * ORR_PI / p->height, bottom = (p->cy - j - 1) * ORR_PI / p->height;
+        return 2.0 * ORR_PI / p->width * (sin(top) - sin(bottom));
+    }
+    case ORR_PROJ_DOME: {
+        double u = i + 0.5 - p->cx, v = j + 0.5 - p->cy;
+        double theta = sqrt(u * u + v * v) / p->focal;
+        double density = theta > 1e-4 ? sin(theta) / theta : 1.0 - theta * theta / 6.0;
+        return density / (p->focal * p->focal);
+    }
+    }
+    return 1.0;
+}
+
 void orr_projection_fold(const orr_projection *p, int *i, int *j)
 {
     switch (p->kind) {

@@ -53,6 +53,17 @@ int orr_projection_is_sky(const orr_projection *p);
  * Hammer-Aitoff ellipse, the dome's circle; every pixel of the others). */
 int orr_projection_pixel_in_map(const orr_projection *p, int i, int j);
 
+/* What pixel (i, j) covers: its solid angle in steradians for the sky
+ * projections and perspective, its area in squared scene units for
+ * orthographic. Exact for orthographic, perspective (the rectangle's solid
+ * angle in closed form), Hammer-Aitoff (equal-area: 4 pi over the ellipse's
+ * pi W H / 4 pixels) and equirectangular (a band of latitude); for the dome
+ * the density sin(theta) / theta at the pixel's centre, which differs from
+ * the pixel's integral in the second order of its angular size (under 1e-6
+ * of it on a hemisphere 600 pixels across). A pixel is taken whole, also where the rim of the map cuts it
+ * (its share of a deposit outside the map is folded back onto it). */
+double orr_pixel_measure(const orr_projection *p, int i, int j);
+
 /* For a sky projection, moves pixel (i, j), possibly outside the image or
  * the map, to the pixel of the map where its share of a deposit belongs:
  * across the l = +-180 seam (Hammer-Aitoff, equirectangular), or to the

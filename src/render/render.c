@@ -13,6 +13,7 @@
 #include "encode/fits_read.h"
 #include "encode/image_out.h"
 #include "encode/png.h"
+#include "post/brightness.h"
 #include "post/colormap.h"
 #include "post/stretch.h"
 #include "render/camera_transform.h"
@@ -1528,9 +1529,11 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     static const char *const xyz_names[3] = {"X", "Y", "Z"};
     v->nplanes = s->colour || s->nlayers ? 3 : 1;
     st = ORR_OK;
+    char unit[ORR_PLANE_NAME_MAX];
+    orr_brightness_unit(&v->proj, s->colour ? "CIE tristimulus" : s->bunit, unit, sizeof unit);
     for (int k = 0; k < v->nplanes && !st; k++)
         st = orr_plane_alloc(&v->planes[k], v->proj.width, v->proj.height, s->colour ? xyz_names[k] : s->weight,
-                             s->colour ? "CIE tristimulus/pixel" : s->bunit, err);
+                             unit, err);
     /* The kernel's tables take milliseconds to build: only for kernel
      * deposits and PSFs (a sky map's is drawn with the kernel). */
     int needs_kernel = s->deposit == ORR_DEPOSIT_SPH || s->psf != ORR_PSF_NONE;
@@ -1679,6 +1682,8 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, or
     for (int k = 0; k < n && !st; k++) /* a sky map's bright stars: part of the raw planes, as their cores */
         if (views[k].psf.sky)
             st = orr_sky_psf_draw(views[k].psf.sky, &views[k].sph, views[k].planes, views[k].nplanes, err);
+    for (int k = 0; k < n && !st; k++) /* flux per pixel to flux per steradian (or area) */
+        orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);
     for (int k = 0; k < n && !st; k++)
         if (views[k].scene->write_raw) {
             mask_outside_map(&views[k]);

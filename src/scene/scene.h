@@ -251,7 +251,8 @@ typedef struct orr_scene {
                                     * output.white_percentile (default 99.9),
                                     * output.softening: n of log/asinh (default 1000) */
     orr_colormap_kind colormap;    /* output.colormap: grey | magma | inferno (default magma) */
-    char bunit[ORR_NAME_MAX];      /* output.bunit: FITS BUNIT (default "mass/pixel") */
+    char bunit[ORR_NAME_MAX];      /* output.bunit: the unit of a particle's weight (default "mass"); the
+                                    * planes' BUNIT is it per steradian or per area (post/brightness.h) */
 
     /* Not keys: what the scene says, for frame markers (render/animation.c),
      * which redo a frame made with other settings. The effective keys after

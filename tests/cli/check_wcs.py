@@ -10,6 +10,8 @@ import numpy as np
 from astropy.io import fits
 from astropy.wcs import WCS
 
+from solid_angle import pixel_solid_angle
+
 orrery, work = sys.argv[1], sys.argv[2]
 
 # An observer off the origin, a tilted disc normal: nothing lines up with the axes.
@@ -43,6 +45,8 @@ views = {
     "equirectangular": "  projection: equirectangular\nimage:\n  width: 720\n  height: 360\n",
     "dome": "  projection: dome\n  zenith: [40, 50]\n  front: [200, 10]\nimage:\n  width: 601\n  height: 601\n",
 }
+
+
 failures = 0
 for name, camera in views.items():
     scene = (f"input:\n  file: sky.txt\nobserver:\n  id: 1\n  reference_id: 2\n  normal: [0.1, -0.2, 1.0]\n"
@@ -61,12 +65,15 @@ for name, camera in views.items():
         px, py = wcs.all_world2pix(l, b, 0)
         i, j = int(np.round(px)), int(np.round(py))
         got = data[j, i] if 0 <= j < data.shape[0] and 0 <= i < data.shape[1] else None
-        if got is None or abs(got - (k + 1)) > 1e-3:
+        # A pixel holds mass per steradian: times its solid angle, the mass.
+        got = got * pixel_solid_angle(wcs, i, j) if got is not None else None
+        if got is None or abs(got - (k + 1)) > 1e-3 * (k + 1):
             print(f"{name}: particle at l={l:g} b={b:g} (mass {k + 1}): WCS pixel ({i}, {j}) holds {got}")
             failures += 1
         checked += 1
     # The total is every drawn particle's mass: nothing was lost or doubled.
-    total = np.nansum(data)
+    lit = np.argwhere(np.nan_to_num(data) != 0)
+    total = sum(data[j, i] * pixel_solid_angle(wcs, i, j) for j, i in lit)
     print(f"{name}: {checked} particles checked against the WCS, image total {total:g}")
     if name != "dome":
         expected = sum(k + 1 for k in range(len(points))) + 0.5

@@ -12,7 +12,7 @@ SPH column-density image against SPLASH's rendering of the same particles.
 
   compare_splash.py compare --orrery FITS --splash PIX [--fine PIX]
           --particles TXT --width W [--min-kernels 5] [--min-hpix 3] [--tol 0.01]
-      FITS: orrery's image (mass per pixel). PIX: SPLASH's pixel map ('-o
+      FITS: orrery's image (mass per area). PIX: SPLASH's pixel map ('-o
       ascii': column density, mass per area, one image row per line from the
       bottom) of the same view at the same size. FINE: SPLASH's map at k
       times the resolution; summed over k x k blocks it is a k x k midpoint
@@ -124,6 +124,7 @@ def compare(args):
     o = fits.getdata(args.orrery).astype(np.float64)
     ny, nx = o.shape
     dx = args.width / nx
+    o *= dx * dx  # orrery's column density (mass per area) -> mass per pixel, compared below
     s = read_pix(args.splash)
     if s.shape != o.shape:
         sys.exit("SPLASH map %s is %d x %d, orrery's %d x %d" % (args.splash, s.shape[1], s.shape[0], nx, ny))

@@ -11,6 +11,8 @@ import subprocess
 import numpy as np
 from astropy.io import fits
 
+from solid_angle import solid_angles
+
 
 def unit(t_deg, a_deg):
     """The direction t_deg from +z (the dome's zenith) at azimuth a_deg from +x."""
@@ -21,7 +23,9 @@ def unit(t_deg, a_deg):
 def render(orrery, work, name, stars, camera, size, psf):
     """Renders stars [(direction, mass)] in WORK as NAME: camera and psf are
     the scene's indented lines under camera: and psf:, size (width, height).
-    Returns the image (row 0 at the top, NaN off the map) and its header."""
+    Returns the image as flux per pixel (its values times each pixel's
+    solid angle from the WCS; row 0 at the top, NaN off the map) and its
+    header."""
     rows = ["x y z mass id", "0 0 0 1 1", "1000 0 0 1e-9 2"]
     for k, (d, m) in enumerate(stars):
         rows.append("%r %r %r %r %d" % (10 * d[0], 10 * d[1], 10 * d[2], m, k + 3))
@@ -50,5 +54,7 @@ output:
     with open(f"{work}/{name}.yaml", "w") as f:
         f.write(scene)
     subprocess.run([orrery, "render", "--quiet", f"{name}.yaml"], cwd=work, check=True)
-    data = fits.getdata(f"{work}/out/{name}.fits").astype(np.float64)[::-1]  # FITS rows bottom-up
-    return data, fits.getheader(f"{work}/out/{name}.fits")
+    data = fits.getdata(f"{work}/out/{name}.fits").astype(np.float64)
+    head = fits.getheader(f"{work}/out/{name}.fits")
+    flux = data * solid_angles(head)  # the map holds flux per steradian
+    return flux[::-1], head  # FITS rows bottom-up

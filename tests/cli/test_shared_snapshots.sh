@@ -65,10 +65,12 @@ EOF
     fail "render $rel: $(cat err.txt)"
     continue
   fi
+  # Pixels hold mass per unit area: times a pixel's, (width / 128)^2.
   image_mass=$("$py" -c "
 import sys, numpy as np
 from astropy.io import fits
-print(repr(float(np.nansum(fits.getdata(sys.argv[1]).astype(np.float64)))))" "out/$name.fits")
+area = (float(sys.argv[2]) / 128) ** 2
+print(repr(float(np.nansum(fits.getdata(sys.argv[1]).astype(np.float64))) * area))" "out/$name.fits" "$width")
   # float32 pixels: the sum agrees to about 1e-6 of the total
   awk -v a="$image_mass" -v b="$mass" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= 1e-5 * b) }' ||
     fail "render $rel: the image holds mass $image_mass, the snapshot $mass"

@@ -53,7 +53,12 @@ for name in psf-gaussian psf-hst; do
 import sys, numpy as np
 from astropy.io import fits
 h = fits.open(sys.argv[1])[0]
-s, w = float(np.nansum(h.data.astype(np.float64))), h.header['WIMAGE']
+# Pixels hold weight per steradian: times each pixel's solid angle, f / r^3
+# at its centre for the 160 x 120 frame of 40 degrees across (f in pixels).
+f = 80 / np.tan(np.radians(20))
+y, x = np.mgrid[0:120, 0:160] + 0.5
+omega = f / ((x - 80) ** 2 + (y - 60) ** 2 + f * f) ** 1.5
+s, w = float(np.nansum(h.data.astype(np.float64) * omega)), h.header['WIMAGE']
 # light the PSF carries past the image's edges is lost, a little
 sys.exit(0 if abs(s - w) <= 2e-2 * w and s <= w * (1 + 1e-5) else 1)" "out/$name.fits" ||
     fail "$name: the convolved image's sum differs from the deposited weight"

@@ -160,7 +160,12 @@ expect([x.name for x in h] == ["left.mass", "right.mass"], f"ods.fits HDUs {[x.n
 turn = math.degrees(math.asin(0.5 / 5))
 for k, sign in ((0, 1), (1, -1)):
     d = np.nan_to_num(h[k].data)
-    expect(abs(d.sum() - 1) < 1e-6, f"ods eye {k}: weight {d.sum()}, expected 1 (the other is skipped)")
+    # Mass per steradian: row j of the 360 x 180 map is the band of latitude
+    # 90 - j to 89 - j degrees, 1 degree wide.
+    top = np.radians(90.0 - np.arange(180))[:, None]
+    omega = np.radians(1.0) * (np.sin(top) - np.sin(top - np.radians(1.0)))
+    w = (d * omega).sum()
+    expect(abs(w - 1) < 1e-6, f"ods eye {k}: weight {w}, expected 1 (the other is skipped)")
     j, i = np.unravel_index(np.argmax(d), d.shape)
     expect(i == 180 + int(math.floor(sign * turn)), f"ods eye {k}: column {i}, expected the {sign * turn:.2f} deg one")
     expect(j in (89, 90), f"ods eye {k}: row {j}")

@@ -92,8 +92,10 @@ static void test_text_table_mass_in_view(void)
     float *d = read_fits(fits, &w, &h, &wimage, &woutside, &npart);
     CHECK(w == 64 && h == 48);
     CHECK(npart == 2000);
+    /* Pixels hold mass per unit area: times a pixel's area, (10 / 64)^2. */
+    const double area = (10.0 / 64) * (10.0 / 64);
     if (d)
-        CHECK_NEAR(sum_pixels(d, w * h), inside, 1e-5 * inside);
+        CHECK_NEAR(sum_pixels(d, w * h) * area, inside, 1e-5 * inside);
     CHECK_NEAR(wimage, inside, 1e-6 * inside);
     CHECK_NEAR(woutside, outside, 1e-6 * outside);
     free(d);
@@ -123,9 +125,10 @@ static void test_pixel_orientation(void)
     double wimage = 0, woutside = 0;
     float *d = read_fits(fits, &w, &h, &wimage, &woutside, &npart);
     if (d) {
-        long fits_row = 48 - 10; /* 1-based FITS row of image row 10 */
-        CHECK_NEAR(d[(fits_row - 1) * w + 40], 3.0, 0);
-        CHECK_NEAR(sum_pixels(d, w * h), 3.0, 0);
+        long fits_row = 48 - 10;     /* 1-based FITS row of image row 10 */
+        const double area = 1 / 6.4 / 6.4; /* a pixel's, in scene units: it holds mass per unit area */
+        CHECK_NEAR(d[(fits_row - 1) * w + 40] * area, 3.0, 1e-6);
+        CHECK_NEAR(sum_pixels(d, w * h) * area, 3.0, 1e-6);
     }
     free(d);
 }
@@ -162,8 +165,9 @@ static void test_builtin_model_scene(void)
     double wimage = 0, woutside = 0;
     float *d = read_fits(fits, &w, &h, &wimage, &woutside, &npart);
     CHECK(npart == 20000);
+    const double area = (2000.0 / 256) * (2000.0 / 256); /* a pixel's: it holds mass per unit area */
     if (d)
-        CHECK_NEAR(sum_pixels(d, w * h), stars, 1e-5 * stars);
+        CHECK_NEAR(sum_pixels(d, w * h) * area, stars, 1e-5 * stars);
     CHECK_NEAR(woutside, 0, 0);
     free(d);
 

@@ -82,7 +82,7 @@ static void test_defaults(void)
     CHECK(s->stretch.white_percentile == 99.9);
     CHECK(s->stretch.n == 1000);
     CHECK(s->colormap == ORR_CMAP_MAGMA);
-    CHECK(strcmp(s->bunit, "mass/pixel") == 0);
+    CHECK(strcmp(s->bunit, "mass") == 0);
 
     /* A minimal scene keeps them, and names the output after the scene. */
     EXPECT_OK(MODEL, NULL, 0);
@@ -130,7 +130,7 @@ static void test_full_scene(void)
                        "  white_percentile: 99.5\n"
                        "  softening: 50\n"
                        "  colormap: gray\n"
-                       "  bunit: 'Msun / pixel'\n";
+                       "  bunit: 'Msun'\n";
     EXPECT_OK(yaml, NULL, 0);
     const orr_scene *s = &g_scene;
     CHECK(strcmp(s->input_format, "text") == 0);
@@ -162,7 +162,7 @@ static void test_full_scene(void)
     CHECK(s->stretch.white_percentile == 99.5);
     CHECK(s->stretch.n == 50);
     CHECK(s->colormap == ORR_CMAP_GREY);
-    CHECK(strcmp(s->bunit, "Msun / pixel") == 0);
+    CHECK(strcmp(s->bunit, "Msun") == 0);
 }
 
 static void test_camera_orientations(void)
