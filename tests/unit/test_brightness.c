@@ -46,7 +46,8 @@ static float *render_sky(const char *camera, int width, int height, const char *
              "output: {name: %s, png: false, dir: %s}\n",
              camera, width, height, name, tmpdir);
     orrery_renderer *r = NULL;
-    if (orrery_open_yaml(&r, yaml, ".", NULL, 0, msg, sizeof msg) != ORRERY_OK) {
+    /* Based in the source tree, whose domes/ holds the profiles. */
+    if (orrery_open_yaml(&r, yaml, ORRERY_SOURCE_DIR, NULL, 0, msg, sizeof msg) != ORRERY_OK) {
         fprintf(stderr, "%s: %s\n", name, msg);
         return NULL;
     }
