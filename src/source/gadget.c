@@ -490,14 +490,31 @@ static void describe(orr_source *src, const gadget_state *st, const int64_t sum[
     orr_source_add_header(info, "blocks read", "%s", blocks);
 }
 
-/* A block is usable when every part that has particles for it has it; a
+/* How many values of block k a part would hold: gas blocks have one per gas
+ * particle; MASS one per particle of the types whose massarr is 0 (GADGET-2
+ * writes no MASS block into a part without such particles); the rest one
+ * per particle. */
+static int64_t block_values(const gadget_file *f, gadget_block_kind k)
+{
+    if (k == BLK_U || k == BLK_RHO || k == BLK_HSML)
+        return f->h.npart[0];
+    if (k != BLK_MASS)
+        return f->n;
+    int64_t nvar = 0;
+    for (int t = 0; t < GADGET_NTYPES; t++)
+        if (f->h.massarr[t] == 0)
+            nvar += f->h.npart[t];
+    return nvar;
+}
+
+/* A block is usable when every part that has values for it has it; a
  * snapshot whose parts disagree is damaged. Returns -1 after failing. */
 static int block_available(const gadget_state *st, gadget_block_kind k, orr_error *err)
 {
     int have = -1, missing = -1;
     for (int i = 0; i < st->nfiles; i++) {
         const gadget_file *f = &st->files[i];
-        int64_t needed = (k == BLK_U || k == BLK_RHO || k == BLK_HSML) ? f->h.npart[0] : f->n;
+        int64_t needed = block_values(f, k);
         if (f->blk[k].present && have < 0)
             have = i;
         if (!f->blk[k].present && needed > 0 && missing < 0)

@@ -695,6 +695,45 @@ static void test_multi_file_problems(void)
     expect_failure(tmpdir, ORR_ERR_IO, "not a regular file");
 }
 
+/* GADGET-2 writes a MASS block only into the parts that hold particles of
+ * a type with massarr 0: part 0 here has gas (massarr 0) and type 1, part 1
+ * only type 1 (massarr 2), so part 1 has no MASS block and needs none. */
+static void test_mass_block_only_where_needed(void)
+{
+    static test_snap s;
+    memset(&s, 0, sizeof s);
+    s.lay = (layout){1, 0, 0, 0, 2, 0, GW_VEL | GW_ID};
+    s.massarr[1] = 2.0;
+    const int32_t counts[2][6] = {{2, 3}, {0, 4}};
+    for (int f = 0; f < 2; f++) {
+        test_file *tf = &s.file[f];
+        for (int t = 0; t < 2; t++)
+            for (int j = 0; j < counts[f][t]; j++) {
+                gw_particle *p = &tf->p[tf->n];
+                tf->type[tf->n++] = t;
+                p->pos[0] = tf->n + 10 * f;
+                p->id = (uint64_t)(tf->n + 10 * f);
+                p->mass = 0.25 * tf->n;
+            }
+        memcpy(tf->npart, counts[f], sizeof tf->npart);
+    }
+    for (int format = 1; format <= 2; format++) {
+        s.lay.snapformat = format;
+        const char *name = format == 1 ? "massparts1" : "massparts2";
+        write_snapshot(&s, name);
+        orr_error err = {0};
+        orr_source *src = open_gadget(tmp_path(name), 4, 0, NULL, 0, &err);
+        CHECK(src != NULL);
+        if (!src) {
+            fprintf(stderr, "  %s: %s\n", name, err.msg);
+            continue;
+        }
+        CHECK(src->info.count == 9);
+        CHECK(read_and_compare(&s, src, 0, 4) == 9);
+        orr_source_close(src);
+    }
+}
+
 static void test_block_twice(void)
 {
     write_small("twice", 2, 1);
@@ -722,6 +761,7 @@ int main(void)
     RUN(test_counts_that_disagree);
     RUN(test_multi_file_problems);
     RUN(test_block_twice);
+    RUN(test_mass_block_only_where_needed);
     RUN(test_shared_galaxy);
     RUN(test_shared_gassphere_both_byte_orders);
     RUN(test_shared_format2_two_files);
