@@ -366,6 +366,52 @@ static int has_any_group(hid_t fid, int ntypes)
     return 0;
 }
 
+/* The rows of the first dataset the reader knows in group g (0 when it has
+ * none); *name gets that dataset's name. */
+static uint64_t group_rows(hid_t g, const char **name)
+{
+    for (int k = 0; k < DS_COUNT; k++) {
+        *name = h5r_dataset_name_in(g, (h5r_dataset)k);
+        if (!*name)
+            continue;
+        hid_t ds = H5Dopen2(g, *name, H5P_DEFAULT);
+        hsize_t dims[ORR_H5_MAX_RANK];
+        H5T_class_t cls = H5T_NO_CLASS;
+        int rank = ds >= 0 ? orr_h5_dataset_shape(ds, dims, &cls) : -1;
+        orr_h5_close(ds);
+        H5Eclear2(H5E_DEFAULT);
+        if (rank >= 1 && dims[0] > 0)
+            return (uint64_t)dims[0];
+    }
+    return 0;
+}
+
+/* A type the header counts 0 of is never read, so rows in its group would
+ * be dropped without a word (a header with NumPart_ThisFile all 0 would give
+ * an empty image): the header and the data disagree, and neither can be
+ * trusted. Checked for every type, wanted or not. */
+static orr_status check_uncounted_group(const char *path, hid_t fid, int t, orr_error *err)
+{
+    char gname[H5R_GROUP_NAME];
+    snprintf(gname, sizeof gname, "PartType%d", t);
+    if (!orr_h5_has_link(fid, gname))
+        return ORR_OK;
+    hid_t g = H5Gopen2(fid, gname, H5P_DEFAULT);
+    if (g < 0) {
+        H5Eclear2(H5E_DEFAULT);
+        return ORR_OK; /* not read, and nothing in it can be seen */
+    }
+    const char *name = NULL;
+    uint64_t rows = group_rows(g, &name);
+    orr_h5_close(g);
+    if (rows == 0)
+        return ORR_OK;
+    return orr_fail(err, ORR_ERR_FORMAT,
+                    "%s: Header/NumPart_ThisFile[%d] = 0 but %s/%s has %llu rows: the header and the datasets "
+                    "disagree",
+                    path, t, gname, name, (unsigned long long)rows);
+}
+
 /* Checks file i (already open as fid): its counts and every wanted group. */
 static orr_status check_file(hdf5_state *st, int i, hid_t fid, char example[DS_COUNT][H5R_GROUP_NAME], int *any_group,
                              orr_error *err)
@@ -397,6 +443,8 @@ static orr_status check_file(hdf5_state *st, int i, hid_t fid, char example[DS_C
     for (int t = 0; t < st->ntypes && !s; t++)
         if (counts[t] > 0 && (st->type_mask >> t & 1u))
             s = check_group(st, path, fid, t, counts[t], example, err);
+        else if (counts[t] == 0)
+            s = check_uncounted_group(path, fid, t, err);
     *any_group |= groups;
     return s;
 }

@@ -705,6 +705,20 @@ static void test_bad_counts(void)
     CHECK(h5w_set_int64_attr(path, "Header", "MassTable", three, 3) == 0);
     expect_failure(path, ORR_ERR_FORMAT, "Header/MassTable has 3 entries but NumPart_ThisFile has 6", NULL);
 
+    /* A header that counts nothing while the groups hold rows: an error
+     * naming the header field and a dataset with its rows, not 0 particles. */
+    path = good_file("zerocounts.hdf5");
+    const int64_t zeros[6] = {0, 0, 0, 0, 0, 0};
+    CHECK(h5w_set_int64_attr(path, "Header", "NumPart_ThisFile", zeros, 6) == 0);
+    expect_failure(path, ORR_ERR_FORMAT, "Header/NumPart_ThisFile[0] = 0 but PartType0/Coordinates has 9 rows",
+                   NULL);
+    /* One type uncounted while the others agree. */
+    path = good_file("onezero.hdf5");
+    const int64_t no_stars[6] = {9, 17, 0, 0, 0, 0};
+    CHECK(h5w_set_int64_attr(path, "Header", "NumPart_ThisFile", no_stars, 6) == 0);
+    expect_failure(path, ORR_ERR_FORMAT, "Header/NumPart_ThisFile[4] = 0 but PartType4/Coordinates has 5 rows",
+                   NULL);
+
     path = good_file("nonumpart.hdf5");
     hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
     H5Adelete_by_name(file, "Header", "NumPart_ThisFile", H5P_DEFAULT);
