@@ -7,6 +7,7 @@
 #include "source/gadget_internal.h"
 
 #include <errno.h>
+#include <math.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
@@ -182,6 +183,10 @@ static orr_status read_header(scan *s, const gadget_encoding *enc, gadget_header
                             (int)h->npart[t]);
     if (h->num_files < 0)
         return orr_fail(err, ORR_ERR_FORMAT, "%s: header num_files = %d is negative", s->path, (int)h->num_files);
+    /* The time goes into every image's FITS header (and orders a sequence's
+     * snapshots): a NaN or infinity there fails every render at its end. */
+    if (!isfinite(h->time))
+        return orr_fail(err, ORR_ERR_FORMAT, "%s: header time = %g is not a finite number", s->path, h->time);
     *end = offset + (int64_t)sizeof b;
     return ORR_OK;
 }

@@ -234,6 +234,10 @@ static orr_status read_main_header(hdf5_state *st, hid_t header, orr_source *src
         s = header_numbers(path, header, "Time", H5T_NATIVE_DOUBLE, &time, 1, 0, &n, err);
     if (s)
         return s;
+    /* The time goes into every image's FITS header (and orders a sequence's
+     * snapshots): a NaN or infinity there fails every render at its end. */
+    if (!isfinite(time))
+        return orr_fail(err, ORR_ERR_FORMAT, "%s: Header/Time = %g is not a finite number", path, time);
     src->info.time = time;
     /* Old IC writers leave 0 (or junk) for a single file. */
     st->nfiles = st->numbered && nfiles > 1 ? (int)nfiles : 1;

@@ -335,6 +335,10 @@ static orr_status read_header(const char *path, tipsy_state *st, orr_error *err)
     char why[512];
     if (!detect_layout(head, n, st->file_size, &st->hdr, why, sizeof why))
         return orr_fail(err, ORR_ERR_FORMAT, "%s: not a readable Tipsy file: %s", path, why);
+    /* The probe refuses such a time, but a named format skips the probe;
+     * the time goes into every image's FITS header. */
+    if (!isfinite(st->hdr.time))
+        return orr_fail(err, ORR_ERR_FORMAT, "%s: header time = %g is not a finite number", path, st->hdr.time);
     return ORR_OK;
 }
 

@@ -668,6 +668,25 @@ static void test_counts_that_disagree(void)
     expect_failure(path, ORR_ERR_FORMAT, "types 1 have massarr 0, so their 3 masses must be in a MASS block");
 }
 
+/* A NaN or infinite time would be written into every image's FITS header,
+ * which cfitsio refuses at the end of each render: refused when opening. */
+static void test_time_not_finite(void)
+{
+    const double times[2] = {NAN, -INFINITY};
+    for (int k = 0; k < 2; k++) {
+        const char *name = k ? "inftime" : "nantime";
+        write_small(name, 1, 1);
+        unsigned char b[8];
+        uint64_t bits;
+        memcpy(&bits, &times[k], 8);
+        for (int i = 0; i < 8; i++)
+            b[i] = (unsigned char)(bits >> (8 * i));
+        patch(tmp_path(name), 4 + 72, b, 8); /* header time, little endian */
+        expect_failure(tmp_path(name), ORR_ERR_FORMAT, "header time = ");
+        expect_failure(tmp_path(name), ORR_ERR_FORMAT, "is not a finite number");
+    }
+}
+
 static void test_multi_file_problems(void)
 {
     /* A missing part. */
@@ -759,6 +778,7 @@ int main(void)
     RUN(test_markers_that_disagree);
     RUN(test_wrong_byte_order_or_not_gadget);
     RUN(test_counts_that_disagree);
+    RUN(test_time_not_finite);
     RUN(test_multi_file_problems);
     RUN(test_block_twice);
     RUN(test_mass_block_only_where_needed);

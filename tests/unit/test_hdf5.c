@@ -726,6 +726,21 @@ static void test_bad_counts(void)
     expect_failure(path, ORR_ERR_FORMAT, "Header has no NumPart_ThisFile attribute", NULL);
 }
 
+/* A NaN or infinite time would be written into every image's FITS header,
+ * which cfitsio refuses at the end of each render: refused when opening. */
+static void test_time_not_finite(void)
+{
+    const double times[2] = {NAN, INFINITY};
+    for (int k = 0; k < 2; k++) {
+        const char *path = good_file(k ? "inftime.hdf5" : "nantime.hdf5");
+        hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+        CHECK(file >= 0);
+        CHECK(h5w_set_attr(file, "Header", "Time", H5T_IEEE_F64LE, 0, &times[k], 1) == 0);
+        H5Fclose(file);
+        expect_failure(path, ORR_ERR_FORMAT, "Header/Time = ", "is not a finite number");
+    }
+}
+
 static void test_missing_file_of_snapshot(void)
 {
     part_data d[6];
@@ -769,6 +784,7 @@ int main(void)
     RUN(test_no_header_or_groups);
     RUN(test_bad_shapes);
     RUN(test_bad_counts);
+    RUN(test_time_not_finite);
     RUN(test_missing_file_of_snapshot);
     RUN(test_truncated);
     int skipped = 0;

@@ -669,6 +669,18 @@ static void test_bad_headers(void)
                  "needs a file of 140 bytes (136 with the unpadded 28-byte header)");
 }
 
+/* A NaN or infinite time would be written into every image's FITS header,
+ * which cfitsio refuses at the end of each render: refused when opening. */
+static void test_time_not_finite(void)
+{
+    const double times[2] = {NAN, INFINITY};
+    for (int k = 0; k < 2; k++) {
+        tipsy_writer_header h = tipsy_writer_header_for(times[k], 0, 1, 0, 1, 32);
+        const char *path = write_header_only(k ? "inftime.bin" : "nantime.bin", h, 36);
+        expect_error(path, ORR_ERR_FORMAT, "header time = ", "is not a finite number");
+    }
+}
+
 static void test_not_tipsy_and_missing(void)
 {
     const char *path = tmp_path("table.txt");
@@ -710,6 +722,7 @@ int main(void)
     RUN(test_truncated_file);
     RUN(test_huge_counts_checked_before_allocating);
     RUN(test_bad_headers);
+    RUN(test_time_not_finite);
     RUN(test_not_tipsy_and_missing);
     RUN(test_file_shrinking_after_open);
     char buf[1024];
