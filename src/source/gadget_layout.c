@@ -13,6 +13,7 @@
 #include <sys/types.h>
 
 #include "core/bytes.h"
+#include "source/mass_policy.h"
 
 const char *const gadget_block_names[BLK_COUNT] = {"POS", "VEL", "ID", "MASS", "U", "RHO", "HSML", "POT"};
 
@@ -302,6 +303,19 @@ static void variable_mass_types(const gadget_header *h, char *buf, size_t size)
         }
 }
 
+/* A type's massarr is every one of its particles' mass: the same policy as
+ * masses read from a MASS block (types without particles here are unused). */
+static orr_status check_mass_table(const char *path, const gadget_header *h, orr_error *err)
+{
+    for (int t = 0; t < GADGET_NTYPES; t++) {
+        const char *problem = h->npart[t] > 0 && h->massarr[t] != 0 ? orr_mass_problem(h->massarr[t]) : NULL;
+        if (problem)
+            return orr_fail(err, ORR_ERR_FORMAT, "%s: header massarr[%d] = %g %s (the mass of its %d particles)",
+                            path, t, h->massarr[t], problem, (int)h->npart[t]);
+    }
+    return ORR_OK;
+}
+
 static orr_status check_blocks(const char *path, gadget_file *f, int64_t nvar, orr_error *err)
 {
     int64_t ngas = f->h.npart[0];
@@ -325,7 +339,7 @@ static orr_status check_blocks(const char *path, gadget_file *f, int64_t nvar, o
         (st = check_block(path, &f->blk[BLK_HSML], BLK_HSML, ngas, 1, "gas particles", err)) ||
         (st = check_block(path, &f->blk[BLK_POT], BLK_POT, f->n, 1, "particles", err)))
         return st;
-    return ORR_OK;
+    return check_mass_table(path, &f->h, err);
 }
 
 /* Particle counts and where each type starts in the particle and MASS blocks. */

@@ -6,7 +6,6 @@
 #include "source/hdf5_reader.h"
 
 #include <errno.h>
-#include <float.h>
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
@@ -14,6 +13,7 @@
 #include <string.h>
 
 #include "source/hdf5_internal.h"
+#include "source/mass_policy.h"
 #include "source/share.h"
 
 #define H5R_DEFAULT_CHUNK ((size_t)1 << 20)
@@ -340,10 +340,9 @@ static orr_status check_group(hdf5_state *st, const char *path, hid_t fid, int t
         else if (!name && k == DS_MASS && st->mass_table[t] == 0)
             s = orr_fail(err, ORR_ERR_FORMAT, "%s: %s has no Masses dataset and Header/MassTable[%d] is 0", path,
                          gname, t);
-        else if (!name && k == DS_MASS && !(st->mass_table[t] > 0 && st->mass_table[t] <= FLT_MAX))
-            s = orr_fail(err, ORR_ERR_FORMAT,
-                         "%s: %s has no Masses dataset and Header/MassTable[%d] = %g is not a finite positive float",
-                         path, gname, t, st->mass_table[t]);
+        else if (!name && k == DS_MASS && orr_mass_problem(st->mass_table[t]))
+            s = orr_fail(err, ORR_ERR_FORMAT, "%s: %s has no Masses dataset and Header/MassTable[%d] = %g %s", path,
+                         gname, t, st->mass_table[t], orr_mass_problem(st->mass_table[t]));
         else if (name)
             s = check_dataset(path, t, g, name, (h5r_dataset)k, n, err);
         if (name && !s) {
@@ -572,8 +571,31 @@ static orr_status read_floats(hdf5_state *st, h5r_dataset kind, size_t n, float 
     return read_rows(st, kind, n, 0, H5T_NATIVE_FLOAT, out, err);
 }
 
-/* Masses and smoothing lengths become weights and kernel sizes: reject the
- * values that would silently spoil an image. */
+/* Masses: the Masses dataset read as doubles, so that the mass policy sees
+ * the stored values before they become floats (a double too small or too
+ * large for a float is refused, not turned into 0 or infinity), else the
+ * type's MassTable entry (checked when the file was opened). */
+static orr_status read_masses(hdf5_state *st, size_t n, float *out, orr_error *err)
+{
+    if (st->ds[DS_MASS] < 0) {
+        fill(out, n, (float)st->mass_table[st->type]);
+        return ORR_OK;
+    }
+    /* scratch holds 3 floats a chunk particle: room for n doubles. */
+    double *m = (double *)(void *)st->scratch;
+    orr_status s = read_rows(st, DS_MASS, n, 0, H5T_NATIVE_DOUBLE, m, err);
+    for (size_t i = 0; i < n && !s; i++) {
+        const char *problem = orr_mass_problem(m[i]);
+        if (problem)
+            return orr_fail(err, ORR_ERR_FORMAT, "%s: PartType%d/%s row %" PRIu64 ": mass %g %s", st->path,
+                            st->type, h5r_dataset_name_in(st->gid, DS_MASS), st->row + i, m[i], problem);
+        out[i] = (float)m[i];
+    }
+    return s;
+}
+
+/* Smoothing lengths become kernel sizes: reject the values that would
+ * silently spoil an image. */
 static orr_status check_non_negative(hdf5_state *st, h5r_dataset kind, const float *v, size_t n, orr_error *err)
 {
     for (size_t i = 0; i < n; i++)
@@ -634,9 +656,7 @@ static orr_status read_segment(hdf5_state *st, orr_chunk *c, size_t n, orr_error
     if (!s)
         s = read_ids(st, c, n, err);
     if (!s)
-        s = read_floats(st, DS_MASS, n, c->mass + c->n, (float)st->mass_table[st->type], err);
-    if (!s && st->ds[DS_MASS] >= 0)
-        s = check_non_negative(st, DS_MASS, c->mass + c->n, n, err);
+        s = read_masses(st, n, c->mass + c->n, err);
     if (!s && c->h)
         s = read_floats(st, DS_H, n, c->h + c->n, 0.0f, err);
     if (!s && c->h && st->ds[DS_H] >= 0)

@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "source/mass_policy.h"
+
 /* What each column of the table feeds. */
 typedef enum { COL_X, COL_Y, COL_Z, COL_MASS, COL_H, COL_ID, COL_TYPE, COL_EXTRA } column_role;
 
@@ -217,15 +219,19 @@ static orr_status parse_row(orr_source *src, text_state *st, size_t k, orr_error
         case COL_X: c->x[k] = (float)v; break;
         case COL_Y: c->y[k] = (float)v; break;
         case COL_Z: c->z[k] = (float)v; break;
-        case COL_MASS:
+        case COL_MASS: {
+            const char *problem = orr_mass_problem(v);
+            if (problem)
+                return orr_fail(err, ORR_ERR_FORMAT, "%s:%ld: column '%s': particle %llu: mass %s %s", path,
+                                st->line, st->names[i], (unsigned long long)st->next_index, tokens[i], problem);
+            c->mass[k] = (float)v;
+            break;
+        }
         case COL_H:
             if (!isfinite(v) || v < 0)
                 return orr_fail(err, ORR_ERR_FORMAT, "%s:%ld: column '%s': %s must be finite and not negative",
                                 path, st->line, st->names[i], tokens[i]);
-            if (st->role[i] == COL_MASS)
-                c->mass[k] = (float)v;
-            else
-                c->h[k] = (float)v;
+            c->h[k] = (float)v;
             break;
         case COL_TYPE:
             if (v != floor(v) || v < 0 || v > 5)

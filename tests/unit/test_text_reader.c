@@ -127,13 +127,39 @@ static void test_bad_tables(void)
     CHECK(read_all("empty.txt", "\n\n", &err) == ORR_ERR_FORMAT);
     CHECK_CONTAINS(err.msg, "empty.txt: no header line");
     CHECK(read_all("negmass.txt", "x y z mass\n1 2 3 -4\n", &err) == ORR_ERR_FORMAT);
-    CHECK_CONTAINS(err.msg, "negmass.txt:2: column 'mass'");
+    CHECK_CONTAINS(err.msg, "negmass.txt:2: column 'mass': particle 0: mass -4 is negative");
     CHECK(read_all("badid.txt", "x y z id\n1 2 3 7.5\n", &err) == ORR_ERR_FORMAT);
     CHECK_CONTAINS(err.msg, "badid.txt:2: column 'id': '7.5'");
     CHECK(read_all("badtype.txt", "x y z type\n1 2 3 6\n", &err) == ORR_ERR_FORMAT);
     CHECK_CONTAINS(err.msg, "badtype.txt:2: column 'type': 6");
     /* NaN positions are read as they are: the renderer applies input.nonfinite. */
     CHECK(read_all("nanpos.txt", "x y z\nnan 0 0\ninf 1 1\n", &err) == ORR_OK);
+}
+
+/* The mass policy every reader shares (docs/input.md): negative, non-finite
+ * and float-unrepresentable masses are errors naming file, line, particle
+ * and value; 0 and tiny but representable masses are read. */
+static void test_mass_policy(void)
+{
+    static const struct {
+        const char *value, *needle;
+    } bad[] = {
+        {"nan", "particle 1: mass nan is not a finite number"},
+        {"-inf", "particle 1: mass -inf is not a finite number"},
+        {"-1e-3", "particle 1: mass -1e-3 is negative"},
+        {"1e-300", "particle 1: mass 1e-300 is too small for a float (it would become 0"},
+        {"1e39", "particle 1: mass 1e39 is too large for a float"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        char text[128];
+        snprintf(text, sizeof text, "x y z mass\n1 2 3 4\n# a comment\n1 2 3 %s\n", bad[k].value);
+        orr_error err = {0};
+        CHECK(read_all("masses.txt", text, &err) == ORR_ERR_FORMAT);
+        CHECK_CONTAINS(err.msg, "masses.txt:4: column 'mass': ");
+        CHECK_CONTAINS(err.msg, bad[k].needle);
+    }
+    orr_error err = {0};
+    CHECK(read_all("goodmasses.txt", "x y z mass\n1 2 3 0\n1 2 3 1e-40\n1 2 3 -0\n", &err) == ORR_OK);
 }
 
 static void test_missing_file(void)
@@ -182,6 +208,7 @@ int main(void)
     RUN(test_comma_table_defaults_and_hash_header);
     RUN(test_chunks_and_rewind);
     RUN(test_bad_tables);
+    RUN(test_mass_policy);
     RUN(test_missing_file);
     RUN(test_format_detection);
     char cmd[600];
