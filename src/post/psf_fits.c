@@ -94,6 +94,26 @@ static orr_status fits_error(const char *path, int status, orr_error *err)
                     path, text);
 }
 
+/* Opens path as it is named (fits_open_image would parse cfitsio's extended
+ * file-name syntax, so a name with '[' would not open) and moves, as
+ * fits_open_image does, to the first HDU holding an image: the primary
+ * when it has axes, else the first image extension that has. */
+static int open_first_image(const char *path, fitsfile **f, int *status)
+{
+    int nhdu = 0, naxis = 0, type = 0;
+    if (fits_open_diskfile(f, path, READONLY, status) || fits_get_img_dim(*f, &naxis, status) || naxis > 0 ||
+        fits_get_num_hdus(*f, &nhdu, status))
+        return *status;
+    for (int hdu = 2; hdu <= nhdu; hdu++) {
+        if (fits_movabs_hdu(*f, hdu, &type, status))
+            return *status;
+        if (type == IMAGE_HDU && !fits_get_img_dim(*f, &naxis, status) && naxis > 0)
+            return 0;
+    }
+    /* No image anywhere: back to the primary, whose size is then refused. */
+    return fits_movabs_hdu(*f, 1, NULL, status);
+}
+
 /* Reads the pixels (row 0 at the top) and the PIXSCALE keyword (0 if absent). */
 static orr_status read_image(const char *path, float **pixels, int *w, int *h, double *pixscale,
                              orr_error *err)
@@ -102,8 +122,12 @@ static orr_status read_image(const char *path, float **pixels, int *w, int *h, d
     int status = 0, naxis = 0;
     long naxes[3] = {0, 0, 0};
     *pixels = NULL;
-    if (fits_open_image(&f, path, READONLY, &status))
+    if (open_first_image(path, &f, &status)) {
+        int close_status = 0;
+        if (f)
+            fits_close_file(f, &close_status);
         return fits_error(path, status, err);
+    }
     fits_get_img_dim(f, &naxis, &status);
     fits_get_img_size(f, 3, naxes, &status);
     if (!status && (naxis != 2 || naxes[0] < 1 || naxes[1] < 1 || naxes[0] > FITS_MAX_SIDE ||

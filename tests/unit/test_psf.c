@@ -1,3 +1,4 @@
+#include <fitsio.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -437,6 +438,43 @@ static void test_scale_out_of_range(void)
     CHECK(orr_image_rebin(img, 12, 12, 3e9, 6, 2, 5, out, &err) == ORR_ERR_USAGE);
 }
 
+/* psf.file is opened as named: brackets are not cfitsio's extended syntax
+ * (which would read "psf[1].fits" as extension 1 of "psf"). */
+static void test_file_name_with_brackets(void)
+{
+    const char *path = write_gaussian_psf("psf[1].fits");
+    orr_image_kernel k;
+    orr_error err;
+    orr_psf_fits_options o = {.size = 9};
+    orr_status st = orr_psf_load_fits(path, &o, &k, NULL, &err);
+    CHECK(st == ORR_OK);
+    if (st != ORR_OK) {
+        fprintf(stderr, "  %s\n", err.msg);
+        return;
+    }
+    CHECK(k.width == 9 && k.arcsec_per_pixel == 0.02);
+    CHECK_NEAR(orr_image_kernel_sum(&k), 1.0, 1e-5);
+    orr_image_kernel_free(&k);
+    /* As fits_open_image did: an empty primary HDU, the PSF in extension 1. */
+    char ext[512];
+    snprintf(ext, sizeof ext, "%s/ext[2].fits", tmpdir);
+    fitsfile *f = NULL;
+    int status = 0;
+    long naxes[2] = {5, 5};
+    float pix[25] = {0};
+    pix[12] = 1;
+    fits_create_diskfile(&f, ext, &status);
+    fits_create_img(f, FLOAT_IMG, 0, NULL, &status);
+    fits_create_img(f, FLOAT_IMG, 2, naxes, &status);
+    fits_write_img(f, TFLOAT, 1, 25, pix, &status);
+    fits_close_file(f, &status);
+    CHECK(status == 0);
+    o.size = 5;
+    CHECK(orr_psf_load_fits(ext, &o, &k, NULL, &err) == ORR_OK);
+    CHECK(k.width == 5 && k.data[12] == 1.0f);
+    orr_image_kernel_free(&k);
+}
+
 static void test_fits_errors(void)
 {
     orr_image_kernel k;
@@ -582,6 +620,7 @@ int main(void)
     RUN(test_acs_fits);
     RUN(test_fits_errors);
     RUN(test_scale_out_of_range);
+    RUN(test_file_name_with_brackets);
     RUN(test_star_cluster);
     int status = check_summary();
     remove_tmpdir();
