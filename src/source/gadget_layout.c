@@ -14,6 +14,7 @@
 
 #include "core/bytes.h"
 #include "source/mass_policy.h"
+#include "source/source.h"
 
 const char *const gadget_block_names[BLK_COUNT] = {"POS", "VEL", "ID", "MASS", "U", "RHO", "HSML", "POT"};
 
@@ -360,6 +361,9 @@ static int64_t count_particles(gadget_file *f)
 static orr_status scan_open(scan *s, const char *path, orr_error *err)
 {
     s->path = path;
+    orr_status st = orr_source_refuse_stream(path, "gadget", err);
+    if (st)
+        return st;
     s->fp = fopen(path, "rb");
     if (!s->fp)
         return orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));

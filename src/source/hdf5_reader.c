@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "source/hdf5_internal.h"
 #include "source/mass_policy.h"
@@ -70,12 +71,11 @@ int orr_hdf5_probe(const unsigned char *head, size_t n)
 
 /* ---- Finding the files ---------------------------------------------- */
 
+/* stat(), not fopen(): opening a FIFO would wait for a writer. */
 static int file_exists(const char *path)
 {
-    FILE *fp = fopen(path, "rb");
-    if (fp)
-        fclose(fp);
-    return fp != NULL;
+    struct stat sb;
+    return stat(path, &sb) == 0;
 }
 
 /* Splits "dir/snap.12.hdf5" into base "dir/snap" and ext ".hdf5"; returns 1
@@ -139,6 +139,9 @@ static orr_status resolve_first_file(hdf5_state *st, const char *path, orr_error
 static orr_status open_hdf5_file(const char *path, hid_t *fid, const char *context, orr_error *err)
 {
     unsigned char head[4096];
+    orr_status s = orr_source_refuse_stream(path, "hdf5", err);
+    if (s)
+        return s;
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s%s", path, strerror(errno), context);

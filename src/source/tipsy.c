@@ -452,11 +452,10 @@ orr_status orr_tipsy_source_open(const char *path, const orr_source_options *opt
     if (!src)
         return ORR_ERR_NOMEM;
     tipsy_state *st = src->state;
-    st->fp = fopen(path, "rb");
-    orr_status s;
-    if (!st->fp)
+    orr_status s = orr_source_refuse_stream(path, "tipsy", err);
+    if (!s && !(st->fp = fopen(path, "rb")))
         s = orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    else
+    else if (!s)
         s = read_header(path, st, err);
     if (!s) {
         choose_contents(src, st, opt);
