@@ -53,7 +53,9 @@ orr_status orr_read_fits_planes(const char *path, orr_plane *planes, int max, in
     *n = 0;
     fitsfile *f = NULL;
     int status = 0, nhdu = 0;
-    if (fits_open_file(&f, path, READONLY, &status) || fits_get_num_hdus(f, &nhdu, &status)) {
+    /* fits_open_diskfile takes the name literally: fits_open_file would parse
+     * cfitsio's extended syntax, so "run[1]/a.raw.fits" would not open. */
+    if (fits_open_diskfile(&f, path, READONLY, &status) || fits_get_num_hdus(f, &nhdu, &status)) {
         char text[FLEN_STATUS] = "";
         fits_get_errstatus(status, text);
         fits_clear_errmsg();

@@ -14,11 +14,14 @@
 #include "post/psf.h"
 
 #include <fitsio.h>
+#include <limits.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #define FITS_MAX_SIDE 16384
+/* The largest odd kernel side (psf.size and the automatic size alike). */
+#define PSF_MAX_SIZE 8191
 
 /* ---- resampling -------------------------------------------------------- */
 
@@ -48,6 +51,13 @@ orr_status orr_image_rebin(const float *img, int w, int h, double xc, double yc,
         !isfinite(yc))
         return orr_fail(err, ORR_ERR_USAGE, "rebin: bad arguments (image %d x %d, ratio %g, size %d)", w, h,
                         ratio, size);
+    /* Every edge of an output pixel, in file pixels, is converted to int
+     * (row_integral): they must lie well inside int's range. */
+    double reach = fabs(xc) + fabs(yc) + ((double)size / 2 + 1) * ratio;
+    if (!(reach < INT_MAX / 4))
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "rebin: %d output pixels of %g image pixels around (%g, %g) reach beyond an int", size,
+                        ratio, xc, yc);
     /* Separable: integrate along rows into a h x size table, then columns. */
     double *cols = orr_malloc((size_t)h * (size_t)size * sizeof *cols, "rebin table", err);
     if (!cols)
@@ -84,6 +94,26 @@ static orr_status fits_error(const char *path, int status, orr_error *err)
                     path, text);
 }
 
+/* Opens path as it is named (fits_open_image would parse cfitsio's extended
+ * file-name syntax, so a name with '[' would not open) and moves, as
+ * fits_open_image does, to the first HDU holding an image: the primary
+ * when it has axes, else the first image extension that has. */
+static int open_first_image(const char *path, fitsfile **f, int *status)
+{
+    int nhdu = 0, naxis = 0, type = 0;
+    if (fits_open_diskfile(f, path, READONLY, status) || fits_get_img_dim(*f, &naxis, status) || naxis > 0 ||
+        fits_get_num_hdus(*f, &nhdu, status))
+        return *status;
+    for (int hdu = 2; hdu <= nhdu; hdu++) {
+        if (fits_movabs_hdu(*f, hdu, &type, status))
+            return *status;
+        if (type == IMAGE_HDU && !fits_get_img_dim(*f, &naxis, status) && naxis > 0)
+            return 0;
+    }
+    /* No image anywhere: back to the primary, whose size is then refused. */
+    return fits_movabs_hdu(*f, 1, NULL, status);
+}
+
 /* Reads the pixels (row 0 at the top) and the PIXSCALE keyword (0 if absent). */
 static orr_status read_image(const char *path, float **pixels, int *w, int *h, double *pixscale,
                              orr_error *err)
@@ -92,8 +122,12 @@ static orr_status read_image(const char *path, float **pixels, int *w, int *h, d
     int status = 0, naxis = 0;
     long naxes[3] = {0, 0, 0};
     *pixels = NULL;
-    if (fits_open_image(&f, path, READONLY, &status))
+    if (open_first_image(path, &f, &status)) {
+        int close_status = 0;
+        if (f)
+            fits_close_file(f, &close_status);
         return fits_error(path, status, err);
+    }
     fits_get_img_dim(f, &naxis, &status);
     fits_get_img_size(f, 3, naxes, &status);
     if (!status && (naxis != 2 || naxes[0] < 1 || naxes[1] < 1 || naxes[0] > FITS_MAX_SIDE ||
@@ -229,7 +263,32 @@ static void centroid_centre(const float *img, int w, int h, int px, int py, int 
 
 /* ---- the loader ---------------------------------------------------------- */
 
-static orr_status resolve_scale(const char *path, const orr_psf_fits_options *o, double pixscale,
+/* The output scale (psf.arcsec_per_pixel) must make an output pixel no
+ * larger than the PSF image, beyond which the whole PSF falls into one
+ * pixel (and the rebinning's pixel edges outgrow an int); with the size
+ * automatic, it must also keep that size at most PSF_MAX_SIZE pixels. */
+static orr_status check_ratio(const char *path, const orr_psf_fits_options *o, int w, int h,
+                              const orr_psf_fits_info *info, orr_error *err)
+{
+    int side = w < h ? w : h;
+    double lo = info->file_arcsec_per_pixel * side / PSF_MAX_SIZE;
+    double hi = info->file_arcsec_per_pixel * side;
+    int above_lo = o->size ? info->ratio > 0 : info->ratio >= (double)side / PSF_MAX_SIZE;
+    if (above_lo && info->ratio <= side)
+        return ORR_OK;
+    if (o->size)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "%s: psf.arcsec_per_pixel = %g is out of range for this PSF: it must be above 0 and at most "
+                        "%g arcsec (an output pixel no larger than the %d x %d image of %g arcsec pixels)",
+                        path, o->arcsec_per_pixel, hi, w, h, info->file_arcsec_per_pixel);
+    return orr_fail(err, ORR_ERR_USAGE,
+                    "%s: psf.arcsec_per_pixel = %g is out of range for this PSF: it must be at least %g and at most "
+                    "%g arcsec (an output pixel no larger than the %d x %d image of %g arcsec pixels, and an "
+                    "automatic size of at most %d pixels)",
+                    path, o->arcsec_per_pixel, lo, hi, w, h, info->file_arcsec_per_pixel, PSF_MAX_SIZE);
+}
+
+static orr_status resolve_scale(const char *path, const orr_psf_fits_options *o, double pixscale, int w, int h,
                                 orr_psf_fits_info *info, orr_error *err)
 {
     int sub = o->subsample > 1 ? o->subsample : 1;
@@ -243,7 +302,7 @@ static orr_status resolve_scale(const char *path, const orr_psf_fits_options *o,
                         "%s: no PIXSCALE keyword: give the file's pixel scale to resample it to %g arcsec", path,
                         o->arcsec_per_pixel);
     info->ratio = o->arcsec_per_pixel / info->file_arcsec_per_pixel;
-    return ORR_OK;
+    return check_ratio(path, o, w, h, info, err);
 }
 
 static orr_status check_options(const char *path, const orr_psf_fits_options *o, orr_error *err)
@@ -252,7 +311,7 @@ static orr_status check_options(const char *path, const orr_psf_fits_options *o,
         return orr_fail(err, ORR_ERR_USAGE, "%s: subsampling %d (1 to 64)", path, o->subsample);
     if (!(o->taper >= 0 && o->taper <= 1))
         return orr_fail(err, ORR_ERR_USAGE, "%s: taper %g must be a fraction, 0 to 1", path, o->taper);
-    if (o->size < 0 || (o->size > 0 && o->size % 2 == 0) || o->size > 8191)
+    if (o->size < 0 || (o->size > 0 && o->size % 2 == 0) || o->size > PSF_MAX_SIZE)
         return orr_fail(err, ORR_ERR_USAGE, "%s: PSF size %d must be odd (0 = automatic)", path, o->size);
     if (!(o->arcsec_per_pixel >= 0) || !(o->file_arcsec_per_pixel >= 0))
         return orr_fail(err, ORR_ERR_USAGE, "%s: pixel scales must be positive", path);
@@ -318,7 +377,7 @@ orr_status orr_psf_load_fits(const char *path, const orr_psf_fits_options *opt, 
         return st;
     info->file_width = w;
     info->file_height = h;
-    if (!(st = resolve_scale(path, o, pixscale, info, err))) {
+    if (!(st = resolve_scale(path, o, pixscale, w, h, info, err))) {
         info->background = o->subtract_background ? border_median(img, w, h) : 0;
         info->clipped = clean_image(img, (size_t)w * h, info->background);
         st = build_kernel(img, w, h, o, info, out, err);

@@ -756,10 +756,11 @@ static orr_status bind_text(const bind_ctx *c, const key_spec *k, const value_at
                        at->path, t);
     /* Paths in the scene are relative to its folder, so a scene and its data
      * can move together; a --set path (line 0) was typed in a shell, so it
-     * stays relative to the working directory like any other argument. */
+     * stays relative to the working directory like any other argument. "-"
+     * (standard input) is no path. */
     const int from_scene = at->line > 0;
     int len;
-    if (k->type == K_PATH && from_scene && t[0] != '/' && strcmp(c->dir, ".") != 0)
+    if (k->type == K_PATH && from_scene && t[0] != '/' && strcmp(c->dir, ".") != 0 && strcmp(t, "-") != 0)
         len = snprintf(field(c, k), k->size, "%s/%s", c->dir, t);
     else
         len = snprintf(field(c, k), k->size, "%s", t);

@@ -13,6 +13,7 @@
 
 #include "core/bytes.h"
 #include "source/gadget_internal.h"
+#include "source/mass_policy.h"
 #include "source/share.h"
 
 #define GADGET_DEFAULT_CHUNK ((size_t)1 << 20)
@@ -104,6 +105,36 @@ static orr_status open_part(orr_source *src, gadget_state *st, orr_error *err)
     return ORR_OK;
 }
 
+/* Names the particle whose value number m of the MASS block breaks the mass
+ * policy: the block holds only the types with massarr 0, type by type. */
+static orr_status mass_error(const gadget_state *st, int64_t m, double mass, const char *problem, orr_error *err)
+{
+    const gadget_file *f = &st->files[st->file];
+    int type = 0;
+    for (int t = 0; t < GADGET_NTYPES; t++)
+        if (f->h.massarr[t] == 0 && f->h.npart[t] > 0 && m >= f->mass_start[t])
+            type = t;
+    char path[ORR_PATH_MAX + 16];
+    part_path(st, st->file, path, sizeof path);
+    return orr_fail(err, ORR_ERR_FORMAT, "%s: block MASS: particle %lld of the file (type %d): mass %g %s", path,
+                    (long long)(f->type_start[type] + m - f->mass_start[type]), type, mass, problem);
+}
+
+/* The mass policy on n MASS values as stored (before they become floats,
+ * so a double that float cannot hold is caught); first is the first one's
+ * number in the block. */
+static orr_status check_masses(const gadget_state *st, const unsigned char *raw, size_t n, int elem, int64_t first,
+                               orr_error *err)
+{
+    for (size_t i = 0; i < n; i++) {
+        double m = elem == 8 ? orr_load_f64(raw + 8 * i, st->enc.swap) : orr_load_f32(raw + 4 * i, st->enc.swap);
+        const char *problem = orr_mass_problem(m);
+        if (problem)
+            return mass_error(st, first + (int64_t)i, m, problem, err);
+    }
+    return ORR_OK;
+}
+
 /* Reads count values of ncomp components each, starting at value number
  * first of block b, into dest[c][0..count) (dest[c] NULL: skip component).
  * ids != NULL reads integers into ids instead. */
@@ -129,6 +160,9 @@ static orr_status read_values(gadget_state *st, const gadget_block *b, gadget_bl
                             path, gadget_block_names[k], bytes, (long long)offset,
                             ferror(st->fp) ? strerror(errno) : "end of file");
         }
+        orr_status s;
+        if (k == BLK_MASS && (s = check_masses(st, st->raw, n, b->elem, first + (int64_t)done, err)))
+            return s;
         if (ids)
             convert_ids(st->raw, n, b->elem, st->enc.swap, ids + done);
         else
@@ -490,14 +524,31 @@ static void describe(orr_source *src, const gadget_state *st, const int64_t sum[
     orr_source_add_header(info, "blocks read", "%s", blocks);
 }
 
-/* A block is usable when every part that has particles for it has it; a
+/* How many values of block k a part would hold: gas blocks have one per gas
+ * particle; MASS one per particle of the types whose massarr is 0 (GADGET-2
+ * writes no MASS block into a part without such particles); the rest one
+ * per particle. */
+static int64_t block_values(const gadget_file *f, gadget_block_kind k)
+{
+    if (k == BLK_U || k == BLK_RHO || k == BLK_HSML)
+        return f->h.npart[0];
+    if (k != BLK_MASS)
+        return f->n;
+    int64_t nvar = 0;
+    for (int t = 0; t < GADGET_NTYPES; t++)
+        if (f->h.massarr[t] == 0)
+            nvar += f->h.npart[t];
+    return nvar;
+}
+
+/* A block is usable when every part that has values for it has it; a
  * snapshot whose parts disagree is damaged. Returns -1 after failing. */
 static int block_available(const gadget_state *st, gadget_block_kind k, orr_error *err)
 {
     int have = -1, missing = -1;
     for (int i = 0; i < st->nfiles; i++) {
         const gadget_file *f = &st->files[i];
-        int64_t needed = (k == BLK_U || k == BLK_RHO || k == BLK_HSML) ? f->h.npart[0] : f->n;
+        int64_t needed = block_values(f, k);
         if (f->blk[k].present && have < 0)
             have = i;
         if (!f->blk[k].present && needed > 0 && missing < 0)

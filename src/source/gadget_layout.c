@@ -7,11 +7,14 @@
 #include "source/gadget_internal.h"
 
 #include <errno.h>
+#include <math.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/types.h>
 
 #include "core/bytes.h"
+#include "source/mass_policy.h"
+#include "source/source.h"
 
 const char *const gadget_block_names[BLK_COUNT] = {"POS", "VEL", "ID", "MASS", "U", "RHO", "HSML", "POT"};
 
@@ -182,6 +185,10 @@ static orr_status read_header(scan *s, const gadget_encoding *enc, gadget_header
                             (int)h->npart[t]);
     if (h->num_files < 0)
         return orr_fail(err, ORR_ERR_FORMAT, "%s: header num_files = %d is negative", s->path, (int)h->num_files);
+    /* The time goes into every image's FITS header (and orders a sequence's
+     * snapshots): a NaN or infinity there fails every render at its end. */
+    if (!isfinite(h->time))
+        return orr_fail(err, ORR_ERR_FORMAT, "%s: header time = %g is not a finite number", s->path, h->time);
     *end = offset + (int64_t)sizeof b;
     return ORR_OK;
 }
@@ -297,6 +304,19 @@ static void variable_mass_types(const gadget_header *h, char *buf, size_t size)
         }
 }
 
+/* A type's massarr is every one of its particles' mass: the same policy as
+ * masses read from a MASS block (types without particles here are unused). */
+static orr_status check_mass_table(const char *path, const gadget_header *h, orr_error *err)
+{
+    for (int t = 0; t < GADGET_NTYPES; t++) {
+        const char *problem = h->npart[t] > 0 && h->massarr[t] != 0 ? orr_mass_problem(h->massarr[t]) : NULL;
+        if (problem)
+            return orr_fail(err, ORR_ERR_FORMAT, "%s: header massarr[%d] = %g %s (the mass of its %d particles)",
+                            path, t, h->massarr[t], problem, (int)h->npart[t]);
+    }
+    return ORR_OK;
+}
+
 static orr_status check_blocks(const char *path, gadget_file *f, int64_t nvar, orr_error *err)
 {
     int64_t ngas = f->h.npart[0];
@@ -320,7 +340,7 @@ static orr_status check_blocks(const char *path, gadget_file *f, int64_t nvar, o
         (st = check_block(path, &f->blk[BLK_HSML], BLK_HSML, ngas, 1, "gas particles", err)) ||
         (st = check_block(path, &f->blk[BLK_POT], BLK_POT, f->n, 1, "particles", err)))
         return st;
-    return ORR_OK;
+    return check_mass_table(path, &f->h, err);
 }
 
 /* Particle counts and where each type starts in the particle and MASS blocks. */
@@ -341,6 +361,9 @@ static int64_t count_particles(gadget_file *f)
 static orr_status scan_open(scan *s, const char *path, orr_error *err)
 {
     s->path = path;
+    orr_status st = orr_source_refuse_stream(path, "gadget", err);
+    if (st)
+        return st;
     s->fp = fopen(path, "rb");
     if (!s->fp)
         return orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));

@@ -6,14 +6,15 @@
 #include "source/hdf5_reader.h"
 
 #include <errno.h>
-#include <float.h>
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "source/hdf5_internal.h"
+#include "source/mass_policy.h"
 #include "source/share.h"
 
 #define H5R_DEFAULT_CHUNK ((size_t)1 << 20)
@@ -70,12 +71,11 @@ int orr_hdf5_probe(const unsigned char *head, size_t n)
 
 /* ---- Finding the files ---------------------------------------------- */
 
+/* stat(), not fopen(): opening a FIFO would wait for a writer. */
 static int file_exists(const char *path)
 {
-    FILE *fp = fopen(path, "rb");
-    if (fp)
-        fclose(fp);
-    return fp != NULL;
+    struct stat sb;
+    return stat(path, &sb) == 0;
 }
 
 /* Splits "dir/snap.12.hdf5" into base "dir/snap" and ext ".hdf5"; returns 1
@@ -139,6 +139,9 @@ static orr_status resolve_first_file(hdf5_state *st, const char *path, orr_error
 static orr_status open_hdf5_file(const char *path, hid_t *fid, const char *context, orr_error *err)
 {
     unsigned char head[4096];
+    orr_status s = orr_source_refuse_stream(path, "hdf5", err);
+    if (s)
+        return s;
     FILE *fp = fopen(path, "rb");
     if (!fp)
         return orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s%s", path, strerror(errno), context);
@@ -234,6 +237,10 @@ static orr_status read_main_header(hdf5_state *st, hid_t header, orr_source *src
         s = header_numbers(path, header, "Time", H5T_NATIVE_DOUBLE, &time, 1, 0, &n, err);
     if (s)
         return s;
+    /* The time goes into every image's FITS header (and orders a sequence's
+     * snapshots): a NaN or infinity there fails every render at its end. */
+    if (!isfinite(time))
+        return orr_fail(err, ORR_ERR_FORMAT, "%s: Header/Time = %g is not a finite number", path, time);
     src->info.time = time;
     /* Old IC writers leave 0 (or junk) for a single file. */
     st->nfiles = st->numbered && nfiles > 1 ? (int)nfiles : 1;
@@ -336,10 +343,9 @@ static orr_status check_group(hdf5_state *st, const char *path, hid_t fid, int t
         else if (!name && k == DS_MASS && st->mass_table[t] == 0)
             s = orr_fail(err, ORR_ERR_FORMAT, "%s: %s has no Masses dataset and Header/MassTable[%d] is 0", path,
                          gname, t);
-        else if (!name && k == DS_MASS && !(st->mass_table[t] > 0 && st->mass_table[t] <= FLT_MAX))
-            s = orr_fail(err, ORR_ERR_FORMAT,
-                         "%s: %s has no Masses dataset and Header/MassTable[%d] = %g is not a finite positive float",
-                         path, gname, t, st->mass_table[t]);
+        else if (!name && k == DS_MASS && orr_mass_problem(st->mass_table[t]))
+            s = orr_fail(err, ORR_ERR_FORMAT, "%s: %s has no Masses dataset and Header/MassTable[%d] = %g %s", path,
+                         gname, t, st->mass_table[t], orr_mass_problem(st->mass_table[t]));
         else if (name)
             s = check_dataset(path, t, g, name, (h5r_dataset)k, n, err);
         if (name && !s) {
@@ -364,6 +370,52 @@ static int has_any_group(hid_t fid, int ntypes)
             return 1;
     }
     return 0;
+}
+
+/* The rows of the first dataset the reader knows in group g (0 when it has
+ * none); *name gets that dataset's name. */
+static uint64_t group_rows(hid_t g, const char **name)
+{
+    for (int k = 0; k < DS_COUNT; k++) {
+        *name = h5r_dataset_name_in(g, (h5r_dataset)k);
+        if (!*name)
+            continue;
+        hid_t ds = H5Dopen2(g, *name, H5P_DEFAULT);
+        hsize_t dims[ORR_H5_MAX_RANK];
+        H5T_class_t cls = H5T_NO_CLASS;
+        int rank = ds >= 0 ? orr_h5_dataset_shape(ds, dims, &cls) : -1;
+        orr_h5_close(ds);
+        H5Eclear2(H5E_DEFAULT);
+        if (rank >= 1 && dims[0] > 0)
+            return (uint64_t)dims[0];
+    }
+    return 0;
+}
+
+/* A type the header counts 0 of is never read, so rows in its group would
+ * be dropped without a word (a header with NumPart_ThisFile all 0 would give
+ * an empty image): the header and the data disagree, and neither can be
+ * trusted. Checked for every type, wanted or not. */
+static orr_status check_uncounted_group(const char *path, hid_t fid, int t, orr_error *err)
+{
+    char gname[H5R_GROUP_NAME];
+    snprintf(gname, sizeof gname, "PartType%d", t);
+    if (!orr_h5_has_link(fid, gname))
+        return ORR_OK;
+    hid_t g = H5Gopen2(fid, gname, H5P_DEFAULT);
+    if (g < 0) {
+        H5Eclear2(H5E_DEFAULT);
+        return ORR_OK; /* not read, and nothing in it can be seen */
+    }
+    const char *name = NULL;
+    uint64_t rows = group_rows(g, &name);
+    orr_h5_close(g);
+    if (rows == 0)
+        return ORR_OK;
+    return orr_fail(err, ORR_ERR_FORMAT,
+                    "%s: Header/NumPart_ThisFile[%d] = 0 but %s/%s has %llu rows: the header and the datasets "
+                    "disagree",
+                    path, t, gname, name, (unsigned long long)rows);
 }
 
 /* Checks file i (already open as fid): its counts and every wanted group. */
@@ -397,6 +449,8 @@ static orr_status check_file(hdf5_state *st, int i, hid_t fid, char example[DS_C
     for (int t = 0; t < st->ntypes && !s; t++)
         if (counts[t] > 0 && (st->type_mask >> t & 1u))
             s = check_group(st, path, fid, t, counts[t], example, err);
+        else if (counts[t] == 0)
+            s = check_uncounted_group(path, fid, t, err);
     *any_group |= groups;
     return s;
 }
@@ -520,8 +574,31 @@ static orr_status read_floats(hdf5_state *st, h5r_dataset kind, size_t n, float 
     return read_rows(st, kind, n, 0, H5T_NATIVE_FLOAT, out, err);
 }
 
-/* Masses and smoothing lengths become weights and kernel sizes: reject the
- * values that would silently spoil an image. */
+/* Masses: the Masses dataset read as doubles, so that the mass policy sees
+ * the stored values before they become floats (a double too small or too
+ * large for a float is refused, not turned into 0 or infinity), else the
+ * type's MassTable entry (checked when the file was opened). */
+static orr_status read_masses(hdf5_state *st, size_t n, float *out, orr_error *err)
+{
+    if (st->ds[DS_MASS] < 0) {
+        fill(out, n, (float)st->mass_table[st->type]);
+        return ORR_OK;
+    }
+    /* scratch holds 3 floats a chunk particle: room for n doubles. */
+    double *m = (double *)(void *)st->scratch;
+    orr_status s = read_rows(st, DS_MASS, n, 0, H5T_NATIVE_DOUBLE, m, err);
+    for (size_t i = 0; i < n && !s; i++) {
+        const char *problem = orr_mass_problem(m[i]);
+        if (problem)
+            return orr_fail(err, ORR_ERR_FORMAT, "%s: PartType%d/%s row %" PRIu64 ": mass %g %s", st->path,
+                            st->type, h5r_dataset_name_in(st->gid, DS_MASS), st->row + i, m[i], problem);
+        out[i] = (float)m[i];
+    }
+    return s;
+}
+
+/* Smoothing lengths become kernel sizes: reject the values that would
+ * silently spoil an image. */
 static orr_status check_non_negative(hdf5_state *st, h5r_dataset kind, const float *v, size_t n, orr_error *err)
 {
     for (size_t i = 0; i < n; i++)
@@ -582,9 +659,7 @@ static orr_status read_segment(hdf5_state *st, orr_chunk *c, size_t n, orr_error
     if (!s)
         s = read_ids(st, c, n, err);
     if (!s)
-        s = read_floats(st, DS_MASS, n, c->mass + c->n, (float)st->mass_table[st->type], err);
-    if (!s && st->ds[DS_MASS] >= 0)
-        s = check_non_negative(st, DS_MASS, c->mass + c->n, n, err);
+        s = read_masses(st, n, c->mass + c->n, err);
     if (!s && c->h)
         s = read_floats(st, DS_H, n, c->h + c->n, 0.0f, err);
     if (!s && c->h && st->ds[DS_H] >= 0)

@@ -93,9 +93,19 @@ orr_status orr_source_rewind(orr_source *src, orr_error *err);
 void orr_source_close(orr_source *src);
 
 /* Opens a particle file with the reader its format names, or (format
- * "auto") the reader whose probe recognises the file's first bytes. */
+ * "auto") the reader whose probe recognises the file's first bytes. "-" is
+ * standard input; it, FIFOs and character devices are streams, read once
+ * from the front: their format is detected from bytes kept for the reader,
+ * only text can be read from them (the binary formats seek), and a FIFO no
+ * program writes to reads as empty instead of waiting for a writer. */
 orr_status orr_source_open_file(const char *path, const orr_source_options *opt, orr_source **out,
                                 orr_error *err);
+
+/* For the readers that seek (Gadget, HDF5, Tipsy): refuses path, naming the
+ * format, when it is a FIFO, device or socket, before anything opens it
+ * (opening a FIFO waits for a writer, forever when there is none). A
+ * missing file or a folder is left to the reader's own message. */
+orr_status orr_source_refuse_stream(const char *path, const char *format, orr_error *err);
 
 /* Space-separated names of the formats orr_source_open_file knows. */
 const char *orr_source_format_names(void);

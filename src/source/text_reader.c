@@ -7,6 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "source/mass_policy.h"
+
 /* What each column of the table feeds. */
 typedef enum { COL_X, COL_Y, COL_Z, COL_MASS, COL_H, COL_ID, COL_TYPE, COL_EXTRA } column_role;
 
@@ -25,6 +27,11 @@ typedef struct text_state {
     int has_mass;
     char *buf;
     size_t bufsize;
+    /* A stream (standard input, a FIFO) is read once: format detection
+     * already took its first bytes, kept here to be read first. */
+    int is_stream, owns_fp;
+    unsigned char *peek;
+    size_t peek_len, peek_pos;
 } text_state;
 
 static int is_separator(char c)
@@ -89,12 +96,53 @@ static int valid_name(const char *name)
     return strlen(name) < ORR_FIELD_NAME_MAX;
 }
 
+/* Makes st->buf hold at least size bytes; returns 0 when memory runs out. */
+static int reserve(text_state *st, size_t size)
+{
+    if (st->bufsize >= size)
+        return 1;
+    char *buf = realloc(st->buf, size);
+    if (!buf)
+        return 0;
+    st->buf = buf;
+    st->bufsize = size;
+    return 1;
+}
+
+/* Takes the next line from the peeked bytes into st->buf; a line the peek
+ * cuts short is finished from the stream. Returns 0 when memory runs out. */
+static int peeked_line(text_state *st)
+{
+    const unsigned char *p = st->peek + st->peek_pos;
+    size_t left = st->peek_len - st->peek_pos;
+    const unsigned char *nl = memchr(p, '\n', left);
+    size_t take = nl ? (size_t)(nl - p) + 1 : left;
+    if (!reserve(st, take + 1))
+        return 0;
+    memcpy(st->buf, p, take);
+    st->buf[take] = '\0';
+    st->peek_pos += take;
+    if (nl)
+        return 1;
+    char *rest = NULL;
+    size_t rest_size = 0;
+    ssize_t more = getline(&rest, &rest_size, st->fp);
+    int ok = more <= 0 || reserve(st, take + (size_t)more + 1);
+    if (ok && more > 0)
+        memcpy(st->buf + take, rest, (size_t)more + 1);
+    free(rest);
+    return ok;
+}
+
 /* Reads the next line into st->buf; returns 0 at end of file. */
 static int read_line(text_state *st)
 {
-    ssize_t len = getline(&st->buf, &st->bufsize, st->fp);
-    if (len < 0)
+    if (st->peek_pos < st->peek_len) {
+        if (!peeked_line(st))
+            return 0;
+    } else if (getline(&st->buf, &st->bufsize, st->fp) < 0) {
         return 0;
+    }
     st->line++;
     return 1;
 }
@@ -217,15 +265,19 @@ static orr_status parse_row(orr_source *src, text_state *st, size_t k, orr_error
         case COL_X: c->x[k] = (float)v; break;
         case COL_Y: c->y[k] = (float)v; break;
         case COL_Z: c->z[k] = (float)v; break;
-        case COL_MASS:
+        case COL_MASS: {
+            const char *problem = orr_mass_problem(v);
+            if (problem)
+                return orr_fail(err, ORR_ERR_FORMAT, "%s:%ld: column '%s': particle %llu: mass %s %s", path,
+                                st->line, st->names[i], (unsigned long long)st->next_index, tokens[i], problem);
+            c->mass[k] = (float)v;
+            break;
+        }
         case COL_H:
             if (!isfinite(v) || v < 0)
                 return orr_fail(err, ORR_ERR_FORMAT, "%s:%ld: column '%s': %s must be finite and not negative",
                                 path, st->line, st->names[i], tokens[i]);
-            if (st->role[i] == COL_MASS)
-                c->mass[k] = (float)v;
-            else
-                c->h[k] = (float)v;
+            c->h[k] = (float)v;
             break;
         case COL_TYPE:
             if (v != floor(v) || v < 0 || v > 5)
@@ -262,6 +314,11 @@ static orr_status text_next(orr_source *src, orr_error *err)
 static orr_status text_rewind(orr_source *src, orr_error *err)
 {
     text_state *st = src->state;
+    if (st->is_stream)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "%s: this scene reads its particles twice, but a pipe can be read only once: save them "
+                        "to a file and name that",
+                        src->info.path);
     if (fseek(st->fp, st->data_offset, SEEK_SET) != 0)
         return orr_fail(err, ORR_ERR_IO, "%s: cannot seek back to the first row: %s", src->info.path,
                         strerror(errno));
@@ -275,9 +332,10 @@ static void text_close(orr_source *src)
     text_state *st = src->state;
     if (!st)
         return;
-    if (st->fp)
+    if (st->fp && st->owns_fp)
         fclose(st->fp);
     free(st->buf);
+    free(st->peek);
     free(st);
     src->state = NULL;
 }
@@ -294,21 +352,14 @@ int orr_text_probe(const unsigned char *head, size_t n)
     return 1;
 }
 
-orr_status orr_text_source_open(const char *path, const orr_source_options *opt, orr_source **out,
-                                orr_error *err)
+/* Unless s says opening already failed, reads the header from the source's
+ * stream and allocates its chunk; closes the source on failure. */
+static orr_status finish_open(orr_source *src, orr_status s, const orr_source_options *opt, orr_source **out,
+                              orr_error *err)
 {
     size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : (size_t)1 << 20;
-    *out = NULL;
-    orr_source *src = orr_source_new("text", path, &text_ops, sizeof(text_state), err);
-    if (!src)
-        return ORR_ERR_NOMEM;
     text_state *st = src->state;
-    src->info.count = -1;
-    st->fp = fopen(path, "r");
-    orr_status s;
-    if (!st->fp)
-        s = orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    else
+    if (!s)
         s = parse_header(src, st, err);
     if (!s) {
         const char *names[ORR_MAX_EXTRA_FIELDS];
@@ -322,4 +373,46 @@ orr_status orr_text_source_open(const char *path, const orr_source_options *opt,
     }
     *out = src;
     return ORR_OK;
+}
+
+orr_status orr_text_source_open(const char *path, const orr_source_options *opt, orr_source **out,
+                                orr_error *err)
+{
+    *out = NULL;
+    orr_source *src = orr_source_new("text", path, &text_ops, sizeof(text_state), err);
+    if (!src)
+        return ORR_ERR_NOMEM;
+    text_state *st = src->state;
+    src->info.count = -1;
+    st->owns_fp = 1;
+    st->fp = fopen(path, "r");
+    orr_status s = ORR_OK;
+    if (!st->fp)
+        s = orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    return finish_open(src, s, opt, out, err);
+}
+
+orr_status orr_text_source_open_stream(const char *name, FILE *fp, int owns_fp, const unsigned char *head,
+                                       size_t n, const orr_source_options *opt, orr_source **out, orr_error *err)
+{
+    *out = NULL;
+    orr_source *src = orr_source_new("text", name, &text_ops, sizeof(text_state), err);
+    if (!src) {
+        if (owns_fp)
+            fclose(fp);
+        return ORR_ERR_NOMEM;
+    }
+    text_state *st = src->state;
+    src->info.count = -1;
+    st->fp = fp;
+    st->owns_fp = owns_fp;
+    st->is_stream = 1;
+    orr_status s = ORR_OK;
+    if (n && !(st->peek = orr_malloc(n, "peeked input", err)))
+        s = ORR_ERR_NOMEM;
+    if (!s && n) {
+        memcpy(st->peek, head, n);
+        st->peek_len = n;
+    }
+    return finish_open(src, s, opt, out, err);
 }

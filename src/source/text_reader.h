@@ -9,10 +9,18 @@
 #include "source/source.h"
 
 #include <stddef.h>
+#include <stdio.h>
 
 /* Loads every column whatever opt->fields says: text tables are small. */
 orr_status orr_text_source_open(const char *path, const orr_source_options *opt, orr_source **out,
                                 orr_error *err);
+
+/* Reads a table from a stream that cannot seek (standard input, a FIFO):
+ * head holds its first n bytes, already taken by format detection, which
+ * are read first. name stands for the stream in messages. The source closes
+ * fp when owns_fp is set (also when opening fails); it cannot be rewound. */
+orr_status orr_text_source_open_stream(const char *name, FILE *fp, int owns_fp, const unsigned char *head,
+                                       size_t n, const orr_source_options *opt, orr_source **out, orr_error *err);
 
 /* Recognises text: no NUL and no control characters other than white space. */
 int orr_text_probe(const unsigned char *head, size_t n);

@@ -11,6 +11,7 @@
 
 #include "core/bytes.h"
 #include "source/formats.h"
+#include "source/mass_policy.h"
 #include "source/share.h"
 
 /* Particle families in file order: gas, dark, star. */
@@ -248,6 +249,24 @@ static void decode_records(tipsy_state *st, orr_chunk *c, size_t k)
     }
 }
 
+/* The mass policy on the k masses just decoded into the chunk from c->n on
+ * (Tipsy stores floats, so these are the file's values). */
+static orr_status check_masses(const orr_source *src, const tipsy_state *st, const orr_chunk *c, size_t k,
+                               orr_error *err)
+{
+    for (size_t r = 0; r < k; r++) {
+        const char *problem = orr_mass_problem(c->mass[c->n + r]);
+        if (problem) {
+            int64_t index = st->index + (int64_t)r;
+            return orr_fail(err, ORR_ERR_FORMAT, "%s: %s particle %lld (particle %lld of the file): mass %g %s",
+                            src->info.path, family_name[st->family], (long long)index,
+                            (long long)(family_base(&st->hdr, st->family) + index), (double)c->mass[c->n + r],
+                            problem);
+        }
+    }
+    return ORR_OK;
+}
+
 static orr_status read_block(orr_source *src, tipsy_state *st, size_t k, orr_error *err)
 {
     size_t got = fread(st->buf, (size_t)record_bytes(st->family), k, st->fp);
@@ -287,6 +306,8 @@ static orr_status tipsy_next(orr_source *src, orr_error *err)
         if ((s = read_block(src, st, k, err)))
             return s;
         decode_records(st, c, k);
+        if ((s = check_masses(src, st, c, k, err)))
+            return s;
         c->n += k;
         st->index += (int64_t)k;
     }
@@ -335,6 +356,10 @@ static orr_status read_header(const char *path, tipsy_state *st, orr_error *err)
     char why[512];
     if (!detect_layout(head, n, st->file_size, &st->hdr, why, sizeof why))
         return orr_fail(err, ORR_ERR_FORMAT, "%s: not a readable Tipsy file: %s", path, why);
+    /* The probe refuses such a time, but a named format skips the probe;
+     * the time goes into every image's FITS header. */
+    if (!isfinite(st->hdr.time))
+        return orr_fail(err, ORR_ERR_FORMAT, "%s: header time = %g is not a finite number", path, st->hdr.time);
     return ORR_OK;
 }
 
@@ -427,11 +452,10 @@ orr_status orr_tipsy_source_open(const char *path, const orr_source_options *opt
     if (!src)
         return ORR_ERR_NOMEM;
     tipsy_state *st = src->state;
-    st->fp = fopen(path, "rb");
-    orr_status s;
-    if (!st->fp)
+    orr_status s = orr_source_refuse_stream(path, "tipsy", err);
+    if (!s && !(st->fp = fopen(path, "rb")))
         s = orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    else
+    else if (!s)
         s = read_header(path, st, err);
     if (!s) {
         choose_contents(src, st, opt);

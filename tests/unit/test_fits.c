@@ -7,6 +7,7 @@
 #include "tmpdir.h"
 #include "check.h"
 #include "encode/fits.h"
+#include "encode/fits_read.h"
 
 enum { W = 5, H = 3 };
 
@@ -127,6 +128,19 @@ static void test_round_trip(void)
         CHECK(status == 0 && strcmp(xtension, "IMAGE") == 0);
         status = 0;
         fits_close_file(f, &status);
+    }
+    /* orrery's own reader (compose reads raw planes with it) opens the name
+     * as it is, brackets and all, rather than as cfitsio's syntax. */
+    orr_plane back[3];
+    int n = 0;
+    st = orr_read_fits_planes(path, back, 3, &n, &err);
+    CHECK(st == ORR_OK && n == 2);
+    if (st != ORR_OK)
+        fprintf(stderr, "  %s\n", err.msg);
+    for (int p = 0; p < n; p++) {
+        CHECK(back[p].width == W && back[p].height == H);
+        CHECK(memcmp(back[p].data, planes[p].data, sizeof(float) * W * H) == 0);
+        orr_plane_free(&back[p]);
     }
     orr_plane_free(&planes[0]);
     orr_plane_free(&planes[1]);

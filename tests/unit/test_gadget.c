@@ -668,6 +668,99 @@ static void test_counts_that_disagree(void)
     expect_failure(path, ORR_ERR_FORMAT, "types 1 have massarr 0, so their 3 masses must be in a MASS block");
 }
 
+/* A NaN or infinite time would be written into every image's FITS header,
+ * which cfitsio refuses at the end of each render: refused when opening. */
+static void test_time_not_finite(void)
+{
+    const double times[2] = {NAN, -INFINITY};
+    for (int k = 0; k < 2; k++) {
+        const char *name = k ? "inftime" : "nantime";
+        write_small(name, 1, 1);
+        unsigned char b[8];
+        uint64_t bits;
+        memcpy(&bits, &times[k], 8);
+        for (int i = 0; i < 8; i++)
+            b[i] = (unsigned char)(bits >> (8 * i));
+        patch(tmp_path(name), 4 + 72, b, 8); /* header time, little endian */
+        expect_failure(tmp_path(name), ORR_ERR_FORMAT, "header time = ");
+        expect_failure(tmp_path(name), ORR_ERR_FORMAT, "is not a finite number");
+    }
+}
+
+/* Writes 2 gas particles (massarr 0: masses in the MASS block, the second
+ * one given) and 3 of type 1 (massarr given), in float or double. */
+static const char *write_masses(const char *name, int double_precision, double gas_mass, double massarr1)
+{
+    static test_file f;
+    memset(&f, 0, sizeof f);
+    f.npart[0] = 2;
+    f.npart[1] = 3;
+    for (int i = 0; i < 5; i++) {
+        f.p[i].pos[0] = i;
+        f.p[i].mass = i == 1 ? gas_mass : 0.5;
+    }
+    gw_spec spec = {.snapformat = 2, .double_precision = double_precision, .blocks = GW_ID, .num_files = 1,
+                    .massarr = {0, massarr1}, .npart = {2, 3}};
+    CHECK(gw_write(tmp_path(name), &spec, particle_of, &f) == 0);
+    return tmp_path(name);
+}
+
+/* Reads the whole file; returns the status and the sum of the masses. */
+static orr_status read_masses(const char *path, double *sum, orr_error *err)
+{
+    orr_source *src = open_gadget(path, 2, 0, NULL, 0, err);
+    if (!src)
+        return err->code;
+    const orr_chunk *c;
+    orr_status st;
+    *sum = 0;
+    while (!(st = orr_source_next(src, &c, err)) && c->n > 0)
+        for (size_t i = 0; i < c->n; i++)
+            *sum += c->mass[i];
+    orr_source_close(src);
+    return st;
+}
+
+/* The mass policy every reader shares (docs/input.md): negative, non-finite
+ * and float-unrepresentable masses are errors naming file, particle, value;
+ * 0 and tiny but representable masses are read. */
+static void test_mass_policy(void)
+{
+    static const struct {
+        int dbl;
+        double gas, table;
+        const char *needle;
+    } bad[] = {
+        {0, -2.0, 2.0, "block MASS: particle 1 of the file (type 0): mass -2 is negative"},
+        {0, NAN, 2.0, "particle 1 of the file (type 0): mass nan is not a finite number"},
+        {1, INFINITY, 2.0, "particle 1 of the file (type 0): mass inf is not a finite number"},
+        {1, 1e-300, 2.0, "particle 1 of the file (type 0): mass 1e-300 is too small for a float"},
+        {1, 1e300, 2.0, "particle 1 of the file (type 0): mass 1e+300 is too large for a float"},
+        {0, 1.0, -2.0, "header massarr[1] = -2 is negative (the mass of its 3 particles)"},
+        {1, 1.0, NAN, "header massarr[1] = nan is not a finite number"},
+        {1, 1.0, 1e-300, "header massarr[1] = 1e-300 is too small for a float"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        char name[32];
+        snprintf(name, sizeof name, "badmass%zu", k);
+        const char *path = write_masses(name, bad[k].dbl, bad[k].gas, bad[k].table);
+        orr_error err = {0};
+        double sum;
+        CHECK(read_masses(path, &sum, &err) == ORR_ERR_FORMAT);
+        CHECK_CONTAINS(err.msg, path);
+        CHECK_CONTAINS(err.msg, bad[k].needle);
+    }
+    /* 0 and 1e-40 (a float subnormal) are masses like any other. */
+    const double good[2] = {0.0, 1e-40};
+    for (int k = 0; k < 2; k++) {
+        const char *path = write_masses(k ? "tinymass" : "zeromass", 1, good[k], 2.0);
+        orr_error err = {0};
+        double sum = 0;
+        CHECK(read_masses(path, &sum, &err) == ORR_OK);
+        CHECK(sum == 0.5 + (float)good[k] + 3 * 2.0);
+    }
+}
+
 static void test_multi_file_problems(void)
 {
     /* A missing part. */
@@ -695,6 +788,45 @@ static void test_multi_file_problems(void)
     expect_failure(tmpdir, ORR_ERR_IO, "not a regular file");
 }
 
+/* GADGET-2 writes a MASS block only into the parts that hold particles of
+ * a type with massarr 0: part 0 here has gas (massarr 0) and type 1, part 1
+ * only type 1 (massarr 2), so part 1 has no MASS block and needs none. */
+static void test_mass_block_only_where_needed(void)
+{
+    static test_snap s;
+    memset(&s, 0, sizeof s);
+    s.lay = (layout){1, 0, 0, 0, 2, 0, GW_VEL | GW_ID};
+    s.massarr[1] = 2.0;
+    const int32_t counts[2][6] = {{2, 3}, {0, 4}};
+    for (int f = 0; f < 2; f++) {
+        test_file *tf = &s.file[f];
+        for (int t = 0; t < 2; t++)
+            for (int j = 0; j < counts[f][t]; j++) {
+                gw_particle *p = &tf->p[tf->n];
+                tf->type[tf->n++] = t;
+                p->pos[0] = tf->n + 10 * f;
+                p->id = (uint64_t)(tf->n + 10 * f);
+                p->mass = 0.25 * tf->n;
+            }
+        memcpy(tf->npart, counts[f], sizeof tf->npart);
+    }
+    for (int format = 1; format <= 2; format++) {
+        s.lay.snapformat = format;
+        const char *name = format == 1 ? "massparts1" : "massparts2";
+        write_snapshot(&s, name);
+        orr_error err = {0};
+        orr_source *src = open_gadget(tmp_path(name), 4, 0, NULL, 0, &err);
+        CHECK(src != NULL);
+        if (!src) {
+            fprintf(stderr, "  %s: %s\n", name, err.msg);
+            continue;
+        }
+        CHECK(src->info.count == 9);
+        CHECK(read_and_compare(&s, src, 0, 4) == 9);
+        orr_source_close(src);
+    }
+}
+
 static void test_block_twice(void)
 {
     write_small("twice", 2, 1);
@@ -720,8 +852,11 @@ int main(void)
     RUN(test_markers_that_disagree);
     RUN(test_wrong_byte_order_or_not_gadget);
     RUN(test_counts_that_disagree);
+    RUN(test_time_not_finite);
+    RUN(test_mass_policy);
     RUN(test_multi_file_problems);
     RUN(test_block_twice);
+    RUN(test_mass_block_only_where_needed);
     RUN(test_shared_galaxy);
     RUN(test_shared_gassphere_both_byte_orders);
     RUN(test_shared_format2_two_files);

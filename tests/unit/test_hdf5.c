@@ -679,7 +679,57 @@ static void test_bad_shapes(void)
 
     path = good_file("negmass.hdf5");
     CHECK(h5w_replace_dataset(path, "PartType4/Masses", 5, 0, -1.0) == 0);
-    expect_failure(path, ORR_ERR_FORMAT, "PartType4/Masses row 0", "not finite and non-negative");
+    expect_failure(path, ORR_ERR_FORMAT, "PartType4/Masses row 0", "mass -1 is negative");
+}
+
+/* The mass policy every reader shares (docs/input.md): negative, non-finite
+ * and float-unrepresentable masses are errors naming file, row and value,
+ * whether from Masses (read as stored, before the float conversion) or a
+ * MassTable entry standing in for it; 0 and tiny floats are read. */
+static void test_mass_policy(void)
+{
+    static const struct {
+        double value;
+        const char *needle;
+    } bad[] = {
+        {NAN, "PartType0/Masses row 3: mass nan is not a finite number"},
+        {-2.0, "PartType0/Masses row 3: mass -2 is negative"},
+        {1e-300, "PartType0/Masses row 3: mass 1e-300 is too small for a float (it would become 0"},
+        {1e300, "PartType0/Masses row 3: mass 1e+300 is too large for a float"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        const char *path = good_file("masses.hdf5");
+        const double values[9] = {1, 1, 1, bad[k].value, 1, 1, 1, 1, 1};
+        h5w_dataset_spec spec = {.type = H5T_IEEE_F64LE, .rank = 1, .dims = {9}, .write_rows = 9,
+                                 .values = values, .nvalues = 9};
+        hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+        CHECK(h5w_replace_dataset_spec(file, "PartType0/Masses", &spec) == 0);
+        H5Fclose(file);
+        expect_failure(path, ORR_ERR_FORMAT, bad[k].needle, NULL);
+    }
+    const char *path = good_file("tinytable.hdf5");
+    const double table[6] = {0, 1e-300, 0, 0, 0, 0};
+    hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    CHECK(h5w_set_attr(file, "Header", "MassTable", H5T_IEEE_F64LE, 1, table, 6) == 0);
+    H5Fclose(file);
+    expect_failure(path, ORR_ERR_FORMAT, "PartType1 has no Masses dataset and Header/MassTable[1] = 1e-300 is too small",
+                   NULL);
+    /* 0 and a float subnormal are masses like any other. */
+    path = good_file("zeromasses.hdf5");
+    const double fine[2] = {0.0, 1e-40};
+    h5w_dataset_spec spec = {.type = H5T_IEEE_F64LE, .rank = 1, .dims = {9}, .write_rows = 9,
+                             .values = fine, .nvalues = 2};
+    file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+    CHECK(h5w_replace_dataset_spec(file, "PartType0/Masses", &spec) == 0);
+    H5Fclose(file);
+    orr_source *src = NULL;
+    orr_error err = {0};
+    flat f = {0};
+    CHECK(open_and_read(path, NULL, &f, &src, &err) == ORR_OK);
+    CHECK(f.n == 31 && f.mass[0] == 0.0f && f.mass[1] == 1e-40f);
+    flat_free(&f);
+    orr_source_close(src);
+    check_no_open_hdf5();
 }
 
 static void test_bad_counts(void)
@@ -705,11 +755,40 @@ static void test_bad_counts(void)
     CHECK(h5w_set_int64_attr(path, "Header", "MassTable", three, 3) == 0);
     expect_failure(path, ORR_ERR_FORMAT, "Header/MassTable has 3 entries but NumPart_ThisFile has 6", NULL);
 
+    /* A header that counts nothing while the groups hold rows: an error
+     * naming the header field and a dataset with its rows, not 0 particles. */
+    path = good_file("zerocounts.hdf5");
+    const int64_t zeros[6] = {0, 0, 0, 0, 0, 0};
+    CHECK(h5w_set_int64_attr(path, "Header", "NumPart_ThisFile", zeros, 6) == 0);
+    expect_failure(path, ORR_ERR_FORMAT, "Header/NumPart_ThisFile[0] = 0 but PartType0/Coordinates has 9 rows",
+                   NULL);
+    /* One type uncounted while the others agree. */
+    path = good_file("onezero.hdf5");
+    const int64_t no_stars[6] = {9, 17, 0, 0, 0, 0};
+    CHECK(h5w_set_int64_attr(path, "Header", "NumPart_ThisFile", no_stars, 6) == 0);
+    expect_failure(path, ORR_ERR_FORMAT, "Header/NumPart_ThisFile[4] = 0 but PartType4/Coordinates has 5 rows",
+                   NULL);
+
     path = good_file("nonumpart.hdf5");
     hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
     H5Adelete_by_name(file, "Header", "NumPart_ThisFile", H5P_DEFAULT);
     H5Fclose(file);
     expect_failure(path, ORR_ERR_FORMAT, "Header has no NumPart_ThisFile attribute", NULL);
+}
+
+/* A NaN or infinite time would be written into every image's FITS header,
+ * which cfitsio refuses at the end of each render: refused when opening. */
+static void test_time_not_finite(void)
+{
+    const double times[2] = {NAN, INFINITY};
+    for (int k = 0; k < 2; k++) {
+        const char *path = good_file(k ? "inftime.hdf5" : "nantime.hdf5");
+        hid_t file = H5Fopen(path, H5F_ACC_RDWR, H5P_DEFAULT);
+        CHECK(file >= 0);
+        CHECK(h5w_set_attr(file, "Header", "Time", H5T_IEEE_F64LE, 0, &times[k], 1) == 0);
+        H5Fclose(file);
+        expect_failure(path, ORR_ERR_FORMAT, "Header/Time = ", "is not a finite number");
+    }
 }
 
 static void test_missing_file_of_snapshot(void)
@@ -755,6 +834,8 @@ int main(void)
     RUN(test_no_header_or_groups);
     RUN(test_bad_shapes);
     RUN(test_bad_counts);
+    RUN(test_mass_policy);
+    RUN(test_time_not_finite);
     RUN(test_missing_file_of_snapshot);
     RUN(test_truncated);
     int skipped = 0;

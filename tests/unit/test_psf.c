@@ -1,14 +1,17 @@
+#include <fitsio.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 
 #include "check.h"
+#include "encode/fits.h"
 #include "encode/png.h"
 #include "post/colormap.h"
 #include "post/convolve.h"
 #include "post/psf.h"
 #include "post/stretch.h"
 #include "test_random.h"
+#include "tmpdir.h"
 
 #define PI 3.14159265358979323846
 
@@ -373,6 +376,105 @@ static void test_acs_fits(void)
     orr_image_kernel_free(&k);
 }
 
+/* A 33 x 33 Gaussian PSF of 0.02 arcsec pixels (PIXSCALE), written with
+ * orrery's own FITS writer into the scratch folder. */
+static const char *write_gaussian_psf(const char *name)
+{
+    static char path[512];
+    snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+    orr_plane p;
+    orr_error err;
+    CHECK(orr_plane_alloc(&p, 33, 33, "PSF", "", &err) == ORR_OK);
+    for (int y = 0; y < 33; y++)
+        for (int x = 0; x < 33; x++)
+            p.data[y * 33 + x] = (float)exp(-((x - 16) * (x - 16) + (y - 16) * (y - 16)) / 8.0);
+    orr_fits_header h = {0};
+    orr_fits_add_double(&h, "PIXSCALE", 0.02, "arcsec per pixel");
+    CHECK(orr_write_fits(path, &p, 1, &h, &err) == ORR_OK);
+    orr_plane_free(&p);
+    return path;
+}
+
+/* psf.arcsec_per_pixel far beyond the PSF image (1e6 arcsec) used to reach
+ * unchecked float-to-int conversions in the rebinning (undefined; the
+ * release build drew no PSF at all): refused, naming the key and range. */
+static void test_scale_out_of_range(void)
+{
+    const char *path = write_gaussian_psf("gauss.fits");
+    orr_image_kernel k;
+    orr_error err;
+    orr_psf_fits_options o = {.arcsec_per_pixel = 1e6, .size = 129};
+    CHECK(orr_psf_load_fits(path, &o, &k, NULL, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, path);
+    CHECK_CONTAINS(err.msg, "psf.arcsec_per_pixel = 1e+06 is out of range for this PSF: it must be above 0 and at "
+                            "most 0.66 arcsec (an output pixel no larger than the 33 x 33 image");
+    /* The largest scale is allowed: the whole image in one output pixel. */
+    o.arcsec_per_pixel = 0.66;
+    o.size = 3;
+    CHECK(orr_psf_load_fits(path, &o, &k, NULL, &err) == ORR_OK);
+    orr_image_kernel_free(&k);
+    /* An automatic size must stay below 8192 pixels. */
+    o.arcsec_per_pixel = 1e-9;
+    o.size = 0;
+    CHECK(orr_psf_load_fits(path, &o, &k, NULL, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "psf.arcsec_per_pixel = 1e-09 is out of range for this PSF: it must be at least 8.05762e-05");
+    CHECK_CONTAINS(err.msg, "and an automatic size of at most 8191 pixels");
+    o.size = 129; /* with a size given, a tiny scale only magnifies the core */
+    CHECK(orr_psf_load_fits(path, &o, &k, NULL, &err) == ORR_OK);
+    orr_image_kernel_free(&k);
+    /* The case: the shipped NICMOS PSF (0.0189 arcsec, 528 pixels). */
+    char nicmos[1024];
+    if (shared_data_path(nicmos, sizeof nicmos, "psf/nic2_f160w_4xsub00.fits")) {
+        o = (orr_psf_fits_options){.arcsec_per_pixel = 1e6, .size = 129, .subsample = 4};
+        CHECK(orr_psf_load_fits(nicmos, &o, &k, NULL, &err) == ORR_ERR_USAGE);
+        CHECK_CONTAINS(err.msg, "psf.arcsec_per_pixel = 1e+06 is out of range for this PSF: it must be above 0 "
+                                "and at most 9.9792 arcsec");
+    } else {
+        shared_skipped = 1;
+    }
+    /* The rebinning itself refuses pixel edges beyond an int. */
+    float img[144] = {0}, out[25];
+    CHECK(orr_image_rebin(img, 12, 12, 6, 6, 1e9, 5, out, &err) == ORR_ERR_USAGE);
+    CHECK(orr_image_rebin(img, 12, 12, 3e9, 6, 2, 5, out, &err) == ORR_ERR_USAGE);
+}
+
+/* psf.file is opened as named: brackets are not cfitsio's extended syntax
+ * (which would read "psf[1].fits" as extension 1 of "psf"). */
+static void test_file_name_with_brackets(void)
+{
+    const char *path = write_gaussian_psf("psf[1].fits");
+    orr_image_kernel k;
+    orr_error err;
+    orr_psf_fits_options o = {.size = 9};
+    orr_status st = orr_psf_load_fits(path, &o, &k, NULL, &err);
+    CHECK(st == ORR_OK);
+    if (st != ORR_OK) {
+        fprintf(stderr, "  %s\n", err.msg);
+        return;
+    }
+    CHECK(k.width == 9 && k.arcsec_per_pixel == 0.02);
+    CHECK_NEAR(orr_image_kernel_sum(&k), 1.0, 1e-5);
+    orr_image_kernel_free(&k);
+    /* As fits_open_image did: an empty primary HDU, the PSF in extension 1. */
+    char ext[512];
+    snprintf(ext, sizeof ext, "%s/ext[2].fits", tmpdir);
+    fitsfile *f = NULL;
+    int status = 0;
+    long naxes[2] = {5, 5};
+    float pix[25] = {0};
+    pix[12] = 1;
+    fits_create_diskfile(&f, ext, &status);
+    fits_create_img(f, FLOAT_IMG, 0, NULL, &status);
+    fits_create_img(f, FLOAT_IMG, 2, naxes, &status);
+    fits_write_img(f, TFLOAT, 1, 25, pix, &status);
+    fits_close_file(f, &status);
+    CHECK(status == 0);
+    o.size = 5;
+    CHECK(orr_psf_load_fits(ext, &o, &k, NULL, &err) == ORR_OK);
+    CHECK(k.width == 5 && k.data[12] == 1.0f);
+    orr_image_kernel_free(&k);
+}
+
 static void test_fits_errors(void)
 {
     orr_image_kernel k;
@@ -508,6 +610,7 @@ static void test_star_cluster(void)
 
 int main(void)
 {
+    make_tmpdir();
     RUN(test_pupil_geometry);
     RUN(test_hst_psf);
     RUN(test_dark_ring_scales_with_wavelength);
@@ -516,7 +619,10 @@ int main(void)
     RUN(test_nicmos_fits);
     RUN(test_acs_fits);
     RUN(test_fits_errors);
+    RUN(test_scale_out_of_range);
+    RUN(test_file_name_with_brackets);
     RUN(test_star_cluster);
     int status = check_summary();
+    remove_tmpdir();
     return status == 0 && shared_skipped ? SKIP_CODE : status;
 }

@@ -262,6 +262,10 @@ static void test_load_string_names(void)
     CHECK(strcmp(g_scene.input_file, "a.txt") == 0);
     CHECK(strcmp(g_scene.out_name, "orrery") == 0);
     CHECK(strcmp(g_scene.path, "<built-in>") == 0);
+    /* "-" is standard input, not a file beside the scene. */
+    CHECK(orr_scene_load_string(&g_scene, "input: {file: \"-\"}", "builtin/ortho.yaml", "/srv/data", NULL, 0,
+                                &err) == ORR_OK);
+    CHECK(strcmp(g_scene.input_file, "-") == 0);
     /* Messages name the origin given. */
     CHECK(orr_scene_load_string(&g_scene, "deposit: tsc\n", "face-on", NULL, NULL, 0, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "face-on:1: deposit: expected one of: ngp cic sph, got 'tsc'") == 0);

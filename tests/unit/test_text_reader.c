@@ -1,10 +1,14 @@
 /* The plain-text particle reader: good tables in their variants, chunking,
  * rewinding, and each kind of bad table with its message. */
+#include <fcntl.h>
 #include <stdlib.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include "check.h"
 #include "source/source.h"
+#include "source/text_reader.h"
 
 static char tmpdir[] = "/tmp/orrery-text-XXXXXX";
 
@@ -127,13 +131,174 @@ static void test_bad_tables(void)
     CHECK(read_all("empty.txt", "\n\n", &err) == ORR_ERR_FORMAT);
     CHECK_CONTAINS(err.msg, "empty.txt: no header line");
     CHECK(read_all("negmass.txt", "x y z mass\n1 2 3 -4\n", &err) == ORR_ERR_FORMAT);
-    CHECK_CONTAINS(err.msg, "negmass.txt:2: column 'mass'");
+    CHECK_CONTAINS(err.msg, "negmass.txt:2: column 'mass': particle 0: mass -4 is negative");
     CHECK(read_all("badid.txt", "x y z id\n1 2 3 7.5\n", &err) == ORR_ERR_FORMAT);
     CHECK_CONTAINS(err.msg, "badid.txt:2: column 'id': '7.5'");
     CHECK(read_all("badtype.txt", "x y z type\n1 2 3 6\n", &err) == ORR_ERR_FORMAT);
     CHECK_CONTAINS(err.msg, "badtype.txt:2: column 'type': 6");
     /* NaN positions are read as they are: the renderer applies input.nonfinite. */
     CHECK(read_all("nanpos.txt", "x y z\nnan 0 0\ninf 1 1\n", &err) == ORR_OK);
+}
+
+/* The mass policy every reader shares (docs/input.md): negative, non-finite
+ * and float-unrepresentable masses are errors naming file, line, particle
+ * and value; 0 and tiny but representable masses are read. */
+static void test_mass_policy(void)
+{
+    static const struct {
+        const char *value, *needle;
+    } bad[] = {
+        {"nan", "particle 1: mass nan is not a finite number"},
+        {"-inf", "particle 1: mass -inf is not a finite number"},
+        {"-1e-3", "particle 1: mass -1e-3 is negative"},
+        {"1e-300", "particle 1: mass 1e-300 is too small for a float (it would become 0"},
+        {"1e39", "particle 1: mass 1e39 is too large for a float"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        char text[128];
+        snprintf(text, sizeof text, "x y z mass\n1 2 3 4\n# a comment\n1 2 3 %s\n", bad[k].value);
+        orr_error err = {0};
+        CHECK(read_all("masses.txt", text, &err) == ORR_ERR_FORMAT);
+        CHECK_CONTAINS(err.msg, "masses.txt:4: column 'mass': ");
+        CHECK_CONTAINS(err.msg, bad[k].needle);
+    }
+    orr_error err = {0};
+    CHECK(read_all("goodmasses.txt", "x y z mass\n1 2 3 0\n1 2 3 1e-40\n1 2 3 -0\n", &err) == ORR_OK);
+}
+
+/* A table of n rows, mass = row number, in buf. */
+static size_t make_table(char *buf, size_t size, int n)
+{
+    size_t len = (size_t)snprintf(buf, size, "x y z mass\n");
+    for (int i = 0; i < n && len < size; i++)
+        len += (size_t)snprintf(buf + len, size - len, "%d.125 -%d.5 0.25 %d\n", i, i, i);
+    return len;
+}
+
+/* Reads a source to its end: the rows and the sum of their masses. */
+static orr_status count_rows(orr_source *src, long *rows, double *mass, orr_error *err)
+{
+    const orr_chunk *c;
+    orr_status st;
+    *rows = 0;
+    *mass = 0;
+    while (!(st = orr_source_next(src, &c, err)) && c->n > 0)
+        for (size_t i = 0; i < c->n; i++, (*rows)++)
+            *mass += c->mass[i];
+    return st;
+}
+
+/* A stream is read once: the bytes format detection took (here the first
+ * head bytes, cut inside a row) are read first, then the rest. */
+static void test_stream_reads_peeked_bytes_first(void)
+{
+    static char table[65536];
+    size_t len = make_table(table, sizeof table, 1000);
+    const size_t cuts[] = {0, 5, 11, 37, 4096, len};
+    for (size_t k = 0; k < sizeof cuts / sizeof cuts[0]; k++) {
+        size_t head = cuts[k];
+        FILE *rest = fmemopen(table + head, len - head + 1, "r");
+        orr_source_options opt = {.chunk_size = 64};
+        orr_source *src = NULL;
+        orr_error err = {0};
+        CHECK(orr_text_source_open_stream("a pipe", rest, 1, (const unsigned char *)table, head, &opt, &src, &err) ==
+              ORR_OK);
+        if (!src)
+            continue;
+        long rows;
+        double mass;
+        CHECK(count_rows(src, &rows, &mass, &err) == ORR_OK);
+        CHECK(rows == 1000 && mass == 999.0 * 1000 / 2);
+        CHECK(orr_source_rewind(src, &err) == ORR_ERR_USAGE);
+        CHECK_CONTAINS(err.msg, "a pipe: this scene reads its particles twice, but a pipe can be read only once");
+        orr_source_close(src);
+    }
+}
+
+/* A FIFO no program writes to: opening it used to wait for a writer
+ * forever; now it reads as empty at once (and binary formats are refused
+ * before opening). The alarm turns a hang into a failure. */
+static void test_fifo_without_writer(void)
+{
+    char fifo[512];
+    snprintf(fifo, sizeof fifo, "%s/nowriter", tmpdir);
+    CHECK(mkfifo(fifo, 0600) == 0);
+    alarm(20);
+    orr_source_options opt = {.format = "auto", .chunk_size = 16};
+    orr_source *src = NULL;
+    orr_error err = {0};
+    CHECK(orr_source_open_file(fifo, &opt, &src, &err) == ORR_ERR_FORMAT && src == NULL);
+    CHECK_CONTAINS(err.msg, "nowriter: no data (a pipe or FIFO): no program had it open for writing");
+    const char *const binary[] = {"gadget", "hdf5", "tipsy"};
+    for (int k = 0; k < 3; k++) {
+        opt.format = binary[k];
+        CHECK(orr_source_open_file(fifo, &opt, &src, &err) == ORR_ERR_USAGE && src == NULL);
+        CHECK_CONTAINS(err.msg, "nowriter: ");
+        CHECK_CONTAINS(err.msg, " files are read with seeks, so the input must be a regular file, but this is a "
+                                "pipe or FIFO");
+    }
+    alarm(0);
+}
+
+/* A FIFO whose writer is there: read once, the format detected from the
+ * bytes kept for the reader, not lost. The child holds the FIFO open (read
+ * and write, which does not wait) before the parent opens it, and closes it
+ * (ending the parent's input) only once the parent has opened it, so no
+ * timing is involved. */
+static void test_fifo_with_writer(void)
+{
+    static char table[65536];
+    size_t len = make_table(table, sizeof table, 700);
+    char fifo[512];
+    snprintf(fifo, sizeof fifo, "%s/writer", tmpdir);
+    CHECK(mkfifo(fifo, 0600) == 0);
+    int ready[2], opened[2];
+    CHECK(pipe(ready) == 0 && pipe(opened) == 0);
+    alarm(20);
+    pid_t pid = fork();
+    if (pid == 0) {
+        int fd = open(fifo, O_RDWR);
+        char c = 1;
+        if (fd < 0 || write(ready[1], &c, 1) != 1)
+            _exit(1);
+        /* The parent reads as this writes; closing ends its input. */
+        size_t done = 0;
+        while (done < len) {
+            ssize_t w = write(fd, table + done, len - done);
+            if (w <= 0)
+                _exit(1);
+            done += (size_t)w;
+        }
+        if (read(opened[0], &c, 1) != 1)
+            _exit(1);
+        close(fd);
+        _exit(0);
+    }
+    char c = 0;
+    CHECK(read(ready[0], &c, 1) == 1);
+    orr_source_options opt = {.format = "auto", .chunk_size = 50};
+    orr_source *src = NULL;
+    orr_error err = {0};
+    CHECK(orr_source_open_file(fifo, &opt, &src, &err) == ORR_OK);
+    CHECK(write(opened[1], &c, 1) == 1);
+    if (src) {
+        long rows = 0;
+        double mass = 0;
+        CHECK(count_rows(src, &rows, &mass, &err) == ORR_OK);
+        CHECK(rows == 700 && mass == 699.0 * 700 / 2);
+        CHECK(strcmp(src->info.format, "text") == 0);
+        orr_source_close(src);
+    } else {
+        fprintf(stderr, "  %s\n", err.msg);
+    }
+    int status = 0;
+    waitpid(pid, &status, 0);
+    CHECK(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    close(ready[0]);
+    close(ready[1]);
+    close(opened[0]);
+    close(opened[1]);
+    alarm(0);
 }
 
 static void test_missing_file(void)
@@ -182,6 +347,10 @@ int main(void)
     RUN(test_comma_table_defaults_and_hash_header);
     RUN(test_chunks_and_rewind);
     RUN(test_bad_tables);
+    RUN(test_mass_policy);
+    RUN(test_stream_reads_peeked_bytes_first);
+    RUN(test_fifo_without_writer);
+    RUN(test_fifo_with_writer);
     RUN(test_missing_file);
     RUN(test_format_detection);
     char cmd[600];

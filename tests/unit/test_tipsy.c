@@ -47,6 +47,11 @@ static void fill_values(void)
             seed = seed * 1664525u + 1013904223u;
             arrays[a][i] = (float)((int32_t)seed) * 1e-7f;
         }
+    /* Masses (column 0) are weights, which the reader refuses negative. */
+    const int floats[3] = {TIPSY_GAS_FLOATS, TIPSY_DARK_FLOATS, TIPSY_STAR_FLOATS};
+    for (int a = 0; a < 3; a++)
+        for (size_t i = 0; i < sizes[a]; i += (size_t)floats[a])
+            arrays[a][i] = fabsf(arrays[a][i]);
     for (int i = 0; i < 5; i++)
         dark[9 + 1 + i % 3] = special[i]; /* positions of dark particle 1 */
     gas[4] = special[1];
@@ -669,6 +674,50 @@ static void test_bad_headers(void)
                  "needs a file of 140 bytes (136 with the unpadded 28-byte header)");
 }
 
+/* A NaN or infinite time would be written into every image's FITS header,
+ * which cfitsio refuses at the end of each render: refused when opening. */
+static void test_time_not_finite(void)
+{
+    const double times[2] = {NAN, INFINITY};
+    for (int k = 0; k < 2; k++) {
+        tipsy_writer_header h = tipsy_writer_header_for(times[k], 0, 1, 0, 1, 32);
+        const char *path = write_header_only(k ? "inftime.bin" : "nantime.bin", h, 36);
+        expect_error(path, ORR_ERR_FORMAT, "header time = ", "is not a finite number");
+    }
+}
+
+/* The mass policy every reader shares (docs/input.md): a negative or
+ * non-finite mass is an error naming file, particle and value. */
+static void test_mass_policy(void)
+{
+    static const struct {
+        float *array;
+        size_t at;
+        float value;
+        const char *needle;
+    } bad[] = {
+        {dark, 2 * TIPSY_DARK_FLOATS, -1.5f, "dark particle 2 (particle 7 of the file): mass -1.5 is negative"},
+        {gas, 4 * TIPSY_GAS_FLOATS, NAN, "gas particle 4 (particle 4 of the file): mass nan is not a finite number"},
+        {star, 0, -INFINITY, "star particle 0 (particle 12 of the file): mass -inf is not a finite number"},
+    };
+    for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
+        float saved = bad[k].array[bad[k].at];
+        bad[k].array[bad[k].at] = bad[k].value;
+        const char *path = write_sample("badmass.bin", (int)k % 2, 32);
+        bad[k].array[bad[k].at] = saved;
+        orr_source *src = NULL;
+        orr_error err = {0};
+        orr_status s = open_tipsy(path, 4, 0, NULL, 0, &src, &err);
+        const orr_chunk *c;
+        while (!s && !(s = orr_source_next(src, &c, &err)) && c->n > 0) {
+        }
+        orr_source_close(src);
+        CHECK(s == ORR_ERR_FORMAT);
+        CHECK_CONTAINS(err.msg, path);
+        CHECK_CONTAINS(err.msg, bad[k].needle);
+    }
+}
+
 static void test_not_tipsy_and_missing(void)
 {
     const char *path = tmp_path("table.txt");
@@ -710,6 +759,8 @@ int main(void)
     RUN(test_truncated_file);
     RUN(test_huge_counts_checked_before_allocating);
     RUN(test_bad_headers);
+    RUN(test_time_not_finite);
+    RUN(test_mass_policy);
     RUN(test_not_tipsy_and_missing);
     RUN(test_file_shrinking_after_open);
     char buf[1024];
