@@ -1237,13 +1237,13 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
     static const char *const psf_names[] = {"none", "gaussian", "hst", "file"};
     orr_fits_add_string(h, "PSF", psf_names[s->psf], "point spread function");
     if (s->psf == ORR_PSF_GAUSSIAN && orr_projection_is_sky(p))
-        orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm_arcmin, "[arcmin] PSF FWHM on the sky");
+        orr_fits_add_double(h, "PSFFWHM", v->psf.core_fwhm_arcmin, "[arcmin] PSF FWHM on the sky");
     else if (s->psf == ORR_PSF_GAUSSIAN)
         orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm, "[pixel] PSF FWHM");
     else if (s->psf != ORR_PSF_NONE)
         orr_fits_add_double(h, "PSFSCALE", s->psf_arcsec_per_pixel, "[arcsec/pixel] image scale for the PSF");
     if (v->psf.sky) {
-        orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm_arcmin, "[arcmin] the PSF core's FWHM on the sky");
+        orr_fits_add_double(h, "PSFFWHM", v->psf.core_fwhm_arcmin, "[arcmin] the PSF core's FWHM on the sky");
         orr_fits_add_double(h, "PSFSKYSC", v->psf.sky->rad_per_pixel * (180.0 * 3600.0 / ORR_PI),
                             "[arcsec] one PSF pixel on the sky");
         orr_fits_add_long(h, "PSFSTARS", v->psf.sky->stars_drawn, "stars drawn with the whole PSF");

@@ -149,7 +149,8 @@ orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_scene *s, const orr_pr
     if (orr_projection_is_sky(proj)) {
         /* The sky deposit measures distances on the sphere as chords: a
          * half-maximum chord of q_half h / r is an angle of FWHM / 2. */
-        double fwhm = s->psf_fwhm_arcmin * ARCMIN;
+        double fwhm = s->psf_fwhm_arcmin > 0 ? s->psf_fwhm_arcmin * ARCMIN : ORR_SKY_CORE_PIXELS / proj->focal;
+        vp->core_fwhm_arcmin = fwhm / ARCMIN;
         vp->h_per_r = 2.0 * sin(0.25 * fwhm) / orr_kernel_half_max_q(k);
         return s->psf == ORR_PSF_GAUSSIAN ? ORR_OK : sky_setup(vp, s, fwhm, err);
     }

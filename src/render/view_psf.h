@@ -15,9 +15,19 @@
 #include "render/sky_psf.h"
 #include "splat/kernel.h"
 
+/* The automatic core of a sky map's PSF (psf.fwhm_arcmin: auto): this many
+ * pixels across at half maximum, at the map's centre. A star drawn as a
+ * kernel this wide keeps its flux and its centroid wherever it falls (the
+ * kernel is integrated over each pixel), and the share of its flux in its
+ * brightest pixel varies by at most 1.2x over the sub-pixel positions
+ * (tests/cli/check_star_shimmer.py): 1.39x at 2 pixels, 1.23x at 2.8, 1.19x
+ * at 3.2. Narrower cores are sharper and twinkle as stars move. */
+#define ORR_SKY_CORE_PIXELS 3.2
+
 typedef struct orr_view_psf {
     orr_convolver *conv; /* flat views: the convolution; NULL for none */
     double h_per_r;      /* sky maps: kernel h per unit distance giving the PSF's FWHM; 0 for none */
+    double core_fwhm_arcmin; /* sky maps: that FWHM, psf.fwhm_arcmin's or the automatic one */
     orr_sky_psf *sky;    /* sky maps with an hst or file PSF: the bright stars' whole PSF; else NULL */
 } orr_view_psf;
 

@@ -176,7 +176,8 @@ typedef struct orr_scene {
      * docs/psf.md. */
     orr_psf_kind psf;              /* psf.kind: none | gaussian | hst | file (default none) */
     double psf_fwhm;               /* psf.fwhm: Gaussian FWHM in pixels, flat views (default 2) */
-    double psf_fwhm_arcmin;        /* psf.fwhm_arcmin: FWHM in arcminutes on sky maps, of the Gaussian or of
+    double psf_fwhm_arcmin;        /* psf.fwhm_arcmin: FWHM in arcminutes on sky maps (0: auto, ORR_SKY_CORE_PIXELS
+                                    * pixels at the map's centre), of the Gaussian or of
                                     * the hst/file PSF's core, which scales the whole PSF (default 10) */
     char psf_file[ORR_PATH_MAX];   /* psf.file: a FITS PSF image (psf.kind: file) */
     int psf_file_subsample;        /* psf.file_subsample: file pixels per detector pixel (default 1) */

@@ -382,7 +382,7 @@ static const key_spec KEYS[] = {
     {.key = "colour.tint.t", .type = K_RUN, FIELD(tint_t), CLOSED(0, 1), RUN_FLAG(tint_run)},
     {.key = "psf.kind", ENUM(psf)},
     {.key = "psf.fwhm", .type = K_NUMBER, FIELD(psf_fwhm), CLOSED(0.1, 1000)},
-    {.key = "psf.fwhm_arcmin", .type = K_NUMBER, FIELD(psf_fwhm_arcmin), CLOSED(0.01, 3000)},
+    {.key = "psf.fwhm_arcmin", .type = K_AUTO, FIELD(psf_fwhm_arcmin), CLOSED(0.01, 3000)},
     {.key = "psf.file", .type = K_PATH, FIELD(psf_file)},
     {.key = "psf.file_subsample", .type = K_INT, FIELD(psf_file_subsample), IRANGE(1, 64)},
     {.key = "psf.arcsec_per_pixel", .type = K_NUMBER, FIELD(psf_arcsec_per_pixel), .lo = 0, .bounds = HAS_LO},
