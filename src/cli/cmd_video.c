@@ -46,7 +46,10 @@ static const char video_help[] =
     "                    prores ProRes 422 HQ (prores_ks profile 3), yuv422p10le, MOV: masters\n"
     "                    png    the PNG frames, lossless, in a MOV\n"
     "                    h264 and h265 need even sizes: odd frames are padded by one\n"
-    "                    black pixel on the right and/or bottom (a note says so)\n"
+    "                    black pixel on the right and/or bottom (a note says so); frames\n"
+    "                    that need a level above 5.2, which many players refuse, get a\n"
+    "                    warning (h264: over 3072x3072 at 30 fps): for dome masters of 4K\n"
+    "                    and more use prores or png\n"
     "  --crf N           quality of h264 and h265, 0 (lossless) to 51 (default 18 for h264,\n"
     "                    23 for h265; lower is better and bigger)\n"
     "  --fps F           frames per second, e.g. 24, 29.97 or 30000/1001 (default: animation.fps)\n"
@@ -425,6 +428,38 @@ static orr_status run_ffmpeg(const video_command *cmd, const frame_set *fs, cons
 }
 
 /* Encodes one view's frames into output. */
+/* The frame rate as a number: "30", "29.97" or "30000/1001". */
+static double fps_value(const char *fps)
+{
+    char *end;
+    double v = orr_strtod(fps, &end);
+    if (*end == '/') {
+        double den = orr_strtod(end + 1, NULL);
+        v = den > 0 ? v / den : v;
+    }
+    return v;
+}
+
+/* Warns when the frames need a level of H.264 or H.265 above 5.2, which
+ * many players and hardware decoders refuse to play (the encoders choose
+ * the level from the size, and go on to 6.x). A warning, not an error:
+ * a projection server or a software player may well take it. */
+static void warn_level(const video_options *o, int width, int height)
+{
+    int level = video_level(o->codec, width, height, fps_value(o->fps));
+    if (level >= 0 && level <= VIDEO_LEVEL_PLAYABLE)
+        return;
+    char need[64];
+    if (level < 0)
+        snprintf(need, sizeof need, "more than %s's highest level, 6.2", video_codec_name(o->codec));
+    else
+        snprintf(need, sizeof need, "%s level %d.%d", video_codec_name(o->codec), level / 10, level % 10);
+    fprintf(stderr, "orrery: warning: %dx%d frames at %s fps need %s, and many players and hardware decoders "
+                    "stop at level 5.2 (at 30 fps, square frames up to 3072x3072 with h264, 2984x2984 with h265); for a dome "
+                    "master use --codec prores or the PNG frames (docs/animation.md#codecs-for-dome-masters)\n",
+            width, height, o->fps, need);
+}
+
 static orr_status encode_view(const video_options *o, const char *ffmpeg, const frame_set *fs, const char *output,
                               orr_error *err)
 {
@@ -439,6 +474,7 @@ static orr_status encode_view(const video_options *o, const char *ffmpeg, const 
                             "to %dx%d with black on the %s\n", video_codec_name(o->codec), fs->width, fs->height,
                     s.pad_width, s.pad_height, pad_w && pad_h ? "right and bottom" : pad_w ? "right" : "bottom");
     }
+    warn_level(o, (int)fs->width + pad_w, (int)fs->height + pad_h);
 
     orr_atomic_file af;
     orr_status st = orr_atomic_begin(&af, output, err);
