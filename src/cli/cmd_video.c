@@ -455,8 +455,9 @@ static void warn_level(const video_options *o, int width, int height)
     else
         snprintf(need, sizeof need, "%s level %d.%d", video_codec_name(o->codec), level / 10, level % 10);
     fprintf(stderr, "orrery: warning: %dx%d frames at %s fps need %s, and many players and hardware decoders "
-                    "stop at level 5.2 (at 30 fps, square frames up to 3072x3072 with h264, 2984x2984 with h265); for a dome "
-                    "master use --codec prores or the PNG frames (docs/animation.md#codecs-for-dome-masters)\n",
+                    "stop at level 5.2 (at 30 fps, square frames up to 3072x3072 with h264, 2984x2984 with "
+                    "h265); for a dome master use --codec prores or the PNG frames "
+                    "(docs/animation.md#codecs-for-dome-masters)\n",
             width, height, o->fps, need);
 }
 

@@ -356,9 +356,9 @@ static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, siz
 {
     char what[128];
     if (isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]))
-        snprintf(what, sizeof what, "weight (%g)", weight);
+        orr_snprintf(what, sizeof what, "weight (%g)", weight);
     else
-        snprintf(what, sizeof what, "position (%g, %g, %g)", (double)c->x[i], (double)c->y[i], (double)c->z[i]);
+        orr_snprintf(what, sizeof what, "position (%g, %g, %g)", (double)c->x[i], (double)c->y[i], (double)c->z[i]);
     return orr_fail(err, ORR_ERR_DATA, "%s: particle %llu (id %llu) has a non-finite %s; "
                     "set input.nonfinite: skip to leave such particles out",
                     src->info.path, (unsigned long long)(c->first_index + i), (unsigned long long)c->id[i], what);
