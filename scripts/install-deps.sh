@@ -19,6 +19,7 @@ packages=(
   python3-pil                        # tests: an independent PNG reader (Pillow)
   splash                             # tests and benchmark: SPLASH, the reference SPH renderer
   ffmpeg                             # orrery video: encodes frame sequences (ffmpeg; ffprobe for its tests)
+  locales                            # tests: localedef makes the ','-decimal locale of test_locale
 )
 
 missing=()

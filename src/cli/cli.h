@@ -22,12 +22,30 @@ int cmd_ics(int argc, char **argv);
 int cmd_path(int argc, char **argv);
 int cmd_video(int argc, char **argv);
 
-/* Prints "orrery: <message>" to stderr and returns the exit code for it. */
+/* Prints "orrery: error: <message>" to stderr and returns the exit code for it. */
 int cli_report_error(const orr_error *err);
-/* Prints "orrery <command>: <message>" and a hint to stderr; returns EXIT_USAGE. */
+/* Prints "orrery: error: <message> (see 'orrery <command> --help')" to
+ * stderr, the one-line form of docs/cli.md; returns EXIT_USAGE. */
 int cli_usage_error(const char *command, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-/* Parses a positive whole number (accepts forms like 1e6); returns 0 when bad. */
+/* Parses a whole number (accepts forms like 1e6) from min to max; returns
+ * 1 and *out, 0 when it is not one in the range, -1 when it is NaN. */
 int cli_parse_count(const char *text, long long min, long long max, long long *out);
+/* The value of a whole-number option, or the usage error naming option and
+ * range ("not a number" for a NaN): EXIT_OK or EXIT_USAGE. */
+int cli_count_option(const char *command, const char *option, const char *text, long long min, long long max,
+                     long long *out);
+
+/* Options: getopt_long over a command's arguments (argv[0] is the command's
+ * name), so --output=DIR, -oDIR, --output DIR, bundled short options and
+ * "--" all work as in other GNU tools. Operands (a scene file) may come
+ * anywhere, in order. cli_next_option returns the short letter or the long
+ * option's val, CLI_OPERAND with the operand in *value, -1 at the end, or
+ * CLI_BAD after printing the usage error (unknown option, missing value). */
+enum { CLI_OPERAND = 1, CLI_BAD = '?' };
+struct option;
+void cli_options_begin(void);
+int cli_next_option(const char *command, int argc, char **argv, const char *shorts, const struct option *longs,
+                    const char **value);
 
 /* Progress on stderr: a line rewritten in place on a terminal, a plain line
  * every 10% otherwise. */

@@ -1,11 +1,13 @@
 /* orrery ics --zeldovich -o FILE [--grid N] [--box L] [--z Z] [--seed S]
  *            [--truncate K] [--omega-m X] [--omega-lambda X] [--omega-b X] [--h X]
  *            [--sigma8 X] [--ns X] */
+#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
+#include "core/numbers.h"
 #include "source/zeldovich.h"
 
 static const char ics_help[] =
@@ -30,77 +32,103 @@ static const char ics_help[] =
     "                        cosmology (default Planck 2018: 0.315 0.685 0.049 0.674 0.811 0.965)\n"
     "  -h, --help            this text\n";
 
-static int is_option(const char *a, const char *name)
+enum {
+    OPT_ZELDOVICH = 256, OPT_GRID, OPT_SEED, OPT_BOX, OPT_Z, OPT_TRUNCATE,
+    OPT_OMEGA_M, OPT_OMEGA_LAMBDA, OPT_OMEGA_B, OPT_H, OPT_SIGMA8, OPT_NS,
+};
+
+static const struct option ics_options[] = {
+    {"zeldovich", no_argument, NULL, OPT_ZELDOVICH},
+    {"output", required_argument, NULL, 'o'},
+    {"grid", required_argument, NULL, OPT_GRID},
+    {"seed", required_argument, NULL, OPT_SEED},
+    {"box", required_argument, NULL, OPT_BOX},
+    {"z", required_argument, NULL, OPT_Z},
+    {"truncate", required_argument, NULL, OPT_TRUNCATE},
+    {"omega-m", required_argument, NULL, OPT_OMEGA_M},
+    {"omega-lambda", required_argument, NULL, OPT_OMEGA_LAMBDA},
+    {"omega-b", required_argument, NULL, OPT_OMEGA_B},
+    {"h", required_argument, NULL, OPT_H},
+    {"sigma8", required_argument, NULL, OPT_SIGMA8},
+    {"ns", required_argument, NULL, OPT_NS},
+    {"help", no_argument, NULL, 'h'},
+    {NULL, 0, NULL, 0},
+};
+
+/* The box and cosmology options that take a number: where each goes. */
+static double *number_option(int code, orr_zeldovich_params *p)
 {
-    return strcmp(a, name) == 0;
+    switch (code) {
+    case OPT_BOX: return &p->box;
+    case OPT_Z: return &p->redshift;
+    case OPT_TRUNCATE: return &p->truncate;
+    case OPT_OMEGA_M: return &p->cosmo.omega_m;
+    case OPT_OMEGA_LAMBDA: return &p->cosmo.omega_lambda;
+    case OPT_OMEGA_B: return &p->cosmo.omega_b;
+    case OPT_H: return &p->cosmo.h;
+    case OPT_SIGMA8: return &p->cosmo.sigma8;
+    case OPT_NS: return &p->cosmo.n_s;
+    default: return NULL;
+    }
 }
 
-/* The cosmology and box options that take a number. */
-static double *number_option(const char *a, orr_zeldovich_params *p)
+/* The option's name as typed in full, for messages. */
+static const char *option_name(int code)
 {
-    if (is_option(a, "--box"))
-        return &p->box;
-    if (is_option(a, "--z"))
-        return &p->redshift;
-    if (is_option(a, "--truncate"))
-        return &p->truncate;
-    if (is_option(a, "--omega-m"))
-        return &p->cosmo.omega_m;
-    if (is_option(a, "--omega-lambda"))
-        return &p->cosmo.omega_lambda;
-    if (is_option(a, "--omega-b"))
-        return &p->cosmo.omega_b;
-    if (is_option(a, "--h"))
-        return &p->cosmo.h;
-    if (is_option(a, "--sigma8"))
-        return &p->cosmo.sigma8;
-    if (is_option(a, "--ns"))
-        return &p->cosmo.n_s;
-    return NULL;
+    for (const struct option *o = ics_options; o->name; o++)
+        if (o->val == code)
+            return o->name;
+    return "?";
+}
+
+/* One option; EXIT_OK, -1 after --help, or a usage error. */
+static int take_option(int code, const char *v, orr_zeldovich_params *p, const char **out, int *zeldovich)
+{
+    long long n;
+    double *number = number_option(code, p);
+    if (number) {
+        if (!orr_parse_double(v, number))
+            return cli_usage_error("ics", "--%s %s: expected a number", option_name(code), v);
+        return EXIT_OK;
+    }
+    switch (code) {
+    case 'h':
+        fputs(ics_help, stdout);
+        return -1;
+    case OPT_ZELDOVICH:
+        *zeldovich = 1;
+        return EXIT_OK;
+    case 'o':
+        *out = v;
+        return EXIT_OK;
+    case OPT_GRID:
+        if (cli_parse_count(v, 2, ORR_ZELDOVICH_GRID_MAX, &n) <= 0 || n % 2)
+            return cli_usage_error("ics", "--grid %s: expected an even whole number from 2 to %d", v,
+                                   ORR_ZELDOVICH_GRID_MAX);
+        p->grid = (int)n;
+        return EXIT_OK;
+    case OPT_SEED:
+        if (cli_count_option("ics", "--seed", v, 0, 9007199254740992LL, &n) != EXIT_OK)
+            return EXIT_USAGE;
+        p->seed = (uint64_t)n;
+        return EXIT_OK;
+    case CLI_OPERAND:
+        return cli_usage_error("ics", "unexpected argument '%s' (the output is -o FILE)", v);
+    default:
+        return EXIT_USAGE;
+    }
 }
 
 int cmd_ics(int argc, char **argv)
 {
     orr_zeldovich_params p = {.cosmo = orr_cosmology_default(), .grid = 64, .box = 100, .redshift = 0, .seed = 1};
-    const char *out = NULL;
-    int zeldovich = 0;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (is_option(a, "-h") || is_option(a, "--help")) {
-            fputs(ics_help, stdout);
-            return EXIT_OK;
-        }
-        if (is_option(a, "--zeldovich")) {
-            zeldovich = 1;
-            continue;
-        }
-        double *number = number_option(a, &p);
-        int takes_value = number || is_option(a, "-o") || is_option(a, "--output") || is_option(a, "--grid") ||
-                          is_option(a, "--seed");
-        if (!takes_value)
-            return cli_usage_error("ics", "unknown argument '%s'", a);
-        if (i + 1 >= argc)
-            return cli_usage_error("ics", "%s needs a value", a);
-        const char *v = argv[++i];
-        long long n;
-        if (is_option(a, "-o") || is_option(a, "--output")) {
-            out = v;
-        } else if (is_option(a, "--grid")) {
-            if (!cli_parse_count(v, 2, ORR_ZELDOVICH_GRID_MAX, &n) || n % 2)
-                return cli_usage_error("ics", "--grid %s: expected an even whole number from 2 to %d", v,
-                                       ORR_ZELDOVICH_GRID_MAX);
-            p.grid = (int)n;
-        } else if (is_option(a, "--seed")) {
-            if (!cli_parse_count(v, 0, 9007199254740992LL, &n))
-                return cli_usage_error("ics", "--seed %s: expected a whole number >= 0", v);
-            p.seed = (uint64_t)n;
-        } else {
-            char *end;
-            double d = strtod(v, &end);
-            if (end == v || *end)
-                return cli_usage_error("ics", "%s %s: expected a number", a, v);
-            *number = d;
-        }
+    const char *out = NULL, *value;
+    int zeldovich = 0, code;
+    cli_options_begin();
+    while ((code = cli_next_option("ics", argc, argv, "ho:", ics_options, &value)) != -1) {
+        int st = take_option(code, value, &p, &out, &zeldovich);
+        if (st != EXIT_OK)
+            return st < 0 ? EXIT_OK : st;
     }
     if (!zeldovich)
         return cli_usage_error("ics", "give the method: --zeldovich (the only one so far)");

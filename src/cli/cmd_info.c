@@ -1,5 +1,6 @@
 /* orrery info FILE [--format FORMAT] */
 #include <float.h>
+#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -13,7 +14,7 @@ static const char info_help[] =
     "Reads every particle of FILE and prints its format, time, particle count\n"
     "per type, fields, position bounds and total mass.\n"
     "\n"
-    "  --format FORMAT   auto (default: detect from the contents) or a format name;\n"
+    "  --format FORMAT   auto (default: detect from the contents) or a format name\n"
     "                    (listed below)\n"
     "  -h, --help        this text\n";
 
@@ -86,25 +87,30 @@ static void print_summary(const orr_source_info *info, const summary *s)
         printf("mass:       total %.9g (per particle %.9g to %.9g)\n", s->mass, s->mass_min, s->mass_max);
 }
 
+static const struct option info_options[] = {
+    {"format", required_argument, NULL, 'f'},
+    {"help", no_argument, NULL, 'h'},
+    {NULL, 0, NULL, 0},
+};
+
 int cmd_info(int argc, char **argv)
 {
-    const char *path = NULL, *format = "auto";
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
+    const char *path = NULL, *format = "auto", *value;
+    int code;
+    cli_options_begin();
+    while ((code = cli_next_option("info", argc, argv, "h", info_options, &value)) != -1) {
+        if (code == 'h') {
             fputs(info_help, stdout);
             printf("\nformats: %s\n", orr_source_format_names());
             return EXIT_OK;
-        } else if (strcmp(a, "--format") == 0) {
-            if (i + 1 >= argc)
-                return cli_usage_error("info", "--format needs a value");
-            format = argv[++i];
-        } else if (a[0] == '-' && a[1] != '\0') {
-            return cli_usage_error("info", "unknown option '%s'", a);
+        } else if (code == 'f') {
+            format = value;
+        } else if (code != CLI_OPERAND) {
+            return EXIT_USAGE;
         } else if (path) {
-            return cli_usage_error("info", "one file at a time (got '%s' and '%s')", path, a);
+            return cli_usage_error("info", "one file at a time (got '%s' and '%s')", path, value);
         } else {
-            path = a;
+            path = value;
         }
     }
     if (!path)

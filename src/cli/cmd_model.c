@@ -1,9 +1,11 @@
 /* orrery model -o FILE [--particles N] [--seed S] [--separation KPC] */
+#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "cli/cli.h"
+#include "core/numbers.h"
 #include "source/model.h"
 #include "source/text_writer.h"
 
@@ -21,42 +23,58 @@ static const char model_help[] =
     "  --separation KPC      distance between the galaxy centres (default 780, today's)\n"
     "  -h, --help            this text\n";
 
+enum { OPT_PARTICLES = 256, OPT_SEED, OPT_SEPARATION };
+
+static const struct option model_options[] = {
+    {"output", required_argument, NULL, 'o'},        {"particles", required_argument, NULL, OPT_PARTICLES},
+    {"seed", required_argument, NULL, OPT_SEED},     {"separation", required_argument, NULL, OPT_SEPARATION},
+    {"help", no_argument, NULL, 'h'},                {NULL, 0, NULL, 0},
+};
+
+/* One option; EXIT_OK, -1 after --help, or a usage error. */
+static int take_option(int code, const char *v, orr_model_params *params, const char **out)
+{
+    long long n;
+    double d;
+    switch (code) {
+    case 'h':
+        fputs(model_help, stdout);
+        return -1;
+    case 'o':
+        *out = v;
+        return EXIT_OK;
+    case OPT_PARTICLES:
+        if (cli_count_option("model", "--particles", v, 100, ORR_MODEL_PARTICLES_MAX, &n) != EXIT_OK)
+            return EXIT_USAGE;
+        params->particles = n;
+        return EXIT_OK;
+    case OPT_SEED:
+        if (cli_count_option("model", "--seed", v, 0, 9007199254740992LL, &n) != EXIT_OK)
+            return EXIT_USAGE;
+        params->seed = (uint64_t)n;
+        return EXIT_OK;
+    case OPT_SEPARATION:
+        if (!orr_parse_double(v, &d) || !(d > 0 && d < 1e6))
+            return cli_usage_error("model", "--separation %s: expected a distance in kpc above 0 (and below 1e6)", v);
+        params->separation_kpc = d;
+        return EXIT_OK;
+    case CLI_OPERAND:
+        return cli_usage_error("model", "unexpected argument '%s' (the output is -o FILE)", v);
+    default:
+        return EXIT_USAGE;
+    }
+}
+
 int cmd_model(int argc, char **argv)
 {
     orr_model_params params = {200000, 1, 780.0};
-    const char *out = NULL;
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            fputs(model_help, stdout);
-            return EXIT_OK;
-        }
-        int takes_value = strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0 || strcmp(a, "--particles") == 0 ||
-                          strcmp(a, "--seed") == 0 || strcmp(a, "--separation") == 0;
-        if (!takes_value)
-            return cli_usage_error("model", "unknown argument '%s'", a);
-        if (i + 1 >= argc)
-            return cli_usage_error("model", "%s needs a value", a);
-        const char *v = argv[++i];
-        long long n;
-        if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
-            out = v;
-        } else if (strcmp(a, "--particles") == 0) {
-            if (!cli_parse_count(v, 100, ORR_MODEL_PARTICLES_MAX, &n))
-                return cli_usage_error("model", "--particles %s: expected a whole number from 100 to %lld", v,
-                                       (long long)ORR_MODEL_PARTICLES_MAX);
-            params.particles = n;
-        } else if (strcmp(a, "--seed") == 0) {
-            if (!cli_parse_count(v, 0, 9007199254740992LL, &n))
-                return cli_usage_error("model", "--seed %s: expected a whole number >= 0", v);
-            params.seed = (uint64_t)n;
-        } else {
-            char *end;
-            double d = strtod(v, &end);
-            if (end == v || *end || !(d > 0 && d < 1e6))
-                return cli_usage_error("model", "--separation %s: expected a distance in kpc above 0", v);
-            params.separation_kpc = d;
-        }
+    const char *out = NULL, *value;
+    int code;
+    cli_options_begin();
+    while ((code = cli_next_option("model", argc, argv, "ho:", model_options, &value)) != -1) {
+        int st = take_option(code, value, &params, &out);
+        if (st != EXIT_OK)
+            return st < 0 ? EXIT_OK : st;
     }
     if (!out)
         return cli_usage_error("model", "no output file given (-o FILE)");

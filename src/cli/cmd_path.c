@@ -1,5 +1,6 @@
 /* orrery path SCENE.yaml [--set KEY=VALUE ...] [--frames N] [--every K] [-o FILE.png] [--size WxH]
  * [--fit all|path]: the scene's camera path as a table, and as a picture. */
+#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -55,58 +56,62 @@ static int parse_size(const char *text, int *w, int *h)
     return 1;
 }
 
-/* One option with a value; returns EXIT_OK, or a usage error. */
-static int take_option(path_args *pa, const char *opt, const char *value)
+enum { OPT_SET = 256, OPT_FRAMES, OPT_EVERY, OPT_SIZE, OPT_FIT };
+
+static const struct option path_options[] = {
+    {"set", required_argument, NULL, OPT_SET},     {"output", required_argument, NULL, 'o'},
+    {"frames", required_argument, NULL, OPT_FRAMES}, {"every", required_argument, NULL, OPT_EVERY},
+    {"size", required_argument, NULL, OPT_SIZE},   {"fit", required_argument, NULL, OPT_FIT},
+    {"help", no_argument, NULL, 'h'},              {NULL, 0, NULL, 0},
+};
+
+/* One option; returns EXIT_OK, or a usage error. */
+static int take_option(path_args *pa, int code, const char *value, int *help)
 {
-    if (strcmp(opt, "--set") == 0) {
+    switch (code) {
+    case 'h':
+        *help = 1;
+        return EXIT_OK;
+    case OPT_SET:
         pa->sets[pa->nsets++] = value;
-    } else if (strcmp(opt, "-o") == 0 || strcmp(opt, "--output") == 0) {
+        return EXIT_OK;
+    case 'o':
         pa->png = value;
-    } else if (strcmp(opt, "--frames") == 0) {
-        if (!cli_parse_count(value, 1, 1000000, &pa->frames))
-            return cli_usage_error("path", "--frames: expected a whole number from 1 to 1000000, got '%s'", value);
-    } else if (strcmp(opt, "--every") == 0) {
-        if (!cli_parse_count(value, 1, 1000000, &pa->every))
-            return cli_usage_error("path", "--every: expected a whole number from 1 to 1000000, got '%s'", value);
-    } else if (strcmp(opt, "--size") == 0) {
+        return EXIT_OK;
+    case OPT_FRAMES:
+        return cli_count_option("path", "--frames", value, 1, 1000000, &pa->frames);
+    case OPT_EVERY:
+        return cli_count_option("path", "--every", value, 1, 1000000, &pa->every);
+    case OPT_SIZE:
         if (!parse_size(value, &pa->width, &pa->height))
             return cli_usage_error("path", "--size: expected WxH or N, 16 to 65536 pixels a side, got '%s'", value);
-    } else if (strcmp(opt, "--fit") == 0) {
+        return EXIT_OK;
+    case OPT_FIT:
         if (strcmp(value, "all") != 0 && strcmp(value, "path") != 0)
             return cli_usage_error("path", "--fit: expected all or path, got '%s'", value);
         pa->fit_path = value[0] == 'p';
+        return EXIT_OK;
+    case CLI_OPERAND:
+        if (pa->scene)
+            return cli_usage_error("path", "one scene file at a time (got '%s' and '%s')", pa->scene, value);
+        pa->scene = value;
+        return EXIT_OK;
+    default:
+        return EXIT_USAGE; /* CLI_BAD: already told */
     }
-    return EXIT_OK;
 }
 
 static int parse_args(int argc, char **argv, path_args *pa, int *help)
 {
-    static const char *const with_value[] = {"--set", "-o", "--output", "--frames", "--every", "--size", "--fit"};
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        int takes = 0;
-        for (size_t k = 0; k < sizeof with_value / sizeof with_value[0]; k++)
-            takes |= strcmp(a, with_value[k]) == 0;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            *help = 1;
-            return EXIT_OK;
-        } else if (takes) {
-            if (i + 1 >= argc)
-                return cli_usage_error("path", "%s needs a value", a);
-            int code = take_option(pa, a, argv[++i]);
-            if (code != EXIT_OK)
-                return code;
-        } else if (strncmp(a, "--set=", 6) == 0) {
-            pa->sets[pa->nsets++] = a + 6;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            return cli_usage_error("path", "unknown option '%s'", a);
-        } else if (pa->scene) {
-            return cli_usage_error("path", "one scene file at a time (got '%s' and '%s')", pa->scene, a);
-        } else {
-            pa->scene = a;
-        }
+    const char *value;
+    int code;
+    cli_options_begin();
+    while (!*help && (code = cli_next_option("path", argc, argv, "ho:", path_options, &value)) != -1) {
+        int st = take_option(pa, code, value, help);
+        if (st != EXIT_OK)
+            return st;
     }
-    if (!pa->scene)
+    if (!*help && !pa->scene)
         return cli_usage_error("path", "no scene file given");
     return EXIT_OK;
 }
@@ -142,7 +147,7 @@ int cmd_path(int argc, char **argv)
     path_args pa = {.frames = 0, .width = 800, .height = 800};
     pa.sets = calloc((size_t)argc, sizeof *pa.sets);
     if (!pa.sets) {
-        fprintf(stderr, "orrery path: out of memory\n");
+        fprintf(stderr, "orrery: error: out of memory\n");
         return EXIT_RUNTIME;
     }
     int help = 0, code = parse_args(argc, argv, &pa, &help);

@@ -2,6 +2,7 @@
  * orrery compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--quiet]
  * The two take the same arguments: compose is the second half of render. */
 #include <errno.h>
+#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -9,6 +10,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "frame/projection.h"
 #include "render/animation.h"
 
 static const char render_help[] =
@@ -44,14 +46,17 @@ static const char compose_help[] =
     "usage: orrery compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--quiet]\n"
     "\n"
     "Re-grades a render without rendering again: reads the raw planes that\n"
-    "`orrery render` wrote with output.raw: true (DIR/NAME.raw.fits, before\n"
-    "any PSF), applies the scene's PSF, colour synthesis (colour.synthesis.*)\n"
-    "or stretch and colour map (output.*) as they are now, and writes\n"
-    "DIR/NAME.png. Change the grading with --set, e.g.\n"
+    "`orrery render` wrote with output.raw: true (DIR/NAME.raw.fits), applies\n"
+    "the scene's colour synthesis (colour.synthesis.*) or stretch and colour\n"
+    "map (output.*) as they are now, and writes DIR/NAME.png. Change the\n"
+    "grading with --set, e.g.\n"
     "  orrery compose futuresky.yaml --set colour.synthesis.stretch=asinh\n"
+    "A flat view's raw planes are taken before its PSF, which compose applies\n"
+    "as set now; a sky map's PSF is drawn into its raw planes as it renders,\n"
+    "so --set psf.* is refused for a sky map: render again to change it.\n"
     "\n"
     "  --set KEY=VALUE   override a scene key (repeatable; applied in order)\n"
-    "  -o, --output DIR  the folder the render wrote to (overrides output.dir)\n"
+    "  -o, --output DIR  the folder the render wrote to (overrides output.dir; created if missing)\n"
     "  --frames A:B      re-grade only these frames of a run (default: all)\n"
     "  -q, --quiet       nothing but errors\n"
     "  -h, --help        this text\n"
@@ -200,7 +205,7 @@ static int render_jobs(const orr_scene *const *list, int n, orr_animation_option
 {
     int fds[2];
     if (pipe(fds) != 0) {
-        fprintf(stderr, "orrery render: cannot create a pipe for --jobs: %s\n", strerror(errno));
+        fprintf(stderr, "orrery: error: cannot create a pipe for --jobs: %s\n", strerror(errno));
         return EXIT_RUNTIME;
     }
     fflush(NULL);
@@ -209,7 +214,7 @@ static int render_jobs(const orr_scene *const *list, int n, orr_animation_option
     for (; started < jobs; started++) {
         pid_t pid = fork();
         if (pid < 0) {
-            fprintf(stderr, "orrery render: cannot start job %d: %s\n", started + 1, strerror(errno));
+            fprintf(stderr, "orrery: error: cannot start job %d: %s\n", started + 1, strerror(errno));
             break;
         }
         if (pid == 0) {
@@ -261,51 +266,119 @@ typedef struct run_args {
     long first, last;
 } run_args;
 
+enum { OPT_SET = 256, OPT_FRAMES, OPT_FORCE, OPT_JOBS, OPT_FRAME_PARALLEL };
+
+static const struct option render_options[] = {
+    {"set", required_argument, NULL, OPT_SET},       {"output", required_argument, NULL, 'o'},
+    {"frames", required_argument, NULL, OPT_FRAMES}, {"force", no_argument, NULL, OPT_FORCE},
+    {"jobs", required_argument, NULL, OPT_JOBS},     {"frame-parallel", no_argument, NULL, OPT_FRAME_PARALLEL},
+    {"quiet", no_argument, NULL, 'q'},               {"help", no_argument, NULL, 'h'},
+    {NULL, 0, NULL, 0},
+};
+
+/* compose has no --force and no --jobs: it never skips frames, and is quick. */
+static const struct option compose_options[] = {
+    {"set", required_argument, NULL, OPT_SET},       {"output", required_argument, NULL, 'o'},
+    {"frames", required_argument, NULL, OPT_FRAMES}, {"frame-parallel", no_argument, NULL, OPT_FRAME_PARALLEL},
+    {"quiet", no_argument, NULL, 'q'},               {"help", no_argument, NULL, 'h'},
+    {NULL, 0, NULL, 0},
+};
+
+/* One option of render or compose; returns EXIT_OK, -1 after --help, or a
+ * usage error. */
+static int take_option(int code, const char *value, const char *cmd, int compose, run_args *a)
+{
+    long long jobs;
+    switch (code) {
+    case 'h':
+        fputs(compose ? compose_help : render_help, stdout);
+        return -1;
+    case OPT_SET:
+        a->sets[a->nsets++] = value;
+        return EXIT_OK;
+    case 'o':
+        a->out_dir = value;
+        return EXIT_OK;
+    case OPT_FRAMES:
+        if (!parse_frames(value, &a->first, &a->last))
+            return cli_usage_error(cmd, "--frames %s: expected A:B, A:, :B or A (frame numbers from 0, A <= B)",
+                                   value);
+        return EXIT_OK;
+    case OPT_JOBS:
+        if (cli_count_option(cmd, "--jobs", value, 1, 64, &jobs) != EXIT_OK)
+            return EXIT_USAGE;
+        a->jobs = (int)jobs;
+        return EXIT_OK;
+    case OPT_FORCE:
+        a->force = 1;
+        return EXIT_OK;
+    case OPT_FRAME_PARALLEL: /* orrery-mpi's only */
+        if (!cli_parallel)
+            return cli_usage_error(cmd, "--frame-parallel is an option of orrery-mpi, for MPI ranks");
+        a->frame_parallel = 1;
+        return EXIT_OK;
+    case 'q':
+        a->quiet = 1;
+        return EXIT_OK;
+    case CLI_OPERAND:
+        if (a->scene_path)
+            return cli_usage_error(cmd, "one scene file at a time (got '%s' and '%s')", a->scene_path, value);
+        a->scene_path = value;
+        return EXIT_OK;
+    default:
+        return EXIT_USAGE; /* CLI_BAD: already told */
+    }
+}
+
 static int parse_args(int argc, char **argv, const char *cmd, int compose, run_args *a)
 {
-    for (int i = 1; i < argc; i++) {
-        const char *arg = argv[i];
-        int takes_value = strcmp(arg, "--set") == 0 || strcmp(arg, "-o") == 0 || strcmp(arg, "--output") == 0 ||
-                          strcmp(arg, "--frames") == 0 || (!compose && strcmp(arg, "--jobs") == 0);
-        if (takes_value && i + 1 >= argc)
-            return cli_usage_error(cmd, "%s needs a value", arg);
-        const char *value = takes_value ? argv[++i] : NULL;
-        long long jobs;
-        if (strcmp(arg, "-h") == 0 || strcmp(arg, "--help") == 0) {
-            fputs(compose ? compose_help : render_help, stdout);
-            return -1;
-        } else if (strcmp(arg, "--set") == 0) {
-            a->sets[a->nsets++] = value;
-        } else if (strncmp(arg, "--set=", 6) == 0) {
-            a->sets[a->nsets++] = arg + 6;
-        } else if (strcmp(arg, "-o") == 0 || strcmp(arg, "--output") == 0) {
-            a->out_dir = value;
-        } else if (strcmp(arg, "--frames") == 0) {
-            if (!parse_frames(value, &a->first, &a->last))
-                return cli_usage_error(cmd, "--frames %s: expected A:B, A:, :B or A (frame numbers from 0, A <= B)",
-                                       value);
-        } else if (!compose && strcmp(arg, "--jobs") == 0) {
-            if (!cli_parse_count(value, 1, 64, &jobs))
-                return cli_usage_error(cmd, "--jobs %s: expected a whole number from 1 to 64", value);
-            a->jobs = (int)jobs;
-        } else if (cli_parallel && strcmp(arg, "--frame-parallel") == 0) {
-            a->frame_parallel = 1;
-        } else if (!compose && strcmp(arg, "--force") == 0) {
-            a->force = 1;
-        } else if (strcmp(arg, "-q") == 0 || strcmp(arg, "--quiet") == 0) {
-            a->quiet = 1;
-        } else if (arg[0] == '-' && arg[1] != '\0') {
-            return cli_usage_error(cmd, "unknown option '%s'", arg);
-        } else if (a->scene_path) {
-            return cli_usage_error(cmd, "one scene file at a time (got '%s' and '%s')", a->scene_path, arg);
-        } else {
-            a->scene_path = arg;
-        }
+    const char *value;
+    int code;
+    cli_options_begin();
+    while ((code = cli_next_option(cmd, argc, argv, "ho:q", compose ? compose_options : render_options, &value)) !=
+           -1) {
+        int st = take_option(code, value, cmd, compose, a);
+        if (st != EXIT_OK)
+            return st;
     }
     if (!a->scene_path)
         return cli_usage_error(cmd, "no scene file given");
     if (cli_parallel && cli_parallel->rank != 0)
         a->quiet = 1; /* rank 0 speaks for all; every rank reports its own errors */
+    return EXIT_OK;
+}
+
+/* The view's part of a --set key: the key itself, or what follows
+ * "views.NAME." when it names this view; NULL when it names another. */
+static const char *key_for_view(const char *key, const char *view)
+{
+    if (strncmp(key, "views.", 6) != 0)
+        return key;
+    size_t len = strlen(view);
+    if (len == 0 || strncmp(key + 6, view, len) != 0 || key[6 + len] != '.')
+        return NULL;
+    return key + 6 + len + 1;
+}
+
+/* compose re-grades a view's raw planes. A flat view's raw planes are
+ * taken before its PSF, so compose convolves them with the PSF as set now;
+ * a sky map's PSF is drawn star by star into the raw planes as it renders
+ * (docs/psf.md), so a psf key set for compose would change nothing: it is
+ * refused, with the way to get it. */
+static int check_compose_sets(const run_args *a, const orr_scene_views *views)
+{
+    for (int i = 0; i < a->nsets; i++)
+        for (int k = 0; k < views->n; k++) {
+            const char *key = key_for_view(a->sets[i], views->name[k]);
+            if (!key || strncmp(key, "psf", 3) != 0 || (key[3] != '.' && key[3] != '=') ||
+                !orr_projection_is_sky(&views->view[k].projection))
+                continue;
+            return cli_usage_error("compose",
+                                   "--set %.*s: %s%s%sis a sky map, whose PSF is drawn into the raw planes as it "
+                                   "renders, so compose cannot change it: render again with this --set",
+                                   (int)strcspn(a->sets[i], "="), a->sets[i], views->name[k][0] ? "view " : "",
+                                   views->name[k], views->name[k][0] ? " " : "the scene ");
+        }
     return EXIT_OK;
 }
 
@@ -393,12 +466,12 @@ static int run_scene_command(int argc, char **argv, int compose)
     orr_render_report *reports = calloc(ORR_SCENE_MAX_VIEWS, sizeof *reports);
     int code = a.sets && views && reports ? parse_args(argc, argv, cmd, compose, &a) : EXIT_RUNTIME;
     if (code == EXIT_RUNTIME)
-        fprintf(stderr, "orrery %s: out of memory\n", cmd);
+        fprintf(stderr, "orrery: error: out of memory\n");
     if (code == EXIT_OK) {
         orr_error err = {0};
         if (orr_scene_load_views(views, a.scene_path, a.sets, a.nsets, &err))
             code = cli_report_error(&err);
-        else
+        else if (!compose || (code = check_compose_sets(&a, views)) == EXIT_OK)
             code = run_loaded(&a, views, reports, compose);
     }
     free(views);

@@ -6,6 +6,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <getopt.h>
 #include <signal.h>
 #include <spawn.h>
 #include <stdio.h>
@@ -19,6 +20,7 @@
 #include "cli/cli.h"
 #include "render/animation.h"
 #include "cli/video_command.h"
+#include "core/numbers.h"
 #include "encode/atomic.h"
 #include "scene/scene.h"
 
@@ -44,7 +46,10 @@ static const char video_help[] =
     "                    prores ProRes 422 HQ (prores_ks profile 3), yuv422p10le, MOV: masters\n"
     "                    png    the PNG frames, lossless, in a MOV\n"
     "                    h264 and h265 need even sizes: odd frames are padded by one\n"
-    "                    black pixel on the right and/or bottom (a note says so)\n"
+    "                    black pixel on the right and/or bottom (a note says so); frames\n"
+    "                    that need a level above 5.2, which many players refuse, get a\n"
+    "                    warning (h264: over 3072x3072 at 30 fps): for dome masters of 4K\n"
+    "                    and more use prores or png\n"
     "  --crf N           quality of h264 and h265, 0 (lossless) to 51 (default 18 for h264,\n"
     "                    23 for h265; lower is better and bigger)\n"
     "  --fps F           frames per second, e.g. 24, 29.97 or 30000/1001 (default: animation.fps)\n"
@@ -97,11 +102,78 @@ static int parse_fps(const char *text, char *out, size_t size)
         snprintf(out, size, "%lld/%lld", num, den);
         return 1;
     }
-    double v = strtod(text, &end);
+    double v = orr_strtod(text, &end);
     if (end == text || *end || !(v > 0 && v <= 1000))
         return 0;
-    snprintf(out, size, "%.10g", v);
+    orr_snprintf(out, size, "%.10g", v);
     return 1;
+}
+
+enum { OPT_SET = 256, OPT_VIEW, OPT_CODEC, OPT_CRF, OPT_FPS, OPT_FRAMES, OPT_OUT, OPT_FORCE };
+
+static const struct option video_options_long[] = {
+    {"set", required_argument, NULL, OPT_SET},       {"output", required_argument, NULL, 'o'},
+    {"view", required_argument, NULL, OPT_VIEW},     {"codec", required_argument, NULL, OPT_CODEC},
+    {"crf", required_argument, NULL, OPT_CRF},       {"fps", required_argument, NULL, OPT_FPS},
+    {"frames", required_argument, NULL, OPT_FRAMES}, {"out", required_argument, NULL, OPT_OUT},
+    {"force", no_argument, NULL, OPT_FORCE},         {"quiet", no_argument, NULL, 'q'},
+    {"help", no_argument, NULL, 'h'},                {NULL, 0, NULL, 0},
+};
+
+/* One option; EXIT_OK, -1 after --help, or a usage error. */
+static int take_option(int code, const char *v, video_options *o)
+{
+    long long n;
+    switch (code) {
+    case 'h':
+        fputs(video_help, stdout);
+        return -1;
+    case OPT_SET:
+        o->sets[o->nsets++] = v;
+        return EXIT_OK;
+    case 'o':
+        o->out_dir = v;
+        return EXIT_OK;
+    case OPT_VIEW:
+        o->view = v;
+        return EXIT_OK;
+    case OPT_OUT:
+        o->out_file = v;
+        return EXIT_OK;
+    case OPT_CODEC:
+        if (!video_codec_parse(v, &o->codec))
+            return cli_usage_error("video", "--codec %s: unknown codec (h264, h265, prores or png)", v);
+        return EXIT_OK;
+    case OPT_CRF:
+        if (cli_count_option("video", "--crf", v, 0, 51, &n) != EXIT_OK)
+            return EXIT_USAGE;
+        o->crf = (int)n;
+        return EXIT_OK;
+    case OPT_FPS:
+        o->fps_given = 1;
+        if (!parse_fps(v, o->fps, sizeof o->fps))
+            return cli_usage_error("video", "--fps %s: expected a rate above 0 and up to 1000, e.g. 24, "
+                                            "29.97 or 30000/1001", v);
+        return EXIT_OK;
+    case OPT_FRAMES:
+        if (cli_count_option("video", "--frames", v, 1, 100000000, &n) != EXIT_OK)
+            return EXIT_USAGE;
+        o->frames = n;
+        return EXIT_OK;
+    case OPT_FORCE:
+        o->force = 1;
+        return EXIT_OK;
+    case 'q':
+        o->quiet = 1;
+        return EXIT_OK;
+    case CLI_OPERAND:
+        if (o->scene_path)
+            return cli_usage_error("video", "one scene file at a time (got '%s' and '%s')", o->scene_path, v);
+        o->scene_path = v;
+        return EXIT_OK;
+    default:
+        return EXIT_USAGE; /* CLI_BAD: already told */
+    }
 }
 
 static int parse_options(int argc, char **argv, video_options *o)
@@ -109,58 +181,13 @@ static int parse_options(int argc, char **argv, video_options *o)
     o->codec = VIDEO_H264;
     o->crf = -1;
     snprintf(o->fps, sizeof o->fps, "30");
-    for (int i = 1; i < argc; i++) {
-        const char *a = argv[i];
-        int takes_value = strcmp(a, "--set") == 0 || strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0 ||
-                          strcmp(a, "--view") == 0 || strcmp(a, "--codec") == 0 || strcmp(a, "--crf") == 0 ||
-                          strcmp(a, "--fps") == 0 || strcmp(a, "--frames") == 0 || strcmp(a, "--out") == 0;
-        const char *v = NULL;
-        if (takes_value) {
-            if (i + 1 >= argc)
-                return cli_usage_error("video", "%s needs a value", a);
-            v = argv[++i];
-        }
-        long long n;
-        if (strcmp(a, "-h") == 0 || strcmp(a, "--help") == 0) {
-            fputs(video_help, stdout);
-            return -1;
-        } else if (strcmp(a, "--set") == 0) {
-            o->sets[o->nsets++] = v;
-        } else if (strncmp(a, "--set=", 6) == 0) {
-            o->sets[o->nsets++] = a + 6;
-        } else if (strcmp(a, "-o") == 0 || strcmp(a, "--output") == 0) {
-            o->out_dir = v;
-        } else if (strcmp(a, "--view") == 0) {
-            o->view = v;
-        } else if (strcmp(a, "--out") == 0) {
-            o->out_file = v;
-        } else if (strcmp(a, "--codec") == 0) {
-            if (!video_codec_parse(v, &o->codec))
-                return cli_usage_error("video", "--codec %s: unknown codec (h264, h265, prores or png)", v);
-        } else if (strcmp(a, "--crf") == 0) {
-            if (!cli_parse_count(v, 0, 51, &n))
-                return cli_usage_error("video", "--crf %s: expected a whole number from 0 to 51", v);
-            o->crf = (int)n;
-        } else if (strcmp(a, "--fps") == 0) {
-            o->fps_given = 1;
-            if (!parse_fps(v, o->fps, sizeof o->fps))
-                return cli_usage_error("video", "--fps %s: expected a rate above 0 and up to 1000, e.g. 24, "
-                                                "29.97 or 30000/1001", v);
-        } else if (strcmp(a, "--frames") == 0) {
-            if (!cli_parse_count(v, 1, 100000000, &n))
-                return cli_usage_error("video", "--frames %s: expected a whole number of frames, at least 1", v);
-            o->frames = n;
-        } else if (strcmp(a, "--force") == 0) {
-            o->force = 1;
-        } else if (strcmp(a, "-q") == 0 || strcmp(a, "--quiet") == 0) {
-            o->quiet = 1;
-        } else if (a[0] == '-' && a[1] != '\0') {
-            return cli_usage_error("video", "unknown option '%s'", a);
-        } else if (o->scene_path) {
-            return cli_usage_error("video", "one scene file at a time (got '%s' and '%s')", o->scene_path, a);
-        } else {
-            o->scene_path = a;
-        }
+    const char *value;
+    int code;
+    cli_options_begin();
+    while ((code = cli_next_option("video", argc, argv, "ho:q", video_options_long, &value)) != -1) {
+        int st = take_option(code, value, o);
+        if (st != EXIT_OK)
+            return st;
     }
     if (!o->scene_path)
         return cli_usage_error("video", "no scene file given");
@@ -401,6 +428,39 @@ static orr_status run_ffmpeg(const video_command *cmd, const frame_set *fs, cons
 }
 
 /* Encodes one view's frames into output. */
+/* The frame rate as a number: "30", "29.97" or "30000/1001". */
+static double fps_value(const char *fps)
+{
+    char *end;
+    double v = orr_strtod(fps, &end);
+    if (*end == '/') {
+        double den = orr_strtod(end + 1, NULL);
+        v = den > 0 ? v / den : v;
+    }
+    return v;
+}
+
+/* Warns when the frames need a level of H.264 or H.265 above 5.2, which
+ * many players and hardware decoders refuse to play (the encoders choose
+ * the level from the size, and go on to 6.x). A warning, not an error:
+ * a projection server or a software player may well take it. */
+static void warn_level(const video_options *o, int width, int height)
+{
+    int level = video_level(o->codec, width, height, fps_value(o->fps));
+    if (level >= 0 && level <= VIDEO_LEVEL_PLAYABLE)
+        return;
+    char need[64];
+    if (level < 0)
+        snprintf(need, sizeof need, "more than %s's highest level, 6.2", video_codec_name(o->codec));
+    else
+        snprintf(need, sizeof need, "%s level %d.%d", video_codec_name(o->codec), level / 10, level % 10);
+    fprintf(stderr, "orrery: warning: %dx%d frames at %s fps need %s, and many players and hardware decoders "
+                    "stop at level 5.2 (at 30 fps, square frames up to 3072x3072 with h264, 2984x2984 with "
+                    "h265); for a dome master use --codec prores or the PNG frames "
+                    "(docs/animation.md#codecs-for-dome-masters)\n",
+            width, height, o->fps, need);
+}
+
 static orr_status encode_view(const video_options *o, const char *ffmpeg, const frame_set *fs, const char *output,
                               orr_error *err)
 {
@@ -411,10 +471,11 @@ static orr_status encode_view(const video_options *o, const char *ffmpeg, const 
         s.pad_width = (int)fs->width + pad_w;
         s.pad_height = (int)fs->height + pad_h;
         if (!o->quiet)
-            fprintf(stderr, "orrery video: note: %s needs an even width and height; the %ux%u frames are padded "
+            fprintf(stderr, "orrery: note: %s needs an even width and height; the %ux%u frames are padded "
                             "to %dx%d with black on the %s\n", video_codec_name(o->codec), fs->width, fs->height,
                     s.pad_width, s.pad_height, pad_w && pad_h ? "right and bottom" : pad_w ? "right" : "bottom");
     }
+    warn_level(o, (int)fs->width + pad_w, (int)fs->height + pad_h);
 
     orr_atomic_file af;
     orr_status st = orr_atomic_begin(&af, output, err);
@@ -487,7 +548,7 @@ static orr_status prepare_view(const video_options *o, const orr_scene *view, co
             char missing[ORR_PATH_MAX] = "";
             if (!frame_path(missing, sizeof missing, fs, fs->count))
                 snprintf(missing, sizeof missing, "frame %ld", fs->count);
-            fprintf(stderr, "orrery video: warning: %s is missing, so only frames 0 to %ld are encoded "
+            fprintf(stderr, "orrery: warning: %s is missing, so only frames 0 to %ld are encoded "
                             "(frames up to %ld exist; --frames N requires N frames)\n", missing, fs->count - 1, last);
         }
     }
@@ -512,7 +573,7 @@ int cmd_video(int argc, char **argv)
     video_options o = {0};
     o.sets = calloc((size_t)argc, sizeof *o.sets);
     if (!o.sets) {
-        fprintf(stderr, "orrery video: out of memory\n");
+        fprintf(stderr, "orrery: error: out of memory\n");
         return EXIT_RUNTIME;
     }
     int code = parse_options(argc, argv, &o);
@@ -532,7 +593,7 @@ int cmd_video(int argc, char **argv)
         st = orr_scene_load_views(views, o.scene_path, o.sets, o.nsets, &err);
     /* The scene's run: its frame rate and length, unless given here. */
     if (!st && !o.fps_given)
-        snprintf(o.fps, sizeof o.fps, "%.10g", views->view[0].anim_fps);
+        orr_snprintf(o.fps, sizeof o.fps, "%.10g", views->view[0].anim_fps);
     if (!st && o.frames == 0 && views->view[0].anim_frames > 1)
         o.frames = views->view[0].anim_frames;
     int chosen = -1; /* the --view, or -1 for all */

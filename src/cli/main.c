@@ -60,6 +60,6 @@ int main(int argc, char **argv)
         return cmd_path(argc - 1, argv + 1);
     if (strcmp(cmd, "video") == 0)
         return cmd_video(argc - 1, argv + 1);
-    fprintf(stderr, "orrery: unknown command '%s'\n\n%s", cmd, usage_text);
+    fprintf(stderr, "orrery: error: unknown command '%s' (see 'orrery --help')\n", cmd);
     return EXIT_USAGE;
 }

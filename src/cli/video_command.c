@@ -42,6 +42,54 @@ int video_codec_default_crf(video_codec codec) { return CODECS[codec].default_cr
 int video_codec_needs_even_width(video_codec codec) { return CODECS[codec].even_width; }
 int video_codec_needs_even_height(video_codec codec) { return CODECS[codec].even_height; }
 
+/* One level of a codec's standard: its number times ten, the most a frame
+ * may hold (H.264: 16x16 macroblocks; H.265: luma pixels) and the most a
+ * second may. */
+typedef struct level_limit {
+    int level;
+    double max_frame, max_rate;
+} level_limit;
+
+/* ITU-T H.264 (08/2021) Table A-1: MaxFS and MaxMBPS (level 1b left out). */
+static const level_limit H264_LEVELS[] = {
+    {10, 99, 1485},       {11, 396, 3000},      {12, 396, 6000},       {13, 396, 11880},
+    {20, 396, 11880},     {21, 792, 19800},     {22, 1620, 20250},     {30, 1620, 40500},
+    {31, 3600, 108000},   {32, 5120, 216000},   {40, 8192, 245760},    {41, 8192, 245760},
+    {42, 8704, 522240},   {50, 22080, 589824},  {51, 36864, 983040},   {52, 36864, 2073600},
+    {60, 139264, 4177920}, {61, 139264, 8355840}, {62, 139264, 16711680},
+};
+
+/* ITU-T H.265 (08/2021) Table A.8: MaxLumaPs and MaxLumaSr. */
+static const level_limit H265_LEVELS[] = {
+    {10, 36864, 552960},       {20, 122880, 3686400},      {21, 245760, 7372800},
+    {30, 552960, 16588800},    {31, 983040, 33177600},     {40, 2228224, 66846720},
+    {41, 2228224, 133693440},  {50, 8912896, 267386880},   {51, 8912896, 534773760},
+    {52, 8912896, 1069547520}, {60, 35651584, 1069547520}, {61, 35651584, 2139095040},
+    {62, 35651584, 4278190080.0},
+};
+
+/* The first level of the table that holds a frame of `units` (a sides of
+ * wide x high units), `units * fps` a second; each side may be at most
+ * sqrt(8 * max_frame) units (both standards' limit on thin frames). */
+static int first_level(const level_limit *t, int n, double wide, double high, double fps)
+{
+    for (int i = 0; i < n; i++)
+        if (wide * high <= t[i].max_frame && wide * high * fps <= t[i].max_rate &&
+            wide * wide <= 8 * t[i].max_frame && high * high <= 8 * t[i].max_frame)
+            return t[i].level;
+    return -1;
+}
+
+int video_level(video_codec codec, int width, int height, double fps)
+{
+    if (codec == VIDEO_H264) /* in macroblocks, 16x16 pixels, rounded up */
+        return first_level(H264_LEVELS, (int)(sizeof H264_LEVELS / sizeof H264_LEVELS[0]), (width + 15) / 16,
+                           (height + 15) / 16, fps);
+    if (codec == VIDEO_H265) /* in luma pixels */
+        return first_level(H265_LEVELS, (int)(sizeof H265_LEVELS / sizeof H265_LEVELS[0]), width, height, fps);
+    return 0;
+}
+
 static int add(video_command *cmd, const char *word)
 {
     if (cmd->argc >= VIDEO_MAX_ARGS - 1)

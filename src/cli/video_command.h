@@ -30,6 +30,17 @@ int video_codec_default_crf(video_codec codec);
 int video_codec_needs_even_width(video_codec codec);
 int video_codec_needs_even_height(video_codec codec);
 
+/* The lowest level of the codec's standard whose limits hold frames of
+ * width x height pixels at fps frames a second, times ten (40 is level
+ * 4.0, 52 is 5.2); -1 when the frames are beyond every level; 0 for the
+ * codecs without levels (prores, png). */
+int video_level(video_codec codec, int width, int height, double fps);
+
+/* The highest level most players and hardware decoders take (5.2): H.264
+ * at 5.2 holds at most 36864 macroblocks a frame (4096x2304), H.265 at 5.2
+ * 8912896 pixels (4096x2176); a 3600x3600 dome master needs level 6. */
+#define VIDEO_LEVEL_PLAYABLE 52
+
 typedef struct video_settings {
     const char *ffmpeg;        /* the program to run (a path, or "ffmpeg") */
     const char *fps;           /* frame rate as ffmpeg takes it: "30", "24", "30000/1001" */

@@ -1,4 +1,5 @@
 #include "core/error.h"
+#include "core/numbers.h"
 
 #include <stdarg.h>
 #include <stdio.h>
@@ -10,7 +11,7 @@ orr_status orr_fail(orr_error *err, orr_status code, const char *fmt, ...)
     if (err) {
         va_list ap;
         va_start(ap, fmt);
-        vsnprintf(err->msg, sizeof err->msg, fmt, ap);
+        orr_vsnprintf(err->msg, sizeof err->msg, fmt, ap);
         va_end(ap);
         err->code = code;
     }
@@ -25,7 +26,7 @@ orr_status orr_fail_prefix(orr_error *err, const char *fmt, ...)
     char old[ORR_ERROR_MSG_MAX];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(prefix, sizeof prefix, fmt, ap);
+    orr_vsnprintf(prefix, sizeof prefix, fmt, ap);
     va_end(ap);
     memcpy(old, err->msg, sizeof old);
     /* Both parts fit separately; a combined message too long is cut short. */

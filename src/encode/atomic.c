@@ -256,6 +256,21 @@ orr_status orr_output_batch_commit(orr_output_batch *b, orr_error *err)
     return st;
 }
 
+void orr_output_batch_name_finals(const orr_output_batch *b, orr_error *err)
+{
+    if (!err)
+        return;
+    for (int i = 0; i < b->n; i++) {
+        const char *temp = b->files[i]->temp_path, *at;
+        if (!temp[0] || !(at = strstr(err->msg, temp)))
+            continue;
+        char msg[ORR_ERROR_MSG_MAX];
+        if (snprintf(msg, sizeof msg, "%.*s%s%s", (int)(at - err->msg), err->msg, b->files[i]->final_path,
+                     at + strlen(temp)) >= 0) /* a message cut short at its end is still the better one */
+            memcpy(err->msg, msg, sizeof msg);
+    }
+}
+
 void orr_output_batch_abort(orr_output_batch *b)
 {
     for (int i = 0; i < b->n; i++)

@@ -63,6 +63,9 @@ orr_status orr_output_batch_add(orr_output_batch *b, const char *final_path, con
 orr_status orr_output_batch_commit(orr_output_batch *b, orr_error *err);
 /* Removes every temporary file of the batch and empties it. */
 void orr_output_batch_abort(orr_output_batch *b);
+/* In err's message, names each output by its final path instead of the
+ * temporary one a writer was given: what the user asked for. */
+void orr_output_batch_name_finals(const orr_output_batch *b, orr_error *err);
 
 /* Checks that directory dir exists (creating it, and the folders above it,
  * when missing) and that a file can be created in it. */

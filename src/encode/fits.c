@@ -1,6 +1,7 @@
 #include "encode/fits.h"
 
 #include <ctype.h>
+#include <errno.h>
 #include <fitsio.h>
 #include <stdio.h>
 #include <string.h>
@@ -110,9 +111,21 @@ static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_fits_heade
     for (int y = 0; y < p->height && *status == 0; y++) {
         LONGLONG first[2] = {1, p->height - y};
         float *row = p->data + (size_t)y * (size_t)p->width;
+        errno = 0; /* so a failed write's errno is its own (see system_errno) */
         fits_write_pixll(f, TFLOAT, first, p->width, row, status);
     }
     return *status;
+}
+
+/* The system's reason for a failed cfitsio call (ENOSPC, EFBIG, EIO...),
+ * read from errno right after it, or 0. cfitsio reports a full disk only
+ * as "error writing to FITS file" (or "reading", when it reads a buffer
+ * back), so the reason comes from errno; only for its file I/O statuses,
+ * since after its other failures errno is unrelated. */
+static int system_errno(int status)
+{
+    int io = status >= FILE_NOT_OPENED && status <= FILE_NOT_CLOSED;
+    return io ? errno : 0;
 }
 
 static orr_status check_planes(const char *path, const orr_plane *planes, int nplanes, orr_error *err)
@@ -132,13 +145,17 @@ static orr_status check_planes(const char *path, const orr_plane *planes, int np
     return ORR_OK;
 }
 
-/* cfitsio's short text for the status plus the first detail on its stack. */
-static orr_status fits_failure(const char *path, int status, orr_error *err)
+/* The system's reason when there is one (sys_errno), else cfitsio's short
+ * text for the status plus the first detail on its stack. */
+static orr_status fits_failure(const char *path, int status, int sys_errno, orr_error *err)
 {
     char text[FLEN_STATUS] = "", detail[FLEN_ERRMSG] = "";
     fits_get_errstatus(status, text);
     fits_read_errmsg(detail);
     fits_clear_errmsg();
+    if (sys_errno)
+        return orr_fail(err, ORR_ERR_IO, "%s: cannot write FITS file: %s (cfitsio: %s)", path, strerror(sys_errno),
+                        text);
     if (detail[0])
         return orr_fail(err, ORR_ERR_IO, "%s: cannot write FITS file: %s (%s)", path, text, detail);
     return orr_fail(err, ORR_ERR_IO, "%s: cannot write FITS file: %s", path, text);
@@ -162,21 +179,26 @@ orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes
      * taken the name meanwhile, and then that file is not ours to remove. */
     unlink(af.temp_path);
     fitsfile *f = NULL;
-    int status = 0;
+    int status = 0, sys_errno = 0;
+    errno = 0;
     if (fits_create_diskfile(&f, af.temp_path, &status) != 0) {
         af.temp_path[0] = '\0';
-        return fits_failure(path, status, err);
+        return fits_failure(path, status, system_errno(status), err);
     }
-    for (int i = 0; i < nplanes && status == 0; i++)
-        write_plane_hdu(f, &planes[i], header, &status);
+    for (int i = 0; i < nplanes && status == 0; i++) {
+        errno = 0;
+        if (write_plane_hdu(f, &planes[i], header, &status))
+            sys_errno = system_errno(status);
+    }
     int close_status = 0;
-    if (f)
-        fits_close_file(f, &close_status);
+    errno = 0;
+    if (f && fits_close_file(f, &close_status) && !status)
+        sys_errno = system_errno(close_status);
     if (status == 0)
         status = close_status;
     if (status != 0) {
         orr_atomic_abort(&af);
-        return fits_failure(path, status, err);
+        return fits_failure(path, status, sys_errno, err);
     }
     return orr_atomic_commit(&af, err);
 }

@@ -9,6 +9,7 @@
 #include <string.h>
 #include <strings.h>
 
+#include "core/numbers.h"
 #include "encode/exr.h"
 #include "encode/fits.h"
 #include "encode/oiio.h"
@@ -84,9 +85,9 @@ const char *orr_image_meta_software(const orr_image_meta *meta)
  * read back the same double. */
 static void format_double(double v, char *buf, size_t size)
 {
-    snprintf(buf, size, "%.15g", v);
-    if (isfinite(v) && strtod(buf, NULL) != v)
-        snprintf(buf, size, "%.17g", v);
+    orr_snprintf(buf, size, "%.15g", v);
+    if (isfinite(v) && orr_strtod(buf, NULL) != v)
+        orr_snprintf(buf, size, "%.17g", v);
 }
 
 /* Appends to a text being built, counting what would not fit. */

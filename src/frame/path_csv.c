@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/numbers.h"
 #include "frame/path.h"
 
 enum {
@@ -127,7 +128,7 @@ static orr_status parse_value(const char *text, const char *file, int line, cons
 {
     char *end = NULL;
     errno = 0;
-    *v = strtod(text, &end);
+    *v = orr_strtod(text, &end);
     if (text[0] == '\0' || end == text || *end != '\0' || !isfinite(*v))
         return orr_fail(err, ORR_ERR_FORMAT, "%s:%d: column '%s': '%s' is not a finite number", file, line, column,
                         text);

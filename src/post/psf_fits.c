@@ -299,7 +299,7 @@ static orr_status resolve_scale(const char *path, const orr_psf_fits_options *o,
     }
     if (!(info->file_arcsec_per_pixel > 0))
         return orr_fail(err, ORR_ERR_USAGE,
-                        "%s: no PIXSCALE keyword: give the file's pixel scale to resample it to %g arcsec", path,
+                        "%s: no PIXSCALE keyword, so it cannot be resampled to %g arcsec per pixel: set psf.arcsec_per_pixel: 0 to use the file's own pixels", path,
                         o->arcsec_per_pixel);
     info->ratio = o->arcsec_per_pixel / info->file_arcsec_per_pixel;
     return check_ratio(path, o, w, h, info, err);

@@ -84,8 +84,12 @@ orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, orr_lengths 
         if (!out->h)
             st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for %zu smoothing lengths", p.n);
     }
-    if (!st && p.n)
-        st = orr_smoothing_lengths(p.n, p.x, p.y, p.z, s->neighbours, ORR_SMOOTHING_FACTOR_DEFAULT, out->h, err);
+    /* Only the search's own errors get the step's name: a reader's error
+     * (a bad row of a table) already names its file and line, and is the
+     * same whichever pass over the particles meets it first. */
+    if (!st && p.n &&
+        (st = orr_smoothing_lengths(p.n, p.x, p.y, p.z, s->neighbours, ORR_SMOOTHING_FACTOR_DEFAULT, out->h, err)))
+        orr_fail_prefix(err, "%s: smoothing lengths from the neighbours: ", s->path);
     free(p.x);
     free(p.y);
     free(p.z);
@@ -93,7 +97,7 @@ orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, orr_lengths 
         st = orr_source_rewind(src, err);
     if (st) {
         orr_lengths_free(out);
-        return orr_fail_prefix(err, "%s: smoothing lengths from the neighbours: ", s->path);
+        return st;
     }
     out->n = p.n;
     out->seconds = seconds_now() - t0;

@@ -4,6 +4,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/numbers.h"
+
 /* Deposits reach a pixel or so past a particle's centre (cloud-in-cell, the
  * smallest kernel disc); the view is widened by this many pixels, plenty. */
 #define CULL_MARGIN_PIXELS 4.0
@@ -21,14 +23,14 @@ orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info
             continue;
         const char *text = info->header[k].value;
         char *end;
-        double first = strtod(text, &end);
+        double first = orr_strtod(text, &end);
         if (end == text || !(first > 0) || !isfinite(first))
             return orr_fail(err, ORR_ERR_DATA,
                             "%s: input.periodic.replicas %d needs the box side, but the file's BoxSize is '%s'; "
                             "set input.periodic.box",
                             info->path, s->periodic_replicas, text);
         for (const char *p = end; *p;) {
-            double next = strtod(p, &end);
+            double next = orr_strtod(p, &end);
             if (end == p)
                 break;
             if (next != first)

@@ -1,5 +1,6 @@
 #include "render/render.h"
 #include "core/fastmath.h"
+#include "core/numbers.h"
 #include "core/simd.h"
 
 #include <math.h>
@@ -352,14 +353,17 @@ static orr_status weight_field(const orr_scene *s, const orr_source *src, const 
                     s->weight, src->info.path, have);
 }
 
-static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, size_t i, const char *what,
-                                  orr_error *err)
+/* Names the value that is not finite: the position, or else the weight. */
+static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, size_t i, double weight, orr_error *err)
 {
-    return orr_fail(err, ORR_ERR_DATA,
-                    "%s: particle %llu (id %llu) has a non-finite %s (%g, %g, %g); "
+    char what[128];
+    if (isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]))
+        orr_snprintf(what, sizeof what, "weight (%g)", weight);
+    else
+        orr_snprintf(what, sizeof what, "position (%g, %g, %g)", (double)c->x[i], (double)c->y[i], (double)c->z[i]);
+    return orr_fail(err, ORR_ERR_DATA, "%s: particle %llu (id %llu) has a non-finite %s; "
                     "set input.nonfinite: skip to leave such particles out",
-                    src->info.path, (unsigned long long)(c->first_index + i), (unsigned long long)c->id[i], what,
-                    (double)c->x[i], (double)c->y[i], (double)c->z[i]);
+                    src->info.path, (unsigned long long)(c->first_index + i), (unsigned long long)c->id[i], what);
 }
 
 /* 1 when every float of a[start, end) is finite: an OR over the block
@@ -567,7 +571,7 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         t->n_selected++;
         if (!isfinite(c->x[i]) || !isfinite(c->y[i]) || !isfinite(c->z[i]) || !isfinite(wsrc[i])) {
             if (!s->skip_nonfinite) {
-                nonfinite_error(src, c, i, isfinite(wsrc[i]) ? "position" : "weight", err);
+                nonfinite_error(src, c, i, wsrc[i], err);
                 return -1;
             }
             t->n_nonfinite++;
@@ -1305,15 +1309,15 @@ static orr_status graded_rgb(const view_state *v, float *rgb, char *desc, size_t
         if (!st && !s->png_linear)
             orr_srgb_encode_buffer(rgb, npix * 3);
         if (!st && s->nlayers)
-            snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
+            orr_snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
                      s->nlayers, orr_projection_name(v->proj.kind), orr_lum_stretch_name(s->synth.stretch),
                      rep->white);
         else if (!st && s->colour)
-            snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
+            orr_snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
                      s->populations.n, rep->source, orr_projection_name(v->proj.kind),
                      orr_lum_stretch_name(s->synth.stretch), rep->white);
         else if (!st)
-            snprintf(desc, size, "%s of %s tinted at t = %g of its colour path, %s projection, %s stretch, Y0 %g",
+            orr_snprintf(desc, size, "%s of %s tinted at t = %g of its colour path, %s projection, %s stretch, Y0 %g",
                      s->weight, rep->source, v->tint_t, orr_projection_name(v->proj.kind),
                      orr_lum_stretch_name(s->synth.stretch), rep->white);
         return st;
@@ -1328,7 +1332,7 @@ static orr_status graded_rgb(const view_state *v, float *rgb, char *desc, size_t
             orr_colormap_lookup(s->colormap, t[i], &rgb[3 * i]);
     }
     if (!st)
-        snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->weight,
+        orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->weight,
                  rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->stretch.kind), rep->white,
                  orr_colormap_name(s->colormap));
     free(t);
@@ -1767,6 +1771,8 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     /* All of the frame's files, or none of them. */
     if (!st)
         st = orr_output_batch_commit(&outputs, err);
+    else
+        orr_output_batch_name_finals(&outputs, err);
     orr_output_batch_abort(&outputs);
     if (!in || src != in->source)
         orr_source_close(src);
@@ -1857,6 +1863,10 @@ orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_r
     if (!views)
         return ORR_ERR_NOMEM;
     orr_status st = ORR_OK;
+    /* As a render does: the output folder is made, or found unwritable,
+     * before any work (a compose's layers may be read from elsewhere). */
+    for (int k = 0; k < n && !st; k++)
+        st = orr_check_output_dir(scenes[k]->out_dir, err);
     orr_output_batch outputs;
     orr_output_batch_init(&outputs);
     int ready = 0;
@@ -1877,6 +1887,8 @@ orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_r
     }
     if (!st)
         st = orr_output_batch_commit(&outputs, err);
+    else
+        orr_output_batch_name_finals(&outputs, err);
     orr_output_batch_abort(&outputs);
     for (int k = 0; k < ready; k++)
         free_view(&views[k]);

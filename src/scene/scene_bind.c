@@ -1,4 +1,5 @@
 #include "scene/scene_bind.h"
+#include "core/numbers.h"
 
 #include "scene/scene_colour.h"
 #include "scene/scene_sequence.h"
@@ -595,9 +596,19 @@ static int is_nonfinite_word(const char *t)
     return strcasecmp(t, "nan") == 0 || strcasecmp(t, "inf") == 0 || strcasecmp(t, "infinity") == 0;
 }
 
+/* "nan", ".NaN", "-nan": the words for not-a-number. */
+static int is_nan_word(const char *t)
+{
+    if (*t == '+' || *t == '-')
+        t++;
+    if (*t == '.')
+        t++;
+    return strcasecmp(t, "nan") == 0;
+}
+
 /* Returns 1 and *v for a finite decimal number, -1 for a number that is not
  * finite (1e999, nan, .inf), 0 for anything else. Only digits, signs, '.' and
- * 'e' are let through to strtod, which keeps out its hex, nan and inf forms,
+ * 'e' are let through to strtod (in the C locale: core/numbers.h), which keeps out its hex, nan and inf forms,
  * and the whole text must be used, which keeps out trailing junk. */
 static int parse_number(const char *t, double *v)
 {
@@ -606,7 +617,7 @@ static int parse_number(const char *t, double *v)
     if (t[0] == '\0' || strspn(t, "0123456789+-.eE") != strlen(t) || !strpbrk(t, "0123456789"))
         return 0;
     char *end;
-    *v = strtod(t, &end);
+    *v = orr_strtod(t, &end);
     if (*end != '\0')
         return 0;
     return isfinite(*v) ? 1 : -1;
@@ -735,12 +746,26 @@ static orr_status get_integer(const bind_ctx *c, const value_at *at, const yt_no
     if (st != ORR_OK)
         return st;
     int ok = parse_integer(t, v);
+    if (is_nan_word(t)) /* not "out of range": NaN is no number at all */
+        return fail_at(c->err, at->origin, at->line, "%s: expected an integer, got '%s', which is not a number",
+                       at->path, t);
     if (ok == 0)
         return fail_at(c->err, at->origin, at->line, "%s: expected an integer, got '%s'", at->path, t);
     if (ok < 0 || *v < lo || *v > hi)
         return fail_at(c->err, at->origin, at->line, "%s: %s is out of range (%lld to %lld)", at->path, t, lo,
                        hi);
     return ORR_OK;
+}
+
+/* What a K_FILENAME key names instead of a path, for its '/' message: the
+ * folder of each is set elsewhere. */
+static const char *filename_hint(const char *key)
+{
+    if (strcmp(key, "camera.dome") == 0)
+        return "a dome profile's name, e.g. flat-180, found in the domes folders; see docs/scenes.md#dome-profiles";
+    if (strcmp(key, "output.image") == 0)
+        return "a file extension such as tif or jpg; the folder is output.dir";
+    return "the folder is output.dir";
 }
 
 static orr_status bind_text(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
@@ -752,8 +777,8 @@ static orr_status bind_text(const bind_ctx *c, const key_spec *k, const value_at
     if (t[0] == '\0')
         return fail_at(c->err, at->origin, at->line, "%s: must not be empty", at->path);
     if (k->type == K_FILENAME && strchr(t, '/'))
-        return fail_at(c->err, at->origin, at->line, "%s: '%s' must be a file name, without '/' (see output.dir)",
-                       at->path, t);
+        return fail_at(c->err, at->origin, at->line, "%s: '%s' must be a file name, without '/' (%s)", at->path, t,
+                       filename_hint(k->key));
     /* Paths in the scene are relative to its folder, so a scene and its data
      * can move together; a --set path (line 0) was typed in a shell, so it
      * stays relative to the working directory like any other argument. "-"

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 #include "core/digest.h"
 
@@ -327,6 +328,14 @@ static orr_status check_output(const orr_scene *s, const scene_marks *m, orr_err
             return scene_fail_key(s, m, "output.image", err,
                                   "output.image: a file extension such as tif, jpg or exr (without the dot), got '%s'",
                                   s->image_ext);
+    /* Both would be DIR/NAME.exr: the picture, written second, would
+     * replace the linear planes. */
+    if (s->write_exr && strcasecmp(s->image_ext, "exr") == 0)
+        return scene_fail_key(s, m, "output.image", err,
+                              "output.exr: true and output.image: %s both write NAME.exr, and the picture would "
+                              "replace the linear planes: keep output.exr for the planes, or give output.image "
+                              "another format (e.g. tif) for the picture",
+                              s->image_ext);
     return ORR_OK;
 }
 

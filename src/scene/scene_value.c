@@ -5,6 +5,7 @@
 #include <stdlib.h>
 
 #include "scene/scene_bind.h"
+#include "core/numbers.h"
 
 scene_at scene_child_at(const scene_at *at, const yt_entry *e)
 {
@@ -20,7 +21,7 @@ orr_status scene_get_number(const scene_at *at, const yt_node *n, double *v)
 {
     char *end = NULL;
     if (n->kind == YT_SCALAR && !yt_is_null(n)) {
-        *v = strtod(n->text, &end);
+        *v = orr_strtod(n->text, &end);
         if (end != n->text && *end == '\0' && isfinite(*v))
             return ORR_OK;
     }

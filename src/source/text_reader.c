@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/numbers.h"
 #include "source/mass_policy.h"
 
 /* What each column of the table feeds. */
@@ -144,6 +145,11 @@ static int read_line(text_state *st)
         return 0;
     }
     st->line++;
+    /* Editors on Windows start UTF-8 files with a byte-order mark; it is
+     * not part of the first column's name. */
+    size_t len = strlen(st->buf);
+    if (st->line == 1 && len >= 3 && memcmp(st->buf, "\xEF\xBB\xBF", 3) == 0)
+        memmove(st->buf, st->buf + 3, len - 2);
     return 1;
 }
 
@@ -215,7 +221,7 @@ static orr_status parse_number(const char *path, long line, const char *column, 
 {
     char *end;
     errno = 0;
-    double v = strtod(tok, &end);
+    double v = orr_strtod(tok, &end);
     if (end == tok || *end != '\0')
         return orr_fail(err, ORR_ERR_FORMAT, "%s:%ld: column '%s': '%s' is not a number", path, line, column,
                         tok);

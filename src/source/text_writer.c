@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/numbers.h"
 #include "encode/atomic.h"
 
 /* Column names the reader gives a fixed meaning; an extra field with one of
@@ -114,10 +115,17 @@ static orr_status write_rows(FILE *f, orr_source *src, const char *path, orr_err
             return ORR_OK;
         if ((st = extra_arrays(c, info, cols, path, err)) != ORR_OK)
             return st;
+        /* '.' as the decimal point whatever the host program's locale, so
+         * the reader (and other programs) read the numbers back. */
+        void *locale = orr_c_locale_enter();
         errno = 0;
-        for (size_t i = 0; i < c->n; i++)
-            if (!write_row(f, c, i, info->has_h, cols, info->nextra))
-                return write_failed(path, errno, err);
+        size_t i = 0;
+        while (i < c->n && write_row(f, c, i, info->has_h, cols, info->nextra))
+            i++;
+        int e = errno;
+        orr_c_locale_leave(locale);
+        if (i < c->n)
+            return write_failed(path, e, err);
     }
 }
 

@@ -5,7 +5,9 @@
 #include "source/zeldovich.h"
 
 #include <hdf5.h>
+#include <errno.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "encode/atomic.h"
 
@@ -126,13 +128,24 @@ orr_status orr_zeldovich_write_hdf5(const orr_zeldovich *z, const char *path, or
     hid_t fcpl = untimed(H5P_FILE_CREATE); /* the root group's times */
     hid_t file = H5Fcreate(af.temp_path, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
     H5Pclose(fcpl);
+    /* HDF5's messages do not give the system's reason (a full disk), so
+     * errno is read right after the call that failed: the write, or the
+     * close that flushes HDF5's cached metadata. */
+    errno = 0;
     int bad = file < 0 || write_header(file, z) || write_particles(file, z, ids);
-    if (file >= 0 && H5Fclose(file) < 0)
+    int sys_errno = bad ? errno : 0;
+    errno = 0;
+    if (file >= 0 && H5Fclose(file) < 0) {
         bad = 1;
+        sys_errno = sys_errno ? sys_errno : errno;
+    }
     H5Eset_auto2(H5E_DEFAULT, old_fn, old_data);
     free(ids);
     if (bad) {
         orr_atomic_abort(&af);
+        if (sys_errno)
+            return orr_fail(err, ORR_ERR_IO, "%s: could not write the HDF5 snapshot: %s", path,
+                            strerror(sys_errno));
         return orr_fail(err, ORR_ERR_IO, "%s: could not write the HDF5 snapshot (disk full or not writable?)",
                         path);
     }

@@ -61,14 +61,19 @@ grep -q "rendered 6, skipped 0" run.out || fail "6 frames after 4 must all be ne
 # signal.
 printf 'x y z mass\n0 0 0 1\n' >one.txt
 write_scene big.yaml one.txt
-big=(--set image.width=6000 --set image.height=6000 --set output.png=false --set output.raw=true)
-"$ORRERY" render big.yaml -o big "${big[@]}" >/dev/null 2>&1 &
-pid=$!
-for _ in $(seq 1 600); do
-  ls -a big 2>/dev/null | grep -q '^\.orrery-tmp-' && break
-  sleep 0.05
-done
-ls -a big 2>/dev/null | grep -q '^\.orrery-tmp-' || fail "no temporary file seen while writing"
+# start_big_render: a 6000x6000 frame (two FITS of 144 MB) in the
+# background, in $pid, returning once its temporary files are being written.
+start_big_render() {
+  "$ORRERY" render big.yaml -o big --set image.width=6000 --set image.height=6000 --set output.png=false \
+    --set output.raw=true >/dev/null 2>&1 &
+  pid=$!
+  for _ in $(seq 1 600); do
+    ls -a big 2>/dev/null | grep -q '^\.orrery-tmp-' && return
+    sleep 0.05
+  done
+  fail "no temporary file seen while writing"
+}
+start_big_render
 kill -TERM $pid
 wait $pid
 code=$?
@@ -76,12 +81,7 @@ code=$?
 ! ls -a big | grep -q 'tmp' || fail "SIGTERM left a temporary file: $(ls -a big)"
 [ ! -e big/big.fits ] || fail "SIGTERM left a FITS under its final name"
 # A killed run's leftovers (same host, process gone) go with the next run.
-"$ORRERY" render big.yaml -o big "${big[@]}" >/dev/null 2>&1 &
-pid=$!
-for _ in $(seq 1 600); do
-  ls -a big 2>/dev/null | grep -q '^\.orrery-tmp-' && break
-  sleep 0.05
-done
+start_big_render
 kill -KILL $pid
 wait $pid 2>/dev/null
 ls -a big | grep -q '^\.orrery-tmp-' || fail "SIGKILL: expected a leftover to test with"

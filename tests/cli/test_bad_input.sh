@@ -20,7 +20,12 @@ printf 'input:\n  file: good.txt\nimage: [1, 2\n' >syntax.yaml
 expect_fail 1 "does-not-exist.txt: cannot open: No such file" out -- render missing.yaml
 expect_fail 1 "short.txt:3: row has 3 values; the header \(line 1\) names 4 columns" out -- render short.yaml
 expect_fail 1 "word.txt:3: column 'y': 'one' is not a number" out -- render word.yaml
-expect_fail 1 "nan.txt: particle 1 \(id 1\) has a non-finite position .*input.nonfinite: skip" out -- render nan.yaml
+expect_fail 1 "nan.txt: particle 1 \(id 1\) has a non-finite position \(nan, 1, 1\); .*input.nonfinite: skip" out -- render nan.yaml
+# A non-finite weight is told as the weight, not the (finite) position.
+printf 'x y z mass lum\n0 0 0 1 1\n1 2 3 1 nan\n' >nanweight.txt
+write_scene nanweight.yaml nanweight.txt
+expect_fail 1 "nanweight.txt: particle 1 \(id 1\) has a non-finite weight \(nan\); " out -- \
+  render nanweight.yaml --set input.weight=lum
 expect_fail 1 "read error: Is a directory" out -- render dirinput.yaml
 expect_fail 2 "unknown-key.yaml:4.*camera.fvo" out -- render unknown-key.yaml
 expect_fail 2 "wrong-type.yaml:4.*image.width.*wide" out -- render wrong-type.yaml
@@ -32,6 +37,58 @@ expect_fail 2 "unknown option '--bogus'" out -- render good.yaml --bogus
 expect_fail 2 "no scene file given" out -- render
 expect_fail 2 "unknown command 'paint'" out -- paint
 expect_fail 1 "does-not-exist.txt: cannot open" out -- info does-not-exist.txt
+
+# A reader's error met while smoothing lengths are computed is the
+# reader's: no "smoothing lengths from the neighbours" in front of it.
+write_scene word-sph.yaml word.txt "deposit: sph" "smoothing:" "  lengths: neighbours"
+expect_fail 1 "^orrery: error: word.txt:3: column 'y': 'one' is not a number" out -- render word-sph.yaml
+grep -q "smoothing lengths" stderr && fail "a table's syntax error is told as a smoothing-lengths error: $(cat stderr)"
+
+# A UTF-8 byte-order mark is not part of the first column's name.
+printf '\xef\xbb\xbfx y z mass\n0 0 0 1\n1 1 1 2\n' >bom.txt
+"$ORRERY" info bom.txt >stdout 2>stderr || fail "info of a table with a BOM failed: $(cat stderr)"
+grep -q "^fields:     x y z mass$" stdout || fail "info of a table with a BOM: $(cat stdout)"
+
+# A NaN count is not a number (not a huge negative one, nor out of range).
+expect_fail 2 "animation.frames: expected an integer, got '.nan', which is not a number" out -- \
+  render good.yaml --set animation.frames=.nan
+expect_fail 2 "^orrery: error: --particles nan: not a number; expected a whole number" out -- model -o out/m.txt --particles nan
+# camera.dome's hint is about dome profiles, not output.dir.
+expect_fail 2 "camera.dome: 'domes/flat-180' must be a file name, without '/' \(a dome profile's name" out -- \
+  render good.yaml --set camera.dome=domes/flat-180
+
+# A write that fails for want of space says so, FITS included (cfitsio
+# itself says only "error writing to FITS file"). A file-size limit, with
+# SIGXFSZ ignored, makes writes fail with EFBIG without a full disk.
+(trap '' XFSZ; ulimit -f 64; "$ORRERY" render good.yaml --set image.width=512 --set image.height=512 >stdout 2>stderr)
+grep -q "out/good.fits: cannot write FITS file: File too large" stderr || fail "file-size limit: $(cat stderr)"
+[ -z "$(ls -A out 2>/dev/null)" ] || fail "file-size limit left files: $(ls -A out)"
+# A full file system, where one can be mounted (as root): "No space left on device".
+mkdir -p tiny
+if mount -t tmpfs -o size=8k tmpfs tiny 2>/dev/null; then
+  expect_fail 1 "tiny/good.fits: cannot write FITS file: No space left on device" tiny -- render good.yaml -o tiny
+  umount tiny
+else
+  echo "note: cannot mount a small tmpfs here (not root?): the full-disk case is checked with the file-size limit only"
+fi
+
+# Options as other GNU tools take them: --output=DIR, -oDIR, "--" before
+# an operand; errors in the one-line form of docs/cli.md.
+"$ORRERY" render -q --output=eq good.yaml && [ -f eq/good.png ] || fail "--output=DIR did not write eq/good.png"
+"$ORRERY" render -q -ojoined good.yaml && [ -f joined/good.png ] || fail "-oDIR did not write joined/good.png"
+"$ORRERY" render -q -o dashes -- good.yaml && [ -f dashes/good.png ] || fail "-- before the scene did not work"
+"$ORRERY" render good.yaml --set=output.name=viaeq -q && [ -f out/viaeq.png ] || fail "--set=KEY=VALUE did not work"
+rm -rf out/viaeq.* eq joined dashes
+for cmd in render compose info model ics path video; do
+  expect_fail 2 "^orrery: error: unknown option '--bogus' \(see 'orrery $cmd --help'\)$" out -- $cmd --bogus
+  [ "$(wc -l <stderr)" -eq 1 ] || fail "$cmd --bogus: more than one line: $(cat stderr)"
+  "$ORRERY" $cmd --help >stdout 2>stderr || fail "$cmd --help failed: $(cat stderr)"
+  grep -q "^usage: orrery $cmd" stdout || fail "$cmd --help: no usage line: $(cat stdout)"
+done
+expect_fail 2 "^orrery: error: option '--set' needs a value \(see 'orrery render --help'\)$" out -- render good.yaml --set
+expect_fail 2 "^orrery: error: option '--quiet' takes no value" out -- render good.yaml --quiet=yes
+expect_fail 2 "^orrery: error: unknown option '-x'" out -- render good.yaml -qx
+expect_fail 2 "one scene file at a time \(got 'good.yaml' and '-q'\)" out -- render -- good.yaml -q
 
 # An output folder that cannot be made (its parent is a regular file).
 touch plainfile

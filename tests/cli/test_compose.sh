@@ -86,6 +86,9 @@ a, b = (np.asarray(Image.open(p)).astype(int) for p in sys.argv[1:3])
 d = np.abs(a - b).max()
 print('blend vs populations: largest difference', d, 'levels')
 sys.exit(0 if a.shape == b.shape and d <= 1 else 1)" out/blend.png out/together.png || fail "blended layers differ from the populations render"
+# -o DIR: made when missing, as render makes it (the layers come from out/).
+"$ORRERY" compose --quiet blend.yaml -o made/below 2>err.txt || fail "compose -o made/below: $(cat err.txt)"
+[ -f made/below/blend.png ] || fail "compose -o did not make made/below and write blend.png there"
 sed 's/      colour: {temperature: 4000}//' blend.yaml >blend-bad.yaml
 expect_fail 2 "out/bulge.raw.fits: compose.layers: a single-plane layer needs a colour" none -- compose blend-bad.yaml
 
@@ -97,6 +100,43 @@ expect_fail 2 "out/bulge.raw.fits: compose.layers: a single-plane layer needs a 
 head -c 4 out/colour.exr | od -An -tx1 | grep -q "76 2f 31 01" || fail "out/colour.exr is not OpenEXR"
 same_pixels out/colour.png out/colour.tif || fail "the TIFF's pixels differ from the PNG's"
 expect_fail 2 "output.image: a file extension such as tif" none -- render colour.yaml --set output.image=.tif
+# output.exr and output.image: exr would both be NAME.exr, the picture over the planes.
+expect_fail 2 "output.exr: true and output.image: exr both write NAME.exr" none -- \
+  render colour.yaml --set output.exr=true --set output.image=exr
+
+# A flat view's compose applies the PSF as set now (its raw planes are
+# taken before the PSF) ...
+"$ORRERY" compose --quiet flat.yaml 2>err.txt || fail "compose flat: $(cat err.txt)"
+cp out/flat.png composed-flat.png
+"$ORRERY" compose --quiet flat.yaml --set psf.fwhm=6 2>err.txt || fail "compose flat psf.fwhm=6: $(cat err.txt)"
+same_pixels composed-flat.png out/flat.png && fail "flat: compose with another PSF left the PNG unchanged"
+# ... but a sky map's PSF is drawn into its raw planes as it renders, so
+# compose refuses to change it rather than ignore the key.
+cat >dome.yaml <<'EOT'
+input:
+  model:
+    name: mw-m31
+    particles: 20000
+  types: [2, 3]
+camera:
+  projection: dome
+  position: [0, 0, 0]
+image:
+  width: 64
+  height: 64
+psf:
+  kind: gaussian
+  fwhm_arcmin: 60
+output:
+  dir: out
+  name: dome
+  raw: true
+EOT
+"$ORRERY" render --quiet dome.yaml 2>err.txt || fail "render dome: $(cat err.txt)"
+"$ORRERY" compose --quiet dome.yaml 2>err.txt || fail "compose dome: $(cat err.txt)"
+expect_fail 2 "^orrery: error: --set psf.fwhm_arcmin: the scene is a sky map, whose PSF is drawn into the raw planes .*render again" \
+  none -- compose dome.yaml --set psf.fwhm_arcmin=120
+expect_fail 2 "--set psf.kind: the scene is a sky map" none -- compose dome.yaml --set psf.kind=none
 
 # A scene whose image size differs from the raw planes', and one never rendered.
 expect_fail 1 "out/flat.raw.fits: holds 1 plane\(s\) of 120 x 90, but .*flat.yaml renders 1 of 64 x 90" none -- \

@@ -63,10 +63,10 @@ expect_fail 2 "colour.tint.t: expected a number or run, got .*walk" none -- rend
   --set input.file=out/box.hdf5 --set colour.tint.t=walk
 expect_fail 2 "colour.tint.t.*1.5" none -- render "$SRC/configs/dark-universe.yaml" \
   --set input.file=out/box.hdf5 --set colour.tint.t=1.5
-expect_fail 2 "orrery ics: --grid 15: expected an even whole number" none -- ics --zeldovich --grid 15 -o none/x.hdf5
-expect_fail 2 "orrery ics: give the method: --zeldovich" none -- ics --grid 16 -o none/x.hdf5
+expect_fail 2 "orrery: error: --grid 15: expected an even whole number" none -- ics --zeldovich --grid 15 -o none/x.hdf5
+expect_fail 2 "orrery: error: give the method: --zeldovich" none -- ics --grid 16 -o none/x.hdf5
 expect_fail 2 "omega_m 0: expected a value in \(0, 2\]" none -- ics --zeldovich --grid 4 --omega-m 0 -o none/x.hdf5
 expect_fail 2 "box -5: expected a side in Mpc/h" none -- ics --zeldovich --grid 4 --box -5 -o none/x.hdf5
-expect_fail 2 "unknown argument '--frobnicate'" none -- ics --zeldovich --frobnicate -o none/x.hdf5
+expect_fail 2 "unknown option '--frobnicate'" none -- ics --zeldovich --frobnicate -o none/x.hdf5
 expect_fail 1 "/nonexistent-orrery-dir" none -- ics --zeldovich --grid 4 -o /nonexistent-orrery-dir/x.hdf5
 finish

@@ -67,7 +67,7 @@ scene obs.yaml "  path: {kind: orbit, radius: 5}" -- "observer: {id: 1, referenc
 expect_fail 2 "camera.path.kind and observer.id are both set" out -- path obs.yaml -o out/x.png
 scene plain.yaml "  width: 10"
 expect_fail 2 "plain.yaml: no camera path: set camera.path.kind" out -- path plain.yaml -o out/x.png
-expect_fail 2 "--frames: expected a whole number" out -- path orbit.yaml --frames 0
+expect_fail 2 "--frames 0: expected a whole number" out -- path orbit.yaml --frames 0
 expect_fail 2 "--size: expected WxH" out -- path orbit.yaml --size 10x5000000
 
 # Keyframes from CSV: a bad row names the file and line.

@@ -234,6 +234,30 @@ probe "far one.mov"
 expect nb_read_frames 1
 
 "$ORRERY" video --help | grep -q "usage: orrery video SCENE.yaml" || fail "video --help"
+# Levels: frames that need H.264 level 6.0 get a warning (with --quiet
+# too), those within 5.2 none; ffprobe reads the level x264 wrote, which is
+# the one orrery computed. A frame 8704 pixels wide is 544 macroblocks, one
+# more than level 5.2 takes on a side: level 6.0 as a 3600x3600 dome master
+# is, at a fraction of the cost.
+for size in 8688:51 8704:60; do
+  w=${size%:*} level=${size#*:}
+  rm -rf thin
+  for k in 0 1; do
+    "$ORRERY" render --quiet clip.yaml -o thin --set image.width=$w --set image.height=16 \
+      --set output.name=thin_000$k 2>err.txt || fail "render thin frame $k: $(cat err.txt)"
+  done
+  "$ORRERY" video --quiet clip.yaml -o thin --set output.name=thin >stdout.txt 2>stderr.txt ||
+    fail "video of ${w}x16: $(cat stderr.txt)"
+  got=$(ffprobe -v error -select_streams v:0 -show_entries stream=level -of default=noprint_wrappers=1:nokey=1 thin/thin.mp4)
+  [ "$got" = "$level" ] || fail "${w}x16: x264 wrote level $got, expected $level"
+  if [ "$level" -gt 52 ]; then
+    grep -q "^orrery: warning: ${w}x16 frames at 30 fps need h264 level 6.0, .*stop at level 5.2.*--codec prores" stderr.txt ||
+      fail "${w}x16: no level warning: $(cat stderr.txt)"
+  else
+    [ -s stderr.txt ] && fail "${w}x16 (level $level): unexpected warning: $(cat stderr.txt)"
+  fi
+done
+
 # A folder holding two runs' frames (rendered in pieces with --frames and
 # other settings) is refused, naming the first frame made otherwise.
 printf 'x y z mass\n0 0 0 1\n1 1 0 2\n' >mix.txt

@@ -370,6 +370,7 @@ static void test_acs_fits(void)
     o.arcsec_per_pixel = 0.1;
     CHECK(orr_psf_load_fits(path, &o, &k, &info, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "PIXSCALE");
+    CHECK_CONTAINS(err.msg, "psf.arcsec_per_pixel: 0"); /* the scene's way out */
     o.file_arcsec_per_pixel = 0.05;
     CHECK(orr_psf_load_fits(path, &o, &k, &info, &err) == ORR_OK);
     CHECK(k.width == 9); /* 19 / 2 */

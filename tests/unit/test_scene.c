@@ -436,7 +436,8 @@ static void test_value_errors(void)
                  "input.format: expected one of: auto hdf5 gadget tipsy text, got 'fits'");
     EXPECT_ERROR("input:\n  model:\n    name: plummer\n", ORR_ERR_USAGE, "scene.yaml:3: input.model.name: expected one of: mw-m31 king, got 'plummer'");
     /* Strings. */
-    EXPECT_ERROR(MODEL "output:\n  name: a/b\n", ORR_ERR_USAGE, "output.name: 'a/b' must be a file name");
+    EXPECT_ERROR(MODEL "output:\n  name: a/b\n", ORR_ERR_USAGE, "output.name: 'a/b' must be a file name",
+                 "(the folder is output.dir)");
     EXPECT_ERROR(MODEL "output:\n  bunit: ''\n", ORR_ERR_USAGE, "scene.yaml:5: output.bunit: must not be empty");
     /* Vectors and types. */
     EXPECT_ERROR(MODEL "camera:\n  position: [1, 2]\n", ORR_ERR_USAGE,
@@ -542,7 +543,18 @@ static void test_sky_key_errors(void)
     EXPECT_ERROR(MODEL "camera:\n  dome_tilt: -1\n", ORR_ERR_USAGE, "camera.dome_tilt: -1 is out of range (0 to 90)");
     EXPECT_ERROR(MODEL "camera:\n  dome_tilt: 91\n", ORR_ERR_USAGE, "camera.dome_tilt: 91 is out of range (0 to 90)");
     EXPECT_ERROR(MODEL "camera:\n  lon_flip: left\n", ORR_ERR_USAGE, "scene.yaml:5: camera.lon_flip: expected true or false, got 'left'");
-    EXPECT_ERROR(MODEL "camera:\n  dome: domes/flat-180\n", ORR_ERR_USAGE, "camera.dome: 'domes/flat-180' must be a file name");
+    EXPECT_ERROR(MODEL "camera:\n  dome: domes/flat-180\n", ORR_ERR_USAGE, "camera.dome: 'domes/flat-180' must be a file name",
+                 "(a dome profile's name, e.g. flat-180");
+    /* Both would write NAME.exr, the picture over the linear planes. */
+    EXPECT_ERROR(MODEL "output:\n  exr: true\n  image: EXR\n", ORR_ERR_USAGE,
+                 "output.exr: true and output.image: EXR both write NAME.exr");
+    EXPECT_OK(MODEL "output:\n  exr: true\n  image: tif\n", NULL, 0);
+    /* A NaN count is not a number, not an out-of-range one. */
+    EXPECT_ERROR(MODEL "animation:\n  frames: .nan\n", ORR_ERR_USAGE,
+                 "animation.frames: expected an integer, got '.nan', which is not a number");
+    EXPECT_ERROR(MODEL "image:\n  width: nan\n", ORR_ERR_USAGE, "image.width: expected an integer, got 'nan', which is not a number");
+    EXPECT_ERROR(MODEL "output:\n  image: a/tif\n", ORR_ERR_USAGE, "output.image: 'a/tif' must be a file name",
+                 "(a file extension such as tif");
     EXPECT_ERROR(MODEL "camera:\n  dome: ''\n", ORR_ERR_USAGE, "camera.dome: must not be empty");
     CHECK(load(MODEL "camera:\n  zenith: [0, 91]\n", NULL, 0, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "scene.yaml:5: camera.zenith[1]: 91 is out of range (-90 to 90: b is a latitude)") == 0);

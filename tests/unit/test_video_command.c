@@ -156,6 +156,34 @@ static void test_too_long_is_refused(void)
     free(huge);
 }
 
+/* The levels of H.264 (Table A-1) and H.265 (Table A.8) the frames need:
+ * frame size, rate, and the limit on each side of thin frames. */
+static void test_levels(void)
+{
+    CHECK(video_level(VIDEO_H264, 64, 48, 30) == 10);
+    CHECK(video_level(VIDEO_H264, 1280, 720, 30) == 31);
+    CHECK(video_level(VIDEO_H264, 1920, 1080, 30) == 40);
+    CHECK(video_level(VIDEO_H264, 1920, 1080, 60) == 42);
+    CHECK(video_level(VIDEO_H264, 3840, 2160, 30) == 51);
+    CHECK(video_level(VIDEO_H264, 4096, 2304, 30) == 52); /* 36864 macroblocks, 1.1e6 a second */
+    CHECK(video_level(VIDEO_H264, 3072, 3072, 30) == 52); /* the largest square dome within 5.2 */
+    CHECK(video_level(VIDEO_H264, 3073, 3073, 30) == 60); /* 193 x 193 macroblocks */
+    CHECK(video_level(VIDEO_H264, 3072, 3072, 60) == 60); /* the rate too */
+    CHECK(video_level(VIDEO_H264, 3600, 3600, 30) == 60); /* issue 19: Future Sky's dome master */
+    CHECK(video_level(VIDEO_H264, 8192, 4320, 30) == 60);
+    CHECK(video_level(VIDEO_H264, 8192, 4320, 60) == 61);
+    CHECK(video_level(VIDEO_H264, 8688, 16, 30) == 51);   /* 543 macroblocks wide: sqrt(8 * 36864) */
+    CHECK(video_level(VIDEO_H264, 8704, 16, 30) == 60);   /* 544: too wide for 5.2 */
+    CHECK(video_level(VIDEO_H264, 16384, 16384, 30) == -1);
+    CHECK(video_level(VIDEO_H265, 1920, 1080, 30) == 40);
+    CHECK(video_level(VIDEO_H265, 3840, 2160, 30) == 50);
+    CHECK(video_level(VIDEO_H265, 2984, 2984, 30) == 50);
+    CHECK(video_level(VIDEO_H265, 2986, 2986, 30) == 60);
+    CHECK(video_level(VIDEO_H265, 3600, 3600, 30) == 60);
+    CHECK(video_level(VIDEO_PRORES, 3600, 3600, 30) == 0);
+    CHECK(video_level(VIDEO_PNG, 8192, 8192, 30) == 0);
+}
+
 int main(void)
 {
     RUN(test_h264_odd_size_word_for_word);
@@ -166,5 +194,6 @@ int main(void)
     RUN(test_codec_table);
     RUN(test_names_are_literal);
     RUN(test_too_long_is_refused);
+    RUN(test_levels);
     return check_summary();
 }
