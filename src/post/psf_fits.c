@@ -96,6 +96,9 @@ static orr_status read_image(const char *path, float **pixels, int *w, int *h, d
         return fits_error(path, status, err);
     fits_get_img_dim(f, &naxis, &status);
     fits_get_img_size(f, 3, naxes, &status);
+    LONGLONG head = 0, start = 0, end = 0; /* the data must be in the file before it is allocated */
+    if (!status && !fits_get_hduaddrll(f, &head, &start, &end, &status) && end > f->Fptr->logfilesize)
+        status = END_OF_FILE;
     if (!status && (naxis != 2 || naxes[0] < 1 || naxes[1] < 1 || naxes[0] > FITS_MAX_SIDE ||
                     naxes[1] > FITS_MAX_SIDE)) {
         fits_close_file(f, &status);
