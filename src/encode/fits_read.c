@@ -44,6 +44,15 @@ static orr_status check_data_present(fitsfile *f, const char *path, int hdu, orr
 {
     LONGLONG head = 0, start = 0, end = 0;
     int status = 0;
+    /* orrery writes its planes uncompressed, and cfitsio (4.2) crashes on a
+     * damaged tile (fits_rdecomp reads out of bounds), so a tile-compressed
+     * HDU is refused before it is decompressed. */
+    if (fits_is_compressed_image(f, &status))
+        return orr_fail(err, ORR_ERR_FORMAT,
+                        "%s: HDU %d is a tile-compressed image; orrery reads its planes uncompressed (funpack "
+                        "the file first)",
+                        path, hdu);
+    status = 0;
     if (fits_get_hduaddrll(f, &head, &start, &end, &status))
         return read_failure(path, hdu, status, err);
     const LONGLONG size = f->Fptr->logfilesize;

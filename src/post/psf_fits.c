@@ -99,6 +99,10 @@ static orr_status read_image(const char *path, float **pixels, int *w, int *h, d
     LONGLONG head = 0, start = 0, end = 0; /* the data must be in the file before it is allocated */
     if (!status && !fits_get_hduaddrll(f, &head, &start, &end, &status) && end > f->Fptr->logfilesize)
         status = END_OF_FILE;
+    if (!status && fits_is_compressed_image(f, &status)) { /* cfitsio 4.2 crashes on damaged tiles */
+        fits_close_file(f, &status);
+        return orr_fail(err, ORR_ERR_FORMAT, "%s: a PSF must be an uncompressed image (funpack it first)", path);
+    }
     if (!status && (naxis != 2 || naxes[0] < 1 || naxes[1] < 1 || naxes[0] > FITS_MAX_SIDE ||
                     naxes[1] > FITS_MAX_SIDE)) {
         fits_close_file(f, &status);

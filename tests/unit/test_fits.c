@@ -325,6 +325,35 @@ static void test_read_truncated(void)
     remove_tmpdir();
 }
 
+/* A tile-compressed HDU is refused before cfitsio decompresses it: orrery
+ * writes its planes uncompressed, and cfitsio 4.2 crashes on a damaged tile
+ * (fuzz_fits: SEGV in fits_rdecomp; corpus/fits/regress_rice_tile_damaged.fits). */
+static void test_read_compressed(void)
+{
+    make_tmpdir();
+    char path[512];
+    snprintf(path, sizeof path, "%s/packed.fits", tmpdir);
+    fitsfile *f = NULL;
+    int status = 0, ipx[W * H] = {0};
+    long naxes[2] = {W, H};
+    float px[W * H] = {0};
+    fits_create_file(&f, path, &status);
+    fits_create_img(f, FLOAT_IMG, 2, naxes, &status);
+    fits_write_img(f, TFLOAT, 1, W * H, px, &status);
+    fits_set_compression_type(f, RICE_1, &status);
+    fits_create_img(f, LONG_IMG, 2, naxes, &status);
+    fits_write_img(f, TINT, 1, W * H, ipx, &status);
+    fits_close_file(f, &status);
+    CHECK(status == 0);
+    orr_plane back[3];
+    int n = -1;
+    orr_error err;
+    CHECK(orr_read_fits_planes(path, back, 3, &n, &err) == ORR_ERR_FORMAT);
+    CHECK(n == 0);
+    CHECK_CONTAINS(err.msg, "HDU 2 is a tile-compressed image");
+    remove_tmpdir();
+}
+
 int main(void)
 {
     RUN(test_round_trip);
@@ -333,5 +362,6 @@ int main(void)
     RUN(test_bad_arguments);
     RUN(test_header_limits);
     RUN(test_read_truncated);
+    RUN(test_read_compressed);
     return check_summary();
 }

@@ -1,3 +1,4 @@
+#include <fitsio.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -407,6 +408,23 @@ static void test_fits_errors(void)
     CHECK(orr_psf_load_fits(path, NULL, &k, NULL, &err) == ORR_ERR_FORMAT);
     CHECK_CONTAINS(err.msg, "claims.fits");
     CHECK(k.data == NULL);
+
+    /* A tile-compressed PSF is refused before cfitsio decompresses it (4.2
+     * crashes on a damaged tile: corpus/fits/regress_psf_rice_tile_damaged.fits). */
+    snprintf(path, sizeof path, "%s/packed.fits", tmpdir);
+    fitsfile *f = NULL;
+    int status = 0, ipx[25] = {0};
+    long naxes[2] = {5, 5};
+    ipx[12] = 100;
+    fits_create_file(&f, path, &status);
+    fits_create_img(f, FLOAT_IMG, 0, NULL, &status);
+    fits_set_compression_type(f, RICE_1, &status);
+    fits_create_img(f, LONG_IMG, 2, naxes, &status);
+    fits_write_img(f, TINT, 1, 25, ipx, &status);
+    fits_close_file(f, &status);
+    CHECK(status == 0);
+    CHECK(orr_psf_load_fits(path, NULL, &k, NULL, &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "uncompressed");
     remove_tmpdir();
 }
 
