@@ -92,8 +92,12 @@ static orr_status read_image(const char *path, float **pixels, int *w, int *h, d
     int status = 0, naxis = 0;
     long naxes[3] = {0, 0, 0};
     *pixels = NULL;
-    if (fits_open_image(&f, path, READONLY, &status))
+    if (fits_open_image(&f, path, READONLY, &status)) {
+        int close_status = 0; /* cfitsio leaves the file open when it fails looking for the image */
+        if (f)
+            fits_close_file(f, &close_status);
         return fits_error(path, status, err);
+    }
     fits_get_img_dim(f, &naxis, &status);
     fits_get_img_size(f, 3, naxes, &status);
     LONGLONG head = 0, start = 0, end = 0; /* the data must be in the file before it is allocated */

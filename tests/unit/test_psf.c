@@ -3,6 +3,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "encode/png.h"
@@ -426,6 +427,21 @@ static void test_fits_errors(void)
     CHECK(orr_psf_load_fits(path, NULL, &k, NULL, &err) == ORR_ERR_FORMAT);
     CHECK_CONTAINS(err.msg, "uncompressed");
     remove_tmpdir();
+
+    /* An empty primary HDU and a cut-short image extension: cfitsio's
+     * fits_open_image fails but leaves the file open, which the loader must
+     * close (found by fuzz_fits under LeakSanitizer). The next free file
+     * descriptor is the same after the failed load as before. */
+    const char *cut = ORRERY_SOURCE_DIR "/tests/fuzz/corpus/fits/regress_psf_open_fails_left_open.fits";
+    int before = dup(0);
+    close(before);
+    for (int i = 0; i < 3; i++) {
+        CHECK(orr_psf_load_fits(cut, NULL, &k, NULL, &err) != ORR_OK);
+        CHECK_CONTAINS(err.msg, "regress_psf_open_fails_left_open.fits");
+    }
+    int after = dup(0);
+    close(after);
+    CHECK(after == before);
 }
 
 /* ---- star mode: a synthetic cluster ----------------------------------------
