@@ -327,7 +327,7 @@ static void test_read_truncated(void)
 
 /* A tile-compressed HDU is refused before cfitsio decompresses it: orrery
  * writes its planes uncompressed, and cfitsio 4.2 crashes on a damaged tile
- * (fuzz_fits: SEGV in fits_rdecomp; corpus/fits/regress_rice_tile_damaged.fits). */
+ * (fuzz_fits: SEGV in fits_rdecomp; tests/data/fits/regress_rice_tile_damaged.fits). */
 static void test_read_compressed(void)
 {
     make_tmpdir();
@@ -352,6 +352,11 @@ static void test_read_compressed(void)
     CHECK(n == 0);
     CHECK_CONTAINS(err.msg, "HDU 2 is a tile-compressed image");
     remove_tmpdir();
+    /* The file fuzz_fits found: HDU 2's Rice tiles damaged. */
+    const char *damaged = ORRERY_TEST_DATA "/fits/regress_rice_tile_damaged.fits";
+    CHECK(orr_read_fits_planes(damaged, back, 3, &n, &err) == ORR_ERR_FORMAT);
+    CHECK(n == 0);
+    CHECK_CONTAINS(err.msg, "HDU 2 is a tile-compressed image");
 }
 
 int main(void)

@@ -411,7 +411,7 @@ static void test_fits_errors(void)
     CHECK(k.data == NULL);
 
     /* A tile-compressed PSF is refused before cfitsio decompresses it (4.2
-     * crashes on a damaged tile: corpus/fits/regress_psf_rice_tile_damaged.fits). */
+     * crashes on a damaged tile: tests/data/fits/regress_psf_rice_tile_damaged.fits). */
     snprintf(path, sizeof path, "%s/packed.fits", tmpdir);
     fitsfile *f = NULL;
     int status = 0, ipx[25] = {0};
@@ -427,6 +427,9 @@ static void test_fits_errors(void)
     CHECK(orr_psf_load_fits(path, NULL, &k, NULL, &err) == ORR_ERR_FORMAT);
     CHECK_CONTAINS(err.msg, "uncompressed");
     remove_tmpdir();
+    CHECK(orr_psf_load_fits(ORRERY_TEST_DATA "/fits/regress_psf_rice_tile_damaged.fits", NULL, &k, NULL, &err) ==
+          ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "uncompressed");
 
     /* An empty primary HDU and a cut-short image extension: cfitsio's
      * fits_open_image fails but leaves the file open, which the loader must
