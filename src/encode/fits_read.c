@@ -37,9 +37,7 @@ static orr_status read_hdu(fitsfile *f, const char *path, int hdu, int width, in
 /* The HDU's data must be in the file before a plane of the size its header
  * claims is allocated (and zeroed): a truncated file, or a header that lies,
  * must not cost a plane of up to 8 GiB for nothing. (cfitsio reads whole
- * 2880-byte blocks, so the last one must be there, padding and all. A
- * tile-compressed image's size is that of its table, so it is checked only
- * as far as that goes.) */
+ * 2880-byte blocks, so the last one must be there, padding and all.) */
 static orr_status check_data_present(fitsfile *f, const char *path, int hdu, orr_error *err)
 {
     LONGLONG head = 0, start = 0, end = 0;
