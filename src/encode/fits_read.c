@@ -27,9 +27,39 @@ static orr_status read_hdu(fitsfile *f, const char *path, int hdu, int width, in
         LONGLONG first[2] = {1, height - y};
         fits_read_pixll(f, TFLOAT, first, width, NULL, p->data + (size_t)y * (size_t)width, NULL, &status);
     }
-    if (!st && status)
+    if (!st && status) {
+        orr_plane_free(p); /* not handed out: the caller frees only the planes it counts */
         st = read_failure(path, hdu, status, err);
+    }
     return st;
+}
+
+/* The HDU's data must be in the file before a plane of the size its header
+ * claims is allocated (and zeroed): a truncated file, or a header that lies,
+ * must not cost a plane of up to 8 GiB for nothing. (cfitsio reads whole
+ * 2880-byte blocks, so the last one must be there, padding and all.) */
+static orr_status check_data_present(fitsfile *f, const char *path, int hdu, orr_error *err)
+{
+    LONGLONG head = 0, start = 0, end = 0;
+    int status = 0;
+    /* orrery writes its planes uncompressed, and cfitsio (4.2) crashes on a
+     * damaged tile (fits_rdecomp reads out of bounds), so a tile-compressed
+     * HDU is refused before it is decompressed. */
+    if (fits_is_compressed_image(f, &status))
+        return orr_fail(err, ORR_ERR_FORMAT,
+                        "%s: HDU %d is a tile-compressed image; orrery reads its planes uncompressed (funpack "
+                        "the file first)",
+                        path, hdu);
+    status = 0;
+    if (fits_get_hduaddrll(f, &head, &start, &end, &status))
+        return read_failure(path, hdu, status, err);
+    const LONGLONG size = f->Fptr->logfilesize;
+    if (end > size)
+        return orr_fail(err, ORR_ERR_FORMAT,
+                        "%s: HDU %d: the header calls for %lld bytes of data but the file ends after %lld "
+                        "(truncated?)",
+                        path, hdu, (long long)(end - start), (long long)(size > start ? size - start : 0));
+    return ORR_OK;
 }
 
 static orr_status image_size(fitsfile *f, const char *path, int hdu, int *w, int *h, orr_error *err)
@@ -77,6 +107,8 @@ orr_status orr_read_fits_planes(const char *path, orr_plane *planes, int max, in
         }
         if (!st && (w != w0 || h != h0))
             st = orr_fail(err, ORR_ERR_FORMAT, "%s: HDU %d is %d x %d, HDU 1 is %d x %d", path, hdu, w, h, w0, h0);
+        if (!st)
+            st = check_data_present(f, path, hdu, err);
         if (!st && !(st = read_hdu(f, path, hdu, w, h, &planes[*n], err)))
             (*n)++;
     }

@@ -123,13 +123,20 @@ static orr_status read_image(const char *path, float **pixels, int *w, int *h, d
     long naxes[3] = {0, 0, 0};
     *pixels = NULL;
     if (open_first_image(path, &f, &status)) {
-        int close_status = 0;
+        int close_status = 0; /* cfitsio leaves the file open when it fails looking for the image */
         if (f)
             fits_close_file(f, &close_status);
         return fits_error(path, status, err);
     }
     fits_get_img_dim(f, &naxis, &status);
     fits_get_img_size(f, 3, naxes, &status);
+    LONGLONG head = 0, start = 0, end = 0; /* the data must be in the file before it is allocated */
+    if (!status && !fits_get_hduaddrll(f, &head, &start, &end, &status) && end > f->Fptr->logfilesize)
+        status = END_OF_FILE;
+    if (!status && fits_is_compressed_image(f, &status)) { /* cfitsio 4.2 crashes on damaged tiles */
+        fits_close_file(f, &status);
+        return orr_fail(err, ORR_ERR_FORMAT, "%s: a PSF must be an uncompressed image (funpack it first)", path);
+    }
     if (!status && (naxis != 2 || naxes[0] < 1 || naxes[1] < 1 || naxes[0] > FITS_MAX_SIDE ||
                     naxes[1] > FITS_MAX_SIDE)) {
         fits_close_file(f, &status);

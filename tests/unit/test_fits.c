@@ -250,6 +250,128 @@ static void test_header_limits(void)
     CHECK(strcmp(h.cards[0].key, "EIGHTCHR") == 0);
 }
 
+/* A primary header of 2880 bytes (cards padded to 80 characters, END last). */
+static void write_header_only(const char *path, const char *const *cards, int n, size_t extra)
+{
+    char block[2880];
+    memset(block, ' ', sizeof block);
+    for (int i = 0; i < n; i++)
+        memcpy(block + 80 * i, cards[i], strlen(cards[i]));
+    memcpy(block + 80 * n, "END", 3);
+    FILE *fp = fopen(path, "wb");
+    CHECK(fp != NULL);
+    if (!fp)
+        return;
+    fwrite(block, 1, sizeof block, fp);
+    for (size_t i = 0; i < extra; i++)
+        fputc(0, fp);
+    fclose(fp);
+}
+
+static long file_size(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 ? (long)st.st_size : -1;
+}
+
+/* orr_read_fits_planes (orrery compose) on truncated files and headers that
+ * claim more data than the file holds: an error naming the HDU, before a
+ * plane of the claimed size is allocated (found by fuzz_fits: a 5760-byte
+ * file claiming 65536 x 32767 pixels had it allocate and zero 8 GiB), and no
+ * plane leaked when HDU 2 is cut short (fuzz_fits under LeakSanitizer). */
+static void test_read_truncated(void)
+{
+    make_tmpdir();
+    orr_plane planes[2], back[3];
+    make_planes(planes);
+    orr_fits_header header;
+    make_header(&header);
+    char path[512], cut[600];
+    snprintf(path, sizeof path, "%s/planes.fits", tmpdir);
+    orr_error err;
+    CHECK(orr_write_fits(path, planes, 2, &header, &err) == ORR_OK);
+    int n = -1;
+    CHECK(orr_read_fits_planes(path, back, 3, &n, &err) == ORR_OK);
+    CHECK(n == 2);
+    for (int k = 0; k < n; k++) {
+        CHECK(back[k].width == W && back[k].height == H);
+        CHECK(back[k].data[W + 2] == planes[k].data[W + 2]);
+        orr_plane_free(&back[k]);
+    }
+
+    /* Cut inside HDU 2's data, and after it but before the end of its
+     * 2880-byte block (cfitsio cannot read that either). */
+    long size = file_size(path);
+    CHECK(size > 0 && size % 2880 == 0);
+    snprintf(cut, sizeof cut, "%s/cut.fits", tmpdir);
+    for (int pass = 0; pass < 2; pass++) {
+        long keep = pass == 0 ? size - 2880 + 8 : size - 2880 + W * H * 4; /* 2 pixels / all of HDU 2's data */
+        FILE *in = fopen(path, "rb"), *out = fopen(cut, "wb");
+        CHECK(in && out);
+        for (long i = 0; in && out && i < keep; i++)
+            fputc(fgetc(in), out);
+        if (in)
+            fclose(in);
+        if (out)
+            fclose(out);
+        n = -1;
+        CHECK(orr_read_fits_planes(cut, back, 3, &n, &err) == ORR_ERR_FORMAT);
+        CHECK(n == 0);
+        CHECK_CONTAINS(err.msg, "HDU 2");
+        CHECK_CONTAINS(err.msg, "truncated");
+    }
+
+    /* A header alone, claiming the largest plane orrery draws. */
+    const char *cards[] = {"SIMPLE  =                    T", "BITPIX  =                  -32",
+                           "NAXIS   =                    2", "NAXIS1  =                65536",
+                           "NAXIS2  =                32767"};
+    snprintf(cut, sizeof cut, "%s/claims.fits", tmpdir);
+    write_header_only(cut, cards, 5, 2880);
+    n = -1;
+    CHECK(orr_read_fits_planes(cut, back, 3, &n, &err) == ORR_ERR_FORMAT);
+    CHECK(n == 0);
+    CHECK_CONTAINS(err.msg, "HDU 1");
+    CHECK_CONTAINS(err.msg, "8589674880 bytes of data"); /* 65536 x 32767 x 4, in blocks */
+
+    orr_plane_free(&planes[0]);
+    orr_plane_free(&planes[1]);
+    remove_tmpdir();
+}
+
+/* A tile-compressed HDU is refused before cfitsio decompresses it: orrery
+ * writes its planes uncompressed, and cfitsio 4.2 crashes on a damaged tile
+ * (fuzz_fits: SEGV in fits_rdecomp; tests/data/fits/regress_rice_tile_damaged.fits). */
+static void test_read_compressed(void)
+{
+    make_tmpdir();
+    char path[512];
+    snprintf(path, sizeof path, "%s/packed.fits", tmpdir);
+    fitsfile *f = NULL;
+    int status = 0, ipx[W * H] = {0};
+    long naxes[2] = {W, H};
+    float px[W * H] = {0};
+    fits_create_file(&f, path, &status);
+    fits_create_img(f, FLOAT_IMG, 2, naxes, &status);
+    fits_write_img(f, TFLOAT, 1, W * H, px, &status);
+    fits_set_compression_type(f, RICE_1, &status);
+    fits_create_img(f, LONG_IMG, 2, naxes, &status);
+    fits_write_img(f, TINT, 1, W * H, ipx, &status);
+    fits_close_file(f, &status);
+    CHECK(status == 0);
+    orr_plane back[3];
+    int n = -1;
+    orr_error err;
+    CHECK(orr_read_fits_planes(path, back, 3, &n, &err) == ORR_ERR_FORMAT);
+    CHECK(n == 0);
+    CHECK_CONTAINS(err.msg, "HDU 2 is a tile-compressed image");
+    remove_tmpdir();
+    /* The file fuzz_fits found: HDU 2's Rice tiles damaged. */
+    const char *damaged = ORRERY_TEST_DATA "/fits/regress_rice_tile_damaged.fits";
+    CHECK(orr_read_fits_planes(damaged, back, 3, &n, &err) == ORR_ERR_FORMAT);
+    CHECK(n == 0);
+    CHECK_CONTAINS(err.msg, "HDU 2 is a tile-compressed image");
+}
+
 int main(void)
 {
     RUN(test_round_trip);
@@ -257,5 +379,7 @@ int main(void)
     RUN(test_cfitsio_failure_keeps_old_file);
     RUN(test_bad_arguments);
     RUN(test_header_limits);
+    RUN(test_read_truncated);
+    RUN(test_read_compressed);
     return check_summary();
 }

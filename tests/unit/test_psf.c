@@ -1,7 +1,9 @@
 #include <fitsio.h>
 #include <math.h>
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 #include "check.h"
 #include "encode/fits.h"
@@ -484,6 +486,64 @@ static void test_fits_errors(void)
     CHECK_CONTAINS(err.msg, "/nonexistent/psf.fits");
     orr_psf_fits_options o = {.size = 10};
     CHECK(orr_psf_load_fits("x.fits", &o, &k, NULL, &err) == ORR_ERR_USAGE);
+
+    /* A header claiming 16384 x 16384 pixels with one block of data: an
+     * error before the 1 GiB image is allocated (found by fuzz_fits: it
+     * took 4.5 s under ASan, reading nothing). main() made tmpdir. */
+    char path[512], block[2880];
+    snprintf(path, sizeof path, "%s/claims.fits", tmpdir);
+    memset(block, ' ', sizeof block);
+    const char *cards[] = {"SIMPLE  =                    T", "BITPIX  =                  -32",
+                           "NAXIS   =                    2", "NAXIS1  =                16384",
+                           "NAXIS2  =                16384", "END"};
+    for (int i = 0; i < 6; i++)
+        memcpy(block + 80 * i, cards[i], strlen(cards[i]));
+    FILE *fp = fopen(path, "wb");
+    CHECK(fp != NULL);
+    if (fp) {
+        fwrite(block, 1, sizeof block, fp);
+        memset(block, 0, sizeof block);
+        fwrite(block, 1, sizeof block, fp);
+        fclose(fp);
+    }
+    CHECK(orr_psf_load_fits(path, NULL, &k, NULL, &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "claims.fits");
+    CHECK(k.data == NULL);
+
+    /* A tile-compressed PSF is refused before cfitsio decompresses it (4.2
+     * crashes on a damaged tile: tests/data/fits/regress_psf_rice_tile_damaged.fits). */
+    snprintf(path, sizeof path, "%s/packed.fits", tmpdir);
+    fitsfile *f = NULL;
+    int status = 0, ipx[25] = {0};
+    long naxes[2] = {5, 5};
+    ipx[12] = 100;
+    fits_create_file(&f, path, &status);
+    fits_create_img(f, FLOAT_IMG, 0, NULL, &status);
+    fits_set_compression_type(f, RICE_1, &status);
+    fits_create_img(f, LONG_IMG, 2, naxes, &status);
+    fits_write_img(f, TINT, 1, 25, ipx, &status);
+    fits_close_file(f, &status);
+    CHECK(status == 0);
+    CHECK(orr_psf_load_fits(path, NULL, &k, NULL, &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "uncompressed");
+    CHECK(orr_psf_load_fits(ORRERY_TEST_DATA "/fits/regress_psf_rice_tile_damaged.fits", NULL, &k, NULL, &err) ==
+          ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "uncompressed");
+
+    /* An empty primary HDU and a cut-short image extension: cfitsio's
+     * fits_open_image fails but leaves the file open, which the loader must
+     * close (found by fuzz_fits under LeakSanitizer). The next free file
+     * descriptor is the same after the failed load as before. */
+    const char *cut = ORRERY_SOURCE_DIR "/tests/fuzz/corpus/fits/regress_psf_open_fails_left_open.fits";
+    int before = dup(0);
+    close(before);
+    for (int i = 0; i < 3; i++) {
+        CHECK(orr_psf_load_fits(cut, NULL, &k, NULL, &err) != ORR_OK);
+        CHECK_CONTAINS(err.msg, "regress_psf_open_fails_left_open.fits");
+    }
+    int after = dup(0);
+    close(after);
+    CHECK(after == before);
 }
 
 /* ---- star mode: a synthetic cluster ----------------------------------------
