@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/fits_scan.h"
+
 static orr_status read_failure(const char *path, int hdu, int status, orr_error *err)
 {
     char text[FLEN_STATUS] = "";
@@ -83,6 +85,9 @@ orr_status orr_read_fits_planes(const char *path, orr_plane *planes, int max, in
     *n = 0;
     fitsfile *f = NULL;
     int status = 0, nhdu = 0;
+    orr_status refused = orr_fits_refuse_compressed(path, "its planes", err);
+    if (refused)
+        return refused;
     /* fits_open_diskfile takes the name literally: fits_open_file would parse
      * cfitsio's extended syntax, so "run[1]/a.raw.fits" would not open. */
     if (fits_open_diskfile(&f, path, READONLY, &status) || fits_get_num_hdus(f, &nhdu, &status)) {

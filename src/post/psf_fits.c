@@ -19,6 +19,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/fits_scan.h"
+
 #define FITS_MAX_SIDE 16384
 /* The largest odd kernel side (psf.size and the automatic size alike). */
 #define PSF_MAX_SIZE 8191
@@ -122,6 +124,9 @@ static orr_status read_image(const char *path, float **pixels, int *w, int *h, d
     int status = 0, naxis = 0;
     long naxes[3] = {0, 0, 0};
     *pixels = NULL;
+    orr_status refused = orr_fits_refuse_compressed(path, "a PSF", err);
+    if (refused)
+        return refused;
     if (open_first_image(path, &f, &status)) {
         int close_status = 0; /* cfitsio leaves the file open when it fails looking for the image */
         if (f)

@@ -6,6 +6,7 @@
 
 #include "tmpdir.h"
 #include "check.h"
+#include "post/psf.h"
 #include "encode/fits.h"
 #include "encode/fits_read.h"
 
@@ -370,6 +371,16 @@ static void test_read_compressed(void)
     CHECK(orr_read_fits_planes(damaged, back, 3, &n, &err) == ORR_ERR_FORMAT);
     CHECK(n == 0);
     CHECK_CONTAINS(err.msg, "HDU 2 is a tile-compressed image");
+    /* One whose compressed header is damaged: cfitsio 4.2 dies of SIGFPE
+     * merely moving to HDU 2, so orrery's own scan of the headers must
+     * refuse it before cfitsio opens the file. */
+    const char *fpe = ORRERY_TEST_DATA "/fits/regress_cfitsio_fpe_damaged_compressed_header.fits";
+    CHECK(orr_read_fits_planes(fpe, back, 3, &n, &err) == ORR_ERR_FORMAT);
+    CHECK(n == 0);
+    CHECK_CONTAINS(err.msg, "HDU 2 is a tile-compressed image");
+    orr_image_kernel k = {0};
+    CHECK(orr_psf_load_fits(fpe, NULL, &k, NULL, &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "a PSF uncompressed");
 }
 
 int main(void)
