@@ -61,32 +61,19 @@ sys.exit(0 if min(ratios) > 1.1 else 1)
 EOT
 
 # The short run's fly-through (48 frames, a 32³ box, small frames) crosses
-# faces of the box twice: the light of consecutive frames (each pixel's
-# value, per steradian, times its exact solid angle as a flat pinhole
-# camera's pixel) changes by 5 % at most (with copies around the camera's
-# cell it jumped +654 % at the first face).
+# faces of the box twice: the light of consecutive frames (scripts/
+# frame_light.py: each pixel's value, per steradian, times its exact solid
+# angle as a flat pinhole camera's pixel) changes by 5 % at most (with
+# copies around the camera's cell it jumped +654 % at the first face).
 "$ORRERY" ics --zeldovich --grid 32 --box 100 --z 0 --truncate 1 -o out/box32.hdf5 >/dev/null 2>err.txt ||
   fail "ics 32: $(cat err.txt)"
 "$ORRERY" render --quiet "$SRC/configs/dark-universe.yaml" -o short --jobs 2 --set input.file=out/box32.hdf5 \
   --set animation.frames=48 --set image.width=256 --set image.height=135 --set psf.fwhm=1 2>err.txt ||
   fail "short run: $(cat err.txt)"
-"$py" - short/dark-universe_00*.fits <<'EOT' || fail "the light jumps between frames of the short run"
-import sys
-import numpy as np
-from astropy.io import fits
-def solid_angles(w, h, fov_deg):
-    f = 0.5 * max(w, h) / np.tan(np.radians(fov_deg) / 2)
-    X, Y = np.meshgrid(np.arange(w + 1) - 0.5 * w, np.arange(h + 1) - 0.5 * h)
-    F = np.arctan(X * Y / (f * np.sqrt(f * f + X * X + Y * Y)))
-    return F[1:, 1:] - F[1:, :-1] - F[:-1, 1:] + F[:-1, :-1]
-lights = []
-for path in sys.argv[1:]:
-    h = fits.getheader(path)
-    lights.append((fits.getdata(path).astype(np.float64) * solid_angles(h["NAXIS1"], h["NAXIS2"], h["FOV"])).sum())
-change = np.abs(np.diff(lights) / lights[:-1])
-print(f"{len(lights)} frames: light {min(lights):.4g} to {max(lights):.4g}; largest change {100 * change.max():.2f} %")
-sys.exit(0 if len(lights) == 48 and min(lights) > 0 and change.max() <= 0.05 else 1)
-EOT
+"$py" "$SRC/scripts/frame_light.py" --max-change 0.05 short/dark-universe_00*.fits >light.txt ||
+  fail "the light jumps between frames of the short run: $(tail -1 light.txt)"
+tail -1 light.txt
+grep -q "^48 frames" light.txt || fail "not 48 frames: $(tail -1 light.txt)"
 
 expect_fail 2 "colour.tint.t: expected a number or run, got .*walk" none -- render "$SRC/configs/dark-universe.yaml" \
   --set input.file=out/box.hdf5 --set colour.tint.t=walk
