@@ -551,10 +551,10 @@ static void count_faded(const view_state *v, const float *const *wsrcs, size_t i
 
 /* Gathers the view's particles of c[start, end) into the block, moved by
  * shift (a periodic box's copy; fading: across its sphere, so each weight
- * tapers with the distance from the camera) and into the camera frame, their smoothing
- * lengths from the neighbours' starting at lengths_next; returns how many,
- * or -1 (err set) on a bad particle when the scene says to fail. What it
- * counts goes into *t. The observer particle is left out, and with
+ * tapers with the distance from the camera) and into the camera frame,
+ * their smoothing lengths from the neighbours' starting at lengths_next;
+ * returns how many, or -1 (err set) on a bad particle when the scene says
+ * to fail. What it counts goes into *t. The observer particle is left out, and with
  * observer.dim or camera.dim weights fall off as 1/r^2 from the camera. */
 static long gather_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wsrcs,
                          size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
