@@ -81,8 +81,8 @@ static void print_report(const orr_render_report *r, const char *view, double se
                "separation, horizontally)\n",
                (unsigned long long)r->n_stereo_skipped);
     if (r->n_replicas)
-        printf("  periodic box drawn %d times; out of view, skipped whole: %llu chunk copies; skipped: %llu of "
-               "%llu blocks (%.1f %%, counted as not drawn)\n",
+        printf("  periodic box drawn %d times; out of view or beyond the radius, skipped whole: %llu chunk copies; "
+               "skipped: %llu of %llu blocks (%.1f %%, counted as not drawn)\n",
                r->n_replicas, (unsigned long long)r->n_replicas_culled, (unsigned long long)r->n_blocks_culled,
                (unsigned long long)r->n_blocks, r->n_blocks ? 100.0 * r->n_blocks_culled / r->n_blocks : 0.0);
     if (r->has_sky_frame)

@@ -34,6 +34,70 @@ orr_status orr_replicas_place(orr_replicas *r, double box, int per_axis, int aro
     return ORR_OK;
 }
 
+orr_status orr_replica_sphere_resolve(orr_replica_sphere *sp, double box, int per_axis, double radius, double fade,
+                                      orr_error *err)
+{
+    /* The copies reach half per-axis-less-one box sides beyond the middle
+     * copy's faces: that far from a camera anywhere inside it. */
+    const double reach = 0.5 * (per_axis - 1) * box;
+    sp->radius = sp->fade = 0;
+    sp->camera = orr_v3(0, 0, 0);
+    if (radius != 0 && !(radius > 0 && isfinite(radius)))
+        return orr_fail(err, ORR_ERR_USAGE, "input.periodic.radius is %g; it must be a positive number", radius);
+    if (radius > reach)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "input.periodic.radius %g is larger than the replicated volume allows: %d copies a side of "
+                        "a box of %g reach %g from the camera in every direction; lower the radius or raise "
+                        "input.periodic.replicas",
+                        radius, per_axis, box, reach);
+    if (radius == 0)
+        radius = reach;
+    if (isnan(fade) || isinf(fade))
+        return orr_fail(err, ORR_ERR_USAGE, "input.periodic.fade is %g; it must be a number from 0 to the radius",
+                        fade);
+    if (fade < 0)
+        fade = 0.25 * radius;
+    if (fade > radius)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "input.periodic.fade %g is wider than the radius %g (input.periodic.radius): the taper runs "
+                        "from radius - fade to the radius",
+                        fade, radius);
+    sp->radius = radius;
+    sp->fade = fade;
+    return ORR_OK;
+}
+
+orr_sphere_place orr_replica_sphere_box(const orr_replica_sphere *sp, orr_vec3 lo, orr_vec3 hi, orr_vec3 offset)
+{
+    const double c[3] = {sp->camera.x, sp->camera.y, sp->camera.z};
+    const double a[3] = {lo.x + offset.x, lo.y + offset.y, lo.z + offset.z};
+    const double b[3] = {hi.x + offset.x, hi.y + offset.y, hi.z + offset.z};
+    double near2 = 0, far2 = 0, size2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double below = a[k] - c[k], above = c[k] - b[k];
+        double gap = below > 0 ? below : above > 0 ? above : 0;
+        double far = fmax(fabs(c[k] - a[k]), fabs(c[k] - b[k]));
+        near2 += gap * gap;
+        far2 += far * far;
+        size2 += (b[k] - a[k]) * (b[k] - a[k]);
+    }
+    const double slack = 1e-5 * (sqrt(far2) + sqrt(size2));
+    if (sqrt(near2) > sp->radius + slack)
+        return ORR_SPHERE_BEYOND;
+    if (sqrt(far2) < sp->radius - sp->fade - slack)
+        return ORR_SPHERE_INSIDE;
+    return ORR_SPHERE_ACROSS;
+}
+
+void orr_replicas_keep_sphere(orr_replicas *r, double box, const orr_replica_sphere *sp)
+{
+    int kept = 0;
+    for (int k = 0; k < r->n; k++)
+        if (orr_replica_sphere_box(sp, orr_v3(0, 0, 0), orr_v3(box, box, box), r->offset[k]) != ORR_SPHERE_BEYOND)
+            r->offset[kept++] = r->offset[k];
+    r->n = kept;
+}
+
 /* A camera-frame half-space n . q + d >= 0 (q = R (p - c)) as a world one:
  * (R^T n) . p + d - (R^T n) . c >= 0. */
 static void add_plane(orr_view_cull *vc, const orr_mat3 *world_to_camera, orr_vec3 camera, orr_vec3 n, double d,

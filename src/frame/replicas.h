@@ -28,6 +28,36 @@ typedef struct orr_replicas {
 orr_status orr_replicas_place(orr_replicas *r, double box, int per_axis, int around_camera, orr_vec3 camera,
                               orr_error *err);
 
+/* centre: camera draws each particle at its images within a sphere around
+ * the camera, the sphere moving with it (docs/periodic.md): no copy appears
+ * or vanishes at once as the camera crosses a face. Weights taper smoothly
+ * from 1 at radius - fade to 0 at radius, so structure entering the sphere
+ * fades in. radius 0: inactive (centre: origin). */
+typedef struct orr_replica_sphere {
+    double radius, fade;
+    orr_vec3 camera;
+} orr_replica_sphere;
+
+/* The sphere's radius and fade width for a box of side box drawn with
+ * per_axis copies a side: radius 0 takes the default, (per_axis - 1) / 2
+ * box sides (as far as the copies reach from anywhere in the middle one);
+ * fade < 0 takes the default, a quarter of the radius. An error naming
+ * input.periodic.radius or .fade when the radius is beyond that reach, or
+ * the fade wider than the radius. */
+orr_status orr_replica_sphere_resolve(orr_replica_sphere *sp, double box, int per_axis, double radius, double fade,
+                                      orr_error *err);
+
+/* Where a box [lo, hi] shifted by offset lies against the sphere: wholly
+ * inside radius - fade (weights untouched), wholly beyond the radius
+ * (nothing drawn), or across (each particle weighed). Conservative by a
+ * relative 1e-5, for the renderer measures distances in float. */
+typedef enum { ORR_SPHERE_INSIDE, ORR_SPHERE_ACROSS, ORR_SPHERE_BEYOND } orr_sphere_place;
+orr_sphere_place orr_replica_sphere_box(const orr_replica_sphere *sp, orr_vec3 lo, orr_vec3 hi, orr_vec3 offset);
+
+/* Keeps of r's copies those whose cell [0, box)^3 + offset reaches into
+ * the sphere (the middle copy stays first when kept). */
+void orr_replicas_keep_sphere(orr_replicas *r, double box, const orr_replica_sphere *sp);
+
 /* A view's visible region as half-spaces in world coordinates: a point p is
  * inside when n . p + d >= 0 for every plane. Perspective: the four sides
  * of the frustum and the near plane; orthographic: the four sides of the

@@ -7,11 +7,17 @@
 #ifndef ORR_RENDER_CAMERA_TRANSFORM_H
 #define ORR_RENDER_CAMERA_TRANSFORM_H
 
+#include <math.h>
+
 typedef struct orr_camera_transform {
     double ox, oy, oz; /* the camera's position, less a periodic copy's shift */
     float r[3][3];     /* world to camera */
     int dim;           /* weights fall off as 1/r^2 from the camera (observer.dim, camera.dim) */
     float near2;       /* ... but no faster than at this distance, squared */
+    /* A periodic box's sphere around the camera (input.periodic.radius,
+     * .fade): weights taper from 1 at distance inner to 0 at outer. */
+    int fade;
+    float inner, outer, inner2, outer2;
 } orr_camera_transform;
 
 /* A point in the camera frame, and its distance from the camera squared. */
@@ -32,6 +38,20 @@ static inline orr_camera_point orr_to_camera(const orr_camera_transform *t, floa
 static inline float orr_camera_dimming(const orr_camera_transform *t, float r2)
 {
     return 1.0f / (r2 > t->near2 ? r2 : t->near2);
+}
+
+/* The taper of a point at distance^2 r2: 1 up to inner, 0 from outer on,
+ * between them the smoothstep s^2 (3 - 2 s) of s = (outer - r) / (outer -
+ * inner), whose slope is 0 at both ends: a knot entering the sphere
+ * brightens gradually, with no kink in the light curve. */
+static inline float orr_camera_fade(const orr_camera_transform *t, float r2)
+{
+    if (r2 <= t->inner2)
+        return 1.0f;
+    if (r2 >= t->outer2)
+        return 0.0f;
+    float s = (t->outer - sqrtf(r2)) / (t->outer - t->inner);
+    return s * s * (3.0f - 2.0f * s);
 }
 
 #endif

@@ -49,6 +49,23 @@ orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info
                     s->path, s->periodic_replicas, info->path);
 }
 
+/* The copies: n^3 around the box itself, or around the camera's copy,
+ * and then only those reaching into the camera's sphere. */
+static orr_status place_copies(orr_periodic_view *pv, const orr_scene *s, orr_vec3 camera, orr_error *err)
+{
+    orr_status st = orr_replicas_place(&pv->replicas, pv->box, s->periodic_replicas, s->periodic_around_camera,
+                                       camera, err);
+    if (st || !s->periodic_around_camera)
+        return st;
+    st = orr_replica_sphere_resolve(&pv->sphere, pv->box, s->periodic_replicas, s->periodic_radius,
+                                    s->has_periodic_fade ? s->periodic_fade : -1, err);
+    if (st)
+        return st;
+    pv->sphere.camera = camera;
+    orr_replicas_keep_sphere(&pv->replicas, pv->box, &pv->sphere);
+    return ORR_OK;
+}
+
 orr_status orr_periodic_view_setup(orr_periodic_view *pv, const orr_scene *s, const orr_source_info *info,
                                    const orr_projection *p, const orr_camera *cam, int can_cull, orr_error *err)
 {
@@ -56,13 +73,15 @@ orr_status orr_periodic_view_setup(orr_periodic_view *pv, const orr_scene *s, co
     if (s->periodic_replicas <= 1)
         return ORR_OK;
     orr_status st = orr_periodic_box_side(s, info, &pv->box, err);
-    if (!st && (st = orr_replicas_place(&pv->replicas, pv->box, s->periodic_replicas, s->periodic_around_camera,
-                                        cam->position, err)))
+    if (!st && (st = place_copies(pv, s, cam->position, err)))
         orr_fail_prefix(err, "%s: ", s->path);
     if (st)
         return st;
     const char *off = getenv("ORRERY_NO_CULL");
     pv->active = 1;
+    /* A copy or block beyond the sphere draws nothing however particles are
+     * drawn (their weights are 0 there), so it is skipped unless told not. */
+    pv->cull_sphere = pv->sphere.radius > 0 && !(off && strcmp(off, "1") == 0);
     pv->cull = can_cull && !(off && strcmp(off, "1") == 0);
     orr_view_cull_setup(&pv->view, p, cam, CULL_MARGIN_PIXELS);
     pv->cull = pv->cull && pv->view.active;

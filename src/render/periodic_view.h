@@ -14,9 +14,11 @@
 typedef struct orr_periodic_view {
     int active;   /* input.periodic.replicas > 1 */
     int cull;     /* copies and blocks out of view are skipped */
+    int cull_sphere; /* ... and those beyond the sphere of centre: camera */
     double box;   /* the box side used */
     orr_replicas replicas;
     orr_view_cull view;
+    orr_replica_sphere sphere; /* centre: camera: the images within it are drawn (radius 0: all, centre: origin) */
 } orr_periodic_view;
 
 /* The side of the scene's box: input.periodic.box, or else the file's
@@ -24,7 +26,8 @@ typedef struct orr_periodic_view {
  * file when neither gives one. */
 orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info, double *box, orr_error *err);
 
-/* Sets up a view's copies around its camera. can_cull is 0 when particles
+/* Sets up a view's copies around its camera: with centre: camera, those
+ * whose cell reaches into the sphere of input.periodic.radius. can_cull is 0 when particles
  * may be drawn away from where they are (omni-directional stereo, a sky
  * map's PSF widening, observer.dim's weights): then nothing is skipped.
  * The environment variable ORRERY_NO_CULL=1 turns skipping off too (to

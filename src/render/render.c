@@ -420,11 +420,21 @@ static int block_all_finite(const orr_chunk *c, const float *wsrc, size_t start,
            all_finite(wsrc, start, end);
 }
 
-static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift)
+/* The camera transform of a copy moved by shift; fading: the weights
+ * taper within the periodic sphere (the copy's block is across it). */
+static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift, int fading)
 {
     const orr_scene *s = v->scene;
     const orr_vec3 origin = orr_v3_sub(v->rep->camera.position, shift); /* p + shift - camera */
-    orr_camera_transform t = {origin.x, origin.y, origin.z, {{0}}, 0, 0};
+    orr_camera_transform t = {.ox = origin.x, .oy = origin.y, .oz = origin.z};
+    if (fading) {
+        const orr_replica_sphere *sp = &v->periodic.sphere;
+        t.fade = 1;
+        t.outer = (float)sp->radius;
+        t.inner = (float)(sp->radius - sp->fade);
+        t.inner2 = t.inner * t.inner;
+        t.outer2 = t.outer * t.outer;
+    }
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++)
             t.r[a][b] = (float)v->world_to_camera.m[a][b];
@@ -527,26 +537,43 @@ static int ngp_gather_all(const view_state *v, const orr_chunk *c, const float *
     return 1;
 }
 
+/* The weight a periodic sphere's taper takes from particle i (fade < 1),
+ * counted as not drawn, so that what is drawn, falls off and is not drawn
+ * still adds up to every copy's weight; a particle beyond the radius
+ * (fade 0) is not drawn at all. */
+static void count_faded(const view_state *v, const float *const *wsrcs, size_t i, float dimming, float fade,
+                        block_tally *t)
+{
+    for (int k = 0; k < v->nplanes && k < 2; k++) {
+        t->deposit[k].culled += (double)wsrcs[k][i] * dimming * (1.0f - fade);
+        if (fade == 0.0f) {
+            t->deposit[k].n_culled++;
+            t->deposit[k].n_particles++;
+        }
+    }
+}
+
 /* Gathers the view's particles of c[start, end) into the block, moved by
- * shift (a periodic box's copy) and into the camera frame, their smoothing
- * lengths from the neighbours' starting at lengths_next; returns how many,
- * or -1 (err set) on a bad particle when the scene says to fail. What it
- * counts goes into *t. The observer particle is left out, and with
+ * shift (a periodic box's copy; fading: across its sphere, so each weight
+ * tapers with the distance from the camera) and into the camera frame,
+ * their smoothing lengths from the neighbours' starting at lengths_next;
+ * returns how many, or -1 (err set) on a bad particle when the scene says
+ * to fail. What it counts goes into *t. The observer particle is left out, and with
  * observer.dim or camera.dim weights fall off as 1/r^2 from the camera. */
 static long gather_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wsrcs,
-                         size_t start, size_t end, orr_vec3 shift, size_t lengths_next, block_buffers *b,
-                         block_tally *t, orr_error *err)
+                         size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
+                         block_buffers *b, block_tally *t, orr_error *err)
 {
     /* Checked for finiteness: the weight, or with colour Z, the last plane
      * (orr_population_assign already refuses a luminance or colour that is
      * not finite, so a particle's X, Y and Z are finite together) */
     const float *wsrc = wsrcs[v->nplanes - 1];
     const orr_scene *s = v->scene;
-    const orr_camera_transform tf = transform_of(v, shift);
+    const orr_camera_transform tf = transform_of(v, shift, fading);
     for (int k = 0; k < 3; k++)
         b->wp[k] = b->w[k];
     b->indexed = 0;
-    if (block_selects_all(v, c, start, end)) {
+    if (!fading && block_selects_all(v, c, start, end)) {
         if (v->ngp_fused && ngp_gather_all(v, c, wsrcs, start, end, &tf, b)) {
             t->n_selected += end - start;
             return (long)(end - start);
@@ -578,12 +605,17 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
             continue;
         }
         orr_camera_point p = orr_to_camera(&tf, c->x[i], c->y[i], c->z[i]);
+        float dimming = tf.dim ? orr_camera_dimming(&tf, p.r2) : 1.0f;
+        float fade = tf.fade ? orr_camera_fade(&tf, p.r2) : 1.0f;
+        if (fade < 1.0f)
+            count_faded(v, wsrcs, i, dimming, fade, t);
+        if (fade == 0.0f)
+            continue;
         b->x[n] = p.x;
         b->y[n] = p.y;
         b->z[n] = p.z;
-        float dimming = tf.dim ? orr_camera_dimming(&tf, p.r2) : 1.0f;
         for (int k = 0; k < v->nplanes; k++)
-            b->w[k][n] = wsrcs[k][i] * dimming;
+            b->w[k][n] = wsrcs[k][i] * dimming * fade;
         b->h[n] = h;
         n++;
     }
@@ -594,10 +626,10 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
  * projects them: positions in pixels and what the projection (and an eye
  * of omni-directional stereo) draws. Returns how many, or -1 (err set). */
 static long project_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
-                          size_t start, size_t end, orr_vec3 shift, size_t lengths_next, block_buffers *b,
-                          block_tally *t, orr_error *err)
+                          size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
+                          block_buffers *b, block_tally *t, orr_error *err)
 {
-    long n = gather_block(v, src, c, wts, start, end, shift, lengths_next, b, t, err);
+    long n = gather_block(v, src, c, wts, start, end, shift, fading, lengths_next, b, t, err);
     if (n < 0 || b->indexed)
         return n;
     if (v->use_ods)
@@ -797,7 +829,7 @@ static long take_block(const view_state *v, const orr_source *src, const orr_chu
     size_t start = blk * BLOCK, end = start + BLOCK < c->n ? start + BLOCK : c->n;
     *t = &w->tally[blk];
     memset(*t, 0, sizeof **t);
-    long n = project_block(v, src, c, wts, start, end, orr_v3(0, 0, 0), w->lengths_first[blk], b, *t,
+    long n = project_block(v, src, c, wts, start, end, orr_v3(0, 0, 0), 0, w->lengths_first[blk], b, *t,
                            &w->lane_err[k]);
     if (n < 0)
         w->failed[k] = blk;
@@ -993,15 +1025,16 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
 /* ---- periodic boxes ---- */
 
 /* Gathers, projects and deposits particles [start, end) of c, moved by
- * shift, into the view's own planes, starting at smoothing length
- * lengths_next; what the block added goes into the report. */
+ * shift (fading: across the copies' sphere), into the view's own planes,
+ * starting at smoothing length lengths_next; what the block added goes
+ * into the report. */
 static orr_status draw_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *w,
-                             size_t start, size_t end, orr_vec3 shift, size_t lengths_next, block_buffers *b,
-                             orr_error *err)
+                             size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
+                             block_buffers *b, orr_error *err)
 {
     block_tally t;
     memset(&t, 0, sizeof t);
-    long n = project_block(v, src, c, w, start, end, shift, lengths_next, b, &t, err);
+    long n = project_block(v, src, c, w, start, end, shift, fading, lengths_next, b, &t, err);
     if (n < 0)
         return err ? err->code : ORR_ERR_DATA;
     deposit_block(v, v->planes, 0, (size_t)n, b, &t);
@@ -1020,6 +1053,27 @@ static void count_culled(view_state *v, const orr_block_summary *sum)
         d[k]->n_culled += sum->n;
         d[k]->n_particles += sum->n;
     }
+}
+
+/* Whether a copy (by shift) of the particles summarised in sum is skipped
+ * whole: beyond the periodic sphere, or out of view. (Never with a
+ * particle the gather must see, nor with culling off.) */
+static int copy_skipped(const orr_periodic_view *pv, const orr_block_summary *sum, orr_vec3 shift)
+{
+    if (sum->must_gather)
+        return 0;
+    if (pv->cull_sphere && orr_replica_sphere_box(&pv->sphere, sum->lo, sum->hi, shift) == ORR_SPHERE_BEYOND)
+        return 1;
+    return pv->cull && orr_view_cull_box(&pv->view, sum->lo, sum->hi, shift, sum->radius);
+}
+
+/* Whether a drawn copy of a block has particles in the sphere's taper or
+ * beyond it, so that each is weighed by its distance (else it is drawn
+ * whole, on the fast path). */
+static int copy_fades(const orr_periodic_view *pv, const orr_block_summary *sum, orr_vec3 shift)
+{
+    return pv->sphere.radius > 0 && (sum->must_gather || sum->n == 0 ||
+                                     orr_replica_sphere_box(&pv->sphere, sum->lo, sum->hi, shift) != ORR_SPHERE_INSIDE);
 }
 
 /* A periodic box: the chunk drawn once per copy of the box. Each block is
@@ -1048,7 +1102,7 @@ static orr_status splat_chunk_periodic(view_state *v, const orr_source *src, con
     for (int r = 0; r < pv->replicas.n && !st; r++) {
         const orr_vec3 shift = pv->replicas.offset[r];
         v->rep->n_blocks += nblocks;
-        if (pv->cull && !whole.must_gather && orr_view_cull_box(&pv->view, whole.lo, whole.hi, shift, whole.radius)) {
+        if (copy_skipped(pv, &whole, shift)) {
             count_culled(v, &whole);
             v->rep->n_replicas_culled++;
             v->rep->n_blocks_culled += nblocks;
@@ -1057,12 +1111,11 @@ static orr_status splat_chunk_periodic(view_state *v, const orr_source *src, con
         size_t next = first_length; /* every copy takes the same lengths */
         for (size_t q = 0; q < nblocks && !st; q++) {
             size_t end = (q + 1) * BLOCK < c->n ? (q + 1) * BLOCK : c->n;
-            if (pv->cull && !sum[q].must_gather &&
-                orr_view_cull_box(&pv->view, sum[q].lo, sum[q].hi, shift, sum[q].radius)) {
+            if (copy_skipped(pv, &sum[q], shift)) {
                 count_culled(v, &sum[q]);
                 v->rep->n_blocks_culled++;
             } else {
-                st = draw_block(v, src, c, w, q * BLOCK, end, shift, next, b, err);
+                st = draw_block(v, src, c, w, q * BLOCK, end, shift, copy_fades(pv, &sum[q], shift), next, b, err);
             }
             next += sum[q].lengths_used;
         }

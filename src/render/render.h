@@ -28,9 +28,11 @@ typedef struct orr_render_report {
                                   * (counted in deposit.n_culled too) */
     int n_replicas;              /* input.periodic: copies of the box drawn (0 when not periodic);
                                   * n_selected and deposit count every copy */
-    uint64_t n_replicas_culled;  /* copies of a chunk skipped whole, out of view (chunks x copies) */
+    uint64_t n_replicas_culled;  /* copies of a chunk skipped whole, out of view or beyond input.periodic.radius
+                                  * (chunks x copies) */
     uint64_t n_blocks;           /* blocks of particles offered (blocks x copies, periodic only) */
-    uint64_t n_blocks_culled;    /* of those, skipped out of view (whole copies' blocks included) */
+    uint64_t n_blocks_culled;    /* of those, skipped out of view or beyond the radius (whole copies' blocks
+                                  * included) */
     orr_deposit_stats deposit;   /* weights deposited, off the image, culled (with colour: of X) */
     orr_deposit_stats deposit_y; /* with colour: the same for Y, the luminance */
     double sim_time;

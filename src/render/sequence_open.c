@@ -1,6 +1,33 @@
 #include "render/sequence_open.h"
 
+#include <stdio.h>
 #include <stdlib.h>
+
+#include "render/periodic_view.h"
+
+/* The side of a periodic box whose snapshots wrap: input.periodic.box, or
+ * with copies (input.periodic.replicas) and box auto the first snapshot's
+ * BoxSize; 0 when the scene does not say the box is periodic. */
+static orr_status sequence_box(const orr_scene *s, double *box, orr_error *err)
+{
+    *box = s->periodic_box;
+    if (s->periodic_box > 0 || s->periodic_replicas <= 1)
+        return ORR_OK;
+    char first[ORR_PATH_MAX];
+    orr_status st = s->seq_pattern[0] ? orr_sequence_pattern_path(s->seq_pattern, (long)s->seq_first, first,
+                                                                   sizeof first, err)
+                                      : ORR_OK;
+    if (!s->seq_pattern[0])
+        snprintf(first, sizeof first, "%s", orr_scene_sequence_file(s, 0));
+    orr_source_options o = {.format = s->input_format, .chunk_size = 1};
+    orr_source *src = NULL;
+    if (!st)
+        st = orr_source_open_file(first, &o, &src, err);
+    if (!st)
+        st = orr_periodic_box_side(s, &src->info, box, err);
+    orr_source_close(src);
+    return st;
+}
 
 orr_status orr_sequence_open_scene(const orr_scene *s, const char *const *fields, int nfields, orr_sequence **out,
                                    orr_error *err)
@@ -19,7 +46,11 @@ orr_status orr_sequence_open_scene(const orr_scene *s, const char *const *fields
         .interpolation = s->seq_interpolation,
         .max_memory = s->seq_max_memory * 1024.0 * 1024.0 * 1024.0,
     };
-    orr_status st;
+    orr_status st = sequence_box(s, &opt.box, err);
+    if (st) {
+        orr_fail_prefix(err, "%s: ", s->path);
+        return st;
+    }
     if (s->seq_pattern[0]) {
         st = orr_sequence_open_pattern(s->seq_pattern, (long)s->seq_first, (long)s->seq_last, (long)s->seq_step,
                                        &opt, out, err);

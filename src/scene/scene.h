@@ -66,6 +66,10 @@ typedef struct orr_scene {
     double periodic_box;           /* input.periodic.box: the box side (0 = auto: the file's BoxSize) */
     int periodic_replicas;         /* input.periodic.replicas: copies per axis, odd (default 1 = off) */
     int periodic_around_camera;    /* input.periodic.centre: camera (1, default) | origin (0) */
+    double periodic_radius;        /* input.periodic.radius: centre camera draws the images within it
+                                    * (0 = auto: (replicas - 1) / 2 box sides) */
+    double periodic_fade;          /* input.periodic.fade: the width of the taper inside the radius */
+    int has_periodic_fade;         /* ... given (else a quarter of the radius) */
     int insitu;                    /* input.insitu: the particles come from a running simulation
                                     * through orrery.h, which sets it; input.file and input.model.*
                                     * are then optional and unused (default false) */

@@ -7,6 +7,7 @@
 #include <strings.h>
 
 #include "core/digest.h"
+#include "frame/replicas.h"
 
 #include "scene/scene_bind.h"
 #include "scene/scene_dome.h"
@@ -64,6 +65,40 @@ static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_erro
     return has_model ? check_model_keys(s, m, err) : ORR_OK;
 }
 
+/* The sphere of centre: camera (input.periodic.radius, .fade): only there,
+ * only with copies, and when the box side is given, within the copies'
+ * reach (else the render checks it against the file's BoxSize). */
+static orr_status check_periodic_sphere(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    static const char *const keys[] = {"input.periodic.radius", "input.periodic.fade"};
+    for (int k = 0; k < 2; k++) {
+        if (!scene_mark(m, keys[k]))
+            continue;
+        if (!s->periodic_around_camera)
+            return scene_fail_key(s, m, keys[k], err,
+                                  "%s applies to input.periodic.centre: camera (the images within a sphere "
+                                  "around the camera), but the centre is origin",
+                                  keys[k]);
+        if (s->periodic_replicas < 3)
+            return scene_fail_key(s, m, keys[k], err,
+                                  "%s needs copies of the box around the camera: set input.periodic.replicas to "
+                                  "3 or more (it is %d)",
+                                  keys[k], s->periodic_replicas);
+    }
+    if (!s->periodic_around_camera || s->periodic_replicas < 3)
+        return ORR_OK;
+    /* The box's side stands in for an unknown one: a radius or fade that
+     * fails now fails whatever the side. */
+    orr_replica_sphere sp;
+    orr_error why;
+    double box = s->periodic_box > 0 ? s->periodic_box : HUGE_VAL;
+    if (orr_replica_sphere_resolve(&sp, box, s->periodic_replicas, s->periodic_radius,
+                                   s->has_periodic_fade ? s->periodic_fade : -1, &why) == ORR_OK)
+        return ORR_OK;
+    const char *key = strstr(why.msg, "input.periodic.fade") == why.msg ? keys[1] : keys[0];
+    return scene_fail_key(s, m, key, err, "%s", why.msg);
+}
+
 /* Replicas sit symmetrically around a middle one: an odd count per axis. */
 static orr_status check_periodic(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
@@ -72,7 +107,7 @@ static orr_status check_periodic(const orr_scene *s, const scene_marks *m, orr_e
                               "input.periodic.replicas is %d; it must be odd (1, 3, 5, ...): copies of the box "
                               "sit symmetrically around the middle one",
                               s->periodic_replicas);
-    return ORR_OK;
+    return check_periodic_sphere(s, m, err);
 }
 
 /* The pattern: one integer conversion, and a range of at least 2 files. */

@@ -282,6 +282,9 @@ orr_status orr_sequence_open(const char *const *paths, int npaths, const orr_seq
     *out = NULL;
     if (npaths < 2)
         return orr_fail(err, ORR_ERR_USAGE, "sequence: needs at least 2 snapshots, got %d", npaths);
+    if (!(opt->box >= 0 && isfinite(opt->box)))
+        return orr_fail(err, ORR_ERR_USAGE, "sequence: the periodic box's side is %g; it must be a positive number "
+                        "(or 0: not periodic)", opt->box);
     orr_sequence *seq = orr_calloc(1, sizeof *seq, "a snapshot sequence", err);
     if (!seq)
         return ORR_ERR_NOMEM;
@@ -647,23 +650,43 @@ static void hermite_basis(double s, double h[4])
     h[3] = s3 - s2;             /* h11: dt v1 */
 }
 
+/* The later position x1 of a particle at x0 before, as seen from x0: in a
+ * periodic box (box > 0) its nearest image, so that a particle that wrapped
+ * through a face is interpolated through that face. */
+static double later_image(double x0, double x1, double box)
+{
+    return box > 0 ? x0 + (x1 - x0) - box * round((x1 - x0) / box) : x1;
+}
+
+/* An interpolated coordinate back into [0, box) (box > 0), where the
+ * snapshots keep their particles, and to float. */
+static float wrap_coordinate(double x, double box)
+{
+    if (!(box > 0))
+        return (float)x;
+    float f = (float)(x - box * floor(x / box));
+    return f < (float)box ? f : 0.0f; /* x a hair below a multiple of box rounds up to it */
+}
+
 /* Writes particle (i of a, j of b) into slot k of the chunk. */
 static void emit_pair(const seq_cursor *cur, orr_chunk *c, size_t k, size_t i, size_t j)
 {
     const snapshot *a = cur->a, *b = cur->b;
     const float *pa[3] = {a->x, a->y, a->z}, *pb[3] = {b->x, b->y, b->z};
     float *out[3] = {c->x, c->y, c->z};
-    const double s = cur->s;
-    if (cur->hermite) {
-        double h[4];
+    const double s = cur->s, box = cur->seq->opt.box;
+    double h[4];
+    if (cur->hermite)
         hermite_basis(s, h);
-        for (int d = 0; d < 3; d++) {
-            double v0 = a->extra[a->vel[d]][i], v1 = b->extra[b->vel[d]][j];
-            out[d][k] = (float)(h[0] * pa[d][i] + h[1] * cur->dt * v0 + h[2] * pb[d][j] + h[3] * cur->dt * v1);
-        }
-    } else {
-        for (int d = 0; d < 3; d++)
-            out[d][k] = (float)((1 - s) * pa[d][i] + s * pb[d][j]);
+    for (int d = 0; d < 3; d++) {
+        const double x0 = pa[d][i], x1 = later_image(x0, pb[d][j], box);
+        double x;
+        if (cur->hermite)
+            x = h[0] * x0 + h[1] * cur->dt * a->extra[a->vel[d]][i] + h[2] * x1 +
+                h[3] * cur->dt * b->extra[b->vel[d]][j];
+        else
+            x = (1 - s) * x0 + s * x1;
+        out[d][k] = wrap_coordinate(x, box);
     }
     if (c->h)
         c->h[k] = (float)((1 - s) * a->h[i] + s * b->h[j]);
@@ -834,6 +857,8 @@ static orr_status make_source(orr_sequence *seq, seq_cursor *proto, double time,
         names[e] = info->extra_names[e];
     }
     orr_source_add_header(info, "snapshots", "%d, times %.17g to %.17g", seq->n, seq->times[0], seq->times[seq->n - 1]);
+    if (seq->opt.box > 0)
+        orr_source_add_header(info, "BoxSize", "%.17g", seq->opt.box);
     orr_source_add_header(info, "earlier", "%s", seq->paths[a->index]);
     if (b) {
         orr_source_add_header(info, "later", "%s", seq->paths[b->index]);

@@ -34,6 +34,12 @@ typedef struct orr_sequence_options {
     orr_source_options source;
     orr_interpolation interpolation;
     double max_memory; /* bytes two resident snapshots may take; 0: the default */
+    /* A periodic box's side (0: not periodic). A particle that leaves
+     * through one face and comes back through the opposite one between two
+     * snapshots moves by the shortest displacement (the minimum image),
+     * through the face, not back across the box; interpolated positions are
+     * wrapped into [0, box). The sources carry it as a BoxSize header. */
+    double box;
 } orr_sequence_options;
 
 typedef struct orr_sequence_stats {
@@ -82,7 +88,8 @@ size_t orr_sequence_bytes_per_particle(const orr_sequence *seq);
 /* A source yielding the particles at simulation time `time` (in id order),
  * in chunks of opt->source.chunk_size. At a snapshot's own time: that
  * snapshot's particles, bit for bit. Between two: the particles present in
- * both, interpolated; the rest are dropped and counted in the stats. Mass,
+ * both, interpolated (through the faces of a periodic box, opt->box); the
+ * rest are dropped and counted in the stats. Mass,
  * type and extra fields are the earlier snapshot's; h is interpolated
  * linearly. A time outside the sequence is an error.
  * The source reads memory the sequence owns: it stays valid until the next

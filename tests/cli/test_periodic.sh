@@ -24,9 +24,11 @@ fi
 for f in 0000 0001 0002; do
   [ -s out/fly_$f.fits ] && [ -s out/fly_$f.png ] || fail "frame $f not written"
 done
-grep -q "periodic box drawn 27 times" log.txt || fail "no periodic line in the report: $(cat log.txt)"
-# Frame 0 sits at x = 5000 of a 50000 box: the copies x < 0 and x > 50000
-# around it; looking along +x the three copies behind go whole at least.
+# Frame 0 sits at (5000, 26000, 24000) in a 50000 box: of the 27 copies
+# around it, the 19 whose cell comes within the sphere's radius (one box
+# side, the default with 3 copies) are drawn; looking along +x the copies
+# behind (x < 0) go whole at least.
+grep -q "periodic box drawn 19 times" log.txt || fail "no periodic line in the report: $(cat log.txt)"
 skipped=$(awk '/periodic box drawn/ { for (i = 1; i <= NF; i++) if ($i == "whole:") { print $(i + 1); exit } }' log.txt)
 [ "${skipped:-0}" -ge 9 ] || fail "expected at least 9 copies skipped whole, got '$skipped'"
 
@@ -41,13 +43,25 @@ import sys
 from astropy.io import fits
 a, b = (fits.getdata(p) for p in sys.argv[1:3])
 h = fits.getheader(sys.argv[1])
-ok = (a == b).all() and a.sum() > 0 and h["NREPLIC"] == 27 and h["PERBOX"] == 50000 and h["NBLKCULL"] > 0
+ok = (a == b).all() and a.sum() > 0 and h["NREPLIC"] == 19 and h["PERBOX"] == 50000 and h["NBLKCULL"] > 0
 sys.exit(0 if ok else 1)
 PY
 
 # Bad input names the key and what is wrong.
 expect_fail 2 "input.periodic.replicas.*odd" bad -- render fly.yaml --set input.periodic.replicas=4 -o bad
 expect_fail 2 "input.periodic.centre" bad -- render fly.yaml --set input.periodic.centre=middle -o bad
+# The sphere around the camera: within the copies' reach, its fade no
+# wider than it, numbers; nothing written.
+expect_fail 2 "input.periodic.radius 60000 is larger than the replicated volume allows" bad -- \
+  render fly.yaml --set input.periodic.radius=60000 -o bad
+expect_fail 2 "input.periodic.fade 30000 is wider than the radius 20000" bad -- \
+  render fly.yaml --set input.periodic.radius=20000 --set input.periodic.fade=30000 -o bad
+expect_fail 2 "input.periodic.fade 60000 is wider than the radius 50000" bad -- \
+  render fly.yaml --set input.periodic.fade=60000 -o bad
+expect_fail 2 "input.periodic.radius" bad -- render fly.yaml --set input.periodic.radius=nan -o bad
+expect_fail 2 "input.periodic.fade" bad -- render fly.yaml --set input.periodic.fade=nan -o bad
+expect_fail 2 "input.periodic.radius applies to input.periodic.centre: camera" bad -- \
+  render fly.yaml --set input.periodic.centre=origin --set input.periodic.radius=100 -o bad
 printf 'x y z mass\n1 2 3 1\n' >table.txt
 write_scene nobox.yaml table.txt
 sed -i 's|  file: table.txt|  file: table.txt\n  periodic: {replicas: 3}|' nobox.yaml

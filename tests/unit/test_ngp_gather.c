@@ -38,7 +38,7 @@ static void make_particles(particles *p, const orr_camera_transform *t)
 /* A rotation about an oblique axis, and the camera off the origin. */
 static orr_camera_transform make_transform(int dim)
 {
-    orr_camera_transform t = {100.25, -3.5, 7.0, {{0}}, dim, 0.01f};
+    orr_camera_transform t = {.ox = 100.25, .oy = -3.5, .oz = 7.0, .dim = dim, .near2 = 0.01f};
     double a = 0.7, c = cos(a), s = sin(a), u[3] = {0.48, 0.6, 0.64}; /* unit axis */
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {

@@ -1,6 +1,7 @@
 /* Snapshot sequences: interpolation in time against analytic trajectories,
  * matching by id, dropped and duplicate ids, the order of times, loads when
  * stepping forward, chunking, file patterns, and the input.sequence keys. */
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -696,6 +697,120 @@ static void test_open_from_scene(void)
     CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_ERR_USAGE);
 }
 
+/* ---- a periodic box ---- */
+
+/* Three particles in a box of side 10 between t = 0 and 1: id 100 leaves
+ * through x = 10 and comes back at x = 0.4 (+0.8), id 101 moves within the
+ * box (+0.5), id 102 leaves through x = 0 (-0.8); y and z stay. */
+static const char *write_wrap(const char *name, double t)
+{
+    static snap_def d;
+    memset(&d, 0, sizeof d);
+    const double x0[3] = {9.6, 5.0, 0.3}, v[3] = {0.8, 0.5, -0.8};
+    d.n = 3;
+    for (int i = 0; i < 3; i++) {
+        d.id[i] = 100 + (uint64_t)i;
+        d.mass[i] = 1;
+        double x = x0[i] + v[i] * t;
+        d.pos[i][0] = x - 10 * floor(x / 10);
+        d.pos[i][1] = 2 + i;
+        d.pos[i][2] = 7;
+        d.vel[i][0] = v[i];
+    }
+    gw_spec spec = {.snapformat = 2, .id64 = 1, .num_files = 1, .time = t, .box_size = 10};
+    spec.blocks = GW_ID | GW_VEL;
+    spec.npart[1] = d.n;
+    spec.npart_total[1] = (uint32_t)d.n;
+    const char *path = tmp_path(name);
+    CHECK(gw_write(path, &spec, particle_of, &d) == 0);
+    return path;
+}
+
+/* x of the three particles at t through seq. */
+static void wrap_xs(orr_sequence *seq, double t, double x[3])
+{
+    static gathered g;
+    orr_error err;
+    CHECK(gather(seq, t, &g, &err) == ORR_OK);
+    CHECK(g.n == 3);
+    for (int i = 0; i < 3; i++)
+        x[i] = g.n == 3 ? g.x[i] : NAN;
+}
+
+/* With the box's side known, a particle that wraps moves through the face
+ * (x from 9.6 to 10.4, taken back into [0, 10)), by linear and Hermite
+ * interpolation alike; without it, it is dragged back across the box. */
+static void test_periodic_wrap(void)
+{
+    const char *paths[] = {write_wrap("wrap_0.g2", 0), write_wrap("wrap_1.g2", 1)};
+    const orr_interpolation kinds[] = {ORR_INTERP_LINEAR, ORR_INTERP_HERMITE};
+    for (int k = 0; k < 2; k++) {
+        orr_sequence *seq = NULL;
+        orr_error err;
+        orr_sequence_options o = options(kinds[k], 1000);
+        o.box = 10;
+        CHECK(orr_sequence_open(paths, 2, &o, &seq, &err) == ORR_OK);
+        if (!seq)
+            return;
+        const double t[] = {0.25, 0.5, 0.75};
+        const double expect[3][3] = {{9.8, 5.125, 0.1}, {0.0, 5.25, 9.9}, {0.2, 5.375, 9.7}};
+        for (int q = 0; q < 3; q++) {
+            double x[3];
+            wrap_xs(seq, t[q], x);
+            for (int i = 0; i < 3; i++)
+                CHECK_NEAR(x[i], expect[q][i], 2e-6);
+        }
+        orr_source *src = NULL;
+        CHECK(orr_sequence_source_at(seq, 0.5, &src, &err) == ORR_OK);
+        int has_box = 0;
+        for (int h = 0; src && h < src->info.nheader; h++)
+            has_box |= strcmp(src->info.header[h].key, "BoxSize") == 0 && strcmp(src->info.header[h].value, "10") == 0;
+        CHECK(has_box);
+        orr_source_close(src);
+        orr_sequence_close(seq);
+    }
+    /* Not periodic: dragged through the middle of the box. */
+    orr_sequence *seq = NULL;
+    orr_error err;
+    orr_sequence_options o = options(ORR_INTERP_LINEAR, 1000);
+    CHECK(orr_sequence_open(paths, 2, &o, &seq, &err) == ORR_OK);
+    double x[3];
+    if (seq)
+        wrap_xs(seq, 0.5, x);
+    CHECK(seq && fabs(x[0] - 5.0) < 1e-5 && fabs(x[2] - 4.9) < 1e-5);
+    orr_sequence_close(seq);
+    o.box = -1;
+    CHECK(orr_sequence_open(paths, 2, &o, &seq, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "periodic box");
+}
+
+/* A scene says the box is periodic with input.periodic.box, or with
+ * copies (input.periodic.replicas) and box auto, the first file's BoxSize;
+ * without input.periodic the sequence is not wrapped. */
+static void test_periodic_wrap_from_scene(void)
+{
+    write_wrap("wrapscn_0.g2", 0);
+    write_wrap("wrapscn_1.g2", 1);
+    static const struct {
+        const char *periodic;
+        double x0;
+    } cases[] = {{"periodic: {replicas: 3}, ", 0.0}, {"periodic: {box: 10}, ", 0.0}, {"", 5.0}};
+    for (int k = 0; k < 3; k++) {
+        char yaml[256];
+        snprintf(yaml, sizeof yaml, "input: {%ssequence: {pattern: wrapscn_%%d.g2, first: 0, last: 1}}",
+                 cases[k].periodic);
+        orr_error err;
+        orr_sequence *seq = NULL;
+        CHECK(orr_scene_load_string(&g_scene, yaml, "wrap.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
+        CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_OK);
+        double x[3] = {NAN, NAN, NAN};
+        if (seq)
+            wrap_xs(seq, 0.5, x);
+        CHECK_NEAR(x[0], cases[k].x0, 1e-5);
+        orr_sequence_close(seq);
+    }
+}
+
 int main(void)
 {
     make_tmpdir();
@@ -715,6 +830,8 @@ int main(void)
     RUN(test_patterns);
     RUN(test_scene_keys);
     RUN(test_open_from_scene);
+    RUN(test_periodic_wrap);
+    RUN(test_periodic_wrap_from_scene);
     remove_tmpdir();
     return check_summary();
 }
