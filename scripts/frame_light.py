@@ -1,21 +1,33 @@
 #!/usr/bin/env python3
-"""The light of each frame of a perspective run, and how much it changes.
+"""The light of each frame of a run, how much it changes, and the level an
+automatic white would take: the curve a producer grades a film by.
 
-usage: scripts/frame_light.py [--max-change FRACTION] FRAME.fits...
+usage: scripts/frame_light.py [--max-change FRACTION] [--percentile P] FRAME.fits...
 
 A frame's light is the sum over its pixels of the value (orrery's pixels
-hold surface brightness: weight per steradian, docs/output.md) times the
-pixel's solid angle, here the exact solid angle of a flat pixel seen by a
-pinhole camera whose field of view (FITS key FOV) spans the wider axis:
-independent of orrery's own orr_pixel_measure. Prints each frame's light
-and its change from the frame before, then the largest change; with
---max-change, exits 1 when that is larger than FRACTION (0.05: 5 %).
-Used by tests/cli/test_dark_universe.sh and docs/dark-universe.md.
+hold surface brightness: weight per steradian or per area, docs/output.md)
+times what the pixel covers, worked out here independently of orrery's own
+orr_pixel_measure: for perspective frames the exact solid angle of a flat
+pixel seen by a pinhole camera whose field of view (FITS key FOV) spans the
+wider axis; for sky maps the solid angle from the FITS WCS
+(tests/cli/solid_angle.py); for orthographic frames the area
+(ORTHOWID / width)^2. With colour the first plane is X; the percentile is
+of the Y plane when there is one. Prints each frame's light, its change
+from the frame before and the P-th percentile of its positive pixels
+(default 99.9, colour.synthesis.white_percentile's default: what
+`white: auto` would take), then the largest change and the percentiles'
+median, a steady fixed white for the run; with --max-change, exits 1 when
+the largest change is larger than FRACTION (0.05: 5 %). Used by
+tests/cli/test_dark_universe.sh, docs/dark-universe.md and docs/animation.md.
 """
+import os
 import sys
 
 import numpy as np
 from astropy.io import fits
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "cli"))
+from solid_angle import solid_angles as sky_solid_angles  # noqa: E402
 
 
 def solid_angles(width, height, fov_deg):
@@ -29,31 +41,49 @@ def solid_angles(width, height, fov_deg):
     return corner[1:, 1:] - corner[1:, :-1] - corner[:-1, 1:] + corner[:-1, :-1]
 
 
-def frame_light(path):
-    """The light of the first plane of a FITS frame."""
+def pixel_measures(header):
+    """What each pixel covers, in the FITS array's order."""
+    kind = header.get("PROJTYPE", "perspective")
+    width, height = header["NAXIS1"], header["NAXIS2"]
+    if kind == "perspective":
+        return solid_angles(width, height, header["FOV"])
+    if kind == "orthographic":
+        return np.full((height, width), (header["ORTHOWID"] / width) ** 2)
+    return sky_solid_angles(header)
+
+
+def frame_light(path, percentile):
+    """The light of the first plane of a FITS frame, and the percentile of
+    its luminance (the Y plane with colour)."""
     with fits.open(path) as hdul:
         header = hdul[0].header
-        if header.get("PROJTYPE", "perspective") != "perspective":
-            sys.exit(f"{path}: PROJTYPE is {header['PROJTYPE']}; this measures perspective frames")
-        omega = solid_angles(header["NAXIS1"], header["NAXIS2"], header["FOV"])
-        return float((hdul[0].data.astype(np.float64) * omega).sum())
+        data = np.nan_to_num(hdul[0].data.astype(np.float64))
+        light = float((data * pixel_measures(header)).sum())
+        y = next((np.nan_to_num(h.data) for h in hdul if h.name == "Y"), data)
+        lit = y[y > 0]
+        return light, float(np.percentile(lit, percentile)) if lit.size else 0.0
 
 
 def main(argv):
-    max_change = None
-    if len(argv) >= 2 and argv[0] == "--max-change":
-        max_change = float(argv[1])
+    max_change, percentile = None, 99.9
+    while len(argv) >= 2 and argv[0] in ("--max-change", "--percentile"):
+        if argv[0] == "--max-change":
+            max_change = float(argv[1])
+        else:
+            percentile = float(argv[1])
         argv = argv[2:]
     if len(argv) < 2:
         sys.exit(__doc__)
-    lights = [frame_light(p) for p in argv]
-    changes = [b / a - 1 for a, b in zip(lights, lights[1:])]
-    for k, (path, light) in enumerate(zip(argv, lights)):
-        change = f"  {100 * changes[k - 1]:+.2f} %" if k else ""
-        print(f"{path}: light {light:.6g}{change}")
+    frames = [frame_light(p, percentile) for p in argv]
+    lights = [light for light, _ in frames]
+    changes = [b / a - 1 if a > 0 else float("inf") for a, b in zip(lights, lights[1:])]
+    for k, (path, (light, level)) in enumerate(zip(argv, frames)):
+        change = f"  {100 * changes[k - 1]:+8.2f} %" if k else " " * 12
+        print(f"{path}: light {light:.6g}{change}   {percentile:g}th percentile {level:.4g}")
     worst = max(range(len(changes)), key=lambda k: abs(changes[k]))
     print(f"{len(lights)} frames, light {min(lights):.4g} to {max(lights):.4g}; largest change between frames "
-          f"{100 * changes[worst]:+.2f} % (frames {worst} to {worst + 1})")
+          f"{100 * changes[worst]:+.2f} % (frames {worst} to {worst + 1}); median {percentile:g}th percentile "
+          f"{np.median([level for _, level in frames]):.4g} (a steady white for the run)")
     if min(lights) <= 0:
         print("a frame has no light")
         return 1
