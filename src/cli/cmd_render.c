@@ -439,6 +439,13 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
         cli_progress_finish(&particles);
         code = st ? cli_report_error(&err) : EXIT_OK;
     }
+    /* animation.white_smoothing: once every frame is there (all jobs done),
+     * the writer re-grades them with white levels averaged over time. */
+    int writer = !cli_parallel || cli_parallel->rank == 0;
+    if (code == EXIT_OK && !compose && writer && nframes > 1) {
+        orr_status st = orr_animation_smooth_whites(list, views->n, reports, &err);
+        code = st ? cli_report_error(&err) : EXIT_OK;
+    }
     if (code != EXIT_OK || a->quiet)
         return code;
     double seconds = cli_now() - fp.start;

@@ -11,6 +11,7 @@
 #include <zlib.h>
 
 #include "core/digest.h"
+#include "core/numbers.h"
 #include "encode/atomic.h"
 #include "render/sequence_open.h"
 #include "source/partition.h"
@@ -93,14 +94,14 @@ static orr_status append(char **text, orr_error *err, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    int add = vsnprintf(NULL, 0, fmt, ap);
+    int add = orr_vsnprintf(NULL, 0, fmt, ap); /* numbers with '.', whatever the host's locale */
     va_end(ap);
     size_t len = *text ? strlen(*text) : 0;
     char *grown = add < 0 ? NULL : realloc(*text, len + (size_t)add + 1);
     if (!grown)
         return orr_fail(err, ORR_ERR_NOMEM, "out of memory for a frame marker");
     va_start(ap, fmt);
-    vsnprintf(grown + len, (size_t)add + 1, fmt, ap);
+    orr_vsnprintf(grown + len, (size_t)add + 1, fmt, ap);
     va_end(ap);
     *text = grown;
     return ORR_OK;
@@ -431,6 +432,8 @@ static orr_status marker_text(const orr_scene *s, const view_identity *id, const
         st = append(text, err, MARKER_MAGIC " %d\n%s", MARKER_FORMAT, id->head);
     if (!st)
         st = add_outputs(text, rep, err);
+    if (!st) /* the picture's white level, automatic or fixed: what orr_animation_smooth_whites averages */
+        st = append(text, err, "white %.17g\n", rep->white);
     return st ? st : add_settings(text, id->settings, err);
 }
 
@@ -729,5 +732,82 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
     free_identities(ids, n);
     orr_sequence_close(ri.seq);
     free(scenes);
+    return st;
+}
+
+/* ---- a white level that follows the scene ---- */
+
+/* The white level frame f's render graded its picture with, from its
+ * marker; NaN when there is none (a frame not rendered). */
+static double rendered_white(const orr_scene *frame)
+{
+    char path[ORR_PATH_MAX];
+    orr_error ignored;
+    char *marker = marker_path(frame, path, &ignored) ? NULL : read_marker(path);
+    size_t len;
+    const char *line = marker ? find_line(marker, "white ", &len) : NULL;
+    double white = line ? orr_strtod(line + 6, NULL) : NAN;
+    free(marker);
+    return white > 0 ? white : NAN;
+}
+
+/* The geometric mean of the whites of the frames within half a window of
+ * f that have one: in log space, so a white twice as high and one half as
+ * high cancel. */
+static double smoothed_white(const double *whites, long nframes, long f, int window)
+{
+    double sum = 0;
+    int n = 0;
+    for (long g = f - window / 2; g <= f + window / 2; g++)
+        if (g >= 0 && g < nframes && isfinite(whites[g])) {
+            sum += log(whites[g]);
+            n++;
+        }
+    return n ? exp(sum / n) : NAN;
+}
+
+/* Re-grades frame f of view s with white level `white`, from its FITS
+ * planes, and records the new picture in the frame's marker. */
+static orr_status regrade_frame(const orr_scene *s, long f, double white, orr_render_report *rep, orr_error *err)
+{
+    orr_scene *frame = malloc(sizeof *frame);
+    if (!frame)
+        return orr_fail(err, ORR_ERR_NOMEM, "out of memory for a frame's scene");
+    orr_status st = frame_scenes(&s, 1, f, frame, err);
+    frame->regrade_final = 1;
+    frame->synth.y0 = white;
+    frame->stretch.white = white;
+    const orr_scene *list[1] = {frame};
+    if (!st)
+        st = orr_compose_views(list, 1, rep, err);
+    view_identity unused = {NULL, NULL};
+    if (!st)
+        st = write_marker(frame, &unused, rep, 1, err);
+    free(frame);
+    return st ? orr_fail_prefix(err, "frame %ld: smoothing the white level: ", f) : ORR_OK;
+}
+
+orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr_render_report *reports,
+                                       orr_error *err)
+{
+    orr_status st = ORR_OK;
+    for (int k = 0; k < n && !st; k++) {
+        const orr_scene *s = views[k];
+        const long nframes = s->anim_frames;
+        if (s->white_smoothing <= 1 || nframes <= 1)
+            continue;
+        double *whites = orr_calloc((size_t)nframes, sizeof *whites, "white levels", err);
+        orr_scene *frame = malloc(sizeof *frame);
+        if (!whites || !frame)
+            st = ORR_ERR_NOMEM;
+        for (long f = 0; f < nframes && !st; f++)
+            if (!(st = frame_scenes(&s, 1, f, frame, err)))
+                whites[f] = rendered_white(frame);
+        for (long f = 0; f < nframes && !st; f++)
+            if (isfinite(whites[f]))
+                st = regrade_frame(s, f, smoothed_white(whites, nframes, f, s->white_smoothing), &reports[k], err);
+        free(frame);
+        free(whites);
+    }
     return st;
 }

@@ -51,6 +51,17 @@ orr_status orr_frame_name(const char *name, long frame, long nframes, char *out,
 orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_animation_options *opt,
                                 orr_render_report *reports, orr_error *err);
 
+/* animation.white_smoothing: once a run's frames are rendered (each graded
+ * with its own automatic white level, which its marker records), re-grades
+ * every frame's picture from its FITS planes with the geometric mean of the
+ * white levels of the white_smoothing frames around it, so the exposure
+ * follows the scene without flickering, and updates the markers. Views
+ * without smoothing, and stills, are left as they are. Run it after the
+ * whole run (all jobs) is rendered: each frame's level needs its
+ * neighbours'. */
+orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr_render_report *reports,
+                                       orr_error *err);
+
 /* Checks that the frames 0..count-1 of DIR/NAME (numbers of `digits`
  * digits) were all made alike, by their markers: the same orrery, scene
  * settings and inputs. Fails naming the first frame made otherwise and

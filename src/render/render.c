@@ -1843,7 +1843,7 @@ static orr_status load_raw(view_state *v, orr_error *err)
 {
     orr_render_report *rep = v->rep;
     char path[ORR_PATH_MAX];
-    orr_status st = output_path(v->scene, "raw.fits", path, err);
+    orr_status st = output_path(v->scene, v->scene->regrade_final ? "fits" : "raw.fits", path, err);
     orr_plane raw[3];
     int n = 0;
     if (!st)
@@ -1932,7 +1932,7 @@ orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_r
         view_state *v = &views[k];
         if ((st = v->scene->nlayers ? load_layers(v, err) : load_raw(v, err)))
             break;
-        for (int j = 0; j < v->nplanes && !st; j++)
+        for (int j = 0; j < v->nplanes && !st && !v->scene->regrade_final; j++) /* NAME.fits has its PSF */
             st = orr_view_psf_apply(&v->psf, &v->planes[j], err);
         mask_outside_map(v);
         if (!st)

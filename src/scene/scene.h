@@ -218,6 +218,9 @@ typedef struct orr_scene {
     /* animation.* : a run of frames (docs/animation.md). Shared by every view. */
     long long anim_frames;         /* animation.frames: frames in the run (default 1: a still) */
     double anim_fps;               /* animation.fps: frames per second of the film (default 30) */
+    int white_smoothing;           /* animation.white_smoothing: frames over which the automatic white level
+                                    * is averaged, so it follows the scene without flicker (default 0: each
+                                    * frame its own); render/animation.h orr_animation_smooth_whites */
     int has_anim_time;
     double anim_time[2];           /* animation.time: [t0, t1], the simulation time at the first and the
                                     * last frame, linear in between (default: a sequence's first and last
@@ -266,6 +269,8 @@ typedef struct orr_scene {
      * when longer than the buffer, but the digest covers the whole text. */
     char settings[ORR_SETTINGS_MAX];
     uint64_t settings_digest;
+    int regrade_final;             /* not a key: a compose re-grades NAME.fits, the planes after the PSF
+                                    * (the white-smoothing pass), rather than NAME.raw.fits */
 } orr_scene;
 
 /* A scene file may hold several views of the same particles (a dome master

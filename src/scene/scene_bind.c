@@ -406,6 +406,7 @@ static const key_spec KEYS[] = {
     {.key = "camera.dim_near", .type = K_NUMBER, FIELD(camera_dim_near), ABOVE(0)},
     {.key = "animation.frames", .type = K_LLONG, FIELD(anim_frames), IRANGE(1, 10000000)},
     {.key = "animation.fps", .type = K_NUMBER, FIELD(anim_fps), CLOSED(0.001, 1000)},
+    {.key = "animation.white_smoothing", .type = K_INT, FIELD(white_smoothing), IRANGE(0, 100000)},
     {.key = "animation.time", .type = K_PAIR, FIELD(anim_time), FLAG(has_anim_time)},
 
     {.key = "stereo.mode", ENUM(stereo)},

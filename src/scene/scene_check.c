@@ -356,6 +356,29 @@ static orr_status check_psf(const orr_scene *s, const scene_marks *m, orr_error 
     return ORR_OK;
 }
 
+/* Smoothing the automatic white over frames re-grades each frame's picture
+ * from its FITS planes once the run is rendered. */
+static orr_status check_white_smoothing(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (s->white_smoothing == 0)
+        return ORR_OK;
+    int graded_by_synthesis = s->colour || s->nlayers || s->has_tint;
+    const char *white_key = graded_by_synthesis ? "colour.synthesis.white" : "output.white";
+    if ((graded_by_synthesis ? s->synth.y0 : s->stretch.white) > 0)
+        return scene_fail_key(s, m, "animation.white_smoothing", err,
+                              "animation.white_smoothing averages the automatic white level, but %s is fixed: "
+                              "set %s: auto, or leave out the smoothing",
+                              white_key, white_key);
+    if (!s->write_fits)
+        return scene_fail_key(s, m, "animation.white_smoothing", err,
+                              "animation.white_smoothing re-grades each frame from its FITS planes: it needs "
+                              "output.fits: true");
+    if (s->stereo != ORR_STEREO_NONE)
+        return scene_fail_key(s, m, "animation.white_smoothing", err,
+                              "animation.white_smoothing cannot yet be combined with stereo.mode");
+    return ORR_OK;
+}
+
 static orr_status check_output(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     for (const char *c = s->image_ext; *c; c++)
@@ -512,6 +535,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_output(s, &marks, err);
     if (st == ORR_OK)
         st = check_stereo(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_white_smoothing(s, &marks, err);
     if (st == ORR_OK)
         st = record_settings(s, root, err);
     return st;

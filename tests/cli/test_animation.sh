@@ -88,6 +88,44 @@ ls -a big | grep -q '^\.orrery-tmp-' || fail "SIGKILL: expected a leftover to te
 "$ORRERY" render big.yaml -o big --set output.png=false >/dev/null 2>run.err || fail "render after a kill: $(cat run.err)"
 ! ls -a big | grep -q 'tmp' || fail "a killed run's temporary was not removed: $(ls -a big)"
 
+# animation.white_smoothing: each frame's automatic white level (Nightfall's
+# rises and jumps as the camera spirals in) is replaced by the geometric
+# mean of the levels of the 7 frames around it, read from the markers; the
+# pictures are re-graded from the FITS planes, and a resumed run leaves
+# them as they are.
+nf=(--set animation.frames=12 --set image.width=160 --set image.height=90 --set colour.synthesis.white=auto -q)
+"$ORRERY" render "$2/configs/nightfall.yaml" -o each "${nf[@]}" --jobs 2 2>run.err || fail "nightfall: $(cat run.err)"
+"$ORRERY" render "$2/configs/nightfall.yaml" -o smooth "${nf[@]}" --set animation.white_smoothing=7 --jobs 2 \
+  2>run.err || fail "nightfall smoothed: $(cat run.err)"
+md5sum smooth/*.png >before.md5
+"$py" - <<'PY' || fail "smoothed white levels"
+import glob, math, re
+from PIL import Image
+def y0(folder):
+    return [float(re.search(r"Y0 ([0-9.e+-]+)", Image.open(p).info["Description"]).group(1))
+            for p in sorted(glob.glob(f"{folder}/nightfall_*.png"))]
+each, smooth = y0("each"), y0("smooth")
+marked = [float(re.search(r"^white (\S+)$", open(p).read(), re.M).group(1))
+          for p in sorted(glob.glob("smooth/.orrery-frames/nightfall_*.done"))]
+assert len(each) == len(smooth) == len(marked) == 12
+assert all(abs(a / b - 1) < 1e-5 for a, b in zip(each, marked)), "markers keep each frame's own level"  # %g: 6 digits
+for f in range(12):
+    window = [math.log(each[g]) for g in range(max(0, f - 3), min(12, f + 4))]
+    want = math.exp(sum(window) / len(window))
+    assert abs(smooth[f] / want - 1) < 1e-5, (f, smooth[f], want)
+jump = lambda w: max(abs(math.log(b / a)) for a, b in zip(w, w[1:]))
+print(f"largest step between frames: each frame's own white x{math.exp(jump(each)):.2f}, smoothed x{math.exp(jump(smooth)):.2f}")
+assert jump(smooth) < 0.5 * jump(each)
+PY
+"$ORRERY" render "$2/configs/nightfall.yaml" -o smooth "${nf[@]}" --set animation.white_smoothing=7 >run.out 2>&1 \
+  || fail "nightfall smoothed again: $(cat run.out)"
+md5sum -c --quiet before.md5 || fail "a resumed smoothed run changed its pictures"
+expect_fail 2 "animation.white_smoothing averages the automatic white level, but colour.synthesis.white is fixed" \
+  none -- render "$2/configs/nightfall.yaml" --set animation.white_smoothing=5
+expect_fail 2 "animation.white_smoothing re-grades each frame from its FITS planes: it needs output.fits: true" \
+  none -- render "$2/configs/nightfall.yaml" --set animation.white_smoothing=5 --set colour.synthesis.white=auto \
+  --set output.fits=false
+
 # --frames and --force.
 "$ORRERY" render s.yaml --frames 1:2 --force >run.out 2>&1 || fail "--frames 1:2 --force"
 grep -q "rendered 2, skipped 0" run.out || fail "--frames 1:2 summary: $(cat run.out)"
