@@ -23,7 +23,7 @@ static const char model_help[] =
 
 int cmd_model(int argc, char **argv)
 {
-    orr_model_params params = {200000, 1, 780.0};
+    orr_model_params params = {200000, 1, 780.0, ORR_MODEL_PAIR, 0};
     const char *out = NULL;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i];
