@@ -177,14 +177,36 @@ static double spheroid_mass(const galaxy *g, double r)
     return m;
 }
 
-/* Mass inside radius r, treating the disc as if spherical (its mass within
- * cylindrical radius r placed inside sphere r): the monopole the bulge and
- * halo feel, and the potential E0 is measured in. */
-static double enclosed_mass(const galaxy *g, double r)
+/* Disc mass within cylindrical radius R (the truncated exponential). */
+static double disc_cylinder_mass(const galaxy *g, double R)
 {
     const galaxy_spec *s = &g->s;
-    double md = r >= s->disc_rmax ? s->disc_mass : s->disc_mass * disc_cdf(r, s->disc_rd) / g->disc_frac;
-    return md + spheroid_mass(g, r);
+    return R >= s->disc_rmax ? s->disc_mass : s->disc_mass * disc_cdf(R, s->disc_rd) / g->disc_frac;
+}
+
+/* Disc mass within the sphere of radius r, for the layer's exponential
+ * vertical profile: integral over |z| < r of exp(-|z|/h)/(2h) times the
+ * mass within cylindrical radius sqrt(r^2 - z^2); with u = 1 - exp(-z/h)
+ * the weight is du, so a 48-point midpoint rule in u is smooth. For a thin
+ * disc this is the cylinder mass; for h = 0.3 kpc it is 17% less at 1 kpc,
+ * which the bulge must not be made too hot for. */
+static double disc_sphere_mass(const galaxy *g, double r)
+{
+    const int n = 48;
+    double h = g->s.disc_hz, top = 1.0 - exp(-r / h), sum = 0.0;
+    for (int k = 0; k < n; k++) {
+        double u = (k + 0.5) / n * top, z = -h * log(1.0 - u);
+        sum += disc_cylinder_mass(g, sqrt(fmax(0.0, r * r - z * z)));
+    }
+    return sum * top / n;
+}
+
+/* Mass inside radius r with the disc's mass in that sphere: the monopole
+ * (spherical average) the bulge and halo feel, and the potential E0 is
+ * measured in. */
+static double enclosed_mass(const galaxy *g, double r)
+{
+    return disc_sphere_mass(g, r) + spheroid_mass(g, r);
 }
 
 static double gm_enclosed(double r, const void *ctx)
@@ -263,17 +285,24 @@ static double disc_sigma_r(const galaxy *g, double R)
 /* Vertical dispersion at (R, z) from the vertical Jeans equation
  * d(rho sigma_z^2)/dz = -rho dPhi/dz for the model's exponential layer
  * rho ~ exp(-|z|/h) (so the dispersion keeps the layer at its scale
- * height): the layer's own sheet gravity 2 pi G Sigma(<|z|) gives
- * 2 pi G Sigma h (1 - exp(-|z|/h) / 2), and the spheroid's vertical pull
- * nu^2 z, nu^2 = G M_sph(<r) / r^3 at r = sqrt(R^2 + h^2) (kept finite at the
- * centre), gives nu^2 h (|z| + h). */
+ * height). The vertical pull is that of Poisson's equation near the plane,
+ * d^2Phi/dz^2 = 4 pi G rho - (1/R) d(R F_R)/dR:
+ *  - the layer's own density, 2 pi G Sigma(<|z|), gives
+ *    2 pi G Sigma h (1 - exp(-|z|/h) / 2);
+ *  - the rest is linear in z, nu^2 z: the spheroid's G M_sph(<r) / r^3 at
+ *    r = sqrt(R^2 + h^2) (kept finite at the centre), less the disc's own
+ *    radial term (1/R) d(v_disc^2)/dR, which the infinite-sheet
+ *    approximation drops and which weakens the pull by 10-15% inside 2 Rd
+ *    where the disc's rotation rises; it gives nu^2 h (|z| + h).
+ * Clipped at a small positive floor should the sum turn negative. */
 static double disc_sigma_z2(const galaxy *g, double R, double z)
 {
     double h = g->s.disc_hz, az = fabs(z);
     double sheet = 2.0 * ORR_PI * disc_surface_density_g(g, R) * h * (1.0 - 0.5 * exp(-az / h));
-    double r2 = R * R + h * h, r = sqrt(r2);
-    double nu2 = MODEL_G * spheroid_mass(g, r) / (r2 * r);
-    return sheet + nu2 * h * (az + h);
+    double r2 = R * R + h * h, r = sqrt(r2), dR = 1e-3 * R;
+    double radial = (disc_own_vc2(g, R + dR) - disc_own_vc2(g, R - dR)) / (2.0 * dR * R);
+    double nu2 = MODEL_G * spheroid_mass(g, r) / (r2 * r) - radial;
+    return fmax(1.0, sheet + nu2 * h * (az + h));
 }
 
 /* ---- spherical components' distribution functions ---------------------- */
