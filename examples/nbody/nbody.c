@@ -66,6 +66,7 @@ typedef struct options {
     int nsets;
     long steps;
     double dt, eps, eps_halo, theta;
+    int eps_halo_given;    /* --eps-halo given; else it is 2 x --eps */
     long render_every, report_every;
     int quiet;
 } options;
@@ -156,7 +157,7 @@ static int check_options(const options *o)
 static int parse_args(int argc, char **argv, options *o)
 {
     *o = (options){.ic = "model", .particles = 100000, .separation = 780, .disc_q = ORR_MODEL_DISC_Q_DEFAULT,
-                   .steps = 100, .dt = 0.001, .eps = 0.05, .eps_halo = -1, .theta = 0.7, .render_every = 1,
+                   .steps = 100, .dt = 0.001, .eps = 0.05, .theta = 0.7, .render_every = 1,
                    .report_every = 10};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
@@ -183,6 +184,7 @@ static int parse_args(int argc, char **argv, options *o)
             o->disc_q = parse_number(v);
         } else if (strcmp(a, "--eps-halo") == 0) {
             o->eps_halo = parse_number(v);
+            o->eps_halo_given = 1;
         } else if (strcmp(a, "--report-every") == 0) {
             o->report_every = atol(v);
         } else if (strcmp(a, "--steps") == 0) {
@@ -205,7 +207,7 @@ static int parse_args(int argc, char **argv, options *o)
         }
         i += has_value;
     }
-    if (o->eps_halo < 0 && o->eps > 0)
+    if (!o->eps_halo_given)
         o->eps_halo = 2.0 * o->eps;
     return check_options(o);
 }
