@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Future Sky, short: 24 frames of the Milky Way-Andromeda collision seen from
-# the Sun over 4.6 Gyr, evolved by the example N-body code (30 000 particles)
-# and rendered in-situ with configs/futuresky-sequence.yaml at a quarter of
+# the Sun over 4.5 Gyr, evolved by the example N-body code (30 000 particles,
+# 2300 steps of 2 Myr, softening 0.1 kpc for stars and 0.2 for dark matter:
+# docs/nbody.md) and rendered in-situ with configs/futuresky-sequence.yaml at a quarter of
 # its size: a 1024x1024 dome master and a 1024x512 panorama per frame, then
 # a film of each when ffmpeg is there. docs/gallery.md gives the time it
 # took here; the full-length run is the config's own command.
@@ -15,7 +16,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 build=${ORRERY_BUILD:-$here/build}
 out=${1:-out/futuresky-short}
 scene=$here/configs/futuresky-sequence.yaml
-"$build/examples/orrery-nbody" --particles 30000 --steps 115 --render-every 5 --dt 0.04 --quiet \
+"$build/examples/orrery-nbody" --particles 30000 --steps 2300 --render-every 100 --dt 0.002 --eps 0.1 --quiet \
   --scene "$scene" --set output.dir="$out" --set animation.frames=24 \
   --set views.dome.image.width=1024 --set views.dome.image.height=1024 \
   --set views.panorama.image.width=1024 --set views.panorama.image.height=512

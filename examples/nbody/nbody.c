@@ -1,8 +1,9 @@
 /* orrery-nbody: an example N-body code that renders itself in-situ.
  *
- * A Barnes-Hut tree code (monopole, Plummer softening, kick-drift-kick
- * leapfrog, OpenMP) evolving the built-in Milky Way-Andromeda model or a
- * Gadget snapshot (e.g. GADGET-2's galaxy-merger initial conditions), which
+ * A tree code (quadrupole moments, walks shared by groups of nearby
+ * particles, per-component Plummer softening, kick-drift-kick leapfrog,
+ * OpenMP; qtree.h) evolving the built-in Milky Way-Andromeda model (or one
+ * galaxy alone) or a Gadget snapshot (e.g. GADGET-2's galaxy-merger initial conditions), which
  * hands its particles to orrery (orrery.h) every few steps, so a scene's
  * dome master, panorama or flat views are rendered while it runs, with no
  * snapshot written: the method of Dubinski's paper. It reports the cost of
@@ -29,7 +30,7 @@
 #include "source/model.h"
 #include "source/partition.h"
 #include "source/source.h"
-#include "tree.h"
+#include "qtree.h"
 
 #define G_KPC_KMS 43007.1
 
@@ -41,7 +42,8 @@ typedef struct bodies {
     double *pos_all, *mass_all; /* x, y, z of particle i at 3i */
     double *pos, *mass;         /* this process's: pos_all + 3 first, mass_all + first */
     size_t *counts;             /* every process's n, in rank order */
-    double *vel, *acc;
+    double *vel, *acc, *pot;
+    double *eps_all;            /* every particle's softening (all processes') */
     uint64_t *id;
     uint8_t *type;
     /* The initial conditions' other per-particle fields (the model's "r" and
@@ -57,32 +59,42 @@ typedef struct options {
     const char *ic;        /* "model" or a snapshot file */
     long long particles;   /* model particles */
     double separation;     /* model separation, kpc */
+    int galaxies;          /* model: ORR_MODEL_PAIR, _MW or _M31 */
+    double disc_q;         /* model: the discs' Toomre Q */
     const char *scene;     /* rendered in-situ; NULL: no rendering */
     const char *sets[32];
     int nsets;
     long steps;
-    double dt, eps, theta;
-    long render_every;
+    double dt, eps, eps_halo, theta;
+    int eps_halo_given;    /* --eps-halo given; else it is 2 x --eps */
+    long render_every, report_every;
     int quiet;
 } options;
 
 static const char usage[] =
     "usage: orrery-nbody [--ic model|SNAPSHOT] [--particles N] [--separation KPC]\n"
-    "                    [--steps N] [--dt DT] [--eps EPS] [--theta THETA]\n"
-    "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]] [--quiet]\n"
+    "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
+    "                    [--steps N] [--dt DT] [--eps EPS] [--eps-halo EPS] [--theta THETA]\n"
+    "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
+    "                    [--report-every K] [--quiet]\n"
     "\n"
-    "Evolves N bodies with a Barnes-Hut tree code and renders SCENE in-situ every\n"
-    "K steps (frame = step / K), reporting rendering time against gravity time.\n"
-    "Units: kpc, 1e10 Msun, km/s (time unit 0.978 Gyr).\n"
+    "Evolves N bodies with a tree code (quadrupole moments, group walks) and renders\n"
+    "SCENE in-situ every K steps (frame = step / K), reporting rendering time against\n"
+    "gravity time, and energy, momentum and the structure of an isolated galaxy.\n"
+    "Units: kpc, 1e10 Msun, km/s (time unit 0.978 Gyr). docs/nbody.md.\n"
     "\n"
     "  --ic model|FILE    initial conditions: the built-in MW-M31 model (default) or any\n"
     "                     snapshot orrery reads (e.g. GADGET-2's galaxy_littleendian.dat)\n"
     "  --particles N      model particles (default 100000)\n"
     "  --separation KPC   model separation (default 780)\n"
+    "  --galaxies WHICH   model: both (pair, default), or the Milky Way (mw) or M31 alone\n"
+    "  --disc-q Q         model: the discs' Toomre Q (default 1.5)\n"
     "  --steps N          leapfrog steps (default 100)\n"
-    "  --dt DT            time step (default 0.002, about 2 Myr)\n"
-    "  --eps EPS          Plummer softening, kpc (default 0.2)\n"
-    "  --theta THETA      opening angle (default 0.6)\n"
+    "  --dt DT            time step (default 0.001, about 1 Myr)\n"
+    "  --eps EPS          Plummer softening of stars, black holes and gas, kpc (default 0.05)\n"
+    "  --eps-halo EPS     Plummer softening of dark-matter (type 1) particles (default 2 x --eps)\n"
+    "  --theta THETA      opening angle, 0 to 1 (default 0.7: 99% of forces within 1%)\n"
+    "  --report-every K   energy, momentum and structure every K steps (default 10)\n"
     "  --scene FILE       the scene rendered in-situ (its input.* keys are not used)\n"
     "  --set KEY=VALUE    override a scene key (repeatable)\n"
     "  --render-every K   render every K-th step (default 1)\n";
@@ -94,10 +106,59 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* A number, or NaN (which every check below refuses) when it is not one. */
+static double parse_number(const char *v)
+{
+    char *end;
+    double d = strtod(v, &end);
+    return end == v || *end ? NAN : d;
+}
+
+static int parse_galaxies(const char *v, int *out)
+{
+    static const char *const words[] = {"pair", "mw", "m31"};
+    for (int i = 0; i < 3; i++)
+        if (strcmp(v, words[i]) == 0) {
+            *out = i; /* ORR_MODEL_PAIR, _MW, _M31 */
+            return 1;
+        }
+    fprintf(stderr, "orrery-nbody: --galaxies %s: expected pair, mw or m31\n", v);
+    return 0;
+}
+
+/* Each bad value is named, with what it must be. */
+static int check_options(const options *o)
+{
+    const char *bad = NULL;
+    char why[128] = "";
+    if (!(o->dt > 0) || !isfinite(o->dt))
+        bad = "--dt", snprintf(why, sizeof why, "%g: the time step must be a number above 0", o->dt);
+    else if (!(o->eps > 0) || !isfinite(o->eps))
+        bad = "--eps", snprintf(why, sizeof why, "%g: the softening must be a length above 0 (kpc)", o->eps);
+    else if (!(o->eps_halo > 0) || !isfinite(o->eps_halo))
+        bad = "--eps-halo", snprintf(why, sizeof why, "%g: the softening must be a length above 0 (kpc)", o->eps_halo);
+    else if (!(o->theta > 0 && o->theta <= 1))
+        bad = "--theta", snprintf(why, sizeof why, "%g: the opening angle must be above 0 and at most 1", o->theta);
+    else if (!(o->disc_q > 0) || !isfinite(o->disc_q))
+        bad = "--disc-q", snprintf(why, sizeof why, "%g: Toomre's Q must be above 0", o->disc_q);
+    else if (o->steps < 0)
+        bad = "--steps", snprintf(why, sizeof why, "%ld: must be at least 0", o->steps);
+    else if (o->render_every < 1)
+        bad = "--render-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->render_every);
+    else if (o->report_every < 1)
+        bad = "--report-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->report_every);
+    else if (o->particles < 100)
+        bad = "--particles", snprintf(why, sizeof why, "%lld: the model needs at least 100", o->particles);
+    if (bad)
+        fprintf(stderr, "orrery-nbody: %s %s\n", bad, why);
+    return bad == NULL;
+}
+
 static int parse_args(int argc, char **argv, options *o)
 {
-    *o = (options){.ic = "model", .particles = 100000, .separation = 780, .steps = 100, .dt = 0.002,
-                   .eps = 0.2, .theta = 0.6, .render_every = 1};
+    *o = (options){.ic = "model", .particles = 100000, .separation = 780, .disc_q = ORR_MODEL_DISC_Q_DEFAULT,
+                   .steps = 100, .dt = 0.001, .eps = 0.05, .theta = 0.7, .render_every = 1,
+                   .report_every = 10};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int has_value = 1;
@@ -116,14 +177,24 @@ static int parse_args(int argc, char **argv, options *o)
             o->particles = atoll(v);
         } else if (strcmp(a, "--separation") == 0) {
             o->separation = atof(v);
+        } else if (strcmp(a, "--galaxies") == 0) {
+            if (!parse_galaxies(v, &o->galaxies))
+                return 0;
+        } else if (strcmp(a, "--disc-q") == 0) {
+            o->disc_q = parse_number(v);
+        } else if (strcmp(a, "--eps-halo") == 0) {
+            o->eps_halo = parse_number(v);
+            o->eps_halo_given = 1;
+        } else if (strcmp(a, "--report-every") == 0) {
+            o->report_every = atol(v);
         } else if (strcmp(a, "--steps") == 0) {
             o->steps = atol(v);
         } else if (strcmp(a, "--dt") == 0) {
-            o->dt = atof(v);
+            o->dt = parse_number(v);
         } else if (strcmp(a, "--eps") == 0) {
-            o->eps = atof(v);
+            o->eps = parse_number(v);
         } else if (strcmp(a, "--theta") == 0) {
-            o->theta = atof(v);
+            o->theta = parse_number(v);
         } else if (strcmp(a, "--scene") == 0) {
             o->scene = v;
         } else if (strcmp(a, "--set") == 0 && o->nsets < 32) {
@@ -136,13 +207,9 @@ static int parse_args(int argc, char **argv, options *o)
         }
         i += has_value;
     }
-    if (o->steps < 0 || !(o->dt > 0) || !(o->eps > 0) || !(o->theta > 0 && o->theta < 2) ||
-        o->render_every < 1 || o->particles < 100) {
-        fprintf(stderr, "orrery-nbody: --steps >= 0, --dt > 0, --eps > 0, 0 < --theta < 2, --render-every >= 1 "
-                        "and --particles >= 100 are required\n");
-        return 0;
-    }
-    return 1;
+    if (!o->eps_halo_given)
+        o->eps_halo = 2.0 * o->eps;
+    return check_options(o);
 }
 
 static int alloc_bodies(bodies *b, size_t n)
@@ -151,10 +218,11 @@ static int alloc_bodies(bodies *b, size_t n)
     b->pos = malloc(3 * n * sizeof *b->pos);
     b->vel = malloc(3 * n * sizeof *b->vel);
     b->acc = calloc(3 * n, sizeof *b->acc);
+    b->pot = calloc(n ? n : 1, sizeof *b->pot);
     b->mass = malloc(n * sizeof *b->mass);
     b->id = malloc(n * sizeof *b->id);
     b->type = malloc(n * sizeof *b->type);
-    return b->pos && b->vel && b->acc && b->mass && b->id && b->type;
+    return b->pos && b->vel && b->acc && b->pot && b->mass && b->id && b->type;
 }
 
 static void free_bodies(bodies *b)
@@ -168,6 +236,8 @@ static void free_bodies(bodies *b)
     free(b->pos);
     free(b->vel);
     free(b->acc);
+    free(b->pot);
+    free(b->eps_all);
     free(b->mass);
     free(b->id);
     free(b->type);
@@ -202,7 +272,7 @@ static orr_status open_share(const options *o, int rank, int size, orr_source **
     orr_source *src = NULL;
     orr_status st;
     if (strcmp(o->ic, "model") == 0) {
-        orr_model_params mp = {o->particles, 1, o->separation};
+        orr_model_params mp = {o->particles, 1, o->separation, o->galaxies, o->disc_q};
         size_t chunk = size > 1 ? (size_t)((o->particles + size - 1) / size) : (size_t)1 << 20;
         st = orr_model_source_open(&mp, chunk, &src, err);
     } else {
@@ -270,7 +340,7 @@ static orr_status load_bodies(const options *o, int rank, int size, bodies *b, o
 
 /* Gives every process every position and mass: the slices in rank order,
  * this process's at b->first. */
-static int share_bodies(bodies *b, int rank, int size)
+static int share_bodies(bodies *b, const options *o, int rank, int size)
 {
     b->counts = calloc((size_t)size, sizeof *b->counts);
     if (!b->counts || ranks_counts(b->n, b->counts) != 0)
@@ -282,7 +352,8 @@ static int share_bodies(bodies *b, int rank, int size)
     }
     double *pos_all = malloc((3 * b->n_all + 1) * sizeof *pos_all);
     double *mass_all = malloc((b->n_all + 1) * sizeof *mass_all);
-    int failed = !pos_all || !mass_all;
+    b->eps_all = malloc((b->n_all + 1) * sizeof *b->eps_all);
+    int failed = !pos_all || !mass_all || !b->eps_all;
     if (failed)
         fprintf(stderr, "orrery-nbody: out of memory for %zu positions\n", b->n_all);
     if (ranks_any(failed)) { /* before the gathers, which every process must join */
@@ -292,13 +363,16 @@ static int share_bodies(bodies *b, int rank, int size)
     }
     memcpy(pos_all + 3 * b->first, b->pos, 3 * b->n * sizeof *b->pos);
     memcpy(mass_all + b->first, b->mass, b->n * sizeof *b->mass);
+    for (size_t i = 0; i < b->n; i++) /* dark matter (type 1) has its own softening */
+        b->eps_all[b->first + i] = b->type[i] == ORR_MODEL_TYPE_HALO ? o->eps_halo : o->eps;
     free(b->pos);
     free(b->mass);
     b->pos_all = pos_all;
     b->mass_all = mass_all;
     b->pos = pos_all + 3 * b->first;
     b->mass = mass_all + b->first;
-    return ranks_gather(b->pos_all, 3, b->counts) == 0 && ranks_gather(b->mass_all, 1, b->counts) == 0;
+    return ranks_gather(b->pos_all, 3, b->counts) == 0 && ranks_gather(b->mass_all, 1, b->counts) == 0 &&
+           ranks_gather(b->eps_all, 1, b->counts) == 0;
 }
 
 /* The particles as orrery reads them, in place: positions and velocities
@@ -325,17 +399,206 @@ static orr_particle_arrays as_arrays(const bodies *b)
     return p;
 }
 
-/* The accelerations of this process's particles, from a tree over all. */
-static double gravity(bh_tree *t, bodies *b, const options *o, double *interactions)
+/* The accelerations and potentials of this process's particles, from a
+ * tree over all. */
+static double gravity(qt_tree *t, bodies *b, const options *o, double *interactions)
 {
     double t0 = now();
-    if (bh_build(t, b->pos_all, b->mass_all, b->n_all) != 0) {
-        fprintf(stderr, "orrery-nbody: out of memory building the tree\n");
+    if (qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0 ||
+        (*interactions = qt_accelerations_of(t, G_KPC_KMS, o->theta, b->first, b->n, b->acc, b->pot)) < 0) {
+        fprintf(stderr, "orrery-nbody: out of memory in the tree\n");
         exit(1);
     }
-    *interactions =
-        bh_accelerations_of(t, b->pos_all, b->mass_all, G_KPC_KMS, o->eps, o->theta, b->first, b->n, b->acc);
     return now() - t0;
+}
+
+/* Sums of every process's values (v[0 .. k), k <= 8), through the gather:
+ * each process puts its k values at its rank's row. */
+static int sum_over_ranks(double *v, int k, int rank, int size)
+{
+    double *all = calloc((size_t)(size * k), sizeof *all);
+    size_t *counts = malloc((size_t)size * sizeof *counts);
+    int ok = all && counts;
+    if (ok) {
+        for (int r = 0; r < size; r++)
+            counts[r] = 1;
+        memcpy(all + (size_t)rank * k, v, (size_t)k * sizeof *v);
+        ok = ranks_gather(all, (size_t)k, counts) == 0;
+        for (int j = 0; ok && j < k; j++) {
+            v[j] = 0;
+            for (int r = 0; r < size; r++)
+                v[j] += all[(size_t)r * k + j];
+        }
+    }
+    free(all);
+    free(counts);
+    return ok;
+}
+
+/* Kinetic and potential energy (W = 1/2 sum m phi) and momentum, over every
+ * process's particles: e[0] K, e[1] W, e[2..4] P. */
+static int energies(const bodies *b, int rank, int size, double e[5])
+{
+    memset(e, 0, 5 * sizeof *e);
+    for (size_t i = 0; i < b->n; i++) {
+        const double *v = &b->vel[3 * i];
+        e[0] += 0.5 * b->mass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        e[1] += 0.5 * b->mass[i] * b->pot[i];
+        for (int k = 0; k < 3; k++)
+            e[2 + k] += b->mass[i] * v[k];
+    }
+    return sum_over_ranks(e, 5, rank, size);
+}
+
+/* ---- how an isolated galaxy holds together (one process) -------------- */
+
+typedef struct structure {
+    double zrms;      /* rms height of disc particles 3-10 kpc from the centre (cylindrical) */
+    double disc_half; /* median cylindrical radius of the disc particles */
+    double bulge_half; /* median radius of the bulge particles */
+    double sun_R, sun_z;
+    int has_sun;
+} structure;
+
+static int compare_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, size_t n)
+{
+    if (!n)
+        return NAN;
+    qsort(v, n, sizeof *v, compare_double);
+    return v[n / 2];
+}
+
+/* Centre (centre of mass of the stars: disc and bulge) and the disc's
+ * plane (normal along the disc particles' angular momentum), so the
+ * figures follow a galaxy that drifts or tilts a little. */
+static void disc_frame(const bodies *b, double c[3], double nrm[3])
+{
+    double m = 0, cv[3] = {0, 0, 0}, L[3] = {0, 0, 0};
+    memset(c, 0, 3 * sizeof *c);
+    for (size_t i = 0; i < b->n; i++)
+        if (b->type[i] == ORR_MODEL_TYPE_DISC || b->type[i] == ORR_MODEL_TYPE_BULGE) {
+            m += b->mass[i];
+            for (int k = 0; k < 3; k++) {
+                c[k] += b->mass[i] * b->pos[3 * i + k];
+                cv[k] += b->mass[i] * b->vel[3 * i + k];
+            }
+        }
+    for (int k = 0; k < 3; k++) {
+        c[k] = m > 0 ? c[k] / m : 0;
+        cv[k] = m > 0 ? cv[k] / m : 0;
+    }
+    for (size_t i = 0; i < b->n; i++)
+        if (b->type[i] == ORR_MODEL_TYPE_DISC) {
+            double x[3], v[3];
+            for (int k = 0; k < 3; k++) {
+                x[k] = b->pos[3 * i + k] - c[k];
+                v[k] = b->vel[3 * i + k] - cv[k];
+            }
+            L[0] += b->mass[i] * (x[1] * v[2] - x[2] * v[1]);
+            L[1] += b->mass[i] * (x[2] * v[0] - x[0] * v[2]);
+            L[2] += b->mass[i] * (x[0] * v[1] - x[1] * v[0]);
+        }
+    double l = sqrt(L[0] * L[0] + L[1] * L[1] + L[2] * L[2]);
+    for (int k = 0; k < 3; k++)
+        nrm[k] = l > 0 ? L[k] / l : (k == 2);
+}
+
+/* Height and cylindrical radius of particle i in the frame (c, nrm). */
+static void cylindrical(const bodies *b, size_t i, const double c[3], const double nrm[3], double *R, double *z)
+{
+    double x[3] = {b->pos[3 * i] - c[0], b->pos[3 * i + 1] - c[1], b->pos[3 * i + 2] - c[2]};
+    *z = x[0] * nrm[0] + x[1] * nrm[1] + x[2] * nrm[2];
+    double r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+    *R = sqrt(fmax(0.0, r2 - *z * *z));
+}
+
+static int structure_of(const bodies *b, structure *s)
+{
+    double c[3], nrm[3];
+    disc_frame(b, c, nrm);
+    double *disc = malloc((b->n + 1) * sizeof *disc), *bulge = malloc((b->n + 1) * sizeof *bulge);
+    if (!disc || !bulge) {
+        free(disc);
+        free(bulge);
+        return 0;
+    }
+    size_t nd = 0, nb = 0, nz = 0;
+    double z2 = 0;
+    memset(s, 0, sizeof *s);
+    for (size_t i = 0; i < b->n; i++) {
+        double R, z;
+        cylindrical(b, i, c, nrm, &R, &z);
+        if (b->type[i] == ORR_MODEL_TYPE_DISC) {
+            disc[nd++] = R;
+            if (R >= 3.0 && R <= 10.0) {
+                z2 += z * z;
+                nz++;
+            }
+        } else if (b->type[i] == ORR_MODEL_TYPE_BULGE) {
+            bulge[nb++] = sqrt(R * R + z * z);
+        } else if (b->type[i] == ORR_MODEL_TYPE_SUN) {
+            s->sun_R = R;
+            s->sun_z = z;
+            s->has_sun = 1;
+        }
+    }
+    s->zrms = nz ? sqrt(z2 / (double)nz) : NAN;
+    s->disc_half = median(disc, nd);
+    s->bulge_half = median(bulge, nb);
+    free(disc);
+    free(bulge);
+    return 1;
+}
+
+/* One line of figures: energy and its drift from the start, momentum, and
+ * (one process, a galaxy's discs) the structure. */
+static void report(const bodies *b, int rank, int size, double e0, int quiet)
+{
+    double e[5];
+    if (!energies(b, rank, size, e) || quiet)
+        return;
+    double E = e[0] + e[1];
+    printf("report t = %.4f  E = %.6e  dE/|E0| = %+.2e  2K/|W| = %.3f  |P| = %.3g", b->time, E,
+           (E - e0) / fabs(e0), 2 * e[0] / fabs(e[1]), sqrt(e[2] * e[2] + e[3] * e[3] + e[4] * e[4]));
+    structure s;
+    if (size == 1 && structure_of(b, &s) && isfinite(s.disc_half)) {
+        printf("  disc z_rms(3-10 kpc) = %.4f  disc R_half = %.3f  bulge r_half = %.3f", s.zrms, s.disc_half,
+               s.bulge_half);
+        if (s.has_sun)
+            printf("  Sun R = %.3f z = %+.3f", s.sun_R, s.sun_z);
+    }
+    printf("\n");
+    fflush(stdout);
+}
+
+/* Total energy now (every process). */
+static double total_energy(const bodies *b, int rank, int size)
+{
+    double e[5];
+    return energies(b, rank, size, e) ? e[0] + e[1] : NAN;
+}
+
+/* The step each particle would want by Gadget-2's criterion, dt_i =
+ * sqrt(2 eta eps_i / |a_i|) with eta = 0.025 (Springel 2005, MNRAS 364,
+ * 1105): the share of this process's particles for which the global step
+ * is too long. A block-step code would give those shorter steps; here it
+ * says how honest the chosen dt is. */
+static double share_wanting_shorter(const bodies *b, double dt)
+{
+    size_t shorter = 0;
+    for (size_t i = 0; i < b->n; i++) {
+        const double *a = &b->acc[3 * i];
+        double amag = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        double want = amag > 0 ? sqrt(2 * 0.025 * b->eps_all[b->first + i] / amag) : INFINITY;
+        shorter += want < dt;
+    }
+    return b->n ? (double)shorter / (double)b->n : 0.0;
 }
 
 static void kick(bodies *b, double dt)
@@ -371,7 +634,7 @@ static int start_bodies(const options *o, int rank, int size, bodies *b)
     int ok = load_bodies(o, rank, size, b, &err) == ORR_OK;
     if (!ok)
         fprintf(stderr, "orrery-nbody: %s\n", err.msg);
-    if (ranks_any(!ok) || !share_bodies(b, rank, size))
+    if (ranks_any(!ok) || !share_bodies(b, o, rank, size))
         return 0;
     if (b->n_all == 0) {
         if (rank == 0)
@@ -420,9 +683,15 @@ int main(int argc, char **argv)
     if (!o.quiet)
         printf("%zu bodies from %s on %d process%s, t = %g, dt = %g, eps = %g, theta = %g\n", b.n_all, o.ic, size,
                size > 1 ? "es" : "", b.time, o.dt, o.eps, o.theta);
-    bh_tree tree = {0};
+    qt_tree tree = {0};
     double interactions, t_gravity = 0, t_render = 0, seconds;
     t_gravity += gravity(&tree, &b, &o, &interactions);
+    double e0 = total_energy(&b, rank, size);
+    if (!o.quiet)
+        printf("time step: %.2f%% of this process's particles want a shorter one than dt = %g by "
+               "sqrt(2 x 0.025 eps / |a|)\n",
+               100.0 * share_wanting_shorter(&b, o.dt), o.dt);
+    report(&b, rank, size, e0, o.quiet);
     long frames = 0;
     if (r && (code = render(r, &b, frames++, &seconds)) == 0)
         t_render += seconds;
@@ -441,6 +710,8 @@ int main(int argc, char **argv)
         if (!o.quiet)
             printf("step %ld  t = %.4f  gravity %.3f s (%.3g interactions/s)  render %.3f s\n", step, b.time, tg,
                    interactions / (tg > 0 ? tg : 1e-9), tr);
+        if (step % o.report_every == 0 || step == o.steps)
+            report(&b, rank, size, e0, o.quiet);
     }
     if (!o.quiet && code == 0) {
         printf("gravity %.2f s over %ld force evaluations; rendering %.2f s over %ld frames\n", t_gravity,
@@ -450,7 +721,7 @@ int main(int argc, char **argv)
                    100.0 * (t_render / frames) / (t_gravity / (double)(o.steps + 1)));
     }
     orrery_close(r);
-    bh_free(&tree);
+    qt_free(&tree);
     free_bodies(&b);
     ranks_finish();
     return code ? 1 : 0;

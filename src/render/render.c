@@ -156,7 +156,8 @@ orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, i
         return orr_king_source_open(&kp, (size_t)s->chunk_size, out, err);
     }
     if (s->model_name[0]) {
-        orr_model_params mp = {s->model_particles, s->model_seed, s->model_separation};
+        orr_model_params mp = {s->model_particles, s->model_seed, s->model_separation, s->model_galaxies,
+                               s->model_disc_q};
         return orr_model_source_open(&mp, (size_t)s->chunk_size, out, err);
     }
     /* The observer and reference particles may be of types the scene does

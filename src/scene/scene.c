@@ -18,6 +18,8 @@ void orr_scene_defaults(orr_scene *s)
     s->model_particles = 200000;
     s->model_seed = 1;
     s->model_separation = 780;
+    s->model_galaxies = 0; /* ORR_MODEL_PAIR */
+    s->model_disc_q = 1.5;
     s->model_w0 = 7;
     s->model_core_radius = 1;
     s->model_mass = 5e5;

@@ -55,6 +55,8 @@ typedef struct orr_scene {
     long long model_particles;     /* input.model.particles (default 200000) */
     uint64_t model_seed;           /* input.model.seed (default 1) */
     double model_separation;       /* input.model.separation, kpc (default 780) */
+    int model_galaxies;            /* input.model.galaxies: ORR_MODEL_PAIR (default), _MW, _M31 */
+    double model_disc_q;           /* input.model.disc_q: the discs' Toomre Q (default 1.5) */
     double model_w0;               /* input.model.w0: king's central potential W0 (default 7) */
     double model_core_radius;      /* input.model.core_radius: king's r0, pc (default 1) */
     double model_mass;             /* input.model.mass: king's total mass, Msun (default 5e5) */

@@ -100,6 +100,19 @@ static int word_model_name(orr_scene *s, const char *w)
 }
 static const char *names_model_name(void) { return "mw-m31 king"; }
 
+/* input.model.galaxies: model.h's ORR_MODEL_PAIR, _MW, _M31 (0, 1, 2). */
+static int word_model_galaxies(orr_scene *s, const char *w)
+{
+    static const char *const words[] = {"pair", "mw", "m31"};
+    for (int i = 0; i < 3; i++)
+        if (strcmp(w, words[i]) == 0) {
+            s->model_galaxies = i;
+            return 1;
+        }
+    return 0;
+}
+static const char *names_model_galaxies(void) { return "pair mw m31"; }
+
 static int word_nonfinite(orr_scene *s, const char *w)
 {
     if (strcmp(w, "error") == 0)
@@ -303,6 +316,8 @@ static const key_spec KEYS[] = {
     {.key = "input.model.particles", .type = K_LLONG, FIELD(model_particles), IRANGE(100, 2000000000LL)},
     {.key = "input.model.seed", .type = K_U64, FIELD(model_seed), IRANGE(0, LLONG_MAX)},
     {.key = "input.model.separation", .type = K_NUMBER, FIELD(model_separation), ABOVE(0)},
+    {.key = "input.model.galaxies", ENUM(model_galaxies)},
+    {.key = "input.model.disc_q", .type = K_NUMBER, FIELD(model_disc_q), ABOVE(0)},
     {.key = "input.model.w0", .type = K_NUMBER, FIELD(model_w0), CLOSED(0.5, 15)},
     {.key = "input.model.core_radius", .type = K_NUMBER, FIELD(model_core_radius), ABOVE(0)},
     {.key = "input.model.mass", .type = K_NUMBER, FIELD(model_mass), ABOVE(0)},

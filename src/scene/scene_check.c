@@ -27,7 +27,8 @@ static const char *const RANGE_KEYS[] = {"input.sequence.first", "input.sequence
 /* Each built-in model has its own parameters: another model's are errors. */
 static orr_status check_model_keys(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    static const char *const mw_m31_only[] = {"input.model.separation"};
+    static const char *const mw_m31_only[] = {"input.model.separation", "input.model.galaxies",
+                                              "input.model.disc_q"};
     static const char *const king_only[] = {"input.model.w0", "input.model.core_radius", "input.model.mass"};
     const int king = strcmp(s->model_name, "king") == 0;
     const char *const *foreign = king ? mw_m31_only : king_only;
@@ -43,7 +44,8 @@ static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_erro
 {
     static const char *const model_keys[] = {"input.model.particles", "input.model.seed",
                                              "input.model.separation", "input.model.w0",
-                                             "input.model.core_radius", "input.model.mass"};
+                                             "input.model.core_radius", "input.model.mass",
+                                             "input.model.galaxies", "input.model.disc_q"};
     const int has_file = s->input_file[0] != '\0', has_model = s->model_name[0] != '\0';
     const int has_sequence = orr_scene_has_sequence(s);
     const char *sequence_key = s->seq_pattern[0] ? "input.sequence.pattern" : "input.sequence.files";

@@ -1,7 +1,13 @@
 /* The built-in "mw-m31" model: a Milky Way-like and an Andromeda-like galaxy
  * (exponential disc + Hernquist bulge + truncated Hernquist halo + central
- * black hole each) on an approach orbit, plus a Sun marker. docs/model.md
- * gives the numbers, their sources and the approximations made.
+ * black hole each) on an approach orbit, plus a Sun marker; or one of the
+ * two alone. Each galaxy is set up near equilibrium: bulge and halo
+ * velocities from their Eddington distribution functions in the galaxy's
+ * spherically averaged potential, disc velocities from the true circular
+ * speed and epicyclic frequency with a Toomre Q profile, asymmetric drift
+ * and a vertical dispersion matched to the scale height (the recipe of
+ * Hernquist 1993, ApJS 86, 389). docs/model.md gives the numbers, their
+ * sources and the approximations made.
  *
  * Every particle is a pure function of (seed, index): particle i is drawn
  * from a counter-based generator keyed by (seed, i), never from a stream
@@ -15,6 +21,7 @@
 #include <string.h>
 
 #include "core/vecmath.h"
+#include "source/galaxy_df.h"
 #include "source/rng.h"
 
 /* Gravitational constant in kpc (km/s)^2 per 1e10 Msun
@@ -22,7 +29,8 @@
 #define MODEL_G 4.30091e4
 
 #define MODEL_PARTICLES_MIN 100
-#define MODEL_MARKERS 3
+#define MODEL_MARKERS_MAX 3
+#define MODEL_FIRST_ID 4 /* the first non-marker particle's id, whatever the markers */
 #define MODEL_SEPARATION_MIN 10.0    /* kpc; below this the Sun is inside M31 */
 #define MODEL_SEPARATION_MAX 10000.0 /* kpc; keeps float positions precise */
 
@@ -43,20 +51,29 @@
 #define M31_VRAD (-110.0)
 #define M31_VTAN 17.0
 
-/* Disc velocity dispersion, as a fraction of the local circular speed, in
- * each of the radial, azimuthal and vertical directions. */
-#define DISC_SIGMA_FRAC 0.10
+/* The radius where the disc's Toomre Q takes the requested value, in disc
+ * scale lengths: Hernquist (1993) normalised at the solar radius, 8.5 kpc
+ * for his 3.5 kpc scale length. */
+#define DISC_Q_RADIUS 2.43
+#define DISC_Q_MAX 100.0
 
-/* Share of the non-marker particles per component kind, in percent. Stars
- * get more particles than their mass share so discs and bulges are well
- * sampled; the halos (most of the mass) get heavier particles. */
-#define SHARE_DISC 45
-#define SHARE_BULGE 15 /* the halos take the rest, 40 */
+/* A halo particle weighs this many star (disc or bulge) particles. Equal
+ * masses would leave only ~6% of the particles to the stars; 8 keeps a
+ * third of them stars (5e4 disc particles in an isolated Milky Way of 2e5)
+ * while cutting the halo particles' heating of the discs (which grows with
+ * their mass; Lacey & Ostriker 1985) threefold from the previous 25. */
+#define HALO_MASS_RATIO 8.0
 
-/* Jeans table: sigma(r) on a grid uniform in ln r from JEANS_R_MIN to the
- * truncation radius. */
-#define JEANS_N 512
-#define JEANS_R_MIN 1e-3
+/* The thick disc's midplane v_c^2 is tabulated on DISC_TAB_N radii
+ * uniform in ln R from DISC_TAB_RMIN to DISC_TAB_ROUT disc truncation radii
+ * (beyond, where no disc star is, the thin-disc formula is within 1%). */
+#define DISC_TAB_N 48
+#define DISC_TAB_RMIN 0.02
+#define DISC_TAB_ROUT 1.2
+
+/* Radii of the spherical potential and distribution-function tables. */
+#define DF_R_MIN 1e-4
+#define DF_R_OUT 100.0 /* the potential table runs to this many halo truncation radii */
 
 /* Potential table: Phi(r) on a grid uniform in ln r from POT_R_MIN to the
  * halo's truncation radius (the outermost of the galaxy's components). */
@@ -90,8 +107,12 @@ typedef struct galaxy {
     double disc_frac, bulge_frac, halo_frac;
     orr_vec3 centre, velocity;
     orr_vec3 e1, e2, spin; /* disc frame: e1 x e2 = spin (angular momentum) */
-    double jeans_ln_rmin[COMP_COUNT], jeans_dln[COMP_COUNT];
-    double sigma[COMP_COUNT][JEANS_N]; /* bulge and halo rows used */
+    double g_sigma0;       /* G times the disc's central surface density */
+    double disc_ln_r0, disc_dln;
+    double disc_v2[DISC_TAB_N]; /* the thick disc's own v_c^2 in its plane */
+    double sigma_r_ref;    /* disc radial dispersion at DISC_Q_RADIUS scale lengths */
+    gdf_potential sph;     /* the spherically averaged potential (the DF's) */
+    gdf_speeds speeds[COMP_COUNT]; /* bulge and halo rows used */
     double pot_ln_rmin, pot_dln;
     double pot[POT_N]; /* spherically averaged potential, (km/s)^2 */
 } galaxy;
@@ -107,7 +128,11 @@ typedef struct block {
 typedef struct model_state {
     orr_model_params params;
     galaxy gal[GAL_COUNT];
+    int ngal, gal_index[GAL_COUNT]; /* the galaxies present, in id order */
+    int nmarkers;                   /* black holes of the galaxies present, the Sun with the MW */
+    uint64_t marker_id[MODEL_MARKERS_MAX];
     block blocks[GAL_COUNT * COMP_COUNT];
+    int nblocks;
     uint64_t total, next_index;
 } model_state;
 
@@ -141,72 +166,176 @@ static double hernquist_cdf(double r, double a)
     return q * q;
 }
 
-/* Mass inside radius r, treating the disc as if spherical (its mass within
- * cylindrical radius r placed inside sphere r). This is the usual quick
- * estimate; the true thin-disc circular speed differs by ~10-15%. */
-static double enclosed_mass(const galaxy *g, double r)
+/* Mass of the spherical components (black hole, bulge, halo) inside r. */
+static double spheroid_mass(const galaxy *g, double r)
 {
     const galaxy_spec *s = &g->s;
     double m = s->bh_mass;
-    m += r >= s->disc_rmax ? s->disc_mass : s->disc_mass * disc_cdf(r, s->disc_rd) / g->disc_frac;
     m += r >= s->bulge_rmax ? s->bulge_mass
                             : s->bulge_mass * hernquist_cdf(r, s->bulge_a) / g->bulge_frac;
     m += r >= s->halo_rmax ? s->halo_mass : s->halo_mass * hernquist_cdf(r, s->halo_a) / g->halo_frac;
     return m;
 }
 
-static double circular_speed(const galaxy *g, double r)
+/* Disc mass within cylindrical radius R (the truncated exponential). */
+static double disc_cylinder_mass(const galaxy *g, double R)
 {
-    return r > 0 ? sqrt(MODEL_G * enclosed_mass(g, r) / r) : 0.0;
+    const galaxy_spec *s = &g->s;
+    return R >= s->disc_rmax ? s->disc_mass : s->disc_mass * disc_cdf(R, s->disc_rd) / g->disc_frac;
 }
 
-/* Hernquist density up to a constant (the constant cancels in sigma^2). */
-static double hernquist_shape(double r, double a)
+/* Disc mass within the sphere of radius r, for the layer's exponential
+ * vertical profile: integral over |z| < r of exp(-|z|/h)/(2h) times the
+ * mass within cylindrical radius sqrt(r^2 - z^2); with u = 1 - exp(-z/h)
+ * the weight is du, so a 48-point midpoint rule in u is smooth. For a thin
+ * disc this is the cylinder mass; for h = 0.3 kpc it is 17% less at 1 kpc,
+ * which the bulge must not be made too hot for. */
+static double disc_sphere_mass(const galaxy *g, double r)
 {
-    double ra = r + a;
+    const int n = 48;
+    double h = g->s.disc_hz, top = 1.0 - exp(-r / h), sum = 0.0;
+    for (int k = 0; k < n; k++) {
+        double u = (k + 0.5) / n * top, z = -h * log(1.0 - u);
+        sum += disc_cylinder_mass(g, sqrt(fmax(0.0, r * r - z * z)));
+    }
+    return sum * top / n;
+}
+
+/* Mass inside radius r with the disc's mass in that sphere: the monopole
+ * (spherical average) the bulge and halo feel, and the potential E0 is
+ * measured in. */
+static double enclosed_mass(const galaxy *g, double r)
+{
+    return disc_sphere_mass(g, r) + spheroid_mass(g, r);
+}
+
+static double gm_enclosed(double r, const void *ctx)
+{
+    return MODEL_G * enclosed_mass(ctx, r);
+}
+
+/* ---- disc dynamics ------------------------------------------------------ */
+
+/* The disc's own v_c^2 for its thickness (gdf_thick_disc_vc2; the
+ * truncation ignored: 0.2% of its mass lies beyond), tabulated once. */
+static void build_disc_table(galaxy *g)
+{
+    g->disc_ln_r0 = log(DISC_TAB_RMIN);
+    g->disc_dln = (log(DISC_TAB_ROUT * g->s.disc_rmax) - g->disc_ln_r0) / (DISC_TAB_N - 1);
+    for (int i = 0; i < DISC_TAB_N; i++)
+        g->disc_v2[i] = gdf_thick_disc_vc2(exp(g->disc_ln_r0 + i * g->disc_dln), g->s.disc_rd, g->s.disc_hz,
+                                           g->g_sigma0);
+}
+
+/* Catmull-Rom interpolation in ln R, so the derivative (kappa) is
+ * continuous; v^2 ~ R^2 inside the table (a finite central density), the
+ * thin disc's outside (the thickness no longer matters there). */
+static double disc_own_vc2(const galaxy *g, double R)
+{
+    if (R <= DISC_TAB_RMIN)
+        return g->disc_v2[0] * (R / DISC_TAB_RMIN) * (R / DISC_TAB_RMIN);
+    double t = (log(R) - g->disc_ln_r0) / g->disc_dln;
+    if (t >= DISC_TAB_N - 1)
+        return gdf_freeman_vc2(R, g->s.disc_rd, g->g_sigma0);
+    int i = (int)t;
+    double f = t - i, f2 = f * f, f3 = f2 * f;
+    const double *v = g->disc_v2;
+    double p0 = v[i > 0 ? i - 1 : 0], p1 = v[i], p2 = v[i + 1], p3 = v[i + 2 < DISC_TAB_N ? i + 2 : i + 1];
+    return 0.5 * (2.0 * p1 + (p2 - p0) * f + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * f2 +
+                  (3.0 * p1 - p0 - 3.0 * p2 + p3) * f3);
+}
+
+/* v_c^2 in the disc plane: the thick disc's own plus the spherical
+ * components'. This is the circular speed the disc must rotate at; the
+ * spherical approximation of the disc is ~10% off near 2 Rd, the thin-disc
+ * formula 5-15% in v^2 within 3 Rd. */
+static double disc_vc2(const galaxy *g, double R)
+{
+    return disc_own_vc2(g, R) + MODEL_G * spheroid_mass(g, R) / R;
+}
+
+/* kappa^2 = R d(Omega^2)/dR + 4 Omega^2 = (dv_c^2/dR) / R + 2 v_c^2 / R^2
+ * (Binney & Tremaine 2008 eq. 3.80), the derivative by central difference. */
+static double disc_kappa2(const galaxy *g, double R)
+{
+    double h = 1e-3 * R;
+    double dv2 = (disc_vc2(g, R + h) - disc_vc2(g, R - h)) / (2.0 * h);
+    return dv2 / R + 2.0 * disc_vc2(g, R) / (R * R);
+}
+
+static double disc_surface_density_g(const galaxy *g, double R)
+{
+    return g->g_sigma0 * exp(-R / g->s.disc_rd); /* G Sigma(R) */
+}
+
+/* Hernquist (1993): sigma_R^2 proportional to Sigma, i.e. sigma_R =
+ * sigma_ref exp(-(R - R_ref) / (2 Rd)), normalised so that Toomre's
+ * Q = sigma_R kappa / (3.36 G Sigma) equals q at R_ref = 2.43 Rd. */
+static void set_disc_dispersion(galaxy *g, double q)
+{
+    double rref = DISC_Q_RADIUS * g->s.disc_rd;
+    g->sigma_r_ref = q * 3.36 * disc_surface_density_g(g, rref) / sqrt(disc_kappa2(g, rref));
+}
+
+static double disc_sigma_r(const galaxy *g, double R)
+{
+    return g->sigma_r_ref * exp(-(R - DISC_Q_RADIUS * g->s.disc_rd) / (2.0 * g->s.disc_rd));
+}
+
+/* Vertical dispersion at (R, z) from the vertical Jeans equation
+ * d(rho sigma_z^2)/dz = -rho dPhi/dz for the model's exponential layer
+ * rho ~ exp(-|z|/h) (so the dispersion keeps the layer at its scale
+ * height). The vertical pull is that of Poisson's equation near the plane,
+ * d^2Phi/dz^2 = 4 pi G rho - (1/R) d(R F_R)/dR:
+ *  - the layer's own density, 2 pi G Sigma(<|z|), gives
+ *    2 pi G Sigma h (1 - exp(-|z|/h) / 2);
+ *  - the rest is linear in z, nu^2 z: the spheroid's G M_sph(<r) / r^3 at
+ *    r = sqrt(R^2 + h^2) (kept finite at the centre), less the disc's own
+ *    radial term (1/R) d(v_disc^2)/dR, which the infinite-sheet
+ *    approximation drops and which weakens the pull by 10-15% inside 2 Rd
+ *    where the disc's rotation rises; it gives nu^2 h (|z| + h).
+ * Clipped at a small positive floor should the sum turn negative. */
+static double disc_sigma_z2(const galaxy *g, double R, double z)
+{
+    double h = g->s.disc_hz, az = fabs(z);
+    double sheet = 2.0 * ORR_PI * disc_surface_density_g(g, R) * h * (1.0 - 0.5 * exp(-az / h));
+    double r2 = R * R + h * h, r = sqrt(r2), dR = 1e-3 * R;
+    double radial = (disc_own_vc2(g, R + dR) - disc_own_vc2(g, R - dR)) / (2.0 * dR * R);
+    double nu2 = MODEL_G * spheroid_mass(g, r) / (r2 * r) - radial;
+    return fmax(1.0, sheet + nu2 * h * (az + h));
+}
+
+/* ---- spherical components' distribution functions ---------------------- */
+
+typedef struct sphere_ctx {
+    double a;
+} sphere_ctx;
+
+/* The untruncated Hernquist shape (its constant cancels in f's shape). */
+static double hernquist_rho(double r, const void *ctx)
+{
+    double a = ((const sphere_ctx *)ctx)->a, ra = r + a;
     return 1.0 / (r * ra * ra * ra);
 }
 
-/* ---- Jeans dispersion tables ------------------------------------------ */
-
-/* Isotropic spherical Jeans equation for a component of density rho inside
- * the galaxy's total (spherically approximated) mass:
- *   sigma^2(r) = 1/rho(r) * integral_r^rmax rho(r') G M(<r') / r'^2 dr'.
- * Integrated inward with the trapezoid rule in ln r, which keeps the steep
- * inner profile accurate on a modest grid. sigma vanishes at the truncation
- * radius, as the Jeans equation for a truncated component implies. */
-static void build_jeans_table(galaxy *g, int comp, double a, double rmax)
+static double hernquist_dlnrho(double r, const void *ctx)
 {
-    double ln_lo = log(JEANS_R_MIN), dln = (log(rmax) - ln_lo) / (JEANS_N - 1);
-    double integrand[JEANS_N], rho[JEANS_N];
-    for (int j = 0; j < JEANS_N; j++) {
-        double r = exp(ln_lo + j * dln);
-        rho[j] = hernquist_shape(r, a);
-        /* dr = r d(ln r) */
-        integrand[j] = rho[j] * MODEL_G * enclosed_mass(g, r) / r;
-    }
-    double acc = 0.0;
-    g->sigma[comp][JEANS_N - 1] = 0.0;
-    for (int j = JEANS_N - 2; j >= 0; j--) {
-        acc += 0.5 * (integrand[j] + integrand[j + 1]) * dln;
-        g->sigma[comp][j] = sqrt(acc / rho[j]);
-    }
-    g->jeans_ln_rmin[comp] = ln_lo;
-    g->jeans_dln[comp] = dln;
+    double a = ((const sphere_ctx *)ctx)->a;
+    return -1.0 - 3.0 * r / (r + a);
 }
 
-/* sigma(r) by linear interpolation in ln r; clamped at the table ends. */
-static double jeans_sigma(const galaxy *g, int comp, double r)
+/* The bulge's and the halo's speed tables from Eddington's formula for
+ * their (untruncated) Hernquist densities in the whole galaxy's spherically
+ * averaged potential (disc monopole, black hole and the truncated
+ * components included). Returns 0 on allocation failure. */
+static int build_sphere_dfs(galaxy *g)
 {
-    const double *tab = g->sigma[comp];
-    if (r <= JEANS_R_MIN)
-        return tab[0];
-    double t = (log(r) - g->jeans_ln_rmin[comp]) / g->jeans_dln[comp];
-    int j = (int)t;
-    if (j >= JEANS_N - 1)
-        return tab[JEANS_N - 1];
-    double f = t - j;
-    return tab[j] + f * (tab[j + 1] - tab[j]);
+    gdf_potential_build(&g->sph, DF_R_MIN, DF_R_OUT * g->s.halo_rmax, gm_enclosed, g);
+    sphere_ctx bulge = {g->s.bulge_a}, halo = {g->s.halo_a};
+    return gdf_speeds_build(&g->speeds[COMP_BULGE], &g->sph, 1e-3, g->s.bulge_rmax, hernquist_rho,
+                            hernquist_dlnrho, &bulge) &&
+           gdf_speeds_build(&g->speeds[COMP_HALO], &g->sph, 1e-3, g->s.halo_rmax, hernquist_rho,
+                            hernquist_dlnrho, &halo);
 }
 
 /* ---- potential table -------------------------------------------------- */
@@ -304,30 +433,62 @@ static void set_orbit(model_state *m)
     m31->velocity = orr_v3_scale(vrel, m_mw / mt);
 }
 
-static void init_galaxy(galaxy *g, const galaxy_spec *s)
+static void init_galaxy(galaxy *g, const galaxy_spec *s, double q)
 {
     g->s = *s;
     g->disc_frac = disc_cdf(s->disc_rmax, s->disc_rd);
     g->bulge_frac = hernquist_cdf(s->bulge_rmax, s->bulge_a);
     g->halo_frac = hernquist_cdf(s->halo_rmax, s->halo_a);
+    /* Sigma0 of the untruncated profile whose mass within disc_rmax is disc_mass. */
+    g->g_sigma0 = MODEL_G * s->disc_mass / (2.0 * ORR_PI * s->disc_rd * s->disc_rd * g->disc_frac);
+    build_disc_table(g);
+    set_disc_dispersion(g, q);
 }
 
-static void init_galaxies(model_state *m)
+/* Which galaxies are present, and the marker particles: each present
+ * galaxy's black hole, then the Sun when the Milky Way is there. Marker ids
+ * are the well-known ones (1, 2, 3) whichever are present. */
+static void choose_galaxies(model_state *m)
 {
-    init_galaxy(&m->gal[GAL_MW], &SPEC[GAL_MW]);
-    init_galaxy(&m->gal[GAL_M31], &SPEC[GAL_M31]);
+    int mode = m->params.galaxies;
+    m->ngal = 0;
+    m->nmarkers = 0;
+    if (mode != ORR_MODEL_M31)
+        m->gal_index[m->ngal++] = GAL_MW;
+    if (mode != ORR_MODEL_MW)
+        m->gal_index[m->ngal++] = GAL_M31;
+    for (int k = 0; k < m->ngal; k++)
+        m->marker_id[m->nmarkers++] = m->gal_index[k] == GAL_MW ? ORR_MODEL_ID_MW_BH : ORR_MODEL_ID_M31_BH;
+    if (mode != ORR_MODEL_M31)
+        m->marker_id[m->nmarkers++] = ORR_MODEL_ID_SUN;
+}
+
+/* Returns 0 on allocation failure. */
+static int init_galaxies(model_state *m)
+{
+    double q = m->params.disc_q > 0 ? m->params.disc_q : ORR_MODEL_DISC_Q_DEFAULT;
+    init_galaxy(&m->gal[GAL_MW], &SPEC[GAL_MW], q);
+    init_galaxy(&m->gal[GAL_M31], &SPEC[GAL_M31], q);
     /* The Milky Way's angular momentum points to -z (clockwise seen from the
      * north galactic pole): the Sun at -x moves towards +y. */
     set_disc_frame(&m->gal[GAL_MW], orr_v3(0, 0, -1), orr_v3(0, 1, 0));
     set_disc_frame(&m->gal[GAL_M31], galactic_direction(M31_SPIN_L_DEG, M31_SPIN_B_DEG),
                    orr_v3(0, 0, 1));
-    set_orbit(m);
-    for (int i = 0; i < GAL_COUNT; i++) {
-        galaxy *g = &m->gal[i];
-        build_jeans_table(g, COMP_BULGE, g->s.bulge_a, g->s.bulge_rmax);
-        build_jeans_table(g, COMP_HALO, g->s.halo_a, g->s.halo_rmax);
-        build_potential_table(g);
+    choose_galaxies(m);
+    if (m->ngal == 2) {
+        set_orbit(m);
+    } else { /* alone: at rest at the origin, for isolation tests */
+        galaxy *g = &m->gal[m->gal_index[0]];
+        g->centre = orr_v3(0, 0, 0);
+        g->velocity = orr_v3(0, 0, 0);
     }
+    for (int k = 0; k < m->ngal; k++) {
+        galaxy *g = &m->gal[m->gal_index[k]];
+        build_potential_table(g);
+        if (!build_sphere_dfs(g))
+            return 0;
+    }
+    return 1;
 }
 
 /* ---- particle split ---------------------------------------------------- */
@@ -344,43 +505,91 @@ static uint8_t comp_type(int comp)
                                 : ORR_MODEL_TYPE_HALO;
 }
 
-/* Particles of one component kind for the Milky Way, the rest going to M31:
- * in proportion to the two component masses, at least one each. */
-static uint64_t mw_share(uint64_t n, double m_mw, double m_m31)
+/* A component's claim on particles: its mass in units of its particle
+ * mass (star particles 1, halo particles HALO_MASS_RATIO). */
+static double comp_weight(const galaxy_spec *s, int comp)
 {
-    double k = floor((double)n * m_mw / (m_mw + m_m31) + 0.5);
-    if (k < 1)
-        k = 1;
-    if (k > (double)(n - 1))
-        k = (double)(n - 1);
-    return (uint64_t)k;
+    return comp_mass(s, comp) / (comp == COMP_HALO ? HALO_MASS_RATIO : 1.0);
 }
 
-/* Blocks in id order: MW disc, bulge, halo, then M31 disc, bulge, halo. */
+/* Every block gets at least one particle: an empty one takes one from the
+ * largest (N >= 100 leaves the largest far above one). */
+static void ensure_nonempty(model_state *m)
+{
+    for (int b = 0; b < m->nblocks; b++) {
+        if (m->blocks[b].count)
+            continue;
+        int big = 0;
+        for (int k = 1; k < m->nblocks; k++)
+            if (m->blocks[k].count > m->blocks[big].count)
+                big = k;
+        m->blocks[big].count--;
+        m->blocks[b].count = 1;
+    }
+}
+
+/* Blocks in id order: MW disc, bulge, halo, then M31 disc, bulge, halo (the
+ * galaxies present). Counts are the cumulative rounding of the weights, so
+ * they add up to exactly N minus the markers and particle masses are
+ * equal within each kind up to one particle's rounding. */
 static void split_particles(model_state *m)
 {
-    uint64_t rest = m->total - MODEL_MARKERS;
-    uint64_t kind[COMP_COUNT];
-    kind[COMP_DISC] = rest * SHARE_DISC / 100;
-    kind[COMP_BULGE] = rest * SHARE_BULGE / 100;
-    kind[COMP_HALO] = rest - kind[COMP_DISC] - kind[COMP_BULGE];
-    uint64_t first = MODEL_MARKERS;
-    for (int gi = 0; gi < GAL_COUNT; gi++) {
+    uint64_t rest = m->total - (uint64_t)m->nmarkers;
+    double wsum = 0.0;
+    for (int k = 0; k < m->ngal; k++)
+        for (int c = 0; c < COMP_COUNT; c++)
+            wsum += comp_weight(&SPEC[m->gal_index[k]], c);
+    double cum = 0.0;
+    uint64_t prev = 0;
+    m->nblocks = 0;
+    for (int k = 0; k < m->ngal; k++) {
         for (int c = 0; c < COMP_COUNT; c++) {
-            uint64_t n_mw = mw_share(kind[c], comp_mass(&SPEC[GAL_MW], c), comp_mass(&SPEC[GAL_M31], c));
-            block *b = &m->blocks[gi * COMP_COUNT + c];
-            b->count = gi == GAL_MW ? n_mw : kind[c] - n_mw;
-            b->first = first;
+            int gi = m->gal_index[k];
+            cum += comp_weight(&SPEC[gi], c);
+            uint64_t upto = (uint64_t)floor((double)rest * cum / wsum + 0.5);
+            if (upto > rest)
+                upto = rest;
+            block *b = &m->blocks[m->nblocks++];
+            b->count = upto - prev;
             b->gal = gi;
             b->comp = c;
             b->type = comp_type(c);
-            b->mass = (float)(comp_mass(&SPEC[gi], c) / (double)b->count);
-            first += b->count;
+            prev = upto;
         }
+    }
+    m->blocks[m->nblocks - 1].count += rest - prev;
+    ensure_nonempty(m);
+    uint64_t first = (uint64_t)m->nmarkers;
+    for (int b = 0; b < m->nblocks; b++) {
+        block *bl = &m->blocks[b];
+        bl->first = first;
+        bl->mass = (float)(comp_mass(&SPEC[bl->gal], bl->comp) / (double)bl->count);
+        first += bl->count;
     }
 }
 
 /* ---- sampling ---------------------------------------------------------- */
+
+/* A disc star's velocity at (R, z) from three unit Gaussians, in the
+ * epicyclic approximation (Hernquist 1993 sec. 2.2.3; Binney & Tremaine
+ * 2008 eqs. 3.100, 4.228): sigma_R from the Q profile, sigma_phi^2 =
+ * sigma_R^2 kappa^2 / (4 Omega^2), and the mean rotation lagging the
+ * circular speed by the asymmetric drift,
+ *   vphi_mean^2 = v_c^2 + sigma_R^2 (1 - kappa^2 / (4 Omega^2) - 2 R / Rd),
+ * (the last term is d ln(Sigma sigma_R^2) / d ln R for sigma_R^2 ~ Sigma),
+ * clipped at 0 where the drift would exceed the rotation (near the centre). */
+static void disc_velocity(const galaxy *g, double R, double z, double gr, double gt, double gz, double *vr,
+                          double *vphi, double *vz)
+{
+    double Rs = R > 1e-3 ? R : 1e-3; /* the kinematics are finite at the centre */
+    double vc2 = disc_vc2(g, Rs), kappa2 = disc_kappa2(g, Rs);
+    double ratio = kappa2 * Rs * Rs / (4.0 * vc2); /* kappa^2 / (4 Omega^2) */
+    double sr = disc_sigma_r(g, Rs);
+    double mean2 = vc2 + sr * sr * (1.0 - ratio - 2.0 * Rs / g->s.disc_rd);
+    *vr = sr * gr;
+    *vphi = sqrt(fmax(0.0, mean2)) + sr * sqrt(ratio) * gt;
+    *vz = sqrt(disc_sigma_z2(g, Rs, z)) * gz;
+}
 
 /* Exponential surface density: R = -Rd ln(u1 u2) samples the Gamma(2)
  * distribution R e^(-R/Rd) exactly; radii beyond the truncation are redrawn
@@ -401,17 +610,19 @@ static void sample_disc(const galaxy *g, orr_rng *r, particle *p)
     orr_vec3 that = orr_v3_cross(g->spin, rhat); /* direction of rotation */
     p->pos = orr_v3_add(g->centre, orr_v3_add(orr_v3_scale(rhat, R), orr_v3_scale(g->spin, z)));
 
-    double vc = circular_speed(g, R), sigma = DISC_SIGMA_FRAC * vc;
     double gr, gt, gz, unused;
     orr_rng_gauss2(r, &gr, &gt);
     orr_rng_gauss2(r, &gz, &unused);
-    orr_vec3 v = orr_v3_add(orr_v3_scale(rhat, sigma * gr), orr_v3_scale(that, vc + sigma * gt));
-    p->vel = orr_v3_add(g->velocity, orr_v3_add(v, orr_v3_scale(g->spin, sigma * gz)));
+    double vr, vphi, vz;
+    disc_velocity(g, R, z, gr, gt, gz, &vr, &vphi, &vz);
+    orr_vec3 v = orr_v3_add(orr_v3_scale(rhat, vr), orr_v3_scale(that, vphi));
+    p->vel = orr_v3_add(g->velocity, orr_v3_add(v, orr_v3_scale(g->spin, vz)));
 }
 
 /* Hernquist sphere truncated at rmax: the inverse CDF r = a s / (1 - s),
  * s = sqrt(u), with u scaled to (0, F(rmax)) so no redraw is needed.
- * Isotropic direction; isotropic Gaussian velocity with the Jeans sigma. */
+ * Isotropic direction; the speed from the component's Eddington
+ * distribution function at that radius, in an isotropic direction. */
 static void sample_sphere(const galaxy *g, int comp, orr_rng *r, particle *p)
 {
     double a = comp == COMP_BULGE ? g->s.bulge_a : g->s.halo_a;
@@ -423,48 +634,56 @@ static void sample_sphere(const galaxy *g, int comp, orr_rng *r, particle *p)
     orr_vec3 dir = orr_v3(sint * cos(phi), sint * sin(phi), cost);
     p->pos = orr_v3_add(g->centre, orr_v3_scale(dir, rad));
 
-    double sigma = jeans_sigma(g, comp, rad);
-    double g0, g1, g2, unused;
-    orr_rng_gauss2(r, &g0, &g1);
-    orr_rng_gauss2(r, &g2, &unused);
-    p->vel = orr_v3_add(g->velocity, orr_v3_scale(orr_v3(g0, g1, g2), sigma));
+    double speed = gdf_speed(&g->speeds[comp], &g->sph, rad, orr_rng_uniform(r));
+    double vcost = 2.0 * orr_rng_uniform(r) - 1.0, vsint = sqrt(fmax(0.0, 1.0 - vcost * vcost));
+    double vphi = 2.0 * ORR_PI * orr_rng_uniform(r);
+    orr_vec3 vdir = orr_v3(vsint * cos(vphi), vsint * sin(vphi), vcost);
+    p->vel = orr_v3_add(g->velocity, orr_v3_scale(vdir, speed));
 }
 
-/* Index 0, 1, 2: the MW black hole, M31's black hole and the Sun. */
+/* The markers: the black holes of the galaxies present, then the Sun. */
 static void make_marker(const model_state *m, uint64_t index, particle *p)
 {
     const galaxy *mw = &m->gal[GAL_MW];
-    if (index < 2) {
-        const galaxy *g = &m->gal[index];
+    if (m->marker_id[index] != ORR_MODEL_ID_SUN) {
+        const galaxy *g = &m->gal[m->marker_id[index] == ORR_MODEL_ID_MW_BH ? GAL_MW : GAL_M31];
         p->pos = g->centre;
         p->vel = g->velocity;
         p->mass = (float)g->s.bh_mass;
         p->type = ORR_MODEL_TYPE_BH;
         return;
     }
-    /* The Sun: on a circular orbit in the MW disc, no random motion. */
+    /* The Sun: on the circular orbit of the MW's true potential in the disc
+     * plane (disc_vc2), no random motion. */
     orr_vec3 rhat = orr_v3(-1, 0, 0);
     p->pos = orr_v3(SUN_X, 0.0, SUN_Z);
     p->vel = orr_v3_add(mw->velocity,
-                        orr_v3_scale(orr_v3_cross(mw->spin, rhat), circular_speed(mw, -SUN_X)));
+                        orr_v3_scale(orr_v3_cross(mw->spin, rhat), sqrt(disc_vc2(mw, -SUN_X))));
     p->mass = (float)SUN_MASS;
     p->type = ORR_MODEL_TYPE_SUN;
 }
 
 static const block *find_block(const model_state *m, uint64_t index)
 {
-    int nb = GAL_COUNT * COMP_COUNT;
-    for (int b = 0; b < nb - 1; b++)
+    for (int b = 0; b < m->nblocks - 1; b++)
         if (index < m->blocks[b].first + m->blocks[b].count)
             return &m->blocks[b];
-    return &m->blocks[nb - 1];
+    return &m->blocks[m->nblocks - 1];
 }
 
-/* Particle `index` (0-based; its id is index + 1), from nothing but the
- * seed and the index. */
+/* A particle's id: the markers' well-known ids, then MODEL_FIRST_ID on (so
+ * with both galaxies, id = index + 1). */
+static uint64_t particle_id(const model_state *m, uint64_t index)
+{
+    if (index < (uint64_t)m->nmarkers)
+        return m->marker_id[index];
+    return index - (uint64_t)m->nmarkers + MODEL_FIRST_ID;
+}
+
+/* Particle `index` (0-based), from nothing but the seed and the index. */
 static void make_particle(const model_state *m, uint64_t index, particle *p)
 {
-    if (index < MODEL_MARKERS) {
+    if (index < (uint64_t)m->nmarkers) {
         make_marker(m, index, p);
         p->r = 0.0f;
         p->e0 = 0.0f;
@@ -503,7 +722,7 @@ static orr_status model_next(orr_source *src, orr_error *err)
         c->y[k] = (float)p.pos.y;
         c->z[k] = (float)p.pos.z;
         c->mass[k] = p.mass;
-        c->id[k] = index + 1;
+        c->id[k] = particle_id(m, index);
         c->type[k] = p.type;
         c->extra[0].data[k] = (float)p.vel.x;
         c->extra[1].data[k] = (float)p.vel.y;
@@ -551,11 +770,20 @@ static orr_status check_params(const orr_model_params *params, size_t chunk_size
                         "model: %lld particles requested; the mw-m31 model needs %d to %lld "
                         "(3 of them are the Sun and black-hole markers)",
                         params->particles, MODEL_PARTICLES_MIN, (long long)ORR_MODEL_PARTICLES_MAX);
-    if (!(params->separation_kpc >= MODEL_SEPARATION_MIN && params->separation_kpc <= MODEL_SEPARATION_MAX))
+    if (params->galaxies == ORR_MODEL_PAIR && !(params->separation_kpc >= MODEL_SEPARATION_MIN && params->separation_kpc <= MODEL_SEPARATION_MAX))
         return orr_fail(err, ORR_ERR_USAGE,
                         "model: separation %g kpc is out of range (%g to %g kpc; 780 is today's "
                         "Milky Way-Andromeda distance)",
                         params->separation_kpc, MODEL_SEPARATION_MIN, MODEL_SEPARATION_MAX);
+    if (params->galaxies != ORR_MODEL_PAIR && params->galaxies != ORR_MODEL_MW && params->galaxies != ORR_MODEL_M31)
+        return orr_fail(err, ORR_ERR_USAGE, "model: galaxies = %d is not one of pair (0), mw (1), m31 (2)",
+                        params->galaxies);
+    /* 0 selects the default; anything else must be a positive finite Q. */
+    if (params->disc_q != 0.0 && !(params->disc_q > 0.0 && params->disc_q <= DISC_Q_MAX))
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "model: disc_q (the discs' Toomre Q) is %g; it must be above 0 (stable discs "
+                        "need Q > 1; at most %g)",
+                        params->disc_q, DISC_Q_MAX);
     if (chunk_size == 0)
         return orr_fail(err, ORR_ERR_USAGE, "model: chunk size must be at least 1 particle");
     return ORR_OK;
@@ -564,9 +792,15 @@ static orr_status check_params(const orr_model_params *params, size_t chunk_size
 static void fill_info(orr_source_info *info, const orr_model_params *params)
 {
     snprintf(info->format, sizeof info->format, "model:mw-m31");
-    snprintf(info->path, sizeof info->path,
-             "built-in model mw-m31 (N=%lld, seed=%llu, separation=%g kpc)", params->particles,
-             (unsigned long long)params->seed, params->separation_kpc);
+    double q = params->disc_q > 0 ? params->disc_q : ORR_MODEL_DISC_Q_DEFAULT;
+    if (params->galaxies == ORR_MODEL_PAIR)
+        snprintf(info->path, sizeof info->path,
+                 "built-in model mw-m31 (N=%lld, seed=%llu, separation=%g kpc, disc Q=%g)", params->particles,
+                 (unsigned long long)params->seed, params->separation_kpc, q);
+    else
+        snprintf(info->path, sizeof info->path, "built-in model mw-m31 (N=%lld, seed=%llu, %s alone, disc Q=%g)",
+                 params->particles, (unsigned long long)params->seed,
+                 params->galaxies == ORR_MODEL_MW ? "Milky Way" : "M31", q);
     info->count = params->particles;
     info->time = 0.0;
     info->has_h = 0;
@@ -590,7 +824,10 @@ orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_si
     model_state *m = src->state;
     m->params = *params;
     m->total = (uint64_t)params->particles;
-    init_galaxies(m);
+    if (!init_galaxies(m)) {
+        orr_source_close(src);
+        return orr_fail(err, ORR_ERR_NOMEM, "model: out of memory building the distribution functions");
+    }
     split_particles(m);
     fill_info(&src->info, params);
 

@@ -24,10 +24,19 @@
 
 #define ORR_MODEL_PARTICLES_MAX 2000000000LL
 
+/* Which galaxies the model holds (orr_model_params.galaxies). */
+#define ORR_MODEL_PAIR 0 /* the Milky Way and M31 on their approach orbit */
+#define ORR_MODEL_MW 1   /* the Milky Way alone, at rest at the origin, with the Sun */
+#define ORR_MODEL_M31 2  /* M31 alone, at rest at the origin */
+
+#define ORR_MODEL_DISC_Q_DEFAULT 1.5
+
 typedef struct orr_model_params {
     long long particles;   /* total, markers included; at least 100 */
     uint64_t seed;
-    double separation_kpc; /* distance between the two galaxy centres (780 today) */
+    double separation_kpc; /* distance between the two galaxy centres (780 today); pair only */
+    int galaxies;          /* ORR_MODEL_PAIR (0, the default), ORR_MODEL_MW or ORR_MODEL_M31 */
+    double disc_q;         /* Toomre Q of the discs at 2.43 scale lengths; 0 selects 1.5 */
 } orr_model_params;
 
 orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_size, orr_source **out,

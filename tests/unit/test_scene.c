@@ -60,6 +60,8 @@ static void test_defaults(void)
     CHECK(s->model_particles == 200000);
     CHECK(s->model_seed == 1);
     CHECK(s->model_separation == 780);
+    CHECK(s->model_galaxies == 0); /* ORR_MODEL_PAIR */
+    CHECK(s->model_disc_q == 1.5);
     CHECK(strcmp(s->weight, "mass") == 0);
     CHECK(s->type_mask == 0x3f);
     CHECK(s->chunk_size == 1048576);
@@ -104,6 +106,8 @@ static void test_full_scene(void)
                        "    particles: 2e6\n"
                        "    seed: 42\n"
                        "    separation: 700.5\n"
+                       "    galaxies: m31\n"
+                       "    disc_q: 2.5\n"
                        "  weight: luminosity\n"
                        "  types: [0, 2, 4]\n"
                        "  chunk: 65536\n"
@@ -138,6 +142,8 @@ static void test_full_scene(void)
     CHECK(s->model_particles == 2000000);
     CHECK(s->model_seed == 42);
     CHECK(s->model_separation == 700.5);
+    CHECK(s->model_galaxies == 2); /* ORR_MODEL_M31 */
+    CHECK(s->model_disc_q == 2.5);
     CHECK(strcmp(s->weight, "luminosity") == 0);
     CHECK(s->type_mask == ((1u << 0) | (1u << 2) | (1u << 4)));
     CHECK(s->chunk_size == 65536);
@@ -423,6 +429,10 @@ static void test_value_errors(void)
     EXPECT_ERROR(MODEL "output:\n  white: -1\n", ORR_ERR_USAGE, "output.white: -1 is out of range (must be > 0)");
     EXPECT_ERROR(MODEL "output:\n  white: bright\n", ORR_ERR_USAGE, "output.white: expected a number or auto, got 'bright'");
     EXPECT_ERROR("input:\n  model:\n    name: mw-m31\n    separation: 0\n", ORR_ERR_USAGE, "input.model.separation: 0 is out of range (must be > 0)");
+    EXPECT_ERROR("input:\n  model:\n    name: mw-m31\n    disc_q: 0\n", ORR_ERR_USAGE, "input.model.disc_q: 0 is out of range (must be > 0)");
+    EXPECT_ERROR("input:\n  model:\n    name: mw-m31\n    disc_q: -1.5\n", ORR_ERR_USAGE, "input.model.disc_q: -1.5 is out of range (must be > 0)");
+    EXPECT_ERROR("input:\n  model:\n    name: mw-m31\n    galaxies: both\n", ORR_ERR_USAGE, "input.model.galaxies: expected one of: pair mw m31, got 'both'");
+    EXPECT_ERROR("input:\n  model:\n    name: king\n    galaxies: mw\n", ORR_ERR_USAGE, "input.model.galaxies does not apply to input.model.name: king");
     /* Booleans and words. */
     EXPECT_ERROR(MODEL "output:\n  fits: maybe\n", ORR_ERR_USAGE, "scene.yaml:5: output.fits: expected true or false, got 'maybe'");
     EXPECT_ERROR(MODEL "camera:\n  projection: ortho\n", ORR_ERR_USAGE,

@@ -1,0 +1,68 @@
+/* The example N-body code's second tree: an octree with quadrupole moments
+ * walked once per group of nearby particles (Barnes 1990, J. Comp. Phys. 87,
+ * 161), with per-particle Plummer softening and potentials. It replaces the
+ * monopole tree (tree.h, kept as the reference the bench compares with).
+ *
+ * Opening criterion (the "bmax" criterion of Salmon & Warren 1994): a cell
+ * of centre of mass c is taken whole for a group of centre g and radius
+ * r_g when |c - g| - r_g > b_max / theta, b_max being the largest distance
+ * from c to any of the cell's particles. Every particle of the group is then
+ * at least b_max / theta from c, so the error bound holds for each of them. */
+#ifndef NBODY_QTREE_H
+#define NBODY_QTREE_H
+
+#include <stddef.h>
+
+typedef struct qt_node {
+    double com[3];
+    double mass;
+    double quad[6];   /* traceless quadrupole sum m (3 y_a y_b - y^2 delta_ab): xx yy zz xy xz yz */
+    double bmax;      /* largest distance from com to one of its particles */
+    double eps2;      /* mass-weighted mean softening^2 of its particles */
+    double centre[3]; /* the cube's centre */
+    double half;      /* half its side */
+    int child[8];     /* -1 where empty; all -1 in a leaf */
+    size_t first, count; /* its particles: order[first .. first + count) */
+    int leaf;
+} qt_node;
+
+typedef struct qt_tree {
+    qt_node *nodes;
+    size_t nnodes, cap;
+    size_t *order, *scratch;
+    size_t n;
+    int *groups; /* the nodes walked as groups: the largest with at most QT_GROUP particles */
+    size_t ngroups, groups_cap;
+    double *px, *py, *pz, *pm, *pe2; /* particles in tree order (structure of arrays) */
+} qt_tree;
+
+#ifndef QT_LEAF
+#define QT_LEAF 16
+#endif
+#ifndef QT_GROUP
+#define QT_GROUP 64
+#endif
+
+/* Builds the tree over n particles (pos: x, y, z of particle i at 3i;
+ * eps: each particle's Plummer softening). Returns 0, or -1 when out of
+ * memory. */
+int qt_build(qt_tree *t, const double *pos, const double *mass, const double *eps, size_t n);
+
+/* Accelerations (and potentials, if pot is not NULL) of particles first ..
+ * first + count - 1, into acc[0 .. 3 count) and pot[0 .. count): G times the
+ * Plummer-softened sums, a pair i, j softened with eps^2 = (eps_i^2 + eps_j^2) / 2
+ * (particles of one kind: their own eps; the rule is linear in eps^2, so a
+ * cell's mean eps^2 stands for its particles exactly to first order).
+ * Threaded (OpenMP) over groups. Returns the number of particle-cell and
+ * particle-particle interactions. */
+double qt_accelerations_of(const qt_tree *t, double G, double theta, size_t first, size_t count, double *acc,
+                           double *pot);
+
+/* Direct summation with the same softening rule, for particles first ..
+ * first + count - 1 (the reference of tests and the bench). */
+void qt_direct(const double *pos, const double *mass, const double *eps, size_t n, double G, size_t first,
+               size_t count, double *acc, double *pot);
+
+void qt_free(qt_tree *t);
+
+#endif

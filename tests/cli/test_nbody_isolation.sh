@@ -1,0 +1,57 @@
+# An isolated Milky Way (the model's galaxies: mw) evolved by orrery-nbody
+# for 30 steps of 2 Myr: it holds together. Energy is conserved, the disc's
+# half-mass radius and the Sun's orbit stay put, the disc thickens by less
+# than half (docs/nbody.md: the inner disc's initial puff is 30-40% in the
+# first 50 Myr, then it levels off), and the first report matches the
+# model as documented (z_rms of an exponential layer of 0.3 kpc is
+# sqrt(2) 0.3; the Sun 8 kpc out). Then bad parameters: errors naming them.
+source "$(dirname "$0")/lib.sh"
+NBODY=$(dirname "$ORRERY")/examples/orrery-nbody
+[ -x "$NBODY" ] || { fail "no $NBODY"; finish; }
+
+OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} "$NBODY" --galaxies mw --particles 20000 --steps 30 --dt 0.002 \
+  --eps 0.1 --report-every 30 >run.out 2>run.err || fail "isolated run: $(cat run.err)"
+grep "^report" run.out >reports.txt
+[ "$(wc -l <reports.txt)" -eq 2 ] || fail "expected 2 reports: $(cat run.out)"
+# report t = T  E = E  dE/|E0| = D  2K/|W| = V  |P| = P  disc z_rms(3-10 kpc) = Z  disc R_half = R
+#   bulge r_half = B  Sun R = S z = SZ
+awk '
+  { for (i = 1; i <= NF; i++) {
+      if ($i == "dE/|E0|") de = $(i + 2)
+      if ($i == "z_rms(3-10") z = $(i + 3)
+      if ($i == "R_half") rh = $(i + 2)
+      if ($i == "r_half") bh = $(i + 2)
+      if ($i == "Sun") { sr = $(i + 3); sz = $(i + 6) } }
+    if (NR == 1) { z0 = z; rh0 = rh; bh0 = bh; sr0 = sr } }
+  function bad(what) { print "FAIL: " what > "/dev/stderr"; failed = 1 }
+  END {
+    if (z0 < 0.40 || z0 > 0.45) bad("initial z_rms " z0 ", expected 0.424 +- 5%")
+    if (sr0 < 7.8 || sr0 > 8.2) bad("initial Sun R " sr0)
+    if (de > 5e-3 || de < -5e-3) bad("energy drift " de)
+    if (rh / rh0 > 1.10 || rh / rh0 < 0.90) bad("disc half-mass radius " rh0 " -> " rh)
+    if (bh / bh0 > 1.30 || bh / bh0 < 0.80) bad("bulge half-mass radius " bh0 " -> " bh)
+    if (z / z0 > 1.5) bad("disc thickness " z0 " -> " z)
+    if (sr < 7.0 || sr > 9.0) bad("Sun R " sr)
+    if (sz > 0.5 || sz < -0.5) bad("Sun z " sz)
+    exit failed }' reports.txt || fail "isolation figures: $(cat reports.txt)"
+
+# Bad parameters: exit 2, the option named, nothing run.
+expect_nbody_error() { # PATTERN ARGS...
+  local pattern=$1 got=0
+  shift
+  "$NBODY" --galaxies mw --particles 1000 --steps 1 "$@" >out.txt 2>err.txt || got=$?
+  [ "$got" -eq 2 ] || fail "orrery-nbody $* exited $got, expected 2"
+  grep -q -- "$pattern" err.txt || fail "orrery-nbody $*: stderr does not name $pattern: $(cat err.txt)"
+  ! grep -q "^report" out.txt || fail "orrery-nbody $* ran anyway"
+}
+expect_nbody_error "--dt" --dt 0
+expect_nbody_error "--dt" --dt nan
+expect_nbody_error "--dt" --dt -0.001
+expect_nbody_error "--eps" --eps 0
+expect_nbody_error "--eps" --eps nan
+expect_nbody_error "--eps-halo" --eps-halo -1
+expect_nbody_error "--theta" --theta 1.5
+expect_nbody_error "--disc-q" --disc-q 0
+expect_nbody_error "--disc-q" --disc-q -2
+expect_nbody_error "--galaxies" --galaxies andromeda
+finish
