@@ -11,16 +11,23 @@
 
 #include "source/source.h"
 
-static inline int fuzz_read_as(const char *format, const uint8_t *data, size_t size)
+/* Writes the input to /tmp/orrery-fuzz-PID.EXT (the readers take files),
+ * into path; the caller unlinks it. */
+static inline void fuzz_write_input(const uint8_t *data, size_t size, const char *ext, char *path, size_t path_size)
 {
-    char path[64];
-    snprintf(path, sizeof path, "/tmp/orrery-fuzz-%ld.bin", (long)getpid());
+    snprintf(path, path_size, "/tmp/orrery-fuzz-%ld.%s", (long)getpid(), ext);
     FILE *fp = fopen(path, "wb");
     if (!fp)
         abort();
     if (size && fwrite(data, 1, size, fp) != size)
         abort();
     fclose(fp);
+}
+
+static inline int fuzz_read_as(const char *format, const uint8_t *data, size_t size)
+{
+    char path[64];
+    fuzz_write_input(data, size, "bin", path, sizeof path);
     orr_source_options opt = {.format = format, .chunk_size = 257};
     orr_source *src = NULL;
     orr_error err = {0};

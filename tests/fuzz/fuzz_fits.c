@@ -36,6 +36,7 @@
 #include <unistd.h>
 
 #include "encode/fits_read.h"
+#include "fuzz_common.h"
 #include "post/convolve.h"
 #include "post/psf.h"
 
@@ -142,13 +143,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (mentions_zimage(data, size))
         return 0;
     char path[64];
-    snprintf(path, sizeof path, "/tmp/orrery-fuzz-%ld.fits", (long)getpid());
-    FILE *fp = fopen(path, "wb");
-    if (!fp)
-        abort();
-    if (size && fwrite(data, 1, size, fp) != size)
-        abort();
-    fclose(fp);
+    fuzz_write_input(data, size, "fits", path, sizeof path);
     read_planes(path);
     read_psf(path, size ? data[size - 1] : 0);
     unlink(path);

@@ -10,6 +10,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "fuzz_common.h"
 #include "source/formats.h"
 #include "source/source.h"
 #include "source/tipsy.h"
@@ -59,13 +60,7 @@ static int read_with(const char *path, const orr_source_options *opt, int rewind
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     char path[64];
-    snprintf(path, sizeof path, "/tmp/orrery-fuzz-tipsy-%ld.bin", (long)getpid());
-    FILE *fp = fopen(path, "wb");
-    if (!fp)
-        abort();
-    if (size && fwrite(data, 1, size, fp) != size)
-        abort();
-    fclose(fp);
+    fuzz_write_input(data, size, "tipsy.bin", path, sizeof path);
 
     orr_source_options all = {.format = "tipsy", .chunk_size = 257};
     int opened = read_with(path, &all, 1);
