@@ -20,6 +20,20 @@ def unit(t_deg, a_deg):
     return (math.sin(t) * math.cos(a), math.sin(t) * math.sin(a), math.cos(t))
 
 
+_solid_angles = {}
+
+
+def pixel_solid_angles(head):
+    """solid_angles(head), computed once for each map (the costly part of
+    a check that renders many frames of one map)."""
+    key = tuple((k, head.get(k)) for k in ("NAXIS1", "NAXIS2", "CTYPE1", "CTYPE2", "CRPIX1", "CRPIX2",
+                                           "CDELT1", "CDELT2", "CRVAL1", "CRVAL2", "LONPOLE", "LATPOLE",
+                                           "PV2_1", "PV2_2"))
+    if key not in _solid_angles:
+        _solid_angles[key] = solid_angles(head)
+    return _solid_angles[key]
+
+
 def render(orrery, work, name, stars, camera, size, psf):
     """Renders stars [(direction, mass)] in WORK as NAME: camera and psf are
     the scene's indented lines under camera: and psf:, size (width, height).
@@ -56,5 +70,5 @@ output:
     subprocess.run([orrery, "render", "--quiet", f"{name}.yaml"], cwd=work, check=True)
     data = fits.getdata(f"{work}/out/{name}.fits").astype(np.float64)
     head = fits.getheader(f"{work}/out/{name}.fits")
-    flux = data * solid_angles(head)  # the map holds flux per steradian
+    flux = data * pixel_solid_angles(head)  # the map holds flux per steradian
     return flux[::-1], head  # FITS rows bottom-up
