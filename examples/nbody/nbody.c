@@ -7,7 +7,9 @@
  * hands its particles to orrery (orrery.h) every few steps, so a scene's
  * dome master, panorama or flat views are rendered while it runs, with no
  * snapshot written: the method of Dubinski's paper. It reports the cost of
- * rendering as a fraction of the cost of gravity. docs/insitu.md.
+ * rendering as a fraction of the cost of gravity. docs/insitu.md. It can
+ * also write Gadget-layout HDF5 snapshots every K steps and resume a run
+ * from the newest bit for bit (snapshot.h, docs/nbody.md).
  *
  * Built as orrery-nbody-mpi (ranks_mpi.c), it runs on MPI ranks: each rank
  * reads and owns a contiguous slice of the particles, every rank builds the
@@ -30,7 +32,9 @@
 #include "source/model.h"
 #include "source/partition.h"
 #include "source/source.h"
+#include "encode/atomic.h"
 #include "qtree.h"
+#include "snapshot.h"
 
 #define G_KPC_KMS 43007.1
 
@@ -69,6 +73,12 @@ typedef struct options {
     int eps_halo_given;    /* --eps-halo given; else it is 2 x --eps */
     long render_every, report_every;
     int quiet;
+    long snapshot_every;      /* 0: no snapshots */
+    const char *snapshot_every_text; /* as given */
+    const char *snapshot_dir; /* NULL: --resume's folder */
+    const char *resume_dir;   /* NULL: a new run */
+    /* Given on the command line; on a resume the others are the run's own. */
+    int ic_given, dt_given, eps_given, theta_given, snapshot_every_given;
 } options;
 
 static const char usage[] =
@@ -76,7 +86,8 @@ static const char usage[] =
     "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
     "                    [--steps N] [--dt DT] [--eps EPS] [--eps-halo EPS] [--theta THETA]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
-    "                    [--report-every K] [--quiet]\n"
+    "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
+    "                    [--resume DIR] [--quiet]\n"
     "\n"
     "Evolves N bodies with a tree code (quadrupole moments, group walks) and renders\n"
     "SCENE in-situ every K steps (frame = step / K), reporting rendering time against\n"
@@ -97,7 +108,16 @@ static const char usage[] =
     "  --report-every K   energy, momentum and structure every K steps (default 10)\n"
     "  --scene FILE       the scene rendered in-situ (its input.* keys are not used)\n"
     "  --set KEY=VALUE    override a scene key (repeatable)\n"
-    "  --render-every K   render every K-th step (default 1)\n";
+    "  --render-every K   render every K-th step (default 1)\n"
+    "  --snapshot-every K write DIR/snapshot_NNNN.hdf5 (Gadget-layout HDF5, which orrery\n"
+    "                     renders) at step 0 and every K steps; each is written to a\n"
+    "                     temporary name and renamed when complete\n"
+    "  --snapshot-dir DIR where snapshots go (created if missing; default: --resume's DIR)\n"
+    "  --resume DIR       continue from DIR's newest snapshot, bit for bit as if never\n"
+    "                     stopped: its time and step, and its --dt, --eps, --eps-halo,\n"
+    "                     --theta and --snapshot-every unless given; --steps counts from\n"
+    "                     the start of the run, not of the resume\n"
+    "Snapshots and --resume need one process (not several MPI ranks).\n";
 
 static double now(void)
 {
@@ -112,6 +132,14 @@ static double parse_number(const char *v)
     char *end;
     double d = strtod(v, &end);
     return end == v || *end ? NAN : d;
+}
+
+/* A whole number, or -1 (which the checks refuse) when it is not one. */
+static long parse_count(const char *v)
+{
+    char *end;
+    long n = strtol(v, &end, 10);
+    return end == v || *end ? -1 : n;
 }
 
 static int parse_galaxies(const char *v, int *out)
@@ -149,6 +177,14 @@ static int check_options(const options *o)
         bad = "--report-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->report_every);
     else if (o->particles < 100)
         bad = "--particles", snprintf(why, sizeof why, "%lld: the model needs at least 100", o->particles);
+    else if (o->snapshot_every < 0)
+        bad = "--snapshot-every",
+        snprintf(why, sizeof why, "%s: expected a whole number of steps, at least 1", o->snapshot_every_text);
+    else if (o->snapshot_every > 0 && !o->snapshot_dir && !o->resume_dir)
+        bad = "--snapshot-every", snprintf(why, sizeof why, "needs --snapshot-dir DIR (where to write them)");
+    else if (o->resume_dir && o->ic_given)
+        bad = "--resume", snprintf(why, sizeof why, "%s: the initial conditions are the snapshot's: not with --ic",
+                                   o->resume_dir);
     if (bad)
         fprintf(stderr, "orrery-nbody: %s %s\n", bad, why);
     return bad == NULL;
@@ -173,6 +209,16 @@ static int parse_args(int argc, char **argv, options *o)
             return 0;
         } else if (strcmp(a, "--ic") == 0) {
             o->ic = v;
+            o->ic_given = 1;
+        } else if (strcmp(a, "--snapshot-every") == 0) {
+            o->snapshot_every = parse_count(v);
+            o->snapshot_every = o->snapshot_every ? o->snapshot_every : -1; /* 0 is not a period */
+            o->snapshot_every_text = v;
+            o->snapshot_every_given = 1;
+        } else if (strcmp(a, "--snapshot-dir") == 0) {
+            o->snapshot_dir = v;
+        } else if (strcmp(a, "--resume") == 0) {
+            o->resume_dir = v;
         } else if (strcmp(a, "--particles") == 0) {
             o->particles = atoll(v);
         } else if (strcmp(a, "--separation") == 0) {
@@ -191,10 +237,13 @@ static int parse_args(int argc, char **argv, options *o)
             o->steps = atol(v);
         } else if (strcmp(a, "--dt") == 0) {
             o->dt = parse_number(v);
+            o->dt_given = 1;
         } else if (strcmp(a, "--eps") == 0) {
             o->eps = parse_number(v);
+            o->eps_given = 1;
         } else if (strcmp(a, "--theta") == 0) {
             o->theta = parse_number(v);
+            o->theta_given = 1;
         } else if (strcmp(a, "--scene") == 0) {
             o->scene = v;
         } else if (strcmp(a, "--set") == 0 && o->nsets < 32) {
@@ -626,14 +675,80 @@ static int render(orrery_renderer *r, const bodies *b, long frame, double *secon
     return st;
 }
 
-/* Loads this process's particles and shares the positions; whether every
- * process succeeded (each prints its own error). */
-static int start_bodies(const options *o, int rank, int size, bodies *b)
+/* Takes over the particles a snapshot read gave (one process). */
+static int adopt_particles(bodies *b, nb_particles *p)
+{
+    b->n = p->n;
+    b->pos = p->pos;
+    b->vel = p->vel;
+    b->mass = p->mass;
+    b->id = p->id;
+    b->type = p->type;
+    b->nfields = p->nfields;
+    memcpy(b->field_name, p->field_name, sizeof b->field_name);
+    memcpy(b->field, p->field, sizeof b->field);
+    memset(p, 0, sizeof *p); /* b owns them now */
+    b->acc = calloc(3 * b->n + 3, sizeof *b->acc);
+    b->pot = calloc(b->n + 1, sizeof *b->pot);
+    return b->acc && b->pot;
+}
+
+/* A setting of the resumed run: the command line's when given (said, when
+ * it differs, since the run then no longer continues bit for bit), else
+ * the run's own. */
+static void take_setting(const char *name, int given, double *value, double stored, int quiet)
+{
+    if (!given)
+        *value = stored;
+    else if (*value != stored && !quiet)
+        printf("note: resuming with %s %g where the run used %g\n", name, *value, stored);
+}
+
+static void take_run_settings(options *o, const nb_run_state *rs)
+{
+    double every = (double)o->snapshot_every;
+    take_setting("--dt", o->dt_given, &o->dt, rs->dt, o->quiet);
+    take_setting("--eps", o->eps_given, &o->eps, rs->eps, o->quiet);
+    take_setting("--eps-halo", o->eps_halo_given || o->eps_given, &o->eps_halo, rs->eps_halo, o->quiet);
+    take_setting("--theta", o->theta_given, &o->theta, rs->theta, o->quiet);
+    take_setting("--snapshot-every", o->snapshot_every_given, &every, (double)rs->snapshot_every, o->quiet);
+    o->snapshot_every = (long)every;
+}
+
+/* The particles and state of the newest snapshot in --resume's folder. */
+static int resume_bodies(options *o, bodies *b, nb_run_state *rs)
+{
+    static char path[4096];
+    orr_error err = {0};
+    nb_particles p;
+    long newest = nb_snapshot_newest(o->resume_dir, &err);
+    if (newest >= 0 && nb_snapshot_path(path, sizeof path, o->resume_dir, newest) != 0)
+        newest = -1, snprintf(err.msg, sizeof err.msg, "the folder's name is too long");
+    if (newest < 0 || nb_snapshot_read(path, &p, rs, &err) != ORR_OK) {
+        fprintf(stderr, "orrery-nbody: --resume %s: %s\n", o->resume_dir, err.msg);
+        return 0;
+    }
+    if (!adopt_particles(b, &p)) {
+        fprintf(stderr, "orrery-nbody: %s: out of memory\n", path);
+        return 0;
+    }
+    b->time = rs->time;
+    o->ic = path;
+    take_run_settings(o, rs);
+    return 1;
+}
+
+/* Loads this process's particles (or a resumed run's) and shares the
+ * positions; whether every process succeeded (each prints its own error). */
+static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state *rs)
 {
     orr_error err = {0};
-    int ok = load_bodies(o, rank, size, b, &err) == ORR_OK;
-    if (!ok)
+    int ok;
+    if (o->resume_dir) {
+        ok = resume_bodies(o, b, rs);
+    } else if (!(ok = load_bodies(o, rank, size, b, &err) == ORR_OK)) {
         fprintf(stderr, "orrery-nbody: %s\n", err.msg);
+    }
     if (ranks_any(!ok) || !share_bodies(b, o, rank, size))
         return 0;
     if (b->n_all == 0) {
@@ -641,6 +756,55 @@ static int start_bodies(const options *o, int rank, int size, bodies *b)
             fprintf(stderr, "orrery-nbody: %s: no particles\n", o->ic);
         return 0;
     }
+    return 1;
+}
+
+/* Where snapshots go: --snapshot-dir, else --resume's folder. */
+static const char *snapshot_dir(const options *o)
+{
+    return o->snapshot_dir ? o->snapshot_dir : o->resume_dir;
+}
+
+/* Before the run: snapshots and resumes on one process only, and a folder
+ * that takes them (created if missing; what a killed run left there under
+ * temporary names removed). 0, or an exit status. */
+static int prepare_snapshots(const options *o, int size)
+{
+    if (!o->snapshot_every && !o->resume_dir)
+        return 0;
+    if (size > 1) {
+        fprintf(stderr, "orrery-nbody: --snapshot-every and --resume need one process; this run has %d MPI ranks\n",
+                size);
+        return 2;
+    }
+    orr_error err = {0};
+    if (o->snapshot_every && orr_check_output_dir(snapshot_dir(o), &err) != ORR_OK) {
+        fprintf(stderr, "orrery-nbody: --snapshot-dir %s: %s\n", snapshot_dir(o), err.msg);
+        return 1;
+    }
+    if (o->snapshot_every)
+        orr_remove_stale_temporaries(snapshot_dir(o));
+    return 0;
+}
+
+/* Snapshot number of the run at step (and time b->time). */
+static int write_snapshot(const bodies *b, const options *o, long step, long number, double e0)
+{
+    nb_particles p = {.n = b->n, .pos = b->pos, .vel = b->vel, .mass = b->mass, .id = b->id, .type = b->type,
+                      .nfields = b->nfields};
+    memcpy(p.field_name, b->field_name, sizeof p.field_name);
+    memcpy(p.field, b->field, sizeof p.field);
+    nb_run_state s = {b->time, step, number, e0, o->dt, o->eps, o->eps_halo, o->theta, o->snapshot_every};
+    char path[4096];
+    orr_error err = {0};
+    if (nb_snapshot_path(path, sizeof path, snapshot_dir(o), number) != 0)
+        snprintf(err.msg, sizeof err.msg, "%s: the folder's name is too long", snapshot_dir(o));
+    else if (nb_snapshot_write(path, &p, &s, &err) == ORR_OK) {
+        if (!o->quiet)
+            printf("snapshot %s  step %ld  t = %.4f\n", path, step, b->time);
+        return 0;
+    }
+    fprintf(stderr, "orrery-nbody: %s\n", err.msg);
     return 1;
 }
 
@@ -661,6 +825,46 @@ static int open_renderer(const options *o, int size, orrery_renderer **r)
     return ranks_any(code) && !code ? 1 : code;
 }
 
+/* The run's state between steps. */
+typedef struct run {
+    long step, frame, snapshot;
+    double e0, t_gravity, t_render;
+} run;
+
+/* What comes after a step (or the start): a frame, a report, a snapshot;
+ * 0 or an exit status. */
+static int after_step(orrery_renderer *r, const bodies *b, const options *o, run *u, int rank, int size)
+{
+    double tr = 0;
+    int code = 0;
+    if (r && u->step % o->render_every == 0 && (code = render(r, b, u->frame++, &tr)) == 0)
+        u->t_render += tr;
+    if (u->step > 0 && !o->quiet) /* ends the step's line */
+        printf("render %.3f s\n", tr);
+    if (u->step % o->report_every == 0 || u->step == o->steps)
+        report(b, rank, size, u->e0, o->quiet);
+    if (!code && o->snapshot_every && u->step % o->snapshot_every == 0)
+        code = write_snapshot(b, o, u->step, u->snapshot++, u->e0);
+    return code;
+}
+
+/* One kick-drift-kick step; 0 or an exit status. */
+static int leapfrog_step(qt_tree *tree, bodies *b, const options *o, run *u)
+{
+    double interactions;
+    kick(b, 0.5 * o->dt);
+    if (drift(b, o->dt) != 0)
+        return 1;
+    double tg = gravity(tree, b, o, &interactions);
+    u->t_gravity += tg;
+    kick(b, 0.5 * o->dt);
+    u->step++;
+    if (!o->quiet)
+        printf("step %ld  t = %.4f  gravity %.3f s (%.3g interactions/s)  ", u->step, b->time, tg,
+               interactions / (tg > 0 ? tg : 1e-9));
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     int rank, size;
@@ -673,7 +877,14 @@ int main(int argc, char **argv)
     o.quiet |= rank != 0; /* rank 0 reports for all */
     bodies b = {0};
     orrery_renderer *r = NULL;
-    int code = start_bodies(&o, rank, size, &b) ? open_renderer(&o, size, &r) : 1;
+    nb_run_state resumed = {0};
+    int code = prepare_snapshots(&o, size);
+    if (!code)
+        code = start_bodies(&o, rank, size, &b, &resumed) ? 0 : 1;
+    if (!code && o.resume_dir) /* its --snapshot-every may be the run's own */
+        code = prepare_snapshots(&o, size);
+    if (!code)
+        code = open_renderer(&o, size, &r);
     if (code) {
         orrery_close(r);
         free_bodies(&b);
@@ -684,41 +895,32 @@ int main(int argc, char **argv)
         printf("%zu bodies from %s on %d process%s, t = %g, dt = %g, eps = %g, theta = %g\n", b.n_all, o.ic, size,
                size > 1 ? "es" : "", b.time, o.dt, o.eps, o.theta);
     qt_tree tree = {0};
-    double interactions, t_gravity = 0, t_render = 0, seconds;
-    t_gravity += gravity(&tree, &b, &o, &interactions);
-    double e0 = total_energy(&b, rank, size);
-    if (!o.quiet)
-        printf("time step: %.2f%% of this process's particles want a shorter one than dt = %g by "
-               "sqrt(2 x 0.025 eps / |a|)\n",
-               100.0 * share_wanting_shorter(&b, o.dt), o.dt);
-    report(&b, rank, size, e0, o.quiet);
-    long frames = 0;
-    if (r && (code = render(r, &b, frames++, &seconds)) == 0)
-        t_render += seconds;
-    for (long step = 1; step <= o.steps && code == 0; step++) {
-        kick(&b, 0.5 * o.dt);
-        if (drift(&b, o.dt) != 0) {
-            code = 1;
-            break;
-        }
-        double tg = gravity(&tree, &b, &o, &interactions);
-        t_gravity += tg;
-        kick(&b, 0.5 * o.dt);
-        double tr = 0;
-        if (r && step % o.render_every == 0 && (code = render(r, &b, frames++, &tr)) == 0)
-            t_render += tr;
+    double interactions;
+    run u = {0};
+    u.t_gravity = gravity(&tree, &b, &o, &interactions);
+    if (o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
+        u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0};
         if (!o.quiet)
-            printf("step %ld  t = %.4f  gravity %.3f s (%.3g interactions/s)  render %.3f s\n", step, b.time, tg,
-                   interactions / (tg > 0 ? tg : 1e-9), tr);
-        if (step % o.report_every == 0 || step == o.steps)
-            report(&b, rank, size, e0, o.quiet);
+            printf("resumed at step %ld, t = %.4f\n", u.step, b.time);
+    } else {
+        u.e0 = total_energy(&b, rank, size);
+        if (!o.quiet)
+            printf("time step: %.2f%% of this process's particles want a shorter one than dt = %g by "
+                   "sqrt(2 x 0.025 eps / |a|)\n",
+                   100.0 * share_wanting_shorter(&b, o.dt), o.dt);
+        code = after_step(r, &b, &o, &u, rank, size);
     }
+    long start = u.step, frame0 = o.resume_dir ? u.frame : 0;
+    while (u.step < o.steps && code == 0)
+        if ((code = leapfrog_step(&tree, &b, &o, &u)) == 0)
+            code = after_step(r, &b, &o, &u, rank, size);
     if (!o.quiet && code == 0) {
-        printf("gravity %.2f s over %ld force evaluations; rendering %.2f s over %ld frames\n", t_gravity,
-               o.steps + 1, t_render, frames);
+        long frames = u.frame - frame0;
+        printf("gravity %.2f s over %ld force evaluations; rendering %.2f s over %ld frames\n", u.t_gravity,
+               u.step - start + 1, u.t_render, frames);
         if (r && frames > 0)
             printf("rendering per frame = %.1f%% of gravity per step\n",
-                   100.0 * (t_render / frames) / (t_gravity / (double)(o.steps + 1)));
+                   100.0 * (u.t_render / (double)frames) / (u.t_gravity / (double)(u.step - start + 1)));
     }
     orrery_close(r);
     qt_free(&tree);
