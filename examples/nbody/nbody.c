@@ -144,13 +144,9 @@ static long parse_count(const char *v)
 
 static int parse_galaxies(const char *v, int *out)
 {
-    static const char *const words[] = {"pair", "mw", "m31"};
-    for (int i = 0; i < 3; i++)
-        if (strcmp(v, words[i]) == 0) {
-            *out = i; /* ORR_MODEL_PAIR, _MW, _M31 */
-            return 1;
-        }
-    fprintf(stderr, "orrery-nbody: --galaxies %s: expected pair, mw or m31\n", v);
+    if ((*out = orr_model_galaxies_named(v)) >= 0)
+        return 1;
+    fprintf(stderr, "orrery-nbody: --galaxies %s: expected " ORR_MODEL_GALAXIES_WORDS "\n", v);
     return 0;
 }
 
