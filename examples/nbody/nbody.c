@@ -70,6 +70,7 @@ typedef struct options {
     int nsets;
     long steps;
     double dt, eps, eps_halo, theta;
+    double eta;            /* block time steps' accuracy; 0: one global step --dt */
     int eps_halo_given;    /* --eps-halo given; else it is 2 x --eps */
     long render_every, report_every;
     int quiet;
@@ -78,13 +79,14 @@ typedef struct options {
     const char *snapshot_dir; /* NULL: --resume's folder */
     const char *resume_dir;   /* NULL: a new run */
     /* Given on the command line; on a resume the others are the run's own. */
-    int ic_given, dt_given, eps_given, theta_given, snapshot_every_given;
+    int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given;
 } options;
 
 static const char usage[] =
     "usage: orrery-nbody [--ic model|SNAPSHOT] [--particles N] [--separation KPC]\n"
     "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
-    "                    [--steps N] [--dt DT] [--eps EPS] [--eps-halo EPS] [--theta THETA]\n"
+    "                    [--steps N] [--dt DT] [--eta ETA] [--eps EPS] [--eps-halo EPS]\n"
+    "                    [--theta THETA]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
     "                    [--resume DIR] [--quiet]\n"
@@ -101,7 +103,11 @@ static const char usage[] =
     "  --galaxies WHICH   model: both (pair, default), or the Milky Way (mw) or M31 alone\n"
     "  --disc-q Q         model: the discs' Toomre Q (default 1.5)\n"
     "  --steps N          leapfrog steps (default 100)\n"
-    "  --dt DT            time step (default 0.001, about 1 Myr)\n"
+    "  --dt DT            time step (default 0.001, about 1 Myr); with --eta, the longest\n"
+    "  --eta ETA          block time steps: particle i steps dt / 2^k, the longest at most\n"
+    "                     sqrt(2 ETA eps_i / |a_i|) (Gadget-2's criterion; 0.025 there),\n"
+    "                     k <= 10, forces computed only for the particles whose step\n"
+    "                     ends (default: one global step --dt for all)\n"
     "  --eps EPS          Plummer softening of stars, black holes and gas, kpc (default 0.05)\n"
     "  --eps-halo EPS     Plummer softening of dark-matter (type 1) particles (default 2 x --eps)\n"
     "  --theta THETA      opening angle, 0 to 1 (default 0.7: 99% of forces within 1%)\n"
@@ -114,8 +120,9 @@ static const char usage[] =
     "                     temporary name and renamed when complete\n"
     "  --snapshot-dir DIR where snapshots go (created if missing; default: --resume's DIR)\n"
     "  --resume DIR       continue from DIR's newest snapshot, bit for bit as if never\n"
-    "                     stopped: its time and step, and its --dt, --eps, --eps-halo,\n"
-    "                     --theta and --snapshot-every unless given; --steps counts from\n"
+    "                     stopped: its time and step, and its --dt, --eta, --eps,\n"
+    "                     --eps-halo, --theta and --snapshot-every unless given; --steps\n"
+    "                     counts from\n"
     "                     the start of the run, not of the resume\n"
     "Snapshots and --resume need one process (not several MPI ranks).\n";
 
@@ -157,6 +164,9 @@ static int check_options(const options *o)
     char why[128] = "";
     if (!(o->dt > 0) || !isfinite(o->dt))
         bad = "--dt", snprintf(why, sizeof why, "%g: the time step must be a number above 0", o->dt);
+    else if (o->eta_given && (!(o->eta > 0) || !isfinite(o->eta)))
+        bad = "--eta", snprintf(why, sizeof why, "%g: the time-step accuracy must be a number above 0 (Gadget-2: 0.025)",
+                                o->eta);
     else if (!(o->eps > 0) || !isfinite(o->eps))
         bad = "--eps", snprintf(why, sizeof why, "%g: the softening must be a length above 0 (kpc)", o->eps);
     else if (!(o->eps_halo > 0) || !isfinite(o->eps_halo))
@@ -234,6 +244,9 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--dt") == 0) {
             o->dt = parse_number(v);
             o->dt_given = 1;
+        } else if (strcmp(a, "--eta") == 0) {
+            o->eta = parse_number(v);
+            o->eta_given = 1;
         } else if (strcmp(a, "--eps") == 0) {
             o->eps = parse_number(v);
             o->eps_given = 1;
@@ -445,21 +458,27 @@ static orr_particle_arrays as_arrays(const bodies *b)
 }
 
 /* The accelerations and potentials of this process's particles, from a
- * tree over all. */
-static double gravity(qt_tree *t, bodies *b, const options *o, double *interactions)
+ * tree over all: built anew for all (active NULL), or, for the particles
+ * with active[i] set within a block step, the last one moved to the new
+ * positions (qt_refresh: O(N), the short steps' particles move little). */
+static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned char *active, double *interactions)
 {
     double t0 = now();
-    if (qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0 ||
-        (*interactions = qt_accelerations_of(t, G_KPC_KMS, o->theta, b->first, b->n, b->acc, b->pot)) < 0) {
+    if (active)
+        qt_refresh(t, b->pos_all);
+    if ((!active && qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0) ||
+        (*interactions = qt_accelerations_masked(t, G_KPC_KMS, o->theta, b->first, b->n, active, b->acc, b->pot)) <
+            0) {
         fprintf(stderr, "orrery-nbody: out of memory in the tree\n");
         exit(1);
     }
     return now() - t0;
 }
 
-/* Sums of every process's values (v[0 .. k), k <= 8), through the gather:
- * each process puts its k values at its rank's row. */
-static int sum_over_ranks(double *v, int k, int rank, int size)
+/* Sums (or, with take_min, the least) of every process's values (v[0 ..
+ * k)), through the gather: each process puts its k values at its rank's
+ * row. */
+static int reduce_over_ranks(double *v, int k, int rank, int size, int take_min)
 {
     double *all = calloc((size_t)(size * k), sizeof *all);
     size_t *counts = malloc((size_t)size * sizeof *counts);
@@ -470,9 +489,9 @@ static int sum_over_ranks(double *v, int k, int rank, int size)
         memcpy(all + (size_t)rank * k, v, (size_t)k * sizeof *v);
         ok = ranks_gather(all, (size_t)k, counts) == 0;
         for (int j = 0; ok && j < k; j++) {
-            v[j] = 0;
+            v[j] = take_min ? INFINITY : 0;
             for (int r = 0; r < size; r++)
-                v[j] += all[(size_t)r * k + j];
+                v[j] = take_min ? fmin(v[j], all[(size_t)r * k + j]) : v[j] + all[(size_t)r * k + j];
         }
     }
     free(all);
@@ -492,7 +511,7 @@ static int energies(const bodies *b, int rank, int size, double e[5])
         for (int k = 0; k < 3; k++)
             e[2 + k] += b->mass[i] * v[k];
     }
-    return sum_over_ranks(e, 5, rank, size);
+    return reduce_over_ranks(e, 5, rank, size, 0);
 }
 
 /* ---- how an isolated galaxy holds together (one process) -------------- */
@@ -629,20 +648,23 @@ static double total_energy(const bodies *b, int rank, int size)
     return energies(b, rank, size, e) ? e[0] + e[1] : NAN;
 }
 
-/* The step each particle would want by Gadget-2's criterion, dt_i =
- * sqrt(2 eta eps_i / |a_i|) with eta = 0.025 (Springel 2005, MNRAS 364,
- * 1105): the share of this process's particles for which the global step
- * is too long. A block-step code would give those shorter steps; here it
- * says how honest the chosen dt is. */
-static double share_wanting_shorter(const bodies *b, double dt)
+/* The step particle i (of this process) wants by Gadget-2's criterion,
+ * dt_i = sqrt(2 eta eps_i / |a_i|) (Springel 2005, MNRAS 364, 1105, eq. 34):
+ * a fraction of the time to fall through its own softening length. */
+static double wanted_step(const bodies *b, size_t i, double eta)
+{
+    const double *a = &b->acc[3 * i];
+    double amag = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    return amag > 0 ? sqrt(2 * eta * b->eps_all[b->first + i] / amag) : INFINITY;
+}
+
+/* The share of this process's particles for which a step dt is longer than
+ * the criterion with eta: how honest one global step is. */
+static double share_wanting_shorter(const bodies *b, double dt, double eta)
 {
     size_t shorter = 0;
-    for (size_t i = 0; i < b->n; i++) {
-        const double *a = &b->acc[3 * i];
-        double amag = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        double want = amag > 0 ? sqrt(2 * 0.025 * b->eps_all[b->first + i] / amag) : INFINITY;
-        shorter += want < dt;
-    }
+    for (size_t i = 0; i < b->n; i++)
+        shorter += wanted_step(b, i, eta) < dt;
     return b->n ? (double)shorter / (double)b->n : 0.0;
 }
 
@@ -659,6 +681,109 @@ static int drift(bodies *b, double dt)
         b->pos[i] += b->vel[i] * dt;
     b->time += dt;
     return ranks_gather(b->pos_all, 3, b->counts);
+}
+
+/* ---- block time steps --------------------------------------------------- */
+
+/* Each particle's step is dt / 2^k, k = 0 .. MAX_LEVEL, counted in integer
+ * ticks of dt / 2^MAX_LEVEL, so a step of --dt is TICKS ticks and steps
+ * nest: a particle's step always starts at a multiple of its length. */
+#define MAX_LEVEL 10
+#define TICKS (1L << MAX_LEVEL)
+
+typedef struct blocks {
+    long *ticks, *end;     /* each particle's step, and the tick it ends at (within a step of --dt) */
+    unsigned char *active; /* whose step ends now: they get forces and kicks */
+    double forces;         /* particle forces computed so far (every process) */
+    long substeps;         /* force computations (tree builds) so far */
+} blocks;
+
+static int alloc_blocks(blocks *k, size_t n)
+{
+    k->ticks = malloc((n + 1) * sizeof *k->ticks);
+    k->end = malloc((n + 1) * sizeof *k->end);
+    k->active = malloc(n + 1);
+    return k->ticks && k->end && k->active;
+}
+
+static void free_blocks(blocks *k)
+{
+    free(k->ticks);
+    free(k->end);
+    free(k->active);
+}
+
+/* The longest step of the hierarchy, in ticks, that is at most the wanted
+ * one and may start at tick T (T a multiple of it, so the steps stay
+ * nested); at least one tick. */
+static long step_ticks(double want, double dt, long T)
+{
+    long s = TICKS;
+    while (s > 1 && ((double)s * (dt / TICKS) > want || T % s != 0))
+        s >>= 1;
+    return s;
+}
+
+/* Opens the step of particle i at tick T: its length from its acceleration
+ * now, and the first half kick. */
+static void open_step(bodies *b, blocks *k, size_t i, long T, const options *o)
+{
+    const double tick = o->dt / TICKS;
+    k->ticks[i] = step_ticks(wanted_step(b, i, o->eta), o->dt, T);
+    k->end[i] = T + k->ticks[i];
+    for (int c = 0; c < 3; c++)
+        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)k->ticks[i] * tick);
+}
+
+/* The second half kick of particle i's step, with its new acceleration. */
+static void close_step(bodies *b, const blocks *k, size_t i, const options *o)
+{
+    const double tick = o->dt / TICKS;
+    for (int c = 0; c < 3; c++)
+        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)k->ticks[i] * tick);
+}
+
+/* The next tick at which some particle's step ends, over every process. */
+static long next_end(const blocks *k, size_t n, int rank, int size)
+{
+    double next = (double)TICKS;
+    for (size_t i = 0; i < n; i++)
+        next = fmin(next, (double)k->end[i]);
+    return reduce_over_ranks(&next, 1, rank, size, 1) ? (long)next : -1;
+}
+
+/* One step of --dt in block steps (kick-drift-kick for each particle with
+ * its own step): everyone starts synchronised, with accelerations, and
+ * ends so; between, every particle is drifted to each tick where some
+ * step ends (positions stay synchronised, so one tree over all serves),
+ * and only the particles whose step ends get forces and kicks. With every
+ * particle on the longest step it is the global step exactly. 0 or an
+ * exit status; the tree time in *seconds. */
+static int block_step(qt_tree *tree, bodies *b, const options *o, blocks *k, int rank, int size, double *seconds)
+{
+    const double tick = o->dt / TICKS, t0 = b->time;
+    for (size_t i = 0; i < b->n; i++)
+        open_step(b, k, i, 0, o);
+    for (long T = 0; T < TICKS;) {
+        long next = next_end(k, b->n, rank, size);
+        if (next <= T || drift(b, (double)(next - T) * tick) != 0)
+            return 1;
+        T = next;
+        double active = 0, interactions;
+        for (size_t i = 0; i < b->n; i++)
+            active += (k->active[i] = k->end[i] == T);
+        *seconds += gravity(tree, b, o, T == TICKS ? NULL : k->active, &interactions);
+        k->forces += active; /* this process's; summed over processes when reported */
+        k->substeps++;
+        for (size_t i = 0; i < b->n; i++)
+            if (k->active[i]) {
+                close_step(b, k, i, o);
+                if (T < TICKS)
+                    open_step(b, k, i, T, o);
+            }
+    }
+    b->time = t0 + o->dt; /* as the global step has it, whatever the ticks' rounding */
+    return 0;
 }
 
 static int render(orrery_renderer *r, const bodies *b, long frame, double *seconds)
@@ -707,6 +832,7 @@ static void take_run_settings(options *o, const nb_run_state *rs)
     take_setting("--eps", o->eps_given, &o->eps, rs->eps, o->quiet);
     take_setting("--eps-halo", o->eps_halo_given || o->eps_given, &o->eps_halo, rs->eps_halo, o->quiet);
     take_setting("--theta", o->theta_given, &o->theta, rs->theta, o->quiet);
+    take_setting("--eta", o->eta_given, &o->eta, rs->eta, o->quiet);
     take_setting("--snapshot-every", o->snapshot_every_given, &every, (double)rs->snapshot_every, o->quiet);
     o->snapshot_every = (long)every;
 }
@@ -790,7 +916,7 @@ static int write_snapshot(const bodies *b, const options *o, long step, long num
                       .nfields = b->nfields};
     memcpy(p.field_name, b->field_name, sizeof p.field_name);
     memcpy(p.field, b->field, sizeof p.field);
-    nb_run_state s = {b->time, step, number, e0, o->dt, o->eps, o->eps_halo, o->theta, o->snapshot_every};
+    nb_run_state s = {b->time, step, number, e0, o->dt, o->eps, o->eps_halo, o->theta, o->eta, o->snapshot_every};
     char path[4096];
     orr_error err = {0};
     if (nb_snapshot_path(path, sizeof path, snapshot_dir(o), number) != 0)
@@ -844,14 +970,27 @@ static int after_step(orrery_renderer *r, const bodies *b, const options *o, run
     return code;
 }
 
-/* One kick-drift-kick step; 0 or an exit status. */
-static int leapfrog_step(qt_tree *tree, bodies *b, const options *o, run *u)
+/* One kick-drift-kick step of --dt, in block steps with --eta; 0 or an
+ * exit status. */
+static int leapfrog_step(qt_tree *tree, bodies *b, const options *o, run *u, blocks *k, int rank, int size)
 {
+    if (o->eta > 0) {
+        double tg = 0, forces = k->forces;
+        long substeps = k->substeps;
+        if (block_step(tree, b, o, k, rank, size, &tg) != 0)
+            return 1;
+        u->t_gravity += tg;
+        u->step++;
+        if (!o->quiet)
+            printf("step %ld  t = %.4f  gravity %.3f s (%ld force computations, %.3g particle forces here)  ", u->step,
+                   b->time, tg, k->substeps - substeps, k->forces - forces);
+        return 0;
+    }
     double interactions;
     kick(b, 0.5 * o->dt);
     if (drift(b, o->dt) != 0)
         return 1;
-    double tg = gravity(tree, b, o, &interactions);
+    double tg = gravity(tree, b, o, NULL, &interactions);
     u->t_gravity += tg;
     kick(b, 0.5 * o->dt);
     u->step++;
@@ -893,7 +1032,12 @@ int main(int argc, char **argv)
     qt_tree tree = {0};
     double interactions;
     run u = {0};
-    u.t_gravity = gravity(&tree, &b, &o, &interactions);
+    blocks blk = {0};
+    if (o.eta > 0 && ranks_any(!alloc_blocks(&blk, b.n))) {
+        fprintf(stderr, "orrery-nbody: out of memory for the block time steps\n");
+        code = 1;
+    }
+    u.t_gravity = gravity(&tree, &b, &o, NULL, &interactions);
     if (o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
         u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0};
         if (!o.quiet)
@@ -903,21 +1047,29 @@ int main(int argc, char **argv)
         if (!o.quiet)
             printf("time step: %.2f%% of this process's particles want a shorter one than dt = %g by "
                    "sqrt(2 x 0.025 eps / |a|)\n",
-                   100.0 * share_wanting_shorter(&b, o.dt), o.dt);
-        code = after_step(r, &b, &o, &u, rank, size);
+                   100.0 * share_wanting_shorter(&b, o.dt, 0.025), o.dt);
+        code = code ? code : after_step(r, &b, &o, &u, rank, size);
     }
     long start = u.step, frame0 = o.resume_dir ? u.frame : 0;
     while (u.step < o.steps && code == 0)
-        if ((code = leapfrog_step(&tree, &b, &o, &u)) == 0)
+        if ((code = leapfrog_step(&tree, &b, &o, &u, &blk, rank, size)) == 0)
             code = after_step(r, &b, &o, &u, rank, size);
     if (!o.quiet && code == 0) {
-        long frames = u.frame - frame0;
+        long frames = u.frame - frame0, steps = u.step - start;
         printf("gravity %.2f s over %ld force evaluations; rendering %.2f s over %ld frames\n", u.t_gravity,
-               u.step - start + 1, u.t_render, frames);
+               (o.eta > 0 ? blk.substeps : steps) + 1, u.t_render, frames);
         if (r && frames > 0)
             printf("rendering per frame = %.1f%% of gravity per step\n",
-                   100.0 * (u.t_render / (double)frames) / (u.t_gravity / (double)(u.step - start + 1)));
+                   100.0 * (u.t_render / (double)frames) / (u.t_gravity / (double)(steps + 1)));
     }
+    double forces = blk.forces; /* every process's */
+    if (code == 0 && o.eta > 0 && !reduce_over_ranks(&forces, 1, rank, size, 0))
+        code = 1;
+    if (!o.quiet && code == 0 && o.eta > 0) {
+        printf("block steps: %ld force computations, %.4g particle forces = %.3f per particle and step of dt\n",
+               blk.substeps, forces, forces / (double)b.n_all / (double)(u.step - start > 0 ? u.step - start : 1));
+    }
+    free_blocks(&blk);
     orrery_close(r);
     qt_free(&tree);
     free_bodies(&b);

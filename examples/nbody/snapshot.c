@@ -95,6 +95,7 @@ static int write_run_group(hid_t file, const write_ctx *w)
     bad |= orr_h5w_double(g, "Eps", s->eps);
     bad |= orr_h5w_double(g, "EpsHalo", s->eps_halo);
     bad |= orr_h5w_double(g, "Theta", s->theta);
+    bad |= orr_h5w_double(g, "Eta", s->eta);
     bad |= orr_h5w_string(g, "Fields", fields);
     H5Gclose(g);
     return bad;
@@ -333,6 +334,8 @@ static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_ru
                       "%s: not a snapshot orrery-nbody wrote (no complete /%s group): --ic reads it as "
                       "new initial conditions instead",
                       path, RUN_GROUP);
+    if (!st && !attr_double(run, "Eta", &s->eta))
+        s->eta = 0; /* one global step */
     size_t n = 0;
     for (int t = 0; t < ntypes; t++)
         n += (size_t)count[t];

@@ -40,6 +40,7 @@ typedef struct nb_run_state {
     long number;  /* the snapshot's number, NNNN in its name */
     double e0;    /* total energy at step 0 (the drift is reported against it) */
     double dt, eps, eps_halo, theta;
+    double eta;   /* block time steps' accuracy parameter; 0: one global step */
     long snapshot_every;
 } nb_run_state;
 

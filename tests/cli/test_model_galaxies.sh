@@ -5,8 +5,6 @@
 # the discs' radial dispersion (sigma_R proportional to Q, sigma_z not), that
 # the table renders exactly as the scene keys' model does, and bad values.
 source "$(dirname "$0")/lib.sh"
-py=/usr/bin/python3
-[ -x "$py" ] || py=python3
 
 "$ORRERY" model --help >help.txt || fail "model --help"
 grep -q -- "--galaxies WHICH" help.txt && grep -q -- "--disc-q Q" help.txt || fail "help: $(cat help.txt)"

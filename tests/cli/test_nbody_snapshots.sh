@@ -6,10 +6,7 @@
 # writes snapshots leaves only complete ones, and resumes; bad options and a
 # folder that cannot be written are errors naming them, before any step.
 source "$(dirname "$0")/lib.sh"
-NBODY=$(dirname "$ORRERY")/examples/orrery-nbody
 [ -x "$NBODY" ] || { fail "no $NBODY"; finish; }
-py=/usr/bin/python3
-[ -x "$py" ] || py=python3
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-2}
 run="--galaxies mw --particles 3000 --dt 0.002 --report-every 4"
 
