@@ -102,11 +102,11 @@ static const char usage[] =
     "  --separation KPC   model separation (default 780)\n"
     "  --galaxies WHICH   model: both (pair, default), or the Milky Way (mw) or M31 alone\n"
     "  --disc-q Q         model: the discs' Toomre Q (default 1.5)\n"
-    "  --steps N          leapfrog steps (default 100)\n"
-    "  --dt DT            time step (default 0.001, about 1 Myr); with --eta, the longest\n"
-    "  --eta ETA          block time steps: particle i steps dt / 2^k, the longest at most\n"
-    "                     sqrt(2 ETA eps_i / |a_i|) (Gadget-2's criterion; 0.025 there),\n"
-    "                     k <= 10, forces computed only for the particles whose step\n"
+    "  --steps N          leapfrog steps of --dt (default 100)\n"
+    "  --dt DT            time step (default 0.001, about 1 Myr; with --eta the longest)\n"
+    "  --eta ETA          block time steps: particle i takes the longest step dt / 2^k\n"
+    "                     (k <= 10) at most sqrt(2 ETA eps_i / |a_i|) (Gadget-2's\n"
+    "                     criterion; 0.025 there), and gets forces only when its step\n"
     "                     ends (default: one global step --dt for all)\n"
     "  --eps EPS          Plummer softening of stars, black holes and gas, kpc (default 0.05)\n"
     "  --eps-halo EPS     Plummer softening of dark-matter (type 1) particles (default 2 x --eps)\n"
@@ -121,9 +121,8 @@ static const char usage[] =
     "  --snapshot-dir DIR where snapshots go (created if missing; default: --resume's DIR)\n"
     "  --resume DIR       continue from DIR's newest snapshot, bit for bit as if never\n"
     "                     stopped: its time and step, and its --dt, --eta, --eps,\n"
-    "                     --eps-halo, --theta and --snapshot-every unless given; --steps\n"
-    "                     counts from\n"
-    "                     the start of the run, not of the resume\n"
+    "                     --eps-halo, --theta and --snapshot-every unless given;\n"
+    "                     --steps counts from the start of the run, not of the resume\n"
     "Snapshots and --resume need one process (not several MPI ranks).\n";
 
 static double now(void)
