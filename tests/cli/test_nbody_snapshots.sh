@@ -92,6 +92,15 @@ print("" if ok else f"NPART {h.header['NPART']}, peak at {x}, {y}")
 raise SystemExit(not ok)
 PY
 
+# Rendering in-situ, a resumed run goes on with the next frame's number.
+printf 'camera: {projection: orthographic, width: 60, position: [0, 0, 100]}\nimage: {width: 32, height: 32}\noutput: {png: false, name: f}\n' >insitu.yaml
+"$NBODY" --galaxies mw --particles 2000 --steps 2 --dt 0.002 --snapshot-every 2 --snapshot-dir framed \
+  --scene insitu.yaml --set output.dir=frames >framed1.log 2>&1 || fail "framed run: $(tail -3 framed1.log)"
+"$NBODY" --resume framed --steps 4 --scene insitu.yaml --set output.dir=frames >framed2.log 2>&1 ||
+  fail "framed resume: $(tail -3 framed2.log)"
+[ "$(ls frames | tr '\n' ' ')" = "f_0000.fits f_0001.fits f_0002.fits f_0003.fits f_0004.fits " ] || fail "frames: $(ls frames)"
+grep -q "rendering 0.* over 2 frames" framed2.log || fail "frames rendered by the resume: $(grep rendering framed2.log)"
+
 # Killed while writing a snapshot every step: every snapshot under its final
 # name is complete, and the run resumes from the newest.
 "$NBODY" --galaxies mw --particles 5000 --dt 0.001 --steps 100000 --snapshot-every 1 --snapshot-dir killed \
