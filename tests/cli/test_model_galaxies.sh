@@ -13,13 +13,9 @@ for g in pair mw m31; do
   "$ORRERY" model -o $g.txt --particles 3000 --galaxies $g >out.txt 2>&1 || fail "--galaxies $g: $(cat out.txt)"
 done
 "$ORRERY" model -o q3.txt --particles 3000 --galaxies mw --disc-q 3 >out.txt 2>&1 || fail "--disc-q 3: $(cat out.txt)"
-"$py" - <<'PY' || fail "model tables"
+PYTHONPATH="$SRC/tests/cli" "$py" - <<'PY' || fail "model tables"
 import numpy as np
-bad = 0
-def check(ok, what):
-    global bad
-    if not ok:
-        print(what); bad += 1
+from expect import check, done
 def load(name):
     return np.loadtxt(name, skiprows=1)  # x y z mass id type vx vy vz r E0
 markers = {"pair": {1, 2, 3}, "mw": {1, 3}, "m31": {2}}
@@ -42,7 +38,7 @@ def dispersions(d):
 (sr1, sz1), (sr3, sz3) = dispersions(load("mw.txt")), dispersions(load("q3.txt"))
 check(abs(sr3 / sr1 - 2) < 0.02, f"sigma_R {sr1} at Q = 1.5, {sr3} at Q = 3: expected twice")
 check(abs(sz3 / sz1 - 1) < 0.02, f"sigma_z {sz1} at Q = 1.5, {sz3} at Q = 3: expected the same")
-raise SystemExit(bad)
+done()
 PY
 
 # The table renders as the scene's own model with the same keys.

@@ -33,13 +33,9 @@ cmp -s straight/snapshot_0004.hdf5 half/snapshot_0004.hdf5 || fail "snapshot 4 d
 "$NBODY" --ic half/snapshot_0002.hdf5 --steps 4 --dt 0.002 --snapshot-every 4 --snapshot-dir fromic >ic.log 2>&1 ||
   fail "--ic from a snapshot: $(tail -3 ic.log)"
 
-"$py" - <<'PY' || fail "snapshot contents"
+PYTHONPATH="$SRC/tests/cli" "$py" - <<'PY' || fail "snapshot contents"
 import h5py, numpy as np
-bad = 0
-def check(ok, what):
-    global bad
-    if not ok:
-        print(what); bad += 1
+from expect import check, done
 a = h5py.File("straight/snapshot_0004.hdf5", "r")
 b = h5py.File("half/snapshot_0004.hdf5", "r")
 c = h5py.File("fromic/snapshot_0001.hdf5", "r")
@@ -69,7 +65,7 @@ xs = a["PartType1/Coordinates"][:, 0]
 for t in range(2, 6):
     xs = np.concatenate([xs, a[f"PartType{t}/Coordinates"][:, 0]])
 open("expect.txt", "w").write(f"{np.float32(xs.min())!r} {np.float32(xs.max())!r}\n")
-raise SystemExit(bad)
+done()
 PY
 
 # orrery's own reader: the count, time, types and x range h5py gives.
