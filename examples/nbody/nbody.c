@@ -123,7 +123,8 @@ static const char usage[] =
     "                     stopped: its time and step, and its --dt, --eta, --eps,\n"
     "                     --eps-halo, --theta and --snapshot-every unless given;\n"
     "                     --steps counts from the start of the run, not of the resume\n"
-    "Snapshots and --resume need one process (not several MPI ranks).\n";
+    "On MPI ranks, rank 0 writes the snapshots (gathered from every rank), and on a\n"
+    "resume every rank reads the snapshot and keeps an even share of it.\n";
 
 static double now(void)
 {
@@ -836,8 +837,24 @@ static void take_run_settings(options *o, const nb_run_state *rs)
     o->snapshot_every = (long)every;
 }
 
-/* The particles and state of the newest snapshot in --resume's folder. */
-static int resume_bodies(options *o, bodies *b, nb_run_state *rs)
+/* Keeps particles first .. first + count - 1 of p, moved to the start of
+ * its arrays. */
+static void keep_slice(nb_particles *p, size_t first, size_t count)
+{
+    memmove(p->pos, p->pos + 3 * first, 3 * count * sizeof *p->pos);
+    memmove(p->vel, p->vel + 3 * first, 3 * count * sizeof *p->vel);
+    memmove(p->mass, p->mass + first, count * sizeof *p->mass);
+    memmove(p->id, p->id + first, count * sizeof *p->id);
+    memmove(p->type, p->type + first, count * sizeof *p->type);
+    for (int f = 0; f < p->nfields; f++)
+        memmove(p->field[f], p->field[f] + first, count * sizeof *p->field[f]);
+    p->n = count;
+}
+
+/* The particles and state of the newest snapshot in --resume's folder;
+ * on MPI ranks every rank reads it and keeps an even slice of the run's
+ * order (the forces do not depend on the slicing, only on that order). */
+static int resume_bodies(options *o, bodies *b, nb_run_state *rs, int rank, int size)
 {
     static char path[4096];
     orr_error err = {0};
@@ -849,6 +866,8 @@ static int resume_bodies(options *o, bodies *b, nb_run_state *rs)
         fprintf(stderr, "orrery-nbody: --resume %s: %s\n", o->resume_dir, err.msg);
         return 0;
     }
+    size_t share = p.n / (size_t)size, extra = p.n % (size_t)size, r = (size_t)rank;
+    keep_slice(&p, r * share + (r < extra ? r : extra), share + (r < extra));
     if (!adopt_particles(b, &p)) {
         fprintf(stderr, "orrery-nbody: %s: out of memory\n", path);
         return 0;
@@ -866,7 +885,7 @@ static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state 
     orr_error err = {0};
     int ok;
     if (o->resume_dir) {
-        ok = resume_bodies(o, b, rs);
+        ok = resume_bodies(o, b, rs, rank, size);
     } else if (!(ok = load_bodies(o, rank, size, b, &err) == ORR_OK)) {
         fprintf(stderr, "orrery-nbody: %s\n", err.msg);
     }
@@ -886,47 +905,103 @@ static const char *snapshot_dir(const options *o)
     return o->snapshot_dir ? o->snapshot_dir : o->resume_dir;
 }
 
-/* Before the run: snapshots and resumes on one process only, and a folder
- * that takes them (created if missing; what a killed run left there under
- * temporary names removed). 0, or an exit status. */
-static int prepare_snapshots(const options *o, int size)
+/* Before the run: a folder that takes the snapshots (created if missing;
+ * what a killed run left there under temporary names removed), checked by
+ * rank 0, which writes them. 0, or an exit status (on every rank). */
+static int prepare_snapshots(const options *o, int rank)
 {
-    if (!o->snapshot_every && !o->resume_dir)
-        return 0;
-    if (size > 1) {
-        fprintf(stderr, "orrery-nbody: --snapshot-every and --resume need one process; this run has %d MPI ranks\n",
-                size);
-        return 2;
-    }
+    int code = 0;
     orr_error err = {0};
-    if (o->snapshot_every && orr_check_output_dir(snapshot_dir(o), &err) != ORR_OK) {
+    if (rank == 0 && o->snapshot_every && orr_check_output_dir(snapshot_dir(o), &err) != ORR_OK) {
         fprintf(stderr, "orrery-nbody: --snapshot-dir %s: %s\n", snapshot_dir(o), err.msg);
-        return 1;
+        code = 1;
     }
-    if (o->snapshot_every)
+    if (rank == 0 && !code && o->snapshot_every)
         orr_remove_stale_temporaries(snapshot_dir(o));
-    return 0;
+    return ranks_any(code) ? 1 : 0;
 }
 
-/* Snapshot number of the run at step (and time b->time). */
-static int write_snapshot(const bodies *b, const options *o, long step, long number, double e0)
+/* Every process's particles in the run's order, on every process (the
+ * gather is an all-gather; positions and masses are there already), for
+ * rank 0 to write. Ids travel as two exact 32-bit halves. */
+static int gather_particles(const bodies *b, nb_particles *all)
+{
+    size_t n = b->n_all, mine = b->first;
+    *all = (nb_particles){.n = n, .pos = b->pos_all, .mass = b->mass_all, .nfields = b->nfields};
+    memcpy(all->field_name, b->field_name, sizeof all->field_name);
+    all->vel = malloc(3 * (n + 1) * sizeof *all->vel);
+    all->id = malloc((n + 1) * sizeof *all->id);
+    all->type = malloc(n + 1);
+    double *rows = malloc(3 * (n + 1) * sizeof *rows);
+    int ok = all->vel && all->id && all->type && rows;
+    for (int f = 0; f < b->nfields; f++)
+        ok &= (all->field[f] = malloc((n + 1) * sizeof(float))) != NULL;
+    if (ranks_any(!ok)) {
+        free(rows);
+        return 0;
+    }
+    memcpy(all->vel + 3 * mine, b->vel, 3 * b->n * sizeof *b->vel);
+    ok = ranks_gather(all->vel, 3, b->counts) == 0;
+    for (size_t i = 0; i < b->n; i++) {
+        rows[3 * (mine + i)] = (double)(b->id[i] >> 32);
+        rows[3 * (mine + i) + 1] = (double)(b->id[i] & 0xffffffffu);
+        rows[3 * (mine + i) + 2] = b->type[i];
+    }
+    ok = ok && ranks_gather(rows, 3, b->counts) == 0;
+    for (size_t i = 0; ok && i < n; i++) {
+        all->id[i] = (uint64_t)rows[3 * i] << 32 | (uint64_t)rows[3 * i + 1];
+        all->type[i] = (uint8_t)rows[3 * i + 2];
+    }
+    for (int f = 0; ok && f < b->nfields; f++) {
+        for (size_t i = 0; i < b->n; i++)
+            rows[mine + i] = b->field[f][i];
+        ok = ranks_gather(rows, 1, b->counts) == 0;
+        for (size_t i = 0; ok && i < n; i++)
+            all->field[f][i] = (float)rows[i];
+    }
+    free(rows);
+    return ok;
+}
+
+/* The arrays gather_particles made (positions and masses are the run's). */
+static void free_gathered(nb_particles *all)
+{
+    all->pos = all->mass = NULL;
+    nb_particles_free(all);
+}
+
+/* Writes snapshot s->number of p into the snapshot folder; 0 or 1. */
+static int write_file(const nb_particles *p, const nb_run_state *s, const options *o)
+{
+    char path[4096];
+    orr_error err = {0};
+    if (nb_snapshot_path(path, sizeof path, snapshot_dir(o), s->number) != 0)
+        snprintf(err.msg, sizeof err.msg, "%s: the folder's name is too long", snapshot_dir(o));
+    else if (nb_snapshot_write(path, p, s, &err) == ORR_OK) {
+        if (!o->quiet)
+            printf("snapshot %s  step %ld  t = %.4f\n", path, s->step, s->time);
+        return 0;
+    }
+    fprintf(stderr, "orrery-nbody: %s\n", err.msg);
+    return 1;
+}
+
+/* Snapshot number of the run at step (and time b->time), written by rank
+ * 0 (gathered from every rank first when there are several); 0 or 1, on
+ * every rank. */
+static int write_snapshot(const bodies *b, const options *o, long step, long number, double e0, int rank, int size)
 {
     nb_particles p = {.n = b->n, .pos = b->pos, .vel = b->vel, .mass = b->mass, .id = b->id, .type = b->type,
                       .nfields = b->nfields};
     memcpy(p.field_name, b->field_name, sizeof p.field_name);
     memcpy(p.field, b->field, sizeof p.field);
+    int failed = size > 1 && !gather_particles(b, &p);
     nb_run_state s = {b->time, step, number, e0, o->dt, o->eps, o->eps_halo, o->theta, o->eta, o->snapshot_every};
-    char path[4096];
-    orr_error err = {0};
-    if (nb_snapshot_path(path, sizeof path, snapshot_dir(o), number) != 0)
-        snprintf(err.msg, sizeof err.msg, "%s: the folder's name is too long", snapshot_dir(o));
-    else if (nb_snapshot_write(path, &p, &s, &err) == ORR_OK) {
-        if (!o->quiet)
-            printf("snapshot %s  step %ld  t = %.4f\n", path, step, b->time);
-        return 0;
-    }
-    fprintf(stderr, "orrery-nbody: %s\n", err.msg);
-    return 1;
+    if (!failed && rank == 0)
+        failed = write_file(&p, &s, o);
+    if (size > 1)
+        free_gathered(&p);
+    return ranks_any(failed) ? 1 : 0;
 }
 
 /* Opens the scene on every process, rendering together when there are
@@ -965,7 +1040,7 @@ static int after_step(orrery_renderer *r, const bodies *b, const options *o, run
     if (u->step % o->report_every == 0 || u->step == o->steps)
         report(b, rank, size, u->e0, o->quiet);
     if (!code && o->snapshot_every && u->step % o->snapshot_every == 0)
-        code = write_snapshot(b, o, u->step, u->snapshot++, u->e0);
+        code = write_snapshot(b, o, u->step, u->snapshot++, u->e0, rank, size);
     return code;
 }
 
@@ -1012,11 +1087,11 @@ int main(int argc, char **argv)
     bodies b = {0};
     orrery_renderer *r = NULL;
     nb_run_state resumed = {0};
-    int code = prepare_snapshots(&o, size);
+    int code = prepare_snapshots(&o, rank);
     if (!code)
         code = start_bodies(&o, rank, size, &b, &resumed) ? 0 : 1;
     if (!code && o.resume_dir) /* its --snapshot-every may be the run's own */
-        code = prepare_snapshots(&o, size);
+        code = prepare_snapshots(&o, rank);
     if (!code)
         code = open_renderer(&o, size, &r);
     if (code) {
