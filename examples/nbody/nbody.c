@@ -7,7 +7,9 @@
  * hands its particles to orrery (orrery.h) every few steps, so a scene's
  * dome master, panorama or flat views are rendered while it runs, with no
  * snapshot written: the method of Dubinski's paper. It reports the cost of
- * rendering as a fraction of the cost of gravity. docs/insitu.md.
+ * rendering as a fraction of the cost of gravity. docs/insitu.md. It can
+ * also write Gadget-layout HDF5 snapshots every K steps and resume a run
+ * from the newest bit for bit (snapshot.h, docs/nbody.md).
  *
  * Built as orrery-nbody-mpi (ranks_mpi.c), it runs on MPI ranks: each rank
  * reads and owns a contiguous slice of the particles, every rank builds the
@@ -30,7 +32,9 @@
 #include "source/model.h"
 #include "source/partition.h"
 #include "source/source.h"
+#include "encode/atomic.h"
 #include "qtree.h"
+#include "snapshot.h"
 
 #define G_KPC_KMS 43007.1
 
@@ -66,17 +70,26 @@ typedef struct options {
     int nsets;
     long steps;
     double dt, eps, eps_halo, theta;
+    double eta;            /* block time steps' accuracy; 0: one global step --dt */
     int eps_halo_given;    /* --eps-halo given; else it is 2 x --eps */
     long render_every, report_every;
     int quiet;
+    long snapshot_every;      /* 0: no snapshots */
+    const char *snapshot_every_text; /* as given */
+    const char *snapshot_dir; /* NULL: --resume's folder */
+    const char *resume_dir;   /* NULL: a new run */
+    /* Given on the command line; on a resume the others are the run's own. */
+    int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given;
 } options;
 
 static const char usage[] =
     "usage: orrery-nbody [--ic model|SNAPSHOT] [--particles N] [--separation KPC]\n"
     "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
-    "                    [--steps N] [--dt DT] [--eps EPS] [--eps-halo EPS] [--theta THETA]\n"
+    "                    [--steps N] [--dt DT] [--eta ETA] [--eps EPS] [--eps-halo EPS]\n"
+    "                    [--theta THETA]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
-    "                    [--report-every K] [--quiet]\n"
+    "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
+    "                    [--resume DIR] [--quiet]\n"
     "\n"
     "Evolves N bodies with a tree code (quadrupole moments, group walks) and renders\n"
     "SCENE in-situ every K steps (frame = step / K), reporting rendering time against\n"
@@ -89,15 +102,29 @@ static const char usage[] =
     "  --separation KPC   model separation (default 780)\n"
     "  --galaxies WHICH   model: both (pair, default), or the Milky Way (mw) or M31 alone\n"
     "  --disc-q Q         model: the discs' Toomre Q (default 1.5)\n"
-    "  --steps N          leapfrog steps (default 100)\n"
-    "  --dt DT            time step (default 0.001, about 1 Myr)\n"
+    "  --steps N          leapfrog steps of --dt (default 100)\n"
+    "  --dt DT            time step (default 0.001, about 1 Myr; with --eta the longest)\n"
+    "  --eta ETA          block time steps: particle i takes the longest step dt / 2^k\n"
+    "                     (k <= 10) at most sqrt(2 ETA eps_i / |a_i|) (Gadget-2's\n"
+    "                     criterion; 0.025 there), and gets forces only when its step\n"
+    "                     ends (default: one global step --dt for all)\n"
     "  --eps EPS          Plummer softening of stars, black holes and gas, kpc (default 0.05)\n"
     "  --eps-halo EPS     Plummer softening of dark-matter (type 1) particles (default 2 x --eps)\n"
     "  --theta THETA      opening angle, 0 to 1 (default 0.7: 99% of forces within 1%)\n"
     "  --report-every K   energy, momentum and structure every K steps (default 10)\n"
     "  --scene FILE       the scene rendered in-situ (its input.* keys are not used)\n"
     "  --set KEY=VALUE    override a scene key (repeatable)\n"
-    "  --render-every K   render every K-th step (default 1)\n";
+    "  --render-every K   render every K-th step (default 1)\n"
+    "  --snapshot-every K write DIR/snapshot_NNNN.hdf5 (Gadget-layout HDF5, which orrery\n"
+    "                     renders) at step 0 and every K steps; each is written to a\n"
+    "                     temporary name and renamed when complete\n"
+    "  --snapshot-dir DIR where snapshots go (created if missing; default: --resume's DIR)\n"
+    "  --resume DIR       continue from DIR's newest snapshot, bit for bit as if never\n"
+    "                     stopped: its time and step, and its --dt, --eta, --eps,\n"
+    "                     --eps-halo, --theta and --snapshot-every unless given;\n"
+    "                     --steps counts from the start of the run, not of the resume\n"
+    "On MPI ranks, rank 0 writes the snapshots (gathered from every rank), and on a\n"
+    "resume every rank reads the snapshot and keeps an even share of it.\n";
 
 static double now(void)
 {
@@ -114,15 +141,19 @@ static double parse_number(const char *v)
     return end == v || *end ? NAN : d;
 }
 
+/* A whole number, or -1 (which the checks refuse) when it is not one. */
+static long parse_count(const char *v)
+{
+    char *end;
+    long n = strtol(v, &end, 10);
+    return end == v || *end ? -1 : n;
+}
+
 static int parse_galaxies(const char *v, int *out)
 {
-    static const char *const words[] = {"pair", "mw", "m31"};
-    for (int i = 0; i < 3; i++)
-        if (strcmp(v, words[i]) == 0) {
-            *out = i; /* ORR_MODEL_PAIR, _MW, _M31 */
-            return 1;
-        }
-    fprintf(stderr, "orrery-nbody: --galaxies %s: expected pair, mw or m31\n", v);
+    if ((*out = orr_model_galaxies_named(v)) >= 0)
+        return 1;
+    fprintf(stderr, "orrery-nbody: --galaxies %s: expected " ORR_MODEL_GALAXIES_WORDS "\n", v);
     return 0;
 }
 
@@ -133,6 +164,9 @@ static int check_options(const options *o)
     char why[128] = "";
     if (!(o->dt > 0) || !isfinite(o->dt))
         bad = "--dt", snprintf(why, sizeof why, "%g: the time step must be a number above 0", o->dt);
+    else if (o->eta_given && (!(o->eta > 0) || !isfinite(o->eta)))
+        bad = "--eta", snprintf(why, sizeof why, "%g: the time-step accuracy must be a number above 0 (Gadget-2: 0.025)",
+                                o->eta);
     else if (!(o->eps > 0) || !isfinite(o->eps))
         bad = "--eps", snprintf(why, sizeof why, "%g: the softening must be a length above 0 (kpc)", o->eps);
     else if (!(o->eps_halo > 0) || !isfinite(o->eps_halo))
@@ -149,6 +183,14 @@ static int check_options(const options *o)
         bad = "--report-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->report_every);
     else if (o->particles < 100)
         bad = "--particles", snprintf(why, sizeof why, "%lld: the model needs at least 100", o->particles);
+    else if (o->snapshot_every < 0)
+        bad = "--snapshot-every",
+        snprintf(why, sizeof why, "%s: expected a whole number of steps, at least 1", o->snapshot_every_text);
+    else if (o->snapshot_every > 0 && !o->snapshot_dir && !o->resume_dir)
+        bad = "--snapshot-every", snprintf(why, sizeof why, "needs --snapshot-dir DIR (where to write them)");
+    else if (o->resume_dir && o->ic_given)
+        bad = "--resume", snprintf(why, sizeof why, "%s: the initial conditions are the snapshot's: not with --ic",
+                                   o->resume_dir);
     if (bad)
         fprintf(stderr, "orrery-nbody: %s %s\n", bad, why);
     return bad == NULL;
@@ -173,6 +215,16 @@ static int parse_args(int argc, char **argv, options *o)
             return 0;
         } else if (strcmp(a, "--ic") == 0) {
             o->ic = v;
+            o->ic_given = 1;
+        } else if (strcmp(a, "--snapshot-every") == 0) {
+            o->snapshot_every = parse_count(v);
+            o->snapshot_every = o->snapshot_every ? o->snapshot_every : -1; /* 0 is not a period */
+            o->snapshot_every_text = v;
+            o->snapshot_every_given = 1;
+        } else if (strcmp(a, "--snapshot-dir") == 0) {
+            o->snapshot_dir = v;
+        } else if (strcmp(a, "--resume") == 0) {
+            o->resume_dir = v;
         } else if (strcmp(a, "--particles") == 0) {
             o->particles = atoll(v);
         } else if (strcmp(a, "--separation") == 0) {
@@ -191,10 +243,16 @@ static int parse_args(int argc, char **argv, options *o)
             o->steps = atol(v);
         } else if (strcmp(a, "--dt") == 0) {
             o->dt = parse_number(v);
+            o->dt_given = 1;
+        } else if (strcmp(a, "--eta") == 0) {
+            o->eta = parse_number(v);
+            o->eta_given = 1;
         } else if (strcmp(a, "--eps") == 0) {
             o->eps = parse_number(v);
+            o->eps_given = 1;
         } else if (strcmp(a, "--theta") == 0) {
             o->theta = parse_number(v);
+            o->theta_given = 1;
         } else if (strcmp(a, "--scene") == 0) {
             o->scene = v;
         } else if (strcmp(a, "--set") == 0 && o->nsets < 32) {
@@ -400,21 +458,27 @@ static orr_particle_arrays as_arrays(const bodies *b)
 }
 
 /* The accelerations and potentials of this process's particles, from a
- * tree over all. */
-static double gravity(qt_tree *t, bodies *b, const options *o, double *interactions)
+ * tree over all: built anew for all (active NULL), or, for the particles
+ * with active[i] set within a block step, the last one moved to the new
+ * positions (qt_refresh: O(N), the short steps' particles move little). */
+static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned char *active, double *interactions)
 {
     double t0 = now();
-    if (qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0 ||
-        (*interactions = qt_accelerations_of(t, G_KPC_KMS, o->theta, b->first, b->n, b->acc, b->pot)) < 0) {
+    if (active)
+        qt_refresh(t, b->pos_all);
+    if ((!active && qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0) ||
+        (*interactions = qt_accelerations_masked(t, G_KPC_KMS, o->theta, b->first, b->n, active, b->acc, b->pot)) <
+            0) {
         fprintf(stderr, "orrery-nbody: out of memory in the tree\n");
         exit(1);
     }
     return now() - t0;
 }
 
-/* Sums of every process's values (v[0 .. k), k <= 8), through the gather:
- * each process puts its k values at its rank's row. */
-static int sum_over_ranks(double *v, int k, int rank, int size)
+/* Sums (or, with take_min, the least) of every process's values (v[0 ..
+ * k)), through the gather: each process puts its k values at its rank's
+ * row. */
+static int reduce_over_ranks(double *v, int k, int rank, int size, int take_min)
 {
     double *all = calloc((size_t)(size * k), sizeof *all);
     size_t *counts = malloc((size_t)size * sizeof *counts);
@@ -425,9 +489,9 @@ static int sum_over_ranks(double *v, int k, int rank, int size)
         memcpy(all + (size_t)rank * k, v, (size_t)k * sizeof *v);
         ok = ranks_gather(all, (size_t)k, counts) == 0;
         for (int j = 0; ok && j < k; j++) {
-            v[j] = 0;
+            v[j] = take_min ? INFINITY : 0;
             for (int r = 0; r < size; r++)
-                v[j] += all[(size_t)r * k + j];
+                v[j] = take_min ? fmin(v[j], all[(size_t)r * k + j]) : v[j] + all[(size_t)r * k + j];
         }
     }
     free(all);
@@ -447,7 +511,7 @@ static int energies(const bodies *b, int rank, int size, double e[5])
         for (int k = 0; k < 3; k++)
             e[2 + k] += b->mass[i] * v[k];
     }
-    return sum_over_ranks(e, 5, rank, size);
+    return reduce_over_ranks(e, 5, rank, size, 0);
 }
 
 /* ---- how an isolated galaxy holds together (one process) -------------- */
@@ -584,20 +648,23 @@ static double total_energy(const bodies *b, int rank, int size)
     return energies(b, rank, size, e) ? e[0] + e[1] : NAN;
 }
 
-/* The step each particle would want by Gadget-2's criterion, dt_i =
- * sqrt(2 eta eps_i / |a_i|) with eta = 0.025 (Springel 2005, MNRAS 364,
- * 1105): the share of this process's particles for which the global step
- * is too long. A block-step code would give those shorter steps; here it
- * says how honest the chosen dt is. */
-static double share_wanting_shorter(const bodies *b, double dt)
+/* The step particle i (of this process) wants by Gadget-2's criterion,
+ * dt_i = sqrt(2 eta eps_i / |a_i|) (Springel 2005, MNRAS 364, 1105, eq. 34):
+ * a fraction of the time to fall through its own softening length. */
+static double wanted_step(const bodies *b, size_t i, double eta)
+{
+    const double *a = &b->acc[3 * i];
+    double amag = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    return amag > 0 ? sqrt(2 * eta * b->eps_all[b->first + i] / amag) : INFINITY;
+}
+
+/* The share of this process's particles for which a step dt is longer than
+ * the criterion with eta: how honest one global step is. */
+static double share_wanting_shorter(const bodies *b, double dt, double eta)
 {
     size_t shorter = 0;
-    for (size_t i = 0; i < b->n; i++) {
-        const double *a = &b->acc[3 * i];
-        double amag = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-        double want = amag > 0 ? sqrt(2 * 0.025 * b->eps_all[b->first + i] / amag) : INFINITY;
-        shorter += want < dt;
-    }
+    for (size_t i = 0; i < b->n; i++)
+        shorter += wanted_step(b, i, eta) < dt;
     return b->n ? (double)shorter / (double)b->n : 0.0;
 }
 
@@ -616,6 +683,109 @@ static int drift(bodies *b, double dt)
     return ranks_gather(b->pos_all, 3, b->counts);
 }
 
+/* ---- block time steps --------------------------------------------------- */
+
+/* Each particle's step is dt / 2^k, k = 0 .. MAX_LEVEL, counted in integer
+ * ticks of dt / 2^MAX_LEVEL, so a step of --dt is TICKS ticks and steps
+ * nest: a particle's step always starts at a multiple of its length. */
+#define MAX_LEVEL 10
+#define TICKS (1L << MAX_LEVEL)
+
+typedef struct blocks {
+    long *ticks, *end;     /* each particle's step, and the tick it ends at (within a step of --dt) */
+    unsigned char *active; /* whose step ends now: they get forces and kicks */
+    double forces;         /* particle forces computed so far (every process) */
+    long substeps;         /* force computations (tree builds) so far */
+} blocks;
+
+static int alloc_blocks(blocks *k, size_t n)
+{
+    k->ticks = malloc((n + 1) * sizeof *k->ticks);
+    k->end = malloc((n + 1) * sizeof *k->end);
+    k->active = malloc(n + 1);
+    return k->ticks && k->end && k->active;
+}
+
+static void free_blocks(blocks *k)
+{
+    free(k->ticks);
+    free(k->end);
+    free(k->active);
+}
+
+/* The longest step of the hierarchy, in ticks, that is at most the wanted
+ * one and may start at tick T (T a multiple of it, so the steps stay
+ * nested); at least one tick. */
+static long step_ticks(double want, double dt, long T)
+{
+    long s = TICKS;
+    while (s > 1 && ((double)s * (dt / TICKS) > want || T % s != 0))
+        s >>= 1;
+    return s;
+}
+
+/* Opens the step of particle i at tick T: its length from its acceleration
+ * now, and the first half kick. */
+static void open_step(bodies *b, blocks *k, size_t i, long T, const options *o)
+{
+    const double tick = o->dt / TICKS;
+    k->ticks[i] = step_ticks(wanted_step(b, i, o->eta), o->dt, T);
+    k->end[i] = T + k->ticks[i];
+    for (int c = 0; c < 3; c++)
+        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)k->ticks[i] * tick);
+}
+
+/* The second half kick of particle i's step, with its new acceleration. */
+static void close_step(bodies *b, const blocks *k, size_t i, const options *o)
+{
+    const double tick = o->dt / TICKS;
+    for (int c = 0; c < 3; c++)
+        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)k->ticks[i] * tick);
+}
+
+/* The next tick at which some particle's step ends, over every process. */
+static long next_end(const blocks *k, size_t n, int rank, int size)
+{
+    double next = (double)TICKS;
+    for (size_t i = 0; i < n; i++)
+        next = fmin(next, (double)k->end[i]);
+    return reduce_over_ranks(&next, 1, rank, size, 1) ? (long)next : -1;
+}
+
+/* One step of --dt in block steps (kick-drift-kick for each particle with
+ * its own step): everyone starts synchronised, with accelerations, and
+ * ends so; between, every particle is drifted to each tick where some
+ * step ends (positions stay synchronised, so one tree over all serves),
+ * and only the particles whose step ends get forces and kicks. With every
+ * particle on the longest step it is the global step exactly. 0 or an
+ * exit status; the tree time in *seconds. */
+static int block_step(qt_tree *tree, bodies *b, const options *o, blocks *k, int rank, int size, double *seconds)
+{
+    const double tick = o->dt / TICKS, t0 = b->time;
+    for (size_t i = 0; i < b->n; i++)
+        open_step(b, k, i, 0, o);
+    for (long T = 0; T < TICKS;) {
+        long next = next_end(k, b->n, rank, size);
+        if (next <= T || drift(b, (double)(next - T) * tick) != 0)
+            return 1;
+        T = next;
+        double active = 0, interactions;
+        for (size_t i = 0; i < b->n; i++)
+            active += (k->active[i] = k->end[i] == T);
+        *seconds += gravity(tree, b, o, T == TICKS ? NULL : k->active, &interactions);
+        k->forces += active; /* this process's; summed over processes when reported */
+        k->substeps++;
+        for (size_t i = 0; i < b->n; i++)
+            if (k->active[i]) {
+                close_step(b, k, i, o);
+                if (T < TICKS)
+                    open_step(b, k, i, T, o);
+            }
+    }
+    b->time = t0 + o->dt; /* as the global step has it, whatever the ticks' rounding */
+    return 0;
+}
+
 static int render(orrery_renderer *r, const bodies *b, long frame, double *seconds)
 {
     orr_particle_arrays p = as_arrays(b);
@@ -626,14 +796,99 @@ static int render(orrery_renderer *r, const bodies *b, long frame, double *secon
     return st;
 }
 
-/* Loads this process's particles and shares the positions; whether every
- * process succeeded (each prints its own error). */
-static int start_bodies(const options *o, int rank, int size, bodies *b)
+/* Takes over the particles a snapshot read gave (one process). */
+static int adopt_particles(bodies *b, nb_particles *p)
+{
+    b->n = p->n;
+    b->pos = p->pos;
+    b->vel = p->vel;
+    b->mass = p->mass;
+    b->id = p->id;
+    b->type = p->type;
+    b->nfields = p->nfields;
+    memcpy(b->field_name, p->field_name, sizeof b->field_name);
+    memcpy(b->field, p->field, sizeof b->field);
+    memset(p, 0, sizeof *p); /* b owns them now */
+    b->acc = calloc(3 * b->n + 3, sizeof *b->acc);
+    b->pot = calloc(b->n + 1, sizeof *b->pot);
+    return b->acc && b->pot;
+}
+
+/* A setting of the resumed run: the command line's when given (said, when
+ * it differs, since the run then no longer continues bit for bit), else
+ * the run's own. */
+static void take_setting(const char *name, int given, double *value, double stored, int quiet)
+{
+    if (!given)
+        *value = stored;
+    else if (*value != stored && !quiet)
+        printf("note: resuming with %s %g where the run used %g\n", name, *value, stored);
+}
+
+static void take_run_settings(options *o, const nb_run_state *rs)
+{
+    double every = (double)o->snapshot_every;
+    take_setting("--dt", o->dt_given, &o->dt, rs->dt, o->quiet);
+    take_setting("--eps", o->eps_given, &o->eps, rs->eps, o->quiet);
+    take_setting("--eps-halo", o->eps_halo_given || o->eps_given, &o->eps_halo, rs->eps_halo, o->quiet);
+    take_setting("--theta", o->theta_given, &o->theta, rs->theta, o->quiet);
+    take_setting("--eta", o->eta_given, &o->eta, rs->eta, o->quiet);
+    take_setting("--snapshot-every", o->snapshot_every_given, &every, (double)rs->snapshot_every, o->quiet);
+    o->snapshot_every = (long)every;
+}
+
+/* Keeps particles first .. first + count - 1 of p, moved to the start of
+ * its arrays. */
+static void keep_slice(nb_particles *p, size_t first, size_t count)
+{
+    memmove(p->pos, p->pos + 3 * first, 3 * count * sizeof *p->pos);
+    memmove(p->vel, p->vel + 3 * first, 3 * count * sizeof *p->vel);
+    memmove(p->mass, p->mass + first, count * sizeof *p->mass);
+    memmove(p->id, p->id + first, count * sizeof *p->id);
+    memmove(p->type, p->type + first, count * sizeof *p->type);
+    for (int f = 0; f < p->nfields; f++)
+        memmove(p->field[f], p->field[f] + first, count * sizeof *p->field[f]);
+    p->n = count;
+}
+
+/* The particles and state of the newest snapshot in --resume's folder;
+ * on MPI ranks every rank reads it and keeps an even slice of the run's
+ * order (the forces do not depend on the slicing, only on that order). */
+static int resume_bodies(options *o, bodies *b, nb_run_state *rs, int rank, int size)
+{
+    static char path[4096];
+    orr_error err = {0};
+    nb_particles p;
+    long newest = nb_snapshot_newest(o->resume_dir, &err);
+    if (newest >= 0 && nb_snapshot_path(path, sizeof path, o->resume_dir, newest) != 0)
+        newest = -1, snprintf(err.msg, sizeof err.msg, "the folder's name is too long");
+    if (newest < 0 || nb_snapshot_read(path, &p, rs, &err) != ORR_OK) {
+        fprintf(stderr, "orrery-nbody: --resume %s: %s\n", o->resume_dir, err.msg);
+        return 0;
+    }
+    size_t share = p.n / (size_t)size, extra = p.n % (size_t)size, r = (size_t)rank;
+    keep_slice(&p, r * share + (r < extra ? r : extra), share + (r < extra));
+    if (!adopt_particles(b, &p)) {
+        fprintf(stderr, "orrery-nbody: %s: out of memory\n", path);
+        return 0;
+    }
+    b->time = rs->time;
+    o->ic = path;
+    take_run_settings(o, rs);
+    return 1;
+}
+
+/* Loads this process's particles (or a resumed run's) and shares the
+ * positions; whether every process succeeded (each prints its own error). */
+static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state *rs)
 {
     orr_error err = {0};
-    int ok = load_bodies(o, rank, size, b, &err) == ORR_OK;
-    if (!ok)
+    int ok;
+    if (o->resume_dir) {
+        ok = resume_bodies(o, b, rs, rank, size);
+    } else if (!(ok = load_bodies(o, rank, size, b, &err) == ORR_OK)) {
         fprintf(stderr, "orrery-nbody: %s\n", err.msg);
+    }
     if (ranks_any(!ok) || !share_bodies(b, o, rank, size))
         return 0;
     if (b->n_all == 0) {
@@ -642,6 +897,111 @@ static int start_bodies(const options *o, int rank, int size, bodies *b)
         return 0;
     }
     return 1;
+}
+
+/* Where snapshots go: --snapshot-dir, else --resume's folder. */
+static const char *snapshot_dir(const options *o)
+{
+    return o->snapshot_dir ? o->snapshot_dir : o->resume_dir;
+}
+
+/* Before the run: a folder that takes the snapshots (created if missing;
+ * what a killed run left there under temporary names removed), checked by
+ * rank 0, which writes them. 0, or an exit status (on every rank). */
+static int prepare_snapshots(const options *o, int rank)
+{
+    int code = 0;
+    orr_error err = {0};
+    if (rank == 0 && o->snapshot_every && orr_check_output_dir(snapshot_dir(o), &err) != ORR_OK) {
+        fprintf(stderr, "orrery-nbody: --snapshot-dir %s: %s\n", snapshot_dir(o), err.msg);
+        code = 1;
+    }
+    if (rank == 0 && !code && o->snapshot_every)
+        orr_remove_stale_temporaries(snapshot_dir(o));
+    return ranks_any(code) ? 1 : 0;
+}
+
+/* Every process's particles in the run's order, on every process (the
+ * gather is an all-gather; positions and masses are there already), for
+ * rank 0 to write. Ids travel as two exact 32-bit halves. */
+static int gather_particles(const bodies *b, nb_particles *all)
+{
+    size_t n = b->n_all, mine = b->first;
+    *all = (nb_particles){.n = n, .pos = b->pos_all, .mass = b->mass_all, .nfields = b->nfields};
+    memcpy(all->field_name, b->field_name, sizeof all->field_name);
+    all->vel = malloc(3 * (n + 1) * sizeof *all->vel);
+    all->id = malloc((n + 1) * sizeof *all->id);
+    all->type = malloc(n + 1);
+    double *rows = malloc(3 * (n + 1) * sizeof *rows);
+    int ok = all->vel && all->id && all->type && rows;
+    for (int f = 0; f < b->nfields; f++)
+        ok &= (all->field[f] = malloc((n + 1) * sizeof(float))) != NULL;
+    if (ranks_any(!ok)) {
+        free(rows);
+        return 0;
+    }
+    memcpy(all->vel + 3 * mine, b->vel, 3 * b->n * sizeof *b->vel);
+    ok = ranks_gather(all->vel, 3, b->counts) == 0;
+    for (size_t i = 0; i < b->n; i++) {
+        rows[3 * (mine + i)] = (double)(b->id[i] >> 32);
+        rows[3 * (mine + i) + 1] = (double)(b->id[i] & 0xffffffffu);
+        rows[3 * (mine + i) + 2] = b->type[i];
+    }
+    ok = ok && ranks_gather(rows, 3, b->counts) == 0;
+    for (size_t i = 0; ok && i < n; i++) {
+        all->id[i] = (uint64_t)rows[3 * i] << 32 | (uint64_t)rows[3 * i + 1];
+        all->type[i] = (uint8_t)rows[3 * i + 2];
+    }
+    for (int f = 0; ok && f < b->nfields; f++) {
+        for (size_t i = 0; i < b->n; i++)
+            rows[mine + i] = b->field[f][i];
+        ok = ranks_gather(rows, 1, b->counts) == 0;
+        for (size_t i = 0; ok && i < n; i++)
+            all->field[f][i] = (float)rows[i];
+    }
+    free(rows);
+    return ok;
+}
+
+/* The arrays gather_particles made (positions and masses are the run's). */
+static void free_gathered(nb_particles *all)
+{
+    all->pos = all->mass = NULL;
+    nb_particles_free(all);
+}
+
+/* Writes snapshot s->number of p into the snapshot folder; 0 or 1. */
+static int write_file(const nb_particles *p, const nb_run_state *s, const options *o)
+{
+    char path[4096];
+    orr_error err = {0};
+    if (nb_snapshot_path(path, sizeof path, snapshot_dir(o), s->number) != 0)
+        snprintf(err.msg, sizeof err.msg, "%s: the folder's name is too long", snapshot_dir(o));
+    else if (nb_snapshot_write(path, p, s, &err) == ORR_OK) {
+        if (!o->quiet)
+            printf("snapshot %s  step %ld  t = %.4f\n", path, s->step, s->time);
+        return 0;
+    }
+    fprintf(stderr, "orrery-nbody: %s\n", err.msg);
+    return 1;
+}
+
+/* Snapshot number of the run at step (and time b->time), written by rank
+ * 0 (gathered from every rank first when there are several); 0 or 1, on
+ * every rank. */
+static int write_snapshot(const bodies *b, const options *o, long step, long number, double e0, int rank, int size)
+{
+    nb_particles p = {.n = b->n, .pos = b->pos, .vel = b->vel, .mass = b->mass, .id = b->id, .type = b->type,
+                      .nfields = b->nfields};
+    memcpy(p.field_name, b->field_name, sizeof p.field_name);
+    memcpy(p.field, b->field, sizeof p.field);
+    int failed = size > 1 && !gather_particles(b, &p);
+    nb_run_state s = {b->time, step, number, e0, o->dt, o->eps, o->eps_halo, o->theta, o->eta, o->snapshot_every};
+    if (!failed && rank == 0)
+        failed = write_file(&p, &s, o);
+    if (size > 1)
+        free_gathered(&p);
+    return ranks_any(failed) ? 1 : 0;
 }
 
 /* Opens the scene on every process, rendering together when there are
@@ -661,6 +1021,59 @@ static int open_renderer(const options *o, int size, orrery_renderer **r)
     return ranks_any(code) && !code ? 1 : code;
 }
 
+/* The run's state between steps. */
+typedef struct run {
+    long step, frame, snapshot;
+    double e0, t_gravity, t_render;
+} run;
+
+/* What comes after a step (or the start): a frame, a report, a snapshot;
+ * 0 or an exit status. */
+static int after_step(orrery_renderer *r, const bodies *b, const options *o, run *u, int rank, int size)
+{
+    double tr = 0;
+    int code = 0;
+    if (r && u->step % o->render_every == 0 && (code = render(r, b, u->frame++, &tr)) == 0)
+        u->t_render += tr;
+    if (u->step > 0 && !o->quiet) /* ends the step's line */
+        printf("render %.3f s\n", tr);
+    if (u->step % o->report_every == 0 || u->step == o->steps)
+        report(b, rank, size, u->e0, o->quiet);
+    if (!code && o->snapshot_every && u->step % o->snapshot_every == 0)
+        code = write_snapshot(b, o, u->step, u->snapshot++, u->e0, rank, size);
+    return code;
+}
+
+/* One kick-drift-kick step of --dt, in block steps with --eta; 0 or an
+ * exit status. */
+static int leapfrog_step(qt_tree *tree, bodies *b, const options *o, run *u, blocks *k, int rank, int size)
+{
+    if (o->eta > 0) {
+        double tg = 0, forces = k->forces;
+        long substeps = k->substeps;
+        if (block_step(tree, b, o, k, rank, size, &tg) != 0)
+            return 1;
+        u->t_gravity += tg;
+        u->step++;
+        if (!o->quiet)
+            printf("step %ld  t = %.4f  gravity %.3f s (%ld force computations, %.3g particle forces here)  ", u->step,
+                   b->time, tg, k->substeps - substeps, k->forces - forces);
+        return 0;
+    }
+    double interactions;
+    kick(b, 0.5 * o->dt);
+    if (drift(b, o->dt) != 0)
+        return 1;
+    double tg = gravity(tree, b, o, NULL, &interactions);
+    u->t_gravity += tg;
+    kick(b, 0.5 * o->dt);
+    u->step++;
+    if (!o->quiet)
+        printf("step %ld  t = %.4f  gravity %.3f s (%.3g interactions/s)  ", u->step, b->time, tg,
+               interactions / (tg > 0 ? tg : 1e-9));
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     int rank, size;
@@ -673,7 +1086,14 @@ int main(int argc, char **argv)
     o.quiet |= rank != 0; /* rank 0 reports for all */
     bodies b = {0};
     orrery_renderer *r = NULL;
-    int code = start_bodies(&o, rank, size, &b) ? open_renderer(&o, size, &r) : 1;
+    nb_run_state resumed = {0};
+    int code = prepare_snapshots(&o, rank);
+    if (!code)
+        code = start_bodies(&o, rank, size, &b, &resumed) ? 0 : 1;
+    if (!code && o.resume_dir) /* its --snapshot-every may be the run's own */
+        code = prepare_snapshots(&o, rank);
+    if (!code)
+        code = open_renderer(&o, size, &r);
     if (code) {
         orrery_close(r);
         free_bodies(&b);
@@ -684,42 +1104,46 @@ int main(int argc, char **argv)
         printf("%zu bodies from %s on %d process%s, t = %g, dt = %g, eps = %g, theta = %g\n", b.n_all, o.ic, size,
                size > 1 ? "es" : "", b.time, o.dt, o.eps, o.theta);
     qt_tree tree = {0};
-    double interactions, t_gravity = 0, t_render = 0, seconds;
-    t_gravity += gravity(&tree, &b, &o, &interactions);
-    double e0 = total_energy(&b, rank, size);
-    if (!o.quiet)
-        printf("time step: %.2f%% of this process's particles want a shorter one than dt = %g by "
-               "sqrt(2 x 0.025 eps / |a|)\n",
-               100.0 * share_wanting_shorter(&b, o.dt), o.dt);
-    report(&b, rank, size, e0, o.quiet);
-    long frames = 0;
-    if (r && (code = render(r, &b, frames++, &seconds)) == 0)
-        t_render += seconds;
-    for (long step = 1; step <= o.steps && code == 0; step++) {
-        kick(&b, 0.5 * o.dt);
-        if (drift(&b, o.dt) != 0) {
-            code = 1;
-            break;
-        }
-        double tg = gravity(&tree, &b, &o, &interactions);
-        t_gravity += tg;
-        kick(&b, 0.5 * o.dt);
-        double tr = 0;
-        if (r && step % o.render_every == 0 && (code = render(r, &b, frames++, &tr)) == 0)
-            t_render += tr;
-        if (!o.quiet)
-            printf("step %ld  t = %.4f  gravity %.3f s (%.3g interactions/s)  render %.3f s\n", step, b.time, tg,
-                   interactions / (tg > 0 ? tg : 1e-9), tr);
-        if (step % o.report_every == 0 || step == o.steps)
-            report(&b, rank, size, e0, o.quiet);
+    double interactions;
+    run u = {0};
+    blocks blk = {0};
+    if (o.eta > 0 && ranks_any(!alloc_blocks(&blk, b.n))) {
+        fprintf(stderr, "orrery-nbody: out of memory for the block time steps\n");
+        code = 1;
     }
+    u.t_gravity = gravity(&tree, &b, &o, NULL, &interactions);
+    if (o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
+        u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0};
+        if (!o.quiet)
+            printf("resumed at step %ld, t = %.4f\n", u.step, b.time);
+    } else {
+        u.e0 = total_energy(&b, rank, size);
+        if (!o.quiet)
+            printf("time step: %.2f%% of this process's particles want a shorter one than dt = %g by "
+                   "sqrt(2 x 0.025 eps / |a|)\n",
+                   100.0 * share_wanting_shorter(&b, o.dt, 0.025), o.dt);
+        code = code ? code : after_step(r, &b, &o, &u, rank, size);
+    }
+    long start = u.step, frame0 = o.resume_dir ? u.frame : 0;
+    while (u.step < o.steps && code == 0)
+        if ((code = leapfrog_step(&tree, &b, &o, &u, &blk, rank, size)) == 0)
+            code = after_step(r, &b, &o, &u, rank, size);
     if (!o.quiet && code == 0) {
-        printf("gravity %.2f s over %ld force evaluations; rendering %.2f s over %ld frames\n", t_gravity,
-               o.steps + 1, t_render, frames);
+        long frames = u.frame - frame0, steps = u.step - start;
+        printf("gravity %.2f s over %ld force evaluations; rendering %.2f s over %ld frames\n", u.t_gravity,
+               (o.eta > 0 ? blk.substeps : steps) + 1, u.t_render, frames);
         if (r && frames > 0)
             printf("rendering per frame = %.1f%% of gravity per step\n",
-                   100.0 * (t_render / frames) / (t_gravity / (double)(o.steps + 1)));
+                   100.0 * (u.t_render / (double)frames) / (u.t_gravity / (double)(steps + 1)));
     }
+    double forces = blk.forces; /* every process's */
+    if (code == 0 && o.eta > 0 && !reduce_over_ranks(&forces, 1, rank, size, 0))
+        code = 1;
+    if (!o.quiet && code == 0 && o.eta > 0) {
+        printf("block steps: %ld force computations, %.4g particle forces = %.3f per particle and step of dt\n",
+               blk.substeps, forces, forces / (double)b.n_all / (double)(u.step - start > 0 ? u.step - start : 1));
+    }
+    free_blocks(&blk);
     orrery_close(r);
     qt_free(&tree);
     free_bodies(&b);

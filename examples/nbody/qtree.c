@@ -42,6 +42,28 @@ static int octant(const double *p, const double *c)
     return (p[0] >= c[0]) | (p[1] >= c[1]) << 1 | (p[2] >= c[2]) << 2;
 }
 
+/* A node's mass, centre of mass and mean softening^2 from the sums of m,
+ * m x and m eps^2 over its particles. */
+static void set_mass_centre(qt_node *nd, double m, const double c[3], double e2)
+{
+    for (int k = 0; k < 3; k++)
+        nd->com[k] = m > 0 ? c[k] / m : nd->centre[k];
+    nd->mass = m;
+    nd->eps2 = m > 0 ? e2 / m : 0.0;
+}
+
+/* Adds m (3 y y - y^2 I) to the traceless quadrupole q (xx yy zz xy xz yz). */
+static void add_quad(double q[6], double m, const double y[3])
+{
+    double y2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+    q[0] += m * (3 * y[0] * y[0] - y2);
+    q[1] += m * (3 * y[1] * y[1] - y2);
+    q[2] += m * (3 * y[2] * y[2] - y2);
+    q[3] += m * 3 * y[0] * y[1];
+    q[4] += m * 3 * y[0] * y[2];
+    q[5] += m * 3 * y[1] * y[2];
+}
+
 /* Mass, centre of mass, traceless quadrupole, b_max and mean softening^2
  * of a node, from its particles directly (each particle is visited once per
  * level: N log N in all, a small part of a step). */
@@ -55,22 +77,13 @@ static void node_moments(qt_tree *t, qt_node *nd, const double *pos, const doubl
             c[k] += mass[i] * pos[3 * i + k];
         e2 += mass[i] * eps[i] * eps[i];
     }
-    for (int k = 0; k < 3; k++)
-        nd->com[k] = m > 0 ? c[k] / m : nd->centre[k];
-    nd->mass = m;
-    nd->eps2 = m > 0 ? e2 / m : 0.0;
+    set_mass_centre(nd, m, c, e2);
     double q[6] = {0}, b2 = 0;
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
         size_t i = t->order[j];
         double y[3] = {pos[3 * i] - nd->com[0], pos[3 * i + 1] - nd->com[1], pos[3 * i + 2] - nd->com[2]};
-        double y2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
-        q[0] += mass[i] * (3 * y[0] * y[0] - y2);
-        q[1] += mass[i] * (3 * y[1] * y[1] - y2);
-        q[2] += mass[i] * (3 * y[2] * y[2] - y2);
-        q[3] += mass[i] * 3 * y[0] * y[1];
-        q[4] += mass[i] * 3 * y[0] * y[2];
-        q[5] += mass[i] * 3 * y[1] * y[2];
-        b2 = fmax(b2, y2);
+        add_quad(q, mass[i], y);
+        b2 = fmax(b2, y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
     }
     memcpy(nd->quad, q, sizeof q);
     nd->bmax = sqrt(b2);
@@ -179,6 +192,72 @@ int qt_build(qt_tree *t, const double *pos, const double *mass, const double *ep
         t->pe2[j] = eps[i] * eps[i];
     }
     return 0;
+}
+
+/* A parent's moments from its children's: masses and first moments add;
+ * each child's quadrupole moves to the parent's centre of mass by the
+ * parallel-axis rule, Q += m_c (3 d d - d^2 I), d = com_c - com. */
+static void moments_from_children(qt_node *nodes, qt_node *nd)
+{
+    double m = 0, c[3] = {0, 0, 0}, e2 = 0;
+    for (int k = 0; k < 8; k++)
+        if (nd->child[k] >= 0) {
+            const qt_node *ch = &nodes[nd->child[k]];
+            m += ch->mass;
+            e2 += ch->mass * ch->eps2;
+            for (int a = 0; a < 3; a++)
+                c[a] += ch->mass * ch->com[a];
+        }
+    set_mass_centre(nd, m, c, e2);
+    double q[6] = {0}, b = 0;
+    for (int k = 0; k < 8; k++)
+        if (nd->child[k] >= 0) {
+            const qt_node *ch = &nodes[nd->child[k]];
+            double d[3] = {ch->com[0] - nd->com[0], ch->com[1] - nd->com[1], ch->com[2] - nd->com[2]};
+            for (int a = 0; a < 6; a++)
+                q[a] += ch->quad[a];
+            add_quad(q, ch->mass, d);
+            b = fmax(b, sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) + ch->bmax);
+        }
+    memcpy(nd->quad, q, sizeof q);
+    nd->bmax = b;
+}
+
+void qt_refresh(qt_tree *t, const double *pos)
+{
+    for (size_t j = 0; j < t->n; j++) {
+        size_t i = t->order[j];
+        t->px[j] = pos[3 * i];
+        t->py[j] = pos[3 * i + 1];
+        t->pz[j] = pos[3 * i + 2];
+    }
+    /* Children are made after their parents: backwards, every child is
+     * done before its parent. Leaves use the tree-order copies (the same
+     * positions) and the masses and softenings of the build. */
+    for (size_t id = t->nnodes; id-- > 0;) {
+        qt_node *nd = &t->nodes[id];
+        if (!nd->leaf) {
+            moments_from_children(t->nodes, nd);
+            continue;
+        }
+        double m = 0, c[3] = {0, 0, 0}, e2 = 0;
+        for (size_t j = nd->first; j < nd->first + nd->count; j++) {
+            m += t->pm[j];
+            c[0] += t->pm[j] * t->px[j];
+            c[1] += t->pm[j] * t->py[j];
+            c[2] += t->pm[j] * t->pz[j];
+            e2 += t->pm[j] * t->pe2[j];
+        }
+        set_mass_centre(nd, m, c, e2);
+        double q[6] = {0}, b2 = 0;
+        for (size_t j = nd->first; j < nd->first + nd->count; j++) {
+            double y[3] = {t->px[j] - nd->com[0], t->py[j] - nd->com[1], t->pz[j] - nd->com[2]};
+            add_quad(q, t->pm[j], y);
+            b2 = fmax(b2, y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+        }
+        memcpy(nd->quad, q, sizeof q);
+        nd->bmax = sqrt(b2);
+    }
 }
 
 /* ---- walk --------------------------------------------------------------- */
@@ -336,13 +415,19 @@ static void parts_on(const lists *l, float x, float y, float z, float e2i, doubl
     *phi += ph;
 }
 
+/* Whether the caller asked for particle i (of the whole set). */
+static int wanted(size_t i, size_t first, size_t count, const unsigned char *active)
+{
+    return i >= first && i < first + count && (!active || active[i - first]);
+}
+
 /* The group's particles that the caller asked for, against its lists. */
 static void apply_lists(const qt_tree *t, const qt_node *g, const lists *l, double G, size_t first, size_t count,
-                        double *acc, double *pot)
+                        const unsigned char *active, double *acc, double *pot)
 {
     for (size_t j = g->first; j < g->first + g->count; j++) {
         size_t i = t->order[j];
-        if (i < first || i >= first + count)
+        if (!wanted(i, first, count, active))
             continue;
         float x = (float)(t->px[j] - g->com[0]), y = (float)(t->py[j] - g->com[1]), z = (float)(t->pz[j] - g->com[2]);
         float e2i = (float)t->pe2[j];
@@ -362,6 +447,12 @@ static void apply_lists(const qt_tree *t, const qt_node *g, const lists *l, doub
 double qt_accelerations_of(const qt_tree *t, double G, double theta, size_t first, size_t count, double *acc,
                            double *pot)
 {
+    return qt_accelerations_masked(t, G, theta, first, count, NULL, acc, pot);
+}
+
+double qt_accelerations_masked(const qt_tree *t, double G, double theta, size_t first, size_t count,
+                               const unsigned char *active, double *acc, double *pot)
+{
     double total = 0;
     int failed = 0;
     const long ng = (long)t->ngroups;
@@ -371,16 +462,16 @@ double qt_accelerations_of(const qt_tree *t, double G, double theta, size_t firs
 #pragma omp for schedule(dynamic, 4)
         for (long k = 0; k < ng; k++) {
             const qt_node *g = &t->nodes[t->groups[k]];
-            size_t mine = 0; /* groups wholly outside the requested range cost nothing */
+            size_t mine = 0; /* groups with none of the requested particles cost nothing */
             for (size_t j = g->first; j < g->first + g->count; j++)
-                mine += t->order[j] >= first && t->order[j] < first + count;
+                mine += wanted(t->order[j], first, count, active);
             if (!mine || failed)
                 continue;
             if (make_lists(t, g, theta, &l) != 0) {
                 failed = 1;
                 continue;
             }
-            apply_lists(t, g, &l, G, first, count, acc, pot);
+            apply_lists(t, g, &l, G, first, count, active, acc, pot);
             total += (double)mine * (double)(l.ncell + l.npart);
         }
         free(l.c);

@@ -48,6 +48,16 @@ typedef struct qt_tree {
  * memory. */
 int qt_build(qt_tree *t, const double *pos, const double *mass, const double *eps, size_t n);
 
+/* Moves the tree built last with the same particles to their new positions
+ * pos without building it again: the cells keep their particles, and their
+ * moments are summed anew from their children's (leaves' from their
+ * particles), b_max bounded from the children's (|com_c - com| + b_max_c,
+ * never less than the true one, so the opening criterion's error bound
+ * holds). O(N), against O(N log N) for a build: for the short steps of block
+ * time steps, when particles have moved little; the forces are as accurate,
+ * the walk a little longer. */
+void qt_refresh(qt_tree *t, const double *pos);
+
 /* Accelerations (and potentials, if pot is not NULL) of particles first ..
  * first + count - 1, into acc[0 .. 3 count) and pot[0 .. count): G times the
  * Plummer-softened sums, a pair i, j softened with eps^2 = (eps_i^2 + eps_j^2) / 2
@@ -57,6 +67,14 @@ int qt_build(qt_tree *t, const double *pos, const double *mass, const double *ep
  * particle-particle interactions. */
 double qt_accelerations_of(const qt_tree *t, double G, double theta, size_t first, size_t count, double *acc,
                            double *pot);
+
+/* The same for the particles o of that range with active[o] != 0 only (the
+ * others' acc and pot are left as they were): the forces of a block time
+ * step, where only the particles whose step ends are kicked. A group with
+ * no active particle costs nothing; one with some builds its lists once, as
+ * for all. active NULL: every particle of the range. */
+double qt_accelerations_masked(const qt_tree *t, double G, double theta, size_t first, size_t count,
+                               const unsigned char *active, double *acc, double *pot);
 
 /* Direct summation with the same softening rule, for particles first ..
  * first + count - 1 (the reference of tests and the bench). */

@@ -1,4 +1,4 @@
-/* orrery model -o FILE [--particles N] [--seed S] [--separation KPC] */
+/* orrery model -o FILE [--particles N] [--seed S] [--separation KPC] [--galaxies pair|mw|m31] [--disc-q Q] */
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,23 +11,33 @@
 
 static const char model_help[] =
     "usage: orrery model -o FILE [--particles N] [--seed S] [--separation KPC]\n"
+    "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
     "\n"
-    "Writes the built-in Milky Way-Andromeda model as a text table (columns\n"
-    "x y z mass id type vx vy vz r E0; kpc, 1e10 Msun, km/s) that 'orrery render'\n"
-    "and 'orrery info' read. Scenes can also use the model directly with\n"
-    "input.model.name: mw-m31, without a file. See docs/model.md.\n"
+    "Writes the built-in Milky Way-Andromeda model (or one galaxy alone) as a\n"
+    "text table (columns x y z mass id type vx vy vz r E0; kpc, 1e10 Msun, km/s)\n"
+    "that 'orrery render' and 'orrery info' read. Scenes can also use the model\n"
+    "directly with input.model.name: mw-m31, without a file (the options below are\n"
+    "its keys input.model.particles, .seed, .separation, .galaxies, .disc_q).\n"
+    "See docs/model.md.\n"
     "\n"
     "  -o, --output FILE     where to write (required)\n"
     "  --particles N         particles in all, markers included (default 200000; 100 to 2e9)\n"
     "  --seed S              random seed (default 1); the same seed gives the same model\n"
-    "  --separation KPC      distance between the galaxy centres (default 780, today's)\n"
+    "  --separation KPC      distance between the galaxy centres (default 780, today's;\n"
+    "                        the pair only)\n"
+    "  --galaxies WHICH      pair: both on their approach orbit (default); mw: the Milky\n"
+    "                        Way alone with the Sun; m31: Andromeda alone (each at rest\n"
+    "                        at the origin)\n"
+    "  --disc-q Q            the discs' Toomre Q at 2.43 scale lengths (default 1.5;\n"
+    "                        above 0, at most 100; below 1 a disc is unstable)\n"
     "  -h, --help            this text\n";
 
-enum { OPT_PARTICLES = 256, OPT_SEED, OPT_SEPARATION };
+enum { OPT_PARTICLES = 256, OPT_SEED, OPT_SEPARATION, OPT_GALAXIES, OPT_DISC_Q };
 
 static const struct option model_options[] = {
     {"output", required_argument, NULL, 'o'},        {"particles", required_argument, NULL, OPT_PARTICLES},
     {"seed", required_argument, NULL, OPT_SEED},     {"separation", required_argument, NULL, OPT_SEPARATION},
+    {"galaxies", required_argument, NULL, OPT_GALAXIES},  {"disc-q", required_argument, NULL, OPT_DISC_Q},
     {"help", no_argument, NULL, 'h'},                {NULL, 0, NULL, 0},
 };
 
@@ -57,6 +67,16 @@ static int take_option(int code, const char *v, orr_model_params *params, const 
         if (!orr_parse_double(v, &d) || !(d > 0 && d < 1e6))
             return cli_usage_error("model", "--separation %s: expected a distance in kpc above 0 (and below 1e6)", v);
         params->separation_kpc = d;
+        return EXIT_OK;
+    case OPT_GALAXIES:
+        if ((params->galaxies = orr_model_galaxies_named(v)) < 0)
+            return cli_usage_error("model", "--galaxies %s: expected " ORR_MODEL_GALAXIES_WORDS, v);
+        return EXIT_OK;
+    case OPT_DISC_Q:
+        if (!orr_parse_double(v, &d) || !(d > 0 && d <= ORR_MODEL_DISC_Q_MAX))
+            return cli_usage_error("model", "--disc-q %s: expected the discs' Toomre Q, above 0 and at most %g", v,
+                                   ORR_MODEL_DISC_Q_MAX);
+        params->disc_q = d;
         return EXIT_OK;
     case CLI_OPERAND:
         return cli_usage_error("model", "unexpected argument '%s' (the output is -o FILE)", v);

@@ -14,7 +14,7 @@ static const char usage_text[] =
     "  render SCENE.yaml [--set KEY=VALUE ...] [-o DIR]   render a scene to FITS and PNG\n"
     "  compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR]  re-grade a render from its raw planes\n"
     "  info FILE [--format FORMAT]                        particle count, fields, bounds, mass\n"
-    "  model -o FILE [--particles N] [--seed S] [--separation KPC]\n"
+    "  model -o FILE [--particles N] [--seed S] [--separation KPC] [--galaxies pair|mw|m31] ...\n"
     "                                                     write the built-in Milky Way-Andromeda model\n"
     "  ics --zeldovich -o FILE.hdf5 [--grid N] [--box MPC_H] [--z Z] [--seed S] ...\n"
     "                                                     write a ΛCDM box (Zel'dovich initial conditions)\n"

@@ -4,6 +4,7 @@
 #include "scene/scene_colour.h"
 #include "scene/scene_sequence.h"
 #include "scene/scene_path.h"
+#include "source/model.h"
 #include "source/source.h"
 
 #include <errno.h>
@@ -103,13 +104,9 @@ static const char *names_model_name(void) { return "mw-m31 king"; }
 /* input.model.galaxies: model.h's ORR_MODEL_PAIR, _MW, _M31 (0, 1, 2). */
 static int word_model_galaxies(orr_scene *s, const char *w)
 {
-    static const char *const words[] = {"pair", "mw", "m31"};
-    for (int i = 0; i < 3; i++)
-        if (strcmp(w, words[i]) == 0) {
-            s->model_galaxies = i;
-            return 1;
-        }
-    return 0;
+    int g = orr_model_galaxies_named(w);
+    s->model_galaxies = g >= 0 ? g : s->model_galaxies;
+    return g >= 0;
 }
 static const char *names_model_galaxies(void) { return "pair mw m31"; }
 

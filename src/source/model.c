@@ -55,7 +55,7 @@
  * scale lengths: Hernquist (1993) normalised at the solar radius, 8.5 kpc
  * for his 3.5 kpc scale length. */
 #define DISC_Q_RADIUS 2.43
-#define DISC_Q_MAX 100.0
+#define DISC_Q_MAX ORR_MODEL_DISC_Q_MAX
 
 /* A halo particle weighs this many star (disc or bulge) particles. Equal
  * masses would leave only ~6% of the particles to the stars; 8 keeps a
@@ -839,4 +839,13 @@ orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_si
     }
     *out = src;
     return ORR_OK;
+}
+
+int orr_model_galaxies_named(const char *word)
+{
+    static const char *const words[] = {"pair", "mw", "m31"}; /* ORR_MODEL_PAIR, _MW, _M31 */
+    for (int i = 0; i < 3; i++)
+        if (strcmp(word, words[i]) == 0)
+            return i;
+    return -1;
 }

@@ -30,6 +30,13 @@
 #define ORR_MODEL_M31 2  /* M31 alone, at rest at the origin */
 
 #define ORR_MODEL_DISC_Q_DEFAULT 1.5
+#define ORR_MODEL_DISC_Q_MAX 100.0
+
+/* The words for orr_model_params.galaxies (scene key input.model.galaxies,
+ * the --galaxies options), in its order. */
+#define ORR_MODEL_GALAXIES_WORDS "pair, mw or m31"
+/* ORR_MODEL_PAIR, _MW or _M31 for "pair", "mw" or "m31"; -1 for any other word. */
+int orr_model_galaxies_named(const char *word);
 
 typedef struct orr_model_params {
     long long particles;   /* total, markers included; at least 100 */

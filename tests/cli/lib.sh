@@ -8,6 +8,11 @@ WORK=$(mktemp -d /tmp/orrery-cli-XXXXXX)
 trap 'rm -rf "$WORK"' EXIT
 cd "$WORK"
 failures=0
+# The example N-body program built beside the CLI, and the Python that has
+# numpy, h5py and astropy (Debian's).
+NBODY=$(dirname "$ORRERY")/examples/orrery-nbody
+py=/usr/bin/python3
+[ -x "$py" ] || py=python3
 
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
 

@@ -1,0 +1,390 @@
+#include "snapshot.h"
+
+#include <dirent.h>
+#include <hdf5.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "source/hdf5_util.h"
+#include "source/hdf5_write.h"
+
+#define NB_TYPES_MIN 6  /* Gadget's PartType0..5, whichever are empty */
+#define NB_TYPES_MAX 16 /* orrery's reader reads at most 16 */
+#define ORDER_DATASET "OrreryNbodyOrder"
+#define RUN_GROUP "OrreryNbody"
+
+/* The fields Gadget has names for are written under them, so orrery's
+ * reader finds them (pot, u, rho); the others (the model's r and E0) under
+ * their own names, which other readers pass over. */
+static const char *dataset_of(const char *field)
+{
+    static const char *const names[][2] = {{"pot", "Potential"}, {"u", "InternalEnergy"}, {"rho", "Density"}};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (strcmp(field, names[i][0]) == 0)
+            return names[i][1];
+    return field;
+}
+
+int nb_snapshot_path(char *buf, size_t size, const char *dir, long number)
+{
+    int n = snprintf(buf, size, "%s/snapshot_%04ld.hdf5", dir, number);
+    return n < 0 || (size_t)n >= size ? -1 : 0;
+}
+
+/* ---- writing ------------------------------------------------------------ */
+
+typedef struct write_ctx {
+    const nb_particles *p;
+    const nb_run_state *s;
+    uint64_t count[NB_TYPES_MAX];
+    int ntypes;
+} write_ctx;
+
+static int write_header(hid_t file, const write_ctx *w)
+{
+    hid_t h = orr_h5w_group(file, "Header");
+    if (h < 0)
+        return 1;
+    uint32_t low[NB_TYPES_MAX], high[NB_TYPES_MAX];
+    double mass_table[NB_TYPES_MAX] = {0}; /* 0: every group has Masses */
+    for (int t = 0; t < w->ntypes; t++) {
+        low[t] = (uint32_t)w->count[t];
+        high[t] = (uint32_t)(w->count[t] >> 32);
+    }
+    int n = w->ntypes, nfiles = 1;
+    int bad = orr_h5w_attr(h, "NumPart_ThisFile", H5T_STD_U64LE, H5T_NATIVE_UINT64, w->count, n);
+    bad |= orr_h5w_attr(h, "NumPart_Total", H5T_STD_U32LE, H5T_NATIVE_UINT32, low, n);
+    bad |= orr_h5w_attr(h, "NumPart_Total_HighWord", H5T_STD_U32LE, H5T_NATIVE_UINT32, high, n);
+    bad |= orr_h5w_attr(h, "MassTable", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, mass_table, n);
+    bad |= orr_h5w_attr(h, "NumFilesPerSnapshot", H5T_STD_I32LE, H5T_NATIVE_INT, &nfiles, 0);
+    bad |= orr_h5w_double(h, "Time", w->s->time);
+    bad |= orr_h5w_double(h, "Redshift", 0.0);
+    bad |= orr_h5w_double(h, "BoxSize", 0.0);
+    H5Gclose(h);
+    /* The model's units (and GADGET-2's examples'): kpc, 1e10 Msun, km/s,
+     * in Gadget-4's place for them, which `orrery info` shows. */
+    hid_t u = orr_h5w_group(file, "Parameters");
+    if (u < 0)
+        return 1;
+    bad |= orr_h5w_double(u, "UnitLength_in_cm", 3.085678e21);
+    bad |= orr_h5w_double(u, "UnitMass_in_g", 1.989e43);
+    bad |= orr_h5w_double(u, "UnitVelocity_in_cm_per_s", 1e5);
+    H5Gclose(u);
+    return bad;
+}
+
+/* The fields' names in one attribute, separated by spaces. */
+static int write_run_group(hid_t file, const write_ctx *w)
+{
+    const nb_run_state *s = w->s;
+    hid_t g = orr_h5w_group(file, RUN_GROUP);
+    if (g < 0)
+        return 1;
+    int64_t step = s->step, number = s->number, every = s->snapshot_every;
+    char fields[ORR_ARRAYS_MAX_FIELDS * ORR_FIELD_NAME_MAX + 1] = "";
+    for (int f = 0; f < w->p->nfields; f++) {
+        strcat(fields, f ? " " : "");
+        strcat(fields, w->p->field_name[f]);
+    }
+    int bad = orr_h5w_attr(g, "Step", H5T_STD_I64LE, H5T_NATIVE_INT64, &step, 0);
+    bad |= orr_h5w_attr(g, "Number", H5T_STD_I64LE, H5T_NATIVE_INT64, &number, 0);
+    bad |= orr_h5w_attr(g, "SnapshotEvery", H5T_STD_I64LE, H5T_NATIVE_INT64, &every, 0);
+    bad |= orr_h5w_double(g, "E0", s->e0);
+    bad |= orr_h5w_double(g, "Dt", s->dt);
+    bad |= orr_h5w_double(g, "Eps", s->eps);
+    bad |= orr_h5w_double(g, "EpsHalo", s->eps_halo);
+    bad |= orr_h5w_double(g, "Theta", s->theta);
+    bad |= orr_h5w_double(g, "Eta", s->eta);
+    bad |= orr_h5w_string(g, "Fields", fields);
+    H5Gclose(g);
+    return bad;
+}
+
+/* Scratch rows of one type: the particles' places in memory order, and
+ * one column at a time. */
+typedef struct rows {
+    size_t *at;
+    double *v3; /* 3 per row */
+    double *m;
+    uint64_t *u;
+    float *f;
+} rows;
+
+/* Group PartType<t>: its particles in memory order, with their place in
+ * that order. */
+static int write_type(hid_t file, const write_ctx *w, int t, rows *r)
+{
+    const nb_particles *p = w->p;
+    size_t nt = 0;
+    for (size_t i = 0; i < p->n; i++)
+        if (p->type[i] == t)
+            r->at[nt++] = i;
+    char name[32];
+    snprintf(name, sizeof name, "PartType%d", t);
+    hid_t g = orr_h5w_group(file, name);
+    if (g < 0)
+        return 1;
+    for (size_t k = 0; k < nt; k++)
+        memcpy(&r->v3[3 * k], &p->pos[3 * r->at[k]], 3 * sizeof(double));
+    int bad = orr_h5w_dataset(g, "Coordinates", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, r->v3, nt, 3);
+    for (size_t k = 0; k < nt; k++)
+        memcpy(&r->v3[3 * k], &p->vel[3 * r->at[k]], 3 * sizeof(double));
+    bad |= orr_h5w_dataset(g, "Velocities", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, r->v3, nt, 3);
+    for (size_t k = 0; k < nt; k++)
+        r->m[k] = p->mass[r->at[k]];
+    bad |= orr_h5w_dataset(g, "Masses", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, r->m, nt, 1);
+    for (size_t k = 0; k < nt; k++)
+        r->u[k] = p->id[r->at[k]];
+    bad |= orr_h5w_dataset(g, "ParticleIDs", H5T_STD_U64LE, H5T_NATIVE_UINT64, r->u, nt, 1);
+    for (size_t k = 0; k < nt; k++)
+        r->u[k] = r->at[k];
+    bad |= orr_h5w_dataset(g, ORDER_DATASET, H5T_STD_U64LE, H5T_NATIVE_UINT64, r->u, nt, 1);
+    for (int f = 0; f < p->nfields; f++) {
+        for (size_t k = 0; k < nt; k++)
+            r->f[k] = p->field[f][r->at[k]];
+        bad |= orr_h5w_dataset(g, dataset_of(p->field_name[f]), H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, r->f, nt, 1);
+    }
+    H5Gclose(g);
+    return bad;
+}
+
+static int write_body(hid_t file, void *ctx)
+{
+    const write_ctx *w = ctx;
+    size_t most = 1;
+    for (int t = 0; t < w->ntypes; t++)
+        most = w->count[t] > most ? (size_t)w->count[t] : most;
+    rows r = {malloc(most * sizeof *r.at), malloc(3 * most * sizeof *r.v3), malloc(most * sizeof *r.m),
+              malloc(most * sizeof *r.u), malloc(most * sizeof *r.f)};
+    int bad = !r.at || !r.v3 || !r.m || !r.u || !r.f || write_header(file, w) || write_run_group(file, w);
+    for (int t = 0; t < w->ntypes && !bad; t++)
+        if (w->count[t])
+            bad |= write_type(file, w, t, &r);
+    free(r.at);
+    free(r.v3);
+    free(r.m);
+    free(r.u);
+    free(r.f);
+    return bad;
+}
+
+orr_status nb_snapshot_write(const char *path, const nb_particles *p, const nb_run_state *s, orr_error *err)
+{
+    write_ctx w = {p, s, {0}, NB_TYPES_MIN};
+    for (size_t i = 0; i < p->n; i++) {
+        if (p->type[i] >= NB_TYPES_MAX)
+            return orr_fail(err, ORR_ERR_USAGE, "%s: particle type %d: a snapshot holds types 0 to %d", path,
+                            p->type[i], NB_TYPES_MAX - 1);
+        w.count[p->type[i]]++;
+        w.ntypes = p->type[i] >= w.ntypes ? p->type[i] + 1 : w.ntypes;
+    }
+    return orr_h5w_write_file(path, write_body, &w, err);
+}
+
+/* ---- finding the newest ------------------------------------------------- */
+
+/* The NNNN of "snapshot_NNNN.hdf5", or -1 for any other name (temporary
+ * files of a write that was cut short among them). */
+static long number_in(const char *name)
+{
+    long number;
+    int end = 0;
+    if (sscanf(name, "snapshot_%ld.hdf5%n", &number, &end) != 1 || name[end] != '\0' || number < 0 ||
+        strncmp(name, "snapshot_", 9) != 0 || name[9] < '0' || name[9] > '9')
+        return -1;
+    return number;
+}
+
+long nb_snapshot_newest(const char *dir, orr_error *err)
+{
+    DIR *d = opendir(dir);
+    if (!d) {
+        orr_fail(err, ORR_ERR_IO, "%s: cannot read the folder", dir);
+        return -1;
+    }
+    long newest = -1;
+    for (struct dirent *e; (e = readdir(d));) {
+        long k = number_in(e->d_name);
+        newest = k > newest ? k : newest;
+    }
+    closedir(d);
+    if (newest < 0)
+        orr_fail(err, ORR_ERR_USAGE, "%s: holds no snapshot_NNNN.hdf5 to resume from", dir);
+    return newest;
+}
+
+/* ---- reading ------------------------------------------------------------ */
+
+static int attr_double(hid_t loc, const char *name, double *v)
+{
+    int count = 0;
+    return orr_h5_attr_numbers(loc, name, H5T_NATIVE_DOUBLE, v, 1, &count) == ORR_H5_FOUND && count == 1;
+}
+
+static int attr_long(hid_t loc, const char *name, long *v)
+{
+    int64_t x = 0;
+    int count = 0;
+    int ok = orr_h5_attr_numbers(loc, name, H5T_NATIVE_INT64, &x, 1, &count) == ORR_H5_FOUND && count == 1;
+    *v = (long)x;
+    return ok;
+}
+
+/* Dataset name of group g, n rows of cols columns (1: a vector), into buf. */
+static int read_column(hid_t g, const char *name, size_t n, int cols, hid_t memtype, void *buf)
+{
+    hid_t ds = H5Dopen2(g, name, H5P_DEFAULT);
+    hsize_t dims[ORR_H5_MAX_RANK];
+    H5T_class_t cls;
+    int rank = ds >= 0 ? orr_h5_dataset_shape(ds, dims, &cls) : -1;
+    int ok = rank == (cols > 1 ? 2 : 1) && dims[0] == n && (cols == 1 || dims[1] == (hsize_t)cols) &&
+             orr_h5_read_rows(ds, 0, n, cols > 1 ? cols : 0, memtype, buf) == 0;
+    orr_h5_close(ds);
+    return ok;
+}
+
+static int alloc_particles(nb_particles *p, size_t n)
+{
+    size_t m = n ? n : 1;
+    p->n = n;
+    p->pos = malloc(3 * m * sizeof *p->pos);
+    p->vel = malloc(3 * m * sizeof *p->vel);
+    p->mass = malloc(m * sizeof *p->mass);
+    p->id = malloc(m * sizeof *p->id);
+    p->type = malloc(m * sizeof *p->type);
+    int ok = p->pos && p->vel && p->mass && p->id && p->type;
+    for (int f = 0; f < p->nfields; f++)
+        ok &= (p->field[f] = malloc(m * sizeof(float))) != NULL;
+    return ok;
+}
+
+/* The names of the fields, from the run group's "Fields". */
+static void read_field_names(hid_t run, nb_particles *p)
+{
+    char names[ORR_ARRAYS_MAX_FIELDS * ORR_FIELD_NAME_MAX + 1] = "";
+    orr_h5_attr_string(run, "Fields", names, sizeof names);
+    p->nfields = 0;
+    for (char *tok = strtok(names, " "); tok && p->nfields < ORR_ARRAYS_MAX_FIELDS; tok = strtok(NULL, " "))
+        snprintf(p->field_name[p->nfields++], ORR_FIELD_NAME_MAX, "%s", tok);
+}
+
+/* The nt particles of group g, each put back at its place in memory order
+ * (every place taken once: seen[]). */
+static const char *read_type(hid_t g, int t, size_t nt, nb_particles *p, unsigned char *seen)
+{
+    double *v3 = malloc(3 * nt * sizeof *v3), *w3 = malloc(3 * nt * sizeof *w3), *m = malloc(nt * sizeof *m);
+    uint64_t *id = malloc(nt * sizeof *id), *at = malloc(nt * sizeof *at);
+    float *f = malloc(nt * sizeof *f);
+    const char *bad = NULL;
+    if (!v3 || !w3 || !m || !id || !at || !f)
+        bad = "out of memory";
+    else if (!read_column(g, ORDER_DATASET, nt, 1, H5T_NATIVE_UINT64, at))
+        bad = ORDER_DATASET;
+    else if (!read_column(g, "Coordinates", nt, 3, H5T_NATIVE_DOUBLE, v3))
+        bad = "Coordinates";
+    else if (!read_column(g, "Velocities", nt, 3, H5T_NATIVE_DOUBLE, w3))
+        bad = "Velocities";
+    else if (!read_column(g, "Masses", nt, 1, H5T_NATIVE_DOUBLE, m))
+        bad = "Masses";
+    else if (!read_column(g, "ParticleIDs", nt, 1, H5T_NATIVE_UINT64, id))
+        bad = "ParticleIDs";
+    for (size_t k = 0; k < nt && !bad; k++) {
+        if (at[k] >= p->n || seen[at[k]]++) {
+            bad = ORDER_DATASET " (not a permutation of the particles)";
+            break;
+        }
+        size_t i = (size_t)at[k];
+        memcpy(&p->pos[3 * i], &v3[3 * k], 3 * sizeof(double));
+        memcpy(&p->vel[3 * i], &w3[3 * k], 3 * sizeof(double));
+        p->mass[i] = m[k];
+        p->id[i] = id[k];
+        p->type[i] = (uint8_t)t;
+    }
+    for (int fi = 0; fi < p->nfields && !bad; fi++) {
+        if (!read_column(g, dataset_of(p->field_name[fi]), nt, 1, H5T_NATIVE_FLOAT, f))
+            bad = dataset_of(p->field_name[fi]);
+        for (size_t k = 0; k < nt && !bad; k++)
+            p->field[fi][at[k]] = f[k];
+    }
+    free(v3);
+    free(w3);
+    free(m);
+    free(id);
+    free(at);
+    free(f);
+    return bad;
+}
+
+static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_run_state *s, orr_error *err)
+{
+    hid_t h = H5Gopen2(file, "Header", H5P_DEFAULT), run = -1;
+    uint64_t count[NB_TYPES_MAX] = {0};
+    int ntypes = 0;
+    orr_status st = ORR_OK;
+    if (h < 0 || orr_h5_attr_numbers(h, "NumPart_ThisFile", H5T_NATIVE_UINT64, count, NB_TYPES_MAX, &ntypes) !=
+                     ORR_H5_FOUND || !attr_double(h, "Time", &s->time))
+        st = orr_fail(err, ORR_ERR_FORMAT, "%s: no Gadget header (NumPart_ThisFile, Time)", path);
+    else if ((run = orr_h5_has_link(file, RUN_GROUP) ? H5Gopen2(file, RUN_GROUP, H5P_DEFAULT) : -1) < 0 ||
+             !attr_long(run, "Step", &s->step) || !attr_long(run, "Number", &s->number) ||
+             !attr_long(run, "SnapshotEvery", &s->snapshot_every) || !attr_double(run, "E0", &s->e0) ||
+             !attr_double(run, "Dt", &s->dt) || !attr_double(run, "Eps", &s->eps) ||
+             !attr_double(run, "EpsHalo", &s->eps_halo) || !attr_double(run, "Theta", &s->theta))
+        st = orr_fail(err, ORR_ERR_FORMAT,
+                      "%s: not a snapshot orrery-nbody wrote (no complete /%s group): --ic reads it as "
+                      "new initial conditions instead",
+                      path, RUN_GROUP);
+    if (!st && !attr_double(run, "Eta", &s->eta))
+        s->eta = 0; /* one global step */
+    size_t n = 0;
+    for (int t = 0; t < ntypes; t++)
+        n += (size_t)count[t];
+    unsigned char *seen = NULL;
+    if (!st) {
+        read_field_names(run, p);
+        seen = calloc(n ? n : 1, 1);
+        if (!seen || !alloc_particles(p, n))
+            st = orr_fail(err, ORR_ERR_NOMEM, "%s: cannot hold %zu particles", path, n);
+    }
+    for (int t = 0; t < ntypes && !st; t++) {
+        if (!count[t])
+            continue;
+        char name[32];
+        snprintf(name, sizeof name, "PartType%d", t);
+        hid_t g = H5Gopen2(file, name, H5P_DEFAULT);
+        const char *bad = g < 0 ? name : read_type(g, t, (size_t)count[t], p, seen);
+        orr_h5_close(g);
+        if (bad)
+            st = orr_fail(err, ORR_ERR_FORMAT, "%s: %s: missing or unreadable %s", path, name, bad);
+    }
+    free(seen);
+    orr_h5_close(run);
+    orr_h5_close(h);
+    return st;
+}
+
+orr_status nb_snapshot_read(const char *path, nb_particles *p, nb_run_state *s, orr_error *err)
+{
+    orr_h5_quiet();
+    memset(p, 0, sizeof *p);
+    hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (file < 0)
+        return orr_fail(err, ORR_ERR_IO, "%s: cannot open it as an HDF5 file", path);
+    orr_status st = read_file(file, path, p, s, err);
+    H5Fclose(file);
+    if (st)
+        nb_particles_free(p);
+    return st;
+}
+
+void nb_particles_free(nb_particles *p)
+{
+    free(p->pos);
+    free(p->vel);
+    free(p->mass);
+    free(p->id);
+    free(p->type);
+    for (int f = 0; f < p->nfields; f++)
+        free(p->field[f]);
+    memset(p, 0, sizeof *p);
+}

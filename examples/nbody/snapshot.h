@@ -1,0 +1,65 @@
+/* orrery-nbody's snapshots: Gadget-layout HDF5 files (docs/format-hdf5.md)
+ * that orrery's own reader renders, and from which a run resumes exactly
+ * where it was.
+ *
+ * Besides Gadget's header and PartTypeN groups (Coordinates, Velocities,
+ * ParticleIDs, Masses, the initial conditions' other fields) a snapshot
+ * keeps what a bit-for-bit resume needs and a Gadget file does not say:
+ * positions and velocities in double (orrery's reader rounds them to float
+ * for rendering), each particle's place in the run's memory order
+ * (OrreryNbodyOrder: the tree's sums, hence the forces to the last bit,
+ * depend on that order, and the Gadget layout groups particles by type),
+ * and in the group /OrreryNbody the step count, the energy at step 0 and
+ * the integration settings. docs/nbody.md. */
+#ifndef NBODY_SNAPSHOT_H
+#define NBODY_SNAPSHOT_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/error.h"
+#include "orrery.h"
+#include "particles/chunk.h"
+
+/* A run's particles in its memory order: a view of them to write, or the
+ * arrays a read allocates (nb_particles_free). */
+typedef struct nb_particles {
+    size_t n;
+    double *pos, *vel, *mass; /* x, y, z of particle i at 3i */
+    uint64_t *id;
+    uint8_t *type;
+    int nfields;
+    char field_name[ORR_ARRAYS_MAX_FIELDS][ORR_FIELD_NAME_MAX];
+    float *field[ORR_ARRAYS_MAX_FIELDS];
+} nb_particles;
+
+/* What a resumed run takes up besides the particles. */
+typedef struct nb_run_state {
+    double time;  /* Header/Time */
+    long step;    /* leapfrog steps done */
+    long number;  /* the snapshot's number, NNNN in its name */
+    double e0;    /* total energy at step 0 (the drift is reported against it) */
+    double dt, eps, eps_halo, theta;
+    double eta;   /* block time steps' accuracy parameter; 0: one global step */
+    long snapshot_every;
+} nb_run_state;
+
+/* "DIR/snapshot_NNNN.hdf5"; 0, or -1 when it does not fit. */
+int nb_snapshot_path(char *buf, size_t size, const char *dir, long number);
+
+/* Writes a snapshot to a temporary name beside path and renames it to path
+ * once complete, so a run killed while writing leaves no partial file
+ * under a snapshot's name. */
+orr_status nb_snapshot_write(const char *path, const nb_particles *p, const nb_run_state *s, orr_error *err);
+
+/* The number of the newest (highest-numbered) snapshot_NNNN.hdf5 in dir,
+ * or -1 with err when dir cannot be read or holds none. */
+long nb_snapshot_newest(const char *dir, orr_error *err);
+
+/* Reads a snapshot orrery-nbody wrote, in double, back into the run's
+ * memory order. */
+orr_status nb_snapshot_read(const char *path, nb_particles *p, nb_run_state *s, orr_error *err);
+
+void nb_particles_free(nb_particles *p);
+
+#endif

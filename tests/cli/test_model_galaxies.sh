@@ -1,0 +1,70 @@
+# `orrery model --galaxies pair|mw|m31 --disc-q Q` (docs/cli.md): the scene
+# keys input.model.galaxies and input.model.disc_q on the command line.
+# Which markers each choice holds (model.h's ids: 1 the Milky Way's black
+# hole, 2 M31's, 3 the Sun), where its particles are, that Toomre's Q sets
+# the discs' radial dispersion (sigma_R proportional to Q, sigma_z not), that
+# the table renders exactly as the scene keys' model does, and bad values.
+source "$(dirname "$0")/lib.sh"
+
+"$ORRERY" model --help >help.txt || fail "model --help"
+grep -q -- "--galaxies WHICH" help.txt && grep -q -- "--disc-q Q" help.txt || fail "help: $(cat help.txt)"
+
+for g in pair mw m31; do
+  "$ORRERY" model -o $g.txt --particles 3000 --galaxies $g >out.txt 2>&1 || fail "--galaxies $g: $(cat out.txt)"
+done
+"$ORRERY" model -o q3.txt --particles 3000 --galaxies mw --disc-q 3 >out.txt 2>&1 || fail "--disc-q 3: $(cat out.txt)"
+PYTHONPATH="$SRC/tests/cli" "$py" - <<'PY' || fail "model tables"
+import numpy as np
+from expect import check, done
+def load(name):
+    return np.loadtxt(name, skiprows=1)  # x y z mass id type vx vy vz r E0
+markers = {"pair": {1, 2, 3}, "mw": {1, 3}, "m31": {2}}
+for g, want in markers.items():
+    d = load(f"{g}.txt")
+    check(len(d) == 3000, f"{g}: {len(d)} rows")
+    ids = set(d[d[:, 5] >= 4, 4].astype(int))
+    check(ids == want, f"{g}: marker ids {sorted(ids)}, expected {sorted(want)}")
+    r = np.sqrt((d[:, :3] ** 2).sum(axis=1))
+    if g != "pair":  # alone, at rest at the origin: no particle 780 kpc away
+        check(np.median(r) < 100 and r.max() < 500, f"{g}: median r {np.median(r)}, max {r.max()}")
+    else:
+        check(r.max() > 600, f"pair: farthest particle {r.max()} kpc, expected M31 ~780 kpc away")
+def dispersions(d):
+    d = d[d[:, 5] == 2]
+    R = np.hypot(d[:, 0], d[:, 1])
+    m = (R > 5) & (R < 10)
+    vR = (d[m, 0] * d[m, 6] + d[m, 1] * d[m, 7]) / R[m]
+    return vR.std(), d[m, 8].std()
+(sr1, sz1), (sr3, sz3) = dispersions(load("mw.txt")), dispersions(load("q3.txt"))
+check(abs(sr3 / sr1 - 2) < 0.02, f"sigma_R {sr1} at Q = 1.5, {sr3} at Q = 3: expected twice")
+check(abs(sz3 / sz1 - 1) < 0.02, f"sigma_z {sz1} at Q = 1.5, {sz3} at Q = 3: expected the same")
+done()
+PY
+
+# The table renders as the scene's own model with the same keys.
+view="camera: {projection: orthographic, width: 60, position: [0, 0, 100]}
+image: {width: 48, height: 48}
+output: {png: false}"
+printf 'input: {file: q3.txt}\n%s\n' "$view" >table.yaml
+printf 'input: {model: {name: mw-m31, particles: 3000, galaxies: mw, disc_q: 3}}\n%s\n' "$view" >keys.yaml
+# (Q moves no particle, only their velocities, checked above; the control is M31.)
+printf 'input: {model: {name: mw-m31, particles: 3000, galaxies: m31, disc_q: 3}}\n%s\n' "$view" >m31.yaml
+for s in table keys m31; do
+  "$ORRERY" render $s.yaml -o $s -q 2>err.txt || fail "render $s: $(cat err.txt)"
+done
+"$py" - <<'PY' || fail "renders of the table and of the scene keys"
+import glob
+import numpy as np
+from astropy.io import fits
+img = {s: fits.open(glob.glob(f"{s}/*.fits")[0])[0].data for s in ("table", "keys", "m31")}
+ok = img["table"].max() > 0 and np.array_equal(img["table"], img["keys"]) and not np.array_equal(img["keys"], img["m31"])
+print("" if ok else f"max |table - keys| {np.abs(img['table'] - img['keys']).max()}")
+raise SystemExit(not ok)
+PY
+
+expect_fail 2 "^orrery: error: --galaxies andromeda: expected pair, mw or m31" out -- model -o out/m.txt --galaxies andromeda
+expect_fail 2 "^orrery: error: --disc-q 0: expected the discs' Toomre Q, above 0" out -- model -o out/m.txt --disc-q 0
+expect_fail 2 "^orrery: error: --disc-q -1: expected" out -- model -o out/m.txt --disc-q -1
+expect_fail 2 "^orrery: error: --disc-q nan: expected" out -- model -o out/m.txt --disc-q nan
+expect_fail 2 "^orrery: error: --disc-q 1000: expected .* at most 100" out -- model -o out/m.txt --disc-q 1000
+finish
