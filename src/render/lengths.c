@@ -1,5 +1,6 @@
 #include "render/lengths.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <time.h>
 
@@ -8,6 +9,10 @@
 orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *needed, orr_error *err)
 {
     *needed = 0;
+    if (s->has_glow) {
+        *needed = 1;
+        return ORR_OK;
+    }
     if (s->deposit != ORR_DEPOSIT_SPH)
         return ORR_OK;
     if (s->lengths == ORR_LENGTHS_FILE && !src->info.has_h)
@@ -46,7 +51,17 @@ static orr_status grow(positions *p, orr_error *err)
     return ORR_OK;
 }
 
-static orr_status gather_positions(const orr_scene *s, orr_source *src, positions *p, orr_error *err)
+/* The direction of (x, y, z) from centre, or 0 for a particle at the centre
+ * (the observer itself, which is not drawn). */
+static void direction_from(const orr_vec3 *centre, float *x, float *y, float *z)
+{
+    double dx = *x - centre->x, dy = *y - centre->y, dz = *z - centre->z, r = sqrt(dx * dx + dy * dy + dz * dz);
+    double k = r > 0 ? 1.0 / r : 0.0;
+    *x = (float)(dx * k), *y = (float)(dy * k), *z = (float)(dz * k);
+}
+
+static orr_status gather_positions(const orr_scene *s, orr_source *src, const orr_vec3 *centre, positions *p,
+                                   orr_error *err)
 {
     for (;;) {
         const orr_chunk *c;
@@ -61,6 +76,8 @@ static orr_status gather_positions(const orr_scene *s, orr_source *src, position
             p->x[p->n] = c->x[i];
             p->y[p->n] = c->y[i];
             p->z[p->n] = c->z[i];
+            if (centre)
+                direction_from(centre, &p->x[p->n], &p->y[p->n], &p->z[p->n]);
             p->n++;
         }
     }
@@ -73,12 +90,13 @@ static double seconds_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, orr_lengths *out, orr_error *err)
+orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, const orr_vec3 *centre, orr_lengths *out,
+                               orr_error *err)
 {
     *out = (orr_lengths){0};
     positions p = {0};
     double t0 = seconds_now();
-    orr_status st = gather_positions(s, src, &p, err);
+    orr_status st = gather_positions(s, src, centre, &p, err);
     if (!st && p.n) {
         out->h = malloc(p.n * sizeof *out->h);
         if (!out->h)
@@ -101,6 +119,8 @@ orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, orr_lengths 
     }
     out->n = p.n;
     out->seconds = seconds_now() - t0;
+    out->angular = centre != NULL;
+    out->centre = centre ? *centre : orr_v3(0, 0, 0);
     return ORR_OK;
 }
 

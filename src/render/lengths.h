@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "core/vecmath.h"
 #include "scene/scene.h"
 #include "source/source.h"
 
@@ -17,16 +18,24 @@ typedef struct orr_lengths {
     float *h;   /* one per particle of a drawn type with a finite position, in source order */
     size_t n;
     double seconds; /* time the neighbour search took */
+    int angular;     /* glow (glow.threshold): the neighbours are those in direction seen from
+                      * centre, and h an angle (radians, as a chord of the unit sphere) */
+    orr_vec3 centre;
 } orr_lengths;
 
 /* Whether the scene's SPH deposit needs lengths from the neighbours: it asks
- * for them, or (lengths: auto) the source has none of its own. An error when
- * it insists on the file's and the source has none. */
+ * for them, or (lengths: auto) the source has none of its own, or the glow
+ * (glow.threshold) needs their angular lengths. An error when it insists
+ * on the file's and the source has none. */
 orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *needed, orr_error *err);
 
 /* Computes the lengths (smoothing.neighbours, half the k-th neighbour's
- * distance: the kernel's support reaches it) and rewinds src. */
-orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, orr_lengths *out, orr_error *err);
+ * distance: the kernel's support reaches it) and rewinds src. With centre
+ * (not NULL) the angular lengths of the glow: the neighbours in direction
+ * as seen from there, h half the chord to the k-th of them on the unit
+ * sphere. */
+orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, const orr_vec3 *centre, orr_lengths *out,
+                               orr_error *err);
 void orr_lengths_free(orr_lengths *l);
 
 /* Whether particle i of chunk c takes a length from the array: it is of a

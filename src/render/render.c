@@ -579,6 +579,31 @@ static void count_faded(const view_state *v, const float *const *wsrcs, size_t i
     }
 }
 
+/* ---- the glow (glow.threshold) ---- */
+
+/* 1 up to half of the limit, 0 from the limit on, the smoothstep between. */
+static float glow_taper(float x, float limit)
+{
+    float s = 2.0f * (limit - x) / limit;
+    return s >= 1.0f ? 1.0f : s <= 0.0f ? 0.0f : s * s * (3.0f - 2.0f * s);
+}
+
+/* A star's kernel in the glow: its angular length (h, from the lengths in
+ * direction, times smoothing.h_scale) as a length at its distance, so its
+ * kernel spans that angle on the sky. A star stays a point, drawn as the
+ * PSF's core, where it stands out: its flux at the camera (luminance with
+ * colour) reaches glow.threshold, or its kernel would be wider than
+ * glow.max_arcmin across (its support, 2h), where stars are few on the sky
+ * and a glow would be a fog. From half of either limit to the limit the
+ * kernel shrinks smoothly to the point, so no edge runs across the sky
+ * between glow and points, and a star brightening as the camera nears it
+ * draws in to a point instead of popping. */
+static float glow_length(const orr_scene *s, float h, float r2, float flux)
+{
+    const float max_h = (float)(0.5 * s->glow_max_arcmin * ORR_PI / (180.0 * 60.0));
+    return h * glow_taper(h, max_h) * glow_taper(flux, (float)s->glow_threshold) * sqrtf(r2);
+}
+
 /* ---- motion blur (render/motion_blur.h) ---- */
 
 /* The velocities motion blur moves the chunk's particles by (NULLs when
@@ -682,6 +707,8 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         orr_camera_point p = orr_to_camera(&tf, c->x[i], c->y[i], c->z[i]);
         float dimming = tf.dim ? orr_camera_dimming(&tf, p.r2) : 1.0f;
         float fade = tf.fade ? orr_camera_fade(&tf, p.r2) : 1.0f;
+        if (s->has_glow) /* an angle from the lengths, a point when bright */
+            h = glow_length(s, h, p.r2, wsrcs[v->nplanes == 3 ? 1 : 0][i] * dimming);
         if (fade < 1.0f)
             count_faded(v, wsrcs, i, dimming, fade, t);
         if (fade == 0.0f)
@@ -1841,8 +1868,16 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
                             "%d MPI ranks use lengths from the file (smoothing.lengths: file)",
                             v->scene->path, par->nranks);
         v->h_scale = (float)v->scene->h_scale;
-        if (!lengths->h && (st = orr_lengths_compute(v->scene, src, lengths, err)))
+        /* The glow's lengths are angles seen from the camera (render/glow.h). */
+        const orr_vec3 *centre = v->scene->has_glow ? &v->rep->camera.position : NULL;
+        if (!lengths->h && (st = orr_lengths_compute(v->scene, src, centre, lengths, err)))
             return st;
+        if (lengths->angular != (centre != NULL) ||
+            (centre && orr_v3_norm(orr_v3_sub(lengths->centre, *centre)) > 0))
+            return orr_fail(err, ORR_ERR_USAGE,
+                            "%s: the views of a frame share one set of smoothing lengths, but view %d %s; give "
+                            "every view glow.threshold from the same place, or none of them",
+                            v->scene->path, k, centre ? "glows from another camera position" : "has no glow");
         v->lengths = lengths;
     }
     return ORR_OK;

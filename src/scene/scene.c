@@ -62,6 +62,7 @@ void orr_scene_defaults(orr_scene *s)
     orr_population_set_init(&s->populations, 1);
     orr_colour_synth_defaults(&s->synth);
     s->psf = ORR_PSF_NONE;
+    s->glow_max_arcmin = 60;
     s->psf_fwhm = 3.6; /* pixels: stars twinkle by at most 1.2x (docs/psf.md#stars-that-do-not-twinkle) */
     s->psf_fwhm_arcmin = 0; /* auto: ORR_SKY_CORE_PIXELS at the map's centre */
     s->psf_file_subsample = 1;

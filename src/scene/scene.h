@@ -195,6 +195,12 @@ typedef struct orr_scene {
                                     * stars are drawn with the whole PSF, the others as its core (default 200) */
     double psf_spike_min_flux;     /* psf.spike_min_flux: and none fainter than this fraction of the
                                     * brightest star (default 0.001) */
+    int has_glow;
+    double glow_threshold;         /* glow.threshold: sky maps: stars of less flux at the camera are drawn as
+                                    * kernels as wide as the angle to their smoothing.neighbours-th nearest
+                                    * star on the sky, brighter ones as the PSF's core (default: no glow) */
+    double glow_max_arcmin;        /* glow.max_arcmin: ... and so are stars whose kernel would be wider than
+                                    * this, where stars are sparse on the sky (default 60) */
 
     /* observer.* : an observer-centred sky. When observer.id is set the camera
      * sits on that particle, which is not drawn, and the frame is rebuilt every

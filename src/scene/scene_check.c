@@ -355,6 +355,10 @@ static orr_status check_psf(const orr_scene *s, const scene_marks *m, orr_error 
     if (s->psf_size % 2 == 0)
         return scene_fail_key(s, m, "psf.size", err, "psf.size must be odd (the PSF's centre is a pixel), got %d",
                               s->psf_size);
+    if (s->has_glow && (!sky || s->psf == ORR_PSF_NONE))
+        return scene_fail_key(s, m, "glow.threshold", err,
+                              "glow.threshold draws faint stars as a glow of angular kernels and bright ones as "
+                              "the PSF's core: it needs a sky map with a psf.kind");
     return ORR_OK;
 }
 
