@@ -17,6 +17,7 @@ packages=(
   clang libclang-rt-dev libomp-dev   # libFuzzer for the reader fuzz targets (clang build)
   python3-astropy python3-numpy      # tests: an independent FITS WCS reader
   python3-pil                        # tests: an independent PNG reader (Pillow)
+  fitsverify                         # tests: NASA's FITS checker on the FITS outputs
   splash                             # tests and benchmark: SPLASH, the reference SPH renderer
   ffmpeg                             # orrery video: encodes frame sequences (ffmpeg; ffprobe for its tests)
   locales                            # tests: localedef makes the ','-decimal locale of test_locale

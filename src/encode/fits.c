@@ -114,7 +114,9 @@ static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_fits_heade
         errno = 0; /* so a failed write's errno is its own (see system_errno) */
         fits_write_pixll(f, TFLOAT, first, p->width, row, status);
     }
-    return *status;
+    /* Last, over the final header and data, so astropy and fitsverify can
+     * prove the HDU arrived intact (a truncated copy, a flipped bit). */
+    return fits_write_chksum(f, status);
 }
 
 /* The system's reason for a failed cfitsio call (ENOSPC, EFBIG, EIO...),

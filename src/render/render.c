@@ -24,6 +24,7 @@
 #include "render/stereo_view.h"
 #include "render/view_psf.h"
 #include "render/wcs.h"
+#include "scene/scene_output.h"
 #include "source/king.h"
 #include "source/model.h"
 #include "source/partition.h"
@@ -1340,7 +1341,8 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
     } else if (s->camera_dim) {
         orr_fits_add_bool(h, "DIMMED", 1, "weights divided by r^2 from the camera");
     }
-    orr_wcs_add_cards(h, p, cam, &rep->sky);
+    orr_wcs_view wcs = {p, cam, &rep->sky, rep->has_sky_frame, scene_length_unit(s)};
+    orr_wcs_add_cards(h, &wcs);
     if (s->stereo)
         orr_stereo_add_cards(h, s, rep);
 }
@@ -1588,7 +1590,7 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     v->nplanes = s->colour || s->nlayers ? 3 : 1;
     st = ORR_OK;
     char unit[ORR_PLANE_NAME_MAX];
-    orr_brightness_unit(&v->proj, s->colour ? "CIE tristimulus" : s->bunit, unit, sizeof unit);
+    orr_brightness_unit(&v->proj, scene_weight_unit(s), scene_length_unit(s), unit, sizeof unit);
     for (int k = 0; k < v->nplanes && !st; k++)
         st = orr_plane_alloc(&v->planes[k], v->proj.width, v->proj.height, s->colour ? xyz_names[k] : s->weight,
                              unit, err);

@@ -98,7 +98,6 @@ void orr_scene_defaults(orr_scene *s)
     s->png_bits = 8;
     s->stretch = (orr_stretch){.kind = ORR_STRETCH_LOG, .white = 0, .white_percentile = 99.9, .n = 1000};
     s->colormap = ORR_CMAP_MAGMA;
-    snprintf(s->bunit, sizeof s->bunit, "mass");
 }
 
 /* ---- overrides ---- */

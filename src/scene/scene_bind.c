@@ -445,6 +445,7 @@ static const key_spec KEYS[] = {
     {.key = "output.softening", .type = K_NUMBER, FIELD(stretch.n), ABOVE(0)},
     {.key = "output.colormap", .type = K_ENUM, .parse_word = word_colormap, .choices = orr_colormap_names},
     {.key = "output.bunit", .type = K_STRING, FIELD(bunit)},
+    {.key = "output.length_unit", .type = K_STRING, FIELD(length_unit)},
 };
 
 /* The keys of a dome profile (domes/NAME.yaml). */

@@ -8,6 +8,7 @@
 
 #include "check.h"
 #include "scene/scene.h"
+#include "scene/scene_output.h"
 
 /* Scenes are large (several path buffers); one shared copy keeps the stack small. */
 static orr_scene g_scene;
@@ -84,7 +85,7 @@ static void test_defaults(void)
     CHECK(s->stretch.white_percentile == 99.9);
     CHECK(s->stretch.n == 1000);
     CHECK(s->colormap == ORR_CMAP_MAGMA);
-    CHECK(strcmp(s->bunit, "mass") == 0);
+    CHECK(strcmp(s->bunit, "") == 0 && strcmp(s->length_unit, "") == 0);
 
     /* A minimal scene keeps them, and names the output after the scene. */
     EXPECT_OK(MODEL, NULL, 0);
@@ -682,6 +683,23 @@ static void test_observer_checks(void)
     CHECK(g_scene.has_observer && g_scene.observer_id == 3 && g_scene.reference_id == 4);
 }
 
+/* The units written into FITS: the model's own by default, what the scene
+ * says otherwise; keys that are no FITS unit are refused by name. */
+static void test_output_units(void)
+{
+    EXPECT_OK(MODEL, NULL, 0);
+    CHECK(strcmp(scene_weight_unit(&g_scene), "10**10 solMass") == 0);
+    CHECK(strcmp(scene_length_unit(&g_scene), "kpc") == 0);
+    const char *sets[] = {"output.bunit=solMass", "output.length_unit=Mpc"};
+    EXPECT_OK(MODEL, sets, 2);
+    CHECK(strcmp(scene_weight_unit(&g_scene), "solMass") == 0);
+    CHECK(strcmp(scene_length_unit(&g_scene), "Mpc") == 0);
+    EXPECT_ERROR(MODEL "output:\n  bunit: mass/sr\n", ORR_ERR_USAGE, "scene.yaml:5: output.bunit: 'mass/sr' divides");
+    EXPECT_ERROR(MODEL "output:\n  bunit: 'a,b'\n", ORR_ERR_USAGE, "output.bunit: 'a,b' is not a FITS unit string");
+    EXPECT_ERROR(MODEL "output:\n  length_unit: kpc2\n", ORR_ERR_USAGE,
+                 "scene.yaml:5: output.length_unit: 'kpc2' is not a single FITS unit symbol");
+}
+
 int main(void)
 {
     RUN(test_defaults);
@@ -703,5 +721,6 @@ int main(void)
     RUN(test_observer_keys);
     RUN(test_observer_key_errors);
     RUN(test_observer_checks);
+    RUN(test_output_units);
     return check_summary();
 }
