@@ -18,6 +18,7 @@ packages=(
   python3-astropy python3-numpy      # tests: an independent FITS WCS reader
   python3-pil                        # tests: an independent PNG reader (Pillow)
   fitsverify                         # tests: NASA's FITS checker on the FITS outputs
+  python3-openimageio                # tests: OpenImageIO's Python bindings read the EXR back as a compositor would
   splash                             # tests and benchmark: SPLASH, the reference SPH renderer
   ffmpeg                             # orrery video: encodes frame sequences (ffmpeg; ffprobe for its tests)
   locales                            # tests: localedef makes the ','-decimal locale of test_locale

@@ -18,6 +18,7 @@
 #include "post/colormap.h"
 #include "post/stretch.h"
 #include "render/camera_transform.h"
+#include "render/exr_view.h"
 #include "render/lengths.h"
 #include "render/ngp_gather.h"
 #include "render/periodic_view.h"
@@ -1456,17 +1457,20 @@ static orr_status write_pictures(view_state *v, orr_error *err)
     return st;
 }
 
-/* The linear planes as OpenEXR (output.exr): float, named X, Y, Z or after
- * the weight. */
+/* The linear planes as OpenEXR (output.exr), float, as compositors read it:
+ * R, G, B, A and the layer xyz, or Y and A (render/exr_view.h). */
 static orr_status write_exr(view_state *v, orr_error *err)
 {
     orr_render_report *rep = v->rep;
     const char *path;
     const char *keys[1], *values[1];
     orr_image_meta meta = view_meta(v, "linear planes", keys, values);
+    orr_exr_view ev;
     orr_status st = view_output(v, "exr", &path, err);
-    if (!st)
-        st = orr_write_image_planes(path, v->planes, v->nplanes, &meta, err);
+    if (!st && !(st = orr_exr_view_build(&ev, v->planes, v->nplanes, &v->proj, "", err))) {
+        st = orr_write_image_planes(path, ev.channels, ev.n, &meta, err);
+        orr_exr_view_free(&ev);
+    }
     if (!st)
         rep->noutputs++;
     return st;
@@ -1545,6 +1549,7 @@ static orr_status write_stereo_pair(view_state *l, view_state *r, orr_eye_views 
             .rgb = {want_rgb ? rgb : NULL, want_rgb ? rgb + 3 * npix : NULL},
             .rgb_linear = (s->colour || s->nlayers || s->has_tint) && s->png_linear,
             .cards = h, .meta = &meta, .desc = desc, .stage = stage_output, .outputs = l->outputs,
+            .proj = &l->proj,
         };
         st = orr_stereo_write_pair(&pair, l->rep, err);
     }
