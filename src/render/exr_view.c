@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "post/colour.h"
+#include "render/map_alpha.h"
 
 static orr_status add_channel(orr_exr_view *v, const orr_projection *p, const char *prefix, const char *name,
                               orr_error *err)
@@ -22,13 +23,6 @@ static orr_status add_channel(orr_exr_view *v, const orr_projection *p, const ch
 /* Off the map a plane holds NaN (FITS's blank): a compositor wants 0 there,
  * and the alpha to say it is empty. */
 static float finite_or_zero(float x) { return isfinite(x) ? x : 0.0f; }
-
-static void fill_alpha(orr_plane *a, const orr_projection *p)
-{
-    for (int j = 0; j < p->height; j++)
-        for (int i = 0; i < p->width; i++)
-            a->data[(size_t)j * (size_t)p->width + (size_t)i] = orr_projection_pixel_in_map(p, i, j) ? 1.0f : 0.0f;
-}
 
 /* R, G, B from X, Y, Z, unclipped and unstretched: the light itself. */
 static void fill_rgb(orr_exr_view *v, const orr_plane *xyz, size_t npix)
@@ -65,12 +59,12 @@ static orr_status build(orr_exr_view *v, const orr_plane *planes, int nplanes, c
         return st;
     if (colour) {
         fill_rgb(v, planes, npix);
-        fill_alpha(&v->channels[3], p);
+        orr_map_alpha_fill(p, v->channels[3].data);
         for (int k = 0; k < 3; k++)
             copy_finite(&v->channels[4 + k], &planes[k], npix);
     } else {
         copy_finite(&v->channels[0], &planes[0], npix);
-        fill_alpha(&v->channels[1], p);
+        orr_map_alpha_fill(p, v->channels[1].data);
     }
     return ORR_OK;
 }

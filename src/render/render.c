@@ -20,6 +20,7 @@
 #include "render/camera_transform.h"
 #include "render/exr_view.h"
 #include "render/lengths.h"
+#include "render/map_alpha.h"
 #include "render/ngp_gather.h"
 #include "render/periodic_view.h"
 #include "render/stereo_view.h"
@@ -1439,20 +1440,25 @@ static orr_status write_pictures(view_state *v, orr_error *err)
         return ORR_ERR_NOMEM;
     char desc[ORR_PATH_MAX + 256];
     orr_status st = graded_rgb(v, rgb, desc, sizeof desc, err);
+    float *rgba = NULL; /* output.alpha_mask: the picture, transparent off the map */
+    if (!st && s->alpha_mask)
+        st = orr_map_rgba(&v->proj, rgb, &rgba, err);
     const char *path;
     if (!st && s->write_png) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
         if (!(st = view_output(v, "png", &path, err)) &&
-            !(st = orr_write_png_rgb(path, v->proj.width, v->proj.height, rgb, s->png_bits, text, 2, err)))
+            !(st = orr_write_png(path, v->proj.width, v->proj.height, rgba ? rgba : rgb, rgba ? 4 : 3,
+                                 s->png_bits, text, 2, err)))
             rep->noutputs++;
     }
     if (!st && s->image_ext[0]) {
         const char *keys[1], *values[1];
         orr_image_meta meta = view_meta(v, desc, keys, values);
         if (!(st = view_output(v, s->image_ext, &path, err)) &&
-            !(st = orr_write_image_rgb(path, rgb, v->proj.width, v->proj.height, s->png_bits, &meta, err)))
+            !(st = orr_write_image_picture(path, rgb, rgba, v->proj.width, v->proj.height, s->png_bits, &meta, err)))
             rep->noutputs++;
     }
+    free(rgba);
     free(rgb);
     return st;
 }

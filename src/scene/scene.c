@@ -98,6 +98,8 @@ void orr_scene_defaults(orr_scene *s)
     s->png_bits = 8;
     s->stretch = (orr_stretch){.kind = ORR_STRETCH_LOG, .white = 0, .white_percentile = 99.9, .n = 1000};
     s->colormap = ORR_CMAP_MAGMA;
+    s->frame_digits = 4;
+    snprintf(s->frame_separator, sizeof s->frame_separator, "_");
 }
 
 /* ---- overrides ---- */

@@ -266,6 +266,10 @@ typedef struct orr_scene {
                                     * steradian or per area (post/brightness.h) */
     char length_unit[ORR_NAME_MAX]; /* output.length_unit: the FITS unit of scene lengths (default "": kpc
                                      * for the model, else unknown) */
+    long long frame_start;         /* output.frame_start: the number of a run's first frame (default 0) */
+    int frame_digits;              /* output.frame_digits: at least this many digits (default 4) */
+    char frame_separator[8];       /* output.frame_separator: between NAME and the number (default "_") */
+    int alpha_mask;                /* output.alpha_mask: pictures as RGBA, transparent off the map */
 
     /* Not keys: what the scene says, for frame markers (render/animation.c),
      * which redo a frame made with other settings. The effective keys after

@@ -446,6 +446,10 @@ static const key_spec KEYS[] = {
     {.key = "output.colormap", .type = K_ENUM, .parse_word = word_colormap, .choices = orr_colormap_names},
     {.key = "output.bunit", .type = K_STRING, FIELD(bunit)},
     {.key = "output.length_unit", .type = K_STRING, FIELD(length_unit)},
+    {.key = "output.frame_start", .type = K_LLONG, FIELD(frame_start), IRANGE(0, 1000000000LL)},
+    {.key = "output.frame_digits", .type = K_INT, FIELD(frame_digits), IRANGE(1, 18)},
+    {.key = "output.frame_separator", .type = K_STRING, FIELD(frame_separator)},
+    {.key = "output.alpha_mask", .type = K_BOOL, FIELD(alpha_mask)},
 };
 
 /* The keys of a dome profile (domes/NAME.yaml). */

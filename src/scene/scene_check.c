@@ -537,7 +537,7 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
     if (st == ORR_OK)
         st = check_output(s, &marks, err);
     if (st == ORR_OK)
-        st = scene_check_output_units(s, &marks, err);
+        st = scene_check_output_keys(s, &marks, err);
     if (st == ORR_OK)
         st = check_stereo(s, &marks, err);
     if (st == ORR_OK)

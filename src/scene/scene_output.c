@@ -27,8 +27,38 @@ static int is_symbol(const char *u)
     return 1;
 }
 
-orr_status scene_check_output_units(const orr_scene *s, const scene_marks *m, orr_error *err)
+/* The separator stays in the file name, so it may not be a folder's '/' or
+ * anything a shell or a playback system's file pattern would read. */
+static orr_status check_frame_separator(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
+    if (strspn(s->frame_separator, "._-") != strlen(s->frame_separator))
+        return scene_fail_key(s, m, "output.frame_separator", err,
+                              "output.frame_separator: '%s' may hold only '.', '_' and '-' (e.g. '.' for "
+                              "NAME.00001.png)",
+                              s->frame_separator);
+    return ORR_OK;
+}
+
+/* A pair's picture (anaglyph, side by side, over-under) has no one map
+ * outline to cut out; separate eyes are each a view's own picture. */
+static orr_status check_alpha_mask(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    int pair = s->stereo != ORR_STEREO_NONE && s->stereo != ORR_STEREO_SEPARATE;
+    if (s->alpha_mask && pair)
+        return scene_fail_key(s, m, "output.alpha_mask", err,
+                              "output.alpha_mask: not with stereo.mode %s (one picture of both eyes); use "
+                              "stereo.mode: separate for an alpha per eye",
+                              orr_stereo_mode_name(s->stereo));
+    return ORR_OK;
+}
+
+orr_status scene_check_output_keys(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    orr_status st = check_frame_separator(s, m, err);
+    if (!st)
+        st = check_alpha_mask(s, m, err);
+    if (st)
+        return st;
     char bad = bad_unit_char(s->bunit);
     if (bad == '/')
         return scene_fail_key(s, m, "output.bunit", err,

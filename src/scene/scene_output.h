@@ -1,6 +1,7 @@
 /* The output keys whose values need more than their type's check: the
  * units written into FITS BUNIT/CUNIT (docs/output.md), which must be
- * strings astropy and other FITS readers parse. */
+ * strings astropy and other FITS readers parse, and the frame separator,
+ * which goes into file names. */
 #ifndef ORR_SCENE_OUTPUT_H
 #define ORR_SCENE_OUTPUT_H
 
@@ -8,8 +9,9 @@
 #include "scene/scene.h"
 #include "scene/scene_bind.h"
 
-/* Checks output.bunit and output.length_unit, naming the key on error. */
-orr_status scene_check_output_units(const orr_scene *s, const scene_marks *m, orr_error *err);
+/* Checks output.bunit, output.length_unit and output.frame_separator,
+ * naming the key on error. */
+orr_status scene_check_output_keys(const orr_scene *s, const scene_marks *m, orr_error *err);
 
 /* The FITS unit of a particle's weight: output.bunit when given; for the
  * built-in model weighted by mass, its documented unit (10^10 solar masses,

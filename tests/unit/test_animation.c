@@ -14,16 +14,31 @@ static void test_frame_names(void)
 {
     char name[64];
     orr_error err = {0};
-    CHECK(orr_frame_name("sky", 0, 1, name, sizeof name, &err) == ORR_OK);
+    const orr_frame_naming def = ORR_FRAME_NAMING_DEFAULT;
+    CHECK(orr_frame_name(&def, "sky", 0, 1, name, sizeof name, &err) == ORR_OK);
     CHECK(strcmp(name, "sky") == 0);
-    CHECK(orr_frame_name("sky", 7, 120, name, sizeof name, &err) == ORR_OK);
+    CHECK(orr_frame_name(&def, "sky", 7, 120, name, sizeof name, &err) == ORR_OK);
     CHECK(strcmp(name, "sky_0007") == 0);
-    CHECK(orr_frame_name("sky", 9999, 10000, name, sizeof name, &err) == ORR_OK);
+    CHECK(orr_frame_name(&def, "sky", 9999, 10000, name, sizeof name, &err) == ORR_OK);
     CHECK(strcmp(name, "sky_9999") == 0);
-    CHECK(orr_frame_name("sky", 7, 10001, name, sizeof name, &err) == ORR_OK);
+    CHECK(orr_frame_name(&def, "sky", 7, 10001, name, sizeof name, &err) == ORR_OK);
     CHECK(strcmp(name, "sky_00007") == 0);
     char tiny[6];
-    CHECK(orr_frame_name("sky", 7, 120, tiny, sizeof tiny, &err) == ORR_ERR_USAGE);
+    CHECK(orr_frame_name(&def, "sky", 7, 120, tiny, sizeof tiny, &err) == ORR_ERR_USAGE);
+
+    /* The fulldome delivery convention: from 1, five digits, a dot. */
+    const orr_frame_naming dome = {.start = 1, .digits = 5, .separator = "."};
+    CHECK(orr_frame_name(&dome, "show", 0, 120, name, sizeof name, &err) == ORR_OK);
+    CHECK(strcmp(name, "show.00001") == 0);
+    CHECK(orr_frame_name(&dome, "show", 99998, 99999, name, sizeof name, &err) == ORR_OK);
+    CHECK(strcmp(name, "show.99999") == 0);
+    /* The last number needs a sixth digit: every frame gets it. */
+    CHECK(orr_frame_name(&dome, "show", 0, 100000, name, sizeof name, &err) == ORR_OK);
+    CHECK(strcmp(name, "show.000001") == 0);
+    const orr_frame_naming late = {.start = 9990, .digits = 4, .separator = "-"};
+    CHECK(orr_frame_digits(&late, 10) == 4 && orr_frame_digits(&late, 11) == 5);
+    CHECK(orr_frame_name(&late, "a", 0, 11, name, sizeof name, &err) == ORR_OK);
+    CHECK(strcmp(name, "a-09990") == 0);
 }
 
 static void test_frame_times(void)
