@@ -1518,8 +1518,13 @@ static orr_status write_fits_planes(view_state *v, const char *ext, orr_error *e
         return ORR_ERR_NOMEM;
     add_frame_cards(v, h);
     orr_status st = view_output(v, ext, &path, err);
-    if (!st)
+    if (!st && v->proj.kind == ORR_PROJ_HEALPIX) {
+        orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, ""};
+        orr_healpix_info info = {v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
+        st = orr_write_healpix_fits(path, v->planes, v->nplanes, &info, h, err);
+    } else if (!st) {
         st = orr_write_fits(path, v->planes, v->nplanes, h, err);
+    }
     free(h);
     if (!st)
         rep->noutputs++;

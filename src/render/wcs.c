@@ -166,6 +166,16 @@ int orr_wcs_add_cards(orr_fits_header *h, const orr_wcs_view *view)
         return add_zenithal(h, view, 1);
     case ORR_PROJ_ORTHOGRAPHIC:
         return add_linear(h, view);
+    case ORR_PROJ_HEALPIX:
+        return 0; /* a table of pixels: orr_wcs_healpix_coordsys */
     }
     return 0;
+}
+
+const char *orr_wcs_healpix_coordsys(const orr_wcs_view *view)
+{
+    double l0;
+    if (!view->observer_frame || !centred_on_equator(view->camera, view->frame, &l0))
+        return NULL;
+    return fabs(remainder(l0, 360.0)) < 1e-9 ? "G" : NULL;
 }

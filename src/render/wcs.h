@@ -29,4 +29,11 @@ typedef struct orr_wcs_view {
  * projections cannot describe without a rotation). */
 int orr_wcs_add_cards(orr_fits_header *h, const orr_wcs_view *view);
 
+/* A HEALPix map's COORDSYS: "G" when its (theta, phi) are the observer
+ * frame's (90 - b, l), i.e. an observer defines the frame and the camera is
+ * centred on l = b = 0 with north up (the default with an observer); NULL
+ * otherwise (the scene's or the camera's own axes, which HEALPix has no
+ * name for). */
+const char *orr_wcs_healpix_coordsys(const orr_wcs_view *view);
+
 #endif

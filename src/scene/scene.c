@@ -50,6 +50,7 @@ void orr_scene_defaults(orr_scene *s)
     s->projection.fov_deg = 60;
     s->projection.near = 1e-3;
     s->projection.dome_fov_deg = 180;
+    s->projection.healpix_nside = 64;
     s->projection.lon_flip = 0;
     s->deposit = ORR_DEPOSIT_CIC;
     s->kernel = ORR_KERNEL_CUBIC;

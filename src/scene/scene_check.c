@@ -529,6 +529,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
     if (st == ORR_OK)
         st = scene_apply_dome_profile(s, &marks, err);
     if (st == ORR_OK)
+        st = scene_check_healpix(s, &marks, err);
+    if (st == ORR_OK)
         st = check_projection(s, err);
     if (st == ORR_OK)
         st = check_psf(s, &marks, err);

@@ -91,3 +91,49 @@ const char *scene_length_unit(const orr_scene *s)
         return s->length_unit;
     return s->model_name[0] ? "kpc" : "";
 }
+
+/* A key that a HEALPix map cannot honour, and why. */
+static orr_status healpix_refuses(const orr_scene *s, const scene_marks *m, const char *key, const char *why,
+                                  orr_error *err)
+{
+    return scene_fail_key(s, m, key, err, "%s: not with camera.projection: healpix (%s)", key, why);
+}
+
+orr_status scene_check_healpix(orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (s->projection.kind != ORR_PROJ_HEALPIX) {
+        static const char *const keys[] = {"camera.healpix_nside", "camera.healpix_order"};
+        for (int i = 0; i < 2; i++)
+            if (scene_mark(m, keys[i]))
+                return scene_fail_key(s, m, keys[i], err, "%s: only with camera.projection: healpix", keys[i]);
+        return ORR_OK;
+    }
+    int nside = s->projection.healpix_nside;
+    if ((nside & (nside - 1)) != 0)
+        return scene_fail_key(s, m, "camera.healpix_nside", err,
+                              "camera.healpix_nside: must be a power of 2 (1, 2, 4, ..., %d), got %d",
+                              ORR_HEALPIX_NSIDE_MAX, nside);
+    if (s->deposit != ORR_DEPOSIT_NGP)
+        return scene_fail_key(s, m, scene_mark(m, "deposit") ? "deposit" : "camera.projection", err,
+                              "camera.projection: healpix draws each particle whole into the pixel its direction "
+                              "falls in: set deposit: ngp");
+    static const char *const image_keys[] = {"image.width", "image.height"};
+    for (int i = 0; i < 2; i++)
+        if (scene_mark(m, image_keys[i]))
+            return healpix_refuses(s, m, image_keys[i], "camera.healpix_nside sets the map's size", err);
+    if (s->psf != ORR_PSF_NONE)
+        return healpix_refuses(s, m, "psf.kind", "a PSF needs a picture's neighbouring pixels", err);
+    if (s->stereo != ORR_STEREO_NONE)
+        return healpix_refuses(s, m, "stereo.mode", "one map of the whole sky has no eyes", err);
+    /* The map is a table of pixels, not a picture: only FITS. */
+    static const char *const picture_keys[] = {"output.image", "output.exr", "output.raw", "compose.layers"};
+    for (int i = 0; i < 4; i++)
+        if (scene_mark(m, picture_keys[i]))
+            return healpix_refuses(s, m, picture_keys[i], "its map is a FITS table of pixels, not a picture", err);
+    if (s->write_png && scene_mark(m, "output.png"))
+        return healpix_refuses(s, m, "output.png", "its map is a FITS table of pixels, not a picture", err);
+    s->write_png = 0;
+    s->projection.width = 4 * s->projection.healpix_nside;
+    s->projection.height = 3 * s->projection.healpix_nside;
+    return ORR_OK;
+}

@@ -13,6 +13,12 @@
  * naming the key on error. */
 orr_status scene_check_output_keys(const orr_scene *s, const scene_marks *m, orr_error *err);
 
+/* A HEALPix map's requirements: NGP deposits, no PSF, no stereo, only
+ * FITS (output.png off unless asked for, which is an error); sets the
+ * image size from camera.healpix_nside. The HEALPix keys are errors with
+ * any other projection. */
+orr_status scene_check_healpix(orr_scene *s, const scene_marks *m, orr_error *err);
+
 /* The FITS unit of a particle's weight: output.bunit when given; for the
  * built-in model weighted by mass, its documented unit (10^10 solar masses,
  * docs/model.md); else "" (unknown). */

@@ -548,7 +548,7 @@ static void test_sky_key_errors(void)
     orr_error err;
     CHECK(load(MODEL "camera:\n  projection: fisheye\n", NULL, 0, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "scene.yaml:5: camera.projection: expected one of: orthographic perspective, got "
-                          "'fisheye' (sky maps: hammer-aitoff dome equirectangular)") == 0);
+                          "'fisheye' (sky maps: hammer-aitoff dome equirectangular healpix)") == 0);
     EXPECT_ERROR(MODEL "camera:\n  dome_fov: 89\n", ORR_ERR_USAGE, "scene.yaml:5: camera.dome_fov: 89 is out of range (90 to 360)");
     EXPECT_ERROR(MODEL "camera:\n  dome_fov: 360.5\n", ORR_ERR_USAGE, "camera.dome_fov: 360.5 is out of range (90 to 360)");
     EXPECT_ERROR(MODEL "camera:\n  dome_tilt: -1\n", ORR_ERR_USAGE, "camera.dome_tilt: -1 is out of range (0 to 90)");
