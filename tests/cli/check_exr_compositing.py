@@ -6,21 +6,15 @@ inside the dome's circle and 0 outside, where the colour is 0, not NaN; and
 R, G, B are the linear sRGB of the X, Y, Z the FITS file holds.
 usage: check_exr_compositing.py ORRERY WORKDIR"""
 import subprocess
-import sys
 
 import numpy as np
 import OpenImageIO as oiio
 from astropy.io import fits
 
-orrery, work = sys.argv[1], sys.argv[2]
-failures = 0
+from check_lib import Checks
 
-
-def check(ok, what):
-    global failures
-    if not ok:
-        print("FAIL:", what)
-        failures += 1
+check = Checks()
+orrery, work = check.orrery, check.work
 
 
 def read_exr(path):
@@ -81,5 +75,4 @@ render("mono", MODEL + "output:\n  dir: out\n  name: mono\n  exr: true\n  png: f
 spec, ch = read_exr(f"{work}/out/mono.exr")
 check(set(spec.channelnames) == {"Y", "A"}, f"mono channels {spec.channelnames}")
 check(np.isfinite(ch["Y"]).all() and ch["A"][32, 32] == 1 and ch["A"][0, 0] == 0, "mono Y finite, alpha")
-print("EXR compositing checks:", "failed" if failures else "passed")
-sys.exit(1 if failures else 0)
+check.finish("EXR compositing checks")

@@ -7,7 +7,6 @@ centre, a corner) where the camera draws them; a dome without an observer
 does not claim galactic axes. usage: check_fits_standard.py ORRERY WORKDIR"""
 import shutil
 import subprocess
-import sys
 import warnings
 
 import numpy as np
@@ -16,15 +15,10 @@ from astropy.io import fits
 from astropy.nddata import CCDData
 from astropy.wcs import WCS
 
-orrery, work = sys.argv[1], sys.argv[2]
-failures = 0
+from check_lib import Checks
 
-
-def check(ok, what):
-    global failures
-    if not ok:
-        print("FAIL:", what)
-        failures += 1
+check = Checks()
+orrery, work = check.orrery, check.work
 
 
 def render(name, body, particles, output=""):
@@ -128,5 +122,4 @@ check_standard(path, "sr-1")
 with fits.open(path) as hdul:
     hdr = hdul[0].header
 check(hdr["CTYPE1"] == "WDLN-ARC" and hdr["CTYPE2"] == "WDLT-ARC", f"dome CTYPE {hdr['CTYPE1']}")
-print("FITS standard checks:", "failed" if failures else "passed")
-sys.exit(1 if failures else 0)
+check.finish("FITS standard checks")

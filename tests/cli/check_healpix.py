@@ -7,22 +7,16 @@ NESTED order; the header says ordering, nside and the galactic COORDSYS;
 the checksums verify. usage: check_healpix.py ORRERY WORKDIR"""
 import shutil
 import subprocess
-import sys
 import warnings
 
 import healpy as hp
 import numpy as np
 from astropy.io import fits
 
-orrery, work = sys.argv[1], sys.argv[2]
-failures = 0
+from check_lib import Checks
 
-
-def check(ok, what):
-    global failures
-    if not ok:
-        print("FAIL:", what)
-        failures += 1
+check = Checks()
+orrery, work = check.orrery, check.work
 
 
 def render(name, table, body):
@@ -90,5 +84,4 @@ for order in ("ring", "nested"):
         got = m[pix] * area
         check(abs(got - (j + 1)) < 1e-4 * (j + 1), f"{order}: particle at l={l:g} b={b:g}: pixel {pix} holds {got}")
     check(abs(m.sum() * area - (sum(range(1, len(points) + 1)) + 0.5)) < 1e-3, f"{order}: total {m.sum() * area}")
-print("HEALPix checks:", "failed" if failures else "passed")
-sys.exit(1 if failures else 0)
+check.finish("HEALPix checks")

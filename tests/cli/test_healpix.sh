@@ -1,12 +1,7 @@
 # The healpix projection: a standard HEALPix FITS map that healpy reads
 # (tests/cli/check_healpix.py), and the keys it refuses.
 source "$(dirname "$0")/lib.sh"
-py=/usr/bin/python3
-[ -x "$py" ] || py=python3
-if ! "$py" -c 'import healpy' 2>/dev/null; then
-  echo "skipped: no healpy (python3-healpy)"
-  exit 77
-fi
+python_with healpy python3-healpy
 "$py" "$(dirname "$0")/check_healpix.py" "$ORRERY" "$WORK" || fail "HEALPix check"
 
 printf 'x y z mass\n0 0 5 1\n' >p.txt
