@@ -123,6 +123,8 @@ orr_status scene_check_healpix(orr_scene *s, const scene_marks *m, orr_error *er
             return healpix_refuses(s, m, image_keys[i], "camera.healpix_nside sets the map's size", err);
     if (s->psf != ORR_PSF_NONE)
         return healpix_refuses(s, m, "psf.kind", "a PSF needs a picture's neighbouring pixels", err);
+    if (scene_mark(m, "camera.lon_flip"))
+        return healpix_refuses(s, m, "camera.lon_flip", "HEALPix's longitude phi grows eastward by definition", err);
     if (s->stereo != ORR_STEREO_NONE)
         return healpix_refuses(s, m, "stereo.mode", "one map of the whole sky has no eyes", err);
     /* The map is a table of pixels, not a picture: only FITS. */

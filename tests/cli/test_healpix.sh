@@ -11,6 +11,7 @@ expect_fail 2 "camera.projection: healpix draws each particle whole .*set deposi
 expect_fail 2 "camera.healpix_nside: .*12" bad -- render bad.yaml --set camera.healpix_nside=12
 expect_fail 2 "image.width: not with camera.projection: healpix" bad -- render bad.yaml --set image.width=64
 expect_fail 2 "output.png: not with camera.projection: healpix" bad -- render bad.yaml --set output.png=true
+expect_fail 2 "camera.lon_flip: not with camera.projection: healpix" bad -- render bad.yaml --set camera.lon_flip=true
 expect_fail 2 "camera.healpix_order: expected one of: ring nested" bad -- \
   render bad.yaml --set camera.healpix_order=nest
 expect_fail 2 "camera.healpix_nside: only with camera.projection: healpix" bad -- \
