@@ -11,6 +11,8 @@ typedef struct orr_frame_time {
     double seconds; /* frame / fps: time in the film */
     double time;    /* simulation time drawn in this frame (a sequence's interpolated time;
                      * otherwise the snapshot's own) */
+    double interval; /* simulation time from one frame to the next (0 for a single frame, or
+                      * when the run's time stands still) */
 } orr_frame_time;
 
 /* The frame time of frame `frame` of `nframes` at `fps` frames per second,
@@ -24,6 +26,7 @@ static inline orr_frame_time orr_frame_at(long frame, long nframes, double fps, 
     f.u = nframes > 1 ? (double)frame / (double)(nframes - 1) : 0.0;
     f.seconds = fps > 0 ? (double)frame / fps : 0.0;
     f.time = t0 + (t1 - t0) * f.u;
+    f.interval = nframes > 1 ? (t1 - t0) / (double)(nframes - 1) : 0.0;
     return f;
 }
 

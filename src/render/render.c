@@ -21,6 +21,7 @@
 #include "render/exr_view.h"
 #include "render/lengths.h"
 #include "render/map_alpha.h"
+#include "render/motion_blur.h"
 #include "render/ngp_gather.h"
 #include "render/periodic_view.h"
 #include "render/stereo_view.h"
@@ -88,6 +89,11 @@ typedef struct block_buffers {
     /* A block of the fused NGP gather (render/ngp_gather.h): its pixel
      * indices are in share_pixel. */
     int indexed;
+    /* Motion blur: x, y, z hold where each streak starts and sx, sy, sz
+     * the vector to its end (camera frame); the streaks' samples are
+     * drawn from the buffers of *samples, a block at a time. */
+    float sx[BLOCK], sy[BLOCK], sz[BLOCK];
+    struct block_buffers *samples;
 } block_buffers;
 
 /* One view being rendered. */
@@ -111,6 +117,7 @@ typedef struct view_state {
     int use_ods;        /* an eye of omni-directional stereo: its per-block transform */
     orr_stereo_ods ods;
     orr_periodic_view periodic; /* input.periodic: the box's copies and what is culled */
+    orr_motion_blur blur;       /* animation.shutter: particles drawn as streaks */
     int banded;                 /* a point deposit, splatted in bands (WINDOW_BLOCKS above) */
     int ngp_fused;              /* NGP blocks taken whole go through the fused gather */
     orr_map_outline outline;    /* the image's map, for NGP indices */
@@ -176,7 +183,15 @@ orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, i
 typedef struct markers {
     int have_observer, have_reference;
     orr_vec3 observer, reference;
+    orr_vec3 observer_velocity; /* (0 when the source has no velocities) */
 } markers;
+
+/* Particle i's velocity, or 0 when the chunk has none. */
+static orr_vec3 chunk_velocity(const orr_chunk *c, size_t i)
+{
+    const float *vx = orr_chunk_field(c, "vx"), *vy = orr_chunk_field(c, "vy"), *vz = orr_chunk_field(c, "vz");
+    return vx && vy && vz ? orr_v3(vx[i], vy[i], vz[i]) : orr_v3(0, 0, 0);
+}
 
 /* One pass over the source for the observer and reference particles. */
 static orr_status find_markers(const orr_scene *s, orr_source *src, markers *m, orr_error *err)
@@ -191,6 +206,7 @@ static orr_status find_markers(const orr_scene *s, orr_source *src, markers *m, 
             orr_vec3 p = orr_v3(c->x[i], c->y[i], c->z[i]);
             if (c->id[i] == s->observer_id) {
                 m->observer = p;
+                m->observer_velocity = chunk_velocity(c, i);
                 m->have_observer = 1;
             } else if (c->id[i] == s->reference_id) {
                 m->reference = p;
@@ -258,26 +274,29 @@ static orr_status combine_markers(const orr_parallel *par, markers *m, orr_error
 {
     if (!par || par->nranks <= 1)
         return ORR_OK;
-    double v[8] = {m->have_observer, m->have_reference, m->observer.x, m->observer.y, m->observer.z,
-                   m->reference.x, m->reference.y, m->reference.z};
-    orr_status st = par->allreduce_sum(par->user, v, 8, err);
+    double v[11] = {m->have_observer, m->have_reference, m->observer.x, m->observer.y, m->observer.z,
+                    m->reference.x, m->reference.y, m->reference.z,
+                    m->observer_velocity.x, m->observer_velocity.y, m->observer_velocity.z};
+    orr_status st = par->allreduce_sum(par->user, v, 11, err);
     m->have_observer = v[0] > 0;
     m->have_reference = v[1] > 0;
     m->observer = orr_v3(v[2], v[3], v[4]);
     m->reference = orr_v3(v[5], v[6], v[7]);
+    m->observer_velocity = orr_v3(v[8], v[9], v[10]);
     return st;
 }
 
 /* Finds the observer and reference particles (and the spin normal when
  * asked) in a pass of their own, with only the fields that needs. */
 static orr_status build_sky_frame(const orr_scene *s, orr_source *given, long frame, const orr_parallel *par,
-                                  orr_sky_frame *f, orr_error *err)
+                                  orr_sky_frame *f, orr_vec3 *velocity, orr_error *err)
 {
-    static const char *const velocity[3] = {"vx", "vy", "vz"};
+    static const char *const velocity_fields[3] = {"vx", "vy", "vz"};
     int want_spin = s->normal_types != 0;
     orr_source *src = given;
     orr_status st = given ? orr_source_rewind(given, err)
-                          : orr_scene_open_source(s, velocity, want_spin ? 3 : 0, &src, err);
+                          : orr_scene_open_source(s, velocity_fields, want_spin || orr_blur_moves_particles(s) ? 3 : 0,
+                                                  &src, err);
     markers m;
     if (!st)
         st = find_markers(s, src, &m, err);
@@ -291,6 +310,7 @@ static orr_status build_sky_frame(const orr_scene *s, orr_source *given, long fr
     orr_vec3 n0 = s->observer_normal;
     if (!st && want_spin && !(st = orr_source_rewind(src, err)))
         st = spin_normal(s, src, m.reference, par, &n0, err);
+    *velocity = m.observer_velocity;
     if (!st && (st = orr_sky_frame_build(f, m.observer, m.reference, n0, err)))
         orr_fail_prefix(err, "%s: observer id %llu, reference id %llu, frame %ld: ", s->path,
                         (unsigned long long)s->observer_id, (unsigned long long)s->reference_id, frame);
@@ -357,14 +377,19 @@ static orr_status weight_field(const orr_scene *s, const orr_source *src, const 
                     s->weight, src->info.path, have);
 }
 
-/* Names the value that is not finite: the position, or else the weight. */
-static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, size_t i, double weight, orr_error *err)
+/* Names the value that is not finite: the position, the weight, or else
+ * (vel: motion blur's, NULL without) the velocity. */
+static orr_status nonfinite_error(const orr_source *src, const orr_chunk *c, size_t i, double weight,
+                                  const float *const *vel, orr_error *err)
 {
     char what[128];
-    if (isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]))
+    if (!isfinite(c->x[i]) || !isfinite(c->y[i]) || !isfinite(c->z[i]))
+        orr_snprintf(what, sizeof what, "position (%g, %g, %g)", (double)c->x[i], (double)c->y[i], (double)c->z[i]);
+    else if (!isfinite(weight) || !vel)
         orr_snprintf(what, sizeof what, "weight (%g)", weight);
     else
-        orr_snprintf(what, sizeof what, "position (%g, %g, %g)", (double)c->x[i], (double)c->y[i], (double)c->z[i]);
+        orr_snprintf(what, sizeof what, "velocity (vx, vy, vz) = (%g, %g, %g), which animation.shutter moves it by",
+                     (double)vel[0][i], (double)vel[1][i], (double)vel[2][i]);
     return orr_fail(err, ORR_ERR_DATA, "%s: particle %llu (id %llu) has a non-finite %s; "
                     "set input.nonfinite: skip to leave such particles out",
                     src->info.path, (unsigned long long)(c->first_index + i), (unsigned long long)c->id[i], what);
@@ -557,6 +582,47 @@ static void count_faded(const view_state *v, const float *const *wsrcs, size_t i
     }
 }
 
+/* ---- motion blur (render/motion_blur.h) ---- */
+
+/* The velocities motion blur moves the chunk's particles by (NULLs when
+ * the shutter holds them still), or an error naming the field missing. */
+static orr_status blur_velocities(const view_state *v, const orr_source *src, const orr_chunk *c,
+                                  const float *vel[3], orr_error *err)
+{
+    static const char *const names[3] = {"vx", "vy", "vz"};
+    for (int a = 0; a < 3; a++)
+        vel[a] = NULL;
+    if (v->blur.half_time == 0)
+        return ORR_OK;
+    for (int a = 0; a < 3; a++)
+        if (!(vel[a] = orr_chunk_field(c, names[a])))
+            return orr_fail(err, ORR_ERR_USAGE,
+                            "%s: animation.shutter: the particles move by their velocities while the shutter "
+                            "is open (%g of simulation time), but %s has no field %s; give velocities, or set "
+                            "animation.frame_interval: 0 to blur only the camera's motion",
+                            v->scene->path, 2 * v->blur.half_time, src->info.path, names[a]);
+    return ORR_OK;
+}
+
+static int velocity_finite(const float *const *vel, size_t i)
+{
+    return isfinite(vel[0][i]) && isfinite(vel[1][i]) && isfinite(vel[2][i]);
+}
+
+/* Particle i's streak into slot n of the block: its start over the
+ * gathered position, the vector to its end in sx, sy, sz. */
+static void put_streak(const orr_motion_blur *mb, const orr_camera_transform *open,
+                       const orr_camera_transform *close, const orr_chunk *c, const float *const *vel, size_t i,
+                       block_buffers *b, size_t n)
+{
+    const float p[3] = {c->x[i], c->y[i], c->z[i]};
+    const float u[3] = {vel[0] ? vel[0][i] : 0.0f, vel[1] ? vel[1][i] : 0.0f, vel[2] ? vel[2][i] : 0.0f};
+    float q0[3], sv[3];
+    orr_motion_blur_streak(mb, open, close, p, u, q0, sv);
+    b->x[n] = q0[0], b->y[n] = q0[1], b->z[n] = q0[2];
+    b->sx[n] = sv[0], b->sy[n] = sv[1], b->sz[n] = sv[2];
+}
+
 /* Gathers the view's particles of c[start, end) into the block, moved by
  * shift (a periodic box's copy; fading: across its sphere, so each weight
  * tapers with the distance from the camera) and into the camera frame,
@@ -577,7 +643,7 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
     for (int k = 0; k < 3; k++)
         b->wp[k] = b->w[k];
     b->indexed = 0;
-    if (!fading && block_selects_all(v, c, start, end)) {
+    if (!fading && !v->blur.active && block_selects_all(v, c, start, end)) {
         if (v->ngp_fused && ngp_gather_all(v, c, wsrcs, start, end, &tf, b)) {
             t->n_selected += end - start;
             return (long)(end - start);
@@ -588,6 +654,13 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         }
     }
     const int skip_observer = s->has_observer;
+    const float *vel[3] = {NULL, NULL, NULL};
+    orr_camera_transform open, close;
+    if (v->blur.active) {
+        if (blur_velocities(v, src, c, vel, err))
+            return -1;
+        orr_motion_blur_transforms(&v->blur, shift, &open, &close);
+    }
     long n = 0;
     for (size_t i = start; i < end; i++) {
         float h = 0.0f;
@@ -600,9 +673,10 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         if (!(s->type_mask & (1u << c->type[i])) || (skip_observer && c->id[i] == s->observer_id))
             continue;
         t->n_selected++;
-        if (!isfinite(c->x[i]) || !isfinite(c->y[i]) || !isfinite(c->z[i]) || !isfinite(wsrc[i])) {
+        if (!isfinite(c->x[i]) || !isfinite(c->y[i]) || !isfinite(c->z[i]) || !isfinite(wsrc[i]) ||
+            (vel[0] && !velocity_finite(vel, i))) {
             if (!s->skip_nonfinite) {
-                nonfinite_error(src, c, i, wsrc[i], err);
+                nonfinite_error(src, c, i, wsrc[i], vel[0] ? vel : NULL, err);
                 return -1;
             }
             t->n_nonfinite++;
@@ -618,12 +692,25 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         b->x[n] = p.x;
         b->y[n] = p.y;
         b->z[n] = p.z;
+        if (v->blur.active)
+            put_streak(&v->blur, &open, &close, c, vel, i, b, (size_t)n);
         for (int k = 0; k < v->nplanes; k++)
             b->w[k][n] = wsrcs[k][i] * dimming * fade;
         b->h[n] = h;
         n++;
     }
     return n;
+}
+
+/* Projects the block's n points (camera frame): positions in pixels and
+ * what the projection (and an eye of omni-directional stereo) draws. */
+static void project_points(const view_state *v, size_t n, block_buffers *b, block_tally *t)
+{
+    if (v->use_ods)
+        t->n_stereo_skipped += orr_stereo_ods_apply(&v->ods, n, b->x, b->y, b->z, b->keep);
+    orr_project_batch(&v->proj, n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
+    if (v->use_ods)
+        orr_stereo_mask(n, b->visible, b->keep);
 }
 
 /* Gathers particles [start, end) of c (moved by shift) into the block and
@@ -634,13 +721,9 @@ static long project_block(const view_state *v, const orr_source *src, const orr_
                           block_buffers *b, block_tally *t, orr_error *err)
 {
     long n = gather_block(v, src, c, wts, start, end, shift, fading, lengths_next, b, t, err);
-    if (n < 0 || b->indexed)
+    if (n < 0 || b->indexed || v->blur.active) /* streaks: their samples are projected as drawn */
         return n;
-    if (v->use_ods)
-        t->n_stereo_skipped = orr_stereo_ods_apply(&v->ods, (size_t)n, b->x, b->y, b->z, b->keep);
-    orr_project_batch(&v->proj, (size_t)n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible);
-    if (v->use_ods)
-        orr_stereo_mask((size_t)n, b->visible, b->keep);
+    project_points(v, (size_t)n, b, t);
     return n;
 }
 
@@ -670,17 +753,12 @@ static orr_ngp_batch place_indexed(const view_state *v, size_t n, block_buffers 
     return nb;
 }
 
-/* Deposits the block into planes (a lane's: the view's own or a private
- * copy). The report's statistics are of the first plane's weights (with
- * colour, X; Y's are in the FITS header). */
-static void deposit_block(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
-                          block_tally *t)
+/* Deposits the block's n projected points into planes (a lane's: the
+ * view's own or a private copy). The report's statistics are of the first
+ * plane's weights (with colour, X; Y's are in the FITS header). */
+static void deposit_points(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+                           block_tally *t)
 {
-    if (b->indexed) {
-        orr_ngp_batch nb = place_indexed(v, n, b, t);
-        orr_ngp_add(&nb, planes);
-        return;
-    }
     if (v->use_sph)
         widen_for_psf(v, n, b);
     for (int k = 0; k < v->nplanes; k++) {
@@ -698,6 +776,59 @@ static void deposit_block(const view_state *v, orr_plane *planes, int lane, size
     if (v->psf.sky) {
         orr_sph_block geom = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
         orr_sky_psf_collect(v->psf.sky, lane, &geom, b->wp, v->nplanes);
+    }
+}
+
+/* Deposits the streaks of the block's n particles: each as its samples
+ * (orr_motion_blur_samples of them, at the midpoints of equal steps along
+ * the streak, each with an equal share of the weight and the particle's
+ * smoothing length), projected and deposited a block of samples at a
+ * time. */
+static void deposit_streaks(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+                            block_tally *t)
+{
+    block_buffers *sb = b->samples;
+    for (int p = 0; p < 3; p++)
+        sb->wp[p] = sb->w[p];
+    size_t ns = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float q0[3] = {b->x[i], b->y[i], b->z[i]}, sv[3] = {b->sx[i], b->sy[i], b->sz[i]};
+        const int m = orr_motion_blur_samples(&v->blur, q0, sv);
+        const float share = 1.0f / (float)m;
+        for (int k = 0; k < m; k++) {
+            if (ns == BLOCK) {
+                project_points(v, ns, sb, t);
+                deposit_points(v, planes, lane, ns, sb, t);
+                ns = 0;
+            }
+            const float f = ((float)k + 0.5f) * share;
+            sb->x[ns] = q0[0] + f * sv[0];
+            sb->y[ns] = q0[1] + f * sv[1];
+            sb->z[ns] = q0[2] + f * sv[2];
+            sb->h[ns] = b->h[i];
+            for (int p = 0; p < v->nplanes; p++)
+                sb->w[p][ns] = b->wp[p][i] * share;
+            ns++;
+        }
+    }
+    if (ns) {
+        project_points(v, ns, sb, t);
+        deposit_points(v, planes, lane, ns, sb, t);
+    }
+}
+
+/* Deposits the gathered block: as the fused gather's pixels, as streaks,
+ * or as its projected points. */
+static void deposit_block(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+                          block_tally *t)
+{
+    if (b->indexed) {
+        orr_ngp_batch nb = place_indexed(v, n, b, t);
+        orr_ngp_add(&nb, planes);
+    } else if (v->blur.active) {
+        deposit_streaks(v, planes, lane, n, b, t);
+    } else {
+        deposit_points(v, planes, lane, n, b, t);
     }
 }
 
@@ -798,6 +929,7 @@ static void merge_lanes(view_state *v)
  * per block where its smoothing lengths start and what it added. */
 typedef struct splat_work {
     block_buffers *buffers; /* MAX_LANES */
+    block_buffers *samples; /* MAX_LANES, with motion blur: buffers[k].samples */
     orr_error lane_err[MAX_LANES];
     size_t failed[MAX_LANES]; /* the block at which a lane stopped, or SIZE_MAX */
     size_t nblocks_cap;
@@ -1156,16 +1288,25 @@ static orr_status reserve_blocks(splat_work *w, size_t n, orr_error *err)
     return w->tally ? ORR_OK : ORR_ERR_NOMEM;
 }
 
-static orr_status alloc_work(splat_work *w, size_t capacity, orr_error *err)
+static orr_status alloc_work(splat_work *w, size_t capacity, int blur, orr_error *err)
 {
     memset(w, 0, sizeof *w);
     w->buffers = orr_malloc(MAX_LANES * sizeof *w->buffers, "splat block buffers", err);
-    return w->buffers ? reserve_blocks(w, capacity, err) : ORR_ERR_NOMEM;
+    if (!w->buffers)
+        return ORR_ERR_NOMEM;
+    if (blur) {
+        if (!(w->samples = orr_malloc(MAX_LANES * sizeof *w->samples, "motion blur samples", err)))
+            return ORR_ERR_NOMEM;
+        for (int k = 0; k < MAX_LANES; k++)
+            w->buffers[k].samples = &w->samples[k];
+    }
+    return reserve_blocks(w, capacity, err);
 }
 
 static void free_work(splat_work *w)
 {
     free(w->buffers);
+    free(w->samples);
     free(w->lengths_first);
     free(w->tally);
 }
@@ -1176,7 +1317,10 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
     splat_work *work = orr_malloc(sizeof *work, "splat work", err);
     if (!work)
         return ORR_ERR_NOMEM;
-    orr_status st = alloc_work(work, src->chunk.capacity, err);
+    int blur = 0;
+    for (int k = 0; k < nviews; k++)
+        blur |= views[k].blur.active;
+    orr_status st = alloc_work(work, src->chunk.capacity, blur, err);
     /* With colour, a chunk's X, Y, Z weights. */
     float *xyz[3] = {NULL, NULL, NULL};
     size_t cap = views[0].scene->colour ? src->chunk.capacity : 0;
@@ -1583,8 +1727,56 @@ static orr_status write_outputs(view_state *v, orr_error *err)
 
 /* ---- the driver ---- */
 
+/* The view's camera dframe frames from this one (motion blur's shutter
+ * opening and closing): along the camera path, or from an observer moved
+ * by observer_step; a perspective stereo eye set as in this frame. */
+static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, orr_vec3 observer_step,
+                            const orr_frame_time *when, double dframe, orr_camera *cam, orr_error *err)
+{
+    const orr_scene *s = v->scene;
+    orr_status st;
+    if (s->has_path) {
+        double u = when->nframes > 1 ? when->u + dframe / (double)(when->nframes - 1) : when->u;
+        st = orr_path_eval(&s->camera_path, (double)when->frame + dframe, u, cam, err);
+    } else {
+        orr_sky_frame moved = observer ? *observer : orr_sky_frame_world(s->camera_position), sky;
+        moved.origin = orr_v3_add(moved.origin, observer_step);
+        st = view_camera(s, observer ? &moved : NULL, when, cam, &sky, err);
+    }
+    if (!st && s->stereo_eye && v->proj.kind == ORR_PROJ_PERSPECTIVE) {
+        orr_projection p = s->projection;
+        if (!(st = orr_projection_setup(&p, err)))
+            st = orr_stereo_perspective_eye(cam, &p, s->stereo_eye, s->eye_separation, v->rep->stereo_convergence,
+                                            err);
+    }
+    return st ? orr_fail_prefix(err, "%s: animation.shutter: ", s->path) : ORR_OK;
+}
+
+/* Motion blur's plan (animation.shutter): the cameras when the shutter
+ * opens and closes, half a shutter before and after the frame, and the
+ * simulation time the particles move over (the frame interval's share). */
+static orr_status setup_blur(view_state *v, const orr_sky_frame *observer, orr_vec3 observer_velocity,
+                             const orr_frame_time *when, orr_error *err)
+{
+    const orr_scene *s = v->scene;
+    if (!(s->shutter > 0))
+        return ORR_OK;
+    const double interval = !orr_blur_moves_particles(s) ? 0 : s->has_frame_interval ? s->frame_interval
+                                                                                      : when->interval;
+    const double half_time = 0.5 * s->shutter * interval, half_frame = 0.5 * s->shutter;
+    const orr_vec3 step = orr_v3_scale(observer_velocity, half_time);
+    orr_camera open, close;
+    orr_status st = camera_at(v, observer, orr_v3_scale(step, -1), when, -half_frame, &open, err);
+    if (!st)
+        st = camera_at(v, observer, step, when, half_frame, &close, err);
+    if (!st)
+        orr_motion_blur_plan(&v->blur, half_time, &open, &close, &v->proj);
+    return st;
+}
+
 static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_frame *observer,
-                             const orr_frame_time *when, orr_render_report *rep, orr_error *err)
+                             orr_vec3 observer_velocity, const orr_frame_time *when, orr_render_report *rep,
+                             orr_error *err)
 {
     memset(rep, 0, sizeof *rep);
     rep->frame = when->frame;
@@ -1598,7 +1790,8 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
         st = view_camera(s, observer, when, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
-    if ((st = orr_stereo_setup_eye(s, &v->proj, rep, &v->ods, &v->use_ods, err)))
+    if ((st = orr_stereo_setup_eye(s, &v->proj, rep, &v->ods, &v->use_ods, err)) ||
+        (st = setup_blur(v, observer, observer_velocity, when, err)))
         return st;
     rep->has_sky_frame = observer != NULL;
     v->world_to_camera = orr_camera_world_to_camera(&rep->camera);
@@ -1620,8 +1813,10 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
         st = orr_view_psf_setup(&v->psf, s, &v->proj, &v->kernel, err);
     v->use_sph = s->deposit == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
     /* (A sky PSF collects its stars per lane: it keeps lanes.) */
-    v->banded = !v->use_sph && !v->psf.sky && (size_t)v->proj.width * (size_t)v->proj.height > BAND_MIN_PIXELS;
-    v->ngp_fused = s->deposit == ORR_DEPOSIT_NGP && !v->use_sph && !v->psf.sky && !v->use_ods;
+    /* (Streaks are drawn as their samples are made: in lanes.) */
+    v->banded = !v->use_sph && !v->psf.sky && !v->blur.active &&
+                (size_t)v->proj.width * (size_t)v->proj.height > BAND_MIN_PIXELS;
+    v->ngp_fused = s->deposit == ORR_DEPOSIT_NGP && !v->use_sph && !v->psf.sky && !v->use_ods && !v->blur.active;
     v->outline = orr_map_outline_of(&v->proj, v->proj.width, v->proj.height);
     if (!st && v->use_sph)
         st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
@@ -1696,7 +1891,7 @@ int orr_render_fields(const orr_scene *s, const char *fields[4])
     int nfields = 0;
     if (strcmp(s->weight, "mass") != 0 && strcmp(s->weight, "h") != 0)
         fields[nfields++] = s->weight;
-    if (s->has_observer && s->normal_types) {
+    if ((s->has_observer && s->normal_types) || orr_blur_moves_particles(s)) {
         fields[nfields++] = "vx";
         fields[nfields++] = "vy";
         fields[nfields++] = "vz";
@@ -1798,8 +1993,9 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     if (!st && par && !given && !(st = open_share(s0, par, &src, err)))
         given = src;
     orr_sky_frame observer;
+    orr_vec3 observer_velocity = orr_v3(0, 0, 0);
     if (!st && s0->has_observer)
-        st = build_sky_frame(s0, given, when->frame, par, &observer, err);
+        st = build_sky_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
     /* A stereo view renders as two views, its eyes. */
     orr_eye_views eyes = {0};
     if (!st)
@@ -1810,16 +2006,15 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
         st = ORR_ERR_NOMEM;
     int ready = 0;
     for (; !st && ready < n; ready++)
-        st = setup_view(&views[ready], eyes.scene[ready], s0->has_observer ? &observer : NULL, when,
-                        eyes.report[ready], err);
+        st = setup_view(&views[ready], eyes.scene[ready], s0->has_observer ? &observer : NULL, observer_velocity,
+                        when, eyes.report[ready], err);
     orr_lengths lengths = {0};
     if (!st && given) {
         src = given;
         st = orr_source_rewind(src, err);
     } else if (!st) {
-        int extra = strcmp(s0->weight, "mass") != 0 && strcmp(s0->weight, "h") != 0;
-        const char *const fields[1] = {s0->weight};
-        st = orr_scene_open_source(s0, fields, extra ? 1 : 0, &src, err);
+        const char *fields[4];
+        st = orr_scene_open_source(s0, fields, orr_render_fields(s0, fields), &src, err);
     }
     if (!st) {
         for (int k = 0; k < n; k++) {
@@ -1943,8 +2138,8 @@ orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_r
     orr_output_batch_init(&outputs);
     int ready = 0;
     for (; !st && ready < n; ready++) {
-        st = setup_view(&views[ready], scenes[ready], scenes[0]->has_observer ? &observer : NULL, &still,
-                        &reports[ready], err);
+        st = setup_view(&views[ready], scenes[ready], scenes[0]->has_observer ? &observer : NULL, orr_v3(0, 0, 0),
+                        &still, &reports[ready], err);
         views[ready].outputs = &outputs;
     }
     for (int k = 0; k < n && !st; k++) {

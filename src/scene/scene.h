@@ -223,6 +223,12 @@ typedef struct orr_scene {
     int white_smoothing;           /* animation.white_smoothing: frames over which the automatic white level
                                     * is averaged, so it follows the scene without flicker (default 0: each
                                     * frame its own); render/animation.h orr_animation_smooth_whites */
+    double shutter;                /* animation.shutter: the share of the frame interval the shutter is open,
+                                    * each particle drawn as its streak over it (default 0: no motion blur);
+                                    * render/motion_blur.h */
+    int has_frame_interval;
+    double frame_interval;         /* animation.frame_interval: simulation time between frames, which the
+                                    * shutter moves particles over (default: from animation.time) */
     int has_anim_time;
     double anim_time[2];           /* animation.time: [t0, t1], the simulation time at the first and the
                                     * last frame, linear in between (default: a sequence's first and last

@@ -435,6 +435,9 @@ static const key_spec KEYS[] = {
     {.key = "animation.fps", .type = K_NUMBER, FIELD(anim_fps), CLOSED(0.001, 1000)},
     {.key = "animation.white_smoothing", .type = K_INT, FIELD(white_smoothing), IRANGE(0, 100000)},
     {.key = "animation.time", .type = K_PAIR, FIELD(anim_time), FLAG(has_anim_time)},
+    {.key = "animation.shutter", .type = K_NUMBER, FIELD(shutter), CLOSED(0, 1)},
+    {.key = "animation.frame_interval", .type = K_NUMBER, FIELD(frame_interval), .lo = 0, .bounds = HAS_LO,
+     FLAG(has_frame_interval)},
 
     {.key = "stereo.mode", ENUM(stereo)},
     {.key = "stereo.eye_separation", .type = K_NUMBER, FIELD(eye_separation), ABOVE(0)},
