@@ -12,11 +12,15 @@ packages=(
   libfftw3-dev                       # convolution (Gaussian and PSF)
   libopenexr-dev                     # OpenEXR output, through its C API (OpenEXRCore 3.1)
   libopenimageio-dev                 # TIFF, JPEG, ... output and image reading (OpenImageIO 2.4, C++)
+  libchealpix-dev                    # the healpix projection: HEALPix's pixel search (chealpix)
   libgomp1                           # OpenMP runtime (gcc's)
   libopenmpi-dev openmpi-bin         # orrery-mpi: rendering on MPI ranks (optional at configure time)
   clang libclang-rt-dev libomp-dev   # libFuzzer for the reader fuzz targets (clang build)
   python3-astropy python3-numpy      # tests: an independent FITS WCS reader
   python3-pil                        # tests: an independent PNG reader (Pillow)
+  fitsverify                         # tests: NASA's FITS checker on the FITS outputs
+  python3-openimageio                # tests: OpenImageIO's Python bindings read the EXR back as a compositor would
+  python3-healpy                     # tests: healpy reads the HEALPix maps
   splash                             # tests and benchmark: SPLASH, the reference SPH renderer
   ffmpeg                             # orrery video: encodes frame sequences (ffmpeg; ffprobe for its tests)
   locales                            # tests: localedef makes the ','-decimal locale of test_locale

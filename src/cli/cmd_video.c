@@ -76,11 +76,12 @@ typedef struct video_options {
     int force, quiet;
 } video_options;
 
-/* A view's frames: their count, the digits of their numbers and their size. */
+/* A view's frames: their count, how they are named (the digits of their
+ * numbers found on disk) and their size. */
 typedef struct frame_set {
     char dir[ORR_PATH_MAX];
     char name[ORR_NAME_MAX];
-    int digits;
+    orr_frame_naming naming; /* the view's output.frame_* keys */
     long count;
     unsigned width, height;
 } frame_set;
@@ -218,7 +219,11 @@ static int find_program(const char *program, char *out, size_t size)
 
 static int frame_path(char *out, size_t size, const frame_set *fs, long frame)
 {
-    int n = snprintf(out, size, "%s/%s_%0*ld.png", fs->dir, fs->name, fs->digits, frame);
+    char name[ORR_NAME_MAX];
+    orr_error ignored;
+    if (orr_frame_name_fixed(&fs->naming, fs->name, frame, name, sizeof name, &ignored))
+        return 0;
+    int n = snprintf(out, size, "%s/%s.png", fs->dir, name);
     return n > 0 && (size_t)n < size;
 }
 
@@ -250,21 +255,22 @@ static orr_status png_size(const char *path, unsigned *width, unsigned *height, 
     return ORR_OK;
 }
 
-/* The largest frame number among DIR/NAME_<digits>.png, -1 when none: to
- * tell the user about frames left out after a gap. */
+/* The largest frame index (0 for the first frame, whatever its number)
+ * among DIR/NAME<separator><digits>.png, -1 when none: to tell the user
+ * about frames left out after a gap. */
 static long last_frame_number(const frame_set *fs)
 {
     DIR *d = opendir(fs->dir);
     long last = -1;
-    size_t name_len = strlen(fs->name);
+    size_t name_len = strlen(fs->name), sep_len = strlen(fs->naming.separator);
     for (struct dirent *e; d && (e = readdir(d));) {
         const char *f = e->d_name;
-        if (strncmp(f, fs->name, name_len) != 0 || f[name_len] != '_')
+        if (strncmp(f, fs->name, name_len) != 0 || strncmp(f + name_len, fs->naming.separator, sep_len) != 0)
             continue;
-        const char *digits = f + name_len + 1;
+        const char *digits = f + name_len + sep_len;
         size_t nd = strspn(digits, "0123456789");
-        if ((int)nd == fs->digits && strcmp(digits + nd, ".png") == 0) {
-            long n = strtol(digits, NULL, 10);
+        if ((int)nd == fs->naming.digits && strcmp(digits + nd, ".png") == 0) {
+            long n = (long)(strtoll(digits, NULL, 10) - fs->naming.start);
             if (n > last)
                 last = n;
         }
@@ -282,16 +288,16 @@ static orr_status find_frames(frame_set *fs, long long frames, orr_error *err)
     char path[ORR_PATH_MAX];
     fs->count = 0;
     if (frames > 0) {
-        fs->digits = orr_frame_digits((long)frames); /* the naming contract of orrery render */
+        fs->naming.digits = orr_frame_digits(&fs->naming, (long)frames); /* the naming contract of orrery render */
     } else {
         /* The run's length is unknown, so neither is the width of its frame
-         * numbers: the first width whose frame 0 exists. */
-        fs->digits = 4;
-        for (int d = 4; d <= 9; d++) {
-            fs->digits = d;
+         * numbers: the first width from the scene's whose frame 0 exists. */
+        int least = fs->naming.digits;
+        for (int d = least; d <= 18; d++) {
+            fs->naming.digits = d;
             if (frame_path(path, sizeof path, fs, 0) && is_file(path))
                 break;
-            fs->digits = 4;
+            fs->naming.digits = least;
         }
     }
     long limit = frames > 0 ? (long)frames : 1000000000L;
@@ -532,6 +538,7 @@ static orr_status prepare_view(const video_options *o, const orr_scene *view, co
     if (snprintf(fs->dir, sizeof fs->dir, "%s", dir) >= (int)sizeof fs->dir)
         return orr_fail(err, ORR_ERR_USAGE, "output directory name is too long");
     snprintf(fs->name, sizeof fs->name, "%s", view->out_name);
+    fs->naming = orr_frame_naming_of(view);
     orr_status st = output_path(o, fs, job->output, sizeof job->output, err);
     if (st)
         return st;
@@ -539,7 +546,7 @@ static orr_status prepare_view(const video_options *o, const orr_scene *view, co
         return orr_fail(err, ORR_ERR_IO, "%s exists (--force replaces it)", job->output);
     st = find_frames(fs, o->frames, err);
     if (!st) /* never a video of two runs' frames */
-        st = orr_frames_agree(fs->dir, fs->name, fs->digits, fs->count, err);
+        st = orr_frames_agree(fs->dir, fs->name, &fs->naming, fs->count, err);
     if (st)
         return st;
     if (o->frames == 0) {

@@ -148,6 +148,35 @@ static exr_result_t set_attributes(exr_context_t ctxt, int part, const orr_image
     return rv;
 }
 
+/* Whether a channel holds colour: R, G, B or luminance Y, bare or as the
+ * last part of a layer's name ("left.R"), not "xyz.Y". */
+static int is_colour_channel(const char *name)
+{
+    const char *dot = strrchr(name, '.');
+    const char *last = dot ? dot + 1 : name;
+    if (dot && dot - name >= 3 && !strncmp(dot - 3, "xyz", 3))
+        return 0;
+    return !strcmp(last, "R") || !strcmp(last, "G") || !strcmp(last, "B") || !strcmp(last, "Y");
+}
+
+/* Every RGB orrery writes is linear light in Rec. 709 / sRGB primaries with
+ * the D65 white (ITU-R BT.709, table 1.3-1.4): the chromaticities attribute
+ * says so, so colour-managed compositors do not guess. */
+static exr_result_t set_chromaticities(exr_context_t ctxt, int part, const orr_plane *const *channels,
+                                       int nchannels)
+{
+    int colour = 0;
+    for (int i = 0; i < nchannels && !colour; i++)
+        colour = is_colour_channel(channels[i]->name);
+    if (!colour)
+        return EXR_ERR_SUCCESS;
+    static const exr_attr_chromaticities_t rec709 = {
+        .red_x = 0.64f, .red_y = 0.33f, .green_x = 0.30f, .green_y = 0.60f,
+        .blue_x = 0.15f, .blue_y = 0.06f, .white_x = 0.3127f, .white_y = 0.3290f,
+    };
+    return exr_attr_set_chromaticities(ctxt, part, "chromaticities", &rec709);
+}
+
 static int needs_long_names(const orr_plane *const *channels, int nchannels, const orr_image_meta *meta)
 {
     for (int i = 0; i < nchannels; i++)
@@ -233,6 +262,8 @@ static orr_status encode(const char *temp_path, const char *path, const orr_plan
                              EXR_PERCEPTUALLY_LOGARITHMIC, 1, 1);
     if (rv == EXR_ERR_SUCCESS)
         rv = set_attributes(ctxt, part, meta, text);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = set_chromaticities(ctxt, part, channels, nchannels);
     if (rv == EXR_ERR_SUCCESS)
         rv = exr_write_header(ctxt);
     if (rv == EXR_ERR_SUCCESS)

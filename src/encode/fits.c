@@ -114,7 +114,9 @@ static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_fits_heade
         errno = 0; /* so a failed write's errno is its own (see system_errno) */
         fits_write_pixll(f, TFLOAT, first, p->width, row, status);
     }
-    return *status;
+    /* Last, over the final header and data, so astropy and fitsverify can
+     * prove the HDU arrived intact (a truncated copy, a flipped bit). */
+    return fits_write_chksum(f, status);
 }
 
 /* The system's reason for a failed cfitsio call (ENOSPC, EFBIG, EIO...),
@@ -161,14 +163,16 @@ static orr_status fits_failure(const char *path, int status, int sys_errno, orr_
     return orr_fail(err, ORR_ERR_IO, "%s: cannot write FITS file: %s", path, text);
 }
 
-orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes,
-                          const orr_fits_header *header, orr_error *err)
+/* What goes into a FITS file between creating and closing it. */
+typedef int (*fits_body_fn)(fitsfile *f, const void *ctx, int *status, int *sys_errno);
+
+/* Creates path atomically, has body write its HDUs, and closes it; any
+ * failure removes the temporary file and names cfitsio's (or the
+ * system's) reason. */
+static orr_status write_fits_file(const char *path, fits_body_fn body, const void *ctx, orr_error *err)
 {
-    orr_status st = check_planes(path, planes, nplanes, err);
-    if (st != ORR_OK)
-        return st;
     orr_atomic_file af;
-    st = orr_atomic_begin(&af, path, err);
+    orr_status st = orr_atomic_begin(&af, path, err);
     if (st != ORR_OK)
         return st;
 
@@ -185,11 +189,7 @@ orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes
         af.temp_path[0] = '\0';
         return fits_failure(path, status, system_errno(status), err);
     }
-    for (int i = 0; i < nplanes && status == 0; i++) {
-        errno = 0;
-        if (write_plane_hdu(f, &planes[i], header, &status))
-            sys_errno = system_errno(status);
-    }
+    body(f, ctx, &status, &sys_errno);
     int close_status = 0;
     errno = 0;
     if (f && fits_close_file(f, &close_status) && !status)
@@ -201,4 +201,98 @@ orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes
         return fits_failure(path, status, sys_errno, err);
     }
     return orr_atomic_commit(&af, err);
+}
+
+typedef struct image_body {
+    const orr_plane *planes;
+    int nplanes;
+    const orr_fits_header *header;
+} image_body;
+
+static int write_image_hdus(fitsfile *f, const void *ctx, int *status, int *sys_errno)
+{
+    const image_body *b = ctx;
+    for (int i = 0; i < b->nplanes && *status == 0; i++) {
+        errno = 0;
+        if (write_plane_hdu(f, &b->planes[i], b->header, status))
+            *sys_errno = system_errno(*status);
+    }
+    return *status;
+}
+
+orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes,
+                          const orr_fits_header *header, orr_error *err)
+{
+    orr_status st = check_planes(path, planes, nplanes, err);
+    if (st != ORR_OK)
+        return st;
+    image_body b = {planes, nplanes, header};
+    return write_fits_file(path, write_image_hdus, &b, err);
+}
+
+/* ---- HEALPix maps ---- */
+
+typedef struct healpix_body {
+    const orr_plane *planes;
+    int nplanes;
+    const orr_healpix_info *info;
+    const orr_fits_header *header;
+} healpix_body;
+
+/* The HEALPix keywords (the HEALPix FITS convention, as healpy and the
+ * HEALPix libraries write and read them). */
+static void write_healpix_keys(fitsfile *f, const orr_healpix_info *info, long npix, int *status)
+{
+    long nside = info->nside, first = 0, last = npix - 1;
+    write_string_key(f, "PIXTYPE", "HEALPIX", "HEALPix pixelisation", status);
+    write_string_key(f, "ORDERING", info->nested ? "NESTED" : "RING", "pixel ordering scheme", status);
+    fits_update_key(f, TLONG, "NSIDE", &nside, "resolution parameter", status);
+    fits_update_key(f, TLONG, "FIRSTPIX", &first, "first pixel number (0-based)", status);
+    fits_update_key(f, TLONG, "LASTPIX", &last, "last pixel number (0-based)", status);
+    write_string_key(f, "INDXSCHM", "IMPLICIT", "indexing: implicit (every pixel, in order)", status);
+    write_string_key(f, "OBJECT", "FULLSKY", "sky coverage", status);
+    if (info->coordsys && info->coordsys[0])
+        write_string_key(f, "COORDSYS", info->coordsys, "coordinate system", status);
+}
+
+/* An empty primary HDU, then one binary table: a float column per plane,
+ * one row per pixel. */
+static int write_healpix_hdus(fitsfile *f, const void *ctx, int *status, int *sys_errno)
+{
+    const healpix_body *b = ctx;
+    long npix = (long)b->planes[0].width * b->planes[0].height;
+    fits_create_img(f, FLOAT_IMG, 0, NULL, status);
+    fits_write_chksum(f, status);
+    char *ttype[3], *tform[3], *tunit[3], forms[3][4];
+    for (int i = 0; i < b->nplanes; i++) {
+        ttype[i] = (char *)b->planes[i].name;
+        tunit[i] = (char *)b->planes[i].unit;
+        snprintf(forms[i], sizeof forms[i], "1E");
+        tform[i] = forms[i];
+    }
+    fits_create_tbl(f, BINARY_TBL, npix, b->nplanes, ttype, tform, tunit, "xtension", status);
+    write_healpix_keys(f, b->info, npix, status);
+    for (int i = 0; b->header && i < b->header->n; i++)
+        write_card(f, &b->header->cards[i], status);
+    fits_write_date(f, status);
+    for (int i = 0; i < b->nplanes && *status == 0; i++) {
+        errno = 0;
+        if (fits_write_col(f, TFLOAT, i + 1, 1, 1, npix, b->planes[i].data, status))
+            *sys_errno = system_errno(*status);
+    }
+    return fits_write_chksum(f, status);
+}
+
+orr_status orr_write_healpix_fits(const char *path, const orr_plane *planes, int nplanes,
+                                  const orr_healpix_info *info, const orr_fits_header *header, orr_error *err)
+{
+    orr_status st = check_planes(path, planes, nplanes, err);
+    if (st != ORR_OK)
+        return st;
+    long npix = 12L * info->nside * info->nside;
+    if (nplanes > 3 || (long)planes[0].width * planes[0].height != npix)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: %d planes of %d x %d pixels are no HEALPix map of nside %d", path,
+                        nplanes, planes[0].width, planes[0].height, info->nside);
+    healpix_body b = {planes, nplanes, info, header};
+    return write_fits_file(path, write_healpix_hdus, &b, err);
 }

@@ -39,4 +39,20 @@ void orr_fits_add_bool(orr_fits_header *h, const char *key, int value, const cha
 orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes,
                           const orr_fits_header *header, orr_error *err);
 
+/* A HEALPix map's description, for its FITS header. */
+typedef struct orr_healpix_info {
+    int nside;
+    int nested;           /* NESTED order, else RING */
+    const char *coordsys; /* "G" for galactic axes, NULL or "" when unknown */
+} orr_healpix_info;
+
+/* Writes a HEALPix map (each plane 12 nside^2 pixels in pixel order, at most
+ * 3) as a standard HEALPix FITS file, atomically: an empty primary HDU and a
+ * binary table with one float column per plane (TTYPE the plane's name,
+ * TUNIT its unit), one row per pixel, the HEALPix keywords (PIXTYPE,
+ * ORDERING, NSIDE, FIRSTPIX, LASTPIX, INDXSCHM, OBJECT, COORDSYS) and the
+ * caller's cards. healpy.read_map reads it. */
+orr_status orr_write_healpix_fits(const char *path, const orr_plane *planes, int nplanes,
+                                  const orr_healpix_info *info, const orr_fits_header *header, orr_error *err);
+
 #endif

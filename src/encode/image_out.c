@@ -244,7 +244,7 @@ static orr_status split_rgb(const float *rgb, int width, int height, int linear,
     return ORR_OK;
 }
 
-static orr_status write_rgb_png(const char *path, const float *rgb, int width, int height, int bits,
+static orr_status write_rgb_png(const char *path, const float *rgb, int channels, int width, int height, int bits,
                                 const orr_image_meta *meta, orr_error *err)
 {
     size_t len = orr_image_meta_text(meta, NULL, 0);
@@ -258,7 +258,7 @@ static orr_status write_rgb_png(const char *path, const float *rgb, int width, i
     if (meta && meta->scene && meta->scene[0])
         chunks[n++] = (orr_png_text){"Title", meta->scene};
     chunks[n++] = (orr_png_text){"Description", text};
-    orr_status st = orr_write_png_rgb(path, width, height, rgb, bits, chunks, n, err);
+    orr_status st = orr_write_png(path, width, height, rgb, channels, bits, chunks, n, err);
     free(text);
     return st;
 }
@@ -275,7 +275,7 @@ orr_status orr_write_image_rgb(const char *path, const float *rgb, int width, in
         return st;
     orr_image_format f = orr_image_format_for_path(path);
     if (f == ORR_IMAGE_PNG)
-        return write_rgb_png(path, rgb, width, height, bits, meta, err);
+        return write_rgb_png(path, rgb, 3, width, height, bits, meta, err);
     if (f == ORR_IMAGE_OIIO && bits != 32)
         return orr_write_oiio(path, rgb, width, height, 3, bits, meta, err);
     if (bits != 8 && bits != 16 && bits != 32)
@@ -312,6 +312,23 @@ orr_status orr_write_image_rgb(const char *path, const float *rgb, int width, in
     for (int c = 0; c < 3; c++)
         orr_plane_free(&planes[c]);
     return st;
+}
+
+orr_status orr_write_image_picture(const char *path, const float *rgb, const float *rgba, int width, int height,
+                                   int bits, const orr_image_meta *meta, orr_error *err)
+{
+    orr_image_format f = path ? orr_image_format_for_path(path) : ORR_IMAGE_PNG;
+    int with_alpha = rgba && (f == ORR_IMAGE_PNG || (f == ORR_IMAGE_OIIO && bits != 32));
+    if (!with_alpha)
+        return orr_write_image_rgb(path, rgb, width, height, bits, meta, err);
+    if (width <= 0 || height <= 0)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: empty image (%d x %d)", path, width, height);
+    orr_status st = orr_image_meta_check(meta, path, err);
+    if (st != ORR_OK)
+        return st;
+    if (f == ORR_IMAGE_PNG)
+        return write_rgb_png(path, rgba, 4, width, height, bits, meta, err);
+    return orr_write_oiio(path, rgba, width, height, 4, bits, meta, err);
 }
 
 orr_status orr_write_image_planes(const char *path, const orr_plane *planes, int nplanes,

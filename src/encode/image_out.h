@@ -90,6 +90,14 @@ const char *orr_image_format_name(orr_image_format f); /* "PNG", "FITS", ... */
 orr_status orr_write_image_rgb(const char *path, const float *rgb, int width, int height, int bits,
                                const orr_image_meta *meta, orr_error *err);
 
+/* The picture with an alpha (output.alpha_mask): rgba holds width * height
+ * * 4 values, the picture's RGB then the alpha in [0, 1]. PNG and the 8- and
+ * 16-bit formats of OpenImageIO (TIFF, ...) get RGBA; the others, and any
+ * format when rgba is NULL, get orr_write_image_rgb of rgb (a linear
+ * OpenEXR's alpha comes with output.exr instead). */
+orr_status orr_write_image_picture(const char *path, const float *rgb, const float *rgba, int width, int height,
+                                   int bits, const orr_image_meta *meta, orr_error *err);
+
 /* Writes linear planes (all the same size) unchanged, as float:
  *   FITS:  orr_write_fits, the metadata as cards.
  *   EXR:   orr_write_exr, one float channel per plane, named after it.

@@ -42,9 +42,9 @@ static unsigned quantize(float v, unsigned max)
     return (unsigned)((double)v * max + 0.5);
 }
 
-static void fill_row(const float *rgb, int width, int bits, png_bytep row)
+static void fill_row(const float *rgb, int width, int channels, int bits, png_bytep row)
 {
-    size_t n = (size_t)width * 3;
+    size_t n = (size_t)width * (size_t)channels;
     if (bits == 8) {
         for (size_t i = 0; i < n; i++)
             row[i] = (png_byte)quantize(rgb[i], 255);
@@ -61,8 +61,8 @@ static void fill_row(const float *rgb, int width, int bits, png_bytep row)
  * destruction of the write structures. Every local used after a longjmp is
  * set before the setjmp and never changed afterwards, so none needs to be
  * volatile. */
-static int encode(FILE *fp, int width, int height, const float *rgb, int bits, png_textp texts, int ntext,
-                  png_bytep row, png_failure *fail)
+static int encode(FILE *fp, int width, int height, const float *rgb, int channels, int bits, png_textp texts,
+                  int ntext, png_bytep row, png_failure *fail)
 {
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, fail, on_png_error, on_png_warning);
     if (!png) {
@@ -80,7 +80,8 @@ static int encode(FILE *fp, int width, int height, const float *rgb, int bits, p
         return 0;
     }
     png_init_io(png, fp);
-    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, bits, PNG_COLOR_TYPE_RGB,
+    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, bits,
+                 channels == 4 ? PNG_COLOR_TYPE_RGB_ALPHA : PNG_COLOR_TYPE_RGB,
                  PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     /* The values are sRGB-encoded already: say so, for colour-managed viewers. */
     png_set_sRGB_gAMA_and_cHRM(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
@@ -88,7 +89,7 @@ static int encode(FILE *fp, int width, int height, const float *rgb, int bits, p
         png_set_text(png, info, texts, ntext);
     png_write_info(png, info);
     for (int y = 0; y < height; y++) {
-        fill_row(rgb + (size_t)y * (size_t)width * 3, width, bits, row);
+        fill_row(rgb + (size_t)y * (size_t)width * (size_t)channels, width, channels, bits, row);
         png_write_row(png, row);
     }
     png_write_end(png, info);
@@ -96,11 +97,13 @@ static int encode(FILE *fp, int width, int height, const float *rgb, int bits, p
     return 1;
 }
 
-static orr_status check_args(const char *path, int width, int height, const float *rgb, int bits,
+static orr_status check_args(const char *path, int width, int height, const float *rgb, int channels, int bits,
                              const orr_png_text *text, int ntext, orr_error *err)
 {
     if (!path || !path[0])
         return orr_fail(err, ORR_ERR_USAGE, "PNG output: no file name given");
+    if (channels != 3 && channels != 4)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: PNG channels must be 3 (RGB) or 4 (RGBA), not %d", path, channels);
     if (bits != 8 && bits != 16)
         return orr_fail(err, ORR_ERR_USAGE, "%s: PNG bit depth must be 8 or 16, not %d", path, bits);
     if (width <= 0 || height <= 0 || !rgb)
@@ -130,10 +133,10 @@ static png_textp make_texts(const orr_png_text *text, int ntext, orr_error *err)
 }
 
 /* Encodes into the temporary file that orr_atomic_begin created. */
-static orr_status write_temp(const char *temp_path, const char *path, int width, int height,
-                             const float *rgb, int bits, png_textp texts, int ntext, orr_error *err)
+static orr_status write_temp(const char *temp_path, const char *path, int width, int height, const float *rgb,
+                             int channels, int bits, png_textp texts, int ntext, orr_error *err)
 {
-    png_bytep row = orr_malloc((size_t)width * 3 * (size_t)(bits / 8), "PNG row", err);
+    png_bytep row = orr_malloc((size_t)width * (size_t)channels * (size_t)(bits / 8), "PNG row", err);
     if (!row)
         return ORR_ERR_NOMEM;
     FILE *fp = fopen(temp_path, "wb");
@@ -143,7 +146,7 @@ static orr_status write_temp(const char *temp_path, const char *path, int width,
         return orr_fail(err, ORR_ERR_IO, "%s: cannot open %s: %s", path, temp_path, strerror(e));
     }
     png_failure fail = {""};
-    int ok = encode(fp, width, height, rgb, bits, texts, ntext, row, &fail);
+    int ok = encode(fp, width, height, rgb, channels, bits, texts, ntext, row, &fail);
     free(row);
     /* Write errors can surface only when the buffer is flushed at close. */
     int write_error = ferror(fp);
@@ -160,10 +163,10 @@ static orr_status write_temp(const char *temp_path, const char *path, int width,
     return ORR_OK;
 }
 
-orr_status orr_write_png_rgb(const char *path, int width, int height, const float *rgb, int bits,
-                             const orr_png_text *text, int ntext, orr_error *err)
+orr_status orr_write_png(const char *path, int width, int height, const float *pixels, int channels, int bits,
+                        const orr_png_text *text, int ntext, orr_error *err)
 {
-    orr_status st = check_args(path, width, height, rgb, bits, text, ntext, err);
+    orr_status st = check_args(path, width, height, pixels, channels, bits, text, ntext, err);
     if (st != ORR_OK)
         return st;
     png_textp texts = make_texts(text, ntext, err);
@@ -172,7 +175,7 @@ orr_status orr_write_png_rgb(const char *path, int width, int height, const floa
     orr_atomic_file af;
     st = orr_atomic_begin(&af, path, err);
     if (st == ORR_OK) {
-        st = write_temp(af.temp_path, path, width, height, rgb, bits, texts, ntext, err);
+        st = write_temp(af.temp_path, path, width, height, pixels, channels, bits, texts, ntext, err);
         if (st == ORR_OK)
             st = orr_atomic_commit(&af, err);
         else
@@ -180,4 +183,10 @@ orr_status orr_write_png_rgb(const char *path, int width, int height, const floa
     }
     free(texts);
     return st;
+}
+
+orr_status orr_write_png_rgb(const char *path, int width, int height, const float *rgb, int bits,
+                             const orr_png_text *text, int ntext, orr_error *err)
+{
+    return orr_write_png(path, width, height, rgb, 3, bits, text, ntext, err);
 }

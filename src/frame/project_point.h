@@ -21,6 +21,7 @@ typedef struct orr_proj_consts {
     float hw, hh, sgn; /* Hammer-Aitoff: semi-axes, longitude sign */
     float ax, ay;      /* equirectangular: pixels per radian of longitude (signed) and latitude */
     float tmax;        /* dome: the largest angle from the zenith */
+    const orr_projection *proj; /* HEALPix: its pixel search takes the projection */
 } orr_proj_consts;
 
 static inline orr_proj_consts orr_proj_consts_of(const orr_projection *p)
@@ -36,6 +37,7 @@ static inline orr_proj_consts orr_proj_consts_of(const orr_projection *p)
     k.ax = (float)(p->lon_sign * p->width / (2.0 * ORR_PI));
     k.ay = (float)(p->height / ORR_PI);
     k.tmax = (float)p->theta_max;
+    k.proj = p;
     return k;
 }
 
@@ -110,6 +112,19 @@ static inline orr_projected orr_project_dome_f(const orr_proj_consts *k, float x
     return q;
 }
 
+/* HEALPix: the centre of the pixel the direction falls in (not
+ * vectorised: the pixel search is chealpix's). */
+static inline orr_projected orr_project_healpix_f(const orr_proj_consts *k, float x, float y, float z)
+{
+    float r2 = x * x + y * y + z * z;
+    int vis = r2 > 0.0f;
+    long pix = vis ? orr_healpix_pixel(k->proj, x, y, z) : 0;
+    int width = k->proj->width;
+    orr_projected q = {(float)(pix % width) + 0.5f, (float)(pix / width) + 0.5f,
+                       vis ? k->f / sqrtf(r2) : 0.0f, vis};
+    return q;
+}
+
 static inline orr_projected orr_project_point_f(orr_projection_kind kind, const orr_proj_consts *k, float x,
                                                 float y, float z)
 {
@@ -118,6 +133,7 @@ static inline orr_projected orr_project_point_f(orr_projection_kind kind, const 
     case ORR_PROJ_PERSPECTIVE: return orr_project_perspective_f(k, x, y, z);
     case ORR_PROJ_HAMMER_AITOFF: return orr_project_hammer_aitoff_f(k, x, y, z);
     case ORR_PROJ_EQUIRECTANGULAR: return orr_project_equirectangular_f(k, x, y, z);
+    case ORR_PROJ_HEALPIX: return orr_project_healpix_f(k, x, y, z);
     case ORR_PROJ_DOME: break;
     }
     return orr_project_dome_f(k, x, y, z);

@@ -1,6 +1,7 @@
 #include "frame/projection.h"
 #include "core/simd.h"
 
+#include <chealpix.h>
 #include <math.h>
 
 #include "core/fastmath.h"
@@ -14,8 +15,37 @@ const char *orr_projection_name(orr_projection_kind kind)
     case ORR_PROJ_HAMMER_AITOFF: return "hammer-aitoff";
     case ORR_PROJ_DOME: return "dome";
     case ORR_PROJ_EQUIRECTANGULAR: return "equirectangular";
+    case ORR_PROJ_HEALPIX: return "healpix";
     }
     return "unknown";
+}
+
+/* The 12 nside^2 pixels, as a 4 nside x 3 nside image in pixel order: the
+ * planes are then the map itself. Each covers 4 pi / npix sr. */
+static orr_status setup_healpix(orr_projection *p, orr_error *err)
+{
+    int n = p->healpix_nside;
+    if (n < 1 || n > ORR_HEALPIX_NSIDE_MAX || (n & (n - 1)) != 0)
+        return orr_fail(err, ORR_ERR_USAGE, "HEALPix nside %d must be a power of 2 from 1 to %d", n,
+                        ORR_HEALPIX_NSIDE_MAX);
+    p->width = 4 * n;
+    p->height = 3 * n;
+    p->cx = 0.5 * p->width;
+    p->cy = 0.5 * p->height;
+    p->focal = sqrt(12.0 * n * n / (4.0 * ORR_PI));
+    p->lon_sign = -1.0;
+    return ORR_OK;
+}
+
+long orr_healpix_pixel(const orr_projection *p, double x, double y, double z)
+{
+    double v[3] = {z, -x, -y}; /* HEALPix's x toward phi = 0, its z the pole */
+    long ipix = 0;
+    if (p->healpix_nested)
+        vec2pix_nest(p->healpix_nside, v, &ipix);
+    else
+        vec2pix_ring(p->healpix_nside, v, &ipix);
+    return ipix;
 }
 
 orr_status orr_projection_setup(orr_projection *p, orr_error *err)
@@ -58,6 +88,8 @@ orr_status orr_projection_setup(orr_projection *p, orr_error *err)
         p->focal = sqrt((double)p->width * p->height / (2.0 * ORR_PI * ORR_PI));
         p->lon_sign = p->lon_flip ? 1.0 : -1.0;
         return ORR_OK;
+    case ORR_PROJ_HEALPIX:
+        return setup_healpix(p, err);
     case ORR_PROJ_DOME:
         if (!(p->dome_fov_deg >= 90 && p->dome_fov_deg <= 360))
             return orr_fail(err, ORR_ERR_USAGE, "dome field of view %g degrees must lie between 90 and 360",
@@ -130,6 +162,15 @@ int orr_project_point(const orr_projection *p, orr_vec3 c, double *px, double *p
         *scale = p->focal / sqrt(fmax(cos(b), 1e-6)) / r;
         return 1;
     }
+    case ORR_PROJ_HEALPIX: {
+        if (!(r > 0))
+            return 0;
+        long k = orr_healpix_pixel(p, c.x, c.y, c.z);
+        *px = (double)(k % p->width) + 0.5;
+        *py = (double)(k / p->width) + 0.5;
+        *scale = p->focal / r;
+        return 1;
+    }
     case ORR_PROJ_DOME: {
         double rho = sqrt(c.x * c.x + c.y * c.y);
         double theta = atan2(rho, c.z);
@@ -180,9 +221,23 @@ PROJECT_LOOP(project_hammer_aitoff, ORR_PROJ_HAMMER_AITOFF)
 PROJECT_LOOP(project_equirectangular, ORR_PROJ_EQUIRECTANGULAR)
 PROJECT_LOOP(project_dome, ORR_PROJ_DOME)
 
+/* HEALPix's pixel search (chealpix) does not vectorise: a plain loop. */
+static void project_healpix(const orr_projection *p, size_t n, const float *x, const float *y, const float *z,
+                            float *px, float *py, float *scale, uint8_t *visible)
+{
+    for (size_t i = 0; i < n; i++) {
+        double sx, sy, s;
+        visible[i] = (uint8_t)orr_project_point(p, orr_v3(x[i], y[i], z[i]), &sx, &sy, &s);
+        px[i] = visible[i] ? (float)sx : 0.0f;
+        py[i] = visible[i] ? (float)sy : 0.0f;
+        scale[i] = visible[i] ? (float)s : 0.0f;
+    }
+}
+
 int orr_projection_is_sky(const orr_projection *p)
 {
-    return p->kind == ORR_PROJ_HAMMER_AITOFF || p->kind == ORR_PROJ_DOME || p->kind == ORR_PROJ_EQUIRECTANGULAR;
+    return p->kind == ORR_PROJ_HAMMER_AITOFF || p->kind == ORR_PROJ_DOME || p->kind == ORR_PROJ_EQUIRECTANGULAR ||
+           p->kind == ORR_PROJ_HEALPIX;
 }
 
 int orr_projection_pixel_in_map(const orr_projection *p, int i, int j)
@@ -278,6 +333,8 @@ double orr_pixel_measure(const orr_projection *p, int i, int j)
     }
     case ORR_PROJ_HAMMER_AITOFF:
         return 4.0 * ORR_PI / (ORR_PI * p->half_w * p->half_h);
+    case ORR_PROJ_HEALPIX:
+        return 4.0 * ORR_PI / ((double)p->width * p->height);
     case ORR_PROJ_EQUIRECTANGULAR: {
         double top = (p->cy - j) * ORR_PI / p->height, bottom = (p->cy - j - 1) * ORR_PI / p->height;
         return 2.0 * ORR_PI / p->width * (sin(top) - sin(bottom));
@@ -331,6 +388,9 @@ void orr_project_batch(const orr_projection *p, size_t n, const float *x, const 
     case ORR_PROJ_DOME:
         project_dome(p, n, x, y, z, px, py, scale, visible);
         return;
+    case ORR_PROJ_HEALPIX:
+        project_healpix(p, n, x, y, z, px, py, scale, visible);
+        return;
     }
 }
 
@@ -376,6 +436,21 @@ static int unproject_equirectangular(const orr_projection *p, double px, double 
     return 1;
 }
 
+/* The centre of the HEALPix pixel under (px, py). */
+static int unproject_healpix(const orr_projection *p, double px, double py, orr_vec3 *dir)
+{
+    if (!(px >= 0 && px < p->width && py >= 0 && py < p->height))
+        return 0;
+    long k = (long)py * p->width + (long)px;
+    double v[3];
+    if (p->healpix_nested)
+        pix2vec_nest(p->healpix_nside, k, v);
+    else
+        pix2vec_ring(p->healpix_nside, k, v);
+    *dir = orr_v3(-v[1], -v[2], v[0]);
+    return 1;
+}
+
 int orr_unproject(const orr_projection *p, double px, double py, orr_vec3 *dir)
 {
     switch (p->kind) {
@@ -395,6 +470,8 @@ int orr_unproject(const orr_projection *p, double px, double py, orr_vec3 *dir)
         return unproject_dome(p, px, py, dir);
     case ORR_PROJ_EQUIRECTANGULAR:
         return unproject_equirectangular(p, px, py, dir);
+    case ORR_PROJ_HEALPIX:
+        return unproject_healpix(p, px, py, dir);
     }
     return 0;
 }

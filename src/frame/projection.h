@@ -18,9 +18,12 @@ typedef enum {
     ORR_PROJ_HAMMER_AITOFF,   /* full sky in a 2:1 ellipse, centre = view direction */
     ORR_PROJ_DOME,            /* azimuthal equidistant dome master, centre = dome zenith */
     ORR_PROJ_EQUIRECTANGULAR, /* full sky, longitude linear in x, 2:1 */
+    ORR_PROJ_HEALPIX,         /* full sky in HEALPix's equal-area pixels (pixel k is image pixel
+                               * (k mod 4 nside, k div 4 nside)); NGP deposits only */
 } orr_projection_kind;
 
 #define ORR_IMAGE_SIDE_MAX 65536
+#define ORR_HEALPIX_NSIDE_MAX 4096
 
 typedef struct orr_projection {
     orr_projection_kind kind;
@@ -32,6 +35,8 @@ typedef struct orr_projection {
                          * centre moves right by this much); 0 by default. Stereo's off-axis
                          * convergence shifts each eye's image this way (frame/stereo.h). */
     double dome_fov_deg;/* dome: full angle across the dome (180 for a hemisphere), 90 to 360 */
+    int healpix_nside;  /* HEALPix: a power of 2, 1 to ORR_HEALPIX_NSIDE_MAX */
+    int healpix_nested; /* HEALPix: NESTED pixel order (else RING) */
     int lon_flip;       /* sky maps: longitude grows to the right ("outside looking in");
                          * by default it grows to the left, as on the sky seen from inside */
 
@@ -43,6 +48,12 @@ typedef struct orr_projection {
     double theta_max;   /* dome: half the field of view, radians */
     double lon_sign;    /* sky: -1 when longitude grows to the left (the default), +1 when flipped */
 } orr_projection;
+
+/* The HEALPix pixel (Gorski et al. 2005, ApJ 622, 759) of camera-frame
+ * direction (x, y, z), not zero: the map's pole (theta = 0) is the camera's
+ * up (-y) and longitude phi = 0 its view direction (+z), growing toward its
+ * left (-x), like l on the other sky maps. */
+long orr_healpix_pixel(const orr_projection *p, double x, double y, double z);
 
 /* Whether the projection covers directions all around (sky projections);
  * their deposits fold pixels outside the map back onto it instead of

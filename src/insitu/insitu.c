@@ -114,8 +114,9 @@ static orr_status frame_views(orrery_renderer *r, long frame, long nframes)
         orr_scene *s = &r->frame_views[k];
         *s = r->views.view[k];
         s->anim_frames = nframes;
-        orr_status st = orr_frame_name(r->views.view[k].out_name, frame, nframes, s->out_name, sizeof s->out_name,
-                                       &r->err);
+        orr_frame_naming naming = orr_frame_naming_of(&r->views.view[k]);
+        orr_status st = orr_frame_name(&naming, r->views.view[k].out_name, frame, nframes, s->out_name,
+                                       sizeof s->out_name, &r->err);
         if (st)
             return st;
     }

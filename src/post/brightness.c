@@ -18,7 +18,17 @@ void orr_to_surface_brightness(const orr_projection *p, orr_plane *planes, int n
     }
 }
 
-void orr_brightness_unit(const orr_projection *p, const char *weight_unit, char *out, size_t size)
+void orr_brightness_unit(const orr_projection *p, const char *weight_unit, const char *length_unit, char *out,
+                         size_t size)
 {
-    snprintf(out, size, "%s/%s", weight_unit, p->kind == ORR_PROJ_ORTHOGRAPHIC ? "area" : "sr");
+    const char *w = weight_unit ? weight_unit : "";
+    const char *l = length_unit ? length_unit : "";
+    /* FITS unit strings multiply by juxtaposition and divide by negative
+     * powers ("solMass sr-1"): a "/" would divide everything after it. */
+    if (p->kind != ORR_PROJ_ORTHOGRAPHIC)
+        snprintf(out, size, "%s%ssr-1", w, w[0] ? " " : "");
+    else if (l[0])
+        snprintf(out, size, "%s%s%s-2", w, w[0] ? " " : "", l);
+    else
+        snprintf(out, size, "%s", ""); /* per an unknown area: no unit can say it */
 }

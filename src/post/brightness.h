@@ -16,9 +16,13 @@
  * that pixel alone, so it is the same on any thread count. */
 void orr_to_surface_brightness(const orr_projection *p, orr_plane *planes, int n);
 
-/* The unit of a plane of surface brightness of weights in `weight_unit`:
- * "UNIT/sr" for sky maps and perspective, "UNIT/area" (per squared scene
- * unit) for orthographic. */
-void orr_brightness_unit(const orr_projection *p, const char *weight_unit, char *out, size_t size);
+/* The FITS unit (FITS standard 4.0, section 4.3; astropy's "fits" format
+ * parses it) of a plane of surface brightness of weights in weight_unit:
+ * "W sr-1" for sky maps and perspective, "W L-2" per squared length_unit for
+ * orthographic. An empty weight_unit is an unknown one: the weight is then a
+ * pure number ("sr-1"). An orthographic plane without a length unit gets ""
+ * (no BUNIT): per an unknown area has no FITS unit. */
+void orr_brightness_unit(const orr_projection *p, const char *weight_unit, const char *length_unit, char *out,
+                         size_t size);
 
 #endif

@@ -46,21 +46,52 @@ long orr_animation_count(const orr_animation_options *opt, long nframes)
     return first > last ? 0 : (last - first) / stride + 1;
 }
 
-int orr_frame_digits(long nframes)
+orr_frame_naming orr_frame_naming_of(const orr_scene *s)
 {
-    int digits = 4;
-    for (long top = 10000; nframes - 1 >= top && digits < 18; top *= 10)
+    orr_frame_naming f = ORR_FRAME_NAMING_DEFAULT;
+    f.start = s->frame_start;
+    if (s->frame_digits > 0)
+        f.digits = s->frame_digits;
+    if (s->frame_separator[0])
+        f.separator = s->frame_separator;
+    return f;
+}
+
+int orr_frame_digits(const orr_frame_naming *f, long nframes)
+{
+    int digits = f->digits > 0 ? f->digits : 4;
+    long long last = f->start + (nframes > 0 ? nframes - 1 : 0), top = 1;
+    for (int k = 0; k < digits && top <= last; k++)
+        top *= 10;
+    /* Widened rather than refused: a name with one digit more still sorts
+     * and plays in order, a run stopped at its 10^digits-th frame does not. */
+    for (; last >= top && digits < 18; top *= 10)
         digits++;
     return digits;
 }
 
-orr_status orr_frame_name(const char *name, long frame, long nframes, char *out, size_t size, orr_error *err)
+orr_status orr_frame_name_fixed(const orr_frame_naming *f, const char *name, long frame, char *out, size_t size,
+                                orr_error *err)
 {
-    int n = nframes <= 1 ? snprintf(out, size, "%s", name)
-                         : snprintf(out, size, "%s_%0*ld", name, orr_frame_digits(nframes), frame);
+    int n = snprintf(out, size, "%s%s%0*lld", name, f->separator ? f->separator : "_", f->digits,
+                     f->start + (long long)frame);
     if (n < 0 || (size_t)n >= size)
         return orr_fail(err, ORR_ERR_USAGE, "output name %s with a frame number is too long", name);
     return ORR_OK;
+}
+
+orr_status orr_frame_name(const orr_frame_naming *f, const char *name, long frame, long nframes, char *out,
+                          size_t size, orr_error *err)
+{
+    if (nframes <= 1) {
+        int n = snprintf(out, size, "%s", name);
+        if (n < 0 || (size_t)n >= size)
+            return orr_fail(err, ORR_ERR_USAGE, "output name %s is too long", name);
+        return ORR_OK;
+    }
+    orr_frame_naming wide = *f;
+    wide.digits = orr_frame_digits(f, nframes);
+    return orr_frame_name_fixed(&wide, name, frame, out, size, err);
 }
 
 /* ---- frame markers ----
@@ -537,14 +568,16 @@ static orr_status same_making(const char *first, long first_k, const char *marke
                     path, k, first_k, first_k, k, why);
 }
 
-orr_status orr_frames_agree(const char *dir, const char *name, int digits, long count, orr_error *err)
+orr_status orr_frames_agree(const char *dir, const char *name, const orr_frame_naming *f, long count,
+                            orr_error *err)
 {
     char *first = NULL;
     long first_k = -1;
     orr_status st = ORR_OK;
     for (long k = 0; k < count && !st; k++) {
-        char path[ORR_PATH_MAX];
-        if (snprintf(path, sizeof path, "%s/" MARKER_DIR "/%s_%0*ld.done", dir, name, digits, k) >= (int)sizeof path)
+        char path[ORR_PATH_MAX], frame_name[ORR_NAME_MAX];
+        st = orr_frame_name_fixed(f, name, k, frame_name, sizeof frame_name, err);
+        if (!st && snprintf(path, sizeof path, "%s/" MARKER_DIR "/%s.done", dir, frame_name) >= (int)sizeof path)
             st = orr_fail(err, ORR_ERR_USAGE, "frame marker path for %s/%s is too long", dir, name);
         char *marker = st ? NULL : read_marker(path);
         if (!marker)
@@ -568,7 +601,8 @@ static orr_status frame_scenes(const orr_scene *const *views, int n, long frame,
 {
     for (int k = 0; k < n; k++) {
         out[k] = *views[k];
-        orr_status st = orr_frame_name(views[k]->out_name, frame, views[k]->anim_frames, out[k].out_name,
+        orr_frame_naming naming = orr_frame_naming_of(views[k]);
+        orr_status st = orr_frame_name(&naming, views[k]->out_name, frame, views[k]->anim_frames, out[k].out_name,
                                        sizeof out[k].out_name, err);
         if (st)
             return st;

@@ -31,13 +31,34 @@ orr_animation_options orr_animation_defaults(void);
 /* The frames opt selects of a run of nframes: how many, and the first. */
 long orr_animation_count(const orr_animation_options *opt, long nframes);
 
-/* Digits of the frame numbers in a run of nframes: 4, more when the last
- * frame number needs them. */
-int orr_frame_digits(long nframes);
+/* How frame numbers are written into output names: NAME, the separator,
+ * then start + frame with at least `digits` digits, zero-padded
+ * (output.frame_start, output.frame_digits, output.frame_separator). The
+ * default, ORR_FRAME_NAMING_DEFAULT, gives NAME_0000 from 0; the fulldome
+ * convention {1, 5, "."} gives NAME.00001 from 1. */
+typedef struct orr_frame_naming {
+    long long start;
+    int digits;
+    const char *separator;
+} orr_frame_naming;
 
-/* The output name of frame `frame` of a run of `nframes`: NAME_%04ld, with
- * more digits when the run needs them; NAME itself for a still. */
-orr_status orr_frame_name(const char *name, long frame, long nframes, char *out, size_t size, orr_error *err);
+#define ORR_FRAME_NAMING_DEFAULT ((orr_frame_naming){.start = 0, .digits = 4, .separator = "_"})
+
+/* The naming a scene's output.frame_* keys ask for. */
+orr_frame_naming orr_frame_naming_of(const orr_scene *s);
+
+/* Digits of the frame numbers in a run of nframes: f's, more when the last
+ * frame's number needs them. */
+int orr_frame_digits(const orr_frame_naming *f, long nframes);
+
+/* The output name of frame `frame` (0-based) of a run of `nframes`: NAME_%04ld
+ * by default, as f says otherwise; NAME itself for a still. */
+orr_status orr_frame_name(const orr_frame_naming *f, const char *name, long frame, long nframes, char *out,
+                          size_t size, orr_error *err);
+
+/* The same with exactly f->digits digits (a run whose length is unknown). */
+orr_status orr_frame_name_fixed(const orr_frame_naming *f, const char *name, long frame, char *out, size_t size,
+                                orr_error *err);
 
 /* Renders (or composes) the frames of views[0..n) that opt selects. After
  * a frame's outputs are all written, a marker in DIR/.orrery-frames/
@@ -62,12 +83,13 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
 orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr_render_report *reports,
                                        orr_error *err);
 
-/* Checks that the frames 0..count-1 of DIR/NAME (numbers of `digits`
- * digits) were all made alike, by their markers: the same orrery, scene
+/* Checks that the frames 0..count-1 of DIR/NAME (named as f says, with
+ * exactly f->digits digits) were all made alike, by their markers: the same orrery, scene
  * settings and inputs. Fails naming the first frame made otherwise and
  * how, so that a video never mixes two runs (frames rendered in pieces
  * with --frames and other settings). Frames without a marker are not
  * compared. */
-orr_status orr_frames_agree(const char *dir, const char *name, int digits, long count, orr_error *err);
+orr_status orr_frames_agree(const char *dir, const char *name, const orr_frame_naming *f, long count,
+                            orr_error *err);
 
 #endif

@@ -51,6 +51,7 @@ GATHER_KIND(gather_perspective, ORR_PROJ_PERSPECTIVE, ORR_VECTOR_CLONES)
 GATHER_KIND(gather_hammer_aitoff, ORR_PROJ_HAMMER_AITOFF, ORR_WIDE_VECTOR_CLONES)
 GATHER_KIND(gather_equirectangular, ORR_PROJ_EQUIRECTANGULAR, ORR_WIDE_VECTOR_CLONES)
 GATHER_KIND(gather_dome, ORR_PROJ_DOME, ORR_WIDE_VECTOR_CLONES)
+GATHER_KIND(gather_healpix, ORR_PROJ_HEALPIX, ) /* chealpix's pixel search: no vector clones */
 
 int orr_ngp_gather(const orr_projection *p, const orr_map_outline *m, const orr_camera_transform *t, size_t n,
                    const float *x, const float *y, const float *z, const float *w, const orr_ngp_gather_out *out)
@@ -60,6 +61,7 @@ int orr_ngp_gather(const orr_projection *p, const orr_map_outline *m, const orr_
     case ORR_PROJ_PERSPECTIVE: return gather_perspective(p, m, t, n, x, y, z, w, out);
     case ORR_PROJ_HAMMER_AITOFF: return gather_hammer_aitoff(p, m, t, n, x, y, z, w, out);
     case ORR_PROJ_EQUIRECTANGULAR: return gather_equirectangular(p, m, t, n, x, y, z, w, out);
+    case ORR_PROJ_HEALPIX: return gather_healpix(p, m, t, n, x, y, z, w, out);
     case ORR_PROJ_DOME: break;
     }
     return gather_dome(p, m, t, n, x, y, z, w, out);

@@ -18,13 +18,16 @@
 #include "post/colormap.h"
 #include "post/stretch.h"
 #include "render/camera_transform.h"
+#include "render/exr_view.h"
 #include "render/lengths.h"
+#include "render/map_alpha.h"
 #include "render/motion_blur.h"
 #include "render/ngp_gather.h"
 #include "render/periodic_view.h"
 #include "render/stereo_view.h"
 #include "render/view_psf.h"
 #include "render/wcs.h"
+#include "scene/scene_output.h"
 #include "source/king.h"
 #include "source/model.h"
 #include "source/partition.h"
@@ -1511,7 +1514,8 @@ static void add_frame_cards(const view_state *v, orr_fits_header *h)
     } else if (s->camera_dim) {
         orr_fits_add_bool(h, "DIMMED", 1, "weights divided by r^2 from the camera");
     }
-    orr_wcs_add_cards(h, p, cam, &rep->sky);
+    orr_wcs_view wcs = {p, cam, &rep->sky, rep->has_sky_frame, scene_length_unit(s)};
+    orr_wcs_add_cards(h, &wcs);
     if (s->stereo)
         orr_stereo_add_cards(h, s, rep);
 }
@@ -1607,35 +1611,43 @@ static orr_status write_pictures(view_state *v, orr_error *err)
         return ORR_ERR_NOMEM;
     char desc[ORR_PATH_MAX + 256];
     orr_status st = graded_rgb(v, rgb, desc, sizeof desc, err);
+    float *rgba = NULL; /* output.alpha_mask: the picture, transparent off the map */
+    if (!st && s->alpha_mask)
+        st = orr_map_rgba(&v->proj, rgb, &rgba, err);
     const char *path;
     if (!st && s->write_png) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
         if (!(st = view_output(v, "png", &path, err)) &&
-            !(st = orr_write_png_rgb(path, v->proj.width, v->proj.height, rgb, s->png_bits, text, 2, err)))
+            !(st = orr_write_png(path, v->proj.width, v->proj.height, rgba ? rgba : rgb, rgba ? 4 : 3,
+                                 s->png_bits, text, 2, err)))
             rep->noutputs++;
     }
     if (!st && s->image_ext[0]) {
         const char *keys[1], *values[1];
         orr_image_meta meta = view_meta(v, desc, keys, values);
         if (!(st = view_output(v, s->image_ext, &path, err)) &&
-            !(st = orr_write_image_rgb(path, rgb, v->proj.width, v->proj.height, s->png_bits, &meta, err)))
+            !(st = orr_write_image_picture(path, rgb, rgba, v->proj.width, v->proj.height, s->png_bits, &meta, err)))
             rep->noutputs++;
     }
+    free(rgba);
     free(rgb);
     return st;
 }
 
-/* The linear planes as OpenEXR (output.exr): float, named X, Y, Z or after
- * the weight. */
+/* The linear planes as OpenEXR (output.exr), float, as compositors read it:
+ * R, G, B, A and the layer xyz, or Y and A (render/exr_view.h). */
 static orr_status write_exr(view_state *v, orr_error *err)
 {
     orr_render_report *rep = v->rep;
     const char *path;
     const char *keys[1], *values[1];
     orr_image_meta meta = view_meta(v, "linear planes", keys, values);
+    orr_exr_view ev;
     orr_status st = view_output(v, "exr", &path, err);
-    if (!st)
-        st = orr_write_image_planes(path, v->planes, v->nplanes, &meta, err);
+    if (!st && !(st = orr_exr_view_build(&ev, v->planes, v->nplanes, &v->proj, "", err))) {
+        st = orr_write_image_planes(path, ev.channels, ev.n, &meta, err);
+        orr_exr_view_free(&ev);
+    }
     if (!st)
         rep->noutputs++;
     return st;
@@ -1677,8 +1689,13 @@ static orr_status write_fits_planes(view_state *v, const char *ext, orr_error *e
         return ORR_ERR_NOMEM;
     add_frame_cards(v, h);
     orr_status st = view_output(v, ext, &path, err);
-    if (!st)
+    if (!st && v->proj.kind == ORR_PROJ_HEALPIX) {
+        orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, ""};
+        orr_healpix_info info = {v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
+        st = orr_write_healpix_fits(path, v->planes, v->nplanes, &info, h, err);
+    } else if (!st) {
         st = orr_write_fits(path, v->planes, v->nplanes, h, err);
+    }
     free(h);
     if (!st)
         rep->noutputs++;
@@ -1714,6 +1731,7 @@ static orr_status write_stereo_pair(view_state *l, view_state *r, orr_eye_views 
             .rgb = {want_rgb ? rgb : NULL, want_rgb ? rgb + 3 * npix : NULL},
             .rgb_linear = (s->colour || s->nlayers || s->has_tint) && s->png_linear,
             .cards = h, .meta = &meta, .desc = desc, .stage = stage_output, .outputs = l->outputs,
+            .proj = &l->proj,
         };
         st = orr_stereo_write_pair(&pair, l->rep, err);
     }
@@ -1808,7 +1826,7 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     v->nplanes = s->colour || s->nlayers ? 3 : 1;
     st = ORR_OK;
     char unit[ORR_PLANE_NAME_MAX];
-    orr_brightness_unit(&v->proj, s->colour ? "CIE tristimulus" : s->bunit, unit, sizeof unit);
+    orr_brightness_unit(&v->proj, scene_weight_unit(s), scene_length_unit(s), unit, sizeof unit);
     for (int k = 0; k < v->nplanes && !st; k++)
         st = orr_plane_alloc(&v->planes[k], v->proj.width, v->proj.height, s->colour ? xyz_names[k] : s->weight,
                              unit, err);

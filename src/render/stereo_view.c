@@ -7,6 +7,7 @@
 #include "encode/png.h"
 #include "post/anaglyph.h"
 #include "post/colour.h"
+#include "render/exr_view.h"
 
 /* ---- the eyes ---- */
 
@@ -216,6 +217,26 @@ static orr_status add_output(const orr_stereo_pair *p, const char *ext, orr_rend
     return p->stage(p->outputs, p->scene, rep, ext, path, err);
 }
 
+/* Both eyes' compositing channels (render/exr_view.h) in one file, each
+ * eye a layer: left.R, ..., right.A. */
+static orr_status write_pair_exr(const orr_stereo_pair *p, const char *path, orr_error *err)
+{
+    orr_exr_view eyes[2];
+    orr_status st = orr_exr_view_build(&eyes[0], p->planes[0], p->nplanes, p->proj, "left.", err);
+    if (st)
+        return st;
+    st = orr_exr_view_build(&eyes[1], p->planes[1], p->nplanes, p->proj, "right.", err);
+    if (!st) {
+        orr_plane all[2 * ORR_EXR_VIEW_MAX];
+        for (int e = 0; e < 2; e++)
+            memcpy(all + e * eyes[0].n, eyes[e].channels, (size_t)eyes[e].n * sizeof all[0]);
+        st = orr_write_image_planes(path, all, eyes[0].n + eyes[1].n, p->meta, err);
+        orr_exr_view_free(&eyes[1]);
+    }
+    orr_exr_view_free(&eyes[0]);
+    return st;
+}
+
 static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report *rep, orr_error *err)
 {
     const orr_scene *s = p->scene;
@@ -227,7 +248,7 @@ static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report 
         !(st = orr_write_fits(path, planes, 2 * p->nplanes, p->cards, err)))
         rep->noutputs++;
     if (!st && s->write_exr && !(st = add_output(p, "exr", rep, &path, err)) &&
-        !(st = orr_write_image_planes(path, planes, 2 * p->nplanes, p->meta, err)))
+        !(st = write_pair_exr(p, path, err)))
         rep->noutputs++;
     return st;
 }

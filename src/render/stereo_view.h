@@ -86,6 +86,7 @@ typedef struct orr_stereo_pair {
     const char *desc;              /* what the picture shows, for PNG's Description */
     orr_output_stage_fn stage;
     void *outputs;                 /* the driver's list of the frame's outputs, for stage */
+    const orr_projection *proj;    /* one eye's projection: the EXR's alpha */
 } orr_stereo_pair;
 
 /* The picture of a pair: side-by-side (2W x H, left eye on the left),

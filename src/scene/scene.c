@@ -50,6 +50,7 @@ void orr_scene_defaults(orr_scene *s)
     s->projection.fov_deg = 60;
     s->projection.near = 1e-3;
     s->projection.dome_fov_deg = 180;
+    s->projection.healpix_nside = 64;
     s->projection.lon_flip = 0;
     s->deposit = ORR_DEPOSIT_CIC;
     s->kernel = ORR_KERNEL_CUBIC;
@@ -99,7 +100,8 @@ void orr_scene_defaults(orr_scene *s)
     s->png_bits = 8;
     s->stretch = (orr_stretch){.kind = ORR_STRETCH_LOG, .white = 0, .white_percentile = 99.9, .n = 1000};
     s->colormap = ORR_CMAP_MAGMA;
-    snprintf(s->bunit, sizeof s->bunit, "mass");
+    s->frame_digits = 4;
+    snprintf(s->frame_separator, sizeof s->frame_separator, "_");
 }
 
 /* ---- overrides ---- */

@@ -273,8 +273,15 @@ typedef struct orr_scene {
                                     * output.white_percentile (default 99.9),
                                     * output.softening: n of log/asinh (default 1000) */
     orr_colormap_kind colormap;    /* output.colormap: grey | magma | inferno (default magma) */
-    char bunit[ORR_NAME_MAX];      /* output.bunit: the unit of a particle's weight (default "mass"); the
-                                    * planes' BUNIT is it per steradian or per area (post/brightness.h) */
+    char bunit[ORR_NAME_MAX];      /* output.bunit: the FITS unit of a particle's weight (default "": the
+                                    * model's, else unknown, scene_output.h); the planes' BUNIT is it per
+                                    * steradian or per area (post/brightness.h) */
+    char length_unit[ORR_NAME_MAX]; /* output.length_unit: the FITS unit of scene lengths (default "": kpc
+                                     * for the model, else unknown) */
+    long long frame_start;         /* output.frame_start: the number of a run's first frame (default 0) */
+    int frame_digits;              /* output.frame_digits: at least this many digits (default 4) */
+    char frame_separator[8];       /* output.frame_separator: between NAME and the number (default "_") */
+    int alpha_mask;                /* output.alpha_mask: pictures as RGBA, transparent off the map */
 
     /* Not keys: what the scene says, for frame markers (render/animation.c),
      * which redo a frame made with other settings. The effective keys after

@@ -144,7 +144,7 @@ static int word_projection(orr_scene *s, const char *w)
 {
     static const orr_projection_kind kinds[] = {ORR_PROJ_ORTHOGRAPHIC, ORR_PROJ_PERSPECTIVE,
                                                 ORR_PROJ_HAMMER_AITOFF, ORR_PROJ_DOME,
-                                                ORR_PROJ_EQUIRECTANGULAR};
+                                                ORR_PROJ_EQUIRECTANGULAR, ORR_PROJ_HEALPIX};
     for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++) {
         if (strcmp(w, orr_projection_name(kinds[i])) == 0) {
             s->projection.kind = kinds[i];
@@ -156,7 +156,17 @@ static int word_projection(orr_scene *s, const char *w)
 /* The flat projections are listed first and the sky maps in a note after
  * the value, which keeps the message of a mistyped flat one as it was. */
 static const char *names_projection(void) { return "orthographic perspective"; }
-#define SKY_PROJECTIONS "sky maps: hammer-aitoff dome equirectangular"
+#define SKY_PROJECTIONS "sky maps: hammer-aitoff dome equirectangular healpix"
+
+static int word_healpix_order(orr_scene *s, const char *w)
+{
+    int nested = strcmp(w, "nested") == 0;
+    if (!nested && strcmp(w, "ring") != 0)
+        return 0;
+    s->projection.healpix_nested = nested;
+    return 1;
+}
+static const char *names_healpix_order(void) { return "ring nested"; }
 
 static int word_normal_sign(orr_scene *s, const char *w)
 {
@@ -369,6 +379,8 @@ static const key_spec KEYS[] = {
      .bounds = HAS_LO | LO_OPEN | HAS_HI | HI_OPEN},
     {.key = "camera.near", .type = K_NUMBER, FIELD(projection.near), .lo = 0, .bounds = HAS_LO},
     {.key = "camera.lon_flip", .type = K_BOOL, FIELD(projection.lon_flip)},
+    {.key = "camera.healpix_nside", .type = K_INT, FIELD(projection.healpix_nside), IRANGE(1, ORR_HEALPIX_NSIDE_MAX)},
+    {.key = "camera.healpix_order", ENUM(healpix_order)},
     {.key = "camera.dome", .type = K_FILENAME, FIELD(dome_profile)},
     {.key = "camera.dome_fov", .type = K_NUMBER, FIELD(projection.dome_fov_deg), CLOSED(90, 360)},
     {.key = "camera.dome_tilt", .type = K_NUMBER, FIELD(dome_tilt), CLOSED(0, 90)},
@@ -448,6 +460,11 @@ static const key_spec KEYS[] = {
     {.key = "output.softening", .type = K_NUMBER, FIELD(stretch.n), ABOVE(0)},
     {.key = "output.colormap", .type = K_ENUM, .parse_word = word_colormap, .choices = orr_colormap_names},
     {.key = "output.bunit", .type = K_STRING, FIELD(bunit)},
+    {.key = "output.length_unit", .type = K_STRING, FIELD(length_unit)},
+    {.key = "output.frame_start", .type = K_LLONG, FIELD(frame_start), IRANGE(0, 1000000000LL)},
+    {.key = "output.frame_digits", .type = K_INT, FIELD(frame_digits), IRANGE(1, 18)},
+    {.key = "output.frame_separator", .type = K_STRING, FIELD(frame_separator)},
+    {.key = "output.alpha_mask", .type = K_BOOL, FIELD(alpha_mask)},
 };
 
 /* The keys of a dome profile (domes/NAME.yaml). */

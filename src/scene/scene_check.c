@@ -11,6 +11,7 @@
 
 #include "scene/scene_bind.h"
 #include "scene/scene_dome.h"
+#include "scene/scene_output.h"
 #include "scene/scene_path.h"
 #include "scene/ytree.h"
 
@@ -532,6 +533,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
     if (st == ORR_OK)
         st = scene_apply_dome_profile(s, &marks, err);
     if (st == ORR_OK)
+        st = scene_check_healpix(s, &marks, err);
+    if (st == ORR_OK)
         st = check_projection(s, err);
     if (st == ORR_OK)
         st = check_psf(s, &marks, err);
@@ -539,6 +542,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_colour(s, &marks, err);
     if (st == ORR_OK)
         st = check_output(s, &marks, err);
+    if (st == ORR_OK)
+        st = scene_check_output_keys(s, &marks, err);
     if (st == ORR_OK)
         st = check_stereo(s, &marks, err);
     if (st == ORR_OK)

@@ -63,3 +63,15 @@ write_scene() {
     for line in "$@"; do echo "$line"; done
   } >"$file"
 }
+
+# python_with MODULE PACKAGE: sets $py to the Python that has the
+# independent reader MODULE (Debian's /usr/bin/python3 first), or skips the
+# test (exit 77) naming the Debian PACKAGE that provides it.
+python_with() {
+  py=/usr/bin/python3
+  [ -x "$py" ] || py=python3
+  if ! "$py" -c "import $1" 2>/dev/null; then
+    echo "skipped: no $1 ($2)"
+    exit 77
+  fi
+}

@@ -10,20 +10,37 @@
 #include "scene/scene.h"
 #include "tmpdir.h"
 
-static void test_frame_names(void)
+/* Checks that frame `frame` of a run of nframes named as f says is want. */
+static void check_name(const orr_frame_naming *f, long frame, long nframes, const char *want)
 {
     char name[64];
     orr_error err = {0};
-    CHECK(orr_frame_name("sky", 0, 1, name, sizeof name, &err) == ORR_OK);
-    CHECK(strcmp(name, "sky") == 0);
-    CHECK(orr_frame_name("sky", 7, 120, name, sizeof name, &err) == ORR_OK);
-    CHECK(strcmp(name, "sky_0007") == 0);
-    CHECK(orr_frame_name("sky", 9999, 10000, name, sizeof name, &err) == ORR_OK);
-    CHECK(strcmp(name, "sky_9999") == 0);
-    CHECK(orr_frame_name("sky", 7, 10001, name, sizeof name, &err) == ORR_OK);
-    CHECK(strcmp(name, "sky_00007") == 0);
+    CHECK(orr_frame_name(f, "sky", frame, nframes, name, sizeof name, &err) == ORR_OK);
+    CHECK(strcmp(name, want) == 0);
+    if (strcmp(name, want) != 0)
+        fprintf(stderr, "  frame %ld of %ld: got %s, expected %s\n", frame, nframes, name, want);
+}
+
+static void test_frame_names(void)
+{
+    const orr_frame_naming def = ORR_FRAME_NAMING_DEFAULT;
+    check_name(&def, 0, 1, "sky");
+    check_name(&def, 7, 120, "sky_0007");
+    check_name(&def, 9999, 10000, "sky_9999");
+    check_name(&def, 7, 10001, "sky_00007");
     char tiny[6];
-    CHECK(orr_frame_name("sky", 7, 120, tiny, sizeof tiny, &err) == ORR_ERR_USAGE);
+    orr_error err = {0};
+    CHECK(orr_frame_name(&def, "sky", 7, 120, tiny, sizeof tiny, &err) == ORR_ERR_USAGE);
+
+    /* The fulldome delivery convention: from 1, five digits, a dot. */
+    const orr_frame_naming dome = {.start = 1, .digits = 5, .separator = "."};
+    check_name(&dome, 0, 120, "sky.00001");
+    check_name(&dome, 99998, 99999, "sky.99999");
+    /* The last number needs a sixth digit: every frame gets it. */
+    check_name(&dome, 0, 100000, "sky.000001");
+    const orr_frame_naming late = {.start = 9990, .digits = 4, .separator = "-"};
+    CHECK(orr_frame_digits(&late, 10) == 4 && orr_frame_digits(&late, 11) == 5);
+    check_name(&late, 0, 11, "sky-09990");
 }
 
 static void test_frame_times(void)

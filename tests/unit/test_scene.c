@@ -8,6 +8,7 @@
 
 #include "check.h"
 #include "scene/scene.h"
+#include "scene/scene_output.h"
 
 /* Scenes are large (several path buffers); one shared copy keeps the stack small. */
 static orr_scene g_scene;
@@ -84,7 +85,7 @@ static void test_defaults(void)
     CHECK(s->stretch.white_percentile == 99.9);
     CHECK(s->stretch.n == 1000);
     CHECK(s->colormap == ORR_CMAP_MAGMA);
-    CHECK(strcmp(s->bunit, "mass") == 0);
+    CHECK(strcmp(s->bunit, "") == 0 && strcmp(s->length_unit, "") == 0);
 
     /* A minimal scene keeps them, and names the output after the scene. */
     EXPECT_OK(MODEL, NULL, 0);
@@ -547,7 +548,7 @@ static void test_sky_key_errors(void)
     orr_error err;
     CHECK(load(MODEL "camera:\n  projection: fisheye\n", NULL, 0, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "scene.yaml:5: camera.projection: expected one of: orthographic perspective, got "
-                          "'fisheye' (sky maps: hammer-aitoff dome equirectangular)") == 0);
+                          "'fisheye' (sky maps: hammer-aitoff dome equirectangular healpix)") == 0);
     EXPECT_ERROR(MODEL "camera:\n  dome_fov: 89\n", ORR_ERR_USAGE, "scene.yaml:5: camera.dome_fov: 89 is out of range (90 to 360)");
     EXPECT_ERROR(MODEL "camera:\n  dome_fov: 360.5\n", ORR_ERR_USAGE, "camera.dome_fov: 360.5 is out of range (90 to 360)");
     EXPECT_ERROR(MODEL "camera:\n  dome_tilt: -1\n", ORR_ERR_USAGE, "camera.dome_tilt: -1 is out of range (0 to 90)");
@@ -682,6 +683,23 @@ static void test_observer_checks(void)
     CHECK(g_scene.has_observer && g_scene.observer_id == 3 && g_scene.reference_id == 4);
 }
 
+/* The units written into FITS: the model's own by default, what the scene
+ * says otherwise; keys that are no FITS unit are refused by name. */
+static void test_output_units(void)
+{
+    EXPECT_OK(MODEL, NULL, 0);
+    CHECK(strcmp(scene_weight_unit(&g_scene), "10**10 solMass") == 0);
+    CHECK(strcmp(scene_length_unit(&g_scene), "kpc") == 0);
+    const char *sets[] = {"output.bunit=solMass", "output.length_unit=Mpc"};
+    EXPECT_OK(MODEL, sets, 2);
+    CHECK(strcmp(scene_weight_unit(&g_scene), "solMass") == 0);
+    CHECK(strcmp(scene_length_unit(&g_scene), "Mpc") == 0);
+    EXPECT_ERROR(MODEL "output:\n  bunit: mass/sr\n", ORR_ERR_USAGE, "scene.yaml:5: output.bunit: 'mass/sr' divides");
+    EXPECT_ERROR(MODEL "output:\n  bunit: 'a,b'\n", ORR_ERR_USAGE, "output.bunit: 'a,b' is not a FITS unit string");
+    EXPECT_ERROR(MODEL "output:\n  length_unit: kpc2\n", ORR_ERR_USAGE,
+                 "scene.yaml:5: output.length_unit: 'kpc2' is not a single FITS unit symbol");
+}
+
 int main(void)
 {
     RUN(test_defaults);
@@ -703,5 +721,6 @@ int main(void)
     RUN(test_observer_keys);
     RUN(test_observer_key_errors);
     RUN(test_observer_checks);
+    RUN(test_output_units);
     return check_summary();
 }

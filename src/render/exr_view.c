@@ -1,0 +1,89 @@
+#include "render/exr_view.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "post/colour.h"
+#include "render/map_alpha.h"
+
+static orr_status add_channel(orr_exr_view *v, const orr_projection *p, const char *prefix, const char *name,
+                              orr_error *err)
+{
+    char full[ORR_PLANE_NAME_MAX];
+    int len = snprintf(full, sizeof full, "%s%s", prefix, name);
+    if (len < 0 || (size_t)len >= sizeof full)
+        return orr_fail(err, ORR_ERR_INTERNAL, "OpenEXR channel name %s%s is too long", prefix, name);
+    orr_status st = orr_plane_alloc(&v->channels[v->n], p->width, p->height, full, "", err);
+    if (st == ORR_OK)
+        v->n++;
+    return st;
+}
+
+/* Off the map a plane holds NaN (FITS's blank): a compositor wants 0 there,
+ * and the alpha to say it is empty. */
+static float finite_or_zero(float x) { return isfinite(x) ? x : 0.0f; }
+
+/* R, G, B from X, Y, Z, unclipped and unstretched: the light itself. */
+static void fill_rgb(orr_exr_view *v, const orr_plane *xyz, size_t npix)
+{
+    for (size_t i = 0; i < npix; i++) {
+        double in[3], rgb[3];
+        for (int k = 0; k < 3; k++)
+            in[k] = finite_or_zero(xyz[k].data[i]);
+        orr_xyz_to_linear_srgb(in, rgb);
+        for (int k = 0; k < 3; k++)
+            v->channels[k].data[i] = (float)rgb[k];
+    }
+}
+
+static void copy_finite(orr_plane *to, const orr_plane *from, size_t npix)
+{
+    for (size_t i = 0; i < npix; i++)
+        to->data[i] = finite_or_zero(from->data[i]);
+}
+
+static orr_status build(orr_exr_view *v, const orr_plane *planes, int nplanes, const orr_projection *p,
+                        const char *prefix, orr_error *err)
+{
+    size_t npix = (size_t)p->width * (size_t)p->height;
+    static const char *const colour_names[] = {"R", "G", "B", "A", "xyz.X", "xyz.Y", "xyz.Z"};
+    static const char *const weight_names[] = {"Y", "A"};
+    int colour = nplanes == 3;
+    const char *const *names = colour ? colour_names : weight_names;
+    int count = colour ? 7 : 2;
+    orr_status st = ORR_OK;
+    for (int k = 0; k < count && !st; k++)
+        st = add_channel(v, p, prefix, names[k], err);
+    if (st)
+        return st;
+    if (colour) {
+        fill_rgb(v, planes, npix);
+        orr_map_alpha_fill(p, v->channels[3].data);
+        for (int k = 0; k < 3; k++)
+            copy_finite(&v->channels[4 + k], &planes[k], npix);
+    } else {
+        copy_finite(&v->channels[0], &planes[0], npix);
+        orr_map_alpha_fill(p, v->channels[1].data);
+    }
+    return ORR_OK;
+}
+
+orr_status orr_exr_view_build(orr_exr_view *out, const orr_plane *planes, int nplanes, const orr_projection *p,
+                              const char *prefix, orr_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (nplanes != 1 && nplanes != 3)
+        return orr_fail(err, ORR_ERR_INTERNAL, "OpenEXR view of %d planes (1 or X, Y, Z expected)", nplanes);
+    orr_status st = build(out, planes, nplanes, p, prefix, err);
+    if (st)
+        orr_exr_view_free(out);
+    return st;
+}
+
+void orr_exr_view_free(orr_exr_view *v)
+{
+    for (int k = 0; k < v->n; k++)
+        orr_plane_free(&v->channels[k]);
+    v->n = 0;
+}

@@ -1,0 +1,29 @@
+/* A view's linear planes as a compositor reads an OpenEXR file: scene-linear
+ * RGB (Rec. 709 primaries, D65) in R, G, B from the X, Y, Z planes, with
+ * the CIE planes kept as the layer xyz.X, xyz.Y, xyz.Z (a bare "Z" is depth
+ * to Nuke, Blender and After Effects); a single weight plane as luminance Y;
+ * and an alpha A that is 1 on the map (inside a dome's circle, a
+ * Hammer-Aitoff ellipse; everywhere on the others) and 0 off it, where every
+ * colour is 0, not NaN. docs/formats-out.md. */
+#ifndef ORR_RENDER_EXR_VIEW_H
+#define ORR_RENDER_EXR_VIEW_H
+
+#include "core/error.h"
+#include "frame/projection.h"
+#include "splat/plane.h"
+
+#define ORR_EXR_VIEW_MAX 7 /* R, G, B, A, xyz.X, xyz.Y, xyz.Z */
+
+typedef struct orr_exr_view {
+    int n;
+    orr_plane channels[ORR_EXR_VIEW_MAX];
+} orr_exr_view;
+
+/* Builds the channels of planes (1 weight plane, or X, Y, Z), each name
+ * prefixed with prefix ("" or a stereo eye's "left."). p is the view's
+ * projection, for the alpha. On failure nothing stays allocated. */
+orr_status orr_exr_view_build(orr_exr_view *out, const orr_plane *planes, int nplanes, const orr_projection *p,
+                              const char *prefix, orr_error *err);
+void orr_exr_view_free(orr_exr_view *v);
+
+#endif

@@ -1,0 +1,141 @@
+#include "scene/scene_output.h"
+
+#include <string.h>
+
+/* A weight unit is a product of FITS unit symbols with powers and a scale
+ * ("solMass", "10**10 solMass", "erg s-1"): letters, digits, spaces and
+ * "*", ".", "+", "-". A "/" is refused, since BUNIT appends " sr-1" and a
+ * FITS "/" divides by everything after it. Returns the first bad character,
+ * or 0. */
+static char bad_unit_char(const char *u)
+{
+    for (const char *c = u; *c; c++)
+        if (!strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 *.+-", *c))
+            return *c;
+    return 0;
+}
+
+/* A length unit is one symbol ("kpc", "Mpc", "m", "AU"), since BUNIT squares
+ * it as "kpc-2". */
+static int is_symbol(const char *u)
+{
+    if (!u[0])
+        return 0;
+    for (const char *c = u; *c; c++)
+        if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z')))
+            return 0;
+    return 1;
+}
+
+/* The separator stays in the file name, so it may not be a folder's '/' or
+ * anything a shell or a playback system's file pattern would read. */
+static orr_status check_frame_separator(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (strspn(s->frame_separator, "._-") != strlen(s->frame_separator))
+        return scene_fail_key(s, m, "output.frame_separator", err,
+                              "output.frame_separator: '%s' may hold only '.', '_' and '-' (e.g. '.' for "
+                              "NAME.00001.png)",
+                              s->frame_separator);
+    return ORR_OK;
+}
+
+/* A pair's picture (anaglyph, side by side, over-under) has no one map
+ * outline to cut out; separate eyes are each a view's own picture. */
+static orr_status check_alpha_mask(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    int pair = s->stereo != ORR_STEREO_NONE && s->stereo != ORR_STEREO_SEPARATE;
+    if (s->alpha_mask && pair)
+        return scene_fail_key(s, m, "output.alpha_mask", err,
+                              "output.alpha_mask: not with stereo.mode %s (one picture of both eyes); use "
+                              "stereo.mode: separate for an alpha per eye",
+                              orr_stereo_mode_name(s->stereo));
+    return ORR_OK;
+}
+
+orr_status scene_check_output_keys(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    orr_status st = check_frame_separator(s, m, err);
+    if (!st)
+        st = check_alpha_mask(s, m, err);
+    if (st)
+        return st;
+    char bad = bad_unit_char(s->bunit);
+    if (bad == '/')
+        return scene_fail_key(s, m, "output.bunit", err,
+                              "output.bunit: '%s' divides with '/'; write a FITS unit with negative powers "
+                              "instead, e.g. 'solMass yr-1'",
+                              s->bunit);
+    if (bad)
+        return scene_fail_key(s, m, "output.bunit", err,
+                              "output.bunit: '%s' is not a FITS unit string (it has '%c'); e.g. 'solMass', "
+                              "'10**10 solMass' or 'solLum'",
+                              s->bunit, bad);
+    if (s->length_unit[0] && !is_symbol(s->length_unit))
+        return scene_fail_key(s, m, "output.length_unit", err,
+                              "output.length_unit: '%s' is not a single FITS unit symbol such as kpc, Mpc, pc or m",
+                              s->length_unit);
+    return ORR_OK;
+}
+
+const char *scene_weight_unit(const orr_scene *s)
+{
+    if (s->bunit[0])
+        return s->bunit;
+    int weighs_mass = strcmp(s->weight, "mass") == 0 && !s->colour && !s->nlayers;
+    return s->model_name[0] && weighs_mass ? "10**10 solMass" : "";
+}
+
+const char *scene_length_unit(const orr_scene *s)
+{
+    if (s->length_unit[0])
+        return s->length_unit;
+    return s->model_name[0] ? "kpc" : "";
+}
+
+/* A key that a HEALPix map cannot honour, and why. */
+static orr_status healpix_refuses(const orr_scene *s, const scene_marks *m, const char *key, const char *why,
+                                  orr_error *err)
+{
+    return scene_fail_key(s, m, key, err, "%s: not with camera.projection: healpix (%s)", key, why);
+}
+
+orr_status scene_check_healpix(orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    if (s->projection.kind != ORR_PROJ_HEALPIX) {
+        static const char *const keys[] = {"camera.healpix_nside", "camera.healpix_order"};
+        for (int i = 0; i < 2; i++)
+            if (scene_mark(m, keys[i]))
+                return scene_fail_key(s, m, keys[i], err, "%s: only with camera.projection: healpix", keys[i]);
+        return ORR_OK;
+    }
+    int nside = s->projection.healpix_nside;
+    if ((nside & (nside - 1)) != 0)
+        return scene_fail_key(s, m, "camera.healpix_nside", err,
+                              "camera.healpix_nside: must be a power of 2 (1, 2, 4, ..., %d), got %d",
+                              ORR_HEALPIX_NSIDE_MAX, nside);
+    if (s->deposit != ORR_DEPOSIT_NGP)
+        return scene_fail_key(s, m, scene_mark(m, "deposit") ? "deposit" : "camera.projection", err,
+                              "camera.projection: healpix draws each particle whole into the pixel its direction "
+                              "falls in: set deposit: ngp");
+    static const char *const image_keys[] = {"image.width", "image.height"};
+    for (int i = 0; i < 2; i++)
+        if (scene_mark(m, image_keys[i]))
+            return healpix_refuses(s, m, image_keys[i], "camera.healpix_nside sets the map's size", err);
+    if (s->psf != ORR_PSF_NONE)
+        return healpix_refuses(s, m, "psf.kind", "a PSF needs a picture's neighbouring pixels", err);
+    if (scene_mark(m, "camera.lon_flip"))
+        return healpix_refuses(s, m, "camera.lon_flip", "HEALPix's longitude phi grows eastward by definition", err);
+    if (s->stereo != ORR_STEREO_NONE)
+        return healpix_refuses(s, m, "stereo.mode", "one map of the whole sky has no eyes", err);
+    /* The map is a table of pixels, not a picture: only FITS. */
+    static const char *const picture_keys[] = {"output.image", "output.exr", "output.raw", "compose.layers"};
+    for (int i = 0; i < 4; i++)
+        if (scene_mark(m, picture_keys[i]))
+            return healpix_refuses(s, m, picture_keys[i], "its map is a FITS table of pixels, not a picture", err);
+    if (s->write_png && scene_mark(m, "output.png"))
+        return healpix_refuses(s, m, "output.png", "its map is a FITS table of pixels, not a picture", err);
+    s->write_png = 0;
+    s->projection.width = 4 * s->projection.healpix_nside;
+    s->projection.height = 3 * s->projection.healpix_nside;
+    return ORR_OK;
+}

@@ -1,0 +1,31 @@
+/* The output keys whose values need more than their type's check: the
+ * units written into FITS BUNIT/CUNIT (docs/output.md), which must be
+ * strings astropy and other FITS readers parse, and the frame separator,
+ * which goes into file names. */
+#ifndef ORR_SCENE_OUTPUT_H
+#define ORR_SCENE_OUTPUT_H
+
+#include "core/error.h"
+#include "scene/scene.h"
+#include "scene/scene_bind.h"
+
+/* Checks output.bunit, output.length_unit and output.frame_separator,
+ * naming the key on error. */
+orr_status scene_check_output_keys(const orr_scene *s, const scene_marks *m, orr_error *err);
+
+/* A HEALPix map's requirements: NGP deposits, no PSF, no stereo, only
+ * FITS (output.png off unless asked for, which is an error); sets the
+ * image size from camera.healpix_nside. The HEALPix keys are errors with
+ * any other projection. */
+orr_status scene_check_healpix(orr_scene *s, const scene_marks *m, orr_error *err);
+
+/* The FITS unit of a particle's weight: output.bunit when given; for the
+ * built-in model weighted by mass, its documented unit (10^10 solar masses,
+ * docs/model.md); else "" (unknown). */
+const char *scene_weight_unit(const orr_scene *s);
+
+/* The FITS unit of scene lengths: output.length_unit when given; kpc for the
+ * built-in model; else "" (unknown). */
+const char *scene_length_unit(const orr_scene *s);
+
+#endif

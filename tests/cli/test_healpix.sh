@@ -1,0 +1,19 @@
+# The healpix projection: a standard HEALPix FITS map that healpy reads
+# (tests/cli/check_healpix.py), and the keys it refuses.
+source "$(dirname "$0")/lib.sh"
+python_with healpy python3-healpy
+"$py" "$(dirname "$0")/check_healpix.py" "$ORRERY" "$WORK" || fail "HEALPix check"
+
+printf 'x y z mass\n0 0 5 1\n' >p.txt
+printf 'input:\n  file: p.txt\ncamera:\n  projection: healpix\ndeposit: ngp\noutput:\n  dir: bad\n' >bad.yaml
+expect_fail 2 "camera.projection: healpix draws each particle whole .*set deposit: ngp" bad -- \
+  render bad.yaml --set deposit=cic
+expect_fail 2 "camera.healpix_nside: .*12" bad -- render bad.yaml --set camera.healpix_nside=12
+expect_fail 2 "image.width: not with camera.projection: healpix" bad -- render bad.yaml --set image.width=64
+expect_fail 2 "output.png: not with camera.projection: healpix" bad -- render bad.yaml --set output.png=true
+expect_fail 2 "camera.lon_flip: not with camera.projection: healpix" bad -- render bad.yaml --set camera.lon_flip=true
+expect_fail 2 "camera.healpix_order: expected one of: ring nested" bad -- \
+  render bad.yaml --set camera.healpix_order=nest
+expect_fail 2 "camera.healpix_nside: only with camera.projection: healpix" bad -- \
+  render bad.yaml --set camera.projection=dome --set camera.healpix_nside=8
+finish
