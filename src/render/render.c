@@ -1670,6 +1670,11 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     if (!st && v->use_sph)
         st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
     v->sph_ready = !st && v->use_sph;
+    /* A sky map's PSF cores: stars are drawn from stamps (splat/sky_cores.h).
+     * widen_for_psf gives a star without a length of its own h = k r, k the
+     * float of h_per_r: its angle h / r. */
+    if (!st && v->use_sph && v->psf.h_per_r > 0)
+        st = orr_sph_use_cores(&v->sph, (float)v->psf.h_per_r, err);
     return st;
 }
 
