@@ -59,6 +59,16 @@ void cli_progress_update(void *user, uint64_t done, int64_t total);
 void cli_progress_finish(cli_progress *p);
 double cli_now(void);
 
+/* --timings: each rendered frame's stage times added up (and, for a run,
+ * a line a frame), then printed as a table on stdout. */
+typedef struct cli_timings {
+    int per_frame_lines;
+    orr_stage_times total;
+} cli_timings;
+/* An orr_animation_options.timed callback; user is a cli_timings. */
+void cli_timings_frame(void *user, long frame, const orr_stage_times *t);
+void cli_timings_print(const cli_timings *ct);
+
 /* On SIGINT, SIGTERM and SIGHUP: removes the temporary files of outputs
  * being written, then dies of the signal. */
 void cli_clean_up_on_signals(void);

@@ -1,4 +1,5 @@
-/* orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--force] [--jobs N] [--quiet]
+/* orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--force] [--jobs N] [--timings]
+ *               [--quiet]
  * orrery compose SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--quiet]
  * The two take the same arguments: compose is the second half of render. */
 #include <errno.h>
@@ -15,7 +16,7 @@
 
 static const char render_help[] =
     "usage: orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--force]\n"
-    "                     [--jobs N] [--quiet]\n"
+    "                     [--jobs N] [--timings] [--quiet]\n"
     "\n"
     "Renders the scene's particles to a FITS file (linear float planes: the\n"
     "weight, or CIE X, Y, Z with colour.populations) and a PNG (stretched and\n"
@@ -37,6 +38,9 @@ static const char render_help[] =
     "                    leave an end open; a single number is one frame)\n"
     "  --force           render frames again even when their outputs are complete\n"
     "  --jobs N          render frames in N processes at once (each takes every N-th frame)\n"
+    "  --timings         print where each frame's time went, wall and CPU seconds per stage\n"
+    "                    (source, gather+project, deposit, PSF, colour/post, each encoder, ...),\n"
+    "                    and for a run a line a frame and the total; printed even with --quiet\n"
     "  -q, --quiet       no progress or summary, only errors\n"
     "  -h, --help        this text\n"
     "\n"
@@ -261,19 +265,19 @@ static int render_jobs(const orr_scene *const *list, int n, orr_animation_option
 typedef struct run_args {
     const char *scene_path, *out_dir;
     const char **sets;
-    int nsets, quiet, force, jobs;
+    int nsets, quiet, force, jobs, timings;
     int frame_parallel; /* orrery-mpi: each rank renders whole frames of its own */
     long first, last;
 } run_args;
 
-enum { OPT_SET = 256, OPT_FRAMES, OPT_FORCE, OPT_JOBS, OPT_FRAME_PARALLEL };
+enum { OPT_SET = 256, OPT_FRAMES, OPT_FORCE, OPT_JOBS, OPT_FRAME_PARALLEL, OPT_TIMINGS };
 
 static const struct option render_options[] = {
     {"set", required_argument, NULL, OPT_SET},       {"output", required_argument, NULL, 'o'},
     {"frames", required_argument, NULL, OPT_FRAMES}, {"force", no_argument, NULL, OPT_FORCE},
     {"jobs", required_argument, NULL, OPT_JOBS},     {"frame-parallel", no_argument, NULL, OPT_FRAME_PARALLEL},
-    {"quiet", no_argument, NULL, 'q'},               {"help", no_argument, NULL, 'h'},
-    {NULL, 0, NULL, 0},
+    {"timings", no_argument, NULL, OPT_TIMINGS},     {"quiet", no_argument, NULL, 'q'},
+    {"help", no_argument, NULL, 'h'},                {NULL, 0, NULL, 0},
 };
 
 /* compose has no --force and no --jobs: it never skips frames, and is quick. */
@@ -311,6 +315,9 @@ static int take_option(int code, const char *value, const char *cmd, int compose
         return EXIT_OK;
     case OPT_FORCE:
         a->force = 1;
+        return EXIT_OK;
+    case OPT_TIMINGS:
+        a->timings = 1;
         return EXIT_OK;
     case OPT_FRAME_PARALLEL: /* orrery-mpi's only */
         if (!cli_parallel)
@@ -394,6 +401,23 @@ static void print_run_summary(const frame_progress *fp, long nframes, double sec
     printf("\n");
 }
 
+/* What was rendered: the run's summary and each view's report. */
+static void print_summary(const run_args *a, const orr_scene_views *views, const orr_render_report *reports,
+                          const frame_progress *fp, long nframes, int compose)
+{
+    double seconds = cli_now() - fp->start;
+    if (nframes > 1)
+        print_run_summary(fp, nframes, seconds);
+    if (a->jobs > 1 && nframes > 1)
+        return;
+    for (int k = 0; k < views->n && fp->rendered > 0; k++) {
+        if (compose)
+            print_compose_report(&reports[k], views->name[k]);
+        else
+            print_report(&reports[k], views->name[k], nframes > 1 ? seconds / fp->rendered : seconds);
+    }
+}
+
 static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_report *reports, int compose)
 {
     const orr_scene *list[ORR_SCENE_MAX_VIEWS];
@@ -431,6 +455,14 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
     opt.done_user = &fp;
     opt.progress = cli_progress_update;
     opt.progress_user = &particles;
+    /* Under orrery-mpi, rank 0's: it alone finishes and writes the frames. */
+    cli_timings timings;
+    memset(&timings, 0, sizeof timings);
+    timings.per_frame_lines = nframes > 1;
+    if (a->timings && !(cli_parallel && cli_parallel->rank != 0)) {
+        opt.timed = cli_timings_frame;
+        opt.timed_user = &timings;
+    }
     int code;
     if (a->jobs > 1 && nframes > 1) {
         code = render_jobs(list, views->n, opt, a->jobs, &fp);
@@ -446,19 +478,13 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
         orr_status st = orr_animation_smooth_whites(list, views->n, reports, &err);
         code = st ? cli_report_error(&err) : EXIT_OK;
     }
-    if (code != EXIT_OK || a->quiet)
+    if (code != EXIT_OK)
         return code;
-    double seconds = cli_now() - fp.start;
-    if (nframes > 1)
-        print_run_summary(&fp, nframes, seconds);
-    if (a->jobs > 1 && nframes > 1)
-        return code;
-    for (int k = 0; k < views->n && fp.rendered > 0; k++) {
-        if (compose)
-            print_compose_report(&reports[k], views->name[k]);
-        else
-            print_report(&reports[k], views->name[k], nframes > 1 ? seconds / fp.rendered : seconds);
-    }
+    if (!a->quiet)
+        print_summary(a, views, reports, &fp, nframes, compose);
+    /* With --jobs the frames' lines came from the jobs, which keep their sums. */
+    if (opt.timed && !(a->jobs > 1 && nframes > 1))
+        cli_timings_print(&timings);
     return code;
 }
 

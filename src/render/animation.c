@@ -760,6 +760,8 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
             break;
         if (!skip)
             st = do_frame(scenes, ids, n, f, &ri, opt, reports, err);
+        if (!st && !skip && !opt->compose && opt->timed)
+            opt->timed(opt->timed_user, f, &reports[0].times);
         if (!st && opt->done)
             opt->done(opt->done_user, f, skip, skip || !why[0] ? NULL : why);
     }

@@ -23,6 +23,10 @@ typedef struct orr_animation_options {
     orr_progress_fn progress; /* particles read within a frame */
     void *progress_user;
     const orr_parallel *parallel; /* several processes render each frame together (MPI); NULL: one */
+    /* Told after each frame rendered (not skipped, not composed) where its
+     * time went (render/timings.h); NULL: not told. */
+    void (*timed)(void *user, long frame, const orr_stage_times *times);
+    void *timed_user;
 } orr_animation_options;
 
 /* Options for every frame of the run, one job. */

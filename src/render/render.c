@@ -125,7 +125,21 @@ typedef struct view_state {
     int nlanes;                 /* lanes of the splat (MAX_LANES above) */
     orr_plane *lane_planes;     /* lanes 1 .. nlanes-1: nplanes planes each; lane 0 is planes[] */
     orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
+    struct frame_timer *timer;  /* the frame's stage timings (every view's), or NULL: not measured */
 } view_state;
+
+/* A frame's stage timings and the clock reading the last stage ended at:
+ * each stage is charged the time since then (render/timings.h). */
+typedef struct frame_timer {
+    orr_stage_times times;
+    orr_clock at;
+} frame_timer;
+
+static void charge(const view_state *v, orr_stage s)
+{
+    if (v->timer)
+        orr_stage_charge(&v->timer->times, s, &v->timer->at);
+}
 
 /* What one block added to the report, kept per block and summed in block
  * order, so the sums do not depend on which thread took which block. */
@@ -962,6 +976,10 @@ typedef struct splat_work {
     size_t nblocks_cap;
     size_t *lengths_first; /* per block */
     block_tally *tally;    /* per block */
+    /* Per worker, seconds spent gathering and projecting (0) and depositing
+     * (1): the threads interleave the two, so the chunk's splat time is
+     * shared between the stages in this proportion (--timings). */
+    double split[MAX_LANES][2];
 } splat_work;
 
 /* Where each block's neighbour smoothing lengths start: they are taken in
@@ -999,6 +1017,14 @@ static long take_block(const view_state *v, const orr_source *src, const orr_chu
     return n;
 }
 
+/* Adds this thread's CPU time since `since` to split[part]; returns now. */
+static double split_mark(double *split, int part, double since)
+{
+    double now = orr_thread_cpu_seconds();
+    split[part] += now - since;
+    return now;
+}
+
 /* One lane's blocks of the chunk, in order; stops at a bad particle,
  * recording the block in w->failed[lane] and the error in w->lane_err. */
 static void splat_lane(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
@@ -1006,12 +1032,15 @@ static void splat_lane(view_state *v, const orr_source *src, const orr_chunk *c,
 {
     block_buffers *b = &w->buffers[lane];
     orr_plane *planes = lane_planes(v, lane);
+    double at = orr_thread_cpu_seconds();
     for (size_t blk = (size_t)lane; blk < nblocks; blk += (size_t)v->nlanes) {
         block_tally *t;
         long n = take_block(v, src, c, wts, blk, w, lane, b, &t);
         if (n < 0)
             return;
+        at = split_mark(w->split[lane], 0, at);
         deposit_block(v, planes, lane, (size_t)n, b, t);
+        at = split_mark(w->split[lane], 1, at);
     }
 }
 
@@ -1136,14 +1165,19 @@ static orr_status splat_view_banded(view_state *v, const orr_source *src, const 
         w->failed[k] = SIZE_MAX;
     for (size_t first = 0; first < nblocks; first += window) {
         size_t count = nblocks - first < window ? nblocks - first : window;
+        orr_clock at = orr_clock_now();
         window_shares(v, src, c, wts, first, count, w, nthreads);
         orr_status st = first_failure(w, nthreads, err);
         if (st)
             return st;
+        orr_clock mid = orr_clock_now();
         /* Runs of eight consecutive bands: each band prefetches the next. */
 #pragma omp parallel for schedule(dynamic, 8) num_threads(nthreads)
         for (int band = 0; band < nbands; band++)
             orr_bands_apply(&v->bands, band, count, v->planes);
+        /* The two phases follow each other: their wall times split the splat. */
+        w->split[0][0] += mid.wall - at.wall;
+        w->split[0][1] += orr_clock_now().wall - mid.wall;
     }
     add_chunk_tally(v, c, w, nblocks);
     return ORR_OK;
@@ -1193,14 +1227,17 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
  * into the report. */
 static orr_status draw_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *w,
                              size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
-                             block_buffers *b, orr_error *err)
+                             block_buffers *b, double *split, orr_error *err)
 {
     block_tally t;
     memset(&t, 0, sizeof t);
+    double at = orr_thread_cpu_seconds();
     long n = project_block(v, src, c, w, start, end, shift, fading, lengths_next, b, &t, err);
     if (n < 0)
         return err ? err->code : ORR_ERR_DATA;
+    at = split_mark(split, 0, at);
     deposit_block(v, v->planes, 0, (size_t)n, b, &t);
+    split_mark(split, 1, at);
     add_tally(v->rep, &t);
     return ORR_OK;
 }
@@ -1246,7 +1283,7 @@ static int copy_fades(const orr_periodic_view *pv, const orr_block_summary *sum,
  * thread into the view's own planes, in block order (in a fly-through the
  * culling, not threads, is what saves the time). */
 static orr_status splat_chunk_periodic(view_state *v, const orr_source *src, const orr_chunk *c,
-                                       const float *const *w, block_buffers *b, orr_error *err)
+                                       const float *const *w, block_buffers *b, double *split, orr_error *err)
 {
     const orr_periodic_view *pv = &v->periodic;
     const size_t nblocks = (c->n + BLOCK - 1) / BLOCK, first_length = v->lengths_next;
@@ -1278,7 +1315,8 @@ static orr_status splat_chunk_periodic(view_state *v, const orr_source *src, con
                 count_culled(v, &sum[q]);
                 v->rep->n_blocks_culled++;
             } else {
-                st = draw_block(v, src, c, w, q * BLOCK, end, shift, copy_fades(pv, &sum[q], shift), next, b, err);
+                st = draw_block(v, src, c, w, q * BLOCK, end, shift, copy_fades(pv, &sum[q], shift), next, b, split,
+                                err);
             }
             next += sum[q].lengths_used;
         }
@@ -1289,14 +1327,26 @@ static orr_status splat_chunk_periodic(view_state *v, const orr_source *src, con
     return st;
 }
 
+/* Splats a chunk into every view; its time goes to the
+ * gather and deposit stages (the weights to the gather; the splat shared
+ * as the workers' own clocks say). */
 static orr_status splat_chunk(view_state *views, int nviews, const orr_source *src, const orr_chunk *c,
                               splat_work *work, float *const *xyz, orr_error *err)
 {
     const float *w[3] = {NULL, NULL, NULL};
     orr_status st = chunk_weights(views[0].scene, src, c, xyz, w, work, err);
+    charge(&views[0], ORR_STAGE_GATHER);
+    memset(work->split, 0, sizeof work->split);
     for (int k = 0; k < nviews && !st; k++)
-        st = views[k].periodic.active ? splat_chunk_periodic(&views[k], src, c, w, &work->buffers[0], err)
-                                      : splat_view(&views[k], src, c, w, work, err);
+        st = views[k].periodic.active
+                 ? splat_chunk_periodic(&views[k], src, c, w, &work->buffers[0], work->split[0], err)
+                 : splat_view(&views[k], src, c, w, work, err);
+    double part[2] = {0.0, 0.0};
+    for (int k = 0; k < MAX_LANES; k++)
+        part[0] += work->split[k][0], part[1] += work->split[k][1];
+    if (views[0].timer)
+        orr_stage_charge_split(&views[0].timer->times, ORR_STAGE_GATHER, ORR_STAGE_DEPOSIT,
+                               part[0] / (part[0] + part[1]), &views[0].timer->at);
     return st;
 }
 
@@ -1357,9 +1407,12 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
     for (int k = 0; k < nviews && !st; k++)
         st = views[k].banded && !views[k].periodic.active ? alloc_bands(&views[k], src->chunk.capacity, err)
                              : alloc_lanes(&views[k], src->info.count, err);
+    charge(&views[0], ORR_STAGE_SETUP); /* the lanes' planes, zeroed */
     while (!st) {
         const orr_chunk *c;
-        if ((st = orr_source_next(src, &c, err)) || c->n == 0)
+        st = orr_source_next(src, &c, err);
+        charge(&views[0], ORR_STAGE_SOURCE);
+        if (st || c->n == 0)
             break;
         if ((st = reserve_blocks(work, c->n, err)) || (st = splat_chunk(views, nviews, src, c, work, xyz, err)))
             break;
@@ -1375,6 +1428,7 @@ static orr_status splat_source(view_state *views, int nviews, orr_source *src, o
     for (int k = 0; k < nviews && !st; k++)
         if (views[k].psf.sky)
             st = orr_sky_psf_select(views[k].psf.sky, err);
+    charge(&views[0], ORR_STAGE_REDUCE);
     for (int k = 0; k < 3; k++)
         free(xyz[k]);
     free_work(work);
@@ -1614,6 +1668,7 @@ static orr_status write_pictures(view_state *v, orr_error *err)
     float *rgba = NULL; /* output.alpha_mask: the picture, transparent off the map */
     if (!st && s->alpha_mask)
         st = orr_map_rgba(&v->proj, rgb, &rgba, err);
+    charge(v, ORR_STAGE_POST);
     const char *path;
     if (!st && s->write_png) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
@@ -1621,6 +1676,7 @@ static orr_status write_pictures(view_state *v, orr_error *err)
             !(st = orr_write_png(path, v->proj.width, v->proj.height, rgba ? rgba : rgb, rgba ? 4 : 3,
                                  s->png_bits, text, 2, err)))
             rep->noutputs++;
+        charge(v, ORR_STAGE_PNG);
     }
     if (!st && s->image_ext[0]) {
         const char *keys[1], *values[1];
@@ -1628,6 +1684,7 @@ static orr_status write_pictures(view_state *v, orr_error *err)
         if (!(st = view_output(v, s->image_ext, &path, err)) &&
             !(st = orr_write_image_picture(path, rgb, rgba, v->proj.width, v->proj.height, s->png_bits, &meta, err)))
             rep->noutputs++;
+        charge(v, ORR_STAGE_IMAGE);
     }
     free(rgba);
     free(rgb);
@@ -1650,6 +1707,7 @@ static orr_status write_exr(view_state *v, orr_error *err)
     }
     if (!st)
         rep->noutputs++;
+    charge(v, ORR_STAGE_EXR);
     return st;
 }
 
@@ -1699,6 +1757,7 @@ static orr_status write_fits_planes(view_state *v, const char *ext, orr_error *e
     free(h);
     if (!st)
         rep->noutputs++;
+    charge(v, ORR_STAGE_FITS);
     return st;
 }
 
@@ -1721,6 +1780,7 @@ static orr_status write_stereo_pair(view_state *l, view_state *r, orr_eye_views 
         orr_eye_views_share_white(eyes, k, l->rep->white);
         st = graded_rgb(r, rgb + 3 * npix, rdesc, sizeof rdesc, err);
     }
+    charge(l, ORR_STAGE_POST);
     if (!st) {
         add_frame_cards(l, h);
         const char *keys[1], *values[1];
@@ -1734,6 +1794,7 @@ static orr_status write_stereo_pair(view_state *l, view_state *r, orr_eye_views 
             .proj = &l->proj,
         };
         st = orr_stereo_write_pair(&pair, l->rep, err);
+        charge(l, ORR_STAGE_STEREO);
     }
     free(rgb);
     free(h);
@@ -1745,6 +1806,7 @@ static orr_status write_outputs(view_state *v, orr_error *err)
     const orr_scene *s = v->scene;
     orr_status st;
     mask_outside_map(v);
+    charge(v, ORR_STAGE_POST);
     if (s->write_fits && (st = write_fits_planes(v, "fits", err)))
         return st;
     if (s->write_exr && (st = write_exr(v, err)))
@@ -1848,6 +1910,11 @@ static orr_status setup_view(view_state *v, const orr_scene *s, const orr_sky_fr
     if (!st && v->use_sph)
         st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
     v->sph_ready = !st && v->use_sph;
+    /* A sky map's PSF cores: stars are drawn from stamps (splat/sky_cores.h).
+     * widen_for_psf gives a star without a length of its own h = k r, k the
+     * float of h_per_r: its angle h / r. */
+    if (!st && v->use_sph && v->psf.h_per_r > 0)
+        st = orr_sph_use_cores(&v->sph, (float)v->psf.h_per_r, err);
     return st;
 }
 
@@ -1988,16 +2055,20 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, or
     for (int k = 0; k < n && !st; k++) /* a sky map's bright stars: part of the raw planes, as their cores */
         if (views[k].psf.sky)
             st = orr_sky_psf_draw(views[k].psf.sky, &views[k].sph, views[k].planes, views[k].nplanes, err);
+    charge(&views[0], ORR_STAGE_PSF);
     for (int k = 0; k < n && !st; k++) /* flux per pixel to flux per steradian (or area) */
         orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);
+    charge(&views[0], ORR_STAGE_POST);
     for (int k = 0; k < n && !st; k++)
         if (views[k].scene->write_raw) {
             mask_outside_map(&views[k]);
+            charge(&views[k], ORR_STAGE_POST);
             st = write_fits_planes(&views[k], "raw.fits", err);
         }
     for (int k = 0; k < n && !st; k++)
         for (int j = 0; j < views[k].nplanes && !st; j++)
             st = orr_view_psf_apply(&views[k].psf, &views[k].planes[j], err);
+    charge(&views[0], ORR_STAGE_PSF);
     for (int k = 0; k < n && !st; k++) {
         if (orr_eye_views_pair_at(eyes, k)) {
             st = write_stereo_pair(&views[k], &views[k + 1], eyes, k, err);
@@ -2016,6 +2087,11 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
 {
     if (n < 1)
         return orr_fail(err, ORR_ERR_USAGE, "no view to render");
+    const int nscenes = n;
+    frame_timer timer;
+    memset(&timer, 0, sizeof timer);
+    timer.at = orr_clock_now();
+    const orr_clock start = timer.at;
     const orr_scene *s0 = scenes[0];
     const orr_frame_time still = orr_frame_at(0, 1, s0->anim_fps, 0, 0);
     const orr_frame_time *when = in ? &in->time : &still;
@@ -2031,6 +2107,9 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     orr_vec3 observer_velocity = orr_v3(0, 0, 0);
     if (!st && s0->has_observer)
         st = build_sky_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
+    /* The observer's frame is found by a pass over the particles (or with
+     * them opened for this process's share): reading, as the splat's. */
+    orr_stage_charge(&timer.times, ORR_STAGE_SOURCE, &timer.at);
     /* A stereo view renders as two views, its eyes. */
     orr_eye_views eyes = {0};
     if (!st)
@@ -2040,9 +2119,13 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     if (!st && !views)
         st = ORR_ERR_NOMEM;
     int ready = 0;
-    for (; !st && ready < n; ready++)
+    for (; !st && ready < n; ready++) {
+        views[ready].timer = &timer;
         st = setup_view(&views[ready], eyes.scene[ready], s0->has_observer ? &observer : NULL, observer_velocity,
                         when, eyes.report[ready], err);
+    }
+    if (views)
+        charge(&views[0], ORR_STAGE_SETUP);
     orr_lengths lengths = {0};
     if (!st && given) {
         src = given;
@@ -2051,12 +2134,15 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
         const char *fields[4];
         st = orr_scene_open_source(s0, fields, orr_render_fields(s0, fields), &src, err);
     }
+    if (views)
+        charge(&views[0], ORR_STAGE_SOURCE);
     if (!st) {
         for (int k = 0; k < n; k++) {
             snprintf(views[k].rep->source, sizeof views[k].rep->source, "%s", src->info.path);
             views[k].rep->sim_time = src->info.time;
         }
         st = prepare_lengths(views, n, src, par, &lengths, err);
+        charge(&views[0], ORR_STAGE_LENGTHS);
     }
     for (int k = 0; k < n && !st; k++)
         st = setup_periodic(&views[k], &src->info, err);
@@ -2064,6 +2150,8 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
         st = splat_source(views, n, src, progress, progress_user, err);
     if (par && !(st = par->any_failed(par->user, st, err)))
         st = reduce_views(views, n, par, err);
+    if (views)
+        charge(&views[0], ORR_STAGE_REDUCE);
     orr_output_batch outputs;
     orr_output_batch_init(&outputs);
     for (int k = 0; k < ready; k++)
@@ -2076,6 +2164,8 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     else
         orr_output_batch_name_finals(&outputs, err);
     orr_output_batch_abort(&outputs);
+    if (views)
+        charge(&views[0], ORR_STAGE_COMMIT);
     if (!in || src != in->source)
         orr_source_close(src);
     orr_lengths_free(&lengths);
@@ -2083,6 +2173,10 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
         free_view(&views[k]);
     free(views);
     orr_eye_views_finish(&eyes);
+    /* The frees above belong to no stage: the totals include them. */
+    orr_stage_times_finish(&timer.times, start);
+    for (int k = 0; k < nscenes && !st; k++)
+        reports[k].times = timer.times;
     return st;
 }
 

@@ -16,6 +16,7 @@
 #include "scene/scene.h"
 #include "splat/deposit.h"
 #include "splat/plane.h"
+#include "render/timings.h"
 
 #define ORR_RENDER_MAX_OUTPUTS 10 /* stereo.mode: separate writes each format twice */
 
@@ -44,6 +45,8 @@ typedef struct orr_render_report {
     double stereo_convergence;   /* perspective stereo: the zero-parallax distance used */
     int noutputs;
     char outputs[ORR_RENDER_MAX_OUTPUTS][ORR_PATH_MAX];
+    orr_stage_times times;       /* where the frame's time went: every view of the frame together, the same
+                                  * in each view's report (render/timings.h) */
 } orr_render_report;
 
 /* Called after each chunk with the particles read so far and the total

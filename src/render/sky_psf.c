@@ -259,6 +259,103 @@ static double pixel_light(const orr_sky_psf *sp, const orr_projection *p, const 
     return sum / (scale * scale * ns * ns); /* the pixel's solid angle: 1 / scale^2 */
 }
 
+/* ---- a tile's pixels from its corners ----
+ *
+ * A stamp covers tens of thousands of map pixels (the automatic core makes
+ * a PSF pixel 7' on a 3600^2 dome, and the PSF 10 degrees across), and
+ * mapping every one back to the sky (pixel_light: an inverse projection
+ * for its direction, a projection for its solid angle) was most of a
+ * spike star's cost. Over one 8 x 8 tile the map is smooth, so the
+ * PSF-plane position of a point and its weight (solid angle / cos^3) are
+ * found at the tile's corners and interpolated bilinearly between them;
+ * the interpolation is checked at the tile's centre against the exact
+ * mapping, and a tile that misses (a seam, a pole, the map's rim, a corner
+ * off the map) is done pixel by pixel. */
+
+/* Where the PSF samples a direction: its PSF-plane position (pixels, x
+ * east, y down the PSF image) and the weight of a sample there per unit of
+ * map area: the pixel's solid angle over cos^3 rho (0 beyond the reach). */
+typedef struct psf_point {
+    double x, y, g;
+} psf_point;
+
+static int psf_point_at(const orr_sky_psf *sp, const orr_projection *p, const tangent *t, double cos_reach, double x,
+                        double y, psf_point *out)
+{
+    orr_vec3 d;
+    double px, py, scale;
+    if (!orr_unproject(p, x, y, &d) || !orr_project_point(p, d, &px, &py, &scale) || !(scale > 0))
+        return 0;
+    const double c = orr_v3_dot(d, t->s), inv = 1.0 / sp->rad_per_pixel;
+    if (!(c > 0))
+        return 0; /* the far hemisphere: no tangent plane */
+    orr_vec3 off = orr_v3_sub(orr_v3_scale(d, 1.0 / c), t->s);
+    *out = (psf_point){orr_v3_dot(off, t->east) * inv, -orr_v3_dot(off, t->north) * inv,
+                       c < cos_reach ? 0.0 : 1.0 / (c * c * c * scale * scale)};
+    return 1;
+}
+
+/* The four corners of a tile's box, mapped; 0 when one is off the map or
+ * the interpolation misses the exact mapping at the box's centre by more
+ * than TILE_TOL PSF pixels (or 1e-3 in weight). */
+#define TILE_TOL 0.02
+static int tile_corners(const orr_sky_psf *sp, const orr_projection *p, const tangent *t, double cos_reach, int i0,
+                        int i1, int j0, int j1, psf_point q[4])
+{
+    for (int k = 0; k < 4; k++)
+        if (!psf_point_at(sp, p, t, cos_reach, k & 1 ? i1 : i0, k & 2 ? j1 : j0, &q[k]))
+            return 0;
+    psf_point mid;
+    if (!psf_point_at(sp, p, t, cos_reach, 0.5 * (i0 + i1), 0.5 * (j0 + j1), &mid))
+        return 0;
+    const double x = 0.25 * (q[0].x + q[1].x + q[2].x + q[3].x), y = 0.25 * (q[0].y + q[1].y + q[2].y + q[3].y);
+    const double g = 0.25 * (q[0].g + q[1].g + q[2].g + q[3].g);
+    return fabs(x - mid.x) <= TILE_TOL && fabs(y - mid.y) <= TILE_TOL && fabs(g - mid.g) <= 1e-3 * mid.g &&
+           mid.g > 0 && q[0].g > 0 && q[1].g > 0 && q[2].g > 0 && q[3].g > 0;
+}
+
+/* The light of pixel (i, j) of a tile whose box [i0, i1] x [j0, j1] maps
+ * to corners q, at ns x ns points of the pixel. */
+static double tile_pixel_light(const orr_sky_psf *sp, const psf_point q[4], int i0, int i1, int j0, int j1, int i,
+                               int j, int ns)
+{
+    const double sx = 1.0 / (i1 - i0), sy = 1.0 / (j1 - j0);
+    double sum = 0.0;
+    for (int b = 0; b < ns; b++) {
+        const double v = (j + (b + 0.5) / ns - j0) * sy;
+        for (int a = 0; a < ns; a++) {
+            const double u = (i + (a + 0.5) / ns - i0) * sx;
+            const double w00 = (1 - u) * (1 - v), w10 = u * (1 - v), w01 = (1 - u) * v, w11 = u * v;
+            const double x = w00 * q[0].x + w10 * q[1].x + w01 * q[2].x + w11 * q[3].x;
+            const double y = w00 * q[0].y + w10 * q[1].y + w01 * q[2].y + w11 * q[3].y;
+            const double g = w00 * q[0].g + w10 * q[1].g + w01 * q[2].g + w11 * q[3].g;
+            sum += orr_image_kernel_sample(&sp->kernel, x, y) * g;
+        }
+    }
+    return sum / (ns * ns);
+}
+
+/* One tile of the stamp's pixels: interpolated when the corners allow,
+ * else pixel by pixel. */
+static orr_status stamp_tile(const orr_sky_psf *sp, const orr_projection *p, const tangent *t, double cos_reach,
+                             int tx, int ty, int ns, stamp *st, orr_error *err)
+{
+    const int T = ORR_SPH_TILE, i0 = tx * T, j0 = ty * T;
+    const int i1 = i0 + T < p->width ? i0 + T : p->width, j1 = j0 + T < p->height ? j0 + T : p->height;
+    psf_point q[4];
+    const int smooth = tile_corners(sp, p, t, cos_reach, i0, i1, j0, j1, q);
+    for (int j = j0; j < j1; j++)
+        for (int i = i0; i < i1; i++) {
+            if (!orr_projection_pixel_in_map(p, i, j))
+                continue;
+            double v = smooth ? tile_pixel_light(sp, q, i0, i1, j0, j1, i, j, ns)
+                              : pixel_light(sp, p, t, cos_reach, i, j, ns);
+            if (v > 0.0 && stamp_push(st, (size_t)j * p->width + i, v, err))
+                return ORR_ERR_NOMEM;
+        }
+    return ORR_OK;
+}
+
 /* The star's stamp over every map pixel within the PSF's reach, found
  * through the deposit's tile index (which knows the seams, poles and rims). */
 static orr_status make_stamp(const orr_sky_psf *sp, const orr_sph *sph, orr_vec3 dir, stamp *st, orr_error *err)
@@ -271,25 +368,17 @@ static orr_status make_stamp(const orr_sky_psf *sp, const orr_sph *sph, orr_vec3
     const double cos_cap = cos(cap), sin_cap = sin(cap), cos_reach = cos(fmin(reach, 0.5 * ORR_PI));
     int ns = (int)ceil(pixel_rad / sp->rad_per_pixel);
     ns = ns < 1 ? 1 : ns > MAX_SUBSAMPLES ? MAX_SUBSAMPLES : ns;
-    const int T = ORR_SPH_TILE, G = ORR_SPH_GROUP;
+    const int G = ORR_SPH_GROUP;
     st->n = 0;
     for (int gy = 0; gy < sph->groups_y; gy++)
         for (int gx = 0; gx < sph->groups_x; gx++) {
             if (!cap_meets(dir, cos_cap, sin_cap, &sph->groups[(size_t)gy * sph->groups_x + gx]))
                 continue;
             for (int ty = gy * G; ty < (gy + 1) * G && ty < sph->tiles_y; ty++)
-                for (int tx = gx * G; tx < (gx + 1) * G && tx < sph->tiles_x; tx++) {
-                    if (!cap_meets(dir, cos_cap, sin_cap, &sph->tiles[(size_t)ty * sph->tiles_x + tx]))
-                        continue;
-                    for (int j = ty * T; j < (ty + 1) * T && j < p->height; j++)
-                        for (int i = tx * T; i < (tx + 1) * T && i < p->width; i++) {
-                            if (!orr_projection_pixel_in_map(p, i, j))
-                                continue;
-                            double v = pixel_light(sp, p, &t, cos_reach, i, j, ns);
-                            if (v > 0.0 && stamp_push(st, (size_t)j * p->width + i, v, err))
-                                return ORR_ERR_NOMEM;
-                        }
-                }
+                for (int tx = gx * G; tx < (gx + 1) * G && tx < sph->tiles_x; tx++)
+                    if (cap_meets(dir, cos_cap, sin_cap, &sph->tiles[(size_t)ty * sph->tiles_x + tx]) &&
+                        stamp_tile(sp, p, &t, cos_reach, tx, ty, ns, st, err))
+                        return ORR_ERR_NOMEM;
         }
     return ORR_OK;
 }

@@ -6,6 +6,7 @@
 
 #include "core/simd.h"
 #include "splat/kernel_row.h"
+#include "splat/sky_cores.h"
 
 /* How a particle is drawn (docs/smoothing.md has the measurements behind
  * the thresholds):
@@ -941,6 +942,54 @@ static affine_fit sky_affine(const orr_sph *s, double px, double py, double thet
     return affine_check(s, e, centre, theta);
 }
 
+/* ---- sky maps: the PSF cores' stamps (splat/sky_cores.h) ---- */
+
+int orr_sph_core_ellipse(const orr_sph *s, double px, double py, double theta, orr_sph_core_shape *shape)
+{
+    ellipse e;
+    if (!s->sky || sky_affine(s, px, py, theta, &e) != AFFINE_INSIDE)
+        return 0;
+    *shape = (orr_sph_core_shape){e.a, e.b, e.c, e.ex, e.ey};
+    return 1;
+}
+
+/* Rows of an ellipse's weights copied into a stamp whose pixel (0, 0) is
+ * the image's (0, 0). */
+typedef struct stamp_writer {
+    row_visitor v;
+    float *out;
+    int width;
+} stamp_writer;
+
+static void stamp_row(row_visitor *v, int j, int i, int n, const float *wt)
+{
+    stamp_writer *sw = (stamp_writer *)v;
+    memcpy(sw->out + (size_t)j * (size_t)sw->width + (size_t)i, wt, sizeof(float) * (size_t)n);
+}
+
+double orr_sph_core_stamp(const orr_sph *s, const orr_sph_core_shape *shape, double cx, double cy, int width,
+                          int height, float *out)
+{
+    ellipse e;
+    ellipse_setup(&e, cx, cy, shape->a, shape->b, shape->c);
+    target t = {NULL, NULL, s->kernel, 0, 0, 0.0};
+    stamp_writer sw = {{stamp_row}, out, width};
+    memset(out, 0, sizeof(float) * (size_t)width * (size_t)height);
+    ellipse_visit(&t, &e, (box){0, width - 1, 0, height - 1}, &sw.v);
+    double sum = 0.0;
+    for (int j = 0; j < height; j++)
+        sum += row_sum(out + (size_t)j * (size_t)width, width);
+    return sum;
+}
+
+float orr_sph_affine_reach(const orr_sph *s, double px, double py)
+{
+    int ci = (int)(px / ORR_SPH_CELL), cj = (int)(py / ORR_SPH_CELL);
+    if (!s->safe || ci < 0 || cj < 0 || ci >= s->cells_x || cj >= s->cells_y)
+        return 0.0f;
+    return s->safe[(size_t)cj * s->cells_x + ci];
+}
+
 /* ---- sky maps: the exact path ---- */
 
 /* The cap of a kernel on the sphere of directions. */
@@ -1090,6 +1139,8 @@ static void sky_particle(const orr_sph *s, target *t, const orr_sph_block *b, si
     orr_vec3 pos = orr_v3(b->x[i], b->y[i], b->z[i]);
     double r = orr_v3_norm(pos);
     double theta = b->h[i] / r;
+    if (s->cores && orr_sky_cores_draw(s->cores, s, px, py, theta, w, t->plane))
+        return;
     ellipse e;
     affine_fit fit = theta < 0.5 ? sky_affine(s, px, py, theta, &e) : AFFINE_NO;
     if (fit == AFFINE_CROSSING) {
@@ -1319,8 +1370,18 @@ orr_status orr_sph_init(orr_sph *s, const orr_kernel *k, const orr_projection *p
     return st;
 }
 
+orr_status orr_sph_use_cores(orr_sph *s, double theta, orr_error *err)
+{
+    if (!s->sky)
+        return ORR_OK;
+    orr_sky_cores_free(s->cores);
+    return orr_sky_cores_create(&s->cores, s, theta, err);
+}
+
 void orr_sph_free(orr_sph *s)
 {
+    orr_sky_cores_free(s->cores);
+    s->cores = NULL;
     free(s->tiles);
     free(s->groups);
     free(s->safe);

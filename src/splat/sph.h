@@ -62,6 +62,7 @@ typedef struct orr_sph {
     orr_sph_tile *tiles;       /* tiles_x * tiles_y */
     orr_sph_tile *groups;      /* groups_x * groups_y */
     float *safe;               /* per cell: the largest support radius (pixels) the affine model draws */
+    struct orr_sky_cores *cores; /* a sky map's PSF cores drawn from stamps (splat/sky_cores.h), or NULL */
 } orr_sph;
 
 /* One block of particles as the renderer holds it after orr_project_batch. */
@@ -80,6 +81,29 @@ typedef struct orr_sph_block {
  * indexes the map, about 0.1 s for a 3600 x 3600 dome master. */
 orr_status orr_sph_init(orr_sph *s, const orr_kernel *k, const orr_projection *proj, orr_error *err);
 void orr_sph_free(orr_sph *s);
+
+/* A sky map whose particles are widened to a PSF core of angular size
+ * theta = h / r (render/view_psf.h): those whose kernel is the core alone
+ * are drawn from a table of pixel-integrated stamps (splat/sky_cores.h)
+ * instead of being evaluated one by one. Nothing for a flat projection. */
+orr_status orr_sph_use_cores(orr_sph *s, double theta, orr_error *err);
+
+/* For splat/sky_cores.c: a kernel of angular size theta at image point
+ * (px, py) as the local affine model draws it, the ellipse u = a dx^2 +
+ * 2 b dx dy + c dy^2 < 4 of half-extents ex, ey pixels, where the model
+ * holds over the whole support on the map (0 elsewhere); */
+typedef struct orr_sph_core_shape {
+    double a, b, c, ex, ey;
+} orr_sph_core_shape;
+int orr_sph_core_ellipse(const orr_sph *s, double px, double py, double theta, orr_sph_core_shape *shape);
+/* its weights, as the deposit computes them, centred at (cx, cy) of a
+ * width x height stamp (row by row, pixel (0, 0) at the stamp's corner),
+ * unnormalised; returns their sum; */
+double orr_sph_core_stamp(const orr_sph *s, const orr_sph_core_shape *shape, double cx, double cy, int width,
+                          int height, float *out);
+/* and the support radius (pixels) the map's index says the affine model
+ * draws faithfully at (px, py): 0 near the map's outline. */
+float orr_sph_affine_reach(const orr_sph *s, double px, double py);
 
 /* Deposits a block into plane (the projection's size). Particles without a
  * smoothing length (h NULL, or h[i] zero, negative or not finite) are

@@ -167,6 +167,13 @@ static void test_sky_maps(void)
                                           "image: {width: 200, height: 100}\ndeposit: ngp\n"
                                           "psf: {kind: gaussian, fwhm_arcmin: 120}\n",
                       1, 0);
+    /* The automatic core, on a map large enough that its stars are drawn
+     * from the stamp table (splat/sky_cores.h), whose cells the threads
+     * make as their stars arrive. */
+    check_independent("dome_core", MODEL "camera: {projection: dome, position: [8, 0, 0]}\n"
+                                         "image: {width: 1200, height: 1200}\ndeposit: cic\n"
+                                         "psf: {kind: gaussian}\n",
+                      1, 0);
 }
 
 static void test_colour(void)
