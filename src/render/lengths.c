@@ -5,6 +5,7 @@
 #include <time.h>
 
 #include "particles/smoothing.h"
+#include "render/render.h"
 
 orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *needed, orr_error *err)
 {
@@ -128,4 +129,83 @@ void orr_lengths_free(orr_lengths *l)
 {
     free(l->h);
     *l = (orr_lengths){0};
+}
+
+/* Every process's directions, in rank order, into all (3 arrays of
+ * *n_all), and where this process's start (*first). */
+static orr_status share_directions(const orr_parallel *par, const positions *mine, positions *all, size_t *first,
+                                   orr_error *err)
+{
+    double *counts = calloc((size_t)par->nranks, sizeof *counts);
+    if (!counts)
+        return orr_fail(err, ORR_ERR_NOMEM, "out of memory for %d processes' counts", par->nranks);
+    counts[par->rank] = (double)mine->n;
+    orr_status st = par->allreduce_sum(par->user, counts, (size_t)par->nranks, err);
+    size_t n = 0;
+    *first = 0;
+    for (int r = 0; r < par->nranks && !st; r++) {
+        if (r == par->rank)
+            *first = n;
+        n += (size_t)counts[r];
+    }
+    free(counts);
+    double *xyz = st ? NULL : calloc(3 * n + 1, sizeof *xyz);
+    if (!st && !xyz)
+        st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for the directions of %zu particles (the glow's lengths)", n);
+    for (size_t i = 0; i < mine->n && !st; i++) {
+        xyz[3 * (*first + i)] = mine->x[i];
+        xyz[3 * (*first + i) + 1] = mine->y[i];
+        xyz[3 * (*first + i) + 2] = mine->z[i];
+    }
+    if (!st)
+        st = par->allreduce_sum(par->user, xyz, 3 * n, err); /* each slot is one process's, the others add 0 */
+    while (!st && all->cap < n)
+        st = grow(all, err);
+    for (size_t i = 0; i < n && !st; i++) {
+        all->x[i] = (float)xyz[3 * i];
+        all->y[i] = (float)xyz[3 * i + 1];
+        all->z[i] = (float)xyz[3 * i + 2];
+    }
+    all->n = st ? 0 : n;
+    free(xyz);
+    return st;
+}
+
+orr_status orr_lengths_compute_shared(const orr_scene *s, orr_source *src, const orr_vec3 *centre,
+                                      const orr_parallel *par, orr_lengths *out, orr_error *err)
+{
+    *out = (orr_lengths){0};
+    positions mine = {0}, all = {0};
+    size_t first = 0;
+    float *h_all = NULL;
+    double t0 = seconds_now();
+    orr_status st = gather_positions(s, src, centre, &mine, err);
+    /* Collective from here: every process takes part even if its own pass failed. */
+    st = par->any_failed(par->user, st, err);
+    if (!st)
+        st = share_directions(par, &mine, &all, &first, err);
+    if (!st && all.n && !(h_all = malloc(all.n * sizeof *h_all)))
+        st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for %zu smoothing lengths", all.n);
+    if (!st && all.n &&
+        (st = orr_smoothing_lengths(all.n, all.x, all.y, all.z, s->neighbours, ORR_SMOOTHING_FACTOR_DEFAULT, h_all,
+                                    err)))
+        orr_fail_prefix(err, "%s: the glow's lengths from the neighbours: ", s->path);
+    if (!st && mine.n && !(out->h = malloc(mine.n * sizeof *out->h)))
+        st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for %zu smoothing lengths", mine.n);
+    for (size_t i = 0; i < mine.n && !st; i++)
+        out->h[i] = h_all[first + i];
+    free(h_all);
+    free(mine.x), free(mine.y), free(mine.z);
+    free(all.x), free(all.y), free(all.z);
+    if (!st)
+        st = orr_source_rewind(src, err);
+    if (st) {
+        orr_lengths_free(out);
+        return st;
+    }
+    out->n = mine.n;
+    out->seconds = seconds_now() - t0;
+    out->angular = 1;
+    out->centre = *centre;
+    return ORR_OK;
 }

@@ -1947,15 +1947,17 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
         v->h_scale = (float)(v->scene->h_scale * support / 2.0);
         if (!needed)
             continue;
-        if (par)
+        /* The glow's lengths are angles seen from the camera (glow_length). */
+        const orr_vec3 *centre = v->scene->has_glow ? &v->rep->camera.position : NULL;
+        if (par && !centre)
             return orr_fail(err, ORR_ERR_USAGE,
                             "%s: smoothing lengths from the neighbours need every particle in one process; with "
                             "%d MPI ranks use lengths from the file (smoothing.lengths: file)",
                             v->scene->path, par->nranks);
         v->h_scale = (float)v->scene->h_scale;
-        /* The glow's lengths are angles seen from the camera (render/glow.h). */
-        const orr_vec3 *centre = v->scene->has_glow ? &v->rep->camera.position : NULL;
-        if (!lengths->h && (st = orr_lengths_compute(v->scene, src, centre, lengths, err)))
+        if (!lengths->h && !lengths->angular && /* (computed, but none here: a process's share may be empty) */
+            (st = par ? orr_lengths_compute_shared(v->scene, src, centre, par, lengths, err)
+                                     : orr_lengths_compute(v->scene, src, centre, lengths, err)))
             return st;
         if (lengths->angular != (centre != NULL) ||
             (centre && orr_v3_norm(orr_v3_sub(lengths->centre, *centre)) > 0))
