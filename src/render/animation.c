@@ -682,7 +682,8 @@ static orr_status do_frame(const orr_scene *scenes, const view_identity *ids, in
         if (writer && !opt->compose && s0->anim_frames > 1)
             remove_marker(&scenes[k]);
     }
-    orr_frame_input in = {orr_frame_at(frame, s0->anim_frames, s0->anim_fps, ri->t0, ri->t1), NULL, opt->parallel};
+    orr_frame_input in = {.time = orr_frame_at(frame, s0->anim_frames, s0->anim_fps, ri->t0, ri->t1),
+                          .parallel = opt->parallel};
     orr_status st = opt->compose ? ORR_OK : frame_source(ri, &in.time, opt->parallel, &in.source, err);
     if (!st)
         st = opt->compose ? orr_compose_views(list, n, reports, err)

@@ -1982,8 +1982,30 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
 }
 
 /* The planes before the PSF (for orrery compose), the PSF, and the outputs. */
-static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, orr_error *err)
+/* Hands view k's final planes, its graded picture and its cards to the
+ * frame's keeper (orr_frame_input.keep). */
+static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr_error *err)
 {
+    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    float *rgb = orr_malloc(npix * 3 * sizeof *rgb, "kept picture", err);
+    orr_fits_header *h = rgb ? orr_calloc(1, sizeof *h, "FITS header", err) : NULL;
+    orr_status st = h ? ORR_OK : ORR_ERR_NOMEM;
+    char desc[ORR_PATH_MAX + 256];
+    if (!st)
+        st = graded_rgb(v, rgb, desc, sizeof desc, err);
+    if (!st) {
+        add_frame_cards(v, h);
+        st = in->keep(in->keep_user, k, v->planes, v->nplanes, rgb, h, err);
+    }
+    free(rgb);
+    free(h);
+    return st;
+}
+
+static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, const orr_frame_input *in,
+                               orr_error *err)
+{
+    int keep = in && in->keep;
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++) /* a sky map's bright stars: part of the raw planes, as their cores */
         if (views[k].psf.sky)
@@ -2001,11 +2023,15 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, or
     for (int k = 0; k < n && !st; k++) {
         if (orr_eye_views_pair_at(eyes, k)) {
             st = write_stereo_pair(&views[k], &views[k + 1], eyes, k, err);
+            if (!st && keep && !(st = keep_view(&views[k], k, in, err)))
+                st = keep_view(&views[k + 1], k + 1, in, err);
             k++; /* the right eye was written with the left */
             continue;
         }
         st = write_outputs(&views[k], err);
         orr_eye_views_share_white(eyes, k, views[k].rep->white); /* separate eyes: grade the right alike */
+        if (!st && keep)
+            st = keep_view(&views[k], k, in, err);
     }
     return st;
 }
@@ -2069,7 +2095,7 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     for (int k = 0; k < ready; k++)
         views[k].outputs = &outputs;
     if (!st && (!par || par->rank == 0))
-        st = finish_views(views, n, &eyes, err);
+        st = finish_views(views, n, &eyes, in, err);
     /* All of the frame's files, or none of them. */
     if (!st)
         st = orr_output_batch_commit(&outputs, err);
