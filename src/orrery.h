@@ -103,6 +103,10 @@ double orrery_render_seconds(const orrery_renderer *r);
 
 void orrery_close(orrery_renderer *r);
 
+/* sizeof(orr_particle_arrays) in the library: bindings that mirror the
+ * structure (the Python package's ctypes) check their copy against it. */
+size_t orrery_particle_arrays_size(void);
+
 /* ---- Images in memory (for Python and other callers that want arrays,
  * not files). After orrery_keep_images(r, 1), every orrery_render also
  * keeps a copy of each view's images until the next orrery_render or

@@ -198,6 +198,8 @@ void orrery_close(orrery_renderer *r)
     free(r);
 }
 
+size_t orrery_particle_arrays_size(void) { return sizeof(orr_particle_arrays); }
+
 int orrery_keep_images(orrery_renderer *r, int keep)
 {
     if (!r)

@@ -26,8 +26,12 @@ void orr_kept_clear(orr_kept_images *k)
 /* One card's value as FITS writes it; returns the characters written. */
 static size_t card_value(const orr_fits_card *c, char *out, size_t size)
 {
-    if (c->type == ORR_CARD_DOUBLE)
-        return (size_t)orr_snprintf(out, size, "%.17g", c->dbl);
+    if (c->type == ORR_CARD_DOUBLE) { /* "8.0", not "8": a reader keeps it a real number */
+        size_t n = (size_t)orr_snprintf(out, size, "%.17g", c->dbl);
+        if (!strpbrk(out, ".eEin") && n + 2 < size)
+            n += (size_t)snprintf(out + n, size - n, ".0");
+        return n;
+    }
     if (c->type == ORR_CARD_LONG)
         return (size_t)orr_snprintf(out, size, "%lld", c->lng);
     if (c->type == ORR_CARD_BOOL)

@@ -183,6 +183,7 @@ static void test_kept_images(void)
     if (!r)
         return;
     orr_particle_arrays p = aos_arrays();
+    CHECK(orrery_particle_arrays_size() == sizeof(orr_particle_arrays));
     CHECK(orrery_image_count(r) == 0);
     CHECK(orrery_render(r, &p, 0) == ORRERY_OK && orrery_image_count(r) == 0); /* off by default */
     CHECK(orrery_keep_images(r, 1) == ORRERY_OK);
