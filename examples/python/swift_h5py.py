@@ -1,8 +1,8 @@
 """A SWIFT snapshot read with h5py, rendered through the orrery package: the
 shared Roberts-flow MHD test (32^3 gas particles in a 2 pi box), weighted by
-a field the file has and orrery's own HDF5 reader does not read, the
-magnetic energy B^2 / 2 of each particle (MagneticFluxDensities, (N, 3)),
-passed as a named field and chosen with input.weight.
+a quantity derived in numpy, the magnetic energy density B^2 / 2 of each
+particle (from MagneticFluxDensities, (N, 3)), passed as a named field and
+chosen with input.weight.
 
     PYTHONPATH=build/python /usr/bin/python3 examples/python/swift_h5py.py --out /tmp
 """

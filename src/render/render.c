@@ -1921,22 +1921,44 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
 
 /* This process's share of the scene's input, when several processes render
  * the frame: with the fields the sky frame and the weight need. */
-int orr_render_fields(const orr_scene *s, const char *fields[4])
+/* Appends name to fields[0..*n) unless it is empty, mass or h (never extra
+ * fields), already there, or there is no room. */
+static void add_field(const char **fields, int *n, const char *name)
+{
+    if (!name[0] || strcmp(name, "mass") == 0 || strcmp(name, "h") == 0 || *n >= ORR_RENDER_MAX_FIELDS)
+        return;
+    for (int i = 0; i < *n; i++)
+        if (strcmp(fields[i], name) == 0)
+            return;
+    fields[(*n)++] = name;
+}
+
+int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIELDS])
 {
     int nfields = 0;
-    if (strcmp(s->weight, "mass") != 0 && strcmp(s->weight, "h") != 0)
-        fields[nfields++] = s->weight;
+    add_field(fields, &nfields, s->weight);
+    /* Readers that load only the fields asked for (HDF5) must load these,
+     * or a population choosing by stellar age would find no ages. */
+    for (int i = 0; s->colour && i < s->populations.n; i++) {
+        const orr_population *p = &s->populations.pop[i];
+        add_field(fields, &nfields, p->select.range_field);
+        add_field(fields, &nfields, p->select.prob_field);
+        if (p->colour.kind != ORR_POPCOLOUR_FIXED)
+            add_field(fields, &nfields, p->colour.field);
+        if (p->lum.kind == ORR_POPLUM_FIELD || p->lum.kind == ORR_POPLUM_MAGNITUDE)
+            add_field(fields, &nfields, p->lum.field);
+    }
     if ((s->has_observer && s->normal_types) || orr_blur_moves_particles(s)) {
-        fields[nfields++] = "vx";
-        fields[nfields++] = "vy";
-        fields[nfields++] = "vz";
+        add_field(fields, &nfields, "vx");
+        add_field(fields, &nfields, "vy");
+        add_field(fields, &nfields, "vz");
     }
     return nfields;
 }
 
 static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_source **out, orr_error *err)
 {
-    const char *fields[4];
+    const char *fields[ORR_RENDER_MAX_FIELDS];
     int nfields = orr_render_fields(s, fields);
     orr_source *whole = NULL;
     /* File readers that can seek read only this rank's share; the others,
@@ -2074,8 +2096,9 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
         src = given;
         st = orr_source_rewind(src, err);
     } else if (!st) {
-        const char *fields[4];
-        st = orr_scene_open_source(s0, fields, orr_render_fields(s0, fields), &src, err);
+        const char *fields[ORR_RENDER_MAX_FIELDS];
+        int nfields = orr_render_fields(s0, fields);
+        st = orr_scene_open_source(s0, fields, nfields, &src, err);
     }
     if (!st) {
         for (int k = 0; k < n; k++) {

@@ -51,9 +51,13 @@ typedef struct orr_render_report {
 typedef void (*orr_progress_fn)(void *user, uint64_t done, int64_t total);
 
 /* The extra fields a frame of the scene may ask its source for: the weight
- * (when not mass or h), and velocities for the observer's spin normal.
- * Fills fields[0..4) and returns how many. */
-int orr_render_fields(const orr_scene *s, const char *fields[4]);
+ * (when not mass or h), the fields its colour populations select, colour
+ * and weigh by, and velocities for the observer's spin normal and for a
+ * motion blur that moves particles. Fills
+ * fields[0..ORR_RENDER_MAX_FIELDS) (each name once; pointers into s) and
+ * returns how many. */
+#define ORR_RENDER_MAX_FIELDS ORR_MAX_EXTRA_FIELDS
+int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIELDS]);
 
 /* Opens the scene's particle source (file or built-in model), asking for
  * the given extra fields only (NULL: all). */

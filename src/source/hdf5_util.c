@@ -196,3 +196,18 @@ int orr_h5_read_rows(hid_t ds, uint64_t first, size_t n, int ncols, hid_t memtyp
     orr_h5_close(fspace);
     return ok ? 0 : -1;
 }
+
+int orr_h5_read_column(hid_t ds, uint64_t first, size_t n, int col, hid_t memtype, void *buf)
+{
+    hsize_t start[2] = {first, (hsize_t)col};
+    hsize_t count[2] = {n, 1};
+    hsize_t mcount[1] = {n};
+    hid_t fspace = H5Dget_space(ds);
+    hid_t mspace = H5Screate_simple(1, mcount, NULL);
+    int ok = fspace >= 0 && mspace >= 0 &&
+             H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
+             H5Dread(ds, memtype, mspace, fspace, H5P_DEFAULT, buf) >= 0;
+    orr_h5_close(mspace);
+    orr_h5_close(fspace);
+    return ok ? 0 : -1;
+}
