@@ -18,7 +18,6 @@
 #include "source/mass_policy.h"
 #include "source/share.h"
 
-#define H5R_DEFAULT_CHUNK ((size_t)1 << 20)
 /* More files than this is not a snapshot but a corrupt header. */
 #define H5R_MAX_FILES 100000
 /* HDF5 reads whole chunks: a dataset whose chunks are larger than this would
@@ -824,19 +823,12 @@ static orr_status choose_share(hdf5_state *st, orr_source *src, const orr_source
     return s;
 }
 
-static orr_status alloc_buffers(hdf5_state *st, orr_source *src, size_t chunk_size, orr_error *err)
+static orr_status alloc_buffers(hdf5_state *st, orr_source *src, const orr_source_options *opt, orr_error *err)
 {
-    /* A small snapshot needs no more than its own size. */
-    size_t capacity = chunk_size;
-    if (src->info.count >= 0 && (uint64_t)src->info.count < capacity)
-        capacity = src->info.count > 0 ? (size_t)src->info.count : 1;
-    const char *names[ORR_MAX_EXTRA_FIELDS];
-    for (int i = 0; i < src->info.nextra; i++)
-        names[i] = src->info.extra_names[i];
-    orr_status s = orr_chunk_alloc(&src->chunk, capacity, src->info.has_h, names, src->info.nextra, err);
+    orr_status s = orr_source_alloc_chunk(src, opt, err); /* a small snapshot needs no more than its own size */
     if (s)
         return s;
-    st->scratch = orr_malloc(3 * capacity * sizeof *st->scratch, "HDF5 read buffer", err);
+    st->scratch = orr_malloc(3 * src->chunk.capacity * sizeof *st->scratch, "HDF5 read buffer", err);
     return st->scratch ? ORR_OK : ORR_ERR_NOMEM;
 }
 
@@ -872,7 +864,6 @@ static orr_status open_snapshot(hdf5_state *st, orr_source *src, const orr_sourc
 orr_status orr_hdf5_source_open(const char *path, const orr_source_options *opt, orr_source **out,
                                 orr_error *err)
 {
-    size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : H5R_DEFAULT_CHUNK;
     *out = NULL;
     orr_source *src = orr_source_new("hdf5", path, &hdf5_ops, sizeof(hdf5_state), err);
     if (!src)
@@ -892,7 +883,7 @@ orr_status orr_hdf5_source_open(const char *path, const orr_source_options *opt,
         s = choose_share(st, src, opt, err);
     }
     if (!s) {
-        s = alloc_buffers(st, src, chunk_size, err);
+        s = alloc_buffers(st, src, opt, err);
     }
     if (s) {
         orr_source_close(src);

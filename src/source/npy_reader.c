@@ -284,40 +284,32 @@ static void npy_close(orr_source *src)
 
 static const orr_source_ops npy_ops = {.next = npy_next, .rewind = npy_rewind, .close = npy_close};
 
-static orr_status alloc_buffers(orr_source *src, npy_state *st, size_t chunk_size, orr_error *err)
+/* The chunk, and a read buffer of whole rows (at most NPY_BUFFER_BYTES). */
+static orr_status alloc_buffers(orr_source *src, npy_state *st, const orr_source_options *opt, orr_error *err)
 {
-    size_t capacity = chunk_size;
-    if ((uint64_t)src->info.count < capacity)
-        capacity = src->info.count > 0 ? (size_t)src->info.count : 1;
-    const char *names[ORR_MAX_EXTRA_FIELDS];
-    for (int i = 0; i < src->info.nextra; i++)
-        names[i] = src->info.extra_names[i];
-    orr_status s = orr_chunk_alloc(&src->chunk, capacity, src->info.has_h, names, src->info.nextra, err);
+    orr_status s = orr_source_alloc_chunk(src, opt, err);
     if (s)
         return s;
     size_t record = st->hdr.record ? st->hdr.record : 1;
     st->block = NPY_BUFFER_BYTES / record;
     if (st->block < 1)
         st->block = 1;
-    if (st->block > capacity)
-        st->block = capacity;
+    if (st->block > src->chunk.capacity)
+        st->block = src->chunk.capacity;
     st->buf = orr_malloc(st->block * record, ".npy read buffer", err);
     return st->buf ? ORR_OK : ORR_ERR_NOMEM;
 }
 
 orr_status orr_npy_source_open(const char *path, const orr_source_options *opt, orr_source **out, orr_error *err)
 {
-    size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : (size_t)1 << 20;
-    *out = NULL;
-    orr_source *src = orr_source_new("npy", path, &npy_ops, sizeof(npy_state), err);
-    if (!src)
-        return ORR_ERR_NOMEM;
+    orr_source *src;
+    FILE *fp;
+    orr_status s = orr_source_new_file("npy", path, &npy_ops, sizeof(npy_state), &src, &fp, err);
+    if (s)
+        return s;
     npy_state *st = src->state;
-    orr_status s = orr_source_refuse_stream(path, "npy", err);
-    if (!s && !(st->fp = fopen(path, "rb")))
-        s = orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    else if (!s)
-        s = read_header(src, st, err);
+    st->fp = fp;
+    s = read_header(src, st, err);
     if (!s)
         s = assign_roles(src, st, opt, err);
     if (!s) {
@@ -334,7 +326,7 @@ orr_status orr_npy_source_open(const char *path, const orr_source_options *opt, 
         st->row = st->share.lo[0];
     }
     if (!s)
-        s = alloc_buffers(src, st, chunk_size, err);
+        s = alloc_buffers(src, st, opt, err);
     if (s) {
         orr_source_close(src);
         return s;

@@ -436,18 +436,12 @@ static orr_status choose_share(orr_source *src, tipsy_state *st, const orr_sourc
 
 /* Allocates the chunk and the I/O buffer, both bounded by the chunk size
  * (and by the particle count, so small files stay small). */
-static orr_status alloc_buffers(orr_source *src, tipsy_state *st, size_t chunk_size, orr_error *err)
+static orr_status alloc_buffers(orr_source *src, tipsy_state *st, const orr_source_options *opt, orr_error *err)
 {
-    size_t capacity = chunk_size;
-    uint64_t count = (uint64_t)src->info.count; /* never negative here */
-    if (count < capacity)
-        capacity = count > 0 ? (size_t)count : 1;
-    const char *names[ORR_MAX_EXTRA_FIELDS];
-    for (int i = 0; i < src->info.nextra; i++)
-        names[i] = src->info.extra_names[i];
-    orr_status s = orr_chunk_alloc(&src->chunk, capacity, src->info.has_h, names, src->info.nextra, err);
+    orr_status s = orr_source_alloc_chunk(src, opt, err);
     if (s)
         return s;
+    size_t capacity = src->chunk.capacity;
     st->block = capacity < TIPSY_BLOCK_RECORDS ? capacity : TIPSY_BLOCK_RECORDS;
     st->buf = orr_malloc(st->block * (size_t)record_bytes(GAS), "Tipsy read buffer", err);
     return st->buf ? ORR_OK : ORR_ERR_NOMEM;
@@ -456,17 +450,14 @@ static orr_status alloc_buffers(orr_source *src, tipsy_state *st, size_t chunk_s
 orr_status orr_tipsy_source_open(const char *path, const orr_source_options *opt, orr_source **out,
                                  orr_error *err)
 {
-    size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : (size_t)1 << 20;
-    *out = NULL;
-    orr_source *src = orr_source_new("tipsy", path, &tipsy_ops, sizeof(tipsy_state), err);
-    if (!src)
-        return ORR_ERR_NOMEM;
+    orr_source *src;
+    FILE *fp;
+    orr_status s = orr_source_new_file("tipsy", path, &tipsy_ops, sizeof(tipsy_state), &src, &fp, err);
+    if (s)
+        return s;
     tipsy_state *st = src->state;
-    orr_status s = orr_source_refuse_stream(path, "tipsy", err);
-    if (!s && !(st->fp = fopen(path, "rb")))
-        s = orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    else if (!s)
-        s = read_header(path, st, err);
+    st->fp = fp;
+    s = read_header(path, st, err);
     if (!s)
         s = orr_tipsy_iord_open(&st->iord, path, st->hdr.nbodies, &st->has_iord, err);
     if (!s) {
@@ -479,7 +470,7 @@ orr_status orr_tipsy_source_open(const char *path, const orr_source_options *opt
         s = choose_share(src, st, opt, err);
     }
     if (!s)
-        s = alloc_buffers(src, st, chunk_size, err);
+        s = alloc_buffers(src, st, opt, err);
     if (s) {
         orr_source_close(src);
         return s;

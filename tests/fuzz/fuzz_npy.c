@@ -18,40 +18,10 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-/* Reads to the end; the particles read, -2 when a value was refused (a
- * mass, h, id or type: "row N: ..."), -1 on any other error. */
-static long long read_all(orr_source *src)
-{
-    const orr_chunk *c;
-    orr_error err = {0};
-    long long total = 0;
-    for (;;) {
-        if (orr_source_next(src, &c, &err) != ORR_OK)
-            return err.code == ORR_ERR_FORMAT && strstr(err.msg, ": row ") ? -2 : -1;
-        if (c->n == 0)
-            return total;
-        if (c->n > c->capacity)
-            abort();
-        total += (long long)c->n;
-    }
-}
-
+/* Values the reader refuses (a mass, h, id or type) say "row N: ...". */
 static int read_with(const char *path, const orr_source_options *opt, int rewind)
 {
-    orr_source *src = NULL;
-    orr_error err = {0};
-    if (orr_npy_source_open(path, opt, &src, &err) != ORR_OK) {
-        if (src || err.code == ORR_OK || !err.msg[0])
-            abort();
-        return 0;
-    }
-    long long n = read_all(src);
-    if (n != src->info.count && n != -2)
-        abort(); /* the size was checked when opening: every row is there */
-    if (rewind && (orr_source_rewind(src, &err) != ORR_OK || read_all(src) != n))
-        abort();
-    orr_source_close(src);
-    return 1;
+    return fuzz_read_with(orr_npy_source_open, path, opt, rewind, ": row ");
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
