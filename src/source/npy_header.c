@@ -5,6 +5,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/bytes.h"
+
 static const unsigned char npy_magic[6] = {0x93, 'N', 'U', 'M', 'P', 'Y'};
 
 int npy_has_magic(const unsigned char *head, size_t n)
@@ -236,9 +238,7 @@ static int parse_dtype(const vnode *v, npy_column *col, char *why, size_t size)
         return 0;
     }
     col->size = (int)n;
-    unsigned one = 1;
-    int host_big = *(unsigned char *)&one == 0;
-    col->big = order == '>' || (order == '=' && host_big);
+    col->big = order == '>' || (order == '=' && orr_host_big_endian());
     if (kind == 'V') {
         col->kind = NPY_PAD;
         return 1;

@@ -9,6 +9,8 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "core/bytes.h"
+
 #include "source/mass_policy.h"
 #include "source/npy_header.h"
 #include "source/share.h"
@@ -227,6 +229,64 @@ static void defaults(const orr_source *src, orr_chunk *c, size_t at, int64_t row
         c->type[at] = 0;
 }
 
+/* The float array an unchecked column goes to (positions, extra fields),
+ * or NULL for the columns whose values are checked one by one. */
+static float *float_target(const npy_state *st, orr_chunk *c, int j)
+{
+    switch (st->role[j]) {
+    case R_X: return c->x;
+    case R_Y: return c->y;
+    case R_Z: return c->z;
+    case R_EXTRA: return c->extra[st->slot[j]].data;
+    default: return NULL;
+    }
+}
+
+/* Column j of the k rows just read into out, when it is a float in the
+ * host's byte order: a copy per value, without the general decoding (most
+ * files: np.save of float32 or float64 on the same kind of machine).
+ * Returns 0 when the column needs the general path. */
+static int copy_native_floats(const npy_state *st, size_t k, int j, float *out)
+{
+    const npy_column *col = &st->hdr.col[j];
+    if (col->kind != NPY_FLOAT || col->big != orr_host_big_endian())
+        return 0;
+    for (size_t i = 0; i < k; i++) {
+        const unsigned char *p = cell(st, k, i, j);
+        if (col->size == 4) {
+            memcpy(&out[i], p, sizeof(float));
+        } else {
+            double d;
+            memcpy(&d, p, sizeof d);
+            out[i] = (float)d;
+        }
+    }
+    return 1;
+}
+
+/* Decodes the k rows just read into the chunk from c->n on, column by
+ * column. */
+static orr_status decode_rows(orr_source *src, npy_state *st, orr_chunk *c, size_t k, orr_error *err)
+{
+    int has_mass = 0;
+    for (int j = 0; j < st->hdr.ncolumns; j++)
+        has_mass |= st->role[j] == R_MASS;
+    for (size_t i = 0; i < k; i++) {
+        if (!has_mass)
+            c->mass[c->n + i] = 1.0f;
+        defaults(src, c, c->n + i, st->row + (int64_t)i);
+    }
+    orr_status s = ORR_OK;
+    for (int j = 0; j < st->hdr.ncolumns && !s; j++) {
+        float *out = float_target(st, c, j);
+        if (out && copy_native_floats(st, k, j, out + c->n))
+            continue;
+        for (size_t i = 0; i < k && !s; i++)
+            s = store(src, st, c, c->n + i, j, cell(st, k, i, j), st->row + (int64_t)i, err);
+    }
+    return s;
+}
+
 static orr_status npy_next(orr_source *src, orr_error *err)
 {
     npy_state *st = src->state;
@@ -234,9 +294,6 @@ static orr_status npy_next(orr_source *src, orr_error *err)
     if (st->row < st->share.lo[0])
         st->row = st->share.lo[0];
     c->first_index = (uint64_t)st->row;
-    int has_mass = 0;
-    for (int j = 0; j < st->hdr.ncolumns; j++)
-        has_mass |= st->role[j] == R_MASS;
     while (c->n < c->capacity && st->row < st->share.hi[0]) {
         size_t k = c->capacity - c->n;
         if (k > st->block)
@@ -244,15 +301,8 @@ static orr_status npy_next(orr_source *src, orr_error *err)
         if ((int64_t)k > st->share.hi[0] - st->row)
             k = (size_t)(st->share.hi[0] - st->row);
         orr_status s = read_rows(src, st, k, err);
-        for (size_t i = 0; i < k && !s; i++) {
-            size_t at = c->n + i;
-            int64_t row = st->row + (int64_t)i;
-            if (!has_mass)
-                c->mass[at] = 1.0f;
-            defaults(src, c, at, row);
-            for (int j = 0; j < st->hdr.ncolumns && !s; j++)
-                s = store(src, st, c, at, j, cell(st, k, i, j), row, err);
-        }
+        if (!s)
+            s = decode_rows(src, st, c, k, err);
         if (s)
             return s;
         c->n += k;
