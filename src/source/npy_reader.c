@@ -33,12 +33,22 @@ typedef struct npy_state {
 
 int orr_npy_probe(const unsigned char *head, size_t n) { return npy_has_magic(head, n); }
 
-/* One stored value as a double (integers of up to 8 bytes, floats). */
-static double value_at(const npy_column *c, const unsigned char *p)
+/* One stored value's bits, in its byte order, sign-extended for a signed
+ * integer narrower than 8 bytes. */
+static uint64_t raw_at(const npy_column *c, const unsigned char *p)
 {
     uint64_t u = 0;
     for (int i = 0; i < c->size; i++)
         u |= (uint64_t)p[c->big ? c->size - 1 - i : i] << (8 * i);
+    if (c->kind == NPY_INT && c->size < 8 && (u >> (8 * c->size - 1) & 1))
+        u |= ~(uint64_t)0 << (8 * c->size);
+    return u;
+}
+
+/* One stored value as a double (integers of up to 8 bytes, floats). */
+static double value_at(const npy_column *c, const unsigned char *p)
+{
+    uint64_t u = raw_at(c, p);
     if (c->kind == NPY_FLOAT && c->size == 4) {
         uint32_t w = (uint32_t)u;
         float f;
@@ -50,19 +60,13 @@ static double value_at(const npy_column *c, const unsigned char *p)
         memcpy(&d, &u, sizeof d);
         return d;
     }
-    if (c->kind == NPY_INT && c->size < 8 && (u >> (8 * c->size - 1) & 1))
-        u |= ~(uint64_t)0 << (8 * c->size); /* sign-extend */
     return c->kind == NPY_INT ? (double)(int64_t)u : (double)u;
 }
 
 /* An integer column's value exactly (ids beyond 2^53 stay exact). */
 static int64_t integer_at(const npy_column *c, const unsigned char *p, int *negative)
 {
-    uint64_t u = 0;
-    for (int i = 0; i < c->size; i++)
-        u |= (uint64_t)p[c->big ? c->size - 1 - i : i] << (8 * i);
-    if (c->kind == NPY_INT && c->size < 8 && (u >> (8 * c->size - 1) & 1))
-        u |= ~(uint64_t)0 << (8 * c->size);
+    uint64_t u = raw_at(c, p);
     *negative = c->kind == NPY_INT && (int64_t)u < 0;
     return (int64_t)u;
 }
