@@ -25,7 +25,7 @@ image = orrery.Scene({
     "camera": {"projection": "orthographic", "width": box, "position": [box / 2, box / 2, 2 * box],
                "look_at": [box / 2, box / 2, box / 2], "up": [0, 1, 0]},
     "image": {"width": 512, "height": 512},
-    "output": {"bunit": "1e10 Msun/h"},
+    "output": {"bunit": "1e10 solMass h-1"},  # a FITS unit: negative powers, no "/"
 }).render(pos, mass, time=float(ds.current_time.d))[0]
 print(f"{len(pos)} dark-matter particles from yt {yt.__version__}; plane unit {image.units['mass']}")
 save_png(image, os.path.join(args.out, "yt_dm.png"))

@@ -194,7 +194,7 @@ static void test_kept_images(void)
     CHECK(orrery_image_size(r, 1, &w, &h, &np) == ORRERY_ERR_USAGE);
     const char *name = NULL, *unit = NULL;
     const float *plane = orrery_image_plane(r, 0, 0, &name, &unit);
-    CHECK(plane && name && strcmp(name, "mass") == 0 && unit && strstr(unit, "mass"));
+    CHECK(plane && name && strcmp(name, "mass") == 0 && unit); /* the unit: output.bunit's, per area */
     CHECK(orrery_image_plane(r, 0, 1, NULL, NULL) == NULL);
     snprintf(path, sizeof path, "%s/step_0001.fits", tmpdir);
     long npix = 0;
