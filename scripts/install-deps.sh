@@ -16,7 +16,9 @@ packages=(
   libgomp1                           # OpenMP runtime (gcc's)
   libopenmpi-dev openmpi-bin         # orrery-mpi: rendering on MPI ranks (optional at configure time)
   clang libclang-rt-dev libomp-dev   # libFuzzer for the reader fuzz targets (clang build)
-  python3-astropy python3-numpy      # tests: an independent FITS WCS reader
+  python3-astropy python3-numpy      # tests: an independent FITS WCS reader; the Python package (numpy)
+  python3-pytest                     # tests: the Python package's tests (tests/python)
+  python3-h5py python3-yt            # examples/python and their tests: snapshots read with h5py and yt
   python3-pil                        # tests: an independent PNG reader (Pillow)
   fitsverify                         # tests: NASA's FITS checker on the FITS outputs
   python3-openimageio                # tests: OpenImageIO's Python bindings read the EXR back as a compositor would

@@ -103,6 +103,43 @@ double orrery_render_seconds(const orrery_renderer *r);
 
 void orrery_close(orrery_renderer *r);
 
+/* sizeof(orr_particle_arrays) in the library: bindings that mirror the
+ * structure (the Python package's ctypes) check their copy against it. */
+size_t orrery_particle_arrays_size(void);
+
+/* ---- Images in memory (for Python and other callers that want arrays,
+ * not files). After orrery_keep_images(r, 1), every orrery_render also
+ * keeps a copy of each view's images until the next orrery_render or
+ * orrery_close: the linear planes exactly as the FITS file holds them, the
+ * graded picture the PNG shows, and the FITS cards. Image i is the i-th view
+ * (a stereo view gives two: left eye, then right). The files are written as
+ * the scene says (output.fits: false and output.png: false write none). */
+
+/* Turns keeping on (keep != 0) or off; returns ORRERY_OK. */
+int orrery_keep_images(orrery_renderer *r, int keep);
+
+/* Images the last orrery_render kept (0 when keeping is off). */
+int orrery_image_count(const orrery_renderer *r);
+
+/* Image i's size in pixels and its number of planes (1: the weight; 3:
+ * CIE X, Y, Z with colour). ORRERY_ERR_USAGE for no such image. */
+int orrery_image_size(const orrery_renderer *r, int i, int *width, int *height, int *nplanes);
+
+/* Plane j of image i: width * height floats, row-major, row 0 at the top
+ * (the FITS file's rows are bottom-up, so row 0 here is its last row), and
+ * its name (the FITS EXTNAME) and unit (BUNIT) when name/unit are not NULL.
+ * NULL for no such plane. */
+const float *orrery_image_plane(const orrery_renderer *r, int i, int j, const char **name, const char **unit);
+
+/* Image i's graded picture: width * height * 3 sRGB-encoded values in
+ * [0, 1], interleaved R, G, B, row 0 at the top. NULL for no such image. */
+const float *orrery_image_rgb(const orrery_renderer *r, int i);
+
+/* Image i's FITS cards as text, one card a line: "KEY = VALUE", VALUE a
+ * quoted string ('' for a quote inside), T or F, an integer or a number
+ * that reads back exactly. NULL for no such image. */
+const char *orrery_image_header(const orrery_renderer *r, int i);
+
 #ifdef __cplusplus
 }
 #endif

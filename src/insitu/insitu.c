@@ -10,6 +10,7 @@
 
 #include "encode/atomic.h"
 #include "insitu/insitu_internal.h"
+#include "insitu/kept_images.h"
 #include "render/animation.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -26,6 +27,8 @@ struct orrery_renderer {
     _Alignas(max_align_t) unsigned char parallel_user[64]; /* what parallel.user points at (a communicator) */
     int noutputs;
     const char *outputs[ORR_SCENE_MAX_VIEWS * ORR_RENDER_MAX_OUTPUTS];
+    int keep;             /* orrery_keep_images */
+    orr_kept_images kept; /* ... the last frame's images */
 };
 
 static double now_seconds(void)
@@ -129,6 +132,7 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
         return ORRERY_ERR_USAGE;
     double t0 = now_seconds();
     r->noutputs = 0;
+    orr_kept_clear(&r->kept);
     orr_error_clear(&r->err);
     if (!p || frame < 0)
         return (int)orr_fail(&r->err, ORR_ERR_USAGE, "orrery_render: %s", p ? "negative frame number" : "no particles");
@@ -151,10 +155,12 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
         double t_first = s0->has_anim_time ? s0->anim_time[0] : p->time;
         double t_last = s0->has_anim_time ? s0->anim_time[1] : p->time;
         orr_frame_input in = {orr_frame_at(frame, nframes, s0->anim_fps, t_first, t_last), src,
-                              r->has_parallel ? &r->parallel : NULL};
+                              r->has_parallel ? &r->parallel : NULL, r->keep ? orr_kept_add : NULL, &r->kept};
         st = orr_render_frame(list, r->views.n, &in, r->reports, NULL, NULL, &r->err);
     }
     orr_source_close(src);
+    if (st) /* a failed frame keeps nothing, not half of its views */
+        orr_kept_clear(&r->kept);
     for (int k = 0; k < r->views.n && !st; k++)
         for (int i = 0; i < r->reports[k].noutputs; i++)
             r->outputs[r->noutputs++] = r->reports[k].outputs[i];
@@ -185,4 +191,64 @@ const char *orrery_output(const orrery_renderer *r, int i)
 
 double orrery_render_seconds(const orrery_renderer *r) { return r ? r->seconds : 0; }
 
-void orrery_close(orrery_renderer *r) { free(r); }
+void orrery_close(orrery_renderer *r)
+{
+    if (r)
+        orr_kept_clear(&r->kept);
+    free(r);
+}
+
+size_t orrery_particle_arrays_size(void) { return sizeof(orr_particle_arrays); }
+
+int orrery_keep_images(orrery_renderer *r, int keep)
+{
+    if (!r)
+        return ORRERY_ERR_USAGE;
+    r->keep = keep != 0;
+    return ORRERY_OK;
+}
+
+int orrery_image_count(const orrery_renderer *r) { return r ? r->kept.n : 0; }
+
+static const orr_kept_image *kept_image(const orrery_renderer *r, int i)
+{
+    return r && i >= 0 && i < r->kept.n ? &r->kept.image[i] : NULL;
+}
+
+int orrery_image_size(const orrery_renderer *r, int i, int *width, int *height, int *nplanes)
+{
+    const orr_kept_image *im = kept_image(r, i);
+    if (!im)
+        return ORRERY_ERR_USAGE;
+    if (width)
+        *width = im->width;
+    if (height)
+        *height = im->height;
+    if (nplanes)
+        *nplanes = im->nplanes;
+    return ORRERY_OK;
+}
+
+const float *orrery_image_plane(const orrery_renderer *r, int i, int j, const char **name, const char **unit)
+{
+    const orr_kept_image *im = kept_image(r, i);
+    if (!im || j < 0 || j >= im->nplanes)
+        return NULL;
+    if (name)
+        *name = im->planes[j].name;
+    if (unit)
+        *unit = im->planes[j].unit;
+    return im->planes[j].data;
+}
+
+const float *orrery_image_rgb(const orrery_renderer *r, int i)
+{
+    const orr_kept_image *im = kept_image(r, i);
+    return im ? im->rgb : NULL;
+}
+
+const char *orrery_image_header(const orrery_renderer *r, int i)
+{
+    const orr_kept_image *im = kept_image(r, i);
+    return im ? im->header : NULL;
+}

@@ -635,7 +635,7 @@ static orr_status open_run_input(const orr_scene *s, int compose, run_input *ri,
     }
     if (compose || !orr_scene_has_sequence(s))
         return ORR_OK;
-    const char *fields[4];
+    const char *fields[ORR_RENDER_MAX_FIELDS];
     int nfields = orr_render_fields(s, fields);
     orr_status st = orr_sequence_open_scene(s, fields, nfields, &ri->seq, err);
     if (st)
@@ -682,7 +682,8 @@ static orr_status do_frame(const orr_scene *scenes, const view_identity *ids, in
         if (writer && !opt->compose && s0->anim_frames > 1)
             remove_marker(&scenes[k]);
     }
-    orr_frame_input in = {orr_frame_at(frame, s0->anim_frames, s0->anim_fps, ri->t0, ri->t1), NULL, opt->parallel};
+    orr_frame_input in = {.time = orr_frame_at(frame, s0->anim_frames, s0->anim_fps, ri->t0, ri->t1),
+                          .parallel = opt->parallel};
     orr_status st = opt->compose ? ORR_OK : frame_source(ri, &in.time, opt->parallel, &in.source, err);
     if (!st)
         st = opt->compose ? orr_compose_views(list, n, reports, err)

@@ -1990,22 +1990,44 @@ orr_status orr_render_views(const orr_scene *const *scenes, int n, orr_render_re
 
 /* This process's share of the scene's input, when several processes render
  * the frame: with the fields the sky frame and the weight need. */
-int orr_render_fields(const orr_scene *s, const char *fields[4])
+/* Appends name to fields[0..*n) unless it is empty, mass or h (never extra
+ * fields), already there, or there is no room. */
+static void add_field(const char **fields, int *n, const char *name)
+{
+    if (!name[0] || strcmp(name, "mass") == 0 || strcmp(name, "h") == 0 || *n >= ORR_RENDER_MAX_FIELDS)
+        return;
+    for (int i = 0; i < *n; i++)
+        if (strcmp(fields[i], name) == 0)
+            return;
+    fields[(*n)++] = name;
+}
+
+int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIELDS])
 {
     int nfields = 0;
-    if (strcmp(s->weight, "mass") != 0 && strcmp(s->weight, "h") != 0)
-        fields[nfields++] = s->weight;
+    add_field(fields, &nfields, s->weight);
+    /* Readers that load only the fields asked for (HDF5) must load these,
+     * or a population choosing by stellar age would find no ages. */
+    for (int i = 0; s->colour && i < s->populations.n; i++) {
+        const orr_population *p = &s->populations.pop[i];
+        add_field(fields, &nfields, p->select.range_field);
+        add_field(fields, &nfields, p->select.prob_field);
+        if (p->colour.kind != ORR_POPCOLOUR_FIXED)
+            add_field(fields, &nfields, p->colour.field);
+        if (p->lum.kind == ORR_POPLUM_FIELD || p->lum.kind == ORR_POPLUM_MAGNITUDE)
+            add_field(fields, &nfields, p->lum.field);
+    }
     if ((s->has_observer && s->normal_types) || orr_blur_moves_particles(s)) {
-        fields[nfields++] = "vx";
-        fields[nfields++] = "vy";
-        fields[nfields++] = "vz";
+        add_field(fields, &nfields, "vx");
+        add_field(fields, &nfields, "vy");
+        add_field(fields, &nfields, "vz");
     }
     return nfields;
 }
 
 static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_source **out, orr_error *err)
 {
-    const char *fields[4];
+    const char *fields[ORR_RENDER_MAX_FIELDS];
     int nfields = orr_render_fields(s, fields);
     orr_source *whole = NULL;
     /* File readers that can seek read only this rank's share; the others,
@@ -2051,8 +2073,30 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
 }
 
 /* The planes before the PSF (for orrery compose), the PSF, and the outputs. */
-static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, orr_error *err)
+/* Hands view k's final planes, its graded picture and its cards to the
+ * frame's keeper (orr_frame_input.keep). */
+static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr_error *err)
 {
+    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    float *rgb = orr_malloc(npix * 3 * sizeof *rgb, "kept picture", err);
+    orr_fits_header *h = rgb ? orr_calloc(1, sizeof *h, "FITS header", err) : NULL;
+    orr_status st = h ? ORR_OK : ORR_ERR_NOMEM;
+    char desc[ORR_PATH_MAX + 256];
+    if (!st)
+        st = graded_rgb(v, rgb, desc, sizeof desc, err);
+    if (!st) {
+        add_frame_cards(v, h);
+        st = in->keep(in->keep_user, k, v->planes, v->nplanes, rgb, h, err);
+    }
+    free(rgb);
+    free(h);
+    return st;
+}
+
+static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, const orr_frame_input *in,
+                               orr_error *err)
+{
+    int keep = in && in->keep;
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++) /* a sky map's bright stars: part of the raw planes, as their cores */
         if (views[k].psf.sky)
@@ -2074,11 +2118,15 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, or
     for (int k = 0; k < n && !st; k++) {
         if (orr_eye_views_pair_at(eyes, k)) {
             st = write_stereo_pair(&views[k], &views[k + 1], eyes, k, err);
+            if (!st && keep && !(st = keep_view(&views[k], k, in, err)))
+                st = keep_view(&views[k + 1], k + 1, in, err);
             k++; /* the right eye was written with the left */
             continue;
         }
         st = write_outputs(&views[k], err);
         orr_eye_views_share_white(eyes, k, views[k].rep->white); /* separate eyes: grade the right alike */
+        if (!st && keep)
+            st = keep_view(&views[k], k, in, err);
     }
     return st;
 }
@@ -2133,8 +2181,9 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
         src = given;
         st = orr_source_rewind(src, err);
     } else if (!st) {
-        const char *fields[4];
-        st = orr_scene_open_source(s0, fields, orr_render_fields(s0, fields), &src, err);
+        const char *fields[ORR_RENDER_MAX_FIELDS];
+        int nfields = orr_render_fields(s0, fields);
+        st = orr_scene_open_source(s0, fields, nfields, &src, err);
     }
     if (views)
         charge(&views[0], ORR_STAGE_SOURCE);
@@ -2159,7 +2208,7 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     for (int k = 0; k < ready; k++)
         views[k].outputs = &outputs;
     if (!st && (!par || par->rank == 0))
-        st = finish_views(views, n, &eyes, err);
+        st = finish_views(views, n, &eyes, in, err);
     /* All of the frame's files, or none of them. */
     if (!st)
         st = orr_output_batch_commit(&outputs, err);

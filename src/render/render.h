@@ -54,9 +54,13 @@ typedef struct orr_render_report {
 typedef void (*orr_progress_fn)(void *user, uint64_t done, int64_t total);
 
 /* The extra fields a frame of the scene may ask its source for: the weight
- * (when not mass or h), and velocities for the observer's spin normal.
- * Fills fields[0..4) and returns how many. */
-int orr_render_fields(const orr_scene *s, const char *fields[4]);
+ * (when not mass or h), the fields its colour populations select, colour
+ * and weigh by, and velocities for the observer's spin normal and for a
+ * motion blur that moves particles. Fills
+ * fields[0..ORR_RENDER_MAX_FIELDS) (each name once; pointers into s) and
+ * returns how many. */
+#define ORR_RENDER_MAX_FIELDS ORR_MAX_EXTRA_FIELDS
+int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIELDS]);
 
 /* Opens the scene's particle source (file or built-in model), asking for
  * the given extra fields only (NULL: all). */
@@ -90,12 +94,25 @@ typedef struct orr_parallel {
     void *user;
 } orr_parallel;
 
+struct orr_fits_header;
+
+/* A caller that wants each view's images in memory (the in-situ API's
+ * orrery_keep_images): called once per view, each eye of a stereo view
+ * being one, in order, after the view's outputs are written, with its final
+ * planes (what the FITS file holds), its graded picture (sRGB, row 0 at the
+ * top, width * height * 3) and its FITS cards. Only on the process that
+ * writes (rank 0). */
+typedef orr_status (*orr_keep_fn)(void *user, int view, const orr_plane *planes, int nplanes, const float *rgb,
+                                  const struct orr_fits_header *cards, orr_error *err);
+
 /* What one frame of a run is drawn from. */
 typedef struct orr_frame_input {
     orr_frame_time time; /* where the frame sits in the run: moves camera paths */
     orr_source *source;  /* the particles at that time (rewound and read, not closed), or NULL:
                           * open the scene's input (each process takes its share) */
     const orr_parallel *parallel; /* NULL: this process alone */
+    orr_keep_fn keep;             /* NULL: the images are only written */
+    void *keep_user;
 } orr_frame_input;
 
 /* orr_render_views for one frame of a run. The views' output names are used

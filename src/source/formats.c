@@ -2,6 +2,7 @@
 
 #include "source/gadget.h"
 #include "source/hdf5_reader.h"
+#include "source/npy_reader.h"
 #include "source/text_reader.h"
 #include "source/tipsy.h"
 
@@ -11,6 +12,7 @@ const orr_format orr_formats[] = {
     {"hdf5", orr_hdf5_probe, orr_hdf5_source_open},
     {"gadget", orr_gadget_probe, orr_gadget_source_open},
     {"tipsy", orr_tipsy_probe, orr_tipsy_source_open},
+    {"npy", orr_npy_probe, orr_npy_source_open},
     {"text", orr_text_probe, orr_text_source_open},
 };
 

@@ -14,10 +14,10 @@
 #include <sys/stat.h>
 
 #include "source/hdf5_internal.h"
+#include "source/hdf5_named.h"
 #include "source/mass_policy.h"
 #include "source/share.h"
 
-#define H5R_DEFAULT_CHUNK ((size_t)1 << 20)
 /* More files than this is not a snapshot but a corrupt header. */
 #define H5R_MAX_FILES 100000
 /* HDF5 reads whole chunks: a dataset whose chunks are larger than this would
@@ -50,6 +50,8 @@ typedef struct hdf5_state {
     int present[DS_COUNT];          /* some group read has this dataset */
     int swift_h;                    /* smoothing lengths are SWIFT's (SmoothingLengths) */
     int slot[EX_COUNT];             /* chunk extra index of each extra field, or -1 */
+    h5r_named named[H5R_MAX_NAMED]; /* other datasets asked for by name (hdf5_named.h) */
+    int nnamed;
     /* Where reading stands. */
     int file, type;
     uint64_t row;                   /* next row within the current group */
@@ -336,6 +338,8 @@ static orr_status check_group(hdf5_state *st, const char *path, hid_t fid, int t
         return orr_fail(err, ORR_ERR_FORMAT, "%s: %s is not a readable group (%s)", path, gname, why);
     }
     orr_status s = ORR_OK;
+    for (int i = 0; i < st->nnamed && !s; i++)
+        s = h5r_named_check(&st->named[i], path, t, g, n, err);
     for (int k = 0; k < DS_COUNT && !s; k++) {
         const char *name = h5r_dataset_name_in(g, (h5r_dataset)k);
         if (!name && k == DS_POS)
@@ -503,6 +507,8 @@ static void close_group(hdf5_state *st)
 {
     for (int k = 0; k < DS_COUNT; k++)
         st->ds[k] = orr_h5_close(st->ds[k]);
+    for (int i = 0; i < st->nnamed; i++)
+        st->named[i].ds = orr_h5_close(st->named[i].ds);
     st->gid = orr_h5_close(st->gid);
 }
 
@@ -537,6 +543,11 @@ static orr_status open_current_group(hdf5_state *st, orr_error *err)
             orr_h5_reason(why, sizeof why);
             return orr_fail(err, ORR_ERR_FORMAT, "%s: %s/%s cannot be opened (%s)", st->path, gname, name, why);
         }
+    }
+    for (int i = 0; i < st->nnamed; i++) {
+        orr_status s = st->named[i].slot >= 0 ? h5r_named_open(&st->named[i], st->path, st->type, st->gid, err) : ORR_OK;
+        if (s)
+            return s;
     }
     return ORR_OK;
 }
@@ -667,6 +678,11 @@ static orr_status read_segment(hdf5_state *st, orr_chunk *c, size_t n, orr_error
     for (int e = EX_U; e < EX_COUNT && !s; e++)
         if (st->slot[e] >= 0)
             s = read_floats(st, extra_source[e], n, c->extra[st->slot[e]].data + c->n, 0.0f, err);
+    for (int i = 0; i < st->nnamed && !s; i++) {
+        const h5r_named *f = &st->named[i];
+        if (f->slot >= 0)
+            s = h5r_named_read(f, st->path, st->type, st->row, n, c->extra[f->slot].data + c->n, err);
+    }
     if (!s)
         memset(c->type + c->n, st->type, n);
     return s;
@@ -746,6 +762,29 @@ static const orr_source_ops hdf5_ops = {.next = hdf5_next, .rewind = hdf5_rewind
 
 /* ---- Opening -------------------------------------------------------- */
 
+/* Whether the reader gives name without looking for a dataset of that name. */
+static int known_field(const char *name)
+{
+    static const char *const own[] = {"x", "y", "z", "mass", "h", "id", "type"};
+    for (size_t i = 0; i < sizeof own / sizeof own[0]; i++)
+        if (strcmp(name, own[i]) == 0)
+            return 1;
+    for (int e = 0; e < EX_COUNT; e++)
+        if (strcmp(name, extra_field_names[e]) == 0)
+            return 1;
+    return 0;
+}
+
+/* The fields the caller names that may be datasets of their own: looked
+ * for in every group read (check_group). A caller naming no fields (all of
+ * them) gets the known ones only: a snapshot may hold dozens of datasets. */
+static void ask_named(hdf5_state *st, const orr_source_options *opt)
+{
+    for (int i = 0; opt && opt->fields && i < opt->nfields && st->nnamed < H5R_MAX_NAMED; i++)
+        if (!known_field(opt->fields[i]) && h5r_named_parse(opt->fields[i], &st->named[st->nnamed]))
+            st->nnamed++;
+}
+
 /* Chooses the extra fields: those some group has and the caller wants. */
 static void choose_fields(hdf5_state *st, orr_source *src, const orr_source_options *opt)
 {
@@ -756,6 +795,11 @@ static void choose_fields(hdf5_state *st, orr_source *src, const orr_source_opti
             snprintf(src->info.extra_names[src->info.nextra++], ORR_FIELD_NAME_MAX, "%s", extra_field_names[e]);
         }
     }
+    for (int i = 0; i < st->nnamed; i++)
+        if (st->named[i].present && src->info.nextra < ORR_MAX_EXTRA_FIELDS) {
+            st->named[i].slot = src->info.nextra;
+            snprintf(src->info.extra_names[src->info.nextra++], ORR_FIELD_NAME_MAX, "%s", st->named[i].field);
+        }
     src->info.has_h = st->present[DS_H];
     /* Gadget, AREPO and GIZMO store the radius where the kernel ends; SWIFT
      * stores h with that radius at gamma h, gamma = 1.825742 for its default
@@ -779,19 +823,12 @@ static orr_status choose_share(hdf5_state *st, orr_source *src, const orr_source
     return s;
 }
 
-static orr_status alloc_buffers(hdf5_state *st, orr_source *src, size_t chunk_size, orr_error *err)
+static orr_status alloc_buffers(hdf5_state *st, orr_source *src, const orr_source_options *opt, orr_error *err)
 {
-    /* A small snapshot needs no more than its own size. */
-    size_t capacity = chunk_size;
-    if (src->info.count >= 0 && (uint64_t)src->info.count < capacity)
-        capacity = src->info.count > 0 ? (size_t)src->info.count : 1;
-    const char *names[ORR_MAX_EXTRA_FIELDS];
-    for (int i = 0; i < src->info.nextra; i++)
-        names[i] = src->info.extra_names[i];
-    orr_status s = orr_chunk_alloc(&src->chunk, capacity, src->info.has_h, names, src->info.nextra, err);
+    orr_status s = orr_source_alloc_chunk(src, opt, err); /* a small snapshot needs no more than its own size */
     if (s)
         return s;
-    st->scratch = orr_malloc(3 * capacity * sizeof *st->scratch, "HDF5 read buffer", err);
+    st->scratch = orr_malloc(3 * src->chunk.capacity * sizeof *st->scratch, "HDF5 read buffer", err);
     return st->scratch ? ORR_OK : ORR_ERR_NOMEM;
 }
 
@@ -807,8 +844,12 @@ static orr_status open_snapshot(hdf5_state *st, orr_source *src, const orr_sourc
     for (int t = 0; !s && t < st->ntypes; t++)
         if (orr_source_wants_type(opt, t))
             st->type_mask |= 1u << t;
+    ask_named(st, opt);
     if (!s)
         s = check_files(st, fid, src, example, err);
+    for (int i = 0; i < st->nnamed && !s; i++)
+        if (!st->named[i].present)
+            s = h5r_named_missing(&st->named[i], st->first, fid, st->type_mask, st->ntypes, err);
     if (!s) {
         h5r_describe(&src->info, fid, st->ntypes, (const char(*)[H5R_GROUP_NAME])example);
         if (st->nfiles > 1)
@@ -823,7 +864,6 @@ static orr_status open_snapshot(hdf5_state *st, orr_source *src, const orr_sourc
 orr_status orr_hdf5_source_open(const char *path, const orr_source_options *opt, orr_source **out,
                                 orr_error *err)
 {
-    size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : H5R_DEFAULT_CHUNK;
     *out = NULL;
     orr_source *src = orr_source_new("hdf5", path, &hdf5_ops, sizeof(hdf5_state), err);
     if (!src)
@@ -843,7 +883,7 @@ orr_status orr_hdf5_source_open(const char *path, const orr_source_options *opt,
         s = choose_share(st, src, opt, err);
     }
     if (!s) {
-        s = alloc_buffers(st, src, chunk_size, err);
+        s = alloc_buffers(st, src, opt, err);
     }
     if (s) {
         orr_source_close(src);

@@ -182,17 +182,32 @@ void orr_h5_storage_info(hid_t ds, orr_h5_storage *out)
     H5Eclear2(H5E_DEFAULT);
 }
 
-int orr_h5_read_rows(hid_t ds, uint64_t first, size_t n, int ncols, hid_t memtype, void *buf)
+
+
+/* Reads the hyperslab start/count of ds into buf, shaped as mcount[0..mrank). */
+static int read_slab(hid_t ds, const hsize_t *start, const hsize_t *count, int mrank, const hsize_t *mcount,
+                     hid_t memtype, void *buf)
 {
-    hsize_t start[2] = {first, 0};
-    hsize_t count[2] = {n, (hsize_t)ncols};
-    int rank = ncols > 0 ? 2 : 1;
     hid_t fspace = H5Dget_space(ds);
-    hid_t mspace = H5Screate_simple(rank, count, NULL);
+    hid_t mspace = H5Screate_simple(mrank, mcount, NULL);
     int ok = fspace >= 0 && mspace >= 0 &&
              H5Sselect_hyperslab(fspace, H5S_SELECT_SET, start, NULL, count, NULL) >= 0 &&
              H5Dread(ds, memtype, mspace, fspace, H5P_DEFAULT, buf) >= 0;
     orr_h5_close(mspace);
     orr_h5_close(fspace);
     return ok ? 0 : -1;
+}
+
+int orr_h5_read_rows(hid_t ds, uint64_t first, size_t n, int ncols, hid_t memtype, void *buf)
+{
+    hsize_t start[2] = {first, 0};
+    hsize_t count[2] = {n, (hsize_t)ncols};
+    return read_slab(ds, start, count, ncols > 0 ? 2 : 1, count, memtype, buf);
+}
+
+int orr_h5_read_column(hid_t ds, uint64_t first, size_t n, int col, hid_t memtype, void *buf)
+{
+    hsize_t start[2] = {first, (hsize_t)col};
+    hsize_t count[2] = {n, 1};
+    return read_slab(ds, start, count, 1, count, memtype, buf);
 }

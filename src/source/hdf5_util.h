@@ -62,4 +62,8 @@ void orr_h5_storage_info(hid_t ds, orr_h5_storage *out);
  * success, -1 on an HDF5 failure. */
 int orr_h5_read_rows(hid_t ds, uint64_t first, size_t n, int ncols, hid_t memtype, void *buf);
 
+/* Reads rows [first, first + n) of column col of a 2-D dataset into buf
+ * (n values), converted to memtype. Returns 0 on success, -1 on failure. */
+int orr_h5_read_column(hid_t ds, uint64_t first, size_t n, int col, hid_t memtype, void *buf);
+
 #endif

@@ -96,6 +96,37 @@ orr_source *orr_source_new(const char *format, const char *path, const orr_sourc
     return src;
 }
 
+orr_status orr_source_new_file(const char *format, const char *path, const orr_source_ops *ops, size_t state_size,
+                               orr_source **out, FILE **fp, orr_error *err)
+{
+    *out = NULL;
+    *fp = NULL;
+    orr_status s = orr_source_refuse_stream(path, format, err);
+    if (s)
+        return s;
+    orr_source *src = orr_source_new(format, path, ops, state_size, err);
+    if (!src)
+        return ORR_ERR_NOMEM;
+    if (!(*fp = fopen(path, "rb"))) {
+        s = orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+        orr_source_close(src);
+        return s;
+    }
+    *out = src;
+    return ORR_OK;
+}
+
+orr_status orr_source_alloc_chunk(orr_source *src, const orr_source_options *opt, orr_error *err)
+{
+    size_t capacity = opt && opt->chunk_size ? opt->chunk_size : (size_t)1 << 20;
+    if (src->info.count >= 0 && (uint64_t)src->info.count < capacity)
+        capacity = src->info.count > 0 ? (size_t)src->info.count : 1;
+    const char *names[ORR_MAX_EXTRA_FIELDS];
+    for (int i = 0; i < src->info.nextra; i++)
+        names[i] = src->info.extra_names[i];
+    return orr_chunk_alloc(&src->chunk, capacity, src->info.has_h, names, src->info.nextra, err);
+}
+
 int orr_source_format_known(const char *name)
 {
     for (int i = 0; i < orr_nformats; i++)

@@ -5,6 +5,7 @@
 #define ORR_SOURCE_SOURCE_H
 
 #include <stdint.h>
+#include <stdio.h>
 
 #include "core/limits.h"
 #include "particles/chunk.h"
@@ -84,6 +85,18 @@ struct orr_source {
  * when memory runs out. Readers call it first in their open function. */
 orr_source *orr_source_new(const char *format, const char *path, const orr_source_ops *ops, size_t state_size,
                            orr_error *err);
+
+/* orr_source_new for the readers that seek in a file of their own (Tipsy,
+ * npy): refuses a stream (orr_source_refuse_stream) and opens path for
+ * reading into *fp, which the caller keeps in its state. On failure
+ * nothing is left open and *out is NULL. */
+orr_status orr_source_new_file(const char *format, const char *path, const orr_source_ops *ops, size_t state_size,
+                               orr_source **out, FILE **fp, orr_error *err);
+
+/* Allocates src->chunk for the options' chunk size (default 2^20), no larger
+ * than the source's known count (so small files stay small), with h when
+ * info.has_h and the extra fields info names. */
+orr_status orr_source_alloc_chunk(orr_source *src, const orr_source_options *opt, orr_error *err);
 
 /* Yields the next chunk in *out (valid until the next call); (*out)->n == 0
  * at the end of the particles. */

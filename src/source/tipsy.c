@@ -13,6 +13,7 @@
 #include "source/formats.h"
 #include "source/mass_policy.h"
 #include "source/share.h"
+#include "source/tipsy_iord.h"
 
 /* Particle families in file order: gas, dark, star. */
 enum { GAS, DARK, STAR, NFAMILIES };
@@ -68,6 +69,8 @@ typedef struct tipsy_state {
     long long file_size;
     unsigned char *buf; /* TIPSY_BLOCK_RECORDS records at most */
     size_t block;       /* records per fread */
+    int has_iord;       /* ids from SNAPSHOT.iord (tipsy_iord.h), not file positions */
+    orr_tipsy_iord iord;
 } tipsy_state;
 
 /* Tipsy files say which byte order they are in; the loaders want whether
@@ -287,6 +290,7 @@ static orr_status tipsy_next(orr_source *src, orr_error *err)
 {
     tipsy_state *st = src->state;
     orr_chunk *c = &src->chunk;
+    int64_t first_index = 0; /* the file position of the chunk's first particle (ids may be .iord's) */
     while (c->n < c->capacity && st->family < NFAMILIES) {
         if (st->index < st->share.lo[st->family])
             st->index = st->share.lo[st->family]; /* the records before are other processes' */
@@ -305,13 +309,18 @@ static orr_status tipsy_next(orr_source *src, orr_error *err)
             k = (size_t)left;
         if ((s = read_block(src, st, k, err)))
             return s;
+        if (c->n == 0)
+            first_index = family_base(&st->hdr, st->family) + st->index;
         decode_records(st, c, k);
         if ((s = check_masses(src, st, c, k, err)))
+            return s;
+        if (st->has_iord &&
+            (s = orr_tipsy_iord_read(&st->iord, family_base(&st->hdr, st->family) + st->index, k, c->id + c->n, err)))
             return s;
         c->n += k;
         st->index += (int64_t)k;
     }
-    c->first_index = c->n ? c->id[0] : 0;
+    c->first_index = (uint64_t)first_index;
     return ORR_OK;
 }
 
@@ -332,6 +341,7 @@ static void tipsy_close(orr_source *src)
         return;
     if (st->fp)
         fclose(st->fp);
+    orr_tipsy_iord_close(&st->iord);
     orr_share_free(&st->share);
     free(st->buf);
     free(st);
@@ -394,7 +404,7 @@ static void choose_contents(orr_source *src, tipsy_state *st, const orr_source_o
             st->extra_column[f][slot] = column_of[f][q];
     }
     info->has_h = st->wanted[GAS];
-    info->has_id = 0; /* ids are file indices */
+    info->has_id = st->has_iord; /* else ids are file indices */
     info->has_type = 1;
     info->time = st->hdr.time;
 }
@@ -426,18 +436,12 @@ static orr_status choose_share(orr_source *src, tipsy_state *st, const orr_sourc
 
 /* Allocates the chunk and the I/O buffer, both bounded by the chunk size
  * (and by the particle count, so small files stay small). */
-static orr_status alloc_buffers(orr_source *src, tipsy_state *st, size_t chunk_size, orr_error *err)
+static orr_status alloc_buffers(orr_source *src, tipsy_state *st, const orr_source_options *opt, orr_error *err)
 {
-    size_t capacity = chunk_size;
-    uint64_t count = (uint64_t)src->info.count; /* never negative here */
-    if (count < capacity)
-        capacity = count > 0 ? (size_t)count : 1;
-    const char *names[ORR_MAX_EXTRA_FIELDS];
-    for (int i = 0; i < src->info.nextra; i++)
-        names[i] = src->info.extra_names[i];
-    orr_status s = orr_chunk_alloc(&src->chunk, capacity, src->info.has_h, names, src->info.nextra, err);
+    orr_status s = orr_source_alloc_chunk(src, opt, err);
     if (s)
         return s;
+    size_t capacity = src->chunk.capacity;
     st->block = capacity < TIPSY_BLOCK_RECORDS ? capacity : TIPSY_BLOCK_RECORDS;
     st->buf = orr_malloc(st->block * (size_t)record_bytes(GAS), "Tipsy read buffer", err);
     return st->buf ? ORR_OK : ORR_ERR_NOMEM;
@@ -446,24 +450,27 @@ static orr_status alloc_buffers(orr_source *src, tipsy_state *st, size_t chunk_s
 orr_status orr_tipsy_source_open(const char *path, const orr_source_options *opt, orr_source **out,
                                  orr_error *err)
 {
-    size_t chunk_size = opt && opt->chunk_size ? opt->chunk_size : (size_t)1 << 20;
-    *out = NULL;
-    orr_source *src = orr_source_new("tipsy", path, &tipsy_ops, sizeof(tipsy_state), err);
-    if (!src)
-        return ORR_ERR_NOMEM;
+    orr_source *src;
+    FILE *fp;
+    orr_status s = orr_source_new_file("tipsy", path, &tipsy_ops, sizeof(tipsy_state), &src, &fp, err);
+    if (s)
+        return s;
     tipsy_state *st = src->state;
-    orr_status s = orr_source_refuse_stream(path, "tipsy", err);
-    if (!s && !(st->fp = fopen(path, "rb")))
-        s = orr_fail(err, ORR_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    else if (!s)
-        s = read_header(path, st, err);
+    st->fp = fp;
+    s = read_header(path, st, err);
+    if (!s)
+        s = orr_tipsy_iord_open(&st->iord, path, st->hdr.nbodies, &st->has_iord, err);
     if (!s) {
         choose_contents(src, st, opt);
         add_header_entries(&src->info, &st->hdr);
+        if (st->has_iord)
+            orr_source_add_header(&src->info, "ids", "%s (%s)", st->iord.path,
+                                  st->iord.binary ? (st->iord.width == 4 ? "binary, 32-bit" : "binary, 64-bit")
+                                                  : "ASCII");
         s = choose_share(src, st, opt, err);
     }
     if (!s)
-        s = alloc_buffers(src, st, chunk_size, err);
+        s = alloc_buffers(src, st, opt, err);
     if (s) {
         orr_source_close(src);
         return s;

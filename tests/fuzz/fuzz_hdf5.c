@@ -539,16 +539,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     static const unsigned masks[] = {0, 0x1, 0x2, 0x42, 0x3f, 0x80, 0x10000};
     static const char *const fields_a[] = {"vx", "u", "pot"};
-    static const char *const fields_b[] = {"rho", "vz", "vy", "nonexistent"};
-    static const char *const fields_c[] = {"h", "mass", "u", "u"};
-    static const char *const *const field_lists[] = {NULL, fields_a, fields_a, fields_b, fields_c};
-    static const int nfields[] = {0, 3, 0, 4, 4};
+    /* Named fields (src/source/hdf5_named.c): a column of a 2-D dataset, a
+     * 1-D dataset read as a field of its own, a name no group has. */
+    static const char *const fields_b[] = {"rho", "vz", "vy", "Coordinates[2]"};
+    static const char *const fields_c[] = {"h", "mass", "u", "Masses"};
+    static const char *const fields_d[] = {"vx", "ParticleIDs", "nonexistent"};
+    static const char *const *const field_lists[] = {NULL, fields_a, fields_a, fields_b, fields_c, fields_d};
+    static const int nfields[] = {0, 3, 0, 4, 4, 3};
     /* Small chunks split groups and files; 0 is the reader's default. Not
      * smaller: each chunk is a read of every dataset, and time is short. */
     static const size_t chunk_sizes[] = {257, 7, 64, 0};
     unsigned pick = take_below(&r->in, 8);
     unsigned type_mask = pick < 7 ? masks[pick] : take_u8(&r->in);
-    unsigned fl = take_below(&r->in, 5);
+    unsigned fl = take_below(&r->in, 6);
     orr_source_options opt = {.format = "hdf5",
                               .chunk_size = chunk_sizes[take_below(&r->in, 4)],
                               .type_mask = type_mask,

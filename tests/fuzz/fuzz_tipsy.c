@@ -17,44 +17,11 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
-/* Reads the source to its end; returns the particles read, -2 when a mass
- * breaks the mass policy (docs/input.md: the only value the reader
- * refuses), or -1 on any other error. */
-static long long read_all(orr_source *src)
-{
-    const orr_chunk *c;
-    orr_error err = {0};
-    long long total = 0;
-    for (;;) {
-        if (orr_source_next(src, &c, &err) != ORR_OK)
-            return err.code == ORR_ERR_FORMAT && strstr(err.msg, ": mass ") ? -2 : -1;
-        if (c->n == 0)
-            return total;
-        if (c->n > c->capacity)
-            abort(); /* the reader overran its own chunk */
-        total += (long long)c->n;
-    }
-}
-
-/* Opens path with the options and reads it; returns 1 when it opened. */
+/* A mass breaking the mass policy (docs/input.md) is the only value the
+ * reader refuses. */
 static int read_with(const char *path, const orr_source_options *opt, int rewind)
 {
-    orr_source *src = NULL;
-    orr_error err = {0};
-    if (orr_tipsy_source_open(path, opt, &src, &err) != ORR_OK) {
-        if (src || err.code == ORR_OK)
-            abort(); /* a failed open must leave nothing behind and say why */
-        return 0;
-    }
-    long long n = read_all(src);
-    /* The size was checked when opening, so every particle is there, unless
-     * a bad mass stopped the read (it stops there again after a rewind). */
-    if (n != src->info.count && n != -2)
-        abort();
-    if (rewind && (orr_source_rewind(src, &err) != ORR_OK || read_all(src) != n))
-        abort();
-    orr_source_close(src);
-    return 1;
+    return fuzz_read_with(orr_tipsy_source_open, path, opt, rewind, ": mass ");
 }
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)

@@ -39,7 +39,7 @@ double frame_timer_best(const char *yaml, const orr_particle_arrays *a, int repe
             fprintf(stderr, "%s\n", err.msg);
             exit(1);
         }
-        orr_frame_input in = {orr_frame_at(0, 1, 25, 0, 0), src, NULL};
+        orr_frame_input in = {.time = orr_frame_at(0, 1, 25, 0, 0), .source = src};
         orr_render_report rep;
         const orr_scene *list[1] = {s};
         clock_mark m = {wall_seconds(), 0, cpu_seconds(), 0};

@@ -170,10 +170,61 @@ static void test_render_steps(void)
     remove_tmpdir();
 }
 
+/* orrery_keep_images: the planes in memory are the FITS file's, row for row
+ * (the file's rows bottom-up), with the picture and the cards. */
+static void test_kept_images(void)
+{
+    make_tmpdir();
+    char outdir[320], msg[1024], path[512];
+    snprintf(outdir, sizeof outdir, "output.dir=%s", tmpdir);
+    const char *sets[1] = {outdir};
+    orrery_renderer *r = NULL;
+    CHECK(orrery_open_yaml(&r, scene_yaml, ".", sets, 1, msg, sizeof msg) == ORRERY_OK);
+    if (!r)
+        return;
+    orr_particle_arrays p = aos_arrays();
+    CHECK(orrery_particle_arrays_size() == sizeof(orr_particle_arrays));
+    CHECK(orrery_image_count(r) == 0);
+    CHECK(orrery_render(r, &p, 0) == ORRERY_OK && orrery_image_count(r) == 0); /* off by default */
+    CHECK(orrery_keep_images(r, 1) == ORRERY_OK);
+    CHECK(orrery_render(r, &p, 1) == ORRERY_OK);
+    CHECK(orrery_image_count(r) == 1);
+    int w = 0, h = 0, np = 0;
+    CHECK(orrery_image_size(r, 0, &w, &h, &np) == ORRERY_OK && w == 40 && h == 30 && np == 1);
+    CHECK(orrery_image_size(r, 1, &w, &h, &np) == ORRERY_ERR_USAGE);
+    const char *name = NULL, *unit = NULL;
+    const float *plane = orrery_image_plane(r, 0, 0, &name, &unit);
+    CHECK(plane && name && strcmp(name, "mass") == 0 && unit); /* the unit: output.bunit's, per area */
+    CHECK(orrery_image_plane(r, 0, 1, NULL, NULL) == NULL);
+    snprintf(path, sizeof path, "%s/step_0001.fits", tmpdir);
+    long npix = 0;
+    float *file = read_fits_image(path, &npix);
+    int same = file && npix == 40 * 30;
+    for (int y = 0; same && y < 30; y++)
+        same = memcmp(plane + (size_t)y * 40, file + (size_t)(29 - y) * 40, 40 * sizeof(float)) == 0;
+    CHECK(same);
+    free(file);
+    const float *rgb = orrery_image_rgb(r, 0);
+    int in_range = rgb != NULL;
+    for (int i = 0; in_range && i < 40 * 30 * 3; i++)
+        in_range = rgb[i] >= 0 && rgb[i] <= 1;
+    CHECK(in_range);
+    const char *cards = orrery_image_header(r, 0);
+    CHECK(cards && strstr(cards, "PROJTYPE = 'orthographic'\n") && strstr(cards, "NPART = 1000\n"));
+    CHECK(cards && strstr(cards, "SIMTIME = 2.5\n"));
+    /* A failed frame keeps nothing. */
+    bodies[3].pos[0] = NAN;
+    CHECK(orrery_render(r, &p, 2) == ORRERY_ERR_DATA && orrery_image_count(r) == 0);
+    bodies[3].pos[0] = 0;
+    orrery_close(r);
+    remove_tmpdir();
+}
+
 int main(void)
 {
     make_bodies();
     test_arrays_source();
     test_render_steps();
+    test_kept_images();
     return check_summary();
 }

@@ -743,6 +743,112 @@ static void test_file_shrinking_after_open(void)
     orr_source_close(src);
 }
 
+/* ---- SNAPSHOT.iord: the particles' permanent ids ---- */
+
+static uint64_t iord_id(long i) { return 900000 + 7 * (uint64_t)(NBODIES - i); } /* not the file order */
+
+static void write_iord_binary(const char *snapshot, int big_endian, int width)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s.iord", snapshot);
+    FILE *fp = fopen(path, "wb");
+    unsigned char b[8];
+    uint64_t v = NBODIES;
+    for (long i = -1; fp && i < NBODIES; i++) {
+        int w = i < 0 ? 4 : width; /* the count is 32 bits */
+        v = i < 0 ? NBODIES : iord_id(i);
+        for (int k = 0; k < w; k++)
+            b[big_endian ? w - 1 - k : k] = (unsigned char)(v >> (8 * k));
+        fwrite(b, 1, (size_t)w, fp);
+    }
+    if (fp)
+        fclose(fp);
+}
+
+static void write_iord_text(const char *snapshot, const char *bad_line, long bad_at, long count)
+{
+    char path[600];
+    snprintf(path, sizeof path, "%s.iord", snapshot);
+    FILE *fp = fopen(path, "w");
+    fprintf(fp, "%ld\n", count);
+    for (long i = 0; i < NBODIES; i++)
+        if (i == bad_at)
+            fprintf(fp, "%s\n", bad_line);
+        else
+            fprintf(fp, " %llu\n", (unsigned long long)iord_id(i));
+    fclose(fp);
+}
+
+/* Reads the snapshot in chunks of 4 (families split across chunks), twice
+ * (a rewind in between), and checks every id against the .iord's. */
+static void check_iord_ids(const char *snapshot, unsigned mask, const char *form)
+{
+    orr_source *src = NULL;
+    orr_error err = {0};
+    CHECK(open_tipsy(snapshot, 4, mask, NULL, 0, &src, &err) == ORR_OK);
+    if (!src) {
+        fprintf(stderr, "%s\n", err.msg);
+        return;
+    }
+    CHECK(src->info.has_id);
+    CHECK_CONTAINS(header_value(src, "ids"), form);
+    for (int pass = 0; pass < 2; pass++) {
+        long seen = 0, ok = 1;
+        const orr_chunk *c;
+        while (orr_source_next(src, &c, &err) == ORR_OK && c->n > 0)
+            for (size_t i = 0; i < c->n; i++, seen++) /* all, or the stars: file positions run on */
+                ok &= c->id[i] == iord_id((long)c->first_index + (long)i);
+        CHECK(ok);
+        CHECK(seen == (mask == 0 ? NBODIES : NSTAR));
+        CHECK(orr_source_rewind(src, &err) == ORR_OK);
+    }
+    orr_source_close(src);
+}
+
+static void test_iord_ids(void)
+{
+    const char *path = write_sample("iord.bin", 1, 32);
+    write_iord_binary(path, 1, 4);
+    check_iord_ids(path, 0, "binary, 32-bit");
+    check_iord_ids(path, 1u << 4, "binary, 32-bit"); /* stars only: their ids, not the first ones */
+    write_iord_binary(path, 0, 8);
+    check_iord_ids(path, 0, "binary, 64-bit");
+    write_iord_text(path, NULL, -1, NBODIES);
+    check_iord_ids(path, 0, "ASCII");
+    check_iord_ids(path, 1u << 4, "ASCII");
+
+    /* Bad arrays: named, with the line or the particle. */
+    write_iord_text(path, NULL, -1, NBODIES + 1);
+    expect_error(path, ORR_ERR_FORMAT, "iord: line 1 says 16 particles", "has 15");
+    write_iord_text(path, "-3", 6, NBODIES);
+    orr_source *src = NULL;
+    orr_error err = {0};
+    const orr_chunk *c;
+    CHECK(open_tipsy(path, 100, 0, NULL, 0, &src, &err) == ORR_OK);
+    CHECK(src && orr_source_next(src, &c, &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "iord:8: not an id");
+    orr_source_close(src);
+    write_iord_text(path, "12 13", 2, NBODIES);
+    src = NULL;
+    CHECK(open_tipsy(path, 100, 0, NULL, 0, &src, &err) == ORR_OK);
+    CHECK(src && orr_source_next(src, &c, &err) == ORR_ERR_FORMAT);
+    CHECK_CONTAINS(err.msg, "iord:4: not an id");
+    orr_source_close(src);
+    char iord[600];
+    snprintf(iord, sizeof iord, "%s.iord", path);
+    FILE *fp = fopen(iord, "w");
+    fputs("junk\n", fp);
+    fclose(fp);
+    expect_error(path, ORR_ERR_FORMAT, "neither a binary id array", "nor an ASCII one");
+    remove(iord);
+
+    /* Without one, ids are file positions. */
+    src = NULL;
+    CHECK(open_tipsy(path, 100, 0, NULL, 0, &src, &err) == ORR_OK);
+    CHECK(src && !src->info.has_id && orr_source_next(src, &c, &err) == ORR_OK && c->id[NBODIES - 1] == NBODIES - 1);
+    orr_source_close(src);
+}
+
 int main(void)
 {
     if (!mkdtemp(tmpdir)) {
@@ -763,6 +869,7 @@ int main(void)
     RUN(test_mass_policy);
     RUN(test_not_tipsy_and_missing);
     RUN(test_file_shrinking_after_open);
+    RUN(test_iord_ids);
     char buf[1024];
     int have_shared = shared_data_path(buf, sizeof buf, "tipsy/king_soft.bin") != NULL;
     if (have_shared) {

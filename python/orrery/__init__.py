@@ -1,0 +1,12 @@
+"""orrery from Python: render numpy arrays of particles with liborrery's
+scenes (dome masters, panoramas, flat cameras) into numpy images.
+
+    import numpy as np, orrery
+    pos = np.random.default_rng(1).normal(size=(100000, 3)).astype(np.float32)
+    image = orrery.render({"camera": {"projection": "orthographic", "width": 8}}, pos, 1.0)
+
+docs/python.md says more.
+"""
+from .scene import Image, OrreryError, Scene, parse_header, render
+
+__all__ = ["Image", "OrreryError", "Scene", "parse_header", "render"]

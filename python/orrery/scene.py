@@ -1,0 +1,176 @@
+"""orrery.Scene: a scene loaded once, rendered from numpy arrays."""
+import ctypes
+import json
+import os
+import tempfile
+
+import numpy as np
+
+from . import _arrays
+from ._lib import lib
+
+
+class OrreryError(Exception):
+    """An error liborrery reported; str() is its message, naming the scene
+    key, array or file. .code is the status (orrery.h's ORRERY_ERR_*)."""
+
+    def __init__(self, message, code):
+        super().__init__(message)
+        self.code = code
+
+
+# Output keys turned off when a scene renders to memory only.
+_NO_FILES = {"output.fits": False, "output.png": False, "output.exr": False, "output.raw": False}
+
+
+def _flatten(prefix, value, out):
+    """Nested dicts as dotted keys: camera={"fov": 60} is camera.fov."""
+    if isinstance(value, dict):
+        for k, v in value.items():
+            _flatten(f"{prefix}.{k}" if prefix else str(k), v, out)
+    else:
+        out[prefix] = value
+
+
+def _override_text(key, value):
+    """One "key=value" as `orrery render --set` takes it (YAML flow text;
+    JSON is a subset of it)."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, np.ndarray):
+        value = value.tolist()
+    return f"{key}={json.dumps(value)}"
+
+
+def _card_value(text):
+    """A FITS-style card value from orrery_image_header's text."""
+    if text.startswith("'"):
+        return text[1:-1].replace("''", "'")
+    if text in ("T", "F"):
+        return text == "T"
+    try:
+        return int(text)
+    except ValueError:
+        return float(text)
+
+
+def parse_header(text):
+    """orrery_image_header's text as a dict, in card order."""
+    cards = {}
+    for line in text.splitlines():
+        key, _, value = line.partition(" = ")
+        cards[key] = _card_value(value)
+    return cards
+
+
+class Image:
+    """One view's render: .planes maps each plane's name ("mass", or "X",
+    "Y", "Z" with colour) to a (height, width) float32 array, row 0 at the
+    top (a FITS file stores rows bottom-up: np.flipud of its data); .rgb is
+    the graded picture, (height, width, 3) sRGB values in [0, 1]; .header the
+    FITS cards as a dict; .units each plane's unit (BUNIT)."""
+
+    def __init__(self, planes, units, rgb, header):
+        self.planes, self.units, self.rgb, self.header = planes, units, rgb, header
+
+    @property
+    def data(self):
+        """The first plane: the weight, or X with colour."""
+        return next(iter(self.planes.values()))
+
+    def __repr__(self):
+        h, w = self.data.shape
+        return f"<orrery.Image {w}x{h} planes {list(self.planes)}>"
+
+
+def _copy_floats(pointer, shape):
+    """A numpy copy of floats the library owns until its next render."""
+    count = int(np.prod(shape))
+    return np.ctypeslib.as_array(pointer, shape=(count,)).reshape(shape).copy()
+
+
+class Scene:
+    """A scene (a YAML file's path, or a dict of its keys) ready to render
+    numpy arrays. Keyword arguments override its keys: nested dicts
+    (camera={"fov": 60}), or dotted keys in overrides={"camera.fov": 60}.
+    With write=False (the default) nothing is written to disk: the images
+    come back as arrays only. With write=True the scene's own outputs are
+    written too (output.dir, output.name) and listed in scene.outputs."""
+
+    def __init__(self, scene, overrides=None, write=False, **kwargs):
+        self._r = ctypes.c_void_p()
+        settings = {}
+        _flatten("", dict(overrides or {}), settings)
+        _flatten("", kwargs, settings)
+        if not write:
+            settings = {**_NO_FILES, "output.dir": tempfile.gettempdir(), **settings}
+        texts = [_override_text(k, v).encode() for k, v in settings.items()]
+        argv = (ctypes.c_char_p * max(len(texts), 1))(*texts)
+        msg = ctypes.create_string_buffer(2048)
+        if isinstance(scene, dict):
+            base = os.getcwd().encode()
+            st = lib.orrery_open_yaml(ctypes.byref(self._r), json.dumps(scene).encode(), base, argv, len(texts),
+                                      msg, len(msg))
+        else:
+            st = lib.orrery_open(ctypes.byref(self._r), os.fspath(scene).encode(), argv, len(texts), msg, len(msg))
+        if st != 0:
+            raise OrreryError(msg.value.decode(errors="replace"), st)
+        lib.orrery_keep_images(self._r, 1)
+        self.outputs = []
+        self.seconds = 0.0
+
+    def close(self):
+        if self._r:
+            lib.orrery_close(self._r)
+            self._r = ctypes.c_void_p()
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        self.close()
+
+    def render(self, positions, masses=1.0, ids=None, h=None, fields=None, time=0.0, types=None,
+               velocities=None, frame=0):
+        """Renders every view of the scene from these particles and returns
+        a list of Image, one per view (two for a stereo view: left, right).
+
+        positions: (N, 3) float32/float64 (any strides) or three (N,) arrays;
+        masses: (N,) or one number for all; ids: (N,) integers (absent:
+        0..N-1); h: smoothing lengths (support 2h); fields: {name: (N,)},
+        at most 8, usable as input.weight and by colour populations; types:
+        Gadget types 0..5; velocities: (N, 3), the fields vx, vy, vz; time:
+        the simulation time; frame: the frame of the scene's animation
+        (camera paths move with it). The arrays are read in place during the
+        call (the GIL is released meanwhile) and not kept."""
+        if not self._r:
+            raise OrreryError("orrery: the scene is closed", 2)
+        arrays = _arrays.describe(positions, masses, ids, h, fields, types, velocities, time)
+        st = lib.orrery_render(self._r, ctypes.byref(arrays.c), int(frame))
+        if st != 0:
+            raise OrreryError(lib.orrery_error(self._r).decode(errors="replace"), st)
+        self.outputs = [lib.orrery_output(self._r, i).decode() for i in range(lib.orrery_output_count(self._r))]
+        self.seconds = lib.orrery_render_seconds(self._r)
+        return [self._image(i) for i in range(lib.orrery_image_count(self._r))]
+
+    def _image(self, i):
+        w, h, n = ctypes.c_int(), ctypes.c_int(), ctypes.c_int()
+        lib.orrery_image_size(self._r, i, ctypes.byref(w), ctypes.byref(h), ctypes.byref(n))
+        planes, units = {}, {}
+        for j in range(n.value):
+            name, unit = ctypes.c_char_p(), ctypes.c_char_p()
+            data = lib.orrery_image_plane(self._r, i, j, ctypes.byref(name), ctypes.byref(unit))
+            planes[name.value.decode()] = _copy_floats(data, (h.value, w.value))
+            units[name.value.decode()] = unit.value.decode()
+        rgb = lib.orrery_image_rgb(self._r, i)
+        rgb = _copy_floats(rgb, (h.value, w.value, 3)) if rgb else None
+        return Image(planes, units, rgb, parse_header(lib.orrery_image_header(self._r, i).decode()))
+
+
+def render(scene, positions, masses=1.0, **kwargs):
+    """One render of a scene, the first view's Image: Scene(scene).render(...)[0]."""
+    with Scene(scene) as s:
+        return s.render(positions, masses, **kwargs)[0]
