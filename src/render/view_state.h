@@ -1,0 +1,92 @@
+/* One view being rendered, as the three parts of the renderer share it:
+ * render.c (the driver: sources, the observer frame, cameras, set-up, the
+ * frame), splat_pass.c (the particles into the view's planes) and
+ * view_outputs.c (the planes into the view's files). Private to render/. */
+#ifndef ORR_RENDER_VIEW_STATE_H
+#define ORR_RENDER_VIEW_STATE_H
+
+#include "encode/atomic.h"
+#include "encode/fits.h"
+#include "render/lengths.h"
+#include "render/motion_blur.h"
+#include "render/periodic_view.h"
+#include "render/render.h"
+#include "render/stereo_view.h"
+#include "render/timings.h"
+#include "render/view_psf.h"
+#include "splat/bands.h"
+#include "splat/sph.h"
+
+/* One view being rendered. */
+typedef struct view_state {
+    const orr_scene *scene;
+    orr_projection proj;
+    orr_mat3 world_to_camera;
+    orr_plane planes[3]; /* the weight plane, or CIE X, Y, Z with colour */
+    int nplanes;
+    orr_render_report *rep;
+    /* Kernel deposit (deposit: sph, or a sky map's PSF): its kernel, the
+     * deposit's set-up, and where the smoothing lengths come from. */
+    int use_sph, kernel_ready, sph_ready;
+    orr_kernel kernel;
+    orr_sph sph;
+    const orr_lengths *lengths; /* lengths from the neighbours, or NULL: the file's */
+    size_t lengths_next;        /* the next of them in source order */
+    float h_scale;              /* file lengths: to orrery's h (support 2h), times smoothing.h_scale */
+    orr_view_psf psf;
+    double tint_t;      /* the position along colour.tint.path in this frame */
+    int use_ods;        /* an eye of omni-directional stereo: its per-block transform */
+    orr_stereo_ods ods;
+    orr_periodic_view periodic; /* input.periodic: the box's copies and what is culled */
+    orr_motion_blur blur;       /* animation.shutter: particles drawn as streaks */
+    int banded;                 /* a point deposit, splatted in bands (splat_pass.c) */
+    int ngp_fused;              /* NGP blocks taken whole go through the fused gather */
+    orr_map_outline outline;    /* the image's map, for NGP indices */
+    orr_bands bands;
+    int nlanes;                 /* lanes of the splat (splat_pass.c) */
+    orr_plane *lane_planes;     /* lanes 1 .. nlanes-1: nplanes planes each; lane 0 is planes[] */
+    orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
+    struct frame_timer *timer;  /* the frame's stage timings (every view's), or NULL: not measured */
+} view_state;
+
+/* A frame's stage timings and the clock reading the last stage ended at:
+ * each stage is charged the time since then (render/timings.h). */
+typedef struct frame_timer {
+    orr_stage_times times;
+    orr_clock at;
+} frame_timer;
+
+static inline void charge(const view_state *v, orr_stage s)
+{
+    if (v->timer)
+        orr_stage_charge(&v->timer->times, s, &v->timer->at);
+}
+
+
+/* ---- the splat pass (splat_pass.c) ---- */
+
+/* Chooses how the set-up view is splatted (bands, lanes, the fused NGP
+ * gather). */
+void orr_splat_choose_path(view_state *v);
+/* Splats every chunk of src into each view's planes (and its report). */
+orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_progress_fn progress,
+                           void *progress_user, orr_error *err);
+void orr_splat_free_lanes(view_state *v);
+
+/* ---- the view's files (view_outputs.c) ---- */
+
+/* Pixels outside a sky map: NaN (blank in FITS, black in pictures). */
+void orr_view_mask_outside_map(view_state *v);
+/* The cards of the view's frame: camera, projection, WCS, PSF, counts. */
+void orr_view_add_frame_cards(const view_state *v, orr_fits_header *h);
+/* The graded picture (linear RGB in [0, 1]) and its description. */
+orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size_t size, orr_error *err);
+orr_status orr_view_write_pictures(view_state *v, orr_error *err);
+orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error *err);
+/* A stereo pair's two eyes (views l and r) into one set of files. */
+orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_views *eyes, int k, orr_error *err);
+orr_status orr_view_write_outputs(view_state *v, orr_error *err);
+/* DIR/NAME.ext of the scene's output. */
+orr_status orr_view_output_path(const orr_scene *s, const char *ext, char *path, orr_error *err);
+
+#endif
