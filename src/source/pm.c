@@ -15,12 +15,13 @@
  * Why not the spectral gradient i k, nor dividing by the CIC window W(k)²:
  * both were tried on a lattice of 32³ particles displaced by one plane wave
  * (where the exact force is the fluid one, sheets attracting as sheets).
- * On a 64³ mesh the force of the fundamental mode came out 7 % (i k) and
- * 2 % (i k, 1/W²) too strong, that of the fourth harmonic 30 % and 26 %;
- * with the two-point difference and no deconvolution 0.2 % and 3 %. The
- * spectral gradient of the kinked potential of a sheet rings (Gibbs), and
- * deconvolution amplifies the lattice's own modes near the mesh's Nyquist
- * frequency. (Hockney & Eastwood 1988, §5-7 and §8-3, on the choice.)
+ * On a 64³ mesh the force of the fundamental mode came out 7 % too strong
+ * with i k, 2 % with the two-point difference divided by W², 0.2 % with
+ * the two-point difference alone; that of the fourth harmonic 30 %, 26 %
+ * and 3 %. The spectral gradient of the kinked potential of a sheet rings
+ * (Gibbs), and deconvolution amplifies the lattice's own modes near the
+ * mesh's Nyquist frequency. (Hockney & Eastwood 1988, "Computer Simulation
+ * Using Particles", discuss these choices.)
  *
  * Determinism: the deposit is the only step where particles meet. They are
  * bucketed by the mesh plane (along x) of their lower CIC corner, in index

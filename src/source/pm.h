@@ -35,7 +35,7 @@ typedef struct orr_pm_report {
  * into [0, box)) and velocities (still Gadget's u = v_pec / sqrt(a), km/s);
  * z's epoch fields (a, redshift, growth, rate, hubble, vel_factor,
  * rms_displacement) describe the new epoch. The result is the same bit for
- * bit for any number of OpenMP threads. Memory: 12 bytes per particle and
+ * bit for any number of OpenMP threads. Memory: 16 bytes per particle and
  * two meshes of about 4 M³ bytes each. */
 orr_status orr_pm_evolve(orr_zeldovich *z, const orr_pm_params *p, orr_pm_report *report, orr_error *err);
 
