@@ -9,6 +9,7 @@ frame whose share falls below FRACTION of frame 0's (docs/gallery.md).
 
 usage: scripts/band_share.py [--b DEG] [--hold FRACTION] PANORAMA.fits...
 """
+import argparse
 import os
 import sys
 
@@ -52,24 +53,17 @@ def share(path, bmax):
 
 
 def main(argv):
-    bmax, hold, paths = 15.0, None, []
-    it = iter(argv)
-    for a in it:
-        if a == "--b":
-            bmax = float(next(it))
-        elif a == "--hold":
-            hold = float(next(it))
-        else:
-            paths.append(a)
-    if not paths:
-        raise SystemExit(__doc__)
-    shares = [share(p, bmax) for p in paths]
-    for k, (p, s) in enumerate(zip(paths, shares)):
-        print(f"{k:3d}  {os.path.basename(p)}  share(|b| < {bmax:g}) = {s:.3f}  ({s / shares[0]:.2f} of frame 0)")
-    if hold is not None:
-        below = [k for k, s in enumerate(shares) if s < hold * shares[0]]
-        print(f"first frame below {hold:g} of frame 0's share: {below[0] if below else 'none'}")
-
+    ap = argparse.ArgumentParser(description="The Milky Way band's share of each panorama's light.")
+    ap.add_argument("--b", type=float, default=15.0, help="half-width of the band in degrees of latitude")
+    ap.add_argument("--hold", type=float, help="report the first frame whose share falls below this fraction of frame 0's")
+    ap.add_argument("panoramas", nargs="+")
+    args = ap.parse_args(argv)
+    shares = [share(p, args.b) for p in args.panoramas]
+    for k, (p, s) in enumerate(zip(args.panoramas, shares)):
+        print(f"{k:3d}  {os.path.basename(p)}  share(|b| < {args.b:g}) = {s:.3f}  ({s / shares[0]:.2f} of frame 0)")
+    if args.hold is not None:
+        below = [k for k, s in enumerate(shares) if s < args.hold * shares[0]]
+        print(f"first frame below {args.hold:g} of frame 0's share: {below[0] if below else 'none'}")
 
 if __name__ == "__main__":
     main(sys.argv[1:])

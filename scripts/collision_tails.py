@@ -9,6 +9,7 @@ stars torn into tails and bridges (issue 21, docs/gallery.md).
 
 usage: scripts/collision_tails.py [--after GYR] [--r KPC] DIR
 """
+import argparse
 import glob
 import os
 import sys
@@ -45,6 +46,8 @@ def snapshot(path):
         bh_ids = f["PartType5/ParticleIDs"][:]
         bh = f["PartType5/Coordinates"][:]
         bh = {int(i): bh[k] for k, i in enumerate(bh_ids)}
+        if 1 not in bh or 2 not in bh:
+            raise SystemExit(f"{path}: needs both galaxies (black holes with ids 1 and 2)")
         bulge = f["PartType3/Coordinates"][:]
         mw_b, m31_b = split_by_id(f["PartType3/ParticleIDs"][:])
         disc = f["PartType2/Coordinates"][:]
@@ -52,18 +55,15 @@ def snapshot(path):
 
 
 def main(argv):
-    after, rcut, d = 0.5, 50.0, None
-    it = iter(argv)
-    for a in it:
-        if a == "--after":
-            after = float(next(it))
-        elif a == "--r":
-            rcut = float(next(it))
-        else:
-            d = a
-    paths = sorted(glob.glob(os.path.join(d or "", "snapshot_*.hdf5")))
+    ap = argparse.ArgumentParser(description="First pericentre and tidal tails from orrery-nbody snapshots.")
+    ap.add_argument("--after", type=float, default=0.5, help="Gyr after first pericentre")
+    ap.add_argument("--r", type=float, default=50.0, help="kpc from both black holes")
+    ap.add_argument("dir")
+    args = ap.parse_args(argv)
+    after, rcut = args.after, args.r
+    paths = sorted(glob.glob(os.path.join(args.dir, "snapshot_*.hdf5")))
     if not paths:
-        raise SystemExit(__doc__)
+        raise SystemExit(f"{args.dir}: no snapshot_*.hdf5")
     rows = []
     for p in paths:
         t, b1, b2, c1, c2, disc = snapshot(p)
