@@ -72,7 +72,10 @@ def main(argv):
         print(f"{os.path.basename(p)}  t = {rows[-1][0]:.3f} Gyr  black holes {rows[-1][1]:7.1f} kpc apart, "
               f"bulge centres {rows[-1][2]:7.1f} kpc  disc stars > {rcut:g} kpc from both: {rows[-1][3]:.3f}")
     sep = np.array([r[1] for r in rows])
-    mins = [k for k in range(1, len(sep) - 1) if sep[k] <= sep[k - 1] and sep[k] < sep[k + 1]]
+    # The black holes are light and jitter by a few kpc in a small run: a
+    # pericentre is a minimum at less than half the first distance.
+    mins = [k for k in range(1, len(sep) - 1)
+            if sep[k] <= sep[k - 1] and sep[k] < sep[k + 1] and sep[k] < 0.5 * sep[0]]
     if not mins:
         print("no pericentre in these snapshots")
         return
