@@ -65,7 +65,7 @@ double gdf_psi(const gdf_potential *p, double r);
 #define GDF_COLS 128
 typedef struct gdf_speeds {
     double ln_rmin, dln;
-    float q[GDF_ROWS][GDF_COLS]; /* q at cumulative probability j / (GDF_COLS - 1) */
+    float q[GDF_ROWS][GDF_COLS]; /* q at cumulative probability 1 - (1 - j / (GDF_COLS - 1))^2 */
     int negative_f;              /* grid points where f < 0 was clipped (0 for a consistent model) */
 } gdf_speeds;
 

@@ -1,8 +1,9 @@
 # An isolated Milky Way (the model's galaxies: mw) evolved by orrery-nbody
 # for 30 steps of 2 Myr: it holds together. Energy is conserved, the disc's
 # half-mass radius and the Sun's orbit stay put, the disc thickens by less
-# than half (docs/nbody.md: the inner disc's initial puff is 30-40% in the
-# first 50 Myr, then it levels off), and the first report matches the
+# than 15% (docs/nbody.md: 8.5% with this model; the former one, whose
+# inner disc was too hot, thickened by 31% in these 60 Myr and fails), and
+# the first report matches the
 # model as documented (z_rms of an exponential layer of 0.3 kpc is
 # sqrt(2) 0.3; the Sun 8 kpc out). Then bad parameters: errors naming them.
 source "$(dirname "$0")/lib.sh"
@@ -30,7 +31,7 @@ awk '
     if (de > 5e-3 || de < -5e-3) bad("energy drift " de)
     if (rh / rh0 > 1.10 || rh / rh0 < 0.90) bad("disc half-mass radius " rh0 " -> " rh)
     if (bh / bh0 > 1.30 || bh / bh0 < 0.80) bad("bulge half-mass radius " bh0 " -> " bh)
-    if (z / z0 > 1.5) bad("disc thickness " z0 " -> " z)
+    if (z / z0 > 1.15) bad("disc thickness " z0 " -> " z)
     if (sr < 7.0 || sr > 9.0) bad("Sun R " sr)
     if (sz > 0.5 || sz < -0.5) bad("Sun z " sz)
     exit failed }' reports.txt || fail "isolation figures: $(cat reports.txt)"

@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+"""The Milky Way-Andromeda collision from orrery-nbody's snapshots
+(--snapshot-every K --snapshot-dir DIR): the distance between the two black
+holes (ids 1 and 2) and between the two bulges' density centres at every
+snapshot, the first pericentre (the first minimum of the black holes'
+distance), and, the snapshot nearest to AFTER Gyr (default 0.5) after it, the
+share of disc stars farther than R kpc (default 50) from both black holes:
+stars torn into tails and bridges (issue 21, docs/gallery.md).
+
+usage: scripts/collision_tails.py [--after GYR] [--r KPC] DIR
+"""
+import argparse
+import glob
+import os
+import sys
+
+import h5py
+import numpy as np
+
+GYR_PER_UNIT = 0.9778  # the time unit kpc / (km/s)
+
+
+def split_by_id(ids):
+    """The two galaxies' particles of one type: the model numbers the Milky
+    Way's first, so the largest gap between sorted ids separates them."""
+    order = np.argsort(ids)
+    gap = int(np.argmax(np.diff(ids[order])))
+    return order[: gap + 1], order[gap + 1 :]
+
+
+def density_centre(x):
+    """Shrinking spheres (Power et al. 2003): the mean of the particles
+    within a sphere cut by 20% each round about the last mean."""
+    c, r = np.median(x, axis=0), 20.0
+    while r > 0.3:
+        inside = np.linalg.norm(x - c, axis=1) < r
+        if inside.sum() < 30:
+            break
+        c, r = x[inside].mean(axis=0), 0.8 * r
+    return c
+
+
+def snapshot(path):
+    with h5py.File(path, "r") as f:
+        t = float(f["Header"].attrs["Time"])
+        bh_ids = f["PartType5/ParticleIDs"][:]
+        bh = f["PartType5/Coordinates"][:]
+        bh = {int(i): bh[k] for k, i in enumerate(bh_ids)}
+        if 1 not in bh or 2 not in bh:
+            raise SystemExit(f"{path}: needs both galaxies (black holes with ids 1 and 2)")
+        bulge = f["PartType3/Coordinates"][:]
+        mw_b, m31_b = split_by_id(f["PartType3/ParticleIDs"][:])
+        disc = f["PartType2/Coordinates"][:]
+    return t, bh[1], bh[2], density_centre(bulge[mw_b]), density_centre(bulge[m31_b]), disc
+
+
+def main(argv):
+    ap = argparse.ArgumentParser(description="First pericentre and tidal tails from orrery-nbody snapshots.")
+    ap.add_argument("--after", type=float, default=0.5, help="Gyr after first pericentre")
+    ap.add_argument("--r", type=float, default=50.0, help="kpc from both black holes")
+    ap.add_argument("dir")
+    args = ap.parse_args(argv)
+    after, rcut = args.after, args.r
+    paths = sorted(glob.glob(os.path.join(args.dir, "snapshot_*.hdf5")))
+    if not paths:
+        raise SystemExit(f"{args.dir}: no snapshot_*.hdf5")
+    rows = []
+    for p in paths:
+        t, b1, b2, c1, c2, disc = snapshot(p)
+        far = (np.linalg.norm(disc - b1, axis=1) > rcut) & (np.linalg.norm(disc - b2, axis=1) > rcut)
+        rows.append((t * GYR_PER_UNIT, np.linalg.norm(b1 - b2), np.linalg.norm(c1 - c2), far.mean()))
+        print(f"{os.path.basename(p)}  t = {rows[-1][0]:.3f} Gyr  black holes {rows[-1][1]:7.1f} kpc apart, "
+              f"bulge centres {rows[-1][2]:7.1f} kpc  disc stars > {rcut:g} kpc from both: {rows[-1][3]:.3f}")
+    sep = np.array([r[1] for r in rows])
+    # The black holes are light and jitter by a few kpc in a small run: a
+    # pericentre is a minimum at less than half the first distance.
+    mins = [k for k in range(1, len(sep) - 1)
+            if sep[k] <= sep[k - 1] and sep[k] < sep[k + 1] and sep[k] < 0.5 * sep[0]]
+    if not mins:
+        print("no pericentre in these snapshots")
+        return
+    k = mins[0]
+    print(f"first pericentre: t = {rows[k][0]:.3f} Gyr, black holes {sep[k]:.1f} kpc apart "
+          f"(snapshot spacing {rows[1][0] - rows[0][0]:.3f} Gyr)")
+    times = np.array([r[0] for r in rows])
+    j = int(np.argmin(np.abs(times - (rows[k][0] + after))))
+    print(f"{times[j] - rows[k][0]:.3f} Gyr after it (t = {times[j]:.3f}): {rows[j][3]:.3f} of the disc stars are "
+          f"farther than {rcut:g} kpc from both black holes")
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
