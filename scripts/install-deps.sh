@@ -23,6 +23,7 @@ packages=(
   fitsverify                         # tests: NASA's FITS checker on the FITS outputs
   python3-openimageio                # tests: OpenImageIO's Python bindings read the EXR back as a compositor would
   python3-healpy                     # tests: healpy reads the HEALPix maps
+  python3-scipy                      # tests and scripts: check_star_glide.py (local maxima), box_stats.py (growth ODE)
   splash                             # tests and benchmark: SPLASH, the reference SPH renderer
   ffmpeg                             # orrery video: encodes frame sequences (ffmpeg; ffprobe for its tests)
   locales                            # tests: localedef makes the ','-decimal locale of test_locale
