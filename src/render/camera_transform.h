@@ -9,6 +9,8 @@
 
 #include <math.h>
 
+#include "core/vecmath.h"
+
 typedef struct orr_camera_transform {
     double ox, oy, oz; /* the camera's position, less a periodic copy's shift */
     float r[3][3];     /* world to camera */
@@ -19,6 +21,19 @@ typedef struct orr_camera_transform {
     int fade;
     float inner, outer, inner2, outer2;
 } orr_camera_transform;
+
+/* The transform of a camera at position with world-to-camera rotation rot,
+ * for particles moved by shift (a periodic copy's; 0 for the box itself);
+ * no dimming, no fade. */
+static inline orr_camera_transform orr_camera_transform_at(orr_vec3 position, const orr_mat3 *rot, orr_vec3 shift)
+{
+    const orr_vec3 origin = orr_v3_sub(position, shift); /* p + shift - camera */
+    orr_camera_transform t = {.ox = origin.x, .oy = origin.y, .oz = origin.z};
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++)
+            t.r[a][b] = (float)rot->m[a][b];
+    return t;
+}
 
 /* A point in the camera frame, and its distance from the camera squared. */
 typedef struct orr_camera_point {

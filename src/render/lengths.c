@@ -91,40 +91,6 @@ static double seconds_now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, const orr_vec3 *centre, orr_lengths *out,
-                               orr_error *err)
-{
-    *out = (orr_lengths){0};
-    positions p = {0};
-    double t0 = seconds_now();
-    orr_status st = gather_positions(s, src, centre, &p, err);
-    if (!st && p.n) {
-        out->h = malloc(p.n * sizeof *out->h);
-        if (!out->h)
-            st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for %zu smoothing lengths", p.n);
-    }
-    /* Only the search's own errors get the step's name: a reader's error
-     * (a bad row of a table) already names its file and line, and is the
-     * same whichever pass over the particles meets it first. */
-    if (!st && p.n &&
-        (st = orr_smoothing_lengths(p.n, p.x, p.y, p.z, s->neighbours, ORR_SMOOTHING_FACTOR_DEFAULT, out->h, err)))
-        orr_fail_prefix(err, "%s: smoothing lengths from the neighbours: ", s->path);
-    free(p.x);
-    free(p.y);
-    free(p.z);
-    if (!st)
-        st = orr_source_rewind(src, err);
-    if (st) {
-        orr_lengths_free(out);
-        return st;
-    }
-    out->n = p.n;
-    out->seconds = seconds_now() - t0;
-    out->angular = centre != NULL;
-    out->centre = centre ? *centre : orr_v3(0, 0, 0);
-    return ORR_OK;
-}
-
 void orr_lengths_free(orr_lengths *l)
 {
     free(l->h);
@@ -171,32 +137,53 @@ static orr_status share_directions(const orr_parallel *par, const positions *min
     return st;
 }
 
-orr_status orr_lengths_compute_shared(const orr_scene *s, orr_source *src, const orr_vec3 *centre,
-                                      const orr_parallel *par, orr_lengths *out, orr_error *err)
+/* The lengths of this process's particles, mine (rewinds src): with
+ * several processes, found among every process's (share_directions). */
+static orr_status find_lengths(const orr_scene *s, const struct orr_parallel *par, const positions *mine,
+                               float *h_mine, orr_error *err)
+{
+    positions shared = {0};
+    const positions *all = mine;
+    size_t first = 0;
+    float *h_all = h_mine;
+    orr_status st = ORR_OK;
+    if (par) {
+        st = share_directions(par, mine, &shared, &first, err);
+        all = &shared;
+        if (!st && shared.n && !(h_all = malloc(shared.n * sizeof *h_all)))
+            st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for %zu smoothing lengths", shared.n);
+    }
+    /* Only the search's own errors get the step's name: a reader's error
+     * (a bad row of a table) already names its file and line, and is the
+     * same whichever pass over the particles meets it first. */
+    if (!st && all->n &&
+        (st = orr_smoothing_lengths(all->n, all->x, all->y, all->z, s->neighbours, ORR_SMOOTHING_FACTOR_DEFAULT,
+                                    h_all, err)))
+        orr_fail_prefix(err, "%s: smoothing lengths from the neighbours: ", s->path);
+    if (par) {
+        for (size_t i = 0; i < mine->n && !st; i++)
+            h_mine[i] = h_all[first + i];
+        free(h_all);
+        free(shared.x), free(shared.y), free(shared.z);
+    }
+    return st;
+}
+
+orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, const orr_vec3 *centre,
+                               const struct orr_parallel *par, orr_lengths *out, orr_error *err)
 {
     *out = (orr_lengths){0};
-    positions mine = {0}, all = {0};
-    size_t first = 0;
-    float *h_all = NULL;
+    positions mine = {0};
     double t0 = seconds_now();
     orr_status st = gather_positions(s, src, centre, &mine, err);
     /* Collective from here: every process takes part even if its own pass failed. */
-    st = par->any_failed(par->user, st, err);
-    if (!st)
-        st = share_directions(par, &mine, &all, &first, err);
-    if (!st && all.n && !(h_all = malloc(all.n * sizeof *h_all)))
-        st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for %zu smoothing lengths", all.n);
-    if (!st && all.n &&
-        (st = orr_smoothing_lengths(all.n, all.x, all.y, all.z, s->neighbours, ORR_SMOOTHING_FACTOR_DEFAULT, h_all,
-                                    err)))
-        orr_fail_prefix(err, "%s: the glow's lengths from the neighbours: ", s->path);
+    if (par)
+        st = par->any_failed(par->user, st, err);
     if (!st && mine.n && !(out->h = malloc(mine.n * sizeof *out->h)))
         st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for %zu smoothing lengths", mine.n);
-    for (size_t i = 0; i < mine.n && !st; i++)
-        out->h[i] = h_all[first + i];
-    free(h_all);
+    if (!st && (mine.n || par))
+        st = find_lengths(s, par, &mine, out->h, err);
     free(mine.x), free(mine.y), free(mine.z);
-    free(all.x), free(all.y), free(all.z);
     if (!st)
         st = orr_source_rewind(src, err);
     if (st) {
@@ -205,7 +192,7 @@ orr_status orr_lengths_compute_shared(const orr_scene *s, orr_source *src, const
     }
     out->n = mine.n;
     out->seconds = seconds_now() - t0;
-    out->angular = 1;
-    out->centre = *centre;
+    out->angular = centre != NULL;
+    out->centre = centre ? *centre : orr_v3(0, 0, 0);
     return ORR_OK;
 }

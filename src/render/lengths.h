@@ -33,18 +33,14 @@ orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *ne
  * distance: the kernel's support reaches it) and rewinds src. With centre
  * (not NULL) the angular lengths of the glow: the neighbours in direction
  * as seen from there, h half the chord to the k-th of them on the unit
- * sphere. */
+ * sphere. With par (several processes, each rendering its share of the
+ * particles; collective) every process gathers all the positions (12
+ * bytes a particle, exchanged as sums of doubles) and finds the neighbours
+ * among them, keeping its own particles' lengths, so they do not depend on
+ * the number of processes; NULL: this process alone. */
 struct orr_parallel;
-orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, const orr_vec3 *centre, orr_lengths *out,
-                               orr_error *err);
-
-/* The glow's angular lengths (centre given) when several processes render
- * the frame, each its share of the particles: every process gathers all
- * the directions (12 bytes a particle, exchanged as sums of doubles) and
- * finds the neighbours among them, keeping its own particles' lengths, so
- * they do not depend on the number of processes. */
-orr_status orr_lengths_compute_shared(const orr_scene *s, orr_source *src, const orr_vec3 *centre,
-                                      const struct orr_parallel *par, orr_lengths *out, orr_error *err);
+orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, const orr_vec3 *centre,
+                               const struct orr_parallel *par, orr_lengths *out, orr_error *err);
 void orr_lengths_free(orr_lengths *l);
 
 /* Whether particle i of chunk c takes a length from the array: it is of a

@@ -29,23 +29,11 @@ void orr_motion_blur_plan(orr_motion_blur *b, double half_time, const orr_camera
     b->px_per_radian = (float)proj->focal;
 }
 
-static orr_camera_transform transform_at(const orr_camera *cam, const orr_mat3 *rot, orr_vec3 shift)
-{
-    orr_camera_transform t = {0};
-    t.ox = cam->position.x - shift.x;
-    t.oy = cam->position.y - shift.y;
-    t.oz = cam->position.z - shift.z;
-    for (int a = 0; a < 3; a++)
-        for (int c = 0; c < 3; c++)
-            t.r[a][c] = (float)rot->m[a][c];
-    return t;
-}
-
 void orr_motion_blur_transforms(const orr_motion_blur *b, orr_vec3 shift, orr_camera_transform *open,
                                 orr_camera_transform *close)
 {
-    *open = transform_at(&b->open, &b->open_rot, shift);
-    *close = transform_at(&b->close, &b->close_rot, shift);
+    *open = orr_camera_transform_at(b->open.position, &b->open_rot, shift);
+    *close = orr_camera_transform_at(b->close.position, &b->close_rot, shift);
 }
 
 void orr_motion_blur_streak(const orr_motion_blur *b, const orr_camera_transform *open,

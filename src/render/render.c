@@ -267,8 +267,11 @@ static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, 
         double u = when->nframes > 1 ? when->u + dframe / (double)(when->nframes - 1) : when->u;
         st = orr_path_eval(&s->camera_path, (double)when->frame + dframe, u, cam, err);
     } else {
-        orr_sky_frame moved = observer ? *observer : orr_sky_frame_world(s->camera_position), sky;
-        moved.origin = orr_v3_add(moved.origin, observer_step);
+        orr_sky_frame moved, sky;
+        if (observer) {
+            moved = *observer;
+            moved.origin = orr_v3_add(moved.origin, observer_step);
+        }
         st = view_camera(s, observer ? &moved : NULL, when, cam, &sky, err);
     }
     if (!st && s->stereo_eye && v->proj.kind == ORR_PROJ_PERSPECTIVE) {
@@ -391,8 +394,7 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
                             v->scene->path, par->nranks);
         v->h_scale = (float)v->scene->h_scale;
         if (!lengths->h && !lengths->angular && /* (computed, but none here: a process's share may be empty) */
-            (st = par ? orr_lengths_compute_shared(v->scene, src, centre, par, lengths, err)
-                                     : orr_lengths_compute(v->scene, src, centre, lengths, err)))
+            (st = orr_lengths_compute(v->scene, src, centre, par, lengths, err)))
             return st;
         if (lengths->angular != (centre != NULL) ||
             (centre && orr_v3_norm(orr_v3_sub(lengths->centre, *centre)) > 0))

@@ -190,8 +190,7 @@ static int block_all_finite(const orr_chunk *c, const float *wsrc, size_t start,
 static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift, int fading)
 {
     const orr_scene *s = v->scene;
-    const orr_vec3 origin = orr_v3_sub(v->rep->camera.position, shift); /* p + shift - camera */
-    orr_camera_transform t = {.ox = origin.x, .oy = origin.y, .oz = origin.z};
+    orr_camera_transform t = orr_camera_transform_at(v->rep->camera.position, &v->world_to_camera, shift);
     if (fading) {
         const orr_replica_sphere *sp = &v->periodic.sphere;
         t.fade = 1;
@@ -200,9 +199,6 @@ static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift, in
         t.inner2 = t.inner * t.inner;
         t.outer2 = t.outer * t.outer;
     }
-    for (int a = 0; a < 3; a++)
-        for (int b = 0; b < 3; b++)
-            t.r[a][b] = (float)v->world_to_camera.m[a][b];
     t.dim = (s->has_observer && s->dim) || s->camera_dim;
     const double near = s->camera_dim ? s->camera_dim_near : s->dim_near;
     t.near2 = (float)(near * near);
@@ -542,6 +538,18 @@ static void deposit_points(const view_state *v, orr_plane *planes, int lane, siz
     }
 }
 
+/* Projects and deposits the ns samples gathered in sb; returns 0, the
+ * samples left in it. */
+static size_t draw_samples(const view_state *v, orr_plane *planes, int lane, size_t ns, block_buffers *sb,
+                           block_tally *t)
+{
+    if (ns) {
+        project_points(v, ns, sb, t);
+        deposit_points(v, planes, lane, ns, sb, t);
+    }
+    return 0;
+}
+
 /* Deposits the streaks of the block's n particles: each as its samples
  * (orr_motion_blur_samples of them, at the midpoints of equal steps along
  * the streak, each with an equal share of the weight and the particle's
@@ -559,11 +567,8 @@ static void deposit_streaks(const view_state *v, orr_plane *planes, int lane, si
         const int m = orr_motion_blur_samples(&v->blur, q0, sv);
         const float share = 1.0f / (float)m;
         for (int k = 0; k < m; k++) {
-            if (ns == BLOCK) {
-                project_points(v, ns, sb, t);
-                deposit_points(v, planes, lane, ns, sb, t);
-                ns = 0;
-            }
+            if (ns == BLOCK)
+                ns = draw_samples(v, planes, lane, ns, sb, t);
             const float f = ((float)k + 0.5f) * share;
             sb->x[ns] = q0[0] + f * sv[0];
             sb->y[ns] = q0[1] + f * sv[1];
@@ -574,10 +579,7 @@ static void deposit_streaks(const view_state *v, orr_plane *planes, int lane, si
             ns++;
         }
     }
-    if (ns) {
-        project_points(v, ns, sb, t);
-        deposit_points(v, planes, lane, ns, sb, t);
-    }
+    draw_samples(v, planes, lane, ns, sb, t);
 }
 
 /* Deposits the gathered block: as the fused gather's pixels, as streaks,
