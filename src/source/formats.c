@@ -3,6 +3,7 @@
 #include "source/gadget.h"
 #include "source/hdf5_reader.h"
 #include "source/npy_reader.h"
+#include "source/npz_reader.h"
 #include "source/text_reader.h"
 #include "source/tipsy.h"
 
@@ -13,6 +14,7 @@ const orr_format orr_formats[] = {
     {"gadget", orr_gadget_probe, orr_gadget_source_open},
     {"tipsy", orr_tipsy_probe, orr_tipsy_source_open},
     {"npy", orr_npy_probe, orr_npy_source_open},
+    {"npz", orr_npz_probe, orr_npz_source_open},
     {"text", orr_text_probe, orr_text_source_open},
 };
 

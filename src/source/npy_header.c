@@ -342,6 +342,46 @@ static int plain_columns(const vnode *descr, npy_header *h, char *why, size_t si
     return 1;
 }
 
+/* An .npz member's shape: () a scalar, (N,), or (N, k) for a plain
+ * array; sets rows, ndim and, for a plain array, the columns. */
+static int parse_any_shape(const parser *ps, const vnode *shape, const vnode *descr, npy_header *h, char *why,
+                           size_t size)
+{
+    const vnode *n = shape && shape->kind == V_TUPLE ? child(ps, shape, 0) : NULL;
+    const vnode *k = n ? child(ps, shape, 1) : NULL;
+    int ok = shape && shape->kind == V_TUPLE && shape->count <= 2 && (!n || (n->kind == V_INT && n->num >= 0)) &&
+             (!k || (k->kind == V_INT && k->num >= 1 && k->num <= NPY_MAX_COLUMNS));
+    if (!ok || (h->structured && shape->count != 1)) {
+        snprintf(why, size, h->structured ? "a structured array must have shape (N,)"
+                                          : "an array must have shape (), (N,) or (N, k) with k from 1 to %d",
+                 NPY_MAX_COLUMNS);
+        return 0;
+    }
+    h->ndim = shape->count;
+    h->rows = n ? n->num : 1;
+    if (!h->structured) {
+        npy_column col = {0};
+        if (!parse_dtype(descr, &col, why, size))
+            return 0;
+        if (col.kind == NPY_PAD) {
+            snprintf(why, size, "an array of void records: not numbers");
+            return 0;
+        }
+        h->ncolumns = k ? (int)k->num : 1;
+        for (int i = 0; i < h->ncolumns; i++) {
+            h->col[i] = col;
+            h->col[i].offset = (size_t)i * (size_t)col.size;
+        }
+        h->record = (size_t)h->ncolumns * (size_t)col.size;
+        h->fortran = h->fortran && h->ncolumns > 1;
+    }
+    if (h->record && h->rows > (INT64_MAX - h->data_offset) / (int64_t)h->record) {
+        snprintf(why, size, "shape (%lld, ...) is too large", (long long)h->rows);
+        return 0;
+    }
+    return 1;
+}
+
 int npy_parse_dict(const char *text, size_t len, npy_header *h, char *why, size_t size)
 {
     parser *ps = calloc(1, sizeof *ps);
@@ -377,10 +417,17 @@ int npy_parse_dict(const char *text, size_t len, npy_header *h, char *why, size_
         h->structured = descr->kind == V_LIST;
         /* Order matters only to a 2-D array: a structured one is 1-D. */
         h->fortran = fortran->kind == V_TRUE && descr->kind != V_LIST;
-        ok = h->structured ? parse_fields(ps, descr, h, why, size) : plain_columns(descr, h, why, size);
+        if (h->structured)
+            ok = parse_fields(ps, descr, h, why, size);
+        else if (!h->any_shape)
+            ok = plain_columns(descr, h, why, size);
     }
-    if (ok)
+    if (ok && h->any_shape)
+        ok = parse_any_shape(ps, shape, descr, h, why, size);
+    else if (ok) {
         ok = parse_shape(ps, shape, h, why, size);
+        h->ndim = h->structured ? 1 : 2;
+    }
     free(ps);
     return ok;
 }

@@ -37,6 +37,11 @@ typedef struct npy_header {
     int ncolumns;
     npy_column col[NPY_MAX_COLUMNS];
     size_t record;         /* bytes a row */
+    /* Set by the caller between the preamble and the dict: accept any
+     * plain array of 0 to 2 dimensions (an .npz member): a scalar (rows 1,
+     * ndim 0), (N,) or (N, k) of floats or integers, its columns unnamed. */
+    int any_shape;
+    int ndim;              /* 0, 1 or 2 (any_shape; else 1 structured, 2 plain) */
 } npy_header;
 
 /* Checks the preamble (the first n bytes, at least NPY_PREAMBLE_V2 when the

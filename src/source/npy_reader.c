@@ -3,27 +3,22 @@
 
 #include <errno.h>
 #include <inttypes.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
-#include "core/bytes.h"
 
-#include "source/mass_policy.h"
 #include "source/npy_header.h"
+#include "source/npy_values.h"
 #include "source/share.h"
 
 #define NPY_BUFFER_BYTES ((size_t)4 << 20) /* rows read per fread: at most this many bytes */
 
-/* What each column becomes. */
-enum { R_X, R_Y, R_Z, R_MASS, R_H, R_ID, R_TYPE, R_EXTRA, R_SKIP };
-
 typedef struct npy_state {
     FILE *fp;
     npy_header hdr;
-    int role[NPY_MAX_COLUMNS];  /* R_*, and for R_EXTRA the chunk's extra index in slot[] */
+    int role[NPY_MAX_COLUMNS];  /* NPY_R_*, and for NPY_R_EXTRA the chunk's extra index in slot[] */
     int slot[NPY_MAX_COLUMNS];
     orr_share share;            /* one run: the rows this process reads */
     int64_t row;                /* next row */
@@ -33,88 +28,11 @@ typedef struct npy_state {
 
 int orr_npy_probe(const unsigned char *head, size_t n) { return npy_has_magic(head, n); }
 
-/* One stored value's bits, in its byte order, sign-extended for a signed
- * integer narrower than 8 bytes. */
-static uint64_t raw_at(const npy_column *c, const unsigned char *p)
-{
-    uint64_t u = 0;
-    for (int i = 0; i < c->size; i++)
-        u |= (uint64_t)p[c->big ? c->size - 1 - i : i] << (8 * i);
-    if (c->kind == NPY_INT && c->size < 8 && (u >> (8 * c->size - 1) & 1))
-        u |= ~(uint64_t)0 << (8 * c->size);
-    return u;
-}
-
-/* One stored value as a double (integers of up to 8 bytes, floats). */
-static double value_at(const npy_column *c, const unsigned char *p)
-{
-    uint64_t u = raw_at(c, p);
-    if (c->kind == NPY_FLOAT && c->size == 4) {
-        uint32_t w = (uint32_t)u;
-        float f;
-        memcpy(&f, &w, sizeof f);
-        return f;
-    }
-    if (c->kind == NPY_FLOAT) {
-        double d;
-        memcpy(&d, &u, sizeof d);
-        return d;
-    }
-    return c->kind == NPY_INT ? (double)(int64_t)u : (double)u;
-}
-
-/* An integer column's value exactly (ids beyond 2^53 stay exact). */
-static int64_t integer_at(const npy_column *c, const unsigned char *p, int *negative)
-{
-    uint64_t u = raw_at(c, p);
-    *negative = c->kind == NPY_INT && (int64_t)u < 0;
-    return (int64_t)u;
-}
-
-static int role_of(const char *name)
-{
-    static const struct {
-        const char *name;
-        int role;
-    } roles[] = {{"x", R_X}, {"y", R_Y}, {"z", R_Z}, {"mass", R_MASS}, {"m", R_MASS},
-                 {"h", R_H}, {"id", R_ID}, {"type", R_TYPE}};
-    for (size_t i = 0; i < sizeof roles / sizeof roles[0]; i++)
-        if (strcmp(name, roles[i].name) == 0)
-            return roles[i].role;
-    return name[0] ? R_EXTRA : R_SKIP;
-}
-
-/* Gives every column its role; checks x, y, z are there, each role once,
- * ids and types integers. Extra fields not wanted are skipped. */
+/* Gives every column its role (npy_values.h). */
 static orr_status assign_roles(orr_source *src, npy_state *st, const orr_source_options *opt, orr_error *err)
 {
-    const npy_header *h = &st->hdr;
-    int seen[R_EXTRA] = {0};
-    orr_source_info *info = &src->info;
-    for (int i = 0; i < h->ncolumns; i++) {
-        const npy_column *c = &h->col[i];
-        int r = c->kind == NPY_PAD ? R_SKIP : role_of(c->name);
-        if (r < R_EXTRA && seen[r]++)
-            return orr_fail(err, ORR_ERR_FORMAT, "%s: field '%s': a second %s column", src->info.path, c->name,
-                            r == R_MASS ? "mass (mass or m)" : c->name);
-        if ((r == R_ID || r == R_TYPE) && c->kind == NPY_FLOAT)
-            return orr_fail(err, ORR_ERR_FORMAT, "%s: field '%s' holds floats; %s are integers", src->info.path,
-                            c->name, r == R_ID ? "ids" : "types");
-        if (r == R_EXTRA && (!orr_source_wants_field(opt, c->name) || info->nextra >= ORR_MAX_EXTRA_FIELDS))
-            r = R_SKIP;
-        if (r == R_EXTRA) {
-            st->slot[i] = info->nextra;
-            snprintf(info->extra_names[info->nextra++], ORR_FIELD_NAME_MAX, "%s", c->name);
-        }
-        st->role[i] = r;
-    }
-    if (!seen[R_X] || !seen[R_Y] || !seen[R_Z])
-        return orr_fail(err, ORR_ERR_FORMAT, "%s: the array has no field '%s' (positions are fields x, y, z)",
-                        src->info.path, !seen[R_X] ? "x" : !seen[R_Y] ? "y" : "z");
-    info->has_h = seen[R_H];
-    info->has_id = seen[R_ID];
-    info->has_type = seen[R_TYPE];
-    return ORR_OK;
+    return npy_assign_roles(src->info.path, "field", "fields x, y, z", st->hdr.col, st->hdr.ncolumns, st->role,
+                            st->slot, &src->info, opt, err);
 }
 
 /* Reads the preamble and header dict and checks the file's size. */
@@ -177,116 +95,24 @@ static const unsigned char *cell(const npy_state *st, size_t k, size_t i, int j)
     return st->buf + i * h->record + h->col[j].offset;
 }
 
-/* One value into the chunk; refuses what the renderer must not be given. */
-static orr_status store(orr_source *src, npy_state *st, orr_chunk *c, size_t at, int j, const unsigned char *p,
-                        int64_t row, orr_error *err)
-{
-    const npy_column *col = &st->hdr.col[j];
-    const char *path = src->info.path;
-    int negative = 0;
-    switch (st->role[j]) {
-    case R_X: c->x[at] = (float)value_at(col, p); break;
-    case R_Y: c->y[at] = (float)value_at(col, p); break;
-    case R_Z: c->z[at] = (float)value_at(col, p); break;
-    case R_MASS: {
-        double m = value_at(col, p);
-        const char *problem = orr_mass_problem(m);
-        if (problem)
-            return orr_fail(err, ORR_ERR_FORMAT, "%s: row %" PRId64 ": mass %g %s", path, row, m, problem);
-        c->mass[at] = (float)m;
-        break;
-    }
-    case R_H: {
-        double h = value_at(col, p);
-        if (!(h >= 0) || isinf(h))
-            return orr_fail(err, ORR_ERR_FORMAT, "%s: row %" PRId64 ": h = %g is not finite and non-negative", path,
-                            row, h);
-        c->h[at] = (float)h;
-        break;
-    }
-    case R_ID:
-        c->id[at] = (uint64_t)integer_at(col, p, &negative);
-        if (negative)
-            return orr_fail(err, ORR_ERR_FORMAT, "%s: row %" PRId64 ": id %" PRId64 " is negative", path, row,
-                            (int64_t)c->id[at]);
-        break;
-    case R_TYPE: {
-        int64_t t = integer_at(col, p, &negative);
-        if (negative || t > 5)
-            return orr_fail(err, ORR_ERR_FORMAT, "%s: row %" PRId64 ": type %" PRId64 " is not from 0 to 5", path,
-                            row, t);
-        c->type[at] = (uint8_t)t;
-        break;
-    }
-    case R_EXTRA: c->extra[st->slot[j]].data[at] = (float)value_at(col, p); break;
-    default: break;
-    }
-    return ORR_OK;
-}
-
-/* Fills what the file does not give: mass 1, ids from the row, type 0. */
-static void defaults(const orr_source *src, orr_chunk *c, size_t at, int64_t row)
-{
-    if (!src->info.has_id)
-        c->id[at] = (uint64_t)row;
-    if (!src->info.has_type)
-        c->type[at] = 0;
-}
-
-/* The float array an unchecked column goes to (positions, extra fields),
- * or NULL for the columns whose values are checked one by one. */
-static float *float_target(const npy_state *st, orr_chunk *c, int j)
-{
-    switch (st->role[j]) {
-    case R_X: return c->x;
-    case R_Y: return c->y;
-    case R_Z: return c->z;
-    case R_EXTRA: return c->extra[st->slot[j]].data;
-    default: return NULL;
-    }
-}
-
-/* Column j of the k rows just read into out, when it is a float in the
- * host's byte order: a copy per value, without the general decoding (most
- * files: np.save of float32 or float64 on the same kind of machine).
- * Returns 0 when the column needs the general path. */
-static int copy_native_floats(const npy_state *st, size_t k, int j, float *out)
-{
-    const npy_column *col = &st->hdr.col[j];
-    if (col->kind != NPY_FLOAT || col->big != orr_host_big_endian())
-        return 0;
-    for (size_t i = 0; i < k; i++) {
-        const unsigned char *p = cell(st, k, i, j);
-        if (col->size == 4) {
-            memcpy(&out[i], p, sizeof(float));
-        } else {
-            double d;
-            memcpy(&d, p, sizeof d);
-            out[i] = (float)d;
-        }
-    }
-    return 1;
-}
-
 /* Decodes the k rows just read into the chunk from c->n on, column by
  * column. */
 static orr_status decode_rows(orr_source *src, npy_state *st, orr_chunk *c, size_t k, orr_error *err)
 {
+    const npy_header *h = &st->hdr;
     int has_mass = 0;
-    for (int j = 0; j < st->hdr.ncolumns; j++)
-        has_mass |= st->role[j] == R_MASS;
-    for (size_t i = 0; i < k; i++) {
-        if (!has_mass)
-            c->mass[c->n + i] = 1.0f;
-        defaults(src, c, c->n + i, st->row + (int64_t)i);
-    }
+    for (int j = 0; j < h->ncolumns; j++)
+        has_mass |= st->role[j] == NPY_R_MASS;
+    npy_defaults(&src->info, has_mass, c, c->n, k, st->row);
     orr_status s = ORR_OK;
-    for (int j = 0; j < st->hdr.ncolumns && !s; j++) {
-        float *out = float_target(st, c, j);
-        if (out && copy_native_floats(st, k, j, out + c->n))
+    for (int j = 0; j < h->ncolumns && !s; j++) {
+        float *out = npy_float_target(st->role[j], st->slot[j], c);
+        size_t stride = h->fortran ? (size_t)h->col[j].size : h->record;
+        if (out && npy_copy_native_floats(&h->col[j], cell(st, k, 0, j), stride, k, out + c->n))
             continue;
         for (size_t i = 0; i < k && !s; i++)
-            s = store(src, st, c, c->n + i, j, cell(st, k, i, j), st->row + (int64_t)i, err);
+            s = npy_store(src->info.path, &h->col[j], st->role[j], st->slot[j], c, c->n + i, cell(st, k, i, j),
+                          st->row + (int64_t)i, err);
     }
     return s;
 }

@@ -444,7 +444,7 @@ static void test_value_errors(void)
     EXPECT_ERROR(MODEL "output:\n  png_bits: 12\n", ORR_ERR_USAGE, "output.png_bits: expected one of: 8 16, got '12'");
     EXPECT_ERROR(MODEL_INPUT "  nonfinite: drop\n", ORR_ERR_USAGE, "input.nonfinite: expected one of: error skip, got 'drop'");
     EXPECT_ERROR(MODEL_INPUT "  format: fits\n", ORR_ERR_USAGE,
-                 "input.format: expected one of: auto hdf5 gadget tipsy npy text, got 'fits'");
+                 "input.format: expected one of: auto hdf5 gadget tipsy npy npz text, got 'fits'");
     EXPECT_ERROR("input:\n  model:\n    name: plummer\n", ORR_ERR_USAGE, "scene.yaml:3: input.model.name: expected one of: mw-m31 king, got 'plummer'");
     /* Strings. */
     EXPECT_ERROR(MODEL "output:\n  name: a/b\n", ORR_ERR_USAGE, "output.name: 'a/b' must be a file name",
