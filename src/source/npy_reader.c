@@ -6,8 +6,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/mman.h>
 #include <sys/stat.h>
-
 
 #include "source/npy_header.h"
 #include "source/npy_values.h"
@@ -24,7 +24,13 @@ typedef struct npy_state {
     int64_t row;                /* next row */
     unsigned char *buf;
     size_t block;               /* rows per read */
+    const unsigned char *map;   /* the whole file mapped (orr_npy_set_mapping), or NULL: read into buf */
+    size_t map_size;
 } npy_state;
+
+static int use_mapping = NPY_MAP_DEFAULT;
+
+void orr_npy_set_mapping(int on) { use_mapping = on; }
 
 int orr_npy_probe(const unsigned char *head, size_t n) { return npy_has_magic(head, n); }
 
@@ -73,6 +79,8 @@ static orr_status read_header(orr_source *src, npy_state *st, orr_error *err)
 static orr_status read_rows(orr_source *src, npy_state *st, size_t k, orr_error *err)
 {
     const npy_header *h = &st->hdr;
+    if (st->map)
+        return ORR_OK; /* decoded where they are */
     int runs = h->fortran ? h->ncolumns : 1;
     size_t width = h->fortran ? (size_t)h->col[0].size : h->record;
     for (int r = 0; r < runs; r++) {
@@ -86,13 +94,24 @@ static orr_status read_rows(orr_source *src, npy_state *st, size_t k, orr_error 
     return ORR_OK;
 }
 
-/* Where row i's column j is in the buffer just read (k rows). */
-static const unsigned char *cell(const npy_state *st, size_t k, size_t i, int j)
+/* Where column j of the k rows from st->row is: in the buffer just read,
+ * or in the mapped file. Its next row is column_stride bytes further. */
+static const unsigned char *column_base(const npy_state *st, size_t k, int j)
 {
     const npy_header *h = &st->hdr;
+    size_t size = (size_t)h->col[j].size;
+    if (st->map && h->fortran)
+        return st->map + h->data_offset + ((size_t)j * (size_t)h->rows + (size_t)st->row) * size;
+    if (st->map)
+        return st->map + h->data_offset + (size_t)st->row * h->record + h->col[j].offset;
     if (h->fortran)
-        return st->buf + ((size_t)j * k + i) * (size_t)h->col[j].size;
-    return st->buf + i * h->record + h->col[j].offset;
+        return st->buf + (size_t)j * k * size;
+    return st->buf + h->col[j].offset;
+}
+
+static size_t column_stride(const npy_state *st, int j)
+{
+    return st->hdr.fortran ? (size_t)st->hdr.col[j].size : st->hdr.record;
 }
 
 /* Decodes the k rows just read into the chunk from c->n on, column by
@@ -107,11 +126,11 @@ static orr_status decode_rows(orr_source *src, npy_state *st, orr_chunk *c, size
     orr_status s = ORR_OK;
     for (int j = 0; j < h->ncolumns && !s; j++) {
         float *out = npy_float_target(st->role[j], st->slot[j], c);
-        size_t stride = h->fortran ? (size_t)h->col[j].size : h->record;
-        if (out && npy_copy_native_floats(&h->col[j], cell(st, k, 0, j), stride, k, out + c->n))
-            continue;
-        for (size_t i = 0; i < k && !s; i++)
-            s = npy_store(src->info.path, &h->col[j], st->role[j], st->slot[j], c, c->n + i, cell(st, k, i, j),
+        const unsigned char *base = column_base(st, k, j);
+        size_t stride = column_stride(st, j);
+        size_t done = npy_copy_native_floats(&h->col[j], st->role[j], base, stride, k, out ? out + c->n : NULL);
+        for (size_t i = done; i < k && !s; i++)
+            s = npy_store(src->info.path, &h->col[j], st->role[j], st->slot[j], c, c->n + i, base + i * stride,
                           st->row + (int64_t)i, err);
     }
     return s;
@@ -156,6 +175,8 @@ static void npy_close(orr_source *src)
         return;
     if (st->fp)
         fclose(st->fp);
+    if (st->map)
+        munmap((void *)st->map, st->map_size);
     orr_share_free(&st->share);
     free(st->buf);
     free(st);
@@ -164,18 +185,37 @@ static void npy_close(orr_source *src)
 
 static const orr_source_ops npy_ops = {.next = npy_next, .rewind = npy_rewind, .close = npy_close};
 
-/* The chunk, and a read buffer of whole rows (at most NPY_BUFFER_BYTES). */
+/* Maps the whole file when asked to; on any failure the rows are read
+ * into the buffer instead. The size was checked against the header. */
+static void map_file(npy_state *st)
+{
+    int64_t size = st->hdr.data_offset + st->hdr.rows * (int64_t)st->hdr.record;
+    if (!use_mapping || st->hdr.rows == 0 || (uint64_t)size > SIZE_MAX)
+        return;
+    void *p = mmap(NULL, (size_t)size, PROT_READ, MAP_PRIVATE, fileno(st->fp), 0);
+    if (p == MAP_FAILED)
+        return;
+    posix_madvise(p, (size_t)size, POSIX_MADV_SEQUENTIAL);
+    st->map = p;
+    st->map_size = (size_t)size;
+}
+
+/* The chunk, and a read buffer of whole rows (at most NPY_BUFFER_BYTES;
+ * none for a mapped file). */
 static orr_status alloc_buffers(orr_source *src, npy_state *st, const orr_source_options *opt, orr_error *err)
 {
     orr_status s = orr_source_alloc_chunk(src, opt, err);
     if (s)
         return s;
+    map_file(st);
     size_t record = st->hdr.record ? st->hdr.record : 1;
     st->block = NPY_BUFFER_BYTES / record;
     if (st->block < 1)
         st->block = 1;
     if (st->block > src->chunk.capacity)
         st->block = src->chunk.capacity;
+    if (st->map)
+        return ORR_OK;
     st->buf = orr_malloc(st->block * record, ".npy read buffer", err);
     return st->buf ? ORR_OK : ORR_ERR_NOMEM;
 }

@@ -10,6 +10,15 @@
 
 #include "source/source.h"
 
+/* Whether files are memory-mapped (1) or read a block at a time with
+ * fread (0, the default). Mapping was measured no faster on cached files
+ * (bench/bench_npy_read.c, docs/python.md#measured) and a file truncated
+ * while mapped would end the process with SIGBUS, where fread reports an
+ * error: it stays for that benchmark and the tests that compare both.
+ * Not thread-safe. */
+#define NPY_MAP_DEFAULT 0
+void orr_npy_set_mapping(int on);
+
 int orr_npy_probe(const unsigned char *head, size_t n);
 orr_status orr_npy_source_open(const char *path, const orr_source_options *opt, orr_source **out, orr_error *err);
 

@@ -1,6 +1,7 @@
 /* Values of NumPy arrays into chunks (npy_values.h). */
 #include "source/npy_values.h"
 
+#include <float.h>
 #include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
@@ -145,26 +146,59 @@ float *npy_float_target(int role, int slot, orr_chunk *c)
     case NPY_R_X: return c->x;
     case NPY_R_Y: return c->y;
     case NPY_R_Z: return c->z;
+    case NPY_R_MASS: return c->mass;
+    case NPY_R_H: return c->h;
     case NPY_R_EXTRA: return c->extra[slot].data;
     default: return NULL;
     }
 }
 
-int npy_copy_native_floats(const npy_column *col, const unsigned char *base, size_t stride, size_t k, float *out)
+/* Whether a value may go into the chunk as it is for its role: any
+ * position or field; a mass by the mass policy; h finite, not negative. */
+static inline int plain_ok(int role, double v)
 {
-    if (col->kind != NPY_FLOAT || col->big != orr_host_big_endian())
-        return 0;
-    for (size_t i = 0; i < k; i++) {
-        const unsigned char *p = base + i * stride;
-        if (col->size == 4) {
-            memcpy(&out[i], p, sizeof(float));
-        } else {
-            double d;
-            memcpy(&d, p, sizeof d);
-            out[i] = (float)d;
-        }
-    }
+    if (role == NPY_R_MASS)
+        return v >= 0 && v <= FLT_MAX && !(v > 0 && (float)v == 0.0f);
+    if (role == NPY_R_H)
+        return v >= 0 && v <= DBL_MAX;
     return 1;
+}
+
+/* Typed loops, one per stored size, so the compiler sees plain loads. */
+static size_t copy_f32(int role, const unsigned char *base, size_t stride, size_t k, float *out)
+{
+    if (stride == sizeof(float) && role != NPY_R_MASS && role != NPY_R_H) {
+        memcpy(out, base, k * sizeof(float));
+        return k;
+    }
+    for (size_t i = 0; i < k; i++) {
+        float f;
+        memcpy(&f, base + i * stride, sizeof f);
+        if (!plain_ok(role, f))
+            return i;
+        out[i] = f;
+    }
+    return k;
+}
+
+static size_t copy_f64(int role, const unsigned char *base, size_t stride, size_t k, float *out)
+{
+    for (size_t i = 0; i < k; i++) {
+        double d;
+        memcpy(&d, base + i * stride, sizeof d);
+        if (!plain_ok(role, d))
+            return i;
+        out[i] = (float)d;
+    }
+    return k;
+}
+
+size_t npy_copy_native_floats(const npy_column *col, int role, const unsigned char *base, size_t stride, size_t k,
+                              float *out)
+{
+    if (!out || col->kind != NPY_FLOAT || col->big != orr_host_big_endian())
+        return 0;
+    return col->size == 4 ? copy_f32(role, base, stride, k, out) : copy_f64(role, base, stride, k, out);
 }
 
 void npy_defaults(const orr_source_info *info, int has_mass, orr_chunk *c, size_t at, size_t k, int64_t row)

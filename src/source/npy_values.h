@@ -33,14 +33,18 @@ orr_status npy_store(const char *what, const npy_column *col, int role, int slot
 /* One stored value as a double (integers of up to 8 bytes, floats). */
 double npy_value(const npy_column *col, const unsigned char *p);
 
-/* The float array an unchecked column goes to (positions, extra fields),
- * or NULL for the columns whose values are checked one by one. */
+/* The float array a column of floats goes to (positions, mass, h, extra
+ * fields), or NULL (ids, types, skipped columns). */
 float *npy_float_target(int role, int slot, orr_chunk *c);
 
-/* k values of a float column in the host's byte order, the first at base
- * and each stride bytes after the last, into out: a copy per value without
- * the general decoding. Returns 0 (nothing done) for any other column. */
-int npy_copy_native_floats(const npy_column *col, const unsigned char *base, size_t stride, size_t k, float *out);
+/* Values of a float column in the host's byte order, the first at base and
+ * each stride bytes after the last, into out (npy_float_target's array), as
+ * long as each is fine for its role (a mass by the mass policy, h finite
+ * and not negative): plain loads instead of the general decoding. Returns
+ * how many of the k were copied: k, or the index of the first value left to
+ * npy_store (whose message names it); 0 for any other column. */
+size_t npy_copy_native_floats(const npy_column *col, int role, const unsigned char *base, size_t stride, size_t k,
+                              float *out);
 
 /* Mass 1 (when has_mass is 0), ids from the row and type 0 where the file
  * gives none, for k particles from at on, the first of row `row`. */

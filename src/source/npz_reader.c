@@ -128,7 +128,7 @@ static orr_status name_column(const char *what, const char *key, const npy_heade
     if (strlen(name) >= ORR_FIELD_NAME_MAX)
         return orr_fail(err, ORR_ERR_FORMAT, "%s: column name '%s' is longer than %d characters", what, name,
                         ORR_FIELD_NAME_MAX - 1);
-    snprintf(col->name, sizeof col->name, "%s", name);
+    memcpy(col->name, name, strlen(name) + 1); /* fits: checked above */
     return ORR_OK;
 }
 
@@ -282,9 +282,8 @@ static orr_status read_block(orr_source *src, npz_state *st, orr_chunk *c, size_
         const npz_run *run = &st->run[st->col_run[j]];
         const unsigned char *base = run->buf + st->col[j].offset;
         float *out = npy_float_target(st->role[j], st->slot[j], c);
-        if (out && npy_copy_native_floats(&st->col[j], base, run->width, k, out + c->n))
-            continue;
-        for (size_t i = 0; i < k && !s; i++)
+        size_t done = npy_copy_native_floats(&st->col[j], st->role[j], base, run->width, k, out ? out + c->n : NULL);
+        for (size_t i = done; i < k && !s; i++)
             s = npy_store(run->zr.what, &st->col[j], st->role[j], st->slot[j], c, c->n + i, base + i * run->width,
                           st->row + (int64_t)i, err);
     }
