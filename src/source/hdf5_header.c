@@ -157,28 +157,37 @@ static double attr_number(hid_t loc, const char *name, int *found)
 }
 
 /* "a U_L [ cm ] (to cgs 1)" for SWIFT, "a^1 h^-1 (to cgs 3.085678e+21)" for
- * Gadget-4; nothing when the dataset carries neither convention. */
-static void describe_dataset_units(orr_source_info *info, hid_t ds, const char *name)
+ * Gadget-4, into buf; 0 (buf "") when the dataset carries neither. */
+static int format_dataset_units(hid_t ds, char *buf, size_t size)
 {
     char expr[160];
     int has_cgs, has_a, has_h;
+    buf[0] = '\0';
     if (orr_h5_attr_string(ds, "Expression for physical CGS units", expr, sizeof expr) == ORR_H5_FOUND) {
         double cgs = attr_number(ds, "Conversion factor to CGS (not including cosmological corrections)", &has_cgs);
         squeeze_spaces(expr);
         if (has_cgs)
-            orr_source_add_header(info, name, "%s (to cgs %.10g)", expr, cgs);
+            snprintf(buf, size, "%s (to cgs %.10g)", expr, cgs);
         else
-            orr_source_add_header(info, name, "%s", expr);
-        return;
+            snprintf(buf, size, "%s", expr);
+        return 1;
     }
     H5Eclear2(H5E_DEFAULT);
     double cgs = attr_number(ds, "to_cgs", &has_cgs);
     double a = attr_number(ds, "a_scaling", &has_a);
     double h = attr_number(ds, "h_scaling", &has_h);
     if (has_cgs && has_a && has_h)
-        orr_source_add_header(info, name, "a^%g h^%g (to cgs %.10g)", a, h, cgs);
+        snprintf(buf, size, "a^%g h^%g (to cgs %.10g)", a, h, cgs);
     else if (has_cgs)
-        orr_source_add_header(info, name, "(to cgs %.10g)", cgs);
+        snprintf(buf, size, "(to cgs %.10g)", cgs);
+    return buf[0] != '\0';
+}
+
+static void describe_dataset_units(orr_source_info *info, hid_t ds, const char *name)
+{
+    char units[sizeof info->header[0].value];
+    if (format_dataset_units(ds, units, sizeof units))
+        orr_source_add_header(info, name, "%s", units);
 }
 
 static void describe_datasets(orr_source_info *info, hid_t file, const char example_group[DS_COUNT][H5R_GROUP_NAME])
@@ -197,6 +206,101 @@ static void describe_datasets(orr_source_info *info, hid_t file, const char exam
     }
 }
 
+/* ---- every other dataset: a named field (format-hdf5.md) ---- */
+
+#define MAX_LISTED 64
+
+typedef struct dataset_list {
+    int n;
+    char name[MAX_LISTED][48];
+} dataset_list;
+
+static int is_standard_dataset(const char *name)
+{
+    for (int k = 0; k < DS_COUNT; k++)
+        for (int i = 0; i < 2; i++)
+            if (h5r_dataset_names[k][i] && strcmp(name, h5r_dataset_names[k][i]) == 0)
+                return 1;
+    return 0;
+}
+
+/* The names of group g's links that are not standard datasets, once each
+ * (H5Gget_info and H5Lget_name_by_idx: in HDF5 1.10 and later alike). */
+static void collect_names(hid_t g, dataset_list *list)
+{
+    H5G_info_t gi;
+    if (H5Gget_info(g, &gi) < 0)
+        return;
+    for (hsize_t i = 0; i < gi.nlinks && list->n < MAX_LISTED; i++) {
+        char name[48];
+        ssize_t len = H5Lget_name_by_idx(g, ".", H5_INDEX_NAME, H5_ITER_INC, i, name, sizeof name, H5P_DEFAULT);
+        if (len < 0 || (size_t)len >= sizeof name || is_standard_dataset(name))
+            continue;
+        int dup = 0;
+        for (int k = 0; k < list->n; k++)
+            dup |= strcmp(list->name[k], name) == 0;
+        if (!dup)
+            snprintf(list->name[list->n++], sizeof list->name[0], "%s", name);
+    }
+}
+
+/* One entry for a dataset usable as a named field: its group, shape, the
+ * field names it gives and its units. Not numbers, or more than 2-D: none. */
+static void describe_named(orr_source_info *info, hid_t group, const char *group_name, const char *name)
+{
+    hid_t ds = H5Dopen2(group, name, H5P_DEFAULT);
+    hsize_t dims[ORR_H5_MAX_RANK];
+    H5T_class_t cls = H5T_NO_CLASS;
+    int rank = ds >= 0 ? orr_h5_dataset_shape(ds, dims, &cls) : -1;
+    char units[160] = "";
+    if (ds >= 0)
+        format_dataset_units(ds, units, sizeof units);
+    H5Eclear2(H5E_DEFAULT);
+    orr_h5_close(ds);
+    if ((cls != H5T_INTEGER && cls != H5T_FLOAT) || rank < 1 || rank > 2)
+        return;
+    char shape[160];
+    /* A field name holds at most ORR_FIELD_NAME_MAX - 1 characters, with
+     * "[k]" for a column: longer datasets are listed but cannot be fields. */
+    size_t room = ORR_FIELD_NAME_MAX - 1 - (rank == 2 ? 2 + (dims[1] > 10 ? 2 : 1) : 0);
+    if (strlen(name) > room)
+        snprintf(shape, sizeof shape, "(%llu%s): name too long for a field", (unsigned long long)dims[0],
+                 rank == 2 ? ", ..." : "");
+    else if (rank == 1)
+        snprintf(shape, sizeof shape, "(%llu): field %s", (unsigned long long)dims[0], name);
+    else
+        snprintf(shape, sizeof shape, "(%llu, %llu): fields %s[0..%llu]", (unsigned long long)dims[0],
+                 (unsigned long long)dims[1], name, (unsigned long long)dims[1] - 1);
+    orr_source_add_header(info, name, "%s %s%s%s", group_name, shape, units[0] ? "; " : "", units);
+}
+
+/* Every numeric dataset of the particle groups other than the standard
+ * ones, once (in the first group holding it), with its units. */
+static void describe_named_datasets(orr_source_info *info, hid_t file, int ntypes)
+{
+    for (int t = 0; t < ntypes; t++) {
+        char group_name[24];
+        snprintf(group_name, sizeof group_name, "PartType%d", t);
+        hid_t g = open_group_quietly(file, group_name);
+        if (g < 0)
+            continue;
+        dataset_list list = {0}, seen_before = {0};
+        for (int k = 0; k < info->nheader; k++)
+            if (seen_before.n < MAX_LISTED)
+                snprintf(seen_before.name[seen_before.n++], sizeof seen_before.name[0], "%s", info->header[k].key);
+        collect_names(g, &list);
+        H5Eclear2(H5E_DEFAULT);
+        for (int i = 0; i < list.n; i++) {
+            int listed = 0;
+            for (int k = 0; k < seen_before.n; k++)
+                listed |= strcmp(seen_before.name[k], list.name[i]) == 0;
+            if (!listed)
+                describe_named(info, g, group_name, list.name[i]);
+        }
+        orr_h5_close(g);
+    }
+}
+
 void h5r_describe(orr_source_info *info, hid_t file, int ntypes, const char example_group[DS_COUNT][H5R_GROUP_NAME])
 {
     hid_t header = open_group_quietly(file, "Header");
@@ -208,6 +312,7 @@ void h5r_describe(orr_source_info *info, hid_t file, int ntypes, const char exam
     }
     describe_unit_system(info, file, params);
     describe_datasets(info, file, example_group);
+    describe_named_datasets(info, file, ntypes);
     orr_h5_close(params);
     orr_h5_close(header);
 }
