@@ -112,6 +112,17 @@ static int quat_usable(const double q[4])
     return isfinite(n) && n > 0;
 }
 
+/* A perspective view's screen window, replacing the required attributes'
+ * defaults (width 1, centre (0, 0)). */
+static exr_result_t set_screen_window(exr_context_t ctxt, int part, const orr_image_meta *meta)
+{
+    exr_attr_v2f_t centre = {.x = (float)meta->screen_window_center[0], .y = (float)meta->screen_window_center[1]};
+    exr_result_t rv = exr_set_screen_window_width(ctxt, part, (float)meta->screen_window_width);
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_set_screen_window_center(ctxt, part, &centre);
+    return rv;
+}
+
 /* The header attributes for meta (docs/formats-out.md lists them). */
 static exr_result_t set_attributes(exr_context_t ctxt, int part, const orr_image_meta *meta, const char *text)
 {
@@ -145,6 +156,8 @@ static exr_result_t set_attributes(exr_context_t ctxt, int part, const orr_image
         snprintf(name, sizeof name, "orrery:%s", meta->extra_key[i]);
         rv = exr_attr_set_string(ctxt, part, name, meta->extra_value[i]);
     }
+    if (rv == EXR_ERR_SUCCESS && meta->has_screen_window)
+        rv = set_screen_window(ctxt, part, meta);
     return rv;
 }
 

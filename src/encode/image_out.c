@@ -57,6 +57,11 @@ orr_status orr_image_meta_check(const orr_image_meta *meta, const char *path, or
         return st;
     if (meta->has_frame && (meta->frame < INT_MIN || meta->frame > INT_MAX))
         return orr_fail(err, ORR_ERR_USAGE, "%s: frame number %ld is out of range", path, meta->frame);
+    if (meta->has_screen_window &&
+        !(meta->screen_window_width > 0 && meta->screen_window_width < 1e30 &&
+          fabs(meta->screen_window_center[0]) < 1e30 && fabs(meta->screen_window_center[1]) < 1e30))
+        return orr_fail(err, ORR_ERR_USAGE, "%s: screen window width %g, centre (%g, %g): not a usable lens", path,
+                        meta->screen_window_width, meta->screen_window_center[0], meta->screen_window_center[1]);
     if (meta->nextra < 0 || meta->nextra > ORR_IMAGE_META_MAX_EXTRA)
         return orr_fail(err, ORR_ERR_USAGE, "%s: %d metadata pairs (0 to %d allowed)", path, meta->nextra,
                         ORR_IMAGE_META_MAX_EXTRA);

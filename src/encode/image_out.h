@@ -35,6 +35,13 @@ typedef struct orr_image_meta {
     double cam_pos[3];      /* camera position, world (simulation) units */
     double cam_quat[4];     /* w, x, y, z: takes camera-frame vectors to world
                                vectors (frame/camera.h; need not be normalised) */
+    /* A perspective view's lens as OpenEXR's screen window: the image's
+     * extent on the plane one unit in front of the camera, in the camera
+     * space of worldToCamera (x right, y up): width, and centre (0, 0)
+     * unless the principal point is shifted. Written only to OpenEXR. */
+    int has_screen_window;
+    double screen_window_width;
+    double screen_window_center[2];
     /* Free key/value pairs. Keys are 1 to ORR_IMAGE_META_KEY_MAX characters
      * of letters, digits, '_', '.' and '-'. */
     int nextra;

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "encode/exr.h"
 #include "post/colour.h"
 #include "render/map_alpha.h"
 
@@ -86,4 +87,15 @@ void orr_exr_view_free(orr_exr_view *v)
     for (int k = 0; k < v->n; k++)
         orr_plane_free(&v->channels[k]);
     v->n = 0;
+}
+
+orr_status orr_exr_view_write(const char *path, const orr_plane *channels, int n, int half,
+                              const orr_image_meta *meta, orr_error *err)
+{
+    const orr_plane *list[2 * ORR_EXR_VIEW_MAX];
+    if (n < 1 || n > 2 * ORR_EXR_VIEW_MAX)
+        return orr_fail(err, ORR_ERR_INTERNAL, "%s: %d OpenEXR channels", path, n);
+    for (int k = 0; k < n; k++)
+        list[k] = &channels[k];
+    return orr_write_exr(path, list, n, half ? ORR_EXR_HALF : ORR_EXR_FLOAT, meta, err);
 }

@@ -9,6 +9,7 @@
 #define ORR_RENDER_EXR_VIEW_H
 
 #include "core/error.h"
+#include "encode/image_out.h"
 #include "frame/projection.h"
 #include "splat/plane.h"
 
@@ -25,5 +26,10 @@ typedef struct orr_exr_view {
 orr_status orr_exr_view_build(orr_exr_view *out, const orr_plane *planes, int nplanes, const orr_projection *p,
                               const char *prefix, orr_error *err);
 void orr_exr_view_free(orr_exr_view *v);
+
+/* Writes n channels (one view's, or both eyes' of a stereo pair) to path
+ * as OpenEXR: half samples when half (output.exr_half), else float. */
+orr_status orr_exr_view_write(const char *path, const orr_plane *channels, int n, int half,
+                              const orr_image_meta *meta, orr_error *err);
 
 #endif

@@ -230,7 +230,7 @@ static orr_status write_pair_exr(const orr_stereo_pair *p, const char *path, orr
         orr_plane all[2 * ORR_EXR_VIEW_MAX];
         for (int e = 0; e < 2; e++)
             memcpy(all + e * eyes[0].n, eyes[e].channels, (size_t)eyes[e].n * sizeof all[0]);
-        st = orr_write_image_planes(path, all, eyes[0].n + eyes[1].n, p->meta, err);
+        st = orr_exr_view_write(path, all, eyes[0].n + eyes[1].n, p->scene->exr_half, p->meta, err);
         orr_exr_view_free(&eyes[1]);
     }
     orr_exr_view_free(&eyes[0]);

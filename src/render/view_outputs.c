@@ -216,7 +216,45 @@ orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size
 static orr_status view_output(view_state *v, const char *ext, const char **write_path, orr_error *err);
 
 /* What the other image formats record: the scene, projection, time, camera. */
-static orr_image_meta view_meta(const view_state *v, const char *desc, const char **keys, const char **values)
+/* Strings a view's metadata borrows: the description and the projection's
+ * parameters as orrery's own attributes (docs/formats-out.md). */
+typedef struct view_meta_text {
+    const char *keys[4], *values[4];
+    char numbers[3][32];
+} view_meta_text;
+
+/* The projection's parameters a file should carry: what orrery alone
+ * defines (sky maps, orthographic), and for a perspective view OpenEXR's
+ * screen window. */
+static void projection_meta(const orr_projection *p, orr_image_meta *m, view_meta_text *t)
+{
+    const char *key = NULL;
+    double value = 0;
+    switch (p->kind) {
+    case ORR_PROJ_ORTHOGRAPHIC: key = "orthoWidth", value = p->ortho_width; break;
+    case ORR_PROJ_PERSPECTIVE:
+        key = "fieldOfViewDeg", value = p->fov_deg;
+        m->has_screen_window = 1;
+        m->screen_window_width = p->width / p->focal;
+        m->screen_window_center[0] = -p->shift_x / p->focal;
+        m->screen_window_center[1] = 0;
+        break;
+    case ORR_PROJ_DOME: key = "domeFieldOfViewDeg", value = p->dome_fov_deg; break;
+    case ORR_PROJ_HEALPIX: key = "healpixNside", value = p->healpix_nside; break;
+    default: break;
+    }
+    if (key) {
+        snprintf(t->numbers[0], sizeof t->numbers[0], "%.17g", value);
+        t->keys[m->nextra] = key;
+        t->values[m->nextra++] = t->numbers[0];
+    }
+    if (orr_projection_is_sky(p)) {
+        t->keys[m->nextra] = "longitudeGrows";
+        t->values[m->nextra++] = p->lon_sign > 0 ? "right" : "left"; /* dome, HEALPix: always left */
+    }
+}
+
+static orr_image_meta view_meta(const view_state *v, const char *desc, view_meta_text *t)
 {
     const orr_camera *cam = &v->rep->camera;
     orr_image_meta m = {0};
@@ -232,12 +270,13 @@ static orr_image_meta view_meta(const view_state *v, const char *desc, const cha
     m.cam_quat[1] = cam->orientation.x;
     m.cam_quat[2] = cam->orientation.y;
     m.cam_quat[3] = cam->orientation.z;
-    keys[0] = "description";
-    values[0] = desc;
+    t->keys[0] = "description";
+    t->values[0] = desc;
     m.nextra = 1;
+    projection_meta(&v->proj, &m, t);
     for (int k = 0; k < m.nextra; k++) {
-        m.extra_key[k] = keys[k];
-        m.extra_value[k] = values[k];
+        m.extra_key[k] = t->keys[k];
+        m.extra_value[k] = t->values[k];
     }
     return m;
 }
@@ -270,8 +309,8 @@ orr_status orr_view_write_pictures(view_state *v, orr_error *err)
         charge(v, ORR_STAGE_PNG);
     }
     if (!st && s->image_ext[0]) {
-        const char *keys[1], *values[1];
-        orr_image_meta meta = view_meta(v, desc, keys, values);
+        view_meta_text text;
+        orr_image_meta meta = view_meta(v, desc, &text);
         if (!(st = view_output(v, s->image_ext, &path, err)) &&
             !(st = orr_write_image_picture(path, rgb, rgba, v->proj.width, v->proj.height, s->png_bits, &meta, err)))
             rep->noutputs++;
@@ -288,12 +327,12 @@ static orr_status write_exr(view_state *v, orr_error *err)
 {
     orr_render_report *rep = v->rep;
     const char *path;
-    const char *keys[1], *values[1];
-    orr_image_meta meta = view_meta(v, "linear planes", keys, values);
+    view_meta_text text;
+    orr_image_meta meta = view_meta(v, "linear planes", &text);
     orr_exr_view ev;
     orr_status st = view_output(v, "exr", &path, err);
     if (!st && !(st = orr_exr_view_build(&ev, v->planes, v->nplanes, &v->proj, "", err))) {
-        st = orr_write_image_planes(path, ev.channels, ev.n, &meta, err);
+        st = orr_exr_view_write(path, ev.channels, ev.n, v->scene->exr_half, &meta, err);
         orr_exr_view_free(&ev);
     }
     if (!st)
@@ -374,8 +413,11 @@ orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_view
     charge(l, ORR_STAGE_POST);
     if (!st) {
         orr_view_add_frame_cards(l, h);
-        const char *keys[1], *values[1];
-        orr_image_meta meta = view_meta(l, desc, keys, values);
+        view_meta_text text;
+        orr_image_meta meta = view_meta(l, desc, &text);
+        /* One file holds both eyes, each shifted its own way: no one
+         * screen window is right for it. */
+        meta.has_screen_window = 0;
         orr_stereo_pair pair = {
             .scene = s, .planes = {l->planes, r->planes}, .nplanes = l->nplanes,
             .width = l->proj.width, .height = l->proj.height,

@@ -451,6 +451,7 @@ static const key_spec KEYS[] = {
     {.key = "output.raw", .type = K_BOOL, FIELD(write_raw)},
     {.key = "output.png_transfer", ENUM(transfer)},
     {.key = "output.exr", .type = K_BOOL, FIELD(write_exr)},
+    {.key = "output.exr_half", .type = K_BOOL, FIELD(exr_half)},
     {.key = "output.image", .type = K_FILENAME, FIELD(image_ext)},
     {.key = "output.png_bits", ENUM(png_bits)},
     {.key = "output.stretch", ENUM(stretch)},
