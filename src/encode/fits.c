@@ -207,11 +207,25 @@ typedef struct image_body {
     const orr_plane *planes;
     int nplanes;
     const orr_fits_header *header;
+    orr_fits_compression compression;
 } image_body;
+
+/* Asks cfitsio to tile-compress the images created from now on, without
+ * quantising floats (quantize level 0: lossless). The primary HDU cannot
+ * be compressed: cfitsio puts an empty one first. */
+static int request_compression(fitsfile *f, orr_fits_compression c, int *status)
+{
+    if (c == ORR_FITS_UNCOMPRESSED)
+        return *status;
+    fits_set_compression_type(f, GZIP_2, status);
+    fits_set_quantize_level(f, 0.0f, status);
+    return *status;
+}
 
 static int write_image_hdus(fitsfile *f, const void *ctx, int *status, int *sys_errno)
 {
     const image_body *b = ctx;
+    request_compression(f, b->compression, status);
     for (int i = 0; i < b->nplanes && *status == 0; i++) {
         errno = 0;
         if (write_plane_hdu(f, &b->planes[i], b->header, status))
@@ -226,7 +240,18 @@ orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes
     orr_status st = check_planes(path, planes, nplanes, err);
     if (st != ORR_OK)
         return st;
-    image_body b = {planes, nplanes, header};
+    image_body b = {planes, nplanes, header, ORR_FITS_UNCOMPRESSED};
+    return write_fits_file(path, write_image_hdus, &b, err);
+}
+
+orr_status orr_write_fits_compressed(const char *path, const orr_plane *planes, int nplanes,
+                                     const orr_fits_header *header, orr_fits_compression compression,
+                                     orr_error *err)
+{
+    orr_status st = check_planes(path, planes, nplanes, err);
+    if (st != ORR_OK)
+        return st;
+    image_body b = {planes, nplanes, header, compression};
     return write_fits_file(path, write_image_hdus, &b, err);
 }
 

@@ -39,6 +39,20 @@ void orr_fits_add_bool(orr_fits_header *h, const char *key, int value, const cha
 orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes,
                           const orr_fits_header *header, orr_error *err);
 
+/* Tile compression of the image HDUs (the FITS tiled-image convention, as
+ * fpack writes it), lossless: GZIP_2 (each float's bytes shuffled, then
+ * zlib) without quantisation (ZQUANTIZ = 'NONE'), each row a tile. RICE_1
+ * is not offered: it codes integers only, and cfitsio refuses it for float
+ * images unless they are quantised, which would change the values. */
+typedef enum { ORR_FITS_UNCOMPRESSED, ORR_FITS_GZIP } orr_fits_compression;
+
+/* orr_write_fits with the planes tile-compressed: an empty primary HDU, then
+ * each plane a compressed image extension (astropy's CompImageHDU), with the
+ * same cards and checksums. */
+orr_status orr_write_fits_compressed(const char *path, const orr_plane *planes, int nplanes,
+                                     const orr_fits_header *header, orr_fits_compression compression,
+                                     orr_error *err);
+
 /* A HEALPix map's description, for its FITS header. */
 typedef struct orr_healpix_info {
     int nside;

@@ -245,7 +245,8 @@ static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report 
     const char *path = NULL;
     orr_status st = ORR_OK;
     if (s->write_fits && !(st = add_output(p, "fits", rep, &path, err)) &&
-        !(st = orr_write_fits(path, planes, 2 * p->nplanes, p->cards, err)))
+        !(st = orr_write_fits_compressed(path, planes, 2 * p->nplanes, p->cards,
+                                         (orr_fits_compression)s->fits_compress, err)))
         rep->noutputs++;
     if (!st && s->write_exr && !(st = add_output(p, "exr", rep, &path, err)) &&
         !(st = write_pair_exr(p, path, err)))

@@ -244,6 +244,19 @@ static int word_psf(orr_scene *s, const char *w)
 }
 static const char *names_psf(void) { return "none gaussian hst file"; }
 
+/* output.fits_compress: the order of orr_fits_compression (encode/fits.h). */
+static int word_fits_compress(orr_scene *s, const char *w)
+{
+    static const char *const names[] = {"none", "gzip"};
+    for (int k = 0; k < 2; k++)
+        if (strcmp(w, names[k]) == 0) {
+            s->fits_compress = k;
+            return 1;
+        }
+    return 0;
+}
+static const char *names_fits_compress(void) { return "none gzip"; }
+
 static int word_png_bits(orr_scene *s, const char *w)
 {
     if (strcmp(w, "8") == 0)
@@ -452,6 +465,7 @@ static const key_spec KEYS[] = {
     {.key = "output.png_transfer", ENUM(transfer)},
     {.key = "output.exr", .type = K_BOOL, FIELD(write_exr)},
     {.key = "output.exr_half", .type = K_BOOL, FIELD(exr_half)},
+    {.key = "output.fits_compress", ENUM(fits_compress)},
     {.key = "output.image", .type = K_FILENAME, FIELD(image_ext)},
     {.key = "output.png_bits", ENUM(png_bits)},
     {.key = "output.stretch", ENUM(stretch)},

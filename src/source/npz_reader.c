@@ -68,6 +68,7 @@ static orr_status read_member_header(const char *path, int fd, const orr_zip_mem
                                      orr_error *err)
 {
     orr_zip_reader zr;
+    memset(h, 0, sizeof *h);
     orr_status s = orr_zip_reader_open(&zr, fd, path, m, err);
     unsigned char head[NPY_PREAMBLE_V2];
     size_t n = m->usize < sizeof head ? (size_t)m->usize : sizeof head;
@@ -89,7 +90,8 @@ static orr_status read_member_header(const char *path, int fd, const orr_zip_mem
     if (!s && !npy_parse_dict(text, h->header_len, h, why, sizeof why))
         s = orr_fail(err, ORR_ERR_FORMAT, "%s: %s", zr.what, why);
     free(text);
-    int64_t want = h->data_offset + h->rows * (int64_t)h->record;
+    /* The parser bounds rows * record (no overflow) once it has succeeded. */
+    int64_t want = s ? 0 : h->data_offset + h->rows * (int64_t)h->record;
     if (!s && (uint64_t)want != m->usize)
         s = orr_fail(err, ORR_ERR_FORMAT, "%s: its shape needs %" PRId64 " bytes but it has %" PRIu64, zr.what, want,
                      m->usize);
