@@ -7,7 +7,7 @@
  *   if (orrery_open(&r, "futuresky.yaml", NULL, 0, msg, sizeof msg) != ORRERY_OK) { puts(msg); ... }
  *   for (step = 0; ...; step++) {
  *       ... advance the particles ...
- *       orr_particle_arrays p = {.n = n, .x = {pos, ORR_F64, 3 * sizeof(double)}, ...};
+ *       orr_particle_arrays p = {.struct_size = sizeof p, .n = n, .x = {pos, ORR_F64, 3 * sizeof(double)}, ...};
  *       if (orrery_render(r, &p, step) != ORRERY_OK) puts(orrery_error(r));
  *   }
  *   orrery_close(r);
@@ -25,7 +25,7 @@
 extern "C" {
 #endif
 
-#define ORRERY_API_VERSION 1
+#define ORRERY_API_VERSION 2 /* 2: orr_particle_arrays begins with struct_size */
 
 /* Status codes (the library's orr_status values). */
 #define ORRERY_OK 0
@@ -53,6 +53,11 @@ typedef struct orr_array {
  * where they are, without a copy; other layouts are converted a chunk at a
  * time. They are only read. */
 typedef struct orr_particle_arrays {
+    /* sizeof(orr_particle_arrays) as the caller was compiled, so that a
+     * later library with a larger structure knows which fields the caller
+     * has; 0 means this (version 2) layout. Any other value is refused with
+     * ORRERY_ERR_USAGE and a message giving both sizes. */
+    size_t struct_size;
     size_t n;                  /* particles */
     orr_array x, y, z;         /* positions (required) */
     orr_array mass;            /* masses; absent: every particle has mass_value */

@@ -37,6 +37,7 @@ class Arrays:
 
     def __init__(self):
         self.c = _lib.OrrParticleArrays()
+        self.c.struct_size = ctypes.sizeof(self.c)  # what the library checks (src/orrery.h)
         self.keep = []  # every array and name the structure points at
         self.n = None
 

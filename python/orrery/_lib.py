@@ -22,6 +22,7 @@ class OrrArray(ctypes.Structure):
 class OrrParticleArrays(ctypes.Structure):
     """orr_particle_arrays (src/orrery.h), field for field."""
     _fields_ = [
+        ("struct_size", ctypes.c_size_t),
         ("n", ctypes.c_size_t),
         ("x", OrrArray), ("y", OrrArray), ("z", OrrArray),
         ("mass", OrrArray),

@@ -199,10 +199,27 @@ static orr_status collect_fields(arrays_state *st, const char *what, const char 
     return ORR_OK;
 }
 
+/* The caller's struct_size (orrery.h): 0 or this library's size. A
+ * different size is a caller compiled against another orrery.h, whose
+ * fields would be read from the wrong places. */
+static orr_status check_struct_size(const orr_particle_arrays *a, const char *what, orr_error *err)
+{
+    if (a->struct_size == 0 || a->struct_size == sizeof *a)
+        return ORR_OK;
+    return orr_fail(err, ORR_ERR_USAGE,
+                    "%s: orr_particle_arrays.struct_size is %zu, but this liborrery's orr_particle_arrays is %zu "
+                    "bytes (orrery.h API version %d): the caller was built against another orrery.h; set "
+                    "struct_size = sizeof(orr_particle_arrays) and rebuild against this library's header",
+                    what, a->struct_size, sizeof *a, ORRERY_API_VERSION);
+}
+
 orr_status orr_arrays_source_open(const orr_particle_arrays *a, const char *what, size_t chunk_size,
                                   unsigned type_mask, orr_source **out, orr_error *err)
 {
     *out = NULL;
+    orr_status size_ok = check_struct_size(a, what, err);
+    if (size_ok)
+        return size_ok;
     orr_source *src = orr_source_new("arrays", what, &arrays_ops, sizeof(arrays_state), err);
     if (!src)
         return ORR_ERR_NOMEM;

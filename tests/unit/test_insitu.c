@@ -220,11 +220,41 @@ static void test_kept_images(void)
     remove_tmpdir();
 }
 
+/* struct_size: 0 and sizeof are this header's layout; anything else, a
+ * caller built against another orrery.h, is refused naming both sizes. */
+static void test_struct_size(void)
+{
+    make_tmpdir();
+    char outdir[320], msg[1024], want[160];
+    snprintf(outdir, sizeof outdir, "output.dir=%s", tmpdir);
+    const char *sets[1] = {outdir};
+    orrery_renderer *r = NULL;
+    CHECK(orrery_open_yaml(&r, scene_yaml, ".", sets, 1, msg, sizeof msg) == ORRERY_OK);
+    if (!r)
+        return;
+    orr_particle_arrays p = aos_arrays();
+    p.struct_size = 0;
+    CHECK(orrery_render(r, &p, 0) == ORRERY_OK);
+    p.struct_size = sizeof p;
+    CHECK(orrery_render(r, &p, 1) == ORRERY_OK);
+    size_t wrong[] = {sizeof p - 8, sizeof p + 8, 8};
+    for (int k = 0; k < 3; k++) {
+        p.struct_size = wrong[k];
+        CHECK(orrery_render(r, &p, 2) == ORRERY_ERR_USAGE);
+        snprintf(want, sizeof want, "orr_particle_arrays.struct_size is %zu, but this liborrery's "
+                 "orr_particle_arrays is %zu bytes", wrong[k], sizeof p);
+        CHECK_CONTAINS(orrery_error(r), want);
+    }
+    orrery_close(r);
+    remove_tmpdir();
+}
+
 int main(void)
 {
     make_bodies();
     test_arrays_source();
     test_render_steps();
     test_kept_images();
+    test_struct_size();
     return check_summary();
 }
