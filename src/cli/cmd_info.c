@@ -11,8 +11,10 @@
 static const char info_help[] =
     "usage: orrery info FILE [--format FORMAT]\n"
     "\n"
-    "Reads every particle of FILE and prints its format, time, particle count\n"
-    "per type, fields, position bounds and total mass.\n"
+    "Reads every particle of FILE and prints its format, time, header entries\n"
+    "(units; for HDF5 every dataset of the particle groups with its shape, the\n"
+    "field names it gives and its units; an .npz archive's scalars), particle\n"
+    "count per type, fields, position bounds and total mass.\n"
     "\n"
     "  --format FORMAT   auto (default: detect from the contents) or a format name\n"
     "                    (listed below)\n"
