@@ -12,7 +12,7 @@
 
 #include "core/digest.h"
 #include "core/numbers.h"
-#include "encode/atomic.h"
+#include "core/atomic.h"
 #include "render/sequence_open.h"
 #include "source/partition.h"
 

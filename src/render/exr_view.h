@@ -10,7 +10,7 @@
 
 #include "core/error.h"
 #include "frame/projection.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 #define ORR_EXR_VIEW_MAX 7 /* R, G, B, A, xyz.X, xyz.Y, xyz.Z */
 
