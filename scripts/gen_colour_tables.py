@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Writes src/post/cie_data.c: the colour reference tables as C arrays.
+"""Writes src/core/cie_data.c: the colour reference tables as C arrays.
 
 Run from the checkout with the shared reference data beside it:
 
-    python3 scripts/gen_colour_tables.py ../shared/data/colour > src/post/cie_data.c
+    python3 scripts/gen_colour_tables.py ../shared/data/colour > src/core/cie_data.c
 
 Inputs (see shared/data/README.md, section 2, for where each file came from):
   ciexyz31_1.csv                    CIE 1931 2-degree colour-matching functions
@@ -71,7 +71,7 @@ def c_array_cmf(name, rows):
 
 def main():
     if len(sys.argv) != 2:
-        sys.exit("usage: gen_colour_tables.py SHARED_COLOUR_DIR > src/post/cie_data.c")
+        sys.exit("usage: gen_colour_tables.py SHARED_COLOUR_DIR > src/core/cie_data.c")
     d = sys.argv[1]
     cie = read_cmf(os.path.join(d, "ciexyz31_1.csv"), "Wavelength,x,y,z")
     jv = read_cmf(os.path.join(d, "ciexyzjv.csv"), None)
@@ -95,7 +95,7 @@ def main():
  * Mamajek (2013, ApJS 208, 9): the {len(mam)} rows with a B-V value, O3V to M9V.
  *
  * Values are the files' decimal numbers unchanged. */
-#include "post/cie_data.h"
+#include "core/cie_data.h"
 """)
     print(c_array_cmf("orr_cie1931_2deg", cie))
     print()

@@ -32,7 +32,7 @@
 #include "source/model.h"
 #include "source/partition.h"
 #include "source/source.h"
-#include "encode/atomic.h"
+#include "core/atomic.h"
 #include "qtree.h"
 #include "snapshot.h"
 

@@ -12,7 +12,7 @@
 
 #include "cli/cli.h"
 #include "core/numbers.h"
-#include "encode/atomic.h"
+#include "core/atomic.h"
 
 int cli_report_error(const orr_error *err)
 {

@@ -21,7 +21,7 @@
 #include "render/animation.h"
 #include "cli/video_command.h"
 #include "core/numbers.h"
-#include "encode/atomic.h"
+#include "core/atomic.h"
 #include "scene/scene.h"
 
 extern char **environ;

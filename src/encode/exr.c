@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "core/vecmath.h"
-#include "encode/atomic.h"
+#include "core/atomic.h"
 #include "frame/camera.h"
 
 /* Names longer than this need OpenEXR's "long names" flag, which readers

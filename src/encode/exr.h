@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "encode/image_out.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 typedef enum { ORR_EXR_HALF, ORR_EXR_FLOAT } orr_exr_pixel;
 

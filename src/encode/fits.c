@@ -7,7 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "encode/atomic.h"
+#include "core/atomic.h"
 
 /* ---- header cards ------------------------------------------------------ */
 

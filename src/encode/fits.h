@@ -7,7 +7,7 @@
 #define ORR_ENCODE_FITS_H
 
 #include "core/error.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 #define ORR_FITS_MAX_CARDS 160
 

@@ -4,7 +4,7 @@
 #define ORR_ENCODE_FITS_READ_H
 
 #include "core/error.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 /* Reads up to max image HDUs of path into planes[0..*n) (allocated here;
  * free each with orr_plane_free), row 0 at the top, with EXTNAME and BUNIT

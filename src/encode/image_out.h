@@ -8,7 +8,7 @@
 #include <stddef.h>
 
 #include "core/error.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 #ifdef __cplusplus
 extern "C" {

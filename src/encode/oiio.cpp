@@ -16,9 +16,9 @@
 // Most of the project's headers are plain C, without extern "C" guards.
 extern "C" {
 #include "core/error.h"
-#include "encode/atomic.h"
+#include "core/atomic.h"
 #include "encode/oiio.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 }
 
 namespace {

@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "encode/image_out.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 #ifdef __cplusplus
 extern "C" {

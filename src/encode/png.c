@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "encode/atomic.h"
+#include "core/atomic.h"
 
 #define PNG_KEY_MAX 79 /* the PNG specification's limit on tEXt keywords */
 

@@ -3,33 +3,22 @@
 #include <math.h>
 #include <string.h>
 
-static const char *const KIND_NAMES[] = {"keyframes", "orbit", "line", "inspiral", "rotate"};
-static const char *const EASE_NAMES[] = {"none", "in", "out", "in-out"};
+const orr_named orr_path_kind_names[] = {{"keyframes", ORR_PATH_KEYFRAMES}, {"orbit", ORR_PATH_ORBIT},
+                                         {"line", ORR_PATH_LINE},           {"inspiral", ORR_PATH_INSPIRAL},
+                                         {"rotate", ORR_PATH_ROTATE},       {NULL, 0}};
+const orr_named orr_path_interp_names[] = {
+    {"catmull-rom", ORR_PATH_CATMULL_ROM}, {"hermite", ORR_PATH_HERMITE}, {NULL, 0}};
+const orr_named orr_path_orient_names[] = {{"slerp", ORR_ORIENT_SLERP}, {"squad", ORR_ORIENT_SQUAD}, {NULL, 0}};
+const orr_named orr_ease_names[] = {
+    {"none", ORR_EASE_NONE}, {"in", ORR_EASE_IN}, {"out", ORR_EASE_OUT}, {"in-out", ORR_EASE_IN_OUT}, {NULL, 0}};
+const orr_named orr_radial_law_names[] = {
+    {"exponential", ORR_RADIAL_EXPONENTIAL}, {"linear", ORR_RADIAL_LINEAR}, {NULL, 0}};
 
-const char *orr_path_kind_name(orr_path_kind kind)
-{
-    return (unsigned)kind < sizeof KIND_NAMES / sizeof KIND_NAMES[0] ? KIND_NAMES[kind] : "?";
-}
+const char *orr_path_kind_name(orr_path_kind kind) { return orr_named_name(orr_path_kind_names, (int)kind); }
 
-int orr_path_kind_from_name(const char *name, orr_path_kind *kind)
-{
-    for (size_t k = 0; k < sizeof KIND_NAMES / sizeof KIND_NAMES[0]; k++)
-        if (strcmp(name, KIND_NAMES[k]) == 0) {
-            *kind = (orr_path_kind)k;
-            return 1;
-        }
-    return 0;
-}
+ORR_NAMED_PARSER(orr_path_kind_from_name, orr_path_kind, orr_path_kind_names)
 
-int orr_ease_from_name(const char *name, orr_ease *ease)
-{
-    for (size_t k = 0; k < sizeof EASE_NAMES / sizeof EASE_NAMES[0]; k++)
-        if (strcmp(name, EASE_NAMES[k]) == 0) {
-            *ease = (orr_ease)k;
-            return 1;
-        }
-    return 0;
-}
+ORR_NAMED_PARSER(orr_ease_from_name, orr_ease, orr_ease_names)
 
 void orr_path_defaults(orr_camera_path *p, orr_path_kind kind)
 {

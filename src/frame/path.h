@@ -7,6 +7,7 @@
 #define ORR_FRAME_PATH_H
 
 #include "core/error.h"
+#include "core/names.h"
 #include "core/vecmath.h"
 #include "frame/camera.h"
 #include "frame/timeline.h"
@@ -137,6 +138,14 @@ orr_status orr_path_camera(const orr_camera_path *p, const orr_frame_time *t, or
  * up_x up_y up_z and roll. Blank lines and lines starting with '#' are
  * skipped. Errors name the file and line. */
 orr_status orr_path_read_csv(const char *file, orr_keyframe *keys, int max, int *nkeys, orr_error *err);
+
+/* The names of the path's settings: its kind, position interpolation,
+ * orientation interpolation, easing and radial law. */
+extern const orr_named orr_path_kind_names[];
+extern const orr_named orr_path_interp_names[];
+extern const orr_named orr_path_orient_names[];
+extern const orr_named orr_ease_names[];
+extern const orr_named orr_radial_law_names[];
 
 const char *orr_path_kind_name(orr_path_kind kind);
 int orr_path_kind_from_name(const char *name, orr_path_kind *kind);

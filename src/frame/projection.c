@@ -7,18 +7,13 @@
 #include "core/fastmath.h"
 #include "frame/project_point.h"
 
-const char *orr_projection_name(orr_projection_kind kind)
-{
-    switch (kind) {
-    case ORR_PROJ_ORTHOGRAPHIC: return "orthographic";
-    case ORR_PROJ_PERSPECTIVE: return "perspective";
-    case ORR_PROJ_HAMMER_AITOFF: return "hammer-aitoff";
-    case ORR_PROJ_DOME: return "dome";
-    case ORR_PROJ_EQUIRECTANGULAR: return "equirectangular";
-    case ORR_PROJ_HEALPIX: return "healpix";
-    }
-    return "unknown";
-}
+const orr_named orr_projection_names[] = {
+    {"orthographic", ORR_PROJ_ORTHOGRAPHIC},   {"perspective", ORR_PROJ_PERSPECTIVE},
+    {"hammer-aitoff", ORR_PROJ_HAMMER_AITOFF}, {"dome", ORR_PROJ_DOME},
+    {"equirectangular", ORR_PROJ_EQUIRECTANGULAR}, {"healpix", ORR_PROJ_HEALPIX},
+    {NULL, 0}};
+
+const char *orr_projection_name(orr_projection_kind kind) { return orr_named_name(orr_projection_names, (int)kind); }
 
 /* The 12 nside^2 pixels, as a 4 nside x 3 nside image in pixel order: the
  * planes are then the map itself. Each covers 4 pi / npix sr. */

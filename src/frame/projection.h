@@ -10,6 +10,7 @@
 #include <stdint.h>
 
 #include "core/error.h"
+#include "core/names.h"
 #include "core/vecmath.h"
 
 typedef enum {
@@ -89,6 +90,7 @@ void orr_projection_fold(const orr_projection *p, int *i, int *j);
  * (+y) at the bottom of the master, the dome's front. */
 orr_status orr_projection_setup(orr_projection *p, orr_error *err);
 
+extern const orr_named orr_projection_names[];
 const char *orr_projection_name(orr_projection_kind kind);
 
 /* Projects one camera-frame point. Returns 1 and sets (px, py, scale) when the

@@ -3,22 +3,16 @@
 #include <math.h>
 #include <string.h>
 
-static const char *const MODE_NAMES[] = {"none", "anaglyph", "side-by-side", "over-under", "separate"};
+const orr_named orr_stereo_mode_names[] = {{"none", ORR_STEREO_NONE},
+                                           {"anaglyph", ORR_STEREO_ANAGLYPH},
+                                           {"side-by-side", ORR_STEREO_SIDE_BY_SIDE},
+                                           {"over-under", ORR_STEREO_OVER_UNDER},
+                                           {"separate", ORR_STEREO_SEPARATE},
+                                           {NULL, 0}};
 
-const char *orr_stereo_mode_name(orr_stereo_mode mode)
-{
-    return (unsigned)mode < sizeof MODE_NAMES / sizeof MODE_NAMES[0] ? MODE_NAMES[mode] : "unknown";
-}
+const char *orr_stereo_mode_name(orr_stereo_mode mode) { return orr_named_name(orr_stereo_mode_names, (int)mode); }
 
-int orr_stereo_mode_from_name(const char *name, orr_stereo_mode *mode)
-{
-    for (size_t k = 0; k < sizeof MODE_NAMES / sizeof MODE_NAMES[0]; k++)
-        if (strcmp(name, MODE_NAMES[k]) == 0) {
-            *mode = (orr_stereo_mode)k;
-            return 1;
-        }
-    return 0;
-}
+ORR_NAMED_PARSER(orr_stereo_mode_from_name, orr_stereo_mode, orr_stereo_mode_names)
 
 const char *orr_eye_name(int eye) { return eye < 0 ? "left" : "right"; }
 

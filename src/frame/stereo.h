@@ -22,6 +22,7 @@
 #include <stdint.h>
 
 #include "core/error.h"
+#include "core/names.h"
 #include "frame/camera.h"
 #include "frame/projection.h"
 
@@ -36,6 +37,7 @@ typedef enum {
 #define ORR_EYE_LEFT (-1)
 #define ORR_EYE_RIGHT 1
 
+extern const orr_named orr_stereo_mode_names[];
 const char *orr_stereo_mode_name(orr_stereo_mode mode);
 /* 1 and *mode set when name is none, anaglyph, side-by-side, over-under or separate. */
 int orr_stereo_mode_from_name(const char *name, orr_stereo_mode *mode);

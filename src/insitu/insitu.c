@@ -8,7 +8,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "encode/atomic.h"
+#include "core/atomic.h"
 #include "insitu/insitu_internal.h"
 #include "insitu/kept_images.h"
 #include "render/animation.h"

@@ -6,7 +6,7 @@
 
 #include "core/error.h"
 #include "encode/fits.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 typedef struct orr_kept_image {
     int width, height, nplanes;

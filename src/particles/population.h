@@ -21,7 +21,7 @@
 
 #include "core/error.h"
 #include "particles/chunk.h"
-#include "post/colour.h"
+#include "core/colourimetry.h"
 
 #define ORR_POPULATION_MAX 32
 #define ORR_POPULATION_NAME_MAX 32

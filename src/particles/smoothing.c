@@ -4,6 +4,9 @@
 #include <omp.h>
 #include <stdlib.h>
 
+const orr_named orr_smoothing_source_names[] = {
+    {"auto", ORR_LENGTHS_AUTO}, {"file", ORR_LENGTHS_FILE}, {"neighbours", ORR_LENGTHS_NEIGHBOURS}, {NULL, 0}};
+
 /* Queries handed to a thread at a time. Points are in tree order, so a
  * block is a compact region whose searches share cached nodes; dynamic
  * scheduling evens out dense and sparse regions. */

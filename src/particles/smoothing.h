@@ -35,7 +35,17 @@
 #include <stddef.h>
 
 #include "core/error.h"
+#include "core/names.h"
 #include "particles/kdtree.h"
+
+/* Where the SPH deposit's smoothing lengths come from (smoothing.lengths). */
+typedef enum {
+    ORR_LENGTHS_AUTO,       /* the file's, or the neighbours' when it has none */
+    ORR_LENGTHS_FILE,       /* the file's; an error when it has none */
+    ORR_LENGTHS_NEIGHBOURS, /* always from the k-th nearest neighbour */
+} orr_smoothing_source;
+
+extern const orr_named orr_smoothing_source_names[];
 
 #define ORR_SMOOTHING_K_DEFAULT 32
 #define ORR_SMOOTHING_FACTOR_DEFAULT 0.5f

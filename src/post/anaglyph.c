@@ -23,26 +23,12 @@ const float orr_dubois_red_cyan_right[3][3] = {
 #define LUM_G 0.7152f
 #define LUM_B 0.0722f
 
-const char *orr_anaglyph_name(orr_anaglyph_kind kind)
-{
-    switch (kind) {
-    case ORR_ANAGLYPH_GREY: return "grey";
-    case ORR_ANAGLYPH_COLOUR: return "colour";
-    case ORR_ANAGLYPH_DUBOIS: return "dubois";
-    }
-    return "unknown";
-}
+const orr_named orr_anaglyph_names[] = {
+    {"grey", ORR_ANAGLYPH_GREY}, {"colour", ORR_ANAGLYPH_COLOUR}, {"dubois", ORR_ANAGLYPH_DUBOIS}, {NULL, 0}};
 
-int orr_anaglyph_from_name(const char *name, orr_anaglyph_kind *kind)
-{
-    static const orr_anaglyph_kind kinds[] = {ORR_ANAGLYPH_GREY, ORR_ANAGLYPH_COLOUR, ORR_ANAGLYPH_DUBOIS};
-    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++)
-        if (strcmp(name, orr_anaglyph_name(kinds[k])) == 0) {
-            *kind = kinds[k];
-            return 1;
-        }
-    return 0;
-}
+const char *orr_anaglyph_name(orr_anaglyph_kind kind) { return orr_named_name(orr_anaglyph_names, (int)kind); }
+
+ORR_NAMED_PARSER(orr_anaglyph_from_name, orr_anaglyph_kind, orr_anaglyph_names)
 
 static inline float clip01(float v) { return v < 0.0f ? 0.0f : v > 1.0f ? 1.0f : v; }
 

@@ -7,6 +7,8 @@
 
 #include <stddef.h>
 
+#include "core/names.h"
+
 typedef enum {
     ORR_ANAGLYPH_GREY,   /* luminance of the left eye -> red, of the right -> green and blue */
     ORR_ANAGLYPH_COLOUR, /* red from the left eye, green and blue from the right */
@@ -18,6 +20,7 @@ typedef enum {
 extern const float orr_dubois_red_cyan_left[3][3];
 extern const float orr_dubois_red_cyan_right[3][3];
 
+extern const orr_named orr_anaglyph_names[];
 const char *orr_anaglyph_name(orr_anaglyph_kind kind);
 /* 1 and *kind set when name is grey, colour or dubois; 0 otherwise. */
 int orr_anaglyph_from_name(const char *name, orr_anaglyph_kind *kind);

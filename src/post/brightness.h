@@ -9,7 +9,7 @@
 #define ORR_POST_BRIGHTNESS_H
 
 #include "frame/projection.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 /* Divides every pixel of planes[0..n) (each of the projection's size) by
  * orr_pixel_measure. Rows run in parallel; each pixel's result depends on

@@ -16,7 +16,8 @@
 #define ORR_POST_CONVOLVE_H
 
 #include "core/error.h"
-#include "splat/plane.h"
+#include "core/fft_planner.h"
+#include "core/plane.h"
 
 /* ---- kernels ------------------------------------------------------------- */
 
@@ -127,20 +128,5 @@ long orr_convolve_plans_created(void);
 /* The smallest n >= min_size of the form 2^a 3^b 5^c 7^d that is a
  * multiple of `multiple` (1, 2, 4, ...), or -1 beyond 2^30. */
 int orr_fft_good_size(int min_size, int multiple);
-
-/* FFTW wisdom: what MEASURE planning learnt, saved to a file and loaded in
- * a later run (or on every MPI rank), so MEASURE plans are made at once and
- * are the same plans every time, hence the same bits. Both take the planner
- * lock. Load fails with ORR_ERR_IO for a missing file and ORR_ERR_FORMAT for
- * one FFTW does not accept (e.g. from another FFTW build). */
-orr_status orr_fft_wisdom_save(const char *path, orr_error *err);
-orr_status orr_fft_wisdom_load(const char *path, orr_error *err);
-
-/* FFTW planning (creating and destroying plans) must not run concurrently
- * with itself anywhere in the process; orrery's own FFT users call these
- * around it. The first call also initialises FFTW's threads. Returns
- * ORR_ERR_INTERNAL when FFTW's threads cannot start. */
-orr_status orr_fft_planner_lock(orr_error *err);
-void orr_fft_planner_unlock(void);
 
 #endif

@@ -20,6 +20,9 @@
 
 #include "core/vecmath.h"
 
+const orr_named orr_psf_kind_names[] = {
+    {"none", ORR_PSF_NONE}, {"gaussian", ORR_PSF_GAUSSIAN}, {"hst", ORR_PSF_HST}, {"file", ORR_PSF_FILE}, {NULL, 0}};
+
 #define ARCSEC_RAD (ORR_PI / (180.0 * 3600.0))
 #define PSF_MAX_FFT 4096
 #define PSF_MAX_SAMPLES 64

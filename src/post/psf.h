@@ -16,7 +16,18 @@
 #define ORR_POST_PSF_H
 
 #include "core/error.h"
+#include "core/names.h"
 #include "post/convolve.h"
+
+/* The PSF a view is drawn with (psf.kind). */
+typedef enum {
+    ORR_PSF_NONE,
+    ORR_PSF_GAUSSIAN,
+    ORR_PSF_HST,  /* generated from Hubble's pupil: docs/psf.md */
+    ORR_PSF_FILE, /* a PSF image from FITS (e.g. Tiny Tim) */
+} orr_psf_kind;
+
+extern const orr_named orr_psf_kind_names[];
 
 /* ---- the pupil ------------------------------------------------------------ */
 

@@ -4,32 +4,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const stretch_names[] = {
-    [ORR_STRETCH_LINEAR] = "linear",
-    [ORR_STRETCH_LOG] = "log",
-    [ORR_STRETCH_ASINH] = "asinh",
-};
-#define STRETCH_COUNT ((int)(sizeof stretch_names / sizeof stretch_names[0]))
+const orr_named orr_stretch_names[] = {
+    {"linear", ORR_STRETCH_LINEAR}, {"log", ORR_STRETCH_LOG}, {"asinh", ORR_STRETCH_ASINH}, {NULL, 0}};
 
-int orr_stretch_from_name(const char *name, orr_stretch_kind *kind)
-{
-    if (!name)
-        return 0;
-    for (int i = 0; i < STRETCH_COUNT; i++) {
-        if (strcmp(name, stretch_names[i]) == 0) {
-            *kind = (orr_stretch_kind)i;
-            return 1;
-        }
-    }
-    return 0;
-}
+ORR_NAMED_PARSER(orr_stretch_from_name, orr_stretch_kind, orr_stretch_names)
 
-const char *orr_stretch_name(orr_stretch_kind kind)
-{
-    if ((int)kind < 0 || (int)kind >= STRETCH_COUNT)
-        return "unknown";
-    return stretch_names[kind];
-}
+const char *orr_stretch_name(orr_stretch_kind kind) { return orr_named_name(orr_stretch_names, (int)kind); }
 
 /* ---- percentile selection ---------------------------------------------- */
 
@@ -128,7 +108,7 @@ static orr_status percentile_white(const orr_plane *plane, double percentile, do
 
 static orr_status validate(const orr_stretch *s, orr_error *err)
 {
-    if ((int)s->kind < 0 || (int)s->kind >= STRETCH_COUNT)
+    if (!orr_named_has(orr_stretch_names, (int)s->kind))
         return orr_fail(err, ORR_ERR_USAGE, "stretch: unknown kind %d", (int)s->kind);
     if (!(s->white >= 0) || isinf(s->white))
         return orr_fail(err, ORR_ERR_USAGE, "stretch: white %g must be a positive number (or 0 for automatic)",

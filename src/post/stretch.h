@@ -9,7 +9,8 @@
 #define ORR_POST_STRETCH_H
 
 #include "core/error.h"
-#include "splat/plane.h"
+#include "core/names.h"
+#include "core/plane.h"
 
 typedef enum {
     ORR_STRETCH_LINEAR,
@@ -26,6 +27,7 @@ typedef struct orr_stretch {
 
 /* Parses "linear", "log" or "asinh"; returns 0 on an unknown name. */
 int orr_stretch_from_name(const char *name, orr_stretch_kind *kind);
+extern const orr_named orr_stretch_names[];
 const char *orr_stretch_name(orr_stretch_kind kind);
 
 /* The white level the stretch would use for this plane (the fixed value, or

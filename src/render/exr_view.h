@@ -11,7 +11,7 @@
 #include "core/error.h"
 #include "encode/image_out.h"
 #include "frame/projection.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 #define ORR_EXR_VIEW_MAX 7 /* R, G, B, A, xyz.X, xyz.Y, xyz.Z */
 

@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "encode/atomic.h"
+#include "core/atomic.h"
 #include "encode/fits.h"
 #include "encode/fits_read.h"
 #include "post/brightness.h"

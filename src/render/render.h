@@ -15,7 +15,7 @@
 #include "frame/timeline.h"
 #include "scene/scene.h"
 #include "splat/deposit.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 #include "render/timings.h"
 
 #define ORR_RENDER_MAX_OUTPUTS 10 /* stereo.mode: separate writes each format twice */

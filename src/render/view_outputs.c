@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "encode/atomic.h"
+#include "core/atomic.h"
 #include "encode/fits.h"
 #include "encode/fits_read.h"
 #include "encode/image_out.h"
@@ -111,8 +111,7 @@ void orr_view_add_frame_cards(const view_state *v, orr_fits_header *h)
             orr_fits_add_long(h, "NNEIGH", s->neighbours, "h = half the distance to this neighbour");
         orr_fits_add_double(h, "HSCALE", s->h_scale, "smoothing lengths multiplied by this");
     }
-    static const char *const psf_names[] = {"none", "gaussian", "hst", "file"};
-    orr_fits_add_string(h, "PSF", psf_names[s->psf], "point spread function");
+    orr_fits_add_string(h, "PSF", orr_named_name(orr_psf_kind_names, (int)s->psf), "point spread function");
     if (s->psf == ORR_PSF_GAUSSIAN && orr_projection_is_sky(p))
         orr_fits_add_double(h, "PSFFWHM", v->psf.core_fwhm_arcmin, "[arcmin] PSF FWHM on the sky");
     else if (s->psf == ORR_PSF_GAUSSIAN)

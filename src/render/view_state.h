@@ -5,7 +5,7 @@
 #ifndef ORR_RENDER_VIEW_STATE_H
 #define ORR_RENDER_VIEW_STATE_H
 
-#include "encode/atomic.h"
+#include "core/atomic.h"
 #include "encode/fits.h"
 #include "render/lengths.h"
 #include "render/motion_blur.h"

@@ -13,28 +13,16 @@
 #include "frame/projection.h"
 #include "frame/stereo.h"
 #include "particles/population.h"
+#include "particles/smoothing.h"
 #include "post/anaglyph.h"
 #include "post/colormap.h"
 #include "post/colour.h"
+#include "post/psf.h"
 #include "post/stretch.h"
 #include "source/sequence.h"
 #include "source/source.h"
 #include "splat/deposit.h"
 #include "splat/kernel.h"
-
-typedef enum {
-    ORR_PSF_NONE,
-    ORR_PSF_GAUSSIAN,
-    ORR_PSF_HST,  /* generated from Hubble's pupil: docs/psf.md */
-    ORR_PSF_FILE, /* a PSF image from FITS (e.g. Tiny Tim) */
-} orr_psf_kind;
-
-/* Where the SPH deposit's smoothing lengths come from. */
-typedef enum {
-    ORR_LENGTHS_AUTO,       /* the file's, or the neighbours' when it has none */
-    ORR_LENGTHS_FILE,       /* the file's; an error when it has none */
-    ORR_LENGTHS_NEIGHBOURS, /* always from the k-th nearest neighbour */
-} orr_smoothing_source;
 
 #define ORR_NAME_MAX 128
 #define ORR_SETTINGS_MAX 16384

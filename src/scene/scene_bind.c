@@ -32,6 +32,7 @@ typedef enum {
     K_U64,      /* uint64_t within ilo..ihi (ilo >= 0) */
     K_BOOL,     /* int 0 / 1 */
     K_ENUM,     /* a word that parse_word accepts */
+    K_NAMED,    /* a word of an orr_named table, its value stored in an int-sized field */
     K_VEC3,     /* orr_vec3 from [x, y, z] */
     K_QUAT,     /* orr_quat from [w, x, y, z] */
     K_TYPES,    /* unsigned bit mask from a list of particle types 0..5 */
@@ -63,6 +64,7 @@ typedef struct key_spec {
     int (*parse_word)(orr_scene *s, const char *word); /* K_ENUM: 1 when accepted (scene keys only) */
     const char *(*choices)(void); /* K_ENUM: the accepted words, for messages */
     const char *choices_note;     /* K_ENUM: more words, told after the value ("sky maps: ...") */
+    const orr_named *names;       /* K_NAMED: the stage's table of words and values */
     int has_flag;                 /* a has_* flag to set when the key is present */
     size_t flag_offset;
 } key_spec;
@@ -77,7 +79,17 @@ typedef struct key_spec {
 #define ABOVE(a) .lo = (a), .bounds = HAS_LO | LO_OPEN
 #define CLOSED(a, b) .lo = (a), .hi = (b), .bounds = HAS_LO | HAS_HI
 
-/* Word parsers for the enumerated keys. */
+/* Words of the scene's own switches, for K_NAMED (the stages' enumerations
+ * have their tables in their own headers). */
+static const orr_named NONFINITE_NAMES[] = {{"error", 0}, {"skip", 1}, {NULL, 0}};
+static const orr_named PERIODIC_CENTRE_NAMES[] = {{"camera", 1}, {"origin", 0}, {NULL, 0}};
+static const orr_named HEALPIX_ORDER_NAMES[] = {{"ring", 0}, {"nested", 1}, {NULL, 0}};
+static const orr_named PNG_TRANSFER_NAMES[] = {{"srgb", 0}, {"linear", 1}, {NULL, 0}};
+static const orr_named PNG_BITS_NAMES[] = {{"8", 8}, {"16", 16}, {NULL, 0}};
+/* The values of orr_fits_compression (encode/fits.h). */
+static const orr_named FITS_COMPRESS_NAMES[] = {{"none", 0}, {"gzip", 1}, {NULL, 0}};
+
+/* Word parsers for the enumerated keys that need more than a table. */
 static int word_input_format(orr_scene *s, const char *w)
 {
     if (strcmp(w, "auto") != 0 && !orr_source_format_known(w))
@@ -110,36 +122,6 @@ static int word_model_galaxies(orr_scene *s, const char *w)
 }
 static const char *names_model_galaxies(void) { return "pair mw m31"; }
 
-static int word_nonfinite(orr_scene *s, const char *w)
-{
-    if (strcmp(w, "error") == 0)
-        s->skip_nonfinite = 0;
-    else if (strcmp(w, "skip") == 0)
-        s->skip_nonfinite = 1;
-    else
-        return 0;
-    return 1;
-}
-static const char *names_nonfinite(void) { return "error skip"; }
-
-static int word_periodic_centre(orr_scene *s, const char *w)
-{
-    if (strcmp(w, "camera") == 0)
-        s->periodic_around_camera = 1;
-    else if (strcmp(w, "origin") == 0)
-        s->periodic_around_camera = 0;
-    else
-        return 0;
-    return 1;
-}
-static const char *names_periodic_centre(void) { return "camera origin"; }
-
-static int word_interpolation(orr_scene *s, const char *w)
-{
-    return orr_interpolation_from_name(w, &s->seq_interpolation);
-}
-static const char *names_interpolation(void) { return "auto linear hermite"; }
-
 static int word_projection(orr_scene *s, const char *w)
 {
     static const orr_projection_kind kinds[] = {ORR_PROJ_ORTHOGRAPHIC, ORR_PROJ_PERSPECTIVE,
@@ -158,16 +140,6 @@ static int word_projection(orr_scene *s, const char *w)
 static const char *names_projection(void) { return "orthographic perspective"; }
 #define SKY_PROJECTIONS "sky maps: hammer-aitoff dome equirectangular healpix"
 
-static int word_healpix_order(orr_scene *s, const char *w)
-{
-    int nested = strcmp(w, "nested") == 0;
-    if (!nested && strcmp(w, "ring") != 0)
-        return 0;
-    s->projection.healpix_nested = nested;
-    return 1;
-}
-static const char *names_healpix_order(void) { return "ring nested"; }
-
 static int word_normal_sign(orr_scene *s, const char *w)
 {
     if (strcmp(w, "1") == 0 || strcmp(w, "+1") == 0)
@@ -180,154 +152,11 @@ static int word_normal_sign(orr_scene *s, const char *w)
 }
 static const char *names_normal_sign(void) { return "+1 -1"; }
 
-static int word_deposit(orr_scene *s, const char *w)
-{
-    if (strcmp(w, "ngp") == 0)
-        s->deposit = ORR_DEPOSIT_NGP;
-    else if (strcmp(w, "cic") == 0)
-        s->deposit = ORR_DEPOSIT_CIC;
-    else if (strcmp(w, "sph") == 0)
-        s->deposit = ORR_DEPOSIT_SPH;
-    else
-        return 0;
-    return 1;
-}
-static const char *names_deposit(void) { return "ngp cic sph"; }
-
-static int word_kernel(orr_scene *s, const char *w)
-{
-    static const orr_kernel_kind kinds[] = {ORR_KERNEL_CUBIC, ORR_KERNEL_WENDLAND_C2, ORR_KERNEL_WENDLAND_C4};
-    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++)
-        if (strcmp(w, orr_kernel_name(kinds[k])) == 0) {
-            s->kernel = kinds[k];
-            return 1;
-        }
-    return 0;
-}
-static const char *names_kernel(void) { return "cubic wendland-c2 wendland-c4"; }
-
-static int word_lengths(orr_scene *s, const char *w)
-{
-    static const char *const names[] = {"auto", "file", "neighbours"};
-    for (int k = 0; k < 3; k++)
-        if (strcmp(w, names[k]) == 0) {
-            s->lengths = (orr_smoothing_source)k;
-            return 1;
-        }
-    return 0;
-}
-static const char *names_lengths(void) { return "auto file neighbours"; }
-
-static int word_lum_stretch(orr_scene *s, const char *w) { return orr_lum_stretch_from_name(w, &s->synth.stretch); }
-static const char *names_lum_stretch(void) { return "linear log gamma asinh"; }
-static int word_clip(orr_scene *s, const char *w) { return orr_clip_from_name(w, &s->synth.clip); }
-static const char *names_clip(void) { return "desaturate channel none"; }
-
-static int word_transfer(orr_scene *s, const char *w)
-{
-    if (strcmp(w, "srgb") != 0 && strcmp(w, "linear") != 0)
-        return 0;
-    s->png_linear = w[0] == 'l';
-    return 1;
-}
-static const char *names_transfer(void) { return "srgb linear"; }
-
-static int word_psf(orr_scene *s, const char *w)
-{
-    static const char *const names[] = {"none", "gaussian", "hst", "file"};
-    for (int k = 0; k < 4; k++)
-        if (strcmp(w, names[k]) == 0) {
-            s->psf = (orr_psf_kind)k;
-            return 1;
-        }
-    return 0;
-}
-static const char *names_psf(void) { return "none gaussian hst file"; }
-
-/* output.fits_compress: the order of orr_fits_compression (encode/fits.h). */
-static int word_fits_compress(orr_scene *s, const char *w)
-{
-    static const char *const names[] = {"none", "gzip"};
-    for (int k = 0; k < 2; k++)
-        if (strcmp(w, names[k]) == 0) {
-            s->fits_compress = k;
-            return 1;
-        }
-    return 0;
-}
-static const char *names_fits_compress(void) { return "none gzip"; }
-
-static int word_png_bits(orr_scene *s, const char *w)
-{
-    if (strcmp(w, "8") == 0)
-        s->png_bits = 8;
-    else if (strcmp(w, "16") == 0)
-        s->png_bits = 16;
-    else
-        return 0;
-    return 1;
-}
-static const char *names_png_bits(void) { return "8 16"; }
-
-static int word_stretch(orr_scene *s, const char *w) { return orr_stretch_from_name(w, &s->stretch.kind); }
-static const char *names_stretch(void) { return "linear log asinh"; }
-
 static int word_colormap(orr_scene *s, const char *w) { return orr_colormap_from_name(w, &s->colormap); }
 
-static int word_path_kind(orr_scene *s, const char *w)
-{
-    if (!orr_path_kind_from_name(w, &s->camera_path.kind))
-        return 0;
-    s->has_path = 1;
-    return 1;
-}
-static const char *names_path_kind(void) { return "keyframes orbit line inspiral rotate"; }
-
-static int word_path_interp(orr_scene *s, const char *w)
-{
-    if (strcmp(w, "catmull-rom") == 0)
-        s->camera_path.interpolation = ORR_PATH_CATMULL_ROM;
-    else if (strcmp(w, "hermite") == 0)
-        s->camera_path.interpolation = ORR_PATH_HERMITE;
-    else
-        return 0;
-    return 1;
-}
-static const char *names_path_interp(void) { return "catmull-rom hermite"; }
-
-static int word_path_orient(orr_scene *s, const char *w)
-{
-    if (strcmp(w, "slerp") == 0)
-        s->camera_path.orientation = ORR_ORIENT_SLERP;
-    else if (strcmp(w, "squad") == 0)
-        s->camera_path.orientation = ORR_ORIENT_SQUAD;
-    else
-        return 0;
-    return 1;
-}
-static const char *names_path_orient(void) { return "slerp squad"; }
-
-static int word_path_ease(orr_scene *s, const char *w) { return orr_ease_from_name(w, &s->camera_path.ease); }
-static const char *names_path_ease(void) { return "none in out in-out"; }
-
-static int word_path_radial(orr_scene *s, const char *w)
-{
-    if (strcmp(w, "exponential") == 0)
-        s->camera_path.radial = ORR_RADIAL_EXPONENTIAL;
-    else if (strcmp(w, "linear") == 0)
-        s->camera_path.radial = ORR_RADIAL_LINEAR;
-    else
-        return 0;
-    return 1;
-}
-static const char *names_path_radial(void) { return "exponential linear"; }
-
-static int word_stereo(orr_scene *s, const char *w) { return orr_stereo_mode_from_name(w, &s->stereo); }
-static const char *names_stereo(void) { return "none anaglyph side-by-side over-under separate"; }
-static int word_anaglyph(orr_scene *s, const char *w) { return orr_anaglyph_from_name(w, &s->anaglyph); }
-static const char *names_anaglyph(void) { return "grey colour dubois"; }
-
 #define ENUM(fn) .type = K_ENUM, .parse_word = word_##fn, .choices = names_##fn
+/* The field must be int-sized: the table's value is stored as an int. */
+#define NAMED(table, m) .type = K_NAMED, .names = (table), FIELD(m)
 
 static const key_spec KEYS[] = {
     {.key = "input.file", .type = K_PATH, FIELD(input_file)},
@@ -344,10 +173,10 @@ static const key_spec KEYS[] = {
     {.key = "input.weight", .type = K_STRING, FIELD(weight)},
     {.key = "input.types", .type = K_TYPES, FIELD(type_mask)},
     {.key = "input.chunk", .type = K_LLONG, FIELD(chunk_size), IRANGE(1, 4294967296LL)},
-    {.key = "input.nonfinite", ENUM(nonfinite)},
+    {.key = "input.nonfinite", NAMED(NONFINITE_NAMES, skip_nonfinite)},
     {.key = "input.periodic.box", .type = K_AUTO, FIELD(periodic_box), ABOVE(0)},
     {.key = "input.periodic.replicas", .type = K_INT, FIELD(periodic_replicas), IRANGE(1, 9)},
-    {.key = "input.periodic.centre", ENUM(periodic_centre)},
+    {.key = "input.periodic.centre", NAMED(PERIODIC_CENTRE_NAMES, periodic_around_camera)},
     {.key = "input.periodic.radius", .type = K_AUTO, FIELD(periodic_radius), ABOVE(0)},
     {.key = "input.periodic.fade", .type = K_NUMBER, FIELD(periodic_fade), .lo = 0, .bounds = HAS_LO,
      FLAG(has_periodic_fade)},
@@ -357,7 +186,7 @@ static const key_spec KEYS[] = {
     {.key = "input.sequence.last", .type = K_LLONG, FIELD(seq_last), IRANGE(0, 1000000000LL)},
     {.key = "input.sequence.step", .type = K_LLONG, FIELD(seq_step), IRANGE(1, 1000000000LL)},
     {.key = "input.sequence.files", .type = K_SEQ_FILES},
-    {.key = "input.sequence.interpolation", ENUM(interpolation)},
+    {.key = "input.sequence.interpolation", NAMED(orr_interpolation_names, seq_interpolation)},
     {.key = "input.sequence.max_memory", .type = K_NUMBER, FIELD(seq_max_memory), ABOVE(0)},
     {.key = "camera.position", .type = K_VEC3, FIELD(camera_position)},
     {.key = "camera.look_at", .type = K_VEC3, FIELD(camera_look_at), FLAG(has_look_at)},
@@ -365,12 +194,12 @@ static const key_spec KEYS[] = {
     {.key = "camera.up", .type = K_VEC3, FIELD(camera_up), FLAG(has_up)},
     {.key = "camera.roll", .type = K_NUMBER, FIELD(camera_roll)},
     {.key = "camera.quaternion", .type = K_QUAT, FIELD(camera_quaternion), FLAG(has_quaternion)},
-    {.key = "camera.path.kind", ENUM(path_kind)},
+    {.key = "camera.path.kind", NAMED(orr_path_kind_names, camera_path.kind), FLAG(has_path)},
     {.key = "camera.path.keyframes", .type = K_KEYFRAMES},
     {.key = "camera.path.file", .type = K_PATH, FIELD(path_file)},
-    {.key = "camera.path.interpolation", ENUM(path_interp)},
-    {.key = "camera.path.orientation", ENUM(path_orient)},
-    {.key = "camera.path.ease", ENUM(path_ease)},
+    {.key = "camera.path.interpolation", NAMED(orr_path_interp_names, camera_path.interpolation)},
+    {.key = "camera.path.orientation", NAMED(orr_path_orient_names, camera_path.orientation)},
+    {.key = "camera.path.ease", NAMED(orr_ease_names, camera_path.ease)},
     {.key = "camera.path.centre", .type = K_VEC3, FIELD(camera_path.centre)},
     {.key = "camera.path.target", .type = K_VEC3, FIELD(camera_path.centre)},
     {.key = "camera.path.axis", .type = K_VEC3, FIELD(camera_path.axis)},
@@ -380,7 +209,7 @@ static const key_spec KEYS[] = {
     {.key = "camera.path.turns", .type = K_NUMBER, FIELD(camera_path.turns)},
     {.key = "camera.path.r0", .type = K_NUMBER, FIELD(camera_path.r0), ABOVE(0)},
     {.key = "camera.path.r1", .type = K_NUMBER, FIELD(camera_path.r1), ABOVE(0)},
-    {.key = "camera.path.radial", ENUM(path_radial)},
+    {.key = "camera.path.radial", NAMED(orr_radial_law_names, camera_path.radial)},
     {.key = "camera.path.from", .type = K_VEC3, FIELD(camera_path.from)},
     {.key = "camera.path.to", .type = K_VEC3, FIELD(camera_path.to)},
     {.key = "camera.path.look_at", .type = K_VEC3, FIELD(camera_path.look_at), FLAG(camera_path.has_look_at)},
@@ -393,7 +222,7 @@ static const key_spec KEYS[] = {
     {.key = "camera.near", .type = K_NUMBER, FIELD(projection.near), .lo = 0, .bounds = HAS_LO},
     {.key = "camera.lon_flip", .type = K_BOOL, FIELD(projection.lon_flip)},
     {.key = "camera.healpix_nside", .type = K_INT, FIELD(projection.healpix_nside), IRANGE(1, ORR_HEALPIX_NSIDE_MAX)},
-    {.key = "camera.healpix_order", ENUM(healpix_order)},
+    {.key = "camera.healpix_order", NAMED(HEALPIX_ORDER_NAMES, projection.healpix_nested)},
     {.key = "camera.dome", .type = K_FILENAME, FIELD(dome_profile)},
     {.key = "camera.dome_fov", .type = K_NUMBER, FIELD(projection.dome_fov_deg), CLOSED(90, 360)},
     {.key = "camera.dome_tilt", .type = K_NUMBER, FIELD(dome_tilt), CLOSED(0, 90)},
@@ -401,15 +230,15 @@ static const key_spec KEYS[] = {
     {.key = "camera.front", .type = K_LB, FIELD(front_lb), FLAG(has_front)},
     {.key = "image.width", .type = K_INT, FIELD(projection.width), IRANGE(1, ORR_IMAGE_SIDE_MAX)},
     {.key = "image.height", .type = K_INT, FIELD(projection.height), IRANGE(1, ORR_IMAGE_SIDE_MAX)},
-    {.key = "deposit", ENUM(deposit)},
-    {.key = "smoothing.kernel", ENUM(kernel)},
-    {.key = "smoothing.lengths", ENUM(lengths)},
+    {.key = "deposit", NAMED(orr_deposit_names, deposit)},
+    {.key = "smoothing.kernel", NAMED(orr_kernel_names, kernel)},
+    {.key = "smoothing.lengths", NAMED(orr_smoothing_source_names, lengths)},
     {.key = "smoothing.neighbours", .type = K_INT, FIELD(neighbours), IRANGE(1, 4096)},
     {.key = "smoothing.h_scale", .type = K_NUMBER, FIELD(h_scale), ABOVE(0)},
     {.key = "colour.populations", .type = K_POPULATIONS},
     {.key = "colour.only", .type = K_STRING, FIELD(colour_only)},
     {.key = "colour.seed", .type = K_U64, FIELD(colour_seed), IRANGE(0, LLONG_MAX)},
-    {.key = "colour.synthesis.stretch", ENUM(lum_stretch)},
+    {.key = "colour.synthesis.stretch", NAMED(orr_lum_stretch_names, synth.stretch)},
     {.key = "colour.synthesis.softening", .type = K_NUMBER, FIELD(synth.n), ABOVE(0)},
     {.key = "colour.synthesis.gamma", .type = K_NUMBER, FIELD(synth.gamma), ABOVE(0)},
     {.key = "colour.synthesis.white", .type = K_AUTO, FIELD(synth.y0), ABOVE(0)},
@@ -417,11 +246,11 @@ static const key_spec KEYS[] = {
      .bounds = HAS_LO | LO_OPEN | HAS_HI},
     {.key = "colour.synthesis.brightness", .type = K_NUMBER, FIELD(synth.brightness), ABOVE(0)},
     {.key = "colour.synthesis.contrast", .type = K_NUMBER, FIELD(synth.contrast), ABOVE(0)},
-    {.key = "colour.synthesis.clip", ENUM(clip)},
+    {.key = "colour.synthesis.clip", NAMED(orr_clip_names, synth.clip)},
     {.key = "colour.tint.path", .type = K_TINT},
     {.key = "compose.layers", .type = K_LAYERS},
     {.key = "colour.tint.t", .type = K_RUN, FIELD(tint_t), CLOSED(0, 1), RUN_FLAG(tint_run)},
-    {.key = "psf.kind", ENUM(psf)},
+    {.key = "psf.kind", NAMED(orr_psf_kind_names, psf)},
     {.key = "psf.fwhm", .type = K_NUMBER, FIELD(psf_fwhm), CLOSED(0.1, 1000)},
     {.key = "psf.fwhm_arcmin", .type = K_AUTO, FIELD(psf_fwhm_arcmin), CLOSED(0.01, 3000)},
     {.key = "psf.file", .type = K_PATH, FIELD(psf_file)},
@@ -452,23 +281,23 @@ static const key_spec KEYS[] = {
     {.key = "animation.frame_interval", .type = K_NUMBER, FIELD(frame_interval), .lo = 0, .bounds = HAS_LO,
      FLAG(has_frame_interval)},
 
-    {.key = "stereo.mode", ENUM(stereo)},
+    {.key = "stereo.mode", NAMED(orr_stereo_mode_names, stereo)},
     {.key = "stereo.eye_separation", .type = K_NUMBER, FIELD(eye_separation), ABOVE(0)},
     {.key = "stereo.convergence", .type = K_AUTO, FIELD(convergence), ABOVE(0)},
-    {.key = "stereo.anaglyph", ENUM(anaglyph)},
+    {.key = "stereo.anaglyph", NAMED(orr_anaglyph_names, anaglyph)},
     {.key = "stereo.zenith_fade", .type = K_NUMBER, FIELD(zenith_fade), CLOSED(0, 90)},
     {.key = "output.dir", .type = K_STRING, FIELD(out_dir)},
     {.key = "output.name", .type = K_FILENAME, FIELD(out_name)},
     {.key = "output.fits", .type = K_BOOL, FIELD(write_fits)},
     {.key = "output.png", .type = K_BOOL, FIELD(write_png)},
     {.key = "output.raw", .type = K_BOOL, FIELD(write_raw)},
-    {.key = "output.png_transfer", ENUM(transfer)},
+    {.key = "output.png_transfer", NAMED(PNG_TRANSFER_NAMES, png_linear)},
     {.key = "output.exr", .type = K_BOOL, FIELD(write_exr)},
     {.key = "output.exr_half", .type = K_BOOL, FIELD(exr_half)},
-    {.key = "output.fits_compress", ENUM(fits_compress)},
+    {.key = "output.fits_compress", NAMED(FITS_COMPRESS_NAMES, fits_compress)},
     {.key = "output.image", .type = K_FILENAME, FIELD(image_ext)},
-    {.key = "output.png_bits", ENUM(png_bits)},
-    {.key = "output.stretch", ENUM(stretch)},
+    {.key = "output.png_bits", NAMED(PNG_BITS_NAMES, png_bits)},
+    {.key = "output.stretch", NAMED(orr_stretch_names, stretch.kind)},
     {.key = "output.white", .type = K_AUTO, FIELD(stretch.white), ABOVE(0)},
     {.key = "output.white_percentile", .type = K_NUMBER, FIELD(stretch.white_percentile), .lo = 0,
      .hi = 100, .bounds = HAS_LO | LO_OPEN | HAS_HI},
@@ -861,6 +690,20 @@ static orr_status bind_enum(const bind_ctx *c, const key_spec *k, const value_at
     return fail_at(c->err, at->origin, at->line, "%s: expected %s, got %s%s", at->path, what, GOT(n), note);
 }
 
+static orr_status bind_named(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
+{
+    int v;
+    if (k->size != sizeof v)
+        return orr_fail(c->err, ORR_ERR_INTERNAL, "%s: the key's field is not int-sized", at->path);
+    if (n->kind == YT_SCALAR && !yt_is_null(n) && orr_named_value(k->names, n->text, &v)) {
+        memcpy(field(c, k), &v, sizeof v);
+        return ORR_OK;
+    }
+    char words[160], got_buf[96];
+    return fail_at(c->err, at->origin, at->line, "%s: expected one of: %s, got %s", at->path,
+                   orr_named_list(k->names, words, sizeof words), GOT(n));
+}
+
 static orr_status bind_bool(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)
 {
     const char *t = NULL;
@@ -1075,6 +918,7 @@ static orr_status bind_value(const bind_ctx *c, const key_spec *k, const value_a
     case K_U64: return bind_integer(c, k, at, n);
     case K_BOOL: return bind_bool(c, k, at, n);
     case K_ENUM: return bind_enum(c, k, at, n);
+    case K_NAMED: return bind_named(c, k, at, n);
     case K_VEC3:
     case K_QUAT: return bind_vector(c, k, at, n);
     case K_TYPES: return bind_types(c, k, at, n);

@@ -3,7 +3,7 @@
 #include <errno.h>
 #include <string.h>
 
-#include "encode/atomic.h"
+#include "core/atomic.h"
 
 int orr_h5w_attr(hid_t loc, const char *name, hid_t ftype, hid_t mtype, const void *v, int n)
 {

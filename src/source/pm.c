@@ -38,7 +38,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "post/convolve.h"
+#include "core/fft_planner.h"
 
 #define PI 3.14159265358979323846
 

@@ -9,26 +9,12 @@
 
 /* ---- names ---- */
 
-const char *orr_interpolation_name(orr_interpolation k)
-{
-    switch (k) {
-    case ORR_INTERP_LINEAR: return "linear";
-    case ORR_INTERP_HERMITE: return "hermite";
-    case ORR_INTERP_AUTO: break;
-    }
-    return "auto";
-}
+const orr_named orr_interpolation_names[] = {
+    {"auto", ORR_INTERP_AUTO}, {"linear", ORR_INTERP_LINEAR}, {"hermite", ORR_INTERP_HERMITE}, {NULL, 0}};
 
-int orr_interpolation_from_name(const char *w, orr_interpolation *k)
-{
-    static const orr_interpolation kinds[] = {ORR_INTERP_AUTO, ORR_INTERP_LINEAR, ORR_INTERP_HERMITE};
-    for (size_t i = 0; i < sizeof kinds / sizeof kinds[0]; i++)
-        if (strcmp(w, orr_interpolation_name(kinds[i])) == 0) {
-            *k = kinds[i];
-            return 1;
-        }
-    return 0;
-}
+const char *orr_interpolation_name(orr_interpolation k) { return orr_named_name(orr_interpolation_names, (int)k); }
+
+ORR_NAMED_PARSER(orr_interpolation_from_name, orr_interpolation, orr_interpolation_names)
 
 /* ---- file name patterns ---- */
 

@@ -9,6 +9,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/names.h"
+
 #include "source/source.h"
 
 typedef enum {
@@ -18,6 +20,7 @@ typedef enum {
 } orr_interpolation;
 
 /* "auto", "linear", "hermite". */
+extern const orr_named orr_interpolation_names[];
 const char *orr_interpolation_name(orr_interpolation k);
 /* 1 and *k when w names an interpolation, else 0. */
 int orr_interpolation_from_name(const char *w, orr_interpolation *k);

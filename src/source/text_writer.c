@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "core/numbers.h"
-#include "encode/atomic.h"
+#include "core/atomic.h"
 
 /* Column names the reader gives a fixed meaning; an extra field with one of
  * these names would be read back as something else. */

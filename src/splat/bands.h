@@ -16,7 +16,7 @@
 
 #include "core/error.h"
 #include "splat/deposit.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 /* More bands than this only add bookkeeping: very large images get wider
  * bands instead. */

@@ -4,15 +4,10 @@
 #include <math.h>
 #include <string.h>
 
-const char *orr_deposit_name(orr_deposit_kind kind)
-{
-    switch (kind) {
-    case ORR_DEPOSIT_NGP: return "ngp";
-    case ORR_DEPOSIT_CIC: return "cic";
-    case ORR_DEPOSIT_SPH: return "sph";
-    }
-    return "unknown";
-}
+const orr_named orr_deposit_names[] = {
+    {"ngp", ORR_DEPOSIT_NGP}, {"cic", ORR_DEPOSIT_CIC}, {"sph", ORR_DEPOSIT_SPH}, {NULL, 0}};
+
+const char *orr_deposit_name(orr_deposit_kind kind) { return orr_named_name(orr_deposit_names, (int)kind); }
 
 /* Points a stack batch of orr_deposit handles at once (its shares stay in
  * L1 cache). */

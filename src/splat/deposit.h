@@ -11,7 +11,8 @@
 #include <stdint.h>
 
 #include "frame/projection.h"
-#include "splat/plane.h"
+#include "core/plane.h"
+#include "core/names.h"
 
 typedef enum {
     ORR_DEPOSIT_NGP,
@@ -27,6 +28,7 @@ typedef struct orr_deposit_stats {
     uint64_t n_culled;       /* particles the projection did not draw */
 } orr_deposit_stats;
 
+extern const orr_named orr_deposit_names[];
 const char *orr_deposit_name(orr_deposit_kind kind);
 
 /* Points to deposit: positions in pixels, whether the projection drew

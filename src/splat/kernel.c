@@ -71,33 +71,24 @@ static double sigma_of(orr_kernel_kind kind)
     return 0.0;
 }
 
-const char *orr_kernel_name(orr_kernel_kind kind)
-{
-    switch (kind) {
-    case ORR_KERNEL_CUBIC: return "cubic";
-    case ORR_KERNEL_WENDLAND_C2: return "wendland-c2";
-    case ORR_KERNEL_WENDLAND_C4: return "wendland-c4";
-    }
-    return "unknown";
-}
+const orr_named orr_kernel_names[] = {{"cubic", ORR_KERNEL_CUBIC},
+                                      {"wendland-c2", ORR_KERNEL_WENDLAND_C2},
+                                      {"wendland-c4", ORR_KERNEL_WENDLAND_C4},
+                                      {NULL, 0}};
+
+const char *orr_kernel_name(orr_kernel_kind kind) { return orr_named_name(orr_kernel_names, (int)kind); }
 
 orr_status orr_kernel_parse(const char *name, orr_kernel_kind *kind, orr_error *err)
 {
-    static const struct {
-        const char *name;
-        orr_kernel_kind kind;
-    } names[] = {
-        {"cubic", ORR_KERNEL_CUBIC},         {"m4", ORR_KERNEL_CUBIC},
-        {"cubic-spline", ORR_KERNEL_CUBIC},  {"wendland-c2", ORR_KERNEL_WENDLAND_C2},
-        {"wendland2", ORR_KERNEL_WENDLAND_C2}, {"c2", ORR_KERNEL_WENDLAND_C2},
-        {"wendland-c4", ORR_KERNEL_WENDLAND_C4}, {"wendland4", ORR_KERNEL_WENDLAND_C4},
-        {"c4", ORR_KERNEL_WENDLAND_C4},
-    };
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-        if (name && strcmp(name, names[i].name) == 0) {
-            *kind = names[i].kind;
-            return ORR_OK;
-        }
+    static const orr_named aliases[] = {
+        {"m4", ORR_KERNEL_CUBIC},        {"cubic-spline", ORR_KERNEL_CUBIC}, {"wendland2", ORR_KERNEL_WENDLAND_C2},
+        {"c2", ORR_KERNEL_WENDLAND_C2}, {"wendland4", ORR_KERNEL_WENDLAND_C4}, {"c4", ORR_KERNEL_WENDLAND_C4},
+        {NULL, 0}};
+    int v;
+    if (orr_named_value(orr_kernel_names, name, &v) || orr_named_value(aliases, name, &v)) {
+        *kind = (orr_kernel_kind)v;
+        return ORR_OK;
+    }
     return orr_fail(err, ORR_ERR_USAGE, "unknown smoothing kernel \"%s\" (use cubic, wendland-c2 or wendland-c4)",
                     name ? name : "");
 }

@@ -17,6 +17,7 @@
 #define ORR_SPLAT_KERNEL_H
 
 #include "core/error.h"
+#include "core/names.h"
 
 typedef enum {
     ORR_KERNEL_CUBIC,       /* M4 cubic spline (the default) */
@@ -84,6 +85,8 @@ typedef struct orr_kernel {
 orr_status orr_kernel_init(orr_kernel *k, orr_kernel_kind kind, orr_error *err);
 void orr_kernel_free(orr_kernel *k);
 
+/* The kernels' own names (orr_kernel_parse also takes SPLASH-style aliases). */
+extern const orr_named orr_kernel_names[];
 const char *orr_kernel_name(orr_kernel_kind kind);
 /* Accepts "cubic" (also "m4", "cubic-spline"), "wendland-c2" ("wendland2",
  * "c2") and "wendland-c4" ("wendland4", "c4"); returns ORR_ERR_USAGE, with a

@@ -31,7 +31,7 @@
 #define ORR_SPLAT_SKY_CORES_H
 
 #include "core/error.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 #define ORR_SKY_CORE_CELL 64
 #define ORR_SKY_CORE_STEPS 4

@@ -34,7 +34,7 @@
 #include "frame/projection.h"
 #include "splat/deposit.h"
 #include "splat/kernel.h"
-#include "splat/plane.h"
+#include "core/plane.h"
 
 /* Sky maps are indexed, once, in tiles of ORR_SPH_TILE pixels a side,
  * grouped ORR_SPH_GROUP x ORR_SPH_GROUP into coarse tiles, so that a large

@@ -6,7 +6,7 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "encode/atomic.h"
+#include "core/atomic.h"
 
 static char tmpdir[256];
 

@@ -8,7 +8,7 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "post/cie_data.h"
+#include "core/cie_data.h"
 #include "post/colour.h"
 
 static int shared_missing = 0;

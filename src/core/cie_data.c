@@ -16,7 +16,7 @@
  * Mamajek (2013, ApJS 208, 9): the 86 rows with a B-V value, O3V to M9V.
  *
  * Values are the files' decimal numbers unchanged. */
-#include "post/cie_data.h"
+#include "core/cie_data.h"
 
 const double orr_cie1931_2deg[][3] = {
     {0.0001299, 3.917e-06, 0.0006061}, /* 360 nm */

@@ -9,8 +9,8 @@
  * later run can tell which ones belong to a process that is gone and remove
  * them (orr_remove_stale_temporaries), and a signal handler can remove the
  * ones still open (orr_remove_live_temporaries). docs/output.md. */
-#ifndef ORR_ENCODE_ATOMIC_H
-#define ORR_ENCODE_ATOMIC_H
+#ifndef ORR_CORE_ATOMIC_H
+#define ORR_CORE_ATOMIC_H
 
 #include "core/error.h"
 #include "core/limits.h"

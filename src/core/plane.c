@@ -1,6 +1,6 @@
 /* madvise's MADV_HUGEPAGE is a Linux extension, beyond POSIX. */
 #define _DEFAULT_SOURCE
-#include "splat/plane.h"
+#include "core/plane.h"
 
 #include <stdint.h>
 #include <stdio.h>

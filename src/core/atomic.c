@@ -1,4 +1,4 @@
-#include "encode/atomic.h"
+#include "core/atomic.h"
 #include "core/digest.h"
 
 #include <dirent.h>

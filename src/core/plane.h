@@ -1,6 +1,6 @@
 /* A float accumulation plane: one channel of an image, row 0 at the top. */
-#ifndef ORR_SPLAT_PLANE_H
-#define ORR_SPLAT_PLANE_H
+#ifndef ORR_CORE_PLANE_H
+#define ORR_CORE_PLANE_H
 
 #include <stddef.h>
 

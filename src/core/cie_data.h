@@ -3,8 +3,8 @@
  *   - the CIE 1931 2-degree colour-matching functions, 1 nm, 360-830 nm;
  *   - the Judd-Vos modified 2-degree functions, 5 nm, 380-825 nm;
  *   - Mamajek's mean dwarf sequence, B-V and T_eff, O3V to M9V. */
-#ifndef ORR_POST_CIE_DATA_H
-#define ORR_POST_CIE_DATA_H
+#ifndef ORR_CORE_CIE_DATA_H
+#define ORR_CORE_CIE_DATA_H
 
 /* First wavelength and step of each set, in nm: row i is at FIRST + i STEP. */
 #define ORR_CIE1931_FIRST_NM 360

@@ -1,0 +1,42 @@
+/* Frame markers: what made each finished frame of a run, so a resumed run
+ * skips a frame only when the same settings and inputs made it and its
+ * outputs are intact (docs/animation.md). Used by the run driver
+ * (animation.c). */
+#ifndef ORR_RENDER_FRAME_MARKERS_H
+#define ORR_RENDER_FRAME_MARKERS_H
+
+#include <stddef.h>
+
+#include "core/error.h"
+#include "render/render.h"
+#include "scene/scene.h"
+#include "source/sequence.h"
+
+/* Markers live in DIR/.orrery-frames/NAME.done and begin with the magic. */
+#define MARKER_DIR ".orrery-frames"
+#define MARKER_MAGIC "orrery-frame"
+
+/* What determines a view's frames, as the marker's head lines. */
+typedef struct orr_view_identity {
+    char *head;               /* "version ...\nsettings ...\ninput ...\n", allocated */
+    const char *settings;     /* the scene's settings text */
+} orr_view_identity;
+
+/* DIR/.orrery-frames/NAME.done for the scene's output folder and name. */
+orr_status orr_marker_path(const orr_scene *s, char *path, orr_error *err);
+/* The marker's text (allocated; at most 1 MiB), or NULL when it cannot be read whole. */
+char *orr_marker_read(const char *path);
+/* The line of text starting with prefix (its length in *len), or NULL. */
+const char *orr_marker_find_line(const char *text, const char *prefix, size_t *len);
+/* The head lines that say what makes the view's frames (id->head, allocated). */
+orr_status orr_view_identity_make(const orr_scene *s, const orr_sequence *seq, orr_view_identity *id, orr_error *err);
+/* 1 when the view's frame is complete (marker agrees and outputs intact);
+ * else 0 and why (empty: never rendered). */
+int orr_marker_frame_complete(const orr_scene *s, const orr_view_identity *id, char *why, size_t size);
+/* Records the view's outputs of this frame (compose: orrery compose updates the render's marker with its outputs). */
+orr_status orr_marker_write(const orr_scene *s, const orr_view_identity *id, const orr_render_report *rep,
+                          int compose, orr_error *err);
+/* Removes the frame's marker before its outputs are redone. */
+void orr_marker_remove(const orr_scene *s);
+
+#endif
