@@ -47,6 +47,7 @@ typedef struct view_state {
     orr_plane *lane_planes;     /* lanes 1 .. nlanes-1: nplanes planes each; lane 0 is planes[] */
     orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
     struct frame_timer *timer;  /* the frame's stage timings (every view's), or NULL: not measured */
+    struct orr_dust_frame *dust; /* dust.types: the frame's dust, which dims the weights (dust/dust.h), or NULL */
 } view_state;
 
 /* A frame's stage timings and the clock reading the last stage ended at:

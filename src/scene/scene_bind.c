@@ -313,6 +313,17 @@ static int word_stereo(orr_scene *s, const char *w) { return orr_stereo_mode_fro
 static const char *names_stereo(void) { return "none anaglyph side-by-side over-under separate"; }
 static int word_anaglyph(orr_scene *s, const char *w) { return orr_anaglyph_from_name(w, &s->anaglyph); }
 static const char *names_anaglyph(void) { return "grey colour dubois"; }
+static int word_dust_curve(orr_scene *s, const char *w)
+{
+    if (strcmp(w, "ccm89") == 0)
+        s->dust.curve = ORR_DUST_CCM89;
+    else if (strcmp(w, "file") == 0)
+        s->dust.curve = ORR_DUST_CURVE_FILE;
+    else
+        return 0;
+    return 1;
+}
+static const char *names_dust_curve(void) { return "ccm89 file"; }
 
 #define ENUM(fn) .type = K_ENUM, .parse_word = word_##fn, .choices = names_##fn
 
@@ -328,6 +339,7 @@ static const key_spec KEYS[] = {
     {.key = "input.model.w0", .type = K_NUMBER, FIELD(model_w0), CLOSED(0.5, 15)},
     {.key = "input.model.core_radius", .type = K_NUMBER, FIELD(model_core_radius), ABOVE(0)},
     {.key = "input.model.mass", .type = K_NUMBER, FIELD(model_mass), ABOVE(0)},
+    {.key = "input.model.dust_particles", .type = K_LLONG, FIELD(model_dust_particles), IRANGE(0, 2000000000LL)},
     {.key = "input.weight", .type = K_STRING, FIELD(weight)},
     {.key = "input.types", .type = K_TYPES, FIELD(type_mask)},
     {.key = "input.chunk", .type = K_LLONG, FIELD(chunk_size), IRANGE(1, 4294967296LL)},
@@ -431,6 +443,15 @@ static const key_spec KEYS[] = {
     {.key = "observer.dim_near", .type = K_NUMBER, FIELD(dim_near), ABOVE(0)},
     {.key = "camera.dim", .type = K_BOOL, FIELD(camera_dim)},
     {.key = "camera.dim_near", .type = K_NUMBER, FIELD(camera_dim_near), ABOVE(0)},
+    {.key = "dust.types", .type = K_TYPES, FIELD(dust.types)},
+    {.key = "dust.kappa_v", .type = K_NUMBER, FIELD(dust.kappa_v), ABOVE(0)},
+    {.key = "dust.dust_to_gas", .type = K_NUMBER, FIELD(dust.dust_to_gas), ABOVE(0)},
+    {.key = "dust.metallicity", .type = K_STRING, FIELD(dust.metallicity)},
+    {.key = "dust.z_sun", .type = K_NUMBER, FIELD(dust.z_sun), ABOVE(0)},
+    {.key = "dust.curve", ENUM(dust_curve)},
+    {.key = "dust.r_v", .type = K_NUMBER, FIELD(dust.r_v), CLOSED(1, 10)},
+    {.key = "dust.curve_file", .type = K_PATH, FIELD(dust.curve_file)},
+    {.key = "dust.extinction_plane", .type = K_BOOL, FIELD(dust.extinction_plane)},
     {.key = "animation.frames", .type = K_LLONG, FIELD(anim_frames), IRANGE(1, 10000000)},
     {.key = "animation.fps", .type = K_NUMBER, FIELD(anim_fps), CLOSED(0.001, 1000)},
     {.key = "animation.white_smoothing", .type = K_INT, FIELD(white_smoothing), IRANGE(0, 100000)},
