@@ -14,10 +14,13 @@
 
 #include "check.h"
 #include "dust/column.h"
+#include "dust/dust.h"
 #include "dust/curve.h"
 #include "dust/redden.h"
 #include "post/cie_data.h"
 #include "post/colour.h"
+#include "source/model.h"
+#include "source/model_dust.h"
 
 #define MAG_PER_TAU 1.0857362047581294 /* 2.5 log10(e) */
 
@@ -279,12 +282,102 @@ static void test_ebv(void)
     }
 }
 
+/* The model's dusty gas discs: off, the stream is byte for byte the plain
+ * model's; on, the same particles come first and the gas after them, type
+ * 0, with the galaxies' gas masses. */
+static void test_model_stream(void)
+{
+    orr_model_params mp = {3000, 7, 780.0, ORR_MODEL_PAIR, 0};
+    orr_source *plain = NULL, *off = NULL, *on = NULL;
+    orr_error err = {0};
+    CHECK(orr_model_source_open(&mp, 1000, &plain, &err) == ORR_OK);
+    CHECK(orr_model_source_open_dust(&mp, 0, 1000, &off, &err) == ORR_OK);
+    CHECK(orr_model_source_open_dust(&mp, 800, 1000, &on, &err) == ORR_OK);
+    CHECK(on->info.count == 3800);
+    double gas = 0;
+    size_t n_same = 0, n_gas = 0;
+    for (;;) {
+        const orr_chunk *a, *b, *c;
+        CHECK(orr_source_next(plain, &a, &err) == ORR_OK);
+        CHECK(orr_source_next(off, &b, &err) == ORR_OK);
+        CHECK(orr_source_next(on, &c, &err) == ORR_OK);
+        if (c->n == 0)
+            break;
+        for (size_t i = 0; i < c->n; i++) {
+            if (c->first_index + i < 3000) {
+                int same = a->x[i] == c->x[i] && a->y[i] == c->y[i] && a->z[i] == c->z[i] &&
+                           a->mass[i] == c->mass[i] && a->id[i] == c->id[i] && a->type[i] == c->type[i] &&
+                           a->x[i] == b->x[i] && a->id[i] == b->id[i];
+                n_same += same;
+            } else {
+                n_gas += c->type[i] == ORR_MODEL_TYPE_GAS;
+                gas += c->mass[i];
+            }
+        }
+    }
+    CHECK(n_same == 3000);
+    CHECK(n_gas == 800);
+    CHECK_NEAR(gas, 0.7 + 0.6, 1e-4); /* the two discs' gas, 1e10 Msun */
+    orr_error bad = {0};
+    orr_source *none = NULL;
+    CHECK(orr_model_source_open_dust(&mp, -1, 1000, &none, &bad) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(bad.msg, "dust_particles");
+    orr_source_close(plain);
+    orr_source_close(off);
+    orr_source_close(on);
+}
+
+/* A small model seen from the Sun, inside the Milky Way's dust disc: the
+ * frame's optical depth to each drawn star against the brute force. */
+static void test_tau_model(void)
+{
+    orr_model_params mp = {20000, 1, 780.0, ORR_MODEL_PAIR, 0};
+    orr_source *src = NULL;
+    orr_error err = {0};
+    CHECK(orr_model_source_open_dust(&mp, 4000, 4096, &src, &err) == ORR_OK);
+    orr_dust_settings d;
+    orr_dust_settings_defaults(&d);
+    d.types = 1u << ORR_MODEL_TYPE_GAS;
+    d.kappa_v = 3.7e4; /* docs/dust.md#units: Milky Way dust, kpc^2 per 1e10 Msun of dust */
+    orr_dust_context ctx = {"test", ORR_KERNEL_CUBIC, 32, 1.0, 0, 1u << 2 | 1u << 3};
+    orr_dust_frame f;
+    CHECK(orr_dust_frame_prepare(&f, &d, &ctx, src, &err) == ORR_OK);
+    CHECK(f.set.n == 4000);
+    const double sun[3] = {-8.0, 0.0, 0.02};
+    int n = 0, within = 0;
+    double worst = 0, mean = 0;
+    const orr_chunk *c;
+    while (orr_source_next(src, &c, &err) == ORR_OK && c->n > 0)
+        for (size_t i = 0; i < c->n; i += 3) {
+            if (c->type[i] != 2 && c->type[i] != 3)
+                continue;
+            const double p[3] = {c->x[i], c->y[i], c->z[i]};
+            double exact = orr_dust_tau_exact(&f.set, sun, p), fast = orr_dust_tau(&f.set, sun, p);
+            double dmag = MAG_PER_TAU * fabs(fast - exact);
+            worst = fmax(worst, dmag);
+            within += dmag < 0.01;
+            mean += MAG_PER_TAU * exact;
+            n++;
+        }
+    mean /= n;
+    fprintf(stderr, "  model from the Sun: %d stars, mean A_V %.2f mag, worst |dA_V| %.2e mag, within 0.01: %d\n",
+            n, mean, worst, within);
+    CHECK(n > 1000);
+    CHECK(mean > 0.5);
+    CHECK(within >= 0.99 * n);
+    CHECK(worst < 0.05);
+    orr_dust_frame_free(&f);
+    orr_source_close(src);
+}
+
 int main(void)
 {
     RUN(test_ccm89);
     RUN(test_curve_file);
     RUN(test_partial_column);
     RUN(test_tau_random);
+    RUN(test_model_stream);
+    RUN(test_tau_model);
     RUN(test_redden_chromaticity);
     RUN(test_ebv);
     return check_failures ? 1 : 0;
