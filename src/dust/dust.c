@@ -140,7 +140,8 @@ static orr_status read_dust(orr_dust_frame *f, const orr_dust_settings *d, const
     }
     if (!st)
         st = orr_source_rewind(src, err);
-    if (!st && with_h <= 0)
+    /* (No dust at all is no error: a frame may have none.) */
+    if (!st && with_h <= 0 && f->set.n > 0)
         st = neighbour_lengths(f, ctx, ctx->h_scale, err);
     return st;
 }
