@@ -58,7 +58,7 @@ static void frame(const options *o, int with_dust, double *wall, double *cpu)
     int n = 0;
     snprintf(ov[n++], sizeof ov[0], "input.model.particles=%lld", o->particles);
     snprintf(ov[n++], sizeof ov[0], "input.model.dust_particles=%lld", o->dust);
-    snprintf(ov[n++], sizeof ov[0], "output.dir=%s", "bench_dust_out");
+    snprintf(ov[n++], sizeof ov[0], "output.dir=%s", with_dust ? "bench_dust_out/dust" : "bench_dust_out/clear");
     if (o->size > 0) {
         snprintf(ov[n++], sizeof ov[0], "views.dome.image.width=%d", o->size);
         snprintf(ov[n++], sizeof ov[0], "views.dome.image.height=%d", o->size);
@@ -77,7 +77,6 @@ static void frame(const options *o, int with_dust, double *wall, double *cpu)
             v->view[k].projection.width = 2 * o->size;
             v->view[k].projection.height = o->size;
         }
-        v->view[k].write_png = 0;
         views[k] = &v->view[k];
     }
     orr_render_report rep[ORR_SCENE_MAX_VIEWS];

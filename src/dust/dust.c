@@ -198,32 +198,51 @@ static orr_status reserve(orr_dust_frame *f, size_t n, orr_error *err)
 
 /* tau_V of each particle of c from eye; each particle's sum on its own, so
  * any number of threads gives the same values. */
-static void chunk_tau(orr_dust_frame *f, orr_vec3 eye, const orr_chunk *c)
+static void chunk_tau(orr_dust_frame *f, const orr_dust_eye *eye, const orr_chunk *c)
 {
-    const double e[3] = {eye.x, eye.y, eye.z};
     const orr_dust_set *s = &f->set;
+    const orr_dust_eye view = *eye;
     double *tau = f->tau;
     const long n = (long)c->n;
 #pragma omp parallel for schedule(dynamic, 1024)
     for (long i = 0; i < n; i++) {
         const double p[3] = {c->x[i], c->y[i], c->z[i]};
         const int drawn = c->type[i] < 32 && (f->drawn_types >> c->type[i] & 1u);
-        tau[i] = drawn && isfinite(p[0]) && isfinite(p[1]) && isfinite(p[2]) ? orr_dust_tau(s, e, p) : 0.0;
+        if (!drawn || !isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
+            tau[i] = 0.0;
+            continue;
+        }
+        double e[3] = {view.eye.x, view.eye.y, view.eye.z};
+        if (view.parallel) { /* the star's foot on the camera plane */
+            const double depth = (p[0] - e[0]) * view.axis.x + (p[1] - e[1]) * view.axis.y +
+                                 (p[2] - e[2]) * view.axis.z;
+            e[0] = p[0] - depth * view.axis.x;
+            e[1] = p[1] - depth * view.axis.y;
+            e[2] = p[2] - depth * view.axis.z;
+        }
+        tau[i] = orr_dust_tau(s, e, p);
     }
 }
 
-orr_status orr_dust_weights(orr_dust_frame *f, orr_vec3 eye, const orr_chunk *c, const float **w, int nplanes,
-                            orr_error *err)
+static int same_eye(const orr_dust_eye *a, const orr_dust_eye *b)
+{
+    return a->parallel == b->parallel && a->eye.x == b->eye.x && a->eye.y == b->eye.y && a->eye.z == b->eye.z &&
+           (!a->parallel || (a->axis.x == b->axis.x && a->axis.y == b->axis.y && a->axis.z == b->axis.z));
+}
+
+orr_status orr_dust_weights(orr_dust_frame *f, const orr_dust_eye *eye, const orr_chunk *c, const float **w,
+                            int nplanes, orr_error *err)
 {
     orr_status st = reserve(f, c->n ? c->n : 1, err);
     if (st)
         return st;
-    if (f->last_chunk != c || f->last_first != c->first_index || f->last_eye.x != eye.x ||
-        f->last_eye.y != eye.y || f->last_eye.z != eye.z) {
+    /* Views from the same eye (a dome master and a panorama) share a chunk's
+     * optical depths. */
+    if (f->last_chunk != c || f->last_first != c->first_index || !same_eye(&f->last_eye, eye)) {
         chunk_tau(f, eye, c);
         f->last_chunk = c;
         f->last_first = c->first_index;
-        f->last_eye = eye;
+        f->last_eye = *eye;
     }
     const long n = (long)c->n;
     if (f->colour && nplanes == 3) {
@@ -249,4 +268,37 @@ double orr_dust_av_ray(const orr_dust_frame *f, orr_vec3 eye, orr_vec3 dir)
 {
     const double e[3] = {eye.x, eye.y, eye.z}, d[3] = {dir.x, dir.y, dir.z};
     return MAG_PER_TAU * orr_dust_tau_ray(&f->set, e, d);
+}
+
+/* Pixel (i, j)'s ray in the world: its origin and unit direction; 0 off the map. */
+static int pixel_ray(const orr_dust_eye *eye, const orr_projection *p, const orr_mat3 *to_world, int i, int j,
+                     orr_vec3 *origin, orr_vec3 *dir)
+{
+    const double px = i + 0.5, py = j + 0.5;
+    orr_vec3 d;
+    if (!orr_unproject(p, px, py, &d))
+        return 0;
+    *dir = orr_mat3_apply(*to_world, d);
+    *origin = eye->eye;
+    if (p->kind == ORR_PROJ_ORTHOGRAPHIC)
+        *origin = orr_v3_add(eye->eye, orr_mat3_apply(*to_world, orr_v3((px - p->cx) / p->focal,
+                                                                          (py - p->cy) / p->focal, 0)));
+    return 1;
+}
+
+orr_status orr_dust_av_plane(const orr_dust_frame *f, const orr_dust_eye *eye, const orr_projection *p,
+                             const orr_mat3 *world_to_camera, orr_plane *out, orr_error *err)
+{
+    orr_status st = orr_plane_alloc(out, p->width, p->height, "A_V", "mag", err);
+    if (st)
+        return st;
+    const orr_mat3 to_world = orr_mat3_transpose(*world_to_camera);
+    const long n = (long)p->width * p->height;
+#pragma omp parallel for schedule(dynamic, 256)
+    for (long k = 0; k < n; k++) {
+        orr_vec3 o, d;
+        const int i = (int)(k % p->width), j = (int)(k / p->width);
+        out->data[k] = pixel_ray(eye, p, &to_world, i, j, &o, &d) ? (float)orr_dust_av_ray(f, o, d) : NAN;
+    }
+    return ORR_OK;
 }

@@ -17,8 +17,10 @@
 #include "dust/column.h"
 #include "dust/curve.h"
 #include "dust/redden.h"
+#include "frame/projection.h"
 #include "particles/chunk.h"
 #include "source/source.h"
+#include "splat/plane.h"
 
 typedef enum {
     ORR_DUST_CCM89 = 0, /* Cardelli, Clayton & Mathis (1989) with dust.r_v */
@@ -47,6 +49,15 @@ void orr_dust_settings_defaults(orr_dust_settings *d);
 orr_status orr_dust_settings_check(const orr_dust_settings *d, const char *scene_path, unsigned drawn_types,
                                    orr_error *err);
 
+/* Where a view looks from: a point (the observer, a perspective camera),
+ * or with parallel set an orthographic camera's plane, through eye and
+ * facing along the unit vector axis, each star seen from its foot on it. */
+typedef struct orr_dust_eye {
+    orr_vec3 eye;
+    int parallel;
+    orr_vec3 axis;
+} orr_dust_eye;
+
 /* A frame's dust. */
 typedef struct orr_dust_frame {
     orr_dust_set set;
@@ -59,7 +70,7 @@ typedef struct orr_dust_frame {
     size_t tau_cap;
     const orr_chunk *last_chunk; /* tau is of this chunk from last_eye (to share it across views) */
     uint64_t last_first;
-    orr_vec3 last_eye;
+    orr_dust_eye last_eye;
 } orr_dust_frame;
 
 /* What the frame needs beyond the settings. */
@@ -80,13 +91,23 @@ orr_status orr_dust_frame_prepare(orr_dust_frame *f, const orr_dust_settings *d,
                                   orr_source *src, orr_error *err);
 void orr_dust_frame_free(orr_dust_frame *f);
 
-/* The weights w[0..nplanes) of chunk c dimmed by the dust between eye and
- * each particle: w[k] is replaced by the frame's own array. */
-orr_status orr_dust_weights(orr_dust_frame *f, orr_vec3 eye, const orr_chunk *c, const float **w, int nplanes,
-                            orr_error *err);
 
-/* A_V to infinity from eye along each unit direction: for the extinction
- * plane. */
+/* The weights w[0..nplanes) of chunk c dimmed by the dust between the eye
+ * and each particle: w[k] is replaced by the frame's own array. */
+orr_status orr_dust_weights(orr_dust_frame *f, const orr_dust_eye *eye, const orr_chunk *c, const float **w,
+                            int nplanes, orr_error *err);
+
+/* A_V to infinity from eye along the unit direction dir: the extinction
+ * plane's pixels. */
 double orr_dust_av_ray(const orr_dust_frame *f, orr_vec3 eye, orr_vec3 dir);
+
+/* The extinction plane (dust.extinction_plane): A_V in magnitudes through
+ * all of the dust behind each pixel centre, from the eye along the pixel's
+ * ray (orthographic: from the pixel's point on the camera plane along the
+ * view axis) to infinity; NaN off the map. The rays are independent: any
+ * number of threads gives the same plane. out is allocated to the image's
+ * size. */
+orr_status orr_dust_av_plane(const orr_dust_frame *f, const orr_dust_eye *eye, const orr_projection *p,
+                             const orr_mat3 *world_to_camera, orr_plane *out, orr_error *err);
 
 #endif

@@ -34,6 +34,24 @@ print("ratio", dusty / clear, "expected", math.exp(-tau))
 assert abs(dusty / clear - math.exp(-tau)) < 1e-4 * math.exp(-tau)
 PY
 
+# The extinction plane: A_V to infinity per pixel; through the kernel's
+# centre 1.0857 tau, from a perspective and an orthographic camera.
+for proj in perspective orthographic; do
+  "$ORRERY" render blob.yaml -q --set output.name=av-$proj --set 'dust.types=[0]' --set dust.kappa_v=1 \
+    --set dust.dust_to_gas=0.25 --set dust.extinction_plane=true --set camera.projection=$proj \
+    --set camera.width=4 || fail "extinction plane, $proj"
+done
+"$py" - <<'PY' || fail "the extinction plane's A_V through the kernel"
+import math
+import numpy as np
+from astropy.io import fits
+want = 2.5 / math.log(10) * 0.25 * (1.5 / math.pi) / 0.5**2
+for proj in ("perspective", "orthographic"):
+    av = fits.getdata(f"out/av-{proj}.extinction.fits")
+    print(proj, "A_V peak", np.nanmax(av), "expected", want, "corner", av[0, 0])
+    assert abs(np.nanmax(av) - want) < 0.02 * want and av[0, 0] == 0
+PY
+
 # The model with its dusty discs, from the Sun, in colour: one thread and two.
 cat >sky.yaml <<'YAML'
 input:
