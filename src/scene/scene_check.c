@@ -519,6 +519,9 @@ static orr_status check_dust(const orr_scene *s, orr_error *err)
     if (!st && s->dust.types && s->periodic_replicas > 1)
         st = orr_fail(err, ORR_ERR_USAGE, "%s: dust.types with input.periodic.replicas: the dust of a replicated "
                       "box is not replicated yet (docs/dust.md#limitations)", s->path);
+    if (!st && s->dust.types && s->dust.extinction_plane && s->projection.kind == ORR_PROJ_HEALPIX)
+        st = orr_fail(err, ORR_ERR_USAGE, "%s: dust.extinction_plane is not written for camera.projection: "
+                      "healpix yet (docs/dust.md#limitations)", s->path);
     return st;
 }
 

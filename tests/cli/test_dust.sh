@@ -109,4 +109,7 @@ expect_fail 1 "nanz.txt: dust particle 1 \(id 1, type 0\): Z = nan" bad -- rende
   --set input.file=nanz.txt --set dust.metallicity=Z
 expect_fail 2 "dust.types with input.periodic.replicas" bad -- render blob.yaml "${dust[@]}" \
   --set input.periodic.replicas=3 --set input.periodic.box=20
+grep -v '^image:' sky.yaml >skyhp.yaml
+expect_fail 2 "dust.extinction_plane is not written for camera.projection: healpix" bad -- render skyhp.yaml \
+  --set output.dir=bad --set dust.extinction_plane=true --set camera.projection=healpix --set deposit=ngp
 finish
