@@ -19,7 +19,7 @@ $check lane fsd/futuresky-panorama.fits fs/futuresky-panorama.fits || fail "futu
 
 # Spiral Metamorphosis: both views written; face-on round, edge-on flat and
 # horizontal; redder in the centre.
-"$ORRERY" render "$SRC/configs/spiral-metamorphosis.yaml" -o sp --set input.model.particles=30000 \
+"$ORRERY" render "$SRC/configs/spiral-metamorphosis.yaml" -o sp --set input.model.particles=30000 --set input.model.dust_particles=3000 \
   --set image.width=160 --set image.height=160 >run.out 2>run.err || fail "spiral: $(cat run.err)"
 for v in faceon edgeon; do
   [ -s sp/spiral-$v.png ] && [ -s sp/spiral-$v.fits ] || fail "spiral: view $v missing: $(ls sp)"

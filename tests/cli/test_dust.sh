@@ -55,7 +55,7 @@ PY
 # The model with its dusty discs, from the Sun, in colour: one thread and two.
 cat >sky.yaml <<'YAML'
 input:
-  model: {name: mw-m31, particles: 20000, dust_particles: 4000}
+  model: {name: mw-m31, particles: 10000, dust_particles: 2000}
   types: [2, 3]
 observer: {id: 3, reference_id: 1, normal: [0, 0, 1], dim: true, dim_near: 0.1}
 dust: {types: [0], kappa_v: 3.7e4}
