@@ -83,6 +83,32 @@ print("Y dusty / clear", Y / Yc, "Z/Y", Z / Y, "clear", Zc / Yc)
 assert Y < 0.9 * Yc and Z / Y < Zc / Yc
 PY
 
+# Real data: the gas of the shared GADGET-4 lcdm_gas snapshot as dust in
+# front of its own dark matter (a smoke test): it runs, each pixel is dimmed
+# and none brightened, and a vanishing opacity gives the dust-free image.
+lcdm="${ORRERY_SHARED_DATA:-$SRC/../shared/data}/hdf5/gadget4_lcdm_gas/snapshot_004.hdf5"
+if [ -f "$lcdm" ]; then
+  cat >lcdm.yaml <<YAML
+input: {file: $lcdm, types: [1]}
+camera: {projection: orthographic, position: [25000, 25000, 60000], look_at: [25000, 25000, 0], width: 50000}
+image: {width: 128, height: 128}
+output: {dir: out, png: false}
+YAML
+  "$ORRERY" render lcdm.yaml -q --set output.name=lc0 || fail "lcdm_gas without dust"
+  "$ORRERY" render lcdm.yaml -q --set output.name=lc1 --set 'dust.types=[0]' --set dust.kappa_v=1e6 ||
+    fail "lcdm_gas, its gas as dust"
+  "$ORRERY" render lcdm.yaml -q --set output.name=lc2 --set 'dust.types=[0]' --set dust.kappa_v=1e-10 ||
+    fail "lcdm_gas, a vanishing opacity"
+  "$py" - <<'PY' || fail "lcdm_gas: the gas dims its dark matter, and no opacity is no dust"
+import numpy as np
+from astropy.io import fits
+a, b, c = (fits.getdata(f"out/lc{k}.fits").astype(float) for k in range(3))
+print("lcdm_gas: kept", b.sum() / a.sum(), "with kappa 1e-10:", c.sum() / a.sum())
+assert 0.05 < b.sum() / a.sum() < 0.95 and (b <= a * (1 + 1e-6)).all()
+assert np.abs(c - a).max() <= 1e-6 * a.max()
+PY
+fi
+
 # Bad input: nothing written.
 mkdir -p bad
 printf 'x y z mass h type\n0 0 -5 1 0.1 1\n0 0 0 -1 0.5 0\n' >negmass.txt
