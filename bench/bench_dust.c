@@ -2,7 +2,7 @@
  * both views, one pass) rendered with and without its dusty gas discs in
  * the same run, and the optical-depth walk alone.
  *
- *   bench_dust [--particles N] [--dust D] [--size S] [--config FILE]
+ *   bench_dust [--particles N] [--dust D] [--size S] [--config FILE] [--walk-only]
  *
  * defaults: N = 2e6 model particles, D = 1e5 gas particles, the dome S x S
  * and the panorama 2S x S with S = 1024 (the config's own sizes are 3600 and
@@ -21,15 +21,21 @@
 
 typedef struct options {
     long long particles, dust;
-    int size;
+    int size, walk_only;
     const char *config;
 } options;
 
 static void parse(int argc, char **argv, options *o)
 {
-    *o = (options){2000000, 100000, 1024, "configs/futuresky.yaml"};
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (strcmp(argv[i], "--particles") == 0)
+    *o = (options){2000000, 100000, 1024, 0, "configs/futuresky.yaml"};
+    for (int i = 1; i < argc; i += 2) {
+        if (strcmp(argv[i], "--walk-only") == 0) {
+            o->walk_only = 1;
+            i--;
+        } else if (i + 1 >= argc) {
+            fprintf(stderr, "bench_dust: %s needs a value\n", argv[i]);
+            exit(2);
+        } else if (strcmp(argv[i], "--particles") == 0)
             o->particles = atoll(argv[i + 1]);
         else if (strcmp(argv[i], "--dust") == 0)
             o->dust = atoll(argv[i + 1]);
@@ -38,7 +44,7 @@ static void parse(int argc, char **argv, options *o)
         else if (strcmp(argv[i], "--config") == 0)
             o->config = argv[i + 1];
         else {
-            fprintf(stderr, "usage: bench_dust [--particles N] [--dust D] [--size S] [--config FILE]\n");
+            fprintf(stderr, "usage: bench_dust [--particles N] [--dust D] [--size S] [--config FILE] [--walk-only]\n");
             exit(2);
         }
     }
@@ -140,6 +146,10 @@ int main(int argc, char **argv)
     printf("Future Sky (%s): %lld model particles, %lld dust particles, dome %s\n", o.config, o.particles, o.dust,
            o.size > 0 ? "S x S, panorama 2S x S" : "and panorama at the config's sizes");
     double w0, c0, w1, c1;
+    if (o.walk_only) {
+        walk(&o);
+        return 0;
+    }
     frame(&o, 0, &w0, &c0);
     frame(&o, 1, &w1, &c1);
     printf("frame without dust: %8.2f s wall %8.2f s CPU\n", w0, c0);
