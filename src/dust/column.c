@@ -57,15 +57,19 @@ orr_status orr_dust_set_init(orr_dust_set *s, orr_kernel_kind kernel, orr_error 
     s->sigma = s->kernel.sigma;
     const size_t rows = ORR_DUST_PCOL_NB + 1, cols = ORR_DUST_PCOL_NS + 1;
     s->pcol = orr_malloc(rows * cols * sizeof *s->pcol, "dust column table", err);
-    s->fcol = s->pcol ? orr_malloc(rows * sizeof *s->fcol, "dust column table", err) : NULL;
-    if (!s->fcol) {
+    s->fcol = s->pcol ? orr_malloc((ORR_DUST_FCOL_NU + 1) * sizeof *s->fcol, "dust column table", err) : NULL;
+    float *row = s->fcol ? orr_malloc(cols * sizeof *row, "dust column table", err) : NULL;
+    if (!row) {
         orr_dust_set_free(s);
         return ORR_ERR_NOMEM;
     }
-    for (size_t i = 0; i < rows; i++) {
+    for (size_t i = 0; i < rows; i++)
         fill_row(&s->kernel, SUPPORT * (double)i / ORR_DUST_PCOL_NB, s->pcol + i * cols);
-        s->fcol[i] = 2.0f * s->pcol[i * cols + cols - 1];
+    for (int i = 0; i <= ORR_DUST_FCOL_NU; i++) {
+        fill_row(&s->kernel, sqrt(SUPPORT * SUPPORT * i / ORR_DUST_FCOL_NU), row);
+        s->fcol[i] = 2.0f * row[cols - 1];
     }
+    free(row);
     return ORR_OK;
 }
 
@@ -76,6 +80,8 @@ void orr_dust_set_free(orr_dust_set *s)
     free(s->z);
     free(s->h);
     free(s->k);
+    free(s->ih);
+    free(s->kih2);
     free(s->pcol);
     free(s->fcol);
     free(s->nodes);
@@ -141,14 +147,14 @@ double orr_dust_partial_column(const orr_dust_set *s, double beta, double sv)
     return half + (sv < 0 ? -half_column(s, beta, sv) : half_column(s, beta, sv));
 }
 
-/* The whole column F(beta), linear in beta. */
-static inline double whole_column(const orr_dust_set *s, double beta)
+/* The whole column at u = beta^2 in [0, 4), linear in u. */
+static inline double whole_column(const orr_dust_set *s, double u)
 {
-    double u = beta * (ORR_DUST_PCOL_NB / SUPPORT);
-    int i = (int)u;
-    if (i >= ORR_DUST_PCOL_NB)
-        i = ORR_DUST_PCOL_NB - 1;
-    double f = u - i;
+    double x = u * (ORR_DUST_FCOL_NU / (SUPPORT * SUPPORT));
+    int i = (int)x;
+    if (i >= ORR_DUST_FCOL_NU)
+        i = ORR_DUST_FCOL_NU - 1;
+    double f = x - i;
     return s->fcol[i] + f * (s->fcol[i + 1] - s->fcol[i]);
 }
 
@@ -275,6 +281,16 @@ orr_status orr_dust_set_build(orr_dust_set *s, orr_error *err)
     s->nnodes = b.next;
     orr_status st = reorder(s, idx, err);
     free(idx);
+    free(s->ih);
+    free(s->kih2);
+    s->ih = st ? NULL : orr_malloc(s->n * sizeof *s->ih, "dust tree", err);
+    s->kih2 = s->ih ? orr_malloc(s->n * sizeof *s->kih2, "dust tree", err) : NULL;
+    if (!st && !s->kih2)
+        return ORR_ERR_NOMEM;
+    for (size_t i = 0; i < s->n && !st; i++) {
+        s->ih[i] = 1.0f / s->h[i];
+        s->kih2[i] = (float)((double)s->k[i] / ((double)s->h[i] * s->h[i]));
+    }
     return st;
 }
 
@@ -325,19 +341,20 @@ static inline double kernel_share(const orr_dust_set *s, const segment *g, size_
     const double vx = s->x[i] - g->o[0], vy = s->y[i] - g->o[1], vz = s->z[i] - g->o[2];
     const double tc = vx * g->d[0] + vy * g->d[1] + vz * g->d[2];
     const double b2 = vx * vx + vy * vy + vz * vz - tc * tc;
-    const double h = s->h[i], r2 = SUPPORT * SUPPORT * h * h;
-    if (b2 >= r2)
+    const double ih = s->ih[i], u = (b2 > 0 ? b2 : 0) * ih * ih;
+    if (u >= SUPPORT * SUPPORT)
         return 0;
-    const double ih = 1.0 / h, beta = sqrt(b2 > 0 ? b2 : 0) * ih;
     const double s0 = -tc * ih, s1 = (g->len - tc) * ih;
     if (s1 <= -SUPPORT || s0 >= SUPPORT)
         return 0;
     double col;
-    if (s0 <= -SUPPORT && s1 >= SUPPORT)
-        col = whole_column(s, beta);
-    else
+    if (s0 <= -SUPPORT && s1 >= SUPPORT) {
+        col = whole_column(s, u);
+    } else {
+        const double beta = sqrt(u);
         col = orr_dust_partial_column(s, beta, s1) - orr_dust_partial_column(s, beta, s0);
-    return s->k[i] * ih * ih * col;
+    }
+    return s->kih2[i] * col;
 }
 
 static double walk(const orr_dust_set *s, const segment *g)

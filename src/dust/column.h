@@ -30,6 +30,9 @@
 /* Partial column table P(beta, s) at beta = 2 i / NB, s = 2 j / NS. */
 #define ORR_DUST_PCOL_NB 256
 #define ORR_DUST_PCOL_NS 256
+/* The whole column F(beta) in u = beta^2 (no square root for a kernel
+ * crossed whole), at u = 4 i / NU. */
+#define ORR_DUST_FCOL_NU 2048
 
 typedef struct orr_dust_node {
     float lo[3], hi[3]; /* bounds of the kernels' supports (centre +- 2h) */
@@ -41,12 +44,13 @@ typedef struct orr_dust_set {
     size_t n, cap;
     float *x, *y, *z, *h; /* positions and smoothing lengths (support 2h) */
     float *k;             /* opacity kappa * dust_to_gas * mass: an area */
+    float *ih, *kih2;     /* after the build: 1 / h and k / h^2, which the walk uses */
     orr_kernel_kind kernel_kind;
     double sigma;         /* the kernel's 3-D normalisation */
     orr_kernel kernel;    /* its formula (orr_kernel_shape) */
     int kernel_ready;
     float *pcol;          /* (NB + 1) x (NS + 1): row i = beta, column j = s >= 0 */
-    float *fcol;          /* NB + 1: the whole column F(beta) = P(beta, 2) */
+    float *fcol;          /* ORR_DUST_FCOL_NU + 1: the whole column F at u = beta^2 = 4 i / NU */
     orr_dust_node *nodes; /* the tree, root at 0, after orr_dust_set_build */
     size_t nnodes;
 } orr_dust_set;
