@@ -74,6 +74,13 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
                            void *progress_user, orr_error *err);
 void orr_splat_free_lanes(view_state *v);
 
+/* ---- dust (dust_view.c) ---- */
+
+/* The frame's dust (dust.types) from src (on MPI ranks each process opens
+ * the whole input for it), and views[0..n).dust set to it. */
+orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, const orr_parallel *par,
+                                 struct orr_dust_frame *dust, orr_error *err);
+
 /* ---- the view's files (view_outputs.c) ---- */
 
 /* Pixels outside a sky map: NaN (blank in FITS, black in pictures). */
