@@ -25,6 +25,7 @@ void orr_scene_defaults(orr_scene *s)
     s->model_mass = 5e5;
     snprintf(s->weight, sizeof s->weight, "mass");
     s->type_mask = 0x3f;
+    orr_dust_settings_defaults(&s->dust);
     s->chunk_size = 1048576;
     orr_path_defaults(&s->camera_path, ORR_PATH_KEYFRAMES);
     s->skip_nonfinite = 0;

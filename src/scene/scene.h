@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/vecmath.h"
+#include "dust/dust.h"
 #include "frame/path.h"
 #include "frame/projection.h"
 #include "frame/stereo.h"
@@ -48,6 +49,8 @@ typedef struct orr_scene {
     double model_w0;               /* input.model.w0: king's central potential W0 (default 7) */
     double model_core_radius;      /* input.model.core_radius: king's r0, pc (default 1) */
     double model_mass;             /* input.model.mass: king's total mass, Msun (default 5e5) */
+    long long model_dust_particles; /* input.model.dust_particles: mw-m31's dusty gas discs, type 0,
+                                    * appended after the other particles (default 0: none) */
     char weight[ORR_FIELD_NAME_MAX]; /* input.weight: "mass" or a field name (default mass) */
     unsigned type_mask;            /* input.types: list of types 0..5 to draw; bit t set (default all, 0x3f) */
     long long chunk_size;          /* input.chunk: particles per chunk (default 1048576) */
@@ -210,6 +213,10 @@ typedef struct orr_scene {
     double dim_near;               /* observer.dim_near: r below this counts as this (default 0.01) */
     int camera_dim;                /* camera.dim: weights fall off as 1/r^2 from the camera (default false) */
     double camera_dim_near;        /* camera.dim_near: r below this counts as this (default 0.01) */
+
+    /* dust.* : extinction and reddening by dust particles (docs/dust.md);
+     * the settings belong to the dust stage (dust/dust.h). */
+    orr_dust_settings dust;
 
     /* animation.* : a run of frames (docs/animation.md). Shared by every view. */
     long long anim_frames;         /* animation.frames: frames in the run (default 1: a still) */

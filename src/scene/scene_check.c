@@ -29,7 +29,7 @@ static const char *const RANGE_KEYS[] = {"input.sequence.first", "input.sequence
 static orr_status check_model_keys(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     static const char *const mw_m31_only[] = {"input.model.separation", "input.model.galaxies",
-                                              "input.model.disc_q"};
+                                              "input.model.disc_q", "input.model.dust_particles"};
     static const char *const king_only[] = {"input.model.w0", "input.model.core_radius", "input.model.mass"};
     const int king = strcmp(s->model_name, "king") == 0;
     const char *const *foreign = king ? mw_m31_only : king_only;
@@ -512,6 +512,19 @@ static orr_status record_settings(orr_scene *s, const yt_node *root, orr_error *
     return ORR_OK;
 }
 
+/* Dust: the stage's own checks, and what it cannot do yet. */
+static orr_status check_dust(const orr_scene *s, orr_error *err)
+{
+    orr_status st = orr_dust_settings_check(&s->dust, s->path, s->type_mask, err);
+    if (!st && s->dust.types && s->periodic_replicas > 1)
+        st = orr_fail(err, ORR_ERR_USAGE, "%s: dust.types with input.periodic.replicas: the dust of a replicated "
+                      "box is not replicated yet (docs/dust.md#limitations)", s->path);
+    if (!st && s->dust.types && s->dust.extinction_plane && s->projection.kind == ORR_PROJ_HEALPIX)
+        st = orr_fail(err, ORR_ERR_USAGE, "%s: dust.extinction_plane is not written for camera.projection: "
+                      "healpix yet (docs/dust.md#limitations)", s->path);
+    return st;
+}
+
 orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
 {
     scene_marks marks;
@@ -540,6 +553,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_psf(s, &marks, err);
     if (st == ORR_OK)
         st = check_colour(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_dust(s, err);
     if (st == ORR_OK)
         st = check_output(s, &marks, err);
     if (st == ORR_OK)

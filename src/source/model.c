@@ -14,6 +14,7 @@
  * shared between particles. Chunk size, rewinds and the order of next()
  * calls therefore cannot change the output. */
 #include "source/model.h"
+#include "source/model_dust.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -135,6 +136,8 @@ typedef struct model_state {
     block blocks[GAL_COUNT * COMP_COUNT];
     int nblocks;
     uint64_t total, next_index;
+    uint64_t dust_first;            /* the first gas particle's index (= total without gas) */
+    orr_model_dust dust;            /* the dusty gas discs (model_dust.h) */
 } model_state;
 
 /* Extra fields of every particle: velocity, the distance from its own
@@ -750,6 +753,35 @@ static void make_particle(const model_state *m, uint64_t index, particle *p)
     p->e0 = (float)(potential(g, rad) + 0.5 * orr_v3_dot(v, v));
 }
 
+/* The dusty gas discs (model_dust.c), appended after every other particle:
+ * each galaxy's disc frame and circular speeds handed over. */
+static void plan_dust(model_state *m, long long dust_particles)
+{
+    m->dust_first = m->total;
+    orr_model_dust_init(&m->dust, (uint64_t)dust_particles, m->params.seed);
+    for (int k = 0; k < m->ngal && dust_particles > 0; k++) {
+        const galaxy *g = &m->gal[m->gal_index[k]];
+        orr_model_dust_disc *d =
+            orr_model_dust_add(&m->dust, m->gal_index[k] == GAL_MW ? ORR_MODEL_DUST_MW : ORR_MODEL_DUST_M31);
+        d->centre = g->centre;
+        d->velocity = g->velocity;
+        d->e1 = g->e1;
+        d->e2 = g->e2;
+        d->spin = g->spin;
+        for (int i = 0; i < ORR_MODEL_DUST_VC_N; i++)
+            d->vc[i] = sqrt(disc_vc2(g, d->rmax * i / (ORR_MODEL_DUST_VC_N - 1)));
+    }
+    orr_model_dust_split(&m->dust);
+    m->total += m->dust.total;
+}
+
+static void make_gas(const model_state *m, uint64_t index, particle *p)
+{
+    orr_model_dust_make(&m->dust, index - m->dust_first, &p->pos, &p->vel, &p->mass, &p->r);
+    p->type = ORR_MODEL_TYPE_GAS;
+    p->e0 = 0.0f;
+}
+
 /* ---- the source -------------------------------------------------------- */
 
 static orr_status model_next(orr_source *src, orr_error *err)
@@ -763,7 +795,10 @@ static orr_status model_next(orr_source *src, orr_error *err)
     for (size_t k = 0; k < n; k++) {
         uint64_t index = m->next_index + k;
         particle p;
-        make_particle(m, index, &p);
+        if (index >= m->dust_first)
+            make_gas(m, index, &p);
+        else
+            make_particle(m, index, &p);
         c->x[k] = (float)p.pos.x;
         c->y[k] = (float)p.pos.y;
         c->z[k] = (float)p.pos.z;
@@ -860,8 +895,17 @@ static void fill_info(orr_source_info *info, const orr_model_params *params)
 orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_size, orr_source **out,
                                  orr_error *err)
 {
+    return orr_model_source_open_dust(params, 0, chunk_size, out, err);
+}
+
+orr_status orr_model_source_open_dust(const orr_model_params *params, long long dust_particles, size_t chunk_size,
+                                      orr_source **out, orr_error *err)
+{
     *out = NULL;
     orr_status st = check_params(params, chunk_size, err);
+    if (!st && (dust_particles < 0 || dust_particles > ORR_MODEL_PARTICLES_MAX - params->particles))
+        st = orr_fail(err, ORR_ERR_USAGE, "model: dust_particles = %lld: 0 (no dusty gas discs) to %lld",
+                      dust_particles, (long long)ORR_MODEL_PARTICLES_MAX - params->particles);
     if (st != ORR_OK)
         return st;
     orr_source *src = orr_source_new("model", "", &MODEL_OPS, sizeof(model_state), err);
@@ -875,7 +919,9 @@ orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_si
         return orr_fail(err, ORR_ERR_NOMEM, "model: out of memory building the distribution functions");
     }
     split_particles(m);
+    plan_dust(m, dust_particles);
     fill_info(&src->info, params);
+    src->info.count = (int64_t)m->total;
 
     size_t cap = (uint64_t)chunk_size < m->total ? chunk_size : (size_t)m->total;
     st = orr_chunk_alloc(&src->chunk, cap, 0, FIELD_NAMES, MODEL_FIELDS, err);
