@@ -145,4 +145,12 @@ expect_fail 2 "input.model.w0" out2 -- render "$SRC/configs/nightfall.yaml" -o o
 expect_fail 2 "input.model.separation.*king" out2 -- render "$SRC/configs/nightfall.yaml" -o out2 \
   --set input.model.separation=100
 expect_fail 2 "camera.dim_near" out2 -- render "$SRC/configs/nightfall.yaml" -o out2 --set camera.dim=false
+# The PSF's keys: the gain and the vanes are the generated Hubble PSF's;
+# compose cannot change a PSF drawn star by star into the raw planes.
+expect_fail 2 "psf.spike_gain is used only with psf.kind: hst" out2 -- render "$SRC/configs/nightfall.yaml" -o out2 \
+  --set psf.kind=gaussian
+expect_fail 2 "psf.vane_width is used only with psf.kind: hst" out2 -- render "$SRC/configs/text-table-perspective.yaml" \
+  -o out2 --set psf.vane_width=0.05
+expect_fail 2 "psf.spike_gain" out2 -- render "$SRC/configs/nightfall.yaml" -o out2 --set psf.spike_gain=0.5
+expect_fail 2 "draws its stars one by one" out2 -- compose "$SRC/configs/nightfall.yaml" -o out2 --set psf.spike_gain=2
 finish
