@@ -202,6 +202,6 @@ render "$here/configs/dark-universe.yaml" -o "$work/du" --frames 150 --set input
   --set image.width=1024 --set image.height=540 --set psf.fwhm=1 --set colour.synthesis.white=90
 shrink "$work/du/dark-universe_0150.png" "$dest/dark-universe.png" 480
 
-echo "Nightfall (configs/nightfall.yaml): 300000 stars, frame 0 of 36"
-render "$here/configs/nightfall.yaml" -o "$work/nf" --frames 0 --set input.model.particles=300000
+echo "Nightfall (configs/nightfall.yaml): frame 0 of 36"
+render "$here/configs/nightfall.yaml" -o "$work/nf" --frames 0
 shrink "$work/nf/nightfall_0000.png" "$dest/nightfall.png" 480
