@@ -131,8 +131,16 @@ film_spiral() {
     { cat "$work/log" >&2; exit 1; }
   strip "$work/strip.png" 160 "$(frames_of "$work/sp" spiral-faceon 31)" "$(frames_of "$work/sp" spiral-edgeon 31)"
   shrink "$work/strip.png" "$dest/film-spiral.png" 970
-  video "$scene" "$work/sp" 31 faceon spiral-faceon
-  video "$scene" "$work/sp" 31 edgeon spiral-edgeon
+  # Side by side, as the paper shows them: each frame's two views pasted
+  # into one picture, under the face-on view's name in another folder, so
+  # `orrery video --view faceon` encodes the pairs.
+  mkdir -p "$work/side"
+  local k
+  for k in $(seq 0 30); do
+    side_by_side "$work/sp/spiral-faceon_$(printf %04d "$k").png" "$work/sp/spiral-edgeon_$(printf %04d "$k").png" \
+      "$work/side/spiral-faceon_$(printf %04d "$k").png"
+  done
+  video "$scene" "$work/side" 31 faceon spiral
 }
 
 film_futuresky() {

@@ -92,6 +92,17 @@ fi
 "$py" "$SRC/tests/cli/check_nightfall_spikes.py" nogain/nightfall_0000.fits --min-spike 10 --min-ratio 6 \
   --max-sky 3 --expect-fail >nogain.txt 2>&1 || fail "spikes without the gain: $(cat nogain.txt)"
 
+# The stars drawn one by one give the same bits on one thread and three
+# (the spike stars chosen in a fixed order, their stamps made row by row).
+for t in 1 3; do
+  OMP_NUM_THREADS=$t "$ORRERY" render "$SRC/configs/nightfall.yaml" -o threads$t -q --frames 0 \
+    --set input.model.particles=30000 --set image.width=160 --set image.height=90 || fail "render on $t threads"
+done
+"$py" -c "import sys, numpy as np; from astropy.io import fits; \
+a, b = (fits.open(p) for p in sys.argv[1:]); \
+sys.exit(0 if all(np.array_equal(a[n].data, b[n].data) for n in 'XYZ') else 'X, Y or Z differ')" \
+  threads1/nightfall_0000.fits threads3/nightfall_0000.fits || fail "thread count changed the picture"
+
 # 1/r^2 as the camera passes a star: one star at the origin, the camera on
 # a line 1 unit from it, looking at it, drawn with the Nightfall PSF (its
 # core and, the only star, its whole PSF with the gain). Its flux, Y times
