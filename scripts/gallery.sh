@@ -33,8 +33,10 @@ im = Image.open(src).convert("RGB")
 if im.width > width:
     im = im.resize((width, round(im.height * width / im.width)), Image.LANCZOS)
 im.save(dst, optimize=True)
-if os.path.getsize(dst) > 150 * 1024:  # starry pictures compress badly: 256 colours instead
-    im.quantize(256, dither=Image.Dither.NONE).save(dst, optimize=True)
+for colours in (256, 128, 64):  # starry pictures compress badly: fewer colours instead
+    if os.path.getsize(dst) <= 150 * 1024:
+        break
+    im.quantize(colours, dither=Image.Dither.NONE).save(dst, optimize=True)
 size = os.path.getsize(dst)
 if size > 150 * 1024:
     os.remove(dst)
@@ -58,14 +60,28 @@ PY
 
 render() { "$orrery" render "$@" >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }; }
 
-# strip OUT WIDTH ROWS... : frames side by side, each downscaled to WIDTH,
-# each argument ROW a comma-separated list of PNGs (rows one above another).
+# strip [--middle FRACTION] OUT WIDTH ROWS... : frames side by side, each
+# downscaled to WIDTH, each argument ROW a comma-separated list of PNGs
+# (rows one above another); with --middle, only the middle FRACTION of each
+# frame's width and height.
 strip() {
   "$py" - "$@" <<'PY'
 import sys
 from PIL import Image
-out, width, rows = sys.argv[1], int(sys.argv[2]), [r.split(",") for r in sys.argv[3:]]
-tiles = [[Image.open(p).convert("RGB") for p in row] for row in rows]
+args = sys.argv[1:]
+middle = 1.0
+if args[0] == "--middle":
+    middle, args = float(args[1]), args[2:]
+out, width, rows = args[0], int(args[1]), [r.split(",") for r in args[2:]]
+
+
+def cut(im):
+    w, h = round(im.width * middle), round(im.height * middle)
+    x, y = (im.width - w) // 2, (im.height - h) // 2
+    return im.crop((x, y, x + w, y + h))
+
+
+tiles = [[cut(Image.open(p).convert("RGB")) for p in row] for row in rows]
 tiles = [[t.resize((width, round(t.height * width / t.width)), Image.LANCZOS) for t in row] for row in tiles]
 heights = [max(t.height for t in row) for row in tiles]
 im = Image.new("RGB", (width * max(len(r) for r in tiles) + 2 * (max(len(r) for r in tiles) - 1),
@@ -86,20 +102,23 @@ frames_of() {
   echo "$list"
 }
 
-# video SCENE DIR FRAMES VIEW OUT: `orrery video` of a view's frames, at
-# most 1.5 MB, to docs/videos/OUT.mp4.
+# video SCENE DIR FRAMES VIEW OUT: `orrery video` of a view's frames to
+# docs/videos/OUT.mp4, at --crf 30, or higher (lower quality) until it is
+# at most 1.5 MB (star fields that move every frame compress badly).
 video() {
-  local scene=$1 dir=$2 frames=$3 view=$4 out=$here/docs/videos/$5.mp4
-  local args=("$scene" -o "$dir" --frames "$frames" --set animation.frames="$frames" --crf 30 --force -q
-              --out "$work/$5.mp4")
-  [ -n "$view" ] && args+=(--view "$view")
-  "$orrery" video "${args[@]}" >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
+  local scene=$1 dir=$2 frames=$3 view=$4 out=$here/docs/videos/$5.mp4 crf size=0
   mkdir -p "$here/docs/videos"
-  local size
-  size=$(stat -c %s "$work/$5.mp4")
+  for crf in 30 34 38 42; do
+    local args=("$scene" -o "$dir" --frames "$frames" --set animation.frames="$frames" --crf "$crf" --force -q
+                --out "$work/$5.mp4")
+    [ -n "$view" ] && args+=(--view "$view")
+    "$orrery" video "${args[@]}" >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
+    size=$(stat -c %s "$work/$5.mp4")
+    [ "$size" -gt $((1536 * 1024)) ] || break
+  done
   [ "$size" -le $((1536 * 1024)) ] || { echo "gallery.sh: $out would be $size bytes, over 1.5 MB" >&2; exit 1; }
   mv "$work/$5.mp4" "$out"
-  echo "wrote $out ($((size / 1024)) KB)"
+  echo "wrote $out (--crf $crf, $((size / 1024)) KB)"
 }
 
 # The films: each its short run at a small size, a strip and a video.
@@ -117,8 +136,10 @@ film_dark_universe() {
 film_nightfall() {
   echo "Nightfall: 36 frames at 960x540, 10^6 stars (the short run itself)"
   render "$here/configs/nightfall.yaml" -o "$work/nf" --jobs 2
-  strip "$work/strip.png" 320 "$(frames_of "$work/nf" nightfall 36)"
-  shrink "$work/strip.png" "$dest/film-nightfall.png" 1930
+  # the middle half of each frame at half size: a star field compresses
+  # badly, and downscaled further the spikes would be lost
+  strip --middle 0.5 "$work/strip.png" 240 "$(frames_of "$work/nf" nightfall 36)"
+  shrink "$work/strip.png" "$dest/film-nightfall.png" 1450
   video "$here/configs/nightfall.yaml" "$work/nf" 36 "" nightfall
 }
 
