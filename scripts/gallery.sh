@@ -174,9 +174,9 @@ film_futuresky() {
     --set views.dome.image.width=256 --set views.dome.image.height=256 \
     --set views.panorama.image.width=512 --set views.panorama.image.height=256 >"$work/log" 2>&1 ||
     { cat "$work/log" >&2; exit 1; }
-  strip "$work/strip.png" 256 "$(frames_of "$work/fs" futuresky-panorama 25)" \
+  strip "$work/strip.png" 200 "$(frames_of "$work/fs" futuresky-panorama 25)" \
     "$(frames_of "$work/fs" futuresky-dome 25)"
-  shrink "$work/strip.png" "$dest/film-futuresky.png" 1550
+  shrink "$work/strip.png" "$dest/film-futuresky.png" 1210
   video "$scene" "$work/fs" 25 panorama futuresky-panorama
   video "$scene" "$work/fs" 25 dome futuresky-dome
 }
