@@ -10,8 +10,8 @@
 #       of dark-universe, nightfall, spiral, futuresky (default all) its short run
 #       at a small size, a strip of 6 frames across it (docs/images/gallery/
 #       film-NAME.png) and a video made by `orrery video` (docs/videos/NAME.mp4,
-#       at most 1.5 MB); prints each film's wall time. About 25 minutes on two
-#       shared cores, most of it Future Sky's N-body run (docs/gallery.md).
+#       at most 1.5 MB); prints each film's wall time. About 80 minutes on two
+#       heavily shared cores, most of it Future Sky's N-body run (docs/gallery.md).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 orrery=${ORRERY:-$here/build/orrery}
