@@ -535,14 +535,25 @@ static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr
     return st;
 }
 
+/* A sky map's, or a flat view's given psf.fwhm, brightest stars with the
+ * whole PSF (render/sky_psf.h, render/flat_psf.h). */
+static orr_status draw_bright_stars(view_state *v, orr_error *err)
+{
+    if (!v->psf.sky)
+        return ORR_OK;
+    if (!v->psf.core)
+        return orr_sky_psf_draw(v->psf.sky, &v->sph, v->planes, v->nplanes, err);
+    orr_flat_deposit dep = {v->scene->deposit, &v->proj, v->use_sph ? &v->sph : NULL};
+    return orr_flat_psf_draw(v->psf.sky, &dep, v->psf.core, v->planes, v->nplanes, err);
+}
+
 static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, const orr_frame_input *in,
                                orr_error *err)
 {
     int keep = in && in->keep;
     orr_status st = ORR_OK;
-    for (int k = 0; k < n && !st; k++) /* a sky map's bright stars: part of the raw planes, as their cores */
-        if (views[k].psf.sky)
-            st = orr_sky_psf_draw(views[k].psf.sky, &views[k].sph, views[k].planes, views[k].nplanes, err);
+    for (int k = 0; k < n && !st; k++) /* bright stars' PSFs: part of the raw planes, as the cores */
+        st = draw_bright_stars(&views[k], err);
     charge(&views[0], ORR_STAGE_PSF);
     for (int k = 0; k < n && !st; k++) /* flux per pixel to flux per steradian (or area) */
         orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);

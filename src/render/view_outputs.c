@@ -118,7 +118,11 @@ void orr_view_add_frame_cards(const view_state *v, orr_fits_header *h)
         orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm, "[pixel] PSF FWHM");
     else if (s->psf != ORR_PSF_NONE)
         orr_fits_add_double(h, "PSFSCALE", s->psf_arcsec_per_pixel, "[arcsec/pixel] image scale for the PSF");
-    if (v->psf.sky) {
+    if (v->psf.core) {
+        orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm, "[pixel] the PSF core's FWHM");
+        orr_fits_add_double(h, "PSFMAG", v->psf.sky->rad_per_pixel, "image pixels per PSF pixel");
+        orr_fits_add_long(h, "PSFSTARS", v->psf.sky->stars_drawn, "stars drawn with the whole PSF");
+    } else if (v->psf.sky) {
         orr_fits_add_double(h, "PSFFWHM", v->psf.core_fwhm_arcmin, "[arcmin] the PSF core's FWHM on the sky");
         orr_fits_add_double(h, "PSFSKYSC", v->psf.sky->rad_per_pixel * (180.0 * 3600.0 / ORR_PI),
                             "[arcsec] one PSF pixel on the sky");

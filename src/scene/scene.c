@@ -70,6 +70,8 @@ void orr_scene_defaults(orr_scene *s)
     s->psf_file_subsample = 1;
     s->psf_arcsec_per_pixel = 0.04;
     s->psf_angle = 45.0;
+    s->psf_vane_width = 0.022; /* Hubble's (Tiny Tim's pupil tables) */
+    s->psf_spike_gain = 1.0;
     s->psf_size = 129;
     s->psf_spike_stars = 200;
     s->psf_spike_min_flux = 0.001;

@@ -181,9 +181,15 @@ typedef struct orr_scene {
     double psf_arcsec_per_pixel;   /* psf.arcsec_per_pixel: the image's pixel scale for hst and file PSFs
                                     * (default 0.04, near Hubble ACS/WFC; 0 for a file: its own pixels) */
     double psf_angle;              /* psf.angle: direction of the spikes, degrees (default 45) */
+    double psf_vane_width;         /* psf.vane_width: hst, the vanes' full width over the primary's radius
+                                    * (default 0.022, Hubble's); wider vanes, brighter and shorter spikes */
+    double psf_spike_gain;         /* psf.spike_gain: hst, the spikes' light beyond the core times this, the PSF
+                                    * renormalised (default 1: as diffraction makes them; an artist's choice) */
     int psf_size;                  /* psf.size: odd kernel side in pixels (default 129) */
     int psf_spike_stars;           /* psf.spike_stars: sky maps, hst/file: at most this many of the brightest
                                     * stars are drawn with the whole PSF, the others as its core (default 200) */
+    int psf_flat_stars;            /* a flat view with psf.kind hst or file and psf.fwhm: stars drawn as the core,
+                                    * the brightest with the whole PSF (render/flat_psf.h); set by the check */
     double psf_spike_min_flux;     /* psf.spike_min_flux: and none fainter than this fraction of the
                                     * brightest star (default 0.001) */
     int has_glow;

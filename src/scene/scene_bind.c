@@ -256,6 +256,8 @@ static const key_spec KEYS[] = {
     {.key = "psf.file_subsample", .type = K_INT, FIELD(psf_file_subsample), IRANGE(1, 64)},
     {.key = "psf.arcsec_per_pixel", .type = K_NUMBER, FIELD(psf_arcsec_per_pixel), .lo = 0, .bounds = HAS_LO},
     {.key = "psf.angle", .type = K_NUMBER, FIELD(psf_angle)},
+    {.key = "psf.vane_width", .type = K_NUMBER, FIELD(psf_vane_width), CLOSED(0.001, 0.2)},
+    {.key = "psf.spike_gain", .type = K_NUMBER, FIELD(psf_spike_gain), CLOSED(1, 1000)},
     {.key = "psf.size", .type = K_INT, FIELD(psf_size), IRANGE(3, 2047)},
     {.key = "psf.spike_stars", .type = K_INT, FIELD(psf_spike_stars), IRANGE(0, 100000)},
     {.key = "psf.spike_min_flux", .type = K_NUMBER, FIELD(psf_spike_min_flux), CLOSED(0, 1)},
