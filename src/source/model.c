@@ -22,6 +22,7 @@
 
 #include "core/vecmath.h"
 #include "source/galaxy_df.h"
+#include "source/galaxy_flat.h"
 #include "source/rng.h"
 
 /* Gravitational constant in kpc (km/s)^2 per 1e10 Msun
@@ -114,6 +115,8 @@ typedef struct galaxy {
     double disc_q;         /* Toomre Q at DISC_Q_RADIUS scale lengths, and inside it */
     gdf_potential sph;     /* the spherically averaged potential (the DF's) */
     gdf_speeds speeds[COMP_COUNT]; /* bulge and halo rows used */
+    gdf_potential disc_mono;       /* the disc's monopole alone */
+    gdf_flat bulge_flat;           /* the bulge's f(E) in the flattened potential */
     double pot_ln_rmin, pot_dln;
     double pot[POT_N]; /* spherically averaged potential, (km/s)^2 */
 } galaxy;
@@ -213,6 +216,11 @@ static double enclosed_mass(const galaxy *g, double r)
 static double gm_enclosed(double r, const void *ctx)
 {
     return MODEL_G * enclosed_mass(ctx, r);
+}
+
+static double gm_disc_sphere(double r, const void *ctx)
+{
+    return MODEL_G * disc_sphere_mass(ctx, r);
 }
 
 /* ---- disc dynamics ------------------------------------------------------ */
@@ -373,11 +381,16 @@ static double hernquist_dlnrho(double r, const void *ctx)
 /* The bulge's and the halo's speed tables from Eddington's formula for
  * their (untruncated) Hernquist densities in the whole galaxy's spherically
  * averaged potential (disc monopole, black hole and the truncated
- * components included). Returns 0 on allocation failure. */
+ * components included), and the bulge's equivalent radii in the disc's
+ * flattened potential (galaxy_flat.h; the halo, mostly far from the disc,
+ * stays spherical). Returns 0 on allocation failure. */
 static int build_sphere_dfs(galaxy *g)
 {
     gdf_potential_build(&g->sph, DF_R_MIN, DF_R_OUT * g->s.halo_rmax, gm_enclosed, g);
+    gdf_potential_build(&g->disc_mono, DF_R_MIN, DF_R_OUT * g->s.halo_rmax, gm_disc_sphere, g);
     sphere_ctx bulge = {g->s.bulge_a}, halo = {g->s.halo_a};
+    gdf_flat_disc disc = {g->s.disc_rd, g->s.disc_hz, g->g_sigma0, &g->sph, &g->disc_mono};
+    gdf_flat_build(&g->bulge_flat, &disc, 1e-2, g->s.bulge_rmax, hernquist_rho, &bulge);
     return gdf_speeds_build(&g->speeds[COMP_BULGE], &g->sph, 1e-3, g->s.bulge_rmax, hernquist_rho,
                             hernquist_dlnrho, &bulge) &&
            gdf_speeds_build(&g->speeds[COMP_HALO], &g->sph, 1e-3, g->s.halo_rmax, hernquist_rho,
@@ -690,19 +703,36 @@ static void sample_disc(const galaxy *g, orr_rng *r, particle *p)
 /* Hernquist sphere truncated at rmax: the inverse CDF r = a s / (1 - s),
  * s = sqrt(u), with u scaled to (0, F(rmax)) so no redraw is needed.
  * Isotropic direction; the speed from the component's Eddington
- * distribution function at that radius, in an isotropic direction. */
+ * distribution function at that radius, in an isotropic direction.
+ * The bulge takes its f(E) into the disc's flattened potential
+ * (galaxy_flat.h): a point drawn so is kept with probability
+ * rho(r_eq) / (bound rho(r)) (else drawn again from the particle's own
+ * sequence; about 1 in 1.3 is kept), and its speed is f's at r_eq. */
 static void sample_sphere(const galaxy *g, int comp, orr_rng *r, particle *p)
 {
     double a = comp == COMP_BULGE ? g->s.bulge_a : g->s.halo_a;
     double frac = comp == COMP_BULGE ? g->bulge_frac : g->halo_frac;
-    double sq = sqrt(orr_rng_uniform(r) * frac);
-    double rad = a * sq / (1.0 - sq);
-    double cost = 2.0 * orr_rng_uniform(r) - 1.0, sint = sqrt(fmax(0.0, 1.0 - cost * cost));
-    double phi = 2.0 * ORR_PI * orr_rng_uniform(r);
-    orr_vec3 dir = orr_v3(sint * cos(phi), sint * sin(phi), cost);
+    sphere_ctx shape = {a};
+    double rad, req;
+    orr_vec3 dir;
+    for (;;) {
+        double sq = sqrt(orr_rng_uniform(r) * frac);
+        rad = a * sq / (1.0 - sq);
+        double cost = 2.0 * orr_rng_uniform(r) - 1.0, sint = sqrt(fmax(0.0, 1.0 - cost * cost));
+        double phi = 2.0 * ORR_PI * orr_rng_uniform(r);
+        dir = orr_v3(sint * cos(phi), sint * sin(phi), cost);
+        if (comp != COMP_BULGE) {
+            req = rad;
+            break;
+        }
+        req = gdf_flat_req(&g->bulge_flat, rad, orr_v3_dot(dir, g->spin));
+        double keep = hernquist_rho(req, &shape) / (g->bulge_flat.bound * hernquist_rho(rad, &shape));
+        if (orr_rng_uniform(r) < keep)
+            break;
+    }
     p->pos = orr_v3_add(g->centre, orr_v3_scale(dir, rad));
 
-    double speed = gdf_speed(&g->speeds[comp], &g->sph, rad, orr_rng_uniform(r));
+    double speed = gdf_speed(&g->speeds[comp], &g->sph, req, orr_rng_uniform(r));
     double vcost = 2.0 * orr_rng_uniform(r) - 1.0, vsint = sqrt(fmax(0.0, 1.0 - vcost * vcost));
     double vphi = 2.0 * ORR_PI * orr_rng_uniform(r);
     orr_vec3 vdir = orr_v3(vsint * cos(vphi), vsint * sin(vphi), vcost);
