@@ -707,7 +707,7 @@ static void sample_disc(const galaxy *g, orr_rng *r, particle *p)
  * The bulge takes its f(E) into the disc's flattened potential
  * (galaxy_flat.h): a point drawn so is kept with probability
  * rho(r_eq) / (bound rho(r)) (else drawn again from the particle's own
- * sequence; about 1 in 1.3 is kept), and its speed is f's at r_eq. */
+ * sequence), and its speed is f's at r_eq. */
 static void sample_sphere(const galaxy *g, int comp, orr_rng *r, particle *p)
 {
     double a = comp == COMP_BULGE ? g->s.bulge_a : g->s.halo_a;
