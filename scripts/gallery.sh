@@ -6,6 +6,12 @@
 #   scripts/gallery.sh              # a few minutes on two cores
 #   scripts/gallery.sh --collision  # also Spiral Metamorphosis's encounter:
 #                                   # the short in-situ N-body run, ~3 more minutes
+#   scripts/gallery.sh --films [NAME...]  # the gallery of films instead: for each
+#       of dark-universe, nightfall, spiral, futuresky (default all) its short run
+#       at a small size, a strip of 6 frames across it (docs/images/gallery/
+#       film-NAME.png) and a video made by `orrery video` (docs/videos/NAME.mp4,
+#       at most 1.5 MB); prints each film's wall time. About 80 minutes on two
+#       heavily shared cores, most of it Future Sky's N-body run (docs/gallery.md).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 orrery=${ORRERY:-$here/build/orrery}
@@ -27,8 +33,10 @@ im = Image.open(src).convert("RGB")
 if im.width > width:
     im = im.resize((width, round(im.height * width / im.width)), Image.LANCZOS)
 im.save(dst, optimize=True)
-if os.path.getsize(dst) > 150 * 1024:  # starry pictures compress badly: 256 colours instead
-    im.quantize(256, dither=Image.Dither.NONE).save(dst, optimize=True)
+for colours in (256, 128, 64):  # starry pictures compress badly: fewer colours instead
+    if os.path.getsize(dst) <= 150 * 1024:
+        break
+    im.quantize(colours, dither=Image.Dither.NONE).save(dst, optimize=True)
 size = os.path.getsize(dst)
 if size > 150 * 1024:
     os.remove(dst)
@@ -51,6 +59,142 @@ PY
 }
 
 render() { "$orrery" render "$@" >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }; }
+
+# strip [--middle FRACTION] OUT WIDTH ROWS... : frames side by side, each
+# downscaled to WIDTH, each argument ROW a comma-separated list of PNGs
+# (rows one above another); with --middle, only the middle FRACTION of each
+# frame's width and height.
+strip() {
+  "$py" - "$@" <<'PY'
+import sys
+from PIL import Image
+args = sys.argv[1:]
+middle = 1.0
+if args[0] == "--middle":
+    middle, args = float(args[1]), args[2:]
+out, width, rows = args[0], int(args[1]), [r.split(",") for r in args[2:]]
+
+
+def cut(im):
+    w, h = round(im.width * middle), round(im.height * middle)
+    x, y = (im.width - w) // 2, (im.height - h) // 2
+    return im.crop((x, y, x + w, y + h))
+
+
+tiles = [[cut(Image.open(p).convert("RGB")) for p in row] for row in rows]
+tiles = [[t.resize((width, round(t.height * width / t.width)), Image.LANCZOS) for t in row] for row in tiles]
+heights = [max(t.height for t in row) for row in tiles]
+im = Image.new("RGB", (width * max(len(r) for r in tiles) + 2 * (max(len(r) for r in tiles) - 1),
+                       sum(heights) + 2 * (len(heights) - 1)))
+y = 0
+for row, h in zip(tiles, heights):
+    for k, t in enumerate(row):
+        im.paste(t, (k * (width + 2), y))
+    y += h + 2
+im.save(out)
+PY
+}
+
+# frames_of DIR NAME N: 6 frames evenly across 0..N-1, as DIR/NAME_%04d.png, comma-separated.
+frames_of() {
+  local dir=$1 name=$2 n=$3 list="" k
+  for k in 0 1 2 3 4 5; do list+="${list:+,}$dir/${name}_$(printf %04d $((k * (n - 1) / 5))).png"; done
+  echo "$list"
+}
+
+# video SCENE DIR FRAMES VIEW OUT: `orrery video` of a view's frames to
+# docs/videos/OUT.mp4, at --crf 30, or higher (lower quality) until it is
+# at most 1.5 MB (star fields that move every frame compress badly).
+video() {
+  local scene=$1 dir=$2 frames=$3 view=$4 out=$here/docs/videos/$5.mp4 crf size=0
+  mkdir -p "$here/docs/videos"
+  for crf in 30 34 38 42; do
+    local args=("$scene" -o "$dir" --frames "$frames" --set animation.frames="$frames" --crf "$crf" --force -q
+                --out "$work/$5.mp4")
+    [ -n "$view" ] && args+=(--view "$view")
+    "$orrery" video "${args[@]}" >"$work/log" 2>&1 || { cat "$work/log" >&2; exit 1; }
+    size=$(stat -c %s "$work/$5.mp4")
+    [ "$size" -gt $((1536 * 1024)) ] || break
+  done
+  [ "$size" -le $((1536 * 1024)) ] || { echo "gallery.sh: $out would be $size bytes, over 1.5 MB" >&2; exit 1; }
+  mv "$work/$5.mp4" "$out"
+  echo "wrote $out (--crf $crf, $((size / 1024)) KB)"
+}
+
+# The films: each its short run at a small size, a strip and a video.
+film_dark_universe() {
+  echo "Dark Universe: a 64^3 box evolved by the particle mesh, 48 frames at 384x202"
+  "$orrery" ics --zeldovich --grid 64 --box 100 --evolve -o "$work/du-box.hdf5" >"$work/log" 2>&1 ||
+    { cat "$work/log" >&2; exit 1; }
+  render "$here/configs/dark-universe.yaml" -o "$work/du" --jobs 2 --set input.file="$work/du-box.hdf5" \
+    --set animation.frames=48 --set image.width=384 --set image.height=202 --set psf.fwhm=1
+  strip "$work/strip.png" 192 "$(frames_of "$work/du" dark-universe 48)"
+  shrink "$work/strip.png" "$dest/film-dark-universe.png" 1160
+  video "$here/configs/dark-universe.yaml" "$work/du" 48 "" dark-universe
+}
+
+film_nightfall() {
+  echo "Nightfall: 36 frames at 960x540, 10^6 stars (the short run itself)"
+  render "$here/configs/nightfall.yaml" -o "$work/nf" --jobs 2
+  # the middle half of each frame at half size: a star field compresses
+  # badly, and downscaled further the spikes would be lost
+  strip --middle 0.5 "$work/strip.png" 240 "$(frames_of "$work/nf" nightfall 36)"
+  shrink "$work/strip.png" "$dest/film-nightfall.png" 1450
+  video "$here/configs/nightfall.yaml" "$work/nf" 36 "" nightfall
+}
+
+film_spiral() {
+  echo "Spiral Metamorphosis in-situ: 20 000 particles, 2400 steps of 2 Myr, 31 frames of 240x240 views"
+  local nbody scene=$here/configs/spiral-metamorphosis-insitu.yaml
+  nbody=$(dirname "$orrery")/examples/orrery-nbody
+  "$nbody" --particles 20000 --steps 2400 --dt 0.002 --eps 0.1 --render-every 80 --quiet --scene "$scene" \
+    --set output.dir="$work/sp" --set image.width=240 --set image.height=240 >"$work/log" 2>&1 ||
+    { cat "$work/log" >&2; exit 1; }
+  strip "$work/strip.png" 160 "$(frames_of "$work/sp" spiral-faceon 31)" "$(frames_of "$work/sp" spiral-edgeon 31)"
+  shrink "$work/strip.png" "$dest/film-spiral.png" 970
+  # Side by side, as the paper shows them: each frame's two views pasted
+  # into one picture, under the face-on view's name in another folder, so
+  # `orrery video --view faceon` encodes the pairs.
+  mkdir -p "$work/side"
+  local k
+  for k in $(seq 0 30); do
+    side_by_side "$work/sp/spiral-faceon_$(printf %04d "$k").png" "$work/sp/spiral-edgeon_$(printf %04d "$k").png" \
+      "$work/side/spiral-faceon_$(printf %04d "$k").png"
+  done
+  video "$scene" "$work/side" 31 faceon spiral
+}
+
+film_futuresky() {
+  echo "Future Sky in-situ: examples/futuresky-short.sh's run (30 000 particles, 2450 steps of 2 Myr), 25 frames,"
+  echo "  512x256 panoramas and 256x256 dome masters"
+  local nbody scene=$here/configs/futuresky-sequence.yaml
+  nbody=$(dirname "$orrery")/examples/orrery-nbody
+  "$nbody" --particles 30000 --steps 2450 --render-every 100 --dt 0.002 --eps 0.1 --quiet --scene "$scene" \
+    --set output.dir="$work/fs" --set animation.frames=25 \
+    --set views.dome.image.width=256 --set views.dome.image.height=256 \
+    --set views.panorama.image.width=512 --set views.panorama.image.height=256 >"$work/log" 2>&1 ||
+    { cat "$work/log" >&2; exit 1; }
+  strip "$work/strip.png" 200 "$(frames_of "$work/fs" futuresky-panorama 25)" \
+    "$(frames_of "$work/fs" futuresky-dome 25)"
+  shrink "$work/strip.png" "$dest/film-futuresky.png" 1210
+  video "$scene" "$work/fs" 25 panorama futuresky-panorama
+  video "$scene" "$work/fs" 25 dome futuresky-dome
+}
+
+if [ "${1:-}" = "--films" ]; then
+  shift
+  [ $# -gt 0 ] || set -- dark-universe nightfall spiral futuresky
+  for f in "$@"; do
+    start=$(date +%s)
+    case "$f" in
+      dark-universe) film_dark_universe ;; nightfall) film_nightfall ;;
+      spiral) film_spiral ;; futuresky) film_futuresky ;;
+      *) echo "gallery.sh: no film $f (dark-universe, nightfall, spiral, futuresky)" >&2; exit 2 ;;
+    esac
+    echo "$f: $(($(date +%s) - start)) s of wall-clock time"
+  done
+  exit 0
+fi
 
 echo "Future Sky (configs/futuresky.yaml), full size, downscaled, and a full-resolution detail of the dome"
 render "$here/configs/futuresky.yaml" -o "$work/fs"
@@ -87,6 +231,6 @@ render "$here/configs/dark-universe.yaml" -o "$work/du" --frames 150 --set input
   --set image.width=1024 --set image.height=540 --set psf.fwhm=1 --set colour.synthesis.white=90
 shrink "$work/du/dark-universe_0150.png" "$dest/dark-universe.png" 480
 
-echo "Nightfall (configs/nightfall.yaml): 300000 stars, frame 0 of 36"
-render "$here/configs/nightfall.yaml" -o "$work/nf" --frames 0 --set input.model.particles=300000
+echo "Nightfall (configs/nightfall.yaml): frame 0 of 36"
+render "$here/configs/nightfall.yaml" -o "$work/nf" --frames 0
 shrink "$work/nf/nightfall_0000.png" "$dest/nightfall.png" 480

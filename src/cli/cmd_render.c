@@ -56,8 +56,9 @@ static const char compose_help[] =
     "grading with --set, e.g.\n"
     "  orrery compose futuresky.yaml --set colour.synthesis.stretch=asinh\n"
     "A flat view's raw planes are taken before its PSF, which compose applies\n"
-    "as set now; a sky map's PSF is drawn into its raw planes as it renders,\n"
-    "so --set psf.* is refused for a sky map: render again to change it.\n"
+    "as set now; a sky map's PSF, and a flat view's that draws its stars one\n"
+    "by one (psf.fwhm with psf.kind hst or file), is drawn into its raw planes\n"
+    "as it renders, so --set psf.* is refused there: render again to change it.\n"
     "\n"
     "  --set KEY=VALUE   override a scene key (repeatable; applied in order)\n"
     "  -o, --output DIR  the folder the render wrote to (overrides output.dir; created if missing)\n"
@@ -369,22 +370,25 @@ static const char *key_for_view(const char *key, const char *view)
 
 /* compose re-grades a view's raw planes. A flat view's raw planes are
  * taken before its PSF, so compose convolves them with the PSF as set now;
- * a sky map's PSF is drawn star by star into the raw planes as it renders
- * (docs/psf.md), so a psf key set for compose would change nothing: it is
- * refused, with the way to get it. */
+ * a sky map's PSF, and a flat view's that draws its stars one by one, is
+ * drawn star by star into the raw planes as it renders (docs/psf.md), so a
+ * psf key set for compose would change nothing: it is refused, with the
+ * way to get it. */
 static int check_compose_sets(const run_args *a, const orr_scene_views *views)
 {
     for (int i = 0; i < a->nsets; i++)
         for (int k = 0; k < views->n; k++) {
             const char *key = key_for_view(a->sets[i], views->name[k]);
+            int sky = orr_projection_is_sky(&views->view[k].projection);
             if (!key || strncmp(key, "psf", 3) != 0 || (key[3] != '.' && key[3] != '=') ||
-                !orr_projection_is_sky(&views->view[k].projection))
+                !(sky || views->view[k].psf_flat_stars))
                 continue;
             return cli_usage_error("compose",
-                                   "--set %.*s: %s%s%sis a sky map, whose PSF is drawn into the raw planes as it "
+                                   "--set %.*s: %s%s%s%s, whose PSF is drawn into the raw planes as it "
                                    "renders, so compose cannot change it: render again with this --set",
                                    (int)strcspn(a->sets[i], "="), a->sets[i], views->name[k][0] ? "view " : "",
-                                   views->name[k], views->name[k][0] ? " " : "the scene ");
+                                   views->name[k], views->name[k][0] ? " " : "the scene ",
+                                   sky ? "is a sky map" : "draws its stars one by one (psf.fwhm with hst or file)");
         }
     return EXIT_OK;
 }

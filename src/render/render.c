@@ -36,6 +36,14 @@ orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, 
     return orr_scene_open_share(s, fields, nfields, 0, 1, out, err);
 }
 
+/* The types a reader keeps. The observer and reference particles may be of
+ * types the scene does not draw: then the reader must not drop them (the
+ * splat selects input.types itself); nor the dust (dust.types). */
+static unsigned reader_types(const orr_scene *s)
+{
+    return s->has_observer ? 0 : s->type_mask | s->dust.types;
+}
+
 orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, int nfields, int part, int nparts,
                                 orr_source **out, orr_error *err)
 {
@@ -48,8 +56,7 @@ orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, i
             snprintf(first, sizeof first, "%s", orr_scene_sequence_file(s, 0));
         else
             st = orr_sequence_pattern_path(s->seq_pattern, s->seq_first, first, sizeof first, err);
-        orr_source_options opt = {s->input_format, (size_t)s->chunk_size, s->has_observer ? 0 : s->type_mask,
-                                  fields, nfields, 0, 1};
+        orr_source_options opt = {s->input_format, (size_t)s->chunk_size, reader_types(s), fields, nfields, 0, 1};
         return st ? st : orr_source_open_file(first, &opt, out, err);
     }
     if (!s->model_name[0] && !s->input_file[0])
@@ -64,13 +71,9 @@ orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, i
     if (s->model_name[0]) {
         orr_model_params mp = {s->model_particles, s->model_seed, s->model_separation, s->model_galaxies,
                                s->model_disc_q};
-        return orr_model_source_open(&mp, (size_t)s->chunk_size, out, err);
+        return orr_model_source_open_dust(&mp, s->model_dust_particles, (size_t)s->chunk_size, out, err);
     }
-    /* The observer and reference particles may be of types the scene does
-     * not draw: then the reader must not drop them (the splat selects
-     * input.types itself). */
-    unsigned types = s->has_observer ? 0 : s->type_mask;
-    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, types, fields, nfields, part, nparts};
+    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, reader_types(s), fields, nfields, part, nparts};
     return orr_source_open_file(s->input_file, &opt, out, err);
 }
 
@@ -454,6 +457,8 @@ int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIEL
         if (p->lum.kind == ORR_POPLUM_FIELD || p->lum.kind == ORR_POPLUM_MAGNITUDE)
             add_field(fields, &nfields, p->lum.field);
     }
+    if (s->dust.types)
+        add_field(fields, &nfields, s->dust.metallicity);
     if ((s->has_observer && s->normal_types) || orr_blur_moves_particles(s)) {
         add_field(fields, &nfields, "vx");
         add_field(fields, &nfields, "vy");
@@ -530,14 +535,25 @@ static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr
     return st;
 }
 
+/* A sky map's, or a flat view's given psf.fwhm, brightest stars with the
+ * whole PSF (render/sky_psf.h, render/flat_psf.h). */
+static orr_status draw_bright_stars(view_state *v, orr_error *err)
+{
+    if (!v->psf.sky)
+        return ORR_OK;
+    if (!v->psf.core)
+        return orr_sky_psf_draw(v->psf.sky, &v->sph, v->planes, v->nplanes, err);
+    orr_flat_deposit dep = {v->scene->deposit, &v->proj, v->use_sph ? &v->sph : NULL};
+    return orr_flat_psf_draw(v->psf.sky, &dep, v->psf.core, v->planes, v->nplanes, err);
+}
+
 static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, const orr_frame_input *in,
                                orr_error *err)
 {
     int keep = in && in->keep;
     orr_status st = ORR_OK;
-    for (int k = 0; k < n && !st; k++) /* a sky map's bright stars: part of the raw planes, as their cores */
-        if (views[k].psf.sky)
-            st = orr_sky_psf_draw(views[k].psf.sky, &views[k].sph, views[k].planes, views[k].nplanes, err);
+    for (int k = 0; k < n && !st; k++) /* bright stars' PSFs: part of the raw planes, as the cores */
+        st = draw_bright_stars(&views[k], err);
     charge(&views[0], ORR_STAGE_PSF);
     for (int k = 0; k < n && !st; k++) /* flux per pixel to flux per steradian (or area) */
         orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);
@@ -632,6 +648,12 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
         st = prepare_lengths(views, n, src, par, &lengths, err);
         charge(&views[0], ORR_STAGE_LENGTHS);
     }
+    orr_dust_frame dust;
+    int have_dust = 0;
+    if (!st && s0->dust.types) {
+        st = orr_dust_view_prepare(views, n, src, par, &dust, err);
+        have_dust = !st;
+    }
     for (int k = 0; k < n && !st; k++)
         st = setup_periodic(&views[k], &src->info, err);
     if (!st)
@@ -657,6 +679,8 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     if (!in || src != in->source)
         orr_source_close(src);
     orr_lengths_free(&lengths);
+    if (have_dust)
+        orr_dust_frame_free(&dust);
     for (int k = 0; k < ready && views; k++)
         free_view(&views[k]);
     free(views);

@@ -1061,10 +1061,19 @@ static orr_status splat_chunk(view_state *views, int nviews, const orr_source *s
     orr_status st = chunk_weights(views[0].scene, src, c, xyz, w, work, err);
     charge(&views[0], ORR_STAGE_GATHER);
     memset(work->split, 0, sizeof work->split);
-    for (int k = 0; k < nviews && !st; k++)
-        st = views[k].periodic.active
-                 ? splat_chunk_periodic(&views[k], src, c, w, &work->buffers[0], work->split[0], err)
-                 : splat_view(&views[k], src, c, w, work, err);
+    for (int k = 0; k < nviews && !st; k++) {
+        const float *wv[3] = {w[0], w[1], w[2]};
+        if (views[k].dust) { /* dimmed by the dust between the view's eye and each star (dust/dust.h) */
+            const orr_mat3 *r = &views[k].world_to_camera; /* its third row: the view axis */
+            orr_dust_eye eye = {views[k].rep->camera.position, views[k].proj.kind == ORR_PROJ_ORTHOGRAPHIC,
+                                orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
+            st = orr_dust_weights(views[k].dust, &eye, c, wv, views[k].nplanes, err);
+        }
+        if (!st)
+            st = views[k].periodic.active
+                     ? splat_chunk_periodic(&views[k], src, c, wv, &work->buffers[0], work->split[0], err)
+                     : splat_view(&views[k], src, c, wv, work, err);
+    }
     double part[2] = {0.0, 0.0};
     for (int k = 0; k < MAX_LANES; k++)
         part[0] += work->split[k][0], part[1] += work->split[k][1];

@@ -118,7 +118,11 @@ void orr_view_add_frame_cards(const view_state *v, orr_fits_header *h)
         orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm, "[pixel] PSF FWHM");
     else if (s->psf != ORR_PSF_NONE)
         orr_fits_add_double(h, "PSFSCALE", s->psf_arcsec_per_pixel, "[arcsec/pixel] image scale for the PSF");
-    if (v->psf.sky) {
+    if (v->psf.core) {
+        orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm, "[pixel] the PSF core's FWHM");
+        orr_fits_add_double(h, "PSFMAG", v->psf.sky->rad_per_pixel, "image pixels per PSF pixel");
+        orr_fits_add_long(h, "PSFSTARS", v->psf.sky->stars_drawn, "stars drawn with the whole PSF");
+    } else if (v->psf.sky) {
         orr_fits_add_double(h, "PSFFWHM", v->psf.core_fwhm_arcmin, "[arcmin] the PSF core's FWHM on the sky");
         orr_fits_add_double(h, "PSFSKYSC", v->psf.sky->rad_per_pixel * (180.0 * 3600.0 / ORR_PI),
                             "[arcsec] one PSF pixel on the sky");
@@ -393,6 +397,30 @@ orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error 
     return st;
 }
 
+/* dust.extinction_plane: A_V to infinity per pixel (dust/dust.h), as
+ * NAME.extinction.fits beside the light planes, with the view's cards. */
+static orr_status write_extinction(view_state *v, orr_error *err)
+{
+    const orr_mat3 *r = &v->world_to_camera;
+    orr_dust_eye eye = {v->rep->camera.position, v->proj.kind == ORR_PROJ_ORTHOGRAPHIC,
+                        orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
+    orr_plane av = {0};
+    const char *path;
+    orr_fits_header *h = orr_calloc(1, sizeof *h, "FITS header", err);
+    orr_status st = h ? orr_dust_av_plane(v->dust, &eye, &v->proj, r, &av, err) : ORR_ERR_NOMEM;
+    if (!st) {
+        orr_view_add_frame_cards(v, h);
+        st = view_output(v, "extinction.fits", &path, err);
+    }
+    if (!st)
+        st = orr_write_fits(path, &av, 1, h, err);
+    if (!st)
+        v->rep->noutputs++;
+    orr_plane_free(&av);
+    free(h);
+    return st;
+}
+
 /* A stereo pair written as one picture (render/stereo_view.h): the right
  * eye (view k + 1 of eyes) is graded with the left eye's white level. */
 orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_views *eyes, int k, orr_error *err)
@@ -445,6 +473,8 @@ orr_status orr_view_write_outputs(view_state *v, orr_error *err)
     if (s->write_fits && (st = orr_view_write_fits_planes(v, "fits", err)))
         return st;
     if (s->write_exr && (st = write_exr(v, err)))
+        return st;
+    if (v->dust && s->dust.extinction_plane && (st = write_extinction(v, err)))
         return st;
     return orr_view_write_pictures(v, err);
 }

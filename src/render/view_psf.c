@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/vecmath.h"
 #include "post/psf.h"
 
 #define ARCMIN (3.14159265358979323846 / (180.0 * 60.0))
@@ -22,6 +23,34 @@ double orr_kernel_half_max_q(const orr_kernel *k)
     return 0.5 * (lo + hi);
 }
 
+/* psf.spike_gain: the light of the spikes, a band SPIKE_BAND PSF pixels
+ * either side of their axes, is multiplied by gain beyond two core widths
+ * from the centre, rising smoothly from 1 between one and two (no step
+ * around the core). Diffraction puts a fraction of a percent of a star's
+ * light into them, so over the unresolved light of a crowded cluster only
+ * Hubble's saturated stars show them; a gain shows them on the bright
+ * stars of a frame of modest size. The caller renormalises, so a star
+ * keeps its flux (its core dims by the light moved into the spikes). */
+#define SPIKE_BAND 1.5
+static orr_status boost_spikes(orr_image_kernel *k, double angle_deg, double gain, orr_error *err)
+{
+    double core;
+    orr_status st = orr_psf_core_fwhm(k, &core, err);
+    if (st)
+        return st;
+    const double a = angle_deg * ORR_PI / 180.0, ca = cos(a), sa = sin(a);
+    for (int j = 0; j < k->height; j++)
+        for (int i = 0; i < k->width; i++) {
+            /* (x, y) with y up, turned so the spikes lie along the axes */
+            const double x = i - k->width / 2, y = k->height / 2 - j;
+            const double u = fabs(x * ca + y * sa), v = fabs(-x * sa + y * ca);
+            const double r = hypot(x, y), ramp = fmin(fmax(r / core - 1.0, 0.0), 1.0);
+            if (fmin(u, v) <= SPIKE_BAND)
+                k->data[(size_t)j * k->width + i] *= (float)(1.0 + (gain - 1.0) * ramp);
+        }
+    return ORR_OK;
+}
+
 /* The Hubble PSF for a single-channel plane: the three colour bands'
  * kernels averaged (a flat spectrum over 400-700 nm). */
 static orr_status hst_kernel(const orr_scene *s, orr_image_kernel *out, orr_error *err)
@@ -29,6 +58,7 @@ static orr_status hst_kernel(const orr_scene *s, orr_image_kernel *out, orr_erro
     orr_psf_params p;
     orr_psf_hst_defaults(&p);
     p.pupil.angle_deg = s->psf_angle;
+    p.pupil.spider_width = s->psf_vane_width;
     p.arcsec_per_pixel = s->psf_arcsec_per_pixel > 0 ? s->psf_arcsec_per_pixel : p.arcsec_per_pixel;
     p.size = s->psf_size;
     orr_image_kernel bands[ORR_PSF_MAX_BANDS];
@@ -41,6 +71,8 @@ static orr_status hst_kernel(const orr_scene *s, orr_image_kernel *out, orr_erro
             out->data[i] += bands[b].data[i] / (float)p.nbands;
     for (int b = 0; b < p.nbands; b++)
         orr_image_kernel_free(&bands[b]);
+    if (!st && s->psf_spike_gain != 1.0)
+        st = boost_spikes(out, s->psf_angle, s->psf_spike_gain, err);
     if (!st)
         st = orr_image_kernel_normalise(out, err);
     return st;
@@ -63,7 +95,7 @@ static orr_status file_kernel(const orr_scene *s, orr_image_kernel *out, orr_err
  * guarded, as views are set up on one thread but the library may be used
  * from several). */
 typedef struct hst_key {
-    double angle, arcsec_per_pixel;
+    double angle, arcsec_per_pixel, vane_width, spike_gain;
     int size;
 } hst_key;
 
@@ -88,6 +120,8 @@ static orr_status hst_kernel_cached(const orr_scene *s, orr_image_kernel *out, o
     hst_key key;
     memset(&key, 0, sizeof key); /* compared with memcmp: no stray padding bytes */
     key.angle = s->psf_angle;
+    key.vane_width = s->psf_vane_width;
+    key.spike_gain = s->psf_spike_gain;
     key.arcsec_per_pixel = s->psf_arcsec_per_pixel;
     key.size = s->psf_size;
     orr_status st = ORR_OK;
@@ -113,13 +147,29 @@ orr_status orr_view_psf_kernel(const orr_scene *s, orr_image_kernel *out, orr_er
     return s->psf == ORR_PSF_HST ? hst_kernel_cached(s, out, err) : file_kernel(s, out, err);
 }
 
+/* Flat views given psf.fwhm: every star a Gaussian core psf.fwhm pixels
+ * wide, the brightest the whole PSF magnified to that core. */
+static orr_status flat_stars_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
+                                   orr_image_kernel *k, orr_error *err)
+{
+    orr_status st = orr_convolver_create_gaussian(&vp->core, proj->width, proj->height, s->psf_fwhm, NULL, err);
+    if (!st && !(vp->sky = orr_calloc(1, sizeof *vp->sky, "flat PSF", err)))
+        st = ORR_ERR_NOMEM;
+    if (!st)
+        st = orr_flat_psf_init(vp->sky, k, s->psf_fwhm, s->psf_spike_stars, s->psf_spike_min_flux,
+                               s->colour || s->nlayers ? 1 : 0, err);
+    return st;
+}
+
 static orr_status flat_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj, orr_error *err)
 {
     if (s->psf == ORR_PSF_GAUSSIAN)
         return orr_convolver_create_gaussian(&vp->conv, proj->width, proj->height, s->psf_fwhm, NULL, err);
     orr_image_kernel k = {0};
     orr_status st = orr_view_psf_kernel(s, &k, err);
-    if (!st)
+    if (!st && s->psf_flat_stars)
+        st = flat_stars_setup(vp, s, proj, &k, err);
+    else if (!st)
         st = orr_convolver_create(&vp->conv, proj->width, proj->height, &k, NULL, err);
     orr_image_kernel_free(&k);
     return st;
@@ -166,7 +216,8 @@ orr_status orr_view_psf_apply(orr_view_psf *vp, orr_plane *plane, orr_error *err
 void orr_view_psf_free(orr_view_psf *vp)
 {
     orr_convolver_free(vp->conv);
-    vp->conv = NULL;
+    orr_convolver_free(vp->core);
+    vp->conv = vp->core = NULL;
     if (vp->sky)
         orr_sky_psf_free(vp->sky);
     free(vp->sky);

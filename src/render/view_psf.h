@@ -6,12 +6,15 @@
  * kernel whose half-maximum width on the sky is the PSF's (core's) FWHM
  * (and a particle that has a smoothing length of its own as both, added in
  * quadrature), and with psf.kind hst or file the brightest stars are then
- * redrawn with the whole PSF in angle (render/sky_psf.h). docs/psf.md. */
+ * redrawn with the whole PSF in angle (render/sky_psf.h). A flat view given
+ * psf.fwhm with an hst or file PSF draws its stars the same way, in pixels
+ * (render/flat_psf.h). docs/psf.md. */
 #ifndef ORR_RENDER_VIEW_PSF_H
 #define ORR_RENDER_VIEW_PSF_H
 
 #include "post/convolve.h"
 #include "scene/scene.h"
+#include "render/flat_psf.h"
 #include "render/sky_psf.h"
 #include "splat/kernel.h"
 
@@ -25,10 +28,12 @@
 #define ORR_SKY_CORE_PIXELS 3.2
 
 typedef struct orr_view_psf {
-    orr_convolver *conv; /* flat views: the convolution; NULL for none */
+    orr_convolver *conv; /* flat views: the convolution; NULL for none (or stars drawn one by one) */
+    orr_convolver *core; /* flat views with hst/file and psf.fwhm: every star's core (render/flat_psf.h) */
     double h_per_r;      /* sky maps: kernel h per unit distance giving the PSF's FWHM; 0 for none */
     double core_fwhm_arcmin; /* sky maps: that FWHM, psf.fwhm_arcmin's or the automatic one */
-    orr_sky_psf *sky;    /* sky maps with an hst or file PSF: the bright stars' whole PSF; else NULL */
+    orr_sky_psf *sky;    /* sky maps with an hst or file PSF, and flat views with core: the bright stars'
+                          * whole PSF; else NULL */
 } orr_view_psf;
 
 /* Prepares the scene's PSF for a projection that has been set up; k is the

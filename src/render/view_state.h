@@ -47,6 +47,7 @@ typedef struct view_state {
     orr_plane *lane_planes;     /* lanes 1 .. nlanes-1: nplanes planes each; lane 0 is planes[] */
     orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
     struct frame_timer *timer;  /* the frame's stage timings (every view's), or NULL: not measured */
+    struct orr_dust_frame *dust; /* dust.types: the frame's dust, which dims the weights (dust/dust.h), or NULL */
 } view_state;
 
 /* A frame's stage timings and the clock reading the last stage ended at:
@@ -72,6 +73,13 @@ void orr_splat_choose_path(view_state *v);
 orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_progress_fn progress,
                            void *progress_user, orr_error *err);
 void orr_splat_free_lanes(view_state *v);
+
+/* ---- dust (dust_view.c) ---- */
+
+/* The frame's dust (dust.types) from src (on MPI ranks each process opens
+ * the whole input for it), and views[0..n).dust set to it. */
+orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, const orr_parallel *par,
+                                 struct orr_dust_frame *dust, orr_error *err);
 
 /* ---- the view's files (view_outputs.c) ---- */
 

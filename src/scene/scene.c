@@ -25,6 +25,7 @@ void orr_scene_defaults(orr_scene *s)
     s->model_mass = 5e5;
     snprintf(s->weight, sizeof s->weight, "mass");
     s->type_mask = 0x3f;
+    orr_dust_settings_defaults(&s->dust);
     s->chunk_size = 1048576;
     orr_path_defaults(&s->camera_path, ORR_PATH_KEYFRAMES);
     s->skip_nonfinite = 0;
@@ -69,6 +70,8 @@ void orr_scene_defaults(orr_scene *s)
     s->psf_file_subsample = 1;
     s->psf_arcsec_per_pixel = 0.04;
     s->psf_angle = 45.0;
+    s->psf_vane_width = 0.022; /* Hubble's (Tiny Tim's pupil tables) */
+    s->psf_spike_gain = 1.0;
     s->psf_size = 129;
     s->psf_spike_stars = 200;
     s->psf_spike_min_flux = 0.001;

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "core/vecmath.h"
+#include "dust/dust.h"
 #include "frame/path.h"
 #include "frame/projection.h"
 #include "frame/stereo.h"
@@ -48,6 +49,8 @@ typedef struct orr_scene {
     double model_w0;               /* input.model.w0: king's central potential W0 (default 7) */
     double model_core_radius;      /* input.model.core_radius: king's r0, pc (default 1) */
     double model_mass;             /* input.model.mass: king's total mass, Msun (default 5e5) */
+    long long model_dust_particles; /* input.model.dust_particles: mw-m31's dusty gas discs, type 0,
+                                    * appended after the other particles (default 0: none) */
     char weight[ORR_FIELD_NAME_MAX]; /* input.weight: "mass" or a field name (default mass) */
     unsigned type_mask;            /* input.types: list of types 0..5 to draw; bit t set (default all, 0x3f) */
     long long chunk_size;          /* input.chunk: particles per chunk (default 1048576) */
@@ -178,9 +181,15 @@ typedef struct orr_scene {
     double psf_arcsec_per_pixel;   /* psf.arcsec_per_pixel: the image's pixel scale for hst and file PSFs
                                     * (default 0.04, near Hubble ACS/WFC; 0 for a file: its own pixels) */
     double psf_angle;              /* psf.angle: direction of the spikes, degrees (default 45) */
+    double psf_vane_width;         /* psf.vane_width: hst, the vanes' full width over the primary's radius
+                                    * (default 0.022, Hubble's); wider vanes, brighter and shorter spikes */
+    double psf_spike_gain;         /* psf.spike_gain: hst, the spikes' light beyond the core times this, the PSF
+                                    * renormalised (default 1: as diffraction makes them; an artist's choice) */
     int psf_size;                  /* psf.size: odd kernel side in pixels (default 129) */
     int psf_spike_stars;           /* psf.spike_stars: sky maps, hst/file: at most this many of the brightest
                                     * stars are drawn with the whole PSF, the others as its core (default 200) */
+    int psf_flat_stars;            /* a flat view with psf.kind hst or file and psf.fwhm: stars drawn as the core,
+                                    * the brightest with the whole PSF (render/flat_psf.h); set by the check */
     double psf_spike_min_flux;     /* psf.spike_min_flux: and none fainter than this fraction of the
                                     * brightest star (default 0.001) */
     int has_glow;
@@ -210,6 +219,10 @@ typedef struct orr_scene {
     double dim_near;               /* observer.dim_near: r below this counts as this (default 0.01) */
     int camera_dim;                /* camera.dim: weights fall off as 1/r^2 from the camera (default false) */
     double camera_dim_near;        /* camera.dim_near: r below this counts as this (default 0.01) */
+
+    /* dust.* : extinction and reddening by dust particles (docs/dust.md);
+     * the settings belong to the dust stage (dust/dust.h). */
+    orr_dust_settings dust;
 
     /* animation.* : a run of frames (docs/animation.md). Shared by every view. */
     long long anim_frames;         /* animation.frames: frames in the run (default 1: a still) */

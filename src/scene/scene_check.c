@@ -29,7 +29,7 @@ static const char *const RANGE_KEYS[] = {"input.sequence.first", "input.sequence
 static orr_status check_model_keys(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     static const char *const mw_m31_only[] = {"input.model.separation", "input.model.galaxies",
-                                              "input.model.disc_q"};
+                                              "input.model.disc_q", "input.model.dust_particles"};
     static const char *const king_only[] = {"input.model.w0", "input.model.core_radius", "input.model.mass"};
     const int king = strcmp(s->model_name, "king") == 0;
     const char *const *foreign = king ? mw_m31_only : king_only;
@@ -331,21 +331,29 @@ static orr_status check_projection(const orr_scene *s, orr_error *err)
 
 /* ---- smoothing and PSF ---- */
 
-static orr_status check_psf(const orr_scene *s, const scene_marks *m, orr_error *err)
+static orr_status check_psf(orr_scene *s, const scene_marks *m, orr_error *err)
 {
     int sky = orr_projection_is_sky(&s->projection);
+    int whole = s->psf == ORR_PSF_HST || s->psf == ORR_PSF_FILE;
     if (s->psf == ORR_PSF_FILE && !s->psf_file[0])
         return scene_fail_key(s, m, "psf.kind", err, "psf.kind: file needs psf.file, a FITS PSF image");
     if (s->psf != ORR_PSF_FILE && scene_mark(m, "psf.file"))
         return scene_fail_key(s, m, "psf.file", err, "psf.file is used only with psf.kind: file");
     /* A sky map draws the brightest stars with the whole PSF, the rest as
-     * its core (docs/psf.md); a flat view convolves every star with it. */
+     * its core (docs/psf.md); so does a flat view given the core's width
+     * (psf.fwhm), else it convolves every star with the whole PSF. */
+    const char *hst_keys[2] = {"psf.vane_width", "psf.spike_gain"};
+    for (int k = 0; k < 2; k++)
+        if (s->psf != ORR_PSF_HST && scene_mark(m, hst_keys[k]))
+            return scene_fail_key(s, m, hst_keys[k], err, "%s is used only with psf.kind: hst", hst_keys[k]);
+    s->psf_flat_stars = !sky && whole && scene_mark(m, "psf.fwhm") != NULL;
     const char *spike_keys[2] = {"psf.spike_stars", "psf.spike_min_flux"};
     for (int k = 0; k < 2; k++)
-        if (scene_mark(m, spike_keys[k]) && !(sky && (s->psf == ORR_PSF_HST || s->psf == ORR_PSF_FILE)))
+        if (scene_mark(m, spike_keys[k]) && !((sky && whole) || s->psf_flat_stars))
             return scene_fail_key(s, m, spike_keys[k], err,
-                                  "%s is for sky maps with psf.kind: hst or file (a Gaussian has no spikes; a "
-                                  "flat view convolves every star with the whole PSF)",
+                                  "%s is for psf.kind: hst or file on sky maps, or on flat views with psf.fwhm "
+                                  "(the core's width in pixels); a Gaussian has no spikes, and a flat view "
+                                  "without psf.fwhm convolves every star with the whole PSF",
                                   spike_keys[k]);
     if (sky && scene_mark(m, "psf.fwhm"))
         return scene_fail_key(s, m, "psf.fwhm", err,
@@ -512,6 +520,19 @@ static orr_status record_settings(orr_scene *s, const yt_node *root, orr_error *
     return ORR_OK;
 }
 
+/* Dust: the stage's own checks, and what it cannot do yet. */
+static orr_status check_dust(const orr_scene *s, orr_error *err)
+{
+    orr_status st = orr_dust_settings_check(&s->dust, s->path, s->type_mask, err);
+    if (!st && s->dust.types && s->periodic_replicas > 1)
+        st = orr_fail(err, ORR_ERR_USAGE, "%s: dust.types with input.periodic.replicas: the dust of a replicated "
+                      "box is not replicated yet (docs/dust.md#limitations)", s->path);
+    if (!st && s->dust.types && s->dust.extinction_plane && s->projection.kind == ORR_PROJ_HEALPIX)
+        st = orr_fail(err, ORR_ERR_USAGE, "%s: dust.extinction_plane is not written for camera.projection: "
+                      "healpix yet (docs/dust.md#limitations)", s->path);
+    return st;
+}
+
 orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
 {
     scene_marks marks;
@@ -540,6 +561,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_psf(s, &marks, err);
     if (st == ORR_OK)
         st = check_colour(s, &marks, err);
+    if (st == ORR_OK)
+        st = check_dust(s, err);
     if (st == ORR_OK)
         st = check_output(s, &marks, err);
     if (st == ORR_OK)

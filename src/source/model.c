@@ -14,6 +14,7 @@
  * shared between particles. Chunk size, rewinds and the order of next()
  * calls therefore cannot change the output. */
 #include "source/model.h"
+#include "source/model_dust.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -22,6 +23,7 @@
 
 #include "core/vecmath.h"
 #include "source/galaxy_df.h"
+#include "source/galaxy_flat.h"
 #include "source/rng.h"
 
 /* Gravitational constant in kpc (km/s)^2 per 1e10 Msun
@@ -114,6 +116,8 @@ typedef struct galaxy {
     double disc_q;         /* Toomre Q at DISC_Q_RADIUS scale lengths, and inside it */
     gdf_potential sph;     /* the spherically averaged potential (the DF's) */
     gdf_speeds speeds[COMP_COUNT]; /* bulge and halo rows used */
+    gdf_potential disc_mono;       /* the disc's monopole alone */
+    gdf_flat bulge_flat;           /* the bulge's f(E) in the flattened potential */
     double pot_ln_rmin, pot_dln;
     double pot[POT_N]; /* spherically averaged potential, (km/s)^2 */
 } galaxy;
@@ -135,6 +139,8 @@ typedef struct model_state {
     block blocks[GAL_COUNT * COMP_COUNT];
     int nblocks;
     uint64_t total, next_index;
+    uint64_t dust_first;            /* the first gas particle's index (= total without gas) */
+    orr_model_dust dust;            /* the dusty gas discs (model_dust.h) */
 } model_state;
 
 /* Extra fields of every particle: velocity, the distance from its own
@@ -213,6 +219,11 @@ static double enclosed_mass(const galaxy *g, double r)
 static double gm_enclosed(double r, const void *ctx)
 {
     return MODEL_G * enclosed_mass(ctx, r);
+}
+
+static double gm_disc_sphere(double r, const void *ctx)
+{
+    return MODEL_G * disc_sphere_mass(ctx, r);
 }
 
 /* ---- disc dynamics ------------------------------------------------------ */
@@ -373,11 +384,16 @@ static double hernquist_dlnrho(double r, const void *ctx)
 /* The bulge's and the halo's speed tables from Eddington's formula for
  * their (untruncated) Hernquist densities in the whole galaxy's spherically
  * averaged potential (disc monopole, black hole and the truncated
- * components included). Returns 0 on allocation failure. */
+ * components included), and the bulge's equivalent radii in the disc's
+ * flattened potential (galaxy_flat.h; the halo, mostly far from the disc,
+ * stays spherical). Returns 0 on allocation failure. */
 static int build_sphere_dfs(galaxy *g)
 {
     gdf_potential_build(&g->sph, DF_R_MIN, DF_R_OUT * g->s.halo_rmax, gm_enclosed, g);
+    gdf_potential_build(&g->disc_mono, DF_R_MIN, DF_R_OUT * g->s.halo_rmax, gm_disc_sphere, g);
     sphere_ctx bulge = {g->s.bulge_a}, halo = {g->s.halo_a};
+    gdf_flat_disc disc = {g->s.disc_rd, g->s.disc_hz, g->g_sigma0, &g->sph, &g->disc_mono};
+    gdf_flat_build(&g->bulge_flat, &disc, 1e-2, g->s.bulge_rmax, hernquist_rho, &bulge);
     return gdf_speeds_build(&g->speeds[COMP_BULGE], &g->sph, 1e-3, g->s.bulge_rmax, hernquist_rho,
                             hernquist_dlnrho, &bulge) &&
            gdf_speeds_build(&g->speeds[COMP_HALO], &g->sph, 1e-3, g->s.halo_rmax, hernquist_rho,
@@ -616,14 +632,35 @@ static void split_particles(model_state *m)
 
 /* ---- sampling ---------------------------------------------------------- */
 
+/* How much the spheroids' part of v_c^2 = R dPhi/dR is smaller at height z
+ * than in the plane: G M_sph(<r) R^2 / r^3 - G M_sph(<R) / R, r^2 = R^2 + z^2.
+ * Inside ~3 scale heights of the centre, where the bulge dominates, a star
+ * one scale height up feels a radial pull 10% (R = 1 kpc) to 25% (0.5 kpc)
+ * weaker than in the plane; given the plane's rotation, the inner disc had
+ * too much angular momentum and lost a third of its mass inside 1 kpc in
+ * 25 Myr, taking the bulge (which sat in its potential) out with it. The
+ * disc's own pull is kept at its midplane value (it changes little within
+ * the layer, whose mass is mostly farther out than its thickness). */
+static double spheroid_vc2_drop(const galaxy *g, double R, double z)
+{
+    double r = sqrt(R * R + z * z);
+    return MODEL_G * (spheroid_mass(g, r) * R * R / (r * r * r) - spheroid_mass(g, R) / R);
+}
+
 /* A disc star's velocity at (R, z) from three unit Gaussians, in the
  * epicyclic approximation (Hernquist 1993 sec. 2.2.3; Binney & Tremaine
  * 2008 eqs. 3.100, 4.228): sigma_R from the Q profile, sigma_phi^2 =
  * sigma_R^2 kappa^2 / (4 Omega^2), and the mean rotation lagging the
  * circular speed by the asymmetric drift,
  *   vphi_mean^2 = v_c^2 + sigma_R^2 (1 - kappa^2 / (4 Omega^2) + d ln(Sigma sigma_R^2) / d ln R)
- * (the last term is -2 R / Rd where sigma_R^2 ~ Sigma),
- * clipped at 0 where the drift would exceed the rotation (near the centre). */
+ * (the last term is -2 R / Rd where sigma_R^2 ~ Sigma), v_c^2 being the
+ * circular speed at the star's height (spheroid_vc2_drop). The drift term
+ * is never let lift the mean above v_c: inside ~2 kpc, where the constant-Q
+ * sigma_R rises outward, the formula asks for 3-8 km/s more than v_c, but
+ * the Gaussians there are no equilibrium and that extra angular momentum
+ * carried 12% of the disc's mass inside 1 kpc outward in 25 Myr (3% with
+ * the mean held at v_c). The mean is clipped at 0 where the drift would
+ * exceed the rotation (near the centre). */
 static void disc_velocity(const galaxy *g, double R, double z, double gr, double gt, double gz, double *vr,
                           double *vphi, double *vz)
 {
@@ -631,7 +668,8 @@ static void disc_velocity(const galaxy *g, double R, double z, double gr, double
     double vc2 = disc_vc2(g, Rs), kappa2 = disc_kappa2(g, Rs);
     double ratio = kappa2 * Rs * Rs / (4.0 * vc2); /* kappa^2 / (4 Omega^2) */
     double sr = disc_sigma_r(g, Rs);
-    double mean2 = vc2 + sr * sr * (1.0 - ratio + disc_pressure_slope(g, Rs));
+    double drift = fmin(0.0, sr * sr * (1.0 - ratio + disc_pressure_slope(g, Rs)));
+    double mean2 = vc2 + spheroid_vc2_drop(g, Rs, z) + drift;
     *vr = sr * gr;
     *vphi = sqrt(fmax(0.0, mean2)) + sr * sqrt(ratio) * gt;
     *vz = sqrt(disc_sigma_z2(g, Rs, z)) * gz;
@@ -668,19 +706,36 @@ static void sample_disc(const galaxy *g, orr_rng *r, particle *p)
 /* Hernquist sphere truncated at rmax: the inverse CDF r = a s / (1 - s),
  * s = sqrt(u), with u scaled to (0, F(rmax)) so no redraw is needed.
  * Isotropic direction; the speed from the component's Eddington
- * distribution function at that radius, in an isotropic direction. */
+ * distribution function at that radius, in an isotropic direction.
+ * The bulge takes its f(E) into the disc's flattened potential
+ * (galaxy_flat.h): a point drawn so is kept with probability
+ * rho(r_eq) / (bound rho(r)) (else drawn again from the particle's own
+ * sequence), and its speed is f's at r_eq. */
 static void sample_sphere(const galaxy *g, int comp, orr_rng *r, particle *p)
 {
     double a = comp == COMP_BULGE ? g->s.bulge_a : g->s.halo_a;
     double frac = comp == COMP_BULGE ? g->bulge_frac : g->halo_frac;
-    double sq = sqrt(orr_rng_uniform(r) * frac);
-    double rad = a * sq / (1.0 - sq);
-    double cost = 2.0 * orr_rng_uniform(r) - 1.0, sint = sqrt(fmax(0.0, 1.0 - cost * cost));
-    double phi = 2.0 * ORR_PI * orr_rng_uniform(r);
-    orr_vec3 dir = orr_v3(sint * cos(phi), sint * sin(phi), cost);
+    sphere_ctx shape = {a};
+    double rad, req;
+    orr_vec3 dir;
+    for (;;) {
+        double sq = sqrt(orr_rng_uniform(r) * frac);
+        rad = a * sq / (1.0 - sq);
+        double cost = 2.0 * orr_rng_uniform(r) - 1.0, sint = sqrt(fmax(0.0, 1.0 - cost * cost));
+        double phi = 2.0 * ORR_PI * orr_rng_uniform(r);
+        dir = orr_v3(sint * cos(phi), sint * sin(phi), cost);
+        if (comp != COMP_BULGE) {
+            req = rad;
+            break;
+        }
+        req = gdf_flat_req(&g->bulge_flat, rad, orr_v3_dot(dir, g->spin));
+        double keep = hernquist_rho(req, &shape) / (g->bulge_flat.bound * hernquist_rho(rad, &shape));
+        if (orr_rng_uniform(r) < keep)
+            break;
+    }
     p->pos = orr_v3_add(g->centre, orr_v3_scale(dir, rad));
 
-    double speed = gdf_speed(&g->speeds[comp], &g->sph, rad, orr_rng_uniform(r));
+    double speed = gdf_speed(&g->speeds[comp], &g->sph, req, orr_rng_uniform(r));
     double vcost = 2.0 * orr_rng_uniform(r) - 1.0, vsint = sqrt(fmax(0.0, 1.0 - vcost * vcost));
     double vphi = 2.0 * ORR_PI * orr_rng_uniform(r);
     orr_vec3 vdir = orr_v3(vsint * cos(vphi), vsint * sin(vphi), vcost);
@@ -750,6 +805,35 @@ static void make_particle(const model_state *m, uint64_t index, particle *p)
     p->e0 = (float)(potential(g, rad) + 0.5 * orr_v3_dot(v, v));
 }
 
+/* The dusty gas discs (model_dust.c), appended after every other particle:
+ * each galaxy's disc frame and circular speeds handed over. */
+static void plan_dust(model_state *m, long long dust_particles)
+{
+    m->dust_first = m->total;
+    orr_model_dust_init(&m->dust, (uint64_t)dust_particles, m->params.seed);
+    for (int k = 0; k < m->ngal && dust_particles > 0; k++) {
+        const galaxy *g = &m->gal[m->gal_index[k]];
+        orr_model_dust_disc *d =
+            orr_model_dust_add(&m->dust, m->gal_index[k] == GAL_MW ? ORR_MODEL_DUST_MW : ORR_MODEL_DUST_M31);
+        d->centre = g->centre;
+        d->velocity = g->velocity;
+        d->e1 = g->e1;
+        d->e2 = g->e2;
+        d->spin = g->spin;
+        for (int i = 0; i < ORR_MODEL_DUST_VC_N; i++)
+            d->vc[i] = sqrt(disc_vc2(g, d->rmax * i / (ORR_MODEL_DUST_VC_N - 1)));
+    }
+    orr_model_dust_split(&m->dust);
+    m->total += m->dust.total;
+}
+
+static void make_gas(const model_state *m, uint64_t index, particle *p)
+{
+    orr_model_dust_make(&m->dust, index - m->dust_first, &p->pos, &p->vel, &p->mass, &p->r);
+    p->type = ORR_MODEL_TYPE_GAS;
+    p->e0 = 0.0f;
+}
+
 /* ---- the source -------------------------------------------------------- */
 
 static orr_status model_next(orr_source *src, orr_error *err)
@@ -763,7 +847,10 @@ static orr_status model_next(orr_source *src, orr_error *err)
     for (size_t k = 0; k < n; k++) {
         uint64_t index = m->next_index + k;
         particle p;
-        make_particle(m, index, &p);
+        if (index >= m->dust_first)
+            make_gas(m, index, &p);
+        else
+            make_particle(m, index, &p);
         c->x[k] = (float)p.pos.x;
         c->y[k] = (float)p.pos.y;
         c->z[k] = (float)p.pos.z;
@@ -860,8 +947,17 @@ static void fill_info(orr_source_info *info, const orr_model_params *params)
 orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_size, orr_source **out,
                                  orr_error *err)
 {
+    return orr_model_source_open_dust(params, 0, chunk_size, out, err);
+}
+
+orr_status orr_model_source_open_dust(const orr_model_params *params, long long dust_particles, size_t chunk_size,
+                                      orr_source **out, orr_error *err)
+{
     *out = NULL;
     orr_status st = check_params(params, chunk_size, err);
+    if (!st && (dust_particles < 0 || dust_particles > ORR_MODEL_PARTICLES_MAX - params->particles))
+        st = orr_fail(err, ORR_ERR_USAGE, "model: dust_particles = %lld: 0 (no dusty gas discs) to %lld",
+                      dust_particles, (long long)ORR_MODEL_PARTICLES_MAX - params->particles);
     if (st != ORR_OK)
         return st;
     orr_source *src = orr_source_new("model", "", &MODEL_OPS, sizeof(model_state), err);
@@ -875,7 +971,9 @@ orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_si
         return orr_fail(err, ORR_ERR_NOMEM, "model: out of memory building the distribution functions");
     }
     split_particles(m);
+    plan_dust(m, dust_particles);
     fill_info(&src->info, params);
+    src->info.count = (int64_t)m->total;
 
     size_t cap = (uint64_t)chunk_size < m->total ? chunk_size : (size_t)m->total;
     st = orr_chunk_alloc(&src->chunk, cap, 0, FIELD_NAMES, MODEL_FIELDS, err);

@@ -48,5 +48,10 @@ typedef struct orr_model_params {
 
 orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_size, orr_source **out,
                                  orr_error *err);
+/* The same with the dusty gas discs (source/model_dust.h): dust_particles
+ * gas particles (type 0) appended after the others; 0 gives the stream of
+ * orr_model_source_open. */
+orr_status orr_model_source_open_dust(const orr_model_params *params, long long dust_particles, size_t chunk_size,
+                                      orr_source **out, orr_error *err);
 
 #endif

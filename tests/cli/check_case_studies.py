@@ -37,6 +37,25 @@ def band(path):
     return abs(peak - (h - 1) / 2) <= 0.1 * h and share > 0.5
 
 
+def lane(dusty, clear):
+    """Future Sky with dust against without: a dark lane along the band (the
+    rows at the equator keep a smaller share of their light than rows off
+    it). Its colour is told, not checked: what light is left at the equator
+    comes mostly from near, unreddened stars (each star's reddening is
+    checked in tests/unit/test_dust.c)."""
+    yd, yc = plane(dusty, "Y"), plane(clear, "Y")
+    zd, zc = plane(dusty, "Z"), plane(clear, "Z")
+    h = yd.shape[0]
+    mid = slice(int(0.45 * h), int(0.55 * h) + 1)
+    off = np.r_[int(0.15 * h):int(0.3 * h), int(0.7 * h):int(0.85 * h)]
+    kept_mid = yd[mid].sum() / yc[mid].sum()
+    kept_off = yd[off].sum() / yc[off].sum()
+    red_d, red_c = zd[mid].sum() / yd[mid].sum(), zc[mid].sum() / yc[mid].sum()
+    print(f"lane: equator keeps {kept_mid:.3f} of its light, rows off it {kept_off:.3f}; "
+          f"Z/Y at the equator {red_d:.3f} with dust, {red_c:.3f} without")
+    return kept_mid < 0.7 * kept_off
+
+
 def moments(img):
     """Second moments (xx, yy) of an image's light about its centroid,
     x along the columns (rightward), y along the rows."""
@@ -111,7 +130,7 @@ def cameras(model, scene, *expected):
 
 
 if __name__ == "__main__":
-    checks = {"band": band, "views": views, "parallax": parallax, "cameras": cameras}
+    checks = {"band": band, "lane": lane, "views": views, "parallax": parallax, "cameras": cameras}
     if len(sys.argv) < 3 or sys.argv[1] not in checks:
         raise SystemExit(__doc__)
     sys.exit(0 if checks[sys.argv[1]](*sys.argv[2:]) else 1)

@@ -5,17 +5,21 @@ py=/usr/bin/python3
 [ -x "$py" ] || py=python3
 check="$py $SRC/tests/cli/check_case_studies.py"
 
-# Future Sky: the Milky Way band along the panorama's equator.
-"$ORRERY" render "$SRC/configs/futuresky.yaml" -o fs --set input.model.particles=30000 \
-  --set views.dome.image.width=64 --set views.dome.image.height=64 \
-  --set views.panorama.image.width=128 --set views.panorama.image.height=64 >run.out 2>run.err \
+# Future Sky: the Milky Way band along the panorama's equator (without its
+# dust), and with it a dark lane along the band.
+small="--set input.model.particles=30000 --set views.dome.image.width=64 --set views.dome.image.height=64
+  --set views.panorama.image.width=128 --set views.panorama.image.height=64"
+"$ORRERY" render "$SRC/configs/futuresky.yaml" -o fs $small --set input.model.dust_particles=0 >run.out 2>run.err \
   || fail "futuresky: $(cat run.err)"
 [ -s fs/futuresky-dome.png ] || fail "futuresky: no dome master: $(ls fs)"
 $check band fs/futuresky-panorama.fits || fail "futuresky: no band on the equator"
+"$ORRERY" render "$SRC/configs/futuresky.yaml" -o fsd $small --set input.model.dust_particles=5000 >run.out 2>run.err \
+  || fail "futuresky with dust: $(cat run.err)"
+$check lane fsd/futuresky-panorama.fits fs/futuresky-panorama.fits || fail "futuresky: no dark dust lane"
 
 # Spiral Metamorphosis: both views written; face-on round, edge-on flat and
 # horizontal; redder in the centre.
-"$ORRERY" render "$SRC/configs/spiral-metamorphosis.yaml" -o sp --set input.model.particles=30000 \
+"$ORRERY" render "$SRC/configs/spiral-metamorphosis.yaml" -o sp --set input.model.particles=30000 --set input.model.dust_particles=3000 \
   --set image.width=160 --set image.height=160 >run.out 2>run.err || fail "spiral: $(cat run.err)"
 for v in faceon edgeon; do
   [ -s sp/spiral-$v.png ] && [ -s sp/spiral-$v.fits ] || fail "spiral: view $v missing: $(ls sp)"

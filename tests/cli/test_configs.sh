@@ -20,15 +20,16 @@ smoke() {
   grep -q "AddressSanitizer\|runtime error" err.txt && fail "$scene: sanitizer report: $(cat err.txt)"
 }
 model="--set input.model.particles=100000"
-smoke fs futuresky.yaml $model --set views.dome.image.width=200 --set views.dome.image.height=200 \
+dust="--set input.model.dust_particles=5000" # the configs with dust: a few gas particles
+smoke fs futuresky.yaml $model $dust --set views.dome.image.width=200 --set views.dome.image.height=200 \
   --set views.panorama.image.width=256 --set views.panorama.image.height=128
-smoke eq futuresky.yaml $model --set views.panorama.camera.projection=equirectangular \
+smoke eq futuresky.yaml $model $dust --set views.panorama.camera.projection=equirectangular \
   --set views.dome.image.width=128 --set views.dome.image.height=128 \
   --set views.panorama.image.width=256 --set views.panorama.image.height=128
 smoke fl first-light.yaml --set image.width=256 --set image.height=256
 smoke tt text-table-perspective.yaml --set image.width=256 --set image.height=192
 smoke ao anaglyph-orbit.yaml $model --set image.width=320 --set image.height=180 --frames 60
-smoke sm spiral-metamorphosis.yaml $model --set image.width=200 --set image.height=200
+smoke sm spiral-metamorphosis.yaml $model $dust --set image.width=200 --set image.height=200
 smoke sa spiral-metamorphosis-anaglyph.yaml $model --set image.width=320 --set image.height=180
 smoke nf nightfall.yaml --set image.width=240 --set image.height=135 --frames 18
 smoke du dark-universe.yaml --set input.file="$PWD/box.hdf5" --set animation.frames=48 --frames 24 \

@@ -15,7 +15,7 @@ export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
 py=/usr/bin/python3
 [ -x "$py" ] || py=python3
 
-small="--set input.model.particles=60000 --set input.chunk=5000 -q"
+small="--set input.model.particles=60000 --set input.model.dust_particles=3000 --set input.chunk=5000 -q"
 small="$small --set views.dome.image.width=120 --set views.dome.image.height=120"
 small="$small --set views.panorama.image.width=160 --set views.panorama.image.height=80"
 # A narrow PSF core: the automatic one is 3.2 pixels of these small maps,

@@ -1,9 +1,11 @@
 # An isolated Milky Way (the model's galaxies: mw) evolved by orrery-nbody
 # for 30 steps of 2 Myr: it holds together. Energy is conserved, the disc's
 # half-mass radius and the Sun's orbit stay put, the disc thickens by less
-# than 15% (docs/nbody.md: 8.5% with this model; the former one, whose
-# inner disc was too hot, thickened by 31% in these 60 Myr and fails), and
-# the first report matches the
+# than 12% (docs/nbody.md: 7.4% with this model; 8.5% before the inner
+# disc's rotation and the bulge's flattening were fixed; the model whose
+# inner disc was too hot thickened by 31% in these 60 Myr and fails), the
+# bulge's half-mass radius grows by less than 20% (12.7% now, 16.2% before
+# those fixes), and the first report matches the
 # model as documented (z_rms of an exponential layer of 0.3 kpc is
 # sqrt(2) 0.3; the Sun 8 kpc out). Then bad parameters: errors naming them.
 source "$(dirname "$0")/lib.sh"
@@ -30,8 +32,8 @@ awk '
     if (sr0 < 7.8 || sr0 > 8.2) bad("initial Sun R " sr0)
     if (de > 5e-3 || de < -5e-3) bad("energy drift " de)
     if (rh / rh0 > 1.10 || rh / rh0 < 0.90) bad("disc half-mass radius " rh0 " -> " rh)
-    if (bh / bh0 > 1.30 || bh / bh0 < 0.80) bad("bulge half-mass radius " bh0 " -> " bh)
-    if (z / z0 > 1.15) bad("disc thickness " z0 " -> " z)
+    if (bh / bh0 > 1.20 || bh / bh0 < 0.85) bad("bulge half-mass radius " bh0 " -> " bh)
+    if (z / z0 > 1.12) bad("disc thickness " z0 " -> " z)
     if (sr < 7.0 || sr > 9.0) bad("Sun R " sr)
     if (sz > 0.5 || sz < -0.5) bad("Sun z " sz)
     exit failed }' reports.txt || fail "isolation figures: $(cat reports.txt)"

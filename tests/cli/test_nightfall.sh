@@ -4,7 +4,8 @@
 # centre; the brightest region (a 21-pixel box sum of the linear Y plane,
 # single bright stars clipped at the 95th percentile) stays at the image
 # centre; the centre outshines the border; star colours span blue
-# horizontal-branch stars to red giants. Then the scene's error checks.
+# horizontal-branch stars to red giants. Then the spikes over a black sky,
+# a star's 1/r^2 as the camera passes, and the scene's error checks.
 source "$(dirname "$0")/lib.sh"
 py=/usr/bin/python3
 [ -x "$py" ] || py=python3
@@ -68,9 +69,99 @@ for b in bad:
 sys.exit(1 if bad else 0)
 PY
 
+# Spikes over a black sky (docs/nightfall.md): at a small size with the
+# production frame's crowding (about 1.9 stars a pixel: 111 000 stars on
+# 320x180 as 10^6 on 960x540), one of the three brightest stars has spikes
+# at least 10 times the local background and 6 times the light between
+# them, 3 core widths out, and the PNG's sky median is at most 3/255, at
+# the first and the last frame. Without the spike gain the same check
+# fails: diffraction alone puts too little light in the spikes.
+if ! "$ORRERY" render "$SRC/configs/nightfall.yaml" -o spikes --set input.model.particles=111000 \
+    --set animation.frames=2 --set image.width=320 --set image.height=180 >render2.txt 2>&1; then
+  fail "render at 320x180: $(cat render2.txt)"
+fi
+for f in 0 1; do
+  "$py" "$SRC/tests/cli/check_nightfall_spikes.py" spikes/nightfall_000$f.fits --min-spike 10 --min-ratio 6 \
+    --max-sky 3 >spikes$f.txt 2>&1 || fail "frame $f of 2: $(cat spikes$f.txt)"
+done
+if ! "$ORRERY" render "$SRC/configs/nightfall.yaml" -o nogain --set input.model.particles=111000 \
+    --set animation.frames=2 --frames 0 --set image.width=320 --set image.height=180 \
+    --set psf.spike_gain=1 >render3.txt 2>&1; then
+  fail "render without the gain: $(cat render3.txt)"
+fi
+"$py" "$SRC/tests/cli/check_nightfall_spikes.py" nogain/nightfall_0000.fits --min-spike 10 --min-ratio 6 \
+  --max-sky 3 --expect-fail >nogain.txt 2>&1 || fail "spikes without the gain: $(cat nogain.txt)"
+
+# The stars drawn one by one give the same bits on one thread and three
+# (the spike stars chosen in a fixed order, their stamps made row by row).
+for t in 1 3; do
+  OMP_NUM_THREADS=$t "$ORRERY" render "$SRC/configs/nightfall.yaml" -o threads$t -q --frames 0 \
+    --set input.model.particles=30000 --set image.width=160 --set image.height=90 || fail "render on $t threads"
+done
+"$py" -c "import sys, numpy as np; from astropy.io import fits; \
+a, b = (fits.open(p) for p in sys.argv[1:]); \
+sys.exit(0 if all(np.array_equal(a[n].data, b[n].data) for n in 'XYZ') else 'X, Y or Z differ')" \
+  threads1/nightfall_0000.fits threads3/nightfall_0000.fits || fail "thread count changed the picture"
+
+# 1/r^2 as the camera passes a star: one star at the origin, the camera on
+# a line 1 unit from it, looking at it, drawn with the Nightfall PSF (its
+# core and, the only star, its whole PSF with the gain). Its flux, Y times
+# each pixel's solid angle from the WCS (solid_angle.py), falls as 1/d^2,
+# d the camera's distance in the header, to 1 % (the PSF's light beyond the
+# frame's edge is all that is lost).
+printf "x y z V BV\n0 0 0 0 0.9\n" >star.txt
+cat >pass.yaml <<YAML
+input: {file: star.txt}
+camera:
+  projection: perspective
+  fov: 40
+  dim: true
+  dim_near: 0.01
+  path: {kind: line, from: [-4, 1, 0], to: [4, 1, 0], look_at: [0, 0, 0], up: [0, 0, 1]}
+animation: {frames: 5}
+image: {width: 320, height: 180}
+deposit: cic
+psf: {kind: hst, fwhm: 1.5, spike_stars: 300, spike_gain: 40}
+colour:
+  populations:
+    - {name: stars, colour: {bv_field: BV}, luminance: {magnitude_field: V}}
+output: {name: pass}
+YAML
+"$ORRERY" render pass.yaml -o pass >render4.txt 2>&1 || fail "render of the passing star: $(cat render4.txt)"
+"$py" - pass "$SRC/tests/cli" <<'PY' || fail "a passing star's flux against 1/d^2"
+import math, sys
+import numpy as np
+from astropy.io import fits
+sys.path.insert(0, sys.argv[2])
+from solid_angle import solid_angles
+bad, rows = [], []
+for f in range(5):
+    path = f"{sys.argv[1]}/pass_{f:04d}.fits"
+    Y, hdr = fits.getdata(path, "Y").astype(float), fits.getheader(path, "Y")
+    flux = float(np.sum(Y * solid_angles(hdr)))
+    d2 = sum(hdr[k] ** 2 for k in ("CAMPOSX", "CAMPOSY", "CAMPOSZ"))
+    rows.append((f, d2, flux, flux * d2))
+ref = rows[2][3]
+for f, d2, flux, fd2 in rows:
+    print(f"frame {f}: d^2 {d2:.3f}, flux {flux:.6g}, flux d^2 / frame 2's {fd2 / ref:.4f}")
+    if abs(fd2 / ref - 1) > 0.01:
+        bad.append(f"frame {f}: flux times d^2 is {fd2 / ref:.4f} of frame 2's")
+for b in bad:
+    print(b, file=sys.stderr)
+sys.exit(1 if bad else 0)
+PY
+
 # The king model's keys are checked and named.
 expect_fail 2 "input.model.w0" out2 -- render "$SRC/configs/nightfall.yaml" -o out2 --set input.model.w0=40
 expect_fail 2 "input.model.separation.*king" out2 -- render "$SRC/configs/nightfall.yaml" -o out2 \
   --set input.model.separation=100
 expect_fail 2 "camera.dim_near" out2 -- render "$SRC/configs/nightfall.yaml" -o out2 --set camera.dim=false
+# The PSF's keys: the gain and the vanes are the generated Hubble PSF's;
+# compose cannot change a PSF drawn star by star into the raw planes.
+expect_fail 2 "psf.spike_gain is used only with psf.kind: hst" out2 -- render "$SRC/configs/nightfall.yaml" -o out2 \
+  --set psf.kind=gaussian
+expect_fail 2 "psf.vane_width is used only with psf.kind: hst" out2 -- render "$SRC/configs/text-table-perspective.yaml" \
+  -o out2 --set psf.vane_width=0.05
+expect_fail 2 "psf.spike_gain" out2 -- render "$SRC/configs/nightfall.yaml" -o out2 --set psf.spike_gain=0.5
+expect_fail 2 "draws its stars one by one" out2 -- compose "$SRC/configs/nightfall.yaml" -o out2 --set psf.spike_gain=2
 finish

@@ -69,11 +69,11 @@ done
 render sph-dome 0.9995 "observer:" "  id: 0" "  reference_id: 1" "  dim: false" \
   "camera:" "  projection: dome" "  dome_fov: 360" "image:" "  width: 201" "  height: 201" "deposit: sph"
 
-# Errors: spike stars on a flat view (which convolves every star with the
+# Errors: spike stars on a flat view without psf.fwhm (which convolves every star with the
 # whole PSF); lengths from a file without them.
 mkdir -p empty
 write_scene bad1.yaml "$table" "psf:" "  kind: hst" "  spike_stars: 10"
-expect_fail 2 "psf.spike_stars is for sky maps with psf.kind: hst or file" empty -- render bad1.yaml -o empty
+expect_fail 2 "psf.spike_stars is for psf.kind: hst or file on sky maps, or on flat views with psf.fwhm" empty -- render bad1.yaml -o empty
 write_scene bad2.yaml "$table" "deposit: sph" "smoothing:" "  lengths: file"
 expect_fail 1 "smoothing.lengths is file, but .*plummer-sphere.txt has no smoothing lengths" empty -- render bad2.yaml -o empty
 finish

@@ -1,0 +1,163 @@
+#include "dust/curve.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Cardelli, Clayton & Mathis (1989), ApJ 345, 245, eq. 3a and 3b: with
+ * x = 1/lambda in inverse microns and y = x - 1.82 (V at 0.55 micron),
+ * a(x) and b(x) are polynomials of degree 7 in y, valid for 1.1 <= x <= 3.3
+ * (303-909 nm). At y = 0 they give a = 1, b = 0 (A_V / A_V = 1), and at
+ * B's 0.44 micron a = b = 1 to 1e-4, so A_B - A_V = A_V / R_V. */
+static const double CCM_A[8] = {1.0, 0.17699, -0.50447, -0.02427, 0.72085, 0.01979, -0.77530, 0.32999};
+static const double CCM_B[8] = {0.0, 1.41338, 2.28305, 1.07233, -5.38434, -0.62251, 5.30260, -2.09002};
+
+static double poly7(const double c[8], double y)
+{
+    double s = c[7];
+    for (int k = 6; k >= 0; k--)
+        s = s * y + c[k];
+    return s;
+}
+
+double orr_ccm89(double lambda_nm, double r_v)
+{
+    const double x = 1000.0 / lambda_nm;
+    if (!(x >= 1.1 && x <= 3.3) || !(r_v > 0))
+        return NAN;
+    const double y = x - 1.82;
+    return poly7(CCM_A, y) + poly7(CCM_B, y) / r_v;
+}
+
+orr_status orr_dust_curve_ccm89(orr_dust_curve *c, double r_v, orr_error *err)
+{
+    if (!(r_v > 0) || !isfinite(r_v))
+        return orr_fail(err, ORR_ERR_USAGE, "dust.r_v = %g: R_V must be a number > 0 (3.1 is the diffuse ISM)",
+                        r_v);
+    for (int i = 0; i < ORR_DUST_CURVE_N; i++)
+        c->a[i] = orr_ccm89(ORR_DUST_CURVE_FIRST_NM + i, r_v);
+    return ORR_OK;
+}
+
+double orr_dust_curve_at(const orr_dust_curve *c, double lambda_nm)
+{
+    double u = lambda_nm - ORR_DUST_CURVE_FIRST_NM;
+    if (!(u > 0))
+        return c->a[0];
+    if (u >= ORR_DUST_CURVE_N - 1)
+        return c->a[ORR_DUST_CURVE_N - 1];
+    int i = (int)u;
+    double f = u - i;
+    return c->a[i] * (1 - f) + c->a[i + 1] * f;
+}
+
+/* ---- a curve from a file ---- */
+
+typedef struct curve_rows {
+    double *lambda, *value;
+    size_t n, cap;
+} curve_rows;
+
+static orr_status rows_push(curve_rows *r, double l, double v, orr_error *err)
+{
+    if (r->n == r->cap) {
+        size_t cap = r->cap ? 2 * r->cap : 256;
+        double *nl = realloc(r->lambda, cap * sizeof *nl);
+        if (nl)
+            r->lambda = nl;
+        double *nv = nl ? realloc(r->value, cap * sizeof *nv) : NULL;
+        if (nv)
+            r->value = nv;
+        if (!nl || !nv)
+            return orr_fail(err, ORR_ERR_NOMEM, "out of memory reading an extinction curve");
+        r->cap = cap;
+    }
+    r->lambda[r->n] = l;
+    r->value[r->n] = v;
+    r->n++;
+    return ORR_OK;
+}
+
+/* Whether the line holds only a comment or blanks. */
+static int blank_line(const char *s)
+{
+    while (*s == ' ' || *s == '\t' || *s == '\r' || *s == '\n')
+        s++;
+    return *s == '\0' || *s == '#';
+}
+
+/* One row "lambda value" (commas allowed), checked against the previous. */
+static orr_status parse_row(const char *path, int line, const char *text, const curve_rows *r, double *l,
+                            double *v, orr_error *err)
+{
+    char *end;
+    *l = strtod(text, &end);
+    const char *p = end;
+    while (*p == ' ' || *p == '\t' || *p == ',')
+        p++;
+    char *end2;
+    *v = strtod(p, &end2);
+    if (end == text || end2 == p)
+        return orr_fail(err, ORR_ERR_FORMAT, "%s:%d: dust.curve: expected two numbers, wavelength (nm) and "
+                        "A_lambda/A_V", path, line);
+    if (!isfinite(*l) || !isfinite(*v) || *v < 0 || *l <= 0)
+        return orr_fail(err, ORR_ERR_FORMAT, "%s:%d: dust.curve: wavelength %g nm, A_lambda/A_V %g: values must "
+                        "be finite, wavelengths > 0 and A_lambda/A_V >= 0", path, line, *l, *v);
+    if (r->n > 0 && !(*l > r->lambda[r->n - 1]))
+        return orr_fail(err, ORR_ERR_FORMAT, "%s:%d: dust.curve: wavelength %g nm after %g nm: wavelengths must "
+                        "increase strictly", path, line, *l, r->lambda[r->n - 1]);
+    if (r->n > 0 && *l - r->lambda[r->n - 1] > ORR_DUST_CURVE_MAX_GAP_NM)
+        return orr_fail(err, ORR_ERR_FORMAT, "%s:%d: dust.curve: a gap from %g to %g nm (rows may be at most %g nm "
+                        "apart)", path, line, r->lambda[r->n - 1], *l, ORR_DUST_CURVE_MAX_GAP_NM);
+    return ORR_OK;
+}
+
+static orr_status read_rows(FILE *fp, const char *path, curve_rows *r, orr_error *err)
+{
+    char buf[512];
+    int line = 0;
+    while (fgets(buf, sizeof buf, fp)) {
+        line++;
+        if (blank_line(buf))
+            continue;
+        double l, v;
+        orr_status st = parse_row(path, line, buf, r, &l, &v, err);
+        if (!st)
+            st = rows_push(r, l, v, err);
+        if (st)
+            return st;
+    }
+    if (ferror(fp))
+        return orr_fail(err, ORR_ERR_IO, "%s: dust.curve: read error", path);
+    return ORR_OK;
+}
+
+static double rows_at(const curve_rows *r, double l)
+{
+    size_t i = 1;
+    while (i < r->n - 1 && r->lambda[i] < l)
+        i++;
+    double f = (l - r->lambda[i - 1]) / (r->lambda[i] - r->lambda[i - 1]);
+    return r->value[i - 1] + f * (r->value[i] - r->value[i - 1]);
+}
+
+orr_status orr_dust_curve_load(orr_dust_curve *c, const char *path, orr_error *err)
+{
+    FILE *fp = fopen(path, "r");
+    if (!fp)
+        return orr_fail(err, ORR_ERR_IO, "%s: dust.curve: cannot open: %s", path, strerror(errno));
+    curve_rows r = {0};
+    orr_status st = read_rows(fp, path, &r, err);
+    fclose(fp);
+    if (!st && (r.n < 2 || r.lambda[0] > ORR_DUST_CURVE_FIRST_NM || r.lambda[r.n - 1] < ORR_DUST_CURVE_LAST_NM))
+        st = orr_fail(err, ORR_ERR_FORMAT, "%s: dust.curve: the rows cover %g-%g nm; they must cover %d-%d nm (the "
+                      "colour-matching functions' range)", path, r.n ? r.lambda[0] : 0.0,
+                      r.n ? r.lambda[r.n - 1] : 0.0, ORR_DUST_CURVE_FIRST_NM, ORR_DUST_CURVE_LAST_NM);
+    for (int i = 0; i < ORR_DUST_CURVE_N && !st; i++)
+        c->a[i] = rows_at(&r, ORR_DUST_CURVE_FIRST_NM + i);
+    free(r.lambda);
+    free(r.value);
+    return st;
+}
