@@ -136,28 +136,16 @@ static orr_status decode_rows(orr_source *src, npy_state *st, orr_chunk *c, size
     return s;
 }
 
+static orr_status npy_block(orr_source *src, size_t k, orr_error *err)
+{
+    orr_status s = read_rows(src, src->state, k, err);
+    return s ? s : decode_rows(src, src->state, &src->chunk, k, err);
+}
+
 static orr_status npy_next(orr_source *src, orr_error *err)
 {
     npy_state *st = src->state;
-    orr_chunk *c = &src->chunk;
-    if (st->row < st->share.lo[0])
-        st->row = st->share.lo[0];
-    c->first_index = (uint64_t)st->row;
-    while (c->n < c->capacity && st->row < st->share.hi[0]) {
-        size_t k = c->capacity - c->n;
-        if (k > st->block)
-            k = st->block;
-        if ((int64_t)k > st->share.hi[0] - st->row)
-            k = (size_t)(st->share.hi[0] - st->row);
-        orr_status s = read_rows(src, st, k, err);
-        if (!s)
-            s = decode_rows(src, st, c, k, err);
-        if (s)
-            return s;
-        c->n += k;
-        st->row += (int64_t)k;
-    }
-    return ORR_OK;
+    return npy_fill_chunk(src, &st->share, st->block, &st->row, npy_block, err);
 }
 
 static orr_status npy_rewind(orr_source *src, orr_error *err)

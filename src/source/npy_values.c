@@ -212,3 +212,25 @@ void npy_defaults(const orr_source_info *info, int has_mass, orr_chunk *c, size_
             c->type[at + i] = 0;
     }
 }
+
+orr_status npy_fill_chunk(orr_source *src, const orr_share *share, size_t block, int64_t *row,
+                          npy_block_fn read_block, orr_error *err)
+{
+    orr_chunk *c = &src->chunk;
+    if (*row < share->lo[0])
+        *row = share->lo[0];
+    c->first_index = (uint64_t)*row;
+    while (c->n < c->capacity && *row < share->hi[0]) {
+        size_t k = c->capacity - c->n;
+        if (k > block)
+            k = block;
+        if ((int64_t)k > share->hi[0] - *row)
+            k = (size_t)(share->hi[0] - *row);
+        orr_status s = read_block(src, k, err);
+        if (s)
+            return s;
+        c->n += k;
+        *row += (int64_t)k;
+    }
+    return ORR_OK;
+}

@@ -9,6 +9,7 @@
 #include <stdint.h>
 
 #include "source/npy_header.h"
+#include "source/share.h"
 #include "source/source.h"
 
 /* What each column becomes. */
@@ -48,6 +49,14 @@ size_t npy_copy_native_floats(const npy_column *col, int role, const unsigned ch
 
 /* Mass 1 (when has_mass is 0), ids from the row and type 0 where the file
  * gives none, for k particles from at on, the first of row `row`. */
+/* Reads one block of k rows into chunk rows c->n .. c->n + k - 1. */
+typedef orr_status (*npy_block_fn)(orr_source *src, size_t k, orr_error *err);
+
+/* Fills src's chunk from *row on with the rows of the share, in blocks of
+ * at most `block` rows each read by read_block (both numpy readers). */
+orr_status npy_fill_chunk(orr_source *src, const orr_share *share, size_t block, int64_t *row,
+                          npy_block_fn read_block, orr_error *err);
+
 void npy_defaults(const orr_source_info *info, int has_mass, orr_chunk *c, size_t at, size_t k, int64_t row);
 
 #endif

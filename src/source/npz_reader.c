@@ -292,26 +292,15 @@ static orr_status read_block(orr_source *src, npz_state *st, orr_chunk *c, size_
     return s;
 }
 
+static orr_status npz_block(orr_source *src, size_t k, orr_error *err)
+{
+    return read_block(src, src->state, &src->chunk, k, err);
+}
+
 static orr_status npz_next(orr_source *src, orr_error *err)
 {
     npz_state *st = src->state;
-    orr_chunk *c = &src->chunk;
-    if (st->row < st->share.lo[0])
-        st->row = st->share.lo[0];
-    c->first_index = (uint64_t)st->row;
-    while (c->n < c->capacity && st->row < st->share.hi[0]) {
-        size_t k = c->capacity - c->n;
-        if (k > st->block)
-            k = st->block;
-        if ((int64_t)k > st->share.hi[0] - st->row)
-            k = (size_t)(st->share.hi[0] - st->row);
-        orr_status s = read_block(src, st, c, k, err);
-        if (s)
-            return s;
-        c->n += k;
-        st->row += (int64_t)k;
-    }
-    return ORR_OK;
+    return npy_fill_chunk(src, &st->share, st->block, &st->row, npz_block, err);
 }
 
 static orr_status npz_rewind(orr_source *src, orr_error *err)
