@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/cie_data.h"
+#include "core/vecmath.h"
 
 /* ---- names ------------------------------------------------------------------ */
 
@@ -140,15 +141,8 @@ static int bb_lookup_ln(double ln_t, orr_cmf cmf, double xyz[3])
         xyz[0] = xyz[1] = xyz[2] = 0;
         return 0;
     }
-    double u = (ln_t - t->ln_tmin) * t->inv_step;
-    if (u < 0)
-        u = 0;
-    if (u > BB_N - 1)
-        u = BB_N - 1;
-    int i = (int)u;
-    if (i > BB_N - 2)
-        i = BB_N - 2;
-    double f = u - i;
+    double f;
+    const int i = orr_table_cell((ln_t - t->ln_tmin) * t->inv_step, BB_N, &f);
     xyz[0] = t->xz[i][0] + f * (t->xz[i + 1][0] - t->xz[i][0]);
     xyz[1] = 1;
     xyz[2] = t->xz[i][1] + f * (t->xz[i + 1][1] - t->xz[i][1]);

@@ -12,6 +12,22 @@ typedef struct { double x, y, z; } orr_vec3;
 typedef struct { double m[3][3]; } orr_mat3;
 typedef struct { double w, x, y, z; } orr_quat;
 
+/* A table of n >= 2 entries read at fractional position u: u is clamped to
+ * [0, n - 1]; returns the cell i (0 .. n - 2) and sets *frac = u - i, the
+ * weight of entry i + 1 in a linear interpolation. */
+static inline int orr_table_cell(double u, int n, double *frac)
+{
+    if (u < 0)
+        u = 0;
+    if (u > n - 1)
+        u = n - 1;
+    int i = (int)u;
+    if (i > n - 2)
+        i = n - 2;
+    *frac = u - i;
+    return i;
+}
+
 static inline orr_vec3 orr_v3(double x, double y, double z) { return (orr_vec3){x, y, z}; }
 static inline orr_vec3 orr_v3_add(orr_vec3 a, orr_vec3 b) { return orr_v3(a.x + b.x, a.y + b.y, a.z + b.z); }
 static inline orr_vec3 orr_v3_sub(orr_vec3 a, orr_vec3 b) { return orr_v3(a.x - b.x, a.y - b.y, a.z - b.z); }

@@ -6,6 +6,7 @@
 
 #include "core/cie_data.h"
 #include "core/colourimetry.h"
+#include "core/vecmath.h"
 
 /* The second radiation constant hc/k in nm K (CODATA 2018). */
 #define C2_NM_K 1.438776877e7
@@ -137,15 +138,8 @@ void orr_dust_redden_apply(const orr_dust_redden *r, double tau, float xyz[3])
             xyz[k] *= grey;
         return;
     }
-    double v = (log((double)xyz[2] / xyz[1]) - r->rho0) * r->inv_drho;
-    if (v < 0)
-        v = 0;
-    if (v > ORR_DUST_REDDEN_ROWS - 1)
-        v = ORR_DUST_REDDEN_ROWS - 1;
-    int i = (int)v;
-    if (i > ORR_DUST_REDDEN_ROWS - 2)
-        i = ORR_DUST_REDDEN_ROWS - 2;
-    const double f = v - i;
+    double f;
+    const int i = orr_table_cell((log((double)xyz[2] / xyz[1]) - r->rho0) * r->inv_drho, ORR_DUST_REDDEN_ROWS, &f);
     const size_t per_row = 3 * (size_t)ORR_DUST_TAU_COLS;
     double a[3], b[3];
     row_at(r->lnt + (size_t)i * per_row, tau, a);

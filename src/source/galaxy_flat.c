@@ -5,6 +5,8 @@
 
 #include <math.h>
 
+#include "core/vecmath.h"
+
 #define FLAT_PI 3.14159265358979323846
 
 /* The vertical profile exp(-|z'|/h) / (2h) averaged against exp(-k |z - z'|):
@@ -102,15 +104,9 @@ void gdf_flat_build(gdf_flat *t, const gdf_flat_disc *d, double rmin, double rma
 
 double gdf_flat_req(const gdf_flat *t, double r, double sin_b)
 {
-    double x = (log(r) - t->ln_rmin) / t->dln;
-    x = x < 0.0 ? 0.0 : x > GDF_FLAT_NR - 1 ? GDF_FLAT_NR - 1 : x;
-    double y = sqrt(fmin(1.0, fabs(sin_b))) * (GDF_FLAT_NB - 1);
-    int i = (int)x, j = (int)y;
-    if (i > GDF_FLAT_NR - 2)
-        i = GDF_FLAT_NR - 2;
-    if (j > GDF_FLAT_NB - 2)
-        j = GDF_FLAT_NB - 2;
-    double fx = x - i, fy = y - j;
+    double fx, fy;
+    const int i = orr_table_cell((log(r) - t->ln_rmin) / t->dln, GDF_FLAT_NR, &fx);
+    const int j = orr_table_cell(sqrt(fmin(1.0, fabs(sin_b))) * (GDF_FLAT_NB - 1), GDF_FLAT_NB, &fy);
     double v = (1 - fx) * ((1 - fy) * t->ln_ratio[i][j] + fy * t->ln_ratio[i][j + 1]) +
                fx * ((1 - fy) * t->ln_ratio[i + 1][j] + fy * t->ln_ratio[i + 1][j + 1]);
     return r * exp(v);
