@@ -91,7 +91,7 @@ def test_young_blue_old_red_and_brighter(tmp_path, cli, stars):
     in_right = (pos[:, 0] >= 0.1) & (pos[:, 0] < 2.0)
     assert in_left.sum() > 1000 and in_right.sum() > 1000
     measured = (y[:, left].sum() / np.count_nonzero(in_left)) / (y[:, right].sum() / np.count_nonzero(in_right))
-    assert measured == pytest.approx(expected, rel=1e-3)
+    assert measured == pytest.approx(expected, rel=1e-6)
     # The Python package, given the same arrays and time, gives the same planes.
     image = orrery.Scene(SCENE).render(pos, mass, np.arange(1, len(pos) + 1),
                                        fields={"StellarFormationTime": birth, "Metallicities": metals},
