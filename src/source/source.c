@@ -59,6 +59,25 @@ int orr_source_wants_field(const orr_source_options *opt, const char *name)
     return 0;
 }
 
+int orr_field_split_column(const char *field, char *name, size_t size, int *column)
+{
+    size_t len = strlen(field);
+    if (len == 0 || len >= size)
+        return 0;
+    snprintf(name, size, "%s", field);
+    *column = -1;
+    char *open = strchr(name, '[');
+    if (!open)
+        return 1;
+    char *end = NULL;
+    long k = open[1] >= '0' && open[1] <= '9' ? strtol(open + 1, &end, 10) : -1;
+    if (open == name || k < 0 || k > 1000000 || !end || strcmp(end, "]") != 0)
+        return 0;
+    *open = '\0';
+    *column = (int)k;
+    return 1;
+}
+
 int orr_source_wants_type(const orr_source_options *opt, int type)
 {
     return !opt || opt->type_mask == 0 || (type >= 0 && type < 32 && (opt->type_mask & (1u << type)));
