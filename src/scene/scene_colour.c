@@ -149,12 +149,13 @@ static orr_status bind_ssp(const scene_at *at, const yt_node *n, orr_pop_colour 
             st = get_name(&c, e->value, col->field, sizeof col->field);
         } else if (strcmp(e->key, "clock") == 0) {
             char word[32] = "", list[64];
-            int v;
+            int v = ORR_SSP_CLOCK_AGE;
             st = get_name(&c, e->value, word, sizeof word);
             if (!st && !orr_named_value(orr_ssp_clock_names, word, &v))
                 st = scene_fail_at(at->err, c.origin, c.line, "%s: expected one of: %s, got '%s'", c.path,
                                    orr_named_list(orr_ssp_clock_names, list, sizeof list), word);
-            ssp->clock = (orr_ssp_clock)v;
+            if (!st)
+                ssp->clock = (orr_ssp_clock)v;
         } else if (strcmp(e->key, "unit_yr") == 0) {
             st = scene_get_number(&c, e->value, &ssp->unit_yr);
         } else if (strcmp(e->key, "now") == 0) {

@@ -637,14 +637,7 @@ static int block_available(const gadget_state *st, gadget_block_kind k, orr_erro
 /* The fields every Gadget file may give without a named block. */
 static int standard_field(const char *name)
 {
-    static const char *const own[] = {"x", "y", "z", "mass", "h", "id", "type"};
-    for (size_t i = 0; i < sizeof own / sizeof own[0]; i++)
-        if (strcmp(name, own[i]) == 0)
-            return 1;
-    for (int x = 0; x < X_COUNT; x++)
-        if (strcmp(name, extra_field_names[x]) == 0)
-            return 1;
-    return 0;
+    return orr_field_is_own(name) || orr_field_in_list(name, extra_field_names, X_COUNT);
 }
 
 /* "AGE NHP Z": the named blocks of the snapshot's first part that has any. */

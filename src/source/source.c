@@ -59,6 +59,20 @@ int orr_source_wants_field(const orr_source_options *opt, const char *name)
     return 0;
 }
 
+int orr_field_in_list(const char *name, const char *const *names, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (strcmp(name, names[i]) == 0)
+            return 1;
+    return 0;
+}
+
+int orr_field_is_own(const char *name)
+{
+    static const char *const own[] = {"x", "y", "z", "mass", "h", "id", "type"};
+    return orr_field_in_list(name, own, (int)(sizeof own / sizeof own[0]));
+}
+
 int orr_field_split_column(const char *field, char *name, size_t size, int *column)
 {
     size_t len = strlen(field);

@@ -4,7 +4,9 @@ a synthetic EAGLE/AREPO-style snapshot whose StellarFormationTime holds
 formation scale factors. The truth is independent of orrery's code: the
 formation scale factors of stars 125.9 Myr and 7.943 Gyr old come from
 astropy's cosmology, and the expected brightness ratio from the V
-magnitudes of those two grid points, quoted from the table's source file."""
+magnitudes of those two grid points, quoted from the table's source file.
+The snapshot is written SWIFT style (7 types, Time a 1-element array) with
+EAGLE's dataset names."""
 import json
 
 import numpy as np
@@ -12,6 +14,7 @@ import pytest
 
 import orrery
 from conftest import cli_render
+from test_hdf5_fields import write_stars  # a SWIFT-style snapshot of stars: Time, PartType4
 
 h5py = pytest.importorskip("h5py")
 cosmology = pytest.importorskip("astropy.cosmology")
@@ -39,21 +42,6 @@ def formation_scale_factor(age_yr):
     c = cosmology.FlatLambdaCDM(H0=70, Om0=0.3, Tcmb0=0)
     z = cosmology.z_at_value(c.age, c.age(0) - age_yr * units.yr)
     return float(1 / (1 + z))
-
-
-def write_stars(path, pos, mass, birth_a, metals, time=1.0):
-    n = len(pos)
-    with h5py.File(path, "w") as f:
-        h = f.create_group("Header")
-        h.attrs["NumPart_ThisFile"] = np.array([0, 0, 0, 0, n, 0], dtype=np.int64)
-        h.attrs["MassTable"] = np.zeros(6)
-        h.attrs["Time"] = time
-        g = f.create_group("PartType4")
-        g["Coordinates"] = pos
-        g["Masses"] = mass
-        g["ParticleIDs"] = np.arange(1, n + 1, dtype=np.uint64)
-        g["StellarFormationTime"] = birth_a
-        g["Metallicities"] = metals
 
 
 def render(cli, tmp_path, scene, snapshot):

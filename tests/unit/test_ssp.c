@@ -8,6 +8,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "test_chunk.h"
 #include "core/ssp.h"
 #include "core/ssp_data.h"
 #include "particles/population.h"
@@ -129,25 +130,21 @@ static void test_cosmic_time(void)
 enum { AGE, Z, NFIELDS };
 static const char *const field_names[NFIELDS] = {"age", "Z"};
 
+/* n stars (type 4) of mass 2, age 0 and Z = 0.0152. */
 static orr_chunk make_chunk(size_t n)
 {
-    orr_chunk c;
-    orr_error err;
-    if (orr_chunk_alloc(&c, n, 0, field_names, NFIELDS, &err) != ORR_OK) {
-        fprintf(stderr, "cannot allocate a chunk: %s\n", err.msg);
-        exit(1);
-    }
-    c.n = n;
+    orr_chunk c = test_chunk(n, field_names, NFIELDS);
     for (size_t i = 0; i < n; i++) {
-        c.x[i] = c.y[i] = c.z[i] = 0;
         c.mass[i] = 2;
-        c.id[i] = i + 1;
         c.type[i] = 4;
-        c.extra[AGE].data[i] = 0;
         c.extra[Z].data[i] = 0.0152f;
     }
     return c;
 }
+
+/* Starts s afresh with p (ssp_population of the clock) added, after
+ * setting unit_yr. */
+static void ssp_set(orr_population_set *s, orr_population *p, orr_ssp_clock clock, double unit_yr);
 
 static void ssp_population(orr_population *p, orr_ssp_clock clock)
 {
@@ -159,6 +156,15 @@ static void ssp_population(orr_population *p, orr_ssp_clock clock)
     p->lum.kind = ORR_POPLUM_SSP;
 }
 
+static void ssp_set(orr_population_set *s, orr_population *p, orr_ssp_clock clock, double unit_yr)
+{
+    orr_error err;
+    orr_population_set_init(s, 1);
+    ssp_population(p, clock);
+    p->colour.ssp.unit_yr = unit_yr;
+    CHECK(orr_population_add(s, p, &err) == ORR_OK);
+}
+
 static double xof(float X, float Y, float Zc) { return X / (X + Y + Zc); }
 
 static void test_population_ages(void)
@@ -166,10 +172,7 @@ static void test_population_ages(void)
     orr_population_set s;
     orr_population p;
     orr_error err;
-    orr_population_set_init(&s, 1);
-    ssp_population(&p, ORR_SSP_CLOCK_AGE);
-    p.colour.ssp.unit_yr = 1e9; /* ages in Gyr */
-    CHECK(orr_population_add(&s, &p, &err) == ORR_OK);
+    ssp_set(&s, &p, ORR_SSP_CLOCK_AGE, 1e9); /* ages in Gyr */
     orr_chunk c = make_chunk(3);
     c.extra[AGE].data[0] = 0.05f; /* 50 Myr */
     c.extra[AGE].data[1] = 10.0f; /* 10 Gyr */
@@ -200,10 +203,7 @@ static void test_population_clocks(void)
     /* Formation times in Myr, now from the snapshot (10 050 Myr). */
     orr_population_set s;
     orr_population p;
-    orr_population_set_init(&s, 1);
-    ssp_population(&p, ORR_SSP_CLOCK_TIME);
-    p.colour.ssp.unit_yr = 1e6;
-    CHECK(orr_population_add(&s, &p, &err) == ORR_OK);
+    ssp_set(&s, &p, ORR_SSP_CLOCK_TIME, 1e6);
     c.extra[AGE].data[0] = 10000.0f;
     c.extra[AGE].data[1] = 50.0f;
     CHECK(orr_population_assign_at(&s, 10050.0, &c, 0, 2, -1, NULL, X, Y, Zc, &err) == ORR_OK);
