@@ -18,7 +18,6 @@ Needs numpy and h5py only:
 import argparse
 import os
 
-import h5py
 import numpy as np
 
 H, OMEGA_M = 0.7, 0.3
@@ -62,6 +61,8 @@ def galaxy(rng, n_bulge=80_000, n_disc=300_000, n_arms=12_000):
 
 
 def main():
+    import h5py  # only to write the file: the notebook imports galaxy() without it
+
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", default=".", help="folder for aged_galaxy.hdf5")
     args = p.parse_args()
