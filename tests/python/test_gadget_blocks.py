@@ -34,11 +34,11 @@ def header(npart, massarr, num_files, total, time=0.5):
     return h.ljust(256, b"\0")
 
 
-def write_part(path, npart, massarr, pos, mass, ids, named, num_files=1, total=None):
+def write_part(path, npart, massarr, pos, mass, ids, named, num_files=1, total=None, time=0.5):
     """One SnapFormat 2 file: HEAD POS VEL ID MASS, then the named blocks
     {label: float32 array} in order."""
     with open(path, "wb") as f:
-        f.write(block("HEAD", header(npart, massarr, num_files, total or npart)))
+        f.write(block("HEAD", header(npart, massarr, num_files, total or npart, time)))
         f.write(block("POS", pos.astype("<f4").tobytes()))
         f.write(block("VEL", np.zeros_like(pos, dtype="<f4").tobytes()))
         f.write(block("ID", ids.astype("<u4").tobytes()))
@@ -184,3 +184,31 @@ def test_snapformat1_has_no_labels(tmp_path, cli):
     make = os.path.join(os.environ.get("ORRERY_SOURCE_DIR", "."), "tests", "cli", "make_snapshot.py")
     subprocess.run([sys.executable, make, "gadget", str(tmp_path / "f1")], check=True)
     assert "a SnapFormat 1 file has no block labels" in render_error(cli, tmp_path, tmp_path / "f1", "AGE")
+
+
+def test_gadget_ages_colour_stars(tmp_path, cli):
+    """A SnapFormat 2 snapshot at a = 1 whose AGE block holds the stars'
+    formation scale factors (Gadget-2 with its stellar-age flag): through
+    the SSP colours, stars born at a = 0.99 (left) are blue, those born at
+    a = 0.3 (right) red."""
+    n_gas, n_stars = 7, 200
+    npart = [n_gas, 0, 0, 0, n_stars, 0]
+    rng = np.random.default_rng(3)
+    pos = np.zeros((n_gas + n_stars, 3), dtype=np.float32)
+    pos[:, :2] = rng.uniform(0.5, GRID - 0.5, (n_gas + n_stars, 2))
+    left = pos[n_gas:, 0] < GRID / 2
+    birth = np.where(left, 0.99, 0.3)
+    write_part(tmp_path / "stars", npart, [0] * 6, pos, np.full(n_gas + n_stars, 0.01),
+               np.arange(1, n_gas + n_stars + 1), {"AGE": birth}, time=1.0)
+    scene = dict(SCENE, colour={"populations": [
+        {"name": "stars", "select": {"types": [4]},
+         "colour": {"ssp": {"field": "AGE", "clock": "scale_factor", "metallicity": 0.0152}},
+         "luminance": {"ssp": 1.0}}]})
+    scene_file = tmp_path / "scene.yaml"
+    scene_file.write_text(json.dumps(scene))
+    cli_render(cli, scene_file, tmp_path / "stars", tmp_path / "out")
+    with fits.open(tmp_path / "out" / "blocks.fits") as f:
+        x, y, z = (h.data.astype(np.float64) for h in f)
+    half = GRID // 2
+    xy = lambda s: x[:, s].sum() / (x[:, s] + y[:, s] + z[:, s]).sum()
+    assert xy(slice(0, half)) < 0.30 < 0.33 < xy(slice(half, GRID))
