@@ -59,14 +59,14 @@ def test_missing_dataset_lists_those_there(tmp_path, cli):
         assert run.returncode != 0 and message in run.stderr, run.stderr
 
 
-def write_stars(path, pos, mass, birth, metals):
+def write_stars(path, pos, mass, birth, metals, time=1.0):
     """A SWIFT-style snapshot of stars (PartType4) with their birth times."""
     n = len(pos)
     with h5py.File(path, "w") as f:
         h = f.create_group("Header")
         h.attrs["NumPart_ThisFile"] = np.array([0, 0, 0, 0, n, 0, 0], dtype=np.int64)
         h.attrs["MassTable"] = np.zeros(7)
-        h.attrs["Time"] = np.array([1.0])
+        h.attrs["Time"] = np.array([time])
         g = f.create_group("PartType4")
         g["Coordinates"] = pos
         g["Masses"] = mass
