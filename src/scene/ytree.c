@@ -544,7 +544,7 @@ orr_status yt_merge(yt_node *dst, const yt_node *src, orr_error *err)
     return ORR_OK;
 }
 
-/* ---- the tree as settings lines ---- */
+/* ---- writing the tree as text ---- */
 
 /* Appends text to a growing buffer; a failed allocation leaves ok = 0. */
 typedef struct text_buf {
@@ -574,65 +574,7 @@ static void put(text_buf *b, const char *text)
     b->len += n;
 }
 
-/* A value on one line: a scalar's text, [a, b] for a list, {k: v} for a
- * mapping inside a list. */
-static void put_inline(text_buf *b, const yt_node *n)
-{
-    if (n->kind == YT_SCALAR) {
-        put(b, n->text);
-        return;
-    }
-    put(b, n->kind == YT_SEQUENCE ? "[" : "{");
-    for (size_t i = 0; i < n->n; i++) {
-        if (i)
-            put(b, ", ");
-        if (n->kind == YT_MAPPING) {
-            put(b, n->entries[i].key);
-            put(b, ": ");
-        }
-        put_inline(b, n->kind == YT_SEQUENCE ? n->items[i] : n->entries[i].value);
-    }
-    put(b, n->kind == YT_SEQUENCE ? "]" : "}");
-}
-
-static void put_lines(text_buf *b, const yt_node *map, const char *prefix)
-{
-    for (size_t i = 0; i < map->n; i++) {
-        const yt_entry *e = &map->entries[i];
-        size_t len = strlen(prefix) + strlen(e->key) + 2;
-        char *key = malloc(len);
-        if (!key) {
-            b->ok = 0;
-            return;
-        }
-        snprintf(key, len, "%s%s%s", prefix, prefix[0] ? "." : "", e->key);
-        if (e->value->kind == YT_MAPPING && e->value->n > 0) {
-            put_lines(b, e->value, key);
-        } else {
-            put(b, key);
-            put(b, "=");
-            put_inline(b, e->value);
-            put(b, "\n");
-        }
-        free(key);
-    }
-}
-
-char *yt_settings_text(const yt_node *root, orr_error *err)
-{
-    text_buf b = {NULL, 0, 0, 1};
-    put(&b, "");
-    if (root && root->kind == YT_MAPPING)
-        put_lines(&b, root, "");
-    if (!b.ok) {
-        free(b.text);
-        orr_fail(err, ORR_ERR_NOMEM, "out of memory for the scene's settings text");
-        return NULL;
-    }
-    return b.text;
-}
-
-/* ---- the tree as a YAML document ---- */
+/* ---- scalars as YAML reads them back (yt_yaml_text) ---- */
 
 /* Whether text reads back as the same plain scalar wherever it stands (a
  * key, a value, a flow list): letters, digits and punctuation without YAML
@@ -687,11 +629,16 @@ static void put_key(text_buf *b, const char *key)
         put_quoted(b, key);
 }
 
-/* A value in flow style: [a, b], {key: value}. */
-static void put_flow(text_buf *b, const yt_node *n)
+/* A value on one line: a scalar, [a, b] for a list, {k: v} for a mapping
+ * inside a list; scalars and keys as their text (quote = 0, the settings
+ * lines) or as YAML reads them back (quote = 1, yt_yaml_text). */
+static void put_inline(text_buf *b, const yt_node *n, int quote)
 {
     if (n->kind == YT_SCALAR) {
-        put_scalar(b, n);
+        if (quote)
+            put_scalar(b, n);
+        else
+            put(b, n->text);
         return;
     }
     put(b, n->kind == YT_SEQUENCE ? "[" : "{");
@@ -699,13 +646,55 @@ static void put_flow(text_buf *b, const yt_node *n)
         if (i)
             put(b, ", ");
         if (n->kind == YT_MAPPING) {
-            put_key(b, n->entries[i].key);
+            if (quote)
+                put_key(b, n->entries[i].key);
+            else
+                put(b, n->entries[i].key);
             put(b, ": ");
         }
-        put_flow(b, n->kind == YT_SEQUENCE ? n->items[i] : n->entries[i].value);
+        put_inline(b, n->kind == YT_SEQUENCE ? n->items[i] : n->entries[i].value, quote);
     }
     put(b, n->kind == YT_SEQUENCE ? "]" : "}");
 }
+
+static void put_lines(text_buf *b, const yt_node *map, const char *prefix)
+{
+    for (size_t i = 0; i < map->n; i++) {
+        const yt_entry *e = &map->entries[i];
+        size_t len = strlen(prefix) + strlen(e->key) + 2;
+        char *key = malloc(len);
+        if (!key) {
+            b->ok = 0;
+            return;
+        }
+        snprintf(key, len, "%s%s%s", prefix, prefix[0] ? "." : "", e->key);
+        if (e->value->kind == YT_MAPPING && e->value->n > 0) {
+            put_lines(b, e->value, key);
+        } else {
+            put(b, key);
+            put(b, "=");
+            put_inline(b, e->value, 0);
+            put(b, "\n");
+        }
+        free(key);
+    }
+}
+
+char *yt_settings_text(const yt_node *root, orr_error *err)
+{
+    text_buf b = {NULL, 0, 0, 1};
+    put(&b, "");
+    if (root && root->kind == YT_MAPPING)
+        put_lines(&b, root, "");
+    if (!b.ok) {
+        free(b.text);
+        orr_fail(err, ORR_ERR_NOMEM, "out of memory for the scene's settings text");
+        return NULL;
+    }
+    return b.text;
+}
+
+/* ---- the tree as a YAML document ---- */
 
 /* A mapping in block style, its entries indent spaces in; mappings below
  * it nest, lists stay on one line. */
@@ -723,7 +712,7 @@ static void put_block(text_buf *b, const yt_node *map, int indent)
             continue;
         }
         put(b, " ");
-        put_flow(b, e->value);
+        put_inline(b, e->value, 1);
         put(b, "\n");
     }
 }

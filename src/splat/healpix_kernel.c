@@ -44,34 +44,28 @@ static double ring_of_z(int64_t nside, double z)
 
 void orr_healpix_scratch_free(orr_healpix_scratch *s)
 {
-    free(s->pixel);
-    free(s->weight);
-    s->pixel = NULL;
-    s->weight = NULL;
+    free(s->share);
+    s->share = NULL;
     s->n = s->room = 0;
 }
 
-/* Adds wt to pixel: to the last entry when it is the same pixel (a kernel's
- * sub-pixels come in runs along a ring). 0 when out of memory. */
+/* Adds wt to pixel: to the last share when it is the same pixel (a
+ * kernel's sub-pixels come in runs along a ring). 0 when out of memory. */
 static int scratch_add(orr_healpix_scratch *s, int64_t pixel, double wt)
 {
-    if (s->n && s->pixel[s->n - 1] == pixel) {
-        s->weight[s->n - 1] += wt;
+    if (s->n && s->share[s->n - 1].pixel == pixel) {
+        s->share[s->n - 1].weight += wt;
         return 1;
     }
     if (s->n == s->room) {
         size_t room = s->room ? 2 * s->room : 256;
-        int64_t *p = realloc(s->pixel, room * sizeof *p);
-        if (p)
-            s->pixel = p;
-        double *w = p ? realloc(s->weight, room * sizeof *w) : NULL;
-        if (!w)
+        orr_healpix_share *grown = realloc(s->share, room * sizeof *grown);
+        if (!grown)
             return 0;
-        s->weight = w;
+        s->share = grown;
         s->room = room;
     }
-    s->pixel[s->n] = pixel;
-    s->weight[s->n++] = wt;
+    s->share[s->n++] = (orr_healpix_share){pixel, wt};
     return 1;
 }
 
@@ -193,13 +187,13 @@ int orr_healpix_kernel_deposit(const orr_healpix_target *t, const double dir[3],
             return 0;
     double sum = 0.0;
     for (size_t k = 0; k < scratch->n; k++)
-        sum += scratch->weight[k];
+        sum += scratch->share[k].weight;
     if (!(sum > 0)) {
         point_deposit(t, dir, w);
         return 1;
     }
     const double scale = (double)w / sum;
     for (size_t k = 0; k < scratch->n; k++)
-        t->data[scratch->pixel[k]] += (float)(scale * scratch->weight[k]);
+        t->data[scratch->share[k].pixel] += (float)(scale * scratch->share[k].weight);
     return 1;
 }

@@ -44,9 +44,13 @@ orr_healpix_ring orr_healpix_ring_at(int64_t nside, int64_t i);
 
 /* What a deposit collects for one particle before it is scaled: the map
  * pixels and their weights. One per thread; zeroed is empty. */
+typedef struct orr_healpix_share {
+    int64_t pixel;
+    double weight;
+} orr_healpix_share;
+
 typedef struct orr_healpix_scratch {
-    int64_t *pixel;
-    double *weight;
+    orr_healpix_share *share;
     size_t n, room;
 } orr_healpix_scratch;
 

@@ -8,7 +8,6 @@ two-view scene, its raw planes, a HEALPix map and a tile-compressed file.
 `orrery compose` still reads raw planes that carry the SCENE HDU.
 usage: check_fits_scene.py ORRERY WORKDIR"""
 import os
-import shutil
 import subprocess
 import warnings
 
@@ -21,12 +20,25 @@ from check_lib import Checks
 check = Checks()
 orrery, work = check.orrery, check.work
 
-SCENE = ("input:\n  model:\n    name: mw-m31\n    particles: 20000\n  types: [2, 3]\n"
-         "camera:\n  position: [-32, 46, 0]\n"
-         "output:\n  dir: out\n  png: false\n  bunit: 10**10 solMass\n"
-         "views:\n  dome:\n    camera: {projection: dome}\n    image: {width: 96, height: 96}\n"
-         "    output: {raw: true}\n"
-         "  sky:\n    camera: {projection: healpix, healpix_nside: 8}\n    deposit: ngp\n")
+SCENE = """\
+input:
+  model: {name: mw-m31, particles: 20000}
+  types: [2, 3]
+camera:
+  position: [-32, 46, 0]
+output:
+  dir: out
+  png: false
+  bunit: 10**10 solMass
+views:
+  dome:
+    camera: {projection: dome}
+    image: {width: 96, height: 96}
+    output: {raw: true}
+  sky:
+    camera: {projection: healpix, healpix_nside: 8}
+    deposit: ngp
+"""
 
 
 def render(folder, scene, *sets):
