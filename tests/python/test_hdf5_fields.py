@@ -28,7 +28,7 @@ def cli_planes(cli, tmp_path, scene, snapshot, *sets):
     scene_file.write_text(json.dumps(scene))
     cli_render(cli, scene_file, snapshot, tmp_path / "cli", *sets)
     with fits.open(tmp_path / "cli" / f"{scene['output']['name']}.fits") as f:
-        return [np.flipud(h.data).astype(np.float32) for h in f]
+        return [np.flipud(h.data).astype(np.float32) for h in f if h.name != "SCENE"]  # the planes, not the scene
 
 
 @pytest.mark.parametrize("field, column", [("Pressures", None), ("MagneticFluxDensities[2]", 2)])
