@@ -24,27 +24,31 @@ static orr_vec3 chunk_velocity(const orr_chunk *c, size_t i)
     return vx && vy && vz ? orr_v3(vx[i], vy[i], vz[i]) : orr_v3(0, 0, 0);
 }
 
+/* The observer and reference particles among a chunk's. */
+static void mark_chunk(const orr_scene *s, const orr_chunk *c, markers *m)
+{
+    for (size_t i = 0; i < c->n; i++) {
+        orr_vec3 p = orr_v3(c->x[i], c->y[i], c->z[i]);
+        if (c->id[i] == s->observer_id) {
+            m->observer = p;
+            m->observer_velocity = chunk_velocity(c, i);
+            m->have_observer = 1;
+        } else if (c->id[i] == s->reference_id) {
+            m->reference = p;
+            m->have_reference = 1;
+        }
+    }
+}
+
 /* One pass over the source for the observer and reference particles. */
 static orr_status find_markers(const orr_scene *s, orr_source *src, markers *m, orr_error *err)
 {
     memset(m, 0, sizeof *m);
-    for (;;) {
-        const orr_chunk *c;
-        orr_status st = orr_source_next(src, &c, err);
-        if (st || c->n == 0)
-            return st;
-        for (size_t i = 0; i < c->n; i++) {
-            orr_vec3 p = orr_v3(c->x[i], c->y[i], c->z[i]);
-            if (c->id[i] == s->observer_id) {
-                m->observer = p;
-                m->observer_velocity = chunk_velocity(c, i);
-                m->have_observer = 1;
-            } else if (c->id[i] == s->reference_id) {
-                m->reference = p;
-                m->have_reference = 1;
-            }
-        }
-    }
+    const orr_chunk *c;
+    orr_status st;
+    while (!(st = orr_source_next(src, &c, err)) && c->n > 0)
+        mark_chunk(s, c, m);
+    return st;
 }
 
 /* The disc normal from the spin of the chosen particles within
