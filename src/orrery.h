@@ -80,7 +80,9 @@ typedef struct orrery_renderer orrery_renderer;
 /* Creates a renderer for a scene file (every view it has: dome masters,
  * panoramas, flat cameras, stereo), with "key=value" overrides as
  * `orrery render --set` takes them. The scene's input.* keys are ignored:
- * the particles come from orrery_render. On failure *out is NULL and msg
+ * the particles come from orrery_render. The scene is planned here, once
+ * for the run (projections, kernels, PSF, FFT plans), and every
+ * orrery_render executes the plan. On failure *out is NULL and msg
  * (msg_size bytes, may be 0) holds the reason. */
 int orrery_open(orrery_renderer **out, const char *scene_path, const char *const *overrides, int noverrides,
                 char *msg, size_t msg_size);

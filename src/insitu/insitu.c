@@ -12,6 +12,7 @@
 #include "insitu/insitu_internal.h"
 #include "insitu/kept_images.h"
 #include "render/animation.h"
+#include "render/plan.h"
 #include "render/render.h"
 #include "scene/scene.h"
 #include "source/arrays.h"
@@ -29,6 +30,10 @@ struct orrery_renderer {
     const char *outputs[ORR_SCENE_MAX_VIEWS * ORR_RENDER_MAX_OUTPUTS];
     int keep;             /* orrery_keep_images */
     orr_kept_images kept; /* ... the last frame's images */
+    /* Made by orrery_open, executed by every orrery_render: the views'
+     * projections, kernels, PSFs and sky indices are made once for the
+     * simulation's run (render/plan.h). */
+    orr_plan *plan;
 };
 
 static double now_seconds(void)
@@ -55,6 +60,7 @@ static int finish_open(orrery_renderer *r, orr_status st, orrery_renderer **out,
     if (msg && msg_size)
         snprintf(msg, msg_size, "%s", st ? r->err.msg : "");
     if (st) {
+        orr_plan_destroy(r->plan);
         free(r);
         return (int)st;
     }
@@ -84,6 +90,11 @@ static int open_common(orrery_renderer **out, const char *path, const char *yaml
         orr_remove_stale_temporaries(r->views.view[k].out_dir); /* a killed simulation's last frame */
     }
     free(all);
+    const orr_scene *list[ORR_SCENE_MAX_VIEWS];
+    for (int k = 0; k < r->views.n; k++)
+        list[k] = &r->views.view[k];
+    if (!st)
+        st = orr_plan_create(&r->plan, list, r->views.n, ORR_PLAN_RENDER, &r->err);
     return finish_open(r, st, out, msg, msg_size);
 }
 
@@ -156,7 +167,7 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
         double t_last = s0->has_anim_time ? s0->anim_time[1] : p->time;
         orr_frame_input in = {orr_frame_at(frame, nframes, s0->anim_fps, t_first, t_last), src,
                               r->has_parallel ? &r->parallel : NULL, r->keep ? orr_kept_add : NULL, &r->kept};
-        st = orr_render_frame(list, r->views.n, &in, r->reports, NULL, NULL, &r->err);
+        st = orr_plan_execute(r->plan, list, &in, r->reports, NULL, NULL, &r->err);
     }
     orr_source_close(src);
     if (st) /* a failed frame keeps nothing, not half of its views */
@@ -193,8 +204,10 @@ double orrery_render_seconds(const orrery_renderer *r) { return r ? r->seconds :
 
 void orrery_close(orrery_renderer *r)
 {
-    if (r)
+    if (r) {
         orr_kept_clear(&r->kept);
+        orr_plan_destroy(r->plan);
+    }
     free(r);
 }
 

@@ -174,23 +174,19 @@ int orr_fft_good_size(int min_size, int multiple)
     return -1;
 }
 
-/* ---- the plan cache ---------------------------------------------------------
- * Plans are made for one buffer but FFTW's new-array execute functions run
- * them on any buffer of the same geometry and alignment (every buffer here
- * comes from fftwf_alloc_complex and is transformed in place), so all
- * convolvers of one padded size and thread count share a pair of plans.
- * The list is short (one entry per geometry in use) and guarded by the
- * planner lock. */
+/* ---- the plans ----------------------------------------------------------------
+ * Each convolver owns its pair of plans: the renderer's plan (render/plan.h)
+ * makes its convolvers once per run, so the plans live as long as the run
+ * does and no process-wide list is needed. A plan is made for the
+ * convolver's work buffer (MEASURE overwrites it, so this happens before the
+ * kernel is placed there) and run with FFTW's new-array execute functions.
+ * Planning and destroying plans take the planner lock (core/fft_planner.h):
+ * FFTW's planner is not thread-safe. */
 
 typedef struct fft_plans {
-    int nx, ny, threads;
-    orr_fft_rigor rigor;
     fftwf_plan forward, inverse;
-    int refs;
-    struct fft_plans *next;
 } fft_plans;
 
-static fft_plans *plan_cache;
 static long plans_created;
 
 long orr_convolve_plans_created(void)
@@ -202,83 +198,40 @@ long orr_convolve_plans_created(void)
     return n;
 }
 
-static fft_plans *find_plans(int nx, int ny, int threads, orr_fft_rigor rigor)
+static void destroy_plans_locked(fft_plans *p)
 {
-    for (fft_plans *p = plan_cache; p; p = p->next)
-        if (p->nx == nx && p->ny == ny && p->threads == threads && p->rigor == rigor)
-            return p;
-    return NULL;
+    if (p->forward)
+        fftwf_destroy_plan(p->forward);
+    if (p->inverse)
+        fftwf_destroy_plan(p->inverse);
+    p->forward = p->inverse = NULL;
 }
 
-/* Plans an in-place r2c / c2r pair on buf (which MEASURE overwrites). */
-static fft_plans *make_plans(int nx, int ny, int threads, orr_fft_rigor rigor, fftwf_complex *buf,
+/* Plans an in-place r2c / c2r pair of nx x ny on buf, which MEASURE
+ * overwrites. */
+static orr_status make_plans(fft_plans *p, int nx, int ny, int threads, orr_fft_rigor rigor, fftwf_complex *buf,
                              orr_error *err)
-{
-    fft_plans *p = orr_calloc(1, sizeof *p, "FFT plans", err);
-    if (!p)
-        return NULL;
-    unsigned flags = rigor == ORR_FFT_MEASURE ? FFTW_MEASURE : FFTW_ESTIMATE;
-    fftwf_plan_with_nthreads(threads);
-    p->forward = fftwf_plan_dft_r2c_2d(ny, nx, (float *)buf, buf, flags);
-    p->inverse = fftwf_plan_dft_c2r_2d(ny, nx, buf, (float *)buf, flags);
-    if (!p->forward || !p->inverse) {
-        if (p->forward)
-            fftwf_destroy_plan(p->forward);
-        if (p->inverse)
-            fftwf_destroy_plan(p->inverse);
-        free(p);
-        orr_fail(err, ORR_ERR_INTERNAL, "FFTW could not plan a %d x %d transform", nx, ny);
-        return NULL;
-    }
-    p->nx = nx;
-    p->ny = ny;
-    p->threads = threads;
-    p->rigor = rigor;
-    plans_created++;
-    return p;
-}
-
-static orr_status acquire_plans(int nx, int ny, int threads, orr_fft_rigor rigor, fftwf_complex *buf,
-                                fft_plans **out, orr_error *err)
 {
     orr_status st = orr_fft_planner_lock(err);
     if (st)
         return st;
-    fft_plans *p = find_plans(nx, ny, threads, rigor);
-    if (!p) {
-        orr_error local;
-        p = make_plans(nx, ny, threads, rigor, buf, &local);
-        if (p) {
-            p->next = plan_cache;
-            plan_cache = p;
-        } else {
-            st = local.code;
-            if (err)
-                *err = local;
-        }
-    }
-    if (p)
-        p->refs++;
+    unsigned flags = rigor == ORR_FFT_MEASURE ? FFTW_MEASURE : FFTW_ESTIMATE;
+    fftwf_plan_with_nthreads(threads);
+    p->forward = fftwf_plan_dft_r2c_2d(ny, nx, (float *)buf, buf, flags);
+    p->inverse = fftwf_plan_dft_c2r_2d(ny, nx, buf, (float *)buf, flags);
+    if (p->forward && p->inverse)
+        plans_created++;
+    else
+        destroy_plans_locked(p);
     orr_fft_planner_unlock();
-    *out = p;
-    return st;
+    return p->forward ? ORR_OK : orr_fail(err, ORR_ERR_INTERNAL, "FFTW could not plan a %d x %d transform", nx, ny);
 }
 
 static void release_plans(fft_plans *p)
 {
-    if (!p || orr_fft_planner_lock(NULL))
+    if ((!p->forward && !p->inverse) || orr_fft_planner_lock(NULL))
         return;
-    if (--p->refs == 0) {
-        for (fft_plans **link = &plan_cache; *link; link = &(*link)->next) {
-            if (*link == p) {
-                *link = p->next;
-                break;
-            }
-        }
-        fftwf_destroy_plan(p->forward);
-        fftwf_destroy_plan(p->inverse);
-        free(p);
-    }
+    destroy_plans_locked(p);
     orr_fft_planner_unlock();
 }
 
@@ -292,7 +245,7 @@ struct orr_convolver {
     size_t ncomplex;             /* ny * (nx/2 + 1) */
     fftwf_complex *work;         /* in place: the real image in rows of 2 (nx/2 + 1) floats */
     fftwf_complex *spectrum;     /* the kernel's transform, divided by nx ny */
-    fft_plans *plans;
+    fft_plans plans;
     long applications;
 };
 
@@ -339,7 +292,7 @@ static void transform_kernel(orr_convolver *c, const orr_image_kernel *k)
             real[(size_t)wy * stride + (size_t)wx] = k->data[(size_t)y * (size_t)k->width + (size_t)x];
         }
     }
-    fftwf_execute_dft_r2c(c->plans->forward, real, c->work);
+    fftwf_execute_dft_r2c(c->plans.forward, real, c->work);
     /* FFTW's transforms are unnormalised: fold the 1 / (nx ny) in here. */
     float scale = (float)(1.0 / ((double)c->nx * (double)c->ny));
     for (size_t i = 0; i < c->ncomplex; i++) {
@@ -379,8 +332,7 @@ orr_status orr_convolver_create(orr_convolver **out, int width, int height, cons
         orr_convolver_free(c);
         return ORR_ERR_NOMEM;
     }
-    st = acquire_plans(c->nx, c->ny, c->threads, opt ? opt->rigor : ORR_FFT_ESTIMATE, c->work, &c->plans,
-                       err);
+    st = make_plans(&c->plans, c->nx, c->ny, c->threads, opt ? opt->rigor : ORR_FFT_ESTIMATE, c->work, err);
     if (st) {
         orr_convolver_free(c);
         return st;
@@ -468,9 +420,9 @@ orr_status orr_convolver_apply(orr_convolver *c, orr_plane *plane, orr_error *er
         return orr_fail(err, ORR_ERR_DATA, "convolution: plane %s has a non-finite value at pixel (%ld, %ld)",
                         plane->name, bad % c->width, bad / c->width);
     float *real = (float *)c->work;
-    fftwf_execute_dft_r2c(c->plans->forward, real, c->work);
+    fftwf_execute_dft_r2c(c->plans.forward, real, c->work);
     multiply_spectrum(c);
-    fftwf_execute_dft_c2r(c->plans->inverse, c->work, real);
+    fftwf_execute_dft_c2r(c->plans.inverse, c->work, real);
     store_plane(c, plane);
     c->applications++;
     return ORR_OK;
@@ -492,7 +444,7 @@ void orr_convolver_free(orr_convolver *c)
 {
     if (!c)
         return;
-    release_plans(c->plans);
+    release_plans(&c->plans);
     fftwf_free(c->work);
     fftwf_free(c->spectrum);
     free(c);

@@ -3,9 +3,9 @@
  *
  * A convolver is made once for an image size and a kernel, then applied to
  * any number of planes of that size (every frame of an animation, every
- * colour channel that uses the same kernel). Its FFTW plans come from a
- * process-wide cache keyed by the padded size and the thread count, so
- * convolvers of the same geometry share one pair of plans; planning happens
+ * colour channel that uses the same kernel). It owns its FFTW plans, made
+ * when it is created and destroyed with it (the renderer makes its
+ * convolvers once per run, in its plan: render/plan.h); planning happens
  * under a lock, because FFTW's planner is not thread-safe.
  *
  * Kernels are odd-sized images whose centre pixel is offset (0, 0); the
@@ -121,8 +121,8 @@ orr_status orr_convolve_plane(orr_plane *plane, const orr_image_kernel *k, const
                               orr_error *err);
 
 /* Number of FFTW plan pairs (forward + inverse) the convolvers have created
- * since the program started: a convolver whose geometry is already planned
- * adds none. */
+ * since the program started: one per convolver created, none per plane
+ * convolved. */
 long orr_convolve_plans_created(void);
 
 /* The smallest n >= min_size of the form 2^a 3^b 5^c 7^d that is a

@@ -14,6 +14,7 @@
 #include "core/numbers.h"
 #include "core/atomic.h"
 #include "render/frame_markers.h"
+#include "render/plan.h"
 #include "render/sequence_open.h"
 #include "source/partition.h"
 
@@ -169,9 +170,17 @@ static orr_status frame_source(const run_input *ri, const orr_frame_time *when, 
     return st;
 }
 
-static orr_status do_frame(const orr_scene *scenes, const orr_view_identity *ids, int n, long frame,
-                           const run_input *ri, const orr_animation_options *opt, orr_render_report *reports,
-                           orr_error *err)
+/* The run's plan (render/plan.h), made for the first frame that is drawn
+ * (a resumed run whose frames are all complete plans nothing) and kept for
+ * the others: the PSF, the kernels, a sky map's index are made once. */
+static orr_status run_plan(orr_plan **plan, const orr_scene *const *views, int n, int compose, orr_error *err)
+{
+    return *plan ? ORR_OK : orr_plan_create(plan, views, n, compose ? ORR_PLAN_COMPOSE : ORR_PLAN_RENDER, err);
+}
+
+static orr_status do_frame(orr_plan *plan, const orr_scene *scenes, const orr_view_identity *ids, int n,
+                           long frame, const run_input *ri, const orr_animation_options *opt,
+                           orr_render_report *reports, orr_error *err)
 {
     const orr_scene *s0 = &scenes[0];
     const orr_scene *list[ORR_SCENE_MAX_VIEWS];
@@ -185,8 +194,8 @@ static orr_status do_frame(const orr_scene *scenes, const orr_view_identity *ids
                           .parallel = opt->parallel};
     orr_status st = opt->compose ? ORR_OK : frame_source(ri, &in.time, opt->parallel, &in.source, err);
     if (!st)
-        st = opt->compose ? orr_compose_views(list, n, reports, err)
-                          : orr_render_frame(list, n, &in, reports, opt->progress, opt->progress_user, err);
+        st = opt->compose ? orr_plan_compose(plan, list, reports, err)
+                          : orr_plan_execute(plan, list, &in, reports, opt->progress, opt->progress_user, err);
     orr_source_close(in.source);
     if (st && s0->anim_frames > 1)
         return orr_fail_prefix(err, "frame %ld: ", frame);
@@ -245,6 +254,7 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
     if (!scenes)
         return ORR_ERR_NOMEM;
     orr_view_identity ids[ORR_SCENE_MAX_VIEWS] = {{0}};
+    orr_plan *plan = NULL;
     run_input ri;
     orr_status st = open_run_input(views[0], opt->compose, &ri, err);
     if (!st)
@@ -258,13 +268,16 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
         int skip = resumable && frame_complete(scenes, ids, n, why, sizeof why);
         if (resumable && (st = agree_complete(opt->parallel, &skip, err)))
             break;
-        if (!skip)
-            st = do_frame(scenes, ids, n, f, &ri, opt, reports, err);
+        if (!skip && (st = run_plan(&plan, views, n, opt->compose, err)) && nframes > 1)
+            orr_fail_prefix(err, "frame %ld: ", f);
+        if (!skip && !st)
+            st = do_frame(plan, scenes, ids, n, f, &ri, opt, reports, err);
         if (!st && !skip && !opt->compose && opt->timed)
             opt->timed(opt->timed_user, f, &reports[0].times);
         if (!st && opt->done)
             opt->done(opt->done_user, f, skip, skip || !why[0] ? NULL : why);
     }
+    orr_plan_destroy(plan);
     free_identities(ids, n);
     orr_sequence_close(ri.seq);
     free(scenes);
@@ -304,7 +317,8 @@ static double smoothed_white(const double *whites, long nframes, long f, int win
 
 /* Re-grades frame f of view s with white level `white`, from its FITS
  * planes, and records the new picture in the frame's marker. */
-static orr_status regrade_frame(const orr_scene *s, long f, double white, orr_render_report *rep, orr_error *err)
+static orr_status regrade_frame(orr_plan *plan, const orr_scene *s, long f, double white, orr_render_report *rep,
+                                orr_error *err)
 {
     orr_scene *frame = malloc(sizeof *frame);
     if (!frame)
@@ -315,7 +329,7 @@ static orr_status regrade_frame(const orr_scene *s, long f, double white, orr_re
     frame->stretch.white = white;
     const orr_scene *list[1] = {frame};
     if (!st)
-        st = orr_compose_views(list, 1, rep, err);
+        st = orr_plan_compose(plan, list, rep, err);
     orr_view_identity unused = {NULL, NULL};
     if (!st)
         st = orr_marker_write(frame, &unused, rep, 1, err);
@@ -339,9 +353,14 @@ orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr
         for (long f = 0; f < nframes && !st; f++)
             if (!(st = frame_scenes(&s, 1, f, frame, err)))
                 whites[f] = rendered_white(frame);
+        /* One plan re-grades every frame: the white level is a grading key,
+         * which the plan does not hold. */
+        orr_plan *plan = NULL;
         for (long f = 0; f < nframes && !st; f++)
-            if (isfinite(whites[f]))
-                st = regrade_frame(s, f, smoothed_white(whites, nframes, f, s->white_smoothing), &reports[k], err);
+            if (isfinite(whites[f]) && !(st = run_plan(&plan, &s, 1, 1, err)))
+                st = regrade_frame(plan, s, f, smoothed_white(whites, nframes, f, s->white_smoothing), &reports[k],
+                                   err);
+        orr_plan_destroy(plan);
         free(frame);
         free(whites);
     }

@@ -78,6 +78,14 @@ void orr_sky_psf_free(orr_sky_psf *sp)
     memset(sp, 0, sizeof *sp);
 }
 
+void orr_sky_psf_begin_frame(orr_sky_psf *sp)
+{
+    for (int lane = 0; lane < ORR_SKY_PSF_LANES; lane++)
+        sp->nlane[lane] = 0;
+    sp->nstars = 0;
+    sp->stars_drawn = 0;
+}
+
 /* ---- the brightest stars ---- */
 
 /* A star's fields as doubles (exactly: they are floats), brightness first:

@@ -58,6 +58,10 @@ orr_status orr_psf_core_fwhm(const orr_image_kernel *psf, double *fwhm_pixels, o
 orr_status orr_sky_psf_init(orr_sky_psf *sp, orr_image_kernel *psf, double core_fwhm_rad, int max_stars,
                             double min_flux, int key_plane, orr_error *err);
 void orr_sky_psf_free(orr_sky_psf *sp);
+/* Forgets the last frame's stars (the lanes' lists, the selection, the
+ * count drawn): the renderer's plan keeps sp for a whole run, and each
+ * frame collects its own stars. */
+void orr_sky_psf_begin_frame(orr_sky_psf *sp);
 
 /* Keeps the brightest visible particles of a deposited block (b as given
  * to orr_sph_deposit, w[k] the weights of plane k) in the lane's list.

@@ -5,7 +5,8 @@
 #define ORR_RENDER_TIMINGS_H
 
 typedef enum orr_stage {
-    ORR_STAGE_SETUP,   /* views, projections, PSF generation, the sky maps' index, the sky frame */
+    ORR_STAGE_SETUP,   /* the plan (projections, PSF generation, the sky maps' index: in the first frame a plan
+                        * draws) and each frame's views (cameras, the sky frame) */
     ORR_STAGE_SOURCE,  /* opening the input and reading (or generating) its chunks */
     ORR_STAGE_LENGTHS, /* smoothing lengths from the neighbours */
     ORR_STAGE_GATHER,  /* per-particle weights (colour populations), gather into the camera frame, projection */

@@ -89,21 +89,16 @@ static orr_status file_kernel(const orr_scene *s, orr_image_kernel *out, orr_err
     return orr_psf_load_fits(s->psf_file, &opt, out, NULL, err);
 }
 
-/* Generating the Hubble PSF takes 0.3-2 s, and every frame of a run and
- * every view asks for the same one: the last one made is kept, with what
- * it depends on, for the life of the process (one kernel, 66 KB for 129^2;
- * guarded, as views are set up on one thread but the library may be used
- * from several). */
-typedef struct hst_key {
-    double angle, arcsec_per_pixel, vane_width, spike_gain;
-    int size;
-} hst_key;
-
-static struct {
-    int ready;
-    hst_key key;
-    orr_image_kernel kernel;
-} hst_cache;
+/* Generating the Hubble PSF takes 0.3-2 s, and every view of a run may
+ * ask for the same one (the eyes of a stereo view, a dome and a panorama):
+ * the plan's memo (render/plan.h) keeps each kernel made, with what it
+ * depends on, for the life of the plan, so a run makes it once. The memo
+ * belongs to one plan, used by one thread at a time: no lock. */
+static int hst_key_equal(const orr_psf_kernel_memo *m, const orr_scene *s)
+{
+    return m->angle == s->psf_angle && m->vane_width == s->psf_vane_width && m->spike_gain == s->psf_spike_gain &&
+           m->arcsec_per_pixel == s->psf_arcsec_per_pixel && m->size == s->psf_size;
+}
 
 static orr_status kernel_copy(const orr_image_kernel *from, orr_image_kernel *to, orr_error *err)
 {
@@ -115,36 +110,33 @@ static orr_status kernel_copy(const orr_image_kernel *from, orr_image_kernel *to
     return st;
 }
 
-static orr_status hst_kernel_cached(const orr_scene *s, orr_image_kernel *out, orr_error *err)
+static orr_status hst_kernel_memo(const orr_scene *s, orr_psf_kernels *memo, orr_image_kernel *out,
+                                  orr_error *err)
 {
-    hst_key key;
-    memset(&key, 0, sizeof key); /* compared with memcmp: no stray padding bytes */
-    key.angle = s->psf_angle;
-    key.vane_width = s->psf_vane_width;
-    key.spike_gain = s->psf_spike_gain;
-    key.arcsec_per_pixel = s->psf_arcsec_per_pixel;
-    key.size = s->psf_size;
-    orr_status st = ORR_OK;
-    int hit = 0;
-#pragma omp critical(orr_hst_psf_cache)
-    if (hst_cache.ready && memcmp(&key, &hst_cache.key, sizeof key) == 0) {
-        hit = 1;
-        st = kernel_copy(&hst_cache.kernel, out, err);
-    }
-    if (hit || (st = hst_kernel(s, out, err)))
-        return st;
-#pragma omp critical(orr_hst_psf_cache)
-    {
-        orr_image_kernel_free(&hst_cache.kernel);
-        hst_cache.ready = kernel_copy(out, &hst_cache.kernel, NULL) == ORR_OK;
-        hst_cache.key = key;
-    }
-    return ORR_OK;
+    for (int i = 0; memo && i < memo->n; i++)
+        if (hst_key_equal(&memo->kernel[i], s))
+            return kernel_copy(&memo->kernel[i].kernel, out, err);
+    orr_status st = hst_kernel(s, out, err);
+    if (st || !memo || memo->n == ORR_PSF_KERNELS_MAX)
+        return st; /* (a full memo: the kernel is made again, not lost) */
+    orr_psf_kernel_memo *m = &memo->kernel[memo->n];
+    *m = (orr_psf_kernel_memo){s->psf_angle, s->psf_arcsec_per_pixel, s->psf_vane_width, s->psf_spike_gain,
+                               s->psf_size, {0, 0, NULL, 0}};
+    st = kernel_copy(out, &m->kernel, err);
+    memo->n += !st;
+    return st;
 }
 
-orr_status orr_view_psf_kernel(const orr_scene *s, orr_image_kernel *out, orr_error *err)
+void orr_psf_kernels_free(orr_psf_kernels *memo)
 {
-    return s->psf == ORR_PSF_HST ? hst_kernel_cached(s, out, err) : file_kernel(s, out, err);
+    for (int i = 0; i < memo->n; i++)
+        orr_image_kernel_free(&memo->kernel[i].kernel);
+    memo->n = 0;
+}
+
+orr_status orr_view_psf_kernel(const orr_scene *s, orr_psf_kernels *memo, orr_image_kernel *out, orr_error *err)
+{
+    return s->psf == ORR_PSF_HST ? hst_kernel_memo(s, memo, out, err) : file_kernel(s, out, err);
 }
 
 /* Flat views given psf.fwhm: every star a Gaussian core psf.fwhm pixels
@@ -161,12 +153,13 @@ static orr_status flat_stars_setup(orr_view_psf *vp, const orr_scene *s, const o
     return st;
 }
 
-static orr_status flat_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj, orr_error *err)
+static orr_status flat_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
+                             orr_psf_kernels *memo, orr_error *err)
 {
     if (s->psf == ORR_PSF_GAUSSIAN)
         return orr_convolver_create_gaussian(&vp->conv, proj->width, proj->height, s->psf_fwhm, NULL, err);
     orr_image_kernel k = {0};
-    orr_status st = orr_view_psf_kernel(s, &k, err);
+    orr_status st = orr_view_psf_kernel(s, memo, &k, err);
     if (!st && s->psf_flat_stars)
         st = flat_stars_setup(vp, s, proj, &k, err);
     else if (!st)
@@ -177,10 +170,11 @@ static orr_status flat_setup(orr_view_psf *vp, const orr_scene *s, const orr_pro
 
 /* Sky maps, hst or file: the whole PSF for the brightest stars, scaled so
  * its core is as wide as the kernels the other stars are drawn with. */
-static orr_status sky_setup(orr_view_psf *vp, const orr_scene *s, double core_fwhm_rad, orr_error *err)
+static orr_status sky_setup(orr_view_psf *vp, const orr_scene *s, double core_fwhm_rad, orr_psf_kernels *memo,
+                            orr_error *err)
 {
     orr_image_kernel k = {0};
-    orr_status st = orr_view_psf_kernel(s, &k, err);
+    orr_status st = orr_view_psf_kernel(s, memo, &k, err);
     if (!st && !(vp->sky = orr_calloc(1, sizeof *vp->sky, "sky PSF", err)))
         st = ORR_ERR_NOMEM;
     if (!st)
@@ -191,7 +185,7 @@ static orr_status sky_setup(orr_view_psf *vp, const orr_scene *s, double core_fw
 }
 
 orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
-                              const orr_kernel *k, orr_error *err)
+                              const orr_kernel *k, orr_psf_kernels *memo, orr_error *err)
 {
     memset(vp, 0, sizeof *vp);
     if (s->psf == ORR_PSF_NONE)
@@ -202,9 +196,9 @@ orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_scene *s, const orr_pr
         double fwhm = s->psf_fwhm_arcmin > 0 ? s->psf_fwhm_arcmin * ARCMIN : ORR_SKY_CORE_PIXELS / proj->focal;
         vp->core_fwhm_arcmin = fwhm / ARCMIN;
         vp->h_per_r = 2.0 * sin(0.25 * fwhm) / orr_kernel_half_max_q(k);
-        return s->psf == ORR_PSF_GAUSSIAN ? ORR_OK : sky_setup(vp, s, fwhm, err);
+        return s->psf == ORR_PSF_GAUSSIAN ? ORR_OK : sky_setup(vp, s, fwhm, memo, err);
     }
-    orr_status st = flat_setup(vp, s, proj, err);
+    orr_status st = flat_setup(vp, s, proj, memo, err);
     return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
 }
 

@@ -36,13 +36,29 @@ typedef struct orr_view_psf {
                           * whole PSF; else NULL */
 } orr_view_psf;
 
+/* The Hubble PSF kernels a plan has made (render/plan.h), each with the
+ * psf.* settings it was made from, so that the views of a run that ask for
+ * the same one share it and it is made once per run. Zero-initialise. */
+#define ORR_PSF_KERNELS_MAX 16
+typedef struct orr_psf_kernel_memo {
+    double angle, arcsec_per_pixel, vane_width, spike_gain;
+    int size;
+    orr_image_kernel kernel;
+} orr_psf_kernel_memo;
+typedef struct orr_psf_kernels {
+    int n;
+    orr_psf_kernel_memo kernel[ORR_PSF_KERNELS_MAX];
+} orr_psf_kernels;
+void orr_psf_kernels_free(orr_psf_kernels *memo);
+
 /* Prepares the scene's PSF for a projection that has been set up; k is the
- * kernel sky maps draw with. */
+ * kernel sky maps draw with; memo (or NULL) the plan's kernels. Made once
+ * per run: it depends on the scene and the image, never on the frame. */
 orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
-                              const orr_kernel *k, orr_error *err);
+                              const orr_kernel *k, orr_psf_kernels *memo, orr_error *err);
 /* The PSF as an image kernel (psf.kind hst or file), normalised, with its
- * angular scale. */
-orr_status orr_view_psf_kernel(const orr_scene *s, orr_image_kernel *out, orr_error *err);
+ * angular scale; a Hubble PSF from memo when it holds it (memo may be NULL). */
+orr_status orr_view_psf_kernel(const orr_scene *s, orr_psf_kernels *memo, orr_image_kernel *out, orr_error *err);
 /* Convolves a flat view's plane (nothing for a sky map or no PSF). */
 orr_status orr_view_psf_apply(orr_view_psf *vp, orr_plane *plane, orr_error *err);
 void orr_view_psf_free(orr_view_psf *vp);

@@ -1,7 +1,8 @@
-/* One view being rendered, as the three parts of the renderer share it:
- * render.c (the driver: sources, the observer frame, cameras, set-up, the
- * frame), splat_pass.c (the particles into the view's planes) and
- * view_outputs.c (the planes into the view's files). Private to render/. */
+/* One view being rendered, as the parts of the renderer share it: plan.c
+ * (the plan: each view planned once, then each frame), view_camera.c (the
+ * observer frame, the cameras), splat_pass.c (the particles into the
+ * view's planes), view_outputs.c (the planes into the view's files) and
+ * compose.c (raw planes re-graded). Private to render/. */
 #ifndef ORR_RENDER_VIEW_STATE_H
 #define ORR_RENDER_VIEW_STATE_H
 
@@ -19,8 +20,12 @@
 
 /* One view being rendered. */
 typedef struct view_state {
-    const orr_scene *scene;
-    orr_projection proj;
+    /* Planned once per run (plan.c: plan_view): the projection as set up,
+     * the planes, the kernel, the PSF, the SPH deposit (a sky map's index
+     * and core stamps). The rest is the frame's. */
+    const orr_scene *scene;     /* the frame's (its output names); the plan's until the first frame */
+    orr_projection base_proj;   /* the scene's projection, set up */
+    orr_projection proj;        /* this frame's: base_proj, with a stereo eye's principal point */
     orr_mat3 world_to_camera;
     orr_plane planes[3]; /* the weight plane, or CIE X, Y, Z with colour */
     int nplanes;
@@ -64,6 +69,21 @@ static inline void charge(const view_state *v, orr_stage s)
 }
 
 
+/* ---- the observer frame and the cameras (view_camera.c) ---- */
+
+/* The observer frame of the frame (observer.*): the observer and reference
+ * particles found among the particles (given, rewound; or the scene's input
+ * opened), the spin normal when asked; *velocity the observer's. */
+orr_status orr_view_sky_frame(const orr_scene *s, orr_source *given, long frame, const orr_parallel *par,
+                              orr_sky_frame *f, orr_vec3 *velocity, orr_error *err);
+/* The camera of a view in this frame, and the sky frame it looks from. */
+orr_status orr_view_camera(const orr_scene *s, const orr_sky_frame *observer, const orr_frame_time *when,
+                           orr_camera *cam, orr_sky_frame *sky, orr_error *err);
+/* Motion blur's shutter cameras for the view (animation.shutter; nothing
+ * without a shutter); v->proj and v->scene must be the frame's. */
+orr_status orr_view_plan_blur(view_state *v, const orr_sky_frame *observer, orr_vec3 observer_velocity,
+                              const orr_frame_time *when, orr_error *err);
+
 /* ---- the splat pass (splat_pass.c) ---- */
 
 /* Chooses how the set-up view is splatted (bands, lanes, the fused NGP
@@ -94,6 +114,9 @@ orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error 
 /* A stereo pair's two eyes (views l and r) into one set of files. */
 orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_views *eyes, int k, orr_error *err);
 orr_status orr_view_write_outputs(view_state *v, orr_error *err);
+/* orrery compose for a view begun as a frame: its raw planes (or layers)
+ * read back, the PSF (unless NAME.fits already has it), the pictures. */
+orr_status orr_view_compose(view_state *v, orr_error *err);
 /* DIR/NAME.ext of the scene's output. */
 orr_status orr_view_output_path(const orr_scene *s, const char *ext, char *path, orr_error *err);
 

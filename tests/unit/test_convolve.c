@@ -2,6 +2,7 @@
 #include <pthread.h>
 #include <stdint.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "check.h"
@@ -214,9 +215,10 @@ static void test_matches_direct_convolution(void)
     orr_image_kernel_free(&k);
 }
 
-/* Convolvers of one geometry share their plans: the counter moves only when
- * a new padded size (or thread count) is planned. */
-static void test_plan_reuse(void)
+/* A convolver owns its plans: made once when it is created (the renderer
+ * creates its convolvers once per run), never again per plane convolved;
+ * convolvers of one geometry stay independent of each other. */
+static void test_plan_ownership(void)
 {
     orr_error err;
     orr_convolve_options one = {.threads = 1};
@@ -229,28 +231,36 @@ static void test_plan_reuse(void)
     CHECK(orr_convolver_apply(a, &p, &err) == ORR_OK);
     CHECK(orr_convolver_apply(a, &p, &err) == ORR_OK);
     CHECK(orr_convolve_plans_created() == n0 + 1);
-    /* another kernel of the same reach: same padded size, same plans */
+    /* another kernel of the same reach: same padded size, plans of its own */
     CHECK(orr_convolver_create_gaussian(&b, 300, 200, 2.9, &one, &err) == ORR_OK);
-    CHECK(orr_convolve_plans_created() == n0 + 1);
+    CHECK(orr_convolve_plans_created() == n0 + 2);
     orr_convolver_info ia, ib;
     orr_convolver_get_info(a, &ia);
     orr_convolver_get_info(b, &ib);
     CHECK(ia.applications == 2 && ib.applications == 0);
     CHECK(ia.fft_width == ib.fft_width && ia.fft_height == ib.fft_height);
     CHECK(ia.fft_width >= 300 + 7 && ia.fft_height >= 200 + 7 && ia.threads == 1);
-    /* two threads: a different plan */
     orr_convolve_options two = {.threads = 2};
     CHECK(orr_convolver_create_gaussian(&c, 300, 200, 3.0, &two, &err) == ORR_OK);
-    CHECK(orr_convolve_plans_created() == n0 + 2);
+    CHECK(orr_convolve_plans_created() == n0 + 3);
     orr_convolver_free(c);
     orr_convolver_free(a);
-    CHECK(orr_convolver_apply(b, &p, &err) == ORR_OK); /* b still holds the shared plans */
-    orr_convolver_free(b);
-    /* all released: planning again makes a new pair */
-    CHECK(orr_convolver_create_gaussian(&a, 300, 200, 3.0, &one, &err) == ORR_OK);
-    CHECK(orr_convolve_plans_created() == n0 + 3);
+    /* freeing a destroyed only its own plans: b still convolves, and gives
+     * what a fresh convolver of its kernel gives */
+    orr_plane q = make_plane(300, 200);
+    q.data[100 * 300 + 150] = 1;
+    CHECK(orr_convolver_apply(b, &q, &err) == ORR_OK);
+    orr_plane r = make_plane(300, 200);
+    r.data[100 * 300 + 150] = 1;
+    CHECK(orr_convolver_create_gaussian(&a, 300, 200, 2.9, &one, &err) == ORR_OK);
+    CHECK(orr_convolver_apply(a, &r, &err) == ORR_OK);
+    CHECK(memcmp(q.data, r.data, 300 * 200 * sizeof(float)) == 0);
+    CHECK(orr_convolve_plans_created() == n0 + 4);
     orr_convolver_free(a);
+    orr_convolver_free(b);
     orr_plane_free(&p);
+    orr_plane_free(&q);
+    orr_plane_free(&r);
 }
 
 /* Same input, same thread count: the same bits every time. One thread and
@@ -433,7 +443,7 @@ int main(void)
     RUN(test_flux_conserved);
     RUN(test_no_wrap_around);
     RUN(test_matches_direct_convolution);
-    RUN(test_plan_reuse);
+    RUN(test_plan_ownership);
     RUN(test_reproducible);
     RUN(test_measure_agrees);
     RUN(test_concurrent_planning);

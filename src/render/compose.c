@@ -1,0 +1,87 @@
+/* orrery compose's second half: a view's raw planes (or its layers) read
+ * back, the PSF, the colour synthesis or stretch, the pictures. */
+#include "render/view_state.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#include "encode/fits_read.h"
+
+/* One view's raw planes into its planes: the file must hold what the scene
+ * renders (one weight plane, or X, Y, Z) at the scene's image size. */
+static orr_status load_raw(view_state *v, orr_error *err)
+{
+    orr_render_report *rep = v->rep;
+    char path[ORR_PATH_MAX];
+    orr_status st = orr_view_output_path(v->scene, v->scene->regrade_final ? "fits" : "raw.fits", path, err);
+    orr_plane raw[3];
+    int n = 0;
+    if (!st)
+        st = orr_read_fits_planes(path, raw, 3, &n, err);
+    if (!st && (n != v->nplanes || raw[0].width != v->proj.width || raw[0].height != v->proj.height))
+        st = orr_fail(err, ORR_ERR_DATA,
+                      "%s: holds %d plane(s) of %d x %d, but %s renders %d of %d x %d (was it rendered from "
+                      "another scene?)",
+                      path, n, raw[0].width, raw[0].height, v->scene->path, v->nplanes, v->proj.width,
+                      v->proj.height);
+    for (int k = 0; !st && k < n; k++)
+        memcpy(v->planes[k].data, raw[k].data, (size_t)v->proj.width * (size_t)v->proj.height * sizeof(float));
+    for (int k = 0; k < n; k++)
+        orr_plane_free(&raw[k]);
+    if (!st)
+        snprintf(rep->source, sizeof rep->source, "%s", path);
+    return st;
+}
+
+/* Adds one layer to the view's X, Y, Z planes: a luminance plane times its
+ * colour, or X, Y, Z planes as they are, times the gain. */
+static orr_status add_layer(view_state *v, const struct orr_compose_layer *l, orr_error *err)
+{
+    orr_plane raw[3];
+    int n = 0;
+    orr_status st = orr_read_fits_planes(l->file, raw, 3, &n, err);
+    if (!st && (raw[0].width != v->proj.width || raw[0].height != v->proj.height))
+        st = orr_fail(err, ORR_ERR_DATA, "%s: compose.layers: the planes are %d x %d, the scene's image %d x %d",
+                      l->file, raw[0].width, raw[0].height, v->proj.width, v->proj.height);
+    if (!st && n != 1 && n != 3)
+        st = orr_fail(err, ORR_ERR_DATA, "%s: compose.layers: %d planes; a layer is one luminance plane or X, Y, Z",
+                      l->file, n);
+    if (!st && n == 1 && !l->has_colour)
+        st = orr_fail(err, ORR_ERR_USAGE, "%s: compose.layers: a single-plane layer needs a colour", l->file);
+    double xyz[3] = {1, 1, 1};
+    if (!st && n == 1 && (st = orr_colour_xyz(&l->colour, xyz, err)) == ORR_OK)
+        orr_xyz_normalise(xyz);
+    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    for (int k = 0; !st && k < 3; k++) {
+        const float *src = raw[n == 1 ? 0 : k].data;
+        float f = (float)(l->gain * (n == 1 ? xyz[k] : 1.0));
+        for (size_t i = 0; i < npix; i++)
+            v->planes[k].data[i] += f * src[i];
+    }
+    for (int k = 0; k < n; k++)
+        orr_plane_free(&raw[k]);
+    return st;
+}
+
+static orr_status load_layers(view_state *v, orr_error *err)
+{
+    const orr_scene *s = v->scene;
+    orr_status st = ORR_OK;
+    for (int k = 0; k < s->nlayers && !st; k++)
+        st = add_layer(v, &s->layers[k], err);
+    if (!st)
+        snprintf(v->rep->source, sizeof v->rep->source, "%d layers (%.200s, ...)", s->nlayers, s->layers[0].file);
+    return st;
+}
+
+orr_status orr_view_compose(view_state *v, orr_error *err)
+{
+    orr_status st = v->scene->nlayers ? load_layers(v, err) : load_raw(v, err);
+    for (int j = 0; j < v->nplanes && !st && !v->scene->regrade_final; j++) /* NAME.fits has its PSF */
+        st = orr_view_psf_apply(&v->psf, &v->planes[j], err);
+    if (!st) {
+        orr_view_mask_outside_map(v);
+        st = orr_view_write_pictures(v, err);
+    }
+    return st;
+}

@@ -1,0 +1,608 @@
+/* The renderer's plan (render/plan.h): each view planned once for a run,
+ * then each frame's observer frame, cameras, smoothing lengths, dust and
+ * periodic copies, the splat pass (splat_pass.c), the reduction over
+ * processes and the views' files (view_outputs.c). */
+#include "render/plan.h"
+#include "render/view_state.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/atomic.h"
+#include "dust/dust.h"
+#include "post/brightness.h"
+#include "scene/scene_output.h"
+#include "source/partition.h"
+
+struct orr_plan {
+    orr_plan_purpose purpose;
+    int nscenes;             /* the views as given */
+    int n;                   /* the views as rendered: a stereo view is two eyes (purpose render) */
+    orr_eye_views eyes;      /* the planned views' eyes: their scenes live as long as the plan */
+    orr_render_report *planning_reports; /* [nscenes] what the planned eyes report into (unused after) */
+    view_state *views;       /* [n] */
+    int planned;             /* views[0..planned) hold plan-time state, to free */
+    orr_psf_kernels kernels; /* the Hubble PSFs made, shared by the views that ask for the same one */
+    frame_timer timer;       /* the frame being executed */
+    double seconds;          /* orr_plan_create's time */
+    orr_clock planning;      /* ... wall and CPU, charged to the first frame executed (then zero) */
+};
+
+/* ---- a view: planned once, begun every frame ---- */
+
+/* Everything about a view that depends on its scene alone: the projection
+ * (checked and set up), the planes (zeroed each frame: the image size does
+ * not change), the SPH kernel's tables (milliseconds), the PSF (the Hubble
+ * PSF takes 0.3-2 s; a convolver plans its FFTs; the bright stars' PSF), a
+ * sky map's index (0.1 s for a 3600^2 dome) and PSF core stamps (made as
+ * stars land, and kept: a cell's stamps depend on the cell alone). */
+static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
+{
+    v->scene = s;
+    v->base_proj = s->projection;
+    orr_status st = orr_projection_setup(&v->base_proj, err);
+    if (st)
+        return orr_fail_prefix(err, "%s: ", s->path);
+    v->proj = v->base_proj;
+    static const char *const xyz_names[3] = {"X", "Y", "Z"};
+    v->nplanes = s->colour || s->nlayers ? 3 : 1;
+    char unit[ORR_PLANE_NAME_MAX];
+    orr_brightness_unit(&v->proj, scene_weight_unit(s), scene_length_unit(s), unit, sizeof unit);
+    for (int k = 0; k < v->nplanes && !st; k++)
+        st = orr_plane_alloc(&v->planes[k], v->proj.width, v->proj.height, s->colour ? xyz_names[k] : s->weight,
+                             unit, err);
+    /* The kernel's tables take milliseconds to build: only for kernel
+     * deposits and PSFs (a sky map's is drawn with the kernel). */
+    int needs_kernel = s->deposit == ORR_DEPOSIT_SPH || s->psf != ORR_PSF_NONE;
+    if (!st && needs_kernel)
+        st = orr_kernel_init(&v->kernel, s->kernel, err);
+    v->kernel_ready = !st && needs_kernel;
+    /* The PSF needs the image's size and scale, which a stereo eye's
+     * shifted principal point leaves as they are. */
+    if (!st)
+        st = orr_view_psf_setup(&v->psf, s, &v->proj, &v->kernel, kernels, err);
+    v->use_sph = s->deposit == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
+    if (!st && v->use_sph)
+        st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
+    v->sph_ready = !st && v->use_sph;
+    /* A sky map's PSF cores: stars are drawn from stamps (splat/sky_cores.h).
+     * widen_for_psf gives a star without a length of its own h = k r, k the
+     * float of h_per_r: its angle h / r. */
+    if (!st && v->use_sph && v->psf.h_per_r > 0)
+        st = orr_sph_use_cores(&v->sph, (float)v->psf.h_per_r, err);
+    return st;
+}
+
+static void clear_planes(view_state *v)
+{
+    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    for (int k = 0; k < v->nplanes; k++)
+        memset(v->planes[k].data, 0, npix * sizeof *v->planes[k].data);
+}
+
+/* Forgets what the last frame left in the view (a failed frame may have
+ * left lanes): each frame starts from the planned state. */
+static void reset_frame_state(view_state *v)
+{
+    orr_splat_free_lanes(v);
+    orr_bands_free(&v->bands);
+    v->nlanes = 1;
+    memset(&v->blur, 0, sizeof v->blur);
+    memset(&v->periodic, 0, sizeof v->periodic);
+    v->use_ods = 0;
+    v->lengths = NULL;
+    v->lengths_next = 0;
+    v->h_scale = 0;
+    v->dust = NULL;
+    v->outputs = NULL;
+    if (v->psf.sky)
+        orr_sky_psf_begin_frame(v->psf.sky);
+    clear_planes(v);
+}
+
+/* The frame's part of a planned view: its report, the camera (a path, the
+ * observer's sky frame), a stereo eye's camera and principal point (the
+ * convergence may follow the camera), motion blur's shutter cameras. */
+static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_sky_frame *observer,
+                                   orr_vec3 observer_velocity, const orr_frame_time *when, orr_render_report *rep,
+                                   orr_error *err)
+{
+    reset_frame_state(v);
+    memset(rep, 0, sizeof *rep);
+    rep->frame = when->frame;
+    rep->nframes = when->nframes;
+    v->scene = s;
+    v->rep = rep;
+    v->proj = v->base_proj; /* a stereo eye shifts its principal point below */
+    v->tint_t = s->tint_run ? when->u : s->tint_t;
+    orr_status st = orr_view_camera(s, observer, when, &rep->camera, &rep->sky, err);
+    if (st)
+        return orr_fail_prefix(err, "%s: ", s->path);
+    if ((st = orr_stereo_setup_eye(s, &v->proj, rep, &v->ods, &v->use_ods, err)) ||
+        (st = orr_view_plan_blur(v, observer, observer_velocity, when, err)))
+        return st;
+    rep->has_sky_frame = observer != NULL;
+    v->world_to_camera = orr_camera_world_to_camera(&rep->camera);
+    /* The deposit keeps a copy of the projection: this frame's (an eye's
+     * principal point). A sky map's index depends on the map alone, which
+     * no eye moves. */
+    if (v->sph_ready)
+        v->sph.proj = v->proj;
+    v->outline = orr_map_outline_of(&v->proj, v->proj.width, v->proj.height);
+    orr_splat_choose_path(v); /* after the eye and the shutter, which it asks about */
+    return ORR_OK;
+}
+
+static void free_view(view_state *v)
+{
+    orr_splat_free_lanes(v);
+    orr_bands_free(&v->bands);
+    for (int k = 0; k < 3; k++)
+        orr_plane_free(&v->planes[k]);
+    orr_view_psf_free(&v->psf);
+    if (v->sph_ready)
+        orr_sph_free(&v->sph);
+    if (v->kernel_ready)
+        orr_kernel_free(&v->kernel);
+}
+
+/* ---- the plan ---- */
+
+void orr_plan_destroy(orr_plan *plan)
+{
+    if (!plan)
+        return;
+    for (int k = 0; k < plan->planned; k++)
+        free_view(&plan->views[k]);
+    free(plan->views);
+    orr_eye_views_finish(&plan->eyes);
+    free(plan->planning_reports);
+    orr_psf_kernels_free(&plan->kernels);
+    free(plan);
+}
+
+/* The views a frame renders: for a render, each stereo view's two eyes
+ * (copies of the scene, named for the frame); for a compose, the views as
+ * given. */
+static orr_status expand_views(const orr_plan *plan, const orr_scene *const *scenes, orr_render_report *reports,
+                               orr_eye_views *eyes, orr_error *err)
+{
+    if (plan->purpose == ORR_PLAN_RENDER)
+        return orr_eye_views_expand(scenes, plan->nscenes, reports, eyes, err);
+    memset(eyes, 0, sizeof *eyes);
+    eyes->scene = orr_calloc((size_t)plan->nscenes, sizeof *eyes->scene, "views", err);
+    eyes->report = orr_calloc((size_t)plan->nscenes, sizeof *eyes->report, "views", err);
+    if (!eyes->scene || !eyes->report) {
+        orr_eye_views_finish(eyes);
+        return ORR_ERR_NOMEM;
+    }
+    for (int k = 0; k < plan->nscenes; k++) {
+        eyes->scene[k] = scenes[k];
+        eyes->report[k] = &reports[k];
+    }
+    eyes->n = plan->nscenes;
+    return ORR_OK;
+}
+
+orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n, orr_plan_purpose purpose,
+                           orr_error *err)
+{
+    *out = NULL;
+    if (n < 1)
+        return orr_fail(err, ORR_ERR_USAGE, "no view to %s", purpose == ORR_PLAN_RENDER ? "render" : "compose");
+    const orr_clock start = orr_clock_now();
+    orr_plan *plan = orr_calloc(1, sizeof *plan, "render plan", err);
+    if (!plan)
+        return ORR_ERR_NOMEM;
+    plan->purpose = purpose;
+    plan->nscenes = n;
+    orr_status st = ORR_OK;
+    /* Fail on an unwritable output folder before any slow work. */
+    for (int k = 0; k < n && !st; k++)
+        st = orr_check_output_dir(scenes[k]->out_dir, err);
+    if (!st && !(plan->planning_reports = orr_calloc((size_t)n, sizeof *plan->planning_reports, "reports", err)))
+        st = ORR_ERR_NOMEM;
+    if (!st)
+        st = expand_views(plan, scenes, plan->planning_reports, &plan->eyes, err);
+    plan->n = plan->eyes.n;
+    if (!st && !(plan->views = orr_calloc((size_t)plan->n, sizeof *plan->views, "views", err)))
+        st = ORR_ERR_NOMEM;
+    for (; !st && plan->planned < plan->n; plan->planned++)
+        st = plan_view(&plan->views[plan->planned], plan->eyes.scene[plan->planned], &plan->kernels, err);
+    if (st) {
+        orr_plan_destroy(plan);
+        return st;
+    }
+    const orr_clock end = orr_clock_now();
+    plan->seconds = end.wall - start.wall;
+    plan->planning = (orr_clock){end.wall - start.wall, end.cpu - start.cpu};
+    *out = plan;
+    return ORR_OK;
+}
+
+double orr_plan_seconds(const orr_plan *plan)
+{
+    return plan ? plan->seconds : 0;
+}
+
+/* The frame's views must be the planned ones: the same image, projection
+ * and deposit (their output names are the frame's own). */
+static orr_status check_frame_views(const orr_plan *plan, const orr_eye_views *eyes, orr_error *err)
+{
+    if (eyes->n != plan->n)
+        return orr_fail(err, ORR_ERR_INTERNAL, "the frame has %d views, the plan %d", eyes->n, plan->n);
+    for (int k = 0; k < plan->n; k++) {
+        const orr_scene *a = eyes->scene[k], *b = plan->eyes.scene[k];
+        if (a->projection.kind != b->projection.kind || a->projection.width != b->projection.width ||
+            a->projection.height != b->projection.height || a->deposit != b->deposit || a->psf != b->psf ||
+            a->colour != b->colour || a->stereo_eye != b->stereo_eye)
+            return orr_fail(err, ORR_ERR_INTERNAL, "%s: view %d of the frame is not the view planned", a->path, k);
+    }
+    return ORR_OK;
+}
+
+/* ---- a frame ---- */
+
+/* After a frame, view k points at nothing of it: its scene (an eye's copy,
+ * freed with the frame's views), report, lengths, dust and outputs. */
+static void forget_frame(orr_plan *plan, int k)
+{
+    view_state *v = &plan->views[k];
+    v->scene = plan->eyes.scene[k];
+    v->rep = NULL;
+    v->lengths = NULL;
+    v->dust = NULL;
+    v->outputs = NULL;
+}
+
+/* This process's share of the scene's input, when several processes render
+ * the frame: with the fields the sky frame and the weight need. */
+static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_source **out, orr_error *err)
+{
+    const char *fields[ORR_RENDER_MAX_FIELDS];
+    int nfields = orr_render_fields(s, fields);
+    orr_source *whole = NULL;
+    /* File readers that can seek read only this rank's share; the others,
+     * and the generators, are dealt out by chunks. */
+    orr_status st = orr_scene_open_share(s, fields, nfields, par->rank, par->nranks, &whole, err);
+    return st ? st : orr_source_partition(whole, par->rank, par->nranks, out, err);
+}
+
+/* Sums what every process splatted onto rank 0: the planes, and the counts
+ * of the reports. */
+static orr_status reduce_views(view_state *views, int n, const orr_parallel *par, orr_error *err)
+{
+    orr_status st = ORR_OK;
+    for (int k = 0; k < n && !st; k++) {
+        view_state *v = &views[k];
+        for (int j = 0; j < v->nplanes && !st; j++)
+            st = par->reduce_sum(par->user, v->planes[j].data, (size_t)v->proj.width * (size_t)v->proj.height, err);
+        orr_render_report *r = v->rep;
+        orr_deposit_stats *d[2] = {&r->deposit, &r->deposit_y};
+        double sums[3 + 2 * 5 + 3] = {(double)r->n_read, (double)r->n_selected, (double)r->n_nonfinite};
+        for (int i = 0; i < 2; i++) {
+            double *t = &sums[3 + 5 * i];
+            t[0] = d[i]->deposited, t[1] = d[i]->outside, t[2] = d[i]->culled;
+            t[3] = (double)d[i]->n_particles, t[4] = (double)d[i]->n_culled;
+        }
+        double *culling = &sums[3 + 2 * 5]; /* a periodic box's culled copies and blocks */
+        culling[0] = (double)r->n_replicas_culled, culling[1] = (double)r->n_blocks;
+        culling[2] = (double)r->n_blocks_culled;
+        if (!st)
+            st = par->allreduce_sum(par->user, sums, sizeof sums / sizeof sums[0], err);
+        r->n_read = (uint64_t)sums[0], r->n_selected = (uint64_t)sums[1], r->n_nonfinite = (uint64_t)sums[2];
+        for (int i = 0; i < 2; i++) {
+            const double *t = &sums[3 + 5 * i];
+            d[i]->deposited = t[0], d[i]->outside = t[1], d[i]->culled = t[2];
+            d[i]->n_particles = (uint64_t)t[3], d[i]->n_culled = (uint64_t)t[4];
+        }
+        r->n_replicas_culled = (uint64_t)culling[0], r->n_blocks = (uint64_t)culling[1];
+        r->n_blocks_culled = (uint64_t)culling[2];
+        if (!st && v->psf.sky) /* rank 0 draws the whole frame's brightest stars */
+            st = orr_sky_psf_share(v->psf.sky, par->rank, par->nranks, par->allreduce_sum, par->user, err);
+    }
+    return st;
+}
+
+/* Smoothing lengths from the neighbours, computed once for every view that
+ * needs them (views share input.*, so the same particles take them). */
+static orr_status prepare_lengths(view_state *views, int n, orr_source *src, const orr_parallel *par,
+                                  orr_lengths *lengths, orr_error *err)
+{
+    for (int k = 0; k < n; k++) {
+        view_state *v = &views[k];
+        int needed;
+        orr_status st = orr_lengths_needed(v->scene, src, &needed, err);
+        if (st)
+            return st;
+        /* orrery's h is half the kernel's support: convert the file's. */
+        double support = src->info.h_support > 0 ? src->info.h_support : 2.0;
+        v->h_scale = (float)(v->scene->h_scale * support / 2.0);
+        if (!needed)
+            continue;
+        /* The glow's lengths are angles seen from the camera (glow_length). */
+        const orr_vec3 *centre = v->scene->has_glow ? &v->rep->camera.position : NULL;
+        if (par && !centre)
+            return orr_fail(err, ORR_ERR_USAGE,
+                            "%s: smoothing lengths from the neighbours need every particle in one process; with "
+                            "%d MPI ranks use lengths from the file (smoothing.lengths: file)",
+                            v->scene->path, par->nranks);
+        v->h_scale = (float)v->scene->h_scale;
+        if (!lengths->h && !lengths->angular && /* (computed, but none here: a process's share may be empty) */
+            (st = orr_lengths_compute(v->scene, src, centre, par, lengths, err)))
+            return st;
+        if (lengths->angular != (centre != NULL) ||
+            (centre && orr_v3_norm(orr_v3_sub(lengths->centre, *centre)) > 0))
+            return orr_fail(err, ORR_ERR_USAGE,
+                            "%s: the views of a frame share one set of smoothing lengths, but view %d %s; give "
+                            "every view glow.threshold from the same place, or none of them",
+                            v->scene->path, k, centre ? "glows from another camera position" : "has no glow");
+        v->lengths = lengths;
+    }
+    return ORR_OK;
+}
+
+/* A periodic box's copies around the view's camera. Skipping what is out
+ * of view needs particles drawn where they are: not with omni-directional
+ * stereo, a sky map's PSF widening kernels, or weights dimmed with distance. */
+static orr_status setup_periodic(view_state *v, const orr_source_info *info, orr_error *err)
+{
+    const orr_scene *s = v->scene;
+    int can_cull = !v->use_ods && !(v->psf.h_per_r > 0) && !(s->has_observer && s->dim);
+    orr_status st = orr_periodic_view_setup(&v->periodic, s, info, &v->proj, &v->rep->camera, can_cull, err);
+    v->rep->n_replicas = v->periodic.active ? v->periodic.replicas.n : 0;
+    return st;
+}
+
+/* The planes before the PSF (for orrery compose), the PSF, and the outputs. */
+/* Hands view k's final planes, its graded picture and its cards to the
+ * frame's keeper (orr_frame_input.keep). */
+static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr_error *err)
+{
+    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    float *rgb = orr_malloc(npix * 3 * sizeof *rgb, "kept picture", err);
+    orr_fits_header *h = rgb ? orr_calloc(1, sizeof *h, "FITS header", err) : NULL;
+    orr_status st = h ? ORR_OK : ORR_ERR_NOMEM;
+    char desc[ORR_PATH_MAX + 256];
+    if (!st)
+        st = orr_view_graded_rgb(v, rgb, desc, sizeof desc, err);
+    if (!st) {
+        orr_view_add_frame_cards(v, h);
+        st = in->keep(in->keep_user, k, v->planes, v->nplanes, rgb, h, err);
+    }
+    free(rgb);
+    free(h);
+    return st;
+}
+
+/* A sky map's, or a flat view's given psf.fwhm, brightest stars with the
+ * whole PSF (render/sky_psf.h, render/flat_psf.h). */
+static orr_status draw_bright_stars(view_state *v, orr_error *err)
+{
+    if (!v->psf.sky)
+        return ORR_OK;
+    if (!v->psf.core)
+        return orr_sky_psf_draw(v->psf.sky, &v->sph, v->planes, v->nplanes, err);
+    orr_flat_deposit dep = {v->scene->deposit, &v->proj, v->use_sph ? &v->sph : NULL};
+    return orr_flat_psf_draw(v->psf.sky, &dep, v->psf.core, v->planes, v->nplanes, err);
+}
+
+static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, const orr_frame_input *in,
+                               orr_error *err)
+{
+    int keep = in && in->keep;
+    orr_status st = ORR_OK;
+    for (int k = 0; k < n && !st; k++) /* bright stars' PSFs: part of the raw planes, as the cores */
+        st = draw_bright_stars(&views[k], err);
+    charge(&views[0], ORR_STAGE_PSF);
+    for (int k = 0; k < n && !st; k++) /* flux per pixel to flux per steradian (or area) */
+        orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);
+    charge(&views[0], ORR_STAGE_POST);
+    for (int k = 0; k < n && !st; k++)
+        if (views[k].scene->write_raw) {
+            orr_view_mask_outside_map(&views[k]);
+            charge(&views[k], ORR_STAGE_POST);
+            st = orr_view_write_fits_planes(&views[k], "raw.fits", err);
+        }
+    for (int k = 0; k < n && !st; k++)
+        for (int j = 0; j < views[k].nplanes && !st; j++)
+            st = orr_view_psf_apply(&views[k].psf, &views[k].planes[j], err);
+    charge(&views[0], ORR_STAGE_PSF);
+    for (int k = 0; k < n && !st; k++) {
+        if (orr_eye_views_pair_at(eyes, k)) {
+            st = orr_view_write_stereo_pair(&views[k], &views[k + 1], eyes, k, err);
+            if (!st && keep && !(st = keep_view(&views[k], k, in, err)))
+                st = keep_view(&views[k + 1], k + 1, in, err);
+            k++; /* the right eye was written with the left */
+            continue;
+        }
+        st = orr_view_write_outputs(&views[k], err);
+        orr_eye_views_share_white(eyes, k, views[k].rep->white); /* separate eyes: grade the right alike */
+        if (!st && keep)
+            st = keep_view(&views[k], k, in, err);
+    }
+    return st;
+}
+
+/* The plan's own time goes to the set-up of the first frame it draws (a
+ * still's timings show the PSF's generation, as before there was a plan),
+ * frame and stages alike, so the stages still add up to the frame. */
+static void charge_planning(orr_plan *plan)
+{
+    orr_stage_times *t = &plan->timer.times;
+    t->wall[ORR_STAGE_SETUP] += plan->planning.wall, t->total_wall += plan->planning.wall;
+    t->cpu[ORR_STAGE_SETUP] += plan->planning.cpu, t->total_cpu += plan->planning.cpu;
+    plan->planning = (orr_clock){0, 0};
+}
+
+/* The frame's particles: the caller's (rewound), or the scene's input
+ * opened with the fields the frame needs. */
+static orr_status frame_particles(const orr_scene *s0, orr_source *given, orr_source **src, orr_error *err)
+{
+    if (given) {
+        *src = given;
+        return orr_source_rewind(given, err);
+    }
+    const char *fields[ORR_RENDER_MAX_FIELDS];
+    int nfields = orr_render_fields(s0, fields);
+    return orr_scene_open_source(s0, fields, nfields, src, err);
+}
+
+/* Sets up each view's frame; returns how many were begun (their outputs
+ * belong to the frame's batch). */
+static orr_status begin_frame(orr_plan *plan, const orr_eye_views *eyes, const orr_sky_frame *observer,
+                              orr_vec3 observer_velocity, const orr_frame_time *when, int *begun, orr_error *err)
+{
+    orr_status st = check_frame_views(plan, eyes, err);
+    for (*begun = 0; !st && *begun < plan->n; (*begun)++)
+        st = begin_view_frame(&plan->views[*begun], eyes->scene[*begun], observer, observer_velocity, when,
+                              eyes->report[*begun], err);
+    return st;
+}
+
+/* Commits the frame's files, all of them or none. */
+static orr_status commit_outputs(orr_output_batch *outputs, orr_status st, orr_error *err)
+{
+    if (!st)
+        st = orr_output_batch_commit(outputs, err);
+    else
+        orr_output_batch_name_finals(outputs, err);
+    orr_output_batch_abort(outputs);
+    return st;
+}
+
+/* From the particles to the views' planes: the smoothing lengths, the dust,
+ * a periodic box's copies around this frame's cameras, the splat, and the
+ * sums over processes. st is how the frame went so far: with several
+ * processes every one must reach the collective check, whatever happened
+ * before it. */
+static orr_status splat_frame(orr_plan *plan, orr_status st, orr_source *src, const orr_parallel *par,
+                              orr_lengths *lengths, orr_dust_frame *dust, int *have_dust, orr_progress_fn progress,
+                              void *progress_user, orr_error *err)
+{
+    view_state *views = plan->views;
+    const int n = plan->n;
+    for (int k = 0; k < n && !st; k++) {
+        snprintf(views[k].rep->source, sizeof views[k].rep->source, "%s", src->info.path);
+        views[k].rep->sim_time = src->info.time;
+    }
+    if (!st) {
+        st = prepare_lengths(views, n, src, par, lengths, err);
+        charge(&views[0], ORR_STAGE_LENGTHS);
+    }
+    if (!st && views[0].scene->dust.types) {
+        st = orr_dust_view_prepare(views, n, src, par, dust, err);
+        *have_dust = !st;
+    }
+    for (int k = 0; k < n && !st; k++)
+        st = setup_periodic(&views[k], &src->info, err);
+    if (!st)
+        st = orr_splat_views(views, n, src, progress, progress_user, err);
+    if (par && !(st = par->any_failed(par->user, st, err)))
+        st = reduce_views(views, n, par, err);
+    return st;
+}
+
+orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, const orr_frame_input *in,
+                            orr_render_report *reports, orr_progress_fn progress, void *progress_user,
+                            orr_error *err)
+{
+    if (plan->purpose != ORR_PLAN_RENDER)
+        return orr_fail(err, ORR_ERR_INTERNAL, "a compose plan renders no particles");
+    frame_timer *timer = &plan->timer;
+    memset(timer, 0, sizeof *timer);
+    timer->at = orr_clock_now();
+    const orr_clock start = timer->at;
+    view_state *views = plan->views;
+    for (int k = 0; k < plan->n; k++)
+        views[k].timer = timer;
+    const orr_scene *s0 = scenes[0];
+    const orr_frame_time still = orr_frame_at(0, 1, s0->anim_fps, 0, 0);
+    const orr_frame_time *when = in ? &in->time : &still;
+    const orr_parallel *par = in && in->parallel && in->parallel->nranks > 1 ? in->parallel : NULL;
+    orr_source *given = in ? in->source : NULL, *src = NULL;
+    orr_status st = ORR_OK;
+    /* Checked when planned; again each frame (a stat), in case a long run's
+     * folder went away since, before any slow work. */
+    for (int k = 0; k < plan->nscenes && !st; k++)
+        st = orr_check_output_dir(scenes[k]->out_dir, err);
+    if (!st && par && !given && !(st = open_share(s0, par, &src, err)))
+        given = src;
+    /* The observer's frame moves with the particles: found every frame, by
+     * a pass over them (reading, as the splat's). */
+    orr_sky_frame observer;
+    orr_vec3 observer_velocity = orr_v3(0, 0, 0);
+    if (!st && s0->has_observer)
+        st = orr_view_sky_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
+    orr_stage_charge(&timer->times, ORR_STAGE_SOURCE, &timer->at);
+    /* A stereo view renders as two views, its eyes, named for this frame. */
+    orr_eye_views eyes = {0};
+    int begun = 0;
+    if (!st && !(st = orr_eye_views_expand(scenes, plan->nscenes, reports, &eyes, err)))
+        st = begin_frame(plan, &eyes, s0->has_observer ? &observer : NULL, observer_velocity, when, &begun, err);
+    charge(&views[0], ORR_STAGE_SETUP);
+    if (!st)
+        st = frame_particles(s0, given, &src, err);
+    charge(&views[0], ORR_STAGE_SOURCE);
+    orr_lengths lengths = {0};
+    orr_dust_frame dust;
+    int have_dust = 0;
+    st = splat_frame(plan, st, src, par, &lengths, &dust, &have_dust, progress, progress_user, err);
+    charge(&views[0], ORR_STAGE_REDUCE);
+    orr_output_batch outputs;
+    orr_output_batch_init(&outputs);
+    for (int k = 0; k < begun; k++)
+        views[k].outputs = &outputs;
+    if (!st && (!par || par->rank == 0))
+        st = finish_views(views, plan->n, &eyes, in, err);
+    st = commit_outputs(&outputs, st, err);
+    charge(&views[0], ORR_STAGE_COMMIT);
+    if (!in || src != in->source)
+        orr_source_close(src);
+    orr_lengths_free(&lengths);
+    if (have_dust)
+        orr_dust_frame_free(&dust);
+    for (int k = 0; k < plan->n; k++) /* the frame's, freed above and below */
+        forget_frame(plan, k);
+    orr_eye_views_finish(&eyes);
+    orr_stage_times_finish(&timer->times, start);
+    charge_planning(plan);
+    for (int k = 0; k < plan->nscenes && !st; k++)
+        reports[k].times = timer->times;
+    return st;
+}
+
+orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_render_report *reports,
+                            orr_error *err)
+{
+    if (plan->purpose != ORR_PLAN_COMPOSE)
+        return orr_fail(err, ORR_ERR_INTERNAL, "a render plan does not compose");
+    /* No particles, so no observer frame: the world's stands in (the camera
+     * matters only for FITS cards, and compose writes PNGs). */
+    orr_sky_frame observer = orr_sky_frame_world(orr_v3(0, 0, 0));
+    const orr_frame_time still = orr_frame_at(0, 1, scenes[0]->anim_fps, 0, 0);
+    orr_status st = ORR_OK;
+    /* As a render does: the output folder is made, or found unwritable,
+     * before any work (a compose's layers may be read from elsewhere). */
+    for (int k = 0; k < plan->nscenes && !st; k++)
+        st = orr_check_output_dir(scenes[k]->out_dir, err);
+    orr_eye_views views = {0};
+    int begun = 0;
+    for (int k = 0; k < plan->n; k++)
+        plan->views[k].timer = NULL;
+    if (!st && !(st = expand_views(plan, scenes, reports, &views, err)))
+        st = begin_frame(plan, &views, scenes[0]->has_observer ? &observer : NULL, orr_v3(0, 0, 0), &still, &begun,
+                         err);
+    orr_output_batch outputs;
+    orr_output_batch_init(&outputs);
+    for (int k = 0; k < begun; k++)
+        plan->views[k].outputs = &outputs;
+    for (int k = 0; k < plan->n && !st; k++)
+        st = orr_view_compose(&plan->views[k], err);
+    st = commit_outputs(&outputs, st, err);
+    for (int k = 0; k < plan->n; k++)
+        forget_frame(plan, k);
+    orr_eye_views_finish(&views);
+    return st;
+}

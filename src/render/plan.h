@@ -1,0 +1,58 @@
+/* The renderer's plan, in the spirit of FFTW's: made once for a run of
+ * frames (orr_plan_create), executed once per frame (orr_plan_execute),
+ * destroyed at the end (orr_plan_destroy). Internal to the library: the
+ * in-situ API (orrery_open makes the plan, orrery_render executes it) and
+ * the animation driver use it; a still is a plan made, executed once and
+ * destroyed (orr_render_frame).
+ *
+ * What the plan holds is what does not depend on the frame's particles, its
+ * camera or its time: each view's projection (set up and checked), its
+ * image planes (zeroed each frame, not allocated), the SPH kernel's tables,
+ * a sky map's index and its PSF core stamps, the PSF (a Hubble or file
+ * kernel made once for all the views that share it, the FFT convolvers with
+ * their FFTW plans, the bright stars' PSF). What it redoes every frame is
+ * what moves: the observer frame (found among the particles), the cameras
+ * (a camera path, an observer's sky frame, a stereo eye's convergence),
+ * motion blur's shutter cameras, a periodic box's copies around the camera,
+ * the smoothing lengths and the dust (both from the particles), the splat's
+ * lanes and bands (sized by the source's count and chunk capacity), the
+ * reports. docs/architecture.md has the plan's lifetime. */
+#ifndef ORR_RENDER_PLAN_H
+#define ORR_RENDER_PLAN_H
+
+#include "render/render.h"
+
+typedef struct orr_plan orr_plan;
+
+/* What the plan's frames do: render particles, or re-grade raw planes
+ * already written (orrery compose: no particles; a stereo view is then one
+ * view, not two eyes). */
+typedef enum { ORR_PLAN_RENDER, ORR_PLAN_COMPOSE } orr_plan_purpose;
+
+/* Plans views[0..n) of one scene (they share input.* and observer.*), for
+ * a run of frames: checks each output folder and makes everything the
+ * frames share. The views must outlive the plan. */
+orr_status orr_plan_create(orr_plan **out, const orr_scene *const *views, int n, orr_plan_purpose purpose,
+                           orr_error *err);
+
+/* Renders one frame with the plan: gather, splat, reduce, post, encode.
+ * frame_views[0..n) are the planned views as this frame names its outputs
+ * (output.name with the frame number; the frame count): everything else
+ * must be as planned (checked: the image and the projection). reports[i]
+ * describes view i; in as for orr_render_frame (NULL: a still). */
+orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *frame_views, const orr_frame_input *in,
+                            orr_render_report *reports, orr_progress_fn progress, void *progress_user,
+                            orr_error *err);
+
+/* Re-grades one frame's raw planes with a plan of purpose ORR_PLAN_COMPOSE
+ * (orr_compose_views). frame_views as for orr_plan_execute; their grading
+ * keys (output.white, ...) may differ from the planned views'. */
+orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *frame_views, orr_render_report *reports,
+                            orr_error *err);
+
+/* Seconds orr_plan_create took (for benchmarks and --timings). */
+double orr_plan_seconds(const orr_plan *plan);
+
+void orr_plan_destroy(orr_plan *plan);
+
+#endif

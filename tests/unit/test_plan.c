@@ -1,0 +1,195 @@
+/* The renderer's plan (render/plan.h): one plan executed for every frame of
+ * a run gives each frame exactly the planes a plan made for that frame
+ * alone gives, while what moves is redone each frame (a camera on a path,
+ * a stereo eye's convergence that follows it, a sky map's PSF core stamps
+ * kept from frame to frame); and the plan makes its FFT plans once. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "post/convolve.h"
+#include "render/plan.h"
+#include "render/render.h"
+#include "scene/scene.h"
+#include "tmpdir.h"
+
+#define MODEL "input: {model: {name: mw-m31, particles: 30000, seed: 7}, types: [2, 3], chunk: 10000}\n"
+#define FRAMES 3
+#define MAX_PLANES 8
+
+/* The planes a frame's views were kept with (orr_frame_input.keep). */
+typedef struct kept {
+    int n;
+    size_t npix[MAX_PLANES];
+    float *data[MAX_PLANES];
+} kept;
+
+static orr_status keep_planes(void *user, int view, const orr_plane *planes, int nplanes, const float *rgb,
+                              const struct orr_fits_header *cards, orr_error *err)
+{
+    (void)view, (void)rgb, (void)cards, (void)err;
+    kept *k = user;
+    for (int j = 0; j < nplanes && k->n < MAX_PLANES; j++, k->n++) {
+        k->npix[k->n] = (size_t)planes[j].width * (size_t)planes[j].height;
+        k->data[k->n] = malloc(k->npix[k->n] * sizeof(float));
+        CHECK(k->data[k->n] != NULL);
+        memcpy(k->data[k->n], planes[j].data, k->npix[k->n] * sizeof(float));
+    }
+    return ORR_OK;
+}
+
+static void kept_free(kept *k)
+{
+    for (int j = 0; j < k->n; j++)
+        free(k->data[j]);
+    memset(k, 0, sizeof *k);
+}
+
+static int kept_equal(const kept *a, const kept *b)
+{
+    if (a->n != b->n || a->n == 0)
+        return 0;
+    for (int j = 0; j < a->n; j++)
+        if (a->npix[j] != b->npix[j] || memcmp(a->data[j], b->data[j], a->npix[j] * sizeof(float)) != 0)
+            return 0;
+    return 1;
+}
+
+static orr_scene *load(const char *yaml, const char *name)
+{
+    orr_scene *s = calloc(1, sizeof *s);
+    orr_error err = {0};
+    CHECK(s != NULL);
+    orr_status st = orr_scene_load_string(s, yaml, name, ".", NULL, 0, &err);
+    if (st)
+        fprintf(stderr, "%s\n", err.msg);
+    CHECK(st == ORR_OK);
+    snprintf(s->out_dir, sizeof s->out_dir, "%s", tmpdir);
+    snprintf(s->out_name, sizeof s->out_name, "%s", name);
+    return s;
+}
+
+static orr_frame_input frame_input(const orr_scene *s, long f, kept *k)
+{
+    orr_frame_input in = {orr_frame_at(f, FRAMES, s->anim_fps, 0, 0), NULL, NULL, keep_planes, k};
+    return in;
+}
+
+/* Frame by frame through one plan, and each frame through a plan of its
+ * own (orr_render_frame): the same bits; and the frames differ (the camera
+ * moved, so the check could fail). */
+static void check_run(const char *yaml, const char *name)
+{
+    orr_scene *s = load(yaml, name);
+    const orr_scene *list[1] = {s};
+    orr_render_report rep;
+    orr_error err = {0};
+    kept planned[FRAMES] = {{0}}, alone[FRAMES] = {{0}};
+    orr_plan *plan = NULL;
+    CHECK(orr_plan_create(&plan, list, 1, ORR_PLAN_RENDER, &err) == ORR_OK);
+    for (long f = 0; f < FRAMES && plan; f++) {
+        orr_frame_input in = frame_input(s, f, &planned[f]);
+        orr_status st = orr_plan_execute(plan, list, &in, &rep, NULL, NULL, &err);
+        if (st)
+            fprintf(stderr, "%s\n", err.msg);
+        CHECK(st == ORR_OK);
+    }
+    orr_plan_destroy(plan);
+    for (long f = 0; f < FRAMES; f++) {
+        orr_frame_input in = frame_input(s, f, &alone[f]);
+        CHECK(orr_render_frame(list, 1, &in, &rep, NULL, NULL, &err) == ORR_OK);
+        CHECK(kept_equal(&planned[f], &alone[f]));
+    }
+    CHECK(!kept_equal(&planned[0], &planned[FRAMES - 1]));
+    for (int f = 0; f < FRAMES; f++) {
+        kept_free(&planned[f]);
+        kept_free(&alone[f]);
+    }
+    free(s);
+}
+
+/* A stereo pair on an orbit: each eye's camera and principal point (the
+ * convergence is the distance to the orbit's centre) follow the path; the
+ * Gaussian PSF's convolvers are the plan's. */
+static void test_stereo_orbit(void)
+{
+    check_run(MODEL "camera:\n  projection: perspective\n  fov: 50\n  near: 0.1\n"
+                    "  path: {kind: orbit, centre: [0, 0, 0], axis: [0, 0, 1], start: [70, -50, 45], turns: 0.5}\n"
+                    "animation: {frames: 3}\nimage: {width: 96, height: 64}\ndeposit: cic\n"
+                    "psf: {kind: gaussian, fwhm: 2}\n"
+                    "stereo: {mode: separate, eye_separation: 2}\n"
+                    "output: {fits: false, png: false}\n",
+              "orbit");
+}
+
+/* A dome master on a line, every star drawn as the PSF's core from the
+ * plan's stamps (kept across frames: they depend on the map alone). */
+static void test_dome_cores(void)
+{
+    check_run(MODEL "camera:\n  projection: dome\n"
+                    "  path: {kind: line, from: [8, 0, -2], to: [8, 0, 2], up: [1, 0, 0]}\n"
+                    "animation: {frames: 3}\nimage: {width: 128, height: 128}\ndeposit: cic\n"
+                    "psf: {kind: gaussian}\n"
+                    "output: {fits: false, png: false}\n",
+              "dome");
+}
+
+/* The FFT plans are the run's: made when the plan is, for each eye's
+ * convolver, and never again however many frames are executed. */
+static void test_fft_planned_once(void)
+{
+    orr_scene *s = load(MODEL "camera: {projection: orthographic, width: 100}\nimage: {width: 80, height: 60}\n"
+                              "psf: {kind: gaussian, fwhm: 3}\n"
+                              "output: {fits: false, png: false}\n",
+                        "flat");
+    const orr_scene *list[1] = {s};
+    orr_render_report rep;
+    orr_error err = {0};
+    long before = orr_convolve_plans_created();
+    orr_plan *plan = NULL;
+    CHECK(orr_plan_create(&plan, list, 1, ORR_PLAN_RENDER, &err) == ORR_OK);
+    CHECK(orr_convolve_plans_created() == before + 1);
+    CHECK(orr_plan_seconds(plan) > 0);
+    for (long f = 0; f < FRAMES && plan; f++) {
+        kept k = {0};
+        orr_frame_input in = frame_input(s, f, &k);
+        CHECK(orr_plan_execute(plan, list, &in, &rep, NULL, NULL, &err) == ORR_OK);
+        CHECK(k.n == 1);
+        kept_free(&k);
+    }
+    CHECK(orr_convolve_plans_created() == before + 1);
+    orr_plan_destroy(plan);
+    free(s);
+}
+
+/* A frame whose views are not the planned ones is refused, not drawn with
+ * the wrong planes. */
+static void test_other_views_refused(void)
+{
+    orr_scene *s = load(MODEL "camera: {projection: orthographic, width: 100}\nimage: {width: 80, height: 60}\n",
+                        "a");
+    orr_scene *t = load(MODEL "camera: {projection: orthographic, width: 100}\nimage: {width: 60, height: 60}\n",
+                        "b");
+    const orr_scene *planned[1] = {s}, *other[1] = {t};
+    orr_render_report rep;
+    orr_error err = {0};
+    orr_plan *plan = NULL;
+    CHECK(orr_plan_create(&plan, planned, 1, ORR_PLAN_RENDER, &err) == ORR_OK);
+    CHECK(plan && orr_plan_execute(plan, other, NULL, &rep, NULL, NULL, &err) == ORR_ERR_INTERNAL);
+    CHECK_CONTAINS(err.msg, "not the view planned");
+    CHECK(plan && orr_plan_compose(plan, planned, &rep, &err) == ORR_ERR_INTERNAL);
+    orr_plan_destroy(plan);
+    free(s);
+    free(t);
+}
+
+int main(void)
+{
+    make_tmpdir();
+    RUN(test_stereo_orbit);
+    RUN(test_dome_cores);
+    RUN(test_fft_planned_once);
+    RUN(test_other_views_refused);
+    remove_tmpdir();
+    return check_summary();
+}
