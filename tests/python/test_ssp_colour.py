@@ -49,7 +49,7 @@ def render(cli, tmp_path, scene, snapshot):
     scene_file.write_text(json.dumps(scene))
     cli_render(cli, scene_file, snapshot, tmp_path / "out")
     with fits.open(tmp_path / "out" / "stars.fits") as f:
-        return [np.flipud(h.data).astype(np.float64) for h in f]
+        return [np.flipud(h.data).astype(np.float64) for h in f if h.name != "SCENE"]  # the planes, not the scene
 
 
 @pytest.fixture
