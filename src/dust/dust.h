@@ -70,6 +70,7 @@ typedef struct orr_dust_frame {
     float *out[3];         /* the dimmed weights of the last chunk */
     size_t out_cap;
     double *tau;           /* per particle of the last chunk */
+    unsigned char *want;   /* per particle of the last chunk: drawn, so dimmed */
     size_t tau_cap;
     const orr_chunk *last_chunk; /* tau is of this chunk from last_eye (to share it across views) */
     uint64_t last_first;
