@@ -172,24 +172,29 @@ static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
 
 typedef struct candidates {
     size_t n, cap;
-    float *x, *y, *z, *ih, *kih2; /* copies of the kernels' own values, in the tree's order */
+    double *vx, *vy, *vz, *v2; /* centre from the eye, and its square: as each star's walk computes them */
+    float *ih, *kih2;          /* the kernels' own 1/h and k/h^2 */
+    double *hu, *hs0, *hs1, *hk; /* per star: where it meets the kernels it meets, and their k/h^2 */
 } candidates;
+
+#define CANDIDATE_ARRAYS(c)                                                                                     \
+    {(void **)&(c)->vx, (void **)&(c)->vy, (void **)&(c)->vz, (void **)&(c)->v2, (void **)&(c)->hu,               \
+     (void **)&(c)->hs0, (void **)&(c)->hs1, (void **)&(c)->hk, (void **)&(c)->ih, (void **)&(c)->kih2}
+#define CANDIDATE_DOUBLES 8 /* the first eight arrays hold doubles, the last two floats */
 
 static void candidates_free(candidates *c)
 {
-    free(c->x);
-    free(c->y);
-    free(c->z);
-    free(c->ih);
-    free(c->kih2);
+    void **arrays[] = CANDIDATE_ARRAYS(c);
+    for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++)
+        free(*arrays[a]);
 }
 
 static int candidates_grow(candidates *c)
 {
     const size_t cap = c->cap ? 2 * c->cap : 4096;
-    float **arrays[5] = {&c->x, &c->y, &c->z, &c->ih, &c->kih2};
-    for (int a = 0; a < 5; a++) {
-        float *p = realloc(*arrays[a], cap * sizeof *p);
+    void **arrays[] = CANDIDATE_ARRAYS(c);
+    for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++) {
+        void *p = realloc(*arrays[a], cap * (a < CANDIDATE_DOUBLES ? sizeof(double) : sizeof(float)));
         if (!p)
             return 0;
         *arrays[a] = p;
@@ -222,15 +227,39 @@ static int gather(const orr_dust_set *s, const cone *cn, candidates *c)
                 continue;
             if (c->n == c->cap && !candidates_grow(c))
                 return 0;
-            c->x[c->n] = s->x[i];
-            c->y[c->n] = s->y[i];
-            c->z[c->n] = s->z[i];
+            const double vx = s->x[i] - cn->e[0], vy = s->y[i] - cn->e[1], vz = s->z[i] - cn->e[2];
+            c->vx[c->n] = vx;
+            c->vy[c->n] = vy;
+            c->vz[c->n] = vz;
+            c->v2[c->n] = vx * vx + vy * vy + vz * vz;
             c->ih[c->n] = s->ih[i];
             c->kih2[c->n] = s->kih2[i];
             c->n++;
         }
     }
     return 1;
+}
+
+/* A star's column over the group's candidates: the kernels its segment
+ * meets picked out first without a branch (whether it meets one is a coin
+ * toss for the branch predictor), then their columns summed in the
+ * candidates' order, the terms as orr_dust_share makes them. */
+static double star_tau(const orr_dust_set *s, candidates *c, const orr_dust_segment *g)
+{
+    size_t m = 0;
+    for (size_t j = 0; j < c->n; j++) {
+        double u, s0, s1;
+        const double m2 = orr_dust_meet(g, c->vx[j], c->vy[j], c->vz[j], c->v2[j], c->ih[j], &u, &s0, &s1);
+        c->hu[m] = u;
+        c->hs0[m] = s0;
+        c->hs1[m] = s1;
+        c->hk[m] = c->kih2[j];
+        m += m2 < ORR_DUST_SUPPORT * ORR_DUST_SUPPORT;
+    }
+    double sum = 0;
+    for (size_t q = 0; q < m; q++)
+        sum += c->hk[q] * orr_dust_met_column(s, c->hu[q], c->hs0[q], c->hs1[q]);
+    return sum;
 }
 
 /* tau_V of the group k[0, n): one traversal, then each star over the
@@ -251,8 +280,7 @@ static void group_tau(const orr_dust_set *s, const double eye[3], const float *x
         orr_dust_segment g;
         double sum = 0;
         if (orr_dust_star_segment(&g, eye, p)) /* (always: tau_many groups only such stars) */
-            for (size_t j = 0; j < c->n; j++)
-                sum += orr_dust_share(s, &g, c->x[j], c->y[j], c->z[j], c->ih[j], c->kih2[j]);
+            sum = star_tau(s, c, &g);
         tau[k[q].i] = sum;
     }
 }

@@ -72,31 +72,47 @@ static inline double orr_dust_whole_column(const orr_dust_set *s, double u)
     return s->fcol[i] + f * (s->fcol[i + 1] - s->fcol[i]);
 }
 
+/* Where the segment passes a kernel with 1/h = ih whose centre is at
+ * v = (vx, vy, vz) from the segment's origin (v2 = |v|^2), in units of h:
+ * u = the squared closest approach of the line, s0 and s1 the ends measured
+ * from the foot. Returns the squared distance of the segment's closest point
+ * (an end, or the foot): the kernel adds to the column only where it is
+ * below 4 (the support is the open ball of radius 2h). The tree's boxes and
+ * the groups' cones (column_group.c) bound that ball, so a walk that skips a
+ * kernel by its bounds skips only zeros. */
+static inline double orr_dust_meet(const orr_dust_segment *g, double vx, double vy, double vz, double v2, double ih,
+                                   double *u, double *s0, double *s1)
+{
+    const double tc = vx * g->d[0] + vy * g->d[1] + vz * g->d[2];
+    const double b2 = v2 - tc * tc;
+    *u = (b2 > 0 ? b2 : 0) * ih * ih;
+    *s0 = -tc * ih;
+    *s1 = (g->len - tc) * ih;
+    return *u + (*s1 < 0 ? *s1 * *s1 : *s0 > 0 ? *s0 * *s0 : 0.0);
+}
+
+/* The column through a kernel met at (u, s0, s1) (orr_dust_meet), h = 1:
+ * the whole column when the segment crosses the support, else the part
+ * between its ends. */
+static inline double orr_dust_met_column(const orr_dust_set *s, double u, double s0, double s1)
+{
+    if (s0 <= -ORR_DUST_SUPPORT && s1 >= ORR_DUST_SUPPORT)
+        return orr_dust_whole_column(s, u);
+    const double beta = sqrt(u);
+    return orr_dust_pcol(s, beta, s1) - orr_dust_pcol(s, beta, s0);
+}
+
 /* The share of the segment's optical depth of a kernel at (x, y, z) with
- * 1/h = ih and k/h^2 = kih2. Nonzero only where the segment passes through
- * the kernel's support (the open ball of radius 2h): the tree's boxes and
- * the groups' cones (column_group.c) bound that ball, so a walk that skips
- * a kernel by its bounds skips only zeros. */
+ * 1/h = ih and k/h^2 = kih2. */
 static inline double orr_dust_share(const orr_dust_set *s, const orr_dust_segment *g, double x, double y, double z,
                                     double ih, double kih2)
 {
     const double vx = x - g->o[0], vy = y - g->o[1], vz = z - g->o[2];
-    const double tc = vx * g->d[0] + vy * g->d[1] + vz * g->d[2];
-    const double b2 = vx * vx + vy * vy + vz * vz - tc * tc;
-    const double u = (b2 > 0 ? b2 : 0) * ih * ih;
-    const double s0 = -tc * ih, s1 = (g->len - tc) * ih;
-    /* the segment's closest point to the centre: an end, or the foot at tc */
-    const double m2 = u + (s1 < 0 ? s1 * s1 : s0 > 0 ? s0 * s0 : 0.0);
-    if (m2 >= ORR_DUST_SUPPORT * ORR_DUST_SUPPORT)
+    double u, s0, s1;
+    if (orr_dust_meet(g, vx, vy, vz, vx * vx + vy * vy + vz * vz, ih, &u, &s0, &s1) >=
+        ORR_DUST_SUPPORT * ORR_DUST_SUPPORT)
         return 0;
-    double col;
-    if (s0 <= -ORR_DUST_SUPPORT && s1 >= ORR_DUST_SUPPORT) {
-        col = orr_dust_whole_column(s, u);
-    } else {
-        const double beta = sqrt(u);
-        col = orr_dust_pcol(s, beta, s1) - orr_dust_pcol(s, beta, s0);
-    }
-    return kih2 * col;
+    return kih2 * orr_dust_met_column(s, u, s0, s1);
 }
 
 #endif
