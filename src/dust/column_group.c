@@ -35,6 +35,7 @@
 typedef struct star_key {
     uint64_t key; /* cube face, then the cell's Morton code */
     uint32_t i;   /* the star's index */
+    double len;   /* its distance from the eye */
 } star_key;
 
 static int key_order(const void *pa, const void *pb)
@@ -170,35 +171,32 @@ static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
 
 /* ---- the candidates ---- */
 
+typedef struct candidate {
+    double vx, vy, vz, v2; /* centre from the eye, and its square: as each star's walk computes them */
+    double near;           /* less than the distance from the eye to the support's nearest point */
+    float ih, kih2;        /* the kernel's own 1/h and k/h^2 */
+} candidate;
+
+typedef struct met {
+    double u, s0, s1, kih2; /* where a star's segment meets a kernel (orr_dust_meet), and its k/h^2 */
+} met;
+
 typedef struct candidates {
     size_t n, cap;
-    double *vx, *vy, *vz, *v2; /* centre from the eye, and its square: as each star's walk computes them */
-    float *ih, *kih2;          /* the kernels' own 1/h and k/h^2 */
-    double *hu, *hs0, *hs1, *hk; /* per star: where it meets the kernels it meets, and their k/h^2 */
+    candidate *c;
+    met *m; /* per star: the kernels it meets */
 } candidates;
-
-#define CANDIDATE_ARRAYS(c)                                                                                     \
-    {(void **)&(c)->vx, (void **)&(c)->vy, (void **)&(c)->vz, (void **)&(c)->v2, (void **)&(c)->hu,               \
-     (void **)&(c)->hs0, (void **)&(c)->hs1, (void **)&(c)->hk, (void **)&(c)->ih, (void **)&(c)->kih2}
-#define CANDIDATE_DOUBLES 8 /* the first eight arrays hold doubles, the last two floats */
-
-static void candidates_free(candidates *c)
-{
-    void **arrays[] = CANDIDATE_ARRAYS(c);
-    for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++)
-        free(*arrays[a]);
-}
 
 static int candidates_grow(candidates *c)
 {
     const size_t cap = c->cap ? 2 * c->cap : 4096;
-    void **arrays[] = CANDIDATE_ARRAYS(c);
-    for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++) {
-        void *p = realloc(*arrays[a], cap * (a < CANDIDATE_DOUBLES ? sizeof(double) : sizeof(float)));
-        if (!p)
-            return 0;
-        *arrays[a] = p;
-    }
+    candidate *a = realloc(c->c, cap * sizeof *a);
+    if (a)
+        c->c = a;
+    met *m = a ? realloc(c->m, cap * sizeof *m) : NULL;
+    if (!m)
+        return 0;
+    c->m = m;
     c->cap = cap;
     return 1;
 }
@@ -223,53 +221,76 @@ static int gather(const orr_dust_set *s, const cone *cn, candidates *c)
             continue;
         }
         for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
-            if (!cone_may_meet(cn, s->x[i], s->y[i], s->z[i], ORR_DUST_SUPPORT * s->h[i]))
+            const double r = ORR_DUST_SUPPORT * s->h[i];
+            if (!cone_may_meet(cn, s->x[i], s->y[i], s->z[i], r))
                 continue;
             if (c->n == c->cap && !candidates_grow(c))
                 return 0;
             const double vx = s->x[i] - cn->e[0], vy = s->y[i] - cn->e[1], vz = s->z[i] - cn->e[2];
-            c->vx[c->n] = vx;
-            c->vy[c->n] = vy;
-            c->vz[c->n] = vz;
-            c->v2[c->n] = vx * vx + vy * vy + vz * vz;
-            c->ih[c->n] = s->ih[i];
-            c->kih2[c->n] = s->kih2[i];
-            c->n++;
+            const double v2 = vx * vx + vy * vy + vz * vz, dist = sqrt(v2);
+            c->c[c->n++] = (candidate){vx, vy, vz, v2, dist - r - SLACK * (r + dist), s->ih[i], s->kih2[i]};
         }
     }
     return 1;
 }
 
-/* A star's column over the group's candidates: the kernels its segment
- * meets picked out first without a branch (whether it meets one is a coin
- * toss for the branch predictor), then their columns summed in the
- * candidates' order, the terms as orr_dust_share makes them. */
-static double star_tau(const orr_dust_set *s, candidates *c, const orr_dust_segment *g)
+/* The candidates star g's segment meets, into c->m in the candidates'
+ * order, picked out without a branch (whether it meets one is a coin toss
+ * for the branch predictor); with drop, the same pass also drops, keeping
+ * the order, the candidates whose support begins beyond next_len, which the
+ * group's nearer stars cannot meet. Returns how many it meets. */
+static inline size_t pick_met(candidates *c, const orr_dust_segment *g, int drop, double next_len)
 {
-    size_t m = 0;
+    size_t nm = 0, kept = 0;
     for (size_t j = 0; j < c->n; j++) {
+        const candidate *cj = &c->c[j];
         double u, s0, s1;
-        const double m2 = orr_dust_meet(g, c->vx[j], c->vy[j], c->vz[j], c->v2[j], c->ih[j], &u, &s0, &s1);
-        c->hu[m] = u;
-        c->hs0[m] = s0;
-        c->hs1[m] = s1;
-        c->hk[m] = c->kih2[j];
-        m += m2 < ORR_DUST_SUPPORT * ORR_DUST_SUPPORT;
+        const double m2 = orr_dust_meet(g, cj->vx, cj->vy, cj->vz, cj->v2, cj->ih, &u, &s0, &s1);
+        c->m[nm] = (met){u, s0, s1, cj->kih2};
+        nm += m2 < ORR_DUST_SUPPORT * ORR_DUST_SUPPORT;
+        if (drop) {
+            const int keep = cj->near < next_len;
+            c->c[kept] = *cj;
+            kept += keep;
+        }
     }
+    if (drop)
+        c->n = kept;
+    return nm;
+}
+
+/* A star's column over the group's candidates: the kernels its segment
+ * meets, their columns summed in the candidates' order, each term as
+ * orr_dust_share makes it. The group's stars come farthest first, and every
+ * other star drops the candidates the nearer ones cannot meet (each time
+ * costs stores; every other time measured best). */
+static double star_tau(const orr_dust_set *s, candidates *c, const orr_dust_segment *g, int drop, double next_len)
+{
+    const size_t nm = drop ? pick_met(c, g, 1, next_len) : pick_met(c, g, 0, INFINITY);
     double sum = 0;
-    for (size_t q = 0; q < m; q++)
-        sum += c->hk[q] * orr_dust_met_column(s, c->hu[q], c->hs0[q], c->hs1[q]);
+    for (size_t q = 0; q < nm; q++)
+        sum += c->m[q].kih2 * orr_dust_met_column(s, c->m[q].u, c->m[q].s0, c->m[q].s1);
     return sum;
 }
 
+static int farthest_first(const void *pa, const void *pb)
+{
+    const star_key *a = pa, *b = pb;
+    if (a->len != b->len)
+        return a->len > b->len ? -1 : 1;
+    return (a->i > b->i) - (a->i < b->i);
+}
+
 /* tau_V of the group k[0, n): one traversal, then each star over the
- * candidates (each star on its own walk if memory runs out: the same values). */
+ * candidates, farthest first (each star on its own walk if memory runs
+ * out: the same values). */
 static void group_tau(const orr_dust_set *s, const double eye[3], const float *x, const float *y, const float *z,
-                      const star_key *k, size_t n, candidates *c, double *tau)
+                      star_key *k, size_t n, candidates *c, double *tau)
 {
     cone cn;
     group_cone(&cn, eye, x, y, z, k, n);
     const int shared = gather(s, &cn, c);
+    qsort(k, n, sizeof *k, farthest_first);
     for (size_t q = 0; q < n; q++) {
         double p[3];
         star_point(x, y, z, k[q].i, p);
@@ -280,7 +301,7 @@ static void group_tau(const orr_dust_set *s, const double eye[3], const float *x
         orr_dust_segment g;
         double sum = 0;
         if (orr_dust_star_segment(&g, eye, p)) /* (always: tau_many groups only such stars) */
-            sum = star_tau(s, c, &g);
+            sum = star_tau(s, c, &g, q % 2 == 0 && q + 1 < n, q + 1 < n ? k[q + 1].len : 0);
         tau[k[q].i] = sum;
     }
 }
@@ -303,7 +324,7 @@ orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t 
         star_point(x, y, z, (uint32_t)i, p);
         tau[i] = 0; /* not wanted, at the eye, or not finite: no column (as orr_dust_tau) */
         if ((!want || want[i]) && s->nnodes && orr_dust_star_segment(&g, eye, p))
-            keys[m++] = (star_key){direction_key(g.d), (uint32_t)i};
+            keys[m++] = (star_key){direction_key(g.d), (uint32_t)i, g.len};
     }
     qsort(keys, m, sizeof *keys, key_order);
     size_t ng = m ? split_groups(keys, 0, m, -1, starts, 0) : 0;
@@ -314,7 +335,8 @@ orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t 
 #pragma omp for schedule(dynamic, 1)
         for (long q = 0; q < (long)ng; q++)
             group_tau(s, eye, x, y, z, keys + starts[q], starts[q + 1] - starts[q], &c, tau);
-        candidates_free(&c);
+        free(c.c);
+        free(c.m);
     }
     free(keys);
     free(starts);
