@@ -280,8 +280,9 @@ static double response(const double *r, int n, int first, double l)
     return r[i] + (u - i) * (r[i + 1] - r[i]);
 }
 
-/* Magnitude of a blackbody through tau in a band: photon counts,
- * integral B_lambda lambda R e^(-tau a) on 1 nm steps. */
+/* Magnitude of a blackbody through tau in a band, Bessell's (1990) R as an
+ * energy response: integral B_lambda R e^(-tau a) on 1 nm steps (counting
+ * photons, B_lambda lambda R, moves E(B-V)/A_V by about 1 %: docs/dust.md). */
 static double band_mag(const double *r, int n, int first, double T, double tau, const orr_dust_curve *c)
 {
     double sum = 0;
