@@ -6,7 +6,8 @@
 
 #include "particles/smoothing.h"
 
-const orr_named orr_dust_curve_names[] = {{"ccm89", ORR_DUST_CCM89}, {"file", ORR_DUST_CURVE_FILE}, {NULL, 0}};
+const orr_named orr_dust_curve_names[] = {
+    {"ccm89", ORR_DUST_CCM89}, {"f99", ORR_DUST_F99}, {"file", ORR_DUST_CURVE_FILE}, {NULL, 0}};
 
 #define MAG_PER_TAU 1.0857362047581294 /* 2.5 log10(e): A_V = 1.0857 tau_V */
 
@@ -162,6 +163,7 @@ orr_status orr_dust_frame_prepare(orr_dust_frame *f, const orr_dust_settings *d,
     orr_dust_curve curve;
     if (!st && ctx->colour)
         st = d->curve == ORR_DUST_CURVE_FILE ? orr_dust_curve_load(&curve, d->curve_file, err)
+             : d->curve == ORR_DUST_F99      ? orr_dust_curve_f99(&curve, d->r_v, err)
                                              : orr_dust_curve_ccm89(&curve, d->r_v, err);
     if (!st && ctx->colour)
         st = orr_dust_redden_build(&f->red, &curve, err);

@@ -43,6 +43,38 @@ static void test_ccm89(void)
     CHECK_CONTAINS(err.msg, "dust.r_v");
 }
 
+/* Fitzpatrick (1999) against its Table 3: A(lambda)/E(B-V) at the spline's
+ * anchors for R_V = 3.1 (the optical ones from its R_V polynomials, the
+ * ultraviolet ones from the FM90 form); then the curve normalised at 550 nm,
+ * falling through the visible and near CCM89's there (0.047 apart at most,
+ * at 700 nm). */
+static void test_f99(void)
+{
+    const double x[] = {0.377, 0.820, 1.667, 1.828, 2.141, 2.433, 3.704, 3.846};
+    const double table3[] = {0.265, 0.829, 2.688, 3.055, 3.806, 4.315, 6.265, 6.591};
+    for (size_t i = 0; i < sizeof x / sizeof x[0]; i++)
+        CHECK_NEAR(orr_f99_ebv(1000.0 / x[i], 3.1), table3[i], 6e-4);
+    CHECK(isnan(orr_f99_ebv(200.0, 3.1)));
+    orr_dust_curve f, ccm;
+    orr_error err = {0};
+    CHECK(orr_dust_curve_f99(&f, 3.1, &err) == ORR_OK);
+    CHECK(orr_dust_curve_ccm89(&ccm, 3.1, &err) == ORR_OK);
+    CHECK_NEAR(orr_dust_curve_at(&f, ORR_DUST_V_NM), 1.0, 1e-12);
+    double worst = 0;
+    for (int i = 1; i < ORR_DUST_CURVE_N; i++) {
+        CHECK(f.a[i] < f.a[i - 1]);
+        const double l = ORR_DUST_CURVE_FIRST_NM + i;
+        if (l >= 400 && l <= 700)
+            worst = fmax(worst, fabs(f.a[i] - ccm.a[i]));
+    }
+    fprintf(stderr, "  f99: A/A_V at 440 nm %.4f (ccm89 %.4f), at 700 nm %.4f (%.4f); 400-700 nm within %.3f of ccm89\n",
+            orr_dust_curve_at(&f, 440), orr_dust_curve_at(&ccm, 440), orr_dust_curve_at(&f, 700),
+            orr_dust_curve_at(&ccm, 700), worst);
+    CHECK(worst < 0.1); /* two fits of the same dust: a wrong normalisation or anchor is far off */
+    CHECK(orr_dust_curve_f99(&f, 0, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "dust.r_v");
+}
+
 static const char *write_file(const char *text)
 {
     static char path[256];
@@ -430,6 +462,7 @@ static void test_tau_model(void)
 int main(void)
 {
     RUN(test_ccm89);
+    RUN(test_f99);
     RUN(test_curve_file);
     RUN(test_partial_column);
     RUN(test_tau_random);
