@@ -4,7 +4,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SUPPORT 2.0   /* kernel support in units of h (splat/kernel.h) */
+#include "dust/column_walk.h"
+
+#define SUPPORT ORR_DUST_SUPPORT
 #define LEAF_MAX 8    /* particles per leaf of the tree */
 #define STACK_MAX 128 /* the tree's depth is about log2(n / LEAF_MAX) + 1 */
 
@@ -122,40 +124,11 @@ orr_status orr_dust_set_add(orr_dust_set *s, float x, float y, float z, float h,
 
 /* ---- the table ---- */
 
-/* I(beta, |sv|) by bilinear interpolation; beta in [0, 2). */
-static inline double half_column(const orr_dust_set *s, double beta, double sv)
-{
-    const size_t cols = ORR_DUST_PCOL_NS + 1;
-    double u = beta * (ORR_DUST_PCOL_NB / SUPPORT), v = fabs(sv) * (ORR_DUST_PCOL_NS / SUPPORT);
-    if (v >= ORR_DUST_PCOL_NS)
-        v = ORR_DUST_PCOL_NS - 1e-9;
-    int i = (int)u, j = (int)v;
-    if (i >= ORR_DUST_PCOL_NB)
-        i = ORR_DUST_PCOL_NB - 1;
-    double fu = u - i, fv = v - j;
-    const float *r0 = s->pcol + (size_t)i * cols + j, *r1 = r0 + cols;
-    double a = r0[0] + fv * (r0[1] - r0[0]), b = r1[0] + fv * (r1[1] - r1[0]);
-    return a + fu * (b - a);
-}
-
 double orr_dust_partial_column(const orr_dust_set *s, double beta, double sv)
 {
     if (!(beta < SUPPORT))
         return 0;
-    beta = fabs(beta);
-    double half = half_column(s, beta, SUPPORT);
-    return half + (sv < 0 ? -half_column(s, beta, sv) : half_column(s, beta, sv));
-}
-
-/* The whole column at u = beta^2 in [0, 4), linear in u. */
-static inline double whole_column(const orr_dust_set *s, double u)
-{
-    double x = u * (ORR_DUST_FCOL_NU / (SUPPORT * SUPPORT));
-    int i = (int)x;
-    if (i >= ORR_DUST_FCOL_NU)
-        i = ORR_DUST_FCOL_NU - 1;
-    double f = x - i;
-    return s->fcol[i] + f * (s->fcol[i + 1] - s->fcol[i]);
+    return orr_dust_pcol(s, fabs(beta), sv);
 }
 
 /* ---- the tree ---- */
@@ -211,9 +184,11 @@ static void node_bounds(const orr_dust_set *s, const uint32_t *idx, size_t lo, s
         uint32_t i = idx[q];
         float r = (float)SUPPORT * s->h[i];
         for (int a = 0; a < 3; a++) {
-            float c = centre(s, i, a);
-            nd->lo[a] = fminf(nd->lo[a], c - r);
-            nd->hi[a] = fmaxf(nd->hi[a], c + r);
+            /* widened by far more than float rounding, so that the box
+             * surely holds the support the walk's double arithmetic sees */
+            float c = centre(s, i, a), slack = 1e-6f * (fabsf(c) + r);
+            nd->lo[a] = fminf(nd->lo[a], c - r - slack);
+            nd->hi[a] = fmaxf(nd->hi[a], c + r + slack);
         }
     }
 }
@@ -296,28 +271,8 @@ orr_status orr_dust_set_build(orr_dust_set *s, orr_error *err)
 
 /* ---- walking the tree ---- */
 
-typedef struct segment {
-    double o[3], d[3]; /* origin, unit direction */
-    double len;        /* length (INFINITY: a ray) */
-    double inv[3];     /* 1 / d, large and finite where d = 0 */
-} segment;
-
-static int make_segment(segment *g, const double eye[3], const double dir[3], double len)
-{
-    double n = sqrt(dir[0] * dir[0] + dir[1] * dir[1] + dir[2] * dir[2]);
-    if (!(n > 0) || !isfinite(n))
-        return 0;
-    for (int a = 0; a < 3; a++) {
-        g->o[a] = eye[a];
-        g->d[a] = dir[a] / n;
-        g->inv[a] = fabs(g->d[a]) > 1e-300 ? 1.0 / g->d[a] : 1e300;
-    }
-    g->len = len;
-    return 1;
-}
-
 /* Whether the segment meets the box. */
-static inline int meets_box(const segment *g, const orr_dust_node *nd)
+static inline int meets_box(const orr_dust_segment *g, const orr_dust_node *nd)
 {
     double t0 = 0, t1 = g->len;
     for (int a = 0; a < 3; a++) {
@@ -335,29 +290,7 @@ static inline int meets_box(const segment *g, const orr_dust_node *nd)
     return 1;
 }
 
-/* Particle i's share of the segment's optical depth. */
-static inline double kernel_share(const orr_dust_set *s, const segment *g, size_t i)
-{
-    const double vx = s->x[i] - g->o[0], vy = s->y[i] - g->o[1], vz = s->z[i] - g->o[2];
-    const double tc = vx * g->d[0] + vy * g->d[1] + vz * g->d[2];
-    const double b2 = vx * vx + vy * vy + vz * vz - tc * tc;
-    const double ih = s->ih[i], u = (b2 > 0 ? b2 : 0) * ih * ih;
-    if (u >= SUPPORT * SUPPORT)
-        return 0;
-    const double s0 = -tc * ih, s1 = (g->len - tc) * ih;
-    if (s1 <= -SUPPORT || s0 >= SUPPORT)
-        return 0;
-    double col;
-    if (s0 <= -SUPPORT && s1 >= SUPPORT) {
-        col = whole_column(s, u);
-    } else {
-        const double beta = sqrt(u);
-        col = orr_dust_partial_column(s, beta, s1) - orr_dust_partial_column(s, beta, s0);
-    }
-    return s->kih2[i] * col;
-}
-
-static double walk(const orr_dust_set *s, const segment *g)
+static double walk(const orr_dust_set *s, const orr_dust_segment *g)
 {
     if (!s->nnodes)
         return 0;
@@ -371,7 +304,8 @@ static double walk(const orr_dust_set *s, const segment *g)
             continue;
         if (nd->count) {
             for (uint32_t q = 0; q < nd->count; q++)
-                tau += kernel_share(s, g, nd->first + q);
+                tau += orr_dust_share(s, g, s->x[nd->first + q], s->y[nd->first + q], s->z[nd->first + q],
+                                      s->ih[nd->first + q], s->kih2[nd->first + q]);
         } else if (top + 2 <= STACK_MAX) {
             /* Right pushed first: the left child is walked first. */
             stack[top++] = nd->first + 1;
@@ -383,18 +317,16 @@ static double walk(const orr_dust_set *s, const segment *g)
 
 double orr_dust_tau(const orr_dust_set *s, const double eye[3], const double p[3])
 {
-    const double d[3] = {p[0] - eye[0], p[1] - eye[1], p[2] - eye[2]};
-    const double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-    segment g;
-    if (!make_segment(&g, eye, d, len))
+    orr_dust_segment g;
+    if (!orr_dust_star_segment(&g, eye, p))
         return 0; /* the star at the eye: no column */
     return walk(s, &g);
 }
 
 double orr_dust_tau_ray(const orr_dust_set *s, const double eye[3], const double dir[3])
 {
-    segment g;
-    if (!make_segment(&g, eye, dir, INFINITY))
+    orr_dust_segment g;
+    if (!orr_dust_make_segment(&g, eye, dir, INFINITY))
         return 0;
     return walk(s, &g);
 }

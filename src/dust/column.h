@@ -71,6 +71,14 @@ double orr_dust_partial_column(const orr_dust_set *s, double beta, double sv);
 
 /* tau_V along the segment from eye to p, by the tree (after build). */
 double orr_dust_tau(const orr_dust_set *s, const double eye[3], const double p[3]);
+/* tau_V from eye to each of the n points (x[i], y[i], z[i]) with want[i]
+ * nonzero (want NULL: every point) into tau[i]; 0 for the others. The
+ * stars are grouped by direction and each group shares one traversal of the
+ * tree (column_group.c); each value is orr_dust_tau's for that point bit for
+ * bit, whatever the other points and the number of threads. Fails only
+ * when out of memory. */
+orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t n, const float *x, const float *y,
+                             const float *z, const unsigned char *want, double *tau, orr_error *err);
 /* tau_V from eye to infinity along the unit direction dir. */
 double orr_dust_tau_ray(const orr_dust_set *s, const double eye[3], const double dir[3]);
 

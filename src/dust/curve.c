@@ -41,6 +41,82 @@ orr_status orr_dust_curve_ccm89(orr_dust_curve *c, double r_v, orr_error *err)
     return ORR_OK;
 }
 
+/* Fitzpatrick (1999, PASP 111, 63), section 4 and Table 3: A(lambda)/E(B-V)
+ * = k(lambda - V) + R_V is a natural cubic spline in x = 1/lambda (per
+ * micron) through nine anchors: 0 at x = 0; the infrared ones at 0.377 and
+ * 0.820, 0.26469 and 0.82925 times R_V/3.1; the optical ones at 1.667,
+ * 1.828, 2.141 and 2.433, polynomials in R_V; and the ultraviolet ones at
+ * 3.704 and 3.846 from the Fitzpatrick & Massa (1990) form
+ * c1 + c2 x + c3 x^2 / ((x^2 - x0^2)^2 + x^2 gamma^2) + R_V with x0 = 4.596,
+ * gamma = 0.99, c3 = 3.23, c2 = -0.824 + 4.717 / R_V, c1 = 2.030 - 3.007 c2. */
+#define F99_N 9
+static const double F99_X[F99_N] = {0.0, 0.377, 0.820, 1.667, 1.828, 2.141, 2.433, 3.704, 3.846};
+
+static double f99_uv(double x, double r_v)
+{
+    const double x0 = 4.596, gamma = 0.99, c3 = 3.23, c2 = -0.824 + 4.717 / r_v, c1 = 2.030 - 3.007 * c2;
+    const double x2 = x * x, d = x2 - x0 * x0;
+    return c1 + c2 * x + c3 * x2 / (d * d + x2 * gamma * gamma) + r_v;
+}
+
+static void f99_anchors(double r_v, double y[F99_N])
+{
+    const double r2 = r_v * r_v;
+    y[0] = 0.0;
+    y[1] = 0.26469 * r_v / 3.1;
+    y[2] = 0.82925 * r_v / 3.1;
+    y[3] = -0.422809 + 1.00270 * r_v + 2.13572e-4 * r2;
+    y[4] = -5.13540e-2 + 1.00216 * r_v - 7.35778e-5 * r2;
+    y[5] = 0.700127 + 1.00184 * r_v - 3.32598e-5 * r2;
+    y[6] = 1.19456 + 1.01707 * r_v - 5.46959e-3 * r2 + 7.97809e-4 * r2 * r_v - 4.45636e-5 * r2 * r2;
+    y[7] = f99_uv(F99_X[7], r_v);
+    y[8] = f99_uv(F99_X[8], r_v);
+}
+
+/* The natural cubic spline's second derivatives m at the anchors (zero at
+ * both ends), by the tridiagonal system's forward sweep and back substitution. */
+static void natural_spline(const double *x, const double *y, int n, double *m)
+{
+    double c[F99_N], r[F99_N];
+    m[0] = m[n - 1] = 0;
+    c[0] = r[0] = 0;
+    for (int i = 1; i < n - 1; i++) {
+        const double h0 = x[i] - x[i - 1], h1 = x[i + 1] - x[i];
+        const double rhs = 6 * ((y[i + 1] - y[i]) / h1 - (y[i] - y[i - 1]) / h0);
+        const double diag = 2 * (h0 + h1) - h0 * c[i - 1];
+        c[i] = h1 / diag;
+        r[i] = (rhs - h0 * r[i - 1]) / diag;
+    }
+    for (int i = n - 2; i >= 1; i--)
+        m[i] = r[i] - c[i] * m[i + 1];
+}
+
+double orr_f99_ebv(double lambda_nm, double r_v)
+{
+    const double x = 1000.0 / lambda_nm;
+    if (!(x >= F99_X[0] && x <= F99_X[F99_N - 1]) || !(r_v > 0))
+        return NAN;
+    double y[F99_N], m[F99_N];
+    f99_anchors(r_v, y);
+    natural_spline(F99_X, y, F99_N, m);
+    int i = 0;
+    while (i < F99_N - 2 && x > F99_X[i + 1])
+        i++;
+    const double h = F99_X[i + 1] - F99_X[i], a = (F99_X[i + 1] - x) / h, b = 1 - a;
+    return a * y[i] + b * y[i + 1] + ((a * a * a - a) * m[i] + (b * b * b - b) * m[i + 1]) * h * h / 6;
+}
+
+orr_status orr_dust_curve_f99(orr_dust_curve *c, double r_v, orr_error *err)
+{
+    if (!(r_v > 0) || !isfinite(r_v))
+        return orr_fail(err, ORR_ERR_USAGE, "dust.r_v = %g: R_V must be a number > 0 (3.1 is the diffuse ISM)",
+                        r_v);
+    const double at_v = orr_f99_ebv(ORR_DUST_V_NM, r_v);
+    for (int i = 0; i < ORR_DUST_CURVE_N; i++)
+        c->a[i] = orr_f99_ebv(ORR_DUST_CURVE_FIRST_NM + i, r_v) / at_v;
+    return ORR_OK;
+}
+
 double orr_dust_curve_at(const orr_dust_curve *c, double lambda_nm)
 {
     double u = lambda_nm - ORR_DUST_CURVE_FIRST_NM;

@@ -6,7 +6,8 @@
 
 #include "particles/smoothing.h"
 
-const orr_named orr_dust_curve_names[] = {{"ccm89", ORR_DUST_CCM89}, {"file", ORR_DUST_CURVE_FILE}, {NULL, 0}};
+const orr_named orr_dust_curve_names[] = {
+    {"ccm89", ORR_DUST_CCM89}, {"f99", ORR_DUST_F99}, {"file", ORR_DUST_CURVE_FILE}, {NULL, 0}};
 
 #define MAG_PER_TAU 1.0857362047581294 /* 2.5 log10(e): A_V = 1.0857 tau_V */
 
@@ -162,6 +163,7 @@ orr_status orr_dust_frame_prepare(orr_dust_frame *f, const orr_dust_settings *d,
     orr_dust_curve curve;
     if (!st && ctx->colour)
         st = d->curve == ORR_DUST_CURVE_FILE ? orr_dust_curve_load(&curve, d->curve_file, err)
+             : d->curve == ORR_DUST_F99      ? orr_dust_curve_f99(&curve, d->r_v, err)
                                              : orr_dust_curve_ccm89(&curve, d->r_v, err);
     if (!st && ctx->colour)
         st = orr_dust_redden_build(&f->red, &curve, err);
@@ -177,6 +179,7 @@ void orr_dust_frame_free(orr_dust_frame *f)
     for (int k = 0; k < 3; k++)
         free(f->out[k]);
     free(f->tau);
+    free(f->want);
     memset(f, 0, sizeof *f);
 }
 
@@ -192,38 +195,51 @@ static orr_status reserve(orr_dust_frame *f, size_t n, orr_error *err)
             return ORR_ERR_NOMEM;
     }
     free(f->tau);
-    if (!(f->tau = orr_malloc(n * sizeof(double), "dust optical depths", err)))
+    free(f->want);
+    f->want = NULL;
+    if (!(f->tau = orr_malloc(n * sizeof(double), "dust optical depths", err)) ||
+        !(f->want = orr_malloc(n, "dust optical depths", err)))
         return ORR_ERR_NOMEM;
     f->out_cap = n;
     return ORR_OK;
 }
 
-/* tau_V of each particle of c from eye; each particle's sum on its own, so
- * any number of threads gives the same values. */
-static void chunk_tau(orr_dust_frame *f, const orr_dust_eye *eye, const orr_chunk *c)
+static int drawn(const orr_dust_frame *f, const orr_chunk *c, size_t i)
+{
+    return c->type[i] < 32 && (f->drawn_types >> c->type[i] & 1u);
+}
+
+/* tau_V of each drawn particle of c from eye (0 for the others). From a
+ * point the stars share the tree's traversal by direction (column_group.c);
+ * an orthographic view sees each star from its own foot on the camera plane,
+ * so each walks alone. Either way each star's value is its own walk's, the
+ * same on any number of threads. */
+static orr_status chunk_tau(orr_dust_frame *f, const orr_dust_eye *eye, const orr_chunk *c, orr_error *err)
 {
     const orr_dust_set *s = &f->set;
     const orr_dust_eye view = *eye;
     double *tau = f->tau;
     const long n = (long)c->n;
+    if (!view.parallel) {
+        for (long i = 0; i < n; i++)
+            f->want[i] = (unsigned char)drawn(f, c, (size_t)i);
+        const double e[3] = {view.eye.x, view.eye.y, view.eye.z};
+        return orr_dust_tau_many(s, e, c->n, c->x, c->y, c->z, f->want, tau, err);
+    }
 #pragma omp parallel for schedule(dynamic, 1024)
     for (long i = 0; i < n; i++) {
         const double p[3] = {c->x[i], c->y[i], c->z[i]};
-        const int drawn = c->type[i] < 32 && (f->drawn_types >> c->type[i] & 1u);
-        if (!drawn || !isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
+        if (!drawn(f, c, (size_t)i) || !isfinite(p[0]) || !isfinite(p[1]) || !isfinite(p[2])) {
             tau[i] = 0.0;
             continue;
         }
-        double e[3] = {view.eye.x, view.eye.y, view.eye.z};
-        if (view.parallel) { /* the star's foot on the camera plane */
-            const double depth = (p[0] - e[0]) * view.axis.x + (p[1] - e[1]) * view.axis.y +
-                                 (p[2] - e[2]) * view.axis.z;
-            e[0] = p[0] - depth * view.axis.x;
-            e[1] = p[1] - depth * view.axis.y;
-            e[2] = p[2] - depth * view.axis.z;
-        }
+        /* the star's foot on the camera plane */
+        const double depth = (p[0] - view.eye.x) * view.axis.x + (p[1] - view.eye.y) * view.axis.y +
+                             (p[2] - view.eye.z) * view.axis.z;
+        const double e[3] = {p[0] - depth * view.axis.x, p[1] - depth * view.axis.y, p[2] - depth * view.axis.z};
         tau[i] = orr_dust_tau(s, e, p);
     }
+    return ORR_OK;
 }
 
 static int same_eye(const orr_dust_eye *a, const orr_dust_eye *b)
@@ -241,7 +257,9 @@ orr_status orr_dust_weights(orr_dust_frame *f, const orr_dust_eye *eye, const or
     /* Views from the same eye (a dome master and a panorama) share a chunk's
      * optical depths. */
     if (f->last_chunk != c || f->last_first != c->first_index || !same_eye(&f->last_eye, eye)) {
-        chunk_tau(f, eye, c);
+        f->last_chunk = NULL;
+        if ((st = chunk_tau(f, eye, c, err)))
+            return st;
         f->last_chunk = c;
         f->last_first = c->first_index;
         f->last_eye = *eye;

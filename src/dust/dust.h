@@ -26,6 +26,7 @@
 typedef enum {
     ORR_DUST_CCM89 = 0, /* Cardelli, Clayton & Mathis (1989) with dust.r_v */
     ORR_DUST_CURVE_FILE, /* dust.curve_file */
+    ORR_DUST_F99,        /* Fitzpatrick (1999) with dust.r_v */
 } orr_dust_curve_kind;
 
 extern const orr_named orr_dust_curve_names[];
@@ -40,8 +41,8 @@ typedef struct orr_dust_settings {
                                            * Z / dust.z_sun (default none) */
     double z_sun;         /* dust.z_sun: the metallicity dust_to_gas belongs to (default 0.0134, Asplund et
                            * al. 2009) */
-    orr_dust_curve_kind curve; /* dust.curve: ccm89 (default) | file */
-    double r_v;           /* dust.r_v: R_V of ccm89 (default 3.1) */
+    orr_dust_curve_kind curve; /* dust.curve: ccm89 (default) | f99 | file */
+    double r_v;           /* dust.r_v: R_V of ccm89 and f99 (default 3.1) */
     char curve_file[ORR_PATH_MAX]; /* dust.curve_file: two columns, nm and A_lambda/A_V (curve: file) */
     int extinction_plane; /* dust.extinction_plane: also write A_V to infinity per pixel as a plane of
                            * the FITS / EXR files (default false) */
@@ -70,6 +71,7 @@ typedef struct orr_dust_frame {
     float *out[3];         /* the dimmed weights of the last chunk */
     size_t out_cap;
     double *tau;           /* per particle of the last chunk */
+    unsigned char *want;   /* per particle of the last chunk: drawn, so dimmed */
     size_t tau_cap;
     const orr_chunk *last_chunk; /* tau is of this chunk from last_eye (to share it across views) */
     uint64_t last_first;

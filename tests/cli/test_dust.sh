@@ -70,7 +70,8 @@ YAML
 OMP_NUM_THREADS=1 "$ORRERY" render sky.yaml -q --set output.name=one || fail "model with dust, one thread"
 OMP_NUM_THREADS=2 "$ORRERY" render sky.yaml -q --set output.name=two || fail "model with dust, two threads"
 "$ORRERY" render sky.yaml -q --set output.name=clear --set 'dust.types=[5]' || fail "model, dust of type 5"
-"$py" - <<'PY' || fail "the same image on one thread and two; dimmer and redder than without dust"
+"$ORRERY" render sky.yaml -q --set output.name=f99 --set dust.curve=f99 || fail "model with dust, dust.curve: f99"
+"$py" - <<'PY' || fail "the same image on one thread and two; dimmer and redder than without dust, with either curve"
 import numpy as np
 from astropy.io import fits
 planes = lambda f: [fits.getdata(f, ext=k).astype(float) for k in range(3)]
@@ -81,6 +82,9 @@ X, Y, Z = (np.nansum(p) for p in one)
 Xc, Yc, Zc = (np.nansum(p) for p in clear)
 print("Y dusty / clear", Y / Yc, "Z/Y", Z / Y, "clear", Zc / Yc)
 assert Y < 0.9 * Yc and Z / Y < Zc / Yc
+Xf, Yf, Zf = (np.nansum(p) for p in planes("out/f99.fits"))
+print("f99: Y dusty / clear", Yf / Yc, "Z/Y", Zf / Yf)
+assert Yf < 0.9 * Yc and Zf / Yf < Zc / Yc and (Xf, Yf, Zf) != (X, Y, Z)
 PY
 
 # Real data: the gas of the shared GADGET-4 lcdm_gas snapshot as dust in

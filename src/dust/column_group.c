@@ -1,0 +1,344 @@
+/* Optical depths of many stars from one eye, sharing the tree's traversal
+ * between neighbouring lines of sight (docs/dust.md#method).
+ *
+ * The stars are sorted by their direction from the eye into the cells of a
+ * cube map, each face's square split as a quadtree until a cell holds at
+ * most GROUP_MAX stars; a cell's stars are a group. A group walks the tree
+ * once, against the cone from the eye that holds all of its segments (its
+ * axis, its half-angle, its reach: the farthest star's distance), and keeps
+ * every kernel whose support the cone may meet: the candidates, in the
+ * tree's order. Each star then sums its share of each candidate
+ * (orr_dust_share, column_walk.h).
+ *
+ * Why the result is each star's own walk's, bit for bit: a kernel adds
+ * nonzero only if the star's segment passes through its support; the cone
+ * test keeps every such kernel (with slack far above rounding), and the
+ * tree's boxes hold every such kernel too (column.c). So the candidates'
+ * sum and the single walk (orr_dust_tau) add the same nonzero terms in the
+ * same order (the tree's), and the zeros change nothing. A star's value
+ * thus does not depend on which group it lands in, how the stars are
+ * chunked, or how many threads share the groups. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "dust/column.h"
+#include "dust/column_walk.h"
+
+#define GROUP_MAX 64  /* stars per group, unless its cell is at the finest level */
+#define LEVELS 12     /* quadtree levels per cube face: cells down to 1/4096 of a face's side */
+#define STACK_MAX 128 /* as column.c: the tree's depth is about log2(n / 8) + 1 */
+#define SLACK 1e-6    /* relative widening of the cone's tests, far above double rounding */
+
+/* ---- grouping the stars by direction ---- */
+
+typedef struct star_key {
+    uint64_t key; /* cube face, then the cell's Morton code */
+    uint32_t i;   /* the star's index */
+    double len;   /* its distance from the eye */
+} star_key;
+
+static int key_order(const void *pa, const void *pb)
+{
+    const star_key *a = pa, *b = pb;
+    if (a->key != b->key)
+        return a->key < b->key ? -1 : 1;
+    return (a->i > b->i) - (a->i < b->i);
+}
+
+/* The cell index in [0, 2^LEVELS) of t in [-1, 1]. */
+static uint64_t face_cell(double t)
+{
+    const double cells = (double)(1u << LEVELS);
+    double c = floor((t + 1) * 0.5 * cells);
+    return c < 0 ? 0 : c >= cells ? (uint64_t)cells - 1 : (uint64_t)c;
+}
+
+/* The cube-map cell of the unit direction d: the face of its largest
+ * component, then the two others (divided by it) interleaved bit by bit, so
+ * that sorting by the key puts each quadtree cell's stars together. */
+static uint64_t direction_key(const double d[3])
+{
+    const double ax = fabs(d[0]), ay = fabs(d[1]), az = fabs(d[2]);
+    int major = ax >= ay && ax >= az ? 0 : ay >= az ? 1 : 2;
+    const int u = major == 0 ? 1 : 0, v = major == 2 ? 1 : 2;
+    const double m = fabs(d[major]);
+    const uint64_t face = (uint64_t)(2 * major + (d[major] < 0));
+    const uint64_t cu = face_cell(d[u] / m), cv = face_cell(d[v] / m);
+    uint64_t morton = 0;
+    for (int b = 0; b < LEVELS; b++)
+        morton |= (cu >> b & 1u) << (2 * b + 1) | (cv >> b & 1u) << (2 * b);
+    return face << (2 * LEVELS) | morton;
+}
+
+/* Splits the sorted keys [lo, hi), which share their cell at `level`
+ * (-1: the whole sky), into groups; their first indices go to starts. */
+static size_t split_groups(const star_key *k, size_t lo, size_t hi, int level, uint32_t *starts, size_t ng)
+{
+    if ((level >= 0 && hi - lo <= GROUP_MAX) || level == LEVELS) {
+        starts[ng++] = (uint32_t)lo;
+        return ng;
+    }
+    const int shift = 2 * (LEVELS - level - 1);
+    for (size_t a = lo; a < hi;) {
+        const uint64_t cell = k[a].key >> shift;
+        size_t b = a + 1;
+        while (b < hi && k[b].key >> shift == cell)
+            b++;
+        ng = split_groups(k, a, b, level + 1, starts, ng);
+        a = b;
+    }
+    return ng;
+}
+
+/* ---- a group's cone ---- */
+
+typedef struct cone {
+    double e[3];        /* the eye, its apex */
+    double a[3];        /* unit axis */
+    double cos_a, sin_a; /* of the half-angle */
+    double reach;       /* the farthest star's distance */
+    int wide;           /* half-angle of 90 degrees or more: no angular test */
+} cone;
+
+static void star_point(const float *x, const float *y, const float *z, uint32_t i, double p[3])
+{
+    p[0] = x[i];
+    p[1] = y[i];
+    p[2] = z[i];
+}
+
+/* The cone from the eye holding the segments to the stars k[0, n). */
+static void group_cone(cone *c, const double eye[3], const float *x, const float *y, const float *z,
+                       const star_key *k, size_t n)
+{
+    double sum[3] = {0, 0, 0}, p[3];
+    orr_dust_segment g;
+    c->reach = 0;
+    for (size_t q = 0; q < n; q++) {
+        star_point(x, y, z, k[q].i, p);
+        if (!orr_dust_star_segment(&g, eye, p))
+            continue; /* (not in a group: tau_many leaves such stars out) */
+        for (int a = 0; a < 3; a++)
+            sum[a] += g.d[a];
+        c->reach = fmax(c->reach, g.len);
+    }
+    const double norm = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]);
+    double half_angle = 0;
+    for (int a = 0; a < 3; a++) {
+        c->e[a] = eye[a];
+        c->a[a] = norm > 0 ? sum[a] / norm : 0;
+    }
+    for (size_t q = 0; q < n && norm > 0; q++) {
+        star_point(x, y, z, k[q].i, p);
+        if (!orr_dust_star_segment(&g, eye, p))
+            continue;
+        const double dx = g.d[0] - c->a[0], dy = g.d[1] - c->a[1], dz = g.d[2] - c->a[2];
+        /* the angle from its chord: accurate for small angles, unlike acos */
+        half_angle = fmax(half_angle, 2 * asin(fmin(1.0, 0.5 * sqrt(dx * dx + dy * dy + dz * dz))));
+    }
+    half_angle += SLACK;
+    c->wide = !(norm > 0) || half_angle >= 0.5 * 3.14159265358979323846;
+    c->cos_a = cos(half_angle);
+    c->sin_a = sin(half_angle);
+    c->reach *= 1 + SLACK;
+}
+
+/* Whether the ball of radius r about (bx, by, bz) may meet a segment in
+ * the cone: it must start within the reach and lie within the half-angle
+ * plus the angle the ball subtends. Errs on the side of yes. */
+static int cone_may_meet(const cone *c, double bx, double by, double bz, double r)
+{
+    const double vx = bx - c->e[0], vy = by - c->e[1], vz = bz - c->e[2];
+    const double dist = sqrt(vx * vx + vy * vy + vz * vz);
+    r += SLACK * (r + dist);
+    if (dist <= r)
+        return 1;
+    if (dist - r > c->reach)
+        return 0;
+    if (c->wide)
+        return 1;
+    const double sin_b = r / dist, cos_b = sqrt(1 - sin_b * sin_b);
+    return vx * c->a[0] + vy * c->a[1] + vz * c->a[2] >= dist * (c->cos_a * cos_b - c->sin_a * sin_b);
+}
+
+static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
+{
+    const double hx = 0.5 * ((double)nd->hi[0] - nd->lo[0]), hy = 0.5 * ((double)nd->hi[1] - nd->lo[1]),
+                 hz = 0.5 * ((double)nd->hi[2] - nd->lo[2]);
+    return cone_may_meet(c, nd->lo[0] + hx, nd->lo[1] + hy, nd->lo[2] + hz, sqrt(hx * hx + hy * hy + hz * hz));
+}
+
+/* ---- the candidates ---- */
+
+typedef struct candidate {
+    double vx, vy, vz, v2; /* centre from the eye, and its square: as each star's walk computes them */
+    double near;           /* less than the distance from the eye to the support's nearest point */
+    float ih, kih2;        /* the kernel's own 1/h and k/h^2 */
+} candidate;
+
+typedef struct met {
+    double u, s0, s1, kih2; /* where a star's segment meets a kernel (orr_dust_meet), and its k/h^2 */
+} met;
+
+typedef struct candidates {
+    size_t n, cap;
+    candidate *c;
+    met *m; /* per star: the kernels it meets */
+} candidates;
+
+static int candidates_grow(candidates *c)
+{
+    const size_t cap = c->cap ? 2 * c->cap : 4096;
+    candidate *a = realloc(c->c, cap * sizeof *a);
+    if (a)
+        c->c = a;
+    met *m = a ? realloc(c->m, cap * sizeof *m) : NULL;
+    if (!m)
+        return 0;
+    c->m = m;
+    c->cap = cap;
+    return 1;
+}
+
+/* The kernels whose supports the cone may meet, in the tree's order (the
+ * walk's left-first order is the particles' order); 0 if out of memory. */
+static int gather(const orr_dust_set *s, const cone *cn, candidates *c)
+{
+    uint32_t stack[STACK_MAX];
+    int top = 0;
+    stack[top++] = 0;
+    c->n = 0;
+    while (top > 0) {
+        const orr_dust_node *nd = &s->nodes[stack[--top]];
+        if (!cone_may_meet_box(cn, nd))
+            continue;
+        if (!nd->count) {
+            if (top + 2 > STACK_MAX)
+                return 0;
+            stack[top++] = nd->first + 1;
+            stack[top++] = nd->first;
+            continue;
+        }
+        for (uint32_t i = nd->first; i < nd->first + nd->count; i++) {
+            const double r = ORR_DUST_SUPPORT * s->h[i];
+            if (!cone_may_meet(cn, s->x[i], s->y[i], s->z[i], r))
+                continue;
+            if (c->n == c->cap && !candidates_grow(c))
+                return 0;
+            const double vx = s->x[i] - cn->e[0], vy = s->y[i] - cn->e[1], vz = s->z[i] - cn->e[2];
+            const double v2 = vx * vx + vy * vy + vz * vz, dist = sqrt(v2);
+            c->c[c->n++] = (candidate){vx, vy, vz, v2, dist - r - SLACK * (r + dist), s->ih[i], s->kih2[i]};
+        }
+    }
+    return 1;
+}
+
+/* The candidates star g's segment meets, into c->m in the candidates'
+ * order, picked out without a branch (whether it meets one is a coin toss
+ * for the branch predictor); with drop, the same pass also drops, keeping
+ * the order, the candidates whose support begins beyond next_len, which the
+ * group's nearer stars cannot meet. Returns how many it meets. */
+static inline size_t pick_met(candidates *c, const orr_dust_segment *g, int drop, double next_len)
+{
+    size_t nm = 0, kept = 0;
+    for (size_t j = 0; j < c->n; j++) {
+        const candidate *cj = &c->c[j];
+        double u, s0, s1;
+        const double m2 = orr_dust_meet(g, cj->vx, cj->vy, cj->vz, cj->v2, cj->ih, &u, &s0, &s1);
+        c->m[nm] = (met){u, s0, s1, cj->kih2};
+        nm += m2 < ORR_DUST_SUPPORT * ORR_DUST_SUPPORT;
+        if (drop) {
+            const int keep = cj->near < next_len;
+            c->c[kept] = *cj;
+            kept += keep;
+        }
+    }
+    if (drop)
+        c->n = kept;
+    return nm;
+}
+
+/* A star's column over the group's candidates: the kernels its segment
+ * meets, their columns summed in the candidates' order, each term as
+ * orr_dust_share makes it. The group's stars come farthest first, and every
+ * other star drops the candidates the nearer ones cannot meet (each time
+ * costs stores; every other time measured best). */
+static double star_tau(const orr_dust_set *s, candidates *c, const orr_dust_segment *g, int drop, double next_len)
+{
+    const size_t nm = drop ? pick_met(c, g, 1, next_len) : pick_met(c, g, 0, INFINITY);
+    double sum = 0;
+    for (size_t q = 0; q < nm; q++)
+        sum += c->m[q].kih2 * orr_dust_met_column(s, c->m[q].u, c->m[q].s0, c->m[q].s1);
+    return sum;
+}
+
+static int farthest_first(const void *pa, const void *pb)
+{
+    const star_key *a = pa, *b = pb;
+    if (a->len != b->len)
+        return a->len > b->len ? -1 : 1;
+    return (a->i > b->i) - (a->i < b->i);
+}
+
+/* tau_V of the group k[0, n): one traversal, then each star over the
+ * candidates, farthest first (each star on its own walk if memory runs
+ * out: the same values). */
+static void group_tau(const orr_dust_set *s, const double eye[3], const float *x, const float *y, const float *z,
+                      star_key *k, size_t n, candidates *c, double *tau)
+{
+    cone cn;
+    group_cone(&cn, eye, x, y, z, k, n);
+    const int shared = gather(s, &cn, c);
+    qsort(k, n, sizeof *k, farthest_first);
+    for (size_t q = 0; q < n; q++) {
+        double p[3];
+        star_point(x, y, z, k[q].i, p);
+        if (!shared) {
+            tau[k[q].i] = orr_dust_tau(s, eye, p);
+            continue;
+        }
+        orr_dust_segment g;
+        double sum = 0;
+        if (orr_dust_star_segment(&g, eye, p)) /* (always: tau_many groups only such stars) */
+            sum = star_tau(s, c, &g, q % 2 == 0 && q + 1 < n, q + 1 < n ? k[q + 1].len : 0);
+        tau[k[q].i] = sum;
+    }
+}
+
+orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t n, const float *x, const float *y,
+                             const float *z, const unsigned char *want, double *tau, orr_error *err)
+{
+    if (n > UINT32_MAX - 1)
+        return orr_fail(err, ORR_ERR_USAGE, "%zu stars at once: at most %u", n, UINT32_MAX - 1);
+    star_key *keys = orr_malloc((n ? n : 1) * sizeof *keys, "dust star groups", err);
+    uint32_t *starts = keys ? orr_malloc((n + 1) * sizeof *starts, "dust star groups", err) : NULL;
+    if (!starts) {
+        free(keys);
+        return ORR_ERR_NOMEM;
+    }
+    size_t m = 0;
+    for (size_t i = 0; i < n; i++) {
+        double p[3];
+        orr_dust_segment g;
+        star_point(x, y, z, (uint32_t)i, p);
+        tau[i] = 0; /* not wanted, at the eye, or not finite: no column (as orr_dust_tau) */
+        if ((!want || want[i]) && s->nnodes && orr_dust_star_segment(&g, eye, p))
+            keys[m++] = (star_key){direction_key(g.d), (uint32_t)i, g.len};
+    }
+    qsort(keys, m, sizeof *keys, key_order);
+    size_t ng = m ? split_groups(keys, 0, m, -1, starts, 0) : 0;
+    starts[ng] = (uint32_t)m;
+#pragma omp parallel
+    {
+        candidates c = {0};
+#pragma omp for schedule(dynamic, 1)
+        for (long q = 0; q < (long)ng; q++)
+            group_tau(s, eye, x, y, z, keys + starts[q], starts[q + 1] - starts[q], &c, tau);
+        free(c.c);
+        free(c.m);
+    }
+    free(keys);
+    free(starts);
+    return ORR_OK;
+}
