@@ -45,7 +45,10 @@ orr_status orr_dust_curve_ccm89(orr_dust_curve *c, double r_v, orr_error *err)
  * = k(lambda - V) + R_V is a natural cubic spline in x = 1/lambda (per
  * micron) through nine anchors: 0 at x = 0; the infrared ones at 0.377 and
  * 0.820, 0.26469 and 0.82925 times R_V/3.1; the optical ones at 1.667,
- * 1.828, 2.141 and 2.433, polynomials in R_V; and the ultraviolet ones at
+ * 1.828, 2.141 and 2.433, polynomials in R_V (the paper tabulates these
+ * anchors by R_V; the polynomial fits to them are those of the IDL
+ * Astronomy Library's fm_unred.pro, which give the paper's 2.688, 3.055,
+ * 3.806 and 4.315 at R_V = 3.1: test_dust); and the ultraviolet ones at
  * 3.704 and 3.846 from the Fitzpatrick & Massa (1990) form
  * c1 + c2 x + c3 x^2 / ((x^2 - x0^2)^2 + x^2 gamma^2) + R_V with x0 = 4.596,
  * gamma = 0.99, c3 = 3.23, c2 = -0.824 + 4.717 / R_V, c1 = 2.030 - 3.007 c2. */
