@@ -119,6 +119,30 @@ static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_fits_heade
     return fits_write_chksum(f, status);
 }
 
+/* The scene as the file's last HDU (orr_fits_header.scene): its bytes as
+ * a one-dimensional image of unsigned bytes, so that any text (UTF-8, long
+ * lines) is kept exactly and astropy gives it back with
+ * fits.getdata(path, "SCENE").tobytes().decode(). Never compressed: it is
+ * small, and a plain image is what every FITS reader knows. */
+static int write_scene_hdu(fitsfile *f, const char *text, int *status)
+{
+    LONGLONG n = (LONGLONG)strlen(text), first = 1;
+    fits_set_compression_type(f, 0, status); /* 0: no compression */
+    fits_create_imgll(f, BYTE_IMG, 1, &n, status);
+    write_string_key(f, "EXTNAME", "SCENE", "the scene these planes were rendered from", status);
+    write_string_key(f, "CONTENT", "YAML", "an orrery scene: the data are its UTF-8 text", status);
+    fits_write_comment(f, "Read it back: fits.getdata(path, 'SCENE').tobytes().decode() (astropy).", status);
+    fits_write_date(f, status);
+    errno = 0;
+    fits_write_img(f, TBYTE, first, n, (void *)text, status); /* only read, though not const */
+    return fits_write_chksum(f, status);
+}
+
+static int has_scene(const orr_fits_header *h)
+{
+    return h && h->scene && h->scene[0];
+}
+
 /* The system's reason for a failed cfitsio call (ENOSPC, EFBIG, EIO...),
  * read from errno right after it, or 0. cfitsio reports a full disk only
  * as "error writing to FITS file" (or "reading", when it reads a buffer
@@ -231,6 +255,14 @@ static int write_image_hdus(fitsfile *f, const void *ctx, int *status, int *sys_
         if (write_plane_hdu(f, &b->planes[i], b->header, status))
             *sys_errno = system_errno(*status);
     }
+    if (*status == 0 && has_scene(b->header) && write_scene_hdu(f, b->header->scene, status))
+        *sys_errno = system_errno(*status);
+    /* The empty primary HDU cfitsio puts before compressed images gets its
+     * checksums too: every HDU of the file can be verified. */
+    if (b->compression != ORR_FITS_UNCOMPRESSED && *status == 0)
+        fits_movabs_hdu(f, 1, NULL, status);
+    if (b->compression != ORR_FITS_UNCOMPRESSED && *status == 0)
+        fits_write_chksum(f, status);
     return *status;
 }
 
@@ -305,7 +337,10 @@ static int write_healpix_hdus(fitsfile *f, const void *ctx, int *status, int *sy
         if (fits_write_col(f, TFLOAT, i + 1, 1, 1, npix, b->planes[i].data, status))
             *sys_errno = system_errno(*status);
     }
-    return fits_write_chksum(f, status);
+    fits_write_chksum(f, status);
+    if (*status == 0 && has_scene(b->header) && write_scene_hdu(f, b->header->scene, status))
+        *sys_errno = system_errno(*status);
+    return *status;
 }
 
 orr_status orr_write_healpix_fits(const char *path, const orr_plane *planes, int nplanes,

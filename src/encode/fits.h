@@ -25,6 +25,10 @@ typedef struct orr_fits_card {
 typedef struct orr_fits_header {
     int n;
     orr_fits_card cards[ORR_FITS_MAX_CARDS];
+    /* The text of the scene the planes were made from (YAML), written after
+     * them as the file's last HDU, EXTNAME 'SCENE': a one-dimensional image
+     * of bytes (BITPIX 8), the text exactly; NULL or "": none. Borrowed. */
+    const char *scene;
 } orr_fits_header;
 
 /* Append a card; keys longer than 8 characters or a full header are

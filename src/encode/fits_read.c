@@ -80,6 +80,16 @@ static orr_status image_size(fitsfile *f, const char *path, int hdu, int *w, int
     return ORR_OK;
 }
 
+/* The scene text orrery stores after the planes (encode/fits.h): no plane. */
+static int is_scene_hdu(fitsfile *f)
+{
+    char name[FLEN_VALUE] = "";
+    int status = 0;
+    fits_read_key(f, TSTRING, "EXTNAME", name, NULL, &status);
+    fits_clear_errmsg();
+    return status == 0 && strcmp(name, "SCENE") == 0;
+}
+
 orr_status orr_read_fits_planes(const char *path, orr_plane *planes, int max, int *n, orr_error *err)
 {
     *n = 0;
@@ -104,6 +114,8 @@ orr_status orr_read_fits_planes(const char *path, orr_plane *planes, int max, in
         int w = 0, h = 0;
         if (fits_movabs_hdu(f, hdu, NULL, &status))
             st = read_failure(path, hdu, status, err);
+        if (!st && is_scene_hdu(f))
+            continue;
         if (!st)
             st = image_size(f, path, hdu, &w, &h, err);
         if (!st && hdu == 1) {

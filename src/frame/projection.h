@@ -20,7 +20,8 @@ typedef enum {
     ORR_PROJ_DOME,            /* azimuthal equidistant dome master, centre = dome zenith */
     ORR_PROJ_EQUIRECTANGULAR, /* full sky, longitude linear in x, 2:1 */
     ORR_PROJ_HEALPIX,         /* full sky in HEALPix's equal-area pixels (pixel k is image pixel
-                               * (k mod 4 nside, k div 4 nside)); NGP deposits only */
+                               * (k mod 4 nside, k div 4 nside)); NGP points or SPH kernels
+                               * (splat/healpix_kernel.h) */
 } orr_projection_kind;
 
 #define ORR_IMAGE_SIDE_MAX 65536

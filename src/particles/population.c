@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/digest.h"
+#include "core/ssp.h"
 
 /* ---- hashing ------------------------------------------------------------------ */
 
@@ -59,6 +60,21 @@ const char *orr_prob_kind_name(orr_prob_kind kind)
     return (int)kind >= 0 && (int)kind < PROB_COUNT ? prob_names[kind] : "unknown";
 }
 
+const orr_named orr_ssp_clock_names[] = {{"age", ORR_SSP_CLOCK_AGE},
+                                          {"time", ORR_SSP_CLOCK_TIME},
+                                          {"scale_factor", ORR_SSP_CLOCK_SCALE_FACTOR},
+                                          {NULL, 0}};
+
+void orr_pop_ssp_defaults(orr_pop_ssp *ssp)
+{
+    memset(ssp, 0, sizeof *ssp);
+    ssp->clock = ORR_SSP_CLOCK_AGE;
+    ssp->unit_yr = 1;
+    ssp->h = 0.674;
+    ssp->omega_m = 0.315;
+    ssp->metallicity = 0.0152;
+}
+
 /* ---- probability ------------------------------------------------------------------ */
 
 static double clip01(double p)
@@ -93,6 +109,7 @@ void orr_population_defaults(orr_population *p, const char *name)
     p->colour.kind = ORR_POPCOLOUR_FIXED;
     p->colour.fixed.kind = ORR_COLOUR_SRGB;
     p->colour.fixed.v[0] = p->colour.fixed.v[1] = p->colour.fixed.v[2] = 1;
+    orr_pop_ssp_defaults(&p->colour.ssp);
     p->lum.kind = ORR_POPLUM_CONSTANT;
     p->lum.scale = 1;
 }
@@ -145,6 +162,30 @@ static orr_status check_select(const orr_pop_select *sel, orr_error *err)
     return orr_fail(err, ORR_ERR_USAGE, "unknown probability kind %d", (int)sel->prob);
 }
 
+static orr_status check_ssp(const orr_pop_ssp *ssp, const char *field, orr_error *err)
+{
+    if (!orr_named_has(orr_ssp_clock_names, (int)ssp->clock))
+        return orr_fail(err, ORR_ERR_USAGE, "ssp of '%s': unknown clock %d", field, (int)ssp->clock);
+    if (ssp->clock != ORR_SSP_CLOCK_SCALE_FACTOR && !(ssp->unit_yr > 0 && isfinite(ssp->unit_yr)))
+        return orr_fail(err, ORR_ERR_USAGE, "ssp of '%s': unit_yr = %g must be a number > 0", field, ssp->unit_yr);
+    if (ssp->has_now && !isfinite(ssp->now))
+        return orr_fail(err, ORR_ERR_USAGE, "ssp of '%s': now = %g is not a finite number", field, ssp->now);
+    if (ssp->clock == ORR_SSP_CLOCK_SCALE_FACTOR) {
+        if (ssp->has_now && !(ssp->now > 0))
+            return orr_fail(err, ORR_ERR_USAGE, "ssp of '%s': now = %g is not a scale factor (> 0)", field, ssp->now);
+        if (!(ssp->h >= 0.2 && ssp->h <= 2) || !(ssp->omega_m > 0 && ssp->omega_m <= 1))
+            return orr_fail(err, ORR_ERR_USAGE,
+                            "ssp of '%s': cosmology h = %g, omega_m = %g: expected h in [0.2, 2], omega_m in (0, 1]",
+                            field, ssp->h, ssp->omega_m);
+    }
+    if (ssp->metallicity_field[0] && !NAME_SET(ssp->metallicity_field))
+        return orr_fail(err, ORR_ERR_USAGE, "ssp of '%s': metallicity field name too long", field);
+    if (!ssp->metallicity_field[0] && !(ssp->metallicity >= 0 && ssp->metallicity < 1))
+        return orr_fail(err, ORR_ERR_USAGE, "ssp of '%s': metallicity %g must be a mass fraction in [0, 1)", field,
+                        ssp->metallicity);
+    return ORR_OK;
+}
+
 static orr_status check_colour(const orr_pop_colour *col, double xyz[3], orr_error *err)
 {
     xyz[0] = xyz[1] = xyz[2] = 0;
@@ -160,6 +201,10 @@ static orr_status check_colour(const orr_pop_colour *col, double xyz[3], orr_err
             return orr_fail(err, ORR_ERR_USAGE, "colour: unknown CMF set %d or B-V relation %d", (int)col->cmf,
                             (int)col->bv_rel);
         return ORR_OK;
+    case ORR_POPCOLOUR_SSP:
+        if (!NAME_SET(col->field))
+            return orr_fail(err, ORR_ERR_USAGE, "colour from a stellar population needs its age or formation field");
+        return check_ssp(&col->ssp, col->field, err);
     }
     return orr_fail(err, ORR_ERR_USAGE, "unknown colour kind %d", (int)col->kind);
 }
@@ -171,6 +216,7 @@ static orr_status check_luminance(const orr_pop_luminance *lum, orr_error *err)
     switch (lum->kind) {
     case ORR_POPLUM_CONSTANT:
     case ORR_POPLUM_MASS:
+    case ORR_POPLUM_SSP:
         return ORR_OK;
     case ORR_POPLUM_FIELD:
     case ORR_POPLUM_MAGNITUDE:
@@ -196,6 +242,8 @@ orr_status orr_population_add(orr_population_set *s, const orr_population *p, or
         st = check_colour(&p->colour, xyz, err);
     if (st == ORR_OK)
         st = check_luminance(&p->lum, err);
+    if (st == ORR_OK && p->lum.kind == ORR_POPLUM_SSP && p->colour.kind != ORR_POPCOLOUR_SSP)
+        st = orr_fail(err, ORR_ERR_USAGE, "luminance from a stellar population needs the colour from one (ssp)");
     if (st != ORR_OK)
         return orr_fail_prefix(err, "population '%s': ", p->name);
     int i = s->n++;
@@ -210,7 +258,10 @@ orr_status orr_population_add(orr_population_set *s, const orr_population *p, or
 /* The chunk arrays a population's rules read, looked up once per call. */
 typedef struct bound_pop {
     const float *range, *prob, *colour, *lum;
-    uint64_t key; /* of the random draw */
+    const float *metallicity; /* SSP colours with a metallicity field */
+    double now;               /* SSP colours: now, in the field's units */
+    double t_now_yr;          /* SSP from scale factors: the cosmic time of now */
+    uint64_t key;             /* of the random draw */
 } bound_pop;
 
 static orr_status bind_field(const orr_chunk *c, const char *pop, const char *role, const char *name,
@@ -223,19 +274,53 @@ static orr_status bind_field(const orr_chunk *c, const char *pop, const char *ro
     return ORR_OK;
 }
 
-static orr_status bind_all(const orr_population_set *s, const orr_chunk *c, bound_pop *b, orr_error *err)
+/* An SSP colour's metallicity field and its "now": its own, or the
+ * snapshot's, which must then be known. */
+static orr_status bind_ssp(const orr_population *p, double snapshot_time, const orr_chunk *c, bound_pop *b,
+                           orr_error *err)
+{
+    const orr_pop_ssp *ssp = &p->colour.ssp;
+    if (ssp->metallicity_field[0]) {
+        orr_status st = bind_field(c, p->name, "metallicity", ssp->metallicity_field, &b->metallicity, err);
+        if (st != ORR_OK)
+            return st;
+    }
+    if (ssp->clock == ORR_SSP_CLOCK_AGE)
+        return ORR_OK;
+    b->now = ssp->has_now ? ssp->now : snapshot_time;
+    const char *what = ssp->clock == ORR_SSP_CLOCK_TIME ? "formation time" : "formation scale factor";
+    if (isnan(b->now))
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "population '%s': ages from the %s '%s' need the time now: the snapshot has none, so give "
+                        "ssp.now",
+                        p->name, what, p->colour.field);
+    if (ssp->clock == ORR_SSP_CLOCK_SCALE_FACTOR) {
+        if (!(b->now > 0))
+            return orr_fail(err, ORR_ERR_USAGE,
+                            "population '%s': ages from the %s '%s': the snapshot's time %g is not a scale factor "
+                            "(> 0); give ssp.now",
+                            p->name, what, p->colour.field, b->now);
+        b->t_now_yr = orr_cosmic_time_yr(b->now, ssp->h, ssp->omega_m);
+    }
+    return ORR_OK;
+}
+
+static orr_status bind_all(const orr_population_set *s, double snapshot_time, const orr_chunk *c, bound_pop *b,
+                           orr_error *err)
 {
     for (int k = 0; k < s->n; k++) {
         const orr_population *p = &s->pop[k];
         orr_status st = ORR_OK;
-        b[k] = (bound_pop){NULL, NULL, NULL, NULL, draw_key(s->seed, s->salt[k])};
+        b[k] = (bound_pop){.key = draw_key(s->seed, s->salt[k])};
         if (p->select.range_field[0])
             st = bind_field(c, p->name, "range", p->select.range_field, &b[k].range, err);
         if (st == ORR_OK && p->select.random && p->select.prob != ORR_PROB_CONSTANT)
             st = bind_field(c, p->name, "probability", p->select.prob_field, &b[k].prob, err);
         if (st == ORR_OK && p->colour.kind != ORR_POPCOLOUR_FIXED)
             st = bind_field(c, p->name, "colour", p->colour.field, &b[k].colour, err);
-        if (st == ORR_OK && p->lum.kind == ORR_POPLUM_MASS)
+        if (st == ORR_OK && p->colour.kind == ORR_POPCOLOUR_SSP)
+            st = bind_ssp(p, snapshot_time, c, &b[k], err);
+        if (st == ORR_OK && (p->lum.kind == ORR_POPLUM_MASS || p->lum.kind == ORR_POPLUM_SSP))
             b[k].lum = c->mass;
         if (st == ORR_OK && (p->lum.kind == ORR_POPLUM_FIELD || p->lum.kind == ORR_POPLUM_MAGNITUDE))
             st = bind_field(c, p->name, "luminance", p->lum.field, &b[k].lum, err);
@@ -270,13 +355,50 @@ static orr_status data_error(const orr_chunk *c, size_t j, const orr_population 
                     v);
 }
 
-/* Colour (Y = 1) of particle j in population k. */
+/* The age in years of particle j of an SSP colour, or NaN when its field
+ * cannot give one (NaN, or a formation scale factor not > 0). */
+static double particle_age_yr(const orr_pop_ssp *ssp, const bound_pop *b, size_t j)
+{
+    double v = b->colour[j];
+    switch (ssp->clock) {
+    case ORR_SSP_CLOCK_AGE:
+        return v * ssp->unit_yr;
+    case ORR_SSP_CLOCK_TIME:
+        return (b->now - v) * ssp->unit_yr;
+    case ORR_SSP_CLOCK_SCALE_FACTOR:
+        return b->t_now_yr - orr_cosmic_time_yr(v, ssp->h, ssp->omega_m);
+    }
+    return NAN;
+}
+
+/* The SSP colour (Y = 1) and V luminance per unit mass of particle j. */
+static orr_status ssp_colour(const orr_population *p, const bound_pop *b, const orr_chunk *c, size_t j,
+                             double xyz[3], double *lv_per_mass, orr_error *err)
+{
+    const orr_pop_ssp *ssp = &p->colour.ssp;
+    double z = b->metallicity ? b->metallicity[j] : ssp->metallicity;
+    if (isnan(z))
+        return data_error(c, j, p, "metallicity", ssp->metallicity_field, z, err);
+    double age = particle_age_yr(ssp, b, j);
+    orr_ssp_colour pop;
+    if (!orr_ssp_lookup(age, z, &pop) || !orr_blackbody_xyz(orr_bv_to_teff(pop.bv, p->colour.bv_rel), p->colour.cmf, xyz))
+        return data_error(c, j, p, orr_named_name(orr_ssp_clock_names, (int)ssp->clock), p->colour.field,
+                          b->colour[j], err);
+    *lv_per_mass = pop.lv_per_msun;
+    return ORR_OK;
+}
+
+/* Colour (Y = 1) of particle j in population k; for SSP colours also the
+ * V luminance per unit mass (else 1). */
 static orr_status particle_colour(const orr_population_set *s, int k, const bound_pop *b, const orr_chunk *c,
-                                  size_t j, double xyz[3], orr_error *err)
+                                  size_t j, double xyz[3], double *lv_per_mass, orr_error *err)
 {
     const orr_pop_colour *col = &s->pop[k].colour;
     double v;
+    *lv_per_mass = 1;
     switch (col->kind) {
+    case ORR_POPCOLOUR_SSP:
+        return ssp_colour(&s->pop[k], b, c, j, xyz, lv_per_mass, err);
     case ORR_POPCOLOUR_TEMPERATURE:
         v = b->colour[j];
         if (!(v > 0) || !orr_blackbody_xyz(v, col->cmf, xyz))
@@ -294,11 +416,14 @@ static orr_status particle_colour(const orr_population_set *s, int k, const boun
 }
 
 static orr_status particle_luminance(const orr_population *p, const bound_pop *b, const orr_chunk *c, size_t j,
-                                     double *lum, orr_error *err)
+                                     double lv_per_mass, double *lum, orr_error *err)
 {
     double v = b->lum ? b->lum[j] : 1;
     double l;
     switch (p->lum.kind) {
+    case ORR_POPLUM_SSP:
+        l = p->lum.scale * v * lv_per_mass;
+        break;
     case ORR_POPLUM_MAGNITUDE:
         l = p->lum.scale * pow(10.0, -0.4 * v);
         break;
@@ -310,7 +435,8 @@ static orr_status particle_luminance(const orr_population *p, const bound_pop *b
         break;
     }
     if (!(l >= 0) || isinf(l))
-        return data_error(c, j, p, "luminance from", p->lum.kind == ORR_POPLUM_MASS ? "mass" : p->lum.field, v,
+        return data_error(c, j, p, "luminance from",
+                          p->lum.kind == ORR_POPLUM_MASS || p->lum.kind == ORR_POPLUM_SSP ? "mass" : p->lum.field, v,
                           err);
     *lum = l;
     return ORR_OK;
@@ -319,11 +445,18 @@ static orr_status particle_luminance(const orr_population *p, const bound_pop *b
 orr_status orr_population_assign(const orr_population_set *s, const orr_chunk *c, size_t start, size_t count,
                                  int only, int32_t *pop, float *X, float *Y, float *Z, orr_error *err)
 {
+    return orr_population_assign_at(s, NAN, c, start, count, only, pop, X, Y, Z, err);
+}
+
+orr_status orr_population_assign_at(const orr_population_set *s, double snapshot_time, const orr_chunk *c,
+                                    size_t start, size_t count, int only, int32_t *pop, float *X, float *Y, float *Z,
+                                    orr_error *err)
+{
     if (start > c->n || count > c->n - start)
         return orr_fail(err, ORR_ERR_INTERNAL, "population: particles %zu..%zu outside a chunk of %zu", start,
                         start + count, c->n);
     bound_pop b[ORR_POPULATION_MAX];
-    orr_status st = bind_all(s, c, b, err);
+    orr_status st = bind_all(s, snapshot_time, c, b, err);
     if (st != ORR_OK)
         return st;
     for (size_t i = 0; i < count; i++) {
@@ -335,11 +468,11 @@ orr_status orr_population_assign(const orr_population_set *s, const orr_chunk *c
             k = -1;
         if (pop)
             pop[i] = k;
-        double xyz[3] = {0, 0, 0}, lum = 0;
+        double xyz[3] = {0, 0, 0}, lum = 0, lv_per_mass;
         if (k >= 0 && (only < 0 || only == k)) {
-            st = particle_colour(s, k, &b[k], c, j, xyz, err);
+            st = particle_colour(s, k, &b[k], c, j, xyz, &lv_per_mass, err);
             if (st == ORR_OK)
-                st = particle_luminance(&s->pop[k], &b[k], c, j, &lum, err);
+                st = particle_luminance(&s->pop[k], &b[k], c, j, lv_per_mass, &lum, err);
             if (st != ORR_OK)
                 return st;
         }

@@ -74,14 +74,43 @@ typedef enum {
     ORR_POPCOLOUR_FIXED = 0,       /* one colour for the whole population */
     ORR_POPCOLOUR_TEMPERATURE,     /* a blackbody at the field's value, K */
     ORR_POPCOLOUR_BV,              /* a blackbody at T_eff(B-V) of the field */
+    ORR_POPCOLOUR_SSP,             /* B-V of a stellar population of the field's age (core/ssp.h) */
 } orr_popcolour_kind;
+
+/* What an SSP colour's field holds. */
+typedef enum {
+    ORR_SSP_CLOCK_AGE = 0,      /* the population's age: age = field * unit_yr */
+    ORR_SSP_CLOCK_TIME,         /* its formation time: age = (now - field) * unit_yr */
+    ORR_SSP_CLOCK_SCALE_FACTOR, /* its formation scale factor: age = t(now) - t(field) */
+} orr_ssp_clock;
+
+extern const orr_named orr_ssp_clock_names[];
+
+typedef struct orr_pop_ssp {
+    orr_ssp_clock clock;
+    double unit_yr; /* AGE, TIME: years per unit of the field and of now, > 0 */
+    /* TIME, SCALE_FACTOR: "now"; without has_now, the snapshot's own time
+     * (orr_population_assign_at's snapshot_time). */
+    int has_now;
+    double now;
+    double h, omega_m; /* SCALE_FACTOR: a flat LCDM cosmology (core/ssp.h) */
+    /* The metal mass fraction Z: a field, or one value for every particle
+     * when the name is "". */
+    char metallicity_field[ORR_FIELD_NAME_MAX];
+    double metallicity;
+} orr_pop_ssp;
+
+/* The SSP defaults: an age field in years, Z = 0.0152 (PARSEC's solar
+ * value), Planck 2018's h = 0.674, omega_m = 0.315 for scale factors. */
+void orr_pop_ssp_defaults(orr_pop_ssp *ssp);
 
 typedef struct orr_pop_colour {
     orr_popcolour_kind kind;
     orr_colour fixed;              /* FIXED */
-    char field[ORR_FIELD_NAME_MAX]; /* TEMPERATURE, BV */
-    orr_cmf cmf;                   /* TEMPERATURE, BV */
-    orr_bv_relation bv_rel;        /* BV */
+    char field[ORR_FIELD_NAME_MAX]; /* TEMPERATURE, BV; SSP: the age or formation field */
+    orr_cmf cmf;                   /* TEMPERATURE, BV, SSP */
+    orr_bv_relation bv_rel;        /* BV, SSP */
+    orr_pop_ssp ssp;               /* SSP */
 } orr_pop_colour;
 
 typedef enum {
@@ -89,6 +118,7 @@ typedef enum {
     ORR_POPLUM_MASS,         /* L = scale * mass */
     ORR_POPLUM_FIELD,        /* L = scale * field */
     ORR_POPLUM_MAGNITUDE,    /* L = scale * 10^(-0.4 field), e.g. V */
+    ORR_POPLUM_SSP,          /* L = scale * mass * L_V/M of the SSP colour's population */
 } orr_poplum_kind;
 
 typedef struct orr_pop_luminance {
@@ -129,14 +159,24 @@ orr_status orr_population_add(orr_population_set *s, const orr_population *p, or
 /* Index of the population called name, or -1. */
 int orr_population_find(const orr_population_set *s, const char *name);
 
-/* For particles start .. start+count-1 of the chunk: pop[i] gets the index of
+/* For particles start .. start+count-1 of the chunk, at the time
+ * snapshot_time of the snapshot (the "now" of SSP colours that do not set
+ * their own; NaN when unknown): pop[i] gets the index of
  * particle start+i's population (-1 for none; pop may be NULL) and X, Y, Z
  * its weights. With only >= 0, particles of other populations get weights 0
  * (their pop[] is still filled): rendering each population alone and adding
  * the planes gives the combined image. Fails with ORR_ERR_USAGE when a rule
  * names a field the chunk lacks, and ORR_ERR_DATA (naming the particle's
  * index in the source, its id and the field) on a temperature not > 0 or NaN,
- * a NaN B-V, or a luminance that is negative or not finite. */
+ * a NaN B-V, a NaN age or metallicity, a formation scale factor not > 0,
+ * or a luminance that is negative or not finite; ORR_ERR_USAGE when an SSP
+ * colour needs the snapshot's time and snapshot_time is NaN (or, for scale
+ * factors, not > 0). */
+orr_status orr_population_assign_at(const orr_population_set *s, double snapshot_time, const orr_chunk *c,
+                                    size_t start, size_t count, int only, int32_t *pop, float *X, float *Y, float *Z,
+                                    orr_error *err);
+
+/* The same without a snapshot time (NaN). */
 orr_status orr_population_assign(const orr_population_set *s, const orr_chunk *c, size_t start, size_t count,
                                  int only, int32_t *pop, float *X, float *Y, float *Z, orr_error *err);
 

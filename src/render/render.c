@@ -84,6 +84,8 @@ int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIEL
         add_field(fields, &nfields, p->select.prob_field);
         if (p->colour.kind != ORR_POPCOLOUR_FIXED)
             add_field(fields, &nfields, p->colour.field);
+        if (p->colour.kind == ORR_POPCOLOUR_SSP)
+            add_field(fields, &nfields, p->colour.ssp.metallicity_field);
         if (p->lum.kind == ORR_POPLUM_FIELD || p->lum.kind == ORR_POPLUM_MAGNITUDE)
             add_field(fields, &nfields, p->lum.field);
     }

@@ -928,8 +928,9 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
     for (int part = 0; part < MAX_LANES; part++) {
         size_t start = (size_t)part * per < n ? (size_t)part * per : n;
         size_t count = start + per < n ? per : n - start;
-        st_part[part] = orr_population_assign(&s->populations, c, start, count, s->only, NULL, xyz[0] + start,
-                                              xyz[1] + start, xyz[2] + start, &work->lane_err[part]);
+        st_part[part] = orr_population_assign_at(&s->populations, src->info.time, c, start, count, s->only, NULL,
+                                                 xyz[0] + start, xyz[1] + start, xyz[2] + start,
+                                                 &work->lane_err[part]);
     }
     for (int part = 0; part < MAX_LANES; part++)
         if (st_part[part]) {

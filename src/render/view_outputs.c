@@ -164,6 +164,7 @@ void orr_view_add_frame_cards(const view_state *v, orr_fits_header *h)
     }
     orr_wcs_view wcs = {p, cam, &rep->sky, rep->has_sky_frame, scene_length_unit(s)};
     orr_wcs_add_cards(h, &wcs);
+    h->scene = s->scene_yaml; /* every FITS file says how it was made */
     if (s->stereo)
         orr_stereo_add_cards(h, s, rep);
 }

@@ -293,6 +293,11 @@ typedef struct orr_scene {
      * when longer than the buffer, but the digest covers the whole text. */
     char settings[ORR_SETTINGS_MAX];
     uint64_t settings_digest;
+    /* Not a key: the same effective keys as a YAML document that renders
+     * this view again (yt_yaml_text, after a comment naming the folder its
+     * relative file names are relative to), stored in the FITS outputs as
+     * their SCENE extension; "" when longer than the buffer. */
+    char scene_yaml[ORR_SETTINGS_MAX];
     int regrade_final;             /* not a key: a compose re-grades NAME.fits, the planes after the PSF
                                     * (the white-smoothing pass), rather than NAME.raw.fits */
 } orr_scene;

@@ -1,3 +1,4 @@
+#define _XOPEN_SOURCE 700 /* realpath (XSI) */
 #include "scene/scene_check.h"
 
 #include <math.h>
@@ -520,6 +521,40 @@ static orr_status record_settings(orr_scene *s, const yt_node *root, orr_error *
     return ORR_OK;
 }
 
+/* The folder a scene's relative file names are resolved against, absolute
+ * where it can be, on one line. */
+static void scene_folder(const orr_scene *s, char *out, size_t size)
+{
+    char *abs = realpath(s->dir, NULL);
+    snprintf(out, size, "%s", abs ? abs : s->dir);
+    free(abs);
+    for (char *c = out; *c; c++)
+        if ((unsigned char)*c < 0x20 || *c == 0x7f)
+            *c = '?';
+}
+
+/* The effective keys as YAML, for the SCENE extension of the FITS outputs,
+ * after a comment saying how to use it. Left empty when it does not fit:
+ * a scene cut short would render something else. */
+static orr_status record_scene_yaml(orr_scene *s, const yt_node *root, orr_error *err)
+{
+    char *yaml = yt_yaml_text(root, err);
+    if (!yaml)
+        return ORR_ERR_NOMEM;
+    char folder[ORR_PATH_MAX];
+    scene_folder(s, folder, sizeof folder);
+    int n = snprintf(s->scene_yaml, sizeof s->scene_yaml,
+                     "# The scene this file was rendered from by orrery %s: the scene file with the\n"
+                     "# command line's --set overrides applied (and its view's keys merged in).\n"
+                     "# orrery render of this text draws the same planes; its relative file names\n"
+                     "# are relative to %s\n%s",
+                     ORRERY_VERSION, folder, yaml);
+    if (n < 0 || (size_t)n >= sizeof s->scene_yaml)
+        s->scene_yaml[0] = '\0';
+    free(yaml);
+    return ORR_OK;
+}
+
 /* Dust: the stage's own checks, and what it cannot do yet. */
 static orr_status check_dust(const orr_scene *s, orr_error *err)
 {
@@ -573,5 +608,7 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_white_smoothing(s, &marks, err);
     if (st == ORR_OK)
         st = record_settings(s, root, err);
+    if (st == ORR_OK)
+        st = record_scene_yaml(s, root, err);
     return st;
 }

@@ -135,9 +135,53 @@ static orr_status bind_select(const scene_at *at, const yt_node *n, orr_pop_sele
 
 /* ---- colour and luminance ---- */
 
+/* colour: {ssp: {field, clock, unit_yr, now, metallicity_field | metallicity, h, omega_m}} */
+static orr_status bind_ssp(const scene_at *at, const yt_node *n, orr_pop_colour *col)
+{
+    static const char *const keys = "field clock unit_yr now metallicity_field metallicity h omega_m";
+    orr_pop_ssp *ssp = &col->ssp;
+    orr_status st = want_mapping(at, n, keys);
+    col->kind = ORR_POPCOLOUR_SSP;
+    for (size_t i = 0; !st && i < n->n; i++) {
+        const yt_entry *e = &n->entries[i];
+        scene_at c = scene_child_at(at, e);
+        if (strcmp(e->key, "field") == 0) {
+            st = get_name(&c, e->value, col->field, sizeof col->field);
+        } else if (strcmp(e->key, "clock") == 0) {
+            char word[32] = "", list[64];
+            int v = ORR_SSP_CLOCK_AGE;
+            st = get_name(&c, e->value, word, sizeof word);
+            if (!st && !orr_named_value(orr_ssp_clock_names, word, &v))
+                st = scene_fail_at(at->err, c.origin, c.line, "%s: expected one of: %s, got '%s'", c.path,
+                                   orr_named_list(orr_ssp_clock_names, list, sizeof list), word);
+            if (!st)
+                ssp->clock = (orr_ssp_clock)v;
+        } else if (strcmp(e->key, "unit_yr") == 0) {
+            st = scene_get_number(&c, e->value, &ssp->unit_yr);
+        } else if (strcmp(e->key, "now") == 0) {
+            st = scene_get_number(&c, e->value, &ssp->now);
+            ssp->has_now = 1;
+        } else if (strcmp(e->key, "metallicity_field") == 0) {
+            st = get_name(&c, e->value, ssp->metallicity_field, sizeof ssp->metallicity_field);
+        } else if (strcmp(e->key, "metallicity") == 0) {
+            st = scene_get_number(&c, e->value, &ssp->metallicity);
+        } else if (strcmp(e->key, "h") == 0) {
+            st = scene_get_number(&c, e->value, &ssp->h);
+        } else if (strcmp(e->key, "omega_m") == 0) {
+            st = scene_get_number(&c, e->value, &ssp->omega_m);
+        } else {
+            st = unknown(at, e, keys);
+        }
+    }
+    if (!st && !col->field[0])
+        st = scene_fail_at(at->err, at->origin, at->line, "%s: an ssp colour needs field: the age or formation field",
+                           at->path);
+    return st;
+}
+
 static orr_status bind_colour(const scene_at *at, const yt_node *n, orr_pop_colour *col)
 {
-    static const char *const keys = "temperature bv srgb linear_srgb xy temperature_field bv_field";
+    static const char *const keys = "temperature bv srgb linear_srgb xy temperature_field bv_field ssp";
     orr_status st = want_mapping(at, n, keys);
     if (!st && n->n != 1)
         return scene_fail_at(at->err, at->origin, at->line, "%s: give exactly one of: %s", at->path, keys);
@@ -159,6 +203,8 @@ static orr_status bind_colour(const scene_at *at, const yt_node *n, orr_pop_colo
     } else if (strcmp(e->key, "temperature_field") == 0 || strcmp(e->key, "bv_field") == 0) {
         col->kind = e->key[0] == 't' ? ORR_POPCOLOUR_TEMPERATURE : ORR_POPCOLOUR_BV;
         st = get_name(&c, e->value, col->field, sizeof col->field);
+    } else if (strcmp(e->key, "ssp") == 0) {
+        st = bind_ssp(&c, e->value, col);
     } else {
         st = unknown(at, e, keys);
     }
@@ -167,7 +213,7 @@ static orr_status bind_colour(const scene_at *at, const yt_node *n, orr_pop_colo
 
 static orr_status bind_luminance(const scene_at *at, const yt_node *n, orr_pop_luminance *lum)
 {
-    static const char *const keys = "constant, mass, field or magnitude_field (with scale)";
+    static const char *const keys = "constant, mass, ssp, field or magnitude_field (with scale)";
     orr_status st = want_mapping(at, n, keys);
     int rules = 0;
     for (size_t i = 0; !st && i < n->n; i++) {
@@ -175,8 +221,8 @@ static orr_status bind_luminance(const scene_at *at, const yt_node *n, orr_pop_l
         scene_at c = scene_child_at(at, e);
         if (strcmp(e->key, "scale") == 0) {
             st = scene_get_number(&c, e->value, &lum->scale);
-        } else if (strcmp(e->key, "constant") == 0 || strcmp(e->key, "mass") == 0) {
-            lum->kind = e->key[0] == 'c' ? ORR_POPLUM_CONSTANT : ORR_POPLUM_MASS;
+        } else if (strcmp(e->key, "constant") == 0 || strcmp(e->key, "mass") == 0 || strcmp(e->key, "ssp") == 0) {
+            lum->kind = e->key[0] == 'c' ? ORR_POPLUM_CONSTANT : e->key[0] == 'm' ? ORR_POPLUM_MASS : ORR_POPLUM_SSP;
             st = scene_get_number(&c, e->value, &lum->scale);
             rules++;
         } else if (strcmp(e->key, "field") == 0 || strcmp(e->key, "magnitude_field") == 0) {
@@ -184,7 +230,7 @@ static orr_status bind_luminance(const scene_at *at, const yt_node *n, orr_pop_l
             st = get_name(&c, e->value, lum->field, sizeof lum->field);
             rules++;
         } else {
-            st = unknown(at, e, "constant mass field magnitude_field scale");
+            st = unknown(at, e, "constant mass ssp field magnitude_field scale");
         }
     }
     if (!st && rules != 1)

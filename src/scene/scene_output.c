@@ -113,10 +113,12 @@ orr_status scene_check_healpix(orr_scene *s, const scene_marks *m, orr_error *er
         return scene_fail_key(s, m, "camera.healpix_nside", err,
                               "camera.healpix_nside: must be a power of 2 (1, 2, 4, ..., %d), got %d",
                               ORR_HEALPIX_NSIDE_MAX, nside);
-    if (s->deposit != ORR_DEPOSIT_NGP)
+    if (s->deposit != ORR_DEPOSIT_NGP && s->deposit != ORR_DEPOSIT_SPH)
         return scene_fail_key(s, m, scene_mark(m, "deposit") ? "deposit" : "camera.projection", err,
-                              "camera.projection: healpix draws each particle whole into the pixel its direction "
-                              "falls in: set deposit: ngp");
+                              "camera.projection: healpix takes deposit: ngp (each particle whole into the pixel "
+                              "its direction falls in) or sph (each kernel integrated over the pixels it "
+                              "covers), not %s",
+                              orr_deposit_name(s->deposit));
     static const char *const image_keys[] = {"image.width", "image.height"};
     for (int i = 0; i < 2; i++)
         if (scene_mark(m, image_keys[i]))

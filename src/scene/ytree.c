@@ -1,5 +1,6 @@
 #include "scene/ytree.h"
 
+#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -543,7 +544,7 @@ orr_status yt_merge(yt_node *dst, const yt_node *src, orr_error *err)
     return ORR_OK;
 }
 
-/* ---- the tree as settings lines ---- */
+/* ---- writing the tree as text ---- */
 
 /* Appends text to a growing buffer; a failed allocation leaves ok = 0. */
 typedef struct text_buf {
@@ -573,12 +574,71 @@ static void put(text_buf *b, const char *text)
     b->len += n;
 }
 
-/* A value on one line: a scalar's text, [a, b] for a list, {k: v} for a
- * mapping inside a list. */
-static void put_inline(text_buf *b, const yt_node *n)
+/* ---- scalars as YAML reads them back (yt_yaml_text) ---- */
+
+/* Whether text reads back as the same plain scalar wherever it stands (a
+ * key, a value, a flow list): letters, digits and punctuation without YAML
+ * meaning, starting with none of YAML's indicators ("-", "..." and the
+ * like), except a sign or point before a number. */
+static int plain_safe(const char *t)
+{
+    const unsigned char *u = (const unsigned char *)t;
+    if (!isalnum(u[0]) && u[0] != '_' && u[0] != '/' &&
+        !(strchr("+-.", u[0]) && u[0] && (isdigit(u[1]) || (u[1] == '.' && isdigit(u[2])))))
+        return 0;
+    for (; *u; u++)
+        if (!isalnum(*u) && !strchr("_.+-/", *u))
+            return 0;
+    return 1;
+}
+
+/* text in double quotes, with YAML's escapes for what a quoted scalar may
+ * not hold as it is; bytes of UTF-8 pass unchanged. */
+static void put_quoted(text_buf *b, const char *text)
+{
+    put(b, "\"");
+    for (const unsigned char *u = (const unsigned char *)text; *u; u++) {
+        char c[8] = {(char)*u, '\0'};
+        if (*u == '"' || *u == '\\')
+            snprintf(c, sizeof c, "\\%c", *u);
+        else if (*u == '\n')
+            snprintf(c, sizeof c, "\\n");
+        else if (*u < 0x20 || *u == 0x7f)
+            snprintf(c, sizeof c, "\\x%02x", *u);
+        put(b, c);
+    }
+    put(b, "\"");
+}
+
+/* A scalar as yt_parse would read it back: the same text, null or not. */
+static void put_scalar(text_buf *b, const yt_node *n)
+{
+    if (!n->quoted && yt_is_null(n))
+        put(b, "~");
+    else if (!n->quoted && plain_safe(n->text))
+        put(b, n->text);
+    else
+        put_quoted(b, n->text);
+}
+
+static void put_key(text_buf *b, const char *key)
+{
+    if (plain_safe(key))
+        put(b, key);
+    else
+        put_quoted(b, key);
+}
+
+/* A value on one line: a scalar, [a, b] for a list, {k: v} for a mapping
+ * inside a list; scalars and keys as their text (quote = 0, the settings
+ * lines) or as YAML reads them back (quote = 1, yt_yaml_text). */
+static void put_inline(text_buf *b, const yt_node *n, int quote)
 {
     if (n->kind == YT_SCALAR) {
-        put(b, n->text);
+        if (quote)
+            put_scalar(b, n);
+        else
+            put(b, n->text);
         return;
     }
     put(b, n->kind == YT_SEQUENCE ? "[" : "{");
@@ -586,10 +646,13 @@ static void put_inline(text_buf *b, const yt_node *n)
         if (i)
             put(b, ", ");
         if (n->kind == YT_MAPPING) {
-            put(b, n->entries[i].key);
+            if (quote)
+                put_key(b, n->entries[i].key);
+            else
+                put(b, n->entries[i].key);
             put(b, ": ");
         }
-        put_inline(b, n->kind == YT_SEQUENCE ? n->items[i] : n->entries[i].value);
+        put_inline(b, n->kind == YT_SEQUENCE ? n->items[i] : n->entries[i].value, quote);
     }
     put(b, n->kind == YT_SEQUENCE ? "]" : "}");
 }
@@ -610,7 +673,7 @@ static void put_lines(text_buf *b, const yt_node *map, const char *prefix)
         } else {
             put(b, key);
             put(b, "=");
-            put_inline(b, e->value);
+            put_inline(b, e->value, 0);
             put(b, "\n");
         }
         free(key);
@@ -626,6 +689,43 @@ char *yt_settings_text(const yt_node *root, orr_error *err)
     if (!b.ok) {
         free(b.text);
         orr_fail(err, ORR_ERR_NOMEM, "out of memory for the scene's settings text");
+        return NULL;
+    }
+    return b.text;
+}
+
+/* ---- the tree as a YAML document ---- */
+
+/* A mapping in block style, its entries indent spaces in; mappings below
+ * it nest, lists stay on one line. */
+static void put_block(text_buf *b, const yt_node *map, int indent)
+{
+    for (size_t i = 0; i < map->n; i++) {
+        const yt_entry *e = &map->entries[i];
+        for (int k = 0; k < indent; k++)
+            put(b, " ");
+        put_key(b, e->key);
+        put(b, ":");
+        if (e->value->kind == YT_MAPPING && e->value->n > 0) {
+            put(b, "\n");
+            put_block(b, e->value, indent + 2);
+            continue;
+        }
+        put(b, " ");
+        put_inline(b, e->value, 1);
+        put(b, "\n");
+    }
+}
+
+char *yt_yaml_text(const yt_node *root, orr_error *err)
+{
+    text_buf b = {NULL, 0, 0, 1};
+    put(&b, "");
+    if (root && root->kind == YT_MAPPING)
+        put_block(&b, root, 0);
+    if (!b.ok) {
+        free(b.text);
+        orr_fail(err, ORR_ERR_NOMEM, "out of memory for the scene as YAML");
         return NULL;
     }
     return b.text;

@@ -90,4 +90,12 @@ orr_status yt_merge(yt_node *dst, const yt_node *src, orr_error *err);
  * caller frees; NULL (with err set) when out of memory. */
 char *yt_settings_text(const yt_node *root, orr_error *err);
 
+/* The tree below mapping root as a YAML document that yt_parse reads back
+ * as the same tree: mappings in block style (two spaces an indent), lists
+ * and the mappings inside them in flow style ([a, b], {key: value}), a
+ * scalar plain where its text reads back the same, else double-quoted with
+ * YAML's escapes, and null as ~. A new string the caller frees; NULL (with
+ * err set) when out of memory. */
+char *yt_yaml_text(const yt_node *root, orr_error *err);
+
 #endif

@@ -25,6 +25,13 @@
 enum { X_VX, X_VY, X_VZ, X_U, X_RHO, X_POT, X_COUNT };
 static const char *const extra_field_names[X_COUNT] = {"vx", "vy", "vz", "u", "rho", "pot"};
 
+/* A field read from a named block: "AGE", or column k of "Z" as "Z[k]". */
+typedef struct gadget_named_field {
+    gadget_named_layout layout;
+    int column;
+    int slot; /* its chunk extra index */
+} gadget_named_field;
+
 typedef struct gadget_state {
     char base[ORR_PATH_MAX]; /* multi-file: the name before ".i"; else the file's path */
     int multi;
@@ -36,6 +43,9 @@ typedef struct gadget_state {
      * type), none of the types not wanted. */
     orr_share share;
     int slot[X_COUNT]; /* chunk extra index of each field, -1 when not loaded */
+    /* Fields from blocks with other labels (SnapFormat 2), asked for by name. */
+    int nnamed;
+    gadget_named_field named[ORR_MAX_EXTRA_FIELDS];
     int has_id, has_h;
     /* The read position: next particle is number `done` of type `type` in file `file`. */
     int file, type;
@@ -135,18 +145,17 @@ static orr_status check_masses(const gadget_state *st, const unsigned char *raw,
     return ORR_OK;
 }
 
-/* Reads count values of ncomp components each, starting at value number
- * first of block b, into dest[c][0..count) (dest[c] NULL: skip component).
- * ids != NULL reads integers into ids instead. */
-static orr_status read_values(gadget_state *st, const gadget_block *b, gadget_block_kind k, int64_t first,
-                              size_t count, int ncomp, float *const *dest, uint64_t *ids, orr_error *err)
+/* read_values for any block, named by label; is_mass applies the mass policy. */
+static orr_status read_block_values(gadget_state *st, const gadget_block *b, const char *label, int is_mass,
+                                    int64_t first, size_t count, int ncomp, float *const *dest, uint64_t *ids,
+                                    orr_error *err)
 {
     char path[ORR_PATH_MAX + 16];
     int64_t offset = b->offset + first * ncomp * b->elem;
     if (fseeko(st->fp, (off_t)offset, SEEK_SET) != 0) {
         part_path(st, st->file, path, sizeof path);
-        return orr_fail(err, ORR_ERR_IO, "%s: block %s: cannot seek to offset %lld: %s", path,
-                        gadget_block_names[k], (long long)offset, strerror(errno));
+        return orr_fail(err, ORR_ERR_IO, "%s: block %s: cannot seek to offset %lld: %s", path, label,
+                        (long long)offset, strerror(errno));
     }
     size_t per_piece = GADGET_PIECE / (size_t)ncomp;
     for (size_t done = 0; done < count;) {
@@ -157,11 +166,11 @@ static orr_status read_values(gadget_state *st, const gadget_block *b, gadget_bl
             return orr_fail(err, ORR_ERR_IO,
                             "%s: block %s: short read of %zu bytes near offset %lld (%s; did the file change "
                             "since it was opened?)",
-                            path, gadget_block_names[k], bytes, (long long)offset,
+                            path, label, bytes, (long long)offset,
                             ferror(st->fp) ? strerror(errno) : "end of file");
         }
         orr_status s;
-        if (k == BLK_MASS && (s = check_masses(st, st->raw, n, b->elem, first + (int64_t)done, err)))
+        if (is_mass && (s = check_masses(st, st->raw, n, b->elem, first + (int64_t)done, err)))
             return s;
         if (ids)
             convert_ids(st->raw, n, b->elem, st->enc.swap, ids + done);
@@ -174,6 +183,15 @@ static orr_status read_values(gadget_state *st, const gadget_block *b, gadget_bl
         offset += (int64_t)bytes;
     }
     return ORR_OK;
+}
+
+/* Reads count values of ncomp components each, starting at value number
+ * first of block b, into dest[c][0..count) (dest[c] NULL: skip component).
+ * ids != NULL reads integers into ids instead. */
+static orr_status read_values(gadget_state *st, const gadget_block *b, gadget_block_kind k, int64_t first,
+                              size_t count, int ncomp, float *const *dest, uint64_t *ids, orr_error *err)
+{
+    return read_block_values(st, b, gadget_block_names[k], k == BLK_MASS, first, count, ncomp, dest, ids, err);
 }
 
 static void fill(float *a, size_t n, float v)
@@ -199,6 +217,25 @@ static orr_status read_gas_field(gadget_state *st, const gadget_file *f, gadget_
     }
     float *d[1] = {dest};
     return read_values(st, &f->blk[k], k, within, count, 1, d, NULL, err);
+}
+
+/* One column of a named block for count particles of one type: 0 for the
+ * types the block has no values for, as for every other field. */
+static orr_status read_named(gadget_state *st, const gadget_file *f, const gadget_named_field *nf, int type,
+                             int64_t within, size_t count, float *dest, orr_error *err)
+{
+    if (!(nf->layout.types >> type & 1u)) {
+        fill(dest, count, 0.0f);
+        return ORR_OK;
+    }
+    const gadget_named_block *nb = gadget_named_find(f, nf->layout.label);
+    if (!nb)
+        return orr_fail(err, ORR_ERR_INTERNAL, "block %s vanished from a part", nf->layout.label);
+    gadget_block b = {1, nb->offset, nb->bytes, nf->layout.elem};
+    float *d[GADGET_NAMED_MAX_COMPONENTS] = {NULL};
+    d[nf->column] = dest;
+    return read_block_values(st, &b, nf->layout.label, 0, gadget_named_row(&nf->layout, f, type, within), count,
+                             nf->layout.ncomp, d, NULL, err);
 }
 
 /* Reads count particles of one type from the current file into the chunk
@@ -246,6 +283,9 @@ static orr_status read_run(orr_source *src, gadget_state *st, int type, int64_t 
     float *pot[1] = {extra_at(c, st, X_POT, at)};
     if (pot[0] && (s = read_values(st, &f->blk[BLK_POT], BLK_POT, first, count, 1, pot, NULL, err)))
         return s;
+    for (int i = 0; i < st->nnamed; i++)
+        if ((s = read_named(st, f, &st->named[i], type, within, count, c->extra[st->named[i].slot].data + at, err)))
+            return s;
     memset(c->type + at, type, count);
     return ORR_OK;
 }
@@ -478,6 +518,37 @@ static void add_real(orr_source_info *info, const char *key, double v)
     orr_source_add_header(info, key, "%s", shortest(buf, v));
 }
 
+/* One header line per named block: the particles it covers and the field
+ * names it gives ("AGE  types 4, 1 float each: field AGE"), or why its
+ * layout cannot be told. */
+static void describe_named(orr_source_info *info, const gadget_state *st)
+{
+    char seen[GADGET_MAX_NAMED * 2][5];
+    int nseen = 0;
+    for (int i = 0; i < st->nfiles; i++)
+        for (int b = 0; b < st->files[i].nnamed && nseen < GADGET_MAX_NAMED * 2; b++) {
+            const char *label = st->files[i].named[b].label;
+            int dup = 0;
+            for (int j = 0; j < nseen && !dup; j++)
+                dup = strcmp(seen[j], label) == 0;
+            if (dup)
+                continue;
+            snprintf(seen[nseen++], sizeof seen[0], "%s", label);
+            gadget_named_layout l;
+            gadget_named_infer(st->files, st->nfiles, label, &l);
+            char types[24];
+            gadget_type_list(l.types, types, sizeof types);
+            const char *precision = l.elem == 8 ? "double" : "float";
+            if (!l.ok)
+                orr_source_add_header(info, label, "%s", l.why);
+            else if (l.ncomp == 1)
+                orr_source_add_header(info, label, "%s, 1 %s each: field %s", types, precision, label);
+            else
+                orr_source_add_header(info, label, "%s, %d %ss each: fields %s[0..%d]", types, l.ncomp, precision,
+                                      label, l.ncomp - 1);
+        }
+}
+
 static void describe(orr_source *src, const gadget_state *st, const int64_t sum[GADGET_NTYPES])
 {
     orr_source_info *info = &src->info;
@@ -522,6 +593,7 @@ static void describe(orr_source *src, const gadget_state *st, const int64_t sum[
             snprintf(blocks + len, sizeof blocks - len, "%s%s", len ? " " : "", gadget_block_names[k]);
         }
     orr_source_add_header(info, "blocks read", "%s", blocks);
+    describe_named(info, st);
 }
 
 /* How many values of block k a part would hold: gas blocks have one per gas
@@ -562,6 +634,92 @@ static int block_available(const gadget_state *st, gadget_block_kind k, orr_erro
     return have >= 0;
 }
 
+/* The fields every Gadget file may give without a named block. */
+static int standard_field(const char *name)
+{
+    return orr_field_is_own(name) || orr_field_in_list(name, extra_field_names, X_COUNT);
+}
+
+/* "AGE NHP Z": the named blocks of the snapshot's first part that has any. */
+static void named_labels(const gadget_state *st, char *buf, size_t size)
+{
+    buf[0] = '\0';
+    for (int i = 0; i < st->nfiles && !buf[0]; i++)
+        for (int b = 0; b < st->files[i].nnamed; b++) {
+            size_t used = strlen(buf);
+            snprintf(buf + used, size - used, "%s%s", used ? " " : "", st->files[i].named[b].label);
+        }
+}
+
+/* Whether some part has a block of this label. */
+static int named_anywhere(const gadget_state *st, const char *label)
+{
+    for (int i = 0; i < st->nfiles; i++)
+        if (gadget_named_find(&st->files[i], label))
+            return 1;
+    return 0;
+}
+
+/* One field asked for by name that is no standard one: a column of a named
+ * block whose layout is known, else an error naming what is wrong. */
+static orr_status add_named(orr_source *src, gadget_state *st, const char *field, orr_error *err)
+{
+    char label[ORR_FIELD_NAME_MAX], labels[GADGET_MAX_NAMED * 5 + 1];
+    int column;
+    if (!orr_field_split_column(field, label, sizeof label, &column))
+        return orr_fail(err, ORR_ERR_USAGE, "snapshot %s: field %s: not a block label (LABEL or LABEL[k])",
+                        st->base, field);
+    named_labels(st, labels, sizeof labels);
+    if (strlen(label) > 4 || !named_anywhere(st, label)) {
+        if (st->enc.snapformat == 1)
+            return orr_fail(err, ORR_ERR_USAGE,
+                            "snapshot %s: field %s: a SnapFormat 1 file has no block labels, so only its standard "
+                            "blocks are fields (x y z mass h id type vx vy vz u rho pot)",
+                            st->base, field);
+        return orr_fail(err, ORR_ERR_USAGE, "snapshot %s: field %s: no block %s (other blocks: %s)", st->base, field,
+                        label, labels[0] ? labels : "none");
+    }
+    gadget_named_field *nf = &st->named[st->nnamed];
+    gadget_named_infer(st->files, st->nfiles, label, &nf->layout);
+    if (!nf->layout.ok)
+        return orr_fail(err, ORR_ERR_FORMAT, "snapshot %s: field %s: block %s: %s", st->base, field, label,
+                        nf->layout.why);
+    if (column < 0 && nf->layout.ncomp > 1)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "snapshot %s: field %s: block %s holds %d values per particle: name one as %s[k], k from 0",
+                        st->base, field, label, nf->layout.ncomp, label);
+    if (column >= nf->layout.ncomp)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "snapshot %s: field %s: block %s holds %d value%s per particle: no column %d", st->base,
+                        field, label, nf->layout.ncomp, nf->layout.ncomp == 1 ? "" : "s", column);
+    if (src->info.nextra >= ORR_MAX_EXTRA_FIELDS)
+        return orr_fail(err, ORR_ERR_USAGE, "snapshot %s: field %s: at most %d fields at once", st->base, field,
+                        ORR_MAX_EXTRA_FIELDS);
+    nf->column = column < 0 ? 0 : column;
+    nf->slot = src->info.nextra;
+    snprintf(src->info.extra_names[src->info.nextra++], ORR_FIELD_NAME_MAX, "%s", field);
+    st->nnamed++;
+    return ORR_OK;
+}
+
+/* The fields the caller names that are not standard ones come from named
+ * blocks. A caller naming no fields (all of them) gets the standard ones
+ * only; `orrery info` lists the named blocks (describe_named). */
+static orr_status choose_named(orr_source *src, gadget_state *st, const orr_source_options *opt, orr_error *err)
+{
+    st->nnamed = 0;
+    for (int i = 0; opt && opt->fields && i < opt->nfields; i++) {
+        const char *field = opt->fields[i];
+        int seen = standard_field(field);
+        for (int j = 0; j < i && !seen; j++)
+            seen = strcmp(opt->fields[j], field) == 0;
+        orr_status s = seen ? ORR_OK : add_named(src, st, field, err);
+        if (s)
+            return s;
+    }
+    return ORR_OK;
+}
+
 static orr_status choose_fields(orr_source *src, gadget_state *st, const orr_source_options *opt,
                                 orr_error *err)
 {
@@ -583,7 +741,7 @@ static orr_status choose_fields(orr_source *src, gadget_state *st, const orr_sou
     src->info.has_h = st->has_h;
     src->info.h_support = 1.0; /* HSML is where Gadget's kernel ends */
     src->info.has_type = 1;
-    return ORR_OK;
+    return choose_named(src, st, opt, err);
 }
 
 /* Which rows of each file and type this process reads (all of the wanted

@@ -49,6 +49,19 @@ typedef struct gadget_block {
     int elem;         /* bytes per component: 4 (float / int32) or 8 */
 } gadget_block;
 
+/* SnapFormat 2 blocks with other labels (AGE, Z, NHP, SFR, a user's own):
+ * at most this many per file are kept; later ones are stepped over. */
+#define GADGET_MAX_NAMED 32
+/* Values per particle a named block may hold: Gadget's metal blocks carry a
+ * dozen elements; beyond this a layout is more likely a misreading. */
+#define GADGET_NAMED_MAX_COMPONENTS 64
+
+typedef struct gadget_named_block {
+    char label[5];
+    int64_t offset; /* file offset of the first data byte */
+    int64_t bytes;  /* data length */
+} gadget_named_block;
+
 /* One file of a snapshot after its record walk. */
 typedef struct gadget_file {
     gadget_header h;
@@ -57,6 +70,8 @@ typedef struct gadget_file {
     int64_t type_start[GADGET_NTYPES]; /* index of each type's first particle */
     int64_t mass_start[GADGET_NTYPES]; /* its index in the MASS block (types with massarr 0) */
     gadget_block blk[BLK_COUNT];
+    int nnamed;
+    gadget_named_block named[GADGET_MAX_NAMED];
 } gadget_file;
 
 /* What the first file fixed for every other file of the snapshot. */
@@ -75,5 +90,39 @@ uint32_t gadget_u32(const unsigned char *p, int swap);
  * same. Every length is checked against the file size and the header's
  * counts; nothing is allocated. */
 orr_status gadget_scan_file(const char *path, gadget_encoding *enc, gadget_file *f, orr_error *err);
+
+/* ---- named blocks (gadget_named.c) ---- */
+
+/* How a named block lies over a snapshot's particles, inferred from its
+ * length in every part and the parts' npart: the types it has values for,
+ * how many per particle, and their size (the snapshot's precision: POS's). */
+typedef struct gadget_named_layout {
+    char label[5];
+    int ok;         /* 1: one layout fits every part */
+    unsigned types; /* bit t: type t's particles have values */
+    int ncomp;      /* values per particle */
+    int elem;       /* bytes per value: 4 or 8 */
+    char why[240];  /* when !ok: what does not fit, or the layouts that all fit */
+} gadget_named_layout;
+
+/* The block label's layout over the parts (see docs/format-gadget.md,
+ * "Other blocks"): every set of the snapshot's non-empty types is tried;
+ * one whose counts divide the block's length into the same whole number of
+ * values per particle in every part (and with parts that have none of
+ * those particles holding no values) fits. When several fit, the
+ * conventional ones win (all types; gas; stars; gas and stars; black
+ * holes; the types with massarr 0); when no or more than one layout wins,
+ * ok is 0 and why says so. */
+void gadget_named_infer(const gadget_file *files, int nfiles, const char *label, gadget_named_layout *out);
+
+/* "type 4" or "types 0 4" of a set of types (bit t: type t). */
+void gadget_type_list(unsigned types, char *buf, size_t size);
+
+/* The block of that label in file f, or NULL. */
+const gadget_named_block *gadget_named_find(const gadget_file *f, const char *label);
+
+/* The row (of ncomp values) of particle `within` of type t of file f in
+ * the block, which holds the layout's types in type order. */
+int64_t gadget_named_row(const gadget_named_layout *l, const gadget_file *f, int t, int64_t within);
 
 #endif

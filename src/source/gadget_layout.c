@@ -236,6 +236,24 @@ static gadget_block_kind kind_by_position(positional *p, const gadget_file *f, i
     return BLK_COUNT;
 }
 
+/* Notes where a SnapFormat 2 block with another label is (beyond
+ * GADGET_MAX_NAMED of them, the rest are stepped over). */
+static orr_status note_named(const char *path, gadget_file *f, const char *label, int64_t offset, uint32_t bytes,
+                             orr_error *err)
+{
+    if (!label[0] || strcmp(label, "HEAD") == 0)
+        return ORR_OK; /* a blank label names nothing; a second header is no field */
+    if (gadget_named_find(f, label))
+        return orr_fail(err, ORR_ERR_FORMAT, "%s: block %s appears twice", path, label);
+    if (f->nnamed == GADGET_MAX_NAMED)
+        return ORR_OK;
+    gadget_named_block *b = &f->named[f->nnamed++];
+    snprintf(b->label, sizeof b->label, "%s", label);
+    b->offset = offset + 4;
+    b->bytes = bytes;
+    return ORR_OK;
+}
+
 /* Walks every record after the header and notes where the known blocks are. */
 static orr_status walk_records(scan *s, const gadget_encoding *enc, int64_t offset, int64_t nvar,
                                gadget_file *f, orr_error *err)
@@ -261,6 +279,8 @@ static orr_status walk_records(scan *s, const gadget_encoding *enc, int64_t offs
                             "%s: block %s: the label record announces %u bytes, the data record holds %u (+8 markers)",
                             s->path, name, next, bytes);
         gadget_block_kind k = enc->snapformat == 2 ? kind_of_label(label) : kind_by_position(&pos, f, nvar, bytes);
+        if (k == BLK_COUNT && enc->snapformat == 2 && (st = note_named(s->path, f, label, offset, bytes, err)))
+            return st;
         if (k != BLK_COUNT) {
             if (f->blk[k].present)
                 return orr_fail(err, ORR_ERR_FORMAT, "%s: block %s appears twice", s->path, gadget_block_names[k]);

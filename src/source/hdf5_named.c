@@ -7,28 +7,18 @@
 #include <string.h>
 
 #include "source/hdf5_util.h"
+#include "source/source.h"
 
 int h5r_named_parse(const char *field, h5r_named *out)
 {
-    size_t len = strlen(field);
-    if (len == 0 || len >= sizeof out->field || strpbrk(field, "/."))
+    if (strlen(field) >= sizeof out->field || strpbrk(field, "/."))
+        return 0;
+    if (!orr_field_split_column(field, out->dataset, sizeof out->dataset, &out->column))
         return 0;
     snprintf(out->field, sizeof out->field, "%s", field);
-    snprintf(out->dataset, sizeof out->dataset, "%s", field);
-    out->column = -1;
     out->present = 0;
     out->slot = -1;
     out->ds = -1;
-    char *open = strchr(out->dataset, '[');
-    if (!open)
-        return 1;
-    /* "Name[k]": k decimal digits, nothing after the ']'. */
-    char *end = NULL;
-    long k = open[1] >= '0' && open[1] <= '9' ? strtol(open + 1, &end, 10) : -1;
-    if (open == out->dataset || k < 0 || k > 1000000 || !end || strcmp(end, "]") != 0)
-        return 0;
-    *open = '\0';
-    out->column = (int)k;
     return 1;
 }
 

@@ -765,14 +765,7 @@ static const orr_source_ops hdf5_ops = {.next = hdf5_next, .rewind = hdf5_rewind
 /* Whether the reader gives name without looking for a dataset of that name. */
 static int known_field(const char *name)
 {
-    static const char *const own[] = {"x", "y", "z", "mass", "h", "id", "type"};
-    for (size_t i = 0; i < sizeof own / sizeof own[0]; i++)
-        if (strcmp(name, own[i]) == 0)
-            return 1;
-    for (int e = 0; e < EX_COUNT; e++)
-        if (strcmp(name, extra_field_names[e]) == 0)
-            return 1;
-    return 0;
+    return orr_field_is_own(name) || orr_field_in_list(name, extra_field_names, EX_COUNT);
 }
 
 /* The fields the caller names that may be datasets of their own: looked

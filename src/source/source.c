@@ -59,6 +59,39 @@ int orr_source_wants_field(const orr_source_options *opt, const char *name)
     return 0;
 }
 
+int orr_field_in_list(const char *name, const char *const *names, int n)
+{
+    for (int i = 0; i < n; i++)
+        if (strcmp(name, names[i]) == 0)
+            return 1;
+    return 0;
+}
+
+int orr_field_is_own(const char *name)
+{
+    static const char *const own[] = {"x", "y", "z", "mass", "h", "id", "type"};
+    return orr_field_in_list(name, own, (int)(sizeof own / sizeof own[0]));
+}
+
+int orr_field_split_column(const char *field, char *name, size_t size, int *column)
+{
+    size_t len = strlen(field);
+    if (len == 0 || len >= size)
+        return 0;
+    snprintf(name, size, "%s", field);
+    *column = -1;
+    char *open = strchr(name, '[');
+    if (!open)
+        return 1;
+    char *end = NULL;
+    long k = open[1] >= '0' && open[1] <= '9' ? strtol(open + 1, &end, 10) : -1;
+    if (open == name || k < 0 || k > 1000000 || !end || strcmp(end, "]") != 0)
+        return 0;
+    *open = '\0';
+    *column = (int)k;
+    return 1;
+}
+
 int orr_source_wants_type(const orr_source_options *opt, int type)
 {
     return !opt || opt->type_mask == 0 || (type >= 0 && type < 32 && (opt->type_mask & (1u << type)));

@@ -127,6 +127,17 @@ int orr_source_format_known(const char *name);
 
 /* Whether an options' field list asks for the named field. */
 int orr_source_wants_field(const orr_source_options *opt, const char *name);
+
+/* Whether name is one of the fields every source fills in its chunk's own
+ * arrays (x y z mass h id type), or one of the n names of a reader's list. */
+int orr_field_is_own(const char *name);
+int orr_field_in_list(const char *name, const char *const *names, int n);
+
+/* Splits a named field into the name of what holds it and a column: "Name"
+ * gives (Name, -1), "Name[k]" (Name, k) with k decimal digits, at most
+ * 1000000, nothing after the ']'. Returns 0 for "", a name that does not
+ * fit in size, or a bad "[k]". (HDF5 datasets, Gadget blocks.) */
+int orr_field_split_column(const char *field, char *name, size_t size, int *column);
 /* Whether an options' type mask asks for type t. */
 int orr_source_wants_type(const orr_source_options *opt, int type);
 

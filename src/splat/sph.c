@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/simd.h"
+#include "splat/healpix_kernel.h"
 #include "splat/kernel_row.h"
 #include "splat/sky_cores.h"
 
@@ -1362,7 +1363,7 @@ orr_status orr_sph_init(orr_sph *s, const orr_kernel *k, const orr_projection *p
     s->kernel = k;
     s->proj = *proj;
     s->sky = orr_projection_is_sky(proj);
-    if (!s->sky)
+    if (!s->sky || proj->kind == ORR_PROJ_HEALPIX) /* HEALPix has its own search: healpix_deposit */
         return ORR_OK;
     orr_status st = build_sky_index(s, err);
     if (st)
@@ -1398,8 +1399,68 @@ static void deposit_cic_one(const orr_sph *s, const orr_sph_block *b, size_t i, 
     t->in += st.deposited;
 }
 
+/* A block's weight as orr_deposit_stats counts it: the visible particles'
+ * and the culled ones'. */
+typedef struct block_tally {
+    double total, culled;
+    uint64_t n_culled;
+} block_tally;
+
+/* Counts particle i; 1 when it is to be drawn. */
+static int tally_visible(const orr_sph_block *b, size_t i, block_tally *t)
+{
+    if (!b->visible[i]) {
+        t->culled += b->w[i];
+        t->n_culled++;
+        return 0;
+    }
+    t->total += b->w[i];
+    return 1;
+}
+
+static void add_tally(orr_deposit_stats *stats, const block_tally *t, size_t n)
+{
+    stats->culled += t->culled;
+    stats->n_culled += t->n_culled;
+    stats->n_particles += n;
+}
+
+/* A HEALPix map (splat/healpix_kernel.h): each kernel integrated over the
+ * map's own pixels; a particle without a smoothing length goes whole into
+ * its pixel, as deposit: ngp puts it. */
+static void healpix_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane, orr_deposit_stats *stats)
+{
+    const orr_healpix_target t = {s->kernel, s->proj.healpix_nside, s->proj.healpix_nested, plane->data};
+    orr_healpix_scratch scratch = {0};
+    block_tally tally = {0};
+    for (size_t i = 0; i < b->n; i++) {
+        if (!tally_visible(b, i, &tally))
+            continue;
+        const double h = b->h ? b->h[i] : 0.0;
+        const double r = b->x && b->y && b->z ? sqrt((double)b->x[i] * b->x[i] + (double)b->y[i] * b->y[i] +
+                                                     (double)b->z[i] * b->z[i])
+                                              : 0.0;
+        if (h > 0 && isfinite(h) && r > 0) {
+            /* HEALPix's frame (frame/projection.h): the pole the camera's up (-y), phi = 0 its view (+z). */
+            const double dir[3] = {b->z[i] / r, -b->x[i] / r, -b->y[i] / r};
+            if (orr_healpix_kernel_deposit(&t, dir, h / r, b->w[i], &scratch))
+                continue;
+        }
+        orr_deposit_stats one_stats = {0};
+        uint8_t one = 1;
+        orr_deposit(ORR_DEPOSIT_NGP, plane, 1, b->px + i, b->py + i, b->w + i, &one, &s->proj, &one_stats);
+    }
+    orr_healpix_scratch_free(&scratch);
+    stats->deposited += tally.total; /* the whole sky: nothing falls off */
+    add_tally(stats, &tally, b->n);
+}
+
 void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane, orr_deposit_stats *stats)
 {
+    if (s->proj.kind == ORR_PROJ_HEALPIX) {
+        healpix_deposit(s, b, plane, stats);
+        return;
+    }
     if (!b->h) {
         orr_deposit(ORR_DEPOSIT_CIC, plane, b->n, b->px, b->py, b->w, b->visible, &s->proj, stats);
         return;
@@ -1407,15 +1468,10 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
     target t = {plane, s->sky ? &s->proj : NULL, s->kernel, 0, 0, 0.0};
     /* Without memory for the list, large kernels are drawn one by one. */
     large_list list = {s->sky || !b->n ? NULL : malloc(b->n * sizeof *list.k), 0};
-    double total = 0.0, culled = 0.0;
-    uint64_t n_culled = 0;
+    block_tally tally = {0};
     for (size_t i = 0; i < b->n; i++) {
-        if (!b->visible[i]) {
-            culled += b->w[i];
-            n_culled++;
+        if (!tally_visible(b, i, &tally))
             continue;
-        }
-        total += b->w[i];
         double hpix = (double)b->h[i] * b->scale[i];
         if (!(hpix > 0) || !isfinite(hpix))
             deposit_cic_one(s, b, i, &t);
@@ -1430,9 +1486,7 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
     free(list.k);
     /* Flat maps: what did not land fell off the image. Sky maps fold
      * everything onto the map (the difference is round-off). */
-    stats->deposited += s->sky ? total : t.in;
-    stats->outside += s->sky ? 0.0 : total - t.in;
-    stats->culled += culled;
-    stats->n_culled += n_culled;
-    stats->n_particles += b->n;
+    stats->deposited += s->sky ? tally.total : t.in;
+    stats->outside += s->sky ? 0.0 : tally.total - t.in;
+    add_tally(stats, &tally, b->n);
 }

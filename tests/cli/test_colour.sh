@@ -61,8 +61,8 @@ from PIL import Image
 def planes(name):
     with fits.open(f"out/{name}.fits") as h:
         names = [hdu.header.get("EXTNAME") for hdu in h]
-        assert names == ["X", "Y", "Z"], names
-        return np.array([hdu.data.astype(np.float64) for hdu in h])
+        assert names == ["X", "Y", "Z", "SCENE"], names  # the planes, then the scene's text
+        return np.array([hdu.data.astype(np.float64) for hdu in h[:3]])
 
 a = planes("all")
 parts = planes("bulge") + planes("old") + planes("young")

@@ -34,6 +34,11 @@ smoke sa spiral-metamorphosis-anaglyph.yaml $model --set image.width=320 --set i
 smoke nf nightfall.yaml --set image.width=240 --set image.height=135 --frames 18
 smoke du dark-universe.yaml --set input.file="$PWD/box.hdf5" --set animation.frames=48 --frames 24 \
   --set image.width=256 --set image.height=135 --set psf.fwhm=1
+# Stellar ages (configs/stellar-ages.yaml) on the toy galaxy its example writes.
+if "$py" -c "import h5py" 2>/dev/null; then
+  "$py" "$SRC/examples/python/aged_galaxy.py" --out . >/dev/null 2>err.txt || fail "aged_galaxy.py: $(cat err.txt)"
+  smoke ages stellar-ages.yaml --set input.file="$PWD/aged_galaxy.hdf5" --set image.width=200 --set image.height=150
+fi
 
 "$py" - */*.png <<'PY' || fail "a picture is blank or saturated"
 import sys

@@ -1,12 +1,14 @@
 # The healpix projection: a standard HEALPix FITS map that healpy reads
-# (tests/cli/check_healpix.py), and the keys it refuses.
+# (tests/cli/check_healpix.py), its SPH kernels against healpy
+# (check_healpix_kernels.py), and the keys it refuses.
 source "$(dirname "$0")/lib.sh"
 python_with healpy python3-healpy
 "$py" "$(dirname "$0")/check_healpix.py" "$ORRERY" "$WORK" || fail "HEALPix check"
+"$py" "$(dirname "$0")/check_healpix_kernels.py" "$ORRERY" "$WORK" || fail "HEALPix kernel check"
 
 printf 'x y z mass\n0 0 5 1\n' >p.txt
 printf 'input:\n  file: p.txt\ncamera:\n  projection: healpix\ndeposit: ngp\noutput:\n  dir: bad\n' >bad.yaml
-expect_fail 2 "camera.projection: healpix draws each particle whole .*set deposit: ngp" bad -- \
+expect_fail 2 "healpix takes deposit: ngp .* or sph .*, not cic" bad -- \
   render bad.yaml --set deposit=cic
 expect_fail 2 "camera.healpix_nside: .*12" bad -- render bad.yaml --set camera.healpix_nside=12
 expect_fail 2 "image.width: not with camera.projection: healpix" bad -- render bad.yaml --set image.width=64

@@ -120,7 +120,7 @@ for name, parallax in (("anaglyph", near_parallax), ("grey", near_parallax), ("f
     red, cyan = centroid_x(a[:, :, 0]), centroid_x(a[:, :, 1] + a[:, :, 2])
     expect((red - cyan) * parallax > 0, f"{name}: red at x = {red:.2f}, cyan at {cyan:.2f}")
     h = fits.open("out/" + name + ".fits")
-    expect([x.name for x in h] == ["left.mass", "right.mass"], f"{name}.fits HDUs {[x.name for x in h]}")
+    expect([x.name for x in h] == ["left.mass", "right.mass", "SCENE"], f"{name}.fits HDUs {[x.name for x in h]}")
     expect(h[0].header["STEREO"] == "anaglyph" and h[0].header["CONVERG"] == 10, f"{name}.fits cards")
     # The linear planes: the CIC centroids differ by the analytic parallax.
     got = centroid_x(h[0].data[::-1]) - centroid_x(h[1].data[::-1])
@@ -156,7 +156,7 @@ expect(abs(got - expected) <= 1, f"over-under right eye peaks at {got}, expected
 # to the right of the centre, the right eye as far to the left, both on the
 # equator (rows 89 and 90 meet at the horizon).
 h = fits.open("out/ods.fits")
-expect([x.name for x in h] == ["left.mass", "right.mass"], f"ods.fits HDUs {[x.name for x in h]}")
+expect([x.name for x in h] == ["left.mass", "right.mass", "SCENE"], f"ods.fits HDUs {[x.name for x in h]}")
 turn = math.degrees(math.asin(0.5 / 5))
 for k, sign in ((0, 1), (1, -1)):
     d = np.nan_to_num(h[k].data)

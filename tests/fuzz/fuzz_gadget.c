@@ -2,8 +2,9 @@
  * fuzz_read_as, but it calls the reader directly (so it does not depend on
  * the format registry) and writes the input twice, as parts .0 and .1 of a
  * snapshot opened by its base name, so headers with num_files = 2 take the
- * multi-file path too (num_files > 2 finds a part missing). The first input
- * byte also picks a type mask and field list, to reach the skipping code. */
+ * multi-file path too (num_files > 2 finds a part missing). Byte 300 of the
+ * input also picks a type mask and field list, to reach the skipping code
+ * and the named blocks' layouts. */
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,10 +42,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     snprintf(base, sizeof base, "/tmp/orrery-fuzz-gadget-%ld", (long)getpid());
     write_part(base, 0, data, size);
     write_part(base, 1, data, size);
-    static const char *const fields[] = {"vx", "u", "pot"};
+    /* Bit 7 of the pick asks for fields of named blocks (SnapFormat 2's
+     * AGE and Z of the seeds), bit 6 for standard ones only. */
+    static const char *const standard[] = {"vx", "u", "pot"};
+    static const char *const named[] = {"vx", "AGE", "Z[1]"};
     unsigned pick = size > 300 ? data[300] : 0;
     orr_source_options opt = {.format = "gadget", .chunk_size = 257, .type_mask = pick & 0x3f,
-                              .fields = (pick & 0x40) ? fields : NULL, .nfields = 3};
+                              .fields = (pick & 0x80) ? named : (pick & 0x40) ? standard : NULL, .nfields = 3};
     orr_source *src = NULL;
     orr_error err = {0};
     if (orr_gadget_source_open(base, &opt, &src, &err) == ORR_OK) {

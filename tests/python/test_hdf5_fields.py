@@ -28,7 +28,7 @@ def cli_planes(cli, tmp_path, scene, snapshot, *sets):
     scene_file.write_text(json.dumps(scene))
     cli_render(cli, scene_file, snapshot, tmp_path / "cli", *sets)
     with fits.open(tmp_path / "cli" / f"{scene['output']['name']}.fits") as f:
-        return [np.flipud(h.data).astype(np.float32) for h in f]
+        return [np.flipud(h.data).astype(np.float32) for h in f if h.name != "SCENE"]  # the planes, not the scene
 
 
 @pytest.mark.parametrize("field, column", [("Pressures", None), ("MagneticFluxDensities[2]", 2)])
@@ -59,14 +59,14 @@ def test_missing_dataset_lists_those_there(tmp_path, cli):
         assert run.returncode != 0 and message in run.stderr, run.stderr
 
 
-def write_stars(path, pos, mass, birth, metals):
+def write_stars(path, pos, mass, birth, metals, time=1.0):
     """A SWIFT-style snapshot of stars (PartType4) with their birth times."""
     n = len(pos)
     with h5py.File(path, "w") as f:
         h = f.create_group("Header")
         h.attrs["NumPart_ThisFile"] = np.array([0, 0, 0, 0, n, 0, 0], dtype=np.int64)
         h.attrs["MassTable"] = np.zeros(7)
-        h.attrs["Time"] = np.array([1.0])
+        h.attrs["Time"] = np.array([time])
         g = f.create_group("PartType4")
         g["Coordinates"] = pos
         g["Masses"] = mass

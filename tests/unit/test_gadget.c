@@ -474,6 +474,44 @@ static void test_shared_gassphere_both_byte_orders(void)
     }
 }
 
+/* The gas-only blocks GadgetReader's files carry beyond the standard ones
+ * (NHP NHEP NHEQ NH NHE SFR) as named fields. Reference values read from
+ * the files with Python's struct (not this reader): NHP's first value in
+ * part 0 is 0.99999607, its sums over the gas are 1993.92150 (part 0) and
+ * 2044.94499 (part 1); every SFR value is 0. */
+static void test_shared_named_blocks(const char *path)
+{
+    const char *const fields[] = {"NHP", "SFR", "u"};
+    orr_error err = {0};
+    orr_source *src = open_gadget(path, 1000, 0, fields, 3, &err);
+    CHECK(src != NULL);
+    if (!src) {
+        fprintf(stderr, "  %s\n", err.msg);
+        return;
+    }
+    CHECK(has_extra(src, "NHP") && has_extra(src, "SFR") && src->info.nextra == 3);
+    CHECK_CONTAINS(header_value(src, "NHP"), "type 0, 1 float each: field NHP");
+    CHECK_CONTAINS(header_value(src, "SFR"), "type 0, 1 float each: field SFR");
+    const orr_chunk *c;
+    double nhp_gas = 0, nhp_other = 0, sfr = 0;
+    float first = -1;
+    int64_t n = 0;
+    while (orr_source_next(src, &c, &err) == ORR_OK && c->n > 0) {
+        const float *nhp = orr_chunk_field(c, "NHP"), *rate = orr_chunk_field(c, "SFR");
+        for (size_t i = 0; i < c->n; i++, n++) {
+            if (n == 0)
+                first = nhp[i];
+            *(c->type[i] == 0 ? &nhp_gas : &nhp_other) += nhp[i];
+            sfr += fabs(rate[i]);
+        }
+    }
+    CHECK(n == 8192);
+    CHECK(first == 0.99999607f);
+    CHECK_NEAR(nhp_gas, 1993.92150 + 2044.94499, 1e-3);
+    CHECK(nhp_other == 0 && sfr == 0);
+    orr_source_close(src);
+}
+
 static void test_shared_format2_two_files(void)
 {
     char buf[1024];
@@ -514,6 +552,7 @@ static void test_shared_format2_two_files(void)
     orr_source *src = open_gadget(path, 512, 1u << 0, fields, 1, &err);
     CHECK(src && src->info.count == 4039 && src->info.nextra == 1);
     orr_source_close(src);
+    test_shared_named_blocks(path);
 }
 
 /* ---- damaged files ---- */

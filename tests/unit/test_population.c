@@ -6,28 +6,14 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "test_chunk.h"
 #include "particles/population.h"
 
 #define GAMMA64 0x9E3779B97F4A7C15u
 
 static orr_chunk make_chunk(size_t n, const char *const *extra, int nextra)
 {
-    orr_chunk c;
-    orr_error err;
-    if (orr_chunk_alloc(&c, n, 0, extra, nextra, &err) != ORR_OK) {
-        fprintf(stderr, "cannot allocate a chunk: %s\n", err.msg);
-        exit(1);
-    }
-    c.n = n;
-    for (size_t i = 0; i < n; i++) {
-        c.x[i] = c.y[i] = c.z[i] = 0;
-        c.mass[i] = 1;
-        c.id[i] = i + 1;
-        c.type[i] = 0;
-        for (int k = 0; k < nextra; k++)
-            c.extra[k].data[i] = 0;
-    }
-    return c;
+    return test_chunk(n, extra, nextra);
 }
 
 static void add_ok(orr_population_set *s, const orr_population *p)

@@ -1,0 +1,142 @@
+/* SPH kernels on a HEALPix map (splat/healpix_kernel.h): the ring geometry
+ * against chealpix's own pixel centres, mass conserved to round-off for
+ * kernels from far below a pixel to most of the sky, a tiny kernel in its
+ * pixel, and a kernel's weights symmetric under the pixelisation's own
+ * symmetry (a kernel at the north pole and its mirror at the south). */
+#include <chealpix.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check.h"
+#include "core/vecmath.h"
+#include "splat/healpix_kernel.h"
+
+static orr_kernel g_kernel;
+
+static void test_rings_match_chealpix(void)
+{
+    for (int64_t nside = 1; nside <= 32; nside *= 2) {
+        int64_t next = 0;
+        double worst = 0.0;
+        for (int64_t i = 1; i <= 4 * nside - 1; i++) {
+            orr_healpix_ring r = orr_healpix_ring_at(nside, i);
+            CHECK(r.start == next);
+            next = r.start + r.n;
+            for (int64_t j = 0; j < r.n; j++) {
+                double v[3], phi = r.phi0 + (double)j * 2.0 * ORR_PI / (double)r.n;
+                pix2vec_ring64(nside, r.start + j, v);
+                double mine[3] = {r.sin_theta * cos(phi), r.sin_theta * sin(phi), r.z};
+                for (int k = 0; k < 3; k++)
+                    worst = fmax(worst, fabs(mine[k] - v[k]));
+            }
+        }
+        CHECK(next == 12 * nside * nside);
+        CHECK(worst < 1e-13);
+    }
+}
+
+/* A map of nside, zeroed, and its total in double. */
+static float *new_map(int64_t nside)
+{
+    return calloc((size_t)(12 * nside * nside), sizeof(float));
+}
+
+static double map_sum(const float *m, int64_t nside)
+{
+    double s = 0.0;
+    for (int64_t k = 0; k < 12 * nside * nside; k++)
+        s += m[k];
+    return s;
+}
+
+static void random_dir(unsigned *seed, double d[3])
+{
+    double z = 2.0 * rand_r(seed) / RAND_MAX - 1.0, phi = 2.0 * ORR_PI * rand_r(seed) / RAND_MAX;
+    double s = sqrt(1.0 - z * z);
+    d[0] = s * cos(phi), d[1] = s * sin(phi), d[2] = z;
+}
+
+static void test_mass_conserved(void)
+{
+    const int64_t nside = 16;
+    orr_healpix_scratch scratch = {0};
+    unsigned seed = 7;
+    double worst = 0.0;
+    for (int nested = 0; nested < 2; nested++)
+        for (double theta = 1e-7; theta < 3.0; theta *= 3.0) {
+            float *m = new_map(nside);
+            orr_healpix_target t = {&g_kernel, nside, nested, m};
+            double d[3];
+            for (int p = 0; p < 20; p++) {
+                random_dir(&seed, d);
+                CHECK(orr_healpix_kernel_deposit(&t, d, theta, 1.0f, &scratch));
+            }
+            d[0] = d[1] = 0.0, d[2] = 1.0; /* a pole, where rings shrink to 4 pixels */
+            CHECK(orr_healpix_kernel_deposit(&t, d, theta, 1.0f, &scratch));
+            worst = fmax(worst, fabs(map_sum(m, nside) / 21.0 - 1.0));
+            free(m);
+        }
+    fprintf(stderr, "  mass: worst relative error %.3g\n", worst);
+    CHECK(worst < 1e-6);
+    orr_healpix_scratch_free(&scratch);
+}
+
+static void test_tiny_kernel_stays_in_its_pixel(void)
+{
+    const int64_t nside = 8;
+    float *m = new_map(nside);
+    orr_healpix_scratch scratch = {0};
+    orr_healpix_target t = {&g_kernel, nside, 0, m};
+    double d[3];
+    pix2vec_ring64(nside, 300, d); /* a pixel's centre: a kernel of 1e-4 rad is far from its edges */
+    CHECK(orr_healpix_kernel_deposit(&t, d, 1e-4, 2.0f, &scratch));
+    CHECK_NEAR(m[300], 2.0, 1e-6);
+    CHECK_NEAR(map_sum(m, nside), 2.0, 1e-6);
+    orr_healpix_scratch_free(&scratch);
+    free(m);
+}
+
+/* HEALPix is symmetric under z -> -z (ring i <-> 4 nside - i) and under
+ * phi -> phi + pi/2: mirrored kernels must get mirrored weights. */
+static void test_symmetric(void)
+{
+    const int64_t nside = 8;
+    float *m = new_map(nside), *n = new_map(nside);
+    orr_healpix_scratch scratch = {0};
+    orr_healpix_target a = {&g_kernel, nside, 0, m}, b = {&g_kernel, nside, 0, n};
+    double d[3] = {0.3, 0.2, 0.0};
+    d[2] = sqrt(1.0 - d[0] * d[0] - d[1] * d[1]);
+    double mirror[3] = {-d[1], d[0], -d[2]}; /* rotated by pi/2 and mirrored */
+    CHECK(orr_healpix_kernel_deposit(&a, d, 0.15, 1.0f, &scratch));
+    CHECK(orr_healpix_kernel_deposit(&b, mirror, 0.15, 1.0f, &scratch));
+    double worst = 0.0, peak = 0.0;
+    for (int64_t i = 1; i <= 4 * nside - 1; i++) {
+        orr_healpix_ring r = orr_healpix_ring_at(nside, i), s = orr_healpix_ring_at(nside, 4 * nside - i);
+        for (int64_t j = 0; j < r.n; j++) {
+            int64_t jm = (j + r.n / 4) % r.n; /* phi + pi/2 */
+            worst = fmax(worst, fabs(m[r.start + j] - n[s.start + jm]));
+            peak = fmax(peak, m[r.start + j]);
+        }
+    }
+    CHECK(peak > 0.01);
+    CHECK(worst < 1e-6 * peak);
+    orr_healpix_scratch_free(&scratch);
+    free(m);
+    free(n);
+}
+
+int main(void)
+{
+    orr_error err = {0};
+    if (orr_kernel_init(&g_kernel, ORR_KERNEL_CUBIC, &err) != ORR_OK) {
+        fprintf(stderr, "%s\n", err.msg);
+        return 1;
+    }
+    RUN(test_rings_match_chealpix);
+    RUN(test_mass_conserved);
+    RUN(test_tiny_kernel_stays_in_its_pixel);
+    RUN(test_symmetric);
+    orr_kernel_free(&g_kernel);
+    return check_summary();
+}
