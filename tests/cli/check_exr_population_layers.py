@@ -46,9 +46,9 @@ def read_exr(path):
     return spec, {name: pixels[:, :, k] for k, name in enumerate(spec.channelnames)}
 
 
-def render(name, scene, output="  exr_population_layers: true\n", threads=None, colour=""):
+def render(name, scene, output="  exr_population_layers: true\n", threads=None, colour="", image=IMAGE):
     with open(f"{work}/{name}.yaml", "w") as f:
-        f.write(MODEL + IMAGE + scene + POPULATIONS + colour +
+        f.write(MODEL + image + scene + POPULATIONS + colour +
                 f"output:\n  dir: out\n  name: {name}\n  exr: true\n  png: false\n" + output)
     env = dict(os.environ)
     if threads:
@@ -120,6 +120,13 @@ check_sum("dome-ngp", ch)
 check((ch["pop.bulge.Y"][ch["A"] == 0] == 0).all(), "dome-ngp: light outside the circle")
 spec, ch = render("dome-sph", DOME + DUST + "deposit: sph\n")
 check_sum("dome-sph", ch)
+
+# An image above 2^22 pixels: point deposits sorted into bands
+# (render/splat_pass.c), the populations' weights with them.
+spec, ch = render("bands", EDGE_ON + "deposit: ngp\n", output="  exr_population_layers: true\n  fits: false\n",
+                  image="image:\n  width: 2049\n  height: 2048\n")
+check_sum("bands", ch)
+del ch
 
 # Half floats: the layers too.
 spec, ch = render("half", EDGE_ON, output="  exr_population_layers: true\n  exr_half: true\n")
