@@ -155,7 +155,7 @@ static void free_view(view_state *v)
 {
     orr_splat_free_lanes(v);
     orr_bands_free(&v->bands);
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < ORR_PLANES_MAX; k++)
         orr_plane_free(&v->planes[k]);
     orr_view_psf_free(&v->psf);
     if (v->sph_ready)

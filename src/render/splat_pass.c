@@ -569,7 +569,7 @@ static void deposit_streaks(const view_state *v, orr_plane *planes, int lane, si
                             block_tally *t)
 {
     block_buffers *sb = b->samples;
-    for (int p = 0; p < 3; p++)
+    for (int p = 0; p < ORR_PLANES_MAX; p++)
         sb->wp[p] = sb->w[p];
     size_t ns = 0;
     for (size_t i = 0; i < n; i++) {

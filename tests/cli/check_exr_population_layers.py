@@ -46,9 +46,10 @@ def read_exr(path):
     return spec, {name: pixels[:, :, k] for k, name in enumerate(spec.channelnames)}
 
 
-def render(name, scene, output="  exr_population_layers: true\n", threads=None, colour="", image=IMAGE):
+def render(name, scene, output="  exr_population_layers: true\n", threads=None, colour="", image=IMAGE,
+           model=MODEL):
     with open(f"{work}/{name}.yaml", "w") as f:
-        f.write(MODEL + image + scene + POPULATIONS + colour +
+        f.write(model + image + scene + POPULATIONS + colour +
                 f"output:\n  dir: out\n  name: {name}\n  exr: true\n  png: false\n" + output)
     env = dict(os.environ)
     if threads:
@@ -127,6 +128,14 @@ spec, ch = render("bands", EDGE_ON + "deposit: ngp\n", output="  exr_population_
                   image="image:\n  width: 2049\n  height: 2048\n")
 check_sum("bands", ch)
 del ch
+
+# Streaks (animation.shutter: each star drawn as samples along its path),
+# and a periodic box's copies.
+spec, ch = render("blur", EDGE_ON + "deposit: cic\nanimation:\n  shutter: 0.5\n  frame_interval: 0.1\n")
+check_sum("blur", ch)
+spec, ch = render("periodic", EDGE_ON + "deposit: cic\n",
+                  model=MODEL + "  periodic: {box: 400, replicas: 3, centre: origin}\n")
+check_sum("periodic", ch)
 
 # Half floats: the layers too.
 spec, ch = render("half", EDGE_ON, output="  exr_population_layers: true\n  exr_half: true\n")
