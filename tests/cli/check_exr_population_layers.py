@@ -11,10 +11,9 @@ import os
 import subprocess
 
 import numpy as np
-import OpenImageIO as oiio
 from astropy.io import fits
 
-from check_lib import Checks
+from check_lib import Checks, read_exr
 
 check = Checks()
 orrery, work = check.orrery, check.work
@@ -36,14 +35,6 @@ POPULATIONS = ("colour:\n  populations:\n"
                "      colour: {temperature: 6000}\n      luminance: {mass: 1}\n"
                "    - name: young-disc\n      select: {types: [2]}\n"
                "      colour: {temperature: 12000}\n      luminance: {mass: 1}\n")
-
-
-def read_exr(path):
-    inp = oiio.ImageInput.open(path)
-    spec = inp.spec()
-    pixels = inp.read_image(oiio.FLOAT)
-    inp.close()
-    return spec, {name: pixels[:, :, k] for k, name in enumerate(spec.channelnames)}
 
 
 def render(name, scene, output="  exr_population_layers: true\n", threads=None, colour="", image=IMAGE,
