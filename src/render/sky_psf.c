@@ -92,7 +92,7 @@ void orr_sky_psf_begin_frame(orr_sky_psf *sp)
  * the order stars are ranked in (star_cmp, the first STAR_RANK_FIELDS) and
  * the slots they are shared between processes in (orr_sky_psf_share). The
  * populations' Y (output.exr_population_layers) come last: each is the
- * star's Y or 0, so they add nothing to the ranking. */
+ * star's Y or 0, so they rank only stars alike in every other field. */
 #define STAR_RANK_FIELDS 11
 #define STAR_FIELDS (STAR_RANK_FIELDS + ORR_POPULATION_LAYERS_MAX)
 
@@ -131,6 +131,9 @@ static int star_cmp(const orr_sky_star *a, const orr_sky_star *b)
     for (int k = 0; k < STAR_RANK_FIELDS; k++)
         if (fa[k] != fb[k])
             return fa[k] < fb[k] ? -1 : 1;
+    for (int k = 3; k < ORR_PLANES_MAX; k++) /* two stars alike but for their population */
+        if (a->w[k] != b->w[k])
+            return a->w[k] < b->w[k] ? -1 : 1;
     return 0;
 }
 

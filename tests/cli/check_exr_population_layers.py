@@ -8,6 +8,7 @@ others' stars land); 1 and 2 threads write the same pixels; output.exr_half
 makes the layers half too; the FITS file keeps X, Y, Z alone.
 usage: check_exr_population_layers.py ORRERY WORKDIR"""
 import os
+import shutil
 import subprocess
 
 import numpy as np
@@ -17,6 +18,7 @@ from check_lib import Checks, read_exr
 
 check = Checks()
 orrery, work = check.orrery, check.work
+MPI = os.path.join(os.path.dirname(os.path.abspath(orrery)), "orrery-mpi")
 POPS = ("bulge", "old_disc", "young-disc")
 LAYERS = [f"pop.{p}.Y" for p in POPS]
 BASE_CHANNELS = {"R", "G", "B", "A", "xyz.X", "xyz.Y", "xyz.Z"}
@@ -38,14 +40,20 @@ POPULATIONS = ("colour:\n  populations:\n"
 
 
 def render(name, scene, output="  exr_population_layers: true\n", threads=None, colour="", image=IMAGE,
-           model=MODEL):
+           model=MODEL, ranks=None):
     with open(f"{work}/{name}.yaml", "w") as f:
         f.write(model + image + scene + POPULATIONS + colour +
                 f"output:\n  dir: out\n  name: {name}\n  exr: true\n  png: false\n" + output)
     env = dict(os.environ)
     if threads:
         env["OMP_NUM_THREADS"] = str(threads)
-    subprocess.run([orrery, "render", "--quiet", f"{name}.yaml"], cwd=work, check=True, env=env)
+    command = [orrery, "render", "--quiet", f"{name}.yaml"]
+    if ranks:  # orrery-mpi beside orrery, as tests/cli/test_mpi.sh runs it
+        env.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                   OMPI_MCA_rmaps_base_oversubscribe="1")
+        env["ASAN_OPTIONS"] = env.get("ASAN_OPTIONS", "") + ":detect_leaks=0"
+        command = ["mpirun", "-np", str(ranks), MPI] + command[1:]
+    subprocess.run(command, cwd=work, check=True, env=env)
     return read_exr(f"{work}/out/{name}.exr")
 
 
@@ -127,6 +135,19 @@ check_sum("blur", ch)
 spec, ch = render("periodic", EDGE_ON + "deposit: cic\n",
                   model=MODEL + "  periodic: {box: 400, replicas: 3, centre: origin}\n")
 check_sum("periodic", ch)
+
+# A dome master's hst PSF: its brightest stars, with their populations' Y,
+# are shared between MPI ranks; 1 and 2 ranks write the same pixels.
+if os.access(MPI, os.X_OK) and shutil.which("mpirun"):
+    HST_DOME = DOME + "deposit: ngp\npsf:\n  kind: hst\n  spike_stars: 50\n"
+    _, one = render("rank1", HST_DOME, ranks=1)
+    _, two = render("rank2", HST_DOME, ranks=2)
+    check_sum("dome-hst, 1 rank", one, fft_psf=True)
+    check_sum("dome-hst, 2 ranks", two, fft_psf=True)
+    for name in one:
+        check(np.array_equal(one[name], two[name]), f"{name}: 1 and 2 MPI ranks differ")
+else:
+    print("no orrery-mpi or mpirun: the MPI ranks are not checked")
 
 # Half floats: the layers too.
 spec, ch = render("half", EDGE_ON, output="  exr_population_layers: true\n  exr_half: true\n")
