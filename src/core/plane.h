@@ -7,6 +7,11 @@
 #include "core/error.h"
 
 #define ORR_PLANE_NAME_MAX 64
+/* The populations whose Y a view can keep as planes of their own
+ * (output.exr_population_layers), and so a view's planes at most: the
+ * weight, or CIE X, Y, Z and then one Y per population. */
+#define ORR_POPULATION_LAYERS_MAX 8
+#define ORR_PLANES_MAX (3 + ORR_POPULATION_LAYERS_MAX)
 
 typedef struct orr_plane {
     int width, height;

@@ -176,7 +176,7 @@ void orr_dust_frame_free(orr_dust_frame *f)
 {
     orr_dust_set_free(&f->set);
     orr_dust_redden_free(&f->red);
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < ORR_PLANES_MAX; k++)
         free(f->out[k]);
     free(f->tau);
     free(f->want);
@@ -185,11 +185,13 @@ void orr_dust_frame_free(orr_dust_frame *f)
 
 /* ---- a chunk's weights ---- */
 
-static orr_status reserve(orr_dust_frame *f, size_t n, orr_error *err)
+static orr_status reserve(orr_dust_frame *f, size_t n, int nplanes, orr_error *err)
 {
-    if (n <= f->out_cap)
+    int planes = nplanes > 3 ? nplanes : 3;
+    if (n <= f->out_cap && planes <= f->out_planes)
         return ORR_OK;
-    for (int k = 0; k < 3; k++) {
+    n = n > f->out_cap ? n : f->out_cap;
+    for (int k = 0; k < planes; k++) {
         free(f->out[k]);
         if (!(f->out[k] = orr_malloc(n * sizeof(float), "dust weights", err)))
             return ORR_ERR_NOMEM;
@@ -201,6 +203,7 @@ static orr_status reserve(orr_dust_frame *f, size_t n, orr_error *err)
         !(f->want = orr_malloc(n, "dust optical depths", err)))
         return ORR_ERR_NOMEM;
     f->out_cap = n;
+    f->out_planes = planes;
     return ORR_OK;
 }
 
@@ -251,7 +254,7 @@ static int same_eye(const orr_dust_eye *a, const orr_dust_eye *b)
 orr_status orr_dust_weights(orr_dust_frame *f, const orr_dust_eye *eye, const orr_chunk *c, const float **w,
                             int nplanes, orr_error *err)
 {
-    orr_status st = reserve(f, c->n ? c->n : 1, err);
+    orr_status st = reserve(f, c->n ? c->n : 1, nplanes, err);
     if (st)
         return st;
     /* Views from the same eye (a dome master and a panorama) share a chunk's
@@ -265,7 +268,7 @@ orr_status orr_dust_weights(orr_dust_frame *f, const orr_dust_eye *eye, const or
         f->last_eye = *eye;
     }
     const long n = (long)c->n;
-    if (f->colour && nplanes == 3) {
+    if (f->colour && nplanes >= 3) {
 #pragma omp parallel for schedule(static, 4096)
         for (long i = 0; i < n; i++) {
             float xyz[3] = {w[0][i], w[1][i], w[2][i]};
@@ -274,6 +277,11 @@ orr_status orr_dust_weights(orr_dust_frame *f, const orr_dust_eye *eye, const or
             f->out[1][i] = xyz[1];
             f->out[2][i] = xyz[2];
         }
+        /* A population's Y (output.exr_population_layers) is the
+         * particle's Y or 0: its reddened Y or 0. */
+        for (int k = 3; k < nplanes; k++)
+            for (long i = 0; i < n; i++)
+                f->out[k][i] = w[k][i] != 0.0f ? f->out[1][i] : 0.0f;
     } else {
         for (int k = 0; k < nplanes; k++)
             for (long i = 0; i < n; i++)

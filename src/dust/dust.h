@@ -68,8 +68,9 @@ typedef struct orr_dust_frame {
     orr_dust_redden red;
     int colour;            /* weights are X, Y, Z (reddened) rather than one (dimmed by e^-tau) */
     unsigned drawn_types;  /* input.types */
-    float *out[3];         /* the dimmed weights of the last chunk */
+    float *out[ORR_PLANES_MAX]; /* the dimmed weights of the last chunk, out_planes of them */
     size_t out_cap;
+    int out_planes;
     double *tau;           /* per particle of the last chunk */
     unsigned char *want;   /* per particle of the last chunk: drawn, so dimmed */
     size_t tau_cap;

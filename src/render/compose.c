@@ -18,11 +18,11 @@ static orr_status load_raw(view_state *v, orr_error *err)
     int n = 0;
     if (!st)
         st = orr_read_fits_planes(path, raw, 3, &n, err);
-    if (!st && (n != v->nplanes || raw[0].width != v->proj.width || raw[0].height != v->proj.height))
+    if (!st && (n != fits_nplanes(v) || raw[0].width != v->proj.width || raw[0].height != v->proj.height))
         st = orr_fail(err, ORR_ERR_DATA,
                       "%s: holds %d plane(s) of %d x %d, but %s renders %d of %d x %d (was it rendered from "
                       "another scene?)",
-                      path, n, raw[0].width, raw[0].height, v->scene->path, v->nplanes, v->proj.width,
+                      path, n, raw[0].width, raw[0].height, v->scene->path, fits_nplanes(v), v->proj.width,
                       v->proj.height);
     for (int k = 0; !st && k < n; k++)
         memcpy(v->planes[k].data, raw[k].data, (size_t)v->proj.width * (size_t)v->proj.height * sizeof(float));

@@ -50,18 +50,22 @@ static orr_status build(orr_exr_view *v, const orr_plane *planes, int nplanes, c
     size_t npix = (size_t)p->width * (size_t)p->height;
     static const char *const colour_names[] = {"R", "G", "B", "A", "xyz.X", "xyz.Y", "xyz.Z"};
     static const char *const weight_names[] = {"Y", "A"};
-    int colour = nplanes == 3;
+    int colour = nplanes >= 3;
     const char *const *names = colour ? colour_names : weight_names;
     int count = colour ? 7 : 2;
     orr_status st = ORR_OK;
     for (int k = 0; k < count && !st; k++)
         st = add_channel(v, p, prefix, names[k], err);
+    for (int k = 3; k < nplanes && !st; k++) /* a population's Y: its plane's name, pop.NAME.Y */
+        st = add_channel(v, p, prefix, planes[k].name, err);
     if (st)
         return st;
     if (colour) {
         fill_rgb(v, planes, npix);
         orr_map_alpha_fill(p, v->channels[3].data);
         for (int k = 0; k < 3; k++)
+            copy_finite(&v->channels[4 + k], &planes[k], npix);
+        for (int k = 3; k < nplanes; k++)
             copy_finite(&v->channels[4 + k], &planes[k], npix);
     } else {
         copy_finite(&v->channels[0], &planes[0], npix);
@@ -74,8 +78,9 @@ orr_status orr_exr_view_build(orr_exr_view *out, const orr_plane *planes, int np
                               const char *prefix, orr_error *err)
 {
     memset(out, 0, sizeof *out);
-    if (nplanes != 1 && nplanes != 3)
-        return orr_fail(err, ORR_ERR_INTERNAL, "OpenEXR view of %d planes (1 or X, Y, Z expected)", nplanes);
+    if (nplanes != 1 && (nplanes < 3 || nplanes > ORR_PLANES_MAX))
+        return orr_fail(err, ORR_ERR_INTERNAL, "OpenEXR view of %d planes (1, or X, Y, Z and a Y per population "
+                                               "expected)", nplanes);
     orr_status st = build(out, planes, nplanes, p, prefix, err);
     if (st)
         orr_exr_view_free(out);

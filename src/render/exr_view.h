@@ -4,7 +4,9 @@
  * to Nuke, Blender and After Effects); a single weight plane as luminance Y;
  * and an alpha A that is 1 on the map (inside a dome's circle, a
  * Hammer-Aitoff ellipse; everywhere on the others) and 0 off it, where every
- * colour is 0, not NaN. docs/formats-out.md. */
+ * colour is 0, not NaN. With output.exr_population_layers the planes after
+ * X, Y, Z (each population's Y, named pop.NAME.Y) follow as layers of their
+ * own. docs/formats-out.md. */
 #ifndef ORR_RENDER_EXR_VIEW_H
 #define ORR_RENDER_EXR_VIEW_H
 
@@ -13,14 +15,16 @@
 #include "frame/projection.h"
 #include "core/plane.h"
 
-#define ORR_EXR_VIEW_MAX 7 /* R, G, B, A, xyz.X, xyz.Y, xyz.Z */
+/* R, G, B, A, xyz.X, xyz.Y, xyz.Z, and a pop.NAME.Y per population */
+#define ORR_EXR_VIEW_MAX (7 + ORR_POPULATION_LAYERS_MAX)
 
 typedef struct orr_exr_view {
     int n;
     orr_plane channels[ORR_EXR_VIEW_MAX];
 } orr_exr_view;
 
-/* Builds the channels of planes (1 weight plane, or X, Y, Z), each name
+/* Builds the channels of planes (1 weight plane, or X, Y, Z and each
+ * population's Y, named as the plane is), each name
  * prefixed with prefix ("" or a stereo eye's "left."). p is the view's
  * projection, for the alpha. On failure nothing stays allocated. */
 orr_status orr_exr_view_build(orr_exr_view *out, const orr_plane *planes, int nplanes, const orr_projection *p,

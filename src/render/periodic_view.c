@@ -144,7 +144,7 @@ void orr_block_summary_merge(orr_block_summary *a, const orr_block_summary *b)
         a->hi = b->hi;
     }
     a->radius = fmax(a->radius, b->radius);
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < ORR_PLANES_MAX; k++)
         a->w[k] += b->w[k];
     a->n += b->n;
     a->lengths_used += b->lengths_used;

@@ -43,7 +43,7 @@ orr_status orr_periodic_view_setup(orr_periodic_view *pv, const orr_scene *s, co
 typedef struct orr_block_summary {
     orr_vec3 lo, hi;
     double radius;
-    double w[3];
+    double w[ORR_PLANES_MAX];
     uint64_t n;
     size_t lengths_used;
     int must_gather;

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "core/atomic.h"
+#include "core/numbers.h"
 #include "dust/dust.h"
 #include "post/brightness.h"
 #include "scene/scene_output.h"
@@ -37,6 +38,19 @@ struct orr_plan {
  * PSF takes 0.3-2 s; a convolver plans its FFTs; the bright stars' PSF), a
  * sky map's index (0.1 s for a 3600^2 dome) and PSF core stamps (made as
  * stars land, and kept: a cell's stamps depend on the cell alone). */
+/* Plane k's name: the weight, or X, Y, Z with colour, then pop.NAME.Y for
+ * each population (output.exr_population_layers), as the EXR's layers. */
+static void plane_name(const orr_scene *s, int k, char *name, size_t size)
+{
+    static const char *const xyz_names[3] = {"X", "Y", "Z"};
+    if (!s->colour)
+        orr_snprintf(name, size, "%s", s->weight);
+    else if (k < 3)
+        orr_snprintf(name, size, "%s", xyz_names[k]);
+    else
+        orr_snprintf(name, size, "pop.%s.Y", s->populations.pop[k - 3].name);
+}
+
 static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
     v->scene = s;
@@ -45,13 +59,16 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
     v->proj = v->base_proj;
-    static const char *const xyz_names[3] = {"X", "Y", "Z"};
     v->nplanes = s->colour || s->nlayers ? 3 : 1;
+    if (s->colour && s->exr_population_layers)
+        v->nplanes += s->populations.n;
     char unit[ORR_PLANE_NAME_MAX];
     orr_brightness_unit(&v->proj, scene_weight_unit(s), scene_length_unit(s), unit, sizeof unit);
-    for (int k = 0; k < v->nplanes && !st; k++)
-        st = orr_plane_alloc(&v->planes[k], v->proj.width, v->proj.height, s->colour ? xyz_names[k] : s->weight,
-                             unit, err);
+    for (int k = 0; k < v->nplanes && !st; k++) {
+        char name[ORR_PLANE_NAME_MAX];
+        plane_name(s, k, name, sizeof name);
+        st = orr_plane_alloc(&v->planes[k], v->proj.width, v->proj.height, name, unit, err);
+    }
     /* The kernel's tables take milliseconds to build: only for kernel
      * deposits and PSFs (a sky map's is drawn with the kernel). */
     int needs_kernel = s->deposit == ORR_DEPOSIT_SPH || s->psf != ORR_PSF_NONE;
@@ -138,7 +155,7 @@ static void free_view(view_state *v)
 {
     orr_splat_free_lanes(v);
     orr_bands_free(&v->bands);
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < ORR_PLANES_MAX; k++)
         orr_plane_free(&v->planes[k]);
     orr_view_psf_free(&v->psf);
     if (v->sph_ready)
@@ -369,7 +386,7 @@ static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr
         st = orr_view_graded_rgb(v, rgb, desc, sizeof desc, err);
     if (!st) {
         orr_view_add_frame_cards(v, h);
-        st = in->keep(in->keep_user, k, v->planes, v->nplanes, rgb, h, err);
+        st = in->keep(in->keep_user, k, v->planes, fits_nplanes(v), rgb, h, err);
     }
     free(rgb);
     free(h);

@@ -89,34 +89,51 @@ void orr_sky_psf_begin_frame(orr_sky_psf *sp)
 /* ---- the brightest stars ---- */
 
 /* A star's fields as doubles (exactly: they are floats), brightness first:
- * the order stars are ranked in (star_cmp) and the slots they are shared
- * between processes in (orr_sky_psf_share). */
-#define STAR_FIELDS 11
+ * the order stars are ranked in (star_cmp, the first STAR_RANK_FIELDS) and
+ * the slots they are shared between processes in (orr_sky_psf_share). The
+ * populations' Y (output.exr_population_layers) come last: each is the
+ * star's Y or 0, so they rank only stars alike in every other field. */
+#define STAR_RANK_FIELDS 11
+#define STAR_FIELDS (STAR_RANK_FIELDS + ORR_POPULATION_LAYERS_MAX)
+
+static void star_pack_ranked(const orr_sky_star *s, double *d)
+{
+    const float f[STAR_RANK_FIELDS] = {s->key,  s->x, s->y,  s->z,  s->w[0],  s->w[1],
+                                       s->w[2], s->h, s->px, s->py, s->scale};
+    for (int k = 0; k < STAR_RANK_FIELDS; k++)
+        d[k] = f[k];
+}
 
 static void star_pack(const orr_sky_star *s, double *d)
 {
-    const float f[STAR_FIELDS] = {s->key, s->x, s->y, s->z, s->w[0], s->w[1], s->w[2], s->h, s->px, s->py, s->scale};
-    for (int k = 0; k < STAR_FIELDS; k++)
-        d[k] = f[k];
+    star_pack_ranked(s, d);
+    for (int k = 0; k < ORR_POPULATION_LAYERS_MAX; k++)
+        d[STAR_RANK_FIELDS + k] = s->w[3 + k];
 }
 
 static orr_sky_star star_unpack(const double *d)
 {
-    return (orr_sky_star){.key = (float)d[0], .x = (float)d[1], .y = (float)d[2], .z = (float)d[3],
-                          .w = {(float)d[4], (float)d[5], (float)d[6]}, .h = (float)d[7], .px = (float)d[8],
-                          .py = (float)d[9], .scale = (float)d[10]};
+    orr_sky_star s = {.key = (float)d[0], .x = (float)d[1], .y = (float)d[2], .z = (float)d[3],
+                      .w = {(float)d[4], (float)d[5], (float)d[6]}, .h = (float)d[7], .px = (float)d[8],
+                      .py = (float)d[9], .scale = (float)d[10]};
+    for (int k = 0; k < ORR_POPULATION_LAYERS_MAX; k++)
+        s.w[3 + k] = (float)d[STAR_RANK_FIELDS + k];
+    return s;
 }
 
 /* A total order (brightness first), so which stars win and in what order
  * they are drawn never depends on the order they arrived in. */
 static int star_cmp(const orr_sky_star *a, const orr_sky_star *b)
 {
-    double fa[STAR_FIELDS], fb[STAR_FIELDS];
-    star_pack(a, fa);
-    star_pack(b, fb);
-    for (int k = 0; k < STAR_FIELDS; k++)
+    double fa[STAR_RANK_FIELDS], fb[STAR_RANK_FIELDS];
+    star_pack_ranked(a, fa);
+    star_pack_ranked(b, fb);
+    for (int k = 0; k < STAR_RANK_FIELDS; k++)
         if (fa[k] != fb[k])
             return fa[k] < fb[k] ? -1 : 1;
+    for (int k = 3; k < ORR_PLANES_MAX; k++) /* two stars alike but for their population */
+        if (a->w[k] != b->w[k])
+            return a->w[k] < b->w[k] ? -1 : 1;
     return 0;
 }
 

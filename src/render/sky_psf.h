@@ -31,7 +31,7 @@
 typedef struct orr_sky_star {
     float key;                       /* its brightness: Y with colour, else the weight */
     float x, y, z, px, py, scale, h; /* camera frame, image position and scale, smoothing length */
-    float w[3];                      /* weights of the planes */
+    float w[ORR_PLANES_MAX];         /* weights of the planes */
 } orr_sky_star;
 
 typedef struct orr_sky_psf {

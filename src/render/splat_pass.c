@@ -65,17 +65,17 @@ _Static_assert(MAX_LANES <= ORR_SKY_PSF_LANES, "a sky PSF collects stars in ever
 
 typedef struct block_buffers {
     float x[BLOCK], y[BLOCK], z[BLOCK], h[BLOCK];
-    float w[3][BLOCK]; /* the weight, or X, Y, Z with colour */
+    float w[ORR_PLANES_MAX][BLOCK]; /* the weight, or X, Y, Z with colour */
     float px[BLOCK], py[BLOCK], scale[BLOCK];
     uint8_t visible[BLOCK];
     uint8_t keep[BLOCK]; /* omni-directional stereo: 0 inside the eye circle */
     /* Point deposits: the block's shares, before they are sorted by band. */
     int32_t share_pixel[ORR_MAX_SHARES_PER_POINT * BLOCK];
-    float share_w[3][ORR_MAX_SHARES_PER_POINT * BLOCK];
+    float share_w[ORR_PLANES_MAX][ORR_MAX_SHARES_PER_POINT * BLOCK];
     uint32_t band_cursor[ORR_MAX_BANDS];
     /* The block's weights, as the deposits read them: the source's arrays
      * themselves for a block taken whole (take_weights), otherwise w. */
-    const float *wp[3];
+    const float *wp[ORR_PLANES_MAX];
     /* A block of the fused NGP gather (render/ngp_gather.h): its pixel
      * indices are in share_pixel. */
     int indexed;
@@ -239,6 +239,13 @@ static void transform_undimmed(const orr_chunk *c, size_t start, size_t n, const
     transform_positions(c, start, n, t, 0, b, NULL);
 }
 
+/* The plane whose weights are checked for finiteness: the weight, or
+ * with colour Z. */
+static int checked_plane(const view_state *v)
+{
+    return v->nplanes >= 3 ? 2 : 0;
+}
+
 /* The weights of a block taken whole, particles [start, start + n): the
  * source's arrays themselves, or with dimming (observer.dim, camera.dim;
  * NULL without) the dimmed copies in b->w. */
@@ -291,7 +298,7 @@ static int ngp_gather_all(const view_state *v, const orr_chunk *c, const float *
     const size_t n = end - start;
     orr_ngp_gather_out out = {b->share_pixel, b->px, b->py, b->scale};
     if (!orr_ngp_gather(&v->proj, &v->outline, t, n, c->x + start, c->y + start, c->z + start,
-                        wsrcs[v->nplanes - 1] + start, &out))
+                        wsrcs[checked_plane(v)] + start, &out))
         return 0;
     take_weights(v, wsrcs, start, n, t->dim ? out.dimming : NULL, b);
     b->indexed = 1;
@@ -391,13 +398,14 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
                          size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
                          block_buffers *b, block_tally *t, orr_error *err)
 {
-    /* Checked for finiteness: the weight, or with colour Z, the last plane
+    /* Checked for finiteness: the weight, or with colour Z
      * (orr_population_assign already refuses a luminance or colour that is
-     * not finite, so a particle's X, Y and Z are finite together) */
-    const float *wsrc = wsrcs[v->nplanes - 1];
+     * not finite, so a particle's X, Y and Z, and its population's Y, are
+     * finite together) */
+    const float *wsrc = wsrcs[checked_plane(v)];
     const orr_scene *s = v->scene;
     const orr_camera_transform tf = transform_of(v, shift, fading);
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < ORR_PLANES_MAX; k++)
         b->wp[k] = b->w[k];
     b->indexed = 0;
     if (!fading && !v->blur.active && block_selects_all(v, c, start, end)) {
@@ -443,7 +451,7 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         float dimming = tf.dim ? orr_camera_dimming(&tf, p.r2) : 1.0f;
         float fade = tf.fade ? orr_camera_fade(&tf, p.r2) : 1.0f;
         if (s->has_glow) /* an angle from the lengths, a point when bright */
-            h = glow_length(s, h, p.r2, wsrcs[v->nplanes == 3 ? 1 : 0][i] * dimming);
+            h = glow_length(s, h, p.r2, wsrcs[v->nplanes >= 3 ? 1 : 0][i] * dimming);
         if (fade < 1.0f)
             count_faded(v, wsrcs, i, dimming, fade, t);
         if (fade == 0.0f)
@@ -503,9 +511,11 @@ static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
  * sky map's rim folded) and its report in t. */
 static orr_ngp_batch place_indexed(const view_state *v, size_t n, block_buffers *b, block_tally *t)
 {
-    orr_deposit_stats st[3];
+    orr_deposit_stats st[ORR_PLANES_MAX];
     memset(st, 0, sizeof st);
-    orr_ngp_batch nb = {n, b->share_pixel, b->px, b->py, {b->wp[0], b->wp[1], b->wp[2]}, v->nplanes, 0};
+    orr_ngp_batch nb = {n, b->share_pixel, b->px, b->py, {NULL}, v->nplanes, 0};
+    for (int k = 0; k < v->nplanes; k++)
+        nb.w[k] = b->wp[k];
     orr_ngp_place(&v->proj, &v->outline, &nb, st);
     t->deposit[0] = st[0];
     t->deposit[1] = st[1];
@@ -559,7 +569,7 @@ static void deposit_streaks(const view_state *v, orr_plane *planes, int lane, si
                             block_tally *t)
 {
     block_buffers *sb = b->samples;
-    for (int p = 0; p < 3; p++)
+    for (int p = 0; p < ORR_PLANES_MAX; p++)
         sb->wp[p] = sb->w[p];
     size_t ns = 0;
     for (size_t i = 0; i < n; i++) {
@@ -704,6 +714,10 @@ typedef struct splat_work {
      * (1): the threads interleave the two, so the chunk's splat time is
      * shared between the stages in this proportion (--timings). */
     double split[MAX_LANES][2];
+    /* output.exr_population_layers: the planes after X, Y, Z (one Y per
+     * population), and each particle's population; 0 and NULL without. */
+    int npop_planes;
+    int32_t *pop_of;
 } splat_work;
 
 /* Where each block's neighbour smoothing lengths start: they are taken in
@@ -858,15 +872,18 @@ static void window_shares(view_state *v, const orr_source *src, const orr_chunk 
             long n = take_block(v, src, c, wts, first + q, w, me, b, &t);
             if (n < 0)
                 continue;
-            orr_shares shares = {b->share_pixel, {b->share_w[0], b->share_w[1], b->share_w[2]}, 0};
+            orr_shares shares = {b->share_pixel, {NULL}, 0};
+            for (int k = 0; k < v->nplanes; k++)
+                shares.w[k] = b->share_w[k];
             if (b->indexed) {
                 orr_ngp_batch nb = place_indexed(v, (size_t)n, b, t);
                 orr_ngp_shares(&nb, &shares);
             } else {
-                orr_deposit_stats st[3];
+                orr_deposit_stats st[ORR_PLANES_MAX];
                 memset(st, 0, sizeof st);
-                orr_point_batch pb = {(size_t)n, b->px, b->py, b->visible, {b->wp[0], b->wp[1], b->wp[2]},
-                                      v->nplanes};
+                orr_point_batch pb = {(size_t)n, b->px, b->py, b->visible, {NULL}, v->nplanes};
+                for (int k = 0; k < v->nplanes; k++)
+                    pb.w[k] = b->wp[k];
                 orr_deposit_shares(v->scene->deposit, &pb, &v->proj, W, H, &shares, st);
                 t->deposit[0] = st[0];
                 t->deposit[1] = st[1];
@@ -913,6 +930,20 @@ static orr_status splat_view(view_state *v, const orr_source *src, const orr_chu
     return v->banded ? splat_view_banded(v, src, c, wts, w, err) : splat_view_lanes(v, src, c, wts, w, err);
 }
 
+/* Each particle's Y into its population's plane (xyz[3 + p]) and 0 into
+ * the others', particles [start, start + count). A particle of no
+ * population (pop < 0) has X = Y = Z = 0 and is in none. So the planes
+ * sum, pixel by pixel, to the Y plane. */
+static void split_y_by_population(float *const *xyz, int npop, const int32_t *pop, size_t start, size_t count)
+{
+    for (int p = 0; p < npop; p++) {
+        const float *restrict y = xyz[1] + start;
+        float *restrict out = xyz[3 + p] + start;
+        for (size_t i = 0; i < count; i++)
+            out[i] = pop[i] == p ? y[i] : 0.0f;
+    }
+}
+
 /* The per-particle weights of a chunk: the scene's weight field, or with
  * colour the X, Y, Z of each particle's population (into xyz, room for the
  * chunk's capacity), assigned in MAX_LANES parallel stretches; an error is
@@ -928,9 +959,12 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
     for (int part = 0; part < MAX_LANES; part++) {
         size_t start = (size_t)part * per < n ? (size_t)part * per : n;
         size_t count = start + per < n ? per : n - start;
-        st_part[part] = orr_population_assign_at(&s->populations, src->info.time, c, start, count, s->only, NULL,
+        int32_t *pop = work->pop_of ? work->pop_of + start : NULL;
+        st_part[part] = orr_population_assign_at(&s->populations, src->info.time, c, start, count, s->only, pop,
                                                  xyz[0] + start, xyz[1] + start, xyz[2] + start,
                                                  &work->lane_err[part]);
+        if (pop && !st_part[part])
+            split_y_by_population(xyz, work->npop_planes, pop, start, count);
     }
     for (int part = 0; part < MAX_LANES; part++)
         if (st_part[part]) {
@@ -939,7 +973,7 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
             orr_fail_prefix(err, "%s: colour.populations: ", s->path);
             return st_part[part];
         }
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < 3 + work->npop_planes; k++)
         w[k] = xyz[k];
     return ORR_OK;
 }
@@ -1058,12 +1092,13 @@ static orr_status splat_chunk_periodic(view_state *v, const orr_source *src, con
 static orr_status splat_chunk(view_state *views, int nviews, const orr_source *src, const orr_chunk *c,
                               splat_work *work, float *const *xyz, orr_error *err)
 {
-    const float *w[3] = {NULL, NULL, NULL};
+    const float *w[ORR_PLANES_MAX] = {NULL};
     orr_status st = chunk_weights(views[0].scene, src, c, xyz, w, work, err);
     charge(&views[0], ORR_STAGE_GATHER);
     memset(work->split, 0, sizeof work->split);
     for (int k = 0; k < nviews && !st; k++) {
-        const float *wv[3] = {w[0], w[1], w[2]};
+        const float *wv[ORR_PLANES_MAX];
+        memcpy(wv, w, sizeof wv);
         if (views[k].dust) { /* dimmed by the dust between the view's eye and each star (dust/dust.h) */
             const orr_mat3 *r = &views[k].world_to_camera; /* its third row: the view axis */
             orr_dust_eye eye = {views[k].rep->camera.position, views[k].proj.kind == ORR_PROJ_ORTHOGRAPHIC,
@@ -1114,12 +1149,26 @@ static orr_status alloc_work(splat_work *w, size_t capacity, int blur, orr_error
     return reserve_blocks(w, capacity, err);
 }
 
+/* Room for a chunk's colour weights: X, Y, Z, and with population planes
+ * (nplanes > 3) each population's Y and each particle's population. */
+static orr_status alloc_colour_weights(splat_work *w, int nplanes, size_t cap, float **xyz, orr_error *err)
+{
+    for (int k = 0; k < nplanes; k++)
+        if (!(xyz[k] = orr_malloc(cap * sizeof(float), "colour weights", err)))
+            return ORR_ERR_NOMEM;
+    w->npop_planes = nplanes - 3;
+    if (w->npop_planes > 0 && !(w->pop_of = orr_malloc(cap * sizeof *w->pop_of, "colour populations", err)))
+        return ORR_ERR_NOMEM;
+    return ORR_OK;
+}
+
 static void free_work(splat_work *w)
 {
     free(w->buffers);
     free(w->samples);
     free(w->lengths_first);
     free(w->tally);
+    free(w->pop_of);
 }
 
 orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_progress_fn progress,
@@ -1132,12 +1181,11 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
     for (int k = 0; k < nviews; k++)
         blur |= views[k].blur.active;
     orr_status st = alloc_work(work, src->chunk.capacity, blur, err);
-    /* With colour, a chunk's X, Y, Z weights. */
-    float *xyz[3] = {NULL, NULL, NULL};
+    /* With colour, a chunk's X, Y, Z weights (and each population's Y). */
+    float *xyz[ORR_PLANES_MAX] = {NULL};
     size_t cap = views[0].scene->colour ? src->chunk.capacity : 0;
-    for (int k = 0; k < 3 && cap && !st; k++)
-        if (!(xyz[k] = orr_malloc(cap * sizeof(float), "colour weights", err)))
-            st = ORR_ERR_NOMEM;
+    if (!st && cap)
+        st = alloc_colour_weights(work, views[0].nplanes, cap, xyz, err);
     for (int k = 0; k < nviews && !st; k++)
         st = views[k].banded && !views[k].periodic.active ? alloc_bands(&views[k], src->chunk.capacity, err)
                              : alloc_lanes(&views[k], src->info.count, err);
@@ -1163,7 +1211,7 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
         if (views[k].psf.sky)
             st = orr_sky_psf_select(views[k].psf.sky, err);
     charge(&views[0], ORR_STAGE_REDUCE);
-    for (int k = 0; k < 3; k++)
+    for (int k = 0; k < ORR_PLANES_MAX; k++)
         free(xyz[k]);
     free_work(work);
     free(work);

@@ -384,12 +384,12 @@ orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error 
     if (!st && v->proj.kind == ORR_PROJ_HEALPIX) {
         orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, ""};
         orr_healpix_info info = {v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
-        st = orr_write_healpix_fits(path, v->planes, v->nplanes, &info, h, err);
+        st = orr_write_healpix_fits(path, v->planes, fits_nplanes(v), &info, h, err);
     } else if (!st) {
         /* The raw planes stay uncompressed: orrery compose reads them. */
         orr_fits_compression c = strcmp(ext, "fits") == 0 ? (orr_fits_compression)v->scene->fits_compress
                                                            : ORR_FITS_UNCOMPRESSED;
-        st = orr_write_fits_compressed(path, v->planes, v->nplanes, h, c, err);
+        st = orr_write_fits_compressed(path, v->planes, fits_nplanes(v), h, c, err);
     }
     free(h);
     if (!st)

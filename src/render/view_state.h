@@ -27,7 +27,8 @@ typedef struct view_state {
     orr_projection base_proj;   /* the scene's projection, set up */
     orr_projection proj;        /* this frame's: base_proj, with a stereo eye's principal point */
     orr_mat3 world_to_camera;
-    orr_plane planes[3]; /* the weight plane, or CIE X, Y, Z with colour */
+    orr_plane planes[ORR_PLANES_MAX]; /* the weight plane, or CIE X, Y, Z with colour (then each
+                                      * population's Y with output.exr_population_layers) */
     int nplanes;
     orr_render_report *rep;
     /* Kernel deposit (deposit: sph, or a sky map's PSF): its kernel, the
@@ -61,6 +62,14 @@ typedef struct frame_timer {
     orr_stage_times times;
     orr_clock at;
 } frame_timer;
+
+/* The planes a view's FITS files (and an in-situ keeper) get: the weight,
+ * or X, Y, Z. A population's Y (output.exr_population_layers) is the
+ * EXR's alone. */
+static inline int fits_nplanes(const view_state *v)
+{
+    return v->nplanes < 3 ? v->nplanes : 3;
+}
 
 static inline void charge(const view_state *v, orr_stage s)
 {

@@ -306,6 +306,7 @@ static const key_spec KEYS[] = {
     {.key = "output.png_transfer", NAMED(PNG_TRANSFER_NAMES, png_linear)},
     {.key = "output.exr", .type = K_BOOL, FIELD(write_exr)},
     {.key = "output.exr_half", .type = K_BOOL, FIELD(exr_half)},
+    {.key = "output.exr_population_layers", .type = K_BOOL, FIELD(exr_population_layers)},
     {.key = "output.fits_compress", NAMED(FITS_COMPRESS_NAMES, fits_compress)},
     {.key = "output.image", .type = K_FILENAME, FIELD(image_ext)},
     {.key = "output.png_bits", NAMED(PNG_BITS_NAMES, png_bits)},

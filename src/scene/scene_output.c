@@ -52,11 +52,49 @@ static orr_status check_alpha_mask(const orr_scene *s, const scene_marks *m, orr
     return ORR_OK;
 }
 
+/* An EXR channel name's part between dots: OpenEXR allows any bytes but
+ * compositors split layers at '.', and shells, Nuke's and Blender's
+ * expressions read names best as letters, digits, '_' and '-'. */
+static int is_layer_name(const char *name)
+{
+    return name[0] && strspn(name, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-") ==
+                          strlen(name);
+}
+
+/* output.exr_population_layers needs populations to split the Y plane
+ * into, and the linear EXR to hold them; each population's name becomes
+ * its layer's. */
+static orr_status check_population_layers(const orr_scene *s, const scene_marks *m, orr_error *err)
+{
+    static const char key[] = "output.exr_population_layers";
+    if (!s->exr_population_layers)
+        return ORR_OK;
+    if (!s->colour || s->populations.n == 0)
+        return scene_fail_key(s, m, key, err, "%s: needs colour.populations, whose Y it splits into layers", key);
+    if (!s->write_exr)
+        return scene_fail_key(s, m, key, err, "%s: needs output.exr: true, the file that holds the layers", key);
+    if (s->stereo != ORR_STEREO_NONE)
+        return scene_fail_key(s, m, key, err, "%s: not with stereo.mode %s (a view's planes only)", key,
+                              orr_stereo_mode_name(s->stereo));
+    if (s->populations.n > ORR_POPULATION_LAYERS_MAX)
+        return scene_fail_key(s, m, key, err, "%s: at most %d populations, the scene has %d", key,
+                              ORR_POPULATION_LAYERS_MAX, s->populations.n);
+    for (int i = 0; i < s->populations.n; i++)
+        if (!is_layer_name(s->populations.pop[i].name))
+            return scene_fail_key(s, m, key, err,
+                                  "%s: population '%s' cannot name the layer pop.%s.Y: a layer name holds only "
+                                  "letters, digits, '_' and '-'",
+                                  key, s->populations.pop[i].name, s->populations.pop[i].name);
+    return ORR_OK;
+}
+
 orr_status scene_check_output_keys(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     orr_status st = check_frame_separator(s, m, err);
     if (!st)
         st = check_alpha_mask(s, m, err);
+    if (!st)
+        st = check_population_layers(s, m, err);
     if (st)
         return st;
     char bad = bad_unit_char(s->bunit);

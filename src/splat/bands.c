@@ -41,7 +41,7 @@ void orr_bands_free(orr_bands *b)
 {
     free(b->pixel);
     free(b->start);
-    for (int p = 0; p < 3; p++)
+    for (int p = 0; p < ORR_PLANES_MAX; p++)
         free(b->w[p]);
     memset(b, 0, sizeof *b);
 }
@@ -101,7 +101,7 @@ void orr_bands_apply(const orr_bands *b, int band, size_t nregions, orr_plane *p
         const uint32_t *start = b->start + r * (size_t)(b->nbands + 1);
         size_t base = r * b->region_cap;
         prefetch_band(b, band + 1, start, base, planes[0].data);
-        orr_shares s = {b->pixel + base, {NULL, NULL, NULL}, 0};
+        orr_shares s = {b->pixel + base, {NULL}, 0};
         for (int p = 0; p < b->nplanes; p++)
             s.w[p] = b->w[p] + base;
         orr_shares_apply(&s, start[band], start[band + 1], planes, b->nplanes);

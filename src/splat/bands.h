@@ -27,7 +27,7 @@ typedef struct orr_bands {
     size_t nregions;   /* regions: one a block */
     size_t region_cap; /* shares a region holds */
     int32_t *pixel;    /* nregions * region_cap */
-    float *w[3];       /* nplanes of them, as pixel */
+    float *w[ORR_PLANES_MAX];       /* nplanes of them, as pixel */
     uint32_t *start;   /* per region, nbands + 1: where each band's shares start */
 } orr_bands;
 

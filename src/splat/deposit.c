@@ -281,7 +281,8 @@ static void ngp_shares(const orr_point_batch *b, const orr_projection *proj, int
                        orr_deposit_stats *st)
 {
     const orr_map_outline m = orr_map_outline_of(proj, W, H);
-    orr_ngp_batch nb = {b->n, out->pixel + out->n, b->px, b->py, {b->w[0], b->w[1], b->w[2]}, b->nw, 0};
+    orr_ngp_batch nb = {b->n, out->pixel + out->n, b->px, b->py, {NULL}, b->nw, 0};
+    memcpy(nb.w, b->w, sizeof nb.w);
     ngp_indices(proj, &m, b, nb.index);
     orr_ngp_place(proj, &m, &nb, st);
     orr_ngp_shares(&nb, out);

@@ -37,7 +37,7 @@ typedef struct orr_point_batch {
     size_t n;
     const float *px, *py;
     const uint8_t *visible;
-    const float *w[3];
+    const float *w[ORR_PLANES_MAX];
     int nw;
 } orr_point_batch;
 
@@ -46,7 +46,7 @@ typedef struct orr_point_batch {
 #define ORR_MAX_SHARES_PER_POINT 4
 typedef struct orr_shares {
     int32_t *pixel;
-    float *w[3];
+    float *w[ORR_PLANES_MAX];
     size_t n; /* shares so far: the next goes at index n */
 } orr_shares;
 
@@ -123,7 +123,7 @@ typedef struct orr_ngp_batch {
     size_t n;
     int32_t *index;       /* a pixel, ORR_NGP_OFF or ORR_NGP_CULLED */
     const float *px, *py; /* sky maps: positions, read for the points ORR_NGP_OFF */
-    const float *w[3];
+    const float *w[ORR_PLANES_MAX];
     int nw;
     size_t n_missing;     /* set by orr_ngp_place: points left without a pixel */
 } orr_ngp_batch;

@@ -10,18 +10,10 @@ import subprocess
 import numpy as np
 import OpenImageIO as oiio
 
-from check_lib import Checks
+from check_lib import Checks, read_exr
 
 check = Checks()
 orrery, work = check.orrery, check.work
-
-
-def read_exr(path):
-    inp = oiio.ImageInput.open(path)
-    spec = inp.spec()
-    pixels = inp.read_image(oiio.FLOAT)
-    inp.close()
-    return spec, {name: pixels[:, :, k] for k, name in enumerate(spec.channelnames)}
 
 
 def render(name, scene, *sets):

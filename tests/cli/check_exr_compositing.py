@@ -8,21 +8,12 @@ usage: check_exr_compositing.py ORRERY WORKDIR"""
 import subprocess
 
 import numpy as np
-import OpenImageIO as oiio
 from astropy.io import fits
 
-from check_lib import Checks
+from check_lib import Checks, read_exr
 
 check = Checks()
 orrery, work = check.orrery, check.work
-
-
-def read_exr(path):
-    inp = oiio.ImageInput.open(path)
-    spec = inp.spec()
-    pixels = inp.read_image(oiio.FLOAT)
-    inp.close()
-    return spec, {name: pixels[:, :, k] for k, name in enumerate(spec.channelnames)}
 
 
 def render(name, scene):

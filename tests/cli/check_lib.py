@@ -18,3 +18,15 @@ class Checks:
     def finish(self, name):
         print(f"{name}:", "failed" if self.failures else "passed")
         sys.exit(1 if self.failures else 0)
+
+
+def read_exr(path):
+    """An EXR's spec and its channels by name, as float arrays, read with
+    OpenImageIO (imported here: only the EXR checks need it)."""
+    import OpenImageIO as oiio
+
+    inp = oiio.ImageInput.open(path)
+    spec = inp.spec()
+    pixels = inp.read_image(oiio.FLOAT)
+    inp.close()
+    return spec, {name: pixels[:, :, k] for k, name in enumerate(spec.channelnames)}
