@@ -87,6 +87,17 @@ orr_status orr_exr_view_build(orr_exr_view *out, const orr_plane *planes, int np
     return st;
 }
 
+orr_status orr_exr_view_add(orr_exr_view *v, const orr_plane *plane, const orr_projection *p, const char *name,
+                            orr_error *err)
+{
+    if (v->n >= ORR_EXR_VIEW_MAX)
+        return orr_fail(err, ORR_ERR_INTERNAL, "OpenEXR view: no room for channel %s", name);
+    orr_status st = add_channel(v, p, "", name, err);
+    if (!st)
+        copy_finite(&v->channels[v->n - 1], plane, (size_t)p->width * (size_t)p->height);
+    return st;
+}
+
 void orr_exr_view_free(orr_exr_view *v)
 {
     for (int k = 0; k < v->n; k++)

@@ -15,8 +15,9 @@
 #include "frame/projection.h"
 #include "core/plane.h"
 
-/* R, G, B, A, xyz.X, xyz.Y, xyz.Z, and a pop.NAME.Y per population */
-#define ORR_EXR_VIEW_MAX (7 + ORR_POPULATION_LAYERS_MAX)
+/* R, G, B, A, xyz.X, xyz.Y, xyz.Z, a pop.NAME.Y per population, and the
+ * dust's extinction.A_V */
+#define ORR_EXR_VIEW_MAX (8 + ORR_POPULATION_LAYERS_MAX)
 
 typedef struct orr_exr_view {
     int n;
@@ -29,6 +30,10 @@ typedef struct orr_exr_view {
  * projection, for the alpha. On failure nothing stays allocated. */
 orr_status orr_exr_view_build(orr_exr_view *out, const orr_plane *planes, int nplanes, const orr_projection *p,
                               const char *prefix, orr_error *err);
+/* Adds one more channel, named name, holding plane (NaN as 0): the dust's
+ * extinction plane beside the light (dust.extinction_plane). */
+orr_status orr_exr_view_add(orr_exr_view *v, const orr_plane *plane, const orr_projection *p, const char *name,
+                            orr_error *err);
 void orr_exr_view_free(orr_exr_view *v);
 
 /* Writes n channels (one view's, or both eyes' of a stereo pair) to path

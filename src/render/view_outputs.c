@@ -327,7 +327,7 @@ orr_status orr_view_write_pictures(view_state *v, orr_error *err)
 
 /* The linear planes as OpenEXR (output.exr), float, as compositors read it:
  * R, G, B, A and the layer xyz, or Y and A (render/exr_view.h). */
-static orr_status write_exr(view_state *v, orr_error *err)
+static orr_status write_exr(view_state *v, const orr_plane *av, orr_error *err)
 {
     orr_render_report *rep = v->rep;
     const char *path;
@@ -336,7 +336,10 @@ static orr_status write_exr(view_state *v, orr_error *err)
     orr_exr_view ev;
     orr_status st = view_output(v, "exr", &path, err);
     if (!st && !(st = orr_exr_view_build(&ev, v->planes, v->nplanes, &v->proj, "", err))) {
-        st = orr_exr_view_write(path, ev.channels, ev.n, v->scene->exr_half, &meta, err);
+        if (av)
+            st = orr_exr_view_add(&ev, av, &v->proj, "extinction.A_V", err);
+        if (!st)
+            st = orr_exr_view_write(path, ev.channels, ev.n, v->scene->exr_half, &meta, err);
         orr_exr_view_free(&ev);
     }
     if (!st)
@@ -398,26 +401,31 @@ orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error 
     return st;
 }
 
-/* dust.extinction_plane: A_V to infinity per pixel (dust/dust.h), as
- * NAME.extinction.fits beside the light planes, with the view's cards. */
-static orr_status write_extinction(view_state *v, orr_error *err)
+/* dust.extinction_plane: A_V to infinity per pixel (dust/dust.h), made once
+ * for the FITS file and the EXR layer. */
+static orr_status extinction_plane(view_state *v, orr_plane *av, orr_error *err)
 {
     const orr_mat3 *r = &v->world_to_camera;
     orr_dust_eye eye = {v->rep->camera.position, v->proj.kind == ORR_PROJ_ORTHOGRAPHIC,
                         orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
-    orr_plane av = {0};
+    return orr_dust_av_plane(v->dust, &eye, &v->proj, r, av, err);
+}
+
+/* The extinction plane as NAME.extinction.fits beside the light planes,
+ * with the view's cards. */
+static orr_status write_extinction(view_state *v, const orr_plane *av, orr_error *err)
+{
     const char *path;
     orr_fits_header *h = orr_calloc(1, sizeof *h, "FITS header", err);
-    orr_status st = h ? orr_dust_av_plane(v->dust, &eye, &v->proj, r, &av, err) : ORR_ERR_NOMEM;
+    orr_status st = h ? ORR_OK : ORR_ERR_NOMEM;
     if (!st) {
         orr_view_add_frame_cards(v, h);
         st = view_output(v, "extinction.fits", &path, err);
     }
     if (!st)
-        st = orr_write_fits(path, &av, 1, h, err);
+        st = orr_write_fits(path, av, 1, h, err);
     if (!st)
         v->rep->noutputs++;
-    orr_plane_free(&av);
     free(h);
     return st;
 }
@@ -468,15 +476,20 @@ orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_view
 orr_status orr_view_write_outputs(view_state *v, orr_error *err)
 {
     const orr_scene *s = v->scene;
-    orr_status st;
     orr_view_mask_outside_map(v);
     charge(v, ORR_STAGE_POST);
-    if (s->write_fits && (st = orr_view_write_fits_planes(v, "fits", err)))
-        return st;
-    if (s->write_exr && (st = write_exr(v, err)))
-        return st;
-    if (v->dust && s->dust.extinction_plane && (st = write_extinction(v, err)))
-        return st;
-    return orr_view_write_pictures(v, err);
+    orr_plane av = {0};
+    int want_av = v->dust && s->dust.extinction_plane;
+    orr_status st = want_av ? extinction_plane(v, &av, err) : ORR_OK;
+    if (!st && s->write_fits)
+        st = orr_view_write_fits_planes(v, "fits", err);
+    if (!st && s->write_exr)
+        st = write_exr(v, want_av ? &av : NULL, err);
+    if (!st && want_av)
+        st = write_extinction(v, &av, err);
+    if (!st)
+        st = orr_view_write_pictures(v, err);
+    orr_plane_free(&av);
+    return st;
 }
 
