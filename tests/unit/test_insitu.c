@@ -110,7 +110,10 @@ static const char scene_yaml[] = "camera: {projection: orthographic, width: 10}\
                                  "deposit: ngp\n"
                                  "output: {name: step, png: false}\n";
 
-static void test_render_steps(void)
+/* A fresh temporary folder and a renderer of scene_yaml writing into it
+ * (NULL, with the message printed, when it cannot be opened: a failed
+ * CHECK). */
+static orrery_renderer *open_in_tmpdir(void)
 {
     make_tmpdir();
     char outdir[320], msg[1024];
@@ -118,10 +121,16 @@ static void test_render_steps(void)
     const char *sets[1] = {outdir};
     orrery_renderer *r = NULL;
     CHECK(orrery_open_yaml(&r, scene_yaml, ".", sets, 1, msg, sizeof msg) == ORRERY_OK);
-    if (!r) {
+    if (!r)
         fprintf(stderr, "%s\n", msg);
+    return r;
+}
+
+static void test_render_steps(void)
+{
+    orrery_renderer *r = open_in_tmpdir();
+    if (!r)
         return;
-    }
     orr_particle_arrays p = aos_arrays();
     CHECK(orrery_render(r, &p, 0) == ORRERY_OK);
     CHECK(orrery_output_count(r) == 1);
@@ -164,6 +173,7 @@ static void test_render_steps(void)
     /* A bad scene fails at open with the key named. */
     r = NULL;
     const char *bad[1] = {"camera.fov=500"};
+    char msg[1024];
     CHECK(orrery_open_yaml(&r, scene_yaml, ".", bad, 1, msg, sizeof msg) == ORRERY_ERR_USAGE);
     CHECK(r == NULL);
     CHECK_CONTAINS(msg, "camera.fov");
@@ -174,12 +184,8 @@ static void test_render_steps(void)
  * (the file's rows bottom-up), with the picture and the cards. */
 static void test_kept_images(void)
 {
-    make_tmpdir();
-    char outdir[320], msg[1024], path[512];
-    snprintf(outdir, sizeof outdir, "output.dir=%s", tmpdir);
-    const char *sets[1] = {outdir};
-    orrery_renderer *r = NULL;
-    CHECK(orrery_open_yaml(&r, scene_yaml, ".", sets, 1, msg, sizeof msg) == ORRERY_OK);
+    char path[512];
+    orrery_renderer *r = open_in_tmpdir();
     if (!r)
         return;
     orr_particle_arrays p = aos_arrays();
@@ -224,12 +230,8 @@ static void test_kept_images(void)
  * caller built against another orrery.h, is refused naming both sizes. */
 static void test_struct_size(void)
 {
-    make_tmpdir();
-    char outdir[320], msg[1024], want[160];
-    snprintf(outdir, sizeof outdir, "output.dir=%s", tmpdir);
-    const char *sets[1] = {outdir};
-    orrery_renderer *r = NULL;
-    CHECK(orrery_open_yaml(&r, scene_yaml, ".", sets, 1, msg, sizeof msg) == ORRERY_OK);
+    char want[160];
+    orrery_renderer *r = open_in_tmpdir();
     if (!r)
         return;
     orr_particle_arrays p = aos_arrays();
