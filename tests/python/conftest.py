@@ -1,5 +1,6 @@
 """Shared pieces of the Python package's tests: the CLI, the shared data
 and a scene file, from the environment ctest sets (tests/CMakeLists.txt)."""
+import json
 import os
 import subprocess
 
@@ -51,3 +52,28 @@ def particles():
 
 FLAT = {"camera": {"projection": "orthographic", "width": 10.0}, "image": {"width": 80, "height": 60},
         "deposit": "cic", "output": {"name": "flat"}}
+
+
+def cli_flat_plane(cli, tmp_path, path, *sets):
+    """The CLI's FLAT render of the particle file path (with --set sets):
+    its plane, rows top-down as the Python package returns them."""
+    from astropy.io import fits
+
+    scene_file = tmp_path / "scene.yaml"
+    scene_file.write_text(json.dumps(FLAT))
+    out = tmp_path / ("cli-" + path.name)
+    cli_render(cli, scene_file, path, out, *sets)
+    with fits.open(out / "flat.fits") as f:
+        return np.flipud(f[0].data).astype(np.float32)
+
+
+def cli_refused(cli, tmp_path, path):
+    """The CLI's FLAT render of path, which must be refused cleanly (non-zero,
+    no Python traceback or sanitizer report): its error text."""
+    scene_file = tmp_path / "scene.yaml"
+    scene_file.write_text(json.dumps(FLAT))
+    run = subprocess.run([cli, "render", str(scene_file), "--set", f"input.file={path}", "-o", str(tmp_path)],
+                         capture_output=True, text=True)
+    assert run.returncode != 0
+    assert "Traceback" not in run.stderr and "Sanitizer" not in run.stderr
+    return run.stderr

@@ -1,23 +1,12 @@
 """orrery's .npy reader: np.save's files, in every layout numpy writes, read
 by the CLI to the same pixels as the Python package given the same arrays;
 and bad files refused with what is wrong."""
-import json
-import subprocess
 
 import numpy as np
 import pytest
-from astropy.io import fits
 
 import orrery
-from conftest import FLAT, cli_render
-
-
-def cli_plane(cli, tmp_path, npy, *sets):
-    scene_file = tmp_path / "scene.yaml"
-    scene_file.write_text(json.dumps(FLAT))
-    cli_render(cli, scene_file, npy, tmp_path / "cli", *sets)
-    with fits.open(tmp_path / "cli" / "flat.fits") as f:
-        return np.flipud(f[0].data).astype(np.float32)
+from conftest import FLAT, cli_flat_plane as cli_plane, cli_refused as refused
 
 
 def structured(pos, mass, ids, extra):
@@ -53,15 +42,6 @@ def test_plain_positions(tmp_path, cli, particles, layout):
         np.save(path, np.asfortranarray(pos) if "Fortran" in layout else pos)
     expected = orrery.Scene(FLAT).render(pos, 1.0)[0].data
     assert cli_plane(cli, tmp_path, path).tobytes() == expected.tobytes()
-
-
-def refused(cli, tmp_path, path):
-    scene_file = tmp_path / "scene.yaml"
-    scene_file.write_text(json.dumps(FLAT))
-    run = subprocess.run([cli, "render", str(scene_file), "--set", f"input.file={path}", "-o", str(tmp_path)],
-                         capture_output=True, text=True)
-    assert run.returncode != 0
-    return run.stderr
 
 
 def test_bad_npy_files(tmp_path, cli, particles):

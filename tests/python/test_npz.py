@@ -1,25 +1,14 @@
 """orrery's .npz reader: archives np.savez and np.savez_compressed write,
 read by the CLI to the same pixels as the same arrays saved as .npy (and
 given to the Python package); bad archives refused naming the member."""
-import json
 import subprocess
 import zipfile
 
 import numpy as np
 import pytest
-from astropy.io import fits
 
 import orrery
-from conftest import FLAT, cli_render
-
-
-def cli_plane(cli, tmp_path, path, *sets):
-    scene_file = tmp_path / "scene.yaml"
-    scene_file.write_text(json.dumps(FLAT))
-    out = tmp_path / ("cli-" + path.name)
-    cli_render(cli, scene_file, path, out, *sets)
-    with fits.open(out / "flat.fits") as f:
-        return np.flipud(f[0].data).astype(np.float32)
+from conftest import FLAT, cli_flat_plane as cli_plane, cli_refused as refused
 
 
 def as_npy(tmp_path, pos, mass, ids, **fields):
@@ -87,16 +76,6 @@ def test_npz_info(tmp_path, cli, particles):
     assert "npz" in out and "10" in out
     assert "box" in out and "100" in out
     assert "0.75" in out
-
-
-def refused(cli, tmp_path, path):
-    scene_file = tmp_path / "scene.yaml"
-    scene_file.write_text(json.dumps(FLAT))
-    run = subprocess.run([cli, "render", str(scene_file), "--set", f"input.file={path}", "-o", str(tmp_path)],
-                         capture_output=True, text=True)
-    assert run.returncode != 0
-    assert "Traceback" not in run.stderr and "Sanitizer" not in run.stderr
-    return run.stderr
 
 
 def test_bad_npz_files(tmp_path, cli, particles):
