@@ -13,7 +13,7 @@ NBODY=$(dirname "$ORRERY")/examples/orrery-nbody
 [ -x "$NBODY" ] || { fail "no $NBODY"; finish; }
 
 OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} "$NBODY" --galaxies mw --particles 20000 --steps 30 --dt 0.002 \
-  --eps 0.1 --report-every 30 >run.out 2>run.err || fail "isolated run: $(cat run.err)"
+  --eps 0.1 --report-every 30 --snapshot-every 30 --snapshot-dir snaps >run.out 2>run.err || fail "isolated run: $(cat run.err)"
 grep "^report" run.out >reports.txt
 [ "$(wc -l <reports.txt)" -eq 2 ] || fail "expected 2 reports: $(cat run.out)"
 # report t = T  E = E  dE/|E0| = D  2K/|W| = V  |P| = P  disc z_rms(3-10 kpc) = Z  disc R_half = R
@@ -37,6 +37,24 @@ awk '
     if (sr < 7.0 || sr > 9.0) bad("Sun R " sr)
     if (sz > 0.5 || sz < -0.5) bad("Sun z " sz)
     exit failed }' reports.txt || fail "isolation figures: $(cat reports.txt)"
+
+# scripts/disc_churn.py (docs/nbody.md, "Why the Sun wanders"): a snapshot
+# against itself changes no guiding radius; over these 60 Myr the Sun's
+# neighbours' guiding radii spread (0.65 kpc rms with 2 x 10^4 particles),
+# but by less than the 1 kpc bar; files that hold different stars are refused.
+churn=$("$py" "$SRC/scripts/disc_churn.py" snaps/snapshot_0000.hdf5 snaps/snapshot_0000.hdf5) ||
+  fail "disc_churn.py on one snapshot failed"
+echo "$churn" | grep -q "rms change of R_g 0.000 kpc" || fail "a snapshot against itself: $churn"
+churn=$("$py" "$SRC/scripts/disc_churn.py" snaps/snapshot_0000.hdf5 snaps/snapshot_0001.hdf5) ||
+  fail "disc_churn.py failed"
+rms=$(echo "$churn" | sed -n 's/.*rms change of R_g \([0-9.]*\) kpc.*/\1/p')
+awk -v r="$rms" 'BEGIN { exit !(r > 0.05 && r < 1.0) }' || fail "guiding radii changed by $rms kpc rms: $churn"
+"$NBODY" --galaxies mw --particles 21000 --steps 0 --snapshot-every 1 --snapshot-dir other >/dev/null 2>&1 ||
+  fail "a 21000-particle snapshot"
+if "$py" "$SRC/scripts/disc_churn.py" snaps/snapshot_0000.hdf5 other/snapshot_0000.hdf5 >/dev/null 2>churn.err; then
+  fail "disc_churn.py compared snapshots of different stars"
+fi
+grep -q "different disc stars" churn.err || fail "disc_churn.py's refusal: $(cat churn.err)"
 
 # Bad parameters: exit 2, the option named, nothing run.
 expect_nbody_error() { # PATTERN ARGS...
