@@ -95,10 +95,4 @@ void orr_zeldovich_free(orr_zeldovich *z);
 /* The grid point particle i started from, Mpc/h. */
 void orr_zeldovich_lagrangian(const orr_zeldovich *z, int64_t i, double q[3]);
 
-/* Writes the particles as an HDF5 snapshot in the Gadget layout (Header
- * with BoxSize, MassTable, Time, Redshift, Omega0, OmegaLambda,
- * HubbleParam; PartType1 with Coordinates, Velocities, ParticleIDs), to a
- * temporary name renamed into place when complete. */
-orr_status orr_zeldovich_write_hdf5(const orr_zeldovich *z, const char *path, orr_error *err);
-
 #endif

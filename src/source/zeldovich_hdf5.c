@@ -2,7 +2,7 @@
  * layout (the one Gadget-4 and AREPO write, which orrery's reader and most
  * analysis tools read): every particle is dark matter, type 1, of one mass
  * given in the header's MassTable. */
-#include "source/zeldovich.h"
+#include "source/zeldovich_hdf5.h"
 
 #include <stdlib.h>
 

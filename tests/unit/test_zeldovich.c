@@ -15,6 +15,7 @@
 #include "check.h"
 #include "source/source.h"
 #include "source/zeldovich.h"
+#include "source/zeldovich_hdf5.h"
 #include "tmpdir.h"
 
 #define PI 3.14159265358979323846
