@@ -1,6 +1,7 @@
-/* Shared by the Gadget reader's two halves: gadget_layout.c (header parsing
- * and the record walk that finds and checks every block of one file) and
- * gadget.c (multi-file snapshots, the orr_source and streaming). */
+/* Shared by the Gadget reader's files: gadget_layout.c (header parsing and
+ * the record walk that finds and checks every block of one file),
+ * gadget_parts.c (the parts of a multi-file snapshot, the info) and gadget.c
+ * (the orr_source and streaming). */
 #ifndef ORR_SOURCE_GADGET_INTERNAL_H
 #define ORR_SOURCE_GADGET_INTERNAL_H
 
@@ -8,6 +9,8 @@
 #include <stdio.h>
 
 #include "core/error.h"
+#include "source/readers/share.h"
+#include "source/source.h"
 
 #define GADGET_NTYPES 6
 #define GADGET_HEADER_BYTES 256
@@ -124,5 +127,50 @@ const gadget_named_block *gadget_named_find(const gadget_file *f, const char *la
 /* The row (of ncomp values) of particle `within` of type t of file f in
  * the block, which holds the layout's types in type order. */
 int64_t gadget_named_row(const gadget_named_layout *l, const gadget_file *f, int t, int64_t within);
+
+/* ---- the reader (gadget.c, gadget_parts.c) ---- */
+
+/* The extra fields the reader can load. */
+enum { X_VX, X_VY, X_VZ, X_U, X_RHO, X_POT, X_COUNT };
+
+/* A field read from a named block: "AGE", or column k of "Z" as "Z[k]". */
+typedef struct gadget_named_field {
+    gadget_named_layout layout;
+    int column;
+    int slot; /* its chunk extra index */
+} gadget_named_field;
+
+typedef struct gadget_state {
+    char base[ORR_PATH_MAX]; /* multi-file: the name before ".i"; else the file's path */
+    int multi;
+    int nfiles;
+    gadget_file *files;
+    gadget_encoding enc;
+    int want_type[GADGET_NTYPES];
+    /* This process's rows of each file and type (run file * GADGET_NTYPES +
+     * type), none of the types not wanted. */
+    orr_share share;
+    int slot[X_COUNT]; /* chunk extra index of each field, -1 when not loaded */
+    /* Fields from blocks with other labels (SnapFormat 2), asked for by name. */
+    int nnamed;
+    gadget_named_field named[ORR_MAX_EXTRA_FIELDS];
+    int has_id, has_h;
+    /* The read position: next particle is number `done` of type `type` in file `file`. */
+    int file, type;
+    int64_t done;
+    uint64_t next_index;
+    FILE *fp;
+    int fp_file; /* the part fp has open, -1 for none */
+    unsigned char *raw;
+} gadget_state;
+
+/* The name of part i of the snapshot (the file itself when it is one). */
+void gadget_part_path(const gadget_state *st, int i, char *buf, size_t size);
+/* Finds the parts of the snapshot path names, and has each scanned and
+ * checked (gadget_scan_file). */
+orr_status gadget_find_parts(const char *path, gadget_state *st, orr_error *err);
+/* The info `orrery info` shows: header values, particle counts (sum: of
+ * every part, by type), named blocks. */
+void gadget_describe(orr_source *src, const gadget_state *st, const int64_t sum[GADGET_NTYPES]);
 
 #endif
