@@ -19,7 +19,7 @@
 #include "dust/dust.h"
 #include "render/render.h"
 #include "scene/scene.h"
-#include "source/model.h"
+#include "source/models/model.h"
 
 typedef struct options {
     long long particles, dust;

@@ -22,7 +22,7 @@
 #include <unistd.h>
 
 #include "gadget_writer.h"
-#include "source/gadget.h"
+#include "source/readers/gadget.h"
 #include "source/source.h"
 #include "clocks.h"
 

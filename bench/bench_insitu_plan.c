@@ -23,7 +23,7 @@
 #include <time.h>
 
 #include "orrery.h"
-#include "source/model.h"
+#include "source/models/model.h"
 
 typedef struct model_arrays {
     size_t n;

@@ -22,7 +22,7 @@
 
 #include "clocks.h"
 #include "qtree.h"
-#include "source/model.h"
+#include "source/models/model.h"
 #include "tree.h"
 
 #define G_KPC_KMS 43007.1

@@ -17,7 +17,7 @@
 #include <unistd.h>
 
 #include "clocks.h"
-#include "source/npy_reader.h"
+#include "source/readers/npy_reader.h"
 #include "source/source.h"
 
 /* An .npy version 1 header for descr, padded to 64 bytes as numpy does. */

@@ -28,7 +28,7 @@
 #include "gadget_writer.h"
 #include "particles/smoothing.h"
 #include "plummer.h"
-#include "source/model.h"
+#include "source/models/model.h"
 
 #define PLUMMER_RMAX 10.0
 

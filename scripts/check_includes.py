@@ -7,6 +7,12 @@ and tested knowing only what comes before it. Also fails on a folder that is
 not in the order below (a new stage must be placed) and on an include of a
 header that does not exist.
 
+A stage may have sub-folders (SUBFOLDERS): a file in one includes the
+headers of its stage's top folder (the stage's shared interface), of its own
+sub-folder and of the sub-folders listed for it, never another's; a file in
+the top folder includes none of its sub-folders (they build on it). Later
+stages may include any of them.
+
     python3 scripts/check_includes.py [SRC_DIR]
 """
 import os
@@ -16,7 +22,48 @@ import sys
 # The data flow, earliest first.
 STAGES = ["core", "particles", "source", "frame", "splat", "dust", "post",
           "encode", "scene", "render", "insitu", "mpi", "cli"]
+# The sub-folders of a stage, each with the sibling sub-folders it may
+# include: source/'s readers, built-in models and writers share source.h;
+# a writer may write what a model makes (zeldovich_hdf5.c).
+SUBFOLDERS = {
+    "source": {"readers": [], "models": [], "writers": ["models"]},
+}
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([A-Za-z0-9_]+)/([^"]+)"')
+
+
+def part_of(stage, header):
+    """The sub-folder of stage that header (a path inside the stage) is in, or ""."""
+    head, sep, _ = header.partition("/")
+    return head if sep and head in SUBFOLDERS.get(stage, {}) else ""
+
+
+def check_within_stage(stage, part, target_part, where, target, header):
+    """A problem with an include inside one stage, or None."""
+    if target_part == part or (part and not target_part):
+        return None
+    if part and target_part in SUBFOLDERS[stage][part]:
+        return None
+    if not part:
+        return f"{where}: {stage}/ includes {target}/{header}, from its sub-folder {target_part}/"
+    return f"{where}: {stage}/{part}/ includes {target}/{header}, from the sibling sub-folder {target_part}/"
+
+
+def stage_files(src, stage, problems):
+    """(part, path) of the stage's sources: its top folder's and its sub-folders'."""
+    folder = os.path.join(src, stage)
+    for name in sorted(os.listdir(folder)):
+        path = os.path.join(folder, name)
+        if os.path.isdir(path):
+            if name not in SUBFOLDERS.get(stage, {}):
+                problems.append(f"{path}: a sub-folder not placed (add it to SUBFOLDERS in {__file__})")
+                continue
+            for sub in sorted(os.listdir(path)):
+                if os.path.isdir(os.path.join(path, sub)):
+                    problems.append(f"{os.path.join(path, sub)}: sub-folders go one level deep")
+                elif sub.endswith((".c", ".h", ".cpp")):
+                    yield name, os.path.join(path, sub)
+        elif name.endswith((".c", ".h", ".cpp")):
+            yield "", path
 
 
 def check(src):
@@ -29,10 +76,7 @@ def check(src):
         if stage not in rank:
             problems.append(f"{folder}: a stage not placed in the data flow (add it to STAGES in {__file__})")
             continue
-        for name in sorted(os.listdir(folder)):
-            if not name.endswith((".c", ".h", ".cpp")):
-                continue
-            path = os.path.join(folder, name)
+        for part, path in stage_files(src, stage, problems):
             with open(path, encoding="utf-8") as f:
                 for line_no, line in enumerate(f, 1):
                     m = INCLUDE.match(line)
@@ -46,6 +90,10 @@ def check(src):
                         problems.append(f"{where}: includes from {target}/, not a stage")
                     elif rank[target] > rank[stage]:
                         problems.append(f"{where}: {stage}/ includes {target}/{header}, a later stage")
+                    elif target == stage:
+                        p = check_within_stage(stage, part, part_of(stage, header), where, target, header)
+                        if p:
+                            problems.append(p)
     return problems
 
 

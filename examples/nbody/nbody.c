@@ -29,7 +29,7 @@
 
 #include "orrery.h"
 #include "ranks.h"
-#include "source/model.h"
+#include "source/models/model.h"
 #include "source/partition.h"
 #include "source/source.h"
 #include "core/atomic.h"
@@ -323,7 +323,7 @@ static int alloc_fields(bodies *b, const orr_source_info *info, size_t n)
 }
 
 /* This process's share of the initial conditions, in the order of the
- * whole: a file reader that can reads only it (source/share.h); the model
+ * whole: a file reader that can reads only it (source/readers/share.h); the model
  * is made in chunks of one share each, so chunk r is rank r's. */
 static orr_status open_share(const options *o, int rank, int size, orr_source **out, orr_error *err)
 {

@@ -6,8 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "source/hdf5_util.h"
-#include "source/hdf5_write.h"
+#include "source/readers/hdf5_util.h"
+#include "source/writers/hdf5_write.h"
 
 #define NB_TYPES_MIN 6  /* Gadget's PartType0..5, whichever are empty */
 #define NB_TYPES_MAX 16 /* orrery's reader reads at most 16 */

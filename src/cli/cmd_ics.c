@@ -9,8 +9,9 @@
 
 #include "cli/cli.h"
 #include "core/numbers.h"
-#include "source/pm.h"
-#include "source/zeldovich.h"
+#include "source/models/pm.h"
+#include "source/models/zeldovich.h"
+#include "source/writers/zeldovich_hdf5.h"
 
 static const char ics_help[] =
     "usage: orrery ics --zeldovich -o FILE.hdf5 [--grid N] [--box MPC_H] [--z Z] [--seed S] [--truncate K]\n"

@@ -6,8 +6,8 @@
 
 #include "cli/cli.h"
 #include "core/numbers.h"
-#include "source/model.h"
-#include "source/text_writer.h"
+#include "source/models/model.h"
+#include "source/writers/text_writer.h"
 
 static const char model_help[] =
     "usage: orrery model -o FILE [--particles N] [--seed S] [--separation KPC]\n"

@@ -231,8 +231,7 @@ static void project_healpix(const orr_projection *p, size_t n, const float *x, c
 
 int orr_projection_is_sky(const orr_projection *p)
 {
-    return p->kind == ORR_PROJ_HAMMER_AITOFF || p->kind == ORR_PROJ_DOME || p->kind == ORR_PROJ_EQUIRECTANGULAR ||
-           p->kind == ORR_PROJ_HEALPIX;
+    return orr_projection_traits_of(p->kind).sky;
 }
 
 int orr_projection_pixel_in_map(const orr_projection *p, int i, int j)

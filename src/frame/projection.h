@@ -57,6 +57,45 @@ typedef struct orr_projection {
  * left (-x), like l on the other sky maps. */
 long orr_healpix_pixel(const orr_projection *p, double x, double y, double z);
 
+/* What a projection is, for the stages that treat projections differently
+ * (splat/, render/): each a question they ask, answered here so that they
+ * need not name the kinds. The formulas themselves stay in frame/
+ * (projection.c, project_point.h). */
+typedef struct orr_projection_traits {
+    int sky;             /* covers directions all around (orr_projection_is_sky) */
+    int parallel;        /* rays run parallel along +z, from no eye point (orthographic) */
+    int rectilinear;     /* straight lines stay straight on the image (orthographic, perspective) */
+    int off_axis_stereo; /* a stereo eye is the camera moved sideways, its principal point
+                          * shifted (perspective); the others use omni-directional stereo */
+    int elliptic_map;    /* the map is the ellipse of semi-axes half_w, half_h about (cx, cy)
+                          * rather than the whole image (Hammer-Aitoff; the dome's circle) */
+    int folds;           /* a deposit's pixels off the map fold back onto it (the sky maps but
+                          * HEALPix, whose every pixel is on its map) */
+    int wraps_longitude; /* the image's left and right edges are one meridian (equirectangular) */
+    int rim;             /* the map's edge is the rim of the field of view, beyond which nothing
+                          * is drawn (dome), not a seam where the sky goes on */
+    int sheared_seam;    /* the seam is sheared differently on its two sides, so only a small
+                          * kernel folds across it as one ellipse (Hammer-Aitoff) */
+    int pixel_table;     /* the image is HEALPix's table of pixels: its own pixel search and
+                          * deposit, FITS as a HEALPix table */
+    int zenith_centred;  /* the image centre is the dome's zenith, aimed by the zenith and front
+                          * directions rather than by the camera's centre and roll */
+} orr_projection_traits;
+
+static inline orr_projection_traits orr_projection_traits_of(orr_projection_kind kind)
+{
+    orr_projection_traits t = {0};
+    switch (kind) {
+    case ORR_PROJ_ORTHOGRAPHIC: t.parallel = t.rectilinear = 1; break;
+    case ORR_PROJ_PERSPECTIVE: t.rectilinear = t.off_axis_stereo = 1; break;
+    case ORR_PROJ_HAMMER_AITOFF: t.sky = t.elliptic_map = t.folds = t.sheared_seam = 1; break;
+    case ORR_PROJ_DOME: t.sky = t.elliptic_map = t.folds = t.rim = t.zenith_centred = 1; break;
+    case ORR_PROJ_EQUIRECTANGULAR: t.sky = t.folds = t.wraps_longitude = 1; break;
+    case ORR_PROJ_HEALPIX: t.sky = t.pixel_table = 1; break;
+    }
+    return t;
+}
+
 /* Whether the projection covers directions all around (sky projections);
  * their deposits fold pixels outside the map back onto it instead of
  * counting them as lost. */

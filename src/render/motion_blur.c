@@ -68,7 +68,7 @@ static float angle_between(const float q0[3], const float q1[3])
  * opposite sides of the map while its samples stay close on the sky. */
 static float streak_pixels(const orr_motion_blur *b, const float q0[3], const float s[3])
 {
-    if (b->kind == ORR_PROJ_ORTHOGRAPHIC)
+    if (orr_projection_traits_of(b->kind).parallel)
         return b->k.f * sqrtf(s[0] * s[0] + s[1] * s[1]);
     const float q1[3] = {q0[0] + s[0], q0[1] + s[1], q0[2] + s[2]};
     const float swept = angle_between(q0, q1) * b->px_per_radian;
@@ -77,7 +77,7 @@ static float streak_pixels(const orr_motion_blur *b, const float q0[3], const fl
     if (!a.visible || !c.visible)
         return swept;
     const float on_image = hypotf(c.px - a.px, c.py - a.py);
-    if (b->kind == ORR_PROJ_PERSPECTIVE)
+    if (orr_projection_traits_of(b->kind).rectilinear)
         return on_image;
     return on_image < 4.0f * swept + 2.0f ? on_image : 4.0f * swept + 2.0f;
 }

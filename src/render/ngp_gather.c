@@ -16,7 +16,7 @@ static ORR_ALWAYS_INLINE int gather_loop(orr_projection_kind kind, int dim, cons
     const orr_proj_consts k = orr_proj_consts_of(p);
     const orr_map_outline m = *outline;
     const orr_camera_transform t = *transform;
-    const int sky = kind == ORR_PROJ_HAMMER_AITOFF || kind == ORR_PROJ_DOME || kind == ORR_PROJ_EQUIRECTANGULAR;
+    const int sky = orr_projection_traits_of(kind).folds;
     uint32_t bad = 0;
     for (size_t i = 0; i < n; i++) {
         bad |= (uint32_t)(orr_not_finite_f(x[i]) | orr_not_finite_f(y[i]) | orr_not_finite_f(z[i]) |

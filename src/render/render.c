@@ -9,8 +9,8 @@
 
 #include "render/motion_blur.h"
 #include "render/plan.h"
-#include "source/king.h"
-#include "source/model.h"
+#include "source/models/king.h"
+#include "source/models/model.h"
 #include "source/sequence.h"
 
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,

@@ -1101,7 +1101,7 @@ static orr_status splat_chunk(view_state *views, int nviews, const orr_source *s
         memcpy(wv, w, sizeof wv);
         if (views[k].dust) { /* dimmed by the dust between the view's eye and each star (dust/dust.h) */
             const orr_mat3 *r = &views[k].world_to_camera; /* its third row: the view axis */
-            orr_dust_eye eye = {views[k].rep->camera.position, views[k].proj.kind == ORR_PROJ_ORTHOGRAPHIC,
+            orr_dust_eye eye = {views[k].rep->camera.position, orr_projection_traits_of(views[k].proj.kind).parallel,
                                 orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
             st = orr_dust_weights(views[k].dust, &eye, c, wv, views[k].nplanes, err);
         }

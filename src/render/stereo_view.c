@@ -117,7 +117,7 @@ orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_re
     if (!s->stereo_eye)
         return ORR_OK;
     orr_status st;
-    if (proj->kind == ORR_PROJ_PERSPECTIVE) {
+    if (orr_projection_traits_of(proj->kind).off_axis_stereo) {
         rep->stereo_convergence = orr_stereo_convergence(s, rep->camera.position);
         st = orr_stereo_perspective_eye(&rep->camera, proj, s->stereo_eye, s->eye_separation,
                                         rep->stereo_convergence, err);
@@ -144,7 +144,7 @@ void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s, const orr_rend
     else
         orr_fits_add_string(h, "EYES", "left, right", "HDUs: the left eye's planes, then the right's");
     orr_fits_add_double(h, "EYESEP", s->eye_separation, "interocular distance, scene units");
-    if (s->projection.kind == ORR_PROJ_PERSPECTIVE)
+    if (orr_projection_traits_of(s->projection.kind).off_axis_stereo)
         orr_fits_add_double(h, "CONVERG", rep->stereo_convergence, "distance of zero parallax, scene units");
     else
         orr_fits_add_double(h, "ZENFADE", s->zenith_fade, "[deg] ODS separation fades to 0 at the pole");

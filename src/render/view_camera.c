@@ -187,7 +187,7 @@ orr_status orr_view_camera(const orr_scene *s, const orr_sky_frame *observer, co
         return scene_camera(s, when, cam, err);
     }
     *sky = observer ? *observer : orr_sky_frame_world(s->camera_position);
-    if (s->projection.kind == ORR_PROJ_DOME)
+    if (orr_projection_traits_of(s->projection.kind).zenith_centred)
         return orr_sky_camera_dome(cam, sky, s->zenith_lb, s->front_lb, s->dome_tilt, err);
     return orr_sky_camera_centre(cam, sky, s->camera_roll, err);
 }
@@ -213,7 +213,7 @@ static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, 
         }
         st = orr_view_camera(s, observer ? &moved : NULL, when, cam, &sky, err);
     }
-    if (!st && s->stereo_eye && v->proj.kind == ORR_PROJ_PERSPECTIVE) {
+    if (!st && s->stereo_eye && orr_projection_traits_of(v->proj.kind).off_axis_stereo) {
         orr_projection p = s->projection;
         if (!(st = orr_projection_setup(&p, err)))
             st = orr_stereo_perspective_eye(cam, &p, s->stereo_eye, s->eye_separation, v->rep->stereo_convergence,

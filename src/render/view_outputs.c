@@ -384,7 +384,7 @@ orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error 
         return ORR_ERR_NOMEM;
     orr_view_add_frame_cards(v, h);
     orr_status st = view_output(v, ext, &path, err);
-    if (!st && v->proj.kind == ORR_PROJ_HEALPIX) {
+    if (!st && orr_projection_traits_of(v->proj.kind).pixel_table) {
         orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, ""};
         orr_healpix_info info = {v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
         st = orr_write_healpix_fits(path, v->planes, fits_nplanes(v), &info, h, err);
@@ -406,7 +406,7 @@ orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error 
 static orr_status extinction_plane(view_state *v, orr_plane *av, orr_error *err)
 {
     const orr_mat3 *r = &v->world_to_camera;
-    orr_dust_eye eye = {v->rep->camera.position, v->proj.kind == ORR_PROJ_ORTHOGRAPHIC,
+    orr_dust_eye eye = {v->rep->camera.position, orr_projection_traits_of(v->proj.kind).parallel,
                         orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
     return orr_dust_av_plane(v->dust, &eye, &v->proj, r, av, err);
 }

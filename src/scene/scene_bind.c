@@ -4,7 +4,7 @@
 #include "scene/scene_colour.h"
 #include "scene/scene_sequence.h"
 #include "scene/scene_path.h"
-#include "source/model.h"
+#include "source/models/model.h"
 #include "source/source.h"
 
 #include <errno.h>

@@ -4,7 +4,7 @@
  * order, and the parts together see each particle exactly once. Chunks of
  * other parts are skipped without loading where the source can (the
  * built-in model, in-memory arrays) and read and dropped otherwise. File
- * readers that seek to their share (source/share.h) need no dealing. */
+ * readers that seek to their share (source/readers/share.h) need no dealing. */
 #ifndef ORR_SOURCE_PARTITION_H
 #define ORR_SOURCE_PARTITION_H
 

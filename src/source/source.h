@@ -52,7 +52,7 @@ typedef struct orr_source_options {
     const char *const *fields; /* extra fields wanted by name; NULL means every field the file has */
     int nfields;
     /* Part `part` of `nparts` (nparts 0 or 1: the whole file). Readers that
-     * can seek to their share (Gadget, HDF5, Tipsy: source/share.h) read
+     * can seek to their share (Gadget, HDF5, Tipsy: source/readers/share.h) read
      * only it and say so in info.share_nparts; the others ignore it and
      * orr_source_partition deals their chunks out instead. */
     int part, nparts;
@@ -87,7 +87,7 @@ orr_source *orr_source_new(const char *format, const char *path, const orr_sourc
                            orr_error *err);
 
 /* orr_source_new for the readers that seek in a file of their own (Tipsy,
- * npy): refuses a stream (orr_source_refuse_stream) and opens path for
+ * npy; readers/open_file.c): refuses a stream (orr_source_refuse_stream) and opens path for
  * reading into *fp, which the caller keeps in its state. On failure
  * nothing is left open and *out is NULL. */
 orr_status orr_source_new_file(const char *format, const char *path, const orr_source_ops *ops, size_t state_size,
@@ -106,7 +106,8 @@ orr_status orr_source_rewind(orr_source *src, orr_error *err);
 void orr_source_close(orr_source *src);
 
 /* Opens a particle file with the reader its format names, or (format
- * "auto") the reader whose probe recognises the file's first bytes. "-" is
+ * "auto") the reader whose probe recognises the file's first bytes
+ * (readers/open_file.c, with the format functions below). "-" is
  * standard input; it, FIFOs and character devices are streams, read once
  * from the front: their format is detected from bytes kept for the reader,
  * only text can be read from them (the binary formats seek), and a FIFO no

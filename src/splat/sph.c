@@ -898,7 +898,7 @@ static affine_fit affine_check(const orr_sph *s, const ellipse *e, orr_vec3 cent
         double cs = cos(k * ORR_PI / 4), sn = sin(k * ORR_PI / 4);
         double vy = sn / r22, vx = (cs - r12 * vy) / r11;
         double x = e->cx + ORR_KERNEL_SUPPORT * vx, y = e->cy + ORR_KERNEL_SUPPORT * vy;
-        if (p->kind == ORR_PROJ_EQUIRECTANGULAR)
+        if (orr_projection_traits_of(p->kind).wraps_longitude)
             x = x < 0 ? x + p->width : x > p->width ? x - p->width : x;
         orr_vec3 d;
         if (!orr_unproject(p, x, y, &d)) {
@@ -1145,9 +1145,10 @@ static void sky_particle(const orr_sph *s, target *t, const orr_sph_block *b, si
     ellipse e;
     affine_fit fit = theta < 0.5 ? sky_affine(s, px, py, theta, &e) : AFFINE_NO;
     if (fit == AFFINE_CROSSING) {
-        if (s->proj.kind == ORR_PROJ_DOME)
+        const orr_projection_traits proj = orr_projection_traits_of(s->proj.kind);
+        if (proj.rim)
             t->drop = 1;
-        else if (!(s->proj.kind == ORR_PROJ_HAMMER_AITOFF && e.hmin < 4.0))
+        else if (!(proj.sheared_seam && e.hmin < 4.0))
             fit = AFFINE_NO;
     }
     if (fit != AFFINE_NO && ellipse_deposit(t, &e, w))
@@ -1363,7 +1364,7 @@ orr_status orr_sph_init(orr_sph *s, const orr_kernel *k, const orr_projection *p
     s->kernel = k;
     s->proj = *proj;
     s->sky = orr_projection_is_sky(proj);
-    if (!s->sky || proj->kind == ORR_PROJ_HEALPIX) /* HEALPix has its own search: healpix_deposit */
+    if (!s->sky || orr_projection_traits_of(proj->kind).pixel_table) /* HEALPix has its own search: healpix_deposit */
         return ORR_OK;
     orr_status st = build_sky_index(s, err);
     if (st)
@@ -1457,7 +1458,7 @@ static void healpix_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane 
 
 void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane, orr_deposit_stats *stats)
 {
-    if (s->proj.kind == ORR_PROJ_HEALPIX) {
+    if (orr_projection_traits_of(s->proj.kind).pixel_table) {
         healpix_deposit(s, b, plane, stats);
         return;
     }

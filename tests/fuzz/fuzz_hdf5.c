@@ -48,7 +48,7 @@
 #include <unistd.h>
 
 #include "hdf5_writer.h"
-#include "source/hdf5_reader.h"
+#include "source/readers/hdf5_reader.h"
 #include "source/source.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -539,7 +539,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 
     static const unsigned masks[] = {0, 0x1, 0x2, 0x42, 0x3f, 0x80, 0x10000};
     static const char *const fields_a[] = {"vx", "u", "pot"};
-    /* Named fields (src/source/hdf5_named.c): a column of a 2-D dataset, a
+    /* Named fields (src/source/readers/hdf5_named.c): a column of a 2-D dataset, a
      * 1-D dataset read as a field of its own, a name no group has. */
     static const char *const fields_b[] = {"rho", "vz", "vy", "Coordinates[2]"};
     static const char *const fields_c[] = {"h", "mass", "u", "Masses"};

@@ -12,8 +12,8 @@
 #include <unistd.h>
 
 #include "fuzz_common.h"
-#include "source/formats.h"
-#include "source/npy_reader.h"
+#include "source/readers/formats.h"
+#include "source/readers/npy_reader.h"
 #include "source/source.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -14,8 +14,8 @@
 #include <unistd.h>
 
 #include "fuzz_common.h"
-#include "source/formats.h"
-#include "source/npz_reader.h"
+#include "source/readers/formats.h"
+#include "source/readers/npz_reader.h"
 #include "source/source.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -11,9 +11,9 @@
 #include <unistd.h>
 
 #include "fuzz_common.h"
-#include "source/formats.h"
+#include "source/readers/formats.h"
+#include "source/readers/tipsy.h"
 #include "source/source.h"
-#include "source/tipsy.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 

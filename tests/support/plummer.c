@@ -6,7 +6,7 @@
 
 #include <math.h>
 
-#include "source/rng.h"
+#include "source/models/rng.h"
 
 void plummer_positions(size_t n, uint64_t seed, double rmax, float *x, float *y, float *z)
 {

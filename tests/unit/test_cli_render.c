@@ -6,7 +6,7 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "source/model.h"
+#include "source/models/model.h"
 
 static char tmpdir[] = "/tmp/orrery-e2e-XXXXXX";
 

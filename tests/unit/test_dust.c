@@ -20,8 +20,8 @@
 #include "dust/redden.h"
 #include "core/cie_data.h"
 #include "post/colour.h"
-#include "source/model.h"
-#include "source/model_dust.h"
+#include "source/models/model.h"
+#include "source/models/model_dust.h"
 
 #define MAG_PER_TAU 1.0857362047581294 /* 2.5 log10(e) */
 

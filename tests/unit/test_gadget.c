@@ -7,7 +7,7 @@
 
 #include "check.h"
 #include "gadget_writer.h"
-#include "source/gadget.h"
+#include "source/readers/gadget.h"
 #include "source/source.h"
 
 static char tmpdir[] = "/tmp/orrery-gadget-XXXXXX";

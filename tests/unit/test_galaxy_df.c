@@ -1,4 +1,4 @@
-/* Tests of the equilibrium building blocks (src/source/galaxy_df.c) against
+/* Tests of the equilibrium building blocks (src/source/models/galaxy_df.c) against
  * independent results: Bessel functions against their integral
  * representations, the thick-disc rotation curve against Freeman's thin-disc
  * formula in the thin limit, and Eddington's inversion against the isotropic
@@ -7,7 +7,7 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "source/galaxy_df.h"
+#include "source/models/galaxy_df.h"
 
 #define PI 3.14159265358979323846
 

@@ -1,4 +1,4 @@
-/* Tests of src/source/galaxy_flat.c against independent results: the thick
+/* Tests of src/source/models/galaxy_flat.c against independent results: the thick
  * exponential disc's potential against Freeman's thin-disc potential in the
  * thin limit, against a point mass far away, against Poisson's equation
  * inside the layer (a numerical Laplacian must give back 4 pi G rho), and
@@ -8,7 +8,7 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "source/galaxy_flat.h"
+#include "source/models/galaxy_flat.h"
 
 #define PI 3.14159265358979323846
 

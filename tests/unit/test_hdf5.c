@@ -9,7 +9,7 @@
 
 #include "check.h"
 #include "hdf5_writer.h"
-#include "source/hdf5_reader.h"
+#include "source/readers/hdf5_reader.h"
 #include "source/source.h"
 
 static char tmpdir[] = "/tmp/orrery-hdf5-XXXXXX";

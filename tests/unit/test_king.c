@@ -10,8 +10,8 @@
 
 #include "check.h"
 #include "scene/scene.h"
-#include "source/gc_cmd.h"
-#include "source/king.h"
+#include "source/models/gc_cmd.h"
+#include "source/models/king.h"
 
 typedef struct stars {
     size_t n;

@@ -19,7 +19,7 @@
 #include "encode/fits.h"
 #include "orrery.h"
 #include "scene/scene.h"
-#include "source/text_writer.h"
+#include "source/writers/text_writer.h"
 #include "tmpdir.h"
 
 #define COMMA_LOCALE "de_DE.UTF-8"

@@ -7,7 +7,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "source/model.h"
+#include "source/models/model.h"
 
 /* All particles of a model, read into flat arrays. */
 typedef struct table {

@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "check.h"
-#include "source/npy_reader.h"
+#include "source/readers/npy_reader.h"
 #include "source/source.h"
 #include "tmpdir.h"
 

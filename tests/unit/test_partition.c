@@ -5,7 +5,7 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "source/model.h"
+#include "source/models/model.h"
 #include "source/partition.h"
 #include "tmpdir.h"
 

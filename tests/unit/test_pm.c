@@ -1,4 +1,4 @@
-/* The particle-mesh code (source/pm.h) against theory: large-scale modes of
+/* The particle-mesh code (source/models/pm.h) against theory: large-scale modes of
  * the density grow as linear theory's D(a)², with D from the test's own
  * integration of the growth equation; the density field ends far from
  * Gaussian; momentum and mass are conserved; the result is the same bit for
@@ -9,8 +9,8 @@
 #include <string.h>
 
 #include "check.h"
-#include "source/pm.h"
-#include "source/zeldovich.h"
+#include "source/models/pm.h"
+#include "source/models/zeldovich.h"
 
 #define PI 3.14159265358979323846
 

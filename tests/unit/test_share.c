@@ -12,7 +12,7 @@
 #include "gadget_writer.h"
 #include "hdf5_writer.h"
 #include "source/partition.h"
-#include "source/share.h"
+#include "source/readers/share.h"
 #include "source/source.h"
 #include "tipsy_writer.h"
 #include "tmpdir.h"

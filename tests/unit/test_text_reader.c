@@ -7,8 +7,8 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "source/readers/text_reader.h"
 #include "source/source.h"
-#include "source/text_reader.h"
 
 static char tmpdir[] = "/tmp/orrery-text-XXXXXX";
 

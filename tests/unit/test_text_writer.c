@@ -11,9 +11,9 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "source/model.h"
-#include "source/text_reader.h"
-#include "source/text_writer.h"
+#include "source/models/model.h"
+#include "source/readers/text_reader.h"
+#include "source/writers/text_writer.h"
 
 static char tmpdir[256];
 

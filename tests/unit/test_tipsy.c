@@ -7,8 +7,8 @@
 #include <unistd.h>
 
 #include "check.h"
-#include "source/formats.h"
-#include "source/tipsy.h"
+#include "source/readers/formats.h"
+#include "source/readers/tipsy.h"
 #include "../support/tipsy_writer.h"
 
 /* Until tests/support/ is a library linked into the unit tests, a CMake

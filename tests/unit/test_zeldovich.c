@@ -13,8 +13,9 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "source/models/zeldovich.h"
 #include "source/source.h"
-#include "source/zeldovich.h"
+#include "source/writers/zeldovich_hdf5.h"
 #include "tmpdir.h"
 
 #define PI 3.14159265358979323846
