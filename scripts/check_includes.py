@@ -14,7 +14,7 @@ import re
 import sys
 
 # The data flow, earliest first.
-STAGES = ["core", "particles", "source", "frame", "splat", "dust", "post",
+STAGES = ["core", "particles", "source", "frame", "splat", "reduce", "dust", "post",
           "encode", "scene", "render", "insitu", "mpi", "cli"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([A-Za-z0-9_]+)/([^"]+)"')
 

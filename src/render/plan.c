@@ -104,7 +104,7 @@ static void reset_frame_state(view_state *v)
 {
     orr_splat_free_lanes(v);
     orr_bands_free(&v->bands);
-    v->nlanes = 1;
+    v->lanes.n = 1;
     memset(&v->blur, 0, sizeof v->blur);
     memset(&v->periodic, 0, sizeof v->periodic);
     v->use_ods = 0;
@@ -287,37 +287,26 @@ static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_so
 }
 
 /* Sums what every process splatted onto rank 0: the planes, and the counts
- * of the reports. */
+ * of the reports (reduce/parallel.h). */
 static orr_status reduce_views(view_state *views, int n, const orr_parallel *par, orr_error *err)
 {
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++) {
         view_state *v = &views[k];
-        for (int j = 0; j < v->nplanes && !st; j++)
-            st = par->reduce_sum(par->user, v->planes[j].data, (size_t)v->proj.width * (size_t)v->proj.height, err);
         orr_render_report *r = v->rep;
-        orr_deposit_stats *d[2] = {&r->deposit, &r->deposit_y};
-        double sums[3 + 2 * 5 + 3] = {(double)r->n_read, (double)r->n_selected, (double)r->n_nonfinite};
-        for (int i = 0; i < 2; i++) {
-            double *t = &sums[3 + 5 * i];
-            t[0] = d[i]->deposited, t[1] = d[i]->outside, t[2] = d[i]->culled;
-            t[3] = (double)d[i]->n_particles, t[4] = (double)d[i]->n_culled;
-        }
-        double *culling = &sums[3 + 2 * 5]; /* a periodic box's culled copies and blocks */
-        culling[0] = (double)r->n_replicas_culled, culling[1] = (double)r->n_blocks;
-        culling[2] = (double)r->n_blocks_culled;
-        if (!st)
-            st = par->allreduce_sum(par->user, sums, sizeof sums / sizeof sums[0], err);
-        r->n_read = (uint64_t)sums[0], r->n_selected = (uint64_t)sums[1], r->n_nonfinite = (uint64_t)sums[2];
-        for (int i = 0; i < 2; i++) {
-            const double *t = &sums[3 + 5 * i];
-            d[i]->deposited = t[0], d[i]->outside = t[1], d[i]->culled = t[2];
-            d[i]->n_particles = (uint64_t)t[3], d[i]->n_culled = (uint64_t)t[4];
-        }
-        r->n_replicas_culled = (uint64_t)culling[0], r->n_blocks = (uint64_t)culling[1];
-        r->n_blocks_culled = (uint64_t)culling[2];
+        orr_sums sums = {0};
+        orr_sums_count(&sums, &r->n_read);
+        orr_sums_count(&sums, &r->n_selected);
+        orr_sums_count(&sums, &r->n_nonfinite);
+        orr_sums_deposit(&sums, &r->deposit);
+        orr_sums_deposit(&sums, &r->deposit_y);
+        orr_sums_count(&sums, &r->n_replicas_culled); /* a periodic box's culled copies and blocks */
+        orr_sums_count(&sums, &r->n_blocks);
+        orr_sums_count(&sums, &r->n_blocks_culled);
+        if (!(st = orr_parallel_sum_planes(par, v->planes, v->nplanes, err)))
+            st = orr_parallel_sum(par, &sums, err);
         if (!st && v->psf.sky) /* rank 0 draws the whole frame's brightest stars */
-            st = orr_sky_psf_share(v->psf.sky, par->rank, par->nranks, par->allreduce_sum, par->user, err);
+            st = orr_sky_psf_share(v->psf.sky, par, err);
     }
     return st;
 }

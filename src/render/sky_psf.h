@@ -22,6 +22,7 @@
 #define ORR_RENDER_SKY_PSF_H
 
 #include "post/convolve.h"
+#include "reduce/parallel.h"
 #include "splat/sph.h"
 
 /* Splat lanes that may collect stars at once (splat_pass.c's MAX_LANES). */
@@ -73,11 +74,8 @@ void orr_sky_psf_collect(orr_sky_psf *sp, int lane, const orr_sph_block *b, cons
 orr_status orr_sky_psf_select(orr_sky_psf *sp, orr_error *err);
 
 /* With several processes (each having selected its own): every process
- * gets the brightest of all of them. allreduce_sum sums doubles over the
- * processes (render.h's orr_parallel). A collective call. */
-orr_status orr_sky_psf_share(orr_sky_psf *sp, int rank, int nranks,
-                             orr_status (*allreduce_sum)(void *user, double *v, size_t n, orr_error *err),
-                             void *user, orr_error *err);
+ * gets the brightest of all of them. A collective call. */
+orr_status orr_sky_psf_share(orr_sky_psf *sp, const orr_parallel *par, orr_error *err);
 
 /* Draws the whole PSF for the selected stars into planes, which hold every
  * star's core (the sum of all processes' planes). sph is the deposit that

@@ -21,6 +21,7 @@
 #include "render/periodic_view.h"
 #include "render/stereo_view.h"
 #include "render/view_psf.h"
+#include "reduce/lanes.h"
 #include "splat/bands.h"
 #include "splat/sph.h"
 
@@ -30,38 +31,10 @@
  * passes. */
 #define BLOCK 4096
 
-/* Threads splat a chunk's blocks in lanes: block b goes to lane b % nlanes,
- * each lane deposits its blocks in order into planes of its own, and at the
- * end of the frame the lanes are added pixel by pixel in lane order. The
- * number of lanes comes from the image size alone, never from the number of
- * threads, so every pixel sums the same terms in the same order whatever
- * OMP_NUM_THREADS is: the planes come out bit for bit the same. Lanes past
- * the first cost a copy of the view's planes each; they are kept within
- * LANE_BUDGET bytes per view (a 3600 x 3600 dome master gets 4 lanes, with
- * colour 2; an image too large for even one extra lane is splatted by one
- * thread). */
-#define MAX_LANES 4
+/* The splat's reductions (reduce/lanes.h): lanes for most views, bands for
+ * point deposits into large images. */
+#define MAX_LANES ORR_MAX_LANES
 _Static_assert(MAX_LANES <= ORR_SKY_PSF_LANES, "a sky PSF collects stars in every lane");
-#define LANE_BUDGET ((size_t)256 << 20)
-#define LANE_SHARES_PER_PIXEL 4 /* point deposits: lanes_for */
-
-/* Point deposits (NGP, CIC, on flat images and sky maps) into images of
- * more than BAND_MIN_PIXELS pixels are not splatted in lanes but in bands
- * (splat/bands.h): threads compute the shares of up to WINDOW_BLOCKS
- * blocks at once, then add them band by band. A lane's copy of such an
- * image would not fit in the cache (16 MB a plane at the threshold), nor
- * would the image itself: the bands keep the pixels being added to in
- * cache, and need no copies. Below it, lanes cost less than sorting the
- * shares (docs/performance.md). */
-#define BAND_MIN_PIXELS ((size_t)1 << 22)
-/* A window is a quarter of a million particles. A band's pixels come from
- * main memory about once a window, so larger windows bring each more
- * shares (measured at 10^7 particles on a dome master, before the bands
- * prefetched: 256 blocks 15 % faster than 64); with the prefetch
- * (bands.c) 64, 128, 256 and 512 blocks run within 4 % of each other,
- * and 64 keeps the window's shares to 2 MB for NGP, 8 MB for CIC (one
- * plane; 4 and 16 MB with colour). */
-#define WINDOW_BLOCKS 64
 
 typedef struct block_buffers {
     float x[BLOCK], y[BLOCK], z[BLOCK], h[BLOCK];
@@ -607,55 +580,28 @@ static void deposit_block(const view_state *v, orr_plane *planes, int lane, size
     }
 }
 
-/* How many lanes a view splats in: as many as MAX_LANES allows within
- * LANE_BUDGET bytes of extra planes, and for point deposits no more than
- * the source's particles per pixel; a function of the image and the input
- * (count: the source's particles, -1 when unknown), never of the threads. */
+/* How many lanes the view splats in (reduce/lanes.h), for a source of
+ * count particles (-1 when unknown). */
 static int lanes_for(const view_state *v, int64_t count)
 {
-    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
-    size_t lane_bytes = npix * sizeof(float) * (size_t)v->nplanes;
-    size_t extra = lane_bytes ? LANE_BUDGET / lane_bytes : 0;
-    int lanes = extra + 1 < MAX_LANES ? (int)extra + 1 : MAX_LANES;
-    /* A lane's planes are zeroed and merged every frame, passes over every
-     * pixel that cost about as much as adding four shares to it (measured:
-     * 10^7 particles NGP on 1024^2, two threads, splat 7-20 % faster on 2
-     * lanes than on 4; 4e6 particles on a 3600^2 dome slower on 4 lanes
-     * than on 1; docs/performance.md). So point deposits take a lane for
-     * every four shares a pixel (NGP one a particle, CIC four). Kernels
-     * cost many pixels a particle, so SPH keeps its lanes. The particle
-     * count is the source's, not the threads': the result still does not
-     * depend on them. */
-    if (!v->use_sph && count >= 0 && npix > 0) {
-        const int64_t shares = v->scene->deposit == ORR_DEPOSIT_NGP ? count : ORR_MAX_SHARES_PER_POINT * count;
-        int64_t by_count = shares / (LANE_SHARES_PER_PIXEL * (int64_t)npix);
-        if (by_count < lanes)
-            lanes = by_count > 1 ? (int)by_count : 1;
-    }
-    return lanes;
+    int shares_per_particle = v->use_sph                                  ? 0
+                              : v->scene->deposit == ORR_DEPOSIT_NGP ? 1
+                                                                     : ORR_MAX_SHARES_PER_POINT;
+    return orr_lanes_for(v->proj.width, v->proj.height, v->nplanes, shares_per_particle, count);
 }
 
 static orr_status alloc_lanes(view_state *v, int64_t count, orr_error *err)
 {
-    v->nlanes = lanes_for(v, count);
-    if (v->nlanes == 1)
-        return ORR_OK;
-    size_t n = (size_t)(v->nlanes - 1) * (size_t)v->nplanes;
-    v->lane_planes = orr_calloc(n, sizeof *v->lane_planes, "splat lanes", err);
-    if (!v->lane_planes)
-        return ORR_ERR_NOMEM;
-    orr_status st = ORR_OK;
-    for (size_t i = 0; i < n && !st; i++)
-        st = orr_plane_alloc(&v->lane_planes[i], v->proj.width, v->proj.height, "lane", "", err);
-    return st;
+    return orr_lanes_alloc(&v->lanes, lanes_for(v, count), v->nplanes, v->proj.width, v->proj.height, err);
 }
 
 /* The bands of a point deposit: a window of blocks of a chunk of up to
  * capacity particles, each block's shares in a region of its own. */
 static orr_status alloc_bands(view_state *v, size_t capacity, orr_error *err)
 {
-    v->nlanes = 1;
-    size_t nblocks = (capacity + BLOCK - 1) / BLOCK, window = nblocks < WINDOW_BLOCKS ? nblocks : WINDOW_BLOCKS;
+    v->lanes.n = 1;
+    size_t nblocks = (capacity + BLOCK - 1) / BLOCK;
+    size_t window = nblocks < ORR_BAND_WINDOW_BLOCKS ? nblocks : ORR_BAND_WINDOW_BLOCKS;
     size_t per_point = v->scene->deposit == ORR_DEPOSIT_NGP ? 1 : ORR_MAX_SHARES_PER_POINT;
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
     return orr_bands_init(&v->bands, npix, v->nplanes, window ? window : 1, per_point * BLOCK, err);
@@ -663,41 +609,7 @@ static orr_status alloc_bands(view_state *v, size_t capacity, orr_error *err)
 
 void orr_splat_free_lanes(view_state *v)
 {
-    if (v->lane_planes)
-        for (int i = 0; i < (v->nlanes - 1) * v->nplanes; i++)
-            orr_plane_free(&v->lane_planes[i]);
-    free(v->lane_planes);
-    v->lane_planes = NULL;
-}
-
-static orr_plane *lane_planes(view_state *v, int lane)
-{
-    return lane == 0 ? v->planes : &v->lane_planes[(size_t)(lane - 1) * (size_t)v->nplanes];
-}
-
-/* Adds the lanes into the view's planes, in lane order at every pixel (the
- * ordered reduction: the same sums whatever the threads). */
-static void merge_lanes(view_state *v)
-{
-    if (v->nlanes == 1)
-        return;
-    const long npix = (long)v->proj.width * v->proj.height;
-    const int nlanes = v->nlanes;
-    for (int k = 0; k < v->nplanes; k++) {
-        float *out = v->planes[k].data;
-        const float *lane_data[MAX_LANES] = {NULL};
-        for (int lane = 1; lane < nlanes; lane++)
-            lane_data[lane] = lane_planes(v, lane)[k].data;
-#pragma omp parallel for schedule(static)
-        for (long i = 0; i < npix; i++) {
-            float sum = out[i];
-            for (int lane = 1; lane < nlanes; lane++)
-                sum += lane_data[lane][i];
-            out[i] = sum;
-        }
-    }
-    orr_splat_free_lanes(v);
-    v->nlanes = 1;
+    orr_lanes_free(&v->lanes);
 }
 
 /* The scratch of a chunk's splat: block buffers and an error per lane, and
@@ -769,9 +681,9 @@ static void splat_lane(view_state *v, const orr_source *src, const orr_chunk *c,
                        size_t nblocks, int lane, splat_work *w)
 {
     block_buffers *b = &w->buffers[lane];
-    orr_plane *planes = lane_planes(v, lane);
+    orr_plane *planes = orr_lane_planes(&v->lanes, v->planes, lane);
     double at = orr_thread_cpu_seconds();
-    for (size_t blk = (size_t)lane; blk < nblocks; blk += (size_t)v->nlanes) {
+    for (size_t blk = (size_t)lane; blk < nblocks; blk += (size_t)v->lanes.n) {
         block_tally *t;
         long n = take_block(v, src, c, wts, blk, w, lane, b, &t);
         if (n < 0)
@@ -834,7 +746,7 @@ static orr_status splat_view_lanes(view_state *v, const orr_source *src, const o
     lengths_starts(v, c, nblocks, w->lengths_first);
     for (int lane = 0; lane < MAX_LANES; lane++)
         w->failed[lane] = SIZE_MAX;
-    const int nlanes = v->nlanes;
+    const int nlanes = v->lanes.n;
 #pragma omp parallel for schedule(dynamic, 1)
     for (int lane = 0; lane < nlanes; lane++)
         splat_lane(v, src, c, wts, nblocks, lane, w);
@@ -1205,7 +1117,8 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
     for (int k = 0; k < nviews; k++) {
         orr_bands_free(&views[k].bands);
         if (!st)
-            merge_lanes(&views[k]);
+            orr_lanes_merge(&views[k].lanes, views[k].planes,
+                            (size_t)views[k].proj.width * (size_t)views[k].proj.height);
     }
     for (int k = 0; k < nviews && !st; k++)
         if (views[k].psf.sky)
@@ -1225,6 +1138,6 @@ void orr_splat_choose_path(view_state *v)
 {
     const orr_scene *s = v->scene;
     v->banded = !v->use_sph && !v->psf.sky && !v->blur.active &&
-                (size_t)v->proj.width * (size_t)v->proj.height > BAND_MIN_PIXELS;
+                orr_lanes_use_bands((size_t)v->proj.width * (size_t)v->proj.height);
     v->ngp_fused = s->deposit == ORR_DEPOSIT_NGP && !v->use_sph && !v->psf.sky && !v->use_ods && !v->blur.active;
 }

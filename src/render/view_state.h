@@ -8,6 +8,7 @@
 
 #include "core/atomic.h"
 #include "encode/fits.h"
+#include "reduce/lanes.h"
 #include "render/lengths.h"
 #include "render/motion_blur.h"
 #include "render/periodic_view.h"
@@ -49,8 +50,7 @@ typedef struct view_state {
     int ngp_fused;              /* NGP blocks taken whole go through the fused gather */
     orr_map_outline outline;    /* the image's map, for NGP indices */
     orr_bands bands;
-    int nlanes;                 /* lanes of the splat (splat_pass.c) */
-    orr_plane *lane_planes;     /* lanes 1 .. nlanes-1: nplanes planes each; lane 0 is planes[] */
+    orr_lanes lanes;            /* lanes of the splat (reduce/lanes.h): lane 0 is planes[] */
     orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
     struct frame_timer *timer;  /* the frame's stage timings (every view's), or NULL: not measured */
     struct orr_dust_frame *dust; /* dust.types: the frame's dust, which dims the weights (dust/dust.h), or NULL */
