@@ -25,7 +25,7 @@
 #include "reduce/parallel.h"
 #include "splat/sph.h"
 
-/* Splat lanes that may collect stars at once (splat_pass.c's MAX_LANES). */
+/* Splat lanes that may collect stars at once (reduce/lanes.h's ORR_MAX_LANES). */
 #define ORR_SKY_PSF_LANES 8
 
 /* A bright star as it was deposited, so that deposit can be undone. */

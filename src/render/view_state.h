@@ -1,6 +1,6 @@
 /* One view being rendered, as the parts of the renderer share it: plan.c
  * (the plan: each view planned once, then each frame), view_camera.c (the
- * observer frame, the cameras), splat_pass.c (the particles into the
+ * observer frame, the cameras), splat_*.c (the particles into the
  * view's planes), view_outputs.c (the planes into the view's files) and
  * compose.c (raw planes re-graded). Private to render/. */
 #ifndef ORR_RENDER_VIEW_STATE_H
