@@ -51,6 +51,27 @@ static void plane_name(const orr_scene *s, int k, char *name, size_t size)
         orr_snprintf(name, size, "pop.%s.Y", s->populations.pop[k - 3].name);
 }
 
+/* The scene's psf.* as the post stage's settings (post/psf.h). */
+static void psf_settings(const orr_scene *s, orr_psf_settings *ps)
+{
+    *ps = (orr_psf_settings){.kind = s->psf, .fwhm = s->psf_fwhm, .fwhm_arcmin = s->psf_fwhm_arcmin,
+                             .file_subsample = s->psf_file_subsample, .arcsec_per_pixel = s->psf_arcsec_per_pixel,
+                             .angle = s->psf_angle, .vane_width = s->psf_vane_width,
+                             .spike_gain = s->psf_spike_gain, .size = s->psf_size,
+                             .spike_stars = s->psf_spike_stars, .flat_stars = s->psf_flat_stars,
+                             .spike_min_flux = s->psf_spike_min_flux};
+    orr_snprintf(ps->file, sizeof ps->file, "%s", s->psf_file);
+}
+
+/* The view's PSF (post/view_psf.h): made once per run. */
+static orr_status plan_psf(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
+{
+    orr_psf_settings ps;
+    psf_settings(s, &ps);
+    orr_status st = orr_view_psf_setup(&v->psf, &ps, s->colour || s->nlayers, &v->proj, &v->kernel, kernels, err);
+    return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
+}
+
 static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
     v->scene = s;
@@ -78,7 +99,7 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     /* The PSF needs the image's size and scale, which a stereo eye's
      * shifted principal point leaves as they are. */
     if (!st)
-        st = orr_view_psf_setup(&v->psf, s, &v->proj, &v->kernel, kernels, err);
+        st = plan_psf(v, s, kernels, err);
     v->use_sph = s->deposit == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
     if (!st && v->use_sph)
         st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
@@ -383,7 +404,7 @@ static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr
 }
 
 /* A sky map's, or a flat view's given psf.fwhm, brightest stars with the
- * whole PSF (render/sky_psf.h, render/flat_psf.h). */
+ * whole PSF (post/sky_psf.h, post/flat_psf.h). */
 static orr_status draw_bright_stars(view_state *v, orr_error *err)
 {
     if (!v->psf.sky)

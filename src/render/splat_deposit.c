@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "render/motion_blur.h"
-#include "render/view_psf.h"
+#include "post/view_psf.h"
 #include "splat/sph.h"
 
 /* A sky map's PSF widens every particle's kernel to the PSF's angular size
@@ -59,7 +59,7 @@ static void deposit_points(const view_state *v, orr_plane *planes, int lane, siz
         orr_sph_deposit(&v->sph, &blk, &planes[k], st);
     }
     /* A sky map's hst/file PSF: the brightest stars are redrawn with the
-     * whole PSF after the splat (render/sky_psf.h). */
+     * whole PSF after the splat (post/sky_psf.h). */
     if (v->psf.sky) {
         orr_sph_block geom = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
         orr_sky_psf_collect(v->psf.sky, lane, &geom, b->wp, v->nplanes);

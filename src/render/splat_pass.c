@@ -12,7 +12,7 @@
 #include <string.h>
 
 #include "reduce/lanes.h"
-#include "render/view_psf.h"
+#include "post/view_psf.h"
 
 /* The splat's reductions (reduce/lanes.h): lanes for most views, bands for
  * point deposits into large images. */

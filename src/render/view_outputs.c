@@ -21,7 +21,7 @@
 #include "render/exr_view.h"
 #include "render/map_alpha.h"
 #include "render/stereo_view.h"
-#include "render/view_psf.h"
+#include "post/view_psf.h"
 #include "render/wcs.h"
 #include "scene/scene_output.h"
 

@@ -15,7 +15,7 @@
 #include "render/render.h"
 #include "render/stereo_view.h"
 #include "render/timings.h"
-#include "render/view_psf.h"
+#include "post/view_psf.h"
 #include "splat/bands.h"
 #include "splat/sph.h"
 

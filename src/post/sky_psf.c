@@ -1,4 +1,4 @@
-#include "render/sky_psf.h"
+#include "post/sky_psf.h"
 
 #include <math.h>
 #include <stdlib.h>

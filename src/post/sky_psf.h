@@ -18,8 +18,8 @@
  * towards the image's +x at the map's centre, so a star at the centre looks
  * as it would on a flat image; the PSF's angle is counterclockwise from
  * east with north up, as on a flat image from x with y up. */
-#ifndef ORR_RENDER_SKY_PSF_H
-#define ORR_RENDER_SKY_PSF_H
+#ifndef ORR_POST_SKY_PSF_H
+#define ORR_POST_SKY_PSF_H
 
 #include "post/convolve.h"
 #include "reduce/parallel.h"
