@@ -13,6 +13,7 @@
 #include "core/numbers.h"
 #include "dust/dust.h"
 #include "post/brightness.h"
+#include "post/grade.h"
 #include "scene/scene_output.h"
 #include "source/partition.h"
 
@@ -428,7 +429,7 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
     charge(&views[0], ORR_STAGE_POST);
     for (int k = 0; k < n && !st; k++)
         if (views[k].scene->write_raw) {
-            orr_view_mask_outside_map(&views[k]);
+            orr_mask_outside_map(&views[k].proj, views[k].planes, views[k].nplanes);
             charge(&views[k], ORR_STAGE_POST);
             st = orr_view_write_fits_planes(&views[k], "raw.fits", err);
         }

@@ -5,7 +5,6 @@
 #include "render/view_state.h"
 #include "core/numbers.h"
 
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,61 +16,17 @@
 #include "encode/png.h"
 #include "post/brightness.h"
 #include "post/colormap.h"
+#include "post/grade.h"
 #include "post/stretch.h"
+#include "post/view_psf.h"
 #include "render/exr_view.h"
 #include "render/map_alpha.h"
 #include "render/stereo_view.h"
-#include "post/view_psf.h"
 #include "render/wcs.h"
 #include "scene/scene_output.h"
 
 
 /* ---- outputs ---- */
-
-/* Pixels outside a sky map hold no sky: NaN marks them blank in FITS (and
- * the stretch shows them black). Deposits never put weight there. */
-void orr_view_mask_outside_map(view_state *v)
-{
-    const orr_projection *p = &v->proj;
-    if (!orr_projection_is_sky(p))
-        return;
-    /* A row's pixels on the map are one run about the centre column (the
-     * outline is an ellipse, a circle or the whole image): its ends are
-     * found by bisection with the projection's own test, and only the
-     * pixels outside are visited. */
-    const int W = p->width, centre = (int)lround(p->cx - 0.5);
-    for (int j = 0; j < p->height; j++) {
-        int first = W, last = -1; /* the run [first, last], empty when last < first */
-        if (centre >= 0 && centre < W && orr_projection_pixel_in_map(p, centre, j)) {
-            int lo = 0, hi = centre; /* the first inside is in [lo, hi] */
-            while (lo < hi) {
-                int mid = lo + (hi - lo) / 2;
-                if (orr_projection_pixel_in_map(p, mid, j))
-                    hi = mid;
-                else
-                    lo = mid + 1;
-            }
-            first = lo;
-            lo = centre, hi = W - 1; /* the last inside is in [lo, hi] */
-            while (lo < hi) {
-                int mid = hi - (hi - lo) / 2;
-                if (orr_projection_pixel_in_map(p, mid, j))
-                    lo = mid;
-                else
-                    hi = mid - 1;
-            }
-            last = lo;
-        }
-        const int left_end = first < W ? first : W, right_start = last + 1 > left_end ? last + 1 : left_end;
-        for (int k = 0; k < v->nplanes; k++) {
-            float *row = v->planes[k].data + (size_t)j * (size_t)W;
-            for (int i = 0; i < left_end; i++)
-                row[i] = NAN;
-            for (int i = right_start; i < W; i++)
-                row[i] = NAN;
-        }
-    }
-}
 
 void orr_view_add_frame_cards(const view_state *v, orr_fits_header *h)
 {
@@ -169,52 +124,45 @@ void orr_view_add_frame_cards(const view_state *v, orr_fits_header *h)
         orr_stereo_add_cards(h, s, rep);
 }
 
-/* The view's picture, sRGB-encoded RGB: the colour synthesis of its X, Y, Z
- * planes, or its weight plane stretched and colour-mapped; desc says how. */
+/* How the view's planes become its picture (post/grade.h): the colour
+ * synthesis of X, Y, Z planes (colour populations, compose layers), a
+ * weight plane in colour.tint's colour, or a weight plane stretched and
+ * colour-mapped. */
+static orr_grade view_grade(const view_state *v)
+{
+    const orr_scene *s = v->scene;
+    orr_grade g = {s->colour || s->nlayers ? ORR_GRADE_SYNTHESIS : s->has_tint ? ORR_GRADE_TINT : ORR_GRADE_COLORMAP,
+                   &s->synth, &s->tint, v->tint_t, s->png_linear, &s->stretch, s->colormap};
+    return g;
+}
+
+/* The view's picture, sRGB-encoded RGB (post/grade.h); desc says how it
+ * was made. */
 orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size_t size, orr_error *err)
 {
     const orr_scene *s = v->scene;
     orr_render_report *rep = v->rep;
-    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
-    if (s->colour || s->nlayers || s->has_tint) {
-        double xyz[3];
-        orr_status st = ORR_OK;
-        if (s->colour || s->nlayers)
-            st = orr_colour_synthesise(&s->synth, &v->planes[0], &v->planes[1], &v->planes[2], rgb, &rep->white,
-                                       err);
-        else if (!(st = orr_colour_path_xyz(&s->tint, v->tint_t, xyz, err)))
-            st = orr_colour_synthesise_mono(&s->synth, &v->planes[0], xyz, rgb, &rep->white, err);
-        if (!st && !s->png_linear)
-            orr_srgb_encode_buffer(rgb, npix * 3);
-        if (!st && s->nlayers)
-            orr_snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
+    const orr_grade g = view_grade(v);
+    orr_status st = orr_grade_picture(&g, v->planes, rgb, &rep->white, err);
+    if (st)
+        return st;
+    if (s->nlayers)
+        orr_snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
                      s->nlayers, orr_projection_name(v->proj.kind), orr_lum_stretch_name(s->synth.stretch),
                      rep->white);
-        else if (!st && s->colour)
-            orr_snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
+    else if (s->colour)
+        orr_snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
                      s->populations.n, rep->source, orr_projection_name(v->proj.kind),
                      orr_lum_stretch_name(s->synth.stretch), rep->white);
-        else if (!st)
-            orr_snprintf(desc, size, "%s of %s tinted at t = %g of its colour path, %s projection, %s stretch, Y0 %g",
+    else if (s->has_tint)
+        orr_snprintf(desc, size, "%s of %s tinted at t = %g of its colour path, %s projection, %s stretch, Y0 %g",
                      s->weight, rep->source, v->tint_t, orr_projection_name(v->proj.kind),
                      orr_lum_stretch_name(s->synth.stretch), rep->white);
-        return st;
-    }
-    float *t = orr_malloc(npix * sizeof(float), "stretched image", err);
-    if (!t)
-        return ORR_ERR_NOMEM;
-    orr_status st = orr_stretch_apply(&s->stretch, &v->planes[0], t, &rep->white, err);
-    if (!st) {
-#pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < npix; i++)
-            orr_colormap_lookup(s->colormap, t[i], &rgb[3 * i]);
-    }
-    if (!st)
+    else
         orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->weight,
-                 rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->stretch.kind), rep->white,
-                 orr_colormap_name(s->colormap));
-    free(t);
-    return st;
+                     rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->stretch.kind), rep->white,
+                     orr_colormap_name(s->colormap));
+    return ORR_OK;
 }
 
 static orr_status view_output(view_state *v, const char *ext, const char **write_path, orr_error *err);
@@ -435,8 +383,8 @@ static orr_status write_extinction(view_state *v, const orr_plane *av, orr_error
 orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_views *eyes, int k, orr_error *err)
 {
     const orr_scene *s = l->scene;
-    orr_view_mask_outside_map(l);
-    orr_view_mask_outside_map(r);
+    orr_mask_outside_map(&l->proj, l->planes, l->nplanes);
+    orr_mask_outside_map(&r->proj, r->planes, r->nplanes);
     size_t npix = (size_t)l->proj.width * (size_t)l->proj.height;
     int want_rgb = s->write_png || s->image_ext[0];
     float *rgb = want_rgb ? orr_malloc(2 * npix * 3 * sizeof *rgb, "stereo pictures", err) : NULL;
@@ -476,7 +424,7 @@ orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_view
 orr_status orr_view_write_outputs(view_state *v, orr_error *err)
 {
     const orr_scene *s = v->scene;
-    orr_view_mask_outside_map(v);
+    orr_mask_outside_map(&v->proj, v->planes, v->nplanes);
     charge(v, ORR_STAGE_POST);
     orr_plane av = {0};
     int want_av = v->dust && s->dust.extinction_plane;

@@ -112,8 +112,6 @@ orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, cons
 
 /* ---- the view's files (view_outputs.c) ---- */
 
-/* Pixels outside a sky map: NaN (blank in FITS, black in pictures). */
-void orr_view_mask_outside_map(view_state *v);
 /* The cards of the view's frame: camera, projection, WCS, PSF, counts. */
 void orr_view_add_frame_cards(const view_state *v, orr_fits_header *h);
 /* The graded picture (linear RGB in [0, 1]) and its description. */
