@@ -22,7 +22,7 @@
 #include "render/exr_view.h"
 #include "render/map_alpha.h"
 #include "render/stereo_view.h"
-#include "render/wcs.h"
+#include "encode/wcs.h"
 #include "scene/scene_output.h"
 
 
