@@ -110,6 +110,8 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
      * float of h_per_r: its angle h / r. */
     if (!st && v->use_sph && v->psf.h_per_r > 0)
         st = orr_sph_use_cores(&v->sph, (float)v->psf.h_per_r, err);
+    if (!st)
+        orr_view_plan_cards(v); /* after the deposit and the PSF, which they describe */
     return st;
 }
 
@@ -390,17 +392,13 @@ static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr
 {
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
     float *rgb = orr_malloc(npix * 3 * sizeof *rgb, "kept picture", err);
-    orr_fits_header *h = rgb ? orr_calloc(1, sizeof *h, "FITS header", err) : NULL;
-    orr_status st = h ? ORR_OK : ORR_ERR_NOMEM;
+    orr_status st = rgb ? ORR_OK : ORR_ERR_NOMEM;
     char desc[ORR_PATH_MAX + 256];
     if (!st)
         st = orr_view_graded_rgb(v, rgb, desc, sizeof desc, err);
-    if (!st) {
-        orr_view_add_frame_cards(v, h);
-        st = in->keep(in->keep_user, k, v->planes, fits_nplanes(v), rgb, h, err);
-    }
+    if (!st)
+        st = in->keep(in->keep_user, k, v->planes, fits_nplanes(v), rgb, &v->frame_cards, err);
     free(rgb);
-    free(h);
     return st;
 }
 
@@ -424,6 +422,8 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
     for (int k = 0; k < n && !st; k++) /* bright stars' PSFs: part of the raw planes, as the cores */
         st = draw_bright_stars(&views[k], err);
     charge(&views[0], ORR_STAGE_PSF);
+    for (int k = 0; k < n && !st; k++) /* the frame's cards: its counts, stars and camera are final */
+        orr_view_frame_cards(&views[k]);
     for (int k = 0; k < n && !st; k++) /* flux per pixel to flux per steradian (or area) */
         orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);
     charge(&views[0], ORR_STAGE_POST);

@@ -51,6 +51,10 @@ typedef struct view_state {
     orr_map_outline outline;    /* the image's map, for NGP indices */
     orr_bands bands;
     orr_lanes lanes;            /* lanes of the splat (reduce/lanes.h): lane 0 is planes[] */
+    /* The view's FITS cards (view_cards.c): made once by the plan, with the
+     * frame's values reserved in place, and after the WCS the stereo ones;
+     * the frame's own, filled in for its files. */
+    orr_fits_header cards, stereo_cards, frame_cards;
     orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
     struct frame_timer *timer;  /* the frame's stage timings (every view's), or NULL: not measured */
     struct orr_dust_frame *dust; /* dust.types: the frame's dust, which dims the weights (dust/dust.h), or NULL */
@@ -110,10 +114,18 @@ void orr_splat_free_lanes(view_state *v);
 orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, const orr_parallel *par,
                                  struct orr_dust_frame *dust, orr_error *err);
 
+/* ---- the view's FITS cards (view_cards.c) ---- */
+
+/* The cards of the planned view (v->cards, v->stereo_cards): those that
+ * depend on the scene, the projection and the PSF, the frame's reserved. */
+void orr_view_plan_cards(view_state *v);
+/* The frame's cards (v->frame_cards): the plan's with the frame's camera,
+ * counts, time and source, the WCS and the stereo cards; call when the
+ * frame's planes are final (the reductions done, the bright stars drawn). */
+void orr_view_frame_cards(view_state *v);
+
 /* ---- the view's files (view_outputs.c) ---- */
 
-/* The cards of the view's frame: camera, projection, WCS, PSF, counts. */
-void orr_view_add_frame_cards(const view_state *v, orr_fits_header *h);
 /* The graded picture (linear RGB in [0, 1]) and its description. */
 orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size_t size, orr_error *err);
 orr_status orr_view_write_pictures(view_state *v, orr_error *err);
