@@ -14,6 +14,17 @@
 #include "encode/wcs.h"
 #include "scene/scene_output.h"
 
+/* A card each frame gives the value of. */
+typedef struct reserved {
+    const char *key, *comment;
+} reserved;
+
+static void reserve(orr_fits_header *h, const reserved *cards, size_t n)
+{
+    for (size_t i = 0; i < n; i++)
+        orr_fits_reserve(h, cards[i].key, cards[i].comment);
+}
+
 /* The projection's cards: its kind and the parameters the scene gave it. */
 static void plan_projection_cards(const view_state *v, orr_fits_header *h)
 {
@@ -70,24 +81,30 @@ static void plan_report_cards(const view_state *v, orr_fits_header *h)
 {
     const orr_scene *s = v->scene;
     orr_fits_add_string(h, "WEIGHT", s->weight, "particle field deposited");
-    orr_fits_reserve(h, "NPART", "particles read");
-    orr_fits_reserve(h, "NSELECT", "particles of the selected types");
-    orr_fits_reserve(h, "NSKIPPED", "particles skipped as non-finite");
-    orr_fits_reserve(h, "NCULLED", "particles not drawn (out of view)");
-    orr_fits_reserve(h, "PERBOX", "periodic box side, drawn in copies");
-    orr_fits_reserve(h, "NREPLIC", "copies of the periodic box drawn");
-    orr_fits_reserve(h, "NBLKCULL", "copies of blocks culled out of view");
-    orr_fits_reserve(h, "WIMAGE", "weight deposited in the image");
-    orr_fits_reserve(h, "WOUTSIDE", "weight that fell off the image");
+    static const reserved counts[] = {
+        {"NPART", "particles read"},
+        {"NSELECT", "particles of the selected types"},
+        {"NSKIPPED", "particles skipped as non-finite"},
+        {"NCULLED", "particles not drawn (out of view)"},
+        {"PERBOX", "periodic box side, drawn in copies"},
+        {"NREPLIC", "copies of the periodic box drawn"},
+        {"NBLKCULL", "copies of blocks culled out of view"},
+        {"WIMAGE", "weight deposited in the image"},
+        {"WOUTSIDE", "weight that fell off the image"},
+    };
+    static const reserved when[] = {
+        {"SIMTIME", "simulation time of the snapshot"},
+        {"FRAME", "frame number (0-based)"},
+        {"NFRAMES", "frames in the run"},
+        {"SOURCE", "particle source"},
+    };
+    reserve(h, counts, sizeof counts / sizeof counts[0]);
     if (s->colour) {
         orr_fits_add_long(h, "NPOPS", s->populations.n, "colour populations");
         orr_fits_reserve(h, "YIMAGE", "luminance Y deposited in the image");
         orr_fits_reserve(h, "YOUTSIDE", "luminance Y that fell off the image");
     }
-    orr_fits_reserve(h, "SIMTIME", "simulation time of the snapshot");
-    orr_fits_reserve(h, "FRAME", "frame number (0-based)");
-    orr_fits_reserve(h, "NFRAMES", "frames in the run");
-    orr_fits_reserve(h, "SOURCE", "particle source");
+    reserve(h, when, sizeof when / sizeof when[0]);
 }
 
 /* The observer's frame, and the dimming with distance. */
@@ -113,13 +130,16 @@ void orr_view_plan_cards(view_state *v)
     orr_fits_add_string(h, "CREATOR", "orrery " ORRERY_VERSION, "software that made this file");
     orr_fits_add_string(h, "ORRVERS", ORRERY_VERSION, "orrery version");
     plan_projection_cards(v, h);
-    static const char *const camera_keys[7] = {"CAMPOSX", "CAMPOSY", "CAMPOSZ", "CAMQW", "CAMQX", "CAMQY", "CAMQZ"};
-    static const char *const camera_comments[7] = {
-        "camera position x",           "camera position y",           "camera position z",
-        "camera-to-world quaternion w", "camera-to-world quaternion x", "camera-to-world quaternion y",
-        "camera-to-world quaternion z"};
-    for (int k = 0; k < 7; k++)
-        orr_fits_reserve(h, camera_keys[k], camera_comments[k]);
+    static const reserved camera[] = {
+        {"CAMPOSX", "camera position x"},
+        {"CAMPOSY", "camera position y"},
+        {"CAMPOSZ", "camera position z"},
+        {"CAMQW", "camera-to-world quaternion w"},
+        {"CAMQX", "camera-to-world quaternion x"},
+        {"CAMQY", "camera-to-world quaternion y"},
+        {"CAMQZ", "camera-to-world quaternion z"},
+    };
+    reserve(h, camera, sizeof camera / sizeof camera[0]);
     orr_fits_add_long(h, "IMGWIDTH", v->base_proj.width, "[pixel] image width");
     orr_fits_add_long(h, "IMGHEIGH", v->base_proj.height, "[pixel] image height");
     plan_deposit_cards(v, h);
