@@ -8,6 +8,7 @@
 
 #include "core/atomic.h"
 #include "encode/fits.h"
+#include "post/view_psf.h"
 #include "reduce/lanes.h"
 #include "render/lengths.h"
 #include "render/motion_blur.h"
@@ -15,7 +16,6 @@
 #include "render/render.h"
 #include "render/stereo_view.h"
 #include "render/timings.h"
-#include "post/view_psf.h"
 #include "splat/bands.h"
 #include "splat/sph.h"
 
