@@ -6,7 +6,7 @@
  *
  * Stars are scattered uniformly over the sky at 1 to 10 units, each drawn
  * with the kernel the renderer gives a star under a PSF (h = k r, its
- * half-maximum width CORE_PIXELS at the map's centre: render/view_psf.c).
+ * half-maximum width CORE_PIXELS at the map's centre: post/view_psf.c).
  * Times are one thread's, best of three, the two paths interleaved; the
  * table's includes making its stamps (the first star in each cell).
  * Accuracy, on 3000 of the stars drawn alone: the largest difference of a
@@ -19,7 +19,7 @@
 
 #include "clocks.h"
 #include "frame/projection.h"
-#include "render/view_psf.h"
+#include "post/view_psf.h"
 #include "splat/sky_cores.h"
 #include "splat/sph.h"
 #include "test_random.h"
@@ -179,7 +179,7 @@ static void run_projection(const char *name, orr_projection *p, const orr_kernel
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }
-    /* The core's angle as render/view_psf.c makes it. */
+    /* The core's angle as post/view_psf.c makes it. */
     const double fwhm = core_pixels / p->focal, theta = (float)(2.0 * sin(0.25 * fwhm) / orr_kernel_half_max_q(k));
     stars s;
     make_stars(&s, n, theta, p);

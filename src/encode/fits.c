@@ -5,6 +5,7 @@
 #include <fitsio.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 #include <unistd.h>
 
 #include "core/atomic.h"
@@ -55,6 +56,71 @@ void orr_fits_add_bool(orr_fits_header *h, const char *key, int value, const cha
         c->lng = value != 0;
 }
 
+void orr_fits_reserve(orr_fits_header *h, const char *key, const char *comment)
+{
+    new_card(h, key, ORR_CARD_UNSET, comment);
+}
+
+/* The first unset card of the key, or NULL. */
+static orr_fits_card *unset_card(orr_fits_header *h, const char *key)
+{
+    for (int i = 0; i < h->n; i++)
+        if (h->cards[i].type == ORR_CARD_UNSET && strcasecmp(h->cards[i].key, key) == 0)
+            return &h->cards[i];
+    return NULL;
+}
+
+void orr_fits_set_string(orr_fits_header *h, const char *key, const char *value)
+{
+    orr_fits_card *c = unset_card(h, key);
+    if (c) {
+        c->type = ORR_CARD_STRING;
+        snprintf(c->str, sizeof c->str, "%s", value ? value : "");
+    }
+}
+
+void orr_fits_set_double(orr_fits_header *h, const char *key, double value)
+{
+    orr_fits_card *c = unset_card(h, key);
+    if (c) {
+        c->type = ORR_CARD_DOUBLE;
+        c->dbl = value;
+    }
+}
+
+void orr_fits_set_long(orr_fits_header *h, const char *key, long long value)
+{
+    orr_fits_card *c = unset_card(h, key);
+    if (c) {
+        c->type = ORR_CARD_LONG;
+        c->lng = value;
+    }
+}
+
+void orr_fits_set_bool(orr_fits_header *h, const char *key, int value)
+{
+    orr_fits_card *c = unset_card(h, key);
+    if (c) {
+        c->type = ORR_CARD_BOOL;
+        c->lng = value != 0;
+    }
+}
+
+void orr_fits_drop_unset(orr_fits_header *h)
+{
+    int kept = 0;
+    for (int i = 0; i < h->n; i++)
+        if (h->cards[i].type != ORR_CARD_UNSET)
+            h->cards[kept++] = h->cards[i];
+    h->n = kept;
+}
+
+void orr_fits_append(orr_fits_header *h, const orr_fits_header *from)
+{
+    for (int i = 0; i < from->n && h->n < ORR_FITS_MAX_CARDS; i++)
+        h->cards[h->n++] = from->cards[i];
+}
+
 /* ---- writing ------------------------------------------------------------ */
 
 /* cfitsio takes non-const pointers for values it only reads, hence the
@@ -82,6 +148,8 @@ static int write_card(fitsfile *f, const orr_fits_card *c, int *status)
         int b = c->lng != 0;
         return fits_update_key(f, TLOGICAL, key, &b, comment, status);
     }
+    case ORR_CARD_UNSET:
+        break;
     }
     return *status;
 }

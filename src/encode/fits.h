@@ -11,7 +11,13 @@
 
 #define ORR_FITS_MAX_CARDS 160
 
-typedef enum { ORR_CARD_STRING, ORR_CARD_DOUBLE, ORR_CARD_LONG, ORR_CARD_BOOL } orr_card_type;
+typedef enum {
+    ORR_CARD_STRING,
+    ORR_CARD_DOUBLE,
+    ORR_CARD_LONG,
+    ORR_CARD_BOOL,
+    ORR_CARD_UNSET, /* reserved, its value still to come (orr_fits_reserve); not written */
+} orr_card_type;
 
 typedef struct orr_fits_card {
     char key[9];        /* at most 8 characters, upper case */
@@ -37,6 +43,22 @@ void orr_fits_add_string(orr_fits_header *h, const char *key, const char *value,
 void orr_fits_add_double(orr_fits_header *h, const char *key, double value, const char *comment);
 void orr_fits_add_long(orr_fits_header *h, const char *key, long long value, const char *comment);
 void orr_fits_add_bool(orr_fits_header *h, const char *key, int value, const char *comment);
+
+/* A header kept for a run of frames (a view's cards, made once by the
+ * renderer's plan): a card whose value each frame gives is reserved in its
+ * place, then each frame copies the header, sets those cards by key and
+ * drops the ones it did not set, so the cards keep their order. */
+void orr_fits_reserve(orr_fits_header *h, const char *key, const char *comment);
+/* Gives the first unset card of that key its value (a key that is not
+ * reserved is a programming error, ignored). */
+void orr_fits_set_string(orr_fits_header *h, const char *key, const char *value);
+void orr_fits_set_double(orr_fits_header *h, const char *key, double value);
+void orr_fits_set_long(orr_fits_header *h, const char *key, long long value);
+void orr_fits_set_bool(orr_fits_header *h, const char *key, int value);
+/* Removes the cards still unset, keeping the others' order. */
+void orr_fits_drop_unset(orr_fits_header *h);
+/* Appends from's cards to h's (as many as fit). */
+void orr_fits_append(orr_fits_header *h, const orr_fits_header *from);
 
 /* Writes the planes (all the same size) to path, atomically. The header cards
  * go into every HDU. */

@@ -59,6 +59,8 @@ char *orr_kept_header_text(const orr_fits_header *cards, orr_error *err)
     text[0] = '\0';
     for (int i = 0; i < cards->n; i++) {
         const orr_fits_card *c = &cards->cards[i];
+        if (c->type == ORR_CARD_UNSET) /* (a frame's header has none: orr_fits_drop_unset) */
+            continue;
         used += (size_t)snprintf(text + used, LINE_MAX, "%s = ", c->key);
         used += card_value(c, text + used, LINE_MAX - 12);
         text[used++] = '\n';

@@ -1,11 +1,12 @@
-/* MPI for the renderer: the reductions of orr_parallel over a communicator.
+/* MPI for the renderer: the back end of reduce/parallel.h, orr_parallel's
+ * reductions over a communicator.
  * Built only when MPI is found (the library itself knows nothing of MPI). */
 #ifndef ORR_MPI_MPI_PARALLEL_H
 #define ORR_MPI_MPI_PARALLEL_H
 
 #include <mpi.h>
 
-#include "render/render.h"
+#include "reduce/parallel.h"
 
 /* Planes are reduced in groups of at most this many floats (a tile for
  * each rank), so MPI's buffers and ours stay bounded (16 MiB) however large

@@ -16,6 +16,7 @@
 #define ORR_POST_PSF_H
 
 #include "core/error.h"
+#include "core/limits.h"
 #include "core/names.h"
 #include "post/convolve.h"
 
@@ -28,6 +29,29 @@ typedef enum {
 } orr_psf_kind;
 
 extern const orr_named orr_psf_kind_names[];
+
+/* The psf.* settings a view's PSF is made from (post/view_psf.h;
+ * docs/psf.md). Flat views convolve the splatted plane with the PSF (FFT);
+ * sky maps, whose scale varies across the image, draw each particle as a
+ * kernel of the PSF core's angular size instead, and the brightest stars
+ * with the whole PSF (post/sky_psf.h). */
+typedef struct orr_psf_settings {
+    orr_psf_kind kind;       /* psf.kind */
+    double fwhm;             /* psf.fwhm: Gaussian FWHM in pixels, flat views */
+    double fwhm_arcmin;      /* psf.fwhm_arcmin: FWHM in arcminutes on sky maps (0: auto, ORR_SKY_CORE_PIXELS
+                              * pixels at the map's centre) */
+    char file[ORR_PATH_MAX]; /* psf.file: a FITS PSF image (psf.kind: file) */
+    int file_subsample;      /* psf.file_subsample: file pixels per detector pixel */
+    double arcsec_per_pixel; /* psf.arcsec_per_pixel: the image's pixel scale for hst and file PSFs */
+    double angle;            /* psf.angle: direction of the spikes, degrees */
+    double vane_width;       /* psf.vane_width: hst, the vanes' full width over the primary's radius */
+    double spike_gain;       /* psf.spike_gain: hst, the spikes' light beyond the core times this */
+    int size;                /* psf.size: odd kernel side in pixels */
+    int spike_stars;         /* psf.spike_stars: at most this many of the brightest stars get the whole PSF */
+    int flat_stars;          /* a flat view with hst or file and psf.fwhm: stars drawn as the core, the
+                              * brightest with the whole PSF (post/flat_psf.h) */
+    double spike_min_flux;   /* psf.spike_min_flux: and none fainter than this fraction of the brightest */
+} orr_psf_settings;
 
 /* ---- the pupil ------------------------------------------------------------ */
 

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "encode/fits_read.h"
+#include "post/grade.h"
 
 /* One view's raw planes into its planes: the file must hold what the scene
  * renders (one weight plane, or X, Y, Z) at the scene's image size. */
@@ -80,7 +81,7 @@ orr_status orr_view_compose(view_state *v, orr_error *err)
     for (int j = 0; j < v->nplanes && !st && !v->scene->regrade_final; j++) /* NAME.fits has its PSF */
         st = orr_view_psf_apply(&v->psf, &v->planes[j], err);
     if (!st) {
-        orr_view_mask_outside_map(v);
+        orr_mask_outside_map(&v->proj, v->planes, v->nplanes);
         st = orr_view_write_pictures(v, err);
     }
     return st;

@@ -139,7 +139,7 @@ static orr_status share_directions(const orr_parallel *par, const positions *min
 
 /* The lengths of this process's particles, mine (rewinds src): with
  * several processes, found among every process's (share_directions). */
-static orr_status find_lengths(const orr_scene *s, const struct orr_parallel *par, const positions *mine,
+static orr_status find_lengths(const orr_scene *s, const orr_parallel *par, const positions *mine,
                                float *h_mine, orr_error *err)
 {
     positions shared = {0};
@@ -170,7 +170,7 @@ static orr_status find_lengths(const orr_scene *s, const struct orr_parallel *pa
 }
 
 orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, const orr_vec3 *centre,
-                               const struct orr_parallel *par, orr_lengths *out, orr_error *err)
+                               const orr_parallel *par, orr_lengths *out, orr_error *err)
 {
     *out = (orr_lengths){0};
     positions mine = {0};

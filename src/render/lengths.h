@@ -11,6 +11,7 @@
 #include <stddef.h>
 
 #include "core/vecmath.h"
+#include "reduce/parallel.h"
 #include "scene/scene.h"
 #include "source/source.h"
 
@@ -38,9 +39,8 @@ orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *ne
  * bytes a particle, exchanged as sums of doubles) and finds the neighbours
  * among them, keeping its own particles' lengths, so they do not depend on
  * the number of processes; NULL: this process alone. */
-struct orr_parallel;
 orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, const orr_vec3 *centre,
-                               const struct orr_parallel *par, orr_lengths *out, orr_error *err);
+                               const orr_parallel *par, orr_lengths *out, orr_error *err);
 void orr_lengths_free(orr_lengths *l);
 
 /* Whether particle i of chunk c takes a length from the array: it is of a

@@ -13,6 +13,7 @@
 #include "core/numbers.h"
 #include "dust/dust.h"
 #include "post/brightness.h"
+#include "post/grade.h"
 #include "scene/scene_output.h"
 #include "source/partition.h"
 
@@ -51,6 +52,27 @@ static void plane_name(const orr_scene *s, int k, char *name, size_t size)
         orr_snprintf(name, size, "pop.%s.Y", s->populations.pop[k - 3].name);
 }
 
+/* The scene's psf.* as the post stage's settings (post/psf.h). */
+static void psf_settings(const orr_scene *s, orr_psf_settings *ps)
+{
+    *ps = (orr_psf_settings){.kind = s->psf, .fwhm = s->psf_fwhm, .fwhm_arcmin = s->psf_fwhm_arcmin,
+                             .file_subsample = s->psf_file_subsample, .arcsec_per_pixel = s->psf_arcsec_per_pixel,
+                             .angle = s->psf_angle, .vane_width = s->psf_vane_width,
+                             .spike_gain = s->psf_spike_gain, .size = s->psf_size,
+                             .spike_stars = s->psf_spike_stars, .flat_stars = s->psf_flat_stars,
+                             .spike_min_flux = s->psf_spike_min_flux};
+    orr_snprintf(ps->file, sizeof ps->file, "%s", s->psf_file);
+}
+
+/* The view's PSF (post/view_psf.h): made once per run. */
+static orr_status plan_psf(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
+{
+    orr_psf_settings ps;
+    psf_settings(s, &ps);
+    orr_status st = orr_view_psf_setup(&v->psf, &ps, s->colour || s->nlayers, &v->proj, &v->kernel, kernels, err);
+    return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
+}
+
 static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
     v->scene = s;
@@ -78,7 +100,7 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     /* The PSF needs the image's size and scale, which a stereo eye's
      * shifted principal point leaves as they are. */
     if (!st)
-        st = orr_view_psf_setup(&v->psf, s, &v->proj, &v->kernel, kernels, err);
+        st = plan_psf(v, s, kernels, err);
     v->use_sph = s->deposit == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
     if (!st && v->use_sph)
         st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
@@ -88,6 +110,8 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
      * float of h_per_r: its angle h / r. */
     if (!st && v->use_sph && v->psf.h_per_r > 0)
         st = orr_sph_use_cores(&v->sph, (float)v->psf.h_per_r, err);
+    if (!st)
+        orr_view_plan_cards(v); /* after the deposit and the PSF, which they describe */
     return st;
 }
 
@@ -104,7 +128,7 @@ static void reset_frame_state(view_state *v)
 {
     orr_splat_free_lanes(v);
     orr_bands_free(&v->bands);
-    v->nlanes = 1;
+    v->lanes.n = 1;
     memset(&v->blur, 0, sizeof v->blur);
     memset(&v->periodic, 0, sizeof v->periodic);
     v->use_ods = 0;
@@ -287,37 +311,26 @@ static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_so
 }
 
 /* Sums what every process splatted onto rank 0: the planes, and the counts
- * of the reports. */
+ * of the reports (reduce/parallel.h). */
 static orr_status reduce_views(view_state *views, int n, const orr_parallel *par, orr_error *err)
 {
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++) {
         view_state *v = &views[k];
-        for (int j = 0; j < v->nplanes && !st; j++)
-            st = par->reduce_sum(par->user, v->planes[j].data, (size_t)v->proj.width * (size_t)v->proj.height, err);
         orr_render_report *r = v->rep;
-        orr_deposit_stats *d[2] = {&r->deposit, &r->deposit_y};
-        double sums[3 + 2 * 5 + 3] = {(double)r->n_read, (double)r->n_selected, (double)r->n_nonfinite};
-        for (int i = 0; i < 2; i++) {
-            double *t = &sums[3 + 5 * i];
-            t[0] = d[i]->deposited, t[1] = d[i]->outside, t[2] = d[i]->culled;
-            t[3] = (double)d[i]->n_particles, t[4] = (double)d[i]->n_culled;
-        }
-        double *culling = &sums[3 + 2 * 5]; /* a periodic box's culled copies and blocks */
-        culling[0] = (double)r->n_replicas_culled, culling[1] = (double)r->n_blocks;
-        culling[2] = (double)r->n_blocks_culled;
-        if (!st)
-            st = par->allreduce_sum(par->user, sums, sizeof sums / sizeof sums[0], err);
-        r->n_read = (uint64_t)sums[0], r->n_selected = (uint64_t)sums[1], r->n_nonfinite = (uint64_t)sums[2];
-        for (int i = 0; i < 2; i++) {
-            const double *t = &sums[3 + 5 * i];
-            d[i]->deposited = t[0], d[i]->outside = t[1], d[i]->culled = t[2];
-            d[i]->n_particles = (uint64_t)t[3], d[i]->n_culled = (uint64_t)t[4];
-        }
-        r->n_replicas_culled = (uint64_t)culling[0], r->n_blocks = (uint64_t)culling[1];
-        r->n_blocks_culled = (uint64_t)culling[2];
+        orr_sums sums = {0};
+        orr_sums_count(&sums, &r->n_read);
+        orr_sums_count(&sums, &r->n_selected);
+        orr_sums_count(&sums, &r->n_nonfinite);
+        orr_sums_deposit(&sums, &r->deposit);
+        orr_sums_deposit(&sums, &r->deposit_y);
+        orr_sums_count(&sums, &r->n_replicas_culled); /* a periodic box's culled copies and blocks */
+        orr_sums_count(&sums, &r->n_blocks);
+        orr_sums_count(&sums, &r->n_blocks_culled);
+        if (!(st = orr_parallel_sum_planes(par, v->planes, v->nplanes, err)))
+            st = orr_parallel_sum(par, &sums, err);
         if (!st && v->psf.sky) /* rank 0 draws the whole frame's brightest stars */
-            st = orr_sky_psf_share(v->psf.sky, par->rank, par->nranks, par->allreduce_sum, par->user, err);
+            st = orr_sky_psf_share(v->psf.sky, par, err);
     }
     return st;
 }
@@ -379,22 +392,18 @@ static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr
 {
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
     float *rgb = orr_malloc(npix * 3 * sizeof *rgb, "kept picture", err);
-    orr_fits_header *h = rgb ? orr_calloc(1, sizeof *h, "FITS header", err) : NULL;
-    orr_status st = h ? ORR_OK : ORR_ERR_NOMEM;
+    orr_status st = rgb ? ORR_OK : ORR_ERR_NOMEM;
     char desc[ORR_PATH_MAX + 256];
     if (!st)
         st = orr_view_graded_rgb(v, rgb, desc, sizeof desc, err);
-    if (!st) {
-        orr_view_add_frame_cards(v, h);
-        st = in->keep(in->keep_user, k, v->planes, fits_nplanes(v), rgb, h, err);
-    }
+    if (!st)
+        st = in->keep(in->keep_user, k, v->planes, fits_nplanes(v), rgb, &v->frame_cards, err);
     free(rgb);
-    free(h);
     return st;
 }
 
 /* A sky map's, or a flat view's given psf.fwhm, brightest stars with the
- * whole PSF (render/sky_psf.h, render/flat_psf.h). */
+ * whole PSF (post/sky_psf.h, post/flat_psf.h). */
 static orr_status draw_bright_stars(view_state *v, orr_error *err)
 {
     if (!v->psf.sky)
@@ -413,12 +422,14 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
     for (int k = 0; k < n && !st; k++) /* bright stars' PSFs: part of the raw planes, as the cores */
         st = draw_bright_stars(&views[k], err);
     charge(&views[0], ORR_STAGE_PSF);
+    for (int k = 0; k < n && !st; k++) /* the frame's cards: its counts, stars and camera are final */
+        orr_view_frame_cards(&views[k]);
     for (int k = 0; k < n && !st; k++) /* flux per pixel to flux per steradian (or area) */
         orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);
     charge(&views[0], ORR_STAGE_POST);
     for (int k = 0; k < n && !st; k++)
         if (views[k].scene->write_raw) {
-            orr_view_mask_outside_map(&views[k]);
+            orr_mask_outside_map(&views[k].proj, views[k].planes, views[k].nplanes);
             charge(&views[k], ORR_STAGE_POST);
             st = orr_view_write_fits_planes(&views[k], "raw.fits", err);
         }

@@ -16,6 +16,7 @@
 #include "scene/scene.h"
 #include "splat/deposit.h"
 #include "core/plane.h"
+#include "reduce/parallel.h" /* orr_parallel: how several processes render a frame together */
 #include "render/timings.h"
 
 #define ORR_RENDER_MAX_OUTPUTS 10 /* stereo.mode: separate writes each format twice */
@@ -78,21 +79,6 @@ orr_status orr_scene_open_share(const orr_scene *scene, const char *const *field
  * input as it is, frame 0 of 1. */
 orr_status orr_render_views(const orr_scene *const *views, int n, orr_render_report *reports,
                             orr_progress_fn progress, void *progress_user, orr_error *err);
-
-/* How the processes rendering one frame together combine their work (MPI
- * ranks; src/mpi/ provides these over a communicator). Each process splats
- * its share of the particles; the sums are reduced onto rank 0, which alone
- * post-processes and writes. The library itself knows nothing of MPI. */
-typedef struct orr_parallel {
-    int rank, nranks;
-    /* Sums v[0..n) over the processes; every process gets the sums. */
-    orr_status (*allreduce_sum)(void *user, double *v, size_t n, orr_error *err);
-    /* Sums v[0..n) of every process into rank 0's v; the others' v is left as it was. */
-    orr_status (*reduce_sum)(void *user, float *v, size_t n, orr_error *err);
-    /* Collective: returns mine, or an error when any other process failed. */
-    orr_status (*any_failed)(void *user, orr_status mine, orr_error *err);
-    void *user;
-} orr_parallel;
 
 struct orr_fits_header;
 

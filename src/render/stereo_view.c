@@ -136,7 +136,7 @@ void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep)
         visible[i] &= keep[i];
 }
 
-void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s, const orr_render_report *rep)
+void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s)
 {
     orr_fits_add_string(h, "STEREO", orr_stereo_mode_name(s->stereo), "stereo mode");
     if (s->stereo == ORR_STEREO_SEPARATE && s->stereo_eye)
@@ -145,7 +145,7 @@ void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s, const orr_rend
         orr_fits_add_string(h, "EYES", "left, right", "HDUs: the left eye's planes, then the right's");
     orr_fits_add_double(h, "EYESEP", s->eye_separation, "interocular distance, scene units");
     if (orr_projection_traits_of(s->projection.kind).off_axis_stereo)
-        orr_fits_add_double(h, "CONVERG", rep->stereo_convergence, "distance of zero parallax, scene units");
+        orr_fits_reserve(h, "CONVERG", "distance of zero parallax, scene units"); /* the frame's */
     else
         orr_fits_add_double(h, "ZENFADE", s->zenith_fade, "[deg] ODS separation fades to 0 at the pole");
     if (s->stereo == ORR_STEREO_ANAGLYPH)

@@ -1,6 +1,6 @@
 /* One view being rendered, as the parts of the renderer share it: plan.c
  * (the plan: each view planned once, then each frame), view_camera.c (the
- * observer frame, the cameras), splat_pass.c (the particles into the
+ * observer frame, the cameras), splat_*.c (the particles into the
  * view's planes), view_outputs.c (the planes into the view's files) and
  * compose.c (raw planes re-graded). Private to render/. */
 #ifndef ORR_RENDER_VIEW_STATE_H
@@ -8,13 +8,14 @@
 
 #include "core/atomic.h"
 #include "encode/fits.h"
+#include "post/view_psf.h"
+#include "reduce/lanes.h"
 #include "render/lengths.h"
 #include "render/motion_blur.h"
 #include "render/periodic_view.h"
 #include "render/render.h"
 #include "render/stereo_view.h"
 #include "render/timings.h"
-#include "render/view_psf.h"
 #include "splat/bands.h"
 #include "splat/sph.h"
 
@@ -49,8 +50,11 @@ typedef struct view_state {
     int ngp_fused;              /* NGP blocks taken whole go through the fused gather */
     orr_map_outline outline;    /* the image's map, for NGP indices */
     orr_bands bands;
-    int nlanes;                 /* lanes of the splat (splat_pass.c) */
-    orr_plane *lane_planes;     /* lanes 1 .. nlanes-1: nplanes planes each; lane 0 is planes[] */
+    orr_lanes lanes;            /* lanes of the splat (reduce/lanes.h): lane 0 is planes[] */
+    /* The view's FITS cards (view_cards.c): made once by the plan, with the
+     * frame's values reserved in place, and after the WCS the stereo ones;
+     * the frame's own, filled in for its files. */
+    orr_fits_header cards, stereo_cards, frame_cards;
     orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
     struct frame_timer *timer;  /* the frame's stage timings (every view's), or NULL: not measured */
     struct orr_dust_frame *dust; /* dust.types: the frame's dust, which dims the weights (dust/dust.h), or NULL */
@@ -110,12 +114,18 @@ void orr_splat_free_lanes(view_state *v);
 orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, const orr_parallel *par,
                                  struct orr_dust_frame *dust, orr_error *err);
 
+/* ---- the view's FITS cards (view_cards.c) ---- */
+
+/* The cards of the planned view (v->cards, v->stereo_cards): those that
+ * depend on the scene, the projection and the PSF, the frame's reserved. */
+void orr_view_plan_cards(view_state *v);
+/* The frame's cards (v->frame_cards): the plan's with the frame's camera,
+ * counts, time and source, the WCS and the stereo cards; call when the
+ * frame's planes are final (the reductions done, the bright stars drawn). */
+void orr_view_frame_cards(view_state *v);
+
 /* ---- the view's files (view_outputs.c) ---- */
 
-/* Pixels outside a sky map: NaN (blank in FITS, black in pictures). */
-void orr_view_mask_outside_map(view_state *v);
-/* The cards of the view's frame: camera, projection, WCS, PSF, counts. */
-void orr_view_add_frame_cards(const view_state *v, orr_fits_header *h);
 /* The graded picture (linear RGB in [0, 1]) and its description. */
 orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size_t size, orr_error *err);
 orr_status orr_view_write_pictures(view_state *v, orr_error *err);

@@ -2,7 +2,7 @@
  * a table").
  *
  * With a PSF on a sky map every star is drawn as the PSF's core: a kernel
- * of one angular size, theta = h / r, everywhere (render/view_psf.h).
+ * of one angular size, theta = h / r, everywhere (post/view_psf.h).
  * What it looks like in pixels depends only on where it falls: the map's
  * local scale and distortion (the ellipse of the local affine model,
  * splat/sph.c) and the star's offset within its pixel. So the map is cut

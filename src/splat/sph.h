@@ -83,7 +83,7 @@ orr_status orr_sph_init(orr_sph *s, const orr_kernel *k, const orr_projection *p
 void orr_sph_free(orr_sph *s);
 
 /* A sky map whose particles are widened to a PSF core of angular size
- * theta = h / r (render/view_psf.h): those whose kernel is the core alone
+ * theta = h / r (post/view_psf.h): those whose kernel is the core alone
  * are drawn from a table of pixel-integrated stamps (splat/sky_cores.h)
  * instead of being evaluated one by one. Nothing for a flat projection. */
 orr_status orr_sph_use_cores(orr_sph *s, double theta, orr_error *err);

@@ -6,7 +6,7 @@
 #include <stdlib.h>
 
 #include "check.h"
-#include "render/view_psf.h"
+#include "post/view_psf.h"
 #include "splat/sky_cores.h"
 #include "splat/sph.h"
 #include "test_random.h"
@@ -31,7 +31,7 @@ static void sky_setup(sky *s, orr_projection p, double core_pixels)
     CHECK(orr_sph_init(&s->table, &s->k, &s->p, &err) == ORR_OK);
     CHECK(orr_plane_alloc(&s->a, s->p.width, s->p.height, "w", "", &err) == ORR_OK);
     CHECK(orr_plane_alloc(&s->b, s->p.width, s->p.height, "w", "", &err) == ORR_OK);
-    /* As render/view_psf.c and widen_for_psf make a star's core. */
+    /* As post/view_psf.c and widen_for_psf make a star's core. */
     s->theta = (float)(2.0 * sin(0.25 * core_pixels / s->p.focal) / orr_kernel_half_max_q(&s->k));
     CHECK(orr_sph_use_cores(&s->table, s->theta, &err) == ORR_OK);
     CHECK(s->table.cores != NULL && s->exact.cores == NULL);

@@ -1,11 +1,10 @@
-#include "render/view_psf.h"
+#include "post/view_psf.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/vecmath.h"
-#include "post/psf.h"
 
 #define ARCMIN (3.14159265358979323846 / (180.0 * 60.0))
 
@@ -53,14 +52,14 @@ static orr_status boost_spikes(orr_image_kernel *k, double angle_deg, double gai
 
 /* The Hubble PSF for a single-channel plane: the three colour bands'
  * kernels averaged (a flat spectrum over 400-700 nm). */
-static orr_status hst_kernel(const orr_scene *s, orr_image_kernel *out, orr_error *err)
+static orr_status hst_kernel(const orr_psf_settings *ps, orr_image_kernel *out, orr_error *err)
 {
     orr_psf_params p;
     orr_psf_hst_defaults(&p);
-    p.pupil.angle_deg = s->psf_angle;
-    p.pupil.spider_width = s->psf_vane_width;
-    p.arcsec_per_pixel = s->psf_arcsec_per_pixel > 0 ? s->psf_arcsec_per_pixel : p.arcsec_per_pixel;
-    p.size = s->psf_size;
+    p.pupil.angle_deg = ps->angle;
+    p.pupil.spider_width = ps->vane_width;
+    p.arcsec_per_pixel = ps->arcsec_per_pixel > 0 ? ps->arcsec_per_pixel : p.arcsec_per_pixel;
+    p.size = ps->size;
     orr_image_kernel bands[ORR_PSF_MAX_BANDS];
     memset(bands, 0, sizeof bands);
     orr_status st = orr_psf_generate(&p, bands, NULL, err);
@@ -71,22 +70,22 @@ static orr_status hst_kernel(const orr_scene *s, orr_image_kernel *out, orr_erro
             out->data[i] += bands[b].data[i] / (float)p.nbands;
     for (int b = 0; b < p.nbands; b++)
         orr_image_kernel_free(&bands[b]);
-    if (!st && s->psf_spike_gain != 1.0)
-        st = boost_spikes(out, s->psf_angle, s->psf_spike_gain, err);
+    if (!st && ps->spike_gain != 1.0)
+        st = boost_spikes(out, ps->angle, ps->spike_gain, err);
     if (!st)
         st = orr_image_kernel_normalise(out, err);
     return st;
 }
 
-static orr_status file_kernel(const orr_scene *s, orr_image_kernel *out, orr_error *err)
+static orr_status file_kernel(const orr_psf_settings *ps, orr_image_kernel *out, orr_error *err)
 {
     orr_psf_fits_options opt = {0};
-    opt.subsample = s->psf_file_subsample;
-    opt.arcsec_per_pixel = s->psf_arcsec_per_pixel;
-    opt.size = s->psf_size;
+    opt.subsample = ps->file_subsample;
+    opt.arcsec_per_pixel = ps->arcsec_per_pixel;
+    opt.size = ps->size;
     opt.centre = ORR_PSF_CENTRE_PEAK;
     opt.taper = 0.3; /* soft wings, as the generated PSF's */
-    return orr_psf_load_fits(s->psf_file, &opt, out, NULL, err);
+    return orr_psf_load_fits(ps->file, &opt, out, NULL, err);
 }
 
 /* Generating the Hubble PSF takes 0.3-2 s, and every view of a run may
@@ -94,10 +93,10 @@ static orr_status file_kernel(const orr_scene *s, orr_image_kernel *out, orr_err
  * the plan's memo (render/plan.h) keeps each kernel made, with what it
  * depends on, for the life of the plan, so a run makes it once. The memo
  * belongs to one plan, used by one thread at a time: no lock. */
-static int hst_key_equal(const orr_psf_kernel_memo *m, const orr_scene *s)
+static int hst_key_equal(const orr_psf_kernel_memo *m, const orr_psf_settings *ps)
 {
-    return m->angle == s->psf_angle && m->vane_width == s->psf_vane_width && m->spike_gain == s->psf_spike_gain &&
-           m->arcsec_per_pixel == s->psf_arcsec_per_pixel && m->size == s->psf_size;
+    return m->angle == ps->angle && m->vane_width == ps->vane_width && m->spike_gain == ps->spike_gain &&
+           m->arcsec_per_pixel == ps->arcsec_per_pixel && m->size == ps->size;
 }
 
 static orr_status kernel_copy(const orr_image_kernel *from, orr_image_kernel *to, orr_error *err)
@@ -110,18 +109,18 @@ static orr_status kernel_copy(const orr_image_kernel *from, orr_image_kernel *to
     return st;
 }
 
-static orr_status hst_kernel_memo(const orr_scene *s, orr_psf_kernels *memo, orr_image_kernel *out,
+static orr_status hst_kernel_memo(const orr_psf_settings *ps, orr_psf_kernels *memo, orr_image_kernel *out,
                                   orr_error *err)
 {
     for (int i = 0; memo && i < memo->n; i++)
-        if (hst_key_equal(&memo->kernel[i], s))
+        if (hst_key_equal(&memo->kernel[i], ps))
             return kernel_copy(&memo->kernel[i].kernel, out, err);
-    orr_status st = hst_kernel(s, out, err);
+    orr_status st = hst_kernel(ps, out, err);
     if (st || !memo || memo->n == ORR_PSF_KERNELS_MAX)
         return st; /* (a full memo: the kernel is made again, not lost) */
     orr_psf_kernel_memo *m = &memo->kernel[memo->n];
-    *m = (orr_psf_kernel_memo){s->psf_angle, s->psf_arcsec_per_pixel, s->psf_vane_width, s->psf_spike_gain,
-                               s->psf_size, {0, 0, NULL, 0}};
+    *m = (orr_psf_kernel_memo){ps->angle, ps->arcsec_per_pixel, ps->vane_width, ps->spike_gain, ps->size,
+                               {0, 0, NULL, 0}};
     st = kernel_copy(out, &m->kernel, err);
     memo->n += !st;
     return st;
@@ -134,34 +133,34 @@ void orr_psf_kernels_free(orr_psf_kernels *memo)
     memo->n = 0;
 }
 
-orr_status orr_view_psf_kernel(const orr_scene *s, orr_psf_kernels *memo, orr_image_kernel *out, orr_error *err)
+orr_status orr_view_psf_kernel(const orr_psf_settings *ps, orr_psf_kernels *memo, orr_image_kernel *out,
+                               orr_error *err)
 {
-    return s->psf == ORR_PSF_HST ? hst_kernel_memo(s, memo, out, err) : file_kernel(s, out, err);
+    return ps->kind == ORR_PSF_HST ? hst_kernel_memo(ps, memo, out, err) : file_kernel(ps, out, err);
 }
 
 /* Flat views given psf.fwhm: every star a Gaussian core psf.fwhm pixels
  * wide, the brightest the whole PSF magnified to that core. */
-static orr_status flat_stars_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
-                                   orr_image_kernel *k, orr_error *err)
+static orr_status flat_stars_setup(orr_view_psf *vp, const orr_psf_settings *ps, int colour,
+                                   const orr_projection *proj, orr_image_kernel *k, orr_error *err)
 {
-    orr_status st = orr_convolver_create_gaussian(&vp->core, proj->width, proj->height, s->psf_fwhm, NULL, err);
+    orr_status st = orr_convolver_create_gaussian(&vp->core, proj->width, proj->height, ps->fwhm, NULL, err);
     if (!st && !(vp->sky = orr_calloc(1, sizeof *vp->sky, "flat PSF", err)))
         st = ORR_ERR_NOMEM;
     if (!st)
-        st = orr_flat_psf_init(vp->sky, k, s->psf_fwhm, s->psf_spike_stars, s->psf_spike_min_flux,
-                               s->colour || s->nlayers ? 1 : 0, err);
+        st = orr_flat_psf_init(vp->sky, k, ps->fwhm, ps->spike_stars, ps->spike_min_flux, colour ? 1 : 0, err);
     return st;
 }
 
-static orr_status flat_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
+static orr_status flat_setup(orr_view_psf *vp, const orr_psf_settings *ps, int colour, const orr_projection *proj,
                              orr_psf_kernels *memo, orr_error *err)
 {
-    if (s->psf == ORR_PSF_GAUSSIAN)
-        return orr_convolver_create_gaussian(&vp->conv, proj->width, proj->height, s->psf_fwhm, NULL, err);
+    if (ps->kind == ORR_PSF_GAUSSIAN)
+        return orr_convolver_create_gaussian(&vp->conv, proj->width, proj->height, ps->fwhm, NULL, err);
     orr_image_kernel k = {0};
-    orr_status st = orr_view_psf_kernel(s, memo, &k, err);
-    if (!st && s->psf_flat_stars)
-        st = flat_stars_setup(vp, s, proj, &k, err);
+    orr_status st = orr_view_psf_kernel(ps, memo, &k, err);
+    if (!st && ps->flat_stars)
+        st = flat_stars_setup(vp, ps, colour, proj, &k, err);
     else if (!st)
         st = orr_convolver_create(&vp->conv, proj->width, proj->height, &k, NULL, err);
     orr_image_kernel_free(&k);
@@ -170,36 +169,35 @@ static orr_status flat_setup(orr_view_psf *vp, const orr_scene *s, const orr_pro
 
 /* Sky maps, hst or file: the whole PSF for the brightest stars, scaled so
  * its core is as wide as the kernels the other stars are drawn with. */
-static orr_status sky_setup(orr_view_psf *vp, const orr_scene *s, double core_fwhm_rad, orr_psf_kernels *memo,
-                            orr_error *err)
+static orr_status sky_setup(orr_view_psf *vp, const orr_psf_settings *ps, int colour, double core_fwhm_rad,
+                            orr_psf_kernels *memo, orr_error *err)
 {
     orr_image_kernel k = {0};
-    orr_status st = orr_view_psf_kernel(s, memo, &k, err);
+    orr_status st = orr_view_psf_kernel(ps, memo, &k, err);
     if (!st && !(vp->sky = orr_calloc(1, sizeof *vp->sky, "sky PSF", err)))
         st = ORR_ERR_NOMEM;
     if (!st)
-        st = orr_sky_psf_init(vp->sky, &k, core_fwhm_rad, s->psf_spike_stars, s->psf_spike_min_flux,
-                              s->colour || s->nlayers ? 1 : 0, err);
+        st = orr_sky_psf_init(vp->sky, &k, core_fwhm_rad, ps->spike_stars, ps->spike_min_flux, colour ? 1 : 0,
+                              err);
     orr_image_kernel_free(&k);
-    return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
+    return st;
 }
 
-orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
+orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_psf_settings *ps, int colour, const orr_projection *proj,
                               const orr_kernel *k, orr_psf_kernels *memo, orr_error *err)
 {
     memset(vp, 0, sizeof *vp);
-    if (s->psf == ORR_PSF_NONE)
+    if (ps->kind == ORR_PSF_NONE)
         return ORR_OK;
     if (orr_projection_is_sky(proj)) {
         /* The sky deposit measures distances on the sphere as chords: a
          * half-maximum chord of q_half h / r is an angle of FWHM / 2. */
-        double fwhm = s->psf_fwhm_arcmin > 0 ? s->psf_fwhm_arcmin * ARCMIN : ORR_SKY_CORE_PIXELS / proj->focal;
+        double fwhm = ps->fwhm_arcmin > 0 ? ps->fwhm_arcmin * ARCMIN : ORR_SKY_CORE_PIXELS / proj->focal;
         vp->core_fwhm_arcmin = fwhm / ARCMIN;
         vp->h_per_r = 2.0 * sin(0.25 * fwhm) / orr_kernel_half_max_q(k);
-        return s->psf == ORR_PSF_GAUSSIAN ? ORR_OK : sky_setup(vp, s, fwhm, memo, err);
+        return ps->kind == ORR_PSF_GAUSSIAN ? ORR_OK : sky_setup(vp, ps, colour, fwhm, memo, err);
     }
-    orr_status st = flat_setup(vp, s, proj, memo, err);
-    return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
+    return flat_setup(vp, ps, colour, proj, memo, err);
 }
 
 orr_status orr_view_psf_apply(orr_view_psf *vp, orr_plane *plane, orr_error *err)

@@ -6,16 +6,17 @@
  * kernel whose half-maximum width on the sky is the PSF's (core's) FWHM
  * (and a particle that has a smoothing length of its own as both, added in
  * quadrature), and with psf.kind hst or file the brightest stars are then
- * redrawn with the whole PSF in angle (render/sky_psf.h). A flat view given
+ * redrawn with the whole PSF in angle (post/sky_psf.h). A flat view given
  * psf.fwhm with an hst or file PSF draws its stars the same way, in pixels
- * (render/flat_psf.h). docs/psf.md. */
-#ifndef ORR_RENDER_VIEW_PSF_H
-#define ORR_RENDER_VIEW_PSF_H
+ * (post/flat_psf.h). docs/psf.md. */
+#ifndef ORR_POST_VIEW_PSF_H
+#define ORR_POST_VIEW_PSF_H
 
+#include "frame/projection.h"
 #include "post/convolve.h"
-#include "scene/scene.h"
-#include "render/flat_psf.h"
-#include "render/sky_psf.h"
+#include "post/flat_psf.h"
+#include "post/psf.h"
+#include "post/sky_psf.h"
 #include "splat/kernel.h"
 
 /* The automatic core of a sky map's PSF (psf.fwhm_arcmin: auto): this many
@@ -29,7 +30,7 @@
 
 typedef struct orr_view_psf {
     orr_convolver *conv; /* flat views: the convolution; NULL for none (or stars drawn one by one) */
-    orr_convolver *core; /* flat views with hst/file and psf.fwhm: every star's core (render/flat_psf.h) */
+    orr_convolver *core; /* flat views with hst/file and psf.fwhm: every star's core (post/flat_psf.h) */
     double h_per_r;      /* sky maps: kernel h per unit distance giving the PSF's FWHM; 0 for none */
     double core_fwhm_arcmin; /* sky maps: that FWHM, psf.fwhm_arcmin's or the automatic one */
     orr_sky_psf *sky;    /* sky maps with an hst or file PSF, and flat views with core: the bright stars'
@@ -51,14 +52,16 @@ typedef struct orr_psf_kernels {
 } orr_psf_kernels;
 void orr_psf_kernels_free(orr_psf_kernels *memo);
 
-/* Prepares the scene's PSF for a projection that has been set up; k is the
- * kernel sky maps draw with; memo (or NULL) the plan's kernels. Made once
- * per run: it depends on the scene and the image, never on the frame. */
-orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_scene *s, const orr_projection *proj,
+/* Prepares the PSF of settings ps for a projection that has been set up;
+ * colour: the planes are X, Y, Z (stars are ranked by Y); k is the kernel
+ * sky maps draw with; memo (or NULL) the plan's kernels. Made once per
+ * run: it depends on the settings and the image, never on the frame. */
+orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_psf_settings *ps, int colour, const orr_projection *proj,
                               const orr_kernel *k, orr_psf_kernels *memo, orr_error *err);
 /* The PSF as an image kernel (psf.kind hst or file), normalised, with its
  * angular scale; a Hubble PSF from memo when it holds it (memo may be NULL). */
-orr_status orr_view_psf_kernel(const orr_scene *s, orr_psf_kernels *memo, orr_image_kernel *out, orr_error *err);
+orr_status orr_view_psf_kernel(const orr_psf_settings *ps, orr_psf_kernels *memo, orr_image_kernel *out,
+                               orr_error *err);
 /* Convolves a flat view's plane (nothing for a sky map or no PSF). */
 orr_status orr_view_psf_apply(orr_view_psf *vp, orr_plane *plane, orr_error *err);
 void orr_view_psf_free(orr_view_psf *vp);

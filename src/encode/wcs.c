@@ -1,4 +1,4 @@
-#include "render/wcs.h"
+#include "encode/wcs.h"
 
 #include <stdio.h>
 

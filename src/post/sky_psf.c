@@ -1,4 +1,4 @@
-#include "render/sky_psf.h"
+#include "post/sky_psf.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -441,10 +441,9 @@ orr_status orr_sky_psf_select(orr_sky_psf *sp, orr_error *err)
     return ORR_OK;
 }
 
-orr_status orr_sky_psf_share(orr_sky_psf *sp, int rank, int nranks,
-                             orr_status (*allreduce_sum)(void *user, double *v, size_t n, orr_error *err),
-                             void *user, orr_error *err)
+orr_status orr_sky_psf_share(orr_sky_psf *sp, const orr_parallel *par, orr_error *err)
 {
+    const int rank = par->rank, nranks = par->nranks;
     /* An all-gather by summing: each process fills its own slots, zeros
      * elsewhere (a slot with key 0 is empty: stars are brighter than 0). */
     const size_t per = (size_t)sp->max_stars * STAR_FIELDS, n = per * (size_t)nranks;
@@ -458,7 +457,7 @@ orr_status orr_sky_psf_share(orr_sky_psf *sp, int rank, int nranks,
     }
     for (int k = 0; k < sp->nstars; k++)
         star_pack(&sp->stars[k], all + (size_t)rank * per + (size_t)k * STAR_FIELDS);
-    orr_status st = allreduce_sum(user, all, n, err);
+    orr_status st = par->allreduce_sum(par->user, all, n, err);
     int count = 0;
     for (size_t k = 0; !st && k < n / STAR_FIELDS; k++)
         if (all[k * STAR_FIELDS] > 0)

@@ -6,7 +6,7 @@
  * (0.04" a pixel, a core 1.4 pixels wide) buries the bright stars' spikes:
  * every faint star's wings add to a haze as bright as the spikes, and a
  * spike within a few core widths of its star is lost in the star's own
- * rings. So, as on sky maps (render/sky_psf.h), the PSF is split by star:
+ * rings. So, as on sky maps (post/sky_psf.h), the PSF is split by star:
  *
  *   - every star is drawn as the PSF's core: the splatted plane is
  *     convolved with a Gaussian of FWHM psf.fwhm pixels, all of a faint
@@ -21,11 +21,11 @@
  * The stars are collected during the splat by the sky PSF's machinery
  * (orr_sky_psf_collect, _select, _share), whose rad_per_pixel then holds
  * image pixels per PSF pixel. */
-#ifndef ORR_RENDER_FLAT_PSF_H
-#define ORR_RENDER_FLAT_PSF_H
+#ifndef ORR_POST_FLAT_PSF_H
+#define ORR_POST_FLAT_PSF_H
 
 #include "post/convolve.h"
-#include "render/sky_psf.h"
+#include "post/sky_psf.h"
 #include "splat/deposit.h"
 #include "splat/sph.h"
 

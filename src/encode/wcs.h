@@ -5,8 +5,8 @@
  * with CRVAL at the zenith, perspective frames as gnomonic -TAN about the view
  * direction; orthographic views get linear axes in scene lengths. Conventions: Calabretta & Greisen 2002, A&A 395,
  * 1077 (FITS WCS paper II). */
-#ifndef ORR_RENDER_WCS_H
-#define ORR_RENDER_WCS_H
+#ifndef ORR_ENCODE_WCS_H
+#define ORR_ENCODE_WCS_H
 
 #include "encode/fits.h"
 #include "frame/camera.h"

@@ -18,13 +18,14 @@
  * towards the image's +x at the map's centre, so a star at the centre looks
  * as it would on a flat image; the PSF's angle is counterclockwise from
  * east with north up, as on a flat image from x with y up. */
-#ifndef ORR_RENDER_SKY_PSF_H
-#define ORR_RENDER_SKY_PSF_H
+#ifndef ORR_POST_SKY_PSF_H
+#define ORR_POST_SKY_PSF_H
 
 #include "post/convolve.h"
+#include "reduce/parallel.h"
 #include "splat/sph.h"
 
-/* Splat lanes that may collect stars at once (splat_pass.c's MAX_LANES). */
+/* Splat lanes that may collect stars at once (reduce/lanes.h's ORR_MAX_LANES). */
 #define ORR_SKY_PSF_LANES 8
 
 /* A bright star as it was deposited, so that deposit can be undone. */
@@ -73,11 +74,8 @@ void orr_sky_psf_collect(orr_sky_psf *sp, int lane, const orr_sph_block *b, cons
 orr_status orr_sky_psf_select(orr_sky_psf *sp, orr_error *err);
 
 /* With several processes (each having selected its own): every process
- * gets the brightest of all of them. allreduce_sum sums doubles over the
- * processes (render.h's orr_parallel). A collective call. */
-orr_status orr_sky_psf_share(orr_sky_psf *sp, int rank, int nranks,
-                             orr_status (*allreduce_sum)(void *user, double *v, size_t n, orr_error *err),
-                             void *user, orr_error *err);
+ * gets the brightest of all of them. A collective call. */
+orr_status orr_sky_psf_share(orr_sky_psf *sp, const orr_parallel *par, orr_error *err);
 
 /* Draws the whole PSF for the selected stars into planes, which hold every
  * star's core (the sum of all processes' planes). sph is the deposit that

@@ -1,4 +1,4 @@
-#include "render/flat_psf.h"
+#include "post/flat_psf.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,0 +1,44 @@
+/* A view's planes made ready for its files and its picture: the pixels off
+ * a sky map blanked, and the planes graded into display RGB (the colour
+ * synthesis of X, Y, Z planes, one plane in a tint, or one plane stretched
+ * and colour-mapped). */
+#ifndef ORR_POST_GRADE_H
+#define ORR_POST_GRADE_H
+
+#include "core/colourimetry.h"
+#include "core/error.h"
+#include "core/plane.h"
+#include "frame/projection.h"
+#include "post/colormap.h"
+#include "post/colour.h"
+#include "post/stretch.h"
+
+/* Pixels outside a sky map hold no sky: NaN marks them blank in FITS (and
+ * the stretch shows them black) in planes[0..nplanes), which have p's
+ * size. Deposits never put weight there. Nothing for a flat projection. */
+void orr_mask_outside_map(const orr_projection *p, orr_plane *planes, int nplanes);
+
+/* How planes become a picture. */
+typedef enum {
+    ORR_GRADE_SYNTHESIS, /* X, Y, Z planes: their colour synthesis */
+    ORR_GRADE_TINT,      /* one plane as luminance, drawn in one colour from a path of colours */
+    ORR_GRADE_COLORMAP,  /* one plane stretched and colour-mapped */
+} orr_grade_kind;
+
+typedef struct orr_grade {
+    orr_grade_kind kind;
+    const orr_colour_synth *synth; /* synthesis and tint */
+    const orr_colour_path *tint;   /* tint: the path, and the position along it */
+    double tint_t;
+    int linear;                    /* synthesis and tint: leave the values linear, else sRGB-encode them */
+    const orr_stretch *stretch;    /* colour map: the stretch and the map */
+    orr_colormap_kind colormap;
+} orr_grade;
+
+/* The picture of planes (X, Y, Z, or the one plane) as g says, width *
+ * height * 3 values in [0, 1] into rgb (row 0 at the top); *white gets the
+ * white level used (Y0 for synthesis and tint). */
+orr_status orr_grade_picture(const orr_grade *g, const orr_plane *planes, float *rgb, double *white,
+                             orr_error *err);
+
+#endif

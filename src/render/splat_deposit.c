@@ -1,0 +1,145 @@
+/* The splat's deposit: a gathered, projected block into a lane's planes,
+ * as points (NGP, CIC, SPH kernels; a sky map's PSF widening the kernels
+ * and collecting its brightest stars), as motion blur's streaks, or as
+ * the fused gather's pixel indices; and what each block adds to the
+ * report. */
+#include "render/splat_block.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "render/motion_blur.h"
+#include "post/view_psf.h"
+#include "splat/sph.h"
+
+/* A sky map's PSF widens every particle's kernel to the PSF's angular size
+ * (in quadrature with its own smoothing length). */
+static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
+{
+    const float k = (float)v->psf.h_per_r;
+    if (k <= 0.0f)
+        return;
+    for (size_t i = 0; i < n; i++) {
+        float r2 = b->x[i] * b->x[i] + b->y[i] * b->y[i] + b->z[i] * b->z[i];
+        b->h[i] = sqrtf(b->h[i] * b->h[i] + k * k * r2);
+    }
+}
+
+/* A block of the fused gather as an NGP batch, its indices completed (a
+ * sky map's rim folded) and its report in t. */
+orr_ngp_batch orr_splat_place_indexed(const view_state *v, size_t n, block_buffers *b, block_tally *t)
+{
+    orr_deposit_stats st[ORR_PLANES_MAX];
+    memset(st, 0, sizeof st);
+    orr_ngp_batch nb = {n, b->share_pixel, b->px, b->py, {NULL}, v->nplanes, 0};
+    for (int k = 0; k < v->nplanes; k++)
+        nb.w[k] = b->wp[k];
+    orr_ngp_place(&v->proj, &v->outline, &nb, st);
+    t->deposit[0] = st[0];
+    t->deposit[1] = st[1];
+    return nb;
+}
+
+/* Deposits the block's n projected points into planes (a lane's: the
+ * view's own or a private copy). The report's statistics are of the first
+ * plane's weights (with colour, X; Y's are in the FITS header). */
+static void deposit_points(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+                           block_tally *t)
+{
+    if (v->use_sph)
+        widen_for_psf(v, n, b);
+    for (int k = 0; k < v->nplanes; k++) {
+        orr_deposit_stats scratch = {0};
+        orr_deposit_stats *st = k < 2 ? &t->deposit[k] : &scratch;
+        if (!v->use_sph) {
+            orr_deposit(v->scene->deposit, &planes[k], n, b->px, b->py, b->wp[k], b->visible, &v->proj, st);
+            continue;
+        }
+        orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->wp[k]};
+        orr_sph_deposit(&v->sph, &blk, &planes[k], st);
+    }
+    /* A sky map's hst/file PSF: the brightest stars are redrawn with the
+     * whole PSF after the splat (post/sky_psf.h). */
+    if (v->psf.sky) {
+        orr_sph_block geom = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
+        orr_sky_psf_collect(v->psf.sky, lane, &geom, b->wp, v->nplanes);
+    }
+}
+
+/* Projects and deposits the ns samples gathered in sb; returns 0, the
+ * samples left in it. */
+static size_t draw_samples(const view_state *v, orr_plane *planes, int lane, size_t ns, block_buffers *sb,
+                           block_tally *t)
+{
+    if (ns) {
+        orr_splat_project_points(v, ns, sb, t);
+        deposit_points(v, planes, lane, ns, sb, t);
+    }
+    return 0;
+}
+
+/* Deposits the streaks of the block's n particles: each as its samples
+ * (orr_motion_blur_samples of them, at the midpoints of equal steps along
+ * the streak, each with an equal share of the weight and the particle's
+ * smoothing length), projected and deposited a block of samples at a
+ * time. */
+static void deposit_streaks(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+                            block_tally *t)
+{
+    block_buffers *sb = b->samples;
+    for (int p = 0; p < ORR_PLANES_MAX; p++)
+        sb->wp[p] = sb->w[p];
+    size_t ns = 0;
+    for (size_t i = 0; i < n; i++) {
+        const float q0[3] = {b->x[i], b->y[i], b->z[i]}, sv[3] = {b->sx[i], b->sy[i], b->sz[i]};
+        const int m = orr_motion_blur_samples(&v->blur, q0, sv);
+        const float share = 1.0f / (float)m;
+        for (int k = 0; k < m; k++) {
+            if (ns == BLOCK)
+                ns = draw_samples(v, planes, lane, ns, sb, t);
+            const float f = ((float)k + 0.5f) * share;
+            sb->x[ns] = q0[0] + f * sv[0];
+            sb->y[ns] = q0[1] + f * sv[1];
+            sb->z[ns] = q0[2] + f * sv[2];
+            sb->h[ns] = b->h[i];
+            for (int p = 0; p < v->nplanes; p++)
+                sb->w[p][ns] = b->wp[p][i] * share;
+            ns++;
+        }
+    }
+    draw_samples(v, planes, lane, ns, sb, t);
+}
+
+/* Deposits the gathered block: as the fused gather's pixels, as streaks,
+ * or as its projected points. */
+void orr_splat_deposit_block(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+                             block_tally *t)
+{
+    if (b->indexed) {
+        orr_ngp_batch nb = orr_splat_place_indexed(v, n, b, t);
+        orr_ngp_add(&nb, planes);
+    } else if (v->blur.active) {
+        deposit_streaks(v, planes, lane, n, b, t);
+    } else {
+        deposit_points(v, planes, lane, n, b, t);
+    }
+}
+
+static void add_stats(orr_deposit_stats *to, const orr_deposit_stats *from)
+{
+    to->deposited += from->deposited;
+    to->outside += from->outside;
+    to->culled += from->culled;
+    to->n_particles += from->n_particles;
+    to->n_culled += from->n_culled;
+}
+
+/* Adds what one block added to the report. */
+void orr_splat_add_tally(orr_render_report *r, const block_tally *t)
+{
+    r->n_selected += t->n_selected;
+    r->n_nonfinite += t->n_nonfinite;
+    r->n_stereo_skipped += t->n_stereo_skipped;
+    add_stats(&r->deposit, &t->deposit[0]);
+    add_stats(&r->deposit_y, &t->deposit[1]);
+}
