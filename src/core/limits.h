@@ -5,4 +5,7 @@
 /* Longest path a file name may have, terminator included (Linux PATH_MAX). */
 #define ORR_PATH_MAX 4096
 
+/* Longest short name (an output name, a unit, a dome profile), terminator included. */
+#define ORR_NAME_MAX 128
+
 #endif

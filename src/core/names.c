@@ -37,6 +37,8 @@ const char *orr_named_list(const orr_named *table, char *buf, size_t size)
         return buf;
     buf[0] = '\0';
     for (const orr_named *n = table; n->name; n++) {
+        if (orr_named_name(table, n->value) != n->name)
+            continue; /* an alias */
         size_t len = strlen(n->name), sep = used > 0;
         if (used + sep + len + 1 > size)
             break;

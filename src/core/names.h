@@ -24,7 +24,9 @@ int orr_named_has(const orr_named *table, int value);
 const char *orr_named_name(const orr_named *table, int value);
 
 /* The table's names separated by single spaces ("ngp cic sph"), written
- * into buf (truncated to size); returns buf. */
+ * into buf (truncated to size); returns buf. A later name of a value
+ * already named is an alias ("gray" after "grey"): it is parsed but not
+ * listed. */
 const char *orr_named_list(const orr_named *table, char *buf, size_t size);
 
 /* Defines `int fn(const char *name, type *out)`, the typed parser of an

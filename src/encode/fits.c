@@ -10,6 +10,8 @@
 
 #include "core/atomic.h"
 
+const orr_named orr_fits_compression_names[] = {{"none", ORR_FITS_UNCOMPRESSED}, {"gzip", ORR_FITS_GZIP}, {NULL, 0}};
+
 /* ---- header cards ------------------------------------------------------ */
 
 /* Returns the next free card with its key set (upper case, as FITS wants),

@@ -7,6 +7,7 @@
 #define ORR_ENCODE_FITS_H
 
 #include "core/error.h"
+#include "core/names.h"
 #include "core/plane.h"
 
 #define ORR_FITS_MAX_CARDS 160
@@ -71,6 +72,9 @@ orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes
  * is not offered: it codes integers only, and cfitsio refuses it for float
  * images unless they are quantised, which would change the values. */
 typedef enum { ORR_FITS_UNCOMPRESSED, ORR_FITS_GZIP } orr_fits_compression;
+
+/* "none", "gzip" (output.fits_compress). */
+extern const orr_named orr_fits_compression_names[];
 
 /* orr_write_fits with the planes tile-compressed: an empty primary HDU, then
  * each plane a compressed image extension (astropy's CompImageHDU), with the

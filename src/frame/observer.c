@@ -1,5 +1,20 @@
 #include "frame/observer.h"
 
+#include <string.h>
+
+const orr_named orr_normal_sign_names[] = {{"+1", 1}, {"-1", -1}, {"1", 1}, {NULL, 0}};
+
+void orr_observer_settings_defaults(orr_observer_settings *d)
+{
+    memset(d, 0, sizeof *d);
+    d->normal = orr_v3(0, 0, 1);
+    d->normal_types = 0;
+    d->normal_radius = 30;
+    d->normal_sign = -1;
+    d->dim = 1;
+    d->dim_near = 0.01;
+}
+
 orr_status orr_sky_frame_build(orr_sky_frame *f, orr_vec3 observer, orr_vec3 reference, orr_vec3 n0,
                                orr_error *err)
 {

@@ -12,8 +12,36 @@
 #include <stdint.h>
 
 #include "core/error.h"
+#include "core/names.h"
 #include "core/vecmath.h"
 #include "frame/camera.h"
+
+/* observer.*: an observer-centred sky. When observer.id is set the camera
+ * sits on that particle, which is not drawn, and the frame is rebuilt every
+ * frame: z = the disc normal n0, x = the direction to the reference
+ * particle with its n0 component removed, y = z x x. camera.position and
+ * the camera orientation keys are then not allowed. */
+typedef struct orr_observer_settings {
+    int has_id;            /* observer.id was given */
+    uint64_t id;           /* observer.id */
+    uint64_t reference_id; /* observer.reference_id (required with observer.id) */
+    int has_normal;
+    orr_vec3 normal;       /* observer.normal: n0 (default [0, 0, 1]) */
+    unsigned normal_types; /* observer.normal_from.types: compute n0 from the angular momentum of
+                            * these types (bit mask; 0 = use observer.normal) */
+    double normal_radius;  /* observer.normal_from.radius: ... within this distance of the
+                            * reference particle (default 30) */
+    int normal_sign;       /* observer.normal_from.sign: +1 | -1 (default -1: galactic north is
+                            * opposite the Milky Way's spin) */
+    int dim;               /* observer.dim: weights fall off as 1/r^2 from the observer (default true) */
+    double dim_near;       /* observer.dim_near: r below this counts as this (default 0.01) */
+} orr_observer_settings;
+
+/* The words of observer.normal_from.sign ("1" is read as +1 too). */
+extern const orr_named orr_normal_sign_names[];
+
+/* Fills d with the defaults above. */
+void orr_observer_settings_defaults(orr_observer_settings *d);
 
 typedef struct orr_sky_frame {
     orr_vec3 origin;  /* the observer's position (the world origin without an observer) */

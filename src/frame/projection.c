@@ -3,6 +3,7 @@
 
 #include <chealpix.h>
 #include <math.h>
+#include <string.h>
 
 #include "core/fastmath.h"
 #include "frame/project_point.h"
@@ -14,6 +15,22 @@ const orr_named orr_projection_names[] = {
     {NULL, 0}};
 
 const char *orr_projection_name(orr_projection_kind kind) { return orr_named_name(orr_projection_names, (int)kind); }
+
+const orr_named orr_healpix_order_names[] = {{"ring", 0}, {"nested", 1}, {NULL, 0}};
+
+void orr_projection_defaults(orr_projection *p)
+{
+    memset(p, 0, sizeof *p);
+    p->kind = ORR_PROJ_ORTHOGRAPHIC;
+    p->width = 1024;
+    p->height = 1024;
+    p->ortho_width = 100;
+    p->fov_deg = 60;
+    p->near = 1e-3;
+    p->dome_fov_deg = 180;
+    p->healpix_nside = 64;
+    p->lon_flip = 0;
+}
 
 /* The 12 nside^2 pixels, as a 4 nside x 3 nside image in pixel order: the
  * planes are then the map itself. Each covers 4 pi / npix sr. */

@@ -51,6 +51,15 @@ typedef struct orr_projection {
     double lon_sign;    /* sky: -1 when longitude grows to the left (the default), +1 when flipped */
 } orr_projection;
 
+/* The scene's defaults of the keys a projection holds (camera.projection,
+ * .width, .fov, .near, .dome_fov, .healpix_nside, .healpix_order,
+ * .lon_flip; image.width, .height): orthographic, 100 units across, or a
+ * 60 degree perspective, 1024 x 1024 pixels. Clears the derived fields. */
+void orr_projection_defaults(orr_projection *p);
+
+/* The words of camera.healpix_order (healpix_nested's 0 and 1). */
+extern const orr_named orr_healpix_order_names[];
+
 /* The HEALPix pixel (Gorski et al. 2005, ApJ 622, 759) of camera-frame
  * direction (x, y, z), not zero: the map's pole (theta = 0) is the camera's
  * up (-y) and longitude phi = 0 its view direction (+z), growing toward its

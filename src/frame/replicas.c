@@ -1,6 +1,17 @@
 #include "frame/replicas.h"
 
 #include <math.h>
+#include <string.h>
+
+const orr_named orr_periodic_centre_names[] = {{"camera", 1}, {"origin", 0}, {NULL, 0}};
+
+void orr_periodic_settings_defaults(orr_periodic_settings *d)
+{
+    memset(d, 0, sizeof *d);
+    d->box = 0;
+    d->replicas = 1;
+    d->around_camera = 1;
+}
 
 orr_status orr_replicas_place(orr_replicas *r, double box, int per_axis, int around_camera, orr_vec3 camera,
                               orr_error *err)

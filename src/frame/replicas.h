@@ -6,6 +6,7 @@
 #define ORR_FRAME_REPLICAS_H
 
 #include "core/error.h"
+#include "core/names.h"
 #include "core/vecmath.h"
 #include "frame/camera.h"
 #include "frame/projection.h"
@@ -13,6 +14,25 @@
 /* 9 copies per axis at most (input.periodic.replicas). */
 #define ORR_REPLICAS_PER_AXIS_MAX 9
 #define ORR_REPLICAS_MAX (ORR_REPLICAS_PER_AXIS_MAX * ORR_REPLICAS_PER_AXIS_MAX * ORR_REPLICAS_PER_AXIS_MAX)
+
+/* input.periodic.*: a periodic box drawn replicated (docs/periodic.md). The
+ * keys sit under input: because they describe the data, but the copies are
+ * the frame stage's. */
+typedef struct orr_periodic_settings {
+    double box;        /* input.periodic.box: the box side (0 = auto: the file's BoxSize) */
+    int replicas;      /* input.periodic.replicas: copies per axis, odd (default 1 = off) */
+    int around_camera; /* input.periodic.centre: camera (1, default) | origin (0) */
+    double radius;     /* input.periodic.radius: centre camera draws the images within it
+                        * (0 = auto: (replicas - 1) / 2 box sides) */
+    double fade;       /* input.periodic.fade: the width of the taper inside the radius */
+    int has_fade;      /* ... given (else a quarter of the radius) */
+} orr_periodic_settings;
+
+/* The words of input.periodic.centre. */
+extern const orr_named orr_periodic_centre_names[];
+
+/* Fills d with the defaults above. */
+void orr_periodic_settings_defaults(orr_periodic_settings *d);
 
 /* The shifts of the copies: particle p is drawn at p + offset[k] for each k. */
 typedef struct orr_replicas {

@@ -10,6 +10,16 @@ const orr_named orr_stereo_mode_names[] = {{"none", ORR_STEREO_NONE},
                                            {"separate", ORR_STEREO_SEPARATE},
                                            {NULL, 0}};
 
+void orr_stereo_settings_defaults(orr_stereo_settings *d)
+{
+    memset(d, 0, sizeof *d);
+    d->mode = ORR_STEREO_NONE;
+    d->eye_separation = 0;
+    d->convergence = 0; /* auto */
+    d->zenith_fade = 0;
+    d->eye = 0;
+}
+
 const char *orr_stereo_mode_name(orr_stereo_mode mode) { return orr_named_name(orr_stereo_mode_names, (int)mode); }
 
 ORR_NAMED_PARSER(orr_stereo_mode_from_name, orr_stereo_mode, orr_stereo_mode_names)

@@ -44,6 +44,27 @@ int orr_stereo_mode_from_name(const char *name, orr_stereo_mode *mode);
 /* "left" or "right". */
 const char *orr_eye_name(int eye);
 
+/* stereo.*: stereo pairs (perspective) and omni-directional stereo (sky
+ * maps); docs/stereo.md. How the two pictures become one (stereo.anaglyph)
+ * is the post stage's (post/picture.h). */
+typedef struct orr_stereo_settings {
+    orr_stereo_mode mode;  /* stereo.mode: none | anaglyph | side-by-side | over-under | separate
+                            * (default none) */
+    double eye_separation; /* stereo.eye_separation: interocular distance, scene units (> 0;
+                            * required with a stereo mode) */
+    double convergence;    /* stereo.convergence: distance of the zero-parallax plane,
+                            * perspective only (default auto, stored as 0: the distance from the
+                            * camera to camera.look_at, taken when the frame is rendered, so a
+                            * moving camera keeps converging on its target) */
+    double zenith_fade;    /* stereo.zenith_fade: degrees from the pole over which an ODS eye
+                            * separation falls to zero (0..90, default 0: no fade) */
+    int eye;               /* not a key: 0, or ORR_EYE_LEFT / ORR_EYE_RIGHT in the copy of the
+                            * scene the renderer makes for each eye (render/stereo_view.h) */
+} orr_stereo_settings;
+
+/* Fills d with the defaults above. */
+void orr_stereo_settings_defaults(orr_stereo_settings *d);
+
 /* Moves a perspective camera to one eye (ORR_EYE_LEFT or ORR_EYE_RIGHT):
  * its position by eye * separation / 2 along its right axis, and the
  * projection's principal point by eye * focal * separation / (2 convergence)

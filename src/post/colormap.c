@@ -5,41 +5,13 @@
 
 #include "post/colormap_data.h"
 
-static const char *const colormap_names[] = {
-    [ORR_CMAP_GREY] = "grey",
-    [ORR_CMAP_MAGMA] = "magma",
-    [ORR_CMAP_INFERNO] = "inferno",
-};
-#define COLORMAP_COUNT ((int)(sizeof colormap_names / sizeof colormap_names[0]))
+/* "gray", the American spelling of the same map, is read but not listed. */
+const orr_named orr_colormap_kind_names[] = {
+    {"grey", ORR_CMAP_GREY}, {"magma", ORR_CMAP_MAGMA}, {"inferno", ORR_CMAP_INFERNO}, {"gray", ORR_CMAP_GREY}, {NULL, 0}};
 
-int orr_colormap_from_name(const char *name, orr_colormap_kind *kind)
-{
-    if (!name)
-        return 0;
-    if (strcmp(name, "gray") == 0) { /* American spelling, same map */
-        *kind = ORR_CMAP_GREY;
-        return 1;
-    }
-    for (int i = 0; i < COLORMAP_COUNT; i++) {
-        if (strcmp(name, colormap_names[i]) == 0) {
-            *kind = (orr_colormap_kind)i;
-            return 1;
-        }
-    }
-    return 0;
-}
+ORR_NAMED_PARSER(orr_colormap_from_name, orr_colormap_kind, orr_colormap_kind_names)
 
-const char *orr_colormap_name(orr_colormap_kind kind)
-{
-    if ((int)kind < 0 || (int)kind >= COLORMAP_COUNT)
-        return "unknown";
-    return colormap_names[kind];
-}
-
-const char *orr_colormap_names(void)
-{
-    return "grey magma inferno";
-}
+const char *orr_colormap_name(orr_colormap_kind kind) { return orr_named_name(orr_colormap_kind_names, (int)kind); }
 
 /* Linear interpolation between the two table entries around t. */
 static void table_lookup(const float table[ORR_CMAP_ENTRIES][3], float t, float rgb[3])

@@ -36,6 +36,16 @@ void orr_colour_synth_defaults(orr_colour_synth *s)
     };
 }
 
+void orr_colour_settings_defaults(orr_colour_settings *d)
+{
+    memset(d, 0, sizeof *d);
+    d->has_populations = 0;
+    d->seed = 1;
+    d->only_index = -1;
+    orr_population_set_init(&d->populations, 1);
+    orr_colour_synth_defaults(&d->synth);
+}
+
 static int positive_finite(double v) { return v > 0 && isfinite(v); }
 
 orr_status orr_colour_synth_check(const orr_colour_synth *s, orr_error *err)

@@ -22,6 +22,7 @@
 #include "core/colourimetry.h"
 #include "core/error.h"
 #include "core/plane.h"
+#include "particles/population.h"
 
 /* ---- per-pixel synthesis ------------------------------------------------- */
 
@@ -77,6 +78,34 @@ void orr_colour_synth_defaults(orr_colour_synth *s);
 
 /* Checks the parameters; messages name the offending one. */
 orr_status orr_colour_synth_check(const orr_colour_synth *s, orr_error *err);
+
+/* The post stage's colour.* settings: true colours (docs/colour.md). With
+ * colour.populations the render splats CIE X, Y and Z planes (written to
+ * FITS, linear) and the picture is their colour synthesis; without, one
+ * weight plane drawn with a colour map (post/picture.h) or in one tint. */
+typedef struct orr_colour_settings {
+    int has_populations;            /* colour.populations was given */
+    orr_population_set populations; /* colour.populations: list of {name, select, colour, luminance} */
+    uint64_t seed;                  /* colour.seed: of the populations' random draws (default 1) */
+    char only[ORR_POPULATION_NAME_MAX]; /* colour.only: draw just this population (default: all);
+                                    * the others still take their particles first, so separate renders
+                                    * of each population add up to the render of all */
+    int only_index;                 /* its index, -1 for all */
+    orr_colour_synth synth;         /* colour.synthesis.stretch: linear | log | gamma | asinh (default log),
+                                     * .softening (10), .gamma (0.5), .white (auto), .white_percentile (99.9),
+                                     * .brightness (1), .contrast (1), .clip: desaturate | channel | none */
+    /* colour.tint.*: a single-channel map (no populations) drawn in one
+     * colour, taken along a path of blackbody temperatures (e.g. a hue from
+     * blue to deep red over a run) instead of a colour map. */
+    int has_tint;                   /* colour.tint.path was given */
+    orr_colour_path tint;           /* colour.tint.path: list of temperatures, K */
+    double tint_t;                  /* colour.tint.t: position along it, 0..1 (default 0) */
+    int tint_run;                   /* colour.tint.t: run: the position is the frame's u in the run
+                                     * (0 at the first frame, 1 at the last) instead of tint_t */
+} orr_colour_settings;
+
+/* Fills d with the defaults above. */
+void orr_colour_settings_defaults(orr_colour_settings *d);
 
 /* The stretched, brightness- and contrast-adjusted luminance of a pixel
  * with luminance y, for white level y0 > 0; 0 for y NaN or <= 0. Not clipped

@@ -23,6 +23,23 @@
 const orr_named orr_psf_kind_names[] = {
     {"none", ORR_PSF_NONE}, {"gaussian", ORR_PSF_GAUSSIAN}, {"hst", ORR_PSF_HST}, {"file", ORR_PSF_FILE}, {NULL, 0}};
 
+void orr_psf_settings_defaults(orr_psf_settings *d)
+{
+    memset(d, 0, sizeof *d);
+    d->kind = ORR_PSF_NONE;
+    d->fwhm = 3.6;        /* pixels: stars twinkle by at most 1.2x (docs/psf.md#stars-that-do-not-twinkle) */
+    d->fwhm_arcmin = 0;   /* auto: ORR_SKY_CORE_PIXELS at the map's centre */
+    d->file_subsample = 1;
+    d->arcsec_per_pixel = 0.04;
+    d->angle = 45.0;
+    d->vane_width = 0.022; /* Hubble's (Tiny Tim's pupil tables) */
+    d->spike_gain = 1.0;
+    d->size = 129;
+    d->spike_stars = 200;
+    d->spike_min_flux = 0.001;
+    d->glow_max_arcmin = 60;
+}
+
 #define ARCSEC_RAD (ORR_PI / (180.0 * 3600.0))
 #define PSF_MAX_FFT 4096
 #define PSF_MAX_SAMPLES 64

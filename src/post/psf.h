@@ -30,28 +30,44 @@ typedef enum {
 
 extern const orr_named orr_psf_kind_names[];
 
-/* The psf.* settings a view's PSF is made from (post/view_psf.h;
- * docs/psf.md). Flat views convolve the splatted plane with the PSF (FFT);
- * sky maps, whose scale varies across the image, draw each particle as a
- * kernel of the PSF core's angular size instead, and the brightest stars
- * with the whole PSF (post/sky_psf.h). */
+/* The post stage's psf.* and glow.* settings (docs/psf.md). Flat views
+ * convolve the splatted plane with the PSF (FFT); sky maps, whose scale
+ * varies across the image, draw each particle as a kernel of the PSF core's
+ * angular size instead, and the brightest stars with the whole PSF
+ * (post/sky_psf.h). */
 typedef struct orr_psf_settings {
-    orr_psf_kind kind;       /* psf.kind */
-    double fwhm;             /* psf.fwhm: Gaussian FWHM in pixels, flat views */
-    double fwhm_arcmin;      /* psf.fwhm_arcmin: FWHM in arcminutes on sky maps (0: auto, ORR_SKY_CORE_PIXELS
-                              * pixels at the map's centre) */
-    char file[ORR_PATH_MAX]; /* psf.file: a FITS PSF image (psf.kind: file) */
-    int file_subsample;      /* psf.file_subsample: file pixels per detector pixel */
-    double arcsec_per_pixel; /* psf.arcsec_per_pixel: the image's pixel scale for hst and file PSFs */
-    double angle;            /* psf.angle: direction of the spikes, degrees */
-    double vane_width;       /* psf.vane_width: hst, the vanes' full width over the primary's radius */
-    double spike_gain;       /* psf.spike_gain: hst, the spikes' light beyond the core times this */
-    int size;                /* psf.size: odd kernel side in pixels */
-    int spike_stars;         /* psf.spike_stars: at most this many of the brightest stars get the whole PSF */
-    int flat_stars;          /* a flat view with hst or file and psf.fwhm: stars drawn as the core, the
-                              * brightest with the whole PSF (post/flat_psf.h) */
-    double spike_min_flux;   /* psf.spike_min_flux: and none fainter than this fraction of the brightest */
+    orr_psf_kind kind;          /* psf.kind: none | gaussian | hst | file (default none) */
+    double fwhm;                /* psf.fwhm: Gaussian FWHM in pixels, flat views (default 3.6) */
+    double fwhm_arcmin;         /* psf.fwhm_arcmin: FWHM in arcminutes on sky maps (0: auto, ORR_SKY_CORE_PIXELS
+                                 * pixels at the map's centre), of the Gaussian or of the hst/file PSF's
+                                 * core, which scales the whole PSF (default auto) */
+    char file[ORR_PATH_MAX];    /* psf.file: a FITS PSF image (psf.kind: file) */
+    int file_subsample;         /* psf.file_subsample: file pixels per detector pixel (default 1) */
+    double arcsec_per_pixel;    /* psf.arcsec_per_pixel: the image's pixel scale for hst and file PSFs
+                                 * (default 0.04, near Hubble ACS/WFC; 0 for a file: its own pixels) */
+    double angle;               /* psf.angle: direction of the spikes, degrees (default 45) */
+    double vane_width;          /* psf.vane_width: hst, the vanes' full width over the primary's radius
+                                 * (default 0.022, Hubble's); wider vanes, brighter and shorter spikes */
+    double spike_gain;          /* psf.spike_gain: hst, the spikes' light beyond the core times this, the PSF
+                                 * renormalised (default 1: as diffraction makes them; an artist's choice) */
+    int size;                   /* psf.size: odd kernel side in pixels (default 129) */
+    int spike_stars;            /* psf.spike_stars: sky maps, hst/file: at most this many of the brightest
+                                 * stars are drawn with the whole PSF, the others as its core (default 200) */
+    int flat_stars;             /* not a key: a flat view with psf.kind hst or file and psf.fwhm: stars drawn
+                                 * as the core, the brightest with the whole PSF (post/flat_psf.h); set by
+                                 * the scene's checks */
+    double spike_min_flux;      /* psf.spike_min_flux: and none fainter than this fraction of the
+                                 * brightest star (default 0.001) */
+    int has_glow;
+    double glow_threshold;      /* glow.threshold: sky maps: stars of less flux at the camera are drawn as
+                                 * kernels as wide as the angle to their smoothing.neighbours-th nearest
+                                 * star on the sky, brighter ones as the PSF's core (default: no glow) */
+    double glow_max_arcmin;     /* glow.max_arcmin: ... and so are stars whose kernel would be wider than
+                                 * this, where stars are sparse on the sky (default 60) */
 } orr_psf_settings;
+
+/* Fills d with the defaults above. */
+void orr_psf_settings_defaults(orr_psf_settings *d);
 
 /* ---- the pupil ------------------------------------------------------------ */
 

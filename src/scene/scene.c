@@ -8,103 +8,32 @@
 #include "scene/scene_views.h"
 #include "scene/ytree.h"
 
+static void animation_defaults(orr_animation_settings *a)
+{
+    memset(a, 0, sizeof *a);
+    a->frames = 1;
+    a->fps = 30;
+}
+
 void orr_scene_defaults(orr_scene *s)
 {
     memset(s, 0, sizeof *s);
     snprintf(s->path, sizeof s->path, "<built-in>");
     snprintf(s->dir, sizeof s->dir, ".");
-
-    snprintf(s->input_format, sizeof s->input_format, "auto");
-    s->model_particles = 200000;
-    s->model_seed = 1;
-    s->model_separation = 780;
-    s->model_galaxies = 0; /* ORR_MODEL_PAIR */
-    s->model_disc_q = 1.5;
-    s->model_w0 = 7;
-    s->model_core_radius = 1;
-    s->model_mass = 5e5;
-    snprintf(s->weight, sizeof s->weight, "mass");
-    s->type_mask = 0x3f;
+    /* Each stage's defaults live with the stage. */
+    orr_input_settings_defaults(&s->input);
+    orr_periodic_settings_defaults(&s->periodic);
+    orr_camera_settings_defaults(&s->camera);
+    orr_projection_defaults(&s->projection);
+    orr_observer_settings_defaults(&s->observer);
+    orr_stereo_settings_defaults(&s->stereo);
+    orr_deposit_settings_defaults(&s->deposit);
     orr_dust_settings_defaults(&s->dust);
-    s->chunk_size = 1048576;
-    orr_path_defaults(&s->camera_path, ORR_PATH_KEYFRAMES);
-    s->skip_nonfinite = 0;
-    s->periodic_box = 0;
-    s->periodic_replicas = 1;
-    s->periodic_around_camera = 1;
-    s->anim_frames = 1;
-    s->anim_fps = 30;
-    s->seq_first = 0;
-    s->seq_step = 1;
-    s->seq_interpolation = ORR_INTERP_AUTO;
-    s->seq_max_memory = 16;
-
-    s->camera_position = orr_v3(0, 0, 0);
-    s->camera_up = orr_v3(0, 1, 0);
-    s->camera_roll = 0;
-    s->camera_quaternion = (orr_quat){1, 0, 0, 0};
-
-    s->projection.kind = ORR_PROJ_ORTHOGRAPHIC;
-    s->projection.width = 1024;
-    s->projection.height = 1024;
-    s->projection.ortho_width = 100;
-    s->projection.fov_deg = 60;
-    s->projection.near = 1e-3;
-    s->projection.dome_fov_deg = 180;
-    s->projection.healpix_nside = 64;
-    s->projection.lon_flip = 0;
-    s->deposit = ORR_DEPOSIT_CIC;
-    s->kernel = ORR_KERNEL_CUBIC;
-    s->lengths = ORR_LENGTHS_AUTO;
-    s->neighbours = 32;
-    s->h_scale = 1.0;
-    s->colour = 0;
-    s->colour_seed = 1;
-    s->only = -1;
-    orr_population_set_init(&s->populations, 1);
-    orr_colour_synth_defaults(&s->synth);
-    s->psf = ORR_PSF_NONE;
-    s->glow_max_arcmin = 60;
-    s->psf_fwhm = 3.6; /* pixels: stars twinkle by at most 1.2x (docs/psf.md#stars-that-do-not-twinkle) */
-    s->psf_fwhm_arcmin = 0; /* auto: ORR_SKY_CORE_PIXELS at the map's centre */
-    s->psf_file_subsample = 1;
-    s->psf_arcsec_per_pixel = 0.04;
-    s->psf_angle = 45.0;
-    s->psf_vane_width = 0.022; /* Hubble's (Tiny Tim's pupil tables) */
-    s->psf_spike_gain = 1.0;
-    s->psf_size = 129;
-    s->psf_spike_stars = 200;
-    s->psf_spike_min_flux = 0.001;
-
-    s->dome_tilt = 0;
-    s->zenith_lb[0] = 0;
-    s->zenith_lb[1] = 90;
-    s->front_lb[0] = 0;
-    s->front_lb[1] = 0;
-
-    s->observer_normal = orr_v3(0, 0, 1);
-    s->normal_types = 0;
-    s->normal_radius = 30;
-    s->normal_sign = -1;
-    s->dim = 1;
-    s->dim_near = 0.01;
-    s->camera_dim_near = 0.01;
-
-    s->stereo = ORR_STEREO_NONE;
-    s->eye_separation = 0;
-    s->convergence = 0; /* auto */
-    s->anaglyph = ORR_ANAGLYPH_DUBOIS;
-    s->zenith_fade = 0;
-    s->stereo_eye = 0;
-
-    snprintf(s->out_dir, sizeof s->out_dir, ".");
-    s->write_fits = 1;
-    s->write_png = 1;
-    s->png_bits = 8;
-    s->stretch = (orr_stretch){.kind = ORR_STRETCH_LOG, .white = 0, .white_percentile = 99.9, .n = 1000};
-    s->colormap = ORR_CMAP_MAGMA;
-    s->frame_digits = 4;
-    snprintf(s->frame_separator, sizeof s->frame_separator, "_");
+    orr_colour_settings_defaults(&s->colour);
+    orr_psf_settings_defaults(&s->psf);
+    orr_picture_settings_defaults(&s->picture);
+    orr_output_settings_defaults(&s->output);
+    animation_defaults(&s->animation);
 }
 
 /* ---- overrides ---- */
@@ -323,33 +252,10 @@ orr_status orr_scene_load_string(orr_scene *s, const char *yaml, const char *ori
 
 int orr_scene_look_target(const orr_scene *s, orr_vec3 *target)
 {
-    const orr_camera_path *p = &s->camera_path;
-    if (s->has_path && (p->kind == ORR_PATH_ORBIT || p->kind == ORR_PATH_INSPIRAL)) {
-        *target = p->centre;
-        return 1;
-    }
-    if (s->has_path && p->kind == ORR_PATH_LINE && p->has_look_at) {
-        *target = p->look_at;
-        return 1;
-    }
-    if (!s->has_path && s->has_look_at) {
-        *target = s->camera_look_at;
-        return 1;
-    }
-    return 0;
+    return orr_camera_settings_look_target(&s->camera, target);
 }
 
 orr_status orr_scene_static_camera(const orr_scene *s, orr_camera *cam, orr_error *err)
 {
-    if (s->has_quaternion) {
-        cam->position = s->camera_position;
-        cam->orientation = orr_quat_normalize(s->camera_quaternion);
-        return ORR_OK;
-    }
-    if (s->has_look_at)
-        return orr_camera_look_at(cam, s->camera_position, s->camera_look_at, s->camera_up, s->camera_roll, err);
-    if (s->has_direction && !s->has_up)
-        return orr_camera_look_along_roll(cam, s->camera_position, s->camera_direction, s->camera_roll, err);
-    orr_vec3 dir = s->has_direction ? s->camera_direction : orr_v3(0, 0, -1);
-    return orr_camera_look_along(cam, s->camera_position, dir, s->camera_up, s->camera_roll, err);
+    return orr_camera_settings_static(&s->camera, cam, err);
 }

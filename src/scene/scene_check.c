@@ -32,13 +32,13 @@ static orr_status check_model_keys(const orr_scene *s, const scene_marks *m, orr
     static const char *const mw_m31_only[] = {"input.model.separation", "input.model.galaxies",
                                               "input.model.disc_q", "input.model.dust_particles"};
     static const char *const king_only[] = {"input.model.w0", "input.model.core_radius", "input.model.mass"};
-    const int king = strcmp(s->model_name, "king") == 0;
+    const int king = strcmp(s->input.model.name, "king") == 0;
     const char *const *foreign = king ? mw_m31_only : king_only;
     size_t nforeign = king ? COUNT(mw_m31_only) : COUNT(king_only);
     for (size_t i = 0; i < nforeign; i++)
         if (scene_mark(m, foreign[i]))
             return scene_fail_key(s, m, foreign[i], err, "%s does not apply to input.model.name: %s", foreign[i],
-                                  s->model_name);
+                                  s->input.model.name);
     return ORR_OK;
 }
 
@@ -48,16 +48,16 @@ static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_erro
                                              "input.model.separation", "input.model.w0",
                                              "input.model.core_radius", "input.model.mass",
                                              "input.model.galaxies", "input.model.disc_q"};
-    const int has_file = s->input_file[0] != '\0', has_model = s->model_name[0] != '\0';
+    const int has_file = s->input.file[0] != '\0', has_model = s->input.model.name[0] != '\0';
     const int has_sequence = orr_scene_has_sequence(s);
-    const char *sequence_key = s->seq_pattern[0] ? "input.sequence.pattern" : "input.sequence.files";
+    const char *sequence_key = s->input.sequence.pattern[0] ? "input.sequence.pattern" : "input.sequence.files";
     if (has_file && has_model)
         return scene_fail_key(s, m, "input.model.name", err,
                         "input.file and input.model.name are both set; use one of them");
     if (has_sequence && (has_file || has_model))
         return scene_fail_key(s, m, sequence_key, err, "%s and %s are both set; use one of them", sequence_key,
                               has_file ? "input.file" : "input.model.name");
-    if (!has_file && !has_model && !has_sequence && !s->insitu)
+    if (!has_file && !has_model && !has_sequence && !s->input.insitu)
         return orr_fail(err, ORR_ERR_USAGE,
                         "%s: no input: set input.file or input.model.name, or a sequence (input.sequence.pattern or "
                         "input.sequence.files)",
@@ -78,26 +78,26 @@ static orr_status check_periodic_sphere(const orr_scene *s, const scene_marks *m
     for (int k = 0; k < 2; k++) {
         if (!scene_mark(m, keys[k]))
             continue;
-        if (!s->periodic_around_camera)
+        if (!s->periodic.around_camera)
             return scene_fail_key(s, m, keys[k], err,
                                   "%s applies to input.periodic.centre: camera (the images within a sphere "
                                   "around the camera), but the centre is origin",
                                   keys[k]);
-        if (s->periodic_replicas < 3)
+        if (s->periodic.replicas < 3)
             return scene_fail_key(s, m, keys[k], err,
                                   "%s needs copies of the box around the camera: set input.periodic.replicas to "
                                   "3 or more (it is %d)",
-                                  keys[k], s->periodic_replicas);
+                                  keys[k], s->periodic.replicas);
     }
-    if (!s->periodic_around_camera || s->periodic_replicas < 3)
+    if (!s->periodic.around_camera || s->periodic.replicas < 3)
         return ORR_OK;
     /* The box's side stands in for an unknown one: a radius or fade that
      * fails now fails whatever the side. */
     orr_replica_sphere sp;
     orr_error why;
-    double box = s->periodic_box > 0 ? s->periodic_box : HUGE_VAL;
-    if (orr_replica_sphere_resolve(&sp, box, s->periodic_replicas, s->periodic_radius,
-                                   s->has_periodic_fade ? s->periodic_fade : -1, &why) == ORR_OK)
+    double box = s->periodic.box > 0 ? s->periodic.box : HUGE_VAL;
+    if (orr_replica_sphere_resolve(&sp, box, s->periodic.replicas, s->periodic.radius,
+                                   s->periodic.has_fade ? s->periodic.fade : -1, &why) == ORR_OK)
         return ORR_OK;
     const char *key = strstr(why.msg, "input.periodic.fade") == why.msg ? keys[1] : keys[0];
     return scene_fail_key(s, m, key, err, "%s", why.msg);
@@ -106,11 +106,11 @@ static orr_status check_periodic_sphere(const orr_scene *s, const scene_marks *m
 /* Replicas sit symmetrically around a middle one: an odd count per axis. */
 static orr_status check_periodic(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    if (s->periodic_replicas % 2 == 0)
+    if (s->periodic.replicas % 2 == 0)
         return scene_fail_key(s, m, "input.periodic.replicas", err,
                               "input.periodic.replicas is %d; it must be odd (1, 3, 5, ...): copies of the box "
                               "sit symmetrically around the middle one",
-                              s->periodic_replicas);
+                              s->periodic.replicas);
     return check_periodic_sphere(s, m, err);
 }
 
@@ -118,20 +118,20 @@ static orr_status check_periodic(const orr_scene *s, const scene_marks *m, orr_e
 static orr_status check_sequence_pattern(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     orr_error why;
-    if (orr_sequence_pattern_check(s->seq_pattern, &why))
+    if (orr_sequence_pattern_check(s->input.sequence.pattern, &why))
         return scene_fail_key(s, m, "input.sequence.pattern", err, "input.sequence.pattern: %s", why.msg);
     if (!scene_mark(m, "input.sequence.last"))
         return scene_fail_key(s, m, "input.sequence.pattern", err,
                               "input.sequence.pattern needs input.sequence.last, the number of the last snapshot");
-    if (s->seq_last < s->seq_first)
+    if (s->input.sequence.last < s->input.sequence.first)
         return scene_fail_key(s, m, "input.sequence.last", err,
-                              "input.sequence.last (%lld) is below input.sequence.first (%lld)", s->seq_last,
-                              s->seq_first);
-    if ((s->seq_last - s->seq_first) / s->seq_step + 1 < 2)
+                              "input.sequence.last (%lld) is below input.sequence.first (%lld)", s->input.sequence.last,
+                              s->input.sequence.first);
+    if ((s->input.sequence.last - s->input.sequence.first) / s->input.sequence.step + 1 < 2)
         return scene_fail_key(s, m, "input.sequence.last", err,
                               "input.sequence.first %lld, last %lld, step %lld give one snapshot; a sequence needs "
                               "at least 2 (use input.file for one)",
-                              s->seq_first, s->seq_last, s->seq_step);
+                              s->input.sequence.first, s->input.sequence.last, s->input.sequence.step);
     return ORR_OK;
 }
 
@@ -146,17 +146,17 @@ static orr_status check_sequence(const orr_scene *s, const scene_marks *m, orr_e
                                       SEQUENCE_KEYS[i]);
         return ORR_OK;
     }
-    if (s->seq_pattern[0] && s->seq_nfiles > 0)
+    if (s->input.sequence.pattern[0] && s->input.sequence.nfiles > 0)
         return scene_fail_key(s, m, "input.sequence.files", err,
                               "input.sequence.pattern and input.sequence.files are both set; list the snapshots "
                               "one way");
-    for (size_t i = 0; s->seq_nfiles > 0 && i < COUNT(RANGE_KEYS); i++)
+    for (size_t i = 0; s->input.sequence.nfiles > 0 && i < COUNT(RANGE_KEYS); i++)
         if (scene_mark(m, RANGE_KEYS[i]))
             return scene_fail_key(s, m, RANGE_KEYS[i], err,
                                   "%s applies to input.sequence.pattern, but the snapshots are listed by "
                                   "input.sequence.files",
                                   RANGE_KEYS[i]);
-    return s->seq_pattern[0] ? check_sequence_pattern(s, m, err) : ORR_OK;
+    return s->input.sequence.pattern[0] ? check_sequence_pattern(s, m, err) : ORR_OK;
 }
 
 /* ---- camera ---- */
@@ -191,25 +191,25 @@ static orr_status check_camera(orr_scene *s, const scene_marks *m, orr_error *er
     orr_status st = check_orientation_count(s, m, err);
     if (st != ORR_OK)
         return st;
-    if (s->has_quaternion) {
-        orr_quat q = s->camera_quaternion;
+    if (s->camera.has_quaternion) {
+        orr_quat q = s->camera.quaternion;
         if (q.w == 0 && q.x == 0 && q.y == 0 && q.z == 0)
             return scene_fail_key(s, m, "camera.quaternion", err,
                             "camera.quaternion: [0, 0, 0, 0] is not a rotation (zero length)");
         /* Users round their quaternions; the renderer wants a unit one. */
-        s->camera_quaternion = orr_quat_normalize(q);
+        s->camera.quaternion = orr_quat_normalize(q);
     }
-    if (s->has_direction && is_zero(s->camera_direction))
+    if (s->camera.has_direction && is_zero(s->camera.direction))
         return scene_fail_key(s, m, "camera.direction", err, "camera.direction: must not be [0, 0, 0]");
-    if (s->has_up && is_zero(s->camera_up))
+    if (s->camera.has_up && is_zero(s->camera.up))
         return scene_fail_key(s, m, "camera.up", err, "camera.up: must not be [0, 0, 0]");
-    orr_vec3 view = s->has_look_at ? orr_v3_sub(s->camera_look_at, s->camera_position) : s->camera_direction;
-    if (s->has_look_at && is_zero(view))
+    orr_vec3 view = s->camera.has_look_at ? orr_v3_sub(s->camera.look_at, s->camera.position) : s->camera.direction;
+    if (s->camera.has_look_at && is_zero(view))
         return scene_fail_key(s, m, "camera.look_at", err,
                         "camera.look_at: equals camera.position, so there is no direction to look in");
-    if (s->has_up && (s->has_look_at || s->has_direction) && parallel(view, s->camera_up))
+    if (s->camera.has_up && (s->camera.has_look_at || s->camera.has_direction) && parallel(view, s->camera.up))
         return scene_fail_key(s, m, "camera.up", err, "camera.up: is parallel to the view direction (%s)",
-                        s->has_look_at ? "camera.look_at - camera.position" : "camera.direction");
+                        s->camera.has_look_at ? "camera.look_at - camera.position" : "camera.direction");
     return ORR_OK;
 }
 
@@ -225,14 +225,14 @@ static orr_vec3 lb_direction(const double lb[2])
  * opposite it) nothing is left to project. */
 static orr_status check_zenith_front(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    const orr_vec3 zenith = lb_direction(s->zenith_lb), front = lb_direction(s->front_lb);
+    const orr_vec3 zenith = lb_direction(s->camera.zenith_lb), front = lb_direction(s->camera.front_lb);
     const double angle = atan2(orr_v3_norm(orr_v3_cross(zenith, front)), orr_v3_dot(zenith, front)) * 180.0 / ORR_PI;
     if (angle >= 1e-6 && angle <= 180 - 1e-6)
         return ORR_OK;
     return scene_fail_key(s, m, scene_mark(m, "camera.front") ? "camera.front" : "camera.zenith", err,
                     "camera.front [%g, %g] and camera.zenith [%g, %g] are %s: the front is projected "
                     "perpendicular to the zenith, so it must point some other way",
-                    s->front_lb[0], s->front_lb[1], s->zenith_lb[0], s->zenith_lb[1],
+                    s->camera.front_lb[0], s->camera.front_lb[1], s->camera.zenith_lb[0], s->camera.zenith_lb[1],
                     angle < 90 ? "the same direction" : "opposite directions");
 }
 
@@ -268,7 +268,7 @@ static orr_status check_observer_normal(const orr_scene *s, const scene_marks *m
     for (size_t i = 0; i < COUNT(from_keys); i++) {
         if (!scene_mark(m, from_keys[i]))
             continue;
-        if (s->has_normal)
+        if (s->observer.has_normal)
             return scene_fail_key(s, m, from_keys[i], err,
                             "observer.normal and %s are both set; give the normal, or say how to compute it",
                             from_keys[i]);
@@ -277,7 +277,7 @@ static orr_status check_observer_normal(const orr_scene *s, const scene_marks *m
                             "%s needs observer.normal_from.types: the particle types whose spin gives the normal",
                             from_keys[i]);
     }
-    if (s->has_normal && is_zero(s->observer_normal))
+    if (s->observer.has_normal && is_zero(s->observer.normal))
         return scene_fail_key(s, m, "observer.normal", err, "observer.normal: must not be [0, 0, 0]");
     return ORR_OK;
 }
@@ -286,10 +286,10 @@ static orr_status check_observer_normal(const orr_scene *s, const scene_marks *m
  * that already, and two switches for one thing would only confuse. */
 static orr_status check_camera_dim(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    if (s->has_observer && scene_mark(m, "camera.dim"))
+    if (s->observer.has_id && scene_mark(m, "camera.dim"))
         return scene_fail_key(s, m, "camera.dim", err,
                               "camera.dim is not allowed with observer.id: use observer.dim for an observer's sky");
-    if (!s->camera_dim && scene_mark(m, "camera.dim_near"))
+    if (!s->camera.dim && scene_mark(m, "camera.dim_near"))
         return scene_fail_key(s, m, "camera.dim_near", err,
                               "camera.dim_near applies to camera.dim: true, but camera.dim is off");
     return ORR_OK;
@@ -300,15 +300,15 @@ static orr_status check_observer(const orr_scene *s, const scene_marks *m, orr_e
     orr_status st = check_camera_dim(s, m, err);
     if (st)
         return st;
-    if (!s->has_observer)
+    if (!s->observer.has_id)
         return check_without_observer(s, m, err);
     if (!scene_mark(m, "observer.reference_id"))
         return scene_fail_key(s, m, "observer.id", err,
                         "observer.id needs observer.reference_id: the particle that fixes the frame's x axis");
-    if (s->observer_id == s->reference_id)
+    if (s->observer.id == s->observer.reference_id)
         return scene_fail_key(s, m, "observer.reference_id", err,
                         "observer.reference_id equals observer.id (%llu); the reference must be another particle",
-                        (unsigned long long)s->observer_id);
+                        (unsigned long long)s->observer.id);
     for (size_t i = 0; i < COUNT(PLACEMENT_KEYS); i++)
         if (scene_mark(m, PLACEMENT_KEYS[i]))
             return scene_fail_key(s, m, PLACEMENT_KEYS[i], err,
@@ -335,22 +335,22 @@ static orr_status check_projection(const orr_scene *s, orr_error *err)
 static orr_status check_psf(orr_scene *s, const scene_marks *m, orr_error *err)
 {
     int sky = orr_projection_is_sky(&s->projection);
-    int whole = s->psf == ORR_PSF_HST || s->psf == ORR_PSF_FILE;
-    if (s->psf == ORR_PSF_FILE && !s->psf_file[0])
+    int whole = s->psf.kind == ORR_PSF_HST || s->psf.kind == ORR_PSF_FILE;
+    if (s->psf.kind == ORR_PSF_FILE && !s->psf.file[0])
         return scene_fail_key(s, m, "psf.kind", err, "psf.kind: file needs psf.file, a FITS PSF image");
-    if (s->psf != ORR_PSF_FILE && scene_mark(m, "psf.file"))
+    if (s->psf.kind != ORR_PSF_FILE && scene_mark(m, "psf.file"))
         return scene_fail_key(s, m, "psf.file", err, "psf.file is used only with psf.kind: file");
     /* A sky map draws the brightest stars with the whole PSF, the rest as
      * its core (docs/psf.md); so does a flat view given the core's width
      * (psf.fwhm), else it convolves every star with the whole PSF. */
     const char *hst_keys[2] = {"psf.vane_width", "psf.spike_gain"};
     for (int k = 0; k < 2; k++)
-        if (s->psf != ORR_PSF_HST && scene_mark(m, hst_keys[k]))
+        if (s->psf.kind != ORR_PSF_HST && scene_mark(m, hst_keys[k]))
             return scene_fail_key(s, m, hst_keys[k], err, "%s is used only with psf.kind: hst", hst_keys[k]);
-    s->psf_flat_stars = !sky && whole && scene_mark(m, "psf.fwhm") != NULL;
+    s->psf.flat_stars = !sky && whole && scene_mark(m, "psf.fwhm") != NULL;
     const char *spike_keys[2] = {"psf.spike_stars", "psf.spike_min_flux"};
     for (int k = 0; k < 2; k++)
-        if (scene_mark(m, spike_keys[k]) && !((sky && whole) || s->psf_flat_stars))
+        if (scene_mark(m, spike_keys[k]) && !((sky && whole) || s->psf.flat_stars))
             return scene_fail_key(s, m, spike_keys[k], err,
                                   "%s is for psf.kind: hst or file on sky maps, or on flat views with psf.fwhm "
                                   "(the core's width in pixels); a Gaussian has no spikes, and a flat view "
@@ -362,10 +362,10 @@ static orr_status check_psf(orr_scene *s, const scene_marks *m, orr_error *err)
     if (!sky && scene_mark(m, "psf.fwhm_arcmin"))
         return scene_fail_key(s, m, "psf.fwhm_arcmin", err,
                               "psf.fwhm_arcmin is for sky maps; a flat view's Gaussian PSF is psf.fwhm, in pixels");
-    if (s->psf_size % 2 == 0)
+    if (s->psf.size % 2 == 0)
         return scene_fail_key(s, m, "psf.size", err, "psf.size must be odd (the PSF's centre is a pixel), got %d",
-                              s->psf_size);
-    if (s->has_glow && (!sky || s->psf == ORR_PSF_NONE))
+                              s->psf.size);
+    if (s->psf.has_glow && (!sky || s->psf.kind == ORR_PSF_NONE))
         return scene_fail_key(s, m, "glow.threshold", err,
                               "glow.threshold draws faint stars as a glow of angular kernels and bright ones as "
                               "the PSF's core: it needs a sky map with a psf.kind");
@@ -376,20 +376,20 @@ static orr_status check_psf(orr_scene *s, const scene_marks *m, orr_error *err)
  * from its FITS planes once the run is rendered. */
 static orr_status check_white_smoothing(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    if (s->white_smoothing == 0)
+    if (s->animation.white_smoothing == 0)
         return ORR_OK;
-    int graded_by_synthesis = s->colour || s->nlayers || s->has_tint;
+    int graded_by_synthesis = s->colour.has_populations || s->compose.nlayers || s->colour.has_tint;
     const char *white_key = graded_by_synthesis ? "colour.synthesis.white" : "output.white";
-    if ((graded_by_synthesis ? s->synth.y0 : s->stretch.white) > 0)
+    if ((graded_by_synthesis ? s->colour.synth.y0 : s->picture.stretch.white) > 0)
         return scene_fail_key(s, m, "animation.white_smoothing", err,
                               "animation.white_smoothing averages the automatic white level, but %s is fixed: "
                               "set %s: auto, or leave out the smoothing",
                               white_key, white_key);
-    if (!s->write_fits)
+    if (!s->output.write_fits)
         return scene_fail_key(s, m, "animation.white_smoothing", err,
                               "animation.white_smoothing re-grades each frame from its FITS planes: it needs "
                               "output.fits: true");
-    if (s->stereo != ORR_STEREO_NONE)
+    if (s->stereo.mode != ORR_STEREO_NONE)
         return scene_fail_key(s, m, "animation.white_smoothing", err,
                               "animation.white_smoothing cannot yet be combined with stereo.mode");
     return ORR_OK;
@@ -397,19 +397,19 @@ static orr_status check_white_smoothing(const orr_scene *s, const scene_marks *m
 
 static orr_status check_output(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    for (const char *c = s->image_ext; *c; c++)
+    for (const char *c = s->output.image_ext; *c; c++)
         if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9')))
             return scene_fail_key(s, m, "output.image", err,
                                   "output.image: a file extension such as tif, jpg or exr (without the dot), got '%s'",
-                                  s->image_ext);
+                                  s->output.image_ext);
     /* Both would be DIR/NAME.exr: the picture, written second, would
      * replace the linear planes. */
-    if (s->write_exr && strcasecmp(s->image_ext, "exr") == 0)
+    if (s->output.write_exr && strcasecmp(s->output.image_ext, "exr") == 0)
         return scene_fail_key(s, m, "output.image", err,
                               "output.exr: true and output.image: %s both write NAME.exr, and the picture would "
                               "replace the linear planes: keep output.exr for the planes, or give output.image "
                               "another format (e.g. tif) for the picture",
-                              s->image_ext);
+                              s->output.image_ext);
     return ORR_OK;
 }
 
@@ -417,26 +417,26 @@ static orr_status check_colour(orr_scene *s, const scene_marks *m, orr_error *er
 {
     static const char *const keys[] = {"colour.seed", "colour.only", "colour.synthesis.stretch",
                                        "colour.synthesis.white"};
-    s->populations.seed = s->colour_seed;
-    s->only = s->colour_only[0] ? orr_population_find(&s->populations, s->colour_only) : -1;
-    if (s->colour && s->colour_only[0] && s->only < 0)
+    s->colour.populations.seed = s->colour.seed;
+    s->colour.only_index = s->colour.only[0] ? orr_population_find(&s->colour.populations, s->colour.only) : -1;
+    if (s->colour.has_populations && s->colour.only[0] && s->colour.only_index < 0)
         return scene_fail_key(s, m, "colour.only", err, "colour.only: no population is called '%s'",
-                              s->colour_only);
-    for (size_t i = 0; !s->colour && i < sizeof keys / sizeof keys[0]; i++) {
+                              s->colour.only);
+    for (size_t i = 0; !s->colour.has_populations && i < sizeof keys / sizeof keys[0]; i++) {
         /* A tinted map is graded by colour.synthesis too (its stretch and
          * white), though it has no populations. */
         int synthesis_key = strncmp(keys[i], "colour.synthesis.", 17) == 0;
-        if (scene_mark(m, keys[i]) && !(synthesis_key && s->has_tint))
+        if (scene_mark(m, keys[i]) && !(synthesis_key && s->colour.has_tint))
             return scene_fail_key(s, m, keys[i], err, "%s applies to colour.populations%s, which is not set",
                                   keys[i], synthesis_key ? " or colour.tint" : "");
     }
-    if (s->colour && s->has_tint)
+    if (s->colour.has_populations && s->colour.has_tint)
         return scene_fail_key(s, m, "colour.tint.path", err,
                               "colour.tint is for single-channel maps; with colour.populations each population "
                               "has its own colour");
-    if (!s->has_tint && scene_mark(m, "colour.tint.t"))
+    if (!s->colour.has_tint && scene_mark(m, "colour.tint.t"))
         return scene_fail_key(s, m, "colour.tint.t", err, "colour.tint.t needs colour.tint.path");
-    if (orr_colour_synth_check(&s->synth, err))
+    if (orr_colour_synth_check(&s->colour.synth, err))
         return orr_fail_prefix(err, "%s: colour.synthesis: ", s->path);
     return ORR_OK;
 }
@@ -462,20 +462,20 @@ static orr_status check_convergence(const orr_scene *s, const scene_marks *m, or
                               "stereo.zenith_fade is for omni-directional stereo (dome, equirectangular, "
                               "hammer-aitoff), not a perspective camera");
     orr_vec3 target;
-    if (s->convergence > 0 || orr_scene_look_target(s, &target)) /* auto: at render time, to the target */
+    if (s->stereo.convergence > 0 || orr_scene_look_target(s, &target)) /* auto: at render time, to the target */
         return ORR_OK;
     return scene_fail_key(s, m, "stereo.mode", err,
                           "stereo.mode: %s with a perspective camera needs stereo.convergence (the distance of "
                           "the zero-parallax plane) or a point the camera looks at (camera.look_at, or an orbit "
                           "or inspiral path's centre: converge there)",
-                          orr_stereo_mode_name(s->stereo));
+                          orr_stereo_mode_name(s->stereo.mode));
 }
 
 static orr_status check_stereo(orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    if (s->stereo == ORR_STEREO_NONE)
+    if (s->stereo.mode == ORR_STEREO_NONE)
         return check_without_stereo(s, m, err);
-    const char *mode = orr_stereo_mode_name(s->stereo);
+    const char *mode = orr_stereo_mode_name(s->stereo.mode);
     if (s->projection.kind == ORR_PROJ_ORTHOGRAPHIC)
         return scene_fail_key(s, m, "stereo.mode", err,
                               "stereo.mode: %s needs parallax, which an orthographic camera has none of; use "
@@ -486,14 +486,14 @@ static orr_status check_stereo(orr_scene *s, const scene_marks *m, orr_error *er
                               "stereo.mode: %s needs stereo.eye_separation, the distance between the eyes in "
                               "scene units",
                               mode);
-    if (s->stereo != ORR_STEREO_ANAGLYPH && scene_mark(m, "stereo.anaglyph"))
+    if (s->stereo.mode != ORR_STEREO_ANAGLYPH && scene_mark(m, "stereo.anaglyph"))
         return scene_fail_key(s, m, "stereo.anaglyph", err,
                               "stereo.anaglyph applies to stereo.mode: anaglyph, not %s", mode);
-    if (s->write_raw || s->nlayers)
+    if (s->output.write_raw || s->compose.nlayers)
         return scene_fail_key(s, m, "stereo.mode", err,
                               "stereo.mode: %s cannot yet be combined with %s (orrery compose works on one "
                               "eye's planes)",
-                              mode, s->write_raw ? "output.raw" : "compose.layers");
+                              mode, s->output.write_raw ? "output.raw" : "compose.layers");
     if (s->projection.kind == ORR_PROJ_PERSPECTIVE)
         return check_convergence(s, m, err);
     if (scene_mark(m, "stereo.convergence"))
@@ -512,9 +512,9 @@ static orr_status record_settings(orr_scene *s, const yt_node *root, orr_error *
     if (!text)
         return ORR_ERR_NOMEM;
     char profile[256] = "";
-    if (s->dome_profile[0])
-        snprintf(profile, sizeof profile, "(dome profile %s)=fov %.17g, tilt %.17g, size %dx%d\n", s->dome_profile,
-                 s->projection.dome_fov_deg, s->dome_tilt, s->projection.width, s->projection.height);
+    if (s->camera.dome[0])
+        snprintf(profile, sizeof profile, "(dome profile %s)=fov %.17g, tilt %.17g, size %dx%d\n", s->camera.dome,
+                 s->projection.dome_fov_deg, s->camera.dome_tilt, s->projection.width, s->projection.height);
     s->settings_digest = orr_digest_text(orr_digest_text(ORR_DIGEST_START, text), profile);
     snprintf(s->settings, sizeof s->settings, "%s%s", text, profile);
     free(text);
@@ -558,8 +558,8 @@ static orr_status record_scene_yaml(orr_scene *s, const yt_node *root, orr_error
 /* Dust: the stage's own checks, and what it cannot do yet. */
 static orr_status check_dust(const orr_scene *s, orr_error *err)
 {
-    orr_status st = orr_dust_settings_check(&s->dust, s->path, s->type_mask, err);
-    if (!st && s->dust.types && s->periodic_replicas > 1)
+    orr_status st = orr_dust_settings_check(&s->dust, s->path, s->input.type_mask, err);
+    if (!st && s->dust.types && s->periodic.replicas > 1)
         st = orr_fail(err, ORR_ERR_USAGE, "%s: dust.types with input.periodic.replicas: the dust of a replicated "
                       "box is not replicated yet (docs/dust.md#limitations)", s->path);
     if (!st && s->dust.types && s->dust.extinction_plane && s->projection.kind == ORR_PROJ_HEALPIX)

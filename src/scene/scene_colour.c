@@ -277,7 +277,7 @@ orr_status scene_bind_populations(orr_scene *s, const char *origin, int line, co
     if (n->kind != YT_SEQUENCE || n->n == 0)
         return scene_fail_at(err, origin, line, "%s: expected a list of populations, got %s", path,
                              yt_describe(n, buf, sizeof buf));
-    orr_population_set_init(&s->populations, s->populations.seed);
+    orr_population_set_init(&s->colour.populations, s->colour.populations.seed);
     for (size_t i = 0; i < n->n; i++) {
         scene_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
         snprintf(at.path, sizeof at.path, "%s[%zu]", path, i);
@@ -285,13 +285,13 @@ orr_status scene_bind_populations(orr_scene *s, const char *origin, int line, co
         orr_status st = bind_population(&at, n->items[i], &p);
         if (st)
             return st;
-        if ((st = orr_population_add(&s->populations, &p, err))) {
+        if ((st = orr_population_add(&s->colour.populations, &p, err))) {
             char prefix[ORR_PATH_MAX + 32];
             scene_loc_prefix(at.origin, at.line, prefix, sizeof prefix);
             return orr_fail_prefix(err, "%s%s: ", prefix, at.path);
         }
     }
-    s->colour = 1;
+    s->colour.has_populations = 1;
     return ORR_OK;
 }
 
@@ -304,9 +304,9 @@ orr_status scene_bind_tint(orr_scene *s, const char *origin, int line, const cha
                              ORR_COLOUR_PATH_MAX, yt_describe(n, buf, sizeof buf));
     scene_at at = {origin, line, "", err};
     snprintf(at.path, sizeof at.path, "%s", path);
-    s->tint.n = (int)n->n;
+    s->colour.tint.n = (int)n->n;
     for (size_t i = 0; i < n->n; i++) {
-        orr_colour *c = &s->tint.stop[i];
+        orr_colour *c = &s->colour.tint.stop[i];
         memset(c, 0, sizeof *c);
         c->kind = ORR_COLOUR_TEMPERATURE;
         orr_status st = scene_get_number(&at, n->items[i], &c->v[0]);
@@ -315,7 +315,7 @@ orr_status scene_bind_tint(orr_scene *s, const char *origin, int line, const cha
         if (st)
             return st;
     }
-    s->has_tint = 1;
+    s->colour.has_tint = 1;
     return ORR_OK;
 }
 
@@ -353,18 +353,18 @@ orr_status scene_bind_layers(orr_scene *s, const char *origin, int line, const c
                              orr_error *err)
 {
     char buf[96];
-    int max = (int)(sizeof s->layers / sizeof s->layers[0]);
+    int max = (int)(sizeof s->compose.layers / sizeof s->compose.layers[0]);
     if (n->kind != YT_SEQUENCE || n->n < 1 || n->n > (size_t)max)
         return scene_fail_at(err, origin, line, "%s: expected a list of 1 to %d layers, got %s", path, max,
                              yt_describe(n, buf, sizeof buf));
     for (size_t i = 0; i < n->n; i++) {
         scene_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
         snprintf(at.path, sizeof at.path, "%.100s[%zu]", path, i);
-        memset(&s->layers[i], 0, sizeof s->layers[i]);
-        orr_status st = bind_layer(&at, n->items[i], &s->layers[i]);
+        memset(&s->compose.layers[i], 0, sizeof s->compose.layers[i]);
+        orr_status st = bind_layer(&at, n->items[i], &s->compose.layers[i]);
         if (st)
             return st;
     }
-    s->nlayers = (int)n->n;
+    s->compose.nlayers = (int)n->n;
     return ORR_OK;
 }

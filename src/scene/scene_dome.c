@@ -68,7 +68,7 @@ static orr_status find_profile(const orr_scene *s, const scene_marks *m, char *p
     while ((more = next_folder(&it, folder, sizeof folder)) != 0) {
         if (more < 0)
             continue; /* a folder name longer than a path can be */
-        int len = snprintf(path, size, "%s/%s.yaml", folder, s->dome_profile);
+        int len = snprintf(path, size, "%s/%s.yaml", folder, s->camera.dome);
         if (len < 0 || (size_t)len >= size)
             continue; /* cannot name a file there */
         note_folder(looked, sizeof looked, folder);
@@ -85,7 +85,7 @@ static orr_status find_profile(const orr_scene *s, const scene_marks *m, char *p
     return scene_fail_key(s, m, "camera.dome", err,
                           "camera.dome: no dome profile '%s': looked for %s.yaml in %s (folders of profiles can "
                           "be added with the ORRERY_DOMES environment variable)",
-                          s->dome_profile, s->dome_profile, looked[0] ? looked : "no folder");
+                          s->camera.dome, s->camera.dome, looked[0] ? looked : "no folder");
 }
 
 /* ---- reading a profile ---- */
@@ -123,7 +123,7 @@ static orr_status load_profile(const char *path, dome_profile *p, orr_error *err
 
 orr_status scene_apply_dome_profile(orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    if (!s->dome_profile[0])
+    if (!s->camera.dome[0])
         return ORR_OK;
     char path[ORR_PATH_MAX];
     dome_profile p;
@@ -138,7 +138,7 @@ orr_status scene_apply_dome_profile(orr_scene *s, const scene_marks *m, orr_erro
     if (p.has_fov && !scene_mark(m, "camera.dome_fov"))
         s->projection.dome_fov_deg = p.fov;
     if (p.has_tilt && !scene_mark(m, "camera.dome_tilt"))
-        s->dome_tilt = p.tilt;
+        s->camera.dome_tilt = p.tilt;
     if (p.has_size && !scene_mark(m, "image.width"))
         s->projection.width = p.size;
     if (p.has_size && !scene_mark(m, "image.height"))

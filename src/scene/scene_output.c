@@ -31,11 +31,11 @@ static int is_symbol(const char *u)
  * anything a shell or a playback system's file pattern would read. */
 static orr_status check_frame_separator(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    if (strspn(s->frame_separator, "._-") != strlen(s->frame_separator))
+    if (strspn(s->output.frame_separator, "._-") != strlen(s->output.frame_separator))
         return scene_fail_key(s, m, "output.frame_separator", err,
                               "output.frame_separator: '%s' may hold only '.', '_' and '-' (e.g. '.' for "
                               "NAME.00001.png)",
-                              s->frame_separator);
+                              s->output.frame_separator);
     return ORR_OK;
 }
 
@@ -43,12 +43,12 @@ static orr_status check_frame_separator(const orr_scene *s, const scene_marks *m
  * outline to cut out; separate eyes are each a view's own picture. */
 static orr_status check_alpha_mask(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    int pair = s->stereo != ORR_STEREO_NONE && s->stereo != ORR_STEREO_SEPARATE;
-    if (s->alpha_mask && pair)
+    int pair = s->stereo.mode != ORR_STEREO_NONE && s->stereo.mode != ORR_STEREO_SEPARATE;
+    if (s->output.alpha_mask && pair)
         return scene_fail_key(s, m, "output.alpha_mask", err,
                               "output.alpha_mask: not with stereo.mode %s (one picture of both eyes); use "
                               "stereo.mode: separate for an alpha per eye",
-                              orr_stereo_mode_name(s->stereo));
+                              orr_stereo_mode_name(s->stereo.mode));
     return ORR_OK;
 }
 
@@ -67,24 +67,24 @@ static int is_layer_name(const char *name)
 static orr_status check_population_layers(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     static const char key[] = "output.exr_population_layers";
-    if (!s->exr_population_layers)
+    if (!s->output.exr_population_layers)
         return ORR_OK;
-    if (!s->colour || s->populations.n == 0)
+    if (!s->colour.has_populations || s->colour.populations.n == 0)
         return scene_fail_key(s, m, key, err, "%s: needs colour.populations, whose Y it splits into layers", key);
-    if (!s->write_exr)
+    if (!s->output.write_exr)
         return scene_fail_key(s, m, key, err, "%s: needs output.exr: true, the file that holds the layers", key);
-    if (s->stereo != ORR_STEREO_NONE)
+    if (s->stereo.mode != ORR_STEREO_NONE)
         return scene_fail_key(s, m, key, err, "%s: not with stereo.mode %s (a view's planes only)", key,
-                              orr_stereo_mode_name(s->stereo));
-    if (s->populations.n > ORR_POPULATION_LAYERS_MAX)
+                              orr_stereo_mode_name(s->stereo.mode));
+    if (s->colour.populations.n > ORR_POPULATION_LAYERS_MAX)
         return scene_fail_key(s, m, key, err, "%s: at most %d populations, the scene has %d", key,
-                              ORR_POPULATION_LAYERS_MAX, s->populations.n);
-    for (int i = 0; i < s->populations.n; i++)
-        if (!is_layer_name(s->populations.pop[i].name))
+                              ORR_POPULATION_LAYERS_MAX, s->colour.populations.n);
+    for (int i = 0; i < s->colour.populations.n; i++)
+        if (!is_layer_name(s->colour.populations.pop[i].name))
             return scene_fail_key(s, m, key, err,
                                   "%s: population '%s' cannot name the layer pop.%s.Y: a layer name holds only "
                                   "letters, digits, '_' and '-'",
-                                  key, s->populations.pop[i].name, s->populations.pop[i].name);
+                                  key, s->colour.populations.pop[i].name, s->colour.populations.pop[i].name);
     return ORR_OK;
 }
 
@@ -97,37 +97,37 @@ orr_status scene_check_output_keys(const orr_scene *s, const scene_marks *m, orr
         st = check_population_layers(s, m, err);
     if (st)
         return st;
-    char bad = bad_unit_char(s->bunit);
+    char bad = bad_unit_char(s->output.bunit);
     if (bad == '/')
         return scene_fail_key(s, m, "output.bunit", err,
                               "output.bunit: '%s' divides with '/'; write a FITS unit with negative powers "
                               "instead, e.g. 'solMass yr-1'",
-                              s->bunit);
+                              s->output.bunit);
     if (bad)
         return scene_fail_key(s, m, "output.bunit", err,
                               "output.bunit: '%s' is not a FITS unit string (it has '%c'); e.g. 'solMass', "
                               "'10**10 solMass' or 'solLum'",
-                              s->bunit, bad);
-    if (s->length_unit[0] && !is_symbol(s->length_unit))
+                              s->output.bunit, bad);
+    if (s->output.length_unit[0] && !is_symbol(s->output.length_unit))
         return scene_fail_key(s, m, "output.length_unit", err,
                               "output.length_unit: '%s' is not a single FITS unit symbol such as kpc, Mpc, pc or m",
-                              s->length_unit);
+                              s->output.length_unit);
     return ORR_OK;
 }
 
 const char *scene_weight_unit(const orr_scene *s)
 {
-    if (s->bunit[0])
-        return s->bunit;
-    int weighs_mass = strcmp(s->weight, "mass") == 0 && !s->colour && !s->nlayers;
-    return s->model_name[0] && weighs_mass ? "10**10 solMass" : "";
+    if (s->output.bunit[0])
+        return s->output.bunit;
+    int weighs_mass = strcmp(s->input.weight, "mass") == 0 && !s->colour.has_populations && !s->compose.nlayers;
+    return s->input.model.name[0] && weighs_mass ? "10**10 solMass" : "";
 }
 
 const char *scene_length_unit(const orr_scene *s)
 {
-    if (s->length_unit[0])
-        return s->length_unit;
-    return s->model_name[0] ? "kpc" : "";
+    if (s->output.length_unit[0])
+        return s->output.length_unit;
+    return s->input.model.name[0] ? "kpc" : "";
 }
 
 /* A key that a HEALPix map cannot honour, and why. */
@@ -151,30 +151,30 @@ orr_status scene_check_healpix(orr_scene *s, const scene_marks *m, orr_error *er
         return scene_fail_key(s, m, "camera.healpix_nside", err,
                               "camera.healpix_nside: must be a power of 2 (1, 2, 4, ..., %d), got %d",
                               ORR_HEALPIX_NSIDE_MAX, nside);
-    if (s->deposit != ORR_DEPOSIT_NGP && s->deposit != ORR_DEPOSIT_SPH)
+    if (s->deposit.kind != ORR_DEPOSIT_NGP && s->deposit.kind != ORR_DEPOSIT_SPH)
         return scene_fail_key(s, m, scene_mark(m, "deposit") ? "deposit" : "camera.projection", err,
                               "camera.projection: healpix takes deposit: ngp (each particle whole into the pixel "
                               "its direction falls in) or sph (each kernel integrated over the pixels it "
                               "covers), not %s",
-                              orr_deposit_name(s->deposit));
+                              orr_deposit_name(s->deposit.kind));
     static const char *const image_keys[] = {"image.width", "image.height"};
     for (int i = 0; i < 2; i++)
         if (scene_mark(m, image_keys[i]))
             return healpix_refuses(s, m, image_keys[i], "camera.healpix_nside sets the map's size", err);
-    if (s->psf != ORR_PSF_NONE)
+    if (s->psf.kind != ORR_PSF_NONE)
         return healpix_refuses(s, m, "psf.kind", "a PSF needs a picture's neighbouring pixels", err);
     if (scene_mark(m, "camera.lon_flip"))
         return healpix_refuses(s, m, "camera.lon_flip", "HEALPix's longitude phi grows eastward by definition", err);
-    if (s->stereo != ORR_STEREO_NONE)
+    if (s->stereo.mode != ORR_STEREO_NONE)
         return healpix_refuses(s, m, "stereo.mode", "one map of the whole sky has no eyes", err);
     /* The map is a table of pixels, not a picture: only FITS. */
     static const char *const picture_keys[] = {"output.image", "output.exr", "output.raw", "compose.layers"};
     for (int i = 0; i < 4; i++)
         if (scene_mark(m, picture_keys[i]))
             return healpix_refuses(s, m, picture_keys[i], "its map is a FITS table of pixels, not a picture", err);
-    if (s->write_png && scene_mark(m, "output.png"))
+    if (s->output.write_png && scene_mark(m, "output.png"))
         return healpix_refuses(s, m, "output.png", "its map is a FITS table of pixels, not a picture", err);
-    s->write_png = 0;
+    s->output.write_png = 0;
     s->projection.width = 4 * s->projection.healpix_nside;
     s->projection.height = 3 * s->projection.healpix_nside;
     return ORR_OK;

@@ -111,7 +111,7 @@ orr_status scene_bind_keyframes(orr_scene *s, const char *origin, int line, cons
     if (n->kind != YT_SEQUENCE || n->n < 2 || n->n > ORR_PATH_KEYFRAMES_MAX)
         return scene_fail_at(err, origin, line, "%s: expected a list of 2 to %d keyframes (%s), got %s", path,
                              ORR_PATH_KEYFRAMES_MAX, KEYFRAME_KEYS, yt_describe(n, buf, sizeof buf));
-    orr_camera_path *p = &s->camera_path;
+    orr_camera_path *p = &s->camera.path;
     for (size_t i = 0; i < n->n; i++) {
         scene_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
         snprintf(at.path, sizeof at.path, "%.100s[%zu]", path, i);
@@ -192,7 +192,7 @@ static orr_status check_without_path(const orr_scene *s, const scene_marks *m, o
 
 static orr_status check_key_kinds(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    const orr_path_kind kind = s->camera_path.kind;
+    const orr_path_kind kind = s->camera.path.kind;
     for (size_t i = 0; i < COUNT(PATH_KEYS); i++) {
         if (!scene_mark(m, PATH_KEYS[i].key) || (PATH_KEYS[i].kinds & (1u << kind)))
             continue;
@@ -215,25 +215,25 @@ static orr_status check_key_kinds(const orr_scene *s, const scene_marks *m, orr_
 
 static orr_status check_placement(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    if (s->has_observer)
+    if (s->observer.has_id)
         return scene_fail_key(s, m, "camera.path.kind", err,
                               "camera.path.kind and observer.id are both set: the observer particle places the "
                               "camera, so it cannot also follow a path");
-    if (s->camera_path.kind == ORR_PATH_ROTATE)
+    if (s->camera.path.kind == ORR_PATH_ROTATE)
         return ORR_OK; /* its start is the scene's own camera */
     for (size_t i = 0; i < COUNT(PLACEMENT_KEYS); i++)
         if (scene_mark(m, PLACEMENT_KEYS[i]))
             return scene_fail_key(s, m, PLACEMENT_KEYS[i], err,
                                   "%s is not allowed with camera.path.kind: %s: the path places and orients the "
                                   "camera in every frame",
-                                  PLACEMENT_KEYS[i], orr_path_kind_name(s->camera_path.kind));
+                                  PLACEMENT_KEYS[i], orr_path_kind_name(s->camera.path.kind));
     return ORR_OK;
 }
 
 static orr_status read_keyframes(orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    orr_camera_path *p = &s->camera_path;
-    const int from_list = scene_mark(m, "camera.path.keyframes") != NULL, from_file = s->path_file[0] != '\0';
+    orr_camera_path *p = &s->camera.path;
+    const int from_list = scene_mark(m, "camera.path.keyframes") != NULL, from_file = s->camera.path_file[0] != '\0';
     if (from_list && from_file)
         return scene_fail_key(s, m, "camera.path.file", err,
                               "camera.path.keyframes and camera.path.file are both set; give the keyframes one way");
@@ -241,7 +241,7 @@ static orr_status read_keyframes(orr_scene *s, const scene_marks *m, orr_error *
         return scene_fail_key(s, m, "camera.path.kind", err,
                               "camera.path.kind: keyframes needs camera.path.keyframes (a list) or camera.path.file "
                               "(a CSV file)");
-    if (from_file && orr_path_read_csv(s->path_file, p->keys, ORR_PATH_KEYFRAMES_MAX, &p->nkeys, err))
+    if (from_file && orr_path_read_csv(s->camera.path_file, p->keys, ORR_PATH_KEYFRAMES_MAX, &p->nkeys, err))
         return orr_fail_prefix(err, "camera.path.file: ");
     return ORR_OK;
 }
@@ -250,8 +250,8 @@ static orr_status read_keyframes(orr_scene *s, const scene_marks *m, orr_error *
  * height above the centre) or from the axis alone. */
 static orr_status complete_orbit(orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    orr_camera_path *p = &s->camera_path;
-    if (!s->has_path_start) {
+    orr_camera_path *p = &s->camera.path;
+    if (!s->camera.has_path_start) {
         if (!scene_mark(m, "camera.path.radius"))
             return scene_fail_key(s, m, "camera.path.kind", err,
                                   "camera.path.kind: orbit needs camera.path.radius or camera.path.start");
@@ -264,7 +264,7 @@ static orr_status complete_orbit(orr_scene *s, const scene_marks *m, orr_error *
                                   "%s and camera.path.start are both set; the start point fixes the orbit's "
                                   "radius and starting angle",
                                   excluded[i]);
-    const orr_vec3 axis = orr_v3_normalize(p->axis), v = orr_v3_sub(s->path_start, p->centre);
+    const orr_vec3 axis = orr_v3_normalize(p->axis), v = orr_v3_sub(s->camera.path_start, p->centre);
     p->height = orr_v3_dot(v, axis);
     const orr_vec3 in_plane = orr_v3_sub(v, orr_v3_scale(axis, p->height));
     p->radius = orr_v3_norm(in_plane);
@@ -278,7 +278,7 @@ static orr_status complete_orbit(orr_scene *s, const scene_marks *m, orr_error *
 
 static orr_status complete_path(orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    orr_camera_path *p = &s->camera_path;
+    orr_camera_path *p = &s->camera.path;
     orr_status st = ORR_OK;
     if (!(orr_v3_norm(p->axis) > 0))
         return scene_fail_key(s, m, "camera.path.axis", err, "camera.path.axis: must not be [0, 0, 0]");
@@ -304,7 +304,7 @@ static orr_status complete_path(orr_scene *s, const scene_marks *m, orr_error *e
 
 orr_status scene_check_path(orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    if (!s->has_path)
+    if (!s->camera.has_path)
         return check_without_path(s, m, err);
     orr_status st = check_placement(s, m, err);
     if (!st)

@@ -5,12 +5,12 @@
 
 #include "scene/scene_bind.h"
 
-int orr_scene_has_sequence(const orr_scene *s) { return s->seq_pattern[0] != '\0' || s->seq_nfiles > 0; }
+int orr_scene_has_sequence(const orr_scene *s) { return s->input.sequence.pattern[0] != '\0' || s->input.sequence.nfiles > 0; }
 
 const char *orr_scene_sequence_file(const orr_scene *s, int i)
 {
-    const char *p = s->seq_files;
-    for (int k = 0; k < i && k < s->seq_nfiles; k++)
+    const char *p = s->input.sequence.files;
+    for (int k = 0; k < i && k < s->input.sequence.nfiles; k++)
         p += strlen(p) + 1;
     return p;
 }
@@ -21,12 +21,12 @@ const char *orr_scene_sequence_file(const orr_scene *s, int i)
 static orr_status append_path(orr_scene *s, size_t *used, const char *origin, int line, const char *item_path,
                               const char *text, orr_error *err)
 {
-    size_t room = sizeof s->seq_files - *used;
+    size_t room = sizeof s->input.sequence.files - *used;
     int len;
     if (line > 0 && text[0] != '/' && strcmp(s->dir, ".") != 0)
-        len = snprintf(s->seq_files + *used, room, "%s/%s", s->dir, text);
+        len = snprintf(s->input.sequence.files + *used, room, "%s/%s", s->dir, text);
     else
-        len = snprintf(s->seq_files + *used, room, "%s", text);
+        len = snprintf(s->input.sequence.files + *used, room, "%s", text);
     if (len < 0 || (size_t)len >= room)
         return scene_fail_at(err, origin, line,
                              "%s: the list's paths take more than %d bytes together; use input.sequence.pattern",
@@ -55,6 +55,6 @@ orr_status scene_bind_sequence_files(orr_scene *s, const char *origin, int line,
         if (st)
             return st;
     }
-    s->seq_nfiles = (int)n->n;
+    s->input.sequence.nfiles = (int)n->n;
     return ORR_OK;
 }

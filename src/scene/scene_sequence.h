@@ -6,7 +6,7 @@
 #include "scene/scene.h"
 #include "scene/ytree.h"
 
-/* Stores the list n (at least 2 paths) in s->seq_files, each resolved
+/* Stores the list n (at least 2 paths) in s->input.sequence.files, each resolved
  * against s->dir as input.file is; errors name origin, line and path[i]. */
 orr_status scene_bind_sequence_files(orr_scene *s, const char *origin, int line, const char *path, const yt_node *n,
                                      orr_error *err);

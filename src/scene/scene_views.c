@@ -145,17 +145,17 @@ static int view_sets_name(const yt_node *view)
 static orr_status name_output(orr_scene *s, const yt_entry *view, const scene_source *src, size_t nviews,
                               orr_error *err)
 {
-    if (view_sets_name(view->value) || (s->out_name[0] && nviews == 1))
+    if (view_sets_name(view->value) || (s->output.name[0] && nviews == 1))
         return ORR_OK;
     char name[ORR_NAME_MAX];
-    const char *base = s->out_name[0] ? s->out_name : src->stem;
+    const char *base = s->output.name[0] ? s->output.name : src->stem;
     int len = snprintf(name, sizeof name, "%s-%s", base, view->key);
     if (len < 0 || (size_t)len >= sizeof name)
         return scene_fail_at(err, view->origin, view->line,
                        "views.%s: the output name '%s-%s' is too long (at most %d characters); set output.name in "
                        "the view",
                        view->key, base, view->key, ORR_NAME_MAX - 1);
-    memcpy(s->out_name, name, (size_t)len + 1);
+    memcpy(s->output.name, name, (size_t)len + 1);
     return ORR_OK;
 }
 
@@ -198,10 +198,10 @@ static orr_status check_outputs(const orr_scene_views *out, const char *path, or
 {
     for (int i = 0; i < out->n; i++)
         for (int j = 0; j < i; j++)
-            if (strcmp(out->view[i].out_name, out->view[j].out_name) == 0)
+            if (strcmp(out->view[i].output.name, out->view[j].output.name) == 0)
                 return orr_fail(err, ORR_ERR_USAGE,
                                 "%s: views '%s' and '%s' both write output.name '%s'; give each its own",
-                                path, out->name[j], out->name[i], out->view[i].out_name);
+                                path, out->name[j], out->name[i], out->view[i].output.name);
     return ORR_OK;
 }
 
@@ -211,8 +211,8 @@ static orr_status load_single(orr_scene_views *out, const yt_node *root, const s
     orr_scene *s = &out->view[0];
     scene_start(s, src);
     orr_status st = scene_bind_checked(s, root, err);
-    if (st == ORR_OK && s->out_name[0] == '\0')
-        snprintf(s->out_name, sizeof s->out_name, "%s", src->stem);
+    if (st == ORR_OK && s->output.name[0] == '\0')
+        snprintf(s->output.name, sizeof s->output.name, "%s", src->stem);
     out->n = st == ORR_OK;
     return st;
 }

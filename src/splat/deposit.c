@@ -9,6 +9,16 @@ const orr_named orr_deposit_names[] = {
 
 const char *orr_deposit_name(orr_deposit_kind kind) { return orr_named_name(orr_deposit_names, (int)kind); }
 
+void orr_deposit_settings_defaults(orr_deposit_settings *d)
+{
+    memset(d, 0, sizeof *d);
+    d->kind = ORR_DEPOSIT_CIC;
+    d->kernel = ORR_KERNEL_CUBIC;
+    d->lengths = ORR_LENGTHS_AUTO;
+    d->neighbours = 32;
+    d->h_scale = 1.0;
+}
+
 /* Points a stack batch of orr_deposit handles at once (its shares stay in
  * L1 cache). */
 #define POINT_BATCH 512

@@ -13,6 +13,8 @@
 #include "frame/projection.h"
 #include "core/plane.h"
 #include "core/names.h"
+#include "particles/smoothing.h"
+#include "splat/kernel.h"
 
 typedef enum {
     ORR_DEPOSIT_NGP,
@@ -30,6 +32,19 @@ typedef struct orr_deposit_stats {
 
 extern const orr_named orr_deposit_names[];
 const char *orr_deposit_name(orr_deposit_kind kind);
+
+/* The splat stage's settings: the scene's deposit and smoothing.* keys. */
+typedef struct orr_deposit_settings {
+    orr_deposit_kind kind;        /* deposit: ngp | cic | sph (default cic) */
+    orr_kernel_kind kernel;       /* smoothing.kernel: cubic | wendland-c2 | wendland-c4 (default cubic) */
+    orr_smoothing_source lengths; /* smoothing.lengths: auto | file | neighbours (default auto: the
+                                   * file's when it has them, else from the neighbours) */
+    int neighbours;               /* smoothing.neighbours: k of the k-th nearest neighbour (default 32) */
+    double h_scale;               /* smoothing.h_scale: multiplies every smoothing length (default 1) */
+} orr_deposit_settings;
+
+/* Fills d with the defaults above. */
+void orr_deposit_settings_defaults(orr_deposit_settings *d);
 
 /* Points to deposit: positions in pixels, whether the projection drew
  * each, and nw weights per point (the weight, or CIE X, Y, Z). */

@@ -1,4 +1,5 @@
 #include <math.h>
+#include <string.h>
 
 #include "check.h"
 #include "post/colormap.h"
@@ -31,11 +32,14 @@ static void test_names(void)
     CHECK(!orr_colormap_from_name("viridis", &k));
     CHECK(!orr_colormap_from_name("", &k));
     CHECK(!orr_colormap_from_name(NULL, &k));
+    char list[64];
     for (int i = ORR_CMAP_GREY; i <= ORR_CMAP_INFERNO; i++) {
         const char *name = orr_colormap_name((orr_colormap_kind)i);
         CHECK(orr_colormap_from_name(name, &k) && (int)k == i);
-        CHECK_CONTAINS(orr_colormap_names(), name);
+        CHECK_CONTAINS(orr_named_list(orr_colormap_kind_names, list, sizeof list), name);
     }
+    /* The alias is read but not offered. */
+    CHECK(strcmp(orr_named_list(orr_colormap_kind_names, list, sizeof list), "grey magma inferno") == 0);
 }
 
 static void test_grey(void)

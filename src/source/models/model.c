@@ -512,11 +512,11 @@ orr_status orr_model_source_open_dust(const orr_model_params *params, long long 
     return ORR_OK;
 }
 
+const orr_named orr_model_galaxies_names[] = {
+    {"pair", ORR_MODEL_PAIR}, {"mw", ORR_MODEL_MW}, {"m31", ORR_MODEL_M31}, {NULL, 0}};
+
 int orr_model_galaxies_named(const char *word)
 {
-    static const char *const words[] = {"pair", "mw", "m31"}; /* ORR_MODEL_PAIR, _MW, _M31 */
-    for (int i = 0; i < 3; i++)
-        if (strcmp(word, words[i]) == 0)
-            return i;
-    return -1;
+    int g;
+    return orr_named_value(orr_model_galaxies_names, word, &g) ? g : -1;
 }

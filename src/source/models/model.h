@@ -8,6 +8,7 @@
 
 #include <stdint.h>
 
+#include "core/names.h"
 #include "source/source.h"
 
 /* Well-known ids of the marker particles. */
@@ -35,6 +36,8 @@
 /* The words for orr_model_params.galaxies (scene key input.model.galaxies,
  * the --galaxies options), in its order. */
 #define ORR_MODEL_GALAXIES_WORDS "pair, mw or m31"
+/* "pair", "mw", "m31": ORR_MODEL_PAIR, _MW, _M31. */
+extern const orr_named orr_model_galaxies_names[];
 /* ORR_MODEL_PAIR, _MW or _M31 for "pair", "mw" or "m31"; -1 for any other word. */
 int orr_model_galaxies_named(const char *word);
 
