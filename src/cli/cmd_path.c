@@ -120,7 +120,7 @@ static orr_status eval_frames(const orr_scene *s, long n, orr_camera *cams, orr_
 {
     for (long f = 0; f < n; f++) {
         orr_frame_time t = orr_frame_at(f, n, 30, 0, 0);
-        orr_status st = orr_path_camera(&s->camera_path, &t, &cams[f], err);
+        orr_status st = orr_path_camera(&s->camera.path, &t, &cams[f], err);
         if (st)
             return st;
     }
@@ -129,7 +129,7 @@ static orr_status eval_frames(const orr_scene *s, long n, orr_camera *cams, orr_
 
 static void print_table(const orr_scene *s, const orr_camera *cams, long n, long every)
 {
-    printf("camera path of %s: %s, %ld frames\n", s->path, orr_path_kind_name(s->camera_path.kind), n);
+    printf("camera path of %s: %s, %ld frames\n", s->path, orr_path_kind_name(s->camera.path.kind), n);
     printf("%7s %8s  %12s %12s %12s  %9s %9s %9s\n", "frame", "u", "x", "y", "z", "dir_x", "dir_y", "dir_z");
     for (long f = 0; f < n; f++) {
         if (f % every != 0 && f != n - 1)
@@ -165,10 +165,10 @@ int cmd_path(int argc, char **argv)
         st = orr_scene_load(s, pa.scene, pa.sets, pa.nsets, &err);
     /* The run's length: --frames, or the scene's animation.frames, or 100. */
     if (!st && pa.frames == 0)
-        pa.frames = s->anim_frames > 1 ? s->anim_frames : 100;
+        pa.frames = s->animation.frames > 1 ? s->animation.frames : 100;
     if (!st && !(cams = calloc((size_t)pa.frames, sizeof *cams)))
         st = orr_fail(&err, ORR_ERR_NOMEM, "out of memory for %lld cameras", pa.frames);
-    if (!st && !s->has_path)
+    if (!st && !s->camera.has_path)
         st = orr_fail(&err, ORR_ERR_USAGE, "%s: no camera path: set camera.path.kind (docs/paths.md)", s->path);
     if (!st)
         st = eval_frames(s, (long)pa.frames, cams, &err);

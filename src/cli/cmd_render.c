@@ -381,7 +381,7 @@ static int check_compose_sets(const run_args *a, const orr_scene_views *views)
             const char *key = key_for_view(a->sets[i], views->name[k]);
             int sky = orr_projection_is_sky(&views->view[k].projection);
             if (!key || strncmp(key, "psf", 3) != 0 || (key[3] != '.' && key[3] != '=') ||
-                !(sky || views->view[k].psf_flat_stars))
+                !(sky || views->view[k].psf.flat_stars))
                 continue;
             return cli_usage_error("compose",
                                    "--set %.*s: %s%s%s%s, whose PSF is drawn into the raw planes as it "
@@ -427,13 +427,13 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
     const orr_scene *list[ORR_SCENE_MAX_VIEWS];
     orr_error err = {0};
     for (int k = 0; k < views->n; k++) {
-        if (a->out_dir && strlen(a->out_dir) >= sizeof views->view[k].out_dir)
+        if (a->out_dir && strlen(a->out_dir) >= sizeof views->view[k].output.dir)
             return cli_report_error(&(orr_error){ORR_ERR_USAGE, "output directory name is too long"});
         if (a->out_dir)
-            snprintf(views->view[k].out_dir, sizeof views->view[k].out_dir, "%s", a->out_dir);
+            snprintf(views->view[k].output.dir, sizeof views->view[k].output.dir, "%s", a->out_dir);
         list[k] = &views->view[k];
     }
-    const long nframes = views->view[0].anim_frames;
+    const long nframes = views->view[0].animation.frames;
     orr_animation_options opt = orr_animation_defaults();
     opt.first = a->first;
     opt.last = a->last;

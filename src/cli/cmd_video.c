@@ -534,10 +534,10 @@ static orr_status prepare_view(const video_options *o, const orr_scene *view, co
 {
     frame_set *fs = &job->frames;
     job->view_name = view_name;
-    const char *dir = o->out_dir ? o->out_dir : view->out_dir;
+    const char *dir = o->out_dir ? o->out_dir : view->output.dir;
     if (snprintf(fs->dir, sizeof fs->dir, "%s", dir) >= (int)sizeof fs->dir)
         return orr_fail(err, ORR_ERR_USAGE, "output directory name is too long");
-    snprintf(fs->name, sizeof fs->name, "%s", view->out_name);
+    snprintf(fs->name, sizeof fs->name, "%s", view->output.name);
     fs->naming = orr_frame_naming_of(view);
     orr_status st = output_path(o, fs, job->output, sizeof job->output, err);
     if (st)
@@ -600,9 +600,9 @@ int cmd_video(int argc, char **argv)
         st = orr_scene_load_views(views, o.scene_path, o.sets, o.nsets, &err);
     /* The scene's run: its frame rate and length, unless given here. */
     if (!st && !o.fps_given)
-        orr_snprintf(o.fps, sizeof o.fps, "%.10g", views->view[0].anim_fps);
-    if (!st && o.frames == 0 && views->view[0].anim_frames > 1)
-        o.frames = views->view[0].anim_frames;
+        orr_snprintf(o.fps, sizeof o.fps, "%.10g", views->view[0].animation.fps);
+    if (!st && o.frames == 0 && views->view[0].animation.frames > 1)
+        o.frames = views->view[0].animation.frames;
     int chosen = -1; /* the --view, or -1 for all */
     for (int k = 0; !st && o.view && k < views->n; k++)
         if (strcmp(views->name[k], o.view) == 0)

@@ -86,8 +86,8 @@ static int open_common(orrery_renderer **out, const char *path, const char *yaml
                          : orr_scene_load_views_string(&r->views, yaml, "insitu", base_dir ? base_dir : ".",
                                                        all, n, &r->err);
     for (int k = 0; k < r->views.n && !st; k++) {
-        st = orr_check_output_dir(r->views.view[k].out_dir, &r->err);
-        orr_remove_stale_temporaries(r->views.view[k].out_dir); /* a killed simulation's last frame */
+        st = orr_check_output_dir(r->views.view[k].output.dir, &r->err);
+        orr_remove_stale_temporaries(r->views.view[k].output.dir); /* a killed simulation's last frame */
     }
     free(all);
     const orr_scene *list[ORR_SCENE_MAX_VIEWS];
@@ -127,10 +127,10 @@ static orr_status frame_views(orrery_renderer *r, long frame, long nframes)
     for (int k = 0; k < r->views.n; k++) {
         orr_scene *s = &r->frame_views[k];
         *s = r->views.view[k];
-        s->anim_frames = nframes;
+        s->animation.frames = nframes;
         orr_frame_naming naming = orr_frame_naming_of(&r->views.view[k]);
-        orr_status st = orr_frame_name(&naming, r->views.view[k].out_name, frame, nframes, s->out_name,
-                                       sizeof s->out_name, &r->err);
+        orr_status st = orr_frame_name(&naming, r->views.view[k].output.name, frame, nframes, s->output.name,
+                                       sizeof s->output.name, &r->err);
         if (st)
             return st;
     }
@@ -150,7 +150,7 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
     const orr_scene *s0 = &r->views.view[0];
     /* A run at least as long as this frame, and never a still: every frame
      * gets its own name. */
-    long nframes = s0->anim_frames > frame + 1 ? s0->anim_frames : frame + 1;
+    long nframes = s0->animation.frames > frame + 1 ? s0->animation.frames : frame + 1;
     if (nframes < 2)
         nframes = 2;
     orr_source *src = NULL;
@@ -158,14 +158,14 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
     if (!st)
         /* All types: the observer and reference particles may be of types
          * the scene does not draw (the renderer selects input.types). */
-        st = orr_arrays_source_open(p, "in-situ particles", (size_t)s0->chunk_size, 0, &src, &r->err);
+        st = orr_arrays_source_open(p, "in-situ particles", (size_t)s0->input.chunk_size, 0, &src, &r->err);
     if (!st) {
         const orr_scene *list[ORR_SCENE_MAX_VIEWS];
         for (int k = 0; k < r->views.n; k++)
             list[k] = &r->frame_views[k];
-        double t_first = s0->has_anim_time ? s0->anim_time[0] : p->time;
-        double t_last = s0->has_anim_time ? s0->anim_time[1] : p->time;
-        orr_frame_input in = {orr_frame_at(frame, nframes, s0->anim_fps, t_first, t_last), src,
+        double t_first = s0->animation.has_time ? s0->animation.time[0] : p->time;
+        double t_last = s0->animation.has_time ? s0->animation.time[1] : p->time;
+        orr_frame_input in = {orr_frame_at(frame, nframes, s0->animation.fps, t_first, t_last), src,
                               r->has_parallel ? &r->parallel : NULL, r->keep ? orr_kept_add : NULL, &r->kept};
         st = orr_plan_execute(r->plan, list, &in, r->reports, NULL, NULL, &r->err);
     }

@@ -49,11 +49,11 @@ long orr_animation_count(const orr_animation_options *opt, long nframes)
 orr_frame_naming orr_frame_naming_of(const orr_scene *s)
 {
     orr_frame_naming f = ORR_FRAME_NAMING_DEFAULT;
-    f.start = s->frame_start;
-    if (s->frame_digits > 0)
-        f.digits = s->frame_digits;
-    if (s->frame_separator[0])
-        f.separator = s->frame_separator;
+    f.start = s->output.frame_start;
+    if (s->output.frame_digits > 0)
+        f.digits = s->output.frame_digits;
+    if (s->output.frame_separator[0])
+        f.separator = s->output.frame_separator;
     return f;
 }
 
@@ -102,8 +102,8 @@ static orr_status frame_scenes(const orr_scene *const *views, int n, long frame,
     for (int k = 0; k < n; k++) {
         out[k] = *views[k];
         orr_frame_naming naming = orr_frame_naming_of(views[k]);
-        orr_status st = orr_frame_name(&naming, views[k]->out_name, frame, views[k]->anim_frames, out[k].out_name,
-                                       sizeof out[k].out_name, err);
+        orr_status st = orr_frame_name(&naming, views[k]->output.name, frame, views[k]->animation.frames, out[k].output.name,
+                                       sizeof out[k].output.name, err);
         if (st)
             return st;
     }
@@ -129,9 +129,9 @@ typedef struct run_input {
 static orr_status open_run_input(const orr_scene *s, int compose, run_input *ri, orr_error *err)
 {
     memset(ri, 0, sizeof *ri);
-    if (s->has_anim_time) {
-        ri->t0 = s->anim_time[0];
-        ri->t1 = s->anim_time[1];
+    if (s->animation.has_time) {
+        ri->t0 = s->animation.time[0];
+        ri->t1 = s->animation.time[1];
     }
     if (compose || !orr_scene_has_sequence(s))
         return ORR_OK;
@@ -142,14 +142,14 @@ static orr_status open_run_input(const orr_scene *s, int compose, run_input *ri,
         return st;
     double first, last;
     orr_sequence_time_range(ri->seq, &first, &last);
-    if (!s->has_anim_time) {
+    if (!s->animation.has_time) {
         ri->t0 = first;
         ri->t1 = last;
     } else if (!(fmin(ri->t0, ri->t1) >= first && fmax(ri->t0, ri->t1) <= last)) {
         /* Said before any frame is drawn, not at the first frame outside. */
         return orr_fail(err, ORR_ERR_USAGE,
                         "%s: animation.time [%g, %g] reaches outside the sequence's snapshots, times %g to %g",
-                        s->path, s->anim_time[0], s->anim_time[1], first, last);
+                        s->path, s->animation.time[0], s->animation.time[1], first, last);
     }
     return ORR_OK;
 }
@@ -187,19 +187,19 @@ static orr_status do_frame(orr_plan *plan, const orr_scene *scenes, const orr_vi
     int writer = !opt->parallel || opt->parallel->rank == 0; /* rank 0 of several processes writes */
     for (int k = 0; k < n; k++) {
         list[k] = &scenes[k];
-        if (writer && !opt->compose && s0->anim_frames > 1)
+        if (writer && !opt->compose && s0->animation.frames > 1)
             orr_marker_remove(&scenes[k]);
     }
-    orr_frame_input in = {.time = orr_frame_at(frame, s0->anim_frames, s0->anim_fps, ri->t0, ri->t1),
+    orr_frame_input in = {.time = orr_frame_at(frame, s0->animation.frames, s0->animation.fps, ri->t0, ri->t1),
                           .parallel = opt->parallel};
     orr_status st = opt->compose ? ORR_OK : frame_source(ri, &in.time, opt->parallel, &in.source, err);
     if (!st)
         st = opt->compose ? orr_plan_compose(plan, list, reports, err)
                           : orr_plan_execute(plan, list, &in, reports, opt->progress, opt->progress_user, err);
     orr_source_close(in.source);
-    if (st && s0->anim_frames > 1)
+    if (st && s0->animation.frames > 1)
         return orr_fail_prefix(err, "frame %ld: ", frame);
-    for (int k = 0; k < n && !st && s0->anim_frames > 1 && writer; k++)
+    for (int k = 0; k < n && !st && s0->animation.frames > 1 && writer; k++)
         st = orr_marker_write(&scenes[k], &ids[k], &reports[k], opt->compose, err);
     return st;
 }
@@ -224,8 +224,8 @@ static orr_status run_identities(const orr_scene *const *views, int n, const run
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++) {
         char markers[ORR_PATH_MAX];
-        orr_remove_stale_temporaries(views[k]->out_dir);
-        if (snprintf(markers, sizeof markers, "%s/" MARKER_DIR, views[k]->out_dir) < (int)sizeof markers)
+        orr_remove_stale_temporaries(views[k]->output.dir);
+        if (snprintf(markers, sizeof markers, "%s/" MARKER_DIR, views[k]->output.dir) < (int)sizeof markers)
             orr_remove_stale_temporaries(markers);
         st = compose ? ORR_OK : orr_view_identity_make(views[k], ri->seq, &ids[k], err);
     }
@@ -243,7 +243,7 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
 {
     if (n < 1 || n > ORR_SCENE_MAX_VIEWS)
         return orr_fail(err, ORR_ERR_USAGE, "%d views: expected 1 to %d", n, ORR_SCENE_MAX_VIEWS);
-    const long nframes = views[0]->anim_frames;
+    const long nframes = views[0]->animation.frames;
     long first, last;
     frame_range(opt, nframes, &first, &last);
     if (opt->first >= nframes)
@@ -325,8 +325,8 @@ static orr_status regrade_frame(orr_plan *plan, const orr_scene *s, long f, doub
         return orr_fail(err, ORR_ERR_NOMEM, "out of memory for a frame's scene");
     orr_status st = frame_scenes(&s, 1, f, frame, err);
     frame->regrade_final = 1;
-    frame->synth.y0 = white;
-    frame->stretch.white = white;
+    frame->colour.synth.y0 = white;
+    frame->picture.stretch.white = white;
     const orr_scene *list[1] = {frame};
     if (!st)
         st = orr_plan_compose(plan, list, rep, err);
@@ -343,8 +343,8 @@ orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++) {
         const orr_scene *s = views[k];
-        const long nframes = s->anim_frames;
-        if (s->white_smoothing <= 1 || nframes <= 1)
+        const long nframes = s->animation.frames;
+        if (s->animation.white_smoothing <= 1 || nframes <= 1)
             continue;
         double *whites = orr_calloc((size_t)nframes, sizeof *whites, "white levels", err);
         orr_scene *frame = malloc(sizeof *frame);
@@ -358,7 +358,7 @@ orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr
         orr_plan *plan = NULL;
         for (long f = 0; f < nframes && !st; f++)
             if (isfinite(whites[f]) && !(st = run_plan(&plan, &s, 1, 1, err)))
-                st = regrade_frame(plan, s, f, smoothed_white(whites, nframes, f, s->white_smoothing), &reports[k],
+                st = regrade_frame(plan, s, f, smoothed_white(whites, nframes, f, s->animation.white_smoothing), &reports[k],
                                    err);
         orr_plan_destroy(plan);
         free(frame);

@@ -68,16 +68,16 @@ static orr_status load_layers(view_state *v, orr_error *err)
 {
     const orr_scene *s = v->scene;
     orr_status st = ORR_OK;
-    for (int k = 0; k < s->nlayers && !st; k++)
-        st = add_layer(v, &s->layers[k], err);
+    for (int k = 0; k < s->compose.nlayers && !st; k++)
+        st = add_layer(v, &s->compose.layers[k], err);
     if (!st)
-        snprintf(v->rep->source, sizeof v->rep->source, "%d layers (%.200s, ...)", s->nlayers, s->layers[0].file);
+        snprintf(v->rep->source, sizeof v->rep->source, "%d layers (%.200s, ...)", s->compose.nlayers, s->compose.layers[0].file);
     return st;
 }
 
 orr_status orr_view_compose(view_state *v, orr_error *err)
 {
-    orr_status st = v->scene->nlayers ? load_layers(v, err) : load_raw(v, err);
+    orr_status st = v->scene->compose.nlayers ? load_layers(v, err) : load_raw(v, err);
     for (int j = 0; j < v->nplanes && !st && !v->scene->regrade_final; j++) /* NAME.fits has its PSF */
         st = orr_view_psf_apply(&v->psf, &v->planes[j], err);
     if (!st) {

@@ -12,7 +12,7 @@ orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, cons
      * ranks each reads the whole input for it (a simulation's in-situ share
      * cannot be). */
     orr_source *whole = NULL;
-    if (par && s->insitu)
+    if (par && s->input.insitu)
         return orr_fail(err, ORR_ERR_USAGE, "%s: dust.types: in situ on %d MPI ranks each process holds only its "
                         "share of the dust (docs/dust.md#limitations)", s->path, par->nranks);
     if (par) {
@@ -24,7 +24,7 @@ orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, cons
         src = whole;
     }
     double support = src->info.h_support > 0 ? src->info.h_support : 2.0;
-    orr_dust_context ctx = {s->path, s->kernel, s->neighbours, s->h_scale * support / 2.0, s->colour, s->type_mask};
+    orr_dust_context ctx = {s->path, s->deposit.kernel, s->deposit.neighbours, s->deposit.h_scale * support / 2.0, s->colour.has_populations, s->input.type_mask};
     orr_status st = orr_dust_frame_prepare(dust, &s->dust, &ctx, src, err);
     orr_source_close(whole);
     for (int k = 0; k < n && !st; k++)

@@ -114,22 +114,22 @@ orr_status orr_view_identity_make(const orr_scene *s, const orr_sequence *seq, o
     id->settings = s->settings;
     orr_status st = append(&id->head, err, "version %s\nsettings %016llx\n", ORRERY_VERSION,
                            (unsigned long long)s->settings_digest);
-    if (!st && s->input_file[0] && !seq)
-        st = add_input(&id->head, "input.file", s->input_file, err);
+    if (!st && s->input.file[0] && !seq)
+        st = add_input(&id->head, "input.file", s->input.file, err);
     if (!st && seq)
         st = add_input_set(&id->head, "input.sequence", seq, err);
-    if (!st && s->psf == ORR_PSF_FILE && s->psf_file[0])
-        st = add_input(&id->head, "psf.file", s->psf_file, err);
-    if (!st && s->path_file[0])
-        st = add_input(&id->head, "camera.path.file", s->path_file, err);
+    if (!st && s->psf.kind == ORR_PSF_FILE && s->psf.file[0])
+        st = add_input(&id->head, "psf.file", s->psf.file, err);
+    if (!st && s->camera.path_file[0])
+        st = add_input(&id->head, "camera.path.file", s->camera.path_file, err);
     return st;
 }
 
 orr_status orr_marker_path(const orr_scene *s, char *path, orr_error *err)
 {
-    int n = snprintf(path, ORR_PATH_MAX, "%s/" MARKER_DIR "/%s.done", s->out_dir, s->out_name);
+    int n = snprintf(path, ORR_PATH_MAX, "%s/" MARKER_DIR "/%s.done", s->output.dir, s->output.name);
     if (n < 0 || n >= ORR_PATH_MAX)
-        return orr_fail(err, ORR_ERR_USAGE, "frame marker path for %s/%s is too long", s->out_dir, s->out_name);
+        return orr_fail(err, ORR_ERR_USAGE, "frame marker path for %s/%s is too long", s->output.dir, s->output.name);
     return ORR_OK;
 }
 
@@ -294,7 +294,7 @@ int orr_marker_frame_complete(const orr_scene *s, const orr_view_identity *id, c
     else if (!strstr(marker, id->head))
         name_head_change(marker, id, why, size);
     else
-        ok = outputs_hold(marker, s->out_dir, why, size);
+        ok = outputs_hold(marker, s->output.dir, why, size);
     free(marker);
     return ok;
 }
@@ -386,8 +386,8 @@ static orr_status marker_text(const orr_scene *s, const orr_view_identity *id, c
 static orr_status marker_folder(const orr_scene *s, orr_error *err)
 {
     char dir[ORR_PATH_MAX];
-    if (snprintf(dir, sizeof dir, "%s/" MARKER_DIR, s->out_dir) >= (int)sizeof dir)
-        return orr_fail(err, ORR_ERR_USAGE, "frame marker folder in %s: path too long", s->out_dir);
+    if (snprintf(dir, sizeof dir, "%s/" MARKER_DIR, s->output.dir) >= (int)sizeof dir)
+        return orr_fail(err, ORR_ERR_USAGE, "frame marker folder in %s: path too long", s->output.dir);
     if (mkdir(dir, 0777) != 0 && errno != EEXIST)
         return orr_fail(err, ORR_ERR_IO, "%s: cannot create the frame marker folder: %s", dir, strerror(errno));
     return ORR_OK;

@@ -10,18 +10,18 @@
 orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *needed, orr_error *err)
 {
     *needed = 0;
-    if (s->has_glow) {
+    if (s->psf.has_glow) {
         *needed = 1;
         return ORR_OK;
     }
-    if (s->deposit != ORR_DEPOSIT_SPH)
+    if (s->deposit.kind != ORR_DEPOSIT_SPH)
         return ORR_OK;
-    if (s->lengths == ORR_LENGTHS_FILE && !src->info.has_h)
+    if (s->deposit.lengths == ORR_LENGTHS_FILE && !src->info.has_h)
         return orr_fail(err, ORR_ERR_DATA,
                         "%s: smoothing.lengths is file, but %s has no smoothing lengths; use smoothing.lengths: "
                         "neighbours (or auto) to compute them",
                         s->path, src->info.path);
-    *needed = s->lengths == ORR_LENGTHS_NEIGHBOURS || (s->lengths == ORR_LENGTHS_AUTO && !src->info.has_h);
+    *needed = s->deposit.lengths == ORR_LENGTHS_NEIGHBOURS || (s->deposit.lengths == ORR_LENGTHS_AUTO && !src->info.has_h);
     return ORR_OK;
 }
 
@@ -157,7 +157,7 @@ static orr_status find_lengths(const orr_scene *s, const orr_parallel *par, cons
      * (a bad row of a table) already names its file and line, and is the
      * same whichever pass over the particles meets it first. */
     if (!st && all->n &&
-        (st = orr_smoothing_lengths(all->n, all->x, all->y, all->z, s->neighbours, ORR_SMOOTHING_FACTOR_DEFAULT,
+        (st = orr_smoothing_lengths(all->n, all->x, all->y, all->z, s->deposit.neighbours, ORR_SMOOTHING_FACTOR_DEFAULT,
                                     h_all, err)))
         orr_fail_prefix(err, "%s: smoothing lengths from the neighbours: ", s->path);
     if (par) {

@@ -47,7 +47,7 @@ void orr_lengths_free(orr_lengths *l);
  * type the scene draws and has a finite position. Both passes use it. */
 static inline int orr_lengths_counts(const orr_scene *s, const orr_chunk *c, size_t i)
 {
-    return (s->type_mask & (1u << c->type[i])) && isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]);
+    return (s->input.type_mask & (1u << c->type[i])) && isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]);
 }
 
 #endif

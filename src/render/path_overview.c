@@ -67,12 +67,12 @@ static void bounds_add(bounds *b, double x, double y)
 }
 
 /* The particles' weights, or an error naming the fields there are. */
-static const float *weights_of(const orr_scene *s, const orr_chunk *c) { return orr_chunk_field(c, s->weight); }
+static const float *weights_of(const orr_scene *s, const orr_chunk *c) { return orr_chunk_field(c, s->input.weight); }
 
 static int selected(const orr_scene *s, const orr_chunk *c, size_t i)
 {
     /* input.types is a mask of types 0..5; a text table may hold others. */
-    return c->type[i] < 32 && (s->type_mask >> c->type[i] & 1u) && isfinite(c->x[i]) && isfinite(c->y[i]) &&
+    return c->type[i] < 32 && (s->input.type_mask >> c->type[i] & 1u) && isfinite(c->x[i]) && isfinite(c->y[i]) &&
            isfinite(c->z[i]);
 }
 
@@ -117,7 +117,7 @@ static orr_status splat_particles(const orr_scene *s, orr_source *src, const orr
             break;
         const float *w = weights_of(s, c);
         if (!w) {
-            st = orr_fail(err, ORR_ERR_USAGE, "%s: input.weight '%s' is not a field of %s", s->path, s->weight,
+            st = orr_fail(err, ORR_ERR_USAGE, "%s: input.weight '%s' is not a field of %s", s->path, s->input.weight,
                           src->info.path);
             break;
         }
@@ -278,7 +278,7 @@ static void draw_path(const canvas *cv, const orr_projection *proj, const orr_ca
 static orr_status choose_view(const orr_scene *s, orr_source *src, const orr_camera *cams, long n,
                               orr_path_overview *ov, orr_projection *proj, orr_error *err)
 {
-    ov->normal = orr_path_main_axis(&s->camera_path, cams, n);
+    ov->normal = orr_path_main_axis(&s->camera.path, cams, n);
     orr_camera at_origin;
     orr_status st = orr_camera_look_along(&at_origin, orr_v3(0, 0, 0), orr_v3_scale(ov->normal, -1),
                                           picture_up(ov->normal), 0, err);
@@ -318,7 +318,7 @@ static orr_status grade(const orr_scene *s, const orr_plane *plane, float *rgb, 
     double white;
     orr_status st = ORR_OK;
     if (orr_plane_sum(plane) > 0)
-        st = orr_stretch_apply(&s->stretch, plane, t, &white, err);
+        st = orr_stretch_apply(&s->picture.stretch, plane, t, &white, err);
     else
         memset(t, 0, npix * sizeof(float));
     for (size_t i = 0; !st && i < npix; i++) {
@@ -347,7 +347,7 @@ orr_status orr_path_overview_write(const orr_scene *s, const orr_camera *cams, l
     if (!st)
         st = choose_view(s, src, cams, n, ov, &proj, err);
     if (!st)
-        st = orr_plane_alloc(&plane, ov->width, ov->height, s->weight, "", err);
+        st = orr_plane_alloc(&plane, ov->width, ov->height, s->input.weight, "", err);
     if (!st)
         st = splat_particles(s, src, &proj, &ov->view, &plane, ov, err);
     if (!st && !(rgb = orr_malloc((size_t)ov->width * (size_t)ov->height * 3 * sizeof(float), "overview", err)))
@@ -360,7 +360,7 @@ orr_status orr_path_overview_write(const orr_scene *s, const orr_camera *cams, l
         char desc[ORR_PATH_MAX + 160];
         snprintf(desc, sizeof desc,
                  "camera path (%s, %ld frames) of %s over its particles, seen down (%.4g, %.4g, %.4g)",
-                 orr_path_kind_name(s->camera_path.kind), n, s->path, ov->normal.x, ov->normal.y, ov->normal.z);
+                 orr_path_kind_name(s->camera.path.kind), n, s->path, ov->normal.x, ov->normal.y, ov->normal.z);
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
         st = orr_write_png_rgb(png_path, ov->width, ov->height, rgb, 8, text, 2, err);
     }

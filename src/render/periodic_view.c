@@ -14,8 +14,8 @@
 
 orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info, double *box, orr_error *err)
 {
-    if (s->periodic_box > 0) {
-        *box = s->periodic_box;
+    if (s->periodic.box > 0) {
+        *box = s->periodic.box;
         return ORR_OK;
     }
     for (int k = 0; k < info->nheader; k++) {
@@ -28,7 +28,7 @@ orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info
             return orr_fail(err, ORR_ERR_DATA,
                             "%s: input.periodic.replicas %d needs the box side, but the file's BoxSize is '%s'; "
                             "set input.periodic.box",
-                            info->path, s->periodic_replicas, text);
+                            info->path, s->periodic.replicas, text);
         for (const char *p = end; *p;) {
             double next = orr_strtod(p, &end);
             if (end == p)
@@ -46,19 +46,19 @@ orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info
     return orr_fail(err, ORR_ERR_USAGE,
                     "%s: input.periodic.replicas %d needs the box side: %s has no BoxSize in its header; set "
                     "input.periodic.box",
-                    s->path, s->periodic_replicas, info->path);
+                    s->path, s->periodic.replicas, info->path);
 }
 
 /* The copies: n^3 around the box itself, or around the camera's copy,
  * and then only those reaching into the camera's sphere. */
 static orr_status place_copies(orr_periodic_view *pv, const orr_scene *s, orr_vec3 camera, orr_error *err)
 {
-    orr_status st = orr_replicas_place(&pv->replicas, pv->box, s->periodic_replicas, s->periodic_around_camera,
+    orr_status st = orr_replicas_place(&pv->replicas, pv->box, s->periodic.replicas, s->periodic.around_camera,
                                        camera, err);
-    if (st || !s->periodic_around_camera)
+    if (st || !s->periodic.around_camera)
         return st;
-    st = orr_replica_sphere_resolve(&pv->sphere, pv->box, s->periodic_replicas, s->periodic_radius,
-                                    s->has_periodic_fade ? s->periodic_fade : -1, err);
+    st = orr_replica_sphere_resolve(&pv->sphere, pv->box, s->periodic.replicas, s->periodic.radius,
+                                    s->periodic.has_fade ? s->periodic.fade : -1, err);
     if (st)
         return st;
     pv->sphere.camera = camera;
@@ -70,7 +70,7 @@ orr_status orr_periodic_view_setup(orr_periodic_view *pv, const orr_scene *s, co
                                    const orr_projection *p, const orr_camera *cam, int can_cull, orr_error *err)
 {
     memset(pv, 0, sizeof *pv);
-    if (s->periodic_replicas <= 1)
+    if (s->periodic.replicas <= 1)
         return ORR_OK;
     orr_status st = orr_periodic_box_side(s, info, &pv->box, err);
     if (!st && (st = place_copies(pv, s, cam->position, err)))
@@ -111,7 +111,7 @@ void orr_block_summarise(const orr_scene *s, const orr_chunk *c, size_t start, s
         } else if (c->h) {
             h = c->h[i] * bl->h_scale;
         }
-        if (!(s->type_mask & (1u << c->type[i])) || (s->has_observer && c->id[i] == s->observer_id))
+        if (!(s->input.type_mask & (1u << c->type[i])) || (s->observer.has_id && c->id[i] == s->observer.id))
             continue;
         int finite = finite3(c, i);
         for (int k = 0; k < nw; k++)

@@ -44,24 +44,24 @@ struct orr_plan {
 static void plane_name(const orr_scene *s, int k, char *name, size_t size)
 {
     static const char *const xyz_names[3] = {"X", "Y", "Z"};
-    if (!s->colour)
-        orr_snprintf(name, size, "%s", s->weight);
+    if (!s->colour.has_populations)
+        orr_snprintf(name, size, "%s", s->input.weight);
     else if (k < 3)
         orr_snprintf(name, size, "%s", xyz_names[k]);
     else
-        orr_snprintf(name, size, "pop.%s.Y", s->populations.pop[k - 3].name);
+        orr_snprintf(name, size, "pop.%s.Y", s->colour.populations.pop[k - 3].name);
 }
 
 /* The scene's psf.* as the post stage's settings (post/psf.h). */
 static void psf_settings(const orr_scene *s, orr_psf_settings *ps)
 {
-    *ps = (orr_psf_settings){.kind = s->psf, .fwhm = s->psf_fwhm, .fwhm_arcmin = s->psf_fwhm_arcmin,
-                             .file_subsample = s->psf_file_subsample, .arcsec_per_pixel = s->psf_arcsec_per_pixel,
-                             .angle = s->psf_angle, .vane_width = s->psf_vane_width,
-                             .spike_gain = s->psf_spike_gain, .size = s->psf_size,
-                             .spike_stars = s->psf_spike_stars, .flat_stars = s->psf_flat_stars,
-                             .spike_min_flux = s->psf_spike_min_flux};
-    orr_snprintf(ps->file, sizeof ps->file, "%s", s->psf_file);
+    *ps = (orr_psf_settings){.kind = s->psf.kind, .fwhm = s->psf.fwhm, .fwhm_arcmin = s->psf.fwhm_arcmin,
+                             .file_subsample = s->psf.file_subsample, .arcsec_per_pixel = s->psf.arcsec_per_pixel,
+                             .angle = s->psf.angle, .vane_width = s->psf.vane_width,
+                             .spike_gain = s->psf.spike_gain, .size = s->psf.size,
+                             .spike_stars = s->psf.spike_stars, .flat_stars = s->psf.flat_stars,
+                             .spike_min_flux = s->psf.spike_min_flux};
+    orr_snprintf(ps->file, sizeof ps->file, "%s", s->psf.file);
 }
 
 /* The view's PSF (post/view_psf.h): made once per run. */
@@ -69,7 +69,7 @@ static orr_status plan_psf(view_state *v, const orr_scene *s, orr_psf_kernels *k
 {
     orr_psf_settings ps;
     psf_settings(s, &ps);
-    orr_status st = orr_view_psf_setup(&v->psf, &ps, s->colour || s->nlayers, &v->proj, &v->kernel, kernels, err);
+    orr_status st = orr_view_psf_setup(&v->psf, &ps, s->colour.has_populations || s->compose.nlayers, &v->proj, &v->kernel, kernels, err);
     return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
 }
 
@@ -81,9 +81,9 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
     v->proj = v->base_proj;
-    v->nplanes = s->colour || s->nlayers ? 3 : 1;
-    if (s->colour && s->exr_population_layers)
-        v->nplanes += s->populations.n;
+    v->nplanes = s->colour.has_populations || s->compose.nlayers ? 3 : 1;
+    if (s->colour.has_populations && s->output.exr_population_layers)
+        v->nplanes += s->colour.populations.n;
     char unit[ORR_PLANE_NAME_MAX];
     orr_brightness_unit(&v->proj, scene_weight_unit(s), scene_length_unit(s), unit, sizeof unit);
     for (int k = 0; k < v->nplanes && !st; k++) {
@@ -93,15 +93,15 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     }
     /* The kernel's tables take milliseconds to build: only for kernel
      * deposits and PSFs (a sky map's is drawn with the kernel). */
-    int needs_kernel = s->deposit == ORR_DEPOSIT_SPH || s->psf != ORR_PSF_NONE;
+    int needs_kernel = s->deposit.kind == ORR_DEPOSIT_SPH || s->psf.kind != ORR_PSF_NONE;
     if (!st && needs_kernel)
-        st = orr_kernel_init(&v->kernel, s->kernel, err);
+        st = orr_kernel_init(&v->kernel, s->deposit.kernel, err);
     v->kernel_ready = !st && needs_kernel;
     /* The PSF needs the image's size and scale, which a stereo eye's
      * shifted principal point leaves as they are. */
     if (!st)
         st = plan_psf(v, s, kernels, err);
-    v->use_sph = s->deposit == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
+    v->use_sph = s->deposit.kind == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
     if (!st && v->use_sph)
         st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
     v->sph_ready = !st && v->use_sph;
@@ -156,7 +156,7 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     v->scene = s;
     v->rep = rep;
     v->proj = v->base_proj; /* a stereo eye shifts its principal point below */
-    v->tint_t = s->tint_run ? when->u : s->tint_t;
+    v->tint_t = s->colour.tint_run ? when->u : s->colour.tint_t;
     orr_status st = orr_view_camera(s, observer, when, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
@@ -241,7 +241,7 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
     orr_status st = ORR_OK;
     /* Fail on an unwritable output folder before any slow work. */
     for (int k = 0; k < n && !st; k++)
-        st = orr_check_output_dir(scenes[k]->out_dir, err);
+        st = orr_check_output_dir(scenes[k]->output.dir, err);
     if (!st && !(plan->planning_reports = orr_calloc((size_t)n, sizeof *plan->planning_reports, "reports", err)))
         st = ORR_ERR_NOMEM;
     if (!st)
@@ -276,8 +276,8 @@ static orr_status check_frame_views(const orr_plan *plan, const orr_eye_views *e
     for (int k = 0; k < plan->n; k++) {
         const orr_scene *a = eyes->scene[k], *b = plan->eyes.scene[k];
         if (a->projection.kind != b->projection.kind || a->projection.width != b->projection.width ||
-            a->projection.height != b->projection.height || a->deposit != b->deposit || a->psf != b->psf ||
-            a->colour != b->colour || a->stereo_eye != b->stereo_eye)
+            a->projection.height != b->projection.height || a->deposit.kind != b->deposit.kind || a->psf.kind != b->psf.kind ||
+            a->colour.has_populations != b->colour.has_populations || a->stereo.eye != b->stereo.eye)
             return orr_fail(err, ORR_ERR_INTERNAL, "%s: view %d of the frame is not the view planned", a->path, k);
     }
     return ORR_OK;
@@ -348,17 +348,17 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
             return st;
         /* orrery's h is half the kernel's support: convert the file's. */
         double support = src->info.h_support > 0 ? src->info.h_support : 2.0;
-        v->h_scale = (float)(v->scene->h_scale * support / 2.0);
+        v->h_scale = (float)(v->scene->deposit.h_scale * support / 2.0);
         if (!needed)
             continue;
         /* The glow's lengths are angles seen from the camera (glow_length). */
-        const orr_vec3 *centre = v->scene->has_glow ? &v->rep->camera.position : NULL;
+        const orr_vec3 *centre = v->scene->psf.has_glow ? &v->rep->camera.position : NULL;
         if (par && !centre)
             return orr_fail(err, ORR_ERR_USAGE,
                             "%s: smoothing lengths from the neighbours need every particle in one process; with "
                             "%d MPI ranks use lengths from the file (smoothing.lengths: file)",
                             v->scene->path, par->nranks);
-        v->h_scale = (float)v->scene->h_scale;
+        v->h_scale = (float)v->scene->deposit.h_scale;
         if (!lengths->h && !lengths->angular && /* (computed, but none here: a process's share may be empty) */
             (st = orr_lengths_compute(v->scene, src, centre, par, lengths, err)))
             return st;
@@ -379,7 +379,7 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
 static orr_status setup_periodic(view_state *v, const orr_source_info *info, orr_error *err)
 {
     const orr_scene *s = v->scene;
-    int can_cull = !v->use_ods && !(v->psf.h_per_r > 0) && !(s->has_observer && s->dim);
+    int can_cull = !v->use_ods && !(v->psf.h_per_r > 0) && !(s->observer.has_id && s->observer.dim);
     orr_status st = orr_periodic_view_setup(&v->periodic, s, info, &v->proj, &v->rep->camera, can_cull, err);
     v->rep->n_replicas = v->periodic.active ? v->periodic.replicas.n : 0;
     return st;
@@ -410,7 +410,7 @@ static orr_status draw_bright_stars(view_state *v, orr_error *err)
         return ORR_OK;
     if (!v->psf.core)
         return orr_sky_psf_draw(v->psf.sky, &v->sph, v->planes, v->nplanes, err);
-    orr_flat_deposit dep = {v->scene->deposit, &v->proj, v->use_sph ? &v->sph : NULL};
+    orr_flat_deposit dep = {v->scene->deposit.kind, &v->proj, v->use_sph ? &v->sph : NULL};
     return orr_flat_psf_draw(v->psf.sky, &dep, v->psf.core, v->planes, v->nplanes, err);
 }
 
@@ -428,7 +428,7 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
         orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);
     charge(&views[0], ORR_STAGE_POST);
     for (int k = 0; k < n && !st; k++)
-        if (views[k].scene->write_raw) {
+        if (views[k].scene->output.write_raw) {
             orr_mask_outside_map(&views[k].proj, views[k].planes, views[k].nplanes);
             charge(&views[k], ORR_STAGE_POST);
             st = orr_view_write_fits_planes(&views[k], "raw.fits", err);
@@ -546,7 +546,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     for (int k = 0; k < plan->n; k++)
         views[k].timer = timer;
     const orr_scene *s0 = scenes[0];
-    const orr_frame_time still = orr_frame_at(0, 1, s0->anim_fps, 0, 0);
+    const orr_frame_time still = orr_frame_at(0, 1, s0->animation.fps, 0, 0);
     const orr_frame_time *when = in ? &in->time : &still;
     const orr_parallel *par = in && in->parallel && in->parallel->nranks > 1 ? in->parallel : NULL;
     orr_source *given = in ? in->source : NULL, *src = NULL;
@@ -554,21 +554,21 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     /* Checked when planned; again each frame (a stat), in case a long run's
      * folder went away since, before any slow work. */
     for (int k = 0; k < plan->nscenes && !st; k++)
-        st = orr_check_output_dir(scenes[k]->out_dir, err);
+        st = orr_check_output_dir(scenes[k]->output.dir, err);
     if (!st && par && !given && !(st = open_share(s0, par, &src, err)))
         given = src;
     /* The observer's frame moves with the particles: found every frame, by
      * a pass over them (reading, as the splat's). */
     orr_sky_frame observer;
     orr_vec3 observer_velocity = orr_v3(0, 0, 0);
-    if (!st && s0->has_observer)
+    if (!st && s0->observer.has_id)
         st = orr_view_sky_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
     orr_stage_charge(&timer->times, ORR_STAGE_SOURCE, &timer->at);
     /* A stereo view renders as two views, its eyes, named for this frame. */
     orr_eye_views eyes = {0};
     int begun = 0;
     if (!st && !(st = orr_eye_views_expand(scenes, plan->nscenes, reports, &eyes, err)))
-        st = begin_frame(plan, &eyes, s0->has_observer ? &observer : NULL, observer_velocity, when, &begun, err);
+        st = begin_frame(plan, &eyes, s0->observer.has_id ? &observer : NULL, observer_velocity, when, &begun, err);
     charge(&views[0], ORR_STAGE_SETUP);
     if (!st)
         st = frame_particles(s0, given, &src, err);
@@ -609,18 +609,18 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_
     /* No particles, so no observer frame: the world's stands in (the camera
      * matters only for FITS cards, and compose writes PNGs). */
     orr_sky_frame observer = orr_sky_frame_world(orr_v3(0, 0, 0));
-    const orr_frame_time still = orr_frame_at(0, 1, scenes[0]->anim_fps, 0, 0);
+    const orr_frame_time still = orr_frame_at(0, 1, scenes[0]->animation.fps, 0, 0);
     orr_status st = ORR_OK;
     /* As a render does: the output folder is made, or found unwritable,
      * before any work (a compose's layers may be read from elsewhere). */
     for (int k = 0; k < plan->nscenes && !st; k++)
-        st = orr_check_output_dir(scenes[k]->out_dir, err);
+        st = orr_check_output_dir(scenes[k]->output.dir, err);
     orr_eye_views views = {0};
     int begun = 0;
     for (int k = 0; k < plan->n; k++)
         plan->views[k].timer = NULL;
     if (!st && !(st = expand_views(plan, scenes, reports, &views, err)))
-        st = begin_frame(plan, &views, scenes[0]->has_observer ? &observer : NULL, orr_v3(0, 0, 0), &still, &begun,
+        st = begin_frame(plan, &views, scenes[0]->observer.has_id ? &observer : NULL, orr_v3(0, 0, 0), &still, &begun,
                          err);
     orr_output_batch outputs;
     orr_output_batch_init(&outputs);

@@ -24,7 +24,7 @@ orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, 
  * splat selects input.types itself); nor the dust (dust.types). */
 static unsigned reader_types(const orr_scene *s)
 {
-    return s->has_observer ? 0 : s->type_mask | s->dust.types;
+    return s->observer.has_id ? 0 : s->input.type_mask | s->dust.types;
 }
 
 orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, int nfields, int part, int nparts,
@@ -35,29 +35,29 @@ orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, i
          * once for the run; alone (a path overview), its first snapshot. */
         char first[ORR_PATH_MAX];
         orr_status st = ORR_OK;
-        if (s->seq_nfiles > 0)
+        if (s->input.sequence.nfiles > 0)
             snprintf(first, sizeof first, "%s", orr_scene_sequence_file(s, 0));
         else
-            st = orr_sequence_pattern_path(s->seq_pattern, s->seq_first, first, sizeof first, err);
-        orr_source_options opt = {s->input_format, (size_t)s->chunk_size, reader_types(s), fields, nfields, 0, 1};
+            st = orr_sequence_pattern_path(s->input.sequence.pattern, s->input.sequence.first, first, sizeof first, err);
+        orr_source_options opt = {s->input.format, (size_t)s->input.chunk_size, reader_types(s), fields, nfields, 0, 1};
         return st ? st : orr_source_open_file(first, &opt, out, err);
     }
-    if (!s->model_name[0] && !s->input_file[0])
+    if (!s->input.model.name[0] && !s->input.file[0])
         return orr_fail(err, ORR_ERR_USAGE,
                         "%s: an in-situ scene (input.insitu) has no particles of its own: a running simulation "
                         "hands them over through orrery.h; set input.file or input.model.name to render it here",
                         s->path);
-    if (strcmp(s->model_name, "king") == 0) {
-        orr_king_params kp = {s->model_particles, s->model_seed, s->model_w0, s->model_core_radius, s->model_mass};
-        return orr_king_source_open(&kp, (size_t)s->chunk_size, out, err);
+    if (strcmp(s->input.model.name, "king") == 0) {
+        orr_king_params kp = {s->input.model.particles, s->input.model.seed, s->input.model.w0, s->input.model.core_radius, s->input.model.mass};
+        return orr_king_source_open(&kp, (size_t)s->input.chunk_size, out, err);
     }
-    if (s->model_name[0]) {
-        orr_model_params mp = {s->model_particles, s->model_seed, s->model_separation, s->model_galaxies,
-                               s->model_disc_q};
-        return orr_model_source_open_dust(&mp, s->model_dust_particles, (size_t)s->chunk_size, out, err);
+    if (s->input.model.name[0]) {
+        orr_model_params mp = {s->input.model.particles, s->input.model.seed, s->input.model.separation, s->input.model.galaxies,
+                               s->input.model.disc_q};
+        return orr_model_source_open_dust(&mp, s->input.model.dust_particles, (size_t)s->input.chunk_size, out, err);
     }
-    orr_source_options opt = {s->input_format, (size_t)s->chunk_size, reader_types(s), fields, nfields, part, nparts};
-    return orr_source_open_file(s->input_file, &opt, out, err);
+    orr_source_options opt = {s->input.format, (size_t)s->input.chunk_size, reader_types(s), fields, nfields, part, nparts};
+    return orr_source_open_file(s->input.file, &opt, out, err);
 }
 
 /* Appends name to fields[0..*n) unless it is empty, mass or h (never extra
@@ -75,11 +75,11 @@ static void add_field(const char **fields, int *n, const char *name)
 int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIELDS])
 {
     int nfields = 0;
-    add_field(fields, &nfields, s->weight);
+    add_field(fields, &nfields, s->input.weight);
     /* Readers that load only the fields asked for (HDF5) must load these,
      * or a population choosing by stellar age would find no ages. */
-    for (int i = 0; s->colour && i < s->populations.n; i++) {
-        const orr_population *p = &s->populations.pop[i];
+    for (int i = 0; s->colour.has_populations && i < s->colour.populations.n; i++) {
+        const orr_population *p = &s->colour.populations.pop[i];
         add_field(fields, &nfields, p->select.range_field);
         add_field(fields, &nfields, p->select.prob_field);
         if (p->colour.kind != ORR_POPCOLOUR_FIXED)
@@ -91,7 +91,7 @@ int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIEL
     }
     if (s->dust.types)
         add_field(fields, &nfields, s->dust.metallicity);
-    if ((s->has_observer && s->normal_types) || orr_blur_moves_particles(s)) {
+    if ((s->observer.has_id && s->observer.normal_types) || orr_blur_moves_particles(s)) {
         add_field(fields, &nfields, "vx");
         add_field(fields, &nfields, "vy");
         add_field(fields, &nfields, "vz");

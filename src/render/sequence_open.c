@@ -10,16 +10,16 @@
  * BoxSize; 0 when the scene does not say the box is periodic. */
 static orr_status sequence_box(const orr_scene *s, double *box, orr_error *err)
 {
-    *box = s->periodic_box;
-    if (s->periodic_box > 0 || s->periodic_replicas <= 1)
+    *box = s->periodic.box;
+    if (s->periodic.box > 0 || s->periodic.replicas <= 1)
         return ORR_OK;
     char first[ORR_PATH_MAX];
-    orr_status st = s->seq_pattern[0] ? orr_sequence_pattern_path(s->seq_pattern, (long)s->seq_first, first,
+    orr_status st = s->input.sequence.pattern[0] ? orr_sequence_pattern_path(s->input.sequence.pattern, (long)s->input.sequence.first, first,
                                                                    sizeof first, err)
                                       : ORR_OK;
-    if (!s->seq_pattern[0])
+    if (!s->input.sequence.pattern[0])
         snprintf(first, sizeof first, "%s", orr_scene_sequence_file(s, 0));
-    orr_source_options o = {.format = s->input_format, .chunk_size = 1};
+    orr_source_options o = {.format = s->input.format, .chunk_size = 1};
     orr_source *src = NULL;
     if (!st)
         st = orr_source_open_file(first, &o, &src, err);
@@ -38,29 +38,29 @@ orr_status orr_sequence_open_scene(const orr_scene *s, const char *const *fields
                         s->path);
     orr_sequence_options opt = {
         /* As orr_scene_open_source: keep the observer's particles whatever their type. */
-        .source = {.format = s->input_format,
-                   .chunk_size = (size_t)s->chunk_size,
-                   .type_mask = s->has_observer ? 0 : s->type_mask,
+        .source = {.format = s->input.format,
+                   .chunk_size = (size_t)s->input.chunk_size,
+                   .type_mask = s->observer.has_id ? 0 : s->input.type_mask,
                    .fields = fields,
                    .nfields = nfields},
-        .interpolation = s->seq_interpolation,
-        .max_memory = s->seq_max_memory * 1024.0 * 1024.0 * 1024.0,
+        .interpolation = s->input.sequence.interpolation,
+        .max_memory = s->input.sequence.max_memory * 1024.0 * 1024.0 * 1024.0,
     };
     orr_status st = sequence_box(s, &opt.box, err);
     if (st) {
         orr_fail_prefix(err, "%s: ", s->path);
         return st;
     }
-    if (s->seq_pattern[0]) {
-        st = orr_sequence_open_pattern(s->seq_pattern, (long)s->seq_first, (long)s->seq_last, (long)s->seq_step,
+    if (s->input.sequence.pattern[0]) {
+        st = orr_sequence_open_pattern(s->input.sequence.pattern, (long)s->input.sequence.first, (long)s->input.sequence.last, (long)s->input.sequence.step,
                                        &opt, out, err);
     } else {
-        const char **paths = orr_malloc((size_t)s->seq_nfiles * sizeof *paths, "the sequence's paths", err);
+        const char **paths = orr_malloc((size_t)s->input.sequence.nfiles * sizeof *paths, "the sequence's paths", err);
         if (!paths)
             return ORR_ERR_NOMEM;
-        for (int i = 0; i < s->seq_nfiles; i++)
+        for (int i = 0; i < s->input.sequence.nfiles; i++)
             paths[i] = orr_scene_sequence_file(s, i);
-        st = orr_sequence_open(paths, s->seq_nfiles, &opt, out, err);
+        st = orr_sequence_open(paths, s->input.sequence.nfiles, &opt, out, err);
         free(paths);
     }
     if (st)

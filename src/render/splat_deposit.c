@@ -52,7 +52,7 @@ static void deposit_points(const view_state *v, orr_plane *planes, int lane, siz
         orr_deposit_stats scratch = {0};
         orr_deposit_stats *st = k < 2 ? &t->deposit[k] : &scratch;
         if (!v->use_sph) {
-            orr_deposit(v->scene->deposit, &planes[k], n, b->px, b->py, b->wp[k], b->visible, &v->proj, st);
+            orr_deposit(v->scene->deposit.kind, &planes[k], n, b->px, b->py, b->wp[k], b->visible, &v->proj, st);
             continue;
         }
         orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->wp[k]};

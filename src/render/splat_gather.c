@@ -64,17 +64,17 @@ static int block_selects_all(const view_state *v, const orr_chunk *c, size_t sta
     for (size_t i = start; i < end; i++)
         differ |= type[i] ^ first_type;
     if (!differ) {
-        if (first_type > 31 || !(s->type_mask & (1u << first_type)))
+        if (first_type > 31 || !(s->input.type_mask & (1u << first_type)))
             return 0;
     } else {
         uint32_t types = 0;
         for (size_t i = start; i < end; i++)
             types |= type[i] > 31 ? ~0u : 1u << type[i];
-        if (types & ~s->type_mask)
+        if (types & ~s->input.type_mask)
             return 0;
     }
-    if (s->has_observer) {
-        const uint64_t observer = s->observer_id;
+    if (s->observer.has_id) {
+        const uint64_t observer = s->observer.id;
         int found = 0;
         for (size_t i = start; i < end; i++)
             found |= c->id[i] == observer;
@@ -104,8 +104,8 @@ static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift, in
         t.inner2 = t.inner * t.inner;
         t.outer2 = t.outer * t.outer;
     }
-    t.dim = (s->has_observer && s->dim) || s->camera_dim;
-    const double near = s->camera_dim ? s->camera_dim_near : s->dim_near;
+    t.dim = (s->observer.has_id && s->observer.dim) || s->camera.dim;
+    const double near = s->camera.dim ? s->camera.dim_near : s->observer.dim_near;
     t.near2 = (float)(near * near);
     return t;
 }
@@ -247,8 +247,8 @@ static float glow_taper(float x, float limit)
  * draws in to a point instead of popping. */
 static float glow_length(const orr_scene *s, float h, float r2, float flux)
 {
-    const float max_h = (float)(0.5 * s->glow_max_arcmin * ORR_PI / (180.0 * 60.0));
-    return h * glow_taper(h, max_h) * glow_taper(flux, (float)s->glow_threshold) * sqrtf(r2);
+    const float max_h = (float)(0.5 * s->psf.glow_max_arcmin * ORR_PI / (180.0 * 60.0));
+    return h * glow_taper(h, max_h) * glow_taper(flux, (float)s->psf.glow_threshold) * sqrtf(r2);
 }
 
 /* ---- motion blur (render/motion_blur.h) ---- */
@@ -323,7 +323,7 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
             return (long)gather_all(v, c, wsrcs, start, end, &tf, b);
         }
     }
-    const int skip_observer = s->has_observer;
+    const int skip_observer = s->observer.has_id;
     const float *vel[3] = {NULL, NULL, NULL};
     orr_camera_transform open, close;
     if (v->blur.active) {
@@ -340,12 +340,12 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         } else if (c->h) {
             h = c->h[i] * v->h_scale;
         }
-        if (!(s->type_mask & (1u << c->type[i])) || (skip_observer && c->id[i] == s->observer_id))
+        if (!(s->input.type_mask & (1u << c->type[i])) || (skip_observer && c->id[i] == s->observer.id))
             continue;
         t->n_selected++;
         if (!isfinite(c->x[i]) || !isfinite(c->y[i]) || !isfinite(c->z[i]) || !isfinite(wsrc[i]) ||
             (vel[0] && !velocity_finite(vel, i))) {
-            if (!s->skip_nonfinite) {
+            if (!s->input.skip_nonfinite) {
                 nonfinite_error(src, c, i, wsrc[i], vel[0] ? vel : NULL, err);
                 return -1;
             }
@@ -355,7 +355,7 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         orr_camera_point p = orr_to_camera(&tf, c->x[i], c->y[i], c->z[i]);
         float dimming = tf.dim ? orr_camera_dimming(&tf, p.r2) : 1.0f;
         float fade = tf.fade ? orr_camera_fade(&tf, p.r2) : 1.0f;
-        if (s->has_glow) /* an angle from the lengths, a point when bright */
+        if (s->psf.has_glow) /* an angle from the lengths, a point when bright */
             h = glow_length(s, h, p.r2, wsrcs[v->nplanes >= 3 ? 1 : 0][i] * dimming);
         if (fade < 1.0f)
             count_faded(v, wsrcs, i, dimming, fade, t);

@@ -23,7 +23,7 @@ _Static_assert(MAX_LANES <= ORR_SKY_PSF_LANES, "a sky PSF collects stars in ever
 static orr_status weight_field(const orr_scene *s, const orr_source *src, const orr_chunk *c,
                                const float **w, orr_error *err)
 {
-    *w = orr_chunk_field(c, s->weight);
+    *w = orr_chunk_field(c, s->input.weight);
     if (*w)
         return ORR_OK;
     char have[512] = "mass";
@@ -34,7 +34,7 @@ static orr_status weight_field(const orr_scene *s, const orr_source *src, const 
         strncat(have, c->extra[i].name, sizeof have - strlen(have) - 1);
     }
     return orr_fail(err, ORR_ERR_USAGE, "%s: input.weight '%s' is not a field of %s (fields: %s)", s->path,
-                    s->weight, src->info.path, have);
+                    s->input.weight, src->info.path, have);
 }
 
 /* How many lanes the view splats in (reduce/lanes.h), for a source of
@@ -42,7 +42,7 @@ static orr_status weight_field(const orr_scene *s, const orr_source *src, const 
 static int lanes_for(const view_state *v, int64_t count)
 {
     int shares_per_particle = v->use_sph                                  ? 0
-                              : v->scene->deposit == ORR_DEPOSIT_NGP ? 1
+                              : v->scene->deposit.kind == ORR_DEPOSIT_NGP ? 1
                                                                      : ORR_MAX_SHARES_PER_POINT;
     return orr_lanes_for(v->proj.width, v->proj.height, v->nplanes, shares_per_particle, count);
 }
@@ -59,7 +59,7 @@ static orr_status alloc_bands(view_state *v, size_t capacity, orr_error *err)
     v->lanes.n = 1;
     size_t nblocks = (capacity + BLOCK - 1) / BLOCK;
     size_t window = nblocks < ORR_BAND_WINDOW_BLOCKS ? nblocks : ORR_BAND_WINDOW_BLOCKS;
-    size_t per_point = v->scene->deposit == ORR_DEPOSIT_NGP ? 1 : ORR_MAX_SHARES_PER_POINT;
+    size_t per_point = v->scene->deposit.kind == ORR_DEPOSIT_NGP ? 1 : ORR_MAX_SHARES_PER_POINT;
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
     return orr_bands_init(&v->bands, npix, v->nplanes, window ? window : 1, per_point * BLOCK, err);
 }
@@ -226,7 +226,7 @@ static void window_shares(view_state *v, const orr_source *src, const orr_chunk 
                 orr_point_batch pb = {(size_t)n, b->px, b->py, b->visible, {NULL}, v->nplanes};
                 for (int k = 0; k < v->nplanes; k++)
                     pb.w[k] = b->wp[k];
-                orr_deposit_shares(v->scene->deposit, &pb, &v->proj, W, H, &shares, st);
+                orr_deposit_shares(v->scene->deposit.kind, &pb, &v->proj, W, H, &shares, st);
                 t->deposit[0] = st[0];
                 t->deposit[1] = st[1];
             }
@@ -293,7 +293,7 @@ static void split_y_by_population(float *const *xyz, int npop, const int32_t *po
 static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const orr_chunk *c, float *const *xyz,
                                 const float **w, splat_work *work, orr_error *err)
 {
-    if (!s->colour)
+    if (!s->colour.has_populations)
         return weight_field(s, src, c, &w[0], err);
     orr_status st_part[MAX_LANES];
     const size_t n = c->n, per = (n + MAX_LANES - 1) / MAX_LANES;
@@ -302,7 +302,7 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
         size_t start = (size_t)part * per < n ? (size_t)part * per : n;
         size_t count = start + per < n ? per : n - start;
         int32_t *pop = work->pop_of ? work->pop_of + start : NULL;
-        st_part[part] = orr_population_assign_at(&s->populations, src->info.time, c, start, count, s->only, pop,
+        st_part[part] = orr_population_assign_at(&s->colour.populations, src->info.time, c, start, count, s->colour.only_index, pop,
                                                  xyz[0] + start, xyz[1] + start, xyz[2] + start,
                                                  &work->lane_err[part]);
         if (pop && !st_part[part])
@@ -417,7 +417,7 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
     orr_status st = alloc_work(work, src->chunk.capacity, blur, err);
     /* With colour, a chunk's X, Y, Z weights (and each population's Y). */
     float *xyz[ORR_PLANES_MAX] = {NULL};
-    size_t cap = views[0].scene->colour ? src->chunk.capacity : 0;
+    size_t cap = views[0].scene->colour.has_populations ? src->chunk.capacity : 0;
     if (!st && cap)
         st = alloc_colour_weights(work, views[0].nplanes, cap, xyz, err);
     for (int k = 0; k < nviews && !st; k++)
@@ -461,5 +461,5 @@ void orr_splat_choose_path(view_state *v)
     const orr_scene *s = v->scene;
     v->banded = !v->use_sph && !v->psf.sky && !v->blur.active &&
                 orr_lanes_use_bands((size_t)v->proj.width * (size_t)v->proj.height);
-    v->ngp_fused = s->deposit == ORR_DEPOSIT_NGP && !v->use_sph && !v->psf.sky && !v->use_ods && !v->blur.active;
+    v->ngp_fused = s->deposit.kind == ORR_DEPOSIT_NGP && !v->use_sph && !v->psf.sky && !v->use_ods && !v->blur.active;
 }

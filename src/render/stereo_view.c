@@ -21,13 +21,13 @@ static int is_pair_mode(orr_stereo_mode m)
 static orr_status eye_scene(const orr_scene *s, int eye, orr_scene *out, orr_error *err)
 {
     *out = *s;
-    out->stereo_eye = eye;
-    if (s->stereo != ORR_STEREO_SEPARATE)
+    out->stereo.eye = eye;
+    if (s->stereo.mode != ORR_STEREO_SEPARATE)
         return ORR_OK;
-    int len = snprintf(out->out_name, sizeof out->out_name, "%s-%s", s->out_name, orr_eye_name(eye));
-    if (len < 0 || (size_t)len >= sizeof out->out_name)
+    int len = snprintf(out->output.name, sizeof out->output.name, "%s-%s", s->output.name, orr_eye_name(eye));
+    if (len < 0 || (size_t)len >= sizeof out->output.name)
         return orr_fail(err, ORR_ERR_USAGE, "%s: output.name '%s' is too long to add -%s for stereo", s->path,
-                        s->out_name, orr_eye_name(eye));
+                        s->output.name, orr_eye_name(eye));
     return ORR_OK;
 }
 
@@ -37,7 +37,7 @@ orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr
     memset(ev, 0, sizeof *ev);
     int pairs = 0;
     for (int k = 0; k < nscenes; k++)
-        pairs += scenes[k]->stereo != ORR_STEREO_NONE;
+        pairs += scenes[k]->stereo.mode != ORR_STEREO_NONE;
     size_t n = (size_t)(nscenes + pairs);
     ev->scene = orr_calloc(n, sizeof *ev->scene, "stereo views", err);
     ev->report = orr_calloc(n, sizeof *ev->report, "stereo views", err);
@@ -49,7 +49,7 @@ orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr
     }
     int pair = 0;
     for (int k = 0; k < nscenes; k++) {
-        if (scenes[k]->stereo == ORR_STEREO_NONE) {
+        if (scenes[k]->stereo.mode == ORR_STEREO_NONE) {
             ev->scene[ev->n] = scenes[k];
             ev->report[ev->n++] = &reports[k];
             continue;
@@ -73,7 +73,7 @@ orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr
 void orr_eye_views_finish(orr_eye_views *ev)
 {
     for (int k = 0; ev->report && k + 1 < ev->n; k++) {
-        if (ev->scene[k]->stereo_eye != ORR_EYE_LEFT)
+        if (ev->scene[k]->stereo.eye != ORR_EYE_LEFT)
             continue;
         orr_render_report *l = ev->report[k];
         const orr_render_report *r = ev->report[k + 1];
@@ -89,23 +89,23 @@ void orr_eye_views_finish(orr_eye_views *ev)
 
 void orr_eye_views_share_white(orr_eye_views *ev, int k, double white)
 {
-    if (k + 1 >= ev->n || ev->scene[k]->stereo_eye != ORR_EYE_LEFT || !(white > 0))
+    if (k + 1 >= ev->n || ev->scene[k]->stereo.eye != ORR_EYE_LEFT || !(white > 0))
         return;
     /* The right eye's scene is one of the copies this owns. */
     orr_scene *right = &ev->copies[ev->scene[k + 1] - ev->copies];
-    right->stretch.white = white;
-    right->synth.y0 = white;
+    right->picture.stretch.white = white;
+    right->colour.synth.y0 = white;
 }
 
 int orr_eye_views_pair_at(const orr_eye_views *ev, int k)
 {
-    return k + 1 < ev->n && ev->scene[k]->stereo_eye == ORR_EYE_LEFT && is_pair_mode(ev->scene[k]->stereo);
+    return k + 1 < ev->n && ev->scene[k]->stereo.eye == ORR_EYE_LEFT && is_pair_mode(ev->scene[k]->stereo.mode);
 }
 
 double orr_stereo_convergence(const orr_scene *s, orr_vec3 position)
 {
-    if (s->convergence > 0)
-        return s->convergence;
+    if (s->stereo.convergence > 0)
+        return s->stereo.convergence;
     orr_vec3 target;
     return orr_scene_look_target(s, &target) ? orr_v3_norm(orr_v3_sub(target, position)) : 0.0;
 }
@@ -114,19 +114,19 @@ orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_re
                                 orr_stereo_ods *ods, int *use_ods, orr_error *err)
 {
     *use_ods = 0;
-    if (!s->stereo_eye)
+    if (!s->stereo.eye)
         return ORR_OK;
     orr_status st;
     if (orr_projection_traits_of(proj->kind).off_axis_stereo) {
         rep->stereo_convergence = orr_stereo_convergence(s, rep->camera.position);
-        st = orr_stereo_perspective_eye(&rep->camera, proj, s->stereo_eye, s->eye_separation,
+        st = orr_stereo_perspective_eye(&rep->camera, proj, s->stereo.eye, s->stereo.eye_separation,
                                         rep->stereo_convergence, err);
     } else {
-        st = orr_stereo_ods_setup(ods, proj, s->stereo_eye, s->eye_separation, s->zenith_fade, err);
+        st = orr_stereo_ods_setup(ods, proj, s->stereo.eye, s->stereo.eye_separation, s->stereo.zenith_fade, err);
         *use_ods = !st;
     }
     if (st)
-        return orr_fail_prefix(err, "%s: %s eye: ", s->path, orr_eye_name(s->stereo_eye));
+        return orr_fail_prefix(err, "%s: %s eye: ", s->path, orr_eye_name(s->stereo.eye));
     return ORR_OK;
 }
 
@@ -138,18 +138,18 @@ void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep)
 
 void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s)
 {
-    orr_fits_add_string(h, "STEREO", orr_stereo_mode_name(s->stereo), "stereo mode");
-    if (s->stereo == ORR_STEREO_SEPARATE && s->stereo_eye)
-        orr_fits_add_string(h, "EYE", orr_eye_name(s->stereo_eye), "the eye of this file");
+    orr_fits_add_string(h, "STEREO", orr_stereo_mode_name(s->stereo.mode), "stereo mode");
+    if (s->stereo.mode == ORR_STEREO_SEPARATE && s->stereo.eye)
+        orr_fits_add_string(h, "EYE", orr_eye_name(s->stereo.eye), "the eye of this file");
     else
         orr_fits_add_string(h, "EYES", "left, right", "HDUs: the left eye's planes, then the right's");
-    orr_fits_add_double(h, "EYESEP", s->eye_separation, "interocular distance, scene units");
+    orr_fits_add_double(h, "EYESEP", s->stereo.eye_separation, "interocular distance, scene units");
     if (orr_projection_traits_of(s->projection.kind).off_axis_stereo)
         orr_fits_reserve(h, "CONVERG", "distance of zero parallax, scene units"); /* the frame's */
     else
-        orr_fits_add_double(h, "ZENFADE", s->zenith_fade, "[deg] ODS separation fades to 0 at the pole");
-    if (s->stereo == ORR_STEREO_ANAGLYPH)
-        orr_fits_add_string(h, "ANAGLYPH", orr_anaglyph_name(s->anaglyph), "anaglyph of the PNG");
+        orr_fits_add_double(h, "ZENFADE", s->stereo.zenith_fade, "[deg] ODS separation fades to 0 at the pole");
+    if (s->stereo.mode == ORR_STEREO_ANAGLYPH)
+        orr_fits_add_string(h, "ANAGLYPH", orr_anaglyph_name(s->picture.anaglyph), "anaglyph of the PNG");
 }
 
 /* ---- the picture of a pair ---- */
@@ -230,7 +230,7 @@ static orr_status write_pair_exr(const orr_stereo_pair *p, const char *path, orr
         orr_plane all[2 * ORR_EXR_VIEW_MAX];
         for (int e = 0; e < 2; e++)
             memcpy(all + e * eyes[0].n, eyes[e].channels, (size_t)eyes[e].n * sizeof all[0]);
-        st = orr_exr_view_write(path, all, eyes[0].n + eyes[1].n, p->scene->exr_half, p->meta, err);
+        st = orr_exr_view_write(path, all, eyes[0].n + eyes[1].n, p->scene->output.exr_half, p->meta, err);
         orr_exr_view_free(&eyes[1]);
     }
     orr_exr_view_free(&eyes[0]);
@@ -244,11 +244,11 @@ static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report 
     pair_planes(p, planes);
     const char *path = NULL;
     orr_status st = ORR_OK;
-    if (s->write_fits && !(st = add_output(p, "fits", rep, &path, err)) &&
+    if (s->output.write_fits && !(st = add_output(p, "fits", rep, &path, err)) &&
         !(st = orr_write_fits_compressed(path, planes, 2 * p->nplanes, p->cards,
-                                         (orr_fits_compression)s->fits_compress, err)))
+                                         (orr_fits_compression)s->output.fits_compress, err)))
         rep->noutputs++;
-    if (!st && s->write_exr && !(st = add_output(p, "exr", rep, &path, err)) &&
+    if (!st && s->output.write_exr && !(st = add_output(p, "exr", rep, &path, err)) &&
         !(st = write_pair_exr(p, path, err)))
         rep->noutputs++;
     return st;
@@ -257,28 +257,28 @@ static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report 
 static orr_status write_pair_picture(const orr_stereo_pair *p, orr_render_report *rep, orr_error *err)
 {
     const orr_scene *s = p->scene;
-    if (!p->rgb[0] || !p->rgb[1] || (!s->write_png && !s->image_ext[0]))
+    if (!p->rgb[0] || !p->rgb[1] || (!s->output.write_png && !s->output.image_ext[0]))
         return ORR_OK;
     size_t npix = (size_t)p->width * (size_t)p->height;
     float *pic = orr_malloc(2 * npix * 3 * sizeof *pic, "stereo picture", err);
     if (!pic)
         return ORR_ERR_NOMEM;
     int w, h;
-    orr_stereo_picture(s->stereo, s->anaglyph, p->rgb[0], p->rgb[1], p->width, p->height, p->rgb_linear, pic, &w,
+    orr_stereo_picture(s->stereo.mode, s->picture.anaglyph, p->rgb[0], p->rgb[1], p->width, p->height, p->rgb_linear, pic, &w,
                        &h);
     char desc[ORR_PATH_MAX + 384];
-    snprintf(desc, sizeof desc, "stereo %s%s%s: %s", orr_stereo_mode_name(s->stereo),
-             s->stereo == ORR_STEREO_ANAGLYPH ? " " : "",
-             s->stereo == ORR_STEREO_ANAGLYPH ? orr_anaglyph_name(s->anaglyph) : "", p->desc);
+    snprintf(desc, sizeof desc, "stereo %s%s%s: %s", orr_stereo_mode_name(s->stereo.mode),
+             s->stereo.mode == ORR_STEREO_ANAGLYPH ? " " : "",
+             s->stereo.mode == ORR_STEREO_ANAGLYPH ? orr_anaglyph_name(s->picture.anaglyph) : "", p->desc);
     const char *path = NULL;
     orr_status st = ORR_OK;
-    if (s->write_png && !(st = add_output(p, "png", rep, &path, err))) {
+    if (s->output.write_png && !(st = add_output(p, "png", rep, &path, err))) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
-        if (!(st = orr_write_png_rgb(path, w, h, pic, s->png_bits, text, 2, err)))
+        if (!(st = orr_write_png_rgb(path, w, h, pic, s->output.png_bits, text, 2, err)))
             rep->noutputs++;
     }
-    if (!st && s->image_ext[0] && !(st = add_output(p, s->image_ext, rep, &path, err)) &&
-        !(st = orr_write_image_rgb(path, pic, w, h, s->png_bits, p->meta, err)))
+    if (!st && s->output.image_ext[0] && !(st = add_output(p, s->output.image_ext, rep, &path, err)) &&
+        !(st = orr_write_image_rgb(path, pic, w, h, s->output.png_bits, p->meta, err)))
         rep->noutputs++;
     free(pic);
     return st;

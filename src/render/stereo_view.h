@@ -53,7 +53,7 @@ int orr_eye_views_pair_at(const orr_eye_views *ev, int k);
 double orr_stereo_convergence(const orr_scene *s, orr_vec3 position);
 
 /* Places the camera and projection of one eye of scene s (a no-op when
- * s->stereo_eye is 0): a perspective eye moves rep->camera and the
+ * s->stereo.eye is 0): a perspective eye moves rep->camera and the
  * principal point (and sets rep->stereo_convergence); a sky map's eye sets
  * *use_ods and *ods for the per-block transform. proj must be set up and
  * rep->camera be the view's camera. */

@@ -29,11 +29,11 @@ static void mark_chunk(const orr_scene *s, const orr_chunk *c, markers *m)
 {
     for (size_t i = 0; i < c->n; i++) {
         orr_vec3 p = orr_v3(c->x[i], c->y[i], c->z[i]);
-        if (c->id[i] == s->observer_id) {
+        if (c->id[i] == s->observer.id) {
             m->observer = p;
             m->observer_velocity = chunk_velocity(c, i);
             m->have_observer = 1;
-        } else if (c->id[i] == s->reference_id) {
+        } else if (c->id[i] == s->observer.reference_id) {
             m->reference = p;
             m->have_reference = 1;
         }
@@ -57,7 +57,7 @@ static orr_status spin_normal(const orr_scene *s, orr_source *src, orr_vec3 cent
                               orr_vec3 *n0, orr_error *err)
 {
     orr_vec3 mr_x_v = {0, 0, 0}, mr = {0, 0, 0}, mv = {0, 0, 0};
-    double mass = 0, r2max = s->normal_radius * s->normal_radius;
+    double mass = 0, r2max = s->observer.normal_radius * s->observer.normal_radius;
     for (;;) {
         const orr_chunk *c;
         orr_status st = orr_source_next(src, &c, err);
@@ -70,7 +70,7 @@ static orr_status spin_normal(const orr_scene *s, orr_source *src, orr_vec3 cent
             return orr_fail(err, ORR_ERR_USAGE, "%s: observer.normal_from needs velocities (vx, vy, vz), which %s lacks",
                             s->path, src->info.path);
         for (size_t i = 0; i < c->n; i++) {
-            if (!(s->normal_types & (1u << c->type[i])))
+            if (!(s->observer.normal_types & (1u << c->type[i])))
                 continue;
             orr_vec3 r = orr_v3_sub(orr_v3(c->x[i], c->y[i], c->z[i]), centre), v = orr_v3(vx[i], vy[i], vz[i]);
             if (!(orr_v3_dot(r, r) <= r2max))
@@ -94,12 +94,12 @@ static orr_status spin_normal(const orr_scene *s, orr_source *src, orr_vec3 cent
     }
     if (!(mass > 0))
         return orr_fail(err, ORR_ERR_DATA, "%s: no particle of the observer.normal_from types lies within %g of the reference particle",
-                        s->path, s->normal_radius);
+                        s->path, s->observer.normal_radius);
     /* Removing the mean velocity: sum m r x (v - <v>) = sum m r x v - (sum m r) x <v>. */
     orr_vec3 L = orr_v3_sub(mr_x_v, orr_v3_scale(orr_v3_cross(mr, mv), 1.0 / mass));
     if (!(orr_v3_norm(L) > 0))
         return orr_fail(err, ORR_ERR_DATA, "%s: the observer.normal_from particles have no net spin", s->path);
-    *n0 = orr_v3_scale(orr_v3_normalize(L), s->normal_sign);
+    *n0 = orr_v3_scale(orr_v3_normalize(L), s->observer.normal_sign);
     return ORR_OK;
 }
 
@@ -127,7 +127,7 @@ orr_status orr_view_sky_frame(const orr_scene *s, orr_source *given, long frame,
                               orr_sky_frame *f, orr_vec3 *velocity, orr_error *err)
 {
     static const char *const velocity_fields[3] = {"vx", "vy", "vz"};
-    int want_spin = s->normal_types != 0;
+    int want_spin = s->observer.normal_types != 0;
     orr_source *src = given;
     orr_status st = given ? orr_source_rewind(given, err)
                           : orr_scene_open_source(s, velocity_fields, want_spin || orr_blur_moves_particles(s) ? 3 : 0,
@@ -140,15 +140,15 @@ orr_status orr_view_sky_frame(const orr_scene *s, orr_source *given, long frame,
     if (!st && (!m.have_observer || !m.have_reference))
         st = orr_fail(err, ORR_ERR_DATA, "%s: %s particle id %llu (observer.%s in %s) not found, frame %ld",
                       src->info.path, m.have_observer ? "reference" : "observer",
-                      (unsigned long long)(m.have_observer ? s->reference_id : s->observer_id),
+                      (unsigned long long)(m.have_observer ? s->observer.reference_id : s->observer.id),
                       m.have_observer ? "reference_id" : "id", s->path, frame);
-    orr_vec3 n0 = s->observer_normal;
+    orr_vec3 n0 = s->observer.normal;
     if (!st && want_spin && !(st = orr_source_rewind(src, err)))
         st = spin_normal(s, src, m.reference, par, &n0, err);
     *velocity = m.observer_velocity;
     if (!st && (st = orr_sky_frame_build(f, m.observer, m.reference, n0, err)))
         orr_fail_prefix(err, "%s: observer id %llu, reference id %llu, frame %ld: ", s->path,
-                        (unsigned long long)s->observer_id, (unsigned long long)s->reference_id, frame);
+                        (unsigned long long)s->observer.id, (unsigned long long)s->observer.reference_id, frame);
     if (src != given)
         orr_source_close(src);
     return st;
@@ -158,13 +158,13 @@ orr_status orr_view_sky_frame(const orr_scene *s, orr_source *given, long frame,
 
 static int has_orientation(const orr_scene *s)
 {
-    return s->has_quaternion || s->has_look_at || s->has_direction;
+    return s->camera.has_quaternion || s->camera.has_look_at || s->camera.has_direction;
 }
 
 static orr_status scene_camera(const orr_scene *s, const orr_frame_time *when, orr_camera *cam, orr_error *err)
 {
-    if (s->has_path)
-        return orr_path_camera(&s->camera_path, when, cam, err);
+    if (s->camera.has_path)
+        return orr_path_camera(&s->camera.path, when, cam, err);
     return orr_scene_static_camera(s, cam, err);
 }
 
@@ -176,20 +176,20 @@ orr_status orr_view_camera(const orr_scene *s, const orr_sky_frame *observer, co
 {
     /* A camera path moves and turns the camera frame by frame, sky maps
      * included (scenes with a path have no observer: scene_check). */
-    if (s->has_path) {
+    if (s->camera.has_path) {
         orr_status st = scene_camera(s, when, cam, err);
         *sky = orr_sky_frame_world(cam->position);
         return st;
     }
     int sky_map = orr_projection_is_sky(&s->projection);
     if (!observer && (!sky_map || has_orientation(s))) {
-        *sky = orr_sky_frame_world(s->camera_position);
+        *sky = orr_sky_frame_world(s->camera.position);
         return scene_camera(s, when, cam, err);
     }
-    *sky = observer ? *observer : orr_sky_frame_world(s->camera_position);
+    *sky = observer ? *observer : orr_sky_frame_world(s->camera.position);
     if (orr_projection_traits_of(s->projection.kind).zenith_centred)
-        return orr_sky_camera_dome(cam, sky, s->zenith_lb, s->front_lb, s->dome_tilt, err);
-    return orr_sky_camera_centre(cam, sky, s->camera_roll, err);
+        return orr_sky_camera_dome(cam, sky, s->camera.zenith_lb, s->camera.front_lb, s->camera.dome_tilt, err);
+    return orr_sky_camera_centre(cam, sky, s->camera.roll, err);
 }
 
 /* ---- motion blur ---- */
@@ -202,9 +202,9 @@ static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, 
 {
     const orr_scene *s = v->scene;
     orr_status st;
-    if (s->has_path) {
+    if (s->camera.has_path) {
         double u = when->nframes > 1 ? when->u + dframe / (double)(when->nframes - 1) : when->u;
-        st = orr_path_eval(&s->camera_path, (double)when->frame + dframe, u, cam, err);
+        st = orr_path_eval(&s->camera.path, (double)when->frame + dframe, u, cam, err);
     } else {
         orr_sky_frame moved, sky;
         if (observer) {
@@ -213,10 +213,10 @@ static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, 
         }
         st = orr_view_camera(s, observer ? &moved : NULL, when, cam, &sky, err);
     }
-    if (!st && s->stereo_eye && orr_projection_traits_of(v->proj.kind).off_axis_stereo) {
+    if (!st && s->stereo.eye && orr_projection_traits_of(v->proj.kind).off_axis_stereo) {
         orr_projection p = s->projection;
         if (!(st = orr_projection_setup(&p, err)))
-            st = orr_stereo_perspective_eye(cam, &p, s->stereo_eye, s->eye_separation, v->rep->stereo_convergence,
+            st = orr_stereo_perspective_eye(cam, &p, s->stereo.eye, s->stereo.eye_separation, v->rep->stereo_convergence,
                                             err);
     }
     return st ? orr_fail_prefix(err, "%s: animation.shutter: ", s->path) : ORR_OK;
@@ -229,11 +229,11 @@ orr_status orr_view_plan_blur(view_state *v, const orr_sky_frame *observer, orr_
                               const orr_frame_time *when, orr_error *err)
 {
     const orr_scene *s = v->scene;
-    if (!(s->shutter > 0))
+    if (!(s->animation.shutter > 0))
         return ORR_OK;
-    const double interval = !orr_blur_moves_particles(s) ? 0 : s->has_frame_interval ? s->frame_interval
+    const double interval = !orr_blur_moves_particles(s) ? 0 : s->animation.has_frame_interval ? s->animation.frame_interval
                                                                                       : when->interval;
-    const double half_time = 0.5 * s->shutter * interval, half_frame = 0.5 * s->shutter;
+    const double half_time = 0.5 * s->animation.shutter * interval, half_frame = 0.5 * s->animation.shutter;
     const orr_vec3 step = orr_v3_scale(observer_velocity, half_time);
     orr_camera open, close;
     orr_status st = camera_at(v, observer, orr_v3_scale(step, -1), when, -half_frame, &open, err);

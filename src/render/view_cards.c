@@ -39,9 +39,9 @@ static void plan_projection_cards(const view_state *v, orr_fits_header *h)
     }
     if (p->kind == ORR_PROJ_DOME) {
         orr_fits_add_double(h, "DOMEFOV", p->dome_fov_deg, "[deg] dome field of view");
-        orr_fits_add_double(h, "DOMETILT", s->dome_tilt, "[deg] dome tilt toward the front");
-        if (s->dome_profile[0])
-            orr_fits_add_string(h, "DOMEPROF", s->dome_profile, "dome profile");
+        orr_fits_add_double(h, "DOMETILT", s->camera.dome_tilt, "[deg] dome tilt toward the front");
+        if (s->camera.dome[0])
+            orr_fits_add_string(h, "DOMEPROF", s->camera.dome, "dome profile");
     }
 }
 
@@ -50,22 +50,22 @@ static void plan_deposit_cards(const view_state *v, orr_fits_header *h)
 {
     const orr_scene *s = v->scene;
     const orr_projection *p = &v->base_proj;
-    orr_fits_add_string(h, "DEPOSIT", orr_deposit_name(s->deposit), "deposit method");
+    orr_fits_add_string(h, "DEPOSIT", orr_deposit_name(s->deposit.kind), "deposit method");
     if (v->use_sph) {
-        orr_fits_add_string(h, "KERNEL", orr_kernel_name(s->kernel), "SPH kernel (support 2h)");
+        orr_fits_add_string(h, "KERNEL", orr_kernel_name(s->deposit.kernel), "SPH kernel (support 2h)");
         orr_fits_reserve(h, "HSOURCE", "where smoothing lengths came from");
         orr_fits_reserve(h, "NNEIGH", "h = half the distance to this neighbour");
-        orr_fits_add_double(h, "HSCALE", s->h_scale, "smoothing lengths multiplied by this");
+        orr_fits_add_double(h, "HSCALE", s->deposit.h_scale, "smoothing lengths multiplied by this");
     }
-    orr_fits_add_string(h, "PSF", orr_named_name(orr_psf_kind_names, (int)s->psf), "point spread function");
-    if (s->psf == ORR_PSF_GAUSSIAN && orr_projection_is_sky(p))
+    orr_fits_add_string(h, "PSF", orr_named_name(orr_psf_kind_names, (int)s->psf.kind), "point spread function");
+    if (s->psf.kind == ORR_PSF_GAUSSIAN && orr_projection_is_sky(p))
         orr_fits_add_double(h, "PSFFWHM", v->psf.core_fwhm_arcmin, "[arcmin] PSF FWHM on the sky");
-    else if (s->psf == ORR_PSF_GAUSSIAN)
-        orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm, "[pixel] PSF FWHM");
-    else if (s->psf != ORR_PSF_NONE)
-        orr_fits_add_double(h, "PSFSCALE", s->psf_arcsec_per_pixel, "[arcsec/pixel] image scale for the PSF");
+    else if (s->psf.kind == ORR_PSF_GAUSSIAN)
+        orr_fits_add_double(h, "PSFFWHM", s->psf.fwhm, "[pixel] PSF FWHM");
+    else if (s->psf.kind != ORR_PSF_NONE)
+        orr_fits_add_double(h, "PSFSCALE", s->psf.arcsec_per_pixel, "[arcsec/pixel] image scale for the PSF");
     if (v->psf.core) {
-        orr_fits_add_double(h, "PSFFWHM", s->psf_fwhm, "[pixel] the PSF core's FWHM");
+        orr_fits_add_double(h, "PSFFWHM", s->psf.fwhm, "[pixel] the PSF core's FWHM");
         orr_fits_add_double(h, "PSFMAG", v->psf.sky->rad_per_pixel, "image pixels per PSF pixel");
         orr_fits_reserve(h, "PSFSTARS", "stars drawn with the whole PSF");
     } else if (v->psf.sky) {
@@ -80,7 +80,7 @@ static void plan_deposit_cards(const view_state *v, orr_fits_header *h)
 static void plan_report_cards(const view_state *v, orr_fits_header *h)
 {
     const orr_scene *s = v->scene;
-    orr_fits_add_string(h, "WEIGHT", s->weight, "particle field deposited");
+    orr_fits_add_string(h, "WEIGHT", s->input.weight, "particle field deposited");
     static const reserved counts[] = {
         {"NPART", "particles read"},
         {"NSELECT", "particles of the selected types"},
@@ -99,8 +99,8 @@ static void plan_report_cards(const view_state *v, orr_fits_header *h)
         {"SOURCE", "particle source"},
     };
     reserve(h, counts, sizeof counts / sizeof counts[0]);
-    if (s->colour) {
-        orr_fits_add_long(h, "NPOPS", s->populations.n, "colour populations");
+    if (s->colour.has_populations) {
+        orr_fits_add_long(h, "NPOPS", s->colour.populations.n, "colour populations");
         orr_fits_reserve(h, "YIMAGE", "luminance Y deposited in the image");
         orr_fits_reserve(h, "YOUTSIDE", "luminance Y that fell off the image");
     }
@@ -111,14 +111,14 @@ static void plan_report_cards(const view_state *v, orr_fits_header *h)
 static void plan_observer_cards(const view_state *v, orr_fits_header *h)
 {
     const orr_scene *s = v->scene;
-    if (s->has_observer) {
-        orr_fits_add_long(h, "OBSID", (long long)s->observer_id, "observer particle id");
-        orr_fits_add_long(h, "REFID", (long long)s->reference_id, "reference particle id (l = 0)");
+    if (s->observer.has_id) {
+        orr_fits_add_long(h, "OBSID", (long long)s->observer.id, "observer particle id");
+        orr_fits_add_long(h, "REFID", (long long)s->observer.reference_id, "reference particle id (l = 0)");
         orr_fits_reserve(h, "NORMX", "disc normal n0 (b = 90) x");
         orr_fits_reserve(h, "NORMY", "disc normal n0 (b = 90) y");
         orr_fits_reserve(h, "NORMZ", "disc normal n0 (b = 90) z");
-        orr_fits_add_bool(h, "DIMMED", s->dim, "weights divided by r^2 from the observer");
-    } else if (s->camera_dim) {
+        orr_fits_add_bool(h, "DIMMED", s->observer.dim, "weights divided by r^2 from the observer");
+    } else if (s->camera.dim) {
         orr_fits_add_bool(h, "DIMMED", 1, "weights divided by r^2 from the camera");
     }
 }
@@ -146,7 +146,7 @@ void orr_view_plan_cards(view_state *v)
     plan_report_cards(v, h);
     plan_observer_cards(v, h);
     memset(&v->stereo_cards, 0, sizeof v->stereo_cards);
-    if (v->scene->stereo)
+    if (v->scene->stereo.mode)
         orr_stereo_add_cards(&v->stereo_cards, v->scene);
 }
 
@@ -165,7 +165,7 @@ static void set_frame_values(const view_state *v, orr_fits_header *h)
     orr_fits_set_double(h, "CAMQZ", cam->orientation.z);
     orr_fits_set_string(h, "HSOURCE", v->lengths ? "neighbours" : "file");
     if (v->lengths)
-        orr_fits_set_long(h, "NNEIGH", s->neighbours);
+        orr_fits_set_long(h, "NNEIGH", s->deposit.neighbours);
     if (v->psf.sky)
         orr_fits_set_long(h, "PSFSTARS", v->psf.sky->stars_drawn);
     orr_fits_set_long(h, "NPART", (long long)rep->n_read);

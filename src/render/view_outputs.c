@@ -35,8 +35,8 @@
 static orr_grade view_grade(const view_state *v)
 {
     const orr_scene *s = v->scene;
-    orr_grade g = {s->colour || s->nlayers ? ORR_GRADE_SYNTHESIS : s->has_tint ? ORR_GRADE_TINT : ORR_GRADE_COLORMAP,
-                   &s->synth, &s->tint, v->tint_t, s->png_linear, &s->stretch, s->colormap};
+    orr_grade g = {s->colour.has_populations || s->compose.nlayers ? ORR_GRADE_SYNTHESIS : s->colour.has_tint ? ORR_GRADE_TINT : ORR_GRADE_COLORMAP,
+                   &s->colour.synth, &s->colour.tint, v->tint_t, s->output.png_linear, &s->picture.stretch, s->picture.colormap};
     return g;
 }
 
@@ -50,22 +50,22 @@ orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size
     orr_status st = orr_grade_picture(&g, v->planes, rgb, &rep->white, err);
     if (st)
         return st;
-    if (s->nlayers)
+    if (s->compose.nlayers)
         orr_snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
-                     s->nlayers, orr_projection_name(v->proj.kind), orr_lum_stretch_name(s->synth.stretch),
+                     s->compose.nlayers, orr_projection_name(v->proj.kind), orr_lum_stretch_name(s->colour.synth.stretch),
                      rep->white);
-    else if (s->colour)
+    else if (s->colour.has_populations)
         orr_snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
-                     s->populations.n, rep->source, orr_projection_name(v->proj.kind),
-                     orr_lum_stretch_name(s->synth.stretch), rep->white);
-    else if (s->has_tint)
+                     s->colour.populations.n, rep->source, orr_projection_name(v->proj.kind),
+                     orr_lum_stretch_name(s->colour.synth.stretch), rep->white);
+    else if (s->colour.has_tint)
         orr_snprintf(desc, size, "%s of %s tinted at t = %g of its colour path, %s projection, %s stretch, Y0 %g",
-                     s->weight, rep->source, v->tint_t, orr_projection_name(v->proj.kind),
-                     orr_lum_stretch_name(s->synth.stretch), rep->white);
+                     s->input.weight, rep->source, v->tint_t, orr_projection_name(v->proj.kind),
+                     orr_lum_stretch_name(s->colour.synth.stretch), rep->white);
     else
-        orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->weight,
-                     rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->stretch.kind), rep->white,
-                     orr_colormap_name(s->colormap));
+        orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->input.weight,
+                     rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->picture.stretch.kind), rep->white,
+                     orr_colormap_name(s->picture.colormap));
     return ORR_OK;
 }
 
@@ -75,7 +75,7 @@ static orr_status view_output(view_state *v, const char *ext, const char **write
  * projection, time, camera, and desc. */
 static orr_image_meta view_meta(const view_state *v, const char *desc, orr_view_meta_text *t)
 {
-    return orr_view_image_meta(v->scene->out_name, &v->proj, v->rep->sim_time, &v->rep->camera, desc, t);
+    return orr_view_image_meta(v->scene->output.name, &v->proj, v->rep->sim_time, &v->rep->camera, desc, t);
 }
 
 /* The graded picture as PNG (output.png) and as output.image (any format
@@ -84,7 +84,7 @@ orr_status orr_view_write_pictures(view_state *v, orr_error *err)
 {
     const orr_scene *s = v->scene;
     orr_render_report *rep = v->rep;
-    if (!s->write_png && !s->image_ext[0])
+    if (!s->output.write_png && !s->output.image_ext[0])
         return ORR_OK;
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
     float *rgb = orr_malloc(npix * 3 * sizeof(float), "picture pixels", err);
@@ -93,23 +93,23 @@ orr_status orr_view_write_pictures(view_state *v, orr_error *err)
     char desc[ORR_PATH_MAX + 256];
     orr_status st = orr_view_graded_rgb(v, rgb, desc, sizeof desc, err);
     float *rgba = NULL; /* output.alpha_mask: the picture, transparent off the map */
-    if (!st && s->alpha_mask)
+    if (!st && s->output.alpha_mask)
         st = orr_map_rgba(&v->proj, rgb, &rgba, err);
     charge(v, ORR_STAGE_POST);
     const char *path;
-    if (!st && s->write_png) {
+    if (!st && s->output.write_png) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
         if (!(st = view_output(v, "png", &path, err)) &&
             !(st = orr_write_png(path, v->proj.width, v->proj.height, rgba ? rgba : rgb, rgba ? 4 : 3,
-                                 s->png_bits, text, 2, err)))
+                                 s->output.png_bits, text, 2, err)))
             rep->noutputs++;
         charge(v, ORR_STAGE_PNG);
     }
-    if (!st && s->image_ext[0]) {
+    if (!st && s->output.image_ext[0]) {
         orr_view_meta_text text;
         orr_image_meta meta = view_meta(v, desc, &text);
-        if (!(st = view_output(v, s->image_ext, &path, err)) &&
-            !(st = orr_write_image_picture(path, rgb, rgba, v->proj.width, v->proj.height, s->png_bits, &meta, err)))
+        if (!(st = view_output(v, s->output.image_ext, &path, err)) &&
+            !(st = orr_write_image_picture(path, rgb, rgba, v->proj.width, v->proj.height, s->output.png_bits, &meta, err)))
             rep->noutputs++;
         charge(v, ORR_STAGE_IMAGE);
     }
@@ -132,7 +132,7 @@ static orr_status write_exr(view_state *v, const orr_plane *av, orr_error *err)
         if (av)
             st = orr_exr_view_add(&ev, av, &v->proj, "extinction.A_V", err);
         if (!st)
-            st = orr_exr_view_write(path, ev.channels, ev.n, v->scene->exr_half, &meta, err);
+            st = orr_exr_view_write(path, ev.channels, ev.n, v->scene->output.exr_half, &meta, err);
         orr_exr_view_free(&ev);
     }
     if (!st)
@@ -143,9 +143,9 @@ static orr_status write_exr(view_state *v, const orr_plane *av, orr_error *err)
 
 orr_status orr_view_output_path(const orr_scene *s, const char *ext, char *path, orr_error *err)
 {
-    int n = snprintf(path, ORR_PATH_MAX, "%s/%s.%s", s->out_dir, s->out_name, ext);
+    int n = snprintf(path, ORR_PATH_MAX, "%s/%s.%s", s->output.dir, s->output.name, ext);
     if (n < 0 || n >= ORR_PATH_MAX)
-        return orr_fail(err, ORR_ERR_USAGE, "output path %s/%s.%s is too long", s->out_dir, s->out_name, ext);
+        return orr_fail(err, ORR_ERR_USAGE, "output path %s/%s.%s is too long", s->output.dir, s->output.name, ext);
     return ORR_OK;
 }
 
@@ -180,7 +180,7 @@ orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error 
         st = orr_write_healpix_fits(path, v->planes, fits_nplanes(v), &info, h, err);
     } else if (!st) {
         /* The raw planes stay uncompressed: orrery compose reads them. */
-        orr_fits_compression c = strcmp(ext, "fits") == 0 ? (orr_fits_compression)v->scene->fits_compress
+        orr_fits_compression c = strcmp(ext, "fits") == 0 ? (orr_fits_compression)v->scene->output.fits_compress
                                                            : ORR_FITS_UNCOMPRESSED;
         st = orr_write_fits_compressed(path, v->planes, fits_nplanes(v), h, c, err);
     }
@@ -221,7 +221,7 @@ orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_view
     orr_mask_outside_map(&l->proj, l->planes, l->nplanes);
     orr_mask_outside_map(&r->proj, r->planes, r->nplanes);
     size_t npix = (size_t)l->proj.width * (size_t)l->proj.height;
-    int want_rgb = s->write_png || s->image_ext[0];
+    int want_rgb = s->output.write_png || s->output.image_ext[0];
     float *rgb = want_rgb ? orr_malloc(2 * npix * 3 * sizeof *rgb, "stereo pictures", err) : NULL;
     orr_status st = want_rgb && !rgb ? ORR_ERR_NOMEM : ORR_OK;
     char desc[ORR_PATH_MAX + 256] = "stereo pair", rdesc[ORR_PATH_MAX + 256];
@@ -242,7 +242,7 @@ orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_view
             .scene = s, .planes = {l->planes, r->planes}, .nplanes = l->nplanes,
             .width = l->proj.width, .height = l->proj.height,
             .rgb = {want_rgb ? rgb : NULL, want_rgb ? rgb + 3 * npix : NULL},
-            .rgb_linear = (s->colour || s->nlayers || s->has_tint) && s->png_linear,
+            .rgb_linear = (s->colour.has_populations || s->compose.nlayers || s->colour.has_tint) && s->output.png_linear,
             .cards = &l->frame_cards, .meta = &meta, .desc = desc, .stage = stage_output, .outputs = l->outputs,
             .proj = &l->proj,
         };
@@ -261,9 +261,9 @@ orr_status orr_view_write_outputs(view_state *v, orr_error *err)
     orr_plane av = {0};
     int want_av = v->dust && s->dust.extinction_plane;
     orr_status st = want_av ? extinction_plane(v, &av, err) : ORR_OK;
-    if (!st && s->write_fits)
+    if (!st && s->output.write_fits)
         st = orr_view_write_fits_planes(v, "fits", err);
-    if (!st && s->write_exr)
+    if (!st && s->output.write_exr)
         st = write_exr(v, want_av ? &av : NULL, err);
     if (!st && want_av)
         st = write_extinction(v, &av, err);

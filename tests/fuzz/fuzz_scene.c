@@ -97,10 +97,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             orr_error cam_err = {0};
             (void)orr_scene_static_camera(s, &cam, &cam_err);
             (void)orr_scene_look_target(s, &target);
-            const char *end = s->seq_files + sizeof s->seq_files;
-            for (int i = 0; i < s->seq_nfiles; i++) {
+            const char *end = s->input.sequence.files + sizeof s->input.sequence.files;
+            for (int i = 0; i < s->input.sequence.nfiles; i++) {
                 const char *p = orr_scene_sequence_file(s, i);
-                if (!p || p < s->seq_files || p >= end || !memchr(p, '\0', (size_t)(end - p)))
+                if (!p || p < s->input.sequence.files || p >= end || !memchr(p, '\0', (size_t)(end - p)))
                     abort(); /* a path outside the scene's own buffer */
             }
         }

@@ -30,12 +30,12 @@ double frame_timer_best(const char *yaml, const orr_particle_arrays *a, int repe
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }
-    snprintf(s->out_dir, sizeof s->out_dir, "%s", "/tmp");
-    s->write_png = 0;
+    snprintf(s->output.dir, sizeof s->output.dir, "%s", "/tmp");
+    s->output.write_png = 0;
     double best = 1e300;
     for (int r = 0; r < repeats; r++) {
         orr_source *src;
-        if (orr_arrays_source_open(a, "bench arrays", (size_t)s->chunk_size, 0, &src, &err)) {
+        if (orr_arrays_source_open(a, "bench arrays", (size_t)s->input.chunk_size, 0, &src, &err)) {
             fprintf(stderr, "%s\n", err.msg);
             exit(1);
         }

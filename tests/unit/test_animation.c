@@ -137,7 +137,7 @@ static void test_resume(void)
     orr_scene *s = calloc(1, sizeof *s);
     orr_error err = {0};
     CHECK(orr_scene_load_string(s, yaml, "clip.yaml", ".", NULL, 0, &err) == ORR_OK);
-    snprintf(s->out_dir, sizeof s->out_dir, "%s", tmpdir);
+    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
     tally t;
     CHECK(run(s, 0, &t) == ORR_OK);
     CHECK(t.rendered == 3 && t.skipped == 0);
@@ -171,8 +171,8 @@ static void test_resume(void)
     CHECK(t.rendered == 3 && t.skipped == 0);
 
     /* A still keeps its plain name and leaves no marker. */
-    s->anim_frames = 1;
-    snprintf(s->out_name, sizeof s->out_name, "still");
+    s->animation.frames = 1;
+    snprintf(s->output.name, sizeof s->output.name, "still");
     CHECK(run(s, 0, &t) == ORR_OK);
     snprintf(path, sizeof path, "%s/still.png", tmpdir);
     CHECK(access(path, F_OK) == 0);
@@ -191,7 +191,7 @@ static orr_scene *load_clip(const char *yaml, const char *const *sets, int nsets
         fprintf(stderr, "scene: %s\n", err.msg);
         exit(1);
     }
-    snprintf(s->out_dir, sizeof s->out_dir, "%s", tmpdir);
+    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
     return s;
 }
 

@@ -318,8 +318,8 @@ static void test_scene_keys(void)
     const char *ok = "input: {model: {name: king, w0: 8, core_radius: 0.5, mass: 1e6, particles: 1000}}\n"
                      "camera: {projection: perspective, position: [0, 0, 30], look_at: [0, 0, 0], dim: true}\n";
     CHECK(orr_scene_load_string(&scene, ok, "ok.yaml", "/", NULL, 0, &err) == ORR_OK);
-    CHECK(scene.model_w0 == 8 && scene.model_core_radius == 0.5 && scene.model_mass == 1e6);
-    CHECK(scene.camera_dim == 1);
+    CHECK(scene.input.model.w0 == 8 && scene.input.model.core_radius == 0.5 && scene.input.model.mass == 1e6);
+    CHECK(scene.camera.dim == 1);
     const char *sep = "input: {model: {name: king, separation: 100}}\n";
     CHECK(orr_scene_load_string(&scene, sep, "sep.yaml", "/", NULL, 0, &err) != ORR_OK);
     CHECK_CONTAINS(err.msg, "input.model.separation");

@@ -403,18 +403,18 @@ static void test_scene_good(void)
     CHECK(load(MODEL "camera:\n  projection: perspective\n  path:\n    kind: orbit\n    centre: [1, 0, 0]\n"
                      "    radius: 50\n    turns: 0.5\n    ease: in-out\n",
                &err) == ORR_OK);
-    CHECK(g_scene.has_path && g_scene.camera_path.kind == ORR_PATH_ORBIT);
-    CHECK_NEAR(g_scene.camera_path.radius, 50, 0);
-    CHECK(g_scene.camera_path.ease == ORR_EASE_IN_OUT);
+    CHECK(g_scene.camera.has_path && g_scene.camera.path.kind == ORR_PATH_ORBIT);
+    CHECK_NEAR(g_scene.camera.path.radius, 50, 0);
+    CHECK(g_scene.camera.path.ease == ORR_EASE_IN_OUT);
     orr_frame_time t = orr_frame_at(0, 11, 30, 0, 0);
     orr_camera cam;
-    CHECK(orr_path_camera(&g_scene.camera_path, &t, &cam, &err) == ORR_OK);
+    CHECK(orr_path_camera(&g_scene.camera.path, &t, &cam, &err) == ORR_OK);
     CHECK_NEAR(orr_v3_norm(orr_v3_sub(cam.position, orr_v3(1, 0, 0))), 50, 1e-12);
 
     CHECK(load(MODEL "camera:\n  path:\n    kind: orbit\n    start: [0, 30, 10]\n", &err) == ORR_OK);
-    CHECK_NEAR(g_scene.camera_path.radius, 30, 1e-12);
+    CHECK_NEAR(g_scene.camera.path.radius, 30, 1e-12);
     t = orr_frame_at(0, 5, 30, 0, 0);
-    CHECK(orr_path_camera(&g_scene.camera_path, &t, &cam, &err) == ORR_OK);
+    CHECK(orr_path_camera(&g_scene.camera.path, &t, &cam, &err) == ORR_OK);
     CHECK_NEAR(cam.position.y, 30, 1e-12);
     CHECK_NEAR(cam.position.z, 10, 1e-12);
 
@@ -426,21 +426,21 @@ static void test_scene_good(void)
                &err) == ORR_OK);
     if (err.msg[0])
         fprintf(stderr, "  %s\n", err.msg);
-    CHECK(g_scene.camera_path.nkeys == 3);
-    CHECK_NEAR(g_scene.camera_path.keys[1].frame, 12.5, 0);
-    CHECK(g_scene.camera_path.orientation == ORR_ORIENT_SQUAD);
+    CHECK(g_scene.camera.path.nkeys == 3);
+    CHECK_NEAR(g_scene.camera.path.keys[1].frame, 12.5, 0);
+    CHECK(g_scene.camera.path.orientation == ORR_ORIENT_SQUAD);
 
     char csv[512];
     snprintf(csv, sizeof csv, "%s/path.csv", tmpdir);
     write_file(csv, "frame,x,y,z,dir_x,dir_y,dir_z\n0,0,0,0,0,0,-1\n10,0,0,-5,0,0,-1\n");
     CHECK(load(MODEL "camera:\n  path:\n    kind: keyframes\n    file: path.csv\n", &err) == ORR_OK);
-    CHECK(g_scene.camera_path.nkeys == 2);
+    CHECK(g_scene.camera.path.nkeys == 2);
     remove(csv);
 
     CHECK(load(MODEL "camera:\n  position: [0, 0, 10]\n  direction: [1, 0, 0]\n  up: [0, 0, 1]\n"
                      "  path: {kind: rotate, angle: 360}\n",
                &err) == ORR_OK);
-    CHECK_NEAR(g_scene.camera_path.start.position.z, 10, 0);
+    CHECK_NEAR(g_scene.camera.path.start.position.z, 10, 0);
     CHECK(load(MODEL "camera:\n  path: {kind: inspiral, target: [1, 1, 1], r0: 100, r1: 1, radial: linear}\n",
                &err) == ORR_OK);
     CHECK(load(MODEL "camera:\n  path: {kind: line, from: [0, 0, 0], to: [0, 0, -100], up: [0, 1, 0]}\n",

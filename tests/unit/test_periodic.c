@@ -162,7 +162,7 @@ static void test_box_side_from_header(void)
 {
     orr_scene s;
     orr_scene_defaults(&s);
-    s.periodic_replicas = 3;
+    s.periodic.replicas = 3;
     orr_source_info info;
     memset(&info, 0, sizeof info);
     snprintf(info.path, sizeof info.path, "snap.hdf5");
@@ -176,7 +176,7 @@ static void test_box_side_from_header(void)
     snprintf(info.header[0].value, sizeof info.header[0].value, "100 100 50");
     CHECK(orr_periodic_box_side(&s, &info, &box, &err) == ORR_ERR_DATA);
     CHECK_CONTAINS(err.msg, "100 100 50");
-    s.periodic_box = 7; /* the key wins over the header */
+    s.periodic.box = 7; /* the key wins over the header */
     CHECK(orr_periodic_box_side(&s, &info, &box, &err) == ORR_OK);
     CHECK_NEAR(box, 7, 0);
 }
@@ -187,10 +187,10 @@ static void test_scene_keys(void)
     orr_error err;
     const char *ok = "input: {file: x.txt, periodic: {box: 2, replicas: 5, centre: origin}}\n";
     CHECK(orr_scene_load_string(&s, ok, "ok.yaml", "/tmp", NULL, 0, &err) == ORR_OK);
-    CHECK_NEAR(s.periodic_box, 2, 0);
-    CHECK(s.periodic_replicas == 5 && s.periodic_around_camera == 0);
+    CHECK_NEAR(s.periodic.box, 2, 0);
+    CHECK(s.periodic.replicas == 5 && s.periodic.around_camera == 0);
     CHECK(orr_scene_load_string(&s, "input: {file: x.txt}\n", "d.yaml", "/tmp", NULL, 0, &err) == ORR_OK);
-    CHECK(s.periodic_box == 0 && s.periodic_replicas == 1 && s.periodic_around_camera == 1);
+    CHECK(s.periodic.box == 0 && s.periodic.replicas == 1 && s.periodic.around_camera == 1);
     CHECK(orr_scene_load_string(&s, "input: {file: x.txt, periodic: {replicas: 4}}\n", "e.yaml", "/tmp", NULL, 0,
                                 &err) != ORR_OK);
     CHECK_CONTAINS(err.msg, "input.periodic.replicas");
@@ -199,7 +199,7 @@ static void test_scene_keys(void)
     CHECK_CONTAINS(err.msg, "middle");
     CHECK(orr_scene_load_string(&s, "input: {file: x.txt, periodic: {replicas: 5, radius: 1.5, fade: 0}}\n",
                                 "g.yaml", "/tmp", NULL, 0, &err) == ORR_OK);
-    CHECK(s.periodic_radius == 1.5 && s.periodic_fade == 0 && s.has_periodic_fade);
+    CHECK(s.periodic.radius == 1.5 && s.periodic.fade == 0 && s.periodic.has_fade);
     /* Bad radius and fade values name their key. */
     static const struct {
         const char *periodic, *message;

@@ -64,14 +64,14 @@ static orr_scene *load(const char *yaml, const char *name)
     if (st)
         fprintf(stderr, "%s\n", err.msg);
     CHECK(st == ORR_OK);
-    snprintf(s->out_dir, sizeof s->out_dir, "%s", tmpdir);
-    snprintf(s->out_name, sizeof s->out_name, "%s", name);
+    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    snprintf(s->output.name, sizeof s->output.name, "%s", name);
     return s;
 }
 
 static orr_frame_input frame_input(const orr_scene *s, long f, kept *k)
 {
-    orr_frame_input in = {orr_frame_at(f, FRAMES, s->anim_fps, 0, 0), NULL, NULL, keep_planes, k};
+    orr_frame_input in = {orr_frame_at(f, FRAMES, s->animation.fps, 0, 0), NULL, NULL, keep_planes, k};
     return in;
 }
 

@@ -55,44 +55,44 @@ static void test_defaults(void)
     orr_scene_defaults(s);
     CHECK(strcmp(s->path, "<built-in>") == 0);
     CHECK(strcmp(s->dir, ".") == 0);
-    CHECK(s->input_file[0] == '\0');
-    CHECK(strcmp(s->input_format, "auto") == 0);
-    CHECK(s->model_name[0] == '\0');
-    CHECK(s->model_particles == 200000);
-    CHECK(s->model_seed == 1);
-    CHECK(s->model_separation == 780);
-    CHECK(s->model_galaxies == 0); /* ORR_MODEL_PAIR */
-    CHECK(s->model_disc_q == 1.5);
-    CHECK(strcmp(s->weight, "mass") == 0);
-    CHECK(s->type_mask == 0x3f);
-    CHECK(s->chunk_size == 1048576);
-    CHECK(s->skip_nonfinite == 0);
-    CHECK(s->camera_position.x == 0 && s->camera_position.y == 0 && s->camera_position.z == 0);
-    CHECK(!s->has_look_at && !s->has_direction && !s->has_quaternion && !s->has_up);
-    CHECK(s->camera_up.x == 0 && s->camera_up.y == 1 && s->camera_up.z == 0);
-    CHECK(s->camera_roll == 0);
+    CHECK(s->input.file[0] == '\0');
+    CHECK(strcmp(s->input.format, "auto") == 0);
+    CHECK(s->input.model.name[0] == '\0');
+    CHECK(s->input.model.particles == 200000);
+    CHECK(s->input.model.seed == 1);
+    CHECK(s->input.model.separation == 780);
+    CHECK(s->input.model.galaxies == 0); /* ORR_MODEL_PAIR */
+    CHECK(s->input.model.disc_q == 1.5);
+    CHECK(strcmp(s->input.weight, "mass") == 0);
+    CHECK(s->input.type_mask == 0x3f);
+    CHECK(s->input.chunk_size == 1048576);
+    CHECK(s->input.skip_nonfinite == 0);
+    CHECK(s->camera.position.x == 0 && s->camera.position.y == 0 && s->camera.position.z == 0);
+    CHECK(!s->camera.has_look_at && !s->camera.has_direction && !s->camera.has_quaternion && !s->camera.has_up);
+    CHECK(s->camera.up.x == 0 && s->camera.up.y == 1 && s->camera.up.z == 0);
+    CHECK(s->camera.roll == 0);
     CHECK(s->projection.kind == ORR_PROJ_ORTHOGRAPHIC);
     CHECK(s->projection.width == 1024 && s->projection.height == 1024);
     CHECK(s->projection.ortho_width == 100);
     CHECK(s->projection.fov_deg == 60);
     CHECK(s->projection.near == 1e-3);
-    CHECK(s->deposit == ORR_DEPOSIT_CIC);
-    CHECK(strcmp(s->out_dir, ".") == 0);
-    CHECK(s->write_fits == 1 && s->write_png == 1);
-    CHECK(s->png_bits == 8);
-    CHECK(s->stretch.kind == ORR_STRETCH_LOG);
-    CHECK(s->stretch.white == 0);
-    CHECK(s->stretch.white_percentile == 99.9);
-    CHECK(s->stretch.n == 1000);
-    CHECK(s->colormap == ORR_CMAP_MAGMA);
-    CHECK(strcmp(s->bunit, "") == 0 && strcmp(s->length_unit, "") == 0);
+    CHECK(s->deposit.kind == ORR_DEPOSIT_CIC);
+    CHECK(strcmp(s->output.dir, ".") == 0);
+    CHECK(s->output.write_fits == 1 && s->output.write_png == 1);
+    CHECK(s->output.png_bits == 8);
+    CHECK(s->picture.stretch.kind == ORR_STRETCH_LOG);
+    CHECK(s->picture.stretch.white == 0);
+    CHECK(s->picture.stretch.white_percentile == 99.9);
+    CHECK(s->picture.stretch.n == 1000);
+    CHECK(s->picture.colormap == ORR_CMAP_MAGMA);
+    CHECK(strcmp(s->output.bunit, "") == 0 && strcmp(s->output.length_unit, "") == 0);
 
     /* A minimal scene keeps them, and names the output after the scene. */
     EXPECT_OK(MODEL, NULL, 0);
-    CHECK(strcmp(g_scene.model_name, "mw-m31") == 0);
-    CHECK(g_scene.model_particles == 200000);
+    CHECK(strcmp(g_scene.input.model.name, "mw-m31") == 0);
+    CHECK(g_scene.input.model.particles == 200000);
     CHECK(g_scene.projection.width == 1024);
-    CHECK(strcmp(g_scene.out_name, "scene") == 0);
+    CHECK(strcmp(g_scene.output.name, "scene") == 0);
     CHECK(strcmp(g_scene.path, "scene.yaml") == 0);
     CHECK(strcmp(g_scene.dir, "/base") == 0);
 }
@@ -138,56 +138,56 @@ static void test_full_scene(void)
                        "  bunit: 'Msun'\n";
     EXPECT_OK(yaml, NULL, 0);
     const orr_scene *s = &g_scene;
-    CHECK(strcmp(s->input_format, "text") == 0);
-    CHECK(strcmp(s->model_name, "mw-m31") == 0);
-    CHECK(s->model_particles == 2000000);
-    CHECK(s->model_seed == 42);
-    CHECK(s->model_separation == 700.5);
-    CHECK(s->model_galaxies == 2); /* ORR_MODEL_M31 */
-    CHECK(s->model_disc_q == 2.5);
-    CHECK(strcmp(s->weight, "luminosity") == 0);
-    CHECK(s->type_mask == ((1u << 0) | (1u << 2) | (1u << 4)));
-    CHECK(s->chunk_size == 65536);
-    CHECK(s->skip_nonfinite == 1);
-    CHECK(s->camera_position.x == 1 && s->camera_position.y == -2.5 && s->camera_position.z == 300);
-    CHECK(s->has_up && s->camera_up.z == 1 && s->camera_up.y == 0);
-    CHECK(s->camera_roll == -15);
-    CHECK(s->has_quaternion && !s->has_look_at && !s->has_direction);
-    CHECK(s->camera_quaternion.w == 0 && s->camera_quaternion.z == 1);
+    CHECK(strcmp(s->input.format, "text") == 0);
+    CHECK(strcmp(s->input.model.name, "mw-m31") == 0);
+    CHECK(s->input.model.particles == 2000000);
+    CHECK(s->input.model.seed == 42);
+    CHECK(s->input.model.separation == 700.5);
+    CHECK(s->input.model.galaxies == 2); /* ORR_MODEL_M31 */
+    CHECK(s->input.model.disc_q == 2.5);
+    CHECK(strcmp(s->input.weight, "luminosity") == 0);
+    CHECK(s->input.type_mask == ((1u << 0) | (1u << 2) | (1u << 4)));
+    CHECK(s->input.chunk_size == 65536);
+    CHECK(s->input.skip_nonfinite == 1);
+    CHECK(s->camera.position.x == 1 && s->camera.position.y == -2.5 && s->camera.position.z == 300);
+    CHECK(s->camera.has_up && s->camera.up.z == 1 && s->camera.up.y == 0);
+    CHECK(s->camera.roll == -15);
+    CHECK(s->camera.has_quaternion && !s->camera.has_look_at && !s->camera.has_direction);
+    CHECK(s->camera.quaternion.w == 0 && s->camera.quaternion.z == 1);
     CHECK(s->projection.kind == ORR_PROJ_PERSPECTIVE);
     CHECK(s->projection.ortho_width == 250);
     CHECK(s->projection.fov_deg == 45);
     CHECK(s->projection.near == 0.5);
     CHECK(s->projection.width == 800 && s->projection.height == 600);
-    CHECK(s->deposit == ORR_DEPOSIT_NGP);
-    CHECK(strcmp(s->out_dir, "renders/out") == 0); /* not resolved against the scene */
-    CHECK(strcmp(s->out_name, "galaxy") == 0);
-    CHECK(s->write_fits == 0 && s->write_png == 1);
-    CHECK(s->png_bits == 16);
-    CHECK(s->stretch.kind == ORR_STRETCH_ASINH);
-    CHECK(s->stretch.white == 3.5);
-    CHECK(s->stretch.white_percentile == 99.5);
-    CHECK(s->stretch.n == 50);
-    CHECK(s->colormap == ORR_CMAP_GREY);
-    CHECK(strcmp(s->bunit, "Msun") == 0);
+    CHECK(s->deposit.kind == ORR_DEPOSIT_NGP);
+    CHECK(strcmp(s->output.dir, "renders/out") == 0); /* not resolved against the scene */
+    CHECK(strcmp(s->output.name, "galaxy") == 0);
+    CHECK(s->output.write_fits == 0 && s->output.write_png == 1);
+    CHECK(s->output.png_bits == 16);
+    CHECK(s->picture.stretch.kind == ORR_STRETCH_ASINH);
+    CHECK(s->picture.stretch.white == 3.5);
+    CHECK(s->picture.stretch.white_percentile == 99.5);
+    CHECK(s->picture.stretch.n == 50);
+    CHECK(s->picture.colormap == ORR_CMAP_GREY);
+    CHECK(strcmp(s->output.bunit, "Msun") == 0);
 }
 
 static void test_camera_orientations(void)
 {
     EXPECT_OK(MODEL "camera:\n  position: [0, 0, 10]\n  look_at: [1, 2, 3]\n", NULL, 0);
-    CHECK(g_scene.has_look_at && !g_scene.has_direction && !g_scene.has_up);
-    CHECK(g_scene.camera_look_at.x == 1 && g_scene.camera_look_at.z == 3);
+    CHECK(g_scene.camera.has_look_at && !g_scene.camera.has_direction && !g_scene.camera.has_up);
+    CHECK(g_scene.camera.look_at.x == 1 && g_scene.camera.look_at.z == 3);
     EXPECT_OK(MODEL "camera:\n  direction: [0, -1, 0]\n  up: [0, 0, 1]\n", NULL, 0);
-    CHECK(g_scene.has_direction && g_scene.has_up && g_scene.camera_direction.y == -1);
+    CHECK(g_scene.camera.has_direction && g_scene.camera.has_up && g_scene.camera.direction.y == -1);
     /* "camera:" with every key commented out is an empty section, not an error. */
     EXPECT_OK(MODEL "camera:\n  # look_at: [0, 0, 0]\n", NULL, 0);
-    CHECK(!g_scene.has_look_at);
+    CHECK(!g_scene.camera.has_look_at);
     /* white: auto is 0, the automatic white level. */
     EXPECT_OK(MODEL "output:\n  white: auto\n", NULL, 0);
-    CHECK(g_scene.stretch.white == 0);
+    CHECK(g_scene.picture.stretch.white == 0);
     /* One type alone needs no list; booleans in their other spellings. */
     EXPECT_OK(MODEL_INPUT "  types: 3\noutput: {fits: off, png: Yes}\n", NULL, 0);
-    CHECK(g_scene.type_mask == 8u && g_scene.write_fits == 0 && g_scene.write_png == 1);
+    CHECK(g_scene.input.type_mask == 8u && g_scene.output.write_fits == 0 && g_scene.output.write_png == 1);
 }
 
 static int write_text(const char *path, const char *text)
@@ -219,16 +219,16 @@ static void test_file_paths(void)
     CHECK(st == ORR_OK);
     char want[512];
     snprintf(want, sizeof want, "%s/data/snap.txt", dir);
-    CHECK(strcmp(g_scene.input_file, want) == 0);
+    CHECK(strcmp(g_scene.input.file, want) == 0);
     CHECK(strcmp(g_scene.dir, dir) == 0);
     CHECK(strcmp(g_scene.path, scene) == 0);
-    CHECK(strcmp(g_scene.out_dir, "out") == 0);          /* against the working directory */
-    CHECK(strcmp(g_scene.out_name, "face-on.view") == 0); /* the stem drops only the last extension */
-    CHECK(g_scene.model_name[0] == '\0');
+    CHECK(strcmp(g_scene.output.dir, "out") == 0);          /* against the working directory */
+    CHECK(strcmp(g_scene.output.name, "face-on.view") == 0); /* the stem drops only the last extension */
+    CHECK(g_scene.input.model.name[0] == '\0');
 
     st = orr_scene_load(&g_scene, abs_scene, NULL, 0, &err);
     CHECK(st == ORR_OK);
-    CHECK(strcmp(g_scene.input_file, "/data/snap.txt") == 0);
+    CHECK(strcmp(g_scene.input.file, "/data/snap.txt") == 0);
 
     /* Errors from a file name the file as given and the line. */
     st = orr_scene_load(&g_scene, bad, NULL, 0, &err);
@@ -240,7 +240,7 @@ static void test_file_paths(void)
     const char *sets[] = {"input.file=other.txt"};
     st = orr_scene_load(&g_scene, scene, sets, 1, &err);
     CHECK(st == ORR_OK);
-    CHECK(strcmp(g_scene.input_file, "other.txt") == 0);
+    CHECK(strcmp(g_scene.input.file, "other.txt") == 0);
 
     remove(scene);
     remove(abs_scene);
@@ -262,17 +262,17 @@ static void test_load_string_names(void)
     /* A relative file in a scene from memory is resolved against base_dir. */
     CHECK(orr_scene_load_string(&g_scene, "input: {file: a.txt}", "builtin/ortho.yaml", "/srv/data", NULL, 0,
                                 &err) == ORR_OK);
-    CHECK(strcmp(g_scene.input_file, "/srv/data/a.txt") == 0);
-    CHECK(strcmp(g_scene.out_name, "ortho") == 0);
+    CHECK(strcmp(g_scene.input.file, "/srv/data/a.txt") == 0);
+    CHECK(strcmp(g_scene.output.name, "ortho") == 0);
     /* No base folder: the path stays as written; no origin: output "orrery". */
     CHECK(orr_scene_load_string(&g_scene, "input: {file: a.txt}", NULL, NULL, NULL, 0, &err) == ORR_OK);
-    CHECK(strcmp(g_scene.input_file, "a.txt") == 0);
-    CHECK(strcmp(g_scene.out_name, "orrery") == 0);
+    CHECK(strcmp(g_scene.input.file, "a.txt") == 0);
+    CHECK(strcmp(g_scene.output.name, "orrery") == 0);
     CHECK(strcmp(g_scene.path, "<built-in>") == 0);
     /* "-" is standard input, not a file beside the scene. */
     CHECK(orr_scene_load_string(&g_scene, "input: {file: \"-\"}", "builtin/ortho.yaml", "/srv/data", NULL, 0,
                                 &err) == ORR_OK);
-    CHECK(strcmp(g_scene.input_file, "-") == 0);
+    CHECK(strcmp(g_scene.input.file, "-") == 0);
     /* Messages name the origin given. */
     CHECK(orr_scene_load_string(&g_scene, "deposit: tsc\n", "face-on", NULL, NULL, 0, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "face-on:1: deposit: expected one of: ngp cic sph, got 'tsc'") == 0);
@@ -292,25 +292,25 @@ static void test_overrides(void)
     EXPECT_OK(yaml, sets, 6);
     CHECK(g_scene.projection.width == 320);
     CHECK(g_scene.projection.height == 1024);
-    CHECK(g_scene.camera_position.z == 10);
-    CHECK(g_scene.has_look_at);
-    CHECK(g_scene.type_mask == ((1u << 2) | (1u << 3)));
-    CHECK(g_scene.colormap == ORR_CMAP_INFERNO);
+    CHECK(g_scene.camera.position.z == 10);
+    CHECK(g_scene.camera.has_look_at);
+    CHECK(g_scene.input.type_mask == ((1u << 2) | (1u << 3)));
+    CHECK(g_scene.picture.colormap == ORR_CMAP_INFERNO);
     CHECK(g_scene.projection.kind == ORR_PROJ_PERSPECTIVE);
-    CHECK(strcmp(g_scene.out_name, "view-1") == 0);
+    CHECK(strcmp(g_scene.output.name, "view-1") == 0);
 
     /* Replacing a whole mapping drops the keys it had (here look_at), so a
      * direction no longer conflicts with it. */
     const char *replace[] = {"camera={direction: [1, 0, 0], up: [0, 0, 1]}"};
     EXPECT_OK(yaml, replace, 1);
-    CHECK(g_scene.has_direction && !g_scene.has_look_at);
-    CHECK(g_scene.camera_position.z == 0);
+    CHECK(g_scene.camera.has_direction && !g_scene.camera.has_look_at);
+    CHECK(g_scene.camera.position.z == 0);
 
     /* Later overrides win; a mapping is made where a scalar was. */
     const char *later[] = {"image.width=100", "image.width=200", "deposit=ngp"};
     EXPECT_OK(yaml, later, 3);
     CHECK(g_scene.projection.width == 200);
-    CHECK(g_scene.deposit == ORR_DEPOSIT_NGP);
+    CHECK(g_scene.deposit.kind == ORR_DEPOSIT_NGP);
     const char *remap[] = {"image=5", "image.height=7"};
     EXPECT_OK(yaml, remap, 2);
     CHECK(g_scene.projection.height == 7 && g_scene.projection.width == 1024);
@@ -318,7 +318,7 @@ static void test_overrides(void)
     /* Overrides can supply keys a file lacks entirely. */
     const char *input[] = {"input.model.name=mw-m31", "input.model.particles=1000"};
     EXPECT_OK("deposit: cic\n", input, 2);
-    CHECK(g_scene.model_particles == 1000);
+    CHECK(g_scene.input.model.particles == 1000);
 }
 
 static void test_bad_overrides(void)
@@ -498,18 +498,18 @@ static void test_sky_defaults(void)
     orr_scene_defaults(s);
     CHECK(s->projection.lon_flip == 0);
     CHECK(s->projection.dome_fov_deg == 180);
-    CHECK(s->dome_profile[0] == '\0');
-    CHECK(s->dome_tilt == 0);
-    CHECK(!s->has_zenith && !s->has_front);
-    CHECK(s->zenith_lb[0] == 0 && s->zenith_lb[1] == 90);
-    CHECK(s->front_lb[0] == 0 && s->front_lb[1] == 0);
-    CHECK(!s->has_observer && !s->has_normal);
-    CHECK(s->observer_normal.x == 0 && s->observer_normal.y == 0 && s->observer_normal.z == 1);
-    CHECK(s->normal_types == 0);
-    CHECK(s->normal_radius == 30);
-    CHECK(s->normal_sign == -1);
-    CHECK(s->dim == 1);
-    CHECK(s->dim_near == 0.01);
+    CHECK(s->camera.dome[0] == '\0');
+    CHECK(s->camera.dome_tilt == 0);
+    CHECK(!s->camera.has_zenith && !s->camera.has_front);
+    CHECK(s->camera.zenith_lb[0] == 0 && s->camera.zenith_lb[1] == 90);
+    CHECK(s->camera.front_lb[0] == 0 && s->camera.front_lb[1] == 0);
+    CHECK(!s->observer.has_id && !s->observer.has_normal);
+    CHECK(s->observer.normal.x == 0 && s->observer.normal.y == 0 && s->observer.normal.z == 1);
+    CHECK(s->observer.normal_types == 0);
+    CHECK(s->observer.normal_radius == 30);
+    CHECK(s->observer.normal_sign == -1);
+    CHECK(s->observer.dim == 1);
+    CHECK(s->observer.dim_near == 0.01);
 }
 
 static void test_sky_keys(void)
@@ -528,19 +528,19 @@ static void test_sky_keys(void)
     const orr_scene *s = &g_scene;
     CHECK(s->projection.kind == ORR_PROJ_DOME);
     CHECK(s->projection.dome_fov_deg == 210);
-    CHECK(s->dome_tilt == 30);
-    CHECK(s->has_zenith && s->zenith_lb[0] == 10 && s->zenith_lb[1] == 80);
-    CHECK(s->has_front && s->front_lb[0] == -45.5 && s->front_lb[1] == -10);
+    CHECK(s->camera.dome_tilt == 30);
+    CHECK(s->camera.has_zenith && s->camera.zenith_lb[0] == 10 && s->camera.zenith_lb[1] == 80);
+    CHECK(s->camera.has_front && s->camera.front_lb[0] == -45.5 && s->camera.front_lb[1] == -10);
     /* The bounds are inclusive; l is any finite number (it wraps). */
     EXPECT_OK(MODEL "camera: {projection: dome, dome_fov: 360, dome_tilt: 90, zenith: [720, -90]}\n", NULL, 0);
-    CHECK(g_scene.projection.dome_fov_deg == 360 && g_scene.dome_tilt == 90 && g_scene.zenith_lb[0] == 720);
+    CHECK(g_scene.projection.dome_fov_deg == 360 && g_scene.camera.dome_tilt == 90 && g_scene.camera.zenith_lb[0] == 720);
     EXPECT_OK(MODEL "camera: {projection: dome, dome_fov: 90, dome_tilt: 0}\n", NULL, 0);
     /* Dome keys with another projection are checked, and otherwise ignored. */
     EXPECT_OK(MODEL "camera: {projection: perspective, dome_fov: 200, lon_flip: yes}\n", NULL, 0);
     CHECK(g_scene.projection.kind == ORR_PROJ_PERSPECTIVE && g_scene.projection.dome_fov_deg == 200);
     const char *sets[] = {"camera.projection=dome", "camera.zenith=[30, 45]"};
     EXPECT_OK(MODEL, sets, 2);
-    CHECK(g_scene.projection.kind == ORR_PROJ_DOME && g_scene.zenith_lb[1] == 45);
+    CHECK(g_scene.projection.kind == ORR_PROJ_DOME && g_scene.camera.zenith_lb[1] == 45);
 }
 
 static void test_sky_key_errors(void)
@@ -598,9 +598,9 @@ static void test_observer_keys(void)
 {
     EXPECT_OK(OBSERVER, NULL, 0);
     const orr_scene *s = &g_scene;
-    CHECK(s->has_observer && s->observer_id == 7 && s->reference_id == 9);
-    CHECK(!s->has_normal && s->observer_normal.z == 1 && s->normal_types == 0);
-    CHECK(s->normal_radius == 30 && s->normal_sign == -1 && s->dim == 1 && s->dim_near == 0.01);
+    CHECK(s->observer.has_id && s->observer.id == 7 && s->observer.reference_id == 9);
+    CHECK(!s->observer.has_normal && s->observer.normal.z == 1 && s->observer.normal_types == 0);
+    CHECK(s->observer.normal_radius == 30 && s->observer.normal_sign == -1 && s->observer.dim == 1 && s->observer.dim_near == 0.01);
     EXPECT_OK(MODEL "observer:\n"
                     "  id: 18446744073709551615\n"
                     "  reference_id: 0\n"
@@ -612,18 +612,18 @@ static void test_observer_keys(void)
                     "  dim_near: 0.5\n"
                     "camera: {projection: hammer-aitoff}\n",
               NULL, 0);
-    CHECK(s->observer_id == UINT64_MAX && s->reference_id == 0);
-    CHECK(s->normal_types == ((1u << 2) | (1u << 3)) && !s->has_normal);
-    CHECK(s->normal_radius == 12.5 && s->normal_sign == 1 && s->dim == 0 && s->dim_near == 0.5);
+    CHECK(s->observer.id == UINT64_MAX && s->observer.reference_id == 0);
+    CHECK(s->observer.normal_types == ((1u << 2) | (1u << 3)) && !s->observer.has_normal);
+    CHECK(s->observer.normal_radius == 12.5 && s->observer.normal_sign == 1 && s->observer.dim == 0 && s->observer.dim_near == 0.5);
     EXPECT_OK(OBSERVER "  normal: [0, 1, 1]\n", NULL, 0);
-    CHECK(s->has_normal && s->observer_normal.y == 1 && s->observer_normal.z == 1);
+    CHECK(s->observer.has_normal && s->observer.normal.y == 1 && s->observer.normal.z == 1);
     EXPECT_OK(OBSERVER "  normal_from: {types: 2, sign: -1}\n", NULL, 0);
-    CHECK(s->normal_types == 4u && s->normal_sign == -1);
+    CHECK(s->observer.normal_types == 4u && s->observer.normal_sign == -1);
     EXPECT_OK(OBSERVER "  normal_from: {types: 2, sign: 1}\n", NULL, 0);
-    CHECK(s->normal_sign == 1);
+    CHECK(s->observer.normal_sign == 1);
     /* Ids in exponent form are fine while exact. */
     EXPECT_OK(MODEL "observer: {id: 1e6, reference_id: 2}\n", NULL, 0);
-    CHECK(s->observer_id == 1000000);
+    CHECK(s->observer.id == 1000000);
     /* The camera keys that do not place the camera stay allowed. */
     EXPECT_OK(OBSERVER "camera: {projection: dome, zenith: [0, 90], roll: 5}\n", NULL, 0);
 }
@@ -680,7 +680,7 @@ static void test_observer_checks(void)
     EXPECT_ERROR_SETS(OBSERVER, pos, 1, ORR_ERR_USAGE, "--set camera.position=[1,2,3]: camera.position is not allowed");
     const char *add[] = {"observer.id=3", "observer.reference_id=4"};
     EXPECT_OK(MODEL, add, 2);
-    CHECK(g_scene.has_observer && g_scene.observer_id == 3 && g_scene.reference_id == 4);
+    CHECK(g_scene.observer.has_id && g_scene.observer.id == 3 && g_scene.observer.reference_id == 4);
 }
 
 /* The units written into FITS: the model's own by default, what the scene

@@ -138,9 +138,9 @@ static void test_repo_profiles(void)
         if (st != ORR_OK)
             fprintf(stderr, "  %s: %s\n", want[i].name, err.msg);
         CHECK(g_scene.projection.dome_fov_deg == want[i].fov);
-        CHECK(g_scene.dome_tilt == want[i].tilt);
+        CHECK(g_scene.camera.dome_tilt == want[i].tilt);
         CHECK(g_scene.projection.width == want[i].size && g_scene.projection.height == want[i].size);
-        CHECK(strcmp(g_scene.dome_profile, want[i].name) == 0);
+        CHECK(strcmp(g_scene.camera.dome, want[i].name) == 0);
     }
     set_domes(NULL);
 }
@@ -168,13 +168,13 @@ static void test_profile_search(void)
     snprintf(env, sizeof env, ":%s::%s:", tmp_path(e1, sizeof e1, "env1"), tmp_path(e2, sizeof e2, "env2"));
     set_domes(env);
     CHECK(orr_scene_load(&g_scene, scene, NULL, 0, &err) == ORR_OK);
-    CHECK(g_scene.projection.dome_fov_deg == 200 && g_scene.dome_tilt == 10);
+    CHECK(g_scene.projection.dome_fov_deg == 200 && g_scene.camera.dome_tilt == 10);
     CHECK(g_scene.projection.width == 64 && g_scene.projection.height == 64);
 
     /* Without it, <scene folder>/../domes; keys the profile leaves out keep their defaults. */
     set_domes(NULL);
     CHECK(orr_scene_load(&g_scene, scene, NULL, 0, &err) == ORR_OK);
-    CHECK(g_scene.projection.dome_fov_deg == 220 && g_scene.dome_tilt == 0);
+    CHECK(g_scene.projection.dome_fov_deg == 220 && g_scene.camera.dome_tilt == 0);
     CHECK(g_scene.projection.width == 1024);
     const char *q[] = {"camera.dome=q"};
     CHECK(orr_scene_load(&g_scene, scene, q, 1, &err) == ORR_OK);
@@ -183,7 +183,7 @@ static void test_profile_search(void)
     /* Then <scene folder>/domes. */
     const char *r[] = {"camera.dome=r"};
     CHECK(orr_scene_load(&g_scene, scene, r, 1, &err) == ORR_OK);
-    CHECK(g_scene.dome_tilt == 45);
+    CHECK(g_scene.camera.dome_tilt == 45);
 
     /* A name found nowhere lists every folder searched. */
     set_domes(e1);
@@ -253,17 +253,17 @@ static void test_profile_precedence(void)
     /* The scene's own values win over the profile's, key by key. */
     CHECK(load_one(MODEL "camera:\n  projection: dome\n  dome: big\n  dome_fov: 190\nimage:\n  width: 1000\n", NULL,
                    0, &err) == ORR_OK);
-    CHECK(g_scene.projection.dome_fov_deg == 190 && g_scene.dome_tilt == 20);
+    CHECK(g_scene.projection.dome_fov_deg == 190 && g_scene.camera.dome_tilt == 20);
     CHECK(g_scene.projection.width == 1000 && g_scene.projection.height == 2048);
     /* So do --set values, even ones equal to the defaults. */
     const char *sets[] = {"image.height=500", "camera.dome_tilt=0", "camera.dome_fov=180"};
     CHECK(load_one(dome, sets, 3, &err) == ORR_OK);
     CHECK(g_scene.projection.height == 500 && g_scene.projection.width == 2048);
-    CHECK(g_scene.dome_tilt == 0 && g_scene.projection.dome_fov_deg == 180);
+    CHECK(g_scene.camera.dome_tilt == 0 && g_scene.projection.dome_fov_deg == 180);
     /* The profile applies to dome masters only. */
     const char *pano[] = {"camera.projection=hammer-aitoff"};
     CHECK(load_one(dome, pano, 1, &err) == ORR_OK);
-    CHECK(g_scene.projection.width == 1024 && g_scene.projection.dome_fov_deg == 180 && g_scene.dome_tilt == 0);
+    CHECK(g_scene.projection.width == 1024 && g_scene.projection.dome_fov_deg == 180 && g_scene.camera.dome_tilt == 0);
     set_domes(NULL);
     remove_tmp("big.yaml");
 }
@@ -309,14 +309,14 @@ static void test_two_views(void)
     /* Both share the base scene. */
     for (int i = 0; i < 2; i++) {
         const orr_scene *s = &g_views->view[i];
-        CHECK(s->has_observer && s->observer_id == 1 && s->reference_id == 2);
-        CHECK(s->colormap == ORR_CMAP_INFERNO);
-        CHECK(strcmp(s->dome_profile, "flat-180") == 0);
+        CHECK(s->observer.has_id && s->observer.id == 1 && s->observer.reference_id == 2);
+        CHECK(s->picture.colormap == ORR_CMAP_INFERNO);
+        CHECK(strcmp(s->camera.dome, "flat-180") == 0);
         CHECK(strcmp(s->path, "sky.yaml") == 0 && strcmp(s->dir, "/nonexistent/scenes") == 0);
     }
     /* Default output names: STEM-VIEW. */
-    CHECK(strcmp(dome->out_name, "sky-dome") == 0);
-    CHECK(strcmp(pano->out_name, "sky-panorama") == 0);
+    CHECK(strcmp(dome->output.name, "sky-dome") == 0);
+    CHECK(strcmp(pano->output.name, "sky-panorama") == 0);
     set_domes(NULL);
 }
 
@@ -325,18 +325,18 @@ static void test_view_output_names(void)
     /* The base scene's name gets -VIEW with several views... */
     EXPECT_VIEWS_OK(MODEL "output: {name: future}\nviews:\n  a:\n    deposit: ngp\n  b:\n", NULL, 0);
     CHECK(g_views->n == 2);
-    CHECK(strcmp(g_views->view[0].out_name, "future-a") == 0);
-    CHECK(strcmp(g_views->view[1].out_name, "future-b") == 0);
-    CHECK(g_views->view[0].deposit == ORR_DEPOSIT_NGP && g_views->view[1].deposit == ORR_DEPOSIT_CIC);
+    CHECK(strcmp(g_views->view[0].output.name, "future-a") == 0);
+    CHECK(strcmp(g_views->view[1].output.name, "future-b") == 0);
+    CHECK(g_views->view[0].deposit.kind == ORR_DEPOSIT_NGP && g_views->view[1].deposit.kind == ORR_DEPOSIT_CIC);
     /* ...a view's own is kept as it is... */
     EXPECT_VIEWS_OK(MODEL "output: {name: future}\nviews:\n  a: {output: {name: master}}\n  b: {}\n", NULL, 0);
-    CHECK(strcmp(g_views->view[0].out_name, "master") == 0);
-    CHECK(strcmp(g_views->view[1].out_name, "future-b") == 0);
+    CHECK(strcmp(g_views->view[0].output.name, "master") == 0);
+    CHECK(strcmp(g_views->view[1].output.name, "future-b") == 0);
     /* ...and so is the base's with one view; without a name, STEM-VIEW. */
     EXPECT_VIEWS_OK(MODEL "output: {name: future}\nviews:\n  only: {deposit: ngp}\n", NULL, 0);
-    CHECK(g_views->n == 1 && strcmp(g_views->view[0].out_name, "future") == 0);
+    CHECK(g_views->n == 1 && strcmp(g_views->view[0].output.name, "future") == 0);
     EXPECT_VIEWS_OK(MODEL "views:\n  only: {deposit: ngp}\n", NULL, 0);
-    CHECK(strcmp(g_views->view[0].out_name, "sky-only") == 0);
+    CHECK(strcmp(g_views->view[0].output.name, "sky-only") == 0);
     /* Two views writing the same files. */
     EXPECT_VIEWS_ERROR(MODEL "views:\n  a: {output: {name: same}}\n  b: {output: {name: same}}\n", NULL, 0,
                        "sky.yaml: views 'a' and 'b' both write output.name 'same'");
@@ -356,7 +356,7 @@ static void test_view_overrides(void)
     const char *base[] = {"output.colormap=grey", "image.width=512", "deposit=ngp"};
     EXPECT_VIEWS_OK(SKY, base, 3);
     for (int i = 0; i < 2; i++)
-        CHECK(g_views->view[i].colormap == ORR_CMAP_GREY && g_views->view[i].deposit == ORR_DEPOSIT_NGP);
+        CHECK(g_views->view[i].picture.colormap == ORR_CMAP_GREY && g_views->view[i].deposit.kind == ORR_DEPOSIT_NGP);
     CHECK(g_views->view[0].projection.width == 512);  /* beats the profile, as a scene value does */
     CHECK(g_views->view[0].projection.height == 3600);
     CHECK(g_views->view[1].projection.width == 4096); /* the view's own value */
@@ -421,10 +421,10 @@ static void test_view_merging(void)
                           "  c:\n",
                     NULL, 0);
     const orr_scene *a = &g_views->view[0], *b = &g_views->view[1], *c = &g_views->view[2];
-    CHECK(a->camera_position.x == 1 && a->camera_position.z == 3 && a->has_up && a->camera_up.z == 1);
+    CHECK(a->camera.position.x == 1 && a->camera.position.z == 3 && a->camera.has_up && a->camera.up.z == 1);
     CHECK(a->projection.width == 300 && a->projection.height == 100);
-    CHECK(b->camera_position.z == 5 && b->projection.height == 200);
-    CHECK(c->camera_position.z == 5 && strcmp(c->out_name, "sky-c") == 0);
+    CHECK(b->camera.position.z == 5 && b->projection.height == 200);
+    CHECK(c->camera.position.z == 5 && strcmp(c->output.name, "sky-c") == 0);
 }
 
 static void test_no_views(void)
@@ -432,10 +432,10 @@ static void test_no_views(void)
     /* A scene without views is one unnamed view. */
     EXPECT_VIEWS_OK(MODEL "deposit: ngp\n", NULL, 0);
     CHECK(g_views->n == 1 && g_views->name[0][0] == '\0');
-    CHECK(strcmp(g_views->view[0].out_name, "sky") == 0 && g_views->view[0].deposit == ORR_DEPOSIT_NGP);
+    CHECK(strcmp(g_views->view[0].output.name, "sky") == 0 && g_views->view[0].deposit.kind == ORR_DEPOSIT_NGP);
     /* So is one whose views: is empty. */
     EXPECT_VIEWS_OK(MODEL "views:\n  # dome: {}\n", NULL, 0);
-    CHECK(g_views->n == 1 && g_views->name[0][0] == '\0' && strcmp(g_views->view[0].out_name, "sky") == 0);
+    CHECK(g_views->n == 1 && g_views->name[0][0] == '\0' && strcmp(g_views->view[0].output.name, "sky") == 0);
     EXPECT_VIEWS_OK(MODEL "views: {}\n", NULL, 0);
     CHECK(g_views->n == 1);
 }
@@ -445,7 +445,7 @@ static void test_single_loaders(void)
     orr_error err;
     /* One view: the single loaders return it. */
     CHECK(load_one(MODEL "views:\n  pano: {camera: {projection: equirectangular}}\n", NULL, 0, &err) == ORR_OK);
-    CHECK(g_scene.projection.kind == ORR_PROJ_EQUIRECTANGULAR && strcmp(g_scene.out_name, "sky-pano") == 0);
+    CHECK(g_scene.projection.kind == ORR_PROJ_EQUIRECTANGULAR && strcmp(g_scene.output.name, "sky-pano") == 0);
     /* Several: an error pointing to the views loader. */
     CHECK(load_one(MODEL "views:\n  a: {}\n  b: {}\n", NULL, 0, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "sky.yaml: the scene has 2 views (a, b) but was loaded as a single scene");
@@ -455,7 +455,7 @@ static void test_single_loaders(void)
     char path[256];
     write_tmp("future.yaml", MODEL "views:\n  a: {deposit: ngp}\n  b: {image: {width: 64}}\n");
     CHECK(orr_scene_load_views(g_views, tmp_path(path, sizeof path, "future.yaml"), NULL, 0, &err) == ORR_OK);
-    CHECK(g_views->n == 2 && strcmp(g_views->view[1].out_name, "future-b") == 0);
+    CHECK(g_views->n == 2 && strcmp(g_views->view[1].output.name, "future-b") == 0);
     CHECK(g_views->view[1].projection.width == 64 && strcmp(g_views->view[0].dir, g_tmp) == 0);
     CHECK(orr_scene_load(&g_scene, path, NULL, 0, &err) == ORR_ERR_USAGE);
     remove_tmp("future.yaml");

@@ -101,7 +101,7 @@ static void test_scene_keeps_overrides(void)
     CHECK_CONTAINS(g_scene.scene_yaml, "  bunit: \"10**10 solMass\"\n");
     CHECK(orr_scene_load_string(&g_again, g_scene.scene_yaml, "s.yaml", "/tmp", NULL, 0, &err) == ORR_OK);
     CHECK(g_again.projection.width == 32 && g_again.projection.height == 24);
-    CHECK(strcmp(g_again.bunit, "10**10 solMass") == 0);
+    CHECK(strcmp(g_again.output.bunit, "10**10 solMass") == 0);
     CHECK(g_again.settings_digest == g_scene.settings_digest);
 }
 

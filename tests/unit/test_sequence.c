@@ -623,19 +623,19 @@ static void test_scene_keys(void)
     CHECK(load("input:\n  sequence:\n    pattern: snaps/snap_%03d.hdf5\n    first: 2\n    last: 40\n"
                "    step: 2\n    interpolation: hermite\n    max_memory: 2.5\n",
                &err) == ORR_OK);
-    CHECK(strcmp(g_scene.seq_pattern, "/base/snaps/snap_%03d.hdf5") == 0);
-    CHECK(g_scene.seq_first == 2 && g_scene.seq_last == 40 && g_scene.seq_step == 2);
-    CHECK(g_scene.seq_interpolation == ORR_INTERP_HERMITE);
-    CHECK(g_scene.seq_max_memory == 2.5);
-    CHECK(g_scene.input_file[0] == '\0');
+    CHECK(strcmp(g_scene.input.sequence.pattern, "/base/snaps/snap_%03d.hdf5") == 0);
+    CHECK(g_scene.input.sequence.first == 2 && g_scene.input.sequence.last == 40 && g_scene.input.sequence.step == 2);
+    CHECK(g_scene.input.sequence.interpolation == ORR_INTERP_HERMITE);
+    CHECK(g_scene.input.sequence.max_memory == 2.5);
+    CHECK(g_scene.input.file[0] == '\0');
 
     CHECK(load("input: {sequence: {files: [a.dat, /abs/b.dat, c.dat]}}", &err) == ORR_OK);
-    CHECK(g_scene.seq_nfiles == 3);
+    CHECK(g_scene.input.sequence.nfiles == 3);
     CHECK(strcmp(orr_scene_sequence_file(&g_scene, 0), "/base/a.dat") == 0);
     CHECK(strcmp(orr_scene_sequence_file(&g_scene, 1), "/abs/b.dat") == 0);
     CHECK(strcmp(orr_scene_sequence_file(&g_scene, 2), "/base/c.dat") == 0);
-    CHECK(g_scene.seq_interpolation == ORR_INTERP_AUTO);
-    CHECK(g_scene.seq_step == 1);
+    CHECK(g_scene.input.sequence.interpolation == ORR_INTERP_AUTO);
+    CHECK(g_scene.input.sequence.step == 1);
 
     static const char *const bad[][2] = {
         {"input: {file: a.dat, sequence: {files: [a, b]}}", "input.file"},

@@ -41,9 +41,9 @@ static void render_with(const char *yaml, const char *name, int threads, renderi
         free(s);
         return;
     }
-    snprintf(s->out_dir, sizeof s->out_dir, "%s", tmpdir);
-    snprintf(s->out_name, sizeof s->out_name, "%s_t%d", name, threads);
-    s->write_png = 0;
+    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    snprintf(s->output.name, sizeof s->output.name, "%s_t%d", name, threads);
+    s->output.write_png = 0;
     omp_set_num_threads(threads);
     out->st = orr_render_scene(s, &out->rep, NULL, NULL, &err);
     snprintf(out->msg, sizeof out->msg, "%s", err.msg);

@@ -17,8 +17,8 @@ static orr_status render_yaml(const char *yaml, const char *name, orr_render_rep
     CHECK(s != NULL);
     orr_status st = orr_scene_load_string(s, yaml, name, ".", NULL, 0, err);
     if (!st) {
-        snprintf(s->out_dir, sizeof s->out_dir, "%s", tmpdir);
-        snprintf(s->out_name, sizeof s->out_name, "%s", name);
+        snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+        snprintf(s->output.name, sizeof s->output.name, "%s", name);
         st = orr_render_scene(s, rep, NULL, NULL, err);
     }
     free(s);
@@ -112,8 +112,8 @@ static void test_run(void)
     CHECK(orr_scene_load_string(s, MODEL "camera: {projection: orthographic, width: 60}\n"
                                          "image: {width: 64, height: 48}\ndeposit: ngp\nanimation: {frames: 3}\n",
                                 "run", ".", NULL, 0, &err) == ORR_OK);
-    snprintf(s->out_dir, sizeof s->out_dir, "%s", tmpdir);
-    snprintf(s->out_name, sizeof s->out_name, "run");
+    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    snprintf(s->output.name, sizeof s->output.name, "run");
     const orr_scene *list[1] = {s};
     orr_render_report rep;
     orr_animation_options opt = orr_animation_defaults();

@@ -23,22 +23,22 @@ static void test_run_word(void)
 {
     orr_error err;
     CHECK(load(TINT "    t: run\n", NULL, &err) == ORR_OK);
-    CHECK(g_scene.tint_run == 1);
+    CHECK(g_scene.colour.tint_run == 1);
     CHECK(load(TINT "    t: 0.25\n", NULL, &err) == ORR_OK);
-    CHECK(g_scene.tint_run == 0);
-    CHECK_NEAR(g_scene.tint_t, 0.25, 0);
+    CHECK(g_scene.colour.tint_run == 0);
+    CHECK_NEAR(g_scene.colour.tint_t, 0.25, 0);
     CHECK(load(TINT, NULL, &err) == ORR_OK); /* default: fixed at 0 */
-    CHECK(g_scene.tint_run == 0 && g_scene.tint_t == 0);
+    CHECK(g_scene.colour.tint_run == 0 && g_scene.colour.tint_t == 0);
 }
 
 static void test_overrides(void)
 {
     orr_error err;
     CHECK(load(TINT "    t: run\n", "colour.tint.t=0.5", &err) == ORR_OK);
-    CHECK(g_scene.tint_run == 0);
-    CHECK_NEAR(g_scene.tint_t, 0.5, 0);
+    CHECK(g_scene.colour.tint_run == 0);
+    CHECK_NEAR(g_scene.colour.tint_t, 0.5, 0);
     CHECK(load(TINT "    t: 0.5\n", "colour.tint.t=run", &err) == ORR_OK);
-    CHECK(g_scene.tint_run == 1);
+    CHECK(g_scene.colour.tint_run == 1);
 }
 
 static void test_bad_values(void)
@@ -60,7 +60,7 @@ static void test_synthesis_keys_with_tint(void)
 {
     orr_error err;
     CHECK(load(TINT "  synthesis:\n    stretch: gamma\n    white: 3\n", NULL, &err) == ORR_OK);
-    CHECK(g_scene.synth.y0 == 3);
+    CHECK(g_scene.colour.synth.y0 == 3);
     /* without a tint or populations they still apply to nothing */
     CHECK(load("input:\n  model: {name: mw-m31}\ncolour:\n  synthesis:\n    stretch: gamma\n", NULL, &err) ==
           ORR_ERR_USAGE);
