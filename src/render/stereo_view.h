@@ -1,6 +1,6 @@
 /* Stereo in the renderer (docs/stereo.md). A view with stereo.mode is
  * rendered as two eyes from one pass over the particles: the driver treats
- * each eye as a view of its own (a copy of the scene with stereo_eye set),
+ * each eye as a view of its own (a copy of the scene with stereo.eye set),
  * so every chunk is splatted into both eyes' planes before the next is
  * read. This file holds what is particular to stereo: making the eyes,
  * placing each eye's camera, the omni-directional per-block transform's
