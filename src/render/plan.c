@@ -52,24 +52,11 @@ static void plane_name(const orr_scene *s, int k, char *name, size_t size)
         orr_snprintf(name, size, "pop.%s.Y", s->colour.populations.pop[k - 3].name);
 }
 
-/* The scene's psf.* as the post stage's settings (post/psf.h). */
-static void psf_settings(const orr_scene *s, orr_psf_settings *ps)
-{
-    *ps = (orr_psf_settings){.kind = s->psf.kind, .fwhm = s->psf.fwhm, .fwhm_arcmin = s->psf.fwhm_arcmin,
-                             .file_subsample = s->psf.file_subsample, .arcsec_per_pixel = s->psf.arcsec_per_pixel,
-                             .angle = s->psf.angle, .vane_width = s->psf.vane_width,
-                             .spike_gain = s->psf.spike_gain, .size = s->psf.size,
-                             .spike_stars = s->psf.spike_stars, .flat_stars = s->psf.flat_stars,
-                             .spike_min_flux = s->psf.spike_min_flux};
-    orr_snprintf(ps->file, sizeof ps->file, "%s", s->psf.file);
-}
-
 /* The view's PSF (post/view_psf.h): made once per run. */
 static orr_status plan_psf(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
-    orr_psf_settings ps;
-    psf_settings(s, &ps);
-    orr_status st = orr_view_psf_setup(&v->psf, &ps, s->colour.has_populations || s->compose.nlayers, &v->proj, &v->kernel, kernels, err);
+    int colour = s->colour.has_populations || s->compose.nlayers;
+    orr_status st = orr_view_psf_setup(&v->psf, &s->psf, colour, &v->proj, &v->kernel, kernels, err);
     return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
 }
 
