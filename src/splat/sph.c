@@ -1017,18 +1017,32 @@ static int reachable(const cap *c, const orr_sph_tile *t)
     return dot >= cos_sum - 1e-6; /* the tiles' floats, with margin */
 }
 
+/* The direction of pixel (i, j)'s centre on an equirectangular map, from
+ * the tables: the same products of the same sines and cosines as
+ * orr_unproject forms, so the same bits. */
+static orr_vec3 equirect_direction(const orr_sph *s, int i, int j)
+{
+    const double *lon = s->eq_lon + 2 * (size_t)i, *lat = s->eq_lat + 2 * (size_t)j;
+    return orr_v3(lat[0] * lon[0], lat[1], lat[0] * lon[1]);
+}
+
 /* Weight of pixel (i, j) for the cap: F at the pixel's angular distance
  * (as a chord) times the pixel's solid angle, with the Laplacian term for
  * the pixel's size. 0 off the map and beyond the support. */
 static double cap_pixel_weight(const orr_sph *s, const cap *c, int i, int j)
 {
     orr_vec3 d;
-    if (!orr_projection_pixel_in_map(&s->proj, i, j) || !orr_unproject(&s->proj, i + 0.5, j + 0.5, &d))
+    if (s->eq_omega) {
+        if (i < 0 || j < 0 || i >= s->proj.width || j >= s->proj.height)
+            return 0.0;
+        d = equirect_direction(s, i, j);
+    } else if (!orr_projection_pixel_in_map(&s->proj, i, j) || !orr_unproject(&s->proj, i + 0.5, j + 0.5, &d)) {
         return 0.0;
+    }
     double u = chord2(d, c->dir) / (c->theta * c->theta);
     if (!(u < ORR_KERNEL_SUPPORT * ORR_KERNEL_SUPPORT))
         return 0.0;
-    double omega = pixel_solid_angle(s, d);
+    double omega = s->eq_omega ? s->eq_omega[(size_t)j * s->proj.width + i] : pixel_solid_angle(s, d);
     float lf;
     double f = orr_kernel_column_u(s->kernel, (float)u, &lf);
     return omega * (f + omega / (24.0 * c->theta * c->theta) * lf);
@@ -1330,6 +1344,39 @@ static double equal_area_omega(const orr_projection *p)
     return hi > 0 && hi <= lo * (1 + 1e-9) ? hi : 0.0;
 }
 
+/* The equirectangular map's tables (orr_sph.eq_*): a column's direction
+ * on the equator (b = 0) is (-sin l, 0, cos l) and a row's on the central
+ * meridian (l = 0) is (0, -sin b, cos b), both from orr_unproject itself;
+ * pixel (i, j)'s direction is then their products, and its solid angle
+ * what pixel_solid_angle gives for that direction (the scale's last bits
+ * vary along a row, so it is kept per pixel, 8 bytes each). */
+static orr_status build_equirect_tables(orr_sph *s, orr_error *err)
+{
+    const orr_projection *p = &s->proj;
+    const int W = p->width, H = p->height;
+    s->eq_lon = orr_malloc(sizeof(double) * 2 * (size_t)W, "equirectangular pixel directions", err);
+    s->eq_lat = orr_malloc(sizeof(double) * 2 * (size_t)H, "equirectangular pixel directions", err);
+    double *omega = orr_malloc(sizeof(double) * (size_t)W * H, "equirectangular pixel solid angles", err);
+    if (!s->eq_lon || !s->eq_lat || !omega) {
+        free(omega);
+        return ORR_ERR_NOMEM;
+    }
+    orr_vec3 d;
+    for (int i = 0; i < W; i++) {
+        orr_unproject(p, i + 0.5, p->cy, &d);
+        s->eq_lon[2 * i] = d.x, s->eq_lon[2 * i + 1] = d.z;
+    }
+    for (int j = 0; j < H; j++) {
+        orr_unproject(p, p->cx, j + 0.5, &d);
+        s->eq_lat[2 * j] = d.z, s->eq_lat[2 * j + 1] = d.y;
+    }
+    s->eq_omega = omega; /* set before use: equirect_direction reads the tables */
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++)
+            omega[(size_t)j * W + i] = pixel_solid_angle(s, equirect_direction(s, i, j));
+    return ORR_OK;
+}
+
 static orr_status build_sky_index(orr_sph *s, orr_error *err)
 {
     const int T = ORR_SPH_TILE, G = ORR_SPH_GROUP, W = s->proj.width, H = s->proj.height;
@@ -1352,7 +1399,10 @@ static orr_status build_sky_index(orr_sph *s, orr_error *err)
     for (int gy = 0; gy < s->groups_y; gy++)
         for (int gx = 0; gx < s->groups_x; gx++)
             group_extent(s, gx, gy, &s->groups[(size_t)gy * s->groups_x + gx]);
-    return build_cells(s, err);
+    orr_status st = build_cells(s, err);
+    if (!st && s->proj.kind == ORR_PROJ_EQUIRECTANGULAR)
+        st = build_equirect_tables(s, err);
+    return st;
 }
 
 /* ---- the interface ---- */
@@ -1386,8 +1436,12 @@ void orr_sph_free(orr_sph *s)
     free(s->tiles);
     free(s->groups);
     free(s->safe);
+    free(s->eq_lon);
+    free(s->eq_lat);
+    free(s->eq_omega);
     s->tiles = s->groups = NULL;
     s->safe = NULL;
+    s->eq_lon = s->eq_lat = s->eq_omega = NULL;
 }
 
 /* Particles without a smoothing length: cloud-in-cell, as orr_deposit. */
