@@ -1032,20 +1032,45 @@ static orr_vec3 equirect_direction(const orr_sph *s, int i, int j)
 static double cap_pixel_weight(const orr_sph *s, const cap *c, int i, int j)
 {
     orr_vec3 d;
-    if (s->eq_omega) {
-        if (i < 0 || j < 0 || i >= s->proj.width || j >= s->proj.height)
-            return 0.0;
-        d = equirect_direction(s, i, j);
-    } else if (!orr_projection_pixel_in_map(&s->proj, i, j) || !orr_unproject(&s->proj, i + 0.5, j + 0.5, &d)) {
+    if (!orr_projection_pixel_in_map(&s->proj, i, j) || !orr_unproject(&s->proj, i + 0.5, j + 0.5, &d))
         return 0.0;
-    }
     double u = chord2(d, c->dir) / (c->theta * c->theta);
     if (!(u < ORR_KERNEL_SUPPORT * ORR_KERNEL_SUPPORT))
         return 0.0;
-    double omega = s->eq_omega ? s->eq_omega[(size_t)j * s->proj.width + i] : pixel_solid_angle(s, d);
+    double omega = pixel_solid_angle(s, d);
     float lf;
     double f = orr_kernel_column_u(s->kernel, (float)u, &lf);
     return omega * (f + omega / (24.0 * c->theta * c->theta) * lf);
+}
+
+/* cap_pixel_weight for the ORR_SPH_TILE pixels from (i0, j) on of an
+ * equirectangular map, from its tables (padded past the last column): the
+ * same operations in the same order (equirect_direction, chord2,
+ * orr_kernel_column_u), so the same bits, in loops of fixed length that
+ * the compiler does in vector registers but for the table's reads (whose
+ * index is clamped where the weight is 0 anyway). */
+ORR_VECTOR_CLONES
+static void equirect_row_weights(const orr_sph *s, const cap *c, int i0, int j, double *wt)
+{
+    enum { T = ORR_SPH_TILE };
+    const double *lon = s->eq_lon + 2 * (size_t)i0, *omega = s->eq_omega + (size_t)j * s->proj.width + i0;
+    const double cos_b = s->eq_lat[2 * (size_t)j], dy = s->eq_lat[2 * (size_t)j + 1] - c->dir.y;
+    const double theta2 = c->theta * c->theta, lap_scale = 24.0 * c->theta * c->theta;
+    double u[T];
+    float t[T];
+    int in[T];
+    for (int k = 0; k < T; k++) {
+        const double dx = cos_b * lon[2 * k] - c->dir.x, dz = cos_b * lon[2 * k + 1] - c->dir.z;
+        u[k] = (dx * dx + dy * dy + dz * dz) / theta2;
+        t[k] = (float)u[k] * (float)(ORR_KERNEL_NU / 4.0);
+        in[k] = (u[k] < ORR_KERNEL_SUPPORT * ORR_KERNEL_SUPPORT) & (t[k] < (float)ORR_KERNEL_NU);
+    }
+    for (int k = 0; k < T; k++) {
+        const int e = in[k] ? (int)t[k] : 0;
+        const float x = t[k] - (float)e, *cf = s->kernel->column + 2 * e;
+        const float lf = cf[1] + x * (cf[3] - cf[1]), f = cf[0] + x * (cf[2] - cf[0]);
+        wt[k] = in[k] ? omega[k] * ((double)f + omega[k] / lap_scale * lf) : 0.0;
+    }
 }
 
 /* The weights of the pixels the cap reaches, collected once (when there is
@@ -1094,17 +1119,25 @@ static double cap_pass(const orr_sph *s, const cap *c, cap_weights *cw, orr_plan
                 for (int tx = gx * G; tx < (gx + 1) * G && tx < s->tiles_x; tx++) {
                     if (!reachable(c, &s->tiles[(size_t)ty * s->tiles_x + tx]))
                         continue;
-                    for (int j = ty * T; j < (ty + 1) * T && j < H; j++)
-                        for (int i = tx * T; i < (tx + 1) * T && i < W; i++) {
-                            double wt = cap_pixel_weight(s, c, i, j);
+                    const int i0 = tx * T, n = i0 + T < W ? T : W - i0;
+                    for (int j = ty * T; j < (ty + 1) * T && j < H; j++) {
+                        double wts[ORR_SPH_TILE];
+                        if (s->eq_omega)
+                            equirect_row_weights(s, c, i0, j, wts);
+                        else
+                            for (int k = 0; k < n; k++)
+                                wts[k] = cap_pixel_weight(s, c, i0 + k, j);
+                        for (int k = 0; k < n; k++) {
+                            const double wt = wts[k];
                             if (wt == 0.0)
                                 continue;
                             sum += wt;
                             if (cw)
-                                cap_weights_add(cw, (size_t)j * W + i, wt);
+                                cap_weights_add(cw, (size_t)j * W + i0 + k, wt);
                             else
-                                plane->data[(size_t)j * W + i] += (float)(scale * wt);
+                                plane->data[(size_t)j * W + i0 + k] += (float)(scale * wt);
                         }
+                    }
                 }
         }
     return sum;
@@ -1354,9 +1387,10 @@ static orr_status build_equirect_tables(orr_sph *s, orr_error *err)
 {
     const orr_projection *p = &s->proj;
     const int W = p->width, H = p->height;
-    s->eq_lon = orr_malloc(sizeof(double) * 2 * (size_t)W, "equirectangular pixel directions", err);
+    /* Padded by a tile's row, which equirect_row_weights reads past the last column. */
+    s->eq_lon = orr_calloc(2 * ((size_t)W + ORR_SPH_TILE), sizeof(double), "equirectangular pixel directions", err);
     s->eq_lat = orr_malloc(sizeof(double) * 2 * (size_t)H, "equirectangular pixel directions", err);
-    double *omega = orr_malloc(sizeof(double) * (size_t)W * H, "equirectangular pixel solid angles", err);
+    double *omega = orr_calloc((size_t)W * H + ORR_SPH_TILE, sizeof(double), "equirectangular pixel solid angles", err);
     if (!s->eq_lon || !s->eq_lat || !omega) {
         free(omega);
         return ORR_ERR_NOMEM;
