@@ -1017,6 +1017,15 @@ static int reachable(const cap *c, const orr_sph_tile *t)
     return dot >= cos_sum - 1e-6; /* the tiles' floats, with margin */
 }
 
+/* The direction of pixel (i, j)'s centre on an equirectangular map, from
+ * the tables: the same products of the same sines and cosines as
+ * orr_unproject forms, so the same bits. */
+static orr_vec3 equirect_direction(const orr_sph *s, int i, int j)
+{
+    const double *lon = s->eq_lon + 2 * (size_t)i, *lat = s->eq_lat + 2 * (size_t)j;
+    return orr_v3(lat[0] * lon[0], lat[1], lat[0] * lon[1]);
+}
+
 /* Weight of pixel (i, j) for the cap: F at the pixel's angular distance
  * (as a chord) times the pixel's solid angle, with the Laplacian term for
  * the pixel's size. 0 off the map and beyond the support. */
@@ -1032,6 +1041,36 @@ static double cap_pixel_weight(const orr_sph *s, const cap *c, int i, int j)
     float lf;
     double f = orr_kernel_column_u(s->kernel, (float)u, &lf);
     return omega * (f + omega / (24.0 * c->theta * c->theta) * lf);
+}
+
+/* cap_pixel_weight for the ORR_SPH_TILE pixels from (i0, j) on of an
+ * equirectangular map, from its tables (padded past the last column): the
+ * same operations in the same order (equirect_direction, chord2,
+ * orr_kernel_column_u), so the same bits, in loops of fixed length that
+ * the compiler does in vector registers but for the table's reads (whose
+ * index is clamped where the weight is 0 anyway). */
+ORR_VECTOR_CLONES
+static void equirect_row_weights(const orr_sph *s, const cap *c, int i0, int j, double *wt)
+{
+    enum { T = ORR_SPH_TILE };
+    const double *lon = s->eq_lon + 2 * (size_t)i0, *omega = s->eq_omega + (size_t)j * s->proj.width + i0;
+    const double cos_b = s->eq_lat[2 * (size_t)j], dy = s->eq_lat[2 * (size_t)j + 1] - c->dir.y;
+    const double theta2 = c->theta * c->theta, lap_scale = 24.0 * c->theta * c->theta;
+    double u[T];
+    float t[T];
+    int in[T];
+    for (int k = 0; k < T; k++) {
+        const double dx = cos_b * lon[2 * k] - c->dir.x, dz = cos_b * lon[2 * k + 1] - c->dir.z;
+        u[k] = (dx * dx + dy * dy + dz * dz) / theta2;
+        t[k] = (float)u[k] * (float)(ORR_KERNEL_NU / 4.0);
+        in[k] = (u[k] < ORR_KERNEL_SUPPORT * ORR_KERNEL_SUPPORT) & (t[k] < (float)ORR_KERNEL_NU);
+    }
+    for (int k = 0; k < T; k++) {
+        const int e = in[k] ? (int)t[k] : 0;
+        const float x = t[k] - (float)e, *cf = s->kernel->column + 2 * e;
+        const float lf = cf[1] + x * (cf[3] - cf[1]), f = cf[0] + x * (cf[2] - cf[0]);
+        wt[k] = in[k] ? omega[k] * ((double)f + omega[k] / lap_scale * lf) : 0.0;
+    }
 }
 
 /* The weights of the pixels the cap reaches, collected once (when there is
@@ -1080,17 +1119,25 @@ static double cap_pass(const orr_sph *s, const cap *c, cap_weights *cw, orr_plan
                 for (int tx = gx * G; tx < (gx + 1) * G && tx < s->tiles_x; tx++) {
                     if (!reachable(c, &s->tiles[(size_t)ty * s->tiles_x + tx]))
                         continue;
-                    for (int j = ty * T; j < (ty + 1) * T && j < H; j++)
-                        for (int i = tx * T; i < (tx + 1) * T && i < W; i++) {
-                            double wt = cap_pixel_weight(s, c, i, j);
+                    const int i0 = tx * T, n = i0 + T < W ? T : W - i0;
+                    for (int j = ty * T; j < (ty + 1) * T && j < H; j++) {
+                        double wts[ORR_SPH_TILE];
+                        if (s->eq_omega)
+                            equirect_row_weights(s, c, i0, j, wts);
+                        else
+                            for (int k = 0; k < n; k++)
+                                wts[k] = cap_pixel_weight(s, c, i0 + k, j);
+                        for (int k = 0; k < n; k++) {
+                            const double wt = wts[k];
                             if (wt == 0.0)
                                 continue;
                             sum += wt;
                             if (cw)
-                                cap_weights_add(cw, (size_t)j * W + i, wt);
+                                cap_weights_add(cw, (size_t)j * W + i0 + k, wt);
                             else
-                                plane->data[(size_t)j * W + i] += (float)(scale * wt);
+                                plane->data[(size_t)j * W + i0 + k] += (float)(scale * wt);
                         }
+                    }
                 }
         }
     return sum;
@@ -1331,6 +1378,40 @@ static double equal_area_omega(const orr_projection *p)
     return hi > 0 && hi <= lo * (1 + 1e-9) ? hi : 0.0;
 }
 
+/* The equirectangular map's tables (orr_sph.eq_*): a column's direction
+ * on the equator (b = 0) is (-sin l, 0, cos l) and a row's on the central
+ * meridian (l = 0) is (0, -sin b, cos b), both from orr_unproject itself;
+ * pixel (i, j)'s direction is then their products, and its solid angle
+ * what pixel_solid_angle gives for that direction (the scale's last bits
+ * vary along a row, so it is kept per pixel, 8 bytes each). */
+static orr_status build_equirect_tables(orr_sph *s, orr_error *err)
+{
+    const orr_projection *p = &s->proj;
+    const int W = p->width, H = p->height;
+    /* Padded by a tile's row, which equirect_row_weights reads past the last column. */
+    s->eq_lon = orr_calloc(2 * ((size_t)W + ORR_SPH_TILE), sizeof(double), "equirectangular pixel directions", err);
+    s->eq_lat = orr_malloc(sizeof(double) * 2 * (size_t)H, "equirectangular pixel directions", err);
+    double *omega = orr_calloc((size_t)W * H + ORR_SPH_TILE, sizeof(double), "equirectangular pixel solid angles", err);
+    if (!s->eq_lon || !s->eq_lat || !omega) {
+        free(omega);
+        return ORR_ERR_NOMEM;
+    }
+    orr_vec3 d;
+    for (int i = 0; i < W; i++) {
+        orr_unproject(p, i + 0.5, p->cy, &d);
+        s->eq_lon[2 * i] = d.x, s->eq_lon[2 * i + 1] = d.z;
+    }
+    for (int j = 0; j < H; j++) {
+        orr_unproject(p, p->cx, j + 0.5, &d);
+        s->eq_lat[2 * j] = d.z, s->eq_lat[2 * j + 1] = d.y;
+    }
+    s->eq_omega = omega; /* set before use: equirect_direction reads the tables */
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++)
+            omega[(size_t)j * W + i] = pixel_solid_angle(s, equirect_direction(s, i, j));
+    return ORR_OK;
+}
+
 static orr_status build_sky_index(orr_sph *s, orr_error *err)
 {
     const int T = ORR_SPH_TILE, G = ORR_SPH_GROUP, W = s->proj.width, H = s->proj.height;
@@ -1353,7 +1434,10 @@ static orr_status build_sky_index(orr_sph *s, orr_error *err)
     for (int gy = 0; gy < s->groups_y; gy++)
         for (int gx = 0; gx < s->groups_x; gx++)
             group_extent(s, gx, gy, &s->groups[(size_t)gy * s->groups_x + gx]);
-    return build_cells(s, err);
+    orr_status st = build_cells(s, err);
+    if (!st && s->proj.kind == ORR_PROJ_EQUIRECTANGULAR)
+        st = build_equirect_tables(s, err);
+    return st;
 }
 
 /* ---- the interface ---- */
@@ -1387,8 +1471,12 @@ void orr_sph_free(orr_sph *s)
     free(s->tiles);
     free(s->groups);
     free(s->safe);
+    free(s->eq_lon);
+    free(s->eq_lat);
+    free(s->eq_omega);
     s->tiles = s->groups = NULL;
     s->safe = NULL;
+    s->eq_lon = s->eq_lat = s->eq_omega = NULL;
 }
 
 /* Particles without a smoothing length: cloud-in-cell, as orr_deposit. */

@@ -62,6 +62,12 @@ typedef struct orr_sph {
     orr_sph_tile *tiles;       /* tiles_x * tiles_y */
     orr_sph_tile *groups;      /* groups_x * groups_y */
     float *safe;               /* per cell: the largest support radius (pixels) the affine model draws */
+    /* Equirectangular maps: the pixel centres' directions and solid angles,
+     * exactly as orr_unproject and the projection's scale give them, so the
+     * exact path maps a pixel back without trigonometry. */
+    double *eq_lon;            /* per column: -sin l and cos l (2 * width) */
+    double *eq_lat;            /* per row: cos b and -sin b (2 * height) */
+    double *eq_omega;          /* per pixel: its solid angle (width * height) */
     struct orr_sky_cores *cores; /* a sky map's PSF cores drawn from stamps (splat/sky_cores.h), or NULL */
 } orr_sph;
 
