@@ -144,6 +144,33 @@ static float clip01(double t)
     return 0.0f;
 }
 
+void orr_stretch_span(const orr_stretch *s, double white, const float *in, size_t count, float *out)
+{
+    double inv_white = 1.0 / white;
+    double n = s->n;
+    switch (s->kind) {
+    case ORR_STRETCH_LINEAR:
+        for (size_t i = 0; i < count; i++)
+            out[i] = clip01(in[i] * inv_white);
+        break;
+    case ORR_STRETCH_LOG: {
+        double norm = 1.0 / log1p(n);
+        for (size_t i = 0; i < count; i++) {
+            double x = in[i] * inv_white;
+            /* Negative values would take log1p below -1: they show black anyway. */
+            out[i] = x > 0 ? clip01(log1p(n * x) * norm) : 0.0f;
+        }
+        break;
+    }
+    case ORR_STRETCH_ASINH: {
+        double norm = 1.0 / asinh(n);
+        for (size_t i = 0; i < count; i++)
+            out[i] = clip01(asinh(n * in[i] * inv_white) * norm);
+        break;
+    }
+    }
+}
+
 orr_status orr_stretch_apply(const orr_stretch *s, const orr_plane *plane, float *out, double *white_used,
                              orr_error *err)
 {
@@ -153,33 +180,10 @@ orr_status orr_stretch_apply(const orr_stretch *s, const orr_plane *plane, float
         return st;
     if (white_used)
         *white_used = white;
-    size_t npix = (size_t)plane->width * (size_t)plane->height;
-    double inv_white = 1.0 / white;
-    double n = s->n;
     /* Pixel by pixel, so the threads change nothing in the result. */
-    switch (s->kind) {
-    case ORR_STRETCH_LINEAR:
+    const size_t w = (size_t)plane->width;
 #pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < npix; i++)
-            out[i] = clip01(plane->data[i] * inv_white);
-        break;
-    case ORR_STRETCH_LOG: {
-        double norm = 1.0 / log1p(n);
-#pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < npix; i++) {
-            double x = plane->data[i] * inv_white;
-            /* Negative values would take log1p below -1: they show black anyway. */
-            out[i] = x > 0 ? clip01(log1p(n * x) * norm) : 0.0f;
-        }
-        break;
-    }
-    case ORR_STRETCH_ASINH: {
-        double norm = 1.0 / asinh(n);
-#pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < npix; i++)
-            out[i] = clip01(asinh(n * plane->data[i] * inv_white) * norm);
-        break;
-    }
-    }
+    for (int j = 0; j < plane->height; j++)
+        orr_stretch_span(s, white, plane->data + (size_t)j * w, w, out + (size_t)j * w);
     return ORR_OK;
 }
