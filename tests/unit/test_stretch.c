@@ -163,6 +163,26 @@ static void test_percentile_large_plane(void)
         k = k < 1 ? 0 : k - 1;
         CHECK_NEAR(white, sorted[k], 0);
     }
+    /* Values over many octaves, most of them unique, with NaN, infinities
+     * and negatives among them: every bit of the value is selected. */
+    m = 0;
+    for (size_t i = 0; i < n; i++) {
+        state = state * 1103515245u + 12345u;
+        unsigned r = state >> 8;
+        float v = ldexpf(1.0f + (float)(r % 65521) / 65521.0f, (int)(r % 41) - 20);
+        p.data[i] = r % 53 == 0 ? NAN : r % 59 == 0 ? INFINITY : r % 7 == 0 ? -v : v;
+        if (p.data[i] > 0 && isfinite(p.data[i]))
+            sorted[m++] = p.data[i];
+    }
+    qsort(sorted, m, sizeof *sorted, compare_float);
+    for (size_t i = 0; i < sizeof pct / sizeof pct[0]; i++) {
+        s.white_percentile = pct[i];
+        double white = 0;
+        CHECK(orr_stretch_white(&s, &p, &white, &err) == ORR_OK);
+        size_t k = (size_t)ceil(pct[i] / 100.0 * (double)m);
+        k = k < 1 ? 0 : k - 1;
+        CHECK_NEAR(white, sorted[k], 0);
+    }
     free(sorted);
     for (size_t i = 0; i < n; i++)
         p.data[i] = 3.0f;
