@@ -11,7 +11,9 @@ enum {
                            * flushes and the priming cost little, small enough
                            * that two threads share even a small picture's bands */
     WINDOW = 32768,       /* deflate's window, what each band's stream is primed with */
-    WAVE = 16,            /* bands deflated before their chunks are written: bounds the memory */
+    WAVE = 64,            /* bands deflated before their chunks are written: bounds the memory
+                           * (only the pages their deflated bytes touch are used), and
+                           * few waves leave threads few barriers to wait at */
     LEVEL = 3,            /* zlib level and "up" filter: docs/performance.md */
     FILTER_NONE = 0,
     FILTER_UP = 2,
