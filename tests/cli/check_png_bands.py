@@ -11,19 +11,14 @@ import numpy as np
 import OpenImageIO as oiio
 from PIL import Image
 
-from check_lib import Checks
+from check_lib import Checks, colour_dome_scene
 
 check = Checks()
 orrery, work = check.orrery, check.work
 
 # 1100 x 1100: 3301 filtered bytes a row at 8 bits, so four bands at
 # 8 bits RGB and more at 16 bits RGBA: the bands' seams are exercised.
-SCENE = ("input:\n  model:\n    name: mw-m31\n    particles: 20000\n  types: [2, 3]\n"
-         "camera:\n  projection: dome\n  position: [-30, 0, 10]\n  look_at: [0, 0, 0]\n"
-         "image:\n  width: 1100\n  height: 1100\n"
-         "colour:\n  populations:\n    - name: stars\n      select: {types: [2, 3]}\n"
-         "      colour: {temperature: 5000}\n      luminance: {mass: 1}\n"
-         "output:\n  dir: out\n  name: dome\n  fits: false\n")
+SCENE = colour_dome_scene(1100, "  dir: out\n  name: dome\n  fits: false\n")
 with open(f"{work}/c.yaml", "w") as f:
     f.write(SCENE)
 
