@@ -12,7 +12,7 @@
 #define PNG_KEY_MAX 79 /* the PNG specification's limit on tEXt keywords */
 
 /* libpng reports errors through a callback that must not return; it keeps
- * the text here and jumps back to the setjmp in encode(). */
+ * the text here and jumps back to the setjmp in write_header(). */
 typedef struct png_failure {
     char msg[256];
 } png_failure;
