@@ -2,12 +2,20 @@
  * e.g. out/futuresky-dome.png) and writes it again with each zlib level and
  * row filter choice, printing the CPU time and the size of each.
  *
- *   bench_png PICTURE.png
+ *   bench_png PICTURE.png            every level and filter choice, one thread
+ *   bench_png PICTURE.png --orrery   orrery's writer (encode/png_idat.h: bands
+ *                                    deflated on every thread) against
+ *                                    libpng at its settings, CPU and wall
  *
  * What src/encode/png.c uses was chosen from this (docs/performance.md). */
+#define _GNU_SOURCE /* mkstemps */
 #include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "encode/png.h"
 
 #include "clocks.h"
 
@@ -72,13 +80,62 @@ static long write_with(const picture *pic, int level, int filters, double *secon
     return size;
 }
 
+/* The picture's codes as the floats that quantise back to them. */
+static float *picture_floats(const picture *pic)
+{
+    size_t per_row = (size_t)pic->width * 3, max = pic->bits == 16 ? 65535 : 255;
+    float *v = malloc(per_row * pic->height * sizeof *v);
+    for (png_uint_32 y = 0; y < pic->height; y++)
+        for (size_t i = 0; i < per_row; i++) {
+            const png_byte *r = pic->rows[y];
+            unsigned code = pic->bits == 16 ? (unsigned)(r[2 * i] << 8 | r[2 * i + 1]) : r[i];
+            v[y * per_row + i] = (float)((double)code / (double)max);
+        }
+    return v;
+}
+
+/* orrery's writer against libpng at the same level and filter, best of 3. */
+static int compare_writers(const picture *pic)
+{
+    float *v = picture_floats(pic);
+    char path[] = "/tmp/bench_png_XXXXXX.png";
+    int fd = mkstemps(path, 4);
+    if (fd < 0)
+        return 1;
+    double cpu = 1e30, wall = 1e30, libpng = 1e30, t;
+    for (int rep = 0; rep < 3; rep++) {
+        orr_error err;
+        double c0 = cpu_seconds(), w0 = wall_seconds();
+        if (orr_write_png_rgb(path, (int)pic->width, (int)pic->height, v, pic->bits, NULL, 0, &err)) {
+            fprintf(stderr, "bench_png: %s\n", err.msg);
+            return 1;
+        }
+        double c = cpu_seconds() - c0, w = wall_seconds() - w0;
+        cpu = c < cpu ? c : cpu;
+        wall = w < wall ? w : wall;
+        write_with(pic, 3, PNG_FILTER_UP, &t);
+        libpng = t < libpng ? t : libpng;
+    }
+    FILE *fp = fopen(path, "rb");
+    fseek(fp, 0, SEEK_END);
+    long size = ftell(fp);
+    fclose(fp);
+    unlink(path);
+    printf("  libpng, level 3, up:  %7.3f s CPU (one thread)\n", libpng);
+    printf("  orrery's bands:       %7.3f s CPU, %7.3f s wall, %9.1f MB\n", cpu, wall, size / 1e6);
+    free(v);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     picture pic;
-    if (argc != 2 || !read_png(argv[1], &pic)) {
-        fprintf(stderr, "usage: bench_png PICTURE.png\n");
+    if ((argc != 2 && (argc != 3 || strcmp(argv[2], "--orrery"))) || !read_png(argv[1], &pic)) {
+        fprintf(stderr, "usage: bench_png PICTURE.png [--orrery]\n");
         return 2;
     }
+    if (argc == 3)
+        return compare_writers(&pic);
     printf("%s: %u x %u, %d bits; CPU seconds, best of 3\n", argv[1], pic.width, pic.height, pic.bits);
     const struct {
         const char *name;

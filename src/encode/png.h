@@ -1,9 +1,12 @@
-/* PNG output through libpng, 8 or 16 bits per channel, RGB or RGBA, with a tEXt
- * chunk per key/value pair (Software, Description, ...). */
+/* PNG output, 8 or 16 bits per channel, RGB or RGBA, with a tEXt chunk per
+ * key/value pair (Software, Description, ...): libpng writes the chunks
+ * before the image data, which is deflated band by band on every thread
+ * (encode/png_idat.h), the same bytes on any number of threads. */
 #ifndef ORR_ENCODE_PNG_H
 #define ORR_ENCODE_PNG_H
 
 #include "core/error.h"
+#include "encode/png_idat.h"
 
 typedef struct orr_png_text {
     const char *key;
@@ -17,6 +20,10 @@ typedef struct orr_png_text {
  * defines it). */
 orr_status orr_write_png(const char *path, int width, int height, const float *pixels, int channels, int bits,
                          const orr_png_text *text, int ntext, orr_error *err);
+/* The same from an orr_png_rows: the picture in memory, or made a row at a
+ * time by its row function (on several threads at once). */
+orr_status orr_write_png_rows(const char *path, const orr_png_rows *src, const orr_png_text *text, int ntext,
+                              orr_error *err);
 orr_status orr_write_png_rgb(const char *path, int width, int height, const float *rgb, int bits,
                              const orr_png_text *text, int ntext, orr_error *err);
 

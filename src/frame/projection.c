@@ -360,6 +360,52 @@ double orr_pixel_measure(const orr_projection *p, int i, int j)
     return 1.0;
 }
 
+/* The index mirroring k about centre c (2 c - 1 - k), or -1 when 2 c is
+ * not a whole number: then no two pixels' offsets from c are surely the
+ * same in floating point. Offsets k + 0.5 - c are exact for half-integer
+ * c, so mirrored ones are equal and opposite. */
+static long mirror_index(double c, int k)
+{
+    double twice = 2.0 * c;
+    if (twice != floor(twice) || fabs(twice) > 1e9)
+        return -1;
+    return (long)twice - 1 - k;
+}
+
+void orr_pixel_measure_row(const orr_projection *p, int j, double *measure)
+{
+    const int W = p->width;
+    switch (p->kind) {
+    case ORR_PROJ_ORTHOGRAPHIC:
+    case ORR_PROJ_HAMMER_AITOFF:
+    case ORR_PROJ_HEALPIX:
+    case ORR_PROJ_EQUIRECTANGULAR: { /* no dependence on i */
+        double m = orr_pixel_measure(p, 0, j);
+        for (int i = 0; i < W; i++)
+            measure[i] = m;
+        return;
+    }
+    case ORR_PROJ_DOME:
+        for (int i = 0; i < W; i++) {
+            long twin = mirror_index(p->cx, i);
+            measure[i] = twin >= 0 && twin < i ? measure[twin] : orr_pixel_measure(p, i, j);
+        }
+        return;
+    default:
+        for (int i = 0; i < W; i++)
+            measure[i] = orr_pixel_measure(p, i, j);
+        return;
+    }
+}
+
+int orr_pixel_measure_twin_row(const orr_projection *p, int j)
+{
+    if (p->kind != ORR_PROJ_DOME)
+        return -1;
+    long twin = mirror_index(p->cy, j);
+    return twin >= 0 && twin < p->height && twin != j ? (int)twin : -1;
+}
+
 void orr_projection_fold(const orr_projection *p, int *i, int *j)
 {
     switch (p->kind) {

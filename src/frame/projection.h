@@ -125,6 +125,17 @@ int orr_projection_pixel_in_map(const orr_projection *p, int i, int j);
  * (its share of a deposit outside the map is folded back onto it). */
 double orr_pixel_measure(const orr_projection *p, int i, int j);
 
+/* orr_pixel_measure of every pixel of row j into measure[0, width), bit for
+ * bit, evaluated once per distinct value: once for a row of the
+ * projections whose measure depends on the row alone, once per mirror pair
+ * of a dome's row (its pixels i and 2 cx - 1 - i are as far from the
+ * centre, exactly, when 2 cx is a whole number). */
+void orr_pixel_measure_row(const orr_projection *p, int j, double *measure);
+
+/* The other row whose measures are row j's bit for bit (a dome's mirror
+ * row 2 cy - 1 - j, when 2 cy is a whole number), or -1. */
+int orr_pixel_measure_twin_row(const orr_projection *p, int j);
+
 /* For a sky projection, moves pixel (i, j), possibly outside the image or
  * the map, to the pixel of the map where its share of a deposit belongs:
  * across the l = +-180 seam (Hammer-Aitoff, equirectangular), or to the

@@ -196,6 +196,24 @@ static void synth_pixel(const prepared_stretch *p, orr_clip clip, double X, doub
         out[k] = (float)rgb[k];
 }
 
+void orr_colour_synthesise_span(const orr_colour_synth *s, double y0, const float *X, const float *Y,
+                                const float *Z, size_t n, float *rgb)
+{
+    prepared_stretch p = prepare_stretch(s, y0);
+    for (size_t i = 0; i < n; i++)
+        synth_pixel(&p, s->clip, X[i], Y[i], Z[i], rgb + 3 * i);
+}
+
+void orr_colour_synthesise_mono_span(const orr_colour_synth *s, double y0, const double unit[3], const float *L,
+                                     size_t n, float *rgb)
+{
+    prepared_stretch p = prepare_stretch(s, y0);
+    for (size_t i = 0; i < n; i++) {
+        double v = L[i];
+        synth_pixel(&p, s->clip, unit[0] * v, v, unit[2] * v, rgb + 3 * i);
+    }
+}
+
 orr_status orr_colour_synthesise(const orr_colour_synth *s, const orr_plane *X, const orr_plane *Y,
                                  const orr_plane *Z, float *rgb, double *y0_used, orr_error *err)
 {
@@ -207,33 +225,40 @@ orr_status orr_colour_synthesise(const orr_colour_synth *s, const orr_plane *X, 
         return st;
     if (y0_used)
         *y0_used = y0;
-    long npix = (long)Y->width * Y->height;
-    prepared_stretch p = prepare_stretch(s, y0);
+    const size_t w = (size_t)Y->width;
 #pragma omp parallel for schedule(static)
-    for (long i = 0; i < npix; i++)
-        synth_pixel(&p, s->clip, X->data[i], Y->data[i], Z->data[i], rgb + 3 * i);
+    for (int j = 0; j < Y->height; j++) {
+        size_t at = (size_t)j * w;
+        orr_colour_synthesise_span(s, y0, X->data + at, Y->data + at, Z->data + at, w, rgb + 3 * at);
+    }
+    return ORR_OK;
+}
+
+orr_status orr_colour_tint_unit(const double xyz[3], double unit[3], orr_error *err)
+{
+    unit[0] = xyz[0], unit[1] = xyz[1], unit[2] = xyz[2];
+    if (!orr_xyz_normalise(unit) || !(unit[0] >= 0) || !(unit[2] >= 0))
+        return orr_fail(err, ORR_ERR_USAGE, "colour: (%g, %g, %g) is not a colour (needs X, Z >= 0, Y > 0)",
+                        xyz[0], xyz[1], xyz[2]);
     return ORR_OK;
 }
 
 orr_status orr_colour_synthesise_mono(const orr_colour_synth *s, const orr_plane *L, const double xyz[3],
                                       float *rgb, double *y0_used, orr_error *err)
 {
-    double unit[3] = {xyz[0], xyz[1], xyz[2]};
-    if (!orr_xyz_normalise(unit) || !(unit[0] >= 0) || !(unit[2] >= 0))
-        return orr_fail(err, ORR_ERR_USAGE, "colour: (%g, %g, %g) is not a colour (needs X, Z >= 0, Y > 0)",
-                        xyz[0], xyz[1], xyz[2]);
-    double y0;
-    orr_status st = orr_colour_synth_y0(s, L, &y0, err);
+    double unit[3], y0;
+    orr_status st = orr_colour_tint_unit(xyz, unit, err);
+    if (st == ORR_OK)
+        st = orr_colour_synth_y0(s, L, &y0, err);
     if (st != ORR_OK)
         return st;
     if (y0_used)
         *y0_used = y0;
-    long npix = (long)L->width * L->height;
-    prepared_stretch p = prepare_stretch(s, y0);
+    const size_t w = (size_t)L->width;
 #pragma omp parallel for schedule(static)
-    for (long i = 0; i < npix; i++) {
-        double v = L->data[i];
-        synth_pixel(&p, s->clip, unit[0] * v, v, unit[2] * v, rgb + 3 * i);
+    for (int j = 0; j < L->height; j++) {
+        size_t at = (size_t)j * w;
+        orr_colour_synthesise_mono_span(s, y0, unit, L->data + at, w, rgb + 3 * at);
     }
     return ORR_OK;
 }

@@ -133,4 +133,17 @@ orr_status orr_colour_synthesise(const orr_colour_synth *s, const orr_plane *X, 
 orr_status orr_colour_synthesise_mono(const orr_colour_synth *s, const orr_plane *L, const double xyz[3],
                                       float *rgb, double *y0_used, orr_error *err);
 
+/* The per-pixel halves of the two above, for n pixels of planes already
+ * checked, at white level y0 (from orr_colour_synth_y0): so a picture can
+ * be made a row at a time, with the same values. unit is a tint's colour
+ * from orr_colour_tint_unit. */
+void orr_colour_synthesise_span(const orr_colour_synth *s, double y0, const float *X, const float *Y,
+                                const float *Z, size_t n, float *rgb);
+void orr_colour_synthesise_mono_span(const orr_colour_synth *s, double y0, const double unit[3], const float *L,
+                                     size_t n, float *rgb);
+
+/* xyz scaled to Y = 1 into unit; ORR_ERR_USAGE when it is no colour (X, Z
+ * >= 0, Y > 0). */
+orr_status orr_colour_tint_unit(const double xyz[3], double unit[3], orr_error *err);
+
 #endif

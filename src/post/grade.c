@@ -46,30 +46,75 @@ void orr_mask_outside_map(const orr_projection *p, orr_plane *planes, int nplane
     }
 }
 
+orr_status orr_grade_begin(const orr_grade *g, const orr_plane *planes, orr_graded *out, orr_error *err)
+{
+    *out = (orr_graded){.grade = *g, .planes = planes};
+    orr_status st = ORR_OK;
+    double xyz[3];
+    switch (g->kind) {
+    case ORR_GRADE_SYNTHESIS:
+        if (planes[0].width != planes[1].width || planes[0].height != planes[1].height ||
+            planes[0].width != planes[2].width || planes[0].height != planes[2].height)
+            return orr_fail(err, ORR_ERR_USAGE, "colour: planes X %dx%d, Y %dx%d, Z %dx%d differ in size",
+                            planes[0].width, planes[0].height, planes[1].width, planes[1].height, planes[2].width,
+                            planes[2].height);
+        return orr_colour_synth_y0(g->synth, &planes[1], &out->white, err);
+    case ORR_GRADE_TINT:
+        if (!(st = orr_colour_path_xyz(g->tint, g->tint_t, xyz, err)) &&
+            !(st = orr_colour_tint_unit(xyz, out->unit, err)))
+            st = orr_colour_synth_y0(g->synth, &planes[0], &out->white, err);
+        return st;
+    case ORR_GRADE_COLORMAP:
+        return orr_stretch_white(g->stretch, &planes[0], &out->white, err);
+    }
+    return orr_fail(err, ORR_ERR_INTERNAL, "unknown grade %d", (int)g->kind);
+}
+
+void orr_graded_row(const orr_graded *gr, int y, float *rgb)
+{
+    const orr_grade *g = &gr->grade;
+    const size_t w = (size_t)gr->planes[0].width, at = (size_t)y * w;
+    switch (g->kind) {
+    case ORR_GRADE_SYNTHESIS:
+        orr_colour_synthesise_span(g->synth, gr->white, gr->planes[0].data + at, gr->planes[1].data + at,
+                                   gr->planes[2].data + at, w, rgb);
+        break;
+    case ORR_GRADE_TINT:
+        orr_colour_synthesise_mono_span(g->synth, gr->white, gr->unit, gr->planes[0].data + at, w, rgb);
+        break;
+    case ORR_GRADE_COLORMAP: {
+        /* The stretched values go into the row's last third, and the colours
+         * are written from the front: pixel i's three values end at 3 i + 2,
+         * before the stretched value of pixel i + 1 at 2 w + i + 1, so none
+         * is overwritten before it is read. */
+        float *t = rgb + 2 * w;
+        orr_stretch_span(g->stretch, gr->white, gr->planes[0].data + at, w, t);
+        for (size_t i = 0; i < w; i++)
+            orr_colormap_lookup(g->colormap, t[i], &rgb[3 * i]);
+        return; /* colour maps are sRGB already */
+    }
+    }
+    if (!g->linear)
+        for (size_t i = 0; i < 3 * w; i++)
+            rgb[i] = (float)orr_srgb_encode(rgb[i]);
+}
+
+void orr_graded_picture(const orr_graded *gr, float *rgb)
+{
+    const size_t w = (size_t)gr->planes[0].width;
+#pragma omp parallel for schedule(static)
+    for (int j = 0; j < gr->planes[0].height; j++)
+        orr_graded_row(gr, j, rgb + 3 * (size_t)j * w);
+}
+
 orr_status orr_grade_picture(const orr_grade *g, const orr_plane *planes, float *rgb, double *white,
                              orr_error *err)
 {
-    size_t npix = (size_t)planes[0].width * (size_t)planes[0].height;
-    if (g->kind != ORR_GRADE_COLORMAP) {
-        double xyz[3];
-        orr_status st = ORR_OK;
-        if (g->kind == ORR_GRADE_SYNTHESIS)
-            st = orr_colour_synthesise(g->synth, &planes[0], &planes[1], &planes[2], rgb, white, err);
-        else if (!(st = orr_colour_path_xyz(g->tint, g->tint_t, xyz, err)))
-            st = orr_colour_synthesise_mono(g->synth, &planes[0], xyz, rgb, white, err);
-        if (!st && !g->linear)
-            orr_srgb_encode_buffer(rgb, npix * 3);
+    orr_graded gr;
+    orr_status st = orr_grade_begin(g, planes, &gr, err);
+    if (st)
         return st;
-    }
-    float *t = orr_malloc(npix * sizeof(float), "stretched image", err);
-    if (!t)
-        return ORR_ERR_NOMEM;
-    orr_status st = orr_stretch_apply(g->stretch, &planes[0], t, white, err);
-    if (!st) {
-#pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < npix; i++)
-            orr_colormap_lookup(g->colormap, t[i], &rgb[3 * i]);
-    }
-    free(t);
-    return st;
+    *white = gr.white;
+    orr_graded_picture(&gr, rgb);
+    return ORR_OK;
 }

@@ -41,4 +41,23 @@ typedef struct orr_grade {
 orr_status orr_grade_picture(const orr_grade *g, const orr_plane *planes, float *rgb, double *white,
                              orr_error *err);
 
+/* A picture graded a row at a time, so that it need never be held whole:
+ * orr_grade_begin works out the white level (the percentile's pass over a
+ * plane) once, then orr_graded_row gives any row, from any thread, the
+ * values orr_grade_picture gives it. */
+typedef struct orr_graded {
+    orr_grade grade;
+    const orr_plane *planes; /* borrowed: they must outlive the rows */
+    double white;            /* the white level: Y0 for synthesis and tint */
+    double unit[3];          /* tint: its colour at Y = 1 */
+} orr_graded;
+
+orr_status orr_grade_begin(const orr_grade *g, const orr_plane *planes, orr_graded *out, orr_error *err);
+
+/* Row y of the picture: width * 3 values into rgb. */
+void orr_graded_row(const orr_graded *gr, int y, float *rgb);
+
+/* Every row, on every thread: width * height * 3 values into rgb. */
+void orr_graded_picture(const orr_graded *gr, float *rgb);
+
 #endif

@@ -1,6 +1,8 @@
 #include "post/stretch.h"
 
 #include <math.h>
+#include <omp.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -13,65 +15,63 @@ const char *orr_stretch_name(orr_stretch_kind kind) { return orr_named_name(orr_
 
 /* ---- percentile selection ---------------------------------------------- */
 
-static int compare_float(const void *a, const void *b)
+/* Positive finite floats sort as their bit patterns do (as unsigned
+ * integers), so the k-th smallest is found digit by digit: its high 16
+ * bits from a histogram of all the pixels' high halves, then its low 16
+ * bits from a histogram of the pixels that share them. Two passes over the
+ * plane, on every thread, and no copy of its pixels (268 MB at 8192^2). */
+enum { DIGITS = 1 << 16 };
+
+static uint32_t float_bits(float v)
 {
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
+    uint32_t b;
+    memcpy(&b, &v, sizeof b);
+    return b;
 }
 
-static float median_of_three(float a, float b, float c)
+static int positive_finite(float v) { return v > 0 && isfinite(v); }
+
+/* counts[d] = the positive finite pixels whose high half is d (high < 0)
+ * or, among those whose high half is `high`, whose low half is d; summed
+ * over per-thread histograms. Returns 0 when no memory. */
+static int digit_histogram(const float *v, size_t n, long high, size_t *counts)
 {
-    if (a > b) {
-        float t = a;
-        a = b;
-        b = t;
+    int nthreads = omp_get_max_threads();
+    size_t *part = calloc((size_t)nthreads * DIGITS, sizeof *part);
+    if (!part)
+        return 0;
+#pragma omp parallel
+    {
+        size_t *mine = part + (size_t)omp_get_thread_num() * DIGITS;
+#pragma omp for schedule(static)
+        for (size_t i = 0; i < n; i++) {
+            if (!positive_finite(v[i]))
+                continue;
+            uint32_t b = float_bits(v[i]);
+            if (high < 0)
+                mine[b >> 16]++;
+            else if ((long)(b >> 16) == high)
+                mine[b & 0xffff]++;
+        }
     }
-    /* now a <= b */
-    if (c <= a)
-        return a;
-    if (c >= b)
-        return b;
-    return c;
+    memset(counts, 0, DIGITS * sizeof *counts);
+    for (int t = 0; t < nthreads; t++)
+        for (size_t d = 0; d < DIGITS; d++)
+            counts[d] += part[(size_t)t * DIGITS + d];
+    free(part);
+    return 1;
 }
 
-/* Returns the k-th smallest of a[0..n-1] (0-based), reordering a.
- * Quickselect with Hoare partitioning, which splits runs of equal values
- * evenly (a flat image is common), and a median-of-three pivot. Should the
- * partitions keep coming out lopsided, the rest is sorted instead, which caps
- * the worst case at O(n log n). a holds no NaN (callers filter them). */
-static float select_kth(float *a, size_t n, size_t k)
+/* The digit holding the k-th smallest (0-based) of the counted values;
+ * *k becomes its rank among that digit's. */
+static size_t digit_of_rank(const size_t *counts, size_t *k)
 {
-    ptrdiff_t lo = 0, hi = (ptrdiff_t)n - 1, want = (ptrdiff_t)k;
-    int rounds_left = 2 * 64;
-    while (lo < hi) {
-        if (rounds_left-- == 0) {
-            qsort(a + lo, (size_t)(hi - lo + 1), sizeof *a, compare_float);
-            break;
-        }
-        float pivot = median_of_three(a[lo], a[lo + (hi - lo) / 2], a[hi]);
-        ptrdiff_t i = lo, j = hi;
-        while (i <= j) {
-            /* The pivot is one of the range's values, so these scans stop. */
-            while (a[i] < pivot)
-                i++;
-            while (pivot < a[j])
-                j--;
-            if (i <= j) {
-                float t = a[i];
-                a[i] = a[j];
-                a[j] = t;
-                i++;
-                j--;
-            }
-        }
-        /* Now a[lo..j] <= pivot, a[i..hi] >= pivot, and anything between
-         * equals the pivot, so the k-th is already in place there. */
-        if (j < want)
-            lo = i;
-        if (want < i)
-            hi = j;
+    size_t d = 0;
+    while (*k >= counts[d]) {
+        *k -= counts[d];
+        d++;
     }
-    return a[want];
+    return d;
 }
 
 /* Nearest-rank percentile of the finite positive pixels; *white = 1 when
@@ -79,29 +79,38 @@ static float select_kth(float *a, size_t n, size_t k)
 static orr_status percentile_white(const orr_plane *plane, double percentile, double *white, orr_error *err)
 {
     size_t npix = (size_t)plane->width * (size_t)plane->height;
+    size_t *counts = orr_malloc(DIGITS * sizeof *counts, "white-level percentile", err);
+    if (!counts)
+        return ORR_ERR_NOMEM;
+    orr_status st = ORR_OK;
+    if (!digit_histogram(plane->data, npix, -1, counts)) {
+        free(counts);
+        return orr_fail(err, ORR_ERR_NOMEM, "out of memory for the white-level percentile");
+    }
     size_t m = 0;
-    for (size_t i = 0; i < npix; i++)
-        if (plane->data[i] > 0 && isfinite(plane->data[i]))
-            m++;
+    for (size_t d = 0; d < DIGITS; d++)
+        m += counts[d];
     if (m == 0) {
         *white = 1;
+        free(counts);
         return ORR_OK;
     }
-    float *pos = orr_malloc(m * sizeof *pos, "white-level percentile", err);
-    if (!pos)
-        return ORR_ERR_NOMEM;
-    size_t j = 0;
-    for (size_t i = 0; i < npix; i++)
-        if (plane->data[i] > 0 && isfinite(plane->data[i]))
-            pos[j++] = plane->data[i];
     /* Nearest rank: the smallest value with at least p% of pixels at or below. */
     double rank = ceil(percentile / 100.0 * (double)m);
     size_t k = rank < 1 ? 0 : (size_t)rank - 1;
     if (k >= m)
         k = m - 1;
-    *white = select_kth(pos, m, k);
-    free(pos);
-    return ORR_OK;
+    size_t high = digit_of_rank(counts, &k);
+    if (!digit_histogram(plane->data, npix, (long)high, counts))
+        st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for the white-level percentile");
+    else {
+        uint32_t b = (uint32_t)(high << 16 | digit_of_rank(counts, &k));
+        float v;
+        memcpy(&v, &b, sizeof v);
+        *white = v;
+    }
+    free(counts);
+    return st;
 }
 
 /* ---- stretch --------------------------------------------------------- */
@@ -144,6 +153,33 @@ static float clip01(double t)
     return 0.0f;
 }
 
+void orr_stretch_span(const orr_stretch *s, double white, const float *in, size_t count, float *out)
+{
+    double inv_white = 1.0 / white;
+    double n = s->n;
+    switch (s->kind) {
+    case ORR_STRETCH_LINEAR:
+        for (size_t i = 0; i < count; i++)
+            out[i] = clip01(in[i] * inv_white);
+        break;
+    case ORR_STRETCH_LOG: {
+        double norm = 1.0 / log1p(n);
+        for (size_t i = 0; i < count; i++) {
+            double x = in[i] * inv_white;
+            /* Negative values would take log1p below -1: they show black anyway. */
+            out[i] = x > 0 ? clip01(log1p(n * x) * norm) : 0.0f;
+        }
+        break;
+    }
+    case ORR_STRETCH_ASINH: {
+        double norm = 1.0 / asinh(n);
+        for (size_t i = 0; i < count; i++)
+            out[i] = clip01(asinh(n * in[i] * inv_white) * norm);
+        break;
+    }
+    }
+}
+
 orr_status orr_stretch_apply(const orr_stretch *s, const orr_plane *plane, float *out, double *white_used,
                              orr_error *err)
 {
@@ -153,33 +189,10 @@ orr_status orr_stretch_apply(const orr_stretch *s, const orr_plane *plane, float
         return st;
     if (white_used)
         *white_used = white;
-    size_t npix = (size_t)plane->width * (size_t)plane->height;
-    double inv_white = 1.0 / white;
-    double n = s->n;
     /* Pixel by pixel, so the threads change nothing in the result. */
-    switch (s->kind) {
-    case ORR_STRETCH_LINEAR:
+    const size_t w = (size_t)plane->width;
 #pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < npix; i++)
-            out[i] = clip01(plane->data[i] * inv_white);
-        break;
-    case ORR_STRETCH_LOG: {
-        double norm = 1.0 / log1p(n);
-#pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < npix; i++) {
-            double x = plane->data[i] * inv_white;
-            /* Negative values would take log1p below -1: they show black anyway. */
-            out[i] = x > 0 ? clip01(log1p(n * x) * norm) : 0.0f;
-        }
-        break;
-    }
-    case ORR_STRETCH_ASINH: {
-        double norm = 1.0 / asinh(n);
-#pragma omp parallel for schedule(static)
-        for (size_t i = 0; i < npix; i++)
-            out[i] = clip01(asinh(n * plane->data[i] * inv_white) * norm);
-        break;
-    }
-    }
+    for (int j = 0; j < plane->height; j++)
+        orr_stretch_span(s, white, plane->data + (size_t)j * w, w, out + (size_t)j * w);
     return ORR_OK;
 }

@@ -8,6 +8,8 @@
 #ifndef ORR_POST_STRETCH_H
 #define ORR_POST_STRETCH_H
 
+#include <stddef.h>
+
 #include "core/error.h"
 #include "core/names.h"
 #include "core/plane.h"
@@ -37,5 +39,9 @@ orr_status orr_stretch_white(const orr_stretch *s, const orr_plane *plane, doubl
 /* Writes width*height display values in [0, 1] to out. */
 orr_status orr_stretch_apply(const orr_stretch *s, const orr_plane *plane, float *out, double *white_used,
                              orr_error *err);
+
+/* The display values of count plane values in, at white level white (from
+ * orr_stretch_white), into out: orr_stretch_apply a span at a time. */
+void orr_stretch_span(const orr_stretch *s, double white, const float *in, size_t count, float *out);
 
 #endif

@@ -40,16 +40,17 @@ static orr_grade view_grade(const view_state *v)
     return g;
 }
 
-/* The view's picture, sRGB-encoded RGB (post/grade.h); desc says how it
- * was made. */
-orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size_t size, orr_error *err)
+/* Begins grading the view's picture (post/grade.h): its white level goes
+ * into the report, and desc says how the picture is made. */
+static orr_status begin_grade(const view_state *v, orr_graded *gr, char *desc, size_t size, orr_error *err)
 {
     const orr_scene *s = v->scene;
     orr_render_report *rep = v->rep;
     const orr_grade g = view_grade(v);
-    orr_status st = orr_grade_picture(&g, v->planes, rgb, &rep->white, err);
+    orr_status st = orr_grade_begin(&g, v->planes, gr, err);
     if (st)
         return st;
+    rep->white = gr->white;
     if (s->compose.nlayers)
         orr_snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
                      s->compose.nlayers, orr_projection_name(v->proj.kind), orr_lum_stretch_name(s->colour.synth.stretch),
@@ -69,6 +70,17 @@ orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size
     return ORR_OK;
 }
 
+/* The view's picture, sRGB-encoded RGB (post/grade.h); desc says how it
+ * was made. */
+orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size_t size, orr_error *err)
+{
+    orr_graded gr;
+    orr_status st = begin_grade(v, &gr, desc, size, err);
+    if (!st)
+        orr_graded_picture(&gr, rgb);
+    return st;
+}
+
 static orr_status view_output(view_state *v, const char *ext, const char **write_path, orr_error *err);
 
 /* What the other image formats record (encode/view_meta.h): the scene,
@@ -78,30 +90,66 @@ static orr_image_meta view_meta(const view_state *v, const char *desc, orr_view_
     return orr_view_image_meta(v->scene->output.name, &v->proj, v->rep->sim_time, &v->rep->camera, desc, t);
 }
 
+/* The PNG encoder's rows (encode/png_idat.h) graded as it asks for them,
+ * each with its alpha when output.alpha_mask wants one (the values
+ * orr_map_rgba gives the whole picture). */
+typedef struct picture_rows {
+    const orr_graded *graded;
+    const orr_projection *proj;
+    int alpha;
+} picture_rows;
+
+static void picture_row(void *ctx, int y, float *row)
+{
+    const picture_rows *p = ctx;
+    orr_graded_row(p->graded, y, row);
+    if (!p->alpha)
+        return;
+    /* From RGB to RGBA in place, from the end: pixel i's four values start
+     * at 4 i, after the three of every pixel before it, still unread. */
+    for (int i = p->proj->width - 1; i >= 0; i--) {
+        int on = orr_projection_pixel_in_map(p->proj, i, y);
+        float r = row[3 * i], g = row[3 * i + 1], b = row[3 * i + 2];
+        row[4 * i] = on ? r : 0.0f;
+        row[4 * i + 1] = on ? g : 0.0f;
+        row[4 * i + 2] = on ? b : 0.0f;
+        row[4 * i + 3] = on ? 1.0f : 0.0f;
+    }
+}
+
 /* The graded picture as PNG (output.png) and as output.image (any format
- * OpenImageIO writes, by extension). */
+ * OpenImageIO writes, by extension). Only output.image needs the picture
+ * whole: the PNG alone is graded a row at a time as it is encoded (its
+ * grading is then charged to the png stage), so a frame never holds a
+ * float copy of its picture, 800 MB at 8192^2. */
 orr_status orr_view_write_pictures(view_state *v, orr_error *err)
 {
     const orr_scene *s = v->scene;
     orr_render_report *rep = v->rep;
     if (!s->output.write_png && !s->output.image_ext[0])
         return ORR_OK;
-    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
-    float *rgb = orr_malloc(npix * 3 * sizeof(float), "picture pixels", err);
-    if (!rgb)
-        return ORR_ERR_NOMEM;
     char desc[ORR_PATH_MAX + 256];
-    orr_status st = orr_view_graded_rgb(v, rgb, desc, sizeof desc, err);
-    float *rgba = NULL; /* output.alpha_mask: the picture, transparent off the map */
-    if (!st && s->output.alpha_mask)
-        st = orr_map_rgba(&v->proj, rgb, &rgba, err);
+    orr_graded gr;
+    orr_status st = begin_grade(v, &gr, desc, sizeof desc, err);
+    float *rgb = NULL, *rgba = NULL; /* rgba: output.alpha_mask, transparent off the map */
+    if (!st && s->output.image_ext[0]) {
+        size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+        rgb = orr_malloc(npix * 3 * sizeof(float), "picture pixels", err);
+        st = rgb ? ORR_OK : ORR_ERR_NOMEM;
+        if (rgb)
+            orr_graded_picture(&gr, rgb);
+        if (!st && s->output.alpha_mask)
+            st = orr_map_rgba(&v->proj, rgb, &rgba, err);
+    }
     charge(v, ORR_STAGE_POST);
     const char *path;
     if (!st && s->output.write_png) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
-        if (!(st = view_output(v, "png", &path, err)) &&
-            !(st = orr_write_png(path, v->proj.width, v->proj.height, rgba ? rgba : rgb, rgba ? 4 : 3,
-                                 s->output.png_bits, text, 2, err)))
+        picture_rows rows = {&gr, &v->proj, s->output.alpha_mask};
+        int channels = s->output.alpha_mask ? 4 : 3;
+        orr_png_rows src = {v->proj.width, v->proj.height, channels, s->output.png_bits, rgba ? rgba : rgb,
+                            picture_row, &rows};
+        if (!(st = view_output(v, "png", &path, err)) && !(st = orr_write_png_rows(path, &src, text, 2, err)))
             rep->noutputs++;
         charge(v, ORR_STAGE_PNG);
     }

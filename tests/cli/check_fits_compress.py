@@ -13,17 +13,12 @@ import numpy as np
 from astropy.io import fits
 from astropy.nddata import CCDData
 
-from check_lib import Checks
+from check_lib import Checks, colour_dome_scene
 
 check = Checks()
 orrery, work = check.orrery, check.work
 
-SCENE = ("input:\n  model:\n    name: mw-m31\n    particles: 20000\n  types: [2, 3]\n"
-         "camera:\n  projection: dome\n  position: [-30, 0, 10]\n  look_at: [0, 0, 0]\n"
-         "image:\n  width: 128\n  height: 128\n"
-         "colour:\n  populations:\n    - name: stars\n      select: {types: [2, 3]}\n"
-         "      colour: {temperature: 5000}\n      luminance: {mass: 1}\n"
-         "output:\n  dir: out\n  png: false\n")
+SCENE = colour_dome_scene(128, "  dir: out\n  png: false\n")
 with open(f"{work}/c.yaml", "w") as f:
     f.write(SCENE)
 

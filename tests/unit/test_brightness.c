@@ -190,9 +190,40 @@ static void test_measures_add_up(void)
     CHECK_NEAR(sum, 4 * asin(sin(a) * sin(b)), 1e-12);
 }
 
+/* A row's measures and its twin row's are each pixel's own, bit for bit:
+ * the division by rows gives the same planes as pixel by pixel. */
+static void test_measure_rows_are_exact(void)
+{
+    orr_projection maps[] = {{.kind = ORR_PROJ_DOME, .width = 101, .height = 101, .dome_fov_deg = 180},
+                             {.kind = ORR_PROJ_DOME, .width = 100, .height = 100, .dome_fov_deg = 210},
+                             {.kind = ORR_PROJ_DOME, .width = 120, .height = 90, .dome_fov_deg = 180},
+                             {.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 64, .height = 32},
+                             {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 64, .height = 32},
+                             {.kind = ORR_PROJ_PERSPECTIVE, .width = 40, .height = 30, .fov_deg = 60, .near = 0.1}};
+    int twins = 0;
+    for (size_t m = 0; m < sizeof maps / sizeof maps[0]; m++) {
+        orr_error err;
+        CHECK(orr_projection_setup(&maps[m], &err) == ORR_OK);
+        double row[128];
+        int mismatches = 0;
+        for (int j = 0; j < maps[m].height; j++) {
+            orr_pixel_measure_row(&maps[m], j, row);
+            int twin = orr_pixel_measure_twin_row(&maps[m], j);
+            twins += twin >= 0;
+            for (int i = 0; i < maps[m].width; i++) {
+                mismatches += row[i] != orr_pixel_measure(&maps[m], i, j);
+                mismatches += twin >= 0 && row[i] != orr_pixel_measure(&maps[m], i, twin);
+            }
+        }
+        CHECK(mismatches == 0);
+    }
+    CHECK(twins == 101 - 1 + 100 + 90); /* every dome row but the centre one has a twin */
+}
+
 int main(void)
 {
     make_tmpdir();
+    test_measure_rows_are_exact();
     make_sky();
     test_measures_add_up();
     test_domes_are_uniform();

@@ -1,5 +1,7 @@
 #include <dirent.h>
+#include <omp.h>
 #include <png.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -182,6 +184,127 @@ static void test_libpng_error_keeps_old_file(void)
     remove_tmpdir();
 }
 
+/* ---- the bands: a picture of several, on any number of threads ---- */
+
+enum { BW = 1000, BH = 1300 }; /* 8-bit RGB: 4 bands; 16-bit RGBA: 11 */
+
+/* Gradients, noise, NaN and out-of-range values: rows that compress unevenly. */
+static float band_value(int y, size_t i)
+{
+    uint32_t h = (uint32_t)(y * 2654435761u) ^ (uint32_t)(i * 40503u);
+    h ^= h >> 13;
+    h *= 0x5bd1e995u;
+    h ^= h >> 15;
+    if (h % 97 == 0)
+        return NAN;
+    if (h % 89 == 0)
+        return 1.5f;
+    if ((y / 100) % 2)
+        return (float)(h % 1000) / 999.0f;
+    return (float)(i % 300) / 299.0f * (float)y / BH - 0.01f;
+}
+
+static float *band_picture(int channels)
+{
+    float *v = malloc((size_t)BW * BH * (size_t)channels * sizeof *v);
+    for (int y = 0; y < BH; y++)
+        for (size_t i = 0; i < (size_t)BW * (size_t)channels; i++)
+            v[(size_t)y * BW * (size_t)channels + i] = band_value(y, i);
+    return v;
+}
+
+typedef struct row_ctx {
+    int channels;
+} row_ctx;
+
+static void make_row(void *ctx, int y, float *row)
+{
+    const row_ctx *c = ctx;
+    for (size_t i = 0; i < (size_t)BW * (size_t)c->channels; i++)
+        row[i] = band_value(y, i);
+}
+
+static unsigned char *file_bytes(const char *path, long *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    *size = ftell(f);
+    rewind(f);
+    unsigned char *b = malloc((size_t)*size);
+    if (fread(b, 1, (size_t)*size, f) != (size_t)*size)
+        *size = -1;
+    fclose(f);
+    return b;
+}
+
+/* libpng's decoding of path equals the documented rounding of v. */
+static int decodes_to(const char *path, const float *v, int channels, int bits)
+{
+    FILE *fp = fopen(path, "rb");
+    png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+    png_infop info = png_create_info_struct(png);
+    if (!fp || setjmp(png_jmpbuf(png))) {
+        png_destroy_read_struct(&png, &info, NULL);
+        if (fp)
+            fclose(fp);
+        return 0;
+    }
+    png_init_io(png, fp);
+    png_read_png(png, info, PNG_TRANSFORM_IDENTITY, NULL);
+    int ok = png_get_image_width(png, info) == BW && png_get_image_height(png, info) == BH &&
+             png_get_bit_depth(png, info) == bits && png_get_channels(png, info) == channels;
+    png_bytep *rows = png_get_rows(png, info);
+    unsigned max = bits == 8 ? 255 : 65535;
+    for (int y = 0; ok && y < BH; y++)
+        for (size_t i = 0; ok && i < (size_t)BW * (size_t)channels; i++) {
+            unsigned code = bits == 8 ? rows[y][i] : (unsigned)(rows[y][2 * i] << 8 | rows[y][2 * i + 1]);
+            ok = code == expected(v[(size_t)y * BW * (size_t)channels + i], max);
+        }
+    png_destroy_read_struct(&png, &info, NULL);
+    fclose(fp);
+    return ok;
+}
+
+/* The same bytes on 1 and 3 threads, from the picture or from its rows,
+ * and libpng reads back every value. */
+static void bands_alike(int channels, int bits)
+{
+    make_tmpdir();
+    float *v = band_picture(channels);
+    char path[3][512];
+    orr_error err;
+    orr_error_clear(&err);
+    int saved = omp_get_max_threads();
+    row_ctx ctx = {channels};
+    for (int k = 0; k < 3; k++) {
+        snprintf(path[k], sizeof path[k], "%s/bands-%d.png", tmpdir, k);
+        omp_set_num_threads(k == 0 ? 1 : 3);
+        orr_png_rows rows = {BW, BH, channels, bits, k == 2 ? NULL : v, make_row, &ctx};
+        CHECK(orr_write_png_rows(path[k], &rows, texts, 2, &err) == ORR_OK);
+    }
+    omp_set_num_threads(saved);
+    long size[3];
+    unsigned char *b[3];
+    for (int k = 0; k < 3; k++)
+        b[k] = file_bytes(path[k], &size[k]);
+    CHECK(b[0] && b[1] && b[2] && size[0] > 0);
+    CHECK(size[0] == size[1] && size[0] == size[2]);
+    CHECK(size[0] == size[1] && !memcmp(b[0], b[1], (size_t)size[0]));
+    CHECK(size[0] == size[2] && !memcmp(b[0], b[2], (size_t)size[0]));
+    CHECK(decodes_to(path[1], v, channels, bits));
+    decoded d;
+    CHECK(read_png(path[1], &d) && d.has_software && d.has_description && d.srgb);
+    for (int k = 0; k < 3; k++)
+        free(b[k]);
+    free(v);
+    remove_tmpdir();
+}
+
+static void test_bands_rgb_8(void) { bands_alike(3, 8); }
+static void test_bands_rgba_16(void) { bands_alike(4, 16); }
+
 int main(void)
 {
     RUN(test_round_trip_8);
@@ -189,5 +312,7 @@ int main(void)
     RUN(test_bad_bits_and_arguments);
     RUN(test_unwritable_folder);
     RUN(test_libpng_error_keeps_old_file);
+    RUN(test_bands_rgb_8);
+    RUN(test_bands_rgba_16);
     return check_summary();
 }

@@ -134,6 +134,23 @@ static int compare_float(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The plane's white levels at a few percentiles are the nearest ranks in
+ * sorted, its m positive finite values in order. */
+static void check_percentiles(const orr_plane *p, const float *sorted, size_t m)
+{
+    orr_stretch s = {.kind = ORR_STRETCH_ASINH, .white = 0, .white_percentile = 99.9, .n = 10};
+    orr_error err;
+    const double pct[] = {99.9, 50, 1e-4, 100};
+    for (size_t i = 0; i < sizeof pct / sizeof pct[0]; i++) {
+        s.white_percentile = pct[i];
+        double white = 0;
+        CHECK(orr_stretch_white(&s, p, &white, &err) == ORR_OK);
+        size_t k = (size_t)ceil(pct[i] / 100.0 * (double)m);
+        k = k < 1 ? 0 : k - 1;
+        CHECK_NEAR(white, sorted[k], 0);
+    }
+}
+
 /* A large plane with many repeated values: the selection must agree with a
  * full sort, and a constant plane (many equal keys) must not go quadratic. */
 static void test_percentile_large_plane(void)
@@ -152,20 +169,25 @@ static void test_percentile_large_plane(void)
         if (p.data[i] > 0)
             sorted[m++] = p.data[i];
     qsort(sorted, m, sizeof *sorted, compare_float);
-    orr_stretch s = {.kind = ORR_STRETCH_ASINH, .white = 0, .white_percentile = 99.9, .n = 10};
-    orr_error err;
-    const double pct[] = {99.9, 50, 1e-4, 100};
-    for (size_t i = 0; i < sizeof pct / sizeof pct[0]; i++) {
-        s.white_percentile = pct[i];
-        double white = 0;
-        CHECK(orr_stretch_white(&s, &p, &white, &err) == ORR_OK);
-        size_t k = (size_t)ceil(pct[i] / 100.0 * (double)m);
-        k = k < 1 ? 0 : k - 1;
-        CHECK_NEAR(white, sorted[k], 0);
+    check_percentiles(&p, sorted, m);
+    /* Values over many octaves, most of them unique, with NaN, infinities
+     * and negatives among them: every bit of the value is selected. */
+    m = 0;
+    for (size_t i = 0; i < n; i++) {
+        state = state * 1103515245u + 12345u;
+        unsigned r = state >> 8;
+        float v = ldexpf(1.0f + (float)(r % 65521) / 65521.0f, (int)(r % 41) - 20);
+        p.data[i] = r % 53 == 0 ? NAN : r % 59 == 0 ? INFINITY : r % 7 == 0 ? -v : v;
+        if (p.data[i] > 0 && isfinite(p.data[i]))
+            sorted[m++] = p.data[i];
     }
+    qsort(sorted, m, sizeof *sorted, compare_float);
+    check_percentiles(&p, sorted, m);
     free(sorted);
     for (size_t i = 0; i < n; i++)
         p.data[i] = 3.0f;
+    orr_stretch s = {.kind = ORR_STRETCH_ASINH, .white = 0, .white_percentile = 99.9, .n = 10};
+    orr_error err;
     double white = 0;
     CHECK(orr_stretch_white(&s, &p, &white, &err) == ORR_OK);
     CHECK_NEAR(white, 3.0, 0);

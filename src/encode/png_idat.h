@@ -1,0 +1,39 @@
+/* A PNG's image data (its IDAT chunks) deflated in parallel: pigz's method.
+ *
+ * The rows are cut into bands whose size depends only on the image's size
+ * (about 1 MiB of filtered bytes each, never on the thread count), each
+ * band deflated by its own raw deflate stream primed with the 32 KiB of
+ * filtered bytes before it (so the bands compress almost as one stream
+ * would), ended with Z_SYNC_FLUSH (the last with Z_FINISH), the checksum
+ * of the whole made from the bands' with adler32_combine. The file's bytes
+ * are therefore the same on any number of threads. Every row uses the "up"
+ * filter (the first, which has no row above, none) at zlib level 3, as
+ * libpng was set to before (docs/performance.md, "A production frame"). */
+#ifndef ORR_ENCODE_PNG_IDAT_H
+#define ORR_ENCODE_PNG_IDAT_H
+
+#include <stdio.h>
+
+#include "core/error.h"
+
+/* Where the rows' values come from: the whole picture in memory, or a
+ * function that makes one row on demand (called from several threads at
+ * once, each row possibly more than once), so a picture need never be held
+ * whole. Values are in [0, 1] (clipped; NaN is 0), `channels` per pixel. */
+typedef void (*orr_png_row_fn)(void *ctx, int y, float *row);
+
+typedef struct orr_png_rows {
+    int width, height, channels, bits; /* channels 3 or 4, bits 8 or 16 */
+    const float *pixels;               /* width * height * channels values, row 0 at the top; or NULL */
+    orr_png_row_fn row;                /* when pixels is NULL */
+    void *ctx;
+} orr_png_rows;
+
+/* Writes the picture's zlib stream to fp as IDAT chunks (one per band).
+ * ORR_ERR_NOMEM, or ORR_ERR_IO naming path when zlib or the write fails. */
+orr_status orr_png_write_idat(FILE *fp, const orr_png_rows *src, const char *path, orr_error *err);
+
+/* Writes one PNG chunk (length, type, data, CRC) to fp; 0 on a short write. */
+int orr_png_write_chunk(FILE *fp, const char type[4], const unsigned char *data, size_t len);
+
+#endif
