@@ -102,25 +102,29 @@ static double node_error(const galaxy *g, const disc_node *t, const disc_node *e
     return worst;
 }
 
-/* Whether linear interpolation holds across cell k: checked at three
- * places, closer together (1/4 of a cell, at most 1.4e-3 R) than the ramps
- * the exact functions' central differences (step 1e-3 R) make of a kink,
- * so none is missed. */
+/* Whether linear interpolation holds across cell k, checked at its
+ * middle: nodes and middles are at most R/1024 apart, half the width of
+ * the ramps the exact functions' central differences (step 1e-3 R) make
+ * of a kink, so every ramp holds a middle, and the cells on either side
+ * of it are flagged. */
 static unsigned char cell_needs_exact(const galaxy *g, const disc_table *t, int k)
 {
-    double lo = grid_radius(k, DISC_NODE_BITS), hi = grid_radius(k + 1, DISC_NODE_BITS);
-    for (int q = 1; q <= 3; q++) {
-        double f = 0.25 * q, R = lo + f * (hi - lo);
-        disc_node e = exact_node(g, R), i = lerp_node(&t->node[k], &t->node[k + 1], f);
-        if (!(node_error(g, &i, &e, R) <= DISC_TABLE_TOL))
-            return 1;
-    }
-    return 0;
+    double lo = grid_radius(k, DISC_NODE_BITS), hi = grid_radius(k + 1, DISC_NODE_BITS), R = 0.5 * (lo + hi);
+    disc_node e = exact_node(g, R), i = lerp_node(&t->node[k], &t->node[k + 1], 0.5);
+    return !(node_error(g, &i, &e, R) <= DISC_TABLE_TOL);
 }
 
-/* About 4,000 nodes of seven exact quantities, three times as many checks,
- * and 33,000 pull integrals: some tens of milliseconds a galaxy, shared by
- * the threads. */
+/* The pull's first row read (the cell of PULL_R_EXACT h): nearer the axis
+ * it is computed exactly. */
+static int first_pull_row(const galaxy *g)
+{
+    double f;
+    return grid_cell(PULL_R_EXACT * g->s.disc_hz, PULL_R_BITS, PULL_R_CELLS, &f);
+}
+
+/* About 8,000 nodes of six exact quantities, as many checks, and 35,000
+ * pull integrals: some tens of milliseconds a galaxy, shared by the
+ * threads. */
 void orr_model_galaxy_build_disc_table(galaxy *g)
 {
     disc_table *t = &g->disc;
@@ -134,7 +138,7 @@ void orr_model_galaxy_build_disc_table(galaxy *g)
         for (int k = 0; k < DISC_NODE_CELLS; k++)
             t->exact[k] = cell_needs_exact(g, t, k);
 #pragma omp for schedule(dynamic, 8)
-        for (int i = 0; i <= PULL_R_CELLS; i++)
+        for (int i = first_pull_row(g); i <= PULL_R_CELLS; i++)
             for (int m = 0; m < PULL_Z_CELLS + 3; m++)
                 t->pull[i][m] = orr_model_galaxy_spheroid_pull(g, grid_radius(i, PULL_R_BITS),
                                                                h * (m - 1) * (PULL_Z_MAX / PULL_Z_CELLS));

@@ -56,8 +56,8 @@
 #define PULL_R_EXACT 1.0 /* scale heights: the pull is computed exactly nearer the axis */
 
 /* The largest error accepted from a cell's interpolation, relative to
- * each quantity (the drift's to v_c^2, the radial term's to v_c^2 / R^2),
- * checked at a quarter, half and three quarters of each cell. */
+ * each quantity (the drift's to v_c^2, the radial term's to the larger of
+ * itself and 2 pi G Sigma / h), checked at the middle of each cell. */
 #define DISC_TABLE_TOL 2e-5
 
 /* What a disc star's velocity needs at one radius. */
