@@ -118,7 +118,12 @@ void gdf_potential_build(gdf_potential *p, double rmin, double rmax, double (*gm
 
 double gdf_psi(const gdf_potential *p, double r)
 {
-    double t = r > 0 ? (log(r) - p->ln_rmin) / p->dln : -1.0;
+    return gdf_psi_ln(p, r, r > 0 ? log(r) : 0.0);
+}
+
+double gdf_psi_ln(const gdf_potential *p, double r, double ln_r)
+{
+    double t = r > 0 ? (ln_r - p->ln_rmin) / p->dln : -1.0;
     if (t <= 0.0)
         return p->psi[0];
     if (t >= GDF_POT_N - 1)
@@ -244,6 +249,7 @@ int gdf_speeds_build(gdf_speeds *s, const gdf_potential *p, double rmin, double 
     eddington(p, h, g, f, &s->negative_f);
     s->ln_rmin = log(rmin);
     s->dln = (log(rmax) - s->ln_rmin) / (GDF_ROWS - 1);
+#pragma omp parallel for schedule(dynamic, 8) /* rows are independent */
     for (int k = 0; k < GDF_ROWS; k++)
         speed_row(p, f, gdf_psi(p, exp(s->ln_rmin + k * s->dln)), s->q[k]);
     free(h);
@@ -252,7 +258,12 @@ int gdf_speeds_build(gdf_speeds *s, const gdf_potential *p, double rmin, double 
 
 double gdf_speed(const gdf_speeds *s, const gdf_potential *p, double r, double u)
 {
-    double t = r > 0 ? (log(r) - s->ln_rmin) / s->dln : 0.0;
+    return gdf_speed_ln(s, p, r, r > 0 ? log(r) : 0.0, u);
+}
+
+double gdf_speed_ln(const gdf_speeds *s, const gdf_potential *p, double r, double ln_r, double u)
+{
+    double t = r > 0 ? (ln_r - s->ln_rmin) / s->dln : 0.0;
     t = t < 0 ? 0 : t > GDF_ROWS - 1 ? GDF_ROWS - 1 : t;
     int k = (int)t;
     if (k >= GDF_ROWS - 1)
@@ -266,5 +277,5 @@ double gdf_speed(const gdf_speeds *s, const gdf_potential *p, double r, double u
     double q0 = s->q[k][j] + fc * (s->q[k][j + 1] - s->q[k][j]);
     double q1 = s->q[k + 1][j] + fc * (s->q[k + 1][j + 1] - s->q[k + 1][j]);
     double q = q0 + fr * (q1 - q0);
-    return q * sqrt(2.0 * gdf_psi(p, r));
+    return q * sqrt(2.0 * gdf_psi_ln(p, r, ln_r));
 }

@@ -53,6 +53,8 @@ typedef struct gdf_potential {
 void gdf_potential_build(gdf_potential *p, double rmin, double rmax, double (*gm_fn)(double, const void *),
                          const void *ctx);
 double gdf_psi(const gdf_potential *p, double r);
+/* The same with ln r given (a caller that has it saves the logarithm). */
+double gdf_psi_ln(const gdf_potential *p, double r, double ln_r);
 
 /* Isotropic speed distribution of a spherical component with density
  * rho(r) in the potential p: Eddington's formula (Binney & Tremaine 2008
@@ -79,5 +81,6 @@ int gdf_speeds_build(gdf_speeds *s, const gdf_potential *p, double rmin, double 
 /* A speed at radius r from one uniform number u in [0, 1): q(u) interpolated
  * between the two nearest rows, times the local escape speed. */
 double gdf_speed(const gdf_speeds *s, const gdf_potential *p, double r, double u);
+double gdf_speed_ln(const gdf_speeds *s, const gdf_potential *p, double r, double ln_r, double u);
 
 #endif

@@ -85,7 +85,10 @@ void gdf_flat_build(gdf_flat *t, const gdf_flat_disc *d, double rmin, double rma
 {
     t->ln_rmin = log(rmin);
     t->dln = (log(rmax) - t->ln_rmin) / (GDF_FLAT_NR - 1);
-    t->bound = 1.0;
+    /* Each node on its own (the model is opened in one thread); the
+     * largest weight is the same whatever the order. */
+    double bound = 1.0;
+#pragma omp parallel for schedule(dynamic, 1) reduction(max : bound)
     for (int i = 0; i < GDF_FLAT_NR; i++) {
         double r = exp(t->ln_rmin + i * t->dln);
         for (int j = 0; j < GDF_FLAT_NB; j++) {
@@ -93,13 +96,13 @@ void gdf_flat_build(gdf_flat *t, const gdf_flat_disc *d, double rmin, double rma
             double req = equivalent_radius(d->total, true_psi(d, r, R, z));
             t->ln_ratio[i][j] = (float)log(req / r);
             double w = rho_fn(req, ctx) / rho_fn(r, ctx);
-            if (w > t->bound)
-                t->bound = w;
+            if (w > bound)
+                bound = w;
         }
     }
     /* Between the nodes the ratio is interpolated; a margin keeps the
      * envelope above it. */
-    t->bound *= 1.05;
+    t->bound = bound * 1.05;
 }
 
 double gdf_flat_req(const gdf_flat *t, double r, double sin_b)

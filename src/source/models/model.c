@@ -58,7 +58,7 @@
 
 enum { GAL_MW, GAL_M31, GAL_COUNT };
 
-static const galaxy_spec SPEC[GAL_COUNT] = {
+const galaxy_spec orr_model_galaxy_specs[GAL_COUNT] = {
     /* Milky Way */
     {5.0, 3.0, 0.3, 25.0, 1.0, 0.6, 10.0, 100.0, 33.0, 250.0, 4.3e-4},
     /* Andromeda */
@@ -84,6 +84,8 @@ typedef struct model_state {
     uint64_t total, next_index;
     uint64_t dust_first;            /* the first gas particle's index (= total without gas) */
     orr_model_dust dust;            /* the dusty gas discs (model_dust.h) */
+    int exact;                      /* the per-particle recipe without tables (orr_model_source_open_exact) */
+    uint64_t seed_key;              /* orr_rng_seed_key(params.seed) */
 } model_state;
 
 /* Extra fields of every particle: velocity, the distance from its own
@@ -166,8 +168,8 @@ static void choose_galaxies(model_state *m)
 static int init_galaxies(model_state *m)
 {
     double q = m->params.disc_q > 0 ? m->params.disc_q : ORR_MODEL_DISC_Q_DEFAULT;
-    orr_model_galaxy_init(&m->gal[GAL_MW], &SPEC[GAL_MW], q);
-    orr_model_galaxy_init(&m->gal[GAL_M31], &SPEC[GAL_M31], q);
+    orr_model_galaxy_init(&m->gal[GAL_MW], &orr_model_galaxy_specs[GAL_MW], q);
+    orr_model_galaxy_init(&m->gal[GAL_M31], &orr_model_galaxy_specs[GAL_M31], q);
     /* The Milky Way's angular momentum points to -z (clockwise seen from the
      * north galactic pole): the Sun at -x moves towards +y. */
     set_disc_frame(&m->gal[GAL_MW], orr_v3(0, 0, -1), orr_v3(0, 1, 0));
@@ -186,6 +188,8 @@ static int init_galaxies(model_state *m)
         orr_model_galaxy_build_potential(g);
         if (!orr_model_galaxy_build_dfs(g))
             return 0;
+        if (!m->exact)
+            orr_model_galaxy_build_disc_table(g);
     }
     return 1;
 }
@@ -237,14 +241,14 @@ static void split_particles(model_state *m)
     double wsum = 0.0;
     for (int k = 0; k < m->ngal; k++)
         for (int c = 0; c < COMP_COUNT; c++)
-            wsum += comp_weight(&SPEC[m->gal_index[k]], c);
+            wsum += comp_weight(&orr_model_galaxy_specs[m->gal_index[k]], c);
     double cum = 0.0;
     uint64_t prev = 0;
     m->nblocks = 0;
     for (int k = 0; k < m->ngal; k++) {
         for (int c = 0; c < COMP_COUNT; c++) {
             int gi = m->gal_index[k];
-            cum += comp_weight(&SPEC[gi], c);
+            cum += comp_weight(&orr_model_galaxy_specs[gi], c);
             uint64_t upto = (uint64_t)floor((double)rest * cum / wsum + 0.5);
             if (upto > rest)
                 upto = rest;
@@ -262,7 +266,7 @@ static void split_particles(model_state *m)
     for (int b = 0; b < m->nblocks; b++) {
         block *bl = &m->blocks[b];
         bl->first = first;
-        bl->mass = (float)(comp_mass(&SPEC[bl->gal], bl->comp) / (double)bl->count);
+        bl->mass = (float)(comp_mass(&orr_model_galaxy_specs[bl->gal], bl->comp) / (double)bl->count);
         first += bl->count;
     }
 }
@@ -319,13 +323,20 @@ static void make_particle(const model_state *m, uint64_t index, particle *p)
     }
     const block *b = find_block(m, index);
     const galaxy *g = &m->gal[b->gal];
-    orr_rng r = orr_rng_seed(m->params.seed, index, 0);
+    orr_rng r = orr_rng_seed_keyed(m->seed_key, index, 0);
+    p->mass = b->mass;
+    p->type = b->type;
+    if (!m->exact) {
+        if (b->comp == COMP_DISC)
+            orr_model_galaxy_sample_disc_fast(g, &r, p);
+        else
+            orr_model_galaxy_sample_sphere_fast(g, b->comp, &r, p);
+        return;
+    }
     if (b->comp == COMP_DISC)
         orr_model_galaxy_sample_disc(g, &r, p);
     else
         orr_model_galaxy_sample_sphere(g, b->comp, &r, p);
-    p->mass = b->mass;
-    p->type = b->type;
     double rad = orr_v3_norm(orr_v3_sub(p->pos, g->centre));
     orr_vec3 v = orr_v3_sub(p->vel, g->velocity);
     p->r = (float)rad;
@@ -363,33 +374,46 @@ static void make_gas(const model_state *m, uint64_t index, particle *p)
 
 /* ---- the source -------------------------------------------------------- */
 
+/* Particle `index` into slot k of chunk c. */
+static void fill_slot(const model_state *m, uint64_t index, orr_chunk *c, size_t k)
+{
+    particle p;
+    if (index >= m->dust_first)
+        make_gas(m, index, &p);
+    else
+        make_particle(m, index, &p);
+    c->x[k] = (float)p.pos.x;
+    c->y[k] = (float)p.pos.y;
+    c->z[k] = (float)p.pos.z;
+    c->mass[k] = p.mass;
+    c->id[k] = particle_id(m, index);
+    c->type[k] = p.type;
+    c->extra[0].data[k] = (float)p.vel.x;
+    c->extra[1].data[k] = (float)p.vel.y;
+    c->extra[2].data[k] = (float)p.vel.z;
+    c->extra[3].data[k] = p.r;
+    c->extra[4].data[k] = p.e0;
+}
+
+/* Below this many particles a chunk is filled on one thread (a team costs
+ * more than it saves). */
+#define MODEL_PARALLEL_MIN 4096
+
+/* Each particle is a pure function of its index, so the threads' shares,
+ * and how many threads there are, cannot change a bit of the output. The
+ * shares are dynamic: the components lie in long runs of indices and a disc
+ * particle costs more than a halo one. */
 static orr_status model_next(orr_source *src, orr_error *err)
 {
     (void)err;
     model_state *m = src->state;
     orr_chunk *c = &src->chunk;
-    uint64_t left = m->total - m->next_index;
+    uint64_t first = m->next_index, left = m->total - first;
     size_t n = left < c->capacity ? (size_t)left : c->capacity;
-    c->first_index = m->next_index;
-    for (size_t k = 0; k < n; k++) {
-        uint64_t index = m->next_index + k;
-        particle p;
-        if (index >= m->dust_first)
-            make_gas(m, index, &p);
-        else
-            make_particle(m, index, &p);
-        c->x[k] = (float)p.pos.x;
-        c->y[k] = (float)p.pos.y;
-        c->z[k] = (float)p.pos.z;
-        c->mass[k] = p.mass;
-        c->id[k] = particle_id(m, index);
-        c->type[k] = p.type;
-        c->extra[0].data[k] = (float)p.vel.x;
-        c->extra[1].data[k] = (float)p.vel.y;
-        c->extra[2].data[k] = (float)p.vel.z;
-        c->extra[3].data[k] = p.r;
-        c->extra[4].data[k] = p.e0;
-    }
+    c->first_index = first;
+#pragma omp parallel for schedule(dynamic, 1024) if (n >= MODEL_PARALLEL_MIN)
+    for (size_t k = 0; k < n; k++)
+        fill_slot(m, first + k, c, k);
     c->n = n;
     m->next_index += n;
     return ORR_OK;
@@ -477,8 +501,9 @@ orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_si
     return orr_model_source_open_dust(params, 0, chunk_size, out, err);
 }
 
-orr_status orr_model_source_open_dust(const orr_model_params *params, long long dust_particles, size_t chunk_size,
-                                      orr_source **out, orr_error *err)
+/* The model's source, from its tables or (exact) by the per-particle recipe. */
+static orr_status open_model(const orr_model_params *params, long long dust_particles, size_t chunk_size, int exact,
+                             orr_source **out, orr_error *err)
 {
     *out = NULL;
     orr_status st = check_params(params, chunk_size, err);
@@ -492,6 +517,8 @@ orr_status orr_model_source_open_dust(const orr_model_params *params, long long 
         return ORR_ERR_NOMEM;
     model_state *m = src->state;
     m->params = *params;
+    m->exact = exact;
+    m->seed_key = orr_rng_seed_key(params->seed);
     m->total = (uint64_t)params->particles;
     if (!init_galaxies(m)) {
         orr_source_close(src);
@@ -510,6 +537,18 @@ orr_status orr_model_source_open_dust(const orr_model_params *params, long long 
     }
     *out = src;
     return ORR_OK;
+}
+
+orr_status orr_model_source_open_dust(const orr_model_params *params, long long dust_particles, size_t chunk_size,
+                                      orr_source **out, orr_error *err)
+{
+    return open_model(params, dust_particles, chunk_size, 0, out, err);
+}
+
+orr_status orr_model_source_open_exact(const orr_model_params *params, long long dust_particles, size_t chunk_size,
+                                       orr_source **out, orr_error *err)
+{
+    return open_model(params, dust_particles, chunk_size, 1, out, err);
 }
 
 const orr_named orr_model_galaxies_names[] = {

@@ -13,23 +13,6 @@ static double disc_cdf(double R, double rd)
     return 1.0 - (1.0 + x) * exp(-x);
 }
 
-/* Mass fraction of a Hernquist sphere within radius r. */
-static double hernquist_cdf(double r, double a)
-{
-    double q = r / (r + a);
-    return q * q;
-}
-
-/* Mass of the spherical components (black hole, bulge, halo) inside r. */
-static double spheroid_mass(const galaxy *g, double r)
-{
-    const galaxy_spec *s = &g->s;
-    double m = s->bh_mass;
-    m += r >= s->bulge_rmax ? s->bulge_mass
-                            : s->bulge_mass * hernquist_cdf(r, s->bulge_a) / g->bulge_frac;
-    m += r >= s->halo_rmax ? s->halo_mass : s->halo_mass * hernquist_cdf(r, s->halo_a) / g->halo_frac;
-    return m;
-}
 
 /* Disc mass within cylindrical radius R (the truncated exponential). */
 static double disc_cylinder_mass(const galaxy *g, double R)
@@ -60,7 +43,7 @@ static double disc_sphere_mass(const galaxy *g, double r)
  * measured in. */
 static double enclosed_mass(const galaxy *g, double r)
 {
-    return disc_sphere_mass(g, r) + spheroid_mass(g, r);
+    return disc_sphere_mass(g, r) + orr_model_spheroid_mass(g, r);
 }
 
 static double gm_enclosed(double r, const void *ctx)
@@ -81,6 +64,7 @@ static void build_disc_table(galaxy *g)
 {
     g->disc_ln_r0 = log(DISC_TAB_RMIN);
     g->disc_dln = (log(DISC_TAB_ROUT * g->s.disc_rmax) - g->disc_ln_r0) / (DISC_TAB_N - 1);
+#pragma omp parallel for schedule(dynamic, 1) /* nodes are independent */
     for (int i = 0; i < DISC_TAB_N; i++)
         g->disc_v2[i] = gdf_thick_disc_vc2(exp(g->disc_ln_r0 + i * g->disc_dln), g->s.disc_rd, g->s.disc_hz,
                                            g->g_sigma0);
@@ -97,11 +81,8 @@ static double disc_own_vc2(const galaxy *g, double R)
     if (t >= DISC_TAB_N - 1)
         return gdf_freeman_vc2(R, g->s.disc_rd, g->g_sigma0);
     int i = (int)t;
-    double f = t - i, f2 = f * f, f3 = f2 * f;
     const double *v = g->disc_v2;
-    double p0 = v[i > 0 ? i - 1 : 0], p1 = v[i], p2 = v[i + 1], p3 = v[i + 2 < DISC_TAB_N ? i + 2 : i + 1];
-    return 0.5 * (2.0 * p1 + (p2 - p0) * f + (2.0 * p0 - 5.0 * p1 + 4.0 * p2 - p3) * f2 +
-                  (3.0 * p1 - p0 - 3.0 * p2 + p3) * f3);
+    return orr_model_catmull_rom(v[i > 0 ? i - 1 : 0], v[i], v[i + 1], v[i + 2 < DISC_TAB_N ? i + 2 : i + 1], t - i);
 }
 
 /* v_c^2 in the disc plane: the thick disc's own plus the spherical
@@ -110,12 +91,12 @@ static double disc_own_vc2(const galaxy *g, double R)
  * formula 5-15% in v^2 within 3 Rd. */
 double orr_model_galaxy_disc_vc2(const galaxy *g, double R)
 {
-    return disc_own_vc2(g, R) + MODEL_G * spheroid_mass(g, R) / R;
+    return disc_own_vc2(g, R) + MODEL_G * orr_model_spheroid_mass(g, R) / R;
 }
 
 /* kappa^2 = R d(Omega^2)/dR + 4 Omega^2 = (dv_c^2/dR) / R + 2 v_c^2 / R^2
  * (Binney & Tremaine 2008 eq. 3.80), the derivative by central difference. */
-static double disc_kappa2(const galaxy *g, double R)
+double orr_model_galaxy_disc_kappa2(const galaxy *g, double R)
 {
     double h = 1e-3 * R;
     double dv2 = (orr_model_galaxy_disc_vc2(g, R + h) - orr_model_galaxy_disc_vc2(g, R - h)) / (2.0 * h);
@@ -134,7 +115,7 @@ static void set_disc_dispersion(galaxy *g, double q)
 {
     double rref = DISC_Q_RADIUS * g->s.disc_rd;
     g->disc_q = q;
-    g->sigma_r_ref = q * 3.36 * disc_surface_density_g(g, rref) / sqrt(disc_kappa2(g, rref));
+    g->sigma_r_ref = q * 3.36 * disc_surface_density_g(g, rref) / sqrt(orr_model_galaxy_disc_kappa2(g, rref));
 }
 
 /* Outside R_ref, Hernquist's profile. Inside, where it would make Q rise
@@ -144,21 +125,21 @@ static void set_disc_dispersion(galaxy *g, double q)
  * sigma_R = q 3.36 G Sigma / kappa, which is continuous at R_ref and about
  * sigma_z there (cf. Springel, Di Matteo & Hernquist 2005, MNRAS 361, 776,
  * who take sigma_R = sigma_z). The smaller of the two is used. */
-static double disc_sigma_r(const galaxy *g, double R)
+double orr_model_galaxy_disc_sigma_r(const galaxy *g, double R)
 {
     double hern = g->sigma_r_ref * exp(-(R - DISC_Q_RADIUS * g->s.disc_rd) / (2.0 * g->s.disc_rd));
     if (R >= DISC_Q_RADIUS * g->s.disc_rd)
         return hern;
-    double flat_q = g->disc_q * 3.36 * disc_surface_density_g(g, R) / sqrt(disc_kappa2(g, R));
+    double flat_q = g->disc_q * 3.36 * disc_surface_density_g(g, R) / sqrt(orr_model_galaxy_disc_kappa2(g, R));
     return fmin(hern, flat_q);
 }
 
 /* d ln(Sigma sigma_R^2) / d ln R, by central difference: the pressure term
  * of the radial Jeans equation (-2 R / Rd for Hernquist's sigma_R^2 ~ Sigma). */
-static double disc_pressure_slope(const galaxy *g, double R)
+double orr_model_galaxy_disc_pressure_slope(const galaxy *g, double R)
 {
     double h = 1e-3 * R;
-    double lo = disc_sigma_r(g, R - h), hi = disc_sigma_r(g, R + h);
+    double lo = orr_model_galaxy_disc_sigma_r(g, R - h), hi = orr_model_galaxy_disc_sigma_r(g, R + h);
     double p_lo = disc_surface_density_g(g, R - h) * lo * lo, p_hi = disc_surface_density_g(g, R + h) * hi * hi;
     return (log(p_hi) - log(p_lo)) / (log(R + h) - log(R - h));
 }
@@ -170,7 +151,7 @@ static double disc_pressure_slope(const galaxy *g, double R)
 static double spheroid_pull_z(const galaxy *g, double R, double zp)
 {
     double r = fmax(sqrt(R * R + zp * zp), g->s.disc_hz);
-    return MODEL_G * spheroid_mass(g, r) * zp / (r * r * r);
+    return MODEL_G * orr_model_spheroid_mass(g, r) * zp / (r * r * r);
 }
 
 #define SIGMA_Z_NODES 24
@@ -194,19 +175,33 @@ static double spheroid_pull_z(const galaxy *g, double R, double zp)
  *    about 20% too hot vertically (<v_z^2> / <-z a_z> = 1.2-1.3 with the
  *    N-body forces) and puffed up within 15 Myr.
  * Clipped at a small positive floor should the sum turn negative. */
-static double disc_sigma_z2(const galaxy *g, double R, double z)
+double orr_model_galaxy_disc_sheet(const galaxy *g, double R)
 {
-    double h = g->s.disc_hz, az = fabs(z);
-    double sheet = 2.0 * ORR_PI * disc_surface_density_g(g, R) * h * (1.0 - 0.5 * exp(-az / h));
+    return 2.0 * ORR_PI * disc_surface_density_g(g, R) * g->s.disc_hz;
+}
+
+double orr_model_galaxy_disc_radial(const galaxy *g, double R)
+{
     double dR = 1e-3 * R;
-    double radial = (disc_own_vc2(g, R + dR) - disc_own_vc2(g, R - dR)) / (2.0 * dR * R);
-    double sph = 0.0;
+    return (disc_own_vc2(g, R + dR) - disc_own_vc2(g, R - dR)) / (2.0 * dR * R);
+}
+
+double orr_model_galaxy_spheroid_pull(const galaxy *g, double R, double az)
+{
+    double h = g->s.disc_hz, sph = 0.0;
     for (int k = 0; k < SIGMA_Z_NODES; k++) {
         double u = (k + 0.5) / SIGMA_Z_NODES;
         sph += spheroid_pull_z(g, R, az - h * log(u));
     }
-    sph *= h / SIGMA_Z_NODES;
-    return fmax(1.0, sheet + sph - radial * h * (az + h));
+    return sph * (h / SIGMA_Z_NODES);
+}
+
+double orr_model_galaxy_disc_sigma_z2(const galaxy *g, double R, double z)
+{
+    double h = g->s.disc_hz, az = fabs(z);
+    double sheet = orr_model_galaxy_disc_sheet(g, R) * (1.0 - 0.5 * exp(-az / h));
+    double sph = orr_model_galaxy_spheroid_pull(g, R, az);
+    return fmax(1.0, sheet + sph - orr_model_galaxy_disc_radial(g, R) * h * (az + h));
 }
 
 /* ---- spherical components' distribution functions ---------------------- */
@@ -278,11 +273,16 @@ void orr_model_galaxy_build_potential(galaxy *g)
  * (the black hole's -G M / r would diverge). */
 double orr_model_galaxy_potential(const galaxy *g, double r)
 {
+    return orr_model_galaxy_potential_ln(g, r, r > POT_R_MIN ? log(r) : 0.0);
+}
+
+double orr_model_galaxy_potential_ln(const galaxy *g, double r, double ln_r)
+{
     if (r >= g->s.halo_rmax)
         return -MODEL_G * enclosed_mass(g, r) / r;
     if (r <= POT_R_MIN)
         return g->pot[0];
-    double t = (log(r) - g->pot_ln_rmin) / g->pot_dln;
+    double t = (ln_r - g->pot_ln_rmin) / g->pot_dln;
     int j = (int)t;
     if (j >= POT_N - 1)
         return g->pot[POT_N - 1];
@@ -296,8 +296,8 @@ void orr_model_galaxy_init(galaxy *g, const galaxy_spec *s, double q)
 {
     g->s = *s;
     g->disc_frac = disc_cdf(s->disc_rmax, s->disc_rd);
-    g->bulge_frac = hernquist_cdf(s->bulge_rmax, s->bulge_a);
-    g->halo_frac = hernquist_cdf(s->halo_rmax, s->halo_a);
+    g->bulge_frac = orr_model_hernquist_cdf(s->bulge_rmax, s->bulge_a);
+    g->halo_frac = orr_model_hernquist_cdf(s->halo_rmax, s->halo_a);
     /* Sigma0 of the untruncated profile whose mass within disc_rmax is disc_mass. */
     g->g_sigma0 = MODEL_G * s->disc_mass / (2.0 * ORR_PI * s->disc_rd * s->disc_rd * g->disc_frac);
     build_disc_table(g);
@@ -318,7 +318,7 @@ void orr_model_galaxy_init(galaxy *g, const galaxy_spec *s, double q)
 static double spheroid_vc2_drop(const galaxy *g, double R, double z)
 {
     double r = sqrt(R * R + z * z);
-    return MODEL_G * (spheroid_mass(g, r) * R * R / (r * r * r) - spheroid_mass(g, R) / R);
+    return MODEL_G * (orr_model_spheroid_mass(g, r) * R * R / (r * r * r) - orr_model_spheroid_mass(g, R) / R);
 }
 
 /* A disc star's velocity at (R, z) from three unit Gaussians, in the
@@ -335,18 +335,18 @@ static double spheroid_vc2_drop(const galaxy *g, double R, double z)
  * carried 12% of the disc's mass inside 1 kpc outward in 25 Myr (3% with
  * the mean held at v_c). The mean is clipped at 0 where the drift would
  * exceed the rotation (near the centre). */
-static void disc_velocity(const galaxy *g, double R, double z, double gr, double gt, double gz, double *vr,
-                          double *vphi, double *vz)
+void orr_model_galaxy_disc_velocity(const galaxy *g, double R, double z, double gr, double gt, double gz, double *vr,
+                                    double *vphi, double *vz)
 {
     double Rs = R > 1e-3 ? R : 1e-3; /* the kinematics are finite at the centre */
-    double vc2 = orr_model_galaxy_disc_vc2(g, Rs), kappa2 = disc_kappa2(g, Rs);
+    double vc2 = orr_model_galaxy_disc_vc2(g, Rs), kappa2 = orr_model_galaxy_disc_kappa2(g, Rs);
     double ratio = kappa2 * Rs * Rs / (4.0 * vc2); /* kappa^2 / (4 Omega^2) */
-    double sr = disc_sigma_r(g, Rs);
-    double drift = fmin(0.0, sr * sr * (1.0 - ratio + disc_pressure_slope(g, Rs)));
+    double sr = orr_model_galaxy_disc_sigma_r(g, Rs);
+    double drift = fmin(0.0, sr * sr * (1.0 - ratio + orr_model_galaxy_disc_pressure_slope(g, Rs)));
     double mean2 = vc2 + spheroid_vc2_drop(g, Rs, z) + drift;
     *vr = sr * gr;
     *vphi = sqrt(fmax(0.0, mean2)) + sr * sqrt(ratio) * gt;
-    *vz = sqrt(disc_sigma_z2(g, Rs, z)) * gz;
+    *vz = sqrt(orr_model_galaxy_disc_sigma_z2(g, Rs, z)) * gz;
 }
 
 /* Exponential surface density: R = -Rd ln(u1 u2) samples the Gamma(2)
@@ -372,7 +372,7 @@ void orr_model_galaxy_sample_disc(const galaxy *g, orr_rng *r, particle *p)
     orr_rng_gauss2(r, &gr, &gt);
     orr_rng_gauss2(r, &gz, &unused);
     double vr, vphi, vz;
-    disc_velocity(g, R, z, gr, gt, gz, &vr, &vphi, &vz);
+    orr_model_galaxy_disc_velocity(g, R, z, gr, gt, gz, &vr, &vphi, &vz);
     orr_vec3 v = orr_v3_add(orr_v3_scale(rhat, vr), orr_v3_scale(that, vphi));
     p->vel = orr_v3_add(g->velocity, orr_v3_add(v, orr_v3_scale(g->spin, vz)));
 }
@@ -385,7 +385,23 @@ void orr_model_galaxy_sample_disc(const galaxy *g, orr_rng *r, particle *p)
  * (galaxy_flat.h): a point drawn so is kept with probability
  * rho(r_eq) / (bound rho(r)) (else drawn again from the particle's own
  * sequence), and its speed is f's at r_eq. */
-void orr_model_galaxy_sample_sphere(const galaxy *g, int comp, orr_rng *r, particle *p)
+/* sin and cos of 2 pi u: libm's for the exact recipe, orr_sincos_turn's
+ * (within a few 1e-16, four times cheaper) for the tabulated model. */
+static void turn(double u, int fast, double *s, double *c)
+{
+    if (fast) {
+        orr_sincos_turn(u, s, c);
+        return;
+    }
+    double phi = 2.0 * ORR_PI * u;
+    *s = sin(phi);
+    *c = cos(phi);
+}
+
+/* The position part: radius rad, direction dir, and the equivalent radius
+ * req whose f(E) gives the speed. */
+static void sphere_point(const galaxy *g, int comp, int fast, orr_rng *r, double *rad_out, double *req_out,
+                         orr_vec3 *dir_out)
 {
     double a = comp == COMP_BULGE ? g->s.bulge_a : g->s.halo_a;
     double frac = comp == COMP_BULGE ? g->bulge_frac : g->halo_frac;
@@ -395,9 +411,10 @@ void orr_model_galaxy_sample_sphere(const galaxy *g, int comp, orr_rng *r, parti
     for (;;) {
         double sq = sqrt(orr_rng_uniform(r) * frac);
         rad = a * sq / (1.0 - sq);
-        double cost = 2.0 * orr_rng_uniform(r) - 1.0, sint = sqrt(fmax(0.0, 1.0 - cost * cost));
-        double phi = 2.0 * ORR_PI * orr_rng_uniform(r);
-        dir = orr_v3(sint * cos(phi), sint * sin(phi), cost);
+        double cost = 2.0 * orr_rng_uniform(r) - 1.0, sint = sqrt(1.0 - cost * cost); /* |cost| < 1 */
+        double sn, cs;
+        turn(orr_rng_uniform(r), fast, &sn, &cs);
+        dir = orr_v3(sint * cs, sint * sn, cost);
         if (comp != COMP_BULGE) {
             req = rad;
             break;
@@ -407,11 +424,41 @@ void orr_model_galaxy_sample_sphere(const galaxy *g, int comp, orr_rng *r, parti
         if (orr_rng_uniform(r) < keep)
             break;
     }
-    p->pos = orr_v3_add(g->centre, orr_v3_scale(dir, rad));
+    *rad_out = rad;
+    *req_out = req;
+    *dir_out = dir;
+}
 
+/* The velocity's isotropic direction. */
+static orr_vec3 isotropic_direction(orr_rng *r, int fast)
+{
+    double vcost = 2.0 * orr_rng_uniform(r) - 1.0, vsint = sqrt(1.0 - vcost * vcost), sn, cs; /* |vcost| < 1 */
+    turn(orr_rng_uniform(r), fast, &sn, &cs);
+    return orr_v3(vsint * cs, vsint * sn, vcost);
+}
+
+void orr_model_galaxy_sample_sphere(const galaxy *g, int comp, orr_rng *r, particle *p)
+{
+    double rad, req;
+    orr_vec3 dir;
+    sphere_point(g, comp, 0, r, &rad, &req, &dir);
+    p->pos = orr_v3_add(g->centre, orr_v3_scale(dir, rad));
     double speed = gdf_speed(&g->speeds[comp], &g->sph, req, orr_rng_uniform(r));
-    double vcost = 2.0 * orr_rng_uniform(r) - 1.0, vsint = sqrt(fmax(0.0, 1.0 - vcost * vcost));
-    double vphi = 2.0 * ORR_PI * orr_rng_uniform(r);
-    orr_vec3 vdir = orr_v3(vsint * cos(vphi), vsint * sin(vphi), vcost);
-    p->vel = orr_v3_add(g->velocity, orr_v3_scale(vdir, speed));
+    p->vel = orr_v3_add(g->velocity, orr_v3_scale(isotropic_direction(r, 0), speed));
+}
+
+/* The same, each radius's logarithm taken once for the speed table, the
+ * escape speed and the potential (three before), and the angles by
+ * orr_sincos_turn; r and e0 from the radius and speed drawn. */
+void orr_model_galaxy_sample_sphere_fast(const galaxy *g, int comp, orr_rng *r, particle *p)
+{
+    double rad, req;
+    orr_vec3 dir;
+    sphere_point(g, comp, 1, r, &rad, &req, &dir);
+    p->pos = orr_v3_add(g->centre, orr_v3_scale(dir, rad));
+    double ln_rad = log(rad), ln_req = req == rad ? ln_rad : log(req);
+    double speed = gdf_speed_ln(&g->speeds[comp], &g->sph, req, ln_req, orr_rng_uniform(r));
+    p->vel = orr_v3_add(g->velocity, orr_v3_scale(isotropic_direction(r, 1), speed));
+    p->r = (float)rad;
+    p->e0 = (float)(orr_model_galaxy_potential_ln(g, rad, ln_rad) + 0.5 * speed * speed);
 }
