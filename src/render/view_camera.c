@@ -40,15 +40,19 @@ static void mark_chunk(const orr_scene *s, const orr_chunk *c, markers *m)
     }
 }
 
-/* One pass over the source for the observer and reference particles. */
+/* A pass over the source for the observer and reference particles. It
+ * stops at the chunk that holds the last of the two: ids are unique, and
+ * every later pass rewinds. For the built-in model, whose markers are its
+ * first particles, that is one chunk instead of every particle generated a
+ * second time (half of a 10^7-particle frame's source stage). */
 static orr_status find_markers(const orr_scene *s, orr_source *src, markers *m, orr_error *err)
 {
     memset(m, 0, sizeof *m);
     const orr_chunk *c;
-    orr_status st;
-    while (!(st = orr_source_next(src, &c, err)) && c->n > 0)
+    orr_status st = ORR_OK;
+    while (!(m->have_observer && m->have_reference) && !(st = orr_source_next(src, &c, err)) && c->n > 0)
         mark_chunk(s, c, m);
-    return st;
+    return m->have_observer && m->have_reference ? ORR_OK : st;
 }
 
 /* The disc normal from the spin of the chosen particles within
