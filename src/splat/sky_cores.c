@@ -270,7 +270,8 @@ int orr_sky_cores_draw_planes(orr_sky_cores *c, const struct orr_sph *s, double 
     }
     /* Row by row, every plane: the stamps' row is read once. */
     for (int l = 0; l < at.ny; l++) {
-        const size_t o = (size_t)l * (size_t)at.nx, pixel = (size_t)(at.j0 + l) * (size_t)planes[0].width + (size_t)at.i0;
+        const size_t o = (size_t)l * (size_t)at.nx;
+        const size_t pixel = (size_t)(at.j0 + l) * (size_t)planes[0].width + (size_t)at.i0;
         for (int k = 0; k < nplanes; k++)
             blend_row(planes[k].data + pixel, at.a + o, at.b + o, at.c + o, at.d + o, f[k], at.nx);
     }

@@ -1591,8 +1591,10 @@ static void prefetch_core(float px, float py, orr_plane *planes, int nplanes)
     if (!(px >= 0 && py >= 0 && px < w && py < h))
         return;
     const int ix = (int)px, iy = (int)py;
-    const int i0 = ix > PREFETCH_REACH ? ix - PREFETCH_REACH : 0, i1 = ix + PREFETCH_REACH < w ? ix + PREFETCH_REACH : w - 1;
-    const int j0 = iy > PREFETCH_REACH ? iy - PREFETCH_REACH : 0, j1 = iy + PREFETCH_REACH < h ? iy + PREFETCH_REACH : h - 1;
+    const int i0 = ix > PREFETCH_REACH ? ix - PREFETCH_REACH : 0;
+    const int i1 = ix + PREFETCH_REACH < w ? ix + PREFETCH_REACH : w - 1;
+    const int j0 = iy > PREFETCH_REACH ? iy - PREFETCH_REACH : 0;
+    const int j1 = iy + PREFETCH_REACH < h ? iy + PREFETCH_REACH : h - 1;
     for (int k = 0; k < nplanes; k++)
         for (int j = j0; j <= j1; j++) {
             const float *row = planes[k].data + (size_t)j * w;
