@@ -5,6 +5,7 @@
  * stars.
  *
  *   bench_sky_psf [STARS] [SIDE]     default: 200 stars, 3600
+ *   BENCH_FAST_ONLY=1 bench_sky_psf  the fast path alone (for a profiler)
  *
  * Prints the generation's wall and CPU seconds, each path's (best of
  * three, interleaved; all threads: OMP_NUM_THREADS), and how the fast
