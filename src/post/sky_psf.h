@@ -27,6 +27,8 @@
 
 /* Splat lanes that may collect stars at once (reduce/lanes.h's ORR_MAX_LANES). */
 #define ORR_SKY_PSF_LANES 8
+/* The zeros around the PSF's padded copy, on every side. */
+#define ORR_SKY_PSF_PAD 2
 
 /* A bright star as it was deposited, so that deposit can be undone. */
 typedef struct orr_sky_star {
@@ -37,6 +39,9 @@ typedef struct orr_sky_star {
 
 typedef struct orr_sky_psf {
     orr_image_kernel kernel; /* the PSF, normalised to 1, row 0 at the top */
+    float *padded;           /* the same with ORR_SKY_PSF_PAD zeros around it, for sampling without bounds */
+    int padded_width, padded_height;
+    int exact;               /* tests: map every stamp pixel to the sky exactly (no tile interpolation) */
     double rad_per_pixel;    /* the angle on the sky of one PSF pixel */
     double reach_pixels;     /* the PSF's light lies within this many PSF pixels of its centre */
     int max_stars;           /* psf.spike_stars */

@@ -46,17 +46,24 @@ orr_ngp_batch orr_splat_place_indexed(const view_state *v, size_t n, block_buffe
 static void deposit_points(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
                            block_tally *t)
 {
-    if (v->use_sph)
+    if (v->use_sph) {
         widen_for_psf(v, n, b);
-    for (int k = 0; k < v->nplanes; k++) {
+        orr_deposit_stats st[ORR_PLANES_MAX];
+        memset(st, 0, sizeof st);
+        orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
+        orr_sph_deposit_planes(&v->sph, &blk, b->wp, planes, v->nplanes, st);
+        for (int k = 0; k < v->nplanes && k < 2; k++) { /* (each a sum onto zeros: the same bits) */
+            t->deposit[k].deposited += st[k].deposited;
+            t->deposit[k].outside += st[k].outside;
+            t->deposit[k].culled += st[k].culled;
+            t->deposit[k].n_particles += st[k].n_particles;
+            t->deposit[k].n_culled += st[k].n_culled;
+        }
+    }
+    for (int k = 0; k < v->nplanes && !v->use_sph; k++) {
         orr_deposit_stats scratch = {0};
         orr_deposit_stats *st = k < 2 ? &t->deposit[k] : &scratch;
-        if (!v->use_sph) {
-            orr_deposit(v->scene->deposit.kind, &planes[k], n, b->px, b->py, b->wp[k], b->visible, &v->proj, st);
-            continue;
-        }
-        orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, b->wp[k]};
-        orr_sph_deposit(&v->sph, &blk, &planes[k], st);
+        orr_deposit(v->scene->deposit.kind, &planes[k], n, b->px, b->py, b->wp[k], b->visible, &v->proj, st);
     }
     /* A sky map's hst/file PSF: the brightest stars are redrawn with the
      * whole PSF after the splat (post/sky_psf.h). */

@@ -222,8 +222,17 @@ static int stamp_on_map(const orr_sky_cores *c, const orr_sph *s, int i0, int j0
            orr_projection_pixel_in_map(&s->proj, i1, j1);
 }
 
-int orr_sky_cores_draw(orr_sky_cores *c, const orr_sph *s, double px, double py, double theta, float w,
-                       orr_plane *plane)
+/* Where the table draws a star: the four stamps around its offset, the
+ * blend's weights for a weight of 1 (before the star's own), and the
+ * stamps' place on the image. */
+typedef struct placed {
+    const float *a, *b, *c, *d;
+    float tx, ty;
+    int i0, j0, nx, ny;
+} placed;
+
+/* 0 when the table may not draw the star (orr_sky_cores_draw). */
+static int place(orr_sky_cores *c, const orr_sph *s, double px, double py, double theta, placed *at)
 {
     if (!(fabs(theta - c->theta) <= SAME_THETA * c->theta) || !(px >= 0 && py >= 0 && px < c->width &&
                                                                  py < c->height))
@@ -235,16 +244,44 @@ int orr_sky_cores_draw(orr_sky_cores *c, const orr_sph *s, double px, double py,
         return 0;
     const double gx = (px - ix) * STEPS, gy = (py - iy) * STEPS;
     const int kx = (int)gx < STEPS ? (int)gx : STEPS - 1, ky = (int)gy < STEPS ? (int)gy : STEPS - 1;
-    const float tx = (float)(gx - kx), ty = (float)(gy - ky);
-    const float f[4] = {w * (1.0f - tx) * (1.0f - ty), w * tx * (1.0f - ty), w * (1.0f - tx) * ty, w * tx * ty};
-    const float *a = cell->stamps + (size_t)(ky * NODES + kx) * cell->size;
-    const float *b = a + cell->size, *cc = a + NODES * cell->size, *d = cc + cell->size;
-    for (int l = 0; l < ny; l++) {
-        const size_t o = (size_t)l * (size_t)nx;
-        blend_row(plane->data + (size_t)(j0 + l) * (size_t)plane->width + (size_t)i0, a + o, b + o, cc + o, d + o,
-                  f, nx);
+    at->tx = (float)(gx - kx);
+    at->ty = (float)(gy - ky);
+    at->a = cell->stamps + (size_t)(ky * NODES + kx) * cell->size;
+    at->b = at->a + cell->size;
+    at->c = at->a + NODES * cell->size;
+    at->d = at->c + cell->size;
+    at->i0 = i0, at->j0 = j0, at->nx = nx, at->ny = ny;
+    return 1;
+}
+
+int orr_sky_cores_draw_planes(orr_sky_cores *c, const struct orr_sph *s, double px, double py, double theta,
+                              const float *w, orr_plane *planes, int nplanes)
+{
+    placed at;
+    if (nplanes > ORR_PLANES_MAX || !place(c, s, px, py, theta, &at))
+        return 0;
+    float f[ORR_PLANES_MAX][4];
+    for (int k = 0; k < nplanes; k++) {
+        const float tx = at.tx, ty = at.ty;
+        f[k][0] = w[k] * (1.0f - tx) * (1.0f - ty);
+        f[k][1] = w[k] * tx * (1.0f - ty);
+        f[k][2] = w[k] * (1.0f - tx) * ty;
+        f[k][3] = w[k] * tx * ty;
+    }
+    /* Row by row, every plane: the stamps' row is read once. */
+    for (int l = 0; l < at.ny; l++) {
+        const size_t o = (size_t)l * (size_t)at.nx;
+        const size_t pixel = (size_t)(at.j0 + l) * (size_t)planes[0].width + (size_t)at.i0;
+        for (int k = 0; k < nplanes; k++)
+            blend_row(planes[k].data + pixel, at.a + o, at.b + o, at.c + o, at.d + o, f[k], at.nx);
     }
     return 1;
+}
+
+int orr_sky_cores_draw(orr_sky_cores *c, const orr_sph *s, double px, double py, double theta, float w,
+                       orr_plane *plane)
+{
+    return orr_sky_cores_draw_planes(c, s, px, py, theta, &w, plane, 1);
 }
 
 void orr_sky_cores_usage(const orr_sky_cores *c, long *cells, size_t *bytes)

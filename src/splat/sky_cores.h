@@ -48,6 +48,11 @@ void orr_sky_cores_free(orr_sky_cores *c);
  * returns 0, having drawn nothing, otherwise. Threads may share the table. */
 int orr_sky_cores_draw(orr_sky_cores *c, const struct orr_sph *s, double px, double py, double theta, float w,
                        orr_plane *plane);
+/* The same into nplanes planes of the map's size at once, weight w[k] into
+ * planes[k] (colour's X, Y, Z): one look-up and each stamp row read once;
+ * each plane gets the bits orr_sky_cores_draw gives it. */
+int orr_sky_cores_draw_planes(orr_sky_cores *c, const struct orr_sph *s, double px, double py, double theta,
+                              const float *w, orr_plane *planes, int nplanes);
 
 /* Stamps made so far, and the bytes they hold (for reports and tests). */
 void orr_sky_cores_usage(const orr_sky_cores *c, long *cells, size_t *bytes);

@@ -1579,3 +1579,86 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
     stats->outside += s->sky ? 0.0 : tally.total - t.in;
     add_tally(stats, &tally, b->n);
 }
+
+/* Stars land anywhere on the map, so every row of a core's stamp is a
+ * cache miss in each plane: the next star's rows (the automatic core
+ * reaches about 7 pixels either side) are asked for while this one is
+ * drawn. */
+#define PREFETCH_REACH 7
+static void prefetch_core(float px, float py, orr_plane *planes, int nplanes)
+{
+    const int w = planes[0].width, h = planes[0].height;
+    if (!(px >= 0 && py >= 0 && px < w && py < h))
+        return;
+    const int ix = (int)px, iy = (int)py;
+    const int i0 = ix > PREFETCH_REACH ? ix - PREFETCH_REACH : 0;
+    const int i1 = ix + PREFETCH_REACH < w ? ix + PREFETCH_REACH : w - 1;
+    const int j0 = iy > PREFETCH_REACH ? iy - PREFETCH_REACH : 0;
+    const int j1 = iy + PREFETCH_REACH < h ? iy + PREFETCH_REACH : h - 1;
+    for (int k = 0; k < nplanes; k++)
+        for (int j = j0; j <= j1; j++) {
+            const float *row = planes[k].data + (size_t)j * w;
+            ORR_PREFETCH_FOR_WRITE(row + i0);
+            ORR_PREFETCH_FOR_WRITE(row + i1);
+        }
+}
+
+/* The table's look-up for every plane at once: a star the table may draw
+ * (a kernel at least SKY_LOCAL_MIN pixels, as sky_particle decides, then
+ * the table's own tests) is drawn into all planes from one look-up. */
+static int table_draws(const orr_sph *s, const orr_sph_block *b, size_t i, double hpix, const float *const *w,
+                       orr_plane *planes, int nplanes)
+{
+    if (hpix < SKY_LOCAL_MIN || !(hpix > 0) || !isfinite(hpix))
+        return 0;
+    float wi[ORR_PLANES_MAX];
+    for (int k = 0; k < nplanes; k++)
+        wi[k] = w[k][i];
+    const double theta = b->h[i] / orr_v3_norm(orr_v3(b->x[i], b->y[i], b->z[i])); /* as sky_particle */
+    return orr_sky_cores_draw_planes(s->cores, s, b->px[i], b->py[i], theta, wi, planes, nplanes);
+}
+
+void orr_sph_deposit_planes(const orr_sph *s, const orr_sph_block *b, const float *const *w, orr_plane *planes,
+                            int nplanes, orr_deposit_stats *stats)
+{
+    orr_sph_block one[ORR_PLANES_MAX];
+    for (int k = 0; k < nplanes && k < ORR_PLANES_MAX; k++) {
+        one[k] = *b;
+        one[k].w = w[k];
+    }
+    if (!s->sky || !s->cores || !b->h || !b->x || !b->y || !b->z || nplanes < 2 || nplanes > ORR_PLANES_MAX ||
+        orr_projection_traits_of(s->proj.kind).pixel_table) {
+        for (int k = 0; k < nplanes; k++)
+            orr_sph_deposit(s, &one[k], &planes[k], &stats[k]);
+        return;
+    }
+    /* Plane k sees the stars in the same order, drawn the same way, as
+     * orr_sph_deposit would draw them: the same bits. */
+    target t[ORR_PLANES_MAX];
+    block_tally tally[ORR_PLANES_MAX];
+    memset(tally, 0, sizeof tally);
+    for (int k = 0; k < nplanes; k++)
+        t[k] = (target){&planes[k], &s->proj, s->kernel, 0, 0, 0.0};
+    for (size_t i = 0; i < b->n; i++) {
+        if (i + 1 < b->n && b->visible[i + 1])
+            prefetch_core(b->px[i + 1], b->py[i + 1], planes, nplanes);
+        int visible = 0;
+        for (int k = 0; k < nplanes; k++)
+            visible = tally_visible(&one[k], i, &tally[k]);
+        if (!visible)
+            continue;
+        const double hpix = (double)b->h[i] * b->scale[i];
+        if (table_draws(s, b, i, hpix, w, planes, nplanes))
+            continue;
+        for (int k = 0; k < nplanes; k++) {
+            if (!(hpix > 0) || !isfinite(hpix))
+                deposit_cic_one(s, &one[k], i, &t[k]);
+            else
+                sky_particle(s, &t[k], &one[k], i, hpix);
+        }
+    }
+    for (int k = 0; k < nplanes; k++) {
+        stats[k].deposited += tally[k].total; /* the whole sky: nothing falls off */
+        add_tally(&stats[k], &tally[k], b->n);
+    }
+}

@@ -189,10 +189,57 @@ static void test_undo(void)
     sky_free(&s);
 }
 
+/* Colour's planes drawn together (orr_sph_deposit_planes: one look-up a
+ * star) are the bits of each drawn alone, for stars the table draws and
+ * stars it leaves to the exact path (by the rim, with lengths of their
+ * own, culled). */
+static void test_planes_at_once(void)
+{
+    sky s;
+    sky_setup(&s, (orr_projection){.kind = ORR_PROJ_DOME, .width = 601, .height = 601, .dome_fov_deg = 180},
+              ORR_SKY_CORE_PIXELS);
+    enum { N = 3000 };
+    static float x[N], y[N], z[N], px[N], py[N], sc[N], h[N], w[3][N];
+    static uint8_t vis[N];
+    uint64_t seed = 7;
+    for (int i = 0; i < N; i++) {
+        double u = 2.0 * test_uniform(&seed) - 1.0, phi = 2.0 * ORR_PI * test_uniform(&seed), c = sqrt(1 - u * u);
+        double r = 1.0 + 5.0 * test_uniform(&seed), own = i % 7 == 0 ? 0.05 : 0.0;
+        x[i] = (float)(r * c * cos(phi)), y[i] = (float)(r * c * sin(phi)), z[i] = (float)(r * u);
+        h[i] = (float)sqrt(own * own + s.theta * s.theta * r * r);
+        for (int k = 0; k < 3; k++)
+            w[k][i] = (float)(0.5 + test_uniform(&seed));
+    }
+    orr_project_batch(&s.p, N, x, y, z, px, py, sc, vis);
+    orr_plane alone[3], together[3];
+    orr_error err = {0};
+    for (int k = 0; k < 3; k++) {
+        CHECK(orr_plane_alloc(&alone[k], 601, 601, "w", "", &err) == ORR_OK);
+        CHECK(orr_plane_alloc(&together[k], 601, 601, "w", "", &err) == ORR_OK);
+    }
+    orr_deposit_stats st_alone[3] = {{0}}, st_together[3] = {{0}};
+    for (int k = 0; k < 3; k++) {
+        orr_sph_block b = {N, x, y, z, px, py, sc, vis, h, w[k]};
+        orr_sph_deposit(&s.table, &b, &alone[k], &st_alone[k]);
+    }
+    const float *ws[3] = {w[0], w[1], w[2]};
+    orr_sph_block b = {N, x, y, z, px, py, sc, vis, h, NULL};
+    orr_sph_deposit_planes(&s.table, &b, ws, together, 3, st_together);
+    for (int k = 0; k < 3; k++) {
+        CHECK(memcmp(alone[k].data, together[k].data, sizeof(float) * 601 * 601) == 0);
+        CHECK(st_alone[k].deposited == st_together[k].deposited && st_alone[k].culled == st_together[k].culled);
+        CHECK(st_alone[k].n_particles == st_together[k].n_particles && st_alone[k].n_culled == st_together[k].n_culled);
+        orr_plane_free(&alone[k]);
+        orr_plane_free(&together[k]);
+    }
+    sky_free(&s);
+}
+
 int main(void)
 {
     RUN(test_against_exact);
     RUN(test_left_to_the_exact_path);
     RUN(test_undo);
+    RUN(test_planes_at_once);
     return check_summary();
 }
