@@ -395,6 +395,69 @@ static void fill_slot(const model_state *m, uint64_t index, orr_chunk *c, size_t
     c->extra[4].data[k] = p.e0;
 }
 
+/* Whether particles of this type are emitted (orr_model_params.types). */
+static int type_kept(const model_state *m, uint8_t type)
+{
+    return m->params.types == 0 || (m->params.types >> type & 1u);
+}
+
+/* The end of the run of indices from `index` that share their fate: the
+ * markers (always kept), one component's block, or the gas. *kept says
+ * whether the run is emitted. */
+static uint64_t run_end(const model_state *m, uint64_t index, int *kept)
+{
+    if (index < (uint64_t)m->nmarkers) {
+        *kept = 1;
+        return (uint64_t)m->nmarkers;
+    }
+    if (index >= m->dust_first) {
+        *kept = type_kept(m, ORR_MODEL_TYPE_GAS);
+        return m->total;
+    }
+    const block *b = find_block(m, index);
+    *kept = type_kept(m, b->type);
+    return b->first + b->count;
+}
+
+/* The next chunk's indices, from next_index: past the runs not emitted,
+ * then at most `capacity` of the kept runs that follow one another. A
+ * chunk's indices stay contiguous (first_index names them), and with every
+ * type kept the chunks are those of a model without a type mask. Returns
+ * the count and sets *first. */
+static size_t next_range(const model_state *m, size_t capacity, uint64_t *first)
+{
+    uint64_t i = m->next_index, end = i;
+    int kept = 0;
+    while (i < m->total && !kept) {
+        end = run_end(m, i, &kept);
+        if (!kept)
+            i = end;
+    }
+    *first = i;
+    if (i >= m->total)
+        return 0;
+    while (end < m->total) {
+        uint64_t more = run_end(m, end, &kept);
+        if (!kept)
+            break;
+        end = more;
+    }
+    return end - i < capacity ? (size_t)(end - i) : capacity;
+}
+
+/* How many particles the source emits in all. */
+static uint64_t count_kept(const model_state *m)
+{
+    uint64_t n = 0;
+    int kept;
+    for (uint64_t i = 0, end; i < m->total; i = end) {
+        end = run_end(m, i, &kept);
+        if (kept)
+            n += end - i;
+    }
+    return n;
+}
+
 /* Below this many particles a chunk is filled on one thread (a team costs
  * more than it saves). */
 #define MODEL_PARALLEL_MIN 4096
@@ -408,14 +471,14 @@ static orr_status model_next(orr_source *src, orr_error *err)
     (void)err;
     model_state *m = src->state;
     orr_chunk *c = &src->chunk;
-    uint64_t first = m->next_index, left = m->total - first;
-    size_t n = left < c->capacity ? (size_t)left : c->capacity;
+    uint64_t first;
+    size_t n = next_range(m, c->capacity, &first);
     c->first_index = first;
 #pragma omp parallel for schedule(dynamic, 1024) if (n >= MODEL_PARALLEL_MIN)
     for (size_t k = 0; k < n; k++)
         fill_slot(m, first + k, c, k);
     c->n = n;
-    m->next_index += n;
+    m->next_index = first + n;
     return ORR_OK;
 }
 
@@ -437,8 +500,9 @@ static orr_status model_skip_chunk(orr_source *src, orr_error *err)
 {
     (void)err;
     model_state *m = src->state;
-    uint64_t left = m->total - m->next_index;
-    m->next_index += left < src->chunk.capacity ? left : src->chunk.capacity;
+    uint64_t first;
+    size_t n = next_range(m, src->chunk.capacity, &first);
+    m->next_index = first + n;
     return ORR_OK;
 }
 
@@ -527,7 +591,7 @@ static orr_status open_model(const orr_model_params *params, long long dust_part
     split_particles(m);
     plan_dust(m, dust_particles);
     fill_info(&src->info, params);
-    src->info.count = (int64_t)m->total;
+    src->info.count = (int64_t)count_kept(m);
 
     size_t cap = (uint64_t)chunk_size < m->total ? chunk_size : (size_t)m->total;
     st = orr_chunk_alloc(&src->chunk, cap, 0, FIELD_NAMES, MODEL_FIELDS, err);

@@ -47,6 +47,9 @@ typedef struct orr_model_params {
     double separation_kpc; /* distance between the two galaxy centres (780 today); pair only */
     int galaxies;          /* ORR_MODEL_PAIR (0, the default), ORR_MODEL_MW or ORR_MODEL_M31 */
     double disc_q;         /* Toomre Q of the discs at 2.43 scale lengths; 0 selects 1.5 */
+    unsigned types;        /* bit t set: emit particles of type t; 0 emits all. The markers
+                            * (Sun, black holes) are emitted whatever it says. The others are
+                            * the same particles as with 0, those of other types never drawn. */
 } orr_model_params;
 
 orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_size, orr_source **out,
