@@ -3,6 +3,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <fitsio.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 #include <strings.h>
@@ -165,6 +166,40 @@ static int write_string_key(fitsfile *f, const char *key, const char *value, con
     return fits_update_key(f, TSTRING, k, v, c, status);
 }
 
+/* The FITS standard's data checksum (DATASUM) of a float plane as an
+ * uncompressed image HDU holds it: the 32-bit ones' complement sum of the
+ * data's big-endian words, which are the floats' bit patterns (the zero
+ * fill after the data adds nothing). Summed from memory on every thread,
+ * in integers, so any order gives the same value. */
+static unsigned long plane_datasum(const orr_plane *p)
+{
+    size_t n = (size_t)p->width * (size_t)p->height;
+    uint64_t sum = 0; /* at most 2^32 words of 32 bits: no overflow before the fold */
+#pragma omp parallel for reduction(+ : sum) schedule(static)
+    for (size_t i = 0; i < n; i++) {
+        uint32_t word;
+        memcpy(&word, &p->data[i], sizeof word);
+        sum += word;
+    }
+    while (sum >> 32) /* end-around carry */
+        sum = (sum & 0xFFFFFFFFu) + (sum >> 32);
+    return (unsigned long)sum;
+}
+
+/* DATASUM with its value and CHECKSUM zeroed, written into the header
+ * before the data so that they take no room the data would have to move
+ * for; fits_update_chksum sets CHECKSUM afterwards from the header alone. */
+static int write_datasum(fitsfile *f, unsigned long datasum, int *status)
+{
+    char date[32], value[24], data_comment[72], hdu_comment[72];
+    fits_get_system_time(date, NULL, status);
+    snprintf(value, sizeof value, "%lu", datasum);
+    snprintf(data_comment, sizeof data_comment, "data unit checksum updated %s", date);
+    snprintf(hdu_comment, sizeof hdu_comment, "HDU checksum updated %s", date);
+    fits_update_key(f, TSTRING, "CHECKSUM", "0000000000000000", hdu_comment, status);
+    return fits_update_key(f, TSTRING, "DATASUM", value, data_comment, status);
+}
+
 /* One image HDU: header, then the rows bottom-up, because FITS pixel (1,1)
  * is the lower left corner while plane row 0 is the top of the picture. */
 static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_fits_header *header, int *status)
@@ -178,6 +213,13 @@ static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_fits_heade
     for (int i = 0; header && i < header->n; i++)
         write_card(f, &header->cards[i], status);
     fits_write_date(f, status);
+    /* A tile-compressed image's data are its compressed tiles, summed only
+     * once written; a plain image's data are the plane's floats, summed
+     * here rather than read back through cfitsio's buffers after writing
+     * (805 MB at 8192², 1.6 s of one core). */
+    int compressed = fits_is_compressed_image(f, status);
+    if (!compressed)
+        write_datasum(f, plane_datasum(p), status);
     for (int y = 0; y < p->height && *status == 0; y++) {
         LONGLONG first[2] = {1, p->height - y};
         float *row = p->data + (size_t)y * (size_t)p->width;
@@ -186,7 +228,7 @@ static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_fits_heade
     }
     /* Last, over the final header and data, so astropy and fitsverify can
      * prove the HDU arrived intact (a truncated copy, a flipped bit). */
-    return fits_write_chksum(f, status);
+    return compressed ? fits_write_chksum(f, status) : fits_update_chksum(f, status);
 }
 
 /* The scene as the file's last HDU (orr_fits_header.scene): its bytes as

@@ -1,5 +1,6 @@
 #include <dirent.h>
 #include <fitsio.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -383,9 +384,52 @@ static void test_read_compressed(void)
     CHECK_CONTAINS(err.msg, "a PSF uncompressed");
 }
 
+/* Every HDU's DATASUM and CHECKSUM as cfitsio recomputes them from the
+ * file: the data sum orrery takes from memory must be the standard's,
+ * whatever the bits (NaN, infinities, negative zero, words whose sum
+ * carries many times) and with a data unit that ends in fill. */
+static void test_checksums_verify(void)
+{
+    make_tmpdir();
+    enum { CW = 37, CH = 29 };
+    orr_plane planes[2];
+    orr_error err;
+    CHECK(orr_plane_alloc(&planes[0], CW, CH, "odd", "", &err) == ORR_OK);
+    CHECK(orr_plane_alloc(&planes[1], CW, CH, "carries", "", &err) == ORR_OK);
+    const uint32_t specials[] = {0x7FC00000u, 0xFFFFFFFFu, 0x7F800000u, 0xFF800000u, 0x80000000u, 0x00000001u};
+    for (int i = 0; i < CW * CH; i++) {
+        uint32_t word = i < 6 ? specials[i] : 0x9E3779B9u * (uint32_t)i;
+        memcpy(&planes[0].data[i], &word, sizeof word);
+        uint32_t high = 0xFFFFFFFEu;
+        memcpy(&planes[1].data[i], &high, sizeof high);
+    }
+    const orr_fits_compression kinds[] = {ORR_FITS_UNCOMPRESSED, ORR_FITS_GZIP};
+    for (int k = 0; k < 2; k++) {
+        char path[512];
+        snprintf(path, sizeof path, "%s/sums%d.fits", tmpdir, k);
+        CHECK(orr_write_fits_compressed(path, planes, 2, NULL, kinds[k], &err) == ORR_OK);
+        fitsfile *f = NULL;
+        int status = 0, nhdu = 0;
+        fits_open_diskfile(&f, path, READONLY, &status);
+        fits_get_num_hdus(f, &nhdu, &status);
+        CHECK(status == 0 && nhdu == 2 + k);
+        for (int h = 1; h <= nhdu && status == 0; h++) {
+            int data_ok = 0, hdu_ok = 0;
+            fits_movabs_hdu(f, h, NULL, &status);
+            fits_verify_chksum(f, &data_ok, &hdu_ok, &status);
+            CHECK(status == 0 && data_ok == 1 && hdu_ok == 1);
+        }
+        fits_close_file(f, &status);
+    }
+    orr_plane_free(&planes[0]);
+    orr_plane_free(&planes[1]);
+    remove_tmpdir();
+}
+
 int main(void)
 {
     RUN(test_round_trip);
+    RUN(test_checksums_verify);
     RUN(test_overwrites_existing_file);
     RUN(test_cfitsio_failure_keeps_old_file);
     RUN(test_bad_arguments);
