@@ -78,6 +78,19 @@ sed -i '/frame_start\|frame_digits\|frame_separator\|alpha_mask/d; s/name: show/
 "$py" -c 'from PIL import Image; import sys; sys.exit(Image.open("out/plain_0000.png").mode != "RGB")' ||
   fail "default PNG is not RGB"
 
+# A marker's checksum of a large output (summed in 8 MiB pieces on every
+# thread) is the file's CRC-32 as zlib computes it over the whole file.
+"$ORRERY" render dome.yaml --set output.fits=true --set image.width=2000 --set image.height=2000 \
+  --set animation.frames=2 --set output.name=big >run.out 2>run.err || fail "large frames: $(cat run.err)"
+"$py" - <<'EOT' || fail "marker checksums of large outputs"
+import zlib
+lines = [l.split() for l in open("out/.orrery-frames/big_0001.done") if l.startswith("output ")]
+assert any(int(size) > 8 << 20 for _, size, _, _ in lines), lines
+for _, size, crc, name in lines:
+    data = open("out/" + name, "rb").read()
+    assert len(data) == int(size) and zlib.crc32(data) == int(crc, 16), (name, crc, hex(zlib.crc32(data)))
+EOT
+
 # Bad keys: named, exit 2, nothing written.
 printf 'input:\n  file: t.txt\noutput:\n  dir: bad\n' >bad.yaml
 expect_fail 2 "output.frame_separator: '/' may hold only" bad -- render bad.yaml --set "output.frame_separator=/"
