@@ -44,6 +44,25 @@ void orr_stage_charge(orr_stage_times *t, orr_stage s, orr_clock *since)
     orr_stage_charge_split(t, s, s, 1.0, since);
 }
 
+void orr_stage_charge_beside(orr_stage_times *t, const orr_stage_times *before, orr_stage s, double cpu)
+{
+    double own_cpu = t->cpu[s] - before->cpu[s], meanwhile = 0.0;
+    for (int k = 0; k < ORR_NSTAGES; k++)
+        meanwhile += k == (int)s ? 0.0 : t->cpu[k] - before->cpu[k];
+    /* The thread's CPU that the other stages were charged: all of it but
+     * what s itself was charged while the caller waited for the thread. */
+    double moved = cpu - own_cpu < meanwhile ? cpu - own_cpu : meanwhile;
+    moved = moved > 0.0 ? moved : 0.0;
+    double share = meanwhile > 0.0 ? moved / meanwhile : 0.0;
+    for (int k = 0; k < ORR_NSTAGES; k++) {
+        if (k == (int)s)
+            continue;
+        double dwall = share * (t->wall[k] - before->wall[k]), dcpu = share * (t->cpu[k] - before->cpu[k]);
+        t->wall[k] -= dwall, t->cpu[k] -= dcpu;
+        t->wall[s] += dwall, t->cpu[s] += dcpu;
+    }
+}
+
 void orr_stage_times_finish(orr_stage_times *t, orr_clock start)
 {
     orr_clock now = orr_clock_now();

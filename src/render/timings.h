@@ -48,6 +48,15 @@ void orr_stage_charge(orr_stage_times *t, orr_stage s, orr_clock *since);
  * share_a (threaded work whose parts interleave: see render.c). */
 void orr_stage_charge_split(orr_stage_times *t, orr_stage a, orr_stage b, double share_a, orr_clock *since);
 
+/* Work done on a thread of its own, beside the stages charged since before
+ * (a copy of *t taken when the thread started), and charged to stage s
+ * while the caller waited for it: of the other stages charged meanwhile,
+ * to which the process's clock gave the rest of the thread's CPU seconds,
+ * each hands s that share of its CPU and wall seconds, so s has the
+ * thread's CPU time in all and the stages still sum to the totals (as
+ * orr_stage_charge_split shares interleaved work). */
+void orr_stage_charge_beside(orr_stage_times *t, const orr_stage_times *before, orr_stage s, double cpu);
+
 /* Closes a frame measured from start: its totals, frames = 1. */
 void orr_stage_times_finish(orr_stage_times *t, orr_clock start);
 /* to += from, stage by stage (a run's total). */

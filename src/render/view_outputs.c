@@ -5,6 +5,7 @@
 #include "render/view_state.h"
 #include "core/numbers.h"
 
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -215,27 +216,101 @@ static orr_status view_output(view_state *v, const char *ext, const char **write
     return stage_output(v->outputs, v->scene, v->rep, ext, write_path, err);
 }
 
+/* The view's planes, with the frame's cards, written to path: a HEALPix
+ * map's as its table, any other's as images. Reads the view only, so it may
+ * run beside the pictures' encoding (fits_writer). */
+static orr_status write_planes_to(const view_state *v, const char *ext, const char *path, orr_error *err)
+{
+    const orr_render_report *rep = v->rep;
+    const orr_fits_header *h = &v->frame_cards;
+    if (orr_projection_traits_of(v->proj.kind).pixel_table) {
+        orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, ""};
+        orr_healpix_info info = {v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
+        return orr_write_healpix_fits(path, v->planes, fits_nplanes(v), &info, h, err);
+    }
+    /* The raw planes stay uncompressed: orrery compose reads them. */
+    orr_fits_compression c = strcmp(ext, "fits") == 0 ? (orr_fits_compression)v->scene->output.fits_compress
+                                                       : ORR_FITS_UNCOMPRESSED;
+    return orr_write_fits_compressed(path, v->planes, fits_nplanes(v), h, c, err);
+}
+
 /* Writes the view's planes, with the frame's cards, to NAME.EXT. */
 orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error *err)
 {
-    orr_render_report *rep = v->rep;
     const char *path;
-    const orr_fits_header *h = &v->frame_cards;
     orr_status st = view_output(v, ext, &path, err);
-    if (!st && orr_projection_traits_of(v->proj.kind).pixel_table) {
-        orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, ""};
-        orr_healpix_info info = {v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
-        st = orr_write_healpix_fits(path, v->planes, fits_nplanes(v), &info, h, err);
-    } else if (!st) {
-        /* The raw planes stay uncompressed: orrery compose reads them. */
-        orr_fits_compression c = strcmp(ext, "fits") == 0 ? (orr_fits_compression)v->scene->output.fits_compress
-                                                           : ORR_FITS_UNCOMPRESSED;
-        st = orr_write_fits_compressed(path, v->planes, fits_nplanes(v), h, c, err);
-    }
     if (!st)
-        rep->noutputs++;
+        st = write_planes_to(v, ext, path, err);
+    if (!st)
+        v->rep->noutputs++;
     charge(v, ORR_STAGE_FITS);
     return st;
+}
+
+/* NAME.fits written on a thread of its own while the view's pictures are
+ * graded and encoded. Writing it is mostly the kernel copying the planes
+ * into the page cache on one core (805 MB at 8192^2), while the PNG's
+ * grading and deflate run on every thread: side by side the frame takes
+ * about the longer of the two rather than their sum. */
+typedef struct fits_writer {
+    const view_state *v;
+    char path[ORR_PATH_MAX];
+    pthread_t thread;
+    int started;
+    orr_status st;
+    orr_error err;
+    double cpu;             /* the thread's own CPU seconds */
+    orr_stage_times before; /* the frame's timings when it started */
+} fits_writer;
+
+static void *fits_writer_run(void *arg)
+{
+    fits_writer *w = arg;
+    double cpu0 = orr_thread_cpu_seconds();
+    w->st = write_planes_to(w->v, "fits", w->path, &w->err);
+    w->cpu = orr_thread_cpu_seconds() - cpu0;
+    return NULL;
+}
+
+/* Stages NAME.fits among the frame's outputs and starts its thread (or,
+ * when no thread can be had, writes it here and now). */
+static orr_status fits_writer_start(view_state *v, fits_writer *w, orr_error *err)
+{
+    memset(w, 0, sizeof *w);
+    w->v = v;
+    const char *path;
+    orr_status st = view_output(v, "fits", &path, err);
+    if (st)
+        return st;
+    v->rep->noutputs++; /* its slot in the report, before the pictures take the next */
+    snprintf(w->path, sizeof w->path, "%s", path);
+    if (v->timer)
+        w->before = v->timer->times;
+    w->started = pthread_create(&w->thread, NULL, fits_writer_run, w) == 0;
+    if (w->started)
+        return ORR_OK;
+    fits_writer_run(w);
+    charge(v, ORR_STAGE_FITS);
+    if (w->st)
+        *err = w->err;
+    return w->st;
+}
+
+/* Waits for the thread; its time goes to the fits stage, its CPU taken
+ * off the stages charged meanwhile (render/timings.h). st is the frame's
+ * status so far: the FITS file's failure is reported when nothing else
+ * failed first. */
+static orr_status fits_writer_finish(view_state *v, fits_writer *w, orr_status st, orr_error *err)
+{
+    if (!w->started)
+        return st;
+    pthread_join(w->thread, NULL);
+    charge(v, ORR_STAGE_FITS); /* the wait */
+    if (v->timer)
+        orr_stage_charge_beside(&v->timer->times, &w->before, ORR_STAGE_FITS, w->cpu);
+    if (!st && w->st)
+        *err = w->err;
+    return st ? st : w->st;
 }
 
 /* dust.extinction_plane: A_V to infinity per pixel (dust/dust.h), made once
@@ -309,14 +384,16 @@ orr_status orr_view_write_outputs(view_state *v, orr_error *err)
     orr_plane av = {0};
     int want_av = v->dust && s->dust.extinction_plane;
     orr_status st = want_av ? extinction_plane(v, &av, err) : ORR_OK;
+    fits_writer fits = {0};
     if (!st && s->output.write_fits)
-        st = orr_view_write_fits_planes(v, "fits", err);
+        st = fits_writer_start(v, &fits, err);
     if (!st && s->output.write_exr)
         st = write_exr(v, want_av ? &av : NULL, err);
     if (!st && want_av)
         st = write_extinction(v, &av, err);
     if (!st)
         st = orr_view_write_pictures(v, err);
+    st = fits_writer_finish(v, &fits, st, err);
     orr_plane_free(&av);
     return st;
 }

@@ -156,8 +156,36 @@ static void test_split(void)
     CHECK(strcmp(orr_stage_name(ORR_NSTAGES), "?") == 0);
 }
 
+/* A thread's work beside other stages (the FITS file beside the PNG): the
+ * thread's CPU goes to its stage, taken from the others in proportion to
+ * theirs, walls with it, and the sums do not change. */
+static void test_beside(void)
+{
+    orr_stage_times before = {0}, t = {0};
+    t.cpu[ORR_STAGE_POST] = 1.0, t.wall[ORR_STAGE_POST] = 1.0;
+    t.cpu[ORR_STAGE_PNG] = 3.0, t.wall[ORR_STAGE_PNG] = 2.0;
+    t.cpu[ORR_STAGE_FITS] = 0.5, t.wall[ORR_STAGE_FITS] = 0.5; /* the wait for the thread */
+    orr_stage_charge_beside(&t, &before, ORR_STAGE_FITS, 2.5); /* 2 of its 2.5 s were charged to the others */
+    CHECK_NEAR(t.cpu[ORR_STAGE_FITS], 2.5, 1e-12);
+    CHECK_NEAR(t.cpu[ORR_STAGE_POST], 0.5, 1e-12);
+    CHECK_NEAR(t.cpu[ORR_STAGE_PNG], 1.5, 1e-12);
+    CHECK_NEAR(t.wall[ORR_STAGE_POST], 0.5, 1e-12);
+    CHECK_NEAR(t.wall[ORR_STAGE_PNG], 1.0, 1e-12);
+    CHECK_NEAR(t.wall[ORR_STAGE_FITS], 2.0, 1e-12);
+    double wall, cpu;
+    orr_stage_times_sum(&t, &wall, &cpu);
+    CHECK_NEAR(wall, 3.5, 1e-12);
+    CHECK_NEAR(cpu, 4.5, 1e-12);
+    /* More thread CPU than the clock gave the others: they give all they had. */
+    orr_stage_times u = before;
+    u.cpu[ORR_STAGE_PNG] = 1.0, u.wall[ORR_STAGE_PNG] = 1.0;
+    orr_stage_charge_beside(&u, &before, ORR_STAGE_FITS, 5.0);
+    CHECK(u.cpu[ORR_STAGE_PNG] == 0.0 && u.cpu[ORR_STAGE_FITS] == 1.0 && u.wall[ORR_STAGE_FITS] == 1.0);
+}
+
 int main(void)
 {
+    RUN(test_beside);
     make_tmpdir();
     RUN(test_dome_frame);
     RUN(test_flat_psf);
