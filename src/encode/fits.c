@@ -378,6 +378,11 @@ static int write_image_hdus(fitsfile *f, const void *ctx, int *status, int *sys_
     return *status;
 }
 
+int orr_fits_thread_safe(void)
+{
+    return fits_is_reentrant();
+}
+
 orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes,
                           const orr_fits_header *header, orr_error *err)
 {

@@ -273,7 +273,8 @@ static void *fits_writer_run(void *arg)
 }
 
 /* Stages NAME.fits among the frame's outputs and starts its thread (or,
- * when no thread can be had, writes it here and now). */
+ * when no thread can be had or cfitsio is not thread-safe, writes it here
+ * and now). */
 static orr_status fits_writer_start(view_state *v, fits_writer *w, orr_error *err)
 {
     memset(w, 0, sizeof *w);
@@ -286,7 +287,7 @@ static orr_status fits_writer_start(view_state *v, fits_writer *w, orr_error *er
     snprintf(w->path, sizeof w->path, "%s", path);
     if (v->timer)
         w->before = v->timer->times;
-    w->started = pthread_create(&w->thread, NULL, fits_writer_run, w) == 0;
+    w->started = orr_fits_thread_safe() && pthread_create(&w->thread, NULL, fits_writer_run, w) == 0;
     if (w->started)
         return ORR_OK;
     fits_writer_run(w);
