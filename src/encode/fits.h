@@ -76,13 +76,13 @@ typedef enum { ORR_FITS_UNCOMPRESSED, ORR_FITS_GZIP } orr_fits_compression;
 /* "none", "gzip" (output.fits_compress). */
 extern const orr_named orr_fits_compression_names[];
 
-/* orr_write_fits with the planes tile-compressed: an empty primary HDU, then
- * each plane a compressed image extension (astropy's CompImageHDU), with the
- * same cards and checksums. */
 /* Whether cfitsio was built thread-safe (fits_is_reentrant), so that two
  * FITS files may be written at once on different threads. */
 int orr_fits_thread_safe(void);
 
+/* orr_write_fits with the planes tile-compressed: an empty primary HDU, then
+ * each plane a compressed image extension (astropy's CompImageHDU), with the
+ * same cards and checksums. */
 orr_status orr_write_fits_compressed(const char *path, const orr_plane *planes, int nplanes,
                                      const orr_fits_header *header, orr_fits_compression compression,
                                      orr_error *err);
