@@ -17,16 +17,17 @@ enum {
     WAVE = 64,            /* bands deflated before their chunks are written: bounds the memory
                            * (only the pages their deflated bytes touch are used), and
                            * few waves leave threads few barriers to wait at */
-    LEVEL = 3,            /* zlib level and "up" filter: docs/performance.md */
+    LEVEL = 3,            /* zlib's RLE strategy (any level but 0 is the same) and the "up"
+                           * filter: docs/output.md#png, docs/performance.md */
     FILTER_NONE = 0,
     FILTER_UP = 2,
 };
 
-/* The zlib header of a stream with a 32 KiB window at level 3 (FLEVEL 1, as
- * zlib writes it for levels 2 to 5), its check bits making it a multiple of
- * 31 (RFC 1950). */
+/* The zlib header of a stream with a 32 KiB window made with the RLE
+ * strategy (FLEVEL 0, "fastest", as zlib writes it for that strategy), its
+ * check bits making it a multiple of 31 (RFC 1950). */
 #define ZLIB_CMF 0x78
-#define ZLIB_FLG (0x40 + 31 - ((ZLIB_CMF << 8) + 0x40) % 31)
+#define ZLIB_FLG (31 - (ZLIB_CMF << 8) % 31)
 
 /* How the rows are cut: the same for any thread count. */
 typedef struct layout {
@@ -86,7 +87,7 @@ static int worker_init(worker *w, const orr_png_rows *src, const layout *l)
     w->codes = malloc(values * sizeof *w->codes);
     w->scratch = src->pixels ? NULL : malloc(values * sizeof *w->scratch);
     w->done_from = w->done_to = -1;
-    w->z_ready = deflateInit2(&w->z, LEVEL, Z_DEFLATED, -15, 8, Z_FILTERED) == Z_OK;
+    w->z_ready = deflateInit2(&w->z, LEVEL, Z_DEFLATED, -15, 8, Z_RLE) == Z_OK;
     return w->filtered && w->samples[0] && w->samples[1] && w->codes && (src->pixels || w->scratch) && w->z_ready;
 }
 
