@@ -2,7 +2,8 @@
  * e.g. out/futuresky-dome.png) and writes it again with each zlib level and
  * row filter choice, printing the CPU time and the size of each.
  *
- *   bench_png PICTURE.png            every level and filter choice, one thread
+ *   bench_png PICTURE.png            every level (and zlib's RLE strategy) and
+ *                                    filter choice, one thread
  *   bench_png PICTURE.png --orrery   orrery's writer (encode/png_idat.h: bands
  *                                    deflated on every thread) against
  *                                    libpng at its settings, CPU and wall
@@ -14,6 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include "encode/png.h"
 
@@ -52,8 +54,10 @@ static int read_png(const char *path, picture *pic)
     return 1;
 }
 
-/* Writes pic to a scratch file with the given zlib level and filters;
- * returns its size, and the CPU seconds in *seconds. */
+enum { RLE = 100 }; /* a level that means zlib's run-length strategy, orrery's */
+
+/* Writes pic to a scratch file with the given zlib level (or RLE) and
+ * filters; returns its size, and the CPU seconds in *seconds. */
 static long write_with(const picture *pic, int level, int filters, double *seconds)
 {
     FILE *fp = tmpfile();
@@ -65,7 +69,9 @@ static long write_with(const picture *pic, int level, int filters, double *secon
     png_init_io(png, fp);
     png_set_IHDR(png, info, pic->width, pic->height, pic->bits, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-    if (level >= 0)
+    if (level == RLE)
+        png_set_compression_strategy(png, Z_RLE);
+    else if (level >= 0)
         png_set_compression_level(png, level);
     if (filters >= 0)
         png_set_filter(png, PNG_FILTER_TYPE_BASE, filters);
@@ -94,7 +100,7 @@ static float *picture_floats(const picture *pic)
     return v;
 }
 
-/* orrery's writer against libpng at the same level and filter, best of 3. */
+/* orrery's writer against libpng at the same strategy and filter, best of 3. */
 static int compare_writers(const picture *pic)
 {
     float *v = picture_floats(pic);
@@ -113,7 +119,7 @@ static int compare_writers(const picture *pic)
         double c = cpu_seconds() - c0, w = wall_seconds() - w0;
         cpu = c < cpu ? c : cpu;
         wall = w < wall ? w : wall;
-        write_with(pic, 3, PNG_FILTER_UP, &t);
+        write_with(pic, RLE, PNG_FILTER_UP, &t);
         libpng = t < libpng ? t : libpng;
     }
     FILE *fp = fopen(path, "rb");
@@ -121,7 +127,7 @@ static int compare_writers(const picture *pic)
     long size = ftell(fp);
     fclose(fp);
     unlink(path);
-    printf("  libpng, level 3, up:  %7.3f s CPU (one thread)\n", libpng);
+    printf("  libpng, RLE, up:      %7.3f s CPU (one thread)\n", libpng);
     printf("  orrery's bands:       %7.3f s CPU, %7.3f s wall, %9.1f MB\n", cpu, wall, size / 1e6);
     free(v);
     return 0;
@@ -142,7 +148,7 @@ int main(int argc, char **argv)
         int filters;
     } filters[] = {{"libpng's default filters", -1}, {"up only", PNG_FILTER_UP}, {"sub only", PNG_FILTER_SUB},
                    {"none", PNG_FILTER_NONE}};
-    const int levels[] = {-1, 1, 2, 3, 6};
+    const int levels[] = {-1, 1, 2, 3, 6, RLE};
     for (size_t f = 0; f < sizeof filters / sizeof filters[0]; f++)
         for (size_t l = 0; l < sizeof levels / sizeof levels[0]; l++) {
             double best = 1e30, t;
@@ -153,7 +159,7 @@ int main(int argc, char **argv)
             }
             char level[16];
             snprintf(level, sizeof level, "%d", levels[l]);
-            printf("  %-26s level %-8s %7.3f s  %9.1f MB\n", filters[f].name, levels[l] < 0 ? "default" : level,
+            printf("  %-26s level %-8s %7.3f s  %9.1f MB\n", filters[f].name, levels[l] < 0 ? "default" : levels[l] == RLE ? "RLE" : level,
                    best, size / 1e6);
         }
     return 0;

@@ -6,24 +6,28 @@
 #include <string.h>
 #include <zlib.h>
 
+#include "core/srgb_code.h"
+
 enum {
     BAND_BYTES = 1 << 20, /* filtered bytes in a band, about: large enough that the
                            * flushes and the priming cost little, small enough
                            * that two threads share even a small picture's bands */
     WINDOW = 32768,       /* deflate's window, what each band's stream is primed with */
+    RUN = 4,              /* bands a thread takes in a row, the later ones primed by rows it has */
     WAVE = 64,            /* bands deflated before their chunks are written: bounds the memory
                            * (only the pages their deflated bytes touch are used), and
                            * few waves leave threads few barriers to wait at */
-    LEVEL = 3,            /* zlib level and "up" filter: docs/performance.md */
+    LEVEL = 3,            /* zlib's RLE strategy (any level but 0 is the same) and the "up"
+                           * filter: docs/output.md#png, docs/performance.md */
     FILTER_NONE = 0,
     FILTER_UP = 2,
 };
 
-/* The zlib header of a stream with a 32 KiB window at level 3 (FLEVEL 1, as
- * zlib writes it for levels 2 to 5), its check bits making it a multiple of
- * 31 (RFC 1950). */
+/* The zlib header of a stream with a 32 KiB window made with the RLE
+ * strategy (FLEVEL 0, "fastest", as zlib writes it for that strategy), its
+ * check bits making it a multiple of 31 (RFC 1950). */
 #define ZLIB_CMF 0x78
-#define ZLIB_FLG (0x40 + 31 - ((ZLIB_CMF << 8) + 0x40) % 31)
+#define ZLIB_FLG (31 - (ZLIB_CMF << 8) % 31)
 
 /* How the rows are cut: the same for any thread count. */
 typedef struct layout {
@@ -47,28 +51,17 @@ static layout make_layout(const orr_png_rows *src)
     return l;
 }
 
-/* Clips to [0, 1] (NaN to 0) and rounds to the nearest code value; in
- * double so that 16-bit codes round exactly as the formula says. Without
- * branches, so that the loops below vectorise: 1 gives max + 0.5, which
- * truncates to max. */
-static inline unsigned quantize(float v, unsigned max)
-{
-    float c = v > 0 ? v : 0.0f;
-    c = c < 1 ? c : 1.0f;
-    return (unsigned)((double)c * max + 0.5);
-}
-
-static void quantize_row(const float *v, size_t n, int bits, unsigned char *out)
+/* A row's codes as PNG samples: 16-bit ones big-endian, as PNG requires. */
+static void pack_row(const uint16_t *codes, size_t n, int bits, unsigned char *out)
 {
     if (bits == 8) {
         for (size_t i = 0; i < n; i++)
-            out[i] = (unsigned char)quantize(v[i], 255);
+            out[i] = (unsigned char)codes[i];
         return;
     }
-    for (size_t i = 0; i < n; i++) { /* PNG stores 16-bit samples big-endian */
-        unsigned q = quantize(v[i], 65535);
-        out[2 * i] = (unsigned char)(q >> 8);
-        out[2 * i + 1] = (unsigned char)(q & 0xff);
+    for (size_t i = 0; i < n; i++) {
+        out[2 * i] = (unsigned char)(codes[i] >> 8);
+        out[2 * i + 1] = (unsigned char)(codes[i] & 0xff);
     }
 }
 
@@ -78,7 +71,9 @@ typedef struct worker {
     int z_ready;
     unsigned char *filtered; /* the priming rows and the band's, filtered */
     unsigned char *samples[2]; /* a row's samples, and the row above's */
-    float *values;           /* a row made by src->row */
+    uint16_t *codes;         /* a row's codes */
+    float *scratch;          /* room for src->row */
+    int done_from, done_to;  /* the rows in filtered, the last one's samples in samples[1] */
 } worker;
 
 static int worker_init(worker *w, const orr_png_rows *src, const layout *l)
@@ -88,9 +83,12 @@ static int worker_init(worker *w, const orr_png_rows *src, const layout *l)
     w->filtered = malloc(l->row_bytes * (size_t)(l->prime_rows + l->rows_per_band));
     w->samples[0] = malloc(n);
     w->samples[1] = malloc(n);
-    w->values = src->pixels ? NULL : malloc((size_t)src->width * (size_t)src->channels * sizeof(float));
-    w->z_ready = deflateInit2(&w->z, LEVEL, Z_DEFLATED, -15, 8, Z_FILTERED) == Z_OK;
-    return w->filtered && w->samples[0] && w->samples[1] && (src->pixels || w->values) && w->z_ready;
+    size_t values = (size_t)src->width * (size_t)src->channels;
+    w->codes = malloc(values * sizeof *w->codes);
+    w->scratch = src->pixels ? NULL : malloc(values * sizeof *w->scratch);
+    w->done_from = w->done_to = -1;
+    w->z_ready = deflateInit2(&w->z, LEVEL, Z_DEFLATED, -15, 8, Z_RLE) == Z_OK;
+    return w->filtered && w->samples[0] && w->samples[1] && w->codes && (src->pixels || w->scratch) && w->z_ready;
 }
 
 static void worker_free(worker *w)
@@ -100,29 +98,28 @@ static void worker_free(worker *w)
     free(w->filtered);
     free(w->samples[0]);
     free(w->samples[1]);
-    free(w->values);
+    free(w->codes);
+    free(w->scratch);
 }
 
-/* Row y's samples into w->samples[0]. */
+/* Row y's samples into out. */
 static void row_samples(const orr_png_rows *src, worker *w, int y, unsigned char *out)
 {
     size_t n = (size_t)src->width * (size_t)src->channels;
-    const float *v = src->pixels;
-    if (v)
-        v += (size_t)y * n;
-    else {
-        src->row(src->ctx, y, w->values);
-        v = w->values;
-    }
-    quantize_row(v, n, src->bits, out);
+    if (src->pixels)
+        orr_codes_of(src->pixels + (size_t)y * n, n, src->bits, w->codes);
+    else
+        src->row(src->ctx, y, w->scratch, w->codes);
+    pack_row(w->codes, n, src->bits, out);
 }
 
-/* Filters rows [from, to) into w->filtered, each against the row above. */
-static void filter_rows(const orr_png_rows *src, worker *w, const layout *l, int from, int to)
+/* Filters rows [from, to) into out, each against the row above: the one in
+ * w->samples[1] when have_above, else made here. */
+static void filter_rows(const orr_png_rows *src, worker *w, const layout *l, int from, int to, unsigned char *out,
+                        int have_above)
 {
     size_t n = l->row_bytes - 1;
-    unsigned char *out = w->filtered;
-    if (from > 0)
+    if (from > 0 && !have_above)
         row_samples(src, w, from - 1, w->samples[1]);
     for (int y = from; y < to; y++, out += l->row_bytes) {
         unsigned char *cur = w->samples[0], *above = w->samples[1];
@@ -136,6 +133,23 @@ static void filter_rows(const orr_png_rows *src, worker *w, const layout *l, int
         w->samples[0] = above;
         w->samples[1] = cur;
     }
+}
+
+/* Rows [from, to) filtered into w->filtered. A thread given the band after
+ * its last one (the bands are handed out a few in a row) moves that band's
+ * last rows, which prime this one, to the front instead of grading them
+ * again, and has their last row's samples for the row above. */
+static void filter_band(const orr_png_rows *src, worker *w, const layout *l, int from, int y0, int to)
+{
+    int kept = 0;
+    if (w->done_to == y0 && w->done_from <= from) {
+        kept = y0 - from;
+        memmove(w->filtered, w->filtered + (size_t)(from - w->done_from) * l->row_bytes,
+                (size_t)kept * l->row_bytes);
+    }
+    filter_rows(src, w, l, from + kept, to, w->filtered + (size_t)kept * l->row_bytes, kept > 0);
+    w->done_from = from;
+    w->done_to = to;
 }
 
 /* A band's deflated bytes, and the checksum and length of its filtered
@@ -154,7 +168,7 @@ static int deflate_band(const orr_png_rows *src, worker *w, const layout *l, int
     if (y1 > src->height)
         y1 = src->height;
     int from = y0 > l->prime_rows ? y0 - l->prime_rows : 0;
-    filter_rows(src, w, l, from, y1);
+    filter_band(src, w, l, from, y0, y1);
     size_t before = (size_t)(y0 - from) * l->row_bytes, prime = before > WINDOW ? WINDOW : before;
     unsigned char *data = w->filtered + before;
     out->raw_len = (size_t)(y1 - y0) * l->row_bytes;
@@ -245,7 +259,7 @@ orr_status orr_png_write_idat(FILE *fp, const orr_png_rows *src, const char *pat
 #pragma omp barrier
         for (int first = 0; first < l.nbands && failed == OK; first += WAVE) {
             int n = l.nbands - first < WAVE ? l.nbands - first : WAVE;
-#pragma omp for schedule(dynamic, 1)
+#pragma omp for schedule(dynamic, RUN)
             for (int k = 0; k < n; k++)
                 if (!deflate_band(src, &w, &l, first + k, &bands[k])) {
 #pragma omp atomic write

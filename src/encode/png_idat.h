@@ -7,20 +7,24 @@
  * would), ended with Z_SYNC_FLUSH (the last with Z_FINISH), the checksum
  * of the whole made from the bands' with adler32_combine. The file's bytes
  * are therefore the same on any number of threads. Every row uses the "up"
- * filter (the first, which has no row above, none) at zlib level 3, as
- * libpng was set to before (docs/performance.md, "A production frame"). */
+ * filter (the first, which has no row above, none) and zlib's run-length
+ * strategy (Z_RLE: matches at distance 1 only), half level 3's CPU for
+ * files within a few per cent of its size (docs/output.md#png). */
 #ifndef ORR_ENCODE_PNG_IDAT_H
 #define ORR_ENCODE_PNG_IDAT_H
 
+#include <stdint.h>
 #include <stdio.h>
 
 #include "core/error.h"
 
-/* Where the rows' values come from: the whole picture in memory, or a
- * function that makes one row on demand (called from several threads at
- * once, each row possibly more than once), so a picture need never be held
- * whole. Values are in [0, 1] (clipped; NaN is 0), `channels` per pixel. */
-typedef void (*orr_png_row_fn)(void *ctx, int y, float *row);
+/* Where the rows come from: the whole picture's values in memory, in
+ * [0, 1] (clipped; NaN is 0) and rounded to codes by orr_code_of
+ * (core/srgb_code.h); or a function that makes one row's codes on demand,
+ * width * channels values in [0, 2^bits - 1] (called from several threads
+ * at once, each row possibly more than once; scratch is room for width *
+ * channels floats), so a picture need never be held whole. */
+typedef void (*orr_png_row_fn)(void *ctx, int y, float *scratch, uint16_t *codes);
 
 typedef struct orr_png_rows {
     int width, height, channels, bits; /* channels 3 or 4, bits 8 or 16 */

@@ -70,7 +70,10 @@ orr_status orr_grade_begin(const orr_grade *g, const orr_plane *planes, orr_grad
     return orr_fail(err, ORR_ERR_INTERNAL, "unknown grade %d", (int)g->kind);
 }
 
-void orr_graded_row(const orr_graded *gr, int y, float *rgb)
+/* Row y's values before any sRGB encoding; 1 when they are linear and want
+ * it, 0 when they are display values already (a colour map's, or
+ * grade.linear). */
+static int graded_values(const orr_graded *gr, int y, float *rgb)
 {
     const orr_grade *g = &gr->grade;
     const size_t w = (size_t)gr->planes[0].width, at = (size_t)y * w;
@@ -91,12 +94,26 @@ void orr_graded_row(const orr_graded *gr, int y, float *rgb)
         orr_stretch_span(g->stretch, gr->white, gr->planes[0].data + at, w, t);
         for (size_t i = 0; i < w; i++)
             orr_colormap_lookup(g->colormap, t[i], &rgb[3 * i]);
-        return; /* colour maps are sRGB already */
+        return 0; /* colour maps are sRGB already */
     }
     }
-    if (!g->linear)
-        for (size_t i = 0; i < 3 * w; i++)
+    return !g->linear;
+}
+
+void orr_graded_row(const orr_graded *gr, int y, float *rgb)
+{
+    if (graded_values(gr, y, rgb))
+        for (size_t i = 0; i < 3 * (size_t)gr->planes[0].width; i++)
             rgb[i] = (float)orr_srgb_encode(rgb[i]);
+}
+
+void orr_graded_row_codes(const orr_graded *gr, int y, int bits, float *scratch, uint16_t *codes)
+{
+    size_t n = 3 * (size_t)gr->planes[0].width;
+    if (graded_values(gr, y, scratch))
+        orr_srgb_codes_of(scratch, n, bits, codes);
+    else
+        orr_codes_of(scratch, n, bits, codes);
 }
 
 void orr_graded_picture(const orr_graded *gr, float *rgb)

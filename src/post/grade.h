@@ -8,6 +8,7 @@
 #include "core/colourimetry.h"
 #include "core/error.h"
 #include "core/plane.h"
+#include "core/srgb_code.h"
 #include "frame/projection.h"
 #include "post/colormap.h"
 #include "post/colour.h"
@@ -56,6 +57,11 @@ orr_status orr_grade_begin(const orr_grade *g, const orr_plane *planes, orr_grad
 
 /* Row y of the picture: width * 3 values into rgb. */
 void orr_graded_row(const orr_graded *gr, int y, float *rgb);
+
+/* Row y of the picture as codes of `bits` (8 or 16), width * 3 of them:
+ * the codes orr_code_of gives orr_graded_row's values (core/srgb_code.h),
+ * made without the sRGB curve's pow. scratch holds width * 3 floats. */
+void orr_graded_row_codes(const orr_graded *gr, int y, int bits, float *scratch, uint16_t *codes);
 
 /* Every row, on every thread: width * height * 3 values into rgb. */
 void orr_graded_picture(const orr_graded *gr, float *rgb);

@@ -97,24 +97,25 @@ static orr_image_meta view_meta(const view_state *v, const char *desc, orr_view_
 typedef struct picture_rows {
     const orr_graded *graded;
     const orr_projection *proj;
-    int alpha;
+    int alpha, bits;
 } picture_rows;
 
-static void picture_row(void *ctx, int y, float *row)
+static void picture_row(void *ctx, int y, float *scratch, uint16_t *codes)
 {
     const picture_rows *p = ctx;
-    orr_graded_row(p->graded, y, row);
+    orr_graded_row_codes(p->graded, y, p->bits, scratch, codes);
     if (!p->alpha)
         return;
-    /* From RGB to RGBA in place, from the end: pixel i's four values start
+    /* From RGB to RGBA in place, from the end: pixel i's four codes start
      * at 4 i, after the three of every pixel before it, still unread. */
+    uint16_t opaque = (uint16_t)((1u << p->bits) - 1);
     for (int i = p->proj->width - 1; i >= 0; i--) {
         int on = orr_projection_pixel_in_map(p->proj, i, y);
-        float r = row[3 * i], g = row[3 * i + 1], b = row[3 * i + 2];
-        row[4 * i] = on ? r : 0.0f;
-        row[4 * i + 1] = on ? g : 0.0f;
-        row[4 * i + 2] = on ? b : 0.0f;
-        row[4 * i + 3] = on ? 1.0f : 0.0f;
+        uint16_t r = codes[3 * i], g = codes[3 * i + 1], b = codes[3 * i + 2];
+        codes[4 * i] = on ? r : 0;
+        codes[4 * i + 1] = on ? g : 0;
+        codes[4 * i + 2] = on ? b : 0;
+        codes[4 * i + 3] = on ? opaque : 0;
     }
 }
 
@@ -146,7 +147,7 @@ orr_status orr_view_write_pictures(view_state *v, orr_error *err)
     const char *path;
     if (!st && s->output.write_png) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
-        picture_rows rows = {&gr, &v->proj, s->output.alpha_mask};
+        picture_rows rows = {&gr, &v->proj, s->output.alpha_mask, s->output.png_bits};
         int channels = s->output.alpha_mask ? 4 : 3;
         orr_png_rows src = {v->proj.width, v->proj.height, channels, s->output.png_bits, rgba ? rgba : rgb,
                             picture_row, &rows};

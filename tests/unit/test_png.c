@@ -8,6 +8,7 @@
 
 #include "tmpdir.h"
 #include "check.h"
+#include "core/srgb_code.h"
 #include "encode/png.h"
 
 enum { W = 4, H = 2 };
@@ -214,14 +215,16 @@ static float *band_picture(int channels)
 }
 
 typedef struct row_ctx {
-    int channels;
+    int channels, bits;
 } row_ctx;
 
-static void make_row(void *ctx, int y, float *row)
+static void make_row(void *ctx, int y, float *scratch, uint16_t *codes)
 {
     const row_ctx *c = ctx;
-    for (size_t i = 0; i < (size_t)BW * (size_t)c->channels; i++)
-        row[i] = band_value(y, i);
+    size_t n = (size_t)BW * (size_t)c->channels;
+    for (size_t i = 0; i < n; i++)
+        scratch[i] = band_value(y, i);
+    orr_codes_of(scratch, n, c->bits, codes);
 }
 
 static unsigned char *file_bytes(const char *path, long *size)
@@ -277,7 +280,7 @@ static void bands_alike(int channels, int bits)
     orr_error err;
     orr_error_clear(&err);
     int saved = omp_get_max_threads();
-    row_ctx ctx = {channels};
+    row_ctx ctx = {channels, bits};
     for (int k = 0; k < 3; k++) {
         snprintf(path[k], sizeof path[k], "%s/bands-%d.png", tmpdir, k);
         omp_set_num_threads(k == 0 ? 1 : 3);
