@@ -222,8 +222,11 @@ static void disc_cumulative(target *t, double cx, double cy, double h, float w)
  * Most particles of a dense region are smaller than a pixel or two. For
  * them the general path's set-up (footprint, clipping, variable-length
  * loops, a call a row) costs more than the corners themselves, so a
- * footprint of at most FIXED_SMALL - 1 (or FIXED_LARGE - 1) pixels a side,
- * inside the image, takes a corner grid of that fixed width: loops of known
+ * footprint of at most 1, 2, FIXED_SMALL - 1, FIXED_MID - 1 or
+ * FIXED_LARGE - 1 pixels a side, inside the image, takes a corner grid of
+ * the next of those widths (the narrower the grid, the fewer padding
+ * corners; 6 rather than 8 was 10-25 % faster at h_pix = 0.6-1.1, docs/
+ * performance.md "Seventh reading"): loops of known
  * length that GCC unrolls and vectorises, in float (the positions are
  * floats already). Only the footprint's own rows are computed and touched
  * (each row is a cache line to fetch); its columns are padded to the fixed
@@ -232,6 +235,7 @@ static void disc_cumulative(target *t, double cx, double cy, double h, float w)
  * same corner formula, same telescoping as disc_cumulative: the whole
  * kernel adds up to exactly 1. */
 #define FIXED_SMALL 4
+#define FIXED_MID 6
 #define FIXED_LARGE 8
 
 /* Corners k < n of one axis, at image coordinates e0 + k, in units of h
@@ -259,6 +263,7 @@ static inline void fixed_axis(float c, float inv_h, float e0, int n, int edge, i
 static inline void disc_fixed(target *t, float cx, float cy, float h, float w, int x0, int y0, int nx, int ny,
                               const int n)
 {
+    ny = ny < n ? ny : n - 1; /* (it is: the bound is for the compiler) */
     int cell_x[FIXED_LARGE], cell_y[FIXED_LARGE];
     float frac_x[FIXED_LARGE], frac_y[FIXED_LARGE], sign_x[FIXED_LARGE], sign_y[FIXED_LARGE];
     const float inv_h = 1.0f / h;
@@ -320,8 +325,14 @@ static int disc_small(target *t, float cx, float cy, float h, float w, const fla
     const int n = f->nx > f->ny ? f->nx : f->ny, width = t->plane->width;
     if (!((float)ORR_KERNEL_SUPPORT * h < 0.5f * FIXED_LARGE))
         return 0;
-    if (n < FIXED_SMALL && f->x0 + FIXED_SMALL - 1 <= width)
+    if (n == 1)
+        disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, 2);
+    else if (n == 2)
+        disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, 3);
+    else if (n < FIXED_SMALL && f->x0 + FIXED_SMALL - 1 <= width)
         disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, FIXED_SMALL);
+    else if (n < FIXED_MID && f->x0 + FIXED_MID - 1 <= width)
+        disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, FIXED_MID);
     else if (n < FIXED_LARGE && f->x0 + FIXED_LARGE - 1 <= width)
         disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, FIXED_LARGE);
     else
