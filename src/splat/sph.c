@@ -9,6 +9,11 @@
 #include "splat/kernel_row.h"
 #include "splat/sky_cores.h"
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(ORR_NO_CLONES)
+#define HAVE_SEPARABLE_AVX512 1
+#include <immintrin.h>
+#endif
+
 /* How a particle is drawn (docs/smoothing.md has the measurements behind
  * the thresholds):
  *
@@ -217,8 +222,11 @@ static void disc_cumulative(target *t, double cx, double cy, double h, float w)
  * Most particles of a dense region are smaller than a pixel or two. For
  * them the general path's set-up (footprint, clipping, variable-length
  * loops, a call a row) costs more than the corners themselves, so a
- * footprint of at most FIXED_SMALL - 1 (or FIXED_LARGE - 1) pixels a side,
- * inside the image, takes a corner grid of that fixed width: loops of known
+ * footprint of at most 1, 2, FIXED_SMALL - 1, FIXED_MID - 1 or
+ * FIXED_LARGE - 1 pixels a side, inside the image, takes a corner grid of
+ * the next of those widths (the narrower the grid, the fewer padding
+ * corners; 6 rather than 8 was 10-25 % faster at h_pix = 0.6-1.1, docs/
+ * performance.md "Seventh reading"): loops of known
  * length that GCC unrolls and vectorises, in float (the positions are
  * floats already). Only the footprint's own rows are computed and touched
  * (each row is a cache line to fetch); its columns are padded to the fixed
@@ -227,6 +235,7 @@ static void disc_cumulative(target *t, double cx, double cy, double h, float w)
  * same corner formula, same telescoping as disc_cumulative: the whole
  * kernel adds up to exactly 1. */
 #define FIXED_SMALL 4
+#define FIXED_MID 6
 #define FIXED_LARGE 8
 
 /* Corners k < n of one axis, at image coordinates e0 + k, in units of h
@@ -254,6 +263,7 @@ static inline void fixed_axis(float c, float inv_h, float e0, int n, int edge, i
 static inline void disc_fixed(target *t, float cx, float cy, float h, float w, int x0, int y0, int nx, int ny,
                               const int n)
 {
+    ny = ny < n ? ny : n - 1; /* (it is: the bound is for the compiler) */
     int cell_x[FIXED_LARGE], cell_y[FIXED_LARGE];
     float frac_x[FIXED_LARGE], frac_y[FIXED_LARGE], sign_x[FIXED_LARGE], sign_y[FIXED_LARGE];
     const float inv_h = 1.0f / h;
@@ -261,7 +271,7 @@ static inline void disc_fixed(target *t, float cx, float cy, float h, float w, i
     fixed_axis(cy, inv_h, (float)y0, n, ny, cell_y, frac_y, sign_y);
     float grid[FIXED_LARGE][FIXED_LARGE];
     const float *table = t->kernel->cumulative;
-    for (int l = 0; l <= ny; l++) {
+    for (int l = 1; l <= ny; l++) {
         const float *g0 = table + (size_t)cell_y[l] * (ORR_KERNEL_NG + 1), *g1 = g0 + ORR_KERNEL_NG + 1;
         const float fy = frac_y[l], sy = sign_y[l];
         for (int m = 0; m < n; m++) {
@@ -272,6 +282,11 @@ static inline void disc_fixed(target *t, float cx, float cy, float h, float w, i
             grid[l][m] = sy * sign_x[m] * (lo + fy * (hi - lo));
         }
     }
+    /* The first and last rows of corners both lie on the support's edge,
+     * at the same table entry with opposite signs: the first is the last
+     * negated, bit for bit. */
+    for (int m = 0; m < n; m++)
+        grid[0][m] = -grid[ny][m];
     const int width = t->plane->width;
     float *row = t->plane->data + (size_t)y0 * (size_t)width + (size_t)x0;
     for (int l = 0; l < ny; l++, row += width)
@@ -310,8 +325,14 @@ static int disc_small(target *t, float cx, float cy, float h, float w, const fla
     const int n = f->nx > f->ny ? f->nx : f->ny, width = t->plane->width;
     if (!((float)ORR_KERNEL_SUPPORT * h < 0.5f * FIXED_LARGE))
         return 0;
-    if (n < FIXED_SMALL && f->x0 + FIXED_SMALL - 1 <= width)
+    if (n == 1)
+        disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, 2);
+    else if (n == 2)
+        disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, 3);
+    else if (n < FIXED_SMALL && f->x0 + FIXED_SMALL - 1 <= width)
         disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, FIXED_SMALL);
+    else if (n < FIXED_MID && f->x0 + FIXED_MID - 1 <= width)
+        disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, FIXED_MID);
     else if (n < FIXED_LARGE && f->x0 + FIXED_LARGE - 1 <= width)
         disc_fixed(t, cx, cy, h, w, f->x0, f->y0, f->nx, f->ny, FIXED_LARGE);
     else
@@ -409,13 +430,168 @@ static int separable_draw(const orr_kernel *k, float cx, float cy, float inv_h, 
     return 1;
 }
 
+#ifdef HAVE_SEPARABLE_AVX512
+/* separable_draw with AVX-512 written out. The compiler's version stores
+ * each corner's E_k as one 8-float vector and reads them back as 16-float
+ * vectors (the differences, the transpose of the columns, the rows'
+ * signs), each such read spanning two stores, which the core cannot
+ * forward; and it leaves the transpose (128 scalar moves) and each image
+ * row's tail to scalar loops. Here the corners' differences stay in
+ * registers, the columns are turned round by three rounds of two-register
+ * permutes, and a row goes into the image as masked 16-pixel vectors. The
+ * weights, their clamping, the sixteen partial sums and the image
+ * additions are the same operations in the same order: the same bits
+ * (checked on the pair's 10^7-particle image and the tests' images). */
+
+/* orr_kernel_separable_at at x, as one vector. */
+__attribute__((target("avx512f"))) static inline __m256 separable_at8(const orr_kernel *k, float x)
+{
+    const float support = (float)ORR_KERNEL_SUPPORT;
+    const float ax = x < 0.0f ? (x > -support ? -x : support) : (x < support ? x : support);
+    const float t = ax * (float)(ORR_KERNEL_SEP_N / ORR_KERNEL_SUPPORT);
+    const int i = (int)t;
+    const float *row = k->separable + (size_t)i * ORR_KERNEL_SEP_RANK;
+    const __m256 lo = _mm256_loadu_ps(row), hi = _mm256_loadu_ps(row + ORR_KERNEL_SEP_RANK);
+    const __m256 f = _mm256_set1_ps(t - (float)i), sign = _mm256_set1_ps(x < 0.0f ? -1.0f : 1.0f);
+    return _mm256_mul_ps(sign, _mm256_add_ps(lo, _mm256_mul_ps(f, _mm256_sub_ps(hi, lo))));
+}
+
+/* idx of one output of a transpose round: lane L takes lane (L with bit j
+ * set to `to`) of the first input (L's bit j clear) or of the second. */
+__attribute__((target("avx512f"))) static inline __m512i swap_index(int j, int to)
+{
+    int v[16];
+    for (int L = 0; L < 16; L++)
+        v[L] = (L >> j & 1 ? 16 : 0) + (to ? L | 1 << j : L & ~(1 << j));
+    return _mm512_loadu_si512(v);
+}
+
+/* The last round also puts the columns in order: output lane (m3 m2 m1 m0)
+ * of rank half `to` from input lane (m0, to, m2, m1) of the input with m3. */
+__attribute__((target("avx512f"))) static inline __m512i last_index(int to)
+{
+    int v[16];
+    for (int L = 0; L < 16; L++)
+        v[L] = (L >> 3 & 1 ? 16 : 0) + ((L & 1) << 3 | to << 2 | (L >> 2 & 1) << 1 | (L >> 1 & 1));
+    return _mm512_loadu_si512(v);
+}
+
+/* Columns m0 .. m0 + 15 of the footprint (nx columns; the last corner's E
+ * in *prev on entry and exit): the differences of E_k between their
+ * corners into a[r * SEP_ROW + m0 + j], zero from column nx on. */
+__attribute__((target("avx512f"))) static void separable_columns(const orr_kernel *k, float cx, float inv_h, int x0,
+                                                                int m0, int nx, __m256 *prev, float *a)
+{
+    __m256 d[SEP_LANES];
+    for (int j = 0; j < SEP_LANES; j++) {
+        const int m = m0 + j;
+        if (m >= nx) {
+            d[j] = _mm256_setzero_ps();
+            continue;
+        }
+        const __m256 cur = separable_at8(k, ((float)(x0 + m + 1) - cx) * inv_h);
+        d[j] = _mm256_sub_ps(cur, *prev);
+        *prev = cur;
+    }
+    /* Register p holds columns 2p and 2p + 1: registers (m3 m2 m1), lanes
+     * (m0 r2 r1 r0). Swap m1 with r0, m2 with r1, then m3 with r2, ending
+     * in registers (r2 r1 r0), lanes m. */
+    __m512 z[8], t[8];
+    for (int p = 0; p < 8; p++)
+        z[p] = _mm512_castpd_ps(_mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_castps_pd(d[2 * p])),
+                                                   _mm256_castps_pd(d[2 * p + 1]), 1));
+    for (int j = 0; j < 2; j++) {
+        const __m512i lo = swap_index(j, 0), hi = swap_index(j, 1);
+        for (int p = 0; p < 8; p++)
+            if (!(p >> j & 1)) {
+                t[p] = _mm512_permutex2var_ps(z[p], lo, z[p | 1 << j]);
+                t[p | 1 << j] = _mm512_permutex2var_ps(z[p], hi, z[p | 1 << j]);
+            }
+        for (int p = 0; p < 8; p++)
+            z[p] = t[p];
+    }
+    const __m512i lo = last_index(0), hi = last_index(1);
+    for (int p = 0; p < 4; p++) {
+        _mm512_storeu_ps(a + (size_t)p * SEP_ROW + m0, _mm512_permutex2var_ps(z[p], lo, z[p | 4]));
+        _mm512_storeu_ps(a + (size_t)(p | 4) * SEP_ROW + m0, _mm512_permutex2var_ps(z[p], hi, z[p | 4]));
+    }
+}
+
+__attribute__((target("avx512f"))) static int separable_draw_avx512(const orr_kernel *k, float cx, float cy,
+                                                                   float inv_h, int x0, int y0, int nx, int ny,
+                                                                   orr_plane *plane, float w)
+{
+    /* The image's rows are mostly misses of the core's caches (a 1024^2
+     * image is twice its L2): asked for now, they arrive while the weights
+     * are worked out. */
+    for (int l = 0; l < ny; l++) {
+        const float *row = plane->data + (size_t)(y0 + l) * (size_t)plane->width + (size_t)x0;
+        ORR_PREFETCH_FOR_WRITE(row);
+        ORR_PREFETCH_FOR_WRITE(row + nx - 1);
+    }
+    float b[SEP_ROW * SEP_RANK], a[SEP_RANK * SEP_ROW], buf[SEP_ROW * SEP_ROW];
+    const __m256 sign = _mm256_loadu_ps(k->separable_sign);
+    __m256 prev = separable_at8(k, ((float)y0 - cy) * inv_h);
+    for (int l = 0; l < ny; l++) {
+        const __m256 cur = separable_at8(k, ((float)(y0 + l + 1) - cy) * inv_h);
+        _mm256_storeu_ps(b + l * SEP_RANK, _mm256_mul_ps(_mm256_sub_ps(cur, prev), sign));
+        prev = cur;
+    }
+    const int nxp = (nx + SEP_LANES - 1) / SEP_LANES * SEP_LANES;
+    prev = separable_at8(k, ((float)x0 - cx) * inv_h);
+    for (int m0 = 0; m0 < nxp; m0 += SEP_LANES)
+        separable_columns(k, cx, inv_h, x0, m0, nx, &prev, a);
+    const __m512 zero = _mm512_setzero_ps();
+    __m512 acc = zero;
+    for (int l = 0; l < ny; l++) {
+        const float *bl = b + l * SEP_RANK;
+        for (int m0 = 0; m0 < nxp; m0 += SEP_LANES) {
+            __m512 v = _mm512_mul_ps(_mm512_loadu_ps(a + m0), _mm512_set1_ps(bl[0]));
+            for (int r = 1; r < SEP_RANK; r++)
+                v = _mm512_add_ps(v, _mm512_mul_ps(_mm512_loadu_ps(a + r * SEP_ROW + m0), _mm512_set1_ps(bl[r])));
+            v = _mm512_maskz_mov_ps(_mm512_cmp_ps_mask(v, zero, _CMP_GT_OQ), v);
+            _mm512_storeu_ps(buf + l * SEP_ROW + m0, v);
+            acc = _mm512_add_ps(acc, v);
+        }
+    }
+    float sums[SEP_LANES];
+    _mm512_storeu_ps(sums, acc);
+    double total = 0.0;
+    for (int j = 0; j < SEP_LANES; j++)
+        total += sums[j];
+    if (!(total > 0.0))
+        return 0;
+    const __m512 scale = _mm512_set1_ps((float)(w / total));
+    for (int l = 0; l < ny; l++) {
+        float *row = plane->data + (size_t)(y0 + l) * (size_t)plane->width + (size_t)x0;
+        for (int m0 = 0; m0 < nx; m0 += SEP_LANES) {
+            const int left = nx - m0;
+            const __mmask16 live = left >= SEP_LANES ? (__mmask16)0xffff : (__mmask16)((1u << left) - 1u);
+            const __m512 o = _mm512_maskz_loadu_ps(live, row + m0);
+            const __m512 add = _mm512_mul_ps(scale, _mm512_loadu_ps(buf + l * SEP_ROW + m0));
+            _mm512_mask_storeu_ps(row + m0, live, _mm512_add_ps(o, add));
+        }
+    }
+    return 1;
+}
+#endif
+
 /* Deposits a kernel of h pixels (h < CUMULATIVE_MAX) at (cx, cy), with
  * footprint f, by the separable expansion; returns 0, having done nothing,
  * if it does not fit the buffers (it always should). */
 static int disc_separable(target *t, float cx, float cy, float h, float w, const flat_footprint *f)
 {
-    if (!(h < (float)CUMULATIVE_MAX) || f->nx > 4 * CUMULATIVE_MAX + 1 || f->ny > 4 * CUMULATIVE_MAX + 1 ||
-        !separable_draw(t->kernel, cx, cy, 1.0f / h, f->x0, f->y0, f->nx, f->ny, t->plane, w))
+    if (!(h < (float)CUMULATIVE_MAX) || f->nx > 4 * CUMULATIVE_MAX + 1 || f->ny > 4 * CUMULATIVE_MAX + 1)
+        return 0;
+#ifdef HAVE_SEPARABLE_AVX512
+    if (__builtin_cpu_supports("avx512f")) {
+        if (!separable_draw_avx512(t->kernel, cx, cy, 1.0f / h, f->x0, f->y0, f->nx, f->ny, t->plane, w))
+            return 0;
+        t->in += w;
+        return 1;
+    }
+#endif
+    if (!separable_draw(t->kernel, cx, cy, 1.0f / h, f->x0, f->y0, f->nx, f->ny, t->plane, w))
         return 0;
     t->in += w;
     return 1;
@@ -1544,6 +1720,29 @@ static void healpix_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane 
     add_tally(stats, &tally, b->n);
 }
 
+/* A block's kernels land anywhere on the image, and a 1024^2 image is
+ * twice a core's L2 cache, so the rows of a small kernel's footprint are
+ * mostly misses: they are asked for PREFETCH_AHEAD particles ahead.
+ * Kernels of the fixed grids only (support under PREFETCH_SUPPORT pixels:
+ * at most 9 rows); larger ones ask for their own rows (separable_draw). */
+#define PREFETCH_AHEAD 4
+#define PREFETCH_SUPPORT 4.0f
+static void prefetch_footprint(const orr_plane *plane, const orr_sph_block *b, size_t i)
+{
+    if (!b->visible[i])
+        return;
+    const float r = (float)ORR_KERNEL_SUPPORT * b->h[i] * b->scale[i], px = b->px[i], py = b->py[i];
+    if (!(r < PREFETCH_SUPPORT && px - r >= 0.0f && py - r >= 0.0f && px + r < (float)plane->width &&
+          py + r < (float)plane->height))
+        return;
+    const int i0 = (int)(px - r), i1 = (int)(px + r), j1 = (int)(py + r);
+    for (int j = (int)(py - r); j <= j1; j++) {
+        const float *row = plane->data + (size_t)j * (size_t)plane->width;
+        ORR_PREFETCH_FOR_WRITE(row + i0);
+        ORR_PREFETCH_FOR_WRITE(row + i1);
+    }
+}
+
 void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane, orr_deposit_stats *stats)
 {
     if (orr_projection_traits_of(s->proj.kind).pixel_table) {
@@ -1559,6 +1758,8 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
     large_list list = {s->sky || !b->n ? NULL : malloc(b->n * sizeof *list.k), 0};
     block_tally tally = {0};
     for (size_t i = 0; i < b->n; i++) {
+        if (!s->sky && i + PREFETCH_AHEAD < b->n)
+            prefetch_footprint(plane, b, i + PREFETCH_AHEAD);
         if (!tally_visible(b, i, &tally))
             continue;
         double hpix = (double)b->h[i] * b->scale[i];
