@@ -14,7 +14,8 @@
  * cost). A checksum of the positions and velocities shows that the runs of one recipe on 1
  * and on all threads gave the same particles. --components M adds the CPU
  * nanoseconds a Milky Way disc, bulge and halo particle costs, M of each
- * drawn by the tabulated samplers and M / 10 by the exact ones. */
+ * drawn as the model draws them (orr_model_galaxy_sample_batch: batches of
+ * the tabulated recipe) and M / 10 by the exact one-particle samplers. */
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
