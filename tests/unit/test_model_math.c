@@ -1,7 +1,7 @@
 /* The model's vectorisable maths (src/source/models/model_math.h,
- * orr_sincos_turn in rng.h) against the C library: the logarithm and the
- * sines and cosines to within a few units of the last place, and the
- * uniform deviate from bits equal to orr_rng_uniform's. */
+ * orr_sincos_turn in rng.h) against the C library: the logarithm, the
+ * exponential and the sines and cosines to within a few units of the
+ * last place, and the uniform deviate from bits equal to orr_rng_uniform's. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -35,6 +35,22 @@ static void test_log_against_libm(void)
         worst = ref == 0.0 ? fmax(worst, fabs(got)) : fmax(worst, fabs(got - ref) / fabs(ref));
     }
     fprintf(stderr, "  orr_log_poly within %.3g of libm's log (relative)\n", worst);
+    CHECK(worst <= 5e-16);
+}
+
+/* e^x for x over [-700, 700] and over [-1, 1] (the bulges' ln(r_eq / r)):
+ * within 5e-16 of libm's exp, relative. */
+static void test_exp_against_libm(void)
+{
+    orr_rng r = orr_rng_seed(6, 0, 0);
+    double worst = 0.0;
+    for (int i = 0; i < 1000000; i++) {
+        double u = orr_rng_uniform(&r), xs[2] = {1400.0 * u - 700.0, 2.0 * u - 1.0};
+        for (int k = 0; k < 2; k++)
+            worst = fmax(worst, fabs(orr_exp_poly(xs[k]) - exp(xs[k])) / exp(xs[k]));
+    }
+    CHECK(orr_exp_poly(0.0) == 1.0);
+    fprintf(stderr, "  orr_exp_poly within %.3g of libm's exp (relative)\n", worst);
     CHECK(worst <= 5e-16);
 }
 
@@ -72,6 +88,7 @@ static void test_uniform_of_bits(void)
 int main(void)
 {
     RUN(test_log_against_libm);
+    RUN(test_exp_against_libm);
     RUN(test_sincos_turn_against_libm);
     RUN(test_uniform_of_bits);
     return check_summary();

@@ -1,5 +1,5 @@
 /* Vectorisable maths for the model's batch samplers (model_batch.c): a
- * natural logarithm and a uniform deviate from plain IEEE operations and
+ * natural logarithm, an exponential and a uniform deviate from plain IEEE operations and
  * integer bit work, with no branch and no library call, so a loop over
  * particles that calls them is compiled to vector instructions (libm's
  * log is a call per lane), and gives the same bits on any machine and in
@@ -54,6 +54,28 @@ static ORR_ALWAYS_INLINE double orr_log_poly(double x)
     const double ln2_hi = 6.93147180369123816490e-01, ln2_lo = 1.90821492927058770002e-10;
     double two_f = f + f;
     return e * ln2_hi + (two_f + (two_f * s * p + e * ln2_lo));
+}
+
+/* e^x for |x| < 700: x = k ln 2 + t, k the nearest integer to x / ln 2
+ * (rounded by adding and taking away 1.5 x 2^52), |t| <= ln 2 / 2, e^t by
+ * its Taylor series to t^14 (the next term is below 3 x 10^-19), 2^k by
+ * the exponent's bits. */
+static ORR_ALWAYS_INLINE double orr_exp_poly(double x)
+{
+    const double shifter = 6755399441055744.0; /* 1.5 x 2^52: k in the low bits */
+    const double ln2_hi = 6.93147180369123816490e-01, ln2_lo = 1.90821492927058770002e-10;
+    double shifted = x * 1.4426950408889634 + shifter, k = shifted - shifter;
+    double t = (x - k * ln2_hi) - k * ln2_lo, t2 = t * t, t4 = t2 * t2, t8 = t4 * t4;
+    /* Estrin's scheme, the coefficients 1 / n! in pairs */
+    double c01 = 1.0 + t, c23 = 1.0 / 2 + t * (1.0 / 6), c45 = 1.0 / 24 + t * (1.0 / 120);
+    double c67 = 1.0 / 720 + t * (1.0 / 5040), c89 = 1.0 / 40320 + t * (1.0 / 362880);
+    double c1011 = 1.0 / 3628800 + t * (1.0 / 39916800), c1213 = 1.0 / 479001600 + t * (1.0 / 6227020800.0);
+    double c14 = 1.0 / 87178291200.0;
+    double p = ((c01 + t2 * c23) + t4 * (c45 + t2 * c67)) + t8 * ((c89 + t2 * c1011) + t4 * (c1213 + t2 * c14));
+    /* 2^k: k + 1023 into the exponent field (k's bits are the low bits of
+     * `shifted` less the shifter's, modulo 2^64) */
+    uint64_t kbits = orr_bits_of(shifted) - orr_bits_of(shifter);
+    return p * orr_double_of((kbits + 1023) << 52);
 }
 
 /* The top 53 bits of a SplitMix64 output as a uniform double in (0, 1):
