@@ -1,15 +1,17 @@
 /* The model's particles drawn a batch at a time (model_galaxy.h;
- * docs/model.md, "Tables"): the same draws as the one-particle samplers
+ * docs/model.md, "Batches"): the same draws as the one-particle samplers
  * (orr_model_galaxy_sample_sphere_fast and _disc_fast), in loops over the
- * particles of a batch that the compiler turns into vector instructions --
- * the random numbers, the logarithms (model_math.h), the sines and cosines
+ * particles of a batch that the compiler turns into vector instructions
+ * (`omp simd`, in AVX-512, AVX2 and SSE2 copies) -- the random numbers,
+ * the logarithms and exponentials (model_math.h), the sines and cosines
  * (orr_sincos_turn) and the tables' interpolations, gathered lane by lane.
  *
  * A particle that does not take the common path -- a radius beyond a
  * table's end, a disc star redrawn beyond the truncation or in a cell left
- * to the exact functions -- is marked in the vector loop and drawn again,
- * whole, by the one-particle sampler from the start of its own sequence:
- * still a pure function of (seed, index). */
+ * to the exact functions, a bulge star rejected three times -- is marked
+ * in the vector loop and drawn again, whole, by the one-particle sampler
+ * from the start of its own sequence: still a pure function of (seed,
+ * index). */
 #include "source/models/model_galaxy.h"
 #include "source/models/model_math.h"
 
@@ -24,9 +26,10 @@ static ORR_ALWAYS_INLINE double uniform_at(uint64_t key, uint64_t j)
     return orr_uniform_of_bits(orr_rng_mix(key + (j + 1) * ORR_RNG_GAMMA));
 }
 
+/* orr_rng_seed_keyed's state: the key of particle `index`'s sequence. */
 static ORR_ALWAYS_INLINE uint64_t key_of(uint64_t seed_key, uint64_t index)
 {
-    return orr_rng_mix(orr_rng_mix(seed_key + index) + 0);
+    return orr_rng_seed_keyed(seed_key, index, 0).state;
 }
 
 /* A linear interpolation in a table of doubles. */
