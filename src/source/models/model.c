@@ -395,6 +395,52 @@ static void fill_slot(const model_state *m, uint64_t index, orr_chunk *c, size_t
     c->extra[4].data[k] = p.e0;
 }
 
+/* Slots k .. k + n - 1 of chunk c, particles index .. index + n - 1 of
+ * one block (one component of one galaxy): drawn a batch at a time. */
+static void fill_block_slots(const model_state *m, const block *b, uint64_t index, orr_chunk *c, size_t k, size_t n)
+{
+    const galaxy *g = &m->gal[b->gal];
+    for (size_t done = 0; done < n;) {
+        size_t at = k + done, count = n - done < ORR_MODEL_BATCH ? n - done : ORR_MODEL_BATCH;
+        particle_rows rows = {c->x + at,
+                              c->y + at,
+                              c->z + at,
+                              c->extra[0].data + at,
+                              c->extra[1].data + at,
+                              c->extra[2].data + at,
+                              c->extra[3].data + at,
+                              c->extra[4].data + at};
+        orr_model_galaxy_sample_batch(g, b->comp, m->seed_key, index + done, (int)count, &rows);
+        for (size_t i = at; i < at + count; i++) {
+            c->mass[i] = b->mass;
+            c->id[i] = particle_id(m, index + (i - k));
+            c->type[i] = b->type;
+        }
+        done += count;
+    }
+}
+
+/* Slots k .. k + n - 1 of chunk c, particles index .. index + n - 1: the
+ * markers and the gas one by one, each block's run of the model's own
+ * particles in batches (the exact recipe one by one). */
+static void fill_slots(const model_state *m, uint64_t index, orr_chunk *c, size_t k, size_t n)
+{
+    while (n > 0) {
+        size_t run = 1;
+        if (!m->exact && index >= (uint64_t)m->nmarkers && index < m->dust_first) {
+            const block *b = find_block(m, index);
+            uint64_t left = b->first + b->count - index;
+            run = left < n ? (size_t)left : n;
+            fill_block_slots(m, b, index, c, k, run);
+        } else {
+            fill_slot(m, index, c, k);
+        }
+        index += run;
+        k += run;
+        n -= run;
+    }
+}
+
 /* Whether particles of this type are emitted (orr_model_params.types). */
 static int type_kept(const model_state *m, uint8_t type)
 {
@@ -461,6 +507,8 @@ static uint64_t count_kept(const model_state *m)
 /* Below this many particles a chunk is filled on one thread (a team costs
  * more than it saves). */
 #define MODEL_PARALLEL_MIN 4096
+/* A thread's share of a chunk: particles dealt out this many at a time. */
+#define MODEL_SHARE 1024
 
 /* Each particle is a pure function of its index, so the threads' shares,
  * and how many threads there are, cannot change a bit of the output. The
@@ -474,9 +522,12 @@ static orr_status model_next(orr_source *src, orr_error *err)
     uint64_t first;
     size_t n = next_range(m, c->capacity, &first);
     c->first_index = first;
-#pragma omp parallel for schedule(dynamic, 1024) if (n >= MODEL_PARALLEL_MIN)
-    for (size_t k = 0; k < n; k++)
-        fill_slot(m, first + k, c, k);
+    size_t shares = (n + MODEL_SHARE - 1) / MODEL_SHARE;
+#pragma omp parallel for schedule(dynamic, 1) if (n >= MODEL_PARALLEL_MIN)
+    for (size_t s = 0; s < shares; s++) {
+        size_t k = s * MODEL_SHARE;
+        fill_slots(m, first + k, c, k, n - k < MODEL_SHARE ? n - k : MODEL_SHARE);
+    }
     c->n = n;
     m->next_index = first + n;
     return ORR_OK;

@@ -209,4 +209,20 @@ void orr_model_galaxy_sample_sphere(const galaxy *g, int comp, orr_rng *r, parti
 void orr_model_galaxy_sample_disc_fast(const galaxy *g, orr_rng *r, particle *p);
 void orr_model_galaxy_sample_sphere_fast(const galaxy *g, int comp, orr_rng *r, particle *p);
 
+/* Where a batch of particles goes: the chunk's columns from the batch's
+ * first slot. */
+typedef struct particle_rows {
+    float *x, *y, *z, *vx, *vy, *vz, *r, *e0;
+} particle_rows;
+
+/* The most particles orr_model_galaxy_sample_batch draws at once. */
+#define ORR_MODEL_BATCH 64
+
+/* Particles first .. first + n - 1 (n <= ORR_MODEL_BATCH) of component
+ * comp, each from its own generator orr_rng_seed_keyed(seed_key, index, 0):
+ * what the one-particle samplers above draw, several particles at a time
+ * in vector registers (model_batch.c), into out's slots 0 .. n - 1. */
+void orr_model_galaxy_sample_batch(const galaxy *g, int comp, uint64_t seed_key, uint64_t first, int n,
+                                   const particle_rows *out);
+
 #endif

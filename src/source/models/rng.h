@@ -104,12 +104,12 @@ static inline void orr_sincos_turn(double u, double *s, double *c)
     double c01 = 1.0 - y * 0.5, c23 = 1.0 / 24 - y * (1.0 / 720);
     double c45 = 1.0 / 40320 - y * (1.0 / 3628800), c67 = 1.0 / 479001600.0 - y * (1.0 / 87178291200.0);
     double cx = (c01 + y2 * c23) + y4 * ((c45 + y2 * c67) + y4 * (1.0 / 20922789888000.0));
-    switch (k & 3) {
-    case 0: *s = sx; *c = cx; break;
-    case 1: *s = cx; *c = -sx; break;
-    case 2: *s = -sx; *c = -cx; break;
-    default: *s = -cx; *c = sx; break;
-    }
+    /* quarter k: odd ones swap the two, and the sine's sign flips in the
+     * third and fourth, the cosine's in the second and third (selects, no
+     * branch, so a loop of these vectorises) */
+    double s0 = (k & 1) ? cx : sx, c0 = (k & 1) ? sx : cx;
+    *s = (k & 2) ? -s0 : s0;
+    *c = ((k + 1) & 2) ? -c0 : c0;
 }
 
 /* orr_rng_gauss2 with orr_sincos_turn: the same two deviates to a few
