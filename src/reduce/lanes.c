@@ -10,6 +10,12 @@ int orr_lanes_for(int width, int height, int nplanes, int shares_per_particle, i
     size_t lane_bytes = npix * sizeof(float) * (size_t)nplanes;
     size_t extra = lane_bytes ? ORR_LANE_BUDGET / lane_bytes : 0;
     int lanes = extra + 1 < ORR_MAX_LANES ? (int)extra + 1 : ORR_MAX_LANES;
+    /* A second lane even past the budget, up to ORR_LANE_SECOND_MAX: with
+     * one lane a view is splatted by one thread, and an 8192^2 dome
+     * master's three planes (805 MB a copy) took 4.2 s to deposit 10^7
+     * stars' cores that way (docs/performance.md). */
+    if (lanes == 1 && lane_bytes <= ORR_LANE_SECOND_MAX)
+        lanes = 2;
     /* A lane's planes are zeroed and merged every frame, passes over every
      * pixel that cost about as much as adding four shares to it (measured:
      * 10^7 particles NGP on 1024^2, two threads, splat 7-20 % faster on 2

@@ -10,8 +10,9 @@
  * sums the same terms in the same order whatever OMP_NUM_THREADS is.
  * Lanes past the first cost a copy of the view's planes each; they are
  * kept within ORR_LANE_BUDGET bytes per view (a 3600 x 3600 dome master
- * gets 4 lanes, with colour 2; an image too large for even one extra lane
- * is splatted by one thread).
+ * gets 4 lanes, with colour 2), but for a second one of up to
+ * ORR_LANE_SECOND_MAX bytes (an 8192 x 8192 one with colour: 805 MB); an
+ * image too large for even that is splatted by one thread.
  *
  * Bands: point deposits (NGP, CIC, on flat images and sky maps) into
  * images of more than ORR_BAND_MIN_PIXELS pixels are not splatted in lanes
@@ -32,6 +33,7 @@
 
 #define ORR_MAX_LANES 4
 #define ORR_LANE_BUDGET ((size_t)256 << 20)
+#define ORR_LANE_SECOND_MAX ((size_t)1 << 30) /* a second lane up to this size, past the budget */
 #define ORR_LANE_SHARES_PER_PIXEL 4 /* point deposits: orr_lanes_for */
 
 #define ORR_BAND_MIN_PIXELS ((size_t)1 << 22)
