@@ -77,6 +77,13 @@ static unsigned long piece_crc(int fd, off_t start, size_t len, int *ok)
     return crc;
 }
 
+/* The length of piece k of size bytes cut into pieces of `piece` bytes. */
+static size_t piece_len(size_t size, size_t piece, size_t k)
+{
+    size_t start = k * piece;
+    return size - start < piece ? size - start : piece;
+}
+
 /* CRC-32 of the file's bytes; 0 with *ok = 0 when it cannot be read. A
  * frame's outputs are read back for its marker, and an 8192^2 frame's FITS
  * planes are 805 MB: its pieces are summed on every thread and their CRCs
@@ -95,17 +102,14 @@ static unsigned long file_crc(const char *path, int *ok)
     int all_read = *ok;
 #pragma omp parallel for schedule(dynamic) reduction(&& : all_read) if (crcs)
     for (size_t k = 0; k < npieces; k++) {
-        size_t start = k * piece, len = size - start < piece ? size - start : piece;
-        unsigned long c = piece_crc(fd, (off_t)start, len, &all_read);
+        unsigned long c = piece_crc(fd, (off_t)(k * piece), piece_len(size, piece, k), &all_read);
         if (crcs)
             crcs[k] = c;
         else
             crc = c;
     }
-    for (size_t k = 0; crcs && k < npieces; k++) {
-        size_t len = size - k * piece < piece ? size - k * piece : piece;
-        crc = k == 0 ? crcs[0] : crc32_combine(crc, crcs[k], (z_off_t)len);
-    }
+    for (size_t k = 0; crcs && k < npieces; k++)
+        crc = k == 0 ? crcs[0] : crc32_combine(crc, crcs[k], (z_off_t)piece_len(size, piece, k));
     free(crcs);
     if (fd >= 0)
         close(fd);

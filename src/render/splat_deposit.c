@@ -40,37 +40,40 @@ orr_ngp_batch orr_splat_place_indexed(const view_state *v, size_t n, block_buffe
     return nb;
 }
 
+static void add_stats(orr_deposit_stats *to, const orr_deposit_stats *from)
+{
+    to->deposited += from->deposited;
+    to->outside += from->outside;
+    to->culled += from->culled;
+    to->n_particles += from->n_particles;
+    to->n_culled += from->n_culled;
+}
+
 /* Deposits the block's n projected points into planes (a lane's: the
  * view's own or a private copy). The report's statistics are of the first
  * plane's weights (with colour, X; Y's are in the FITS header). */
 static void deposit_points(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
                            block_tally *t)
 {
+    const orr_sph_block geom = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
     if (v->use_sph) {
         widen_for_psf(v, n, b);
         orr_deposit_stats st[ORR_PLANES_MAX];
         memset(st, 0, sizeof st);
-        orr_sph_block blk = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
-        orr_sph_deposit_planes(&v->sph, &blk, b->wp, planes, v->nplanes, st);
-        for (int k = 0; k < v->nplanes && k < 2; k++) { /* (each a sum onto zeros: the same bits) */
-            t->deposit[k].deposited += st[k].deposited;
-            t->deposit[k].outside += st[k].outside;
-            t->deposit[k].culled += st[k].culled;
-            t->deposit[k].n_particles += st[k].n_particles;
-            t->deposit[k].n_culled += st[k].n_culled;
+        orr_sph_deposit_planes(&v->sph, &geom, b->wp, planes, v->nplanes, st);
+        for (int k = 0; k < v->nplanes && k < 2; k++) /* (each a sum onto zeros: the same bits) */
+            add_stats(&t->deposit[k], &st[k]);
+    } else {
+        for (int k = 0; k < v->nplanes; k++) {
+            orr_deposit_stats scratch = {0};
+            orr_deposit_stats *st = k < 2 ? &t->deposit[k] : &scratch;
+            orr_deposit(v->scene->deposit.kind, &planes[k], n, b->px, b->py, b->wp[k], b->visible, &v->proj, st);
         }
-    }
-    for (int k = 0; k < v->nplanes && !v->use_sph; k++) {
-        orr_deposit_stats scratch = {0};
-        orr_deposit_stats *st = k < 2 ? &t->deposit[k] : &scratch;
-        orr_deposit(v->scene->deposit.kind, &planes[k], n, b->px, b->py, b->wp[k], b->visible, &v->proj, st);
     }
     /* A sky map's hst/file PSF: the brightest stars are redrawn with the
      * whole PSF after the splat (post/sky_psf.h). */
-    if (v->psf.sky) {
-        orr_sph_block geom = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
+    if (v->psf.sky)
         orr_sky_psf_collect(v->psf.sky, lane, &geom, b->wp, v->nplanes);
-    }
 }
 
 /* Projects and deposits the ns samples gathered in sb; returns 0, the
@@ -130,15 +133,6 @@ void orr_splat_deposit_block(const view_state *v, orr_plane *planes, int lane, s
     } else {
         deposit_points(v, planes, lane, n, b, t);
     }
-}
-
-static void add_stats(orr_deposit_stats *to, const orr_deposit_stats *from)
-{
-    to->deposited += from->deposited;
-    to->outside += from->outside;
-    to->culled += from->culled;
-    to->n_particles += from->n_particles;
-    to->n_culled += from->n_culled;
 }
 
 /* Adds what one block added to the report. */
