@@ -4,8 +4,12 @@ panorama (a sky map FITS with a Y plane and a WCS, e.g. Future Sky's
 futuresky-panorama_NNNN.fits), the light within |b| < B degrees (default 15)
 over all the light, light being Y times each pixel's solid angle (from the
 WCS alone, tests/cli/solid_angle.py; orrery's pixels hold flux per
-steradian). Prints one line per frame and, with --hold FRACTION, the first
-frame whose share falls below FRACTION of frame 0's (docs/gallery.md).
+steradian), and the band's half-light latitude: the |b| within which half
+the light lies. The share counts the bulge's glow around l = 0 as band, so
+a disc heated into a thick glow can keep it; the half-light latitude grows
+as the band thickens (4 deg for the thin disc of Future Sky's frame 0).
+Prints one line per frame and, with --hold FRACTION, the first frame whose
+share falls below FRACTION of frame 0's (docs/gallery.md).
 
 usage: scripts/band_share.py [--b DEG] [--hold FRACTION] PANORAMA.fits...
 """
@@ -44,12 +48,18 @@ def latitudes_and_areas(head):
     return _geometry[key]
 
 
-def share(path, bmax):
+def share_and_half_light(path, bmax):
+    """(light within |b| < bmax over all, the |b| holding half the light)."""
     y, head = y_plane(path)
     absb, area = latitudes_and_areas(head)
-    light = y * area
+    light = (y * area).ravel()
     total = light.sum()
-    return light[absb < bmax].sum() / total if total > 0 else float("nan")
+    if not total > 0:
+        return float("nan"), float("nan")
+    order = np.argsort(absb.ravel(), kind="stable")
+    cumulative = np.cumsum(light[order]) / total
+    half = absb.ravel()[order][np.searchsorted(cumulative, 0.5)]
+    return light[absb.ravel() < bmax].sum() / total, float(half)
 
 
 def main(argv):
@@ -58,9 +68,11 @@ def main(argv):
     ap.add_argument("--hold", type=float, help="report the first frame whose share falls below this fraction of frame 0's")
     ap.add_argument("panoramas", nargs="+")
     args = ap.parse_args(argv)
-    shares = [share(p, args.b) for p in args.panoramas]
-    for k, (p, s) in enumerate(zip(args.panoramas, shares)):
-        print(f"{k:3d}  {os.path.basename(p)}  share(|b| < {args.b:g}) = {s:.3f}  ({s / shares[0]:.2f} of frame 0)")
+    measured = [share_and_half_light(p, args.b) for p in args.panoramas]
+    shares = [s for s, _ in measured]
+    for k, (p, (s, half)) in enumerate(zip(args.panoramas, measured)):
+        print(f"{k:3d}  {os.path.basename(p)}  share(|b| < {args.b:g}) = {s:.3f}  ({s / shares[0]:.2f} of frame 0)"
+              f"  half-light |b| = {half:.1f} deg")
     if args.hold is not None:
         below = [k for k, s in enumerate(shares) if s < args.hold * shares[0]]
         print(f"first frame below {args.hold:g} of frame 0's share: {below[0] if below else 'none'}")

@@ -56,6 +56,28 @@ if "$py" "$SRC/scripts/disc_churn.py" snaps/snapshot_0000.hdf5 other/snapshot_00
 fi
 grep -q "different disc stars" churn.err || fail "disc_churn.py's refusal: $(cat churn.err)"
 
+# scripts/sun_like_stars.py (docs/nbody.md, "Stars like the Sun"): against
+# itself nothing moves; over the run the Sun's largest excursion is the
+# change of its radius in the reports (within 0.05 kpc: the script measures
+# about the disc's centre of mass, the reports about the stars'); other
+# stars and an empty selection are refused by name.
+like() { "$py" "$SRC/scripts/sun_like_stars.py" --dr 1 --dz 0.3 --dv 30 "$@"; }
+same=$(like snaps/snapshot_0000.hdf5 snaps/snapshot_0000.hdf5) || fail "sun_like_stars.py on one snapshot failed"
+echo "$same" | grep -q "throughout: 1.000" || fail "sun_like_stars.py, a snapshot against itself: $same"
+echo "$same" | grep -q "the Sun: largest |R - R0| 0.00 kpc" || fail "sun_like_stars.py, the Sun against itself: $same"
+moved=$(like snaps/snapshot_0000.hdf5 snaps/snapshot_0001.hdf5) || fail "sun_like_stars.py failed"
+n_like=$(echo "$moved" | awk 'NR == 1 { print $1 }')
+sun_moved=$(echo "$moved" | sed -n 's/.*the Sun: largest |R - R0| \([0-9.]*\) kpc.*/\1/p')
+awk -v n="$n_like" -v s="$sun_moved" -v r0="$(awk 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "Sun") print $(i + 3) }' reports.txt)" \
+  -v r1="$(awk 'NR == 2 { for (i = 1; i <= NF; i++) if ($i == "Sun") print $(i + 3) }' reports.txt)" \
+  'BEGIN { d = r1 - r0; if (d < 0) d = -d; exit !(n >= 50 && s - d < 0.05 && d - s < 0.05) }' ||
+  fail "sun_like_stars.py: $n_like stars, the Sun moved $sun_moved kpc against the reports' $(cat reports.txt)"
+like snaps/snapshot_0000.hdf5 other/snapshot_0000.hdf5 >/dev/null 2>like.err && fail "sun_like_stars.py compared other stars"
+grep -q "other disc stars" like.err || fail "sun_like_stars.py's refusal: $(cat like.err)"
+"$py" "$SRC/scripts/sun_like_stars.py" --dr 0.001 snaps/snapshot_0000.hdf5 >/dev/null 2>like.err &&
+  fail "sun_like_stars.py with no star selected succeeded"
+grep -q "no disc star starts like the Sun" like.err || fail "sun_like_stars.py, none selected: $(cat like.err)"
+
 # Bad parameters: exit 2, the option named, nothing run.
 expect_nbody_error() { # PATTERN ARGS...
   local pattern=$1 got=0
