@@ -1,4 +1,5 @@
 #include "qtree.h"
+#include "qtree_kernels.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -159,6 +160,38 @@ static int resize(qt_tree *t, size_t n)
     return 0;
 }
 
+/* The walk's compact copy of the nodes (make_lists): nodes are made in
+ * depth-first order (build_node), so a node's subtree is the nodes from it
+ * to its `next`; a leaf's next is the node after it. What the walk reads,
+ * in 72 bytes a node instead of the node's 184, read forwards: a group
+ * visits ~600 nodes and takes ~500 of them whole (the Milky Way model), so
+ * the cells' moments are kept ready in float. */
+static int index_walk(qt_tree *t)
+{
+    if (t->walk_cap < t->nnodes) {
+        free(t->walk);
+        t->walk = malloc(t->cap * sizeof *t->walk);
+        t->walk_cap = t->walk ? t->cap : 0;
+        if (!t->walk)
+            return -1;
+    }
+    for (size_t id = t->nnodes; id-- > 0;) {
+        const qt_node *nd = &t->nodes[id];
+        qt_walk_node *w = &t->walk[id];
+        memcpy(w->com, nd->com, sizeof w->com);
+        w->bmax = nd->bmax;
+        w->moments[0] = (float)nd->mass;
+        for (int q = 0; q < 6; q++)
+            w->moments[1 + q] = (float)nd->quad[q];
+        w->moments[7] = (float)nd->eps2;
+        w->next = id + 1;
+        for (int k = 0; k < 8; k++) /* the last child's subtree ends the node's */
+            if (nd->child[k] >= 0)
+                w->next = t->walk[nd->child[k]].next;
+    }
+    return 0;
+}
+
 int qt_build(qt_tree *t, const double *pos, const double *mass, const double *eps, size_t n)
 {
     t->nnodes = 0;
@@ -191,7 +224,7 @@ int qt_build(qt_tree *t, const double *pos, const double *mass, const double *ep
         t->pm[j] = mass[i];
         t->pe2[j] = eps[i] * eps[i];
     }
-    return 0;
+    return index_walk(t);
 }
 
 /* A parent's moments from its children's: masses and first moments add;
@@ -258,71 +291,50 @@ void qt_refresh(qt_tree *t, const double *pos)
         memcpy(nd->quad, q, sizeof q);
         nd->bmax = sqrt(b2);
     }
+    (void)index_walk(t); /* the build made room for every node: cannot fail */
 }
 
 /* ---- walk --------------------------------------------------------------- */
 
-/* A thread's interaction lists for one group, gathered into contiguous
- * float arrays relative to the group's centre of mass so the loops over
- * them vectorise: cells taken whole (mass, quadrupole, softening^2) and
- * particles of opened leaves. Float is safe here: offsets from the group
- * are at most the system's size and need ~1e-7 relative precision against
- * the tree's ~1e-3 errors; sums are over at most ~1e4 terms. */
-typedef struct lists {
-    size_t ncell, npart, cap_cell, cap_part;
-    float *c; /* per cell: x y z m q0..q5 e2, 11 arrays of cap_cell */
-    float *p; /* per particle: x y z m e2, 5 arrays of cap_part */
-} lists;
-
-enum { CX, CY, CZ, CM, CQ0, CQ1, CQ2, CQ3, CQ4, CQ5, CE2, CELL_FIELDS };
-enum { PX, PY, PZ, PM, PE2, PART_FIELDS };
-
-/* Grows one structure-of-arrays block, keeping the first `used` entries. */
-static int grow(float **block, size_t *cap, size_t used, size_t need, int fields)
+/* Grows a list's block of records to hold `need` of them. */
+static int grow(float **block, size_t *cap, size_t need, int fields)
 {
     if (need <= *cap)
         return 0;
     size_t cap2 = 2 * need + 256;
-    float *b = malloc(cap2 * (size_t)fields * sizeof *b);
+    float *b = realloc(*block, cap2 * (size_t)fields * sizeof *b);
     if (!b)
         return -1;
-    for (int f = 0; f < fields && *block; f++)
-        memcpy(b + (size_t)f * cap2, *block + (size_t)f * *cap, used * sizeof *b);
-    free(*block);
     *block = b;
     *cap = cap2;
     return 0;
 }
 
-static int push_cell(lists *l, const qt_node *nd, const double g[3])
+/* A cell taken whole: its offset from the group, then its moments in float
+ * as index_walk stored them. */
+static int push_cell(qt_lists *l, const qt_walk_node *w, const double g[3])
 {
-    if (grow(&l->c, &l->cap_cell, l->ncell, l->ncell + 1, CELL_FIELDS) != 0)
+    if (grow(&l->c, &l->cap_cell, l->ncell + 1, QT_CELL_FIELDS) != 0)
         return -1;
-    float *c = l->c;
-    size_t k = l->ncell++, cap = l->cap_cell;
-    c[CX * cap + k] = (float)(nd->com[0] - g[0]);
-    c[CY * cap + k] = (float)(nd->com[1] - g[1]);
-    c[CZ * cap + k] = (float)(nd->com[2] - g[2]);
-    c[CM * cap + k] = (float)nd->mass;
-    for (int q = 0; q < 6; q++)
-        c[(CQ0 + q) * cap + k] = (float)nd->quad[q];
-    c[CE2 * cap + k] = (float)nd->eps2;
+    float *c = l->c + QT_CELL_FIELDS * l->ncell++;
+    c[QT_CX] = (float)(w->com[0] - g[0]);
+    c[QT_CY] = (float)(w->com[1] - g[1]);
+    c[QT_CZ] = (float)(w->com[2] - g[2]);
+    memcpy(&c[QT_CM], w->moments, sizeof w->moments);
     return 0;
 }
 
-static int push_leaf(lists *l, const qt_tree *t, const qt_node *nd, const double g[3])
+static int push_leaf(qt_lists *l, const qt_tree *t, const qt_node *nd, const double g[3])
 {
-    if (grow(&l->p, &l->cap_part, l->npart, l->npart + nd->count, PART_FIELDS) != 0)
+    if (grow(&l->p, &l->cap_part, l->npart + nd->count, QT_PART_FIELDS) != 0)
         return -1;
-    float *p = l->p;
-    size_t cap = l->cap_part;
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
-        size_t k = l->npart++;
-        p[PX * cap + k] = (float)(t->px[j] - g[0]);
-        p[PY * cap + k] = (float)(t->py[j] - g[1]);
-        p[PZ * cap + k] = (float)(t->pz[j] - g[2]);
-        p[PM * cap + k] = (float)t->pm[j];
-        p[PE2 * cap + k] = (float)t->pe2[j];
+        float *p = l->p + QT_PART_FIELDS * l->npart++;
+        p[QT_PX] = (float)(t->px[j] - g[0]);
+        p[QT_PY] = (float)(t->py[j] - g[1]);
+        p[QT_PZ] = (float)(t->pz[j] - g[2]);
+        p[QT_PM] = (float)t->pm[j];
+        p[QT_PE2] = (float)t->pe2[j];
     }
     return 0;
 }
@@ -330,89 +342,29 @@ static int push_leaf(lists *l, const qt_tree *t, const qt_node *nd, const double
 /* The interaction lists of group g: every cell passing the b_max criterion
  * for the group's bounding sphere (its centre of mass, radius b_max) is
  * taken whole; leaves that do not are taken particle by particle. theta <= 1
- * guarantees a cell holding the group is always opened (see qtree.h). */
-static int make_lists(const qt_tree *t, const qt_node *g, double theta, lists *l)
+ * guarantees a cell holding the group is always opened (see qtree.h).
+ * The walk runs through the compact depth-first copy (index_walk): forward
+ * through memory, a cell taken whole skipping its subtree, with
+ * |c - g| - r_g > b_max / theta tested squared (no square root). */
+static int make_lists(const qt_tree *t, const qt_node *g, double theta, qt_lists *l)
 {
-    int stack[8 * MAX_DEPTH + 8];
-    int top = 0;
     l->ncell = l->npart = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        int id = stack[--top];
-        const qt_node *nd = &t->nodes[id];
-        double d[3] = {nd->com[0] - g->com[0], nd->com[1] - g->com[1], nd->com[2] - g->com[2]};
-        double dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g->bmax;
-        if (dist > 0 && dist * theta > nd->bmax) {
-            if (push_cell(l, nd, g->com) != 0)
+    const double inv_theta = 1.0 / theta;
+    for (size_t id = 0; id < t->nnodes;) {
+        const qt_walk_node *w = &t->walk[id];
+        double d[3] = {w->com[0] - g->com[0], w->com[1] - g->com[1], w->com[2] - g->com[2]};
+        double reach = g->bmax + w->bmax * inv_theta;
+        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > reach * reach) {
+            if (push_cell(l, w, g->com) != 0)
                 return -1;
-        } else if (nd->leaf) {
-            if (push_leaf(l, t, nd, g->com) != 0)
-                return -1;
-        } else {
-            for (int k = 0; k < 8; k++)
-                if (nd->child[k] >= 0)
-                    stack[top++] = nd->child[k];
+            id = w->next;
+            continue;
         }
+        if (w->next == id + 1 && push_leaf(l, t, &t->nodes[id], g->com) != 0) /* a leaf */
+            return -1;
+        id++; /* into the children, or past a leaf */
     }
     return 0;
-}
-
-/* Softened monopole + quadrupole of the list's cells at the particle
- * (x, y, z), offsets d = x - com, softened with (eps_i^2 + <eps^2>_cell) / 2:
- * the pair rule averaged over the cell to first order in eps^2, so a cell
- * mixing halo and disc particles costs no systematic error:
- *   Phi = -[M / r + (d.Q.d) / (2 r^5)],  a = -grad Phi
- *       = -M d / r^3 + Q.d / r^5 - 5/2 (d.Q.d) d / r^7,
- * with r^2 = |d|^2 + eps^2 (the usual softened expansion; cells taken whole
- * are far beyond the softening). Adds to a[3] and *phi (without G). */
-static void cells_on(const lists *l, float x, float y, float z, float e2i, double a[3], double *phi)
-{
-    const size_t cap = l->cap_cell;
-    const float *c = l->c;
-    float ax = 0, ay = 0, az = 0, ph = 0;
-#pragma omp simd reduction(+ : ax, ay, az, ph)
-    for (size_t k = 0; k < l->ncell; k++) {
-        float dx = x - c[CX * cap + k], dy = y - c[CY * cap + k], dz = z - c[CZ * cap + k];
-        float r2 = dx * dx + dy * dy + dz * dz + 0.5f * (e2i + c[CE2 * cap + k]);
-        float inv = 1.0f / sqrtf(r2), inv2 = inv * inv, inv3 = inv * inv2, inv5 = inv3 * inv2;
-        float q0 = c[CQ0 * cap + k], q1 = c[CQ1 * cap + k], q2 = c[CQ2 * cap + k];
-        float q3 = c[CQ3 * cap + k], q4 = c[CQ4 * cap + k], q5 = c[CQ5 * cap + k];
-        float qx = q0 * dx + q3 * dy + q4 * dz, qy = q3 * dx + q1 * dy + q5 * dz, qz = q4 * dx + q5 * dy + q2 * dz;
-        float dqd = dx * qx + dy * qy + dz * qz, m = c[CM * cap + k];
-        float s = -m * inv3 - 2.5f * dqd * inv5 * inv2;
-        ax += s * dx + qx * inv5;
-        ay += s * dy + qy * inv5;
-        az += s * dz + qz * inv5;
-        ph -= m * inv + 0.5f * dqd * inv5;
-    }
-    a[0] += ax;
-    a[1] += ay;
-    a[2] += az;
-    *phi += ph;
-}
-
-/* Plummer-softened pulls of the list's particles; the particle itself is in
- * the list (its own leaf) and adds no force (zero offset) and -m / eps to
- * the potential, which the caller removes. */
-static void parts_on(const lists *l, float x, float y, float z, float e2i, double a[3], double *phi)
-{
-    const size_t cap = l->cap_part;
-    const float *p = l->p;
-    float ax = 0, ay = 0, az = 0, ph = 0;
-#pragma omp simd reduction(+ : ax, ay, az, ph)
-    for (size_t k = 0; k < l->npart; k++) {
-        float dx = p[PX * cap + k] - x, dy = p[PY * cap + k] - y, dz = p[PZ * cap + k] - z;
-        float r2 = dx * dx + dy * dy + dz * dz + 0.5f * (e2i + p[PE2 * cap + k]);
-        float inv = 1.0f / sqrtf(r2), m = p[PM * cap + k], m3 = m * inv * inv * inv;
-        ax += m3 * dx;
-        ay += m3 * dy;
-        az += m3 * dz;
-        ph -= m * inv;
-    }
-    a[0] += ax;
-    a[1] += ay;
-    a[2] += az;
-    *phi += ph;
 }
 
 /* Whether the caller asked for particle i (of the whole set). */
@@ -421,22 +373,41 @@ static int wanted(size_t i, size_t first, size_t count, const unsigned char *act
     return i >= first && i < first + count && (!active || active[i - first]);
 }
 
+/* The group's particles that the caller asked for, gathered for the
+ * kernels (qtree_kernels.h); their tree-order indices into js. */
+static void gather_targets(const qt_tree *t, const qt_node *g, size_t first, size_t count,
+                           const unsigned char *active, qt_targets *tg, size_t *js)
+{
+    tg->n = 0;
+    for (size_t j = g->first; j < g->first + g->count; j++) {
+        if (!wanted(t->order[j], first, count, active))
+            continue;
+        js[tg->n] = j;
+        tg->x[tg->n] = (float)(t->px[j] - g->com[0]);
+        tg->y[tg->n] = (float)(t->py[j] - g->com[1]);
+        tg->z[tg->n] = (float)(t->pz[j] - g->com[2]);
+        tg->e2[tg->n] = (float)t->pe2[j];
+        tg->n++;
+    }
+    qt_pad_targets(tg);
+}
+
 /* The group's particles that the caller asked for, against its lists. */
-static void apply_lists(const qt_tree *t, const qt_node *g, const lists *l, double G, size_t first, size_t count,
+static void apply_lists(const qt_tree *t, const qt_node *g, const qt_lists *l, double G, size_t first, size_t count,
                         const unsigned char *active, double *acc, double *pot)
 {
-    for (size_t j = g->first; j < g->first + g->count; j++) {
-        size_t i = t->order[j];
-        if (!wanted(i, first, count, active))
-            continue;
-        float x = (float)(t->px[j] - g->com[0]), y = (float)(t->py[j] - g->com[1]), z = (float)(t->pz[j] - g->com[2]);
-        float e2i = (float)t->pe2[j];
-        double a[3] = {0, 0, 0}, phi = 0;
-        cells_on(l, x, y, z, e2i, a, &phi);
-        parts_on(l, x, y, z, e2i, a, &phi);
-        if (e2i > 0)
-            phi += t->pm[j] / sqrt((double)e2i); /* its own term */
-        size_t o = i - first;
+    qt_targets tg;
+    qt_sums cs, ps;
+    size_t js[QT_GROUP];
+    gather_targets(t, g, first, count, active, &tg, js);
+    qt_cells_on(l, &tg, &cs);
+    qt_parts_on(l, &tg, &ps);
+    for (size_t n = 0; n < tg.n; n++) {
+        size_t j = js[n], o = t->order[j] - first;
+        double a[3] = {(double)cs.ax[n] + ps.ax[n], (double)cs.ay[n] + ps.ay[n], (double)cs.az[n] + ps.az[n]};
+        double phi = (double)cs.phi[n] + ps.phi[n];
+        if (tg.e2[n] > 0)
+            phi += t->pm[j] / sqrt((double)tg.e2[n]); /* its own term */
         for (int k = 0; k < 3; k++)
             acc[3 * o + k] = G * a[k];
         if (pot)
@@ -458,7 +429,7 @@ double qt_accelerations_masked(const qt_tree *t, double G, double theta, size_t 
     const long ng = (long)t->ngroups;
 #pragma omp parallel reduction(+ : total) reduction(| : failed)
     {
-        lists l = {0};
+        qt_lists l = {0};
 #pragma omp for schedule(dynamic, 4)
         for (long k = 0; k < ng; k++) {
             const qt_node *g = &t->nodes[t->groups[k]];
@@ -511,5 +482,6 @@ void qt_free(qt_tree *t)
     free(t->scratch);
     free(t->groups);
     free(t->px);
+    free(t->walk);
     memset(t, 0, sizeof *t);
 }
