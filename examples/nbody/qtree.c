@@ -296,15 +296,19 @@ void qt_refresh(qt_tree *t, const double *pos)
 
 /* ---- walk --------------------------------------------------------------- */
 
-/* Grows a list's block of records to hold `need` of them. */
-static int grow(float **block, size_t *cap, size_t need, int fields)
+/* Grows a list's structure-of-arrays block to hold `need` entries of each
+ * field, keeping the first `used`. */
+static int grow(float **block, size_t *cap, size_t used, size_t need, int fields)
 {
     if (need <= *cap)
         return 0;
     size_t cap2 = 2 * need + 256;
-    float *b = realloc(*block, cap2 * (size_t)fields * sizeof *b);
+    float *b = malloc(cap2 * (size_t)fields * sizeof *b);
     if (!b)
         return -1;
+    for (int f = 0; f < fields && *block; f++)
+        memcpy(b + (size_t)f * cap2, *block + (size_t)f * *cap, used * sizeof *b);
+    free(*block);
     *block = b;
     *cap = cap2;
     return 0;
@@ -314,28 +318,53 @@ static int grow(float **block, size_t *cap, size_t need, int fields)
  * as index_walk stored them. */
 static int push_cell(qt_lists *l, const qt_walk_node *w, const double g[3])
 {
-    if (grow(&l->c, &l->cap_cell, l->ncell + 1, QT_CELL_FIELDS) != 0)
+    if (grow(&l->c, &l->cap_cell, l->ncell, l->ncell + 1, QT_CELL_FIELDS) != 0)
         return -1;
-    float *c = l->c + QT_CELL_FIELDS * l->ncell++;
-    c[QT_CX] = (float)(w->com[0] - g[0]);
-    c[QT_CY] = (float)(w->com[1] - g[1]);
-    c[QT_CZ] = (float)(w->com[2] - g[2]);
-    memcpy(&c[QT_CM], w->moments, sizeof w->moments);
+    size_t k = l->ncell++, cap = l->cap_cell;
+    float *c = l->c + k;
+    c[QT_CX * cap] = (float)(w->com[0] - g[0]);
+    c[QT_CY * cap] = (float)(w->com[1] - g[1]);
+    c[QT_CZ * cap] = (float)(w->com[2] - g[2]);
+    for (int f = 0; f < 8; f++)
+        c[(QT_CM + f) * cap] = w->moments[f];
     return 0;
 }
 
 static int push_leaf(qt_lists *l, const qt_tree *t, const qt_node *nd, const double g[3])
 {
-    if (grow(&l->p, &l->cap_part, l->npart + nd->count, QT_PART_FIELDS) != 0)
+    if (grow(&l->p, &l->cap_part, l->npart, l->npart + nd->count, QT_PART_FIELDS) != 0)
         return -1;
+    size_t cap = l->cap_part;
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
-        float *p = l->p + QT_PART_FIELDS * l->npart++;
-        p[QT_PX] = (float)(t->px[j] - g[0]);
-        p[QT_PY] = (float)(t->py[j] - g[1]);
-        p[QT_PZ] = (float)(t->pz[j] - g[2]);
-        p[QT_PM] = (float)t->pm[j];
-        p[QT_PE2] = (float)t->pe2[j];
+        float *p = l->p + l->npart++;
+        p[QT_PX * cap] = (float)(t->px[j] - g[0]);
+        p[QT_PY * cap] = (float)(t->py[j] - g[1]);
+        p[QT_PZ * cap] = (float)(t->pz[j] - g[2]);
+        p[QT_PM * cap] = (float)t->pm[j];
+        p[QT_PE2 * cap] = (float)t->pe2[j];
     }
+    return 0;
+}
+
+/* Zero-mass entries from `from` to `to` in each of a block's fields
+ * (softening^2 1 in field e2, so they stay finite): they add exactly
+ * nothing. */
+static void pad_block(float *block, size_t cap, int fields, int e2, size_t from, size_t to)
+{
+    for (int f = 0; f < fields; f++)
+        for (size_t k = from; k < to; k++)
+            block[f * cap + k] = f == e2 ? 1.0f : 0.0f;
+}
+
+/* The lists padded to the kernels' multiple of QT_LIST_LANES. */
+static int pad_lists(qt_lists *l)
+{
+    size_t nc = qt_padded(l->ncell), np = qt_padded(l->npart);
+    if (grow(&l->c, &l->cap_cell, l->ncell, nc, QT_CELL_FIELDS) != 0 ||
+        grow(&l->p, &l->cap_part, l->npart, np, QT_PART_FIELDS) != 0)
+        return -1;
+    pad_block(l->c, l->cap_cell, QT_CELL_FIELDS, QT_CE2, l->ncell, nc);
+    pad_block(l->p, l->cap_part, QT_PART_FIELDS, QT_PE2, l->npart, np);
     return 0;
 }
 
@@ -364,7 +393,7 @@ static int make_lists(const qt_tree *t, const qt_node *g, double theta, qt_lists
             return -1;
         id++; /* into the children, or past a leaf */
     }
-    return 0;
+    return pad_lists(l);
 }
 
 /* Whether the caller asked for particle i (of the whole set). */
@@ -389,7 +418,6 @@ static void gather_targets(const qt_tree *t, const qt_node *g, size_t first, siz
         tg->e2[tg->n] = (float)t->pe2[j];
         tg->n++;
     }
-    qt_pad_targets(tg);
 }
 
 /* The group's particles that the caller asked for, against its lists. */

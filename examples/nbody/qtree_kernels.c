@@ -1,110 +1,98 @@
-/* Why over the group's particles rather than over the list (as before):
- * groups hold 17 particles on average (at most QT_GROUP), lists ~800
- * entries, so a list entry loaded once serves a whole vector of particles
- * and the sums stay in registers without a horizontal reduction per
- * particle; and each lane sums in list order, so the result does not
- * depend on the vector width. The price is the idle lanes of a group's last
- * vector, which blocks of 16, 8 and 4 lanes keep small. Measured on the
- * Milky Way model (bench_nbody, docs/nbody.md): this, with the AVX-512
- * copy, is several times faster than the list-vectorised loops. */
+/* Vectorised over the list, QT_LIST_LANES entries a step, each lane
+ * keeping its own partial sums (entries k = lane mod 16), added at the end
+ * in a fixed order: the same sums on SSE2 (four 4-wide registers a
+ * quantity), AVX2 (two) and AVX-512 (one), so the forces do not depend on
+ * the machine. Why over the list rather than over the group's particles
+ * (one particle a lane, the entries broadcast): groups hold 17 particles
+ * on average, so a group's last vector of 16 particles is mostly empty
+ * (69 % of lanes busy on the Milky Way model), while lists are ~800
+ * entries long (98 % busy). Both do the same operations a lane, and the
+ * loads of the list's entries are not what limits either; measured, the
+ * list-vectorised loops were ~1.3x faster (docs/nbody.md). */
 #include "qtree_kernels.h"
 
 #include <math.h>
 
 #include "core/simd.h"
 
-void qt_pad_targets(qt_targets *g)
+/* The 16 partial sums' total, halves added pairwise: a fixed order. */
+static ORR_ALWAYS_INLINE float total16(float s[QT_LIST_LANES])
 {
-    for (size_t i = g->n; i < g->n + 16 && i < QT_GROUP_ROOM; i++) {
-        g->x[i] = g->y[i] = g->z[i] = 0;
-        g->e2[i] = 1;
-    }
+    for (int w = QT_LIST_LANES / 2; w > 0; w /= 2)
+        for (int j = 0; j < w; j++)
+            s[j] += s[j + w];
+    return s[0];
 }
 
-/* The cells' pull on `lanes` targets from index i0 (one vector, or a few). */
-static ORR_ALWAYS_INLINE void cells_block(const qt_lists *l, const qt_targets *g, size_t i0, const int lanes,
-                                          qt_sums *out)
+/* The cells' pull on one target (x, y, z, e2i) into out[0..3] (ax ay az phi). */
+static ORR_ALWAYS_INLINE void cells_on_one(const qt_lists *l, float x, float y, float z, float e2i, float out[4])
 {
-    const float *x = g->x + i0, *y = g->y + i0, *z = g->z + i0, *e2 = g->e2 + i0;
-    float ax[16] = {0}, ay[16] = {0}, az[16] = {0}, ph[16] = {0};
-    for (size_t k = 0; k < l->ncell; k++) {
-        const float *c = l->c + QT_CELL_FIELDS * k;
-        const float cx = c[QT_CX], cy = c[QT_CY], cz = c[QT_CZ];
-        const float m = c[QT_CM], ce2 = c[QT_CE2];
-        const float q0 = c[QT_CQ0], q1 = c[QT_CQ1], q2 = c[QT_CQ2];
-        const float q3 = c[QT_CQ3], q4 = c[QT_CQ4], q5 = c[QT_CQ5];
+    const size_t cap = l->cap_cell, n = qt_padded(l->ncell);
+    float ax[QT_LIST_LANES] = {0}, ay[QT_LIST_LANES] = {0}, az[QT_LIST_LANES] = {0}, ph[QT_LIST_LANES] = {0};
+    for (size_t k = 0; k < n; k += QT_LIST_LANES) {
+        const float *c = l->c + k;
 #pragma omp simd
-        for (int i = 0; i < lanes; i++) {
-            float dx = x[i] - cx, dy = y[i] - cy, dz = z[i] - cz;
-            float r2 = dx * dx + dy * dy + dz * dz + 0.5f * (e2[i] + ce2);
+        for (int j = 0; j < QT_LIST_LANES; j++) {
+            float dx = x - c[QT_CX * cap + j], dy = y - c[QT_CY * cap + j], dz = z - c[QT_CZ * cap + j];
+            float r2 = dx * dx + dy * dy + dz * dz + 0.5f * (e2i + c[QT_CE2 * cap + j]);
             float inv = 1.0f / sqrtf(r2), inv2 = inv * inv, inv3 = inv * inv2, inv5 = inv3 * inv2;
+            float q0 = c[QT_CQ0 * cap + j], q1 = c[QT_CQ1 * cap + j], q2 = c[QT_CQ2 * cap + j];
+            float q3 = c[QT_CQ3 * cap + j], q4 = c[QT_CQ4 * cap + j], q5 = c[QT_CQ5 * cap + j];
             float qx = q0 * dx + q3 * dy + q4 * dz, qy = q3 * dx + q1 * dy + q5 * dz, qz = q4 * dx + q5 * dy + q2 * dz;
-            float dqd = dx * qx + dy * qy + dz * qz;
+            float dqd = dx * qx + dy * qy + dz * qz, m = c[QT_CM * cap + j];
             float s = -m * inv3 - 2.5f * dqd * inv5 * inv2;
-            ax[i] += s * dx + qx * inv5;
-            ay[i] += s * dy + qy * inv5;
-            az[i] += s * dz + qz * inv5;
-            ph[i] -= m * inv + 0.5f * dqd * inv5;
+            ax[j] += s * dx + qx * inv5;
+            ay[j] += s * dy + qy * inv5;
+            az[j] += s * dz + qz * inv5;
+            ph[j] -= m * inv + 0.5f * dqd * inv5;
         }
     }
-    for (int i = 0; i < lanes; i++) {
-        out->ax[i0 + i] = ax[i];
-        out->ay[i0 + i] = ay[i];
-        out->az[i0 + i] = az[i];
-        out->phi[i0 + i] = ph[i];
-    }
+    out[0] = total16(ax);
+    out[1] = total16(ay);
+    out[2] = total16(az);
+    out[3] = total16(ph);
 }
 
-/* The particles' pull on `lanes` targets from index i0. */
-static ORR_ALWAYS_INLINE void parts_block(const qt_lists *l, const qt_targets *g, size_t i0, const int lanes,
-                                          qt_sums *out)
+/* The particles' pull on one target into out[0..3]. */
+static ORR_ALWAYS_INLINE void parts_on_one(const qt_lists *l, float x, float y, float z, float e2i, float out[4])
 {
-    const float *x = g->x + i0, *y = g->y + i0, *z = g->z + i0, *e2 = g->e2 + i0;
-    float ax[16] = {0}, ay[16] = {0}, az[16] = {0}, ph[16] = {0};
-    for (size_t k = 0; k < l->npart; k++) {
-        const float *p = l->p + QT_PART_FIELDS * k;
-        const float px = p[QT_PX], py = p[QT_PY], pz = p[QT_PZ];
-        const float m = p[QT_PM], pe2 = p[QT_PE2];
+    const size_t cap = l->cap_part, n = qt_padded(l->npart);
+    float ax[QT_LIST_LANES] = {0}, ay[QT_LIST_LANES] = {0}, az[QT_LIST_LANES] = {0}, ph[QT_LIST_LANES] = {0};
+    for (size_t k = 0; k < n; k += QT_LIST_LANES) {
+        const float *p = l->p + k;
 #pragma omp simd
-        for (int i = 0; i < lanes; i++) {
-            float dx = px - x[i], dy = py - y[i], dz = pz - z[i];
-            float r2 = dx * dx + dy * dy + dz * dz + 0.5f * (e2[i] + pe2);
-            float inv = 1.0f / sqrtf(r2), m3 = m * inv * inv * inv;
-            ax[i] += m3 * dx;
-            ay[i] += m3 * dy;
-            az[i] += m3 * dz;
-            ph[i] -= m * inv;
+        for (int j = 0; j < QT_LIST_LANES; j++) {
+            float dx = p[QT_PX * cap + j] - x, dy = p[QT_PY * cap + j] - y, dz = p[QT_PZ * cap + j] - z;
+            float r2 = dx * dx + dy * dy + dz * dz + 0.5f * (e2i + p[QT_PE2 * cap + j]);
+            float inv = 1.0f / sqrtf(r2), m = p[QT_PM * cap + j], m3 = m * inv * inv * inv;
+            ax[j] += m3 * dx;
+            ay[j] += m3 * dy;
+            az[j] += m3 * dz;
+            ph[j] -= m * inv;
         }
     }
-    for (int i = 0; i < lanes; i++) {
-        out->ax[i0 + i] = ax[i];
-        out->ay[i0 + i] = ay[i];
-        out->az[i0 + i] = az[i];
-        out->phi[i0 + i] = ph[i];
-    }
+    out[0] = total16(ax);
+    out[1] = total16(ay);
+    out[2] = total16(az);
+    out[3] = total16(ph);
 }
-
-/* Blocks of 16 lanes, the last one of 8 or 4 when that covers what is left:
- * each a constant width, so each compiles to whole vectors of its target. */
-#define FOR_BLOCKS(block, l, g, out)                                                                               \
-    do {                                                                                                           \
-        size_t i0 = 0;                                                                                             \
-        for (; i0 + 8 < (g)->n; i0 += 16)                                                                          \
-            block(l, g, i0, 16, out);                                                                              \
-        if (i0 + 4 < (g)->n)                                                                                       \
-            block(l, g, i0, 8, out);                                                                               \
-        else if ((g)->n > i0)                                                                                      \
-            block(l, g, i0, 4, out);                                                                               \
-    } while (0)
 
 ORR_WIDE_VECTOR_CLONES
 void qt_cells_on(const qt_lists *l, const qt_targets *g, qt_sums *out)
 {
-    FOR_BLOCKS(cells_block, l, g, out);
+    for (size_t i = 0; i < g->n; i++) {
+        float s[4];
+        cells_on_one(l, g->x[i], g->y[i], g->z[i], g->e2[i], s);
+        out->ax[i] = s[0], out->ay[i] = s[1], out->az[i] = s[2], out->phi[i] = s[3];
+    }
 }
 
 ORR_WIDE_VECTOR_CLONES
 void qt_parts_on(const qt_lists *l, const qt_targets *g, qt_sums *out)
 {
-    FOR_BLOCKS(parts_block, l, g, out);
+    for (size_t i = 0; i < g->n; i++) {
+        float s[4];
+        parts_on_one(l, g->x[i], g->y[i], g->z[i], g->e2[i], s);
+        out->ax[i] = s[0], out->ay[i] = s[1], out->az[i] = s[2], out->phi[i] = s[3];
+    }
 }

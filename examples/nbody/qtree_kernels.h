@@ -2,11 +2,12 @@
  * a group's particles against its interaction lists of cells and of
  * particles, in float, relative to the group's centre of mass.
  *
- * Vectorised over the group's particles, one particle a lane, the list's
- * entries broadcast to every lane: each particle's sums run over its lists
- * in their order whatever the vector width, so the SSE2, AVX2 and AVX-512
- * copies (qtree_kernels.c) give the same forces bit for bit, equal to the
- * plain scalar loop's (tests/examples/test_nbody_kernels.c). */
+ * Vectorised over the lists, 16 entries a step, each of 16 partial sums
+ * taking every 16th entry, the partial sums added in a fixed order at the
+ * end: the same operations whatever the vector width, so the SSE2, AVX2 and
+ * AVX-512 copies (qtree_kernels.c) give the same forces bit for bit, equal
+ * to a plain scalar loop's that sums the same way
+ * (tests/examples/test_nbody_kernels.c). */
 #ifndef NBODY_QTREE_KERNELS_H
 #define NBODY_QTREE_KERNELS_H
 
@@ -15,47 +16,42 @@
 #include "qtree.h"
 
 /* A thread's interaction lists for one group, gathered into contiguous
- * float records relative to the group's centre of mass (records, not
- * separate arrays: the kernels broadcast each entry to every lane, which
- * costs the same from anywhere, and one record is written in one go): cells taken whole
- * (mass, quadrupole, softening^2) and particles of opened leaves. Float is
+ * float arrays relative to the group's centre of mass so the loops over
+ * them vectorise: cells taken whole (mass, quadrupole, softening^2) and
+ * particles of opened leaves. Float is
  * safe here: offsets from the group are at most the system's size and need
  * ~1e-7 relative precision against the tree's ~1e-3 errors; sums are over
  * at most ~1e4 terms. */
 typedef struct qt_lists {
     size_t ncell, npart, cap_cell, cap_part;
-    float *c; /* cell k: x y z m q0..q5 e2 at c[QT_CELL_FIELDS k + QT_CX ...] */
-    float *p; /* particle k: x y z m e2 at p[QT_PART_FIELDS k + QT_PX ...] */
+    float *c; /* per cell: x y z m q0..q5 e2, 11 arrays of cap_cell */
+    float *p; /* per particle: x y z m e2, 5 arrays of cap_part */
 } qt_lists;
+
+/* The kernels take the lists QT_LIST_LANES entries at a time: each list
+ * is followed by zero-mass entries (softening^2 1: finite, adding exactly
+ * nothing) up to qt_padded(its length), which its arrays have room for. */
+#define QT_LIST_LANES 16
+
+static inline size_t qt_padded(size_t n)
+{
+    return (n + QT_LIST_LANES - 1) / QT_LIST_LANES * QT_LIST_LANES;
+}
 
 enum { QT_CX, QT_CY, QT_CZ, QT_CM, QT_CQ0, QT_CQ1, QT_CQ2, QT_CQ3, QT_CQ4, QT_CQ5, QT_CE2, QT_CELL_FIELDS };
 enum { QT_PX, QT_PY, QT_PZ, QT_PM, QT_PE2, QT_PART_FIELDS };
 
-/* Room for a group's particles and the padding of its last vector. */
-#define QT_GROUP_ROOM (QT_GROUP + 16)
-
 /* The group's particles whose forces are wanted: n of them, offsets from
- * the group's centre of mass and softening^2. The kernels also read the
- * lanes up to the next multiple of 4 (or 8 or 16) beyond n, which
- * qt_pad_targets fills with harmless values. */
+ * the group's centre of mass and softening^2. */
 typedef struct qt_targets {
     size_t n;
-    _Alignas(64) float x[QT_GROUP_ROOM];
-    _Alignas(64) float y[QT_GROUP_ROOM];
-    _Alignas(64) float z[QT_GROUP_ROOM];
-    _Alignas(64) float e2[QT_GROUP_ROOM];
+    float x[QT_GROUP], y[QT_GROUP], z[QT_GROUP], e2[QT_GROUP];
 } qt_targets;
 
 /* Each target's sums over one list: acceleration and potential, without G. */
 typedef struct qt_sums {
-    _Alignas(64) float ax[QT_GROUP_ROOM];
-    _Alignas(64) float ay[QT_GROUP_ROOM];
-    _Alignas(64) float az[QT_GROUP_ROOM];
-    _Alignas(64) float phi[QT_GROUP_ROOM];
+    float ax[QT_GROUP], ay[QT_GROUP], az[QT_GROUP], phi[QT_GROUP];
 } qt_sums;
-
-/* Fills the lanes after the last target (offset 0, softening^2 1: finite). */
-void qt_pad_targets(qt_targets *g);
 
 /* Softened monopole + quadrupole of the list's cells at each target
  * (x, y, z), offsets d = x - com, softened with (eps_i^2 + <eps^2>_cell) / 2:
