@@ -38,9 +38,9 @@ static int add_group(qt_tree *t, int node)
     return 0;
 }
 
-static int octant(const double *p, const double *c)
+static int octant(double x, double y, double z, const double *c)
 {
-    return (p[0] >= c[0]) | (p[1] >= c[1]) << 1 | (p[2] >= c[2]) << 2;
+    return (x >= c[0]) | (y >= c[1]) << 1 | (z >= c[2]) << 2;
 }
 
 /* A node's mass, centre of mass and mean softening^2 from the sums of m,
@@ -67,35 +67,63 @@ static void add_quad(double q[6], double m, const double y[3])
 
 /* Mass, centre of mass, traceless quadrupole, b_max and mean softening^2
  * of a node, from its particles directly (each particle is visited once per
- * level: N log N in all, a small part of a step). */
-static void node_moments(qt_tree *t, qt_node *nd, const double *pos, const double *mass, const double *eps)
+ * level: N log N in all). During the build the tree-order arrays hold the
+ * node's particles contiguously, pe2 still the softening itself. */
+static void node_moments(const qt_tree *t, qt_node *nd)
 {
     double m = 0, c[3] = {0, 0, 0}, e2 = 0;
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
-        size_t i = t->order[j];
-        m += mass[i];
-        for (int k = 0; k < 3; k++)
-            c[k] += mass[i] * pos[3 * i + k];
-        e2 += mass[i] * eps[i] * eps[i];
+        m += t->pm[j];
+        c[0] += t->pm[j] * t->px[j];
+        c[1] += t->pm[j] * t->py[j];
+        c[2] += t->pm[j] * t->pz[j];
+        e2 += t->pm[j] * t->pe2[j] * t->pe2[j];
     }
     set_mass_centre(nd, m, c, e2);
     double q[6] = {0}, b2 = 0;
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
-        size_t i = t->order[j];
-        double y[3] = {pos[3 * i] - nd->com[0], pos[3 * i + 1] - nd->com[1], pos[3 * i + 2] - nd->com[2]};
-        add_quad(q, mass[i], y);
+        double y[3] = {t->px[j] - nd->com[0], t->py[j] - nd->com[1], t->pz[j] - nd->com[2]};
+        add_quad(q, t->pm[j], y);
         b2 = fmax(b2, y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
     }
     memcpy(nd->quad, q, sizeof q);
     nd->bmax = sqrt(b2);
 }
 
-typedef struct build_in {
-    const double *pos, *mass, *eps;
-} build_in;
+/* Moves the entries first .. first + count - 1 of a to the places dest
+ * gives them (within the same range), through tmp. */
+static void permute(double *a, const size_t *dest, double *tmp, size_t first, size_t count)
+{
+    for (size_t j = first; j < first + count; j++)
+        tmp[dest[j]] = a[j];
+    memcpy(&a[first], &tmp[first], count * sizeof *a);
+}
 
-static int build_node(qt_tree *t, const build_in *in, size_t first, size_t count, const double centre[3],
-                      double half, int depth, int in_group)
+/* Counting sort of a cell's particles by octant: order and the tree-order
+ * arrays together, so that every level reads its particles contiguously
+ * (reading them through order, at random, was most of the build's time). */
+static void sort_by_octant(qt_tree *t, size_t first, size_t count, const double centre[3], size_t counts[8],
+                           size_t starts[8])
+{
+    size_t fill[8];
+    for (size_t j = first; j < first + count; j++)
+        counts[octant(t->px[j], t->py[j], t->pz[j], centre)]++;
+    starts[0] = first;
+    for (int k = 1; k < 8; k++)
+        starts[k] = starts[k - 1] + counts[k - 1];
+    memcpy(fill, starts, sizeof fill);
+    for (size_t j = first; j < first + count; j++)
+        t->dest[j] = fill[octant(t->px[j], t->py[j], t->pz[j], centre)]++;
+    for (size_t j = first; j < first + count; j++)
+        t->scratch[t->dest[j]] = t->order[j];
+    memcpy(&t->order[first], &t->scratch[first], count * sizeof *t->order);
+    double *arrays[5] = {t->px, t->py, t->pz, t->pm, t->pe2};
+    for (int a = 0; a < 5; a++)
+        permute(arrays[a], t->dest, t->sort_tmp, first, count);
+}
+
+static int build_node(qt_tree *t, size_t first, size_t count, const double centre[3], double half, int depth,
+                      int in_group)
 {
     int id = new_node(t);
     if (id < 0)
@@ -105,7 +133,7 @@ static int build_node(qt_tree *t, const build_in *in, size_t first, size_t count
     nd->half = half;
     nd->first = first;
     nd->count = count;
-    node_moments(t, nd, in->pos, in->mass, in->eps);
+    node_moments(t, nd);
     if (!in_group && count <= QT_GROUP) {
         if (add_group(t, id) != 0)
             return -1;
@@ -115,26 +143,15 @@ static int build_node(qt_tree *t, const build_in *in, size_t first, size_t count
         nd->leaf = 1;
         return id;
     }
-    /* Counting sort of the cell's particles by octant. */
-    size_t counts[8] = {0}, starts[8], fill[8];
-    for (size_t j = first; j < first + count; j++)
-        counts[octant(&in->pos[3 * t->order[j]], centre)]++;
-    starts[0] = first;
-    for (int k = 1; k < 8; k++)
-        starts[k] = starts[k - 1] + counts[k - 1];
-    memcpy(fill, starts, sizeof fill);
-    for (size_t j = first; j < first + count; j++) {
-        size_t i = t->order[j];
-        t->scratch[fill[octant(&in->pos[3 * i], centre)]++] = i;
-    }
-    memcpy(&t->order[first], &t->scratch[first], count * sizeof *t->order);
+    size_t counts[8] = {0}, starts[8];
+    sort_by_octant(t, first, count, centre, counts, starts);
     for (int k = 0; k < 8; k++) {
         if (!counts[k])
             continue;
         double cc[3];
         for (int a = 0; a < 3; a++)
             cc[a] = centre[a] + ((k >> a) & 1 ? 0.5 : -0.5) * half;
-        int child = build_node(t, in, starts[k], counts[k], cc, 0.5 * half, depth + 1, in_group);
+        int child = build_node(t, starts[k], counts[k], cc, 0.5 * half, depth + 1, in_group);
         if (child < 0)
             return -1;
         t->nodes[id].child[k] = child; /* the pool may have moved */
@@ -146,12 +163,16 @@ static int resize(qt_tree *t, size_t n)
 {
     free(t->order);
     free(t->scratch);
+    free(t->dest);
     free(t->px);
+    free(t->sort_tmp);
     t->order = malloc(n * sizeof *t->order);
     t->scratch = malloc(n * sizeof *t->scratch);
+    t->dest = malloc(n * sizeof *t->dest);
     t->px = malloc(5 * n * sizeof *t->px);
+    t->sort_tmp = malloc(n * sizeof *t->sort_tmp);
     t->n = n;
-    if (!t->order || !t->scratch || !t->px)
+    if (!t->order || !t->scratch || !t->dest || !t->px || !t->sort_tmp)
         return -1;
     t->py = t->px + n;
     t->pz = t->py + n;
@@ -201,6 +222,11 @@ int qt_build(qt_tree *t, const double *pos, const double *mass, const double *ep
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < n; i++) {
         t->order[i] = i;
+        t->px[i] = pos[3 * i];
+        t->py[i] = pos[3 * i + 1];
+        t->pz[i] = pos[3 * i + 2];
+        t->pm[i] = mass[i];
+        t->pe2[i] = eps[i]; /* squared once sorted */
         for (int k = 0; k < 3; k++) {
             lo[k] = fmin(lo[k], pos[3 * i + k]);
             hi[k] = fmax(hi[k], pos[3 * i + k]);
@@ -212,18 +238,11 @@ int qt_build(qt_tree *t, const double *pos, const double *mass, const double *ep
         half = fmax(half, n ? 0.5 * (hi[k] - lo[k]) : 0.0);
     }
     half = half * 1.0001 + 1e-12;
-    build_in in = {pos, mass, eps};
-    if (build_node(t, &in, 0, n, centre, half, 0, 0) < 0)
+    if (build_node(t, 0, n, centre, half, 0, 0) < 0)
         return -1;
-    /* The walk reads particles in tree order, contiguously. */
-    for (size_t j = 0; j < n; j++) {
-        size_t i = t->order[j];
-        t->px[j] = pos[3 * i];
-        t->py[j] = pos[3 * i + 1];
-        t->pz[j] = pos[3 * i + 2];
-        t->pm[j] = mass[i];
-        t->pe2[j] = eps[i] * eps[i];
-    }
+    /* The walk reads particles in tree order, contiguously: the build left them so. */
+    for (size_t j = 0; j < n; j++)
+        t->pe2[j] *= t->pe2[j];
     return index_walk(t);
 }
 
@@ -508,6 +527,8 @@ void qt_free(qt_tree *t)
     free(t->nodes);
     free(t->order);
     free(t->scratch);
+    free(t->dest);
+    free(t->sort_tmp);
     free(t->groups);
     free(t->px);
     free(t->walk);

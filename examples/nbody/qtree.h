@@ -39,7 +39,8 @@ typedef struct qt_walk_node {
 typedef struct qt_tree {
     qt_node *nodes;
     size_t nnodes, cap;
-    size_t *order, *scratch;
+    size_t *order, *scratch, *dest; /* dest, scratch, sort_tmp: the build's counting sorts */
+    double *sort_tmp;
     size_t n;
     int *groups; /* the nodes walked as groups: the largest with at most QT_GROUP particles */
     size_t ngroups, groups_cap;
