@@ -24,9 +24,20 @@ static ORR_ALWAYS_INLINE float total16(float s[QT_LIST_LANES])
     return s[0];
 }
 
-/* The cells' pull on one target (x, y, z, e2i) into out[0..3] (ax ay az phi). */
-static ORR_ALWAYS_INLINE void cells_on_one(const qt_lists *l, float x, float y, float z, float e2i, float out[4])
+/* Target i's four totals into out. */
+static ORR_ALWAYS_INLINE void store_totals(float ax[QT_LIST_LANES], float ay[QT_LIST_LANES], float az[QT_LIST_LANES],
+                                           float ph[QT_LIST_LANES], qt_sums *out, size_t i)
 {
+    out->ax[i] = total16(ax);
+    out->ay[i] = total16(ay);
+    out->az[i] = total16(az);
+    out->phi[i] = total16(ph);
+}
+
+/* The cells' pull on target i of g into out. */
+static ORR_ALWAYS_INLINE void cells_on_one(const qt_lists *l, const qt_targets *g, size_t i, qt_sums *out)
+{
+    const float x = g->x[i], y = g->y[i], z = g->z[i], e2i = g->e2[i];
     const size_t cap = l->cap_cell, n = qt_padded(l->ncell);
     float ax[QT_LIST_LANES] = {0}, ay[QT_LIST_LANES] = {0}, az[QT_LIST_LANES] = {0}, ph[QT_LIST_LANES] = {0};
     for (size_t k = 0; k < n; k += QT_LIST_LANES) {
@@ -47,52 +58,41 @@ static ORR_ALWAYS_INLINE void cells_on_one(const qt_lists *l, float x, float y, 
             ph[j] -= m * inv + 0.5f * dqd * inv5;
         }
     }
-    out[0] = total16(ax);
-    out[1] = total16(ay);
-    out[2] = total16(az);
-    out[3] = total16(ph);
+    store_totals(ax, ay, az, ph, out, i);
 }
 
-/* The particles' pull on one target into out[0..3]. */
-static ORR_ALWAYS_INLINE void parts_on_one(const qt_lists *l, float x, float y, float z, float e2i, float out[4])
+/* The particles' pull on target i of g into out. */
+static ORR_ALWAYS_INLINE void parts_on_one(const qt_lists *l, const qt_targets *g, size_t i, qt_sums *out)
 {
-    const size_t cap = l->cap_part, n = qt_padded(l->npart);
+    const float x = g->x[i], y = g->y[i], z = g->z[i], e2i = g->e2[i];
+    const size_t cap = l->cap_part;
+    const float *px = l->p + QT_PX * cap, *py = l->p + QT_PY * cap, *pz = l->p + QT_PZ * cap;
+    const float *pm = l->p + QT_PM * cap, *pe2 = l->p + QT_PE2 * cap;
     float ax[QT_LIST_LANES] = {0}, ay[QT_LIST_LANES] = {0}, az[QT_LIST_LANES] = {0}, ph[QT_LIST_LANES] = {0};
-    for (size_t k = 0; k < n; k += QT_LIST_LANES) {
-        const float *p = l->p + k;
+    for (size_t k = 0; k < qt_padded(l->npart); k += QT_LIST_LANES)
 #pragma omp simd
         for (int j = 0; j < QT_LIST_LANES; j++) {
-            float dx = p[QT_PX * cap + j] - x, dy = p[QT_PY * cap + j] - y, dz = p[QT_PZ * cap + j] - z;
-            float r2 = dx * dx + dy * dy + dz * dz + 0.5f * (e2i + p[QT_PE2 * cap + j]);
-            float inv = 1.0f / sqrtf(r2), m = p[QT_PM * cap + j], m3 = m * inv * inv * inv;
+            float dx = px[k + j] - x, dy = py[k + j] - y, dz = pz[k + j] - z;
+            float r2 = dx * dx + dy * dy + dz * dz + 0.5f * (e2i + pe2[k + j]);
+            float inv = 1.0f / sqrtf(r2), m = pm[k + j], m3 = m * inv * inv * inv;
             ax[j] += m3 * dx;
             ay[j] += m3 * dy;
             az[j] += m3 * dz;
             ph[j] -= m * inv;
         }
-    }
-    out[0] = total16(ax);
-    out[1] = total16(ay);
-    out[2] = total16(az);
-    out[3] = total16(ph);
+    store_totals(ax, ay, az, ph, out, i);
 }
 
 ORR_WIDE_VECTOR_CLONES
 void qt_cells_on(const qt_lists *l, const qt_targets *g, qt_sums *out)
 {
-    for (size_t i = 0; i < g->n; i++) {
-        float s[4];
-        cells_on_one(l, g->x[i], g->y[i], g->z[i], g->e2[i], s);
-        out->ax[i] = s[0], out->ay[i] = s[1], out->az[i] = s[2], out->phi[i] = s[3];
-    }
+    for (size_t i = 0; i < g->n; i++)
+        cells_on_one(l, g, i, out);
 }
 
 ORR_WIDE_VECTOR_CLONES
 void qt_parts_on(const qt_lists *l, const qt_targets *g, qt_sums *out)
 {
-    for (size_t i = 0; i < g->n; i++) {
-        float s[4];
-        parts_on_one(l, g->x[i], g->y[i], g->z[i], g->e2[i], s);
-        out->ax[i] = s[0], out->ay[i] = s[1], out->az[i] = s[2], out->phi[i] = s[3];
-    }
+    for (size_t i = 0; i < g->n; i++)
+        parts_on_one(l, g, i, out);
 }
