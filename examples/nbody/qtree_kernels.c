@@ -6,9 +6,9 @@
  * (one particle a lane, the entries broadcast): groups hold 17 particles
  * on average, so a group's last vector of 16 particles is mostly empty
  * (69 % of lanes busy on the Milky Way model), while lists are ~800
- * entries long (98 % busy). Both do the same operations a lane, and the
+ * entries long (~97 % busy). Both do the same operations a lane, and the
  * loads of the list's entries are not what limits either; measured, the
- * list-vectorised loops were ~1.3x faster (docs/nbody.md). */
+ * list-vectorised loops made the forces ~1.1x faster (docs/nbody.md). */
 #include "qtree_kernels.h"
 
 #include <math.h>
