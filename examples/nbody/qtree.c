@@ -1,4 +1,5 @@
 #include "qtree.h"
+#include "qtree_kernels.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -37,9 +38,9 @@ static int add_group(qt_tree *t, int node)
     return 0;
 }
 
-static int octant(const double *p, const double *c)
+static int octant(double x, double y, double z, const double *c)
 {
-    return (p[0] >= c[0]) | (p[1] >= c[1]) << 1 | (p[2] >= c[2]) << 2;
+    return (x >= c[0]) | (y >= c[1]) << 1 | (z >= c[2]) << 2;
 }
 
 /* A node's mass, centre of mass and mean softening^2 from the sums of m,
@@ -66,35 +67,63 @@ static void add_quad(double q[6], double m, const double y[3])
 
 /* Mass, centre of mass, traceless quadrupole, b_max and mean softening^2
  * of a node, from its particles directly (each particle is visited once per
- * level: N log N in all, a small part of a step). */
-static void node_moments(qt_tree *t, qt_node *nd, const double *pos, const double *mass, const double *eps)
+ * level: N log N in all). During the build the tree-order arrays hold the
+ * node's particles contiguously, pe2 still the softening itself. */
+static void node_moments(const qt_tree *t, qt_node *nd)
 {
     double m = 0, c[3] = {0, 0, 0}, e2 = 0;
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
-        size_t i = t->order[j];
-        m += mass[i];
-        for (int k = 0; k < 3; k++)
-            c[k] += mass[i] * pos[3 * i + k];
-        e2 += mass[i] * eps[i] * eps[i];
+        m += t->pm[j];
+        c[0] += t->pm[j] * t->px[j];
+        c[1] += t->pm[j] * t->py[j];
+        c[2] += t->pm[j] * t->pz[j];
+        e2 += t->pm[j] * t->pe2[j] * t->pe2[j];
     }
     set_mass_centre(nd, m, c, e2);
     double q[6] = {0}, b2 = 0;
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
-        size_t i = t->order[j];
-        double y[3] = {pos[3 * i] - nd->com[0], pos[3 * i + 1] - nd->com[1], pos[3 * i + 2] - nd->com[2]};
-        add_quad(q, mass[i], y);
+        double y[3] = {t->px[j] - nd->com[0], t->py[j] - nd->com[1], t->pz[j] - nd->com[2]};
+        add_quad(q, t->pm[j], y);
         b2 = fmax(b2, y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
     }
     memcpy(nd->quad, q, sizeof q);
     nd->bmax = sqrt(b2);
 }
 
-typedef struct build_in {
-    const double *pos, *mass, *eps;
-} build_in;
+/* Moves the entries first .. first + count - 1 of a to the places dest
+ * gives them (within the same range), through tmp. */
+static void permute(double *a, const size_t *dest, double *tmp, size_t first, size_t count)
+{
+    for (size_t j = first; j < first + count; j++)
+        tmp[dest[j]] = a[j];
+    memcpy(&a[first], &tmp[first], count * sizeof *a);
+}
 
-static int build_node(qt_tree *t, const build_in *in, size_t first, size_t count, const double centre[3],
-                      double half, int depth, int in_group)
+/* Counting sort of a cell's particles by octant: order and the tree-order
+ * arrays together, so that every level reads its particles contiguously
+ * (reading them through order, at random, was most of the build's time). */
+static void sort_by_octant(qt_tree *t, size_t first, size_t count, const double centre[3], size_t counts[8],
+                           size_t starts[8])
+{
+    size_t fill[8];
+    for (size_t j = first; j < first + count; j++)
+        counts[octant(t->px[j], t->py[j], t->pz[j], centre)]++;
+    starts[0] = first;
+    for (int k = 1; k < 8; k++)
+        starts[k] = starts[k - 1] + counts[k - 1];
+    memcpy(fill, starts, sizeof fill);
+    for (size_t j = first; j < first + count; j++)
+        t->dest[j] = fill[octant(t->px[j], t->py[j], t->pz[j], centre)]++;
+    for (size_t j = first; j < first + count; j++)
+        t->scratch[t->dest[j]] = t->order[j];
+    memcpy(&t->order[first], &t->scratch[first], count * sizeof *t->order);
+    double *arrays[5] = {t->px, t->py, t->pz, t->pm, t->pe2};
+    for (int a = 0; a < 5; a++)
+        permute(arrays[a], t->dest, t->sort_tmp, first, count);
+}
+
+static int build_node(qt_tree *t, size_t first, size_t count, const double centre[3], double half, int depth,
+                      int in_group)
 {
     int id = new_node(t);
     if (id < 0)
@@ -104,7 +133,7 @@ static int build_node(qt_tree *t, const build_in *in, size_t first, size_t count
     nd->half = half;
     nd->first = first;
     nd->count = count;
-    node_moments(t, nd, in->pos, in->mass, in->eps);
+    node_moments(t, nd);
     if (!in_group && count <= QT_GROUP) {
         if (add_group(t, id) != 0)
             return -1;
@@ -114,26 +143,15 @@ static int build_node(qt_tree *t, const build_in *in, size_t first, size_t count
         nd->leaf = 1;
         return id;
     }
-    /* Counting sort of the cell's particles by octant. */
-    size_t counts[8] = {0}, starts[8], fill[8];
-    for (size_t j = first; j < first + count; j++)
-        counts[octant(&in->pos[3 * t->order[j]], centre)]++;
-    starts[0] = first;
-    for (int k = 1; k < 8; k++)
-        starts[k] = starts[k - 1] + counts[k - 1];
-    memcpy(fill, starts, sizeof fill);
-    for (size_t j = first; j < first + count; j++) {
-        size_t i = t->order[j];
-        t->scratch[fill[octant(&in->pos[3 * i], centre)]++] = i;
-    }
-    memcpy(&t->order[first], &t->scratch[first], count * sizeof *t->order);
+    size_t counts[8] = {0}, starts[8];
+    sort_by_octant(t, first, count, centre, counts, starts);
     for (int k = 0; k < 8; k++) {
         if (!counts[k])
             continue;
         double cc[3];
         for (int a = 0; a < 3; a++)
             cc[a] = centre[a] + ((k >> a) & 1 ? 0.5 : -0.5) * half;
-        int child = build_node(t, in, starts[k], counts[k], cc, 0.5 * half, depth + 1, in_group);
+        int child = build_node(t, starts[k], counts[k], cc, 0.5 * half, depth + 1, in_group);
         if (child < 0)
             return -1;
         t->nodes[id].child[k] = child; /* the pool may have moved */
@@ -145,17 +163,53 @@ static int resize(qt_tree *t, size_t n)
 {
     free(t->order);
     free(t->scratch);
+    free(t->dest);
     free(t->px);
+    free(t->sort_tmp);
     t->order = malloc(n * sizeof *t->order);
     t->scratch = malloc(n * sizeof *t->scratch);
+    t->dest = malloc(n * sizeof *t->dest);
     t->px = malloc(5 * n * sizeof *t->px);
+    t->sort_tmp = malloc(n * sizeof *t->sort_tmp);
     t->n = n;
-    if (!t->order || !t->scratch || !t->px)
+    if (!t->order || !t->scratch || !t->dest || !t->px || !t->sort_tmp)
         return -1;
     t->py = t->px + n;
     t->pz = t->py + n;
     t->pm = t->pz + n;
     t->pe2 = t->pm + n;
+    return 0;
+}
+
+/* The walk's compact copy of the nodes (make_lists): nodes are made in
+ * depth-first order (build_node), so a node's subtree is the nodes from it
+ * to its `next`; a leaf's next is the node after it. What the walk reads,
+ * in 72 bytes a node instead of the node's 184, read forwards: a group
+ * visits ~600 nodes and takes ~500 of them whole (the Milky Way model), so
+ * the cells' moments are kept ready in float. */
+static int index_walk(qt_tree *t)
+{
+    if (t->walk_cap < t->nnodes) {
+        free(t->walk);
+        t->walk = malloc(t->cap * sizeof *t->walk);
+        t->walk_cap = t->walk ? t->cap : 0;
+        if (!t->walk)
+            return -1;
+    }
+    for (size_t id = t->nnodes; id-- > 0;) {
+        const qt_node *nd = &t->nodes[id];
+        qt_walk_node *w = &t->walk[id];
+        memcpy(w->com, nd->com, sizeof w->com);
+        w->bmax = nd->bmax;
+        w->moments[0] = (float)nd->mass;
+        for (int q = 0; q < 6; q++)
+            w->moments[1 + q] = (float)nd->quad[q];
+        w->moments[7] = (float)nd->eps2;
+        w->next = id + 1;
+        for (int k = 0; k < 8; k++) /* the last child's subtree ends the node's */
+            if (nd->child[k] >= 0)
+                w->next = t->walk[nd->child[k]].next;
+    }
     return 0;
 }
 
@@ -168,6 +222,11 @@ int qt_build(qt_tree *t, const double *pos, const double *mass, const double *ep
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < n; i++) {
         t->order[i] = i;
+        t->px[i] = pos[3 * i];
+        t->py[i] = pos[3 * i + 1];
+        t->pz[i] = pos[3 * i + 2];
+        t->pm[i] = mass[i];
+        t->pe2[i] = eps[i]; /* squared once sorted */
         for (int k = 0; k < 3; k++) {
             lo[k] = fmin(lo[k], pos[3 * i + k]);
             hi[k] = fmax(hi[k], pos[3 * i + k]);
@@ -179,19 +238,12 @@ int qt_build(qt_tree *t, const double *pos, const double *mass, const double *ep
         half = fmax(half, n ? 0.5 * (hi[k] - lo[k]) : 0.0);
     }
     half = half * 1.0001 + 1e-12;
-    build_in in = {pos, mass, eps};
-    if (build_node(t, &in, 0, n, centre, half, 0, 0) < 0)
+    if (build_node(t, 0, n, centre, half, 0, 0) < 0)
         return -1;
-    /* The walk reads particles in tree order, contiguously. */
-    for (size_t j = 0; j < n; j++) {
-        size_t i = t->order[j];
-        t->px[j] = pos[3 * i];
-        t->py[j] = pos[3 * i + 1];
-        t->pz[j] = pos[3 * i + 2];
-        t->pm[j] = mass[i];
-        t->pe2[j] = eps[i] * eps[i];
-    }
-    return 0;
+    /* The walk reads particles in tree order, contiguously: the build left them so. */
+    for (size_t j = 0; j < n; j++)
+        t->pe2[j] *= t->pe2[j];
+    return index_walk(t);
 }
 
 /* A parent's moments from its children's: masses and first moments add;
@@ -258,26 +310,13 @@ void qt_refresh(qt_tree *t, const double *pos)
         memcpy(nd->quad, q, sizeof q);
         nd->bmax = sqrt(b2);
     }
+    (void)index_walk(t); /* the build made room for every node: cannot fail */
 }
 
 /* ---- walk --------------------------------------------------------------- */
 
-/* A thread's interaction lists for one group, gathered into contiguous
- * float arrays relative to the group's centre of mass so the loops over
- * them vectorise: cells taken whole (mass, quadrupole, softening^2) and
- * particles of opened leaves. Float is safe here: offsets from the group
- * are at most the system's size and need ~1e-7 relative precision against
- * the tree's ~1e-3 errors; sums are over at most ~1e4 terms. */
-typedef struct lists {
-    size_t ncell, npart, cap_cell, cap_part;
-    float *c; /* per cell: x y z m q0..q5 e2, 11 arrays of cap_cell */
-    float *p; /* per particle: x y z m e2, 5 arrays of cap_part */
-} lists;
-
-enum { CX, CY, CZ, CM, CQ0, CQ1, CQ2, CQ3, CQ4, CQ5, CE2, CELL_FIELDS };
-enum { PX, PY, PZ, PM, PE2, PART_FIELDS };
-
-/* Grows one structure-of-arrays block, keeping the first `used` entries. */
+/* Grows a list's structure-of-arrays block to hold `need` entries of each
+ * field, keeping the first `used`. */
 static int grow(float **block, size_t *cap, size_t used, size_t need, int fields)
 {
     if (need <= *cap)
@@ -294,125 +333,86 @@ static int grow(float **block, size_t *cap, size_t used, size_t need, int fields
     return 0;
 }
 
-static int push_cell(lists *l, const qt_node *nd, const double g[3])
+/* A cell taken whole: its offset from the group, then its moments in float
+ * as index_walk stored them. */
+static int push_cell(qt_lists *l, const qt_walk_node *w, const double g[3])
 {
-    if (grow(&l->c, &l->cap_cell, l->ncell, l->ncell + 1, CELL_FIELDS) != 0)
+    if (grow(&l->c, &l->cap_cell, l->ncell, l->ncell + 1, QT_CELL_FIELDS) != 0)
         return -1;
-    float *c = l->c;
     size_t k = l->ncell++, cap = l->cap_cell;
-    c[CX * cap + k] = (float)(nd->com[0] - g[0]);
-    c[CY * cap + k] = (float)(nd->com[1] - g[1]);
-    c[CZ * cap + k] = (float)(nd->com[2] - g[2]);
-    c[CM * cap + k] = (float)nd->mass;
-    for (int q = 0; q < 6; q++)
-        c[(CQ0 + q) * cap + k] = (float)nd->quad[q];
-    c[CE2 * cap + k] = (float)nd->eps2;
+    float *c = l->c + k;
+    c[QT_CX * cap] = (float)(w->com[0] - g[0]);
+    c[QT_CY * cap] = (float)(w->com[1] - g[1]);
+    c[QT_CZ * cap] = (float)(w->com[2] - g[2]);
+    for (int f = 0; f < 8; f++)
+        c[(QT_CM + f) * cap] = w->moments[f];
     return 0;
 }
 
-static int push_leaf(lists *l, const qt_tree *t, const qt_node *nd, const double g[3])
+static int push_leaf(qt_lists *l, const qt_tree *t, const qt_node *nd, const double g[3])
 {
-    if (grow(&l->p, &l->cap_part, l->npart, l->npart + nd->count, PART_FIELDS) != 0)
+    if (grow(&l->p, &l->cap_part, l->npart, l->npart + nd->count, QT_PART_FIELDS) != 0)
         return -1;
-    float *p = l->p;
     size_t cap = l->cap_part;
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
-        size_t k = l->npart++;
-        p[PX * cap + k] = (float)(t->px[j] - g[0]);
-        p[PY * cap + k] = (float)(t->py[j] - g[1]);
-        p[PZ * cap + k] = (float)(t->pz[j] - g[2]);
-        p[PM * cap + k] = (float)t->pm[j];
-        p[PE2 * cap + k] = (float)t->pe2[j];
+        float *p = l->p + l->npart++;
+        p[QT_PX * cap] = (float)(t->px[j] - g[0]);
+        p[QT_PY * cap] = (float)(t->py[j] - g[1]);
+        p[QT_PZ * cap] = (float)(t->pz[j] - g[2]);
+        p[QT_PM * cap] = (float)t->pm[j];
+        p[QT_PE2 * cap] = (float)t->pe2[j];
     }
+    return 0;
+}
+
+/* Zero-mass entries from `from` to `to` in each of a block's fields
+ * (softening^2 1 in field e2, so they stay finite): they add exactly
+ * nothing. */
+static void pad_block(float *block, size_t cap, int fields, int e2, size_t from, size_t to)
+{
+    for (int f = 0; f < fields; f++)
+        for (size_t k = from; k < to; k++)
+            block[f * cap + k] = f == e2 ? 1.0f : 0.0f;
+}
+
+/* The lists padded to the kernels' multiple of QT_LIST_LANES. */
+static int pad_lists(qt_lists *l)
+{
+    size_t nc = qt_padded(l->ncell), np = qt_padded(l->npart);
+    if (grow(&l->c, &l->cap_cell, l->ncell, nc, QT_CELL_FIELDS) != 0 ||
+        grow(&l->p, &l->cap_part, l->npart, np, QT_PART_FIELDS) != 0)
+        return -1;
+    pad_block(l->c, l->cap_cell, QT_CELL_FIELDS, QT_CE2, l->ncell, nc);
+    pad_block(l->p, l->cap_part, QT_PART_FIELDS, QT_PE2, l->npart, np);
     return 0;
 }
 
 /* The interaction lists of group g: every cell passing the b_max criterion
  * for the group's bounding sphere (its centre of mass, radius b_max) is
  * taken whole; leaves that do not are taken particle by particle. theta <= 1
- * guarantees a cell holding the group is always opened (see qtree.h). */
-static int make_lists(const qt_tree *t, const qt_node *g, double theta, lists *l)
+ * guarantees a cell holding the group is always opened (see qtree.h).
+ * The walk runs through the compact depth-first copy (index_walk): forward
+ * through memory, a cell taken whole skipping its subtree, with
+ * |c - g| - r_g > b_max / theta tested squared (no square root). */
+static int make_lists(const qt_tree *t, const qt_node *g, double theta, qt_lists *l)
 {
-    int stack[8 * MAX_DEPTH + 8];
-    int top = 0;
     l->ncell = l->npart = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-        int id = stack[--top];
-        const qt_node *nd = &t->nodes[id];
-        double d[3] = {nd->com[0] - g->com[0], nd->com[1] - g->com[1], nd->com[2] - g->com[2]};
-        double dist = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) - g->bmax;
-        if (dist > 0 && dist * theta > nd->bmax) {
-            if (push_cell(l, nd, g->com) != 0)
+    const double inv_theta = 1.0 / theta;
+    for (size_t id = 0; id < t->nnodes;) {
+        const qt_walk_node *w = &t->walk[id];
+        double d[3] = {w->com[0] - g->com[0], w->com[1] - g->com[1], w->com[2] - g->com[2]};
+        double reach = g->bmax + w->bmax * inv_theta;
+        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > reach * reach) {
+            if (push_cell(l, w, g->com) != 0)
                 return -1;
-        } else if (nd->leaf) {
-            if (push_leaf(l, t, nd, g->com) != 0)
-                return -1;
-        } else {
-            for (int k = 0; k < 8; k++)
-                if (nd->child[k] >= 0)
-                    stack[top++] = nd->child[k];
+            id = w->next;
+            continue;
         }
+        if (w->next == id + 1 && push_leaf(l, t, &t->nodes[id], g->com) != 0) /* a leaf */
+            return -1;
+        id++; /* into the children, or past a leaf */
     }
-    return 0;
-}
-
-/* Softened monopole + quadrupole of the list's cells at the particle
- * (x, y, z), offsets d = x - com, softened with (eps_i^2 + <eps^2>_cell) / 2:
- * the pair rule averaged over the cell to first order in eps^2, so a cell
- * mixing halo and disc particles costs no systematic error:
- *   Phi = -[M / r + (d.Q.d) / (2 r^5)],  a = -grad Phi
- *       = -M d / r^3 + Q.d / r^5 - 5/2 (d.Q.d) d / r^7,
- * with r^2 = |d|^2 + eps^2 (the usual softened expansion; cells taken whole
- * are far beyond the softening). Adds to a[3] and *phi (without G). */
-static void cells_on(const lists *l, float x, float y, float z, float e2i, double a[3], double *phi)
-{
-    const size_t cap = l->cap_cell;
-    const float *c = l->c;
-    float ax = 0, ay = 0, az = 0, ph = 0;
-#pragma omp simd reduction(+ : ax, ay, az, ph)
-    for (size_t k = 0; k < l->ncell; k++) {
-        float dx = x - c[CX * cap + k], dy = y - c[CY * cap + k], dz = z - c[CZ * cap + k];
-        float r2 = dx * dx + dy * dy + dz * dz + 0.5f * (e2i + c[CE2 * cap + k]);
-        float inv = 1.0f / sqrtf(r2), inv2 = inv * inv, inv3 = inv * inv2, inv5 = inv3 * inv2;
-        float q0 = c[CQ0 * cap + k], q1 = c[CQ1 * cap + k], q2 = c[CQ2 * cap + k];
-        float q3 = c[CQ3 * cap + k], q4 = c[CQ4 * cap + k], q5 = c[CQ5 * cap + k];
-        float qx = q0 * dx + q3 * dy + q4 * dz, qy = q3 * dx + q1 * dy + q5 * dz, qz = q4 * dx + q5 * dy + q2 * dz;
-        float dqd = dx * qx + dy * qy + dz * qz, m = c[CM * cap + k];
-        float s = -m * inv3 - 2.5f * dqd * inv5 * inv2;
-        ax += s * dx + qx * inv5;
-        ay += s * dy + qy * inv5;
-        az += s * dz + qz * inv5;
-        ph -= m * inv + 0.5f * dqd * inv5;
-    }
-    a[0] += ax;
-    a[1] += ay;
-    a[2] += az;
-    *phi += ph;
-}
-
-/* Plummer-softened pulls of the list's particles; the particle itself is in
- * the list (its own leaf) and adds no force (zero offset) and -m / eps to
- * the potential, which the caller removes. */
-static void parts_on(const lists *l, float x, float y, float z, float e2i, double a[3], double *phi)
-{
-    const size_t cap = l->cap_part;
-    const float *p = l->p;
-    float ax = 0, ay = 0, az = 0, ph = 0;
-#pragma omp simd reduction(+ : ax, ay, az, ph)
-    for (size_t k = 0; k < l->npart; k++) {
-        float dx = p[PX * cap + k] - x, dy = p[PY * cap + k] - y, dz = p[PZ * cap + k] - z;
-        float r2 = dx * dx + dy * dy + dz * dz + 0.5f * (e2i + p[PE2 * cap + k]);
-        float inv = 1.0f / sqrtf(r2), m = p[PM * cap + k], m3 = m * inv * inv * inv;
-        ax += m3 * dx;
-        ay += m3 * dy;
-        az += m3 * dz;
-        ph -= m * inv;
-    }
-    a[0] += ax;
-    a[1] += ay;
-    a[2] += az;
-    *phi += ph;
+    return pad_lists(l);
 }
 
 /* Whether the caller asked for particle i (of the whole set). */
@@ -421,22 +421,40 @@ static int wanted(size_t i, size_t first, size_t count, const unsigned char *act
     return i >= first && i < first + count && (!active || active[i - first]);
 }
 
+/* The group's particles that the caller asked for, gathered for the
+ * kernels (qtree_kernels.h); their tree-order indices into js. */
+static void gather_targets(const qt_tree *t, const qt_node *g, size_t first, size_t count,
+                           const unsigned char *active, qt_targets *tg, size_t *js)
+{
+    tg->n = 0;
+    for (size_t j = g->first; j < g->first + g->count; j++) {
+        if (!wanted(t->order[j], first, count, active))
+            continue;
+        js[tg->n] = j;
+        tg->x[tg->n] = (float)(t->px[j] - g->com[0]);
+        tg->y[tg->n] = (float)(t->py[j] - g->com[1]);
+        tg->z[tg->n] = (float)(t->pz[j] - g->com[2]);
+        tg->e2[tg->n] = (float)t->pe2[j];
+        tg->n++;
+    }
+}
+
 /* The group's particles that the caller asked for, against its lists. */
-static void apply_lists(const qt_tree *t, const qt_node *g, const lists *l, double G, size_t first, size_t count,
+static void apply_lists(const qt_tree *t, const qt_node *g, const qt_lists *l, double G, size_t first, size_t count,
                         const unsigned char *active, double *acc, double *pot)
 {
-    for (size_t j = g->first; j < g->first + g->count; j++) {
-        size_t i = t->order[j];
-        if (!wanted(i, first, count, active))
-            continue;
-        float x = (float)(t->px[j] - g->com[0]), y = (float)(t->py[j] - g->com[1]), z = (float)(t->pz[j] - g->com[2]);
-        float e2i = (float)t->pe2[j];
-        double a[3] = {0, 0, 0}, phi = 0;
-        cells_on(l, x, y, z, e2i, a, &phi);
-        parts_on(l, x, y, z, e2i, a, &phi);
-        if (e2i > 0)
-            phi += t->pm[j] / sqrt((double)e2i); /* its own term */
-        size_t o = i - first;
+    qt_targets tg;
+    qt_sums cs, ps;
+    size_t js[QT_GROUP];
+    gather_targets(t, g, first, count, active, &tg, js);
+    qt_cells_on(l, &tg, &cs);
+    qt_parts_on(l, &tg, &ps);
+    for (size_t n = 0; n < tg.n; n++) {
+        size_t j = js[n], o = t->order[j] - first;
+        double a[3] = {(double)cs.ax[n] + ps.ax[n], (double)cs.ay[n] + ps.ay[n], (double)cs.az[n] + ps.az[n]};
+        double phi = (double)cs.phi[n] + ps.phi[n];
+        if (tg.e2[n] > 0)
+            phi += t->pm[j] / sqrt((double)tg.e2[n]); /* its own term */
         for (int k = 0; k < 3; k++)
             acc[3 * o + k] = G * a[k];
         if (pot)
@@ -458,7 +476,7 @@ double qt_accelerations_masked(const qt_tree *t, double G, double theta, size_t 
     const long ng = (long)t->ngroups;
 #pragma omp parallel reduction(+ : total) reduction(| : failed)
     {
-        lists l = {0};
+        qt_lists l = {0};
 #pragma omp for schedule(dynamic, 4)
         for (long k = 0; k < ng; k++) {
             const qt_node *g = &t->nodes[t->groups[k]];
@@ -509,7 +527,10 @@ void qt_free(qt_tree *t)
     free(t->nodes);
     free(t->order);
     free(t->scratch);
+    free(t->dest);
+    free(t->sort_tmp);
     free(t->groups);
     free(t->px);
+    free(t->walk);
     memset(t, 0, sizeof *t);
 }

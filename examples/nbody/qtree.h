@@ -26,14 +26,27 @@ typedef struct qt_node {
     int leaf;
 } qt_node;
 
+/* A node's centre of mass and b_max, the node after its subtree in the
+ * depth-first order, and its mass, quadrupole and mean softening^2 in
+ * float: what the walk reads (qtree.c, index_walk). */
+typedef struct qt_walk_node {
+    double com[3];
+    double bmax;
+    size_t next;
+    float moments[8]; /* m, q0..q5, eps2 */
+} qt_walk_node;
+
 typedef struct qt_tree {
     qt_node *nodes;
     size_t nnodes, cap;
-    size_t *order, *scratch;
+    size_t *order, *scratch, *dest; /* dest, scratch, sort_tmp: the build's counting sorts */
+    double *sort_tmp;
     size_t n;
     int *groups; /* the nodes walked as groups: the largest with at most QT_GROUP particles */
     size_t ngroups, groups_cap;
     double *px, *py, *pz, *pm, *pe2; /* particles in tree order (structure of arrays) */
+    qt_walk_node *walk;              /* nnodes of them, for the walk */
+    size_t walk_cap;
 } qt_tree;
 
 #ifndef QT_LEAF
