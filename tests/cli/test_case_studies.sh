@@ -69,4 +69,18 @@ sys.exit(0 if abs(float(d.rsplit(' ', 1)[1]) / float(sys.argv[2]) - 1) < 1e-5 el
     >run.out 2>run.err || fail "spiral anaglyph in-situ: $(cat run.err)"
   $check parallax na/spiral-anaglyph_0002.png na/spiral-anaglyph_0002.fits || fail "anaglyph in-situ: parallax sign"
 fi
+# scripts/band_share.py (docs/gallery.md, Future Sky) on a uniform sky, a
+# plate carree map whose every pixel holds 1 per steradian: the share of
+# the light within |b| < 15 deg is sin 15 deg = 0.259, and half the light
+# lies within |b| < 30 deg (sin b = 1/2; to a pixel of 1 deg).
+"$py" - <<'PY' || fail "a uniform sky for band_share.py"
+import numpy as np
+from astropy.io import fits
+h = fits.Header({"CTYPE1": "GLON-CAR", "CTYPE2": "GLAT-CAR", "CRPIX1": 180.5, "CRPIX2": 90.5,
+                 "CRVAL1": 0.0, "CRVAL2": 0.0, "CDELT1": -1.0, "CDELT2": 1.0})
+fits.HDUList([fits.PrimaryHDU(), fits.ImageHDU(np.ones((180, 360), np.float32), h, name="Y")]).writeto("uniform.fits")
+PY
+band=$("$py" "$SRC/scripts/band_share.py" uniform.fits) || fail "band_share.py on a uniform sky"
+echo "$band" | awk '{ for (i = 1; i <= NF; i++) { if ($i == "=" && $(i - 1) == "15)") s = $(i + 1); if ($i == "|b|" && $(i + 1) == "=") h = $(i + 2) } }
+  END { exit !(s > 0.254 && s < 0.264 && h >= 29 && h <= 31) }' || fail "band_share.py on a uniform sky: $band"
 finish
