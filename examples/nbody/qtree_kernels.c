@@ -83,16 +83,30 @@ static ORR_ALWAYS_INLINE void parts_on_one(const qt_lists *l, const qt_targets *
     store_totals(ax, ay, az, ph, out, i);
 }
 
+/* The clones are static, called through plain external functions: Clang
+ * (14) names a cloned function's resolver so that callers in other files
+ * do not find it, as the render code's clones (src/core/simd.h) are static
+ * for the same reason. */
 ORR_WIDE_VECTOR_CLONES
-void qt_cells_on(const qt_lists *l, const qt_targets *g, qt_sums *out)
+static void cells_on_all(const qt_lists *l, const qt_targets *g, qt_sums *out)
 {
     for (size_t i = 0; i < g->n; i++)
         cells_on_one(l, g, i, out);
 }
 
 ORR_WIDE_VECTOR_CLONES
-void qt_parts_on(const qt_lists *l, const qt_targets *g, qt_sums *out)
+static void parts_on_all(const qt_lists *l, const qt_targets *g, qt_sums *out)
 {
     for (size_t i = 0; i < g->n; i++)
         parts_on_one(l, g, i, out);
+}
+
+void qt_cells_on(const qt_lists *l, const qt_targets *g, qt_sums *out)
+{
+    cells_on_all(l, g, out);
+}
+
+void qt_parts_on(const qt_lists *l, const qt_targets *g, qt_sums *out)
+{
+    parts_on_all(l, g, out);
 }
