@@ -10,8 +10,10 @@
 #       of dark-universe, nightfall, spiral, futuresky (default all) its short run
 #       at a small size, a strip of 6 frames across it (docs/images/gallery/
 #       film-NAME.png) and a video made by `orrery video` (docs/videos/NAME.mp4,
-#       at most 1.5 MB); prints each film's wall time. About 80 minutes on two
-#       heavily shared cores, most of it Future Sky's N-body run (docs/gallery.md).
+#       at most 1.5 MB); prints each film's wall time. Over 2 hours on two
+#       shared cores, most of it the N-body runs of Spiral Metamorphosis and
+#       Future Sky (docs/gallery.md). SPIRAL_RUN=DIR or FUTURESKY_RUN=DIR take
+#       the frames of such a run made before (its output folder) instead.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 orrery=${ORRERY:-$here/build/orrery}
@@ -144,12 +146,16 @@ film_nightfall() {
 }
 
 film_spiral() {
-  echo "Spiral Metamorphosis in-situ: 20 000 particles, 2400 steps of 2 Myr, 31 frames of 240x240 views"
+  echo "Spiral Metamorphosis in-situ: 200 000 particles, 2400 steps of 2 Myr, 31 frames of 240x240 views"
   local nbody scene=$here/configs/spiral-metamorphosis-insitu.yaml
   nbody=$(dirname "$orrery")/examples/orrery-nbody
-  "$nbody" --particles 20000 --steps 2400 --dt 0.002 --eps 0.1 --render-every 80 --quiet --scene "$scene" \
-    --set output.dir="$work/sp" --set image.width=240 --set image.height=240 >"$work/log" 2>&1 ||
-    { cat "$work/log" >&2; exit 1; }
+  if [ -n "${SPIRAL_RUN:-}" ]; then
+    ln -s "$(cd "$SPIRAL_RUN" && pwd)" "$work/sp"   # frames of that run, made before
+  else
+    "$nbody" --particles 200000 --steps 2400 --dt 0.002 --eps 0.3 --render-every 80 --quiet --scene "$scene" \
+      --set output.dir="$work/sp" --set image.width=240 --set image.height=240 >"$work/log" 2>&1 ||
+      { cat "$work/log" >&2; exit 1; }
+  fi
   strip "$work/strip.png" 160 "$(frames_of "$work/sp" spiral-faceon 31)" "$(frames_of "$work/sp" spiral-edgeon 31)"
   shrink "$work/strip.png" "$dest/film-spiral.png" 970
   # Side by side, as the paper shows them: each frame's two views pasted
@@ -165,15 +171,15 @@ film_spiral() {
 }
 
 film_futuresky() {
-  echo "Future Sky in-situ: examples/futuresky-short.sh's run (30 000 particles, 2450 steps of 2 Myr), 25 frames,"
-  echo "  512x256 panoramas and 256x256 dome masters"
-  local nbody scene=$here/configs/futuresky-sequence.yaml
-  nbody=$(dirname "$orrery")/examples/orrery-nbody
-  "$nbody" --particles 30000 --steps 2450 --render-every 100 --dt 0.002 --eps 0.1 --quiet --scene "$scene" \
-    --set output.dir="$work/fs" --set animation.frames=25 \
-    --set views.dome.image.width=256 --set views.dome.image.height=256 \
-    --set views.panorama.image.width=512 --set views.panorama.image.height=256 >"$work/log" 2>&1 ||
-    { cat "$work/log" >&2; exit 1; }
+  echo "Future Sky in-situ: examples/futuresky-short.sh's run (500 000 particles, 2450 steps of 2 Myr), 25 frames"
+  echo "  of a 1024x512 panorama and a 1024x1024 dome master"
+  local scene=$here/configs/futuresky-sequence.yaml
+  if [ -n "${FUTURESKY_RUN:-}" ]; then
+    ln -s "$(cd "$FUTURESKY_RUN" && pwd)" "$work/fs"   # frames of that run, made before
+  else
+    ORRERY_BUILD=$(dirname "$orrery") "$here/examples/futuresky-short.sh" "$work/fs" >"$work/log" 2>&1 ||
+      { cat "$work/log" >&2; exit 1; }
+  fi
   strip "$work/strip.png" 200 "$(frames_of "$work/fs" futuresky-panorama 25)" \
     "$(frames_of "$work/fs" futuresky-dome 25)"
   shrink "$work/strip.png" "$dest/film-futuresky.png" 1210
