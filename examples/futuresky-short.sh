@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
 # Future Sky, short: 25 frames of the Milky Way-Andromeda collision seen from
 # the Sun over 4.8 Gyr, past the galaxies' first pericentre, evolved by the
-# example N-body code (30 000 particles, 2450 steps of 2 Myr, softening
-# 0.1 kpc for stars and 0.2 for dark matter:
-# docs/nbody.md) and rendered in-situ with configs/futuresky-sequence.yaml at a quarter of
+# example N-body code (500 000 particles, 2450 steps of 2 Myr, softening
+# 0.2 kpc for stars and 0.4 for dark matter: fewer particles heat the Milky
+# Way's disc into a thick glow before Andromeda arrives, docs/nbody.md,
+# "The band and the particle number") and rendered in-situ with configs/futuresky-sequence.yaml at a quarter of
 # its size: a 1024x1024 dome master and a 1024x512 panorama per frame, then
 # a film of each when ffmpeg is there. docs/gallery.md gives the time it
 # took here; the full-length run is the config's own command.
 #
 #   examples/futuresky-short.sh [OUT_DIR [SNAPSHOT_DIR]]   (default out/futuresky-short)
 #
-# With SNAPSHOT_DIR, a snapshot every 25 steps (49 Myr, 2.4 MB each) goes
+# With SNAPSHOT_DIR, a snapshot every 25 steps (49 Myr, 40 MB each) goes
 # there too, for scripts/collision_tails.py (first pericentre, tails) and
 # configs/collision-snapshots.yaml (the collision from outside).
 #
@@ -23,7 +24,7 @@ out=${1:-out/futuresky-short}
 scene=$here/configs/futuresky-sequence.yaml
 snapshots=()
 [ $# -ge 2 ] && snapshots=(--snapshot-every 25 --snapshot-dir "$2")
-"$build/examples/orrery-nbody" --particles 30000 --steps 2450 --render-every 100 --dt 0.002 --eps 0.1 --quiet \
+"$build/examples/orrery-nbody" --particles 500000 --steps 2450 --render-every 100 --dt 0.002 --eps 0.2 --quiet \
   --scene "$scene" --set output.dir="$out" --set animation.frames=25 \
   --set views.dome.image.width=1024 --set views.dome.image.height=1024 \
   --set views.panorama.image.width=1024 --set views.panorama.image.height=512 "${snapshots[@]}"

@@ -180,9 +180,9 @@ film_futuresky() {
     ORRERY_BUILD=$(dirname "$orrery") "$here/examples/futuresky-short.sh" "$work/fs" >"$work/log" 2>&1 ||
       { cat "$work/log" >&2; exit 1; }
   fi
-  strip "$work/strip.png" 200 "$(frames_of "$work/fs" futuresky-panorama 25)" \
+  strip "$work/strip.png" 160 "$(frames_of "$work/fs" futuresky-panorama 25)" \
     "$(frames_of "$work/fs" futuresky-dome 25)"
-  shrink "$work/strip.png" "$dest/film-futuresky.png" 1210
+  shrink "$work/strip.png" "$dest/film-futuresky.png" 970
   video "$scene" "$work/fs" 25 panorama futuresky-panorama
   video "$scene" "$work/fs" 25 dome futuresky-dome
 }
