@@ -68,7 +68,10 @@ static void test_dome_frame(void)
             CHECK(!"a stage the frame ran took no time");
         }
     CHECK(t->wall[ORR_STAGE_EXR] == 0.0 && t->wall[ORR_STAGE_IMAGE] == 0.0 && t->wall[ORR_STAGE_STEREO] == 0.0);
-    CHECK(t->wall[ORR_STAGE_LENGTHS] == 0.0 || t->wall[ORR_STAGE_LENGTHS] < 0.01); /* none to compute */
+    /* No lengths to compute: CPU time, not wall, since a loaded machine may
+     * deschedule the thread inside the stage for longer than its work
+     * (it did: 10 ms of wall under a CI run beside an N-body run). */
+    CHECK(t->cpu[ORR_STAGE_LENGTHS] < 0.01);
     /* 60000 CIC kernels 3.2 pixels wide cost more than their projection. */
     CHECK(t->wall[ORR_STAGE_DEPOSIT] > t->wall[ORR_STAGE_GATHER]);
 }
