@@ -10,7 +10,7 @@
 #       of dark-universe, nightfall, spiral, futuresky (default all) its short run
 #       at a small size, a strip of 6 frames across it (docs/images/gallery/
 #       film-NAME.png) and a video made by `orrery video` (docs/videos/NAME.mp4,
-#       at most 1.5 MB); prints each film's wall time. Over 2 hours on two
+#       at most 1.5 MB); prints each film's wall time. About 1.5 hours on two
 #       shared cores, most of it the N-body runs of Spiral Metamorphosis and
 #       Future Sky (docs/gallery.md). SPIRAL_RUN=DIR or FUTURESKY_RUN=DIR take
 #       the frames of such a run made before (its output folder) instead.
