@@ -18,25 +18,17 @@ usage: scripts/disc_churn.py [--vc KMS] [--from KPC] [--to KPC] FIRST.hdf5 LATER
 import argparse
 import sys
 
-import h5py
 import numpy as np
 
-DISC_TYPE = 2  # ORR_MODEL_TYPE_DISC, Gadget's PartType2 in the snapshots
+import snapshot_disc  # scripts/snapshot_disc.py
+
 
 
 def disc_stars(path):
     """Ids, positions and velocities of the disc stars, sorted by id, about
     their centre of mass and its velocity."""
-    with h5py.File(path, "r") as f:
-        group = f.get(f"PartType{DISC_TYPE}")
-        if group is None:
-            sys.exit(f"disc_churn: {path}: no PartType{DISC_TYPE} (disc stars) in the snapshot")
-        ids = group["ParticleIDs"][:]
-        pos = group["Coordinates"][:].astype(float)
-        vel = group["Velocities"][:].astype(float)
-    order = np.argsort(ids)
-    pos, vel = pos[order], vel[order]
-    return ids[order], pos - pos.mean(axis=0), vel - vel.mean(axis=0)
+    ids, pos, vel, _ = snapshot_disc.disc_stars(path, "disc_churn")
+    return ids, pos - pos.mean(axis=0), vel - vel.mean(axis=0)
 
 
 def ring_m2(pos, rings=((0, 3), (3, 6), (6, 10))):

@@ -20,24 +20,22 @@ import sys
 import h5py
 import numpy as np
 
-DISC_TYPE, SUN_TYPE, SUN_ID = 2, 4, 3  # the model's disc stars and the Sun (docs/model.md)
+import snapshot_disc  # scripts/snapshot_disc.py
+
+SUN_TYPE, SUN_ID = 4, 3  # the model's Sun (docs/model.md)
 
 
 def read(path):
     """(disc ids, positions, velocities, masses, Sun's position, velocity), disc sorted by id."""
+    ids, x, v, m = snapshot_disc.disc_stars(path, "sun_like_stars")
     with h5py.File(path, "r") as f:
-        disc = f.get(f"PartType{DISC_TYPE}")
         sun = f.get(f"PartType{SUN_TYPE}")
-        if disc is None or sun is None:
-            sys.exit(f"sun_like_stars: {path}: no disc stars (PartType{DISC_TYPE}) or no Sun (PartType{SUN_TYPE})")
-        ids = disc["ParticleIDs"][:]
-        order = np.argsort(ids)
-        x, v = disc["Coordinates"][:].astype(float)[order], disc["Velocities"][:].astype(float)[order]
-        m = disc["Masses"][:].astype(float)[order]
+        if sun is None:
+            sys.exit(f"sun_like_stars: {path}: no Sun (PartType{SUN_TYPE})")
         k = np.nonzero(sun["ParticleIDs"][:] == SUN_ID)[0]
         if len(k) == 0:
             sys.exit(f"sun_like_stars: {path}: no particle with id {SUN_ID} (the Sun)")
-        return ids[order], x, v, m, sun["Coordinates"][k[0]].astype(float), sun["Velocities"][k[0]].astype(float)
+        return ids, x, v, m, sun["Coordinates"][k[0]].astype(float), sun["Velocities"][k[0]].astype(float)
 
 
 def disc_frame(x, v, m):

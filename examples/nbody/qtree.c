@@ -439,22 +439,19 @@ static void gather_targets(const qt_tree *t, const qt_node *g, size_t first, siz
     }
 }
 
-/* The group's particles that the caller asked for, against its lists. */
-static void apply_lists(const qt_tree *t, const qt_node *g, const qt_lists *l, double G, size_t first, size_t count,
-                        const unsigned char *active, double *acc, double *pot)
+/* The gathered particles of group g (gather_targets) against its lists. */
+static void apply_lists(const qt_tree *t, const qt_lists *l, double G, size_t first, const qt_targets *tg,
+                        const size_t *js, double *acc, double *pot)
 {
-    qt_targets tg;
     qt_sums cs, ps;
-    size_t js[QT_GROUP];
-    gather_targets(t, g, first, count, active, &tg, js);
-    qt_cells_on(l, &tg, &cs);
-    qt_parts_on(l, &tg, &ps);
-    for (size_t n = 0; n < tg.n; n++) {
+    qt_cells_on(l, tg, &cs);
+    qt_parts_on(l, tg, &ps);
+    for (size_t n = 0; n < tg->n; n++) {
         size_t j = js[n], o = t->order[j] - first;
         double a[3] = {(double)cs.ax[n] + ps.ax[n], (double)cs.ay[n] + ps.ay[n], (double)cs.az[n] + ps.az[n]};
         double phi = (double)cs.phi[n] + ps.phi[n];
-        if (tg.e2[n] > 0)
-            phi += t->pm[j] / sqrt((double)tg.e2[n]); /* its own term */
+        if (tg->e2[n] > 0)
+            phi += t->pm[j] / sqrt((double)tg->e2[n]); /* its own term */
         for (int k = 0; k < 3; k++)
             acc[3 * o + k] = G * a[k];
         if (pot)
@@ -480,17 +477,17 @@ double qt_accelerations_masked(const qt_tree *t, double G, double theta, size_t 
 #pragma omp for schedule(dynamic, 4)
         for (long k = 0; k < ng; k++) {
             const qt_node *g = &t->nodes[t->groups[k]];
-            size_t mine = 0; /* groups with none of the requested particles cost nothing */
-            for (size_t j = g->first; j < g->first + g->count; j++)
-                mine += wanted(t->order[j], first, count, active);
-            if (!mine || failed)
+            qt_targets tg;
+            size_t js[QT_GROUP];
+            gather_targets(t, g, first, count, active, &tg, js);
+            if (!tg.n || failed) /* a group with none of the requested particles costs nothing */
                 continue;
             if (make_lists(t, g, theta, &l) != 0) {
                 failed = 1;
                 continue;
             }
-            apply_lists(t, g, &l, G, first, count, active, acc, pot);
-            total += (double)mine * (double)(l.ncell + l.npart);
+            apply_lists(t, &l, G, first, &tg, js, acc, pot);
+            total += (double)tg.n * (double)(l.ncell + l.npart);
         }
         free(l.c);
         free(l.p);

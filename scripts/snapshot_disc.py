@@ -1,0 +1,30 @@
+"""The disc stars of one of orrery-nbody's snapshots (Gadget-layout HDF5,
+--snapshot-every K --snapshot-dir DIR), as scripts/disc_churn.py and
+scripts/sun_like_stars.py both read them: sorted by particle id, so that
+two snapshots of one run line up star by star."""
+import sys
+
+import h5py
+import numpy as np
+
+DISC_TYPE = 2  # ORR_MODEL_TYPE_DISC, Gadget's PartType2 in the snapshots (docs/model.md)
+
+
+def disc_stars(path, tool):
+    """(ids, positions, velocities, masses) of the disc stars, sorted by id.
+    A file that cannot be read, or holds no disc stars, stops `tool` with a
+    message naming it."""
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        sys.exit(f"{tool}: {path}: cannot read it as HDF5 ({e})")
+    with f:
+        group = f.get(f"PartType{DISC_TYPE}")
+        if group is None:
+            sys.exit(f"{tool}: {path}: no PartType{DISC_TYPE} (disc stars) in the snapshot")
+        ids = group["ParticleIDs"][:]
+        pos = group["Coordinates"][:].astype(float)
+        vel = group["Velocities"][:].astype(float)
+        mass = group["Masses"][:].astype(float)
+    order = np.argsort(ids)
+    return ids[order], pos[order], vel[order], mass[order]
