@@ -77,6 +77,12 @@ grep -q "other disc stars" like.err || fail "sun_like_stars.py's refusal: $(cat 
 "$py" "$SRC/scripts/sun_like_stars.py" --dr 0.001 snaps/snapshot_0000.hdf5 >/dev/null 2>like.err &&
   fail "sun_like_stars.py with no star selected succeeded"
 grep -q "no disc star starts like the Sun" like.err || fail "sun_like_stars.py, none selected: $(cat like.err)"
+echo "not HDF5" >broken.hdf5
+for script in disc_churn sun_like_stars; do # both read through scripts/snapshot_disc.py
+  "$py" "$SRC/scripts/$script.py" snaps/snapshot_0000.hdf5 broken.hdf5 >/dev/null 2>read.err &&
+    fail "$script.py read a file that is not HDF5"
+  grep -q "broken.hdf5: cannot read it as HDF5" read.err || fail "$script.py's refusal of broken.hdf5: $(cat read.err)"
+done
 
 # Bad parameters: exit 2, the option named, nothing run.
 expect_nbody_error() { # PATTERN ARGS...
