@@ -14,6 +14,9 @@
 #       shared cores, most of it the N-body runs of Spiral Metamorphosis and
 #       Future Sky (docs/gallery.md). SPIRAL_RUN=DIR or FUTURESKY_RUN=DIR take
 #       the frames of such a run made before (its output folder) instead.
+#       spiral-full and futuresky-full make the strip and video of a
+#       full-length run made before, named by SPIRAL_FULL_RUN=DIR or
+#       FUTURESKY_FULL_RUN=DIR (those runs take an hour or more).
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 orrery=${ORRERY:-$here/build/orrery}
@@ -47,16 +50,36 @@ print(f"wrote {dst} ({im.width}x{im.height}, {size // 1024} KB)")
 PY
 }
 
-# side_by_side LEFT RIGHT OUT: two pictures of one height next to each other.
+# side_by_side LEFT RIGHT OUT [HEIGHT]: two pictures of one height next to
+# each other, downscaled to HEIGHT if given.
 side_by_side() {
-  "$py" - "$1" "$2" "$3" <<'PY'
+  "$py" - "$@" <<'PY'
 import sys
 from PIL import Image
 a, b = (Image.open(p).convert("RGB") for p in sys.argv[1:3])
+if len(sys.argv) > 4:
+    h = int(sys.argv[4])
+    a, b = (im.resize((round(im.width * h / im.height), h), Image.LANCZOS) for im in (a, b))
 out = Image.new("RGB", (a.width + b.width, max(a.height, b.height)))
 out.paste(a, (0, 0))
 out.paste(b, (a.width, 0))
 out.save(sys.argv[3])
+PY
+}
+
+# downscaled SRC DST NAME N WIDTH: frames SRC/NAME_0000.png .. N-1 copied to
+# DST at most WIDTH wide (a full-length run's frames, for a small video).
+downscaled() {
+  mkdir -p "$2"
+  "$py" - "$@" <<'PY'
+import sys
+from PIL import Image
+src, dst, name, n, width = sys.argv[1], sys.argv[2], sys.argv[3], int(sys.argv[4]), int(sys.argv[5])
+for k in range(n):
+    im = Image.open(f"{src}/{name}_{k:04d}.png").convert("RGB")
+    if im.width > width:
+        im = im.resize((width, round(im.height * width / im.width)), Image.LANCZOS)
+    im.save(f"{dst}/{name}_{k:04d}.png")
 PY
 }
 
@@ -156,35 +179,67 @@ film_spiral() {
       --set output.dir="$work/sp" --set image.width=240 --set image.height=240 >"$work/log" 2>&1 ||
       { cat "$work/log" >&2; exit 1; }
   fi
-  strip "$work/strip.png" 160 "$(frames_of "$work/sp" spiral-faceon 31)" "$(frames_of "$work/sp" spiral-edgeon 31)"
-  shrink "$work/strip.png" "$dest/film-spiral.png" 970
-  # Side by side, as the paper shows them: each frame's two views pasted
-  # into one picture, under the face-on view's name in another folder, so
-  # `orrery video --view faceon` encodes the pairs.
-  mkdir -p "$work/side"
-  local k
-  for k in $(seq 0 30); do
-    side_by_side "$work/sp/spiral-faceon_$(printf %04d "$k").png" "$work/sp/spiral-edgeon_$(printf %04d "$k").png" \
-      "$work/side/spiral-faceon_$(printf %04d "$k").png"
+  spiral_film "$work/sp" 31 spiral ""
+}
+
+# The full-length runs take hours: these take the frames of one made before
+# (its output folder), with the commands of docs/gallery.md.
+film_spiral_full() {
+  [ -n "${SPIRAL_FULL_RUN:-}" ] || { echo "gallery.sh: spiral-full needs SPIRAL_FULL_RUN=DIR, the frames of the full-length run (docs/gallery.md)" >&2; exit 2; }
+  echo "Spiral Metamorphosis in-situ, full length: the 121 frames of $SPIRAL_FULL_RUN"
+  spiral_film "$SPIRAL_FULL_RUN" 121 spiral-full 240
+}
+
+film_futuresky_full() {
+  [ -n "${FUTURESKY_FULL_RUN:-}" ] || { echo "gallery.sh: futuresky-full needs FUTURESKY_FULL_RUN=DIR, the frames of the full-length run (docs/gallery.md)" >&2; exit 2; }
+  echo "Future Sky in-situ, full length: the 120 frames of $FUTURESKY_FULL_RUN"
+  futuresky_film "$FUTURESKY_FULL_RUN" 120 futuresky-full 512
+}
+
+# spiral_film DIR N OUT HEIGHT: the strip docs/images/gallery/film-OUT.png
+# and the video docs/videos/OUT.mp4 of a run's N frames of both views, the
+# views side by side, as the paper shows them (downscaled to HEIGHT pixels
+# high unless HEIGHT is empty):
+# each frame's pair is pasted into one picture, under the face-on view's
+# name in another folder, so `orrery video --view faceon` encodes the pairs.
+spiral_film() {
+  local dir=$1 n=$2 out=$3 height=$4 k
+  local scene=$here/configs/spiral-metamorphosis-insitu.yaml
+  strip "$work/strip.png" 160 "$(frames_of "$dir" spiral-faceon "$n")" "$(frames_of "$dir" spiral-edgeon "$n")"
+  shrink "$work/strip.png" "$dest/film-$out.png" 970
+  rm -rf "$work/side" && mkdir -p "$work/side"
+  for k in $(seq 0 $((n - 1))); do
+    side_by_side "$dir/spiral-faceon_$(printf %04d "$k").png" "$dir/spiral-edgeon_$(printf %04d "$k").png" \
+      "$work/side/spiral-faceon_$(printf %04d "$k").png" ${height:+"$height"}
   done
-  video "$scene" "$work/side" 31 faceon spiral
+  video "$scene" "$work/side" "$n" faceon "$out"
 }
 
 film_futuresky() {
   echo "Future Sky in-situ: examples/futuresky-short.sh's run (500 000 particles, 2450 steps of 2 Myr), 25 frames"
   echo "  of a 1024x512 panorama and a 1024x1024 dome master"
-  local scene=$here/configs/futuresky-sequence.yaml
   if [ -n "${FUTURESKY_RUN:-}" ]; then
     ln -s "$(cd "$FUTURESKY_RUN" && pwd)" "$work/fs"   # frames of that run, made before
   else
     ORRERY_BUILD=$(dirname "$orrery") "$here/examples/futuresky-short.sh" "$work/fs" >"$work/log" 2>&1 ||
       { cat "$work/log" >&2; exit 1; }
   fi
-  strip "$work/strip.png" 160 "$(frames_of "$work/fs" futuresky-panorama 25)" \
-    "$(frames_of "$work/fs" futuresky-dome 25)"
-  shrink "$work/strip.png" "$dest/film-futuresky.png" 970
-  video "$scene" "$work/fs" 25 panorama futuresky-panorama
-  video "$scene" "$work/fs" 25 dome futuresky-dome
+  futuresky_film "$work/fs" 25 futuresky 1024
+}
+
+# futuresky_film DIR N OUT WIDTH: the strip docs/images/gallery/film-OUT.png
+# of a run's N frames (panoramas above, dome masters below) and the videos
+# docs/videos/OUT-panorama.mp4 and OUT-dome.mp4, of frames at most WIDTH
+# pixels wide.
+futuresky_film() {
+  local dir=$1 n=$2 out=$3 width=$4 view
+  local scene=$here/configs/futuresky-sequence.yaml
+  strip "$work/strip.png" 160 "$(frames_of "$dir" futuresky-panorama "$n")" "$(frames_of "$dir" futuresky-dome "$n")"
+  shrink "$work/strip.png" "$dest/film-$out.png" 970
+  for view in panorama dome; do
+    downscaled "$dir" "$work/fs-small" "futuresky-$view" "$n" "$width"
+    video "$scene" "$work/fs-small" "$n" "$view" "$out-$view"
+  done
 }
 
 if [ "${1:-}" = "--films" ]; then
@@ -195,7 +250,9 @@ if [ "${1:-}" = "--films" ]; then
     case "$f" in
       dark-universe) film_dark_universe ;; nightfall) film_nightfall ;;
       spiral) film_spiral ;; futuresky) film_futuresky ;;
-      *) echo "gallery.sh: no film $f (dark-universe, nightfall, spiral, futuresky)" >&2; exit 2 ;;
+      spiral-full) film_spiral_full ;; futuresky-full) film_futuresky_full ;;
+      *) echo "gallery.sh: no film $f (dark-universe, nightfall, spiral, futuresky, spiral-full, futuresky-full)" >&2
+         exit 2 ;;
     esac
     echo "$f: $(($(date +%s) - start)) s of wall-clock time"
   done
