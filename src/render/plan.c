@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "core/atomic.h"
 #include "core/numbers.h"
@@ -27,6 +28,8 @@ struct orr_plan {
     int planned;             /* views[0..planned) hold plan-time state, to free */
     orr_psf_kernels kernels; /* the Hubble PSFs made, shared by the views that ask for the same one */
     frame_timer timer;       /* the frame being executed */
+    orr_lengths kept_lengths; /* smoothing lengths kept from frame to frame (kept_lengths_key) */
+    char kept_lengths_key[ORR_PATH_MAX + 128]; /* the particles they belong to; empty: none kept */
     double seconds;          /* orr_plan_create's time */
     orr_clock planning;      /* ... wall and CPU, charged to the first frame executed (then zero) */
 };
@@ -187,6 +190,7 @@ void orr_plan_destroy(orr_plan *plan)
     orr_eye_views_finish(&plan->eyes);
     free(plan->planning_reports);
     orr_psf_kernels_free(&plan->kernels);
+    orr_lengths_free(&plan->kept_lengths);
     free(plan);
 }
 
@@ -519,6 +523,50 @@ static orr_status splat_frame(orr_plan *plan, orr_status st, orr_source *src, co
     return st;
 }
 
+/* Which particles a frame's smoothing lengths from the neighbours belong
+ * to, when every frame of a run may share them: the particles come from
+ * one file (not a model, a sequence in time or a running simulation, whose
+ * particles move), on one process, and no view's glow measures them from
+ * its camera. The file's size and modification time are part of it, so a
+ * file rewritten during a run is searched again. Returns 0 (no key) when
+ * the frame's lengths must be its own. */
+static int lengths_key(const orr_plan *plan, const orr_scene *s0, const orr_source *given, const orr_parallel *par,
+                       char *key, size_t cap)
+{
+    const orr_input_settings *in = &s0->input;
+    if (given || par || !in->file[0] || in->model.name[0] || in->sequence.pattern[0] || in->sequence.nfiles)
+        return 0;
+    for (int k = 0; k < plan->n; k++)
+        if (plan->views[k].scene->psf.has_glow)
+            return 0;
+    struct stat st;
+    if (stat(in->file, &st) != 0)
+        return 0;
+    int n = snprintf(key, cap, "%s|%s|%u|%d|%d|%lld|%lld.%09ld", in->file, in->format, in->type_mask,
+                     in->skip_nonfinite, s0->deposit.neighbours, (long long)st.st_size, (long long)st.st_mtim.tv_sec,
+                     (long)st.st_mtim.tv_nsec);
+    return n > 0 && (size_t)n < cap;
+}
+
+/* The lengths this frame splats with: the plan's kept ones when the frame
+ * draws the same particles as the frame that found them (lengths_key),
+ * else frame_lengths, the frame's own. */
+static orr_lengths *frame_lengths_for(orr_plan *plan, const orr_scene *s0, const orr_source *given,
+                                      const orr_parallel *par, orr_lengths *frame_lengths)
+{
+    char key[sizeof plan->kept_lengths_key];
+    if (!lengths_key(plan, s0, given, par, key, sizeof key)) {
+        orr_lengths_free(&plan->kept_lengths);
+        plan->kept_lengths_key[0] = '\0';
+        return frame_lengths;
+    }
+    if (strcmp(key, plan->kept_lengths_key) != 0) { /* other particles: found again, then kept */
+        orr_lengths_free(&plan->kept_lengths);
+        snprintf(plan->kept_lengths_key, sizeof plan->kept_lengths_key, "%s", key);
+    }
+    return &plan->kept_lengths;
+}
+
 orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, const orr_frame_input *in,
                             orr_render_report *reports, orr_progress_fn progress, void *progress_user,
                             orr_error *err)
@@ -560,10 +608,15 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     if (!st)
         st = frame_particles(s0, given, &src, err);
     charge(&views[0], ORR_STAGE_SOURCE);
-    orr_lengths lengths = {0};
+    orr_lengths own_lengths = {0};
+    orr_lengths *lengths = frame_lengths_for(plan, s0, given, par, &own_lengths);
     orr_dust_frame dust;
     int have_dust = 0;
-    st = splat_frame(plan, st, src, par, &lengths, &dust, &have_dust, progress, progress_user, err);
+    st = splat_frame(plan, st, src, par, lengths, &dust, &have_dust, progress, progress_user, err);
+    if (st && lengths == &plan->kept_lengths) { /* a frame that failed keeps nothing for the next */
+        orr_lengths_free(&plan->kept_lengths);
+        plan->kept_lengths_key[0] = '\0';
+    }
     charge(&views[0], ORR_STAGE_REDUCE);
     orr_output_batch outputs;
     orr_output_batch_init(&outputs);
@@ -575,7 +628,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     charge(&views[0], ORR_STAGE_COMMIT);
     if (!in || src != in->source)
         orr_source_close(src);
-    orr_lengths_free(&lengths);
+    orr_lengths_free(&own_lengths);
     if (have_dust)
         orr_dust_frame_free(&dust);
     for (int k = 0; k < plan->n; k++) /* the frame's, freed above and below */

@@ -69,6 +69,34 @@ done
 render sph-dome 0.9995 "observer:" "  id: 0" "  reference_id: 1" "  dim: false" \
   "camera:" "  projection: dome" "  dome_fov: 360" "image:" "  width: 201" "  height: 201" "deposit: sph"
 
+# A run of frames over one file finds the smoothing lengths once and keeps
+# them (render/plan.c, lengths_key): the frames are those rendered one by
+# one (pixels identical), and the run's lengths stage costs about one
+# frame's, not three (CPU seconds of --timings: at most 2 times one frame's).
+"$ORRERY" ics --zeldovich --grid 32 --box 100 --evolve -o box.hdf5 >/dev/null 2>err.txt || fail "ics: $(cat err.txt)"
+du=(--set input.file="$PWD/box.hdf5" --set animation.frames=3 --set image.width=96 --set image.height=50
+  --set psf.fwhm=1)
+"$ORRERY" render "$SRC/configs/dark-universe.yaml" -o run "${du[@]}" --timings >run.txt 2>&1 ||
+  fail "a run of 3 frames: $(cat run.txt)"
+"$ORRERY" render "$SRC/configs/dark-universe.yaml" -o alone "${du[@]}" --frames 0 --timings >alone.txt 2>&1 ||
+  fail "frame 0 alone: $(cat alone.txt)"
+for f in 1 2; do
+  "$ORRERY" render "$SRC/configs/dark-universe.yaml" -o alone "${du[@]}" --frames $f --quiet 2>err.txt ||
+    fail "frame $f alone: $(cat err.txt)"
+done
+"$py" - <<'PY' || fail "frames of a run differ from frames rendered alone"
+import numpy as np
+from astropy.io import fits
+for f in range(3):
+    a, b = (fits.getdata(f"{d}/dark-universe_{f:04d}.fits") for d in ("run", "alone"))
+    assert np.array_equal(a, b), f"frame {f}"
+PY
+cpu_of_lengths() { awk '$1 == "lengths" && NF == 4 { print $3 }' "$1" | tail -1; }
+run_cpu=$(cpu_of_lengths run.txt)
+one_cpu=$(cpu_of_lengths alone.txt)
+awk -v r="$run_cpu" -v o="$one_cpu" 'BEGIN { exit !(o > 0 && r < 2 * o) }' ||
+  fail "the run's lengths took $run_cpu s of CPU for 3 frames, one frame's $one_cpu s: found again every frame?"
+
 # Errors: spike stars on a flat view without psf.fwhm (which convolves every star with the
 # whole PSF); lengths from a file without them.
 mkdir -p empty
