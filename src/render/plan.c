@@ -1,5 +1,6 @@
 /* The renderer's plan (render/plan.h): each view planned once for a run,
- * then each frame's observer frame, cameras, smoothing lengths, dust and
+ * then each frame's observer frame, cameras, smoothing lengths (kept from
+ * frame to frame when the particles are those of one file), dust and
  * periodic copies, the splat pass (splat_pass.c), the reduction over
  * processes and the views' files (view_outputs.c). */
 #include "render/plan.h"
@@ -534,7 +535,7 @@ static int lengths_key(const orr_plan *plan, const orr_scene *s0, const orr_sour
                        char *key, size_t cap)
 {
     const orr_input_settings *in = &s0->input;
-    if (given || par || !in->file[0] || in->model.name[0] || in->sequence.pattern[0] || in->sequence.nfiles)
+    if (given || par || !in->file[0] || in->sequence.pattern[0] || in->sequence.nfiles)
         return 0;
     for (int k = 0; k < plan->n; k++)
         if (plan->views[k].scene->psf.has_glow)
