@@ -23,7 +23,6 @@ import numpy as np
 import snapshot_disc  # scripts/snapshot_disc.py
 
 
-
 def disc_stars(path):
     """Ids, positions and velocities of the disc stars, sorted by id, about
     their centre of mass and its velocity."""

@@ -549,6 +549,13 @@ static int lengths_key(const orr_plan *plan, const orr_scene *s0, const orr_sour
     return n > 0 && (size_t)n < cap;
 }
 
+/* Drops the lengths kept for the run, so the next frame finds its own. */
+static void forget_kept_lengths(orr_plan *plan)
+{
+    orr_lengths_free(&plan->kept_lengths);
+    plan->kept_lengths_key[0] = '\0';
+}
+
 /* The lengths this frame splats with: the plan's kept ones when the frame
  * draws the same particles as the frame that found them (lengths_key),
  * else frame_lengths, the frame's own. */
@@ -557,12 +564,11 @@ static orr_lengths *frame_lengths_for(orr_plan *plan, const orr_scene *s0, const
 {
     char key[sizeof plan->kept_lengths_key];
     if (!lengths_key(plan, s0, given, par, key, sizeof key)) {
-        orr_lengths_free(&plan->kept_lengths);
-        plan->kept_lengths_key[0] = '\0';
+        forget_kept_lengths(plan);
         return frame_lengths;
     }
     if (strcmp(key, plan->kept_lengths_key) != 0) { /* other particles: found again, then kept */
-        orr_lengths_free(&plan->kept_lengths);
+        forget_kept_lengths(plan);
         snprintf(plan->kept_lengths_key, sizeof plan->kept_lengths_key, "%s", key);
     }
     return &plan->kept_lengths;
@@ -614,10 +620,8 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     orr_dust_frame dust;
     int have_dust = 0;
     st = splat_frame(plan, st, src, par, lengths, &dust, &have_dust, progress, progress_user, err);
-    if (st && lengths == &plan->kept_lengths) { /* a frame that failed keeps nothing for the next */
-        orr_lengths_free(&plan->kept_lengths);
-        plan->kept_lengths_key[0] = '\0';
-    }
+    if (st && lengths == &plan->kept_lengths) /* a frame that failed keeps nothing for the next */
+        forget_kept_lengths(plan);
     charge(&views[0], ORR_STAGE_REDUCE);
     orr_output_batch outputs;
     orr_output_batch_init(&outputs);
