@@ -1,0 +1,128 @@
+#!/usr/bin/env python3
+"""Writes data/sky/star_counts.tsv: the real sky's cumulative star counts
+N(< V) and the summed light of those stars, for V = -1.5 ... 10.5 in steps
+of 0.5, from the Hipparcos/Tycho-2 star catalogues Debian's stellarium-data
+package ships (read by scripts/stellarium_stars.py, which says how).
+
+    apt-get install stellarium-data
+    scripts/gen_sky_counts.py > data/sky/star_counts.tsv
+    scripts/gen_sky_counts.py --check data/sky/star_counts.tsv   # exit 1 if it differs
+
+The catalogue stores each V as the lower edge of its 0.05-mag step, and
+the table's limits are multiples of 0.05, so N(< V) counts exactly the
+stars whose catalogue V is below the limit. Each star's light is taken at
+the middle of its step (its V + 0.025), in units of a V = 0 star.
+"""
+import argparse
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import stellarium_stars  # noqa: E402
+
+LIMITS = np.arange(-1.5, 10.5 + 1e-9, 0.5)
+COMPLETE_TO = 10.5  # the shipped files hold the stars brighter than this (stars_0 .. stars_3)
+
+
+def package_version():
+    """stellarium-data's Debian version, or 'unknown' without dpkg."""
+    try:
+        out = subprocess.run(["dpkg-query", "-W", "-f=${Version}", "stellarium-data"],
+                             capture_output=True, text=True, check=True)
+        return out.stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def catalogue_magnitudes(stars_dir):
+    """Every star's light-weighted V (the middle of its 0.05-mag step) and
+    its catalogue V (the step's lower edge), and the files read."""
+    files = stellarium_stars.catalogue_files(stars_dir)
+    edges, middles = [], []
+    for path in files:
+        c = stellarium_stars.read_catalogue(path)
+        edges.append(c["V"])
+        middles.append(c["V"] + c["step"] / 2)
+    return np.concatenate(edges), np.concatenate(middles), files
+
+
+def count_rows(edges, middles):
+    """(limit, N(< limit), summed flux in V = 0 units) for each limit."""
+    order = np.argsort(edges, kind="stable")
+    edges, flux = edges[order], 10 ** (-0.4 * middles[order])
+    cumulative = np.concatenate([[0.0], np.cumsum(flux)])
+    rows = []
+    for limit in LIMITS:
+        n = int(np.searchsorted(edges, limit - 1e-6, side="right"))
+        rows.append((limit, n, cumulative[n]))
+    return rows
+
+
+def table_text(stars_dir):
+    edges, middles, files = catalogue_magnitudes(stars_dir)
+    rows = count_rows(edges, middles)
+    names = ", ".join(f"{os.path.basename(f)} ({os.path.getsize(f)} bytes)" for f in files)
+    lines = [
+        "# The real sky's star counts: N(< V) over the whole sky and the summed light of those stars.",
+        "# Source: the star catalogues of Debian's stellarium-data package, version " + package_version() + ",",
+        "#   files " + names + ";",
+        "#   built by Stellarium (util/MakeCombinedCatalogue.C, util/ParseHip.C) from Hipparcos (ESA 1997,",
+        "#   CDS I/239) and Tycho-2 (Hog et al. 2000, A&A 355, L27; CDS I/259). Read by scripts/stellarium_stars.py,",
+        "#   written by scripts/gen_sky_counts.py (do not edit by hand).",
+        "# V is Johnson V: Hipparcos's V (field H5) where given, else V = VT - 0.090 (BT - VT)",
+        "#   (ESA 1997, vol. 1, sect. 1.3, eq. 1.3.20), stored in steps of 0.05 mag (the lower edge);",
+        "#   a star's light is taken at the middle of its step.",
+        f"# Complete to V = {COMPLETE_TO}: the shipped files hold every catalogue star brighter than that",
+        "#   (fainter ones are in stars_4 .. stars_8, not packaged); Tycho-2 itself is about 99 % complete",
+        "#   to V ~ 11.0 and 90 % to V ~ 11.5 (Hog et al. 2000). Close doubles it does not resolve count once.",
+        "# Columns: V_lim, N(< V_lim), flux(< V_lim) in units of a V = 0 star, that flux as a magnitude.",
+        "V_lim\tN_brighter\tflux_V0\tV_sum",
+    ]
+    for limit, n, flux in rows:
+        v_sum = f"{-2.5 * np.log10(flux):.4f}" if flux > 0 else "inf"
+        lines.append(f"{limit:.1f}\t{n}\t{flux:.6g}\t{v_sum}")
+    return "\n".join(lines) + "\n"
+
+
+def read_table(path):
+    """The committed table: arrays V_lim, N, flux (comment lines skipped)."""
+    rows = []
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#") or line.startswith("V_lim"):
+                continue
+            w = line.split("\t")
+            if len(w) != 4:
+                raise ValueError(f"{path}: expected 4 tab-separated columns, got {len(w)}: {line.strip()!r}")
+            rows.append((float(w[0]), int(w[1]), float(w[2])))
+    if not rows:
+        raise ValueError(f"{path}: no rows")
+    v, n, flux = (np.array(c) for c in zip(*rows))
+    return {"V_lim": v, "N": n, "flux": flux}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--stars-dir", default=stellarium_stars.STARS_DIR)
+    ap.add_argument("--check", metavar="TABLE", help="compare with this committed table; exit 1 if it differs")
+    args = ap.parse_args()
+    try:
+        text = table_text(args.stars_dir)
+    except (stellarium_stars.CatalogueError, OSError) as e:
+        sys.exit(f"gen_sky_counts: {e}")
+    if args.check:
+        with open(args.check) as f:
+            committed = f.read()
+        if committed != text:
+            sys.stderr.write(f"gen_sky_counts: {args.check} differs from what the catalogues give:\n{text}")
+            sys.exit(1)
+        print(f"gen_sky_counts: {args.check} matches the catalogues")
+        return
+    sys.stdout.write(text)
+
+
+if __name__ == "__main__":
+    main()
