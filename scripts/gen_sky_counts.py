@@ -90,14 +90,19 @@ def table_text(stars_dir):
 def read_table(path):
     """The committed table: arrays V_lim, N, flux (comment lines skipped)."""
     rows = []
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#") or line.startswith("V_lim"):
-                continue
-            w = line.split("\t")
-            if len(w) != 4:
-                raise ValueError(f"{path}: expected 4 tab-separated columns, got {len(w)}: {line.strip()!r}")
+    try:
+        with open(path) as f:
+            lines = f.readlines()
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not a text table")
+    for line in lines:
+        if line.startswith("#") or line.startswith("V_lim"):
+            continue
+        w = line.split("\t")
+        try:
             rows.append((float(w[0]), int(w[1]), float(w[2])))
+        except (ValueError, IndexError):
+            raise ValueError(f"{path}: expected V_lim, N, flux, V_sum separated by tabs: {line.strip()!r}")
     if not rows:
         raise ValueError(f"{path}: no rows")
     v, n, flux = (np.array(c) for c in zip(*rows))

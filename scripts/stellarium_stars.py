@@ -42,8 +42,9 @@ class CatalogueError(ValueError):
     """A catalogue file that is not what the format says."""
 
 
-def catalogue_files(stars_dir=STARS_DIR):
+def catalogue_files(stars_dir=None):
     """The shipped star catalogues, brightest level first."""
+    stars_dir = stars_dir or STARS_DIR
     files = sorted(glob.glob(os.path.join(stars_dir, "stars_[0-9]_*.cat")))
     if not files:
         raise CatalogueError(f"{stars_dir}: no stars_N_*.cat catalogue (apt-get install stellarium-data)")

@@ -1,0 +1,220 @@
+#!/usr/bin/env python3
+"""Checks scripts/sky_truth.py (issue 40's measuring tool) against truth:
+
+(a) the real sky, as a star list, is inside issue 40's bars: the
+    Hipparcos/Tycho-2 catalogues of stellarium-data read as a star list
+    when the package is installed, else a list rebuilt from the committed
+    counts (data/sky/star_counts.tsv), over a sky of the real whole-sky
+    V = -6.6;
+(b) small synthetic skies with analytic answers: a uniform sky's V on
+    equirectangular and Hammer-Aitoff maps, the shares of a known star
+    list, a checkerboard band (median 1, p90/p10 = 4: --check fails), a
+    star taken off a cap's surface brightness, a reference ratio, and bad
+    input refused by name;
+(c) the committed counts table is what scripts/gen_sky_counts.py makes of
+    the catalogues (only when stellarium-data is installed).
+
+usage: check_sky_truth.py SOURCE_DIR WORK_DIR
+"""
+import contextlib
+import io
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+from astropy.io import fits
+
+SRC, WORK = sys.argv[1], sys.argv[2]
+sys.path.insert(0, os.path.join(SRC, "scripts"))
+import gen_sky_counts  # noqa: E402
+import sky_truth  # noqa: E402
+import stellarium_stars  # noqa: E402
+
+PY = sys.executable
+COUNTS = os.path.join(SRC, "data", "sky", "star_counts.tsv")
+WHOLE_SKY_DEG2 = 4 * np.pi * (180 / np.pi) ** 2
+failures = []
+
+
+def check(ok, what):
+    if not ok:
+        failures.append(what)
+        print("FAIL: " + what, file=sys.stderr)
+
+
+def sky_map(path, data, projection="CAR", extname=None):
+    """A GLON/GLAT map covering the whole sky, (h, w) = data.shape."""
+    h, w = data.shape
+    head = fits.Header()
+    head["CTYPE1"], head["CTYPE2"] = f"GLON-{projection}", f"GLAT-{projection}"
+    head["CRPIX1"], head["CRPIX2"] = w / 2 + 0.5, h / 2 + 0.5
+    head["CRVAL1"], head["CRVAL2"] = 0.0, 0.0
+    if projection == "CAR":
+        head["CDELT1"], head["CDELT2"] = -360.0 / w, 180.0 / h
+    else:  # Hammer-Aitoff: the whole ellipse 4 sqrt(2) x 2 sqrt(2) radians across the image
+        head["CDELT1"] = -np.degrees(4 * np.sqrt(2)) / w
+        head["CDELT2"] = np.degrees(2 * np.sqrt(2)) / h
+    head["BUNIT"] = "S10"
+    hdus = [fits.PrimaryHDU(data.astype(np.float64), head)]
+    if extname:
+        hdus = [fits.PrimaryHDU(), fits.ImageHDU(data.astype(np.float64), head, name=extname)]
+    fits.HDUList(hdus).writeto(path, overwrite=True)
+
+
+def star_list(path, l, b, v, columns=("L", "B", "V", "BV", "PARTICLE")):
+    n = len(v)
+    arrays = {"L": l, "B": b, "V": v, "BV": np.full(n, 0.6), "PARTICLE": np.arange(n, dtype=np.int64)}
+    formats = {"L": "D", "B": "D", "V": "E", "BV": "E", "PARTICLE": "K"}
+    cols = [fits.Column(c, formats[c], array=arrays[c]) for c in columns]
+    fits.BinTableHDU.from_columns(cols).writeto(path, overwrite=True)
+
+
+def run(*args):
+    """sky_truth.py's exit code, output and --json figures (its main, run
+    here: a new Python for each would take most of the test's time)."""
+    out = os.path.join(WORK, "figures.json")
+    if os.path.exists(out):
+        os.remove(out)
+    text, code = io.StringIO(), 0
+    with contextlib.redirect_stdout(text):
+        try:
+            sky_truth.main([*args, "--json", out])
+        except SystemExit as e:
+            code = e.code if isinstance(e.code, int) else 1
+            text.write(e.code if isinstance(e.code, str) else "")
+    fig = json.load(open(out)) if os.path.exists(out) else None
+    return code, text.getvalue(), fig
+
+
+def real_sky_list():
+    """(l, b, V) of the real sky: the catalogues if installed, else the
+    counts table's bins, each star at its bin's mean light, at random places."""
+    try:
+        files = stellarium_stars.catalogue_files()
+    except stellarium_stars.CatalogueError:
+        t = gen_sky_counts.read_table(COUNTS)
+        n, flux = np.diff(t["N"]), np.diff(t["flux"])
+        v = np.concatenate([np.full(k, -2.5 * np.log10(f / k)) for k, f in zip(n, flux) if k])
+        rng = np.random.default_rng(1)
+        return rng.uniform(0, 360, v.size), np.degrees(np.arcsin(rng.uniform(-1, 1, v.size))), v, "the counts table"
+    from astropy.coordinates import SkyCoord
+
+    cats = [stellarium_stars.read_catalogue(f) for f in files]
+    xyz = np.concatenate([c["xyz"] for c in cats])
+    v = np.concatenate([c["V"] + c["step"] / 2 for c in cats])
+    g = SkyCoord(x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2], representation_type="cartesian", frame="icrs").galactic
+    return g.spherical.lon.deg, g.spherical.lat.deg, v, "the catalogues"
+
+
+def test_real_sky():
+    """(a) The real sky inside the bars, its counts ratio 1 at every V."""
+    l, b, v, source = real_sky_list()
+    star_list(os.path.join(WORK, "real.fits"), l, b, v)
+    s10 = 10 ** (0.4 * (10 + 6.6)) / WHOLE_SKY_DEG2  # the real whole-sky V = -6.6, spread evenly
+    sky_map(os.path.join(WORK, "even.fits"), np.full((720, 1440), s10))
+    code, text, fig = run(os.path.join(WORK, "even.fits"), os.path.join(WORK, "real.fits"), "--check")
+    print(f"real sky from {source}:\n{text}")
+    check(code == 0, f"the real sky ({source}) is outside issue 40's bars: {text}")
+    check(abs(fig["V_total"] + 6.6) < 1e-6, f"a sky of V = -6.6 measures V = {fig['V_total']}")
+    for m, c in fig["counts"].items():
+        check(c["ratio"] == 1.0, f"the real sky's own N(<{m}) ratio is {c['ratio']}, not 1")
+    check(0.03 < fig["share_20_brightest"] < 0.04, f"20 brightest carry {fig['share_20_brightest']}")
+    check(8000 < fig["n_brighter_6.5"] < 9500, f"{fig['n_brighter_6.5']} stars brighter than 6.5")
+
+
+def test_uniform_sky():
+    """(b) A uniform sky's V on both projections; its band statistic is 1."""
+    s10 = 50.0
+    expect = 10 - 2.5 * np.log10(s10 * WHOLE_SKY_DEG2)
+    star_list(os.path.join(WORK, "one.fits"), [10.0], [10.0], [12.0])
+    sky_map(os.path.join(WORK, "car.fits"), np.full((180, 360), s10))
+    code, text, fig = run(os.path.join(WORK, "car.fits"), os.path.join(WORK, "one.fits"))
+    check(code == 0 and abs(fig["V_total"] - expect) < 1e-9, f"uniform CAR sky: V {fig and fig['V_total']} != {expect}")
+    check(fig["band"]["median"] == 1.0 and fig["band"]["p90_p10"] == 1.0, f"uniform band: {fig['band']}")
+    check(abs(fig["surface"]["NGP"]["S10"] - s10) < 1e-9, f"uniform NGP: {fig['surface']['NGP']}")
+    check(abs(fig["surface"]["NGP"]["mag_arcsec2"] - (27.7815 - 2.5 * np.log10(s10))) < 1e-3, "S10 -> mag/arcsec^2")
+    sky_map(os.path.join(WORK, "ait.fits"), np.full((200, 400), s10), "AIT", extname="Y")
+    code, text, fig = run(os.path.join(WORK, "ait.fits"), os.path.join(WORK, "one.fits"))
+    check(code == 0 and abs(fig["V_total"] - expect) < 2e-3, f"uniform Hammer-Aitoff sky: V {fig and fig['V_total']}"
+          f" != {expect}")
+    check(fig["band"] is None and "CAR" in fig["band_not_measured"], "the band measured on a Hammer-Aitoff map")
+
+
+def test_star_shares_and_caps():
+    """(b) Known star list over a known sky; a star taken off a cap."""
+    s10, w, h = 20.0, 360, 180
+    data = np.full((h, w), s10)
+    # One V = 5 star (100 V = 10 stars) drawn into the top row's first pixel, by the north pole
+    top_area = np.radians(1.0) * (1 - np.sin(np.radians(89.0))) * (180 / np.pi) ** 2
+    data[h - 1, 0] += 100.0 / top_area
+    sky_map(os.path.join(WORK, "caps.fits"), data)
+    total_v0 = (s10 * WHOLE_SKY_DEG2 + 100.0) * 1e-4
+    v = np.concatenate([[5.0], np.full(29, 1.0), np.full(70, 8.0)])
+    l = np.concatenate([[0.0], np.linspace(20, 300, 99)])
+    b = np.concatenate([[89.9], np.zeros(99)])
+    star_list(os.path.join(WORK, "known.fits"), l, b, v)
+    code, text, fig = run(os.path.join(WORK, "caps.fits"), os.path.join(WORK, "known.fits"))
+    f1, f5, f8 = 10 ** -0.4, 10 ** -2.0, 10 ** -3.2
+    check(abs(fig["share_20_brightest"] - 20 * f1 / total_v0) < 1e-9, f"20 brightest: {fig['share_20_brightest']}")
+    check(fig["n_brighter_6.5"] == 30, f"{fig['n_brighter_6.5']} stars brighter than 6.5, not 30")
+    check(abs(fig["share_brighter_6.5"] - (29 * f1 + f5) / total_v0) < 1e-9, "share brighter than 6.5")
+    check(abs(fig["share_brighter_10.5"] - (29 * f1 + f5 + 70 * f8) / total_v0) < 1e-9, "share brighter than 10.5")
+    check(fig["counts"]["2"]["model"] == 29 and fig["counts"]["8"]["model"] == 30, "N(<V) of the list")
+    check(abs(fig["surface"]["NGP"]["S10"] - s10) < 1e-9 and fig["surface"]["NGP"]["stars_taken_off"] == 1,
+          f"the V = 5 star not taken off the pole's cap: {fig['surface']['NGP']}")
+    code, text, fig = run(os.path.join(WORK, "caps.fits"), os.path.join(WORK, "known.fits"), "--exclude-brighter", "4")
+    check(fig["surface"]["NGP"]["S10"] > s10 + 1, "a V = 5 star kept in the cap when the cut is 4")
+    ref = os.path.join(WORK, "ref.tsv")
+    with open(ref, "w") as f:
+        f.write("# test reference\nname\tl\tb\tS10\nNGP\t0\t90\t10\nl=90\t90\t0\t80\n")
+    code, text, fig = run(os.path.join(WORK, "caps.fits"), os.path.join(WORK, "known.fits"), "--reference", ref,
+                          "--check")
+    check(abs(fig["surface"]["NGP"]["ratio"] - 2.0) < 1e-9, f"reference ratio {fig['surface']['NGP'].get('ratio')}")
+    check(code == 1 and "l=90 surface brightness over the reference" in text,
+          f"a ratio of 0.25 not refused by --check: {text}")
+
+
+def test_checkerboard_band():
+    """(b) A band of alternating 1 and 4: each pixel over its smoothed
+    mean 2.5 is 0.4 or 1.6, so the median is 1 and p90/p10 is 4 > 3."""
+    data = np.ones((720, 1440))
+    jj, ii = np.mgrid[0:720, 0:1440]
+    data[(ii + jj) % 2 == 1] = 4.0
+    sky_map(os.path.join(WORK, "checker.fits"), data)
+    star_list(os.path.join(WORK, "one.fits"), [10.0], [10.0], [12.0])
+    code, text, fig = run(os.path.join(WORK, "checker.fits"), os.path.join(WORK, "one.fits"), "--check")
+    check(abs(fig["band"]["median"] - 1.0) < 1e-3 and abs(fig["band"]["p90_p10"] - 4.0) < 1e-3,
+          f"checkerboard band: {fig['band']}")
+    check(code == 1 and "band_p90_p10" in text, f"--check passed a grainy band: {text}")
+
+
+def test_bad_input():
+    """(b) Bad input: a clear error naming the file and field, exit 1, no JSON."""
+    sky, one = os.path.join(WORK, "car.fits"), os.path.join(WORK, "one.fits")
+    nov = os.path.join(WORK, "nov.fits")
+    star_list(nov, [1.0], [2.0], [3.0], columns=("L", "B", "BV", "PARTICLE"))
+    for args, pattern in [((sky, nov), "no column V"), ((sky, one, "--plane", "X"), "no HDU named 'X'"),
+                          ((os.path.join(WORK, "none.fits"), one), "none.fits"),
+                          ((sky, one, "--counts", nov), "nov.fits")]:
+        code, text, fig = run(*args)
+        check(code == 1 and pattern in text and fig is None, f"{args}: exit {code}, {text!r}")
+
+
+def test_table_matches_catalogues():
+    """(c) The committed table is the generator's output."""
+    try:
+        stellarium_stars.catalogue_files()
+    except stellarium_stars.CatalogueError:
+        print("stellarium-data not installed: the table is not checked against the catalogues (skipped)")
+        return
+    p = subprocess.run([PY, os.path.join(SRC, "scripts", "gen_sky_counts.py"), "--check", COUNTS],
+                       capture_output=True, text=True)
+    check(p.returncode == 0, f"data/sky/star_counts.tsv differs from the catalogues: {p.stderr}")
+
+
+for test in (test_real_sky, test_uniform_sky, test_star_shares_and_caps, test_checkerboard_band, test_bad_input,
+             test_table_matches_catalogues):
+    test()
+sys.exit(1 if failures else 0)
