@@ -7,6 +7,7 @@ package ships (read by scripts/stellarium_stars.py, which says how).
     apt-get install stellarium-data
     scripts/gen_sky_counts.py > data/sky/star_counts.tsv
     scripts/gen_sky_counts.py --check data/sky/star_counts.tsv   # exit 1 if it differs
+    scripts/gen_sky_counts.py --star-list real_sky.fits   # the catalogues as a star list
 
 The catalogue stores each V as the lower edge of its 0.05-mag step, and
 the table's limits are multiples of 0.05, so N(< V) counts exactly the
@@ -37,18 +38,6 @@ def package_version():
         return "unknown"
 
 
-def catalogue_magnitudes(stars_dir):
-    """Every star's light-weighted V (the middle of its 0.05-mag step) and
-    its catalogue V (the step's lower edge), and the files read."""
-    files = stellarium_stars.catalogue_files(stars_dir)
-    edges, middles = [], []
-    for path in files:
-        c = stellarium_stars.read_catalogue(path)
-        edges.append(c["V"])
-        middles.append(c["V"] + c["step"] / 2)
-    return np.concatenate(edges), np.concatenate(middles), files
-
-
 def count_rows(edges, middles):
     """(limit, N(< limit), summed flux in V = 0 units) for each limit."""
     order = np.argsort(edges, kind="stable")
@@ -62,8 +51,9 @@ def count_rows(edges, middles):
 
 
 def table_text(stars_dir):
-    edges, middles, files = catalogue_magnitudes(stars_dir)
-    rows = count_rows(edges, middles)
+    cat = stellarium_stars.read_all(stars_dir)
+    files = cat["files"]
+    rows = count_rows(cat["V"], cat["V_mid"])
     names = ", ".join(f"{os.path.basename(f)} ({os.path.getsize(f)} bytes)" for f in files)
     lines = [
         "# The real sky's star counts: N(< V) over the whole sky and the summed light of those stars.",
@@ -109,12 +99,33 @@ def read_table(path):
     return {"V_lim": v, "N": n, "flux": flux}
 
 
+def write_star_list(stars_dir, path):
+    """The catalogues as a star list of sky_truth.py's form (L, B, V, BV,
+    PARTICLE = -1): the real sky to measure beside a rendered one."""
+    from astropy.io import fits
+
+    cat = stellarium_stars.read_all(stars_dir)
+    l, b = stellarium_stars.galactic(cat["xyz"])
+    cols = [fits.Column("L", "D", "deg", array=l), fits.Column("B", "D", "deg", array=b),
+            fits.Column("V", "E", "mag", array=cat["V_mid"]), fits.Column("BV", "E", "mag", array=cat["BV"]),
+            fits.Column("PARTICLE", "K", array=np.full(len(l), -1, dtype=np.int64))]
+    hdu = fits.BinTableHDU.from_columns(cols, name="STARS")
+    hdu.header["ORIGIN"] = "stellarium-data " + package_version() + " (Hipparcos, Tycho-2)"
+    tmp = path + ".tmp"
+    hdu.writeto(tmp, overwrite=True)
+    os.replace(tmp, path)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--stars-dir", default=stellarium_stars.STARS_DIR)
+    ap.add_argument("--stars-dir", default=None, help=f"default {stellarium_stars.STARS_DIR}")
     ap.add_argument("--check", metavar="TABLE", help="compare with this committed table; exit 1 if it differs")
+    ap.add_argument("--star-list", metavar="FITS", help="write the catalogues as a star list (for sky_truth.py)")
     args = ap.parse_args()
     try:
+        if args.star_list:
+            write_star_list(args.stars_dir, args.star_list)
+            return
         text = table_text(args.stars_dir)
     except (stellarium_stars.CatalogueError, OSError) as e:
         sys.exit(f"gen_sky_counts: {e}")

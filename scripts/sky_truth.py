@@ -128,15 +128,22 @@ def read_stars(path):
 
 
 def pixel_areas_deg2(header):
-    """Each pixel's solid angle in deg^2: exact per row for an equirectangular
-    map, else from the WCS (tests/cli/solid_angle.py, 2 x 2 cells a pixel)."""
-    if header["CTYPE1"].endswith("-CAR") and header["CTYPE2"].endswith("-CAR"):
-        wcs = WCS(header)
-        w, h = header["NAXIS1"], header["NAXIS2"]
+    """Each pixel's solid angle in deg^2, as orrery takes it (frame/projection.h,
+    orr_pixel_measure): a band of latitude on an equirectangular map, the
+    same for every pixel of an equal-area Hammer-Aitoff map (a pixel the
+    rim cuts counts whole: the light of its part off the map is folded onto
+    it), else from the WCS alone (tests/cli/solid_angle.py, 2 x 2 cells a
+    pixel)."""
+    wcs = WCS(header)
+    w, h = header["NAXIS1"], header["NAXIS2"]
+    projection = header["CTYPE1"][-3:]
+    if projection == "CAR":
         _, b_edges = wcs.all_pix2world(np.zeros(h + 1), np.arange(h + 1) - 0.5, 0)
-        dl = abs(float(header["CDELT1"])) if "CDELT1" in header else abs(wcs.pixel_scale_matrix[0, 0])
+        dl = abs(wcs.pixel_scale_matrix[0, 0])
         rows = np.radians(dl) * np.abs(np.diff(np.sin(np.radians(np.clip(b_edges, -90, 90))))) * DEG2_PER_SR
         return np.repeat(rows[:, None], w, axis=1)
+    if projection == "AIT":
+        return np.full((h, w), abs(np.linalg.det(wcs.pixel_scale_matrix)))
     return solid_angles(header, n=2) * DEG2_PER_SR
 
 

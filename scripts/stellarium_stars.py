@@ -145,3 +145,22 @@ def read_catalogue(path):
     v = (mag_min + mag * mag_range / mag_steps) / 1000.0
     return {"V": v, "BV": bv * (4.0 / 127.0) - 0.5, "xyz": xyz, "step": mag_range / mag_steps / 1000.0,
             "version": f"{level}_{kind}v{major}_{minor}"}
+
+
+def read_all(stars_dir=None):
+    """Every shipped catalogue, concatenated: V (the step's lower edge),
+    V_mid (the step's middle, the star's light), BV, xyz, and the files."""
+    files = catalogue_files(stars_dir)
+    cats = [read_catalogue(f) for f in files]
+    return {"V": np.concatenate([c["V"] for c in cats]),
+            "V_mid": np.concatenate([c["V"] + c["step"] / 2 for c in cats]),
+            "BV": np.concatenate([c["BV"] for c in cats]),
+            "xyz": np.concatenate([c["xyz"] for c in cats]), "files": files}
+
+
+def galactic(xyz):
+    """Galactic (l, b) in degrees of J2000 (ICRS) unit vectors, by astropy."""
+    from astropy.coordinates import SkyCoord
+
+    g = SkyCoord(x=xyz[:, 0], y=xyz[:, 1], z=xyz[:, 2], representation_type="cartesian", frame="icrs").galactic
+    return g.spherical.lon.deg, g.spherical.lat.deg
