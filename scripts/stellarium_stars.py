@@ -119,12 +119,13 @@ def _decode(kind, raw):
 
 def read_catalogue(path):
     """One catalogue file: dict of V (lower edge of its 0.05-mag step),
-    BV and the J2000 unit vector xyz (n, 3); with the header's fields."""
+    BV, the J2000 unit vector xyz (n, 3), each star's zone, the level and
+    the magnitude step."""
     with open(path, "rb") as f:
         data = f.read()
     if len(data) < HEADER.size:
         raise CatalogueError(f"{path}: {len(data)} bytes, shorter than the 32-byte header")
-    magic, kind, major, minor, level, mag_min, mag_range, mag_steps = HEADER.unpack_from(data)
+    magic, kind, _major, _minor, level, mag_min, mag_range, mag_steps = HEADER.unpack_from(data)
     if magic != MAGIC:
         raise CatalogueError(f"{path}: magic {magic:#x}, not a Stellarium star catalogue ({MAGIC:#x})")
     if kind not in RECORD:
@@ -143,8 +144,8 @@ def read_catalogue(path):
     xyz = _normalise(centre[zone] + (x0 * k)[:, None] * axis0[zone] + (x1 * k)[:, None] * axis1[zone])
     mag_min = struct.unpack("<i", struct.pack("<I", mag_min))[0]
     v = (mag_min + mag * mag_range / mag_steps) / 1000.0
-    return {"V": v, "BV": bv * (4.0 / 127.0) - 0.5, "xyz": xyz, "step": mag_range / mag_steps / 1000.0,
-            "version": f"{level}_{kind}v{major}_{minor}"}
+    return {"V": v, "BV": bv * (4.0 / 127.0) - 0.5, "xyz": xyz, "zone": zone, "level": level,
+            "step": mag_range / mag_steps / 1000.0}
 
 
 def read_all(stars_dir=None):

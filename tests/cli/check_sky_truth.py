@@ -209,6 +209,37 @@ def test_bad_input():
         check(code == 1 and pattern in text and fig is None, f"{args}: exit {code}, {text!r}")
 
 
+def test_catalogue_reader():
+    """(c) Our reader of Stellarium's format: Sirius, the brightest star,
+    where Hipparcos puts it (HIP 32349, J2000 RA 101.28715, Dec -16.71612
+    deg; astropy takes it to l, b); every star inside its own zone's
+    triangle (a misread bit field would scatter them); the magnitudes in
+    each file's range."""
+    try:
+        files = stellarium_stars.catalogue_files()
+    except stellarium_stars.CatalogueError:
+        print("stellarium-data not installed: the catalogue reader is not checked (skipped)")
+        return
+    from astropy.coordinates import SkyCoord
+
+    cat = stellarium_stars.read_all()
+    brightest = np.argmin(cat["V"])
+    l, b = stellarium_stars.galactic(cat["xyz"][brightest:brightest + 1])
+    sirius = SkyCoord(ra=101.28715, dec=-16.71612, unit="deg", frame="icrs").galactic
+    check(abs(cat["V_mid"][brightest] + 1.44) < 0.03, f"the brightest star has V = {cat['V_mid'][brightest]}")
+    check(sirius.separation(SkyCoord(l=l[0], b=b[0], unit="deg", frame="galactic")).deg < 0.01,
+          f"Sirius read at l, b = {l[0]}, {b[0]}")
+    for path, limits in zip(files, [(-2, 6), (6, 7.5), (7.5, 20), (9, 10.5)]):
+        c = stellarium_stars.read_catalogue(path)
+        tri = stellarium_stars.zone_triangles(c["level"])[c["zone"]]
+        # inside a spherical triangle: on the inner side of its three great circles
+        sides = [np.einsum("ni,ni->n", np.cross(tri[:, k], tri[:, (k + 1) % 3]), c["xyz"]) for k in range(3)]
+        inside = np.all(np.array(sides) >= -1e-6, axis=0) | np.all(np.array(sides) <= 1e-6, axis=0)
+        check(inside.all(), f"{os.path.basename(path)}: {np.sum(~inside)} stars outside their zones")
+        check(limits[0] <= c["V"].min() and c["V"].max() < limits[1],
+              f"{os.path.basename(path)}: V from {c['V'].min()} to {c['V'].max()}, not in {limits}")
+
+
 def test_table_matches_catalogues():
     """(c) The committed table is the generator's output."""
     try:
@@ -222,6 +253,6 @@ def test_table_matches_catalogues():
 
 
 for test in (test_real_sky, test_uniform_sky, test_star_shares_and_caps, test_checkerboard_band, test_bad_input,
-             test_table_matches_catalogues):
+             test_catalogue_reader, test_table_matches_catalogues):
     test()
 sys.exit(1 if failures else 0)
