@@ -301,7 +301,11 @@ def failures(fig):
 
 
 def report(fig):
-    lines = [f"whole sky: V = {fig['V_total']:.3f} (real {WHOLE_SKY_V})   stars listed: {fig['n_stars']}",
+    lines = []
+    if "S10" not in fig["BUNIT"].upper() and fig["scale"] == 1.0:
+        lines.append(f"warning: the plane's BUNIT is {fig['BUNIT']!r}, not S10; the figures take it as S10"
+                     " (--scale converts)")
+    lines += [f"whole sky: V = {fig['V_total']:.3f} (real {WHOLE_SKY_V})   stars listed: {fig['n_stars']}",
              f"20 brightest: {100 * fig['share_20_brightest']:.2f} % of the light",
              f"brighter than 6.5: {fig['n_brighter_6.5']} stars, {100 * fig['share_brighter_6.5']:.2f} %",
              f"brighter than 10.5: {100 * fig['share_brighter_10.5']:.2f} %",

@@ -128,6 +128,7 @@ def test_uniform_sky():
     sky_map(os.path.join(WORK, "car.fits"), np.full((180, 360), s10))
     code, text, fig = run(os.path.join(WORK, "car.fits"), os.path.join(WORK, "one.fits"))
     check(code == 0 and abs(fig["V_total"] - expect) < 1e-9, f"uniform CAR sky: V {fig and fig['V_total']} != {expect}")
+    check("warning" not in text, f"a warning on an S10 plane: {text}")
     check(fig["band"]["median"] == 1.0 and fig["band"]["p90_p10"] == 1.0, f"uniform band: {fig['band']}")
     check(abs(fig["surface"]["NGP"]["S10"] - s10) < 1e-9, f"uniform NGP: {fig['surface']['NGP']}")
     check(abs(fig["surface"]["NGP"]["mag_arcsec2"] - (27.7815 - 2.5 * np.log10(s10))) < 1e-3, "S10 -> mag/arcsec^2")
@@ -147,6 +148,10 @@ def test_uniform_sky():
           f" != {exact}")
     check(abs(exact - expect) < 5e-3, f"the Hammer-Aitoff ellipse's {on_map.sum()} pixels are not the whole sky")
     check(fig["band"] is None and "CAR" in fig["band_not_measured"], "the band measured on a Hammer-Aitoff map")
+    with fits.open(os.path.join(WORK, "ait.fits"), mode="update") as f:
+        f["Y"].header["BUNIT"] = "10**10 solMass sr-1"
+    code, text, fig = run(os.path.join(WORK, "ait.fits"), os.path.join(WORK, "one.fits"))
+    check("warning: the plane's BUNIT is '10**10 solMass sr-1', not S10" in text, f"no warning on BUNIT: {text}")
 
 
 def test_star_shares_and_caps():
