@@ -8,7 +8,8 @@ a sky map and the list of the stars drawn on it, beside the real sky's.
 SKY.fits: a sky map with a GLON/GLAT WCS (equirectangular or Hammer-Aitoff)
 whose plane (HDU named by --plane, default the one named Y, else the
 primary) holds V-band surface brightness in S10 units: the light of V = 10
-stars per square degree (times --scale if it holds something else).
+stars per square degree (Leinert et al. 1998, A&AS 127, 1, sect. 2; times
+--scale if it holds something else).
 STARS.fits: a binary table with columns L, B (deg), V (apparent magnitude),
 BV and PARTICLE (int64): the stars drawn on it.
 
