@@ -20,7 +20,7 @@ import re
 import sys
 
 # The data flow, earliest first.
-STAGES = ["core", "particles", "source", "frame", "splat", "reduce", "dust", "post",
+STAGES = ["core", "particles", "source", "frame", "stars", "splat", "reduce", "dust", "post",
           "encode", "scene", "render", "insitu", "mpi", "cli"]
 # The sub-folders of a stage, each with the sibling sub-folders it may
 # include: source/'s readers, built-in models and writers share source.h;

@@ -299,6 +299,11 @@ static orr_status fits_failure(const char *path, int status, int sys_errno, orr_
     return orr_fail(err, ORR_ERR_IO, "%s: cannot write FITS file: %s", path, text);
 }
 
+typedef struct star_body {
+    const orr_star_table *table;
+    const orr_fits_header *header;
+} star_body;
+
 /* What goes into a FITS file between creating and closing it. */
 typedef int (*fits_body_fn)(fitsfile *f, const void *ctx, int *status, int *sys_errno);
 
@@ -472,4 +477,45 @@ orr_status orr_write_healpix_fits(const char *path, const orr_plane *planes, int
                         nplanes, planes[0].width, planes[0].height, info->nside);
     healpix_body b = {planes, nplanes, info, header};
     return write_fits_file(path, write_healpix_hdus, &b, err);
+}
+
+/* ---- the star list ---- */
+
+static int write_star_hdus(fitsfile *f, const void *ctx, int *status, int *sys_errno)
+{
+    const orr_star_table *t = ((const star_body *)ctx)->table;
+    const orr_fits_header *header = ((const star_body *)ctx)->header;
+    fits_create_img(f, FLOAT_IMG, 0, NULL, status);
+    for (int i = 0; header && i < header->n; i++)
+        write_card(f, &header->cards[i], status);
+    fits_write_date(f, status);
+    fits_write_chksum(f, status);
+    char *ttype[] = {"L", "B", "V", "BV", "MV", "DIST", "PARTICLE", "STAR"};
+    char *tform[] = {"1D", "1D", "1E", "1E", "1E", "1E", "1K", "1J"};
+    char *tunit[] = {"deg", "deg", "mag", "mag", "mag", "pc", "", ""};
+    fits_create_tbl(f, BINARY_TBL, (LONGLONG)t->n, 8, ttype, tform, tunit, "STARS", status);
+    write_string_key(f, "MAGSYS", "Johnson V", "apparent V with the dust in front; BV unreddened", status);
+    if (t->n) {
+        LONGLONG n = (LONGLONG)t->n;
+        errno = 0;
+        fits_write_col(f, TDOUBLE, 1, 1, 1, n, (void *)t->l, status);
+        fits_write_col(f, TDOUBLE, 2, 1, 1, n, (void *)t->b, status);
+        fits_write_col(f, TFLOAT, 3, 1, 1, n, (void *)t->v, status);
+        fits_write_col(f, TFLOAT, 4, 1, 1, n, (void *)t->bv, status);
+        fits_write_col(f, TFLOAT, 5, 1, 1, n, (void *)t->abs_v, status);
+        fits_write_col(f, TFLOAT, 6, 1, 1, n, (void *)t->dist_pc, status);
+        fits_write_col(f, TLONGLONG, 7, 1, 1, n, (void *)t->parent, status);
+        fits_write_col(f, TINT, 8, 1, 1, n, (void *)t->index, status);
+    }
+    fits_write_chksum(f, status);
+    if (*status)
+        *sys_errno = system_errno(*status);
+    return *status;
+}
+
+orr_status orr_write_star_table(const char *path, const orr_star_table *t, const orr_fits_header *header,
+                                orr_error *err)
+{
+    star_body b = {t, header};
+    return write_fits_file(path, write_star_hdus, &b, err);
 }

@@ -6,6 +6,9 @@
 #ifndef ORR_ENCODE_FITS_H
 #define ORR_ENCODE_FITS_H
 
+#include <stddef.h>
+#include <stdint.h>
+
 #include "core/error.h"
 #include "core/names.h"
 #include "core/plane.h"
@@ -102,5 +105,24 @@ typedef struct orr_healpix_info {
  * caller's cards. healpy.read_map reads it. */
 orr_status orr_write_healpix_fits(const char *path, const orr_plane *planes, int nplanes,
                                   const orr_healpix_info *info, const orr_fits_header *header, orr_error *err);
+
+/* A sky map's star list (docs/sky.md, "The star list"): one row per star
+ * drawn, as columns. */
+typedef struct orr_star_table {
+    size_t n;
+    const double *l, *b;     /* the observer frame's longitude and latitude, degrees */
+    const float *v;          /* apparent V with the dust in front, mag */
+    const float *bv;         /* B-V, mag, without reddening */
+    const float *abs_v;      /* absolute V, mag */
+    const float *dist_pc;    /* distance from the observer, parsecs */
+    const int64_t *parent;   /* the id of the particle the star came from */
+    const int32_t *index;    /* its place among that particle's stars, brightest 0 */
+} orr_star_table;
+
+/* Writes the star list atomically: an empty primary HDU with the caller's
+ * cards, then a binary table STARS with columns L, B (deg), V, BV, MV
+ * (mag), DIST (pc), PARTICLE and STAR. astropy.table.Table.read reads it. */
+orr_status orr_write_star_table(const char *path, const orr_star_table *t, const orr_fits_header *header,
+                                orr_error *err);
 
 #endif

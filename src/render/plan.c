@@ -31,6 +31,8 @@ struct orr_plan {
     frame_timer timer;       /* the frame being executed */
     orr_lengths kept_lengths; /* smoothing lengths kept from frame to frame (kept_lengths_key) */
     char kept_lengths_key[ORR_PATH_MAX + 128]; /* the particles they belong to; empty: none kept */
+    frame_stars stars;       /* stars.limit: the stars spawned from the particles (star_pass.c) */
+    int has_stars;
     double seconds;          /* orr_plan_create's time */
     orr_clock planning;      /* ... wall and CPU, charged to the first frame executed (then zero) */
 };
@@ -127,6 +129,7 @@ static void reset_frame_state(view_state *v)
     v->lengths_next = 0;
     v->h_scale = 0;
     v->dust = NULL;
+    v->stars = NULL;
     v->outputs = NULL;
     if (v->psf.sky)
         orr_sky_psf_begin_frame(v->psf.sky);
@@ -192,6 +195,8 @@ void orr_plan_destroy(orr_plan *plan)
     free(plan->planning_reports);
     orr_psf_kernels_free(&plan->kernels);
     orr_lengths_free(&plan->kept_lengths);
+    if (plan->has_stars)
+        orr_frame_stars_free(&plan->stars);
     free(plan);
 }
 
@@ -243,6 +248,9 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
         st = ORR_ERR_NOMEM;
     for (; !st && plan->planned < plan->n; plan->planned++)
         st = plan_view(&plan->views[plan->planned], plan->eyes.scene[plan->planned], &plan->kernels, err);
+    if (!st && purpose == ORR_PLAN_RENDER && scenes[0]->stars.enabled &&
+        !(st = orr_frame_stars_prepare(&plan->stars, scenes[0], err)))
+        plan->has_stars = 1;
     if (st) {
         orr_plan_destroy(plan);
         return st;
@@ -611,6 +619,12 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     int begun = 0;
     if (!st && !(st = orr_eye_views_expand(scenes, plan->nscenes, reports, &eyes, err)))
         st = begin_frame(plan, &eyes, s0->observer.has_id ? &observer : NULL, observer_velocity, when, &begun, err);
+    if (!st && plan->has_stars) { /* the stars are seen from the observer (scene_check.c) */
+        orr_frame_stars_begin(&plan->stars, &observer);
+        plan->stars.whole_list = par == NULL; /* on ranks, each has its own share's stars */
+        for (int k = 0; k < plan->n; k++)
+            views[k].stars = &plan->stars;
+    }
     charge(&views[0], ORR_STAGE_SETUP);
     if (!st)
         st = frame_particles(s0, given, &src, err);

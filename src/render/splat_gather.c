@@ -90,6 +90,9 @@ static int block_all_finite(const orr_chunk *c, const float *wsrc, size_t start,
            all_finite(wsrc, start, end);
 }
 
+/* A spawned star's flux grows as 1/r^2 down to this distance, parsecs. */
+#define STAR_DIM_NEAR_PC 0.01
+
 /* The camera transform of a copy moved by shift; fading: the weights
  * taper within the periodic sphere (the copy's block is across it). */
 static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift, int fading)
@@ -105,7 +108,9 @@ static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift, in
         t.outer2 = t.outer * t.outer;
     }
     t.dim = (s->observer.has_id && s->observer.dim) || s->camera.dim;
-    const double near = s->camera.dim ? s->camera.dim_near : s->observer.dim_near;
+    double near = s->camera.dim ? s->camera.dim_near : s->observer.dim_near;
+    if (v->drawing_stars) /* a spawned star is a star: its flux is its own distance's */
+        near = STAR_DIM_NEAR_PC / v->stars->stage.set.length_unit;
     t.near2 = (float)(near * near);
     return t;
 }
@@ -251,6 +256,20 @@ static float glow_length(const orr_scene *s, float h, float r2, float flux)
     return h * glow_taper(h, max_h) * glow_taper(flux, (float)s->psf.glow_threshold) * sqrtf(r2);
 }
 
+/* The glow of a particle whose bright stars are drawn one by one: the
+ * light they leave is the faint crowd spread over the particle's kernel,
+ * never narrower than the kernel itself seen from here (so the nearest
+ * particles' glow spreads wide over the sky instead of standing out as a
+ * patch), nor than its neighbours' angle on the sky; no limits by flux or
+ * width, which would make it a point. h: the angular length. */
+static float stars_glow_length(const view_state *v, float h, float r2, float mass)
+{
+    const float r = sqrtf(r2), own = (float)orr_stars_kernel_length(&v->stars->stage, mass);
+    const float widest = (float)(v->stars->stage.set.glow_max_deg * ORR_PI / 180.0) * r;
+    float length = h * r > own ? h * r : own;
+    return length < widest ? length : widest;
+}
+
 /* ---- motion blur (render/motion_blur.h) ---- */
 
 /* The velocities motion blur moves the chunk's particles by (NULLs when
@@ -355,7 +374,9 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         orr_camera_point p = orr_to_camera(&tf, c->x[i], c->y[i], c->z[i]);
         float dimming = tf.dim ? orr_camera_dimming(&tf, p.r2) : 1.0f;
         float fade = tf.fade ? orr_camera_fade(&tf, p.r2) : 1.0f;
-        if (s->psf.has_glow) /* an angle from the lengths, a point when bright */
+        if (v->stars && !v->drawing_stars && orr_stars_spawns(&v->stars->stage, c->type[i])) /* what its stars left */
+            h = stars_glow_length(v, h, p.r2, c->mass[i]);
+        else if (s->psf.has_glow) /* an angle from the lengths, a point when bright */
             h = glow_length(s, h, p.r2, wsrcs[v->nplanes >= 3 ? 1 : 0][i] * dimming);
         if (fade < 1.0f)
             count_faded(v, wsrcs, i, dimming, fade, t);

@@ -163,7 +163,10 @@ static void add_chunk_tally(view_state *v, const orr_chunk *c, const splat_work 
 {
     for (size_t blk = 0; blk < nblocks; blk++)
         orr_splat_add_tally(v->rep, &w->tally[blk]);
-    v->rep->n_read += c->n;
+    if (v->drawing_stars)
+        v->rep->n_stars += c->n;
+    else
+        v->rep->n_read += c->n;
 }
 
 /* Splats the chunk into one view, its lanes in parallel; the report's sums
@@ -320,39 +323,6 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
     return ORR_OK;
 }
 
-/* Splats a chunk into every view; its time goes to the
- * gather and deposit stages (the weights to the gather; the splat shared
- * as the workers' own clocks say). */
-static orr_status splat_chunk(view_state *views, int nviews, const orr_source *src, const orr_chunk *c,
-                              splat_work *work, float *const *xyz, orr_error *err)
-{
-    const float *w[ORR_PLANES_MAX] = {NULL};
-    orr_status st = chunk_weights(views[0].scene, src, c, xyz, w, work, err);
-    charge(&views[0], ORR_STAGE_GATHER);
-    memset(work->split, 0, sizeof work->split);
-    for (int k = 0; k < nviews && !st; k++) {
-        const float *wv[ORR_PLANES_MAX];
-        memcpy(wv, w, sizeof wv);
-        if (views[k].dust) { /* dimmed by the dust between the view's eye and each star (dust/dust.h) */
-            const orr_mat3 *r = &views[k].world_to_camera; /* its third row: the view axis */
-            orr_dust_eye eye = {views[k].rep->camera.position, orr_projection_traits_of(views[k].proj.kind).parallel,
-                                orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
-            st = orr_dust_weights(views[k].dust, &eye, c, wv, views[k].nplanes, err);
-        }
-        if (!st)
-            st = views[k].periodic.active
-                     ? orr_splat_chunk_periodic(&views[k], src, c, wv, &work->buffers[0], work->split[0], err)
-                     : splat_view(&views[k], src, c, wv, work, err);
-    }
-    double part[2] = {0.0, 0.0};
-    for (int k = 0; k < MAX_LANES; k++)
-        part[0] += work->split[k][0], part[1] += work->split[k][1];
-    if (views[0].timer)
-        orr_stage_charge_split(&views[0].timer->times, ORR_STAGE_GATHER, ORR_STAGE_DEPOSIT,
-                               part[0] / (part[0] + part[1]), &views[0].timer->at);
-    return st;
-}
-
 /* Room for the per-block records of a chunk of n particles. */
 static orr_status reserve_blocks(splat_work *w, size_t n, orr_error *err)
 {
@@ -366,6 +336,82 @@ static orr_status reserve_blocks(splat_work *w, size_t n, orr_error *err)
     w->tally = w->lengths_first ? orr_malloc(nblocks * sizeof *w->tally, "splat blocks", err) : NULL;
     w->nblocks_cap = w->tally ? nblocks : 0;
     return w->tally ? ORR_OK : ORR_ERR_NOMEM;
+}
+
+/* The eye of view v, for its dust. */
+static orr_dust_eye dust_eye(const view_state *v)
+{
+    const orr_mat3 *r = &v->world_to_camera; /* its third row: the view axis */
+    return (orr_dust_eye){v->rep->camera.position, orr_projection_traits_of(v->proj.kind).parallel,
+                          orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
+}
+
+/* The chunk's spawned stars into every view, as points dimmed from their
+ * own distance (and by the dust in front of them), after the chunk's
+ * particles, so the dust's optical depths of the particles serve every
+ * view before the stars' are found. The first view's dimmed weights give
+ * the list's apparent V. */
+static orr_status splat_stars(view_state *views, int nviews, const orr_source *src, splat_work *work,
+                              orr_error *err)
+{
+    frame_stars *fs = views[0].stars;
+    const orr_chunk *sc = &fs->batch.stars;
+    orr_status st = reserve_blocks(work, sc->n, err);
+    for (int k = 0; k < nviews && !st; k++) {
+        const float *wv[ORR_PLANES_MAX] = {fs->batch.xyz[0], fs->batch.xyz[1], fs->batch.xyz[2]};
+        if (views[k].dust) {
+            orr_dust_eye eye = dust_eye(&views[k]);
+            st = orr_dust_weights(views[k].dust, &eye, sc, wv, views[k].nplanes, err);
+        }
+        if (!st && k == 0)
+            st = orr_frame_stars_record(fs, views[k].dust ? wv[1] : NULL, err);
+        if (st)
+            break;
+        /* Points: no lengths from the neighbours (the stars were not among
+         * them), so no glow. */
+        const orr_lengths *lengths = views[k].lengths;
+        views[k].lengths = NULL;
+        views[k].drawing_stars = 1;
+        st = splat_view(&views[k], src, sc, wv, work, err);
+        views[k].lengths = lengths;
+        views[k].drawing_stars = 0;
+    }
+    return st;
+}
+
+/* Splats a chunk into every view; its time goes to the
+ * gather and deposit stages (the weights to the gather; the splat shared
+ * as the workers' own clocks say). */
+static orr_status splat_chunk(view_state *views, int nviews, const orr_source *src, const orr_chunk *c,
+                              splat_work *work, float *const *xyz, orr_error *err)
+{
+    const float *w[ORR_PLANES_MAX] = {NULL};
+    orr_status st = chunk_weights(views[0].scene, src, c, xyz, w, work, err);
+    if (!st && views[0].stars) /* the stars take their light from the weights */
+        st = orr_frame_stars_spawn(views[0].stars, c, xyz, err);
+    charge(&views[0], ORR_STAGE_GATHER);
+    memset(work->split, 0, sizeof work->split);
+    for (int k = 0; k < nviews && !st; k++) {
+        const float *wv[ORR_PLANES_MAX];
+        memcpy(wv, w, sizeof wv);
+        if (views[k].dust) { /* dimmed by the dust between the view's eye and each star (dust/dust.h) */
+            orr_dust_eye eye = dust_eye(&views[k]);
+            st = orr_dust_weights(views[k].dust, &eye, c, wv, views[k].nplanes, err);
+        }
+        if (!st)
+            st = views[k].periodic.active
+                     ? orr_splat_chunk_periodic(&views[k], src, c, wv, &work->buffers[0], work->split[0], err)
+                     : splat_view(&views[k], src, c, wv, work, err);
+    }
+    if (!st && views[0].stars && views[0].stars->batch.stars.n)
+        st = splat_stars(views, nviews, src, work, err);
+    double part[2] = {0.0, 0.0};
+    for (int k = 0; k < MAX_LANES; k++)
+        part[0] += work->split[k][0], part[1] += work->split[k][1];
+    if (views[0].timer)
+        orr_stage_charge_split(&views[0].timer->times, ORR_STAGE_GATHER, ORR_STAGE_DEPOSIT,
+                               part[0] / (part[0] + part[1]), &views[0].timer->at);
+    return st;
 }
 
 static orr_status alloc_work(splat_work *w, size_t capacity, int blur, orr_error *err)

@@ -378,6 +378,24 @@ orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_view
     return st;
 }
 
+/* NAME.stars.fits: the stars the view drew one by one (stars.list). */
+static orr_status write_star_list(view_state *v, orr_error *err)
+{
+    orr_star_table table;
+    void *columns = NULL;
+    const char *path;
+    orr_status st = orr_frame_stars_view_table(v->stars, v, &table, &columns, err);
+    if (!st)
+        st = view_output(v, "stars.fits", &path, err);
+    if (!st)
+        st = orr_write_star_table(path, &table, NULL, err);
+    if (!st)
+        v->rep->noutputs++;
+    free(columns);
+    charge(v, ORR_STAGE_FITS);
+    return st;
+}
+
 orr_status orr_view_write_outputs(view_state *v, orr_error *err)
 {
     const orr_scene *s = v->scene;
@@ -395,6 +413,8 @@ orr_status orr_view_write_outputs(view_state *v, orr_error *err)
         st = write_extinction(v, &av, err);
     if (!st)
         st = orr_view_write_pictures(v, err);
+    if (!st && v->stars && s->stars.list && v->stars->whole_list)
+        st = write_star_list(v, err);
     st = fits_writer_finish(v, &fits, st, err);
     orr_plane_free(&av);
     return st;

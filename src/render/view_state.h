@@ -18,6 +18,7 @@
 #include "render/timings.h"
 #include "splat/bands.h"
 #include "splat/sph.h"
+#include "stars/stars.h"
 
 /* One view being rendered. */
 typedef struct view_state {
@@ -58,7 +59,49 @@ typedef struct view_state {
     orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
     struct frame_timer *timer;  /* the frame's stage timings (every view's), or NULL: not measured */
     struct orr_dust_frame *dust; /* dust.types: the frame's dust, which dims the weights (dust/dust.h), or NULL */
+    struct frame_stars *stars;  /* stars.*: the stars spawned from the particles (star_pass.c), or NULL */
+    int drawing_stars;          /* splatting spawned stars: points, dimmed from their own distance */
 } view_state;
+
+/* ---- stars from particles (star_pass.c) ---- */
+
+/* The stars of a run's frames: the stage prepared once, a chunk's stars,
+ * and the frame's list of every star drawn (in the order drawn). */
+typedef struct frame_stars {
+    orr_stars stage;
+    orr_star_batch batch;
+    orr_vec3 eye;           /* the frame's observer */
+    uint64_t observer_id;   /* spawns no stars */
+    orr_sky_frame sky;      /* the frame's sky frame, for the list's l, b */
+    int whole_list;         /* the list holds every star of the frame: one process drew them all */
+    float *before[3];       /* a chunk's star weights before the dust, for the list's V */
+    size_t before_cap;
+    /* The list */
+    size_t n, cap;
+    double *l, *b;
+    float *v, *bv, *abs_v, *dist_pc;
+    float *px, *py, *pz;    /* positions, for each view's test of what it shows */
+    int64_t *parent;
+    int32_t *index;
+} frame_stars;
+
+/* Prepares the stars of a scene with stars.limit; frees what it holds. */
+orr_status orr_frame_stars_prepare(frame_stars *fs, const orr_scene *s, orr_error *err);
+void orr_frame_stars_free(frame_stars *fs);
+/* Starts a frame seen from the observer frame sky. */
+void orr_frame_stars_begin(frame_stars *fs, const orr_sky_frame *sky);
+/* The stars of chunk c (its weights xyz reduced to the glow's), into
+ * fs->batch. */
+orr_status orr_frame_stars_spawn(frame_stars *fs, const orr_chunk *c, float *const *xyz, orr_error *err);
+/* The batch's stars into the frame's list, their V dimmed as the dust
+ * dimmed their Y weights (dimmed_y: after the dust of the first view;
+ * NULL without dust). */
+orr_status orr_frame_stars_record(frame_stars *fs, const float *dimmed_y, orr_error *err);
+/* The list's stars that view v shows, as a table (*scratch holds its
+ * columns: free it after). */
+orr_status orr_frame_stars_view_table(const frame_stars *fs, const view_state *v, orr_star_table *t, void **scratch,
+                                      orr_error *err);
+
 
 /* A frame's stage timings and the clock reading the last stage ended at:
  * each stage is charged the time since then (render/timings.h). */

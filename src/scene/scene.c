@@ -28,6 +28,7 @@ void orr_scene_defaults(orr_scene *s)
     orr_observer_settings_defaults(&s->observer);
     orr_stereo_settings_defaults(&s->stereo);
     orr_deposit_settings_defaults(&s->deposit);
+    orr_stars_defaults(&s->stars);
     orr_dust_settings_defaults(&s->dust);
     orr_colour_settings_defaults(&s->colour);
     orr_psf_settings_defaults(&s->psf);

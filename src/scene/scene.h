@@ -21,6 +21,7 @@
 #include "post/picture.h"
 #include "post/psf.h"
 #include "source/settings.h"
+#include "stars/stars.h"
 #include "splat/deposit.h"
 
 #define ORR_SETTINGS_MAX 16384
@@ -78,6 +79,7 @@ typedef struct orr_scene {
     orr_observer_settings observer; /* frame: observer.* (frame/observer.h) */
     orr_stereo_settings stereo;     /* frame: stereo.* but anaglyph (frame/stereo.h) */
     orr_deposit_settings deposit;   /* splat: deposit, smoothing.* (splat/deposit.h) */
+    orr_stars_settings stars;       /* stars: stars.* (stars/stars.h) */
     orr_dust_settings dust;         /* dust: dust.* (dust/dust.h) */
     orr_colour_settings colour;     /* post: colour.* (post/colour.h) */
     orr_psf_settings psf;           /* post: psf.*, glow.* (post/psf.h) */

@@ -8,7 +8,7 @@
 #include "scene/scene.h"
 #include "scene/ytree.h"
 
-#define SCENE_MAX_KEYS 160
+#define SCENE_MAX_KEYS 192
 
 /* A dome profile, domes/NAME.yaml: defaults for a dome master. */
 typedef struct dome_profile {

@@ -568,6 +568,33 @@ static orr_status check_dust(const orr_scene *s, orr_error *err)
     return st;
 }
 
+/* Stars spawned from the particles (stars.limit) need what they are
+ * drawn from and seen by: the observer (their magnitudes are from its
+ * place), colour populations (their light is split off the particles'
+ * X, Y, Z), and particles of the spawning types drawn. */
+static orr_status check_stars(const orr_scene *s, orr_error *err)
+{
+    const orr_stars_settings *st = &s->stars;
+    if (!st->enabled)
+        return ORR_OK;
+    if (!s->observer.has_id)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.limit: stars are spawned as an observer sees them; give "
+                        "observer.id", s->path);
+    if (!s->colour.has_populations)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.limit: the stars take their light from the particles' "
+                        "colour populations; give colour.populations", s->path);
+    if (!st->types)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.limit: give stars.types, the particle types that spawn "
+                        "stars", s->path);
+    if (st->types & ~s->input.type_mask)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.types: every type that spawns stars must be drawn "
+                        "(input.types)", s->path);
+    if (s->periodic.replicas > 1 || s->output.exr_population_layers)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.limit: not with %s yet", s->path,
+                        s->periodic.replicas > 1 ? "input.periodic.replicas" : "output.exr_population_layers");
+    return ORR_OK;
+}
+
 orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
 {
     scene_marks marks;
@@ -598,6 +625,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = check_colour(s, &marks, err);
     if (st == ORR_OK)
         st = check_dust(s, err);
+    if (st == ORR_OK)
+        st = check_stars(s, err);
     if (st == ORR_OK)
         st = check_output(s, &marks, err);
     if (st == ORR_OK)

@@ -1,0 +1,276 @@
+/* Stars spawned from particles (stars/stars.h). */
+#include "stars/stars.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/colourimetry.h"
+#include "particles/population.h"
+
+/* The colour table's B-V range: O stars to late M dwarfs. */
+#define BV_FIRST (-0.35)
+#define BV_STEP (2.55 / 255.0)
+/* A star is drawn from no nearer than this to the observer's particle
+ * search: parsecs (stars.h: a particle's faint stars nearer than this stay
+ * in its glow). */
+#define NEAREST_SEARCH_PC 30.0
+/* Kernel sigmas a particle's stars are searched beyond its distance. */
+#define SEARCH_SIGMAS 3.0
+/* Salt of the stars' draws, so they are unrelated to the populations'. */
+#define STARS_SALT 0x53746172734c4655ull
+
+void orr_stars_defaults(orr_stars_settings *s)
+{
+    memset(s, 0, sizeof *s);
+    s->limit = 8.0;
+    s->light_unit = 1.0;
+    s->glow_max_deg = 8.0;
+    s->mass_unit = 1e10;
+    s->length_unit = 1000.0;
+    s->seed = 1;
+    s->max_stars = 2000000;
+    s->list = 1;
+}
+
+void orr_star_batch_free(orr_star_batch *b)
+{
+    orr_chunk_free(&b->stars);
+    for (int k = 0; k < 3; k++)
+        free(b->xyz[k]);
+    free(b->info);
+    memset(b, 0, sizeof *b);
+}
+
+orr_status orr_stars_prepare(orr_stars *st, const orr_stars_settings *set, const char *path, orr_error *err)
+{
+    memset(st, 0, sizeof *st);
+    st->set = *set;
+    if (!isfinite(set->limit) || set->limit < -30 || set->limit > 30)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.limit: %g is not an apparent V magnitude in [-30, 30]", path,
+                        set->limit);
+    if (!(set->light_unit > 0) || !isfinite(set->light_unit))
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.light_unit: %g solar V luminosities is not a positive number",
+                        path, set->light_unit);
+    if (!(set->mass_unit > 0) || !isfinite(set->mass_unit))
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.mass_unit: %g solar masses is not a positive number", path,
+                        set->mass_unit);
+    if (!(set->length_unit > 0) || !isfinite(set->length_unit))
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.length_unit: %g parsecs is not a positive number", path,
+                        set->length_unit);
+    if (!(set->spread >= 0) || !isfinite(set->spread))
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.spread: %g is not a length >= 0 (0: from each particle's mass)",
+                        path, set->spread);
+    if (!(set->glow_max_deg > 0) || !(set->glow_max_deg <= 90))
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.glow_max: %g degrees; give (0, 90]", path, set->glow_max_deg);
+    if (set->max_stars < 1)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.max: %lld; at least 1 star", path, set->max_stars);
+    orr_lf_solar_neighbourhood(&st->lf);
+    st->light_per_mass = orr_lf_light_per_mass(&st->lf);
+    for (int k = 0; k < 256; k++) {
+        double xyz[3];
+        double t = orr_bv_to_teff(BV_FIRST + k * BV_STEP, ORR_BV_MAMAJEK);
+        if (!orr_blackbody_xyz(t, ORR_CMF_CIE1931, xyz) || !(xyz[1] > 0))
+            return orr_fail(err, ORR_ERR_INTERNAL, "stars: no blackbody colour at %g K", t);
+        st->colour_xy[0][k] = (float)(xyz[0] / xyz[1]);
+        st->colour_xy[1][k] = (float)(xyz[2] / xyz[1]);
+    }
+    return ORR_OK;
+}
+
+void orr_stars_begin_frame(orr_stars *st)
+{
+    st->drawn = 0;
+    st->capped = 0;
+}
+
+/* ---- the draws: a pure function of (seed, particle id, star, slot) ---- */
+
+static uint64_t particle_key(const orr_stars *st, uint64_t id)
+{
+    return orr_hash64(orr_hash64(id) ^ orr_hash64(st->set.seed ^ STARS_SALT));
+}
+
+/* Uniform in (0, 1): never 0, so its logarithm is finite. */
+static double draw(uint64_t key, uint64_t slot)
+{
+    return ((double)(orr_hash64(key + slot) >> 11) + 0.5) * 0x1.0p-53;
+}
+
+/* Slots of star k's draws: its gap along the count, three for its offset,
+ * one for its colour. */
+#define SLOTS_PER_STAR 8
+
+/* Two standard normal deviates from two uniforms (Box-Muller). */
+static void normal_pair(double u1, double u2, double *a, double *b)
+{
+    double r = sqrt(-2.0 * log(u1)), phi = 2.0 * 3.14159265358979323846 * u2;
+    *a = r * cos(phi);
+    *b = r * sin(phi);
+}
+
+/* ---- the batch ---- */
+
+static orr_status grow_batch(orr_star_batch *b, size_t need, orr_error *err)
+{
+    if (need <= b->capacity)
+        return ORR_OK;
+    size_t cap = b->capacity ? b->capacity : 4096;
+    while (cap < need)
+        cap *= 2;
+    orr_chunk bigger;
+    if (orr_chunk_alloc(&bigger, cap, 0, NULL, 0, err))
+        return ORR_ERR_NOMEM;
+    float *xyz[3] = {NULL, NULL, NULL};
+    orr_star_info *info = malloc(cap * sizeof *info);
+    for (int k = 0; k < 3; k++)
+        xyz[k] = malloc(cap * sizeof(float));
+    if (!info || !xyz[0] || !xyz[1] || !xyz[2]) {
+        orr_chunk_free(&bigger);
+        free(info);
+        for (int k = 0; k < 3; k++)
+            free(xyz[k]);
+        return orr_fail(err, ORR_ERR_NOMEM, "stars: out of memory for %zu spawned stars", cap);
+    }
+    size_t n = b->stars.n;
+    if (n) {
+        memcpy(bigger.x, b->stars.x, n * sizeof(float));
+        memcpy(bigger.y, b->stars.y, n * sizeof(float));
+        memcpy(bigger.z, b->stars.z, n * sizeof(float));
+        memcpy(bigger.mass, b->stars.mass, n * sizeof(float));
+        memcpy(bigger.id, b->stars.id, n * sizeof(uint64_t));
+        memcpy(bigger.type, b->stars.type, n);
+        memcpy(info, b->info, n * sizeof *info);
+        for (int k = 0; k < 3; k++)
+            memcpy(xyz[k], b->xyz[k], n * sizeof(float));
+    }
+    orr_star_batch_free(b);
+    b->stars = bigger;
+    b->stars.n = n;
+    for (int k = 0; k < 3; k++)
+        b->xyz[k] = xyz[k];
+    b->info = info;
+    b->capacity = cap;
+    return ORR_OK;
+}
+
+/* ---- one particle ---- */
+
+/* The kernel's sigma for a particle of m solar masses, parsecs: half the
+ * spacing of such particles at the luminosity function's own density (the
+ * solar neighbourhood's), so neighbouring particles' stars overlap. */
+static double kernel_sigma_pc(const orr_stars *st, double m)
+{
+    if (st->set.spread > 0)
+        return st->set.spread * st->set.length_unit;
+    return 0.5 * cbrt(m / st->lf.mass_density);
+}
+
+double orr_stars_kernel_length(const orr_stars *st, double mass)
+{
+    return kernel_sigma_pc(st, mass * st->set.mass_unit) / st->set.length_unit;
+}
+
+static void star_colour(const orr_stars *st, double bv, float *x_over_y, float *z_over_y)
+{
+    double pos = (bv - BV_FIRST) / BV_STEP;
+    int k = pos <= 0 ? 0 : pos >= 255 ? 254 : (int)pos;
+    double t = pos <= 0 ? 0 : pos >= 255 ? 1 : pos - k;
+    *x_over_y = (float)(st->colour_xy[0][k] + t * (st->colour_xy[0][k + 1] - st->colour_xy[0][k]));
+    *z_over_y = (float)(st->colour_xy[1][k] + t * (st->colour_xy[1][k + 1] - st->colour_xy[1][k]));
+}
+
+/* Draws particle i's stars into out; returns the light (Y) they took. */
+static orr_status spawn_particle(orr_stars *st, orr_vec3 eye, const orr_chunk *c, size_t i, float y_light,
+                                 orr_star_batch *out, double *taken, orr_error *err)
+{
+    const double pc = st->set.length_unit;
+    /* The particle stands for the stars of m solar masses of the local
+     * disc: as many as give its light (stars.light_unit). */
+    const double m = (double)y_light * st->set.light_unit / st->light_per_mass;
+    *taken = 0;
+    if (!(m > 0) || !(c->mass[i] > 0))
+        return ORR_OK;
+    const orr_vec3 p = orr_v3(c->x[i], c->y[i], c->z[i]);
+    const double r_pc = orr_v3_norm(orr_v3_sub(p, eye)) * pc;
+    const double sigma = kernel_sigma_pc(st, (double)c->mass[i] * st->set.mass_unit);
+    double nearest = r_pc - SEARCH_SIGMAS * sigma;
+    nearest = nearest > NEAREST_SEARCH_PC ? nearest : NEAREST_SEARCH_PC;
+    /* The faintest star of the particle that could be seen one by one. */
+    const double m_lim = st->set.limit - 5.0 * log10(nearest / 10.0);
+    if (m_lim <= ORR_LF_M_BRIGHT)
+        return ORR_OK;
+    const double lambda = m * orr_lf_count_brighter(&st->lf, m_lim);
+    const uint64_t key = particle_key(st, c->id[i]);
+    const double per_light = 1.0 / st->set.light_unit; /* Y per solar luminosity */
+    const size_t first = out->stars.n;
+    double u = 0, given = 0;
+    for (uint32_t k = 0;; k++) {
+        const uint64_t slot = (uint64_t)k * SLOTS_PER_STAR;
+        u -= log(draw(key, slot));
+        if (u > lambda)
+            break;
+        if (st->drawn >= st->set.max_stars) {
+            st->capped = 1;
+            break;
+        }
+        double abs_v = orr_lf_magnitude_at(&st->lf, u / m), ox, oy, oz, spare;
+        normal_pair(draw(key, slot + 1), draw(key, slot + 2), &ox, &oy);
+        normal_pair(draw(key, slot + 3), draw(key, slot + 4), &oz, &spare);
+        const orr_vec3 q = orr_v3_add(p, orr_v3_scale(orr_v3(ox, oy, oz), sigma / pc));
+        double d_pc = orr_v3_norm(orr_v3_sub(q, eye)) * pc;
+        d_pc = d_pc > 0.01 ? d_pc : 0.01;
+        const double v = abs_v + 5.0 * log10(d_pc / 10.0);
+        if (v > st->set.limit)
+            continue; /* too faint from here: its light stays in the glow */
+        if (grow_batch(out, out->stars.n + 1, err))
+            return ORR_ERR_NOMEM;
+        const size_t n = out->stars.n++;
+        const double w = per_light * orr_lf_luminosity(abs_v);
+        const double bv = orr_lf_star_bv(abs_v, draw(key, slot + 5));
+        float xy, zy;
+        star_colour(st, bv, &xy, &zy);
+        out->stars.x[n] = (float)q.x, out->stars.y[n] = (float)q.y, out->stars.z[n] = (float)q.z;
+        out->stars.mass[n] = 0.0f;
+        out->stars.id[n] = c->id[i];
+        out->stars.type[n] = c->type[i];
+        out->xyz[0][n] = (float)w * xy, out->xyz[1][n] = (float)w, out->xyz[2][n] = (float)w * zy;
+        out->info[n] = (orr_star_info){abs_v, v, (float)bv, c->id[i], k};
+        given += w;
+        st->drawn++;
+    }
+    /* Rarely a near particle's bright stars outshine it: they share its
+     * light then, and nothing is left for its glow. */
+    if (given > y_light) {
+        const double scale = y_light / given;
+        for (size_t n = first; n < out->stars.n; n++)
+            for (int k = 0; k < 3; k++)
+                out->xyz[k][n] = (float)(out->xyz[k][n] * scale);
+        given = y_light;
+    }
+    *taken = given;
+    return ORR_OK;
+}
+
+orr_status orr_stars_spawn(orr_stars *st, orr_vec3 eye, uint64_t exclude_id, const orr_chunk *c,
+                           float *const *xyz, orr_star_batch *out, orr_error *err)
+{
+    out->stars.n = 0;
+    for (size_t i = 0; i < c->n; i++) {
+        if (!orr_stars_spawns(st, c->type[i]) || c->id[i] == exclude_id)
+            continue;
+        double taken;
+        const float y = xyz[1][i];
+        if (spawn_particle(st, eye, c, i, y, out, &taken, err))
+            return ORR_ERR_NOMEM;
+        if (taken <= 0)
+            continue;
+        /* What is left: the particle's light less its stars', in the
+         * particle's own colour. */
+        const double left = y - taken, keep = left > 0 ? left / y : 0.0;
+        xyz[0][i] = (float)(xyz[0][i] * keep);
+        xyz[2][i] = (float)(xyz[2][i] * keep);
+        xyz[1][i] = (float)(left > 0 ? left : 0.0);
+    }
+    return ORR_OK;
+}
