@@ -37,6 +37,9 @@
 #include "snapshot.h"
 
 #define G_KPC_KMS 43007.1
+/* The longest --dt accepted: one time unit, 0.978 Gyr, four times the
+ * Sun's orbital period; a longer step follows no orbit in a galaxy. */
+#define DT_MAX 1.0
 
 /* The particles this process owns, n of them from number first on, and the
  * positions and masses of all n_all of them, which every process holds for
@@ -164,6 +167,9 @@ static int check_options(const options *o)
     char why[128] = "";
     if (!(o->dt > 0) || !isfinite(o->dt))
         bad = "--dt", snprintf(why, sizeof why, "%g: the time step must be a number above 0", o->dt);
+    else if (o->dt > DT_MAX)
+        bad = "--dt", snprintf(why, sizeof why, "%g: longer than %g time unit (%.3g Gyr): no orbit could be followed",
+                               o->dt, DT_MAX, 0.978 * DT_MAX);
     else if (o->eta_given && (!(o->eta > 0) || !isfinite(o->eta)))
         bad = "--eta", snprintf(why, sizeof why, "%g: the time-step accuracy must be a number above 0 (Gadget-2: 0.025)",
                                 o->eta);
@@ -396,6 +402,42 @@ static orr_status load_bodies(const options *o, int rank, int size, bodies *b, o
     return st;
 }
 
+/* What is wrong with particle i's numbers (a position or velocity that is
+ * not finite, a mass that is not finite or negative), or NULL; which
+ * component in *axis. */
+static const char *bad_numbers(const bodies *b, size_t i, int *axis)
+{
+    for (*axis = 0; *axis < 3; ++*axis) {
+        if (!isfinite(b->pos[3 * i + *axis]))
+            return "position";
+        if (!isfinite(b->vel[3 * i + *axis]))
+            return "velocity";
+    }
+    *axis = 0;
+    return isfinite(b->mass[i]) && b->mass[i] >= 0 ? NULL : "mass";
+}
+
+/* Whether every particle of this process can be evolved; else an error
+ * naming the file, the first bad particle and its field. */
+static int check_bodies(const bodies *b, const char *file)
+{
+    for (size_t i = 0; i < b->n; i++) {
+        int axis;
+        const char *what = bad_numbers(b, i, &axis);
+        if (!what)
+            continue;
+        double v = strcmp(what, "mass") == 0 ? b->mass[i]
+                   : what[0] == 'p'           ? b->pos[3 * i + axis]
+                                              : b->vel[3 * i + axis];
+        fprintf(stderr, "orrery-nbody: %s: particle id %llu (type %d): %s%s = %g: cannot evolve it (%s)\n", file,
+                (unsigned long long)b->id[i], b->type[i], what,
+                strcmp(what, "mass") == 0 ? "" : (const char *[]){" x", " y", " z"}[axis], v,
+                strcmp(what, "mass") == 0 ? "a mass must be finite and at least 0" : "it must be finite");
+        return 0;
+    }
+    return 1;
+}
+
 /* Gives every process every position and mass: the slices in rank order,
  * this process's at b->first. */
 static int share_bodies(bodies *b, const options *o, int rank, int size)
@@ -499,19 +541,84 @@ static int reduce_over_ranks(double *v, int k, int rank, int size, int take_min)
     return ok;
 }
 
-/* Kinetic and potential energy (W = 1/2 sum m phi) and momentum, over every
- * process's particles: e[0] K, e[1] W, e[2..4] P. */
-static int energies(const bodies *b, int rank, int size, double e[5])
+/* Kinetic and potential energy (W = 1/2 sum m phi), momentum and the
+ * centre of mass, over every process's particles: e[0] K, e[1] W, e[2..4]
+ * P, e[5..7] the sum of m x, e[8] the mass. */
+#define N_SUMS 9
+static int energies(const bodies *b, int rank, int size, double e[N_SUMS])
 {
-    memset(e, 0, 5 * sizeof *e);
+    memset(e, 0, N_SUMS * sizeof *e);
     for (size_t i = 0; i < b->n; i++) {
         const double *v = &b->vel[3 * i];
         e[0] += 0.5 * b->mass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         e[1] += 0.5 * b->mass[i] * b->pot[i];
-        for (int k = 0; k < 3; k++)
+        for (int k = 0; k < 3; k++) {
             e[2 + k] += b->mass[i] * v[k];
+            e[5 + k] += b->mass[i] * b->pos[3 * i + k];
+        }
+        e[8] += b->mass[i];
     }
-    return reduce_over_ranks(e, 5, rank, size, 0);
+    return reduce_over_ranks(e, N_SUMS, rank, size, 0);
+}
+
+/* The centre of mass of every process's particles. */
+static int centre_of_mass(const bodies *b, int rank, int size, double c[3])
+{
+    double e[N_SUMS];
+    if (!energies(b, rank, size, e))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        c[k] = e[8] > 0 ? e[5 + k] / e[8] : 0;
+    return 1;
+}
+
+/* The mass-weighted mean velocity of all particles, summed in the run's
+ * order on every process (their velocities gathered once), so it is the
+ * same to the last bit on any number of ranks; mass in *total. */
+static int mean_velocity(const bodies *b, double vmean[3], double *total)
+{
+    double *all = malloc((3 * b->n_all + 1) * sizeof *all);
+    int ok = all != NULL;
+    if (ranks_any(!ok)) {
+        free(all);
+        return 0;
+    }
+    memcpy(all + 3 * b->first, b->vel, 3 * b->n * sizeof *b->vel);
+    ok = ranks_gather(all, 3, b->counts) == 0;
+    double p[3] = {0, 0, 0}, m = 0;
+    for (size_t i = 0; ok && i < b->n_all; i++) {
+        for (int k = 0; k < 3; k++)
+            p[k] += b->mass_all[i] * all[3 * i + k];
+        m += b->mass_all[i];
+    }
+    for (int k = 0; k < 3; k++)
+        vmean[k] = m > 0 ? p[k] / m : 0;
+    *total = m;
+    free(all);
+    return ok;
+}
+
+/* Starts a new run in the frame of its centre of mass: takes the mean
+ * velocity off every particle, so the system does not drift (a model
+ * drawn particle by particle carries a net momentum from its sampling,
+ * 2 km/s for 2000 particles). Positions are left where the initial
+ * conditions put them (the model's Milky Way at the origin). Says what it
+ * took off and what is left. */
+static int to_centre_of_mass_frame(bodies *b, int quiet)
+{
+    double v[3], left[3], m;
+    if (!mean_velocity(b, v, &m))
+        return 0;
+    for (size_t i = 0; i < b->n; i++)
+        for (int k = 0; k < 3; k++)
+            b->vel[3 * i + k] -= v[k];
+    if (!mean_velocity(b, left, &m))
+        return 0;
+    if (!quiet)
+        printf("centre-of-mass frame: took off a net velocity of %.3g km/s (|P| = %.3g); left: %.2g km/s\n",
+               sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), m * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]),
+               sqrt(left[0] * left[0] + left[1] * left[1] + left[2] * left[2]));
+    return 1;
 }
 
 /* ---- how an isolated galaxy holds together (one process) -------------- */
@@ -620,16 +727,30 @@ static int structure_of(const bodies *b, structure *s)
     return 1;
 }
 
-/* One line of figures: energy and its drift from the start, momentum, and
- * (one process, a galaxy's discs) the structure. */
-static void report(const bodies *b, int rank, int size, double e0, int quiet)
+/* One line of figures: energy and its drift from the start, momentum, how
+ * far the centre of mass has moved from c0 (where it was at step 0), and
+ * (one process, a galaxy's discs) the structure. 0, or 1 when the energy
+ * is no longer a number (the run has blown up: said on every process). */
+static int report(const bodies *b, int rank, int size, double e0, const double c0[3], long step, int quiet)
 {
-    double e[5];
-    if (!energies(b, rank, size, e) || quiet)
-        return;
+    double e[N_SUMS];
+    if (!energies(b, rank, size, e))
+        return 1;
     double E = e[0] + e[1];
-    printf("report t = %.4f  E = %.6e  dE/|E0| = %+.2e  2K/|W| = %.3f  |P| = %.3g", b->time, E,
-           (E - e0) / fabs(e0), 2 * e[0] / fabs(e[1]), sqrt(e[2] * e[2] + e[3] * e[3] + e[4] * e[4]));
+    if (!isfinite(E)) {
+        if (rank == 0)
+            fprintf(stderr, "orrery-nbody: step %ld, t = %g: the energy is %g: the run has blown up (is --dt too long?)\n",
+                    step, b->time, E);
+        return 1;
+    }
+    if (quiet)
+        return 0;
+    double d[3];
+    for (int k = 0; k < 3; k++)
+        d[k] = (e[8] > 0 ? e[5 + k] / e[8] : 0) - c0[k];
+    printf("report t = %.4f  E = %.6e  dE/|E0| = %+.2e  2K/|W| = %.3f  |P| = %.3g  drift %.3g kpc", b->time, E,
+           (E - e0) / fabs(e0), 2 * e[0] / fabs(e[1]), sqrt(e[2] * e[2] + e[3] * e[3] + e[4] * e[4]),
+           sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
     structure s;
     if (size == 1 && structure_of(b, &s) && isfinite(s.disc_half)) {
         printf("  disc z_rms(3-10 kpc) = %.4f  disc R_half = %.3f  bulge r_half = %.3f", s.zrms, s.disc_half,
@@ -639,12 +760,13 @@ static void report(const bodies *b, int rank, int size, double e0, int quiet)
     }
     printf("\n");
     fflush(stdout);
+    return 0;
 }
 
 /* Total energy now (every process). */
 static double total_energy(const bodies *b, int rank, int size)
 {
-    double e[5];
+    double e[N_SUMS];
     return energies(b, rank, size, e) ? e[0] + e[1] : NAN;
 }
 
@@ -889,6 +1011,7 @@ static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state 
     } else if (!(ok = load_bodies(o, rank, size, b, &err) == ORR_OK)) {
         fprintf(stderr, "orrery-nbody: %s\n", err.msg);
     }
+    ok = ok && check_bodies(b, o->ic);
     if (ranks_any(!ok) || !share_bodies(b, o, rank, size))
         return 0;
     if (b->n_all == 0) {
@@ -989,14 +1112,17 @@ static int write_file(const nb_particles *p, const nb_run_state *s, const option
 /* Snapshot number of the run at step (and time b->time), written by rank
  * 0 (gathered from every rank first when there are several); 0 or 1, on
  * every rank. */
-static int write_snapshot(const bodies *b, const options *o, long step, long number, double e0, int rank, int size)
+static int write_snapshot(const bodies *b, const options *o, long step, long number, double e0, const double c0[3],
+                          int rank, int size)
 {
     nb_particles p = {.n = b->n, .pos = b->pos, .vel = b->vel, .mass = b->mass, .id = b->id, .type = b->type,
                       .nfields = b->nfields};
     memcpy(p.field_name, b->field_name, sizeof p.field_name);
     memcpy(p.field, b->field, sizeof p.field);
     int failed = size > 1 && !gather_particles(b, &p);
-    nb_run_state s = {b->time, step, number, e0, o->dt, o->eps, o->eps_halo, o->theta, o->eta, o->snapshot_every};
+    nb_run_state s = {.time = b->time, .step = step, .number = number, .e0 = e0, .centre0 = {c0[0], c0[1], c0[2]},
+                      .dt = o->dt, .eps = o->eps, .eps_halo = o->eps_halo, .theta = o->theta, .eta = o->eta,
+                      .snapshot_every = o->snapshot_every};
     if (!failed && rank == 0)
         failed = write_file(&p, &s, o);
     if (size > 1)
@@ -1025,6 +1151,7 @@ static int open_renderer(const options *o, int size, orrery_renderer **r)
 typedef struct run {
     long step, frame, snapshot;
     double e0, t_gravity, t_render;
+    double c0[3]; /* the centre of mass at step 0 */
 } run;
 
 /* What comes after a step (or the start): a frame, a report, a snapshot;
@@ -1038,9 +1165,9 @@ static int after_step(orrery_renderer *r, const bodies *b, const options *o, run
     if (u->step > 0 && !o->quiet) /* ends the step's line */
         printf("render %.3f s\n", tr);
     if (u->step % o->report_every == 0 || u->step == o->steps)
-        report(b, rank, size, u->e0, o->quiet);
+        code = report(b, rank, size, u->e0, u->c0, u->step, o->quiet) ? 1 : code;
     if (!code && o->snapshot_every && u->step % o->snapshot_every == 0)
-        code = write_snapshot(b, o, u->step, u->snapshot++, u->e0, rank, size);
+        code = write_snapshot(b, o, u->step, u->snapshot++, u->e0, u->c0, rank, size);
     return code;
 }
 
@@ -1111,13 +1238,20 @@ int main(int argc, char **argv)
         fprintf(stderr, "orrery-nbody: out of memory for the block time steps\n");
         code = 1;
     }
+    if (!code && !o.resume_dir && !to_centre_of_mass_frame(&b, o.quiet))
+        code = 1;
     u.t_gravity = gravity(&tree, &b, &o, NULL, &interactions);
-    if (o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
-        u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0};
+    if (!code && o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
+        u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0,
+                  {resumed.centre0[0], resumed.centre0[1], resumed.centre0[2]}};
+        if (!resumed.has_centre0 && centre_of_mass(&b, rank, size, u.c0) && !o.quiet)
+            printf("note: the snapshot does not say where the centre of mass started: the drift is reported from "
+                   "where it is now\n");
         if (!o.quiet)
             printf("resumed at step %ld, t = %.4f\n", u.step, b.time);
-    } else {
+    } else if (!code) {
         u.e0 = total_energy(&b, rank, size);
+        code = centre_of_mass(&b, rank, size, u.c0) ? 0 : 1;
         if (!o.quiet)
             printf("time step: %.2f%% of this process's particles want a shorter one than dt = %g by "
                    "sqrt(2 x 0.025 eps / |a|)\n",

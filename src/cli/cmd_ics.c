@@ -3,6 +3,7 @@
  *            [--omega-m X] [--omega-lambda X] [--omega-b X] [--h X]
  *            [--sigma8 X] [--ns X] */
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -216,6 +217,22 @@ static orr_status make_box(const ics_request *r, orr_zeldovich *z, orr_error *er
     return st;
 }
 
+/* The box's net velocity (equal masses: the mean of the velocities, in
+ * km/s) against their rms: the box is in its centre-of-mass frame when the
+ * first is round-off of the second. */
+static void net_velocity(const orr_zeldovich *z, double *net, double *rms)
+{
+    double sum[3] = {0, 0, 0}, sum2 = 0;
+    for (int64_t i = 0; i < z->n; i++)
+        for (int d = 0; d < 3; d++) {
+            sum[d] += z->vel[3 * i + d];
+            sum2 += (double)z->vel[3 * i + d] * z->vel[3 * i + d];
+        }
+    double n = z->n > 0 ? (double)z->n : 1;
+    *net = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]) / n;
+    *rms = sqrt(sum2 / n);
+}
+
 int cmd_ics(int argc, char **argv)
 {
     ics_request r = {.p = {.cosmo = orr_cosmology_default(), .grid = 64, .box = 100, .redshift = 0, .seed = 1},
@@ -248,6 +265,10 @@ int cmd_ics(int argc, char **argv)
            "(%.3g cells), particle mass %.4g e10 Msun/h\n",
            (long long)z.n, r.out, z.box, z.redshift, z.growth, z.rate, z.rms_displacement,
            z.rms_displacement / (z.box / z.grid), z.particle_mass);
+    double net, rms;
+    net_velocity(&z, &net, &rms);
+    printf("centre-of-mass frame: net velocity %.2g km/s, %.2g of the rms velocity %.3g km/s\n", net,
+           rms > 0 ? net / rms : 0, rms);
     orr_zeldovich_free(&z);
     return EXIT_OK;
 }

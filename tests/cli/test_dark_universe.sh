@@ -12,6 +12,16 @@ mkdir -p out
 "$ORRERY" ics --zeldovich --grid 16 --box 100 --z 0 --seed 3 -o out/box.hdf5 >ics.txt 2>err.txt ||
   fail "ics: $(cat err.txt)"
 grep -q "wrote 4096 particles to out/box.hdf5" ics.txt || fail "ics output: $(cat ics.txt)"
+# The box is in its centre-of-mass frame (equal masses: the velocities
+# sum to float round-off), as h5py finds and as it says.
+net=$(sed -n 's/^centre-of-mass frame: net velocity \([^ ]*\) km\/s.*/\1/p' ics.txt)
+"$py" - "$net" <<'PY' || fail "ics centre-of-mass frame: $(grep centre-of-mass ics.txt)"
+import sys, h5py, numpy as np
+v = h5py.File("out/box.hdf5", "r")["PartType1/Velocities"][:].astype(np.float64)
+net, rms = np.linalg.norm(v.mean(0)), np.sqrt((v ** 2).sum(1).mean())
+said = float(sys.argv[1])
+raise SystemExit(not (net < 1e-6 * rms and abs(said - net) <= 0.05 * net + 1e-12))
+PY
 "$ORRERY" info out/box.hdf5 >info.txt 2>err.txt || fail "info: $(cat err.txt)"
 grep -q "4096" info.txt && grep -q "BoxSize" info.txt || fail "info of the box: $(cat info.txt)"
 # The same seed gives the same bytes (the writer records no times); another
