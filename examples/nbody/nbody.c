@@ -76,6 +76,7 @@ typedef struct options {
     double eta;            /* block time steps' accuracy; 0: one global step --dt */
     int eps_halo_given;    /* --eps-halo given; else it is 2 x --eps */
     long render_every, report_every;
+    double progress;       /* seconds between progress lines on stderr; 0: none */
     int quiet;
     long snapshot_every;      /* 0: no snapshots */
     const char *snapshot_every_text; /* as given */
@@ -92,7 +93,7 @@ static const char usage[] =
     "                    [--theta THETA]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
-    "                    [--resume DIR] [--quiet]\n"
+    "                    [--resume DIR] [--progress SECONDS] [--quiet]\n"
     "\n"
     "Evolves N bodies with a tree code (quadrupole moments, group walks) and renders\n"
     "SCENE in-situ every K steps (frame = step / K), reporting rendering time against\n"
@@ -115,6 +116,9 @@ static const char usage[] =
     "  --eps-halo EPS     Plummer softening of dark-matter (type 1) particles (default 2 x --eps)\n"
     "  --theta THETA      opening angle, 0 to 1 (default 0.7: 99% of forces within 1%)\n"
     "  --report-every K   energy, momentum and structure every K steps (default 10)\n"
+    "  --progress SECONDS a progress line on stderr at most every SECONDS (default 10;\n"
+    "                     0: none), also with --quiet: step, time, energy error,\n"
+    "                     particle-steps per second, time left\n"
     "  --scene FILE       the scene rendered in-situ (its input.* keys are not used)\n"
     "  --set KEY=VALUE    override a scene key (repeatable)\n"
     "  --render-every K   render every K-th step (default 1)\n"
@@ -185,6 +189,9 @@ static int check_options(const options *o)
         bad = "--steps", snprintf(why, sizeof why, "%ld: must be at least 0", o->steps);
     else if (o->render_every < 1)
         bad = "--render-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->render_every);
+    else if (!(o->progress >= 0) || !isfinite(o->progress))
+        bad = "--progress", snprintf(why, sizeof why, "%g: expected seconds, at least 0 (0: no progress lines)",
+                                     o->progress);
     else if (o->report_every < 1)
         bad = "--report-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->report_every);
     else if (o->particles < 100)
@@ -206,7 +213,7 @@ static int parse_args(int argc, char **argv, options *o)
 {
     *o = (options){.ic = "model", .particles = 100000, .separation = 780, .disc_q = ORR_MODEL_DISC_Q_DEFAULT,
                    .steps = 100, .dt = 0.001, .eps = 0.05, .theta = 0.7, .render_every = 1,
-                   .report_every = 10};
+                   .report_every = 10, .progress = 10};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int has_value = 1;
@@ -243,6 +250,8 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--eps-halo") == 0) {
             o->eps_halo = parse_number(v);
             o->eps_halo_given = 1;
+        } else if (strcmp(a, "--progress") == 0) {
+            o->progress = parse_number(v);
         } else if (strcmp(a, "--report-every") == 0) {
             o->report_every = atol(v);
         } else if (strcmp(a, "--steps") == 0) {
@@ -1152,7 +1161,42 @@ typedef struct run {
     long step, frame, snapshot;
     double e0, t_gravity, t_render;
     double c0[3]; /* the centre of mass at step 0 */
+    long first_step;            /* the step this process started (or resumed) at */
+    double started, progressed; /* wall clock then, and at the last progress line */
 } run;
+
+/* "1:02:03" (or "2:03") for a number of seconds. */
+static const char *clock_text(char *buf, size_t size, double seconds)
+{
+    long s = isfinite(seconds) && seconds > 0 ? (long)(seconds + 0.5) : 0;
+    if (s >= 3600)
+        snprintf(buf, size, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+    else
+        snprintf(buf, size, "%ld:%02ld", s / 60, s % 60);
+    return buf;
+}
+
+/* Every --progress seconds of wall clock (as rank 0 counts them, so every
+ * rank joins the energy sum), one line on stderr: the step, the simulated
+ * time, the energy error, particle-steps per second and the time left at
+ * that rate. 0, or 1 when the ranks fail. */
+static int progress(const bodies *b, const options *o, run *u, int rank, int size)
+{
+    double t = now();
+    if (!ranks_any(rank == 0 && o->progress > 0 && t - u->progressed >= o->progress))
+        return 0;
+    double e[N_SUMS];
+    if (!energies(b, rank, size, e))
+        return 1;
+    u->progressed = t;
+    double done = (double)(u->step - u->first_step), rate = done / fmax(t - u->started, 1e-9);
+    char left[32];
+    if (rank == 0)
+        fprintf(stderr, "progress: step %ld of %ld  t = %.4f (%.1f Myr)  dE/|E0| = %+.2e  %.3g particle-steps/s  %s left\n",
+                u->step, o->steps, b->time, b->time * 978.0, (e[0] + e[1] - u->e0) / fabs(u->e0),
+                rate * (double)b->n_all, clock_text(left, sizeof left, (double)(o->steps - u->step) / rate));
+    return 0;
+}
 
 /* What comes after a step (or the start): a frame, a report, a snapshot;
  * 0 or an exit status. */
@@ -1164,6 +1208,8 @@ static int after_step(orrery_renderer *r, const bodies *b, const options *o, run
         u->t_render += tr;
     if (u->step > 0 && !o->quiet) /* ends the step's line */
         printf("render %.3f s\n", tr);
+    if (!code && u->step > 0)
+        code = progress(b, o, u, rank, size);
     if (u->step % o->report_every == 0 || u->step == o->steps)
         code = report(b, rank, size, u->e0, u->c0, u->step, o->quiet) ? 1 : code;
     if (!code && o->snapshot_every && u->step % o->snapshot_every == 0)
@@ -1243,7 +1289,7 @@ int main(int argc, char **argv)
     u.t_gravity = gravity(&tree, &b, &o, NULL, &interactions);
     if (!code && o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
         u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0,
-                  {resumed.centre0[0], resumed.centre0[1], resumed.centre0[2]}};
+                  {resumed.centre0[0], resumed.centre0[1], resumed.centre0[2]}, 0, 0, 0};
         if (!resumed.has_centre0 && centre_of_mass(&b, rank, size, u.c0) && !o.quiet)
             printf("note: the snapshot does not say where the centre of mass started: the drift is reported from "
                    "where it is now\n");
@@ -1259,6 +1305,8 @@ int main(int argc, char **argv)
         code = code ? code : after_step(r, &b, &o, &u, rank, size);
     }
     long start = u.step, frame0 = o.resume_dir ? u.frame : 0;
+    u.first_step = u.step;
+    u.started = u.progressed = now();
     while (u.step < o.steps && code == 0)
         if ((code = leapfrog_step(&tree, &b, &o, &u, &blk, rank, size)) == 0)
             code = after_step(r, &b, &o, &u, rank, size);

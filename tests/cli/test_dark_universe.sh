@@ -35,6 +35,12 @@ cmp -s out/box.hdf5 out/other.hdf5 && fail "seeds 3 and 4 gave the same file"
 OMP_NUM_THREADS=1 "$ORRERY" ics --zeldovich --grid 16 --box 100 --evolve --pm-steps 4 -o out/pm1.hdf5 >pm.txt 2>err.txt ||
   fail "ics --evolve: $(cat err.txt)"
 grep -q "particle mesh: 4 steps on a 32³ mesh to z = 0" pm.txt || fail "ics --evolve output: $(cat pm.txt)"
+# Progress lines on stderr (every step but the last with --progress 1e-9).
+OMP_NUM_THREADS=1 "$ORRERY" ics --zeldovich --grid 16 --box 100 --evolve --pm-steps 4 --progress 1e-9 -o out/pmp.hdf5 \
+  >/dev/null 2>pmp.err || fail "ics --evolve --progress: $(cat pmp.err)"
+[ "$(grep -c '^particle mesh: step [1-3] of 4  z = [0-9.]*  |sum p| / sum |p| = [0-9.e-]*  [0-9.e+]* particle-steps/s  [0-9]*:[0-9][0-9] left$' pmp.err)" -eq 3 ] ||
+  fail "ics progress lines: $(cat pmp.err)"
+cmp -s out/pm1.hdf5 out/pmp.hdf5 || fail "ics --evolve with progress lines wrote another box"
 OMP_NUM_THREADS=2 "$ORRERY" ics --zeldovich --grid 16 --box 100 --evolve --pm-steps 4 -o out/pm2.hdf5 >/dev/null 2>&1
 cmp -s out/pm1.hdf5 out/pm2.hdf5 || fail "ics --evolve gave different files on 1 and 2 threads"
 
@@ -105,6 +111,8 @@ expect_fail 2 "omega_m 0: expected a value in \(0, 2\]" none -- ics --zeldovich 
 expect_fail 2 "box -5: expected a side in Mpc/h" none -- ics --zeldovich --grid 4 --box -5 -o none/x.hdf5
 expect_fail 2 "unknown option '--frobnicate'" none -- ics --zeldovich --frobnicate -o none/x.hdf5
 expect_fail 2 "orrery: error: --pm-steps: only with --evolve" none -- ics --zeldovich --grid 4 --pm-steps 5 -o none/x.hdf5
+expect_fail 2 "orrery: error: --progress: only with --evolve" none -- ics --zeldovich --grid 4 --progress 5 -o none/x.hdf5
+expect_fail 2 "orrery: error: --progress x: expected seconds" none -- ics --zeldovich --grid 4 --evolve --progress x -o none/x.hdf5
 expect_fail 2 "orrery: error: --pm-grid 7: expected an even whole number" none -- ics --zeldovich --evolve --pm-grid 7 -o none/x.hdf5
 expect_fail 2 "orrery: error: --z-start 0: expected a redshift above 0" none -- ics --zeldovich --evolve --z-start 0 -o none/x.hdf5
 expect_fail 2 "orrery: error: --z-start 24: expected a redshift above --z 30" none -- ics --zeldovich --evolve --z 30 -o none/x.hdf5

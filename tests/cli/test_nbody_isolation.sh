@@ -130,4 +130,5 @@ expect_nbody_error "--theta" --theta 1.5
 expect_nbody_error "--disc-q" --disc-q 0
 expect_nbody_error "--disc-q" --disc-q -2
 expect_nbody_error "--galaxies" --galaxies andromeda
+expect_nbody_error "--progress -1: expected seconds" --progress -1
 finish

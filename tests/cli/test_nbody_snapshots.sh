@@ -28,6 +28,18 @@ cmp -s straight/snapshot_0004.hdf5 half/snapshot_0004.hdf5 || fail "snapshot 4 d
 [ "$(grep '^report' straight.log | tail -1)" = "$(grep '^report' half2.log | tail -1)" ] ||
   fail "last reports differ: $(grep '^report' straight.log | tail -1) / $(grep '^report' half2.log | tail -1)"
 
+# Progress lines on stderr (every step with --progress 1e-9), also with
+# --quiet: the step of the run's, the time, the energy error the report
+# gives at the same step, a rate, the time left; none with --progress 0.
+"$NBODY" $run --steps 4 --progress 1e-9 >progress.out 2>progress.err || fail "progress run: $(cat progress.err)"
+[ "$(grep -c '^progress: step [1-4] of 4  t = 0.00[2468]0 ([0-9.]* Myr)  dE/|E0| = [-+][0-9.e+-]*  [0-9.e+]* particle-steps/s  0:0[0-9] left$' progress.err)" -eq 4 ] ||
+  fail "progress lines: $(cat progress.err)"
+[ "$(grep '^progress: step 4 ' progress.err | sed 's/.*dE\/|E0| = \([^ ]*\).*/\1/')" = \
+  "$(grep '^report t = 0.0080' progress.out | sed 's/.*dE\/|E0| = \([^ ]*\).*/\1/')" ] ||
+  fail "progress and report disagree on the energy: $(grep 'step 4' progress.err) / $(grep '0.0080' progress.out)"
+"$NBODY" $run --steps 2 --quiet --progress 1e-9 2>&1 | grep -q "^progress: step 2 of 2" || fail "no progress line with --quiet"
+[ -z "$("$NBODY" $run --steps 2 --quiet --progress 0 2>&1)" ] || fail "--progress 0 printed"
+
 # The control: the same snapshot as new initial conditions (--ic) goes
 # through orrery's reader, which rounds to float: close, not equal.
 "$NBODY" --ic half/snapshot_0002.hdf5 --steps 4 --dt 0.002 --snapshot-every 4 --snapshot-dir fromic >ic.log 2>&1 ||
