@@ -40,6 +40,9 @@
 /* The longest --dt accepted: one time unit, 0.978 Gyr, four times the
  * Sun's orbital period; a longer step follows no orbit in a galaxy. */
 #define DT_MAX 1.0
+/* A tracer is lighter than this fraction of the mean particle mass. */
+#define TRACER_MASS_FRACTION 1e-3
+#define TRACER_NEIGHBOURS_MAX 256
 
 /* The particles this process owns, n of them from number first on, and the
  * positions and masses of all n_all of them, which every process holds for
@@ -51,6 +54,8 @@ typedef struct bodies {
     size_t *counts;             /* every process's n, in rank order */
     double *vel, *acc, *pot;
     double *eps_all;            /* every particle's softening (all processes') */
+    size_t *tracers, ntracers;  /* the tracers' places in the run's order (find_tracers) */
+    double tracer_mass;         /* a tracer is lighter than this */
     uint64_t *id;
     uint8_t *type;
     /* The initial conditions' other per-particle fields (the model's "r" and
@@ -77,20 +82,21 @@ typedef struct options {
     int eps_halo_given;    /* --eps-halo given; else it is 2 x --eps */
     long render_every, report_every;
     double progress;       /* seconds between progress lines on stderr; 0: none */
+    long tracer_neighbours; /* tracers' softening: their k-th neighbour's distance; 0: as stars */
     int quiet;
     long snapshot_every;      /* 0: no snapshots */
     const char *snapshot_every_text; /* as given */
     const char *snapshot_dir; /* NULL: --resume's folder */
     const char *resume_dir;   /* NULL: a new run */
     /* Given on the command line; on a resume the others are the run's own. */
-    int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given;
+    int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given, tracer_neighbours_given;
 } options;
 
 static const char usage[] =
     "usage: orrery-nbody [--ic model|SNAPSHOT] [--particles N] [--separation KPC]\n"
     "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
     "                    [--steps N] [--dt DT] [--eta ETA] [--eps EPS] [--eps-halo EPS]\n"
-    "                    [--theta THETA]\n"
+    "                    [--theta THETA] [--tracer-neighbours K]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
     "                    [--resume DIR] [--progress SECONDS] [--quiet]\n"
@@ -115,6 +121,10 @@ static const char usage[] =
     "  --eps EPS          Plummer softening of stars, black holes and gas, kpc (default 0.05)\n"
     "  --eps-halo EPS     Plummer softening of dark-matter (type 1) particles (default 2 x --eps)\n"
     "  --theta THETA      opening angle, 0 to 1 (default 0.7: 99% of forces within 1%)\n"
+    "  --tracer-neighbours K  tracers (particles lighter than 1/1000 of the mean, e.g.\n"
+    "                     the model's Sun) feel forces softened at the distance of their\n"
+    "                     K-th nearest other particle, found anew every step (default\n"
+    "                     32; 0: softened as stars)\n"
     "  --report-every K   energy, momentum and structure every K steps (default 10)\n"
     "  --progress SECONDS a progress line on stderr at most every SECONDS (default 10;\n"
     "                     0: none), also with --quiet: step, time, energy error,\n"
@@ -192,6 +202,9 @@ static int check_options(const options *o)
     else if (!(o->progress >= 0) || !isfinite(o->progress))
         bad = "--progress", snprintf(why, sizeof why, "%g: expected seconds, at least 0 (0: no progress lines)",
                                      o->progress);
+    else if (o->tracer_neighbours < 0 || o->tracer_neighbours > TRACER_NEIGHBOURS_MAX)
+        bad = "--tracer-neighbours", snprintf(why, sizeof why, "%ld: expected 0 (off) to %d", o->tracer_neighbours,
+                                              TRACER_NEIGHBOURS_MAX);
     else if (o->report_every < 1)
         bad = "--report-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->report_every);
     else if (o->particles < 100)
@@ -213,7 +226,7 @@ static int parse_args(int argc, char **argv, options *o)
 {
     *o = (options){.ic = "model", .particles = 100000, .separation = 780, .disc_q = ORR_MODEL_DISC_Q_DEFAULT,
                    .steps = 100, .dt = 0.001, .eps = 0.05, .theta = 0.7, .render_every = 1,
-                   .report_every = 10, .progress = 10};
+                   .report_every = 10, .progress = 10, .tracer_neighbours = 32};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int has_value = 1;
@@ -250,6 +263,9 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--eps-halo") == 0) {
             o->eps_halo = parse_number(v);
             o->eps_halo_given = 1;
+        } else if (strcmp(a, "--tracer-neighbours") == 0) {
+            o->tracer_neighbours = parse_count(v);
+            o->tracer_neighbours_given = 1;
         } else if (strcmp(a, "--progress") == 0) {
             o->progress = parse_number(v);
         } else if (strcmp(a, "--report-every") == 0) {
@@ -311,6 +327,7 @@ static void free_bodies(bodies *b)
     free(b->acc);
     free(b->pot);
     free(b->eps_all);
+    free(b->tracers);
     free(b->mass);
     free(b->id);
     free(b->type);
@@ -411,6 +428,95 @@ static orr_status load_bodies(const options *o, int rank, int size, bodies *b, o
     return st;
 }
 
+/* ---- tracers: a quiet Sun ----------------------------------------------- */
+
+/* The tracers: particles far lighter than the mean (the model's Sun, one
+ * solar mass among particles of 10^5 or more), whose own gravity does not
+ * matter but whose path does (the in-situ camera rides on the Sun). */
+static int find_tracers(bodies *b)
+{
+    double total = 0;
+    for (size_t i = 0; i < b->n_all; i++)
+        total += b->mass_all[i];
+    double light = b->tracer_mass = TRACER_MASS_FRACTION * total / (double)(b->n_all ? b->n_all : 1);
+    b->ntracers = 0;
+    for (size_t i = 0; i < b->n_all; i++)
+        b->ntracers += b->mass_all[i] < light;
+    b->tracers = malloc((b->ntracers + 1) * sizeof *b->tracers);
+    if (!b->tracers)
+        return 0;
+    b->ntracers = 0;
+    for (size_t i = 0; i < b->n_all; i++)
+        if (b->mass_all[i] < light)
+            b->tracers[b->ntracers++] = i;
+    return 1;
+}
+
+/* Puts d2 into the k smallest kept in heap[0 .. *n) (a max-heap: the
+ * largest of them at the top). */
+static void keep_smallest(double *heap, int *n, int k, double d2)
+{
+    int i;
+    if (*n < k) {
+        for (i = (*n)++; i > 0 && heap[(i - 1) / 2] < d2; i = (i - 1) / 2)
+            heap[i] = heap[(i - 1) / 2];
+        heap[i] = d2;
+        return;
+    }
+    if (d2 >= heap[0])
+        return;
+    for (i = 0;;) { /* sift the new value down from the top */
+        int c = 2 * i + 1;
+        if (c >= k)
+            break;
+        if (c + 1 < k && heap[c + 1] > heap[c])
+            c++;
+        if (heap[c] <= d2)
+            break;
+        heap[i] = heap[c];
+        i = c;
+    }
+    heap[i] = d2;
+}
+
+/* The distance from particle t to its k-th nearest particle that is not a
+ * tracer (every particle looked at: O(N) for each of the few tracers). */
+static double neighbour_distance(const bodies *b, size_t t, int k)
+{
+    const double light = b->tracer_mass;
+    double heap[TRACER_NEIGHBOURS_MAX];
+    int n = 0;
+    const double *x = &b->pos_all[3 * t];
+    for (size_t i = 0; i < b->n_all; i++) {
+        if (b->mass_all[i] < light)
+            continue;
+        const double *y = &b->pos_all[3 * i];
+        double dx = y[0] - x[0], dy = y[1] - x[1], dz = y[2] - x[2];
+        keep_smallest(heap, &n, k, dx * dx + dy * dy + dz * dz);
+    }
+    return n ? sqrt(heap[0]) : 0;
+}
+
+/* Softens each tracer's forces at the local particle spacing: its
+ * softening is sqrt(2) times the distance r_k of its k-th nearest
+ * particle, so that with the pair rule eps^2 = (eps_i^2 + eps_j^2) / 2 it
+ * feels every particle softened over at least r_k (never less than its
+ * kind's own softening). Particle noise (single passing halo particles of
+ * 10^5-10^6 solar masses) then no longer kicks it about, while the
+ * galaxy's smooth pull, on scales well above r_k, is unchanged: the
+ * paper's large softening of the bulge's black hole, for the same reason.
+ * The same on every rank (all positions are everywhere). */
+static void soften_tracers(bodies *b, const options *o)
+{
+    if (!o->tracer_neighbours || !b->ntracers)
+        return;
+    for (size_t j = 0; j < b->ntracers; j++) {
+        size_t t = b->tracers[j];
+        double r = neighbour_distance(b, t, (int)o->tracer_neighbours);
+        b->eps_all[t] = fmax(o->eps, sqrt(2.0) * r);
+    }
+}
+
 /* What is wrong with particle i's numbers (a position or velocity that is
  * not finite, a mass that is not finite or negative), or NULL; which
  * component in *axis. */
@@ -481,7 +587,7 @@ static int share_bodies(bodies *b, const options *o, int rank, int size)
     b->pos = pos_all + 3 * b->first;
     b->mass = mass_all + b->first;
     return ranks_gather(b->pos_all, 3, b->counts) == 0 && ranks_gather(b->mass_all, 1, b->counts) == 0 &&
-           ranks_gather(b->eps_all, 1, b->counts) == 0;
+           ranks_gather(b->eps_all, 1, b->counts) == 0 && find_tracers(b);
 }
 
 /* The particles as orrery reads them, in place: positions and velocities
@@ -517,6 +623,8 @@ static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned ch
     double t0 = now();
     if (active)
         qt_refresh(t, b->pos_all);
+    else
+        soften_tracers(b, o);
     if ((!active && qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0) ||
         (*interactions = qt_accelerations_masked(t, G_KPC_KMS, o->theta, b->first, b->n, active, b->acc, b->pot)) <
             0) {
@@ -637,6 +745,7 @@ typedef struct structure {
     double disc_half; /* median cylindrical radius of the disc particles */
     double bulge_half; /* median radius of the bulge particles */
     double sun_R, sun_z;
+    double sun_eps;   /* the Sun's softening (a tracer's: soften_tracers) */
     int has_sun;
 } structure;
 
@@ -725,6 +834,7 @@ static int structure_of(const bodies *b, structure *s)
         } else if (b->type[i] == ORR_MODEL_TYPE_SUN) {
             s->sun_R = R;
             s->sun_z = z;
+            s->sun_eps = b->eps_all[b->first + i];
             s->has_sun = 1;
         }
     }
@@ -765,7 +875,7 @@ static int report(const bodies *b, int rank, int size, double e0, const double c
         printf("  disc z_rms(3-10 kpc) = %.4f  disc R_half = %.3f  bulge r_half = %.3f", s.zrms, s.disc_half,
                s.bulge_half);
         if (s.has_sun)
-            printf("  Sun R = %.3f z = %+.3f", s.sun_R, s.sun_z);
+            printf("  Sun R = %.3f z = %+.3f eps = %.3f", s.sun_R, s.sun_z, s.sun_eps);
     }
     printf("\n");
     fflush(stdout);
@@ -964,6 +1074,9 @@ static void take_run_settings(options *o, const nb_run_state *rs)
     take_setting("--eps-halo", o->eps_halo_given || o->eps_given, &o->eps_halo, rs->eps_halo, o->quiet);
     take_setting("--theta", o->theta_given, &o->theta, rs->theta, o->quiet);
     take_setting("--eta", o->eta_given, &o->eta, rs->eta, o->quiet);
+    double k = (double)o->tracer_neighbours;
+    take_setting("--tracer-neighbours", o->tracer_neighbours_given, &k, (double)rs->tracer_neighbours, o->quiet);
+    o->tracer_neighbours = (long)k;
     take_setting("--snapshot-every", o->snapshot_every_given, &every, (double)rs->snapshot_every, o->quiet);
     o->snapshot_every = (long)every;
 }
@@ -1131,7 +1244,7 @@ static int write_snapshot(const bodies *b, const options *o, long step, long num
     int failed = size > 1 && !gather_particles(b, &p);
     nb_run_state s = {.time = b->time, .step = step, .number = number, .e0 = e0, .centre0 = {c0[0], c0[1], c0[2]},
                       .dt = o->dt, .eps = o->eps, .eps_halo = o->eps_halo, .theta = o->theta, .eta = o->eta,
-                      .snapshot_every = o->snapshot_every};
+                      .snapshot_every = o->snapshot_every, .tracer_neighbours = o->tracer_neighbours};
     if (!failed && rank == 0)
         failed = write_file(&p, &s, o);
     if (size > 1)

@@ -44,6 +44,7 @@ typedef struct nb_run_state {
     double dt, eps, eps_halo, theta;
     double eta;   /* block time steps' accuracy parameter; 0: one global step */
     long snapshot_every;
+    long tracer_neighbours; /* tracers' softening (0: as stars, what snapshots without it had) */
 } nb_run_state;
 
 /* "DIR/snapshot_NNNN.hdf5"; 0, or -1 when it does not fit. */

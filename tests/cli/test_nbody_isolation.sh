@@ -63,6 +63,30 @@ done()
 PY
   fail "centre-of-mass frame and drift: $(cat reports.txt)"
 
+# The Sun, a tracer, feels forces softened at sqrt(2) times the distance of
+# its 32nd nearest particle (docs/nbody.md, "A quiet Sun"): the softening
+# the first report gives is that of h5py's neighbours in snapshot 0; with
+# --tracer-neighbours 0 it is the stars' --eps.
+PYTHONPATH="$SRC/tests/cli" "$py" - "$(awk 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "eps") print $(i + 2) }' reports.txt)" <<'PY' ||
+import sys, h5py, numpy as np
+from expect import check, done
+f = h5py.File("snaps/snapshot_0000.hdf5", "r")
+groups = [f[k] for k in f if k.startswith("PartType")]
+m = np.concatenate([g["Masses"][:] for g in groups])
+x = np.concatenate([g["Coordinates"][:] for g in groups])
+ids = np.concatenate([g["ParticleIDs"][:] for g in groups])
+sun = x[ids == 3][0]
+heavy = m >= 1e-3 * m.mean()
+check(np.count_nonzero(~heavy) == 1, f"tracers: {np.count_nonzero(~heavy)}")
+r32 = np.sort(np.linalg.norm(x[heavy] - sun, axis=1))[31]
+want = max(0.1, np.sqrt(2) * r32)
+check(abs(float(sys.argv[1]) - want) < 6e-4, f"the Sun's softening {sys.argv[1]}, expected {want:.4f}")
+done()
+PY
+  fail "the Sun's softening: $(head -1 reports.txt)"
+"$NBODY" --galaxies mw --particles 20000 --steps 0 --eps 0.1 --tracer-neighbours 0 >k0.out 2>&1 || fail "--tracer-neighbours 0: $(cat k0.out)"
+grep -q "^report .*Sun R = .* eps = 0.100$" k0.out || fail "--tracer-neighbours 0: $(grep ^report k0.out)"
+
 # scripts/disc_churn.py (docs/nbody.md, "Why the Sun wanders"): a snapshot
 # against itself changes no guiding radius; over these 60 Myr the Sun's
 # neighbours' guiding radii spread (0.65 kpc rms with 2 x 10^4 particles),
@@ -131,4 +155,5 @@ expect_nbody_error "--disc-q" --disc-q 0
 expect_nbody_error "--disc-q" --disc-q -2
 expect_nbody_error "--galaxies" --galaxies andromeda
 expect_nbody_error "--progress -1: expected seconds" --progress -1
+expect_nbody_error "--tracer-neighbours 300: expected 0 (off) to 256" --tracer-neighbours 300
 finish
