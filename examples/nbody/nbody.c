@@ -33,6 +33,7 @@
 #include "source/partition.h"
 #include "source/source.h"
 #include "core/atomic.h"
+#include "particles/kdtree.h"
 #include "qtree.h"
 #include "snapshot.h"
 
@@ -452,49 +453,24 @@ static int find_tracers(bodies *b)
     return 1;
 }
 
-/* Puts d2 into the k smallest kept in heap[0 .. *n) (a max-heap: the
- * largest of them at the top). */
-static void keep_smallest(double *heap, int *n, int k, double d2)
-{
-    int i;
-    if (*n < k) {
-        for (i = (*n)++; i > 0 && heap[(i - 1) / 2] < d2; i = (i - 1) / 2)
-            heap[i] = heap[(i - 1) / 2];
-        heap[i] = d2;
-        return;
-    }
-    if (d2 >= heap[0])
-        return;
-    for (i = 0;;) { /* sift the new value down from the top */
-        int c = 2 * i + 1;
-        if (c >= k)
-            break;
-        if (c + 1 < k && heap[c + 1] > heap[c])
-            c++;
-        if (heap[c] <= d2)
-            break;
-        heap[i] = heap[c];
-        i = c;
-    }
-    heap[i] = d2;
-}
-
 /* The distance from particle t to its k-th nearest particle that is not a
  * tracer (every particle looked at: O(N) for each of the few tracers). */
 static double neighbour_distance(const bodies *b, size_t t, int k)
 {
     const double light = b->tracer_mass;
     double heap[TRACER_NEIGHBOURS_MAX];
-    int n = 0;
+    for (int j = 0; j < k; j++)
+        heap[j] = INFINITY;
     const double *x = &b->pos_all[3 * t];
     for (size_t i = 0; i < b->n_all; i++) {
         if (b->mass_all[i] < light)
             continue;
         const double *y = &b->pos_all[3 * i];
-        double dx = y[0] - x[0], dy = y[1] - x[1], dz = y[2] - x[2];
-        keep_smallest(heap, &n, k, dx * dx + dy * dy + dz * dz);
+        double dx = y[0] - x[0], dy = y[1] - x[1], dz = y[2] - x[2], d2 = dx * dx + dy * dy + dz * dz;
+        if (d2 < heap[0])
+            orr_kd_heap_replace_top(heap, (size_t)k, d2);
     }
-    return n ? sqrt(heap[0]) : 0;
+    return isfinite(heap[0]) ? sqrt(heap[0]) : 0; /* fewer than k others: as stars */
 }
 
 /* Softens each tracer's forces at the local particle spacing: its
