@@ -38,8 +38,8 @@
 #include "snapshot.h"
 
 #define G_KPC_KMS 43007.1
-/* The longest --dt accepted: one time unit, 0.978 Gyr, four times the
- * Sun's orbital period; a longer step follows no orbit in a galaxy. */
+/* The longest --dt accepted: one time unit, 0.978 Gyr, nearly five times
+ * the Sun's orbital period (0.21 Gyr); a longer step follows no orbit in a galaxy. */
 #define DT_MAX 1.0
 /* A tracer is lighter than this fraction of the mean particle mass. */
 #define TRACER_MASS_FRACTION 1e-3
@@ -476,8 +476,8 @@ static double neighbour_distance(const bodies *b, size_t t, int k)
 /* Softens each tracer's forces at the local particle spacing: its
  * softening is sqrt(2) times the distance r_k of its k-th nearest
  * particle, so that with the pair rule eps^2 = (eps_i^2 + eps_j^2) / 2 it
- * feels every particle softened over at least r_k (never less than its
- * kind's own softening). Particle noise (single passing halo particles of
+ * feels every particle softened over at least r_k (never less than
+ * --eps). Particle noise (single passing halo particles of
  * 10^5-10^6 solar masses) then no longer kicks it about, while the
  * galaxy's smooth pull, on scales well above r_k, is unchanged: the
  * paper's large softening of the bulge's black hole, for the same reason.
