@@ -17,6 +17,9 @@
 #
 # Pixels hold surface brightness (per steradian), so the config's white
 # levels grade the smaller frames like the full-size ones.
+#
+# The N-body code prints a progress line on stderr every 10 s (step, time,
+# energy error, particle-steps per second, time left), even with --quiet.
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 build=${ORRERY_BUILD:-$here/build}

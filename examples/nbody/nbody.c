@@ -33,10 +33,17 @@
 #include "source/partition.h"
 #include "source/source.h"
 #include "core/atomic.h"
+#include "particles/kdtree.h"
 #include "qtree.h"
 #include "snapshot.h"
 
 #define G_KPC_KMS 43007.1
+/* The longest --dt accepted: one time unit, 0.978 Gyr, nearly five times
+ * the Sun's orbital period (0.21 Gyr); a longer step follows no orbit in a galaxy. */
+#define DT_MAX 1.0
+/* A tracer is lighter than this fraction of the mean particle mass. */
+#define TRACER_MASS_FRACTION 1e-3
+#define TRACER_NEIGHBOURS_MAX 256
 
 /* The particles this process owns, n of them from number first on, and the
  * positions and masses of all n_all of them, which every process holds for
@@ -48,6 +55,8 @@ typedef struct bodies {
     size_t *counts;             /* every process's n, in rank order */
     double *vel, *acc, *pot;
     double *eps_all;            /* every particle's softening (all processes') */
+    size_t *tracers, ntracers;  /* the tracers' places in the run's order (find_tracers) */
+    double tracer_mass;         /* a tracer is lighter than this */
     uint64_t *id;
     uint8_t *type;
     /* The initial conditions' other per-particle fields (the model's "r" and
@@ -73,23 +82,25 @@ typedef struct options {
     double eta;            /* block time steps' accuracy; 0: one global step --dt */
     int eps_halo_given;    /* --eps-halo given; else it is 2 x --eps */
     long render_every, report_every;
+    double progress;       /* seconds between progress lines on stderr; 0: none */
+    long tracer_neighbours; /* tracers' softening: their k-th neighbour's distance; 0: as stars */
     int quiet;
     long snapshot_every;      /* 0: no snapshots */
     const char *snapshot_every_text; /* as given */
     const char *snapshot_dir; /* NULL: --resume's folder */
     const char *resume_dir;   /* NULL: a new run */
     /* Given on the command line; on a resume the others are the run's own. */
-    int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given;
+    int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given, tracer_neighbours_given;
 } options;
 
 static const char usage[] =
     "usage: orrery-nbody [--ic model|SNAPSHOT] [--particles N] [--separation KPC]\n"
     "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
     "                    [--steps N] [--dt DT] [--eta ETA] [--eps EPS] [--eps-halo EPS]\n"
-    "                    [--theta THETA]\n"
+    "                    [--theta THETA] [--tracer-neighbours K]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
-    "                    [--resume DIR] [--quiet]\n"
+    "                    [--resume DIR] [--progress SECONDS] [--quiet]\n"
     "\n"
     "Evolves N bodies with a tree code (quadrupole moments, group walks) and renders\n"
     "SCENE in-situ every K steps (frame = step / K), reporting rendering time against\n"
@@ -111,7 +122,14 @@ static const char usage[] =
     "  --eps EPS          Plummer softening of stars, black holes and gas, kpc (default 0.05)\n"
     "  --eps-halo EPS     Plummer softening of dark-matter (type 1) particles (default 2 x --eps)\n"
     "  --theta THETA      opening angle, 0 to 1 (default 0.7: 99% of forces within 1%)\n"
+    "  --tracer-neighbours K  tracers (particles lighter than 1/1000 of the mean, e.g.\n"
+    "                     the model's Sun) feel forces softened at the distance of their\n"
+    "                     K-th nearest other particle, found anew every step (default\n"
+    "                     32; 0: softened as stars)\n"
     "  --report-every K   energy, momentum and structure every K steps (default 10)\n"
+    "  --progress SECONDS a progress line on stderr at most every SECONDS (default 10;\n"
+    "                     0: none), also with --quiet: step, time, energy error,\n"
+    "                     particle-steps per second, time left\n"
     "  --scene FILE       the scene rendered in-situ (its input.* keys are not used)\n"
     "  --set KEY=VALUE    override a scene key (repeatable)\n"
     "  --render-every K   render every K-th step (default 1)\n"
@@ -164,6 +182,9 @@ static int check_options(const options *o)
     char why[128] = "";
     if (!(o->dt > 0) || !isfinite(o->dt))
         bad = "--dt", snprintf(why, sizeof why, "%g: the time step must be a number above 0", o->dt);
+    else if (o->dt > DT_MAX)
+        bad = "--dt", snprintf(why, sizeof why, "%g: longer than %g time unit (%.3g Gyr): no orbit could be followed",
+                               o->dt, DT_MAX, 0.978 * DT_MAX);
     else if (o->eta_given && (!(o->eta > 0) || !isfinite(o->eta)))
         bad = "--eta", snprintf(why, sizeof why, "%g: the time-step accuracy must be a number above 0 (Gadget-2: 0.025)",
                                 o->eta);
@@ -179,6 +200,12 @@ static int check_options(const options *o)
         bad = "--steps", snprintf(why, sizeof why, "%ld: must be at least 0", o->steps);
     else if (o->render_every < 1)
         bad = "--render-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->render_every);
+    else if (!(o->progress >= 0) || !isfinite(o->progress))
+        bad = "--progress", snprintf(why, sizeof why, "%g: expected seconds, at least 0 (0: no progress lines)",
+                                     o->progress);
+    else if (o->tracer_neighbours < 0 || o->tracer_neighbours > TRACER_NEIGHBOURS_MAX)
+        bad = "--tracer-neighbours", snprintf(why, sizeof why, "%ld: expected 0 (off) to %d", o->tracer_neighbours,
+                                              TRACER_NEIGHBOURS_MAX);
     else if (o->report_every < 1)
         bad = "--report-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->report_every);
     else if (o->particles < 100)
@@ -200,7 +227,7 @@ static int parse_args(int argc, char **argv, options *o)
 {
     *o = (options){.ic = "model", .particles = 100000, .separation = 780, .disc_q = ORR_MODEL_DISC_Q_DEFAULT,
                    .steps = 100, .dt = 0.001, .eps = 0.05, .theta = 0.7, .render_every = 1,
-                   .report_every = 10};
+                   .report_every = 10, .progress = 10, .tracer_neighbours = 32};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int has_value = 1;
@@ -237,6 +264,11 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--eps-halo") == 0) {
             o->eps_halo = parse_number(v);
             o->eps_halo_given = 1;
+        } else if (strcmp(a, "--tracer-neighbours") == 0) {
+            o->tracer_neighbours = parse_count(v);
+            o->tracer_neighbours_given = 1;
+        } else if (strcmp(a, "--progress") == 0) {
+            o->progress = parse_number(v);
         } else if (strcmp(a, "--report-every") == 0) {
             o->report_every = atol(v);
         } else if (strcmp(a, "--steps") == 0) {
@@ -296,6 +328,7 @@ static void free_bodies(bodies *b)
     free(b->acc);
     free(b->pot);
     free(b->eps_all);
+    free(b->tracers);
     free(b->mass);
     free(b->id);
     free(b->type);
@@ -396,6 +429,106 @@ static orr_status load_bodies(const options *o, int rank, int size, bodies *b, o
     return st;
 }
 
+/* ---- tracers: a quiet Sun ----------------------------------------------- */
+
+/* The tracers: particles far lighter than the mean (the model's Sun, one
+ * solar mass among particles of 10^5 or more), whose own gravity does not
+ * matter but whose path does (the in-situ camera rides on the Sun). */
+static int find_tracers(bodies *b)
+{
+    double total = 0;
+    for (size_t i = 0; i < b->n_all; i++)
+        total += b->mass_all[i];
+    double light = b->tracer_mass = TRACER_MASS_FRACTION * total / (double)(b->n_all ? b->n_all : 1);
+    b->ntracers = 0;
+    for (size_t i = 0; i < b->n_all; i++)
+        b->ntracers += b->mass_all[i] < light;
+    b->tracers = malloc((b->ntracers + 1) * sizeof *b->tracers);
+    if (!b->tracers)
+        return 0;
+    b->ntracers = 0;
+    for (size_t i = 0; i < b->n_all; i++)
+        if (b->mass_all[i] < light)
+            b->tracers[b->ntracers++] = i;
+    return 1;
+}
+
+/* The distance from particle t to its k-th nearest particle that is not a
+ * tracer (every particle looked at: O(N) for each of the few tracers). */
+static double neighbour_distance(const bodies *b, size_t t, int k)
+{
+    const double light = b->tracer_mass;
+    double heap[TRACER_NEIGHBOURS_MAX];
+    for (int j = 0; j < k; j++)
+        heap[j] = INFINITY;
+    const double *x = &b->pos_all[3 * t];
+    for (size_t i = 0; i < b->n_all; i++) {
+        if (b->mass_all[i] < light)
+            continue;
+        const double *y = &b->pos_all[3 * i];
+        double dx = y[0] - x[0], dy = y[1] - x[1], dz = y[2] - x[2], d2 = dx * dx + dy * dy + dz * dz;
+        if (d2 < heap[0])
+            orr_kd_heap_replace_top(heap, (size_t)k, d2);
+    }
+    return isfinite(heap[0]) ? sqrt(heap[0]) : 0; /* fewer than k others: as stars */
+}
+
+/* Softens each tracer's forces at the local particle spacing: its
+ * softening is sqrt(2) times the distance r_k of its k-th nearest
+ * particle, so that with the pair rule eps^2 = (eps_i^2 + eps_j^2) / 2 it
+ * feels every particle softened over at least r_k (never less than
+ * --eps). Particle noise (single passing halo particles of
+ * 10^5-10^6 solar masses) then no longer kicks it about, while the
+ * galaxy's smooth pull, on scales well above r_k, is unchanged: the
+ * paper's large softening of the bulge's black hole, for the same reason.
+ * The same on every rank (all positions are everywhere). */
+static void soften_tracers(bodies *b, const options *o)
+{
+    if (!o->tracer_neighbours || !b->ntracers)
+        return;
+    for (size_t j = 0; j < b->ntracers; j++) {
+        size_t t = b->tracers[j];
+        double r = neighbour_distance(b, t, (int)o->tracer_neighbours);
+        b->eps_all[t] = fmax(o->eps, sqrt(2.0) * r);
+    }
+}
+
+/* What is wrong with particle i's numbers (a position or velocity that is
+ * not finite, a mass that is not finite or negative), or NULL; which
+ * component in *axis. */
+static const char *bad_numbers(const bodies *b, size_t i, int *axis)
+{
+    for (*axis = 0; *axis < 3; ++*axis) {
+        if (!isfinite(b->pos[3 * i + *axis]))
+            return "position";
+        if (!isfinite(b->vel[3 * i + *axis]))
+            return "velocity";
+    }
+    *axis = 0;
+    return isfinite(b->mass[i]) && b->mass[i] >= 0 ? NULL : "mass";
+}
+
+/* Whether every particle of this process can be evolved; else an error
+ * naming the file, the first bad particle and its field. */
+static int check_bodies(const bodies *b, const char *file)
+{
+    for (size_t i = 0; i < b->n; i++) {
+        int axis;
+        const char *what = bad_numbers(b, i, &axis);
+        if (!what)
+            continue;
+        double v = strcmp(what, "mass") == 0 ? b->mass[i]
+                   : what[0] == 'p'           ? b->pos[3 * i + axis]
+                                              : b->vel[3 * i + axis];
+        fprintf(stderr, "orrery-nbody: %s: particle id %llu (type %d): %s%s = %g: cannot evolve it (%s)\n", file,
+                (unsigned long long)b->id[i], b->type[i], what,
+                strcmp(what, "mass") == 0 ? "" : (const char *[]){" x", " y", " z"}[axis], v,
+                strcmp(what, "mass") == 0 ? "a mass must be finite and at least 0" : "it must be finite");
+        return 0;
+    }
+    return 1;
+}
+
 /* Gives every process every position and mass: the slices in rank order,
  * this process's at b->first. */
 static int share_bodies(bodies *b, const options *o, int rank, int size)
@@ -430,7 +563,7 @@ static int share_bodies(bodies *b, const options *o, int rank, int size)
     b->pos = pos_all + 3 * b->first;
     b->mass = mass_all + b->first;
     return ranks_gather(b->pos_all, 3, b->counts) == 0 && ranks_gather(b->mass_all, 1, b->counts) == 0 &&
-           ranks_gather(b->eps_all, 1, b->counts) == 0;
+           ranks_gather(b->eps_all, 1, b->counts) == 0 && find_tracers(b);
 }
 
 /* The particles as orrery reads them, in place: positions and velocities
@@ -466,6 +599,8 @@ static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned ch
     double t0 = now();
     if (active)
         qt_refresh(t, b->pos_all);
+    else
+        soften_tracers(b, o);
     if ((!active && qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0) ||
         (*interactions = qt_accelerations_masked(t, G_KPC_KMS, o->theta, b->first, b->n, active, b->acc, b->pot)) <
             0) {
@@ -499,19 +634,84 @@ static int reduce_over_ranks(double *v, int k, int rank, int size, int take_min)
     return ok;
 }
 
-/* Kinetic and potential energy (W = 1/2 sum m phi) and momentum, over every
- * process's particles: e[0] K, e[1] W, e[2..4] P. */
-static int energies(const bodies *b, int rank, int size, double e[5])
+/* Kinetic and potential energy (W = 1/2 sum m phi), momentum and the
+ * centre of mass, over every process's particles: e[0] K, e[1] W, e[2..4]
+ * P, e[5..7] the sum of m x, e[8] the mass. */
+#define N_SUMS 9
+static int energies(const bodies *b, int rank, int size, double e[N_SUMS])
 {
-    memset(e, 0, 5 * sizeof *e);
+    memset(e, 0, N_SUMS * sizeof *e);
     for (size_t i = 0; i < b->n; i++) {
         const double *v = &b->vel[3 * i];
         e[0] += 0.5 * b->mass[i] * (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
         e[1] += 0.5 * b->mass[i] * b->pot[i];
-        for (int k = 0; k < 3; k++)
+        for (int k = 0; k < 3; k++) {
             e[2 + k] += b->mass[i] * v[k];
+            e[5 + k] += b->mass[i] * b->pos[3 * i + k];
+        }
+        e[8] += b->mass[i];
     }
-    return reduce_over_ranks(e, 5, rank, size, 0);
+    return reduce_over_ranks(e, N_SUMS, rank, size, 0);
+}
+
+/* The centre of mass of every process's particles. */
+static int centre_of_mass(const bodies *b, int rank, int size, double c[3])
+{
+    double e[N_SUMS];
+    if (!energies(b, rank, size, e))
+        return 0;
+    for (int k = 0; k < 3; k++)
+        c[k] = e[8] > 0 ? e[5 + k] / e[8] : 0;
+    return 1;
+}
+
+/* The mass-weighted mean velocity of all particles, summed in the run's
+ * order on every process (their velocities gathered once), so it is the
+ * same to the last bit on any number of ranks; mass in *total. */
+static int mean_velocity(const bodies *b, double vmean[3], double *total)
+{
+    double *all = malloc((3 * b->n_all + 1) * sizeof *all);
+    int ok = all != NULL;
+    if (ranks_any(!ok)) {
+        free(all);
+        return 0;
+    }
+    memcpy(all + 3 * b->first, b->vel, 3 * b->n * sizeof *b->vel);
+    ok = ranks_gather(all, 3, b->counts) == 0;
+    double p[3] = {0, 0, 0}, m = 0;
+    for (size_t i = 0; ok && i < b->n_all; i++) {
+        for (int k = 0; k < 3; k++)
+            p[k] += b->mass_all[i] * all[3 * i + k];
+        m += b->mass_all[i];
+    }
+    for (int k = 0; k < 3; k++)
+        vmean[k] = m > 0 ? p[k] / m : 0;
+    *total = m;
+    free(all);
+    return ok;
+}
+
+/* Starts a new run in the frame of its centre of mass: takes the mean
+ * velocity off every particle, so the system does not drift (a model
+ * drawn particle by particle carries a net momentum from its sampling,
+ * 2 km/s for 2000 particles). Positions are left where the initial
+ * conditions put them (the model's Milky Way at the origin). Says what it
+ * took off and what is left. */
+static int to_centre_of_mass_frame(bodies *b, int quiet)
+{
+    double v[3], left[3], m;
+    if (!mean_velocity(b, v, &m))
+        return 0;
+    for (size_t i = 0; i < b->n; i++)
+        for (int k = 0; k < 3; k++)
+            b->vel[3 * i + k] -= v[k];
+    if (!mean_velocity(b, left, &m))
+        return 0;
+    if (!quiet)
+        printf("centre-of-mass frame: took off a net velocity of %.3g km/s (|P| = %.3g); left: %.2g km/s\n",
+               sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), m * sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]),
+               sqrt(left[0] * left[0] + left[1] * left[1] + left[2] * left[2]));
+    return 1;
 }
 
 /* ---- how an isolated galaxy holds together (one process) -------------- */
@@ -521,6 +721,7 @@ typedef struct structure {
     double disc_half; /* median cylindrical radius of the disc particles */
     double bulge_half; /* median radius of the bulge particles */
     double sun_R, sun_z;
+    double sun_eps;   /* the Sun's softening (a tracer's: soften_tracers) */
     int has_sun;
 } structure;
 
@@ -609,6 +810,7 @@ static int structure_of(const bodies *b, structure *s)
         } else if (b->type[i] == ORR_MODEL_TYPE_SUN) {
             s->sun_R = R;
             s->sun_z = z;
+            s->sun_eps = b->eps_all[b->first + i];
             s->has_sun = 1;
         }
     }
@@ -620,31 +822,46 @@ static int structure_of(const bodies *b, structure *s)
     return 1;
 }
 
-/* One line of figures: energy and its drift from the start, momentum, and
- * (one process, a galaxy's discs) the structure. */
-static void report(const bodies *b, int rank, int size, double e0, int quiet)
+/* One line of figures: energy and its drift from the start, momentum, how
+ * far the centre of mass has moved from c0 (where it was at step 0), and
+ * (one process, a galaxy's discs) the structure. 0, or 1 when the energy
+ * is no longer a number (the run has blown up: said on every process). */
+static int report(const bodies *b, int rank, int size, double e0, const double c0[3], long step, int quiet)
 {
-    double e[5];
-    if (!energies(b, rank, size, e) || quiet)
-        return;
+    double e[N_SUMS];
+    if (!energies(b, rank, size, e))
+        return 1;
     double E = e[0] + e[1];
-    printf("report t = %.4f  E = %.6e  dE/|E0| = %+.2e  2K/|W| = %.3f  |P| = %.3g", b->time, E,
-           (E - e0) / fabs(e0), 2 * e[0] / fabs(e[1]), sqrt(e[2] * e[2] + e[3] * e[3] + e[4] * e[4]));
+    if (!isfinite(E)) {
+        if (rank == 0)
+            fprintf(stderr, "orrery-nbody: step %ld, t = %g: the energy is %g: the run has blown up (is --dt too long?)\n",
+                    step, b->time, E);
+        return 1;
+    }
+    if (quiet)
+        return 0;
+    double d[3];
+    for (int k = 0; k < 3; k++)
+        d[k] = (e[8] > 0 ? e[5 + k] / e[8] : 0) - c0[k];
+    printf("report t = %.4f  E = %.6e  dE/|E0| = %+.2e  2K/|W| = %.3f  |P| = %.3g  drift %.3g kpc", b->time, E,
+           (E - e0) / fabs(e0), 2 * e[0] / fabs(e[1]), sqrt(e[2] * e[2] + e[3] * e[3] + e[4] * e[4]),
+           sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
     structure s;
     if (size == 1 && structure_of(b, &s) && isfinite(s.disc_half)) {
         printf("  disc z_rms(3-10 kpc) = %.4f  disc R_half = %.3f  bulge r_half = %.3f", s.zrms, s.disc_half,
                s.bulge_half);
         if (s.has_sun)
-            printf("  Sun R = %.3f z = %+.3f", s.sun_R, s.sun_z);
+            printf("  Sun R = %.3f z = %+.3f eps = %.3f", s.sun_R, s.sun_z, s.sun_eps);
     }
     printf("\n");
     fflush(stdout);
+    return 0;
 }
 
 /* Total energy now (every process). */
 static double total_energy(const bodies *b, int rank, int size)
 {
-    double e[5];
+    double e[N_SUMS];
     return energies(b, rank, size, e) ? e[0] + e[1] : NAN;
 }
 
@@ -833,6 +1050,9 @@ static void take_run_settings(options *o, const nb_run_state *rs)
     take_setting("--eps-halo", o->eps_halo_given || o->eps_given, &o->eps_halo, rs->eps_halo, o->quiet);
     take_setting("--theta", o->theta_given, &o->theta, rs->theta, o->quiet);
     take_setting("--eta", o->eta_given, &o->eta, rs->eta, o->quiet);
+    double k = (double)o->tracer_neighbours;
+    take_setting("--tracer-neighbours", o->tracer_neighbours_given, &k, (double)rs->tracer_neighbours, o->quiet);
+    o->tracer_neighbours = (long)k;
     take_setting("--snapshot-every", o->snapshot_every_given, &every, (double)rs->snapshot_every, o->quiet);
     o->snapshot_every = (long)every;
 }
@@ -889,6 +1109,7 @@ static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state 
     } else if (!(ok = load_bodies(o, rank, size, b, &err) == ORR_OK)) {
         fprintf(stderr, "orrery-nbody: %s\n", err.msg);
     }
+    ok = ok && check_bodies(b, o->ic);
     if (ranks_any(!ok) || !share_bodies(b, o, rank, size))
         return 0;
     if (b->n_all == 0) {
@@ -989,14 +1210,17 @@ static int write_file(const nb_particles *p, const nb_run_state *s, const option
 /* Snapshot number of the run at step (and time b->time), written by rank
  * 0 (gathered from every rank first when there are several); 0 or 1, on
  * every rank. */
-static int write_snapshot(const bodies *b, const options *o, long step, long number, double e0, int rank, int size)
+static int write_snapshot(const bodies *b, const options *o, long step, long number, double e0, const double c0[3],
+                          int rank, int size)
 {
     nb_particles p = {.n = b->n, .pos = b->pos, .vel = b->vel, .mass = b->mass, .id = b->id, .type = b->type,
                       .nfields = b->nfields};
     memcpy(p.field_name, b->field_name, sizeof p.field_name);
     memcpy(p.field, b->field, sizeof p.field);
     int failed = size > 1 && !gather_particles(b, &p);
-    nb_run_state s = {b->time, step, number, e0, o->dt, o->eps, o->eps_halo, o->theta, o->eta, o->snapshot_every};
+    nb_run_state s = {.time = b->time, .step = step, .number = number, .e0 = e0, .centre0 = {c0[0], c0[1], c0[2]},
+                      .dt = o->dt, .eps = o->eps, .eps_halo = o->eps_halo, .theta = o->theta, .eta = o->eta,
+                      .snapshot_every = o->snapshot_every, .tracer_neighbours = o->tracer_neighbours};
     if (!failed && rank == 0)
         failed = write_file(&p, &s, o);
     if (size > 1)
@@ -1025,7 +1249,43 @@ static int open_renderer(const options *o, int size, orrery_renderer **r)
 typedef struct run {
     long step, frame, snapshot;
     double e0, t_gravity, t_render;
+    double c0[3]; /* the centre of mass at step 0 */
+    long first_step;            /* the step this process started (or resumed) at */
+    double started, progressed; /* wall clock then, and at the last progress line */
 } run;
+
+/* "1:02:03" (or "2:03") for a number of seconds. */
+static const char *clock_text(char *buf, size_t size, double seconds)
+{
+    long s = isfinite(seconds) && seconds > 0 ? (long)(seconds + 0.5) : 0;
+    if (s >= 3600)
+        snprintf(buf, size, "%ld:%02ld:%02ld", s / 3600, s / 60 % 60, s % 60);
+    else
+        snprintf(buf, size, "%ld:%02ld", s / 60, s % 60);
+    return buf;
+}
+
+/* Every --progress seconds of wall clock (as rank 0 counts them, so every
+ * rank joins the energy sum), one line on stderr: the step, the simulated
+ * time, the energy error, particle-steps per second and the time left at
+ * that rate. 0, or 1 when the ranks fail. */
+static int progress(const bodies *b, const options *o, run *u, int rank, int size)
+{
+    double t = now();
+    if (!ranks_any(rank == 0 && o->progress > 0 && t - u->progressed >= o->progress))
+        return 0;
+    double e[N_SUMS];
+    if (!energies(b, rank, size, e))
+        return 1;
+    u->progressed = t;
+    double done = (double)(u->step - u->first_step), rate = done / fmax(t - u->started, 1e-9);
+    char left[32];
+    if (rank == 0)
+        fprintf(stderr, "progress: step %ld of %ld  t = %.4f (%.1f Myr)  dE/|E0| = %+.2e  %.3g particle-steps/s  %s left\n",
+                u->step, o->steps, b->time, b->time * 978.0, (e[0] + e[1] - u->e0) / fabs(u->e0),
+                rate * (double)b->n_all, clock_text(left, sizeof left, (double)(o->steps - u->step) / rate));
+    return 0;
+}
 
 /* What comes after a step (or the start): a frame, a report, a snapshot;
  * 0 or an exit status. */
@@ -1037,10 +1297,12 @@ static int after_step(orrery_renderer *r, const bodies *b, const options *o, run
         u->t_render += tr;
     if (u->step > 0 && !o->quiet) /* ends the step's line */
         printf("render %.3f s\n", tr);
+    if (!code && u->step > 0)
+        code = progress(b, o, u, rank, size);
     if (u->step % o->report_every == 0 || u->step == o->steps)
-        report(b, rank, size, u->e0, o->quiet);
+        code = report(b, rank, size, u->e0, u->c0, u->step, o->quiet) ? 1 : code;
     if (!code && o->snapshot_every && u->step % o->snapshot_every == 0)
-        code = write_snapshot(b, o, u->step, u->snapshot++, u->e0, rank, size);
+        code = write_snapshot(b, o, u->step, u->snapshot++, u->e0, u->c0, rank, size);
     return code;
 }
 
@@ -1111,13 +1373,20 @@ int main(int argc, char **argv)
         fprintf(stderr, "orrery-nbody: out of memory for the block time steps\n");
         code = 1;
     }
+    if (!code && !o.resume_dir && !to_centre_of_mass_frame(&b, o.quiet))
+        code = 1;
     u.t_gravity = gravity(&tree, &b, &o, NULL, &interactions);
-    if (o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
-        u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0};
+    if (!code && o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
+        u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0,
+                  {resumed.centre0[0], resumed.centre0[1], resumed.centre0[2]}, 0, 0, 0};
+        if (!resumed.has_centre0 && centre_of_mass(&b, rank, size, u.c0) && !o.quiet)
+            printf("note: the snapshot does not say where the centre of mass started: the drift is reported from "
+                   "where it is now\n");
         if (!o.quiet)
             printf("resumed at step %ld, t = %.4f\n", u.step, b.time);
-    } else {
+    } else if (!code) {
         u.e0 = total_energy(&b, rank, size);
+        code = centre_of_mass(&b, rank, size, u.c0) ? 0 : 1;
         if (!o.quiet)
             printf("time step: %.2f%% of this process's particles want a shorter one than dt = %g by "
                    "sqrt(2 x 0.025 eps / |a|)\n",
@@ -1125,6 +1394,8 @@ int main(int argc, char **argv)
         code = code ? code : after_step(r, &b, &o, &u, rank, size);
     }
     long start = u.step, frame0 = o.resume_dir ? u.frame : 0;
+    u.first_step = u.step;
+    u.started = u.progressed = now();
     while (u.step < o.steps && code == 0)
         if ((code = leapfrog_step(&tree, &b, &o, &u, &blk, rank, size)) == 0)
             code = after_step(r, &b, &o, &u, rank, size);

@@ -81,7 +81,7 @@ static int write_run_group(hid_t file, const write_ctx *w)
     hid_t g = orr_h5w_group(file, RUN_GROUP);
     if (g < 0)
         return 1;
-    int64_t step = s->step, number = s->number, every = s->snapshot_every;
+    int64_t step = s->step, number = s->number, every = s->snapshot_every, neighbours = s->tracer_neighbours;
     char fields[ORR_ARRAYS_MAX_FIELDS * ORR_FIELD_NAME_MAX + 1] = "";
     for (int f = 0; f < w->p->nfields; f++) {
         strcat(fields, f ? " " : "");
@@ -90,7 +90,9 @@ static int write_run_group(hid_t file, const write_ctx *w)
     int bad = orr_h5w_attr(g, "Step", H5T_STD_I64LE, H5T_NATIVE_INT64, &step, 0);
     bad |= orr_h5w_attr(g, "Number", H5T_STD_I64LE, H5T_NATIVE_INT64, &number, 0);
     bad |= orr_h5w_attr(g, "SnapshotEvery", H5T_STD_I64LE, H5T_NATIVE_INT64, &every, 0);
+    bad |= orr_h5w_attr(g, "TracerNeighbours", H5T_STD_I64LE, H5T_NATIVE_INT64, &neighbours, 0);
     bad |= orr_h5w_double(g, "E0", s->e0);
+    bad |= orr_h5w_attr(g, "Centre0", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, s->centre0, 3);
     bad |= orr_h5w_double(g, "Dt", s->dt);
     bad |= orr_h5w_double(g, "Eps", s->eps);
     bad |= orr_h5w_double(g, "EpsHalo", s->eps_halo);
@@ -336,6 +338,11 @@ static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_ru
                       path, RUN_GROUP);
     if (!st && !attr_double(run, "Eta", &s->eta))
         s->eta = 0; /* one global step */
+    if (!st && !attr_long(run, "TracerNeighbours", &s->tracer_neighbours))
+        s->tracer_neighbours = 0; /* written before tracers were softened apart */
+    int ncentre = 0;
+    s->has_centre0 = !st && orr_h5_attr_numbers(run, "Centre0", H5T_NATIVE_DOUBLE, s->centre0, 3, &ncentre) ==
+                                ORR_H5_FOUND && ncentre == 3;
     size_t n = 0;
     for (int t = 0; t < ntypes; t++)
         n += (size_t)count[t];

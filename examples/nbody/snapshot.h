@@ -39,9 +39,12 @@ typedef struct nb_run_state {
     long step;    /* leapfrog steps done */
     long number;  /* the snapshot's number, NNNN in its name */
     double e0;    /* total energy at step 0 (the drift is reported against it) */
+    double centre0[3]; /* the centre of mass at step 0 (its drift is reported against it) */
+    int has_centre0;   /* read: the snapshot holds centre0 (older ones do not) */
     double dt, eps, eps_halo, theta;
     double eta;   /* block time steps' accuracy parameter; 0: one global step */
     long snapshot_every;
+    long tracer_neighbours; /* tracers' softening (0: as stars, what snapshots without it had) */
 } nb_run_state;
 
 /* "DIR/snapshot_NNNN.hdf5"; 0, or -1 when it does not fit. */

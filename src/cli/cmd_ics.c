@@ -3,6 +3,7 @@
  *            [--omega-m X] [--omega-lambda X] [--omega-b X] [--h X]
  *            [--sigma8 X] [--ns X] */
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,7 +16,7 @@
 
 static const char ics_help[] =
     "usage: orrery ics --zeldovich -o FILE.hdf5 [--grid N] [--box MPC_H] [--z Z] [--seed S] [--truncate K]\n"
-    "                  [--evolve [--z-start Z] [--pm-steps N] [--pm-grid M]]\n"
+    "                  [--evolve [--z-start Z] [--pm-steps N] [--pm-grid M] [--progress SECONDS]]\n"
     "                  [--omega-m X] [--omega-lambda X] [--omega-b X] [--h X] [--sigma8 X] [--ns X]\n"
     "\n"
     "Writes cosmological initial conditions: N^3 dark-matter particles displaced\n"
@@ -38,6 +39,9 @@ static const char ics_help[] =
     "  --pm-steps N          with --evolve: kick-drift-kick steps, even in a (default 40)\n"
     "  --pm-grid M           with --evolve: force mesh cells per side, even, 2 to 1024\n"
     "                        (default twice --grid, at most 1024)\n"
+    "  --progress SECONDS    with --evolve: a progress line on stderr at most every\n"
+    "                        SECONDS (default 10; 0: none): step, z, momentum balance,\n"
+    "                        particle-steps per second, time left\n"
     "  --omega-m, --omega-lambda, --omega-b, --h, --sigma8, --ns\n"
     "                        cosmology (default Planck 2018: 0.315 0.685 0.049 0.674 0.811 0.965)\n"
     "  -h, --help            this text\n";
@@ -45,7 +49,7 @@ static const char ics_help[] =
 enum {
     OPT_ZELDOVICH = 256, OPT_GRID, OPT_SEED, OPT_BOX, OPT_Z, OPT_TRUNCATE,
     OPT_OMEGA_M, OPT_OMEGA_LAMBDA, OPT_OMEGA_B, OPT_H, OPT_SIGMA8, OPT_NS,
-    OPT_EVOLVE, OPT_Z_START, OPT_PM_STEPS, OPT_PM_GRID,
+    OPT_EVOLVE, OPT_Z_START, OPT_PM_STEPS, OPT_PM_GRID, OPT_PROGRESS,
 };
 
 static const struct option ics_options[] = {
@@ -66,6 +70,7 @@ static const struct option ics_options[] = {
     {"z-start", required_argument, NULL, OPT_Z_START},
     {"pm-steps", required_argument, NULL, OPT_PM_STEPS},
     {"pm-grid", required_argument, NULL, OPT_PM_GRID},
+    {"progress", required_argument, NULL, OPT_PROGRESS},
     {"help", no_argument, NULL, 'h'},
     {NULL, 0, NULL, 0},
 };
@@ -103,6 +108,7 @@ typedef struct ics_request {
     int zeldovich, evolve;
     double z_start;
     int pm_steps, pm_grid;      /* pm_grid 0: twice the particle grid */
+    double progress;            /* seconds between progress lines; 0: none */
     const char *pm_only;        /* a PM option given (named in the error without --evolve) */
 } ics_request;
 
@@ -110,7 +116,15 @@ typedef struct ics_request {
 static int take_pm_option(int code, const char *v, ics_request *r)
 {
     long long n;
-    r->pm_only = code == OPT_Z_START ? "--z-start" : code == OPT_PM_STEPS ? "--pm-steps" : "--pm-grid";
+    r->pm_only = code == OPT_Z_START    ? "--z-start"
+                 : code == OPT_PM_STEPS ? "--pm-steps"
+                 : code == OPT_PROGRESS ? "--progress"
+                                        : "--pm-grid";
+    if (code == OPT_PROGRESS) {
+        if (!orr_parse_double(v, &r->progress) || !(r->progress >= 0 && r->progress < 1e9))
+            return cli_usage_error("ics", "--progress %s: expected seconds, at least 0 (0: no progress lines)", v);
+        return EXIT_OK;
+    }
     if (code == OPT_Z_START) {
         if (!orr_parse_double(v, &r->z_start) || !(r->z_start > 0 && r->z_start < 1e4))
             return cli_usage_error("ics", "--z-start %s: expected a redshift above 0 and below 1e4", v);
@@ -152,6 +166,7 @@ static int take_option(int code, const char *v, ics_request *r)
     case OPT_Z_START:
     case OPT_PM_STEPS:
     case OPT_PM_GRID:
+    case OPT_PROGRESS:
         return take_pm_option(code, v, r);
     case 'o':
         r->out = v;
@@ -195,6 +210,27 @@ static int check_request(ics_request *r)
     return EXIT_OK;
 }
 
+/* When progress lines are due (at most every `every` seconds). */
+typedef struct pm_progress {
+    double every, last;
+    int64_t particles;
+} pm_progress;
+
+/* A progress line of the particle mesh on stderr: the step, the redshift,
+ * the momentum balance (the PM's conservation check: it has no energy
+ * check), particle-steps per second and the time left at that rate. */
+static void pm_progress_line(void *user, int done, int steps, double a, double momentum, double seconds)
+{
+    pm_progress *p = user;
+    if (p->every <= 0 || seconds - p->last < p->every || done == steps)
+        return;
+    p->last = seconds;
+    double rate = done / fmax(seconds, 1e-9);
+    long left = (long)((steps - done) / rate + 0.5);
+    fprintf(stderr, "particle mesh: step %d of %d  z = %.3f  |sum p| / sum |p| = %.2g  %.3g particle-steps/s  %ld:%02ld left\n",
+            done, steps, 1 / a - 1, momentum, rate * (double)p->particles, left / 60, left % 60);
+}
+
 /* Generates the box (at --z-start when evolving, then the PM to --z). */
 static orr_status make_box(const ics_request *r, orr_zeldovich *z, orr_error *err)
 {
@@ -206,7 +242,9 @@ static orr_status make_box(const ics_request *r, orr_zeldovich *z, orr_error *er
         return st;
     printf("Zel'dovich start at z = %g: D(a) = %.4f, rms displacement %.3g Mpc/h\n", z->redshift, z->growth,
            z->rms_displacement);
-    orr_pm_params pm = {.a_end = 1 / (1 + r->p.redshift), .steps = r->pm_steps, .mesh = r->pm_grid};
+    pm_progress progress = {r->progress, 0, z->n};
+    orr_pm_params pm = {.a_end = 1 / (1 + r->p.redshift), .steps = r->pm_steps, .mesh = r->pm_grid,
+                        .progress = pm_progress_line, .progress_user = &progress};
     orr_pm_report rep;
     st = orr_pm_evolve(z, &pm, &rep, err);
     if (!st)
@@ -216,10 +254,26 @@ static orr_status make_box(const ics_request *r, orr_zeldovich *z, orr_error *er
     return st;
 }
 
+/* The box's net velocity (equal masses: the mean of the velocities, in
+ * km/s) against their rms: the box is in its centre-of-mass frame when the
+ * first is round-off of the second. */
+static void net_velocity(const orr_zeldovich *z, double *net, double *rms)
+{
+    double sum[3] = {0, 0, 0}, sum2 = 0;
+    for (int64_t i = 0; i < z->n; i++)
+        for (int d = 0; d < 3; d++) {
+            sum[d] += z->vel[3 * i + d];
+            sum2 += (double)z->vel[3 * i + d] * z->vel[3 * i + d];
+        }
+    double n = z->n > 0 ? (double)z->n : 1;
+    *net = sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]) / n;
+    *rms = sqrt(sum2 / n);
+}
+
 int cmd_ics(int argc, char **argv)
 {
     ics_request r = {.p = {.cosmo = orr_cosmology_default(), .grid = 64, .box = 100, .redshift = 0, .seed = 1},
-                     .z_start = 24, .pm_steps = 40};
+                     .z_start = 24, .pm_steps = 40, .progress = 10};
     const char *value;
     int code;
     cli_options_begin();
@@ -248,6 +302,10 @@ int cmd_ics(int argc, char **argv)
            "(%.3g cells), particle mass %.4g e10 Msun/h\n",
            (long long)z.n, r.out, z.box, z.redshift, z.growth, z.rate, z.rms_displacement,
            z.rms_displacement / (z.box / z.grid), z.particle_mass);
+    double net, rms;
+    net_velocity(&z, &net, &rms);
+    printf("centre-of-mass frame: net velocity %.2g km/s, %.2g of the rms velocity %.3g km/s\n", net,
+           rms > 0 ? net / rms : 0, rms);
     orr_zeldovich_free(&z);
     return EXIT_OK;
 }

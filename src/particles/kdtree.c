@@ -245,8 +245,7 @@ static inline double kd_box_dist2(const orr_kdbox *box, const float *q)
     return d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
 }
 
-/* Replaces the largest entry by v (smaller) and restores the heap. */
-static void kd_heap_replace_top(double *heap, size_t k, double v)
+void orr_kd_heap_replace_top(double *heap, size_t k, double v)
 {
     size_t i = 0;
     for (;;) {
@@ -269,7 +268,7 @@ static void kd_scan_leaf(kd_search *s, size_t b, size_t e)
     for (size_t i = b; i < e; i++) {
         double d2 = orr_kd_dist2(s->q, pts[i].p);
         if (d2 < s->heap[0])
-            kd_heap_replace_top(s->heap, s->k, d2);
+            orr_kd_heap_replace_top(s->heap, s->k, d2);
     }
 }
 

@@ -68,6 +68,11 @@ static inline double orr_kd_dist2(const float a[3], const float b[3])
     return dx * dx + dy * dy + dz * dz;
 }
 
+/* The k smallest values seen, kept in heap[0 .. k) as a max-heap (the
+ * largest at heap[0]; start with k INFINITY): replaces the largest by v,
+ * which must be smaller, and restores the heap. */
+void orr_kd_heap_replace_top(double *heap, size_t k, double v);
+
 /* The squared distance from q to its k-th nearest point of the tree, as
  * orr_kd_dist2 computes it: the k-th smallest of the n distances, so a tree
  * point at q itself counts as a neighbour at distance 0. heap is scratch

@@ -12,6 +12,16 @@ mkdir -p out
 "$ORRERY" ics --zeldovich --grid 16 --box 100 --z 0 --seed 3 -o out/box.hdf5 >ics.txt 2>err.txt ||
   fail "ics: $(cat err.txt)"
 grep -q "wrote 4096 particles to out/box.hdf5" ics.txt || fail "ics output: $(cat ics.txt)"
+# The box is in its centre-of-mass frame (equal masses: the velocities
+# sum to float round-off), as h5py finds and as it says.
+net=$(sed -n 's/^centre-of-mass frame: net velocity \([^ ]*\) km\/s.*/\1/p' ics.txt)
+"$py" - "$net" <<'PY' || fail "ics centre-of-mass frame: $(grep centre-of-mass ics.txt)"
+import sys, h5py, numpy as np
+v = h5py.File("out/box.hdf5", "r")["PartType1/Velocities"][:].astype(np.float64)
+net, rms = np.linalg.norm(v.mean(0)), np.sqrt((v ** 2).sum(1).mean())
+said = float(sys.argv[1])
+raise SystemExit(not (net < 1e-6 * rms and abs(said - net) <= 0.05 * net + 1e-12))
+PY
 "$ORRERY" info out/box.hdf5 >info.txt 2>err.txt || fail "info: $(cat err.txt)"
 grep -q "4096" info.txt && grep -q "BoxSize" info.txt || fail "info of the box: $(cat info.txt)"
 # The same seed gives the same bytes (the writer records no times); another
@@ -25,6 +35,12 @@ cmp -s out/box.hdf5 out/other.hdf5 && fail "seeds 3 and 4 gave the same file"
 OMP_NUM_THREADS=1 "$ORRERY" ics --zeldovich --grid 16 --box 100 --evolve --pm-steps 4 -o out/pm1.hdf5 >pm.txt 2>err.txt ||
   fail "ics --evolve: $(cat err.txt)"
 grep -q "particle mesh: 4 steps on a 32³ mesh to z = 0" pm.txt || fail "ics --evolve output: $(cat pm.txt)"
+# Progress lines on stderr (every step but the last with --progress 1e-9).
+OMP_NUM_THREADS=1 "$ORRERY" ics --zeldovich --grid 16 --box 100 --evolve --pm-steps 4 --progress 1e-9 -o out/pmp.hdf5 \
+  >/dev/null 2>pmp.err || fail "ics --evolve --progress: $(cat pmp.err)"
+[ "$(grep -c '^particle mesh: step [1-3] of 4  z = [0-9.]*  |sum p| / sum |p| = [0-9.e-]*  [0-9.e+]* particle-steps/s  [0-9]*:[0-9][0-9] left$' pmp.err)" -eq 3 ] ||
+  fail "ics progress lines: $(cat pmp.err)"
+cmp -s out/pm1.hdf5 out/pmp.hdf5 || fail "ics --evolve with progress lines wrote another box"
 OMP_NUM_THREADS=2 "$ORRERY" ics --zeldovich --grid 16 --box 100 --evolve --pm-steps 4 -o out/pm2.hdf5 >/dev/null 2>&1
 cmp -s out/pm1.hdf5 out/pm2.hdf5 || fail "ics --evolve gave different files on 1 and 2 threads"
 
@@ -95,6 +111,8 @@ expect_fail 2 "omega_m 0: expected a value in \(0, 2\]" none -- ics --zeldovich 
 expect_fail 2 "box -5: expected a side in Mpc/h" none -- ics --zeldovich --grid 4 --box -5 -o none/x.hdf5
 expect_fail 2 "unknown option '--frobnicate'" none -- ics --zeldovich --frobnicate -o none/x.hdf5
 expect_fail 2 "orrery: error: --pm-steps: only with --evolve" none -- ics --zeldovich --grid 4 --pm-steps 5 -o none/x.hdf5
+expect_fail 2 "orrery: error: --progress: only with --evolve" none -- ics --zeldovich --grid 4 --progress 5 -o none/x.hdf5
+expect_fail 2 "orrery: error: --progress x: expected seconds" none -- ics --zeldovich --grid 4 --evolve --progress x -o none/x.hdf5
 expect_fail 2 "orrery: error: --pm-grid 7: expected an even whole number" none -- ics --zeldovich --evolve --pm-grid 7 -o none/x.hdf5
 expect_fail 2 "orrery: error: --z-start 0: expected a redshift above 0" none -- ics --zeldovich --evolve --z-start 0 -o none/x.hdf5
 expect_fail 2 "orrery: error: --z-start 24: expected a redshift above --z 30" none -- ics --zeldovich --evolve --z 30 -o none/x.hdf5

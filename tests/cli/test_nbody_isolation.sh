@@ -38,6 +38,55 @@ awk '
     if (sz > 0.5 || sz < -0.5) bad("Sun z " sz)
     exit failed }' reports.txt || fail "isolation figures: $(cat reports.txt)"
 
+# The run starts in the centre-of-mass frame (the model's sampling leaves
+# 2.4 km/s of net velocity at 2000 particles, 0.7 at 20000): h5py finds
+# no net momentum in snapshot 0, and the drift the reports give is the
+# centre of mass's displacement between the snapshots.
+PYTHONPATH="$SRC/tests/cli" "$py" - "$(awk '{ for (i = 1; i <= NF; i++) if ($i == "drift") print $(i + 1) }' reports.txt | tr '\n' ' ')" <<'PY' ||
+import sys, h5py, numpy as np
+from expect import check, done
+def sums(path):
+    f = h5py.File(path, "r")
+    groups = [f[k] for k in f if k.startswith("PartType")]
+    m = np.concatenate([g["Masses"][:] for g in groups])
+    x = np.concatenate([g["Coordinates"][:] for g in groups])
+    v = np.concatenate([g["Velocities"][:] for g in groups])
+    return m.sum(), (m[:, None] * x).sum(0) / m.sum(), (m[:, None] * v).sum(0) / m.sum()
+m, c0, v0 = sums("snaps/snapshot_0000.hdf5")
+_, c1, _ = sums("snaps/snapshot_0001.hdf5")
+check(np.linalg.norm(v0) < 1e-9, f"net velocity at the start {np.linalg.norm(v0)} km/s")
+drift = [float(d) for d in sys.argv[1].split()]
+moved = np.linalg.norm(c1 - c0)
+check(drift[0] == 0, f"drift at step 0: {drift[0]}")
+check(abs(drift[1] - moved) <= 0.01 * moved + 1e-12, f"drift reported {drift[1]}, h5py {moved}")
+done()
+PY
+  fail "centre-of-mass frame and drift: $(cat reports.txt)"
+
+# The Sun, a tracer, feels forces softened at sqrt(2) times the distance of
+# its 32nd nearest particle (docs/nbody.md, "A quiet Sun"): the softening
+# the first report gives is that of h5py's neighbours in snapshot 0; with
+# --tracer-neighbours 0 it is the stars' --eps.
+PYTHONPATH="$SRC/tests/cli" "$py" - "$(awk 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "eps") print $(i + 2) }' reports.txt)" <<'PY' ||
+import sys, h5py, numpy as np
+from expect import check, done
+f = h5py.File("snaps/snapshot_0000.hdf5", "r")
+groups = [f[k] for k in f if k.startswith("PartType")]
+m = np.concatenate([g["Masses"][:] for g in groups])
+x = np.concatenate([g["Coordinates"][:] for g in groups])
+ids = np.concatenate([g["ParticleIDs"][:] for g in groups])
+sun = x[ids == 3][0]
+heavy = m >= 1e-3 * m.mean()
+check(np.count_nonzero(~heavy) == 1, f"tracers: {np.count_nonzero(~heavy)}")
+r32 = np.sort(np.linalg.norm(x[heavy] - sun, axis=1))[31]
+want = max(0.1, np.sqrt(2) * r32)
+check(abs(float(sys.argv[1]) - want) < 6e-4, f"the Sun's softening {sys.argv[1]}, expected {want:.4f}")
+done()
+PY
+  fail "the Sun's softening: $(head -1 reports.txt)"
+"$NBODY" --galaxies mw --particles 2000 --steps 0 --eps 0.1 --tracer-neighbours 0 >k0.out 2>&1 || fail "--tracer-neighbours 0: $(cat k0.out)"
+grep -q "^report .*Sun R = .* eps = 0.100$" k0.out || fail "--tracer-neighbours 0: $(grep ^report k0.out)"
+
 # scripts/disc_churn.py (docs/nbody.md, "Why the Sun wanders"): a snapshot
 # against itself changes no guiding radius; over these 60 Myr the Sun's
 # neighbours' guiding radii spread (0.65 kpc rms with 2 x 10^4 particles),
@@ -96,6 +145,8 @@ expect_nbody_error() { # PATTERN ARGS...
 expect_nbody_error "--dt" --dt 0
 expect_nbody_error "--dt" --dt nan
 expect_nbody_error "--dt" --dt -0.001
+expect_nbody_error "--dt 1e+300: longer than 1 time unit" --dt 1e300
+expect_nbody_error "--dt 1.5: longer than 1 time unit" --dt 1.5
 expect_nbody_error "--eps" --eps 0
 expect_nbody_error "--eps" --eps nan
 expect_nbody_error "--eps-halo" --eps-halo -1
@@ -103,4 +154,6 @@ expect_nbody_error "--theta" --theta 1.5
 expect_nbody_error "--disc-q" --disc-q 0
 expect_nbody_error "--disc-q" --disc-q -2
 expect_nbody_error "--galaxies" --galaxies andromeda
+expect_nbody_error "--progress -1: expected seconds" --progress -1
+expect_nbody_error "--tracer-neighbours 300: expected 0 (off) to 256" --tracer-neighbours 300
 finish

@@ -28,6 +28,19 @@ cmp -s straight/snapshot_0004.hdf5 half/snapshot_0004.hdf5 || fail "snapshot 4 d
 [ "$(grep '^report' straight.log | tail -1)" = "$(grep '^report' half2.log | tail -1)" ] ||
   fail "last reports differ: $(grep '^report' straight.log | tail -1) / $(grep '^report' half2.log | tail -1)"
 
+# Progress lines on stderr (every step with --progress 1e-9), also with
+# --quiet: the step of the run's, the time, the energy error the report
+# gives at the same step, a rate, the time left; none with --progress 0.
+"$NBODY" $run --steps 4 --progress 1e-9 >progress.out 2>progress.err || fail "progress run: $(cat progress.err)"
+[ "$(grep -c '^progress: step [1-4] of 4  t = 0.00[2468]0 ([0-9.]* Myr)  dE/|E0| = [-+][0-9.e+-]*  [0-9.e+]* particle-steps/s  0:0[0-9] left$' progress.err)" -eq 4 ] ||
+  fail "progress lines: $(cat progress.err)"
+[ "$(grep '^progress: step 4 ' progress.err | sed 's/.*dE\/|E0| = \([^ ]*\).*/\1/')" = \
+  "$(grep '^report t = 0.0080' progress.out | sed 's/.*dE\/|E0| = \([^ ]*\).*/\1/')" ] ||
+  fail "progress and report disagree on the energy: $(grep 'step 4' progress.err) / $(grep '0.0080' progress.out)"
+small="--galaxies mw --particles 1000 --steps 1 --quiet"
+"$NBODY" $small --progress 1e-9 2>&1 | grep -q "^progress: step 1 of 1" || fail "no progress line with --quiet"
+[ -z "$("$NBODY" $small --progress 0 2>&1)" ] || fail "--progress 0 printed"
+
 # The control: the same snapshot as new initial conditions (--ic) goes
 # through orrery's reader, which rounds to float: close, not equal.
 "$NBODY" --ic half/snapshot_0002.hdf5 --steps 4 --dt 0.002 --snapshot-every 4 --snapshot-dir fromic >ic.log 2>&1 ||
@@ -97,9 +110,10 @@ printf 'camera: {projection: orthographic, width: 60, position: [0, 0, 100]}\nim
 [ "$(ls frames | tr '\n' ' ')" = "f_0000.fits f_0001.fits f_0002.fits f_0003.fits f_0004.fits " ] || fail "frames: $(ls frames)"
 grep -q "rendering 0.* over 2 frames" framed2.log || fail "frames rendered by the resume: $(grep rendering framed2.log)"
 
-# Killed while writing a snapshot every step: every snapshot under its final
-# name is complete, and the run resumes from the newest.
-"$NBODY" --galaxies mw --particles 5000 --dt 0.001 --steps 100000 --snapshot-every 1 --snapshot-dir killed \
+# Killed (SIGKILL) while writing a snapshot every step: every snapshot under
+# its final name is complete, the run resumes from the newest, and the
+# resumed run's snapshots are the bytes of an uninterrupted run's.
+"$NBODY" --galaxies mw --particles 3000 --dt 0.001 --steps 100000 --snapshot-every 1 --snapshot-dir killed \
   --quiet >killed.log 2>&1 &
 pid=$!
 for _ in $(seq 300); do [ -e killed/snapshot_0003.hdf5 ] && break; sleep 0.1; done
@@ -114,6 +128,38 @@ last=$(ls killed | grep -c '^snapshot_')
 grep -q "^resumed at step $((last - 1))," resumed.log || fail "resumed where: $(head -3 resumed.log)"
 [ -e "killed/snapshot_$(printf %04d $((last + 1))).hdf5" ] || fail "no snapshot after the resume: $(ls killed)"
 ! ls -A killed | grep -q orrery-tmp || fail "temporary files left: $(ls -A killed)"
+"$NBODY" --galaxies mw --particles 3000 --dt 0.001 --steps $((last + 1)) --snapshot-every 1 --snapshot-dir whole \
+  --quiet >whole.log 2>&1 || fail "uninterrupted run: $(tail -3 whole.log)"
+[ "$(ls killed)" = "$(ls whole)" ] || fail "snapshots of the killed and resumed run: $(ls killed) / $(ls whole)"
+for f in whole/snapshot_*.hdf5; do
+  cmp -s "$f" "killed/${f#whole/}" || fail "killed and resumed: ${f#whole/} differs from the uninterrupted run's"
+done
+
+# Initial conditions that cannot be evolved: an error naming the file, the
+# particle and its field, exit 1, before any step.
+for bad in "Velocities 5 1 nan" "Coordinates 7 2 inf"; do
+  set -- $bad
+  rm -rf badic && mkdir badic && cp straight/snapshot_0000.hdf5 badic/ic.hdf5
+  "$py" - "$@" <<'PY'
+import sys, h5py, numpy as np
+name, row, col, value = sys.argv[1], int(sys.argv[2]), sys.argv[3], float(sys.argv[4])
+with h5py.File("badic/ic.hdf5", "r+") as f:
+    d = f[f"PartType2/{name}"]
+    a = d[:]
+    if col == "-": a[row] = value
+    else: a[row, int(col)] = value
+    d[...] = a
+    print(f["PartType2/ParticleIDs"][row], file=open("badic/id", "w"))
+PY
+  id=$(cat badic/id)
+  field=$([ $1 = Velocities ] && echo "velocity y = nan" || echo "position z = inf")
+  got=0
+  "$NBODY" --ic badic/ic.hdf5 --steps 1 --snapshot-every 1 --snapshot-dir badic/out >out.txt 2>err.txt || got=$?
+  [ $got -eq 1 ] || fail "initial conditions with $bad: exit $got"
+  grep -q "^orrery-nbody: badic/ic.hdf5: particle id $id (type 2): $field: cannot evolve it" err.txt ||
+    fail "initial conditions with $bad: $(cat err.txt)"
+  [ ! -e badic/out/snapshot_0000.hdf5 ] || fail "initial conditions with $bad: a snapshot was written"
+done
 
 # Bad options and folders: an error naming them, before any step.
 expect_nbody_error() { # CODE PATTERN ARGS...

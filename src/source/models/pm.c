@@ -433,8 +433,11 @@ orr_status orr_pm_evolve(orr_zeldovich *z, const orr_pm_params *p, orr_pm_report
         drift(&s, orr_pm_drift_factor(c, a, a1, ah));
         report->mesh_mass = fmax(report->mesh_mass, compute_forces(&s, a1));
         kick(&s, orr_pm_kick_factor(c, ah, a1, a1));
-        report->momentum = fmax(report->momentum, momentum_imbalance(z));
+        double momentum = momentum_imbalance(z);
+        report->momentum = fmax(report->momentum, momentum);
         a = a1;
+        if (p->progress)
+            p->progress(p->progress_user, step + 1, p->steps, a, momentum, omp_get_wtime() - t0);
     }
     scale_velocities(z, 100 / pow(a, 1.5));
     set_epoch(z, a);

@@ -23,6 +23,11 @@ typedef struct orr_pm_params {
     double a_end; /* the scale factor to stop at, above the particles' a, at most 1 */
     int steps;    /* kick-drift-kick steps, evenly spaced in a, 1..ORR_PM_STEPS_MAX */
     int mesh;     /* cells per side of the force mesh, even, 2..ORR_PM_MESH_MAX */
+    /* Called after every step (when not NULL): steps done of steps, the
+     * scale factor reached, the step's |Σ p| / Σ |p| and the wall-clock
+     * seconds since the start, for progress lines. */
+    void (*progress)(void *user, int done, int steps, double a, double momentum, double seconds);
+    void *progress_user;
 } orr_pm_params;
 
 typedef struct orr_pm_report {
