@@ -63,12 +63,46 @@ def parse_header(text):
     return cards
 
 
+def _top_down_wcs(cards, height):
+    """The cards with the WCS of the array as returned, row 0 at the top.
+    orrery's FITS files store rows bottom-up, as FITS counts them: the
+    array's row r is the file's row height - r, so the reference pixel's row
+    is mirrored and pixel axis 2 runs the other way (the CD matrix's, or PC
+    matrix's, second column negated; with neither, CDELT2)."""
+    if "CRPIX2" not in cards:
+        return cards  # no WCS (a HEALPix map, or a view no standard WCS describes)
+    cards = dict(cards)
+    cards["CRPIX2"] = height + 1 - cards["CRPIX2"]
+    if any(k in cards for k in ("CD1_1", "CD1_2", "CD2_1", "CD2_2")):
+        for key in ("CD1_2", "CD2_2"):
+            cards[key] = -cards.get(key, 0.0)
+    elif any(k.startswith("PC") for k in cards):
+        cards["PC1_2"], cards["PC2_2"] = -cards.get("PC1_2", 0.0), -cards.get("PC2_2", 1.0)
+    else:
+        cards["CDELT2"] = -cards.get("CDELT2", 1.0)
+    return cards
+
+
+def _header(cards):
+    """An astropy.io.fits.Header of the cards when astropy is there, else the dict."""
+    try:
+        from astropy.io import fits
+    except ImportError:
+        return cards
+    header = fits.Header(list(cards.items()))
+    if "CRPIX2" in cards:
+        header.add_comment("WCS of the array as returned: rows top-down (the FITS file's are bottom-up)")
+    return header
+
+
 class Image:
     """One view's render: .planes maps each plane's name ("mass", or "X",
     "Y", "Z" with colour) to a (height, width) float32 array, row 0 at the
     top (a FITS file stores rows bottom-up: np.flipud of its data); .rgb is
     the graded picture, (height, width, 3) sRGB values in [0, 1]; .header the
-    FITS cards as a dict; .units each plane's unit (BUNIT)."""
+    FITS cards (an astropy.io.fits.Header, or a dict without astropy), whose
+    WCS describes .data as returned (rows top-down); .wcs that WCS as an
+    astropy.wcs.WCS; .units each plane's unit (BUNIT)."""
 
     def __init__(self, planes, units, rgb, header):
         self.planes, self.units, self.rgb, self.header = planes, units, rgb, header
@@ -77,6 +111,14 @@ class Image:
     def data(self):
         """The first plane: the weight, or X with colour."""
         return next(iter(self.planes.values()))
+
+    @property
+    def wcs(self):
+        """The header's WCS as an astropy.wcs.WCS of .data (needs astropy);
+        None for a view without one."""
+        from astropy.wcs import WCS
+
+        return WCS(self.header) if "CTYPE1" in self.header else None
 
     def __repr__(self):
         h, w = self.data.shape
@@ -167,7 +209,8 @@ class Scene:
             units[name.value.decode()] = unit.value.decode()
         rgb = lib.orrery_image_rgb(self._r, i)
         rgb = _copy_floats(rgb, (h.value, w.value, 3)) if rgb else None
-        return Image(planes, units, rgb, parse_header(lib.orrery_image_header(self._r, i).decode()))
+        cards = parse_header(lib.orrery_image_header(self._r, i).decode())
+        return Image(planes, units, rgb, _header(_top_down_wcs(cards, h.value)))
 
 
 def render(scene, positions, masses=1.0, **kwargs):
