@@ -121,6 +121,8 @@ class Image:
         return WCS(self.header) if "CTYPE1" in self.header else None
 
     def __repr__(self):
+        if self.data.ndim == 1:
+            return f"<orrery.Image HEALPix nside {self.header['NSIDE']} planes {list(self.planes)}>"
         h, w = self.data.shape
         return f"<orrery.Image {w}x{h} planes {list(self.planes)}>"
 
@@ -201,15 +203,18 @@ class Scene:
     def _image(self, i):
         w, h, n = ctypes.c_int(), ctypes.c_int(), ctypes.c_int()
         lib.orrery_image_size(self._r, i, ctypes.byref(w), ctypes.byref(h), ctypes.byref(n))
+        cards = parse_header(lib.orrery_image_header(self._r, i).decode())
+        # A HEALPix map is a table of pixels in pixel order (RING or NESTED,
+        # as the FITS file's rows): one value per pixel, as healpy takes it.
+        shape = (w.value * h.value,) if cards.get("PIXTYPE") == "HEALPIX" else (h.value, w.value)
         planes, units = {}, {}
         for j in range(n.value):
             name, unit = ctypes.c_char_p(), ctypes.c_char_p()
             data = lib.orrery_image_plane(self._r, i, j, ctypes.byref(name), ctypes.byref(unit))
-            planes[name.value.decode()] = _copy_floats(data, (h.value, w.value))
+            planes[name.value.decode()] = _copy_floats(data, shape)
             units[name.value.decode()] = unit.value.decode()
         rgb = lib.orrery_image_rgb(self._r, i)
-        rgb = _copy_floats(rgb, (h.value, w.value, 3)) if rgb else None
-        cards = parse_header(lib.orrery_image_header(self._r, i).decode())
+        rgb = _copy_floats(rgb, shape + (3,)) if rgb else None
         return Image(planes, units, rgb, _header(_top_down_wcs(cards, h.value)))
 
 

@@ -217,16 +217,20 @@ static orr_status view_output(view_state *v, const char *ext, const char **write
     return stage_output(v->outputs, v->scene, v->rep, ext, write_path, err);
 }
 
+orr_healpix_info orr_view_healpix_info(const view_state *v)
+{
+    orr_wcs_view wcs = {&v->proj, &v->rep->camera, &v->rep->sky, v->rep->has_sky_frame, ""};
+    return (orr_healpix_info){v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
+}
+
 /* The view's planes, with the frame's cards, written to path: a HEALPix
  * map's as its table, any other's as images. Reads the view only, so it may
  * run beside the pictures' encoding (fits_writer). */
 static orr_status write_planes_to(const view_state *v, const char *ext, const char *path, orr_error *err)
 {
-    const orr_render_report *rep = v->rep;
     const orr_fits_header *h = &v->frame_cards;
     if (orr_projection_traits_of(v->proj.kind).pixel_table) {
-        orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, ""};
-        orr_healpix_info info = {v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
+        orr_healpix_info info = orr_view_healpix_info(v);
         return orr_write_healpix_fits(path, v->planes, fits_nplanes(v), &info, h, err);
     }
     /* The raw planes stay uncompressed: orrery compose reads them. */
