@@ -1,8 +1,10 @@
 """orrery.Scene: a scene loaded once, rendered from numpy arrays."""
 import ctypes
 import json
+import operator
 import os
 import tempfile
+import threading
 
 import numpy as np
 
@@ -17,6 +19,21 @@ class OrreryError(Exception):
     def __init__(self, message, code):
         super().__init__(message)
         self.code = code
+
+
+LONG_MAX = 2 ** (8 * ctypes.sizeof(ctypes.c_long) - 1) - 1  # orrery_render's frame is a C long
+
+
+def _frame_number(frame):
+    """frame as orrery_render takes it: an integer in 0..LONG_MAX (ctypes
+    would wrap a larger one to a negative number)."""
+    try:
+        frame = operator.index(frame)
+    except TypeError:
+        raise TypeError(f"orrery: frame: {frame!r} is not an integer") from None
+    if not 0 <= frame <= LONG_MAX:
+        raise ValueError(f"orrery: frame: {frame} is outside 0..{LONG_MAX}")
+    return frame
 
 
 # Output keys turned off when a scene renders to memory only.
@@ -142,6 +159,9 @@ class Scene:
     written too (output.dir, output.name) and listed in scene.outputs."""
 
     def __init__(self, scene, overrides=None, write=False, **kwargs):
+        # Held for each render and for close: the renderer is never used by
+        # two threads at once nor freed under a render.
+        self._lock = threading.Lock()
         self._r = ctypes.c_void_p()
         settings = {}
         _flatten("", dict(overrides or {}), settings)
@@ -164,9 +184,12 @@ class Scene:
         self.seconds = 0.0
 
     def close(self):
-        if self._r:
-            lib.orrery_close(self._r)
-            self._r = ctypes.c_void_p()
+        """Frees the renderer; a render running in another thread is waited
+        for. Rendering afterwards raises OrreryError."""
+        with self._lock:
+            if self._r:
+                lib.orrery_close(self._r)
+                self._r = ctypes.c_void_p()
 
     def __enter__(self):
         return self
@@ -189,11 +212,25 @@ class Scene:
         Gadget types 0..5; velocities: (N, 3), the fields vx, vy, vz; time:
         the simulation time; frame: the frame of the scene's animation
         (camera paths move with it). The arrays are read in place during the
-        call (the GIL is released meanwhile) and not kept."""
+        call (the GIL is released meanwhile) and not kept.
+
+        One Scene renders one thing at a time: a render started while it
+        renders in another thread raises OrreryError (a Scene per thread
+        renders in parallel)."""
+        if not self._lock.acquire(blocking=False):
+            raise OrreryError("orrery: Scene.render: this Scene is already rendering in another thread "
+                              "(use one Scene per thread)", 2)
+        try:
+            return self._render(positions, masses, ids, h, fields, time, types, velocities, frame)
+        finally:
+            self._lock.release()
+
+    def _render(self, positions, masses, ids, h, fields, time, types, velocities, frame):
         if not self._r:
-            raise OrreryError("orrery: the scene is closed", 2)
+            raise OrreryError("orrery: Scene.render: the scene is closed", 2)
+        frame = _frame_number(frame)
         arrays = _arrays.describe(positions, masses, ids, h, fields, types, velocities, time)
-        st = lib.orrery_render(self._r, ctypes.byref(arrays.c), int(frame))
+        st = lib.orrery_render(self._r, ctypes.byref(arrays.c), frame)
         if st != 0:
             raise OrreryError(lib.orrery_error(self._r).decode(errors="replace"), st)
         self.outputs = [lib.orrery_output(self._r, i).decode() for i in range(lib.orrery_output_count(self._r))]
