@@ -8,8 +8,9 @@ import threading
 
 import numpy as np
 
-from . import _arrays
+from . import _arrays, _units
 from ._lib import lib
+from ._units import _flatten
 
 
 class OrreryError(Exception):
@@ -38,15 +39,6 @@ def _frame_number(frame):
 
 # Output keys turned off when a scene renders to memory only.
 _NO_FILES = {"output.fits": False, "output.png": False, "output.exr": False, "output.raw": False}
-
-
-def _flatten(prefix, value, out):
-    """Nested dicts as dotted keys: camera={"fov": 60} is camera.fov."""
-    if isinstance(value, dict):
-        for k, v in value.items():
-            _flatten(f"{prefix}.{k}" if prefix else str(k), v, out)
-    else:
-        out[prefix] = value
 
 
 def _override_text(key, value):
@@ -180,6 +172,8 @@ class Scene:
         if st != 0:
             raise OrreryError(msg.value.decode(errors="replace"), st)
         lib.orrery_keep_images(self._r, 1)
+        # The scene's units, which numbers with units are converted to.
+        self.units = _units.scene_units(scene, settings)
         self.outputs = []
         self.seconds = 0.0
 
@@ -212,7 +206,10 @@ class Scene:
         Gadget types 0..5; velocities: (N, 3), the fields vx, vy, vz; time:
         the simulation time; frame: the frame of the scene's animation
         (camera paths move with it). The arrays are read in place during the
-        call (the GIL is released meanwhile) and not kept.
+        call (the GIL is released meanwhile) and not kept. Numbers with
+        units (astropy, unyt) are converted to scene.units: lengths to
+        output.length_unit, masses to output.bunit; refused (ValueError
+        naming the unit) where the scene states none.
 
         One Scene renders one thing at a time: a render started while it
         renders in another thread raises OrreryError (a Scene per thread
@@ -229,6 +226,8 @@ class Scene:
         if not self._r:
             raise OrreryError("orrery: Scene.render: the scene is closed", 2)
         frame = _frame_number(frame)
+        positions, masses, h, fields, velocities, time = _units.convert(self.units, positions, masses, h, fields,
+                                                                        velocities, time)
         arrays = _arrays.describe(positions, masses, ids, h, fields, types, velocities, time)
         st = lib.orrery_render(self._r, ctypes.byref(arrays.c), frame)
         if st != 0:
