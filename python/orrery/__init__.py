@@ -8,10 +8,11 @@ scenes (dome masters, panoramas, flat cameras) into numpy images.
 docs/python.md says more.
 """
 from . import _paths
+from ._reader import File, open
 from .scene import Image, OrreryError, Scene, parse_header, render
 
 # CMakeLists.txt's project() version, written into _paths.py by the build
 # (CMake's, or pip's: python/backend/orrery_build.py).
 __version__ = _paths.VERSION
 
-__all__ = ["__version__", "Image", "OrreryError", "Scene", "parse_header", "render"]
+__all__ = ["__version__", "File", "open", "Image", "OrreryError", "Scene", "parse_header", "render"]

@@ -9,7 +9,7 @@ import threading
 import numpy as np
 
 from . import _arrays, _units
-from ._lib import lib
+from ._lib import PROGRESS_FN, lib
 from ._units import _flatten
 
 
@@ -154,6 +154,7 @@ class Scene:
         # Held for each render and for close: the renderer is never used by
         # two threads at once nor freed under a render.
         self._lock = threading.Lock()
+        self._rendering_thread = None
         self._r = ctypes.c_void_p()
         settings = {}
         _flatten("", dict(overrides or {}), settings)
@@ -180,6 +181,8 @@ class Scene:
     def close(self):
         """Frees the renderer; a render running in another thread is waited
         for. Rendering afterwards raises OrreryError."""
+        if self._rendering_thread == threading.get_ident():
+            raise OrreryError("orrery: Scene.close: not from the scene's own render (its progress callback)", 2)
         with self._lock:
             if self._r:
                 lib.orrery_close(self._r)
@@ -195,7 +198,7 @@ class Scene:
         self.close()
 
     def render(self, positions, masses=1.0, ids=None, h=None, fields=None, time=0.0, types=None,
-               velocities=None, frame=0):
+               velocities=None, frame=0, progress=None):
         """Renders every view of the scene from these particles and returns
         a list of Image, one per view (two for a stereo view: left, right).
 
@@ -209,7 +212,9 @@ class Scene:
         call (the GIL is released meanwhile) and not kept. Numbers with
         units (astropy, unyt) are converted to scene.units: lengths to
         output.length_unit, masses to output.bunit; refused (ValueError
-        naming the unit) where the scene states none.
+        naming the unit) where the scene states none. progress(done, total)
+        is called between chunks of particles (in this thread); an exception
+        it raises is raised when the render ends.
 
         One Scene renders one thing at a time: a render started while it
         renders in another thread raises OrreryError (a Scene per thread
@@ -217,19 +222,37 @@ class Scene:
         if not self._lock.acquire(blocking=False):
             raise OrreryError("orrery: Scene.render: this Scene is already rendering in another thread "
                               "(use one Scene per thread)", 2)
+        self._rendering_thread = threading.get_ident()
         try:
-            return self._render(positions, masses, ids, h, fields, time, types, velocities, frame)
+            return self._render(positions, masses, ids, h, fields, time, types, velocities, frame, progress)
         finally:
+            self._rendering_thread = None
             self._lock.release()
 
-    def _render(self, positions, masses, ids, h, fields, time, types, velocities, frame):
+    def _render(self, positions, masses, ids, h, fields, time, types, velocities, frame, progress):
         if not self._r:
             raise OrreryError("orrery: Scene.render: the scene is closed", 2)
         frame = _frame_number(frame)
         positions, masses, h, fields, velocities, time = _units.convert(self.units, positions, masses, h, fields,
                                                                         velocities, time)
         arrays = _arrays.describe(positions, masses, ids, h, fields, types, velocities, time)
-        st = lib.orrery_render(self._r, ctypes.byref(arrays.c), frame)
+        raised = []
+
+        def report(user, done, total):
+            if not raised:
+                try:
+                    progress(done, total)
+                except BaseException as e:  # not through C: raised when the render returns
+                    raised.append(e)
+
+        callback = PROGRESS_FN(report) if progress else ctypes.cast(None, PROGRESS_FN)
+        lib.orrery_set_progress(self._r, callback, None)
+        try:
+            st = lib.orrery_render(self._r, ctypes.byref(arrays.c), frame)
+        finally:
+            lib.orrery_set_progress(self._r, ctypes.cast(None, PROGRESS_FN), None)
+        if raised:
+            raise raised[0]
         if st != 0:
             raise OrreryError(lib.orrery_error(self._r).decode(errors="replace"), st)
         self.outputs = [lib.orrery_output(self._r, i).decode() for i in range(lib.orrery_output_count(self._r))]
