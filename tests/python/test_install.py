@@ -33,6 +33,12 @@ def build_dir(cli):
     return os.path.dirname(cli)  # the CLI is built at the top of the build tree
 
 
+def tool_env(**env):
+    """The environment for pip and cmake: without the sanitizer runtimes
+    run.sh preloads for Python (cmake hangs with them preloaded)."""
+    return {**{k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}, **env}
+
+
 def run_check(python, cwd, **env):
     environment = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "ORRERY_LIBRARY")}
     run = subprocess.run([python, "-c", CHECK], cwd=cwd, env={**environment, **env}, capture_output=True,
@@ -50,8 +56,9 @@ def test_pip_install_in_a_fresh_venv(tmp_path, build_dir):
     venv = tmp_path / "venv"
     # Debian's pip, seen through --system-site-packages, spares the venv its own copy (3 s).
     subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", "--without-pip", str(venv)], check=True)
-    pip = subprocess.run([str(venv / "bin" / "python"), "-m", "pip", "install", "--no-build-isolation", "--no-index", "-q", SOURCE],
-                         env={**os.environ, "ORRERY_CMAKE_BUILD_DIR": build_dir}, capture_output=True, text=True)
+    pip = subprocess.run([str(venv / "bin" / "python"), "-m", "pip", "install", "--no-build-isolation", "--no-index",
+                          "-q", SOURCE], env=tool_env(ORRERY_CMAKE_BUILD_DIR=build_dir), capture_output=True, text=True,
+                         timeout=600)
     assert pip.returncode == 0, pip.stdout + pip.stderr
     library = run_check(str(venv / "bin" / "python"), tmp_path)
     assert library.startswith(str(venv))  # the library in the wheel, not the build tree's
@@ -59,7 +66,8 @@ def test_pip_install_in_a_fresh_venv(tmp_path, build_dir):
 
 def test_cmake_install(tmp_path, build_dir):
     prefix = tmp_path / "prefix"
-    subprocess.run(["cmake", "--install", build_dir, "--prefix", str(prefix)], check=True, capture_output=True)
+    subprocess.run(["cmake", "--install", build_dir, "--prefix", str(prefix)], check=True, capture_output=True,
+                   env=tool_env(), timeout=300)
     packages = [os.path.dirname(p) for p, _, files in os.walk(prefix) if "orrery" in p.split(os.sep)[-1:]
                 and "__init__.py" in files]
     assert len(packages) == 1
