@@ -181,7 +181,8 @@ double orrery_reader_h_support(const orrery_reader *rd);
 int orrery_reader_field_count(const orrery_reader *rd);
 const char *orrery_reader_field_name(const orrery_reader *rd, int i);
 /* Reads the next chunk: *n particles, 0 at the end. An error code (with
- * orrery_reader_error) for a file that cannot be read on. */
+ * orrery_reader_error) for a file that cannot be read on; the same error
+ * again at every later call. */
 int orrery_reader_next(orrery_reader *rd, size_t *n);
 /* The last chunk's floats of a field: "x", "y", "z", "mass", "h" or another
  * field's name; its ids and types. Valid until the next orrery_reader_next;

@@ -15,4 +15,5 @@ from .scene import Image, OrreryError, Scene, parse_header, render
 # (CMake's, or pip's: python/backend/orrery_build.py).
 __version__ = _paths.VERSION
 
-__all__ = ["__version__", "File", "open", "Image", "OrreryError", "Scene", "parse_header", "render"]
+# (orrery.open is not in __all__: `from orrery import *` would hide the builtin open.)
+__all__ = ["__version__", "File", "Image", "OrreryError", "Scene", "parse_header", "render"]

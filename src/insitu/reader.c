@@ -12,7 +12,7 @@
 struct orrery_reader {
     orr_source *src;
     const orr_chunk *chunk; /* the last chunk read; NULL before the first */
-    orr_error err;
+    orr_error err;          /* a failed chunk's: the file is read no further */
 };
 
 int orrery_reader_open(orrery_reader **out, const char *path, const char *format, size_t chunk_size,
@@ -77,7 +77,8 @@ int orrery_reader_next(orrery_reader *rd, size_t *n)
     if (!rd || !n)
         return ORRERY_ERR_USAGE;
     *n = 0;
-    orr_error_clear(&rd->err);
+    if (rd->err.code)
+        return (int)rd->err.code;
     orr_status st = orr_source_next(rd->src, &rd->chunk, &rd->err);
     if (st) {
         rd->chunk = NULL;
