@@ -4,8 +4,8 @@ an (N, 3) array, a field of a structured array) is passed as a pointer and
 a stride, without a copy. Only what the library cannot read in place is
 copied once: another byte order, integers and float16 (converted: every
 value exactly), strides that are negative, zero (a broadcast value) or
-shorter than an element (overlapping), integer ids and types of another
-type. Every refusal names the array."""
+shorter than an element (overlapping), misaligned arrays, integer ids and
+types of another type. Every refusal names the array."""
 import ctypes
 import math
 
@@ -42,9 +42,11 @@ def _strided(a):
     """A 1-D array the library can read through a pointer and a stride: its
     strides are unsigned, 0 means packed, and elements must not overlap; a
     stride that is negative, zero (np.broadcast_to) or shorter than an
-    element is copied to a packed array."""
-    if a.shape[0] > 1 and a.strides[0] < a.itemsize:
-        return np.ascontiguousarray(a)
+    element is copied to a packed array. So is a misaligned one (a field at
+    an odd offset of a packed record, a buffer read from an odd offset):
+    the library may load its elements as aligned values."""
+    if (a.shape[0] > 1 and a.strides[0] < a.itemsize) or not a.flags.aligned:
+        return np.array(a, order="C")  # a new, aligned, packed copy
     return a
 
 
