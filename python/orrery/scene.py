@@ -85,7 +85,7 @@ def _top_down_wcs(cards, height):
     if any(k in cards for k in ("CD1_1", "CD1_2", "CD2_1", "CD2_2")):
         for key in ("CD1_2", "CD2_2"):
             cards[key] = -cards.get(key, 0.0)
-    elif any(k.startswith("PC") for k in cards):
+    elif any(k in cards for k in ("PC1_1", "PC1_2", "PC2_1", "PC2_2")):
         cards["PC1_2"], cards["PC2_2"] = -cards.get("PC1_2", 0.0), -cards.get("PC2_2", 1.0)
     else:
         cards["CDELT2"] = -cards.get("CDELT2", 1.0)
