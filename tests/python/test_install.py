@@ -53,6 +53,7 @@ def run_check(python, cwd, **env):
 def test_pip_install_in_a_fresh_venv(tmp_path, build_dir):
     """pip install . --no-build-isolation --no-index: nothing fetched. The
     backend builds in the test's build tree (up to date: nothing compiled)."""
+    pytest.importorskip("pip")
     venv = tmp_path / "venv"
     # Debian's pip, seen through --system-site-packages, spares the venv its own copy (3 s).
     subprocess.run([sys.executable, "-m", "venv", "--system-site-packages", "--without-pip", str(venv)], check=True)
