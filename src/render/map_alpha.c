@@ -26,6 +26,7 @@ float orr_map_pixel_coverage(const orr_projection *p, int i, int j)
 
 void orr_map_alpha_fill(const orr_projection *p, float *alpha)
 {
+#pragma omp parallel for schedule(static)
     for (int j = 0; j < p->height; j++)
         for (int i = 0; i < p->width; i++)
             alpha[(size_t)j * (size_t)p->width + (size_t)i] = orr_map_pixel_coverage(p, i, j);
