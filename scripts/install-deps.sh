@@ -24,7 +24,8 @@ packages=(
   python3-openimageio                # tests: OpenImageIO's Python bindings read the EXR back as a compositor would
   python3-healpy                     # tests: healpy reads the HEALPix maps
   python3-scipy                      # tests and scripts: check_star_glide.py (local maxima), box_stats.py (growth ODE)
-  python3-yaml                       # tests: PyYAML parses the scene stored in FITS and the README's scenes
+  python3-yaml                       # tests: PyYAML parses the scene stored in FITS and the README's scenes; the package reads a scene file's units
+  python3-pip python3-venv           # pip install . into a virtual environment (tests/python/test_install.py)
   splash                             # tests and benchmark: SPLASH, the reference SPH renderer
   ffmpeg                             # orrery video: encodes frame sequences (ffmpeg; ffprobe for its tests)
   locales                            # tests: localedef makes the ','-decimal locale of test_locale

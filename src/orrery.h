@@ -147,6 +147,52 @@ const float *orrery_image_rgb(const orrery_renderer *r, int i);
  * that reads back exactly. NULL for no such image. */
 const char *orrery_image_header(const orrery_renderer *r, int i);
 
+/* ---- Progress. fn(user, done, total) is called from the thread that
+ * called orrery_render, between chunks of particles: done particles read
+ * of total (-1 when unknown). NULL turns it off. Returns ORRERY_OK. */
+typedef void (*orrery_progress_fn)(void *user, uint64_t done, int64_t total);
+int orrery_set_progress(orrery_renderer *r, orrery_progress_fn fn, void *user);
+
+/* ---- Particle files read with orrery's own readers (every format
+ * `orrery render` reads: docs/input.md), one chunk at a time, for callers
+ * that want the particles rather than an image (the Python package's
+ * orrery.open). */
+typedef struct orrery_reader orrery_reader;
+
+/* Opens path (format NULL or "auto": detected from its first bytes) to be
+ * read chunk_size particles at a time (0: 2^20). fields names the other
+ * fields wanted (datasets, blocks, columns; nfields of them, at most 16);
+ * NULL: every field the file has. ORRERY_OK, or an error code with the
+ * reason in msg. */
+int orrery_reader_open(orrery_reader **out, const char *path, const char *format, size_t chunk_size,
+                       const char *const *fields, int nfields, char *msg, size_t msg_size);
+const char *orrery_reader_format(const orrery_reader *rd);
+/* Particles in the file, -1 when unknown before it is read (text). */
+long long orrery_reader_count(const orrery_reader *rd);
+/* The snapshot's time (0 when the file has none). */
+double orrery_reader_time(const orrery_reader *rd);
+/* Whether chunks carry "h" (smoothing lengths), "id", "type" from the file
+ * (without, ids count from 0 and types are 0). */
+int orrery_reader_has(const orrery_reader *rd, const char *what);
+/* The radius where the file's kernel ends in units of its h (Gadget 1,
+ * SWIFT about 1.8; orrery's own convention 2). */
+double orrery_reader_h_support(const orrery_reader *rd);
+/* The other fields every chunk has: count, and the i-th name. */
+int orrery_reader_field_count(const orrery_reader *rd);
+const char *orrery_reader_field_name(const orrery_reader *rd, int i);
+/* Reads the next chunk: *n particles, 0 at the end. An error code (with
+ * orrery_reader_error) for a file that cannot be read on; the same error
+ * again at every later call. */
+int orrery_reader_next(orrery_reader *rd, size_t *n);
+/* The last chunk's floats of a field: "x", "y", "z", "mass", "h" or another
+ * field's name; its ids and types. Valid until the next orrery_reader_next;
+ * NULL for no such field. */
+const float *orrery_reader_field(const orrery_reader *rd, const char *name);
+const uint64_t *orrery_reader_ids(const orrery_reader *rd);
+const uint8_t *orrery_reader_types(const orrery_reader *rd);
+const char *orrery_reader_error(const orrery_reader *rd);
+void orrery_reader_close(orrery_reader *rd);
+
 #ifdef __cplusplus
 }
 #endif

@@ -2,27 +2,77 @@
 they are: a float32 or float64 array with any positive stride (a column of
 an (N, 3) array, a field of a structured array) is passed as a pointer and
 a stride, without a copy. Only what the library cannot read in place is
-copied once: another byte order, negative strides, integer ids of another
-type. Every refusal names the array."""
+copied once: another byte order, integers and float16 (converted: every
+value exactly), strides that are negative, zero (a broadcast value) or
+shorter than an element (overlapping), misaligned arrays, integer ids and
+types of another type. Every refusal names the array."""
 import ctypes
+import math
 
 import numpy as np
 
 from . import _lib
 
+CHECK_CHUNK = 1 << 20  # elements checked at a time: a bounded temporary for any N
+
+
+def _float_dtype(name, dtype):
+    """The native float dtype orrery reads an array of dtype as: float32 and
+    float64 themselves, float16 as float32, integers as float64 (exact to
+    2**53); anything else (bool, complex, long double, objects, strings) is
+    refused rather than converted with a loss."""
+    if dtype.kind == "f" and dtype.itemsize in (4, 8):
+        return dtype.newbyteorder("=")
+    if dtype.kind == "f" and dtype.itemsize == 2:
+        return np.dtype(np.float32)
+    if dtype.kind in "iu":
+        return np.dtype(np.float64)
+    raise TypeError(f"orrery: array {name}: dtype {dtype} does not convert to float32 or float64 without loss "
+                    "(float32, float64, float16 and integers do, in either byte order)")
+
 
 def _as_float(name, a):
-    """a as a native float32/float64 array the library can stride through."""
+    """a as a native float32/float64 array (one copy only when converted)."""
     a = np.asarray(a)
-    if a.dtype.kind != "f" or a.dtype.itemsize not in (4, 8):
-        raise TypeError(f"orrery: array {name}: dtype {a.dtype}, not float32 or float64")
-    if not a.dtype.isnative:
-        a = a.astype(a.dtype.newbyteorder("="))  # one copy: orrery reads native floats only
-    if any(s <= 0 for s in a.strides) and a.size > 1:
-        # One copy: orrery's strides are unsigned, and 0 means packed (numpy's
-        # 0 is a broadcast value).
-        a = np.ascontiguousarray(a)
+    target = _float_dtype(name, a.dtype)
+    return a if a.dtype == target else a.astype(target)
+
+
+def _strided(a):
+    """A 1-D array the library can read through a pointer and a stride: its
+    strides are unsigned, 0 means packed, and elements must not overlap; a
+    stride that is negative, zero (np.broadcast_to) or shorter than an
+    element is copied to a packed array. So is a misaligned one (a field at
+    an odd offset of a packed record, a buffer read from an odd offset):
+    the library may load its elements as aligned values."""
+    if (a.shape[0] > 1 and a.strides[0] < a.itemsize) or not a.flags.aligned:
+        return np.array(a, order="C")  # a new, aligned, packed copy
     return a
+
+
+def _integers(name, a, dtype, high=None):
+    """A 1-D integer array as a packed or strided array of dtype (uint64
+    ids, uint8 types), its values checked: not negative, at most high."""
+    a = np.asarray(a)
+    if a.ndim != 1 or a.dtype.kind not in "iu":
+        raise TypeError(f"orrery: array {name}: {a.dtype} of shape {a.shape}, not 1-D integers")
+    if a.size and a.min() < 0:
+        raise ValueError(f"orrery: array {name}: negative value {a.min()}")
+    if a.size and high is not None and a.max() > high:
+        raise ValueError(f"orrery: array {name}: value {a.max()} outside 0..{high}")
+    if a.dtype != dtype:
+        a = a.astype(dtype)  # one copy, in range: checked above
+    return _strided(a)
+
+
+def _first_bad(a, bad):
+    """The index of the first element of a for which bad(chunk) is true,
+    or None; checked a chunk at a time, so the temporary stays small."""
+    for start in range(0, a.shape[0], CHECK_CHUNK):
+        hit = np.flatnonzero(bad(a[start:start + CHECK_CHUNK]))
+        if hit.size:
+            return start + int(hit[0])
+    return None
 
 
 def _orr_array(a):
@@ -53,6 +103,7 @@ class Arrays:
         if a.ndim != 1:
             raise ValueError(f"orrery: array {name}: shape {a.shape}, not (N,)")
         self._length(name, a.shape[0])
+        a = _strided(a)
         self.keep.append(a)
         return _orr_array(a)
 
@@ -75,31 +126,23 @@ class Arrays:
         self.c.mass = self._column("masses", m)
 
     def ids(self, ids):
-        ids = np.asarray(ids)
-        if ids.ndim != 1 or ids.dtype.kind not in "iu":
-            raise TypeError(f"orrery: array ids: {ids.dtype} of shape {ids.shape}, not 1-D integers")
+        ids = _integers("ids", ids, np.dtype(np.uint64))
         self._length("ids", ids.shape[0])
-        if ids.dtype.kind == "i" and ids.size and ids.min() < 0:
-            raise ValueError("orrery: array ids: negative ids")
-        if ids.dtype != np.uint64 or not ids.dtype.isnative or ids.strides[0] < 0:
-            ids = ids.astype(np.uint64)  # one copy: orrery reads uint64 ids
         self.keep.append(ids)
         self.c.id, self.c.id_stride = ids.ctypes.data, ids.strides[0]
 
     def types(self, types):
-        types = np.asarray(types)
-        if types.ndim != 1 or types.dtype.kind not in "iu":
-            raise TypeError(f"orrery: array types: {types.dtype} of shape {types.shape}, not 1-D integers")
+        types = _integers("types", types, np.dtype(np.uint8), 5)
         self._length("types", types.shape[0])
-        if types.size and (types.min() < 0 or types.max() > 5):
-            raise ValueError("orrery: array types: values outside 0..5")
-        if types.dtype != np.uint8 or types.strides[0] < 0:
-            types = types.astype(np.uint8)
         self.keep.append(types)
         self.c.type, self.c.type_stride = types.ctypes.data, types.strides[0]
 
     def smoothing(self, h):
         self.c.h = self._column("h", h)
+        bad = _first_bad(self.keep[-1], lambda c: ~(c >= 0) | np.isinf(c))  # NaN fails c >= 0
+        if bad is not None:
+            raise ValueError(f"orrery: array h: h[{bad}] = {self.keep[-1][bad]}: smoothing lengths must be "
+                             "finite and not negative (0: a particle without one)")
 
     def fields(self, fields):
         if len(fields) > _lib.MAX_FIELDS:
@@ -107,6 +150,8 @@ class Arrays:
         for k, (name, a) in enumerate(fields.items()):
             if not isinstance(name, str) or not name:
                 raise TypeError(f"orrery: field name {name!r} is not a string")
+            if "\0" in name:
+                raise ValueError(f"orrery: field name {name!r} holds a NUL character")
             encoded = name.encode()
             self.keep.append(encoded)
             self.c.field_names[k] = encoded
@@ -118,6 +163,8 @@ def describe(positions, masses, ids=None, h=None, fields=None, types=None, veloc
     """The Arrays of one render, every argument checked."""
     arrays = Arrays()
     arrays.positions(positions)
+    if arrays.n == 0:
+        raise ValueError("orrery: array positions: no particles (0 rows); a render needs at least one")
     arrays.masses(masses)
     if ids is not None:
         arrays.ids(ids)
@@ -130,4 +177,6 @@ def describe(positions, masses, ids=None, h=None, fields=None, types=None, veloc
     arrays.fields(dict(fields or {}))
     arrays.c.n = arrays.n
     arrays.c.time = float(time)
+    if not math.isfinite(arrays.c.time):
+        raise ValueError(f"orrery: time: {time} is not finite")
     return arrays

@@ -65,6 +65,9 @@ lib = _load()
 
 _P = ctypes.POINTER
 _renderer = ctypes.c_void_p
+_reader = ctypes.c_void_p
+# orrery_progress_fn: (user, done, total); called from the rendering thread.
+PROGRESS_FN = ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_uint64, ctypes.c_int64)
 _prototypes = {
     "orrery_open": (ctypes.c_int, [_P(_renderer), ctypes.c_char_p, _P(ctypes.c_char_p), ctypes.c_int,
                                    ctypes.c_char_p, ctypes.c_size_t]),
@@ -85,6 +88,22 @@ _prototypes = {
     "orrery_image_rgb": (_P(ctypes.c_float), [_renderer, ctypes.c_int]),
     "orrery_image_header": (ctypes.c_char_p, [_renderer, ctypes.c_int]),
     "orrery_particle_arrays_size": (ctypes.c_size_t, []),
+    "orrery_set_progress": (ctypes.c_int, [_renderer, PROGRESS_FN, ctypes.c_void_p]),
+    "orrery_reader_open": (ctypes.c_int, [_P(_reader), ctypes.c_char_p, ctypes.c_char_p, ctypes.c_size_t,
+                                          _P(ctypes.c_char_p), ctypes.c_int, ctypes.c_char_p, ctypes.c_size_t]),
+    "orrery_reader_format": (ctypes.c_char_p, [_reader]),
+    "orrery_reader_count": (ctypes.c_longlong, [_reader]),
+    "orrery_reader_time": (ctypes.c_double, [_reader]),
+    "orrery_reader_has": (ctypes.c_int, [_reader, ctypes.c_char_p]),
+    "orrery_reader_h_support": (ctypes.c_double, [_reader]),
+    "orrery_reader_field_count": (ctypes.c_int, [_reader]),
+    "orrery_reader_field_name": (ctypes.c_char_p, [_reader, ctypes.c_int]),
+    "orrery_reader_next": (ctypes.c_int, [_reader, _P(ctypes.c_size_t)]),
+    "orrery_reader_field": (_P(ctypes.c_float), [_reader, ctypes.c_char_p]),
+    "orrery_reader_ids": (_P(ctypes.c_uint64), [_reader]),
+    "orrery_reader_types": (_P(ctypes.c_uint8), [_reader]),
+    "orrery_reader_error": (ctypes.c_char_p, [_reader]),
+    "orrery_reader_close": (None, [_reader]),
 }
 for _name, (_restype, _argtypes) in _prototypes.items():
     _f = getattr(lib, _name)

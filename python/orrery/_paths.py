@@ -2,3 +2,4 @@
 # the liborrery this copy of the package loads. From the source tree, set
 # ORRERY_LIBRARY instead.
 LIBRARY = None
+VERSION = None

@@ -420,18 +420,25 @@ typedef struct healpix_body {
 
 /* The HEALPix keywords (the HEALPix FITS convention, as healpy and the
  * HEALPix libraries write and read them). */
-static void write_healpix_keys(fitsfile *f, const orr_healpix_info *info, long npix, int *status)
+void orr_fits_add_healpix(orr_fits_header *h, const orr_healpix_info *info)
 {
-    long nside = info->nside, first = 0, last = npix - 1;
-    write_string_key(f, "PIXTYPE", "HEALPIX", "HEALPix pixelisation", status);
-    write_string_key(f, "ORDERING", info->nested ? "NESTED" : "RING", "pixel ordering scheme", status);
-    fits_update_key(f, TLONG, "NSIDE", &nside, "resolution parameter", status);
-    fits_update_key(f, TLONG, "FIRSTPIX", &first, "first pixel number (0-based)", status);
-    fits_update_key(f, TLONG, "LASTPIX", &last, "last pixel number (0-based)", status);
-    write_string_key(f, "INDXSCHM", "IMPLICIT", "indexing: implicit (every pixel, in order)", status);
-    write_string_key(f, "OBJECT", "FULLSKY", "sky coverage", status);
+    orr_fits_add_string(h, "PIXTYPE", "HEALPIX", "HEALPix pixelisation");
+    orr_fits_add_string(h, "ORDERING", info->nested ? "NESTED" : "RING", "pixel ordering scheme");
+    orr_fits_add_long(h, "NSIDE", info->nside, "resolution parameter");
+    orr_fits_add_long(h, "FIRSTPIX", 0, "first pixel number (0-based)");
+    orr_fits_add_long(h, "LASTPIX", 12LL * info->nside * info->nside - 1, "last pixel number (0-based)");
+    orr_fits_add_string(h, "INDXSCHM", "IMPLICIT", "indexing: implicit (every pixel, in order)");
+    orr_fits_add_string(h, "OBJECT", "FULLSKY", "sky coverage");
     if (info->coordsys && info->coordsys[0])
-        write_string_key(f, "COORDSYS", info->coordsys, "coordinate system", status);
+        orr_fits_add_string(h, "COORDSYS", info->coordsys, "coordinate system");
+}
+
+static void write_healpix_keys(fitsfile *f, const orr_healpix_info *info, int *status)
+{
+    orr_fits_header keys = {0};
+    orr_fits_add_healpix(&keys, info);
+    for (int i = 0; i < keys.n; i++)
+        write_card(f, &keys.cards[i], status);
 }
 
 /* An empty primary HDU, then one binary table: a float column per plane,
@@ -450,7 +457,7 @@ static int write_healpix_hdus(fitsfile *f, const void *ctx, int *status, int *sy
         tform[i] = forms[i];
     }
     fits_create_tbl(f, BINARY_TBL, npix, b->nplanes, ttype, tform, tunit, "xtension", status);
-    write_healpix_keys(f, b->info, npix, status);
+    write_healpix_keys(f, b->info, status);
     for (int i = 0; b->header && i < b->header->n; i++)
         write_card(f, &b->header->cards[i], status);
     fits_write_date(f, status);

@@ -97,6 +97,10 @@ typedef struct orr_healpix_info {
     const char *coordsys; /* "G" for galactic axes, NULL or "" when unknown */
 } orr_healpix_info;
 
+/* Appends a HEALPix map's keywords (PIXTYPE, ORDERING, NSIDE, FIRSTPIX,
+ * LASTPIX, INDXSCHM, OBJECT and, when known, COORDSYS) to h. */
+void orr_fits_add_healpix(orr_fits_header *h, const orr_healpix_info *info);
+
 /* Writes a HEALPix map (each plane 12 nside^2 pixels in pixel order, at most
  * 3) as a standard HEALPix FITS file, atomically: an empty primary HDU and a
  * binary table with one float column per plane (TTYPE the plane's name,

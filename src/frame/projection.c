@@ -255,7 +255,12 @@ int orr_projection_pixel_in_map(const orr_projection *p, int i, int j)
 {
     if (i < 0 || j < 0 || i >= p->width || j >= p->height)
         return 0;
-    double u = (i + 0.5 - p->cx), v = (j + 0.5 - p->cy);
+    return orr_projection_point_in_map(p, i + 0.5, j + 0.5);
+}
+
+int orr_projection_point_in_map(const orr_projection *p, double x, double y)
+{
+    double u = x - p->cx, v = y - p->cy;
     switch (p->kind) {
     case ORR_PROJ_HAMMER_AITOFF:
         u /= p->half_w;

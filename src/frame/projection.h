@@ -111,8 +111,14 @@ static inline orr_projection_traits orr_projection_traits_of(orr_projection_kind
 int orr_projection_is_sky(const orr_projection *p);
 
 /* Whether pixel (i, j) of the image shows part of the map (inside the
- * Hammer-Aitoff ellipse, the dome's circle; every pixel of the others). */
+ * Hammer-Aitoff ellipse, the dome's circle; every pixel of the others):
+ * whether its centre is (orr_projection_point_in_map). */
 int orr_projection_pixel_in_map(const orr_projection *p, int i, int j);
+
+/* Whether the image point (x, y), in pixels from the image's top-left
+ * corner, is inside the map's outline (the Hammer-Aitoff ellipse, the
+ * dome's circle; everywhere for the others). */
+int orr_projection_point_in_map(const orr_projection *p, double x, double y);
 
 /* What pixel (i, j) covers: its solid angle in steradians for the sky
  * projections and perspective, its area in squared scene units for

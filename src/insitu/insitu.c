@@ -28,6 +28,8 @@ struct orrery_renderer {
     _Alignas(max_align_t) unsigned char parallel_user[64]; /* what parallel.user points at (a communicator) */
     int noutputs;
     const char *outputs[ORR_SCENE_MAX_VIEWS * ORR_RENDER_MAX_OUTPUTS];
+    orrery_progress_fn progress; /* orrery_set_progress */
+    void *progress_user;
     int keep;             /* orrery_keep_images */
     orr_kept_images kept; /* ... the last frame's images */
     /* Made by orrery_open, executed by every orrery_render: the views'
@@ -167,7 +169,7 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
         double t_last = s0->animation.has_time ? s0->animation.time[1] : p->time;
         orr_frame_input in = {orr_frame_at(frame, nframes, s0->animation.fps, t_first, t_last), src,
                               r->has_parallel ? &r->parallel : NULL, r->keep ? orr_kept_add : NULL, &r->kept};
-        st = orr_plan_execute(r->plan, list, &in, r->reports, NULL, NULL, &r->err);
+        st = orr_plan_execute(r->plan, list, &in, r->reports, r->progress, r->progress_user, &r->err);
     }
     orr_source_close(src);
     if (st) /* a failed frame keeps nothing, not half of its views */
@@ -201,6 +203,15 @@ const char *orrery_output(const orrery_renderer *r, int i)
 }
 
 double orrery_render_seconds(const orrery_renderer *r) { return r ? r->seconds : 0; }
+
+int orrery_set_progress(orrery_renderer *r, orrery_progress_fn fn, void *user)
+{
+    if (!r)
+        return ORRERY_ERR_USAGE;
+    r->progress = fn;
+    r->progress_user = user;
+    return ORRERY_OK;
+}
 
 void orrery_close(orrery_renderer *r)
 {

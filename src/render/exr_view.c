@@ -44,6 +44,16 @@ static void copy_finite(orr_plane *to, const orr_plane *from, size_t npix)
         to->data[i] = finite_or_zero(from->data[i]);
 }
 
+/* OpenEXR's colour is premultiplied by its alpha: on the map's outline a
+ * pixel shows its light times the share of it inside (1 elsewhere on the
+ * map). The data layers (xyz.*, the populations') stay as the FITS file's. */
+static void premultiply(orr_plane *colour, int n, const orr_plane *alpha, size_t npix)
+{
+    for (int k = 0; k < n; k++)
+        for (size_t i = 0; i < npix; i++)
+            colour[k].data[i] *= alpha->data[i];
+}
+
 static orr_status build(orr_exr_view *v, const orr_plane *planes, int nplanes, const orr_projection *p,
                         const char *prefix, orr_error *err)
 {
@@ -63,6 +73,7 @@ static orr_status build(orr_exr_view *v, const orr_plane *planes, int nplanes, c
     if (colour) {
         fill_rgb(v, planes, npix);
         orr_map_alpha_fill(p, v->channels[3].data);
+        premultiply(v->channels, 3, &v->channels[3], npix);
         for (int k = 0; k < 3; k++)
             copy_finite(&v->channels[4 + k], &planes[k], npix);
         for (int k = 3; k < nplanes; k++)
@@ -70,6 +81,7 @@ static orr_status build(orr_exr_view *v, const orr_plane *planes, int nplanes, c
     } else {
         copy_finite(&v->channels[0], &planes[0], npix);
         orr_map_alpha_fill(p, v->channels[1].data);
+        premultiply(v->channels, 1, &v->channels[1], npix);
     }
     return ORR_OK;
 }

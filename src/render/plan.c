@@ -387,17 +387,31 @@ static orr_status setup_periodic(view_state *v, const orr_source_info *info, orr
 
 /* The planes before the PSF (for orrery compose), the PSF, and the outputs. */
 /* Hands view k's final planes, its graded picture and its cards to the
- * frame's keeper (orr_frame_input.keep). */
+ * frame's keeper (orr_frame_input.keep): a HEALPix map's with the map's
+ * keywords its FITS table has (NSIDE, ORDERING, COORDSYS, ...). */
 static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr_error *err)
 {
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
     float *rgb = orr_malloc(npix * 3 * sizeof *rgb, "kept picture", err);
     orr_status st = rgb ? ORR_OK : ORR_ERR_NOMEM;
+    const orr_fits_header *cards = &v->frame_cards;
+    orr_fits_header *map_cards = NULL;
+    if (!st && orr_projection_traits_of(v->proj.kind).pixel_table) {
+        map_cards = orr_malloc(sizeof *map_cards, "HEALPix map cards", err);
+        st = map_cards ? ORR_OK : ORR_ERR_NOMEM;
+        if (!st) {
+            *map_cards = v->frame_cards;
+            orr_healpix_info info = orr_view_healpix_info(v);
+            orr_fits_add_healpix(map_cards, &info);
+            cards = map_cards;
+        }
+    }
     char desc[ORR_PATH_MAX + 256];
     if (!st)
         st = orr_view_graded_rgb(v, rgb, desc, sizeof desc, err);
     if (!st)
-        st = in->keep(in->keep_user, k, v->planes, fits_nplanes(v), rgb, &v->frame_cards, err);
+        st = in->keep(in->keep_user, k, v->planes, fits_nplanes(v), rgb, cards, err);
+    free(map_cards);
     free(rgb);
     return st;
 }

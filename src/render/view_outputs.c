@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "core/atomic.h"
+#include "core/srgb_code.h"
 #include "encode/fits.h"
 #include "encode/fits_read.h"
 #include "encode/image_out.h"
@@ -107,15 +108,16 @@ static void picture_row(void *ctx, int y, float *scratch, uint16_t *codes)
     if (!p->alpha)
         return;
     /* From RGB to RGBA in place, from the end: pixel i's four codes start
-     * at 4 i, after the three of every pixel before it, still unread. */
-    uint16_t opaque = (uint16_t)((1u << p->bits) - 1);
+     * at 4 i, after the three of every pixel before it, still unread. The
+     * alpha is the pixel's coverage of the map, coded as the colours are. */
     for (int i = p->proj->width - 1; i >= 0; i--) {
-        int on = orr_projection_pixel_in_map(p->proj, i, y);
-        uint16_t r = codes[3 * i], g = codes[3 * i + 1], b = codes[3 * i + 2];
-        codes[4 * i] = on ? r : 0;
-        codes[4 * i + 1] = on ? g : 0;
-        codes[4 * i + 2] = on ? b : 0;
-        codes[4 * i + 3] = on ? opaque : 0;
+        float coverage = orr_map_pixel_coverage(p->proj, i, y);
+        uint16_t r = codes[3 * i], g = codes[3 * i + 1], b = codes[3 * i + 2], alpha;
+        orr_codes_of(&coverage, 1, p->bits, &alpha);
+        codes[4 * i] = coverage > 0 ? r : 0;
+        codes[4 * i + 1] = coverage > 0 ? g : 0;
+        codes[4 * i + 2] = coverage > 0 ? b : 0;
+        codes[4 * i + 3] = alpha;
     }
 }
 
@@ -217,16 +219,20 @@ static orr_status view_output(view_state *v, const char *ext, const char **write
     return stage_output(v->outputs, v->scene, v->rep, ext, write_path, err);
 }
 
+orr_healpix_info orr_view_healpix_info(const view_state *v)
+{
+    orr_wcs_view wcs = {&v->proj, &v->rep->camera, &v->rep->sky, v->rep->has_sky_frame, ""};
+    return (orr_healpix_info){v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
+}
+
 /* The view's planes, with the frame's cards, written to path: a HEALPix
  * map's as its table, any other's as images. Reads the view only, so it may
  * run beside the pictures' encoding (fits_writer). */
 static orr_status write_planes_to(const view_state *v, const char *ext, const char *path, orr_error *err)
 {
-    const orr_render_report *rep = v->rep;
     const orr_fits_header *h = &v->frame_cards;
     if (orr_projection_traits_of(v->proj.kind).pixel_table) {
-        orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, ""};
-        orr_healpix_info info = {v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
+        orr_healpix_info info = orr_view_healpix_info(v);
         return orr_write_healpix_fits(path, v->planes, fits_nplanes(v), &info, h, err);
     }
     /* The raw planes stay uncompressed: orrery compose reads them. */

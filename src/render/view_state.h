@@ -179,6 +179,8 @@ orr_status orr_view_write_outputs(view_state *v, orr_error *err);
 /* orrery compose for a view begun as a frame: its raw planes (or layers)
  * read back, the PSF (unless NAME.fits already has it), the pictures. */
 orr_status orr_view_compose(view_state *v, orr_error *err);
+/* A HEALPix view's map description (nside, order, COORDSYS when known). */
+orr_healpix_info orr_view_healpix_info(const view_state *v);
 /* DIR/NAME.ext of the scene's output. */
 orr_status orr_view_output_path(const orr_scene *s, const char *ext, char *path, orr_error *err);
 

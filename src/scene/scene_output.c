@@ -167,13 +167,21 @@ orr_status scene_check_healpix(orr_scene *s, const scene_marks *m, orr_error *er
         return healpix_refuses(s, m, "camera.lon_flip", "HEALPix's longitude phi grows eastward by definition", err);
     if (s->stereo.mode != ORR_STEREO_NONE)
         return healpix_refuses(s, m, "stereo.mode", "one map of the whole sky has no eyes", err);
-    /* The map is a table of pixels, not a picture: only FITS. */
-    static const char *const picture_keys[] = {"output.image", "output.exr", "output.raw", "compose.layers"};
-    for (int i = 0; i < 4; i++)
+    /* The map is a table of pixels, not a picture: only FITS. A picture
+     * turned off (output.exr: false, as the Python package sets) asks for
+     * nothing the map cannot give. */
+    static const char *const picture_keys[] = {"output.image", "compose.layers"};
+    for (int i = 0; i < 2; i++)
         if (scene_mark(m, picture_keys[i]))
             return healpix_refuses(s, m, picture_keys[i], "its map is a FITS table of pixels, not a picture", err);
-    if (s->output.write_png && scene_mark(m, "output.png"))
-        return healpix_refuses(s, m, "output.png", "its map is a FITS table of pixels, not a picture", err);
+    const struct {
+        const char *key;
+        int on;
+    } pictures[] = {{"output.exr", s->output.write_exr}, {"output.raw", s->output.write_raw},
+                    {"output.png", s->output.write_png}};
+    for (int i = 0; i < 3; i++)
+        if (pictures[i].on && scene_mark(m, pictures[i].key))
+            return healpix_refuses(s, m, pictures[i].key, "its map is a FITS table of pixels, not a picture", err);
     s->output.write_png = 0;
     s->projection.width = 4 * s->projection.healpix_nside;
     s->projection.height = 3 * s->projection.healpix_nside;

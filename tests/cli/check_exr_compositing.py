@@ -1,9 +1,11 @@
 #!/usr/bin/env python3
 """Reads orrery's linear OpenEXR with OpenImageIO, as a compositor would: the
 channels are R, G, B, A (no bare Z, which means depth) with the CIE planes in
-the layer xyz; the chromaticities attribute says Rec. 709 / D65; alpha is 1
-inside the dome's circle and 0 outside, where the colour is 0, not NaN; and
-R, G, B are the linear sRGB of the X, Y, Z the FITS file holds.
+the layer xyz; the chromaticities attribute says Rec. 709 / D65; alpha is
+each pixel's coverage of the dome's circle (1 inside, 0 outside, where the
+colour is 0, not NaN; on the rim the share inside, against an independent
+count of sub-pixel points); and R, G, B are the linear sRGB of the X, Y, Z
+the FITS file holds, premultiplied by alpha.
 usage: check_exr_compositing.py ORRERY WORKDIR"""
 import subprocess
 
@@ -40,7 +42,13 @@ for name, plane in ch.items():
     check(np.isfinite(plane).all(), f"channel {name} has NaN or infinity")
 a = ch["A"]
 check(a[32, 32] == 1.0 and a[0, 0] == 0.0 and a[0, 63] == 0.0, "alpha: 1 at the centre, 0 in the corners")
-check(set(np.unique(a)) <= {0.0, 1.0}, "alpha is 0 or 1")
+# The circle of radius 32 pixels about the image's centre, 64 x 64 points a pixel.
+k = 64
+sub = (np.arange(64 * k) + 0.5) / k - 32.0
+inside = (sub[:, None] ** 2 + sub[None, :] ** 2 <= 32.0**2).reshape(64, k, 64, k).mean(axis=(1, 3))
+check(0 < a.min() + 1 and a.max() <= 1 and ((a > 0) & (a < 1)).sum() > 100, "alpha: partial on the rim")
+check(np.abs(a - inside).max() < 1 / 16 + 1 / 64, f"alpha differs from the coverage by {np.abs(a - inside).max():g}")
+check(abs(a.sum(dtype=np.float64) / (np.pi * 32**2) - 1) < 1e-3, f"alpha sums to {a.sum()}, not the circle's area")
 outside = a == 0
 check(all((ch[c][outside] == 0).all() for c in ("R", "G", "B")), "colour outside the circle is 0")
 check(ch["R"].max() > 0 and ch["B"].max() > 0, "the galaxy is in R and B")
@@ -58,7 +66,7 @@ rgb_to_xyz = primaries * np.linalg.solve(primaries, cols[3])
 rgb = np.einsum("ij,jyx->iyx", np.linalg.inv(rgb_to_xyz), np.array(xyz, dtype=np.float64))
 scale = max(np.abs(rgb).max(), 1e-30)
 for k, c in enumerate("RGB"):
-    err = np.abs(ch[c] - rgb[k]).max() / scale
+    err = np.abs(ch[c] - rgb[k] * a).max() / scale
     check(err < 1e-5, f"{c} differs from the linear RGB of X, Y, Z by {err:g} of the peak")
 
 # A single weight: luminance Y and alpha, no colour channels to misread.

@@ -40,14 +40,21 @@ rm out/show.00002.png
 grep -q "rendered 1, skipped 2" run.out || fail "resume summary: $(cat run.out)"
 [ -s out/show.00002.png ] || fail "lost frame not redone: $(ls out)"
 
-# Alpha: 0 outside the circle (and black there), 255 inside; RGBA 8-bit.
+# Alpha: 0 outside the circle (and black there), 255 inside, each rim
+# pixel's coverage of the circle between (anti-aliased); RGBA 8-bit.
 "$py" - <<'EOT' || fail "alpha mask"
+import math
+import numpy as np
 from PIL import Image
 im = Image.open("out/show.00001.png")
 assert im.mode == "RGBA", im.mode
 assert im.getpixel((0, 0)) == (0, 0, 0, 0), im.getpixel((0, 0))
 assert im.getpixel((24, 24))[3] == 255, im.getpixel((24, 24))
-assert im.getpixel((47, 0))[3] == 0 and im.getpixel((24, 0))[3] == 255
+assert im.getpixel((47, 0))[3] == 0
+alpha = np.asarray(im)[:, :, 3] / 255.0
+r = im.width / 2
+assert ((alpha > 0) & (alpha < 1)).sum() > 4 * r, "no partial alpha on the rim"
+assert abs(alpha.sum() / (math.pi * r * r) - 1) < 2e-3, alpha.sum() / (math.pi * r * r)
 EOT
 
 # The 16-bit TIFF of output.image carries the same alpha (read by OpenImageIO).

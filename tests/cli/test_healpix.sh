@@ -13,6 +13,12 @@ expect_fail 2 "healpix takes deposit: ngp .* or sph .*, not cic" bad -- \
 expect_fail 2 "camera.healpix_nside: .*12" bad -- render bad.yaml --set camera.healpix_nside=12
 expect_fail 2 "image.width: not with camera.projection: healpix" bad -- render bad.yaml --set image.width=64
 expect_fail 2 "output.png: not with camera.projection: healpix" bad -- render bad.yaml --set output.png=true
+expect_fail 2 "output.exr: not with camera.projection: healpix" bad -- render bad.yaml --set output.exr=true
+expect_fail 2 "output.raw: not with camera.projection: healpix" bad -- render bad.yaml --set output.raw=true
+# Pictures turned off ask for nothing the map cannot give (the Python package sets them).
+"$ORRERY" render bad.yaml --quiet --set output.dir=off --set output.exr=false --set output.raw=false \
+  --set output.png=false >off.log 2>&1 || fail "pictures turned off refused: $(cat off.log)"
+[ -f off/bad.fits ] || fail "pictures turned off: no map written"
 expect_fail 2 "camera.lon_flip: not with camera.projection: healpix" bad -- render bad.yaml --set camera.lon_flip=true
 expect_fail 2 "camera.healpix_order: expected one of: ring nested" bad -- \
   render bad.yaml --set camera.healpix_order=nest
