@@ -134,6 +134,7 @@ static void reset_frame_state(view_state *v)
     if (v->psf.sky)
         orr_sky_psf_begin_frame(v->psf.sky);
     clear_planes(v);
+    orr_coarse_glow_begin(v);
 }
 
 /* The frame's part of a planned view: its report, the camera (a path, the
@@ -171,6 +172,7 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
 
 static void free_view(view_state *v)
 {
+    orr_coarse_glow_free(v);
     orr_splat_free_lanes(v);
     orr_bands_free(&v->bands);
     for (int k = 0; k < ORR_PLANES_MAX; k++)
@@ -251,6 +253,8 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
     if (!st && purpose == ORR_PLAN_RENDER && scenes[0]->stars.enabled &&
         !(st = orr_frame_stars_prepare(&plan->stars, scenes[0], err)))
         plan->has_stars = 1;
+    for (int k = 0; k < plan->n && !st && plan->has_stars; k++) /* the stars' glows span degrees */
+        st = orr_coarse_glow_plan(&plan->views[k], err);
     if (st) {
         orr_plan_destroy(plan);
         return st;

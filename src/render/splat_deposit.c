@@ -58,11 +58,21 @@ static void deposit_points(const view_state *v, orr_plane *planes, int lane, siz
     const orr_sph_block geom = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
     if (v->use_sph) {
         widen_for_psf(v, n, b);
-        orr_deposit_stats st[ORR_PLANES_MAX];
+        orr_deposit_stats st[ORR_PLANES_MAX], coarse[ORR_PLANES_MAX];
+        double moved[ORR_PLANES_MAX];
         memset(st, 0, sizeof st);
+        memset(coarse, 0, sizeof coarse);
+        size_t wide = v->coarse ? orr_coarse_glow_split(v, lane, n, b, coarse, moved) : 0;
         orr_sph_deposit_planes(&v->sph, &geom, b->wp, planes, v->nplanes, st);
-        for (int k = 0; k < v->nplanes && k < 2; k++) /* (each a sum onto zeros: the same bits) */
+        for (int k = 0; k < v->nplanes && k < 2; k++) { /* (each a sum onto zeros: the same bits) */
+            if (wide) { /* drawn on the coarse map, not culled */
+                st[k].culled -= moved[k];
+                st[k].n_culled -= wide;
+                st[k].n_particles -= wide;
+                add_stats(&st[k], &coarse[k]);
+            }
             add_stats(&t->deposit[k], &st[k]);
+        }
     } else {
         for (int k = 0; k < v->nplanes; k++) {
             orr_deposit_stats scratch = {0};

@@ -489,6 +489,8 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
                             (size_t)views[k].proj.width * (size_t)views[k].proj.height);
     }
     for (int k = 0; k < nviews && !st; k++)
+        st = orr_coarse_glow_finish(&views[k], err);
+    for (int k = 0; k < nviews && !st; k++)
         if (views[k].psf.sky)
             st = orr_sky_psf_select(views[k].psf.sky, err);
     charge(&views[0], ORR_STAGE_REDUCE);

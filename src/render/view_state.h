@@ -60,8 +60,35 @@ typedef struct view_state {
     struct frame_timer *timer;  /* the frame's stage timings (every view's), or NULL: not measured */
     struct orr_dust_frame *dust; /* dust.types: the frame's dust, which dims the weights (dust/dust.h), or NULL */
     struct frame_stars *stars;  /* stars.*: the stars spawned from the particles (star_pass.c), or NULL */
+    struct coarse_glow *coarse; /* with stars: the widest glows on a coarser map (coarse_glow.c), or NULL */
     int drawing_stars;          /* splatting spawned stars: points, dimmed from their own distance */
 } view_state;
+
+/* ---- the widest glows on a coarser map (coarse_glow.c) ---- */
+
+/* A sky map's copy FACTOR times coarser each way, and its planes per lane. */
+typedef struct coarse_glow {
+    orr_projection proj;
+    orr_sph sph;
+    int sph_ready;
+    orr_plane planes[ORR_MAX_LANES][3];
+    struct block_buffers *buffers; /* per lane: a block's wide kernels */
+} coarse_glow;
+
+/* Plans the coarse map of a planned view (v->coarse; none where the view
+ * is no sky map in colour drawn with kernels, or is a stereo eye). */
+orr_status orr_coarse_glow_plan(view_state *v, orr_error *err);
+void orr_coarse_glow_free(view_state *v);
+/* Zeroes the coarse planes for a frame. */
+void orr_coarse_glow_begin(view_state *v);
+/* Draws the block's wide kernels on lane's coarse planes and takes them out
+ * of the block (not visible); returns how many, their weights per plane in
+ * moved[] and the coarse deposit's statistics in coarse[]. */
+size_t orr_coarse_glow_split(const view_state *v, int lane, size_t n, struct block_buffers *b,
+                             orr_deposit_stats *coarse, double *moved);
+/* Adds the lanes' coarse planes to the view's planes (after the lanes'
+ * merge). */
+orr_status orr_coarse_glow_finish(view_state *v, orr_error *err);
 
 /* ---- stars from particles (star_pass.c) ---- */
 

@@ -14,7 +14,7 @@
 /* A star is drawn from no nearer than this to the observer's particle
  * search: parsecs (stars.h: a particle's faint stars nearer than this stay
  * in its glow). */
-#define NEAREST_SEARCH_PC 30.0
+#define NEAREST_SEARCH_PC 10.0
 /* Kernel sigmas a particle's stars are searched beyond its distance. */
 #define SEARCH_SIGMAS 3.0
 /* Salt of the stars' draws, so they are unrelated to the populations'. */
@@ -25,7 +25,7 @@ void orr_stars_defaults(orr_stars_settings *s)
     memset(s, 0, sizeof *s);
     s->limit = 8.0;
     s->light_unit = 1.0;
-    s->glow_max_deg = 8.0;
+    s->glow_max_deg = 30.0;
     s->mass_unit = 1e10;
     s->length_unit = 1000.0;
     s->seed = 1;
@@ -156,9 +156,11 @@ static orr_status grow_batch(orr_star_batch *b, size_t need, orr_error *err)
 
 /* ---- one particle ---- */
 
-/* The kernel's sigma for a particle of m solar masses, parsecs: half the
- * spacing of such particles at the luminosity function's own density (the
- * solar neighbourhood's), so neighbouring particles' stars overlap. */
+/* The sigma of a particle of m solar masses' stars about it, parsecs: half
+ * the spacing of such particles at the luminosity function's own density
+ * (the solar neighbourhood's), 85 pc at 2.35e5 solar masses: neighbouring
+ * particles' stars overlap, and the stars stay within the disc's thickness
+ * (a wider sigma thins them in the plane, where the brightest are). */
 static double kernel_sigma_pc(const orr_stars *st, double m)
 {
     if (st->set.spread > 0)
@@ -168,7 +170,7 @@ static double kernel_sigma_pc(const orr_stars *st, double m)
 
 double orr_stars_kernel_length(const orr_stars *st, double mass)
 {
-    return kernel_sigma_pc(st, mass * st->set.mass_unit) / st->set.length_unit;
+    return 2.0 * kernel_sigma_pc(st, mass * st->set.mass_unit) / st->set.length_unit;
 }
 
 static void star_colour(const orr_stars *st, double bv, float *x_over_y, float *z_over_y)

@@ -93,9 +93,9 @@ static inline int orr_stars_spawns(const orr_stars *st, uint8_t type)
     return type < 32 && (st->set.types & (1u << type));
 }
 
-/* The length (scene units) of the kernel over which a particle of this
- * mass (scene units) spreads its stars and its glow: two of the stars'
- * sigmas, the particles' spacing at the luminosity function's density. */
+/* The length h (scene units) of the kernel over which a particle of this
+ * mass (scene units) spreads its glow: two of its stars' sigmas, the
+ * particles' spacing at the luminosity function's density. */
 double orr_stars_kernel_length(const orr_stars *st, double mass);
 
 /* Starts a frame: the count of drawn stars back to 0. */
