@@ -363,7 +363,7 @@ static orr_status open_share(const options *o, int rank, int size, orr_source **
     orr_source *src = NULL;
     orr_status st;
     if (strcmp(o->ic, "model") == 0) {
-        orr_model_params mp = {o->particles, 1, o->separation, o->galaxies, o->disc_q, 0};
+        orr_model_params mp = {o->particles, 1, o->separation, o->galaxies, o->disc_q, 0, 0};
         size_t chunk = size > 1 ? (size_t)((o->particles + size - 1) / size) : (size_t)1 << 20;
         st = orr_model_source_open(&mp, chunk, &src, err);
     } else {

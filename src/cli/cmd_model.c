@@ -87,7 +87,7 @@ static int take_option(int code, const char *v, orr_model_params *params, const 
 
 int cmd_model(int argc, char **argv)
 {
-    orr_model_params params = {200000, 1, 780.0, ORR_MODEL_PAIR, 0, 0};
+    orr_model_params params = {200000, 1, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
     const char *out = NULL, *value;
     int code;
     cli_options_begin();

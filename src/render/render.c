@@ -58,7 +58,7 @@ orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, i
          * the dark halos, two thirds of the particles. */
         unsigned types = s->input.type_mask | s->dust.types | s->observer.normal_types;
         orr_model_params mp = {s->input.model.particles, s->input.model.seed, s->input.model.separation, s->input.model.galaxies,
-                               s->input.model.disc_q, types};
+                               s->input.model.disc_q, types, s->input.model.dust_clumping};
         return orr_model_source_open_dust(&mp, s->input.model.dust_particles, (size_t)s->input.chunk_size, out, err);
     }
     orr_source_options opt = {s->input.format, (size_t)s->input.chunk_size, reader_types(s), fields, nfields, part, nparts};

@@ -68,6 +68,7 @@ static const key_spec KEYS[] = {
     {.key = "input.model.core_radius", .type = K_NUMBER, FIELD(input.model.core_radius), ABOVE(0)},
     {.key = "input.model.mass", .type = K_NUMBER, FIELD(input.model.mass), ABOVE(0)},
     {.key = "input.model.dust_particles", .type = K_LLONG, FIELD(input.model.dust_particles), IRANGE(0, 2000000000LL)},
+    {.key = "input.model.dust_clumping", .type = K_NUMBER, FIELD(input.model.dust_clumping), CLOSED(0, 3)},
     {.key = "input.weight", .type = K_STRING, FIELD(input.weight)},
     {.key = "input.types", .type = K_TYPES, FIELD(input.type_mask)},
     {.key = "input.chunk", .type = K_LLONG, FIELD(input.chunk_size), IRANGE(1, 4294967296LL)},

@@ -30,6 +30,8 @@ typedef struct orr_model_settings {
     double mass;              /* input.model.mass: king's total mass, Msun (default 5e5) */
     long long dust_particles; /* input.model.dust_particles: mw-m31's dusty gas discs, type 0,
                                * appended after the other particles (default 0: none) */
+    double dust_clumping;     /* input.model.dust_clumping: their clouds and lanes, the sigma of
+                               * the log of the gas density (default 0: smooth) */
 } orr_model_settings;
 
 /* input.sequence.*: snapshots interpolated in time (docs/sequences.md),

@@ -78,7 +78,7 @@ static int load_model_params(const orr_model_params *params, size_t chunk, table
 
 static int load_model(long long n, uint64_t seed, double sep, size_t chunk, table *t)
 {
-    orr_model_params p = {n, seed, sep, ORR_MODEL_PAIR, 0, 0};
+    orr_model_params p = {n, seed, sep, ORR_MODEL_PAIR, 0, 0, 0};
     return load_model_params(&p, chunk, t);
 }
 
@@ -172,7 +172,7 @@ static void test_separation_parameter(void)
 
 static void test_info(void)
 {
-    orr_model_params p = {12345, 7, 780.0, ORR_MODEL_PAIR, 0, 0};
+    orr_model_params p = {12345, 7, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open(&p, 1 << 20, &src, &err) == ORR_OK);
@@ -274,7 +274,7 @@ static void test_chunk_size_independence(void)
 
 static void test_rewind(void)
 {
-    orr_model_params p = {3000, 5, 780.0, ORR_MODEL_PAIR, 0, 0};
+    orr_model_params p = {3000, 5, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open(&p, 512, &src, &err) == ORR_OK);
@@ -373,7 +373,7 @@ static void test_momentum(void)
 
 static void expect_usage(long long n, double sep, size_t chunk, const char *word)
 {
-    orr_model_params p = {n, 1, sep, ORR_MODEL_PAIR, 0, 0};
+    orr_model_params p = {n, 1, sep, ORR_MODEL_PAIR, 0, 0, 0};
     orr_source *src = (orr_source *)&p; /* must be reset to NULL */
     orr_error err = {0};
     CHECK(orr_model_source_open(&p, chunk, &src, &err) == ORR_ERR_USAGE);
@@ -468,7 +468,7 @@ static void energy_from_chunk(const orr_chunk *c, const float vbulk[3], int *gal
 static void test_binding_energy(void)
 {
     const long long n = 40000;
-    orr_model_params p = {n, 3, 780.0, ORR_MODEL_PAIR, 0, 0};
+    orr_model_params p = {n, 3, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open(&p, (size_t)n, &src, &err) == ORR_OK);
@@ -505,7 +505,7 @@ static void test_binding_energy(void)
 static void test_single_galaxy(void)
 {
     const long long n = 5000;
-    orr_model_params mw = {n, 4, 780.0, ORR_MODEL_MW, 0, 0}, m31 = {n, 4, 0.0, ORR_MODEL_M31, 2.0, 0};
+    orr_model_params mw = {n, 4, 780.0, ORR_MODEL_MW, 0, 0, 0}, m31 = {n, 4, 0.0, ORR_MODEL_M31, 2.0, 0, 0};
     table t;
     CHECK(load_model_params(&mw, 999, &t));
     if (t.n == (size_t)n) {
@@ -538,7 +538,7 @@ static void test_single_galaxy(void)
         CHECK_NEAR(m, 159.5, 1e-4 * 159.5);
         table_free(&t);
     }
-    orr_model_params bad = {n, 4, 780.0, 7, 0, 0};
+    orr_model_params bad = {n, 4, 780.0, 7, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open(&bad, 100, &src, &err) == ORR_ERR_USAGE);
@@ -625,7 +625,7 @@ static double ring_pressure(const table *t, double R)
 static void test_disc_equilibrium(void)
 {
     const long long n = 100000;
-    orr_model_params p = {n, 9, 780.0, ORR_MODEL_MW, 0, 0};
+    orr_model_params p = {n, 9, 780.0, ORR_MODEL_MW, 0, 0, 0};
     table t;
     CHECK(load_model_params(&p, 8192, &t));
     if (t.n != (size_t)n)
@@ -662,7 +662,7 @@ static void test_disc_equilibrium(void)
 static void test_bulge_tensor_virial(void)
 {
     const long long n = 100000;
-    orr_model_params p = {n, 5, 780.0, ORR_MODEL_MW, 0, 0};
+    orr_model_params p = {n, 5, 780.0, ORR_MODEL_MW, 0, 0, 0};
     table t;
     CHECK(load_model_params(&p, 8192, &t));
     if (t.n != (size_t)n)
@@ -699,7 +699,7 @@ static void test_bad_disc_q(void)
 {
     const double bad[] = {-1.0, NAN, INFINITY, 1e9};
     for (int i = 0; i < 4; i++) {
-        orr_model_params p = {1000, 1, 780.0, ORR_MODEL_PAIR, bad[i], 0};
+        orr_model_params p = {1000, 1, 780.0, ORR_MODEL_PAIR, bad[i], 0, 0};
         orr_source *src = NULL;
         orr_error err = {0};
         CHECK(orr_model_source_open(&p, 100, &src, &err) == ORR_ERR_USAGE);
@@ -724,7 +724,7 @@ static void test_type_mask(void)
     const size_t chunks[3] = {7, 1000, 4096};
     for (int k = 0; k < 3; k++) {
         orr_model_params p = {n, 11, 780.0, ORR_MODEL_PAIR, 0,
-                              1u << ORR_MODEL_TYPE_DISC | 1u << ORR_MODEL_TYPE_BULGE};
+                              1u << ORR_MODEL_TYPE_DISC | 1u << ORR_MODEL_TYPE_BULGE, 0};
         orr_source *src = NULL;
         orr_error err = {0};
         CHECK(orr_model_source_open(&p, chunks[k], &src, &err) == ORR_OK);

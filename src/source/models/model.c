@@ -348,7 +348,7 @@ static void make_particle(const model_state *m, uint64_t index, particle *p)
 static void plan_dust(model_state *m, long long dust_particles)
 {
     m->dust_first = m->total;
-    orr_model_dust_init(&m->dust, (uint64_t)dust_particles, m->params.seed);
+    orr_model_dust_init(&m->dust, (uint64_t)dust_particles, m->params.seed, m->params.dust_clumping);
     for (int k = 0; k < m->ngal && dust_particles > 0; k++) {
         const galaxy *g = &m->gal[m->gal_index[k]];
         orr_model_dust_disc *d =

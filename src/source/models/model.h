@@ -50,6 +50,8 @@ typedef struct orr_model_params {
     unsigned types;        /* bit t set: emit particles of type t; 0 emits all. The markers
                             * (Sun, black holes) are emitted whatever it says. The others are
                             * the same particles as with 0, those of other types never drawn. */
+    double dust_clumping;  /* the gas discs' clumping: sigma of the log of their density (0: smooth;
+                            * source/models/model_dust.h) */
 } orr_model_params;
 
 orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_size, orr_source **out,

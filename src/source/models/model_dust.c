@@ -28,11 +28,53 @@ static const struct {
     {0.6, 7.5, 0.1, 40.0},
 };
 
-void orr_model_dust_init(orr_model_dust *d, uint64_t total, uint64_t seed)
+/* Stream of the clumping field's waves. */
+#define CLUMP_STREAM 0x636c756d70000001ULL
+/* The clouds' wavelengths, kpc: from a giant molecular cloud complex to
+ * the lanes between spiral arms, equal power per octave. */
+#define CLUMP_LAMBDA_MIN 0.1
+#define CLUMP_LAMBDA_MAX 2.0
+
+/* The field's plane waves: directions uniform on the sphere, but squeezed
+ * into the disc plane (the vertical wave number times 1/3), since clouds are
+ * flatter than they are wide; wave numbers log-uniform between the
+ * wavelengths; phases uniform. A pure function of the seed. */
+static void clumping_waves(orr_model_dust *d)
+{
+    orr_rng rng = orr_rng_seed(d->seed, 0, CLUMP_STREAM);
+    for (int j = 0; j < ORR_MODEL_DUST_WAVES; j++) {
+        double u = 2.0 * orr_rng_uniform(&rng) - 1.0, phi = 6.283185307179586 * orr_rng_uniform(&rng);
+        double s = sqrt(1.0 - u * u);
+        double lambda = CLUMP_LAMBDA_MIN * pow(CLUMP_LAMBDA_MAX / CLUMP_LAMBDA_MIN, orr_rng_uniform(&rng));
+        double k = 6.283185307179586 / lambda;
+        d->wave[j][0] = k * s * cos(phi);
+        d->wave[j][1] = k * s * sin(phi);
+        d->wave[j][2] = k * u / 3.0;
+        d->wave[j][3] = 6.283185307179586 * orr_rng_uniform(&rng);
+    }
+}
+
+void orr_model_dust_init(orr_model_dust *d, uint64_t total, uint64_t seed, double clumping)
 {
     memset(d, 0, sizeof *d);
     d->total = total;
     d->seed = seed;
+    d->clumping = clumping;
+    if (clumping > 0)
+        clumping_waves(d);
+}
+
+/* The clumping factor at x, y, z of the disc frame (kpc): exp(sigma g -
+ * sigma^2 / 2), g = sqrt(2 / N) sum cos(k . x + phase), of zero mean and
+ * unit variance, so the factor's mean is 1 and the gas mass is kept on
+ * average. */
+static double clumping_factor(const orr_model_dust *d, double x, double y, double z)
+{
+    double g = 0.0;
+    for (int j = 0; j < ORR_MODEL_DUST_WAVES; j++)
+        g += cos(d->wave[j][0] * x + d->wave[j][1] * y + d->wave[j][2] * z + d->wave[j][3]);
+    g *= sqrt(2.0 / ORR_MODEL_DUST_WAVES);
+    return exp(d->clumping * g - 0.5 * d->clumping * d->clumping);
 }
 
 orr_model_dust_disc *orr_model_dust_add(orr_model_dust *d, int galaxy)
@@ -100,6 +142,6 @@ void orr_model_dust_make(const orr_model_dust *d, uint64_t k, orr_vec3 *pos, orr
     *pos = orr_v3_add(g->centre, off);
     /* cold gas on circular orbits, in the sense of the disc's spin */
     *vel = orr_v3_add(g->velocity, orr_v3_scale(orr_v3_cross(g->spin, rhat), circular_speed(g, R)));
-    *mass = g->mass;
+    *mass = d->clumping > 0 ? (float)(g->mass * clumping_factor(d, R * c, R * s, z)) : g->mass;
     *r = (float)orr_v3_norm(off);
 }

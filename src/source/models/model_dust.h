@@ -25,17 +25,26 @@ typedef struct orr_model_dust_disc {
     float mass;
 } orr_model_dust_disc;
 
+/* The clumping field's plane waves (orr_model_dust_init). */
+#define ORR_MODEL_DUST_WAVES 96
+
 typedef struct orr_model_dust {
     uint64_t total, seed;
     int ndisc;
     orr_model_dust_disc disc[2];
+    /* Clumping: each particle's mass times exp(sigma g - sigma^2 / 2), g a
+     * smooth Gaussian random field of unit variance at its place in its
+     * galaxy's disc frame, the sum of plane waves k . x + phase. */
+    double clumping;
+    double wave[ORR_MODEL_DUST_WAVES][4]; /* kx, ky, kz (1/kpc), phase */
 } orr_model_dust;
 
 #define ORR_MODEL_DUST_MW 0
 #define ORR_MODEL_DUST_M31 1
 
-/* Starts a plan of total gas particles (0: none). */
-void orr_model_dust_init(orr_model_dust *d, uint64_t total, uint64_t seed);
+/* Starts a plan of total gas particles (0: none), clumped by clumping (the
+ * sigma of the log of the gas density; 0: smooth). */
+void orr_model_dust_init(orr_model_dust *d, uint64_t total, uint64_t seed, double clumping);
 /* The next galaxy's disc (galaxy ORR_MODEL_DUST_MW or _M31): its gas mass
  * and sizes filled in; the caller sets the frame and the circular speeds. */
 orr_model_dust_disc *orr_model_dust_add(orr_model_dust *d, int galaxy);
