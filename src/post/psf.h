@@ -58,6 +58,8 @@ typedef struct orr_psf_settings {
                                  * the scene's checks */
     double spike_min_flux;      /* psf.spike_min_flux: and none fainter than this fraction of the
                                  * brightest star (default 0.001) */
+    double spike_flux;          /* psf.spike_flux: sky maps: and none of less flux at the camera than this,
+                                 * in the key plane's units (default 0: no such bound) */
     int has_glow;
     double glow_threshold;      /* glow.threshold: sky maps: stars of less flux at the camera are drawn as
                                  * kernels as wide as the angle to their smoothing.neighbours-th nearest

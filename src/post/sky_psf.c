@@ -241,6 +241,8 @@ orr_status orr_sky_psf_select(orr_sky_psf *sp, orr_error *err)
     qsort(sp->stars, (size_t)sp->nstars, sizeof *sp->stars, brighter_first);
     if (sp->nstars > sp->max_stars)
         sp->nstars = sp->max_stars;
+    while (sp->nstars > 0 && sp->stars[sp->nstars - 1].key < sp->spike_flux) /* brightest first */
+        sp->nstars--;
     return ORR_OK;
 }
 
@@ -274,6 +276,8 @@ orr_status orr_sky_psf_share(orr_sky_psf *sp, const orr_parallel *par, orr_error
     free(sp->stars);
     sp->stars = stars;
     sp->nstars = count < sp->max_stars ? count : sp->max_stars;
+    while (sp->nstars > 0 && sp->stars[sp->nstars - 1].key < sp->spike_flux) /* brightest first */
+        sp->nstars--;
     return ORR_OK;
 }
 

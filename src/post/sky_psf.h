@@ -46,6 +46,7 @@ typedef struct orr_sky_psf {
     double reach_pixels;     /* the PSF's light lies within this many PSF pixels of its centre */
     int max_stars;           /* psf.spike_stars */
     double min_flux;         /* psf.spike_min_flux: relative to the brightest star */
+    double spike_flux;       /* psf.spike_flux: and none of less flux than this (0: no such bound) */
     int key_plane;           /* the plane that says how bright a star is */
     orr_sky_star *lane[ORR_SKY_PSF_LANES]; /* per lane: the brightest so far, a min-heap */
     int nlane[ORR_SKY_PSF_LANES];

@@ -179,6 +179,8 @@ static orr_status sky_setup(orr_view_psf *vp, const orr_psf_settings *ps, int co
     if (!st)
         st = orr_sky_psf_init(vp->sky, &k, core_fwhm_rad, ps->spike_stars, ps->spike_min_flux, colour ? 1 : 0,
                               err);
+    if (!st)
+        vp->sky->spike_flux = ps->spike_flux;
     orr_image_kernel_free(&k);
     return st;
 }

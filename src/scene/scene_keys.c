@@ -161,6 +161,7 @@ static const key_spec KEYS[] = {
     {.key = "psf.size", .type = K_INT, FIELD(psf.size), IRANGE(3, 2047)},
     {.key = "psf.spike_stars", .type = K_INT, FIELD(psf.spike_stars), IRANGE(0, 100000)},
     {.key = "psf.spike_min_flux", .type = K_NUMBER, FIELD(psf.spike_min_flux), CLOSED(0, 1)},
+    {.key = "psf.spike_flux", .type = K_NUMBER, FIELD(psf.spike_flux), .lo = 0, .bounds = HAS_LO},
     {.key = "glow.threshold", .type = K_NUMBER, FIELD(psf.glow_threshold), .lo = 0, .bounds = HAS_LO,
      FLAG(psf.has_glow)},
     {.key = "glow.max_arcmin", .type = K_NUMBER, FIELD(psf.glow_max_arcmin), ABOVE(0)},
