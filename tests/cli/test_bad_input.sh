@@ -53,6 +53,13 @@ grep -q "^fields:     x y z mass$" stdout || fail "info of a table with a BOM: $
 expect_fail 2 "animation.frames: expected an integer, got '.nan', which is not a number" out -- \
   render good.yaml --set animation.frames=.nan
 expect_fail 2 "^orrery: error: --particles nan: not a number; expected a whole number" out -- model -o out/m.txt --particles nan
+# An output name with a control character: a YAML block scalar's newline
+# made files named "abc\n.fits"; a tab typed in --set.
+printf 'input:\n  file: good.txt\noutput:\n  dir: out\n  name: |\n    abc\n' >newline-name.yaml
+expect_fail 2 "newline-name.yaml:5: output.name: a file name without control characters is needed, but character 4 of 4 is byte 0x0a \(a newline" \
+  out -- render newline-name.yaml
+expect_fail 2 "output.name: a file name without control characters is needed, but character 2 of 3 is byte 0x09$" out -- \
+  render good.yaml --set "output.name=$(printf 'a\tb')"
 # camera.dome's hint is about dome profiles, not output.dir.
 expect_fail 2 "camera.dome: 'domes/flat-180' must be a file name, without '/' \(a dome profile's name" out -- \
   render good.yaml --set camera.dome=domes/flat-180
