@@ -136,6 +136,11 @@ orr_status orr_view_write_outputs(view_state *v, orr_error *err);
 /* orrery compose for a view begun as a frame: its raw planes (or layers)
  * read back, the PSF (unless NAME.fits already has it), the pictures. */
 orr_status orr_view_compose(view_state *v, orr_error *err);
+
+/* A compose that reads its raw planes (no compose.layers) reads them from
+ * output.dir: fails, naming the folder and what compose reads, when the
+ * folder is not there (it is not made empty). */
+orr_status orr_compose_check_raw_dir(const orr_scene *s, orr_error *err);
 /* DIR/NAME.ext of the scene's output. */
 orr_status orr_view_output_path(const orr_scene *s, const char *ext, char *path, orr_error *err);
 

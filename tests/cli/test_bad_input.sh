@@ -110,6 +110,33 @@ expect_fail 2 "one scene file at a time \(got 'good.yaml' and '-q'\)" out -- ren
 touch plainfile
 expect_fail 1 "plainfile/out" plainfile-out -- render good.yaml -o plainfile/out
 
+# orrery compose reads the raw planes from the output folder: one that is
+# not there is an error, not made empty (it was, with cfitsio's generic
+# message); a raw-planes file that is a FIFO (it hung), a link to
+# /dev/zero (it hung) or tile-compressed (fpack) is refused by name.
+expect_fail 1 "^orrery: error: missing/dir: no such folder: compose reads the planes" none -- compose good.yaml -o missing/dir
+[ -e missing ] && fail "compose -o missing/dir made folders: $(find missing)"
+mkdir -p emptydir
+expect_fail 1 "emptydir/good.raw.fits: no such file: compose reads the raw planes that .orrery render. writes with output.raw: true" \
+  emptydir -- compose good.yaml -o emptydir
+mkdir -p fifodir zerodir packdir
+mkfifo fifodir/good.raw.fits
+ln -s /dev/zero zerodir/good.raw.fits
+expect_fail 2 "fifodir/good.raw.fits: a pipe or FIFO; orrery reads its planes from a regular FITS file" none -- \
+  compose good.yaml -o fifodir
+expect_fail 2 "zerodir/good.raw.fits: a character device; orrery reads its planes from a regular FITS file" none -- \
+  compose good.yaml -o zerodir
+"$ORRERY" render -q good.yaml -o packdir --set output.raw=true || fail "render with output.raw"
+if "$py" -c "
+from astropy.io import fits
+d = fits.getdata('packdir/good.raw.fits')
+fits.HDUList([fits.PrimaryHDU(), fits.CompImageHDU(d)]).writeto('packdir/good.raw.fits', overwrite=True)" 2>/dev/null; then
+  expect_fail 1 "packdir/good.raw.fits: HDU 2 is a tile-compressed image; orrery reads its planes uncompressed" none -- \
+    compose good.yaml -o packdir
+else
+  echo "note: no astropy: the tile-compressed raw planes are not checked here (test_fits checks the reader)"
+fi
+
 # Skipping non-finite particles is the documented alternative: it succeeds
 # and reports how many were left out.
 "$ORRERY" render nan.yaml --set input.nonfinite=skip >stdout 2>stderr || fail "skip run failed: $(cat stderr)"
