@@ -276,19 +276,33 @@ static void temp_name_of(const char *ours, long pid, char *out, size_t size)
     snprintf(out, size, "%.*s%ld%s", (int)(strchr(tag, '-') + 1 - ours), ours, pid, rest);
 }
 
+/* A fresh tmpdir with a temporary of this process in it, for frame.png. */
+static void begin_own_temporary(orr_atomic_file *af)
+{
+    make_tmpdir();
+    char final[512];
+    snprintf(final, sizeof final, "%s/frame.png", tmpdir);
+    orr_error err;
+    CHECK(orr_atomic_begin(af, final, &err) == ORR_OK);
+}
+
+/* A child process that exits at once (the caller reaps it). */
+static pid_t exiting_child(void)
+{
+    pid_t child = fork();
+    if (child == 0)
+        _exit(0);
+    return child;
+}
+
 /* A killed run's temporaries are removed by the next; a running one's, or
  * another host's, are kept. */
 static void test_stale_temporaries(void)
 {
-    make_tmpdir();
-    char final[512], dead[600], alive[600], other_host[600], other[600];
-    snprintf(final, sizeof final, "%s/frame.png", tmpdir);
+    char dead[600], alive[600], other_host[600], other[600];
     orr_atomic_file af;
-    orr_error err;
-    CHECK(orr_atomic_begin(&af, final, &err) == ORR_OK);
-    pid_t child = fork();
-    if (child == 0)
-        _exit(0);
+    begin_own_temporary(&af);
+    pid_t child = exiting_child();
     waitpid(child, NULL, 0); /* a process that is gone */
     temp_name_of(af.temp_path, (long)child, dead, sizeof dead);
     temp_name_of(af.temp_path, (long)getppid(), alive, sizeof alive);
@@ -311,15 +325,10 @@ static void test_stale_temporaries(void)
  * kill(pid, 0) takes for alive: its temporaries are stale all the same. */
 static void test_zombie_temporaries(void)
 {
-    make_tmpdir();
-    char final[512], zombie_temp[600];
-    snprintf(final, sizeof final, "%s/frame.png", tmpdir);
+    char zombie_temp[600];
     orr_atomic_file af;
-    orr_error err;
-    CHECK(orr_atomic_begin(&af, final, &err) == ORR_OK);
-    pid_t child = fork();
-    if (child == 0)
-        _exit(0);
+    begin_own_temporary(&af);
+    pid_t child = exiting_child();
     /* Not reaped: wait until it has exited and is a zombie. */
     siginfo_t info;
     memset(&info, 0, sizeof info);
