@@ -176,7 +176,6 @@ static void standard_arrays(const orr_particle_arrays *a, const orr_array *all[N
     memcpy(all, list, sizeof list);
 }
 
-
 /* Checks one array's stride: 0 (packed) or at least an element, and n
  * elements of it that end inside the address space. Strides are unsigned
  * byte counts, so a negative stride (a reversed NumPy view) arrives as a
