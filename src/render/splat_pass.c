@@ -408,12 +408,21 @@ static void free_work(splat_work *w)
 
 /* A HEALPix view's SPH work limit for this frame: so many kernel samples
  * per thread (splat/healpix_kernel.h). */
-static void start_healpix_budgets(view_state *views, int nviews, const orr_source *src)
+static void start_healpix_budgets(view_state *views, int nviews, const orr_source *src, orr_progress_fn progress,
+                                  void *progress_user)
 {
     const uint64_t limit = ORR_HEALPIX_SAMPLE_LIMIT_PER_THREAD * (uint64_t)omp_get_max_threads();
-    for (int k = 0; k < nviews; k++)
-        if (views[k].use_sph && views[k].sph.healpix_budget)
-            orr_healpix_budget_start(views[k].sph.healpix_budget, limit, src->info.count);
+    for (int k = 0; k < nviews; k++) {
+        orr_healpix_budget *b = views[k].use_sph ? views[k].sph.healpix_budget : NULL;
+        if (!b)
+            continue;
+        orr_healpix_budget_start(b, limit, src->info.count);
+        /* A map's kernels can take minutes within one chunk: their own
+         * progress, from the first HEALPix view (one line is enough). */
+        b->progress = progress;
+        b->progress_user = progress_user;
+        progress = NULL;
+    }
 }
 
 /* The frame has at least the particles read so far (a count the source
@@ -453,7 +462,7 @@ static orr_status check_healpix_budgets(const view_state *views, int nviews, orr
 orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_progress_fn progress,
                                void *progress_user, orr_error *err)
 {
-    start_healpix_budgets(views, nviews, src);
+    start_healpix_budgets(views, nviews, src, progress, progress_user);
     int64_t read = 0;
     splat_work *work = orr_malloc(sizeof *work, "splat work", err);
     if (!work)

@@ -3,6 +3,7 @@
 #include <chealpix.h>
 #include <math.h>
 #include <stdlib.h>
+#include <time.h>
 
 #include "core/vecmath.h"
 
@@ -159,6 +160,8 @@ static void point_deposit(const orr_healpix_target *t, const double dir[3], floa
     t->data[pix] += w;
 }
 
+static int64_t now_ms(void);
+
 void orr_healpix_budget_start(orr_healpix_budget *b, uint64_t limit, int64_t expected)
 {
     b->limit = limit;
@@ -168,6 +171,8 @@ void orr_healpix_budget_start(orr_healpix_budget *b, uint64_t limit, int64_t exp
     atomic_store(&b->foreseen, 0);
     atomic_store(&b->foreseen_particles, 0);
     atomic_store(&b->exceeded, 0);
+    atomic_store(&b->reporting, 0);
+    atomic_store(&b->next_report, now_ms() + 1000);
 }
 
 /* The sub-pixel centres a support of angular radius `radius` holds, about:
@@ -198,6 +203,26 @@ int orr_healpix_budget_foresee(orr_healpix_budget *b, uint64_t samples, size_t n
     return !atomic_load(&b->exceeded);
 }
 
+static int64_t now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+/* Calls the progress function when a second has passed since the last
+ * call, from whichever thread gets there first (the others go on). */
+static void report_progress(orr_healpix_budget *b, uint64_t done)
+{
+    int idle = 0;
+    if (!b->progress || now_ms() < atomic_load(&b->next_report) ||
+        !atomic_compare_exchange_strong(&b->reporting, &idle, 1))
+        return;
+    atomic_store(&b->next_report, now_ms() + 1000);
+    b->progress(b->progress_user, done, b->expected > 0 ? b->expected : -1);
+    atomic_store(&b->reporting, 0);
+}
+
 /* Takes the kernel's samples from the budget: 0 when they go beyond it. */
 static int take_budget(orr_healpix_budget *b, uint64_t samples)
 {
@@ -207,7 +232,9 @@ static int take_budget(orr_healpix_budget *b, uint64_t samples)
         atomic_store(&b->exceeded, 1);
         return 0;
     }
-    atomic_fetch_add(&b->particles, 1);
+    uint64_t done = atomic_fetch_add(&b->particles, 1) + 1;
+    if (done % 16 == 0)
+        report_progress(b, done);
     return 1;
 }
 

@@ -71,6 +71,12 @@ typedef struct orr_healpix_budget {
     _Atomic uint64_t particles;  /* kernels deposited so far this frame */
     _Atomic uint64_t foreseen, foreseen_particles; /* the blocks' estimates, made before their deposits */
     _Atomic int exceeded;        /* 1 once a kernel was refused, or the frame foreseen far beyond */
+    /* Progress on a long frame: called with the kernels deposited and the
+     * frame's particles, by one thread at a time, every second or so. */
+    void (*progress)(void *user, uint64_t done, int64_t total);
+    void *progress_user;
+    _Atomic int reporting;       /* 1 while a thread calls progress */
+    _Atomic int64_t next_report; /* when, in ms of CLOCK_MONOTONIC */
 } orr_healpix_budget;
 
 /* About a minute of work on one core (2e9 samples at some 3e7 a second). */

@@ -126,6 +126,18 @@ static void test_symmetric(void)
     free(n);
 }
 
+static int progress_calls;
+static uint64_t progress_done;
+static int64_t progress_total;
+
+static void count_progress(void *user, uint64_t done, int64_t total)
+{
+    (void)user;
+    progress_calls++;
+    progress_done = done;
+    progress_total = total;
+}
+
 /* A frame's work limit: a kernel's estimated samples (a whole-sky one's
  * are the map's pixels, a small one's the 200 to 800 sub-pixel centres of
  * healpix_kernel.h); a kernel beyond the limit is refused with nothing
@@ -155,6 +167,16 @@ static void test_work_budget(void)
     /* Within four times the limit: left to the limit itself. */
     orr_healpix_budget_start(&budget, 100000, 100);
     CHECK(orr_healpix_budget_foresee(&budget, 769, 1) == 1 && atomic_load(&budget.exceeded) == 0);
+    /* Progress: reported at most once a second, with the kernels done so
+     * far and the frame's particles (a long frame is one chunk, between
+     * whose ends the render reports nothing). */
+    progress_calls = 0;
+    orr_healpix_budget_start(&budget, UINT64_MAX, 40);
+    budget.progress = count_progress;
+    atomic_store(&budget.next_report, 0); /* the second has passed */
+    for (int i = 0; i < 32; i++)
+        CHECK(orr_healpix_kernel_deposit(&t, dir, 1e-2, 1.0f, &scratch) == 1);
+    CHECK(progress_calls == 1 && progress_done == 16 && progress_total == 40);
     orr_healpix_scratch_free(&scratch);
     free(m);
 }
