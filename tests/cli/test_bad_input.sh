@@ -70,6 +70,14 @@ expect_fail 2 "camera.dome: 'domes/flat-180' must be a file name, without '/' \(
 (trap '' XFSZ; ulimit -f 64; "$ORRERY" render good.yaml --set image.width=512 --set image.height=512 >stdout 2>stderr)
 grep -q "out/good.fits: cannot write FITS file: File too large" stderr || fail "file-size limit: $(cat stderr)"
 [ -z "$(ls -A out 2>/dev/null)" ] || fail "file-size limit left files: $(ls -A out)"
+# orrery ics's HDF5 snapshot under the same limit: the error, exit 1 (not
+# a crash at exit in HDF5), no file and no temporary.
+mkdir -p icsout
+(trap '' XFSZ; ulimit -f 64; "$ORRERY" ics --zeldovich --grid 16 -o icsout/box.hdf5 >stdout 2>stderr; echo $? >rc)
+[ "$(cat rc)" = 1 ] || fail "ics under a file-size limit exited $(cat rc): $(cat stderr)"
+grep -q "^orrery: error: icsout/box.hdf5: could not write the HDF5 snapshot: File too large$" stderr ||
+  fail "ics under a file-size limit: $(cat stderr)"
+[ -z "$(ls -A icsout)" ] || fail "ics under a file-size limit left files: $(ls -A icsout)"
 # A full file system, where one can be mounted (as root): "No space left on device".
 mkdir -p tiny
 if mount -t tmpfs -o size=8k tmpfs tiny 2>/dev/null; then

@@ -103,6 +103,11 @@ orr_status orr_h5w_write_file(const char *path, orr_h5w_body write_body, void *c
     orr_status st = orr_atomic_begin(&af, path, err);
     if (st)
         return st;
+    /* A file HDF5 could not close (give_up_file's own file full too, under
+     * `ulimit -f`) would crash the library's end at exit: when this is the
+     * process's first HDF5 call, it is told not to end itself at exit (a
+     * no-op once HDF5 is in use; the OS closes what is left). */
+    H5dont_atexit();
     /* HDF5 prints its error stack by default; the library never prints. */
     H5E_auto2_t old_fn;
     void *old_data;
