@@ -78,6 +78,17 @@ mkdir -p icsout
 grep -q "^orrery: error: icsout/box.hdf5: could not write the HDF5 snapshot: File too large$" stderr ||
   fail "ics under a file-size limit: $(cat stderr)"
 [ -z "$(ls -A icsout)" ] || fail "ics under a file-size limit left files: $(ls -A icsout)"
+# Under an address-space limit of 400 MB the command starts and renders a
+# PNG: OpenImageIO, whose libraries' static initialisers start threads (and
+# aborted even --version here), is loaded only for its own formats. Not
+# under the sanitizers, whose shadow memory needs terabytes of addresses.
+if ! grep -q "ORRERY_SANITIZE:BOOL=ON" "$(dirname "$ORRERY")/CMakeCache.txt" 2>/dev/null; then
+  (ulimit -v 400000; "$ORRERY" --version >stdout 2>stderr) || fail "--version under ulimit -v 400000: $(cat stderr)"
+  grep -q "^orrery " stdout || fail "--version under ulimit -v 400000 printed: $(cat stdout)"
+  (ulimit -v 400000; "$ORRERY" render -q good.yaml -o vlimit >stdout 2>stderr) ||
+    fail "render under ulimit -v 400000: $(cat stderr)"
+  [ -f vlimit/good.png ] || fail "render under ulimit -v 400000 wrote no PNG: $(ls vlimit)"
+fi
 # A full file system, where one can be mounted (as root): "No space left on device".
 mkdir -p tiny
 if mount -t tmpfs -o size=8k tmpfs tiny 2>/dev/null; then

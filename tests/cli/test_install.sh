@@ -35,4 +35,12 @@ grep -q "2 particles rendered" run.out || fail "render_scene output: $(cat run.o
 grep -aEq "WIMAGE  = +(5\.|4\.99999)" out/s_0000.fits || fail "render_scene: the weight in the image is not 5"
 [ -f out/s_0000.png ] && fail "output.png=false not honoured"
 
+# OpenImageIO is a module loaded on first use (liborrery-oiio.so, installed
+# beside the library): neither the library nor the CLI needs it to start,
+# and the installed CLI finds it for a TIFF.
+readelf -d "$so" "$WORK/prefix/bin/orrery" | grep -q "OpenImageIO" && fail "liborrery or the CLI links OpenImageIO"
+[ -f "$(dirname "$libdir")/liborrery-oiio.so" ] || fail "liborrery-oiio.so not installed beside the library"
+"$WORK/prefix/bin/orrery" render -q s.yaml --set output.image=tif -o tif >run.out 2>&1 || fail "installed CLI, TIFF: $(cat run.out)"
+[ -f tif/s.tif ] || fail "the installed CLI wrote no TIFF: $(ls tif)"
+
 finish
