@@ -15,6 +15,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <system_error>
 #include <vector>
 
 // Most of the project's headers are plain C, without extern "C" guards.
@@ -318,6 +319,10 @@ template <class F> orr_status guarded(const char *path, orr_error *err, F f)
         return f();
     } catch (const std::bad_alloc &) {
         return orr_fail(err, ORR_ERR_NOMEM, "%s: out of memory in OpenImageIO", name);
+    } catch (const std::system_error &e) {
+        // A thread OpenImageIO could not start (EAGAIN), most often.
+        return orr_fail(err, ORR_ERR_NOMEM, "%s: OpenImageIO ran out of a system resource: %s (threads or address "
+                        "space: see ulimit -u and ulimit -v)", name, e.what());
     } catch (const std::exception &e) {
         return orr_fail(err, ORR_ERR_INTERNAL, "%s: OpenImageIO failed: %s", name, e.what());
     } catch (...) {
