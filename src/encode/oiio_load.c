@@ -57,10 +57,11 @@ static void load(void)
         const char *slash = strrchr(info.dli_fname, '/');
         int len = slash ? (int)(slash - info.dli_fname) : 1;
         const char *dir = slash ? info.dli_fname : ".";
-        static const char *const places[] = {"", "/..", "/../" ORRERY_MODULE_LIBDIR};
+        static const char *const places[][2] = {{"", ""}, {"/..", ""}, {"/../", ORRERY_MODULE_LIBDIR}};
         for (size_t k = 0; k < sizeof places / sizeof places[0]; k++) {
             char at[ORR_PATH_MAX];
-            if (snprintf(at, sizeof at, "%.*s%s", len, dir, places[k]) < (int)sizeof at && try_dir(at, strlen(at)))
+            if (snprintf(at, sizeof at, "%.*s%s%s", len, dir, places[k][0], places[k][1]) < (int)sizeof at &&
+                try_dir(at, strlen(at)))
                 return;
         }
     }
