@@ -42,7 +42,11 @@ typedef enum { ORR_F32 = 1, ORR_F64 = 2 } orr_dtype;
 typedef struct orr_array {
     const void *data;  /* NULL: absent */
     orr_dtype type;    /* ORR_F32 or ORR_F64 */
-    size_t stride;     /* bytes from one particle to the next; 0 means packed */
+    size_t stride;     /* bytes from one particle to the next; 0 means packed. At least the
+                        * element's size: a smaller one is refused, and so is one whose n
+                        * elements would run past the end of memory (a negative stride cast
+                        * to size_t). A broadcast array (one element repeated) is not packed:
+                        * copy it out first. */
 } orr_array;
 
 #define ORR_ARRAYS_MAX_FIELDS 8

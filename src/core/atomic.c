@@ -105,6 +105,34 @@ void orr_remove_live_temporaries(void)
             unlink(live_path[i]);
 }
 
+/* Whether process pid has ended: gone, or a zombie that its parent has not
+ * reaped yet (kill(pid, 0) succeeds on one: a killed run's job processes
+ * stay so until reaped, and a resume started meanwhile kept their
+ * temporaries). The state is the field after the name in /proc/PID/stat. */
+static int process_ended(long pid)
+{
+    if (kill((pid_t)pid, 0) != 0)
+        return errno == ESRCH;
+    char path[64], line[512];
+    snprintf(path, sizeof path, "/proc/%ld/stat", pid);
+    FILE *f = fopen(path, "r");
+    if (!f)
+        return 0; /* no /proc: alive, as kill says */
+    size_t n = fread(line, 1, sizeof line - 1, f);
+    fclose(f);
+    line[n] = '\0';
+    const char *end_of_name = strrchr(line, ')'); /* the name may hold spaces and ')' */
+    return end_of_name && (end_of_name[1] == ' ') && (end_of_name[2] == 'Z' || end_of_name[2] == 'X');
+}
+
+/* Whether name is a temporary this process made. */
+static int is_own_temporary(const char *name)
+{
+    char own[64];
+    snprintf(own, sizeof own, ORR_TEMP_PREFIX "%08x-%ld-", host_tag(), (long)getpid());
+    return strncmp(name, own, strlen(own)) == 0;
+}
+
 /* Whether name is a temporary of a process of this host that has ended. */
 static int is_stale_temporary(const char *name, unsigned host)
 {
@@ -116,7 +144,7 @@ static int is_stale_temporary(const char *name, unsigned host)
         return 0;
     if (tag != host || pid <= 0 || pid == (long)getpid())
         return 0;
-    return kill((pid_t)pid, 0) != 0 && errno == ESRCH;
+    return process_ended(pid);
 }
 
 int orr_remove_stale_temporaries(const char *dir)
@@ -156,6 +184,13 @@ orr_status orr_atomic_begin(orr_atomic_file *af, const char *final_path, orr_err
     struct stat st;
     if (stat(final_path, &st) == 0 && S_ISDIR(st.st_mode))
         return orr_fail(err, ORR_ERR_IO, "%s: a folder of that name is in the way of the output file", final_path);
+    /* A writer handed one of this process's temporaries (a frame's output
+     * batch) writes into it: a temporary of a temporary would only be a
+     * longer name to clean up. The commit's rename is then to itself. */
+    if (is_own_temporary(base)) {
+        snprintf(af->temp_path, sizeof af->temp_path, "%s", final_path);
+        return ORR_OK;
+    }
     /* The temporary file lives in the target's own folder so that the final
      * rename never crosses file systems and is therefore atomic. */
     int fd = create_temp(af->temp_path, sizeof af->temp_path, final_path, base);

@@ -1,9 +1,12 @@
 #include "core/fits_scan.h"
 
+#include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #define FITS_BLOCK 2880
 #define FITS_CARD 80
@@ -91,9 +94,22 @@ static long long data_bytes(const header_facts *h)
 
 orr_status orr_fits_refuse_compressed(const char *path, const char *what, orr_error *err)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    /* O_NONBLOCK: a FIFO's open would wait for a writer; cfitsio reads
+     * with seeks, and a device such as /dev/zero never ends. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
+    struct stat sb;
+    if (fd >= 0 && fstat(fd, &sb) == 0 && !S_ISREG(sb.st_mode)) {
+        close(fd);
+        return orr_fail(err, ORR_ERR_USAGE, "%s: %s; orrery reads %s from a regular FITS file (FITS files are "
+                        "read with seeks)", path, S_ISFIFO(sb.st_mode) ? "a pipe or FIFO" : S_ISCHR(sb.st_mode)
+                        ? "a character device" : S_ISDIR(sb.st_mode) ? "a folder" : "not a regular file", what);
+    }
+    FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
+    if (!f) {
+        if (fd >= 0)
+            close(fd);
         return ORR_OK;
+    }
     header_facts *h = malloc(sizeof *h);
     orr_status st = ORR_OK;
     for (int hdu = 1; h && hdu <= MAX_HDUS && read_header(f, h); hdu++) {

@@ -9,7 +9,9 @@
 
 #include "core/error.h"
 
-/* ORR_ERR_FORMAT naming path and the HDU when a header says ZIMAGE = T;
+/* ORR_ERR_USAGE when path is not a regular file (a FIFO, which is not
+ * waited on, a device such as /dev/zero, a folder); ORR_ERR_FORMAT naming
+ * path and the HDU when a header says ZIMAGE = T;
  * ORR_OK otherwise, also for a file that cannot be opened or is not FITS
  * at all (cfitsio then says what is wrong with it). `what` names the file's
  * role in the message ("PSF", "raw planes"). */

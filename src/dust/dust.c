@@ -1,5 +1,6 @@
 #include "dust/dust.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,6 +48,19 @@ orr_status orr_dust_settings_check(const orr_dust_settings *d, const char *path,
         return orr_fail(err, ORR_ERR_USAGE, "%s: dust.curve: file needs dust.curve_file", path);
     if (d->curve != ORR_DUST_CURVE_FILE && d->curve_file[0])
         return orr_fail(err, ORR_ERR_USAGE, "%s: dust.curve_file is given but dust.curve is not file", path);
+    /* The opacities are floats: a product beyond them would make every
+     * column infinite and its shadow's edge NaN. */
+    if (!(d->kappa_v * d->dust_to_gas <= FLT_MAX))
+        return orr_fail(err, ORR_ERR_USAGE, "%s: dust.kappa_v * dust.dust_to_gas = %g * %g is beyond single "
+                        "precision (%g): the opacities would be infinite; dust.kappa_v is in the scene's area per "
+                        "mass (docs/dust.md#units)", path, d->kappa_v, d->dust_to_gas, (double)FLT_MAX);
+    /* Read now even where only colour renders use it, so a missing or
+     * malformed file is an error in a single-band render too. */
+    if (d->curve == ORR_DUST_CURVE_FILE) {
+        orr_dust_curve curve;
+        if (orr_dust_curve_load(&curve, d->curve_file, err))
+            return orr_fail_prefix(err, "%s: ", path);
+    }
     return ORR_OK;
 }
 
@@ -75,6 +89,12 @@ static orr_status particle_opacity(const orr_dust_settings *d, const orr_dust_co
         scale *= z[i] / d->z_sun;
     }
     *k = (float)(scale * m);
+    if (isinf(*k))
+        return orr_fail(err, ORR_ERR_DATA, "%s: %s: dust particle %llu (id %llu, type %d): its opacity dust.kappa_v "
+                        "* dust.dust_to_gas * mass = %g is beyond single precision; give kappa_v in the scene's "
+                        "area per mass (docs/dust.md#units)", ctx->scene_path, src->info.path,
+                        (unsigned long long)(c->first_index + i), (unsigned long long)c->id[i], (int)c->type[i],
+                        scale * m);
     return ORR_OK;
 }
 

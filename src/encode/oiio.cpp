@@ -1,6 +1,10 @@
 // The OpenImageIO shim: the project's only C++, kept to what OpenImageIO's
-// C++ API needs. Every entry point is extern "C", catches every exception and
-// turns it into an orr_status; nothing here prints. See encode/oiio.h.
+// C++ API needs, built as a module of its own (liborrery-oiio.so) that
+// encode/oiio_load.c loads on first use, so that a program that writes no
+// such image never loads OpenImageIO and its two hundred libraries (whose
+// static initialisers start threads: under `ulimit -v` they aborted even
+// `orrery --version`). Every entry point catches every exception and turns
+// it into an orr_status; nothing here prints. See encode/oiio.h.
 #include <OpenImageIO/imageio.h>
 
 #include <cstdint>
@@ -11,6 +15,7 @@
 #include <memory>
 #include <new>
 #include <string>
+#include <system_error>
 #include <vector>
 
 // Most of the project's headers are plain C, without extern "C" guards.
@@ -18,6 +23,7 @@ extern "C" {
 #include "core/error.h"
 #include "core/atomic.h"
 #include "encode/oiio.h"
+#include "encode/oiio_module.h"
 #include "core/plane.h"
 }
 
@@ -313,6 +319,10 @@ template <class F> orr_status guarded(const char *path, orr_error *err, F f)
         return f();
     } catch (const std::bad_alloc &) {
         return orr_fail(err, ORR_ERR_NOMEM, "%s: out of memory in OpenImageIO", name);
+    } catch (const std::system_error &e) {
+        // A thread OpenImageIO could not start (EAGAIN), most often.
+        return orr_fail(err, ORR_ERR_NOMEM, "%s: OpenImageIO ran out of a system resource: %s (threads or address "
+                        "space: see ulimit -u and ulimit -v)", name, e.what());
     } catch (const std::exception &e) {
         return orr_fail(err, ORR_ERR_INTERNAL, "%s: OpenImageIO failed: %s", name, e.what());
     } catch (...) {
@@ -320,36 +330,33 @@ template <class F> orr_status guarded(const char *path, orr_error *err, F f)
     }
 }
 
-} // namespace
-
-extern "C" orr_status orr_write_oiio_named(const char *path, const float *pixels, int width, int height,
-                                           int nchannels, const char *const *channel_names, int bits,
-                                           const orr_image_meta *meta, orr_error *err)
+orr_status module_write(const char *path, const float *pixels, int width, int height, int nchannels,
+                        const char *const *channel_names, int bits, const orr_image_meta *meta, orr_error *err)
 {
     return guarded(path, err, [&] {
         return write_image(path, pixels, width, height, nchannels, channel_names, bits, meta, err);
     });
 }
 
-extern "C" orr_status orr_write_oiio(const char *path, const float *pixels, int width, int height, int nchannels,
-                                     int bits, const orr_image_meta *meta, orr_error *err)
-{
-    return orr_write_oiio_named(path, pixels, width, height, nchannels, nullptr, bits, meta, err);
-}
-
-extern "C" orr_status orr_read_oiio(const char *path, float **pixels, int *width, int *height, int *nchannels,
-                                    orr_error *err)
+orr_status module_read(const char *path, float **pixels, int *width, int *height, int *nchannels, orr_error *err)
 {
     return guarded(path, err, [&] { return read_image(path, pixels, width, height, nchannels, nullptr, err); });
 }
 
-extern "C" orr_status orr_read_oiio_planes(const char *path, orr_plane **planes, int *nplanes, orr_error *err)
+orr_status module_read_planes(const char *path, orr_plane **planes, int *nplanes, orr_error *err)
 {
     return guarded(path, err, [&] { return read_planes(path, planes, nplanes, err); });
 }
 
-extern "C" orr_status orr_oiio_get_attribute(const char *path, const char *name, char *buf, size_t size,
-                                             orr_error *err)
+orr_status module_get_attribute(const char *path, const char *name, char *buf, size_t size, orr_error *err)
 {
     return guarded(path, err, [&] { return get_attribute(path, name, buf, size, err); });
 }
+
+const orr_oiio_module the_module = {ORR_OIIO_MODULE_VERSION, module_write, module_read, module_read_planes,
+                                    module_get_attribute};
+
+} // namespace
+
+// The module's one exported symbol (src/encode/oiio_module.map).
+extern "C" const orr_oiio_module *orr_oiio_module_entry(void) { return &the_module; }

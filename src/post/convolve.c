@@ -61,8 +61,9 @@ orr_status orr_image_kernel_normalise(orr_image_kernel *k, orr_error *err)
     size_t n = (size_t)k->width * (size_t)k->height;
     for (size_t i = 0; i < n; i++)
         if (!isfinite(k->data[i]))
-            return orr_fail(err, ORR_ERR_DATA, "kernel value %zu (row %zu, column %zu) is not finite", i,
-                            i / (size_t)k->width, i % (size_t)k->width);
+            return orr_fail(err, ORR_ERR_DATA, "the kernel's element at row %zu, column %zu is %g, not a finite "
+                            "number (values beyond single precision?)", i / (size_t)k->width, i % (size_t)k->width,
+                            (double)k->data[i]);
     double s = orr_image_kernel_sum(k);
     if (!(s > 0) || !isfinite(s))
         return orr_fail(err, ORR_ERR_DATA, "kernel cannot be normalised: its sum is %g", s);

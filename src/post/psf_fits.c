@@ -116,7 +116,7 @@ static int open_first_image(const char *path, fitsfile **f, int *status)
     return fits_movabs_hdu(*f, 1, NULL, status);
 }
 
-/* Reads the pixels (row 0 at the top) and the PIXSCALE keyword (0 if absent). */
+/* Reads the pixels (row 0 at the top) and the PIXSCALE keyword (NaN if absent). */
 static orr_status read_image(const char *path, float **pixels, int *w, int *h, double *pixscale,
                              orr_error *err)
 {
@@ -148,10 +148,10 @@ static orr_status read_image(const char *path, float **pixels, int *w, int *h, d
         return orr_fail(err, ORR_ERR_FORMAT, "%s: a PSF must be a 2-D image of at most %d pixels a side", path,
                         FITS_MAX_SIDE);
     }
-    *pixscale = 0;
+    *pixscale = NAN;
     if (!status && fits_read_key(f, TDOUBLE, "PIXSCALE", pixscale, NULL, &status) == KEY_NO_EXIST) {
         status = 0;
-        *pixscale = 0;
+        *pixscale = NAN;
         fits_clear_errmsg();
     }
     float *buf = NULL;
@@ -304,15 +304,22 @@ static orr_status resolve_scale(const char *path, const orr_psf_fits_options *o,
                                 orr_psf_fits_info *info, orr_error *err)
 {
     int sub = o->subsample > 1 ? o->subsample : 1;
-    info->file_arcsec_per_pixel = o->file_arcsec_per_pixel > 0 ? o->file_arcsec_per_pixel : pixscale;
+    double file_scale = o->file_arcsec_per_pixel > 0 ? o->file_arcsec_per_pixel : pixscale;
+    int usable = file_scale > 0 && !isinf(file_scale);
+    info->file_arcsec_per_pixel = usable ? file_scale : 0; /* 0: unknown */
     if (!(o->arcsec_per_pixel > 0)) {
         info->ratio = sub;
         return ORR_OK;
     }
-    if (!(info->file_arcsec_per_pixel > 0))
+    if (isnan(file_scale))
         return orr_fail(err, ORR_ERR_USAGE,
                         "%s: no PIXSCALE keyword, so it cannot be resampled to %g arcsec per pixel: set psf.arcsec_per_pixel: 0 to use the file's own pixels", path,
                         o->arcsec_per_pixel);
+    if (!usable)
+        return orr_fail(err, ORR_ERR_FORMAT,
+                        "%s: PIXSCALE = %g is not a pixel scale (arcsec per pixel, above 0), so it cannot be resampled "
+                        "to %g arcsec per pixel: mend the file's PIXSCALE or set psf.arcsec_per_pixel: 0 to use the "
+                        "file's own pixels", path, file_scale, o->arcsec_per_pixel);
     info->ratio = o->arcsec_per_pixel / info->file_arcsec_per_pixel;
     return check_ratio(path, o, w, h, info, err);
 }
@@ -384,7 +391,7 @@ orr_status orr_psf_load_fits(const char *path, const orr_psf_fits_options *opt, 
         return st;
     float *img = NULL;
     int w = 0, h = 0;
-    double pixscale = 0;
+    double pixscale = NAN;
     if ((st = read_image(path, &img, &w, &h, &pixscale, err)))
         return st;
     info->file_width = w;

@@ -2,11 +2,38 @@
  * back, the PSF, the colour synthesis or stretch, the pictures. */
 #include "render/view_state.h"
 
+#include <errno.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "encode/fits_read.h"
 #include "post/grade.h"
+
+orr_status orr_compose_check_raw_dir(const orr_scene *s, orr_error *err)
+{
+    const char *dir = s->output.dir[0] ? s->output.dir : ".";
+    struct stat st;
+    if (s->compose.nlayers > 0 || stat(dir, &st) == 0 || errno != ENOENT)
+        return ORR_OK;
+    return orr_fail(err, ORR_ERR_IO,
+                    "%s: no such folder: compose reads the planes `orrery render` wrote from the output "
+                    "folder; give the render's -o or output.dir",
+                    dir);
+}
+
+/* The reason a raw-planes file cannot be read, when it is simply not there. */
+static orr_status missing_raw(const view_state *v, const char *path, orr_error *err)
+{
+    struct stat st;
+    if (stat(path, &st) == 0 || errno != ENOENT)
+        return ORR_OK;
+    return orr_fail(err, ORR_ERR_IO,
+                    "%s: no such file: compose reads %s; render the scene first, with the same output.dir and "
+                    "output.name",
+                    path, v->scene->regrade_final ? "the FITS planes that `orrery render` wrote"
+                                                  : "the raw planes that `orrery render` writes with output.raw: true");
+}
 
 /* One view's raw planes into its planes: the file must hold what the scene
  * renders (one weight plane, or X, Y, Z) at the scene's image size. */
@@ -17,6 +44,8 @@ static orr_status load_raw(view_state *v, orr_error *err)
     orr_status st = orr_view_output_path(v->scene, v->scene->regrade_final ? "fits" : "raw.fits", path, err);
     orr_plane raw[3];
     int n = 0;
+    if (!st)
+        st = missing_raw(v, path, err);
     if (!st)
         st = orr_read_fits_planes(path, raw, 3, &n, err);
     if (!st && (n != fits_nplanes(v) || raw[0].width != v->proj.width || raw[0].height != v->proj.height))

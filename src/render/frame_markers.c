@@ -90,9 +90,11 @@ static size_t piece_len(size_t size, size_t piece, size_t k)
  * joined (zlib's crc32_combine), which gives the whole file's CRC. */
 static unsigned long file_crc(const char *path, int *ok)
 {
-    int fd = open(path, O_RDONLY);
+    /* O_NONBLOCK: should a FIFO come here, its open does not wait for a
+     * writer (reads of a regular file never block, the flag or not). */
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
     struct stat sb;
-    *ok = fd >= 0 && fstat(fd, &sb) == 0;
+    *ok = fd >= 0 && fstat(fd, &sb) == 0 && S_ISREG(sb.st_mode);
     size_t size = *ok ? (size_t)sb.st_size : 0, npieces = (size + CRC_PIECE - 1) / CRC_PIECE;
     unsigned long *crcs = *ok && npieces > 1 ? malloc(npieces * sizeof *crcs) : NULL;
     if (!crcs) /* small, or no memory for the pieces' sums: one piece */
@@ -118,7 +120,8 @@ static unsigned long file_crc(const char *path, int *ok)
 }
 
 /* "input LABEL SIZE MTIME CRC PATH": an input file's identity. Its size and
- * modification time always, its checksum when small ("-" otherwise). */
+ * modification time always, its checksum when it is a small regular file
+ * ("-" otherwise: a FIFO or device is read once, by the reader). */
 static orr_status add_input(char **head, const char *label, const char *path, orr_error *err)
 {
     struct stat st;
@@ -126,7 +129,7 @@ static orr_status add_input(char **head, const char *label, const char *path, or
         return append(head, err, "input %s missing - - %s\n", label, path);
     char crc[16] = "-";
     int ok = 0;
-    if (st.st_size <= SMALL_INPUT_BYTES) {
+    if (S_ISREG(st.st_mode) && st.st_size <= SMALL_INPUT_BYTES) {
         unsigned long c = file_crc(path, &ok);
         if (ok)
             snprintf(crc, sizeof crc, "%08lx", c);

@@ -225,6 +225,19 @@ static orr_status expand_views(const orr_plan *plan, const orr_scene *const *sce
     return ORR_OK;
 }
 
+
+/* Each scene's output folder made, or found unwritable. A compose reads
+ * its raw planes from there (its layers may be elsewhere): without layers
+ * a folder that is not there is an error, not made empty. */
+static orr_status check_output_dirs(orr_plan_purpose purpose, const orr_scene *const *scenes, int n,
+                                    orr_error *err)
+{
+    orr_status st = ORR_OK;
+    for (int k = 0; k < n && !st; k++)
+        if (purpose != ORR_PLAN_COMPOSE || !(st = orr_compose_check_raw_dir(scenes[k], err)))
+            st = orr_check_output_dir(scenes[k]->output.dir, err);
+    return st;
+}
 orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n, orr_plan_purpose purpose,
                            orr_error *err)
 {
@@ -237,10 +250,8 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
         return ORR_ERR_NOMEM;
     plan->purpose = purpose;
     plan->nscenes = n;
-    orr_status st = ORR_OK;
     /* Fail on an unwritable output folder before any slow work. */
-    for (int k = 0; k < n && !st; k++)
-        st = orr_check_output_dir(scenes[k]->output.dir, err);
+    orr_status st = check_output_dirs(purpose, scenes, n, err);
     if (!st && !(plan->planning_reports = orr_calloc((size_t)n, sizeof *plan->planning_reports, "reports", err)))
         st = ORR_ERR_NOMEM;
     if (!st)
@@ -687,11 +698,9 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_
      * matters only for FITS cards, and compose writes PNGs). */
     orr_sky_frame observer = orr_sky_frame_world(orr_v3(0, 0, 0));
     const orr_frame_time still = orr_frame_at(0, 1, scenes[0]->animation.fps, 0, 0);
-    orr_status st = ORR_OK;
     /* As a render does: the output folder is made, or found unwritable,
-     * before any work (a compose's layers may be read from elsewhere). */
-    for (int k = 0; k < plan->nscenes && !st; k++)
-        st = orr_check_output_dir(scenes[k]->output.dir, err);
+     * before any work. */
+    orr_status st = check_output_dirs(plan->purpose, scenes, plan->nscenes, err);
     orr_eye_views views = {0};
     int begun = 0;
     for (int k = 0; k < plan->n; k++)

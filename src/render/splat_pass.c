@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "reduce/lanes.h"
+#include "splat/healpix_kernel.h"
 #include "post/view_psf.h"
 
 /* The splat's reductions (reduce/lanes.h): lanes for most views, bands for
@@ -451,9 +452,64 @@ static void free_work(splat_work *w)
     free(w->pop_of);
 }
 
+/* A HEALPix view's SPH work limit for this frame: so many kernel samples
+ * per thread (splat/healpix_kernel.h). */
+static void start_healpix_budgets(view_state *views, int nviews, const orr_source *src, orr_progress_fn progress,
+                                  void *progress_user)
+{
+    const uint64_t limit = ORR_HEALPIX_SAMPLE_LIMIT_PER_THREAD * (uint64_t)omp_get_max_threads();
+    for (int k = 0; k < nviews; k++) {
+        orr_healpix_budget *b = views[k].use_sph ? views[k].sph.healpix_budget : NULL;
+        if (!b)
+            continue;
+        orr_healpix_budget_start(b, limit, src->info.count);
+        /* A map's kernels can take minutes within one chunk: their own
+         * progress, from the first HEALPix view (one line is enough). */
+        b->progress = progress;
+        b->progress_user = progress_user;
+        progress = NULL;
+    }
+}
+
+/* The frame has at least the particles read so far (a count the source
+ * does not know beforehand, a text table's, is then foreseen from them). */
+static void expect_at_least(view_state *views, int nviews, int64_t read)
+{
+    for (int k = 0; k < nviews; k++) {
+        orr_healpix_budget *b = views[k].use_sph ? views[k].sph.healpix_budget : NULL;
+        if (b && b->expected < read)
+            b->expected = read;
+    }
+}
+
+/* A HEALPix view whose kernels went beyond the limit: refused, with the
+ * figures and the ways to a frame that can be made. */
+static orr_status check_healpix_budgets(const view_state *views, int nviews, orr_error *err)
+{
+    for (int k = 0; k < nviews; k++) {
+        orr_healpix_budget *b = views[k].use_sph ? views[k].sph.healpix_budget : NULL;
+        if (!b || !atomic_load(&b->exceeded))
+            continue;
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "%s: camera.healpix_nside %lld with deposit: sph: the frame's kernels need more than "
+                        "the limit of %.3g kernel samples (%.2g per thread, about a minute each; %.3g foreseen "
+                        "from the first %llu of %lld particles): kernels near the camera cover much of the sky, "
+                        "at up to 12 nside^2 samples each. Use a smaller camera.healpix_nside (the work goes as "
+                        "its square), deposit: ngp, or a camera farther from the particles",
+                        views[k].scene->path, (long long)views[k].proj.healpix_nside, (double)b->limit,
+                        (double)ORR_HEALPIX_SAMPLE_LIMIT_PER_THREAD,
+                        (double)atomic_load(&b->foreseen) / (double)atomic_load(&b->foreseen_particles) *
+                            (double)b->expected,
+                        (unsigned long long)atomic_load(&b->foreseen_particles), (long long)b->expected);
+    }
+    return ORR_OK;
+}
+
 orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_progress_fn progress,
                                void *progress_user, orr_error *err)
 {
+    start_healpix_budgets(views, nviews, src, progress, progress_user);
+    int64_t read = 0;
     splat_work *work = orr_malloc(sizeof *work, "splat work", err);
     if (!work)
         return ORR_ERR_NOMEM;
@@ -476,7 +532,10 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
         charge(&views[0], ORR_STAGE_SOURCE);
         if (st || c->n == 0)
             break;
-        if ((st = reserve_blocks(work, c->n, err)) || (st = splat_chunk(views, nviews, src, c, work, xyz, err)))
+        read += (int64_t)c->n;
+        expect_at_least(views, nviews, read);
+        if ((st = reserve_blocks(work, c->n, err)) || (st = splat_chunk(views, nviews, src, c, work, xyz, err)) ||
+            (st = check_healpix_budgets(views, nviews, err)))
             break;
         /* From this thread alone, between chunks. */
         if (progress)

@@ -208,6 +208,11 @@ orr_status orr_view_write_outputs(view_state *v, orr_error *err);
 orr_status orr_view_compose(view_state *v, orr_error *err);
 /* A HEALPix view's map description (nside, order, COORDSYS when known). */
 orr_healpix_info orr_view_healpix_info(const view_state *v);
+
+/* A compose that reads its raw planes (no compose.layers) reads them from
+ * output.dir: fails, naming the folder and what compose reads, when the
+ * folder is not there (it is not made empty). */
+orr_status orr_compose_check_raw_dir(const orr_scene *s, orr_error *err);
 /* DIR/NAME.ext of the scene's output. */
 orr_status orr_view_output_path(const orr_scene *s, const char *ext, char *path, orr_error *err);
 

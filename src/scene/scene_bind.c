@@ -242,6 +242,15 @@ static orr_status bind_text(const bind_ctx *c, const key_spec *k, const value_at
     if (k->type == K_FILENAME && strchr(t, '/'))
         return fail_at(c->err, at->origin, at->line, "%s: '%s' must be a file name, without '/' (%s)", at->path, t,
                        filename_hint(k->key));
+    /* A newline or other control character (a YAML block scalar keeps its
+     * last newline) would end up in file names and FITS cards unseen. */
+    for (const unsigned char *p = (const unsigned char *)t; k->type == K_FILENAME && *p; p++)
+        if (*p < 0x20 || *p == 0x7f)
+            return fail_at(c->err, at->origin, at->line,
+                           "%s: a file name without control characters is needed, but character %zu of %zu is "
+                           "byte 0x%02x%s", at->path, (size_t)(p - (const unsigned char *)t) + 1, strlen(t), *p,
+                           *p == '\n' ? " (a newline: a YAML block scalar, | or >, keeps its last one; write "
+                                         "the value on the key's line)" : "");
     /* Paths in the scene are relative to its folder, so a scene and its data
      * can move together; a --set path (line 0) was typed in a shell, so it
      * stays relative to the working directory like any other argument. "-"

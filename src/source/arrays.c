@@ -19,9 +19,11 @@ typedef struct arrays_state {
     const orr_array *extra_from[ORR_MAX_EXTRA_FIELDS];
 } arrays_state;
 
+static size_t element_size(const orr_array *a) { return a->type == ORR_F64 ? sizeof(double) : sizeof(float); }
+
 static double element(const orr_array *a, size_t i)
 {
-    size_t stride = a->stride ? a->stride : (a->type == ORR_F64 ? sizeof(double) : sizeof(float));
+    size_t stride = a->stride ? a->stride : element_size(a);
     const char *p = (const char *)a->data + i * stride;
     if (a->type == ORR_F64) {
         double v;
@@ -47,16 +49,18 @@ static uint8_t type_of(const orr_particle_arrays *a, size_t i)
     return a->type ? a->type[i * (a->type_stride ? a->type_stride : 1)] : 0;
 }
 
+/* 1 when p may be read as an array of elements of this alignment. */
+static int aligned(const void *p, size_t alignment) { return (uintptr_t)p % alignment == 0; }
+
 /* Elements [first, first + n) of a column as floats: the caller's array
- * itself when it is packed floats, otherwise converted into own. */
+ * itself when it is packed, aligned floats, otherwise converted into own. */
 static float *column(float *own, const orr_array *a, size_t first, size_t n)
 {
-    size_t size = a->type == ORR_F64 ? sizeof(double) : sizeof(float);
-    size_t stride = a->stride ? a->stride : size;
+    size_t stride = a->stride ? a->stride : element_size(a);
     const char *p = (const char *)a->data + first * stride;
-    if (a->type == ORR_F32 && stride == sizeof(float))
+    if (a->type == ORR_F32 && stride == sizeof(float) && aligned(p, _Alignof(float)))
         return (float *)(uintptr_t)p; /* read only: see arrays_state */
-    if (a->type == ORR_F64 && stride == sizeof(double)) {
+    if (a->type == ORR_F64 && stride == sizeof(double) && aligned(p, _Alignof(double))) {
         const double *restrict d = (const double *)(const void *)p;
         for (size_t i = 0; i < n; i++)
             own[i] = (float)d[i];
@@ -79,7 +83,7 @@ static void take_all(arrays_state *st, orr_chunk *c, size_t n)
     c->y = column(own->y, &a->y, first, n);
     c->z = column(own->z, &a->z, first, n);
     c->mass = a->mass.data ? column(own->mass, &a->mass, first, n) : own->mass;
-    if (a->id && (a->id_stride == 0 || a->id_stride == sizeof(uint64_t))) {
+    if (a->id && (a->id_stride == 0 || a->id_stride == sizeof(uint64_t)) && aligned(a->id, _Alignof(uint64_t))) {
         c->id = (uint64_t *)(uintptr_t)(a->id + first);
     } else {
         for (size_t i = 0; i < n; i++)
@@ -162,6 +166,59 @@ static const orr_source_ops arrays_ops = {.next = arrays_next, .rewind = arrays_
 
 static int valid_array(const orr_array *a) { return a->type == ORR_F32 || a->type == ORR_F64; }
 
+/* The arrays every caller may give, and their names in messages. */
+enum { NSTANDARD = 8 };
+static const char *const standard_names[NSTANDARD] = {"x", "y", "z", "mass", "h", "vx", "vy", "vz"};
+
+static void standard_arrays(const orr_particle_arrays *a, const orr_array *all[NSTANDARD])
+{
+    const orr_array *list[NSTANDARD] = {&a->x, &a->y, &a->z, &a->mass, &a->h, &a->vx, &a->vy, &a->vz};
+    memcpy(all, list, sizeof list);
+}
+
+/* Checks one array's stride: 0 (packed) or at least an element, and n
+ * elements of it that end inside the address space. Strides are unsigned
+ * byte counts, so a negative stride (a reversed NumPy view) arrives as a
+ * huge one that wraps around. A broadcast array (NumPy's stride 0) cannot
+ * be told from a packed one: the caller must copy it out (docs/insitu.md). */
+static orr_status check_stride(const char *what, const char *name, const void *data, size_t stride, size_t size,
+                               size_t n, orr_error *err)
+{
+    if (!data || n == 0)
+        return ORR_OK;
+    if (stride != 0 && stride < size)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "%s: array %s has a stride of %zu bytes, less than its %zu-byte elements: the elements "
+                        "would overlap (0 means packed; a broadcast array must be copied out first)",
+                        what, name, stride, size);
+    size_t step = stride ? stride : size;
+    uintptr_t room = UINTPTR_MAX - (uintptr_t)data; /* bytes from data to the end of the address space */
+    if (room < size - 1 || (n - 1) > (room - (size - 1)) / step)
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "%s: array %s: %zu elements %zu bytes apart would run past the end of memory (strides are "
+                        "unsigned byte counts: a negative stride must be made positive, e.g. by a copy)",
+                        what, name, n, step);
+    return ORR_OK;
+}
+
+/* Checks every array's stride (check_stride), ids and types included. */
+static orr_status check_strides(const orr_particle_arrays *a, const char *what, orr_error *err)
+{
+    const orr_array *all[NSTANDARD];
+    standard_arrays(a, all);
+    orr_status s = ORR_OK;
+    for (int k = 0; !s && k < NSTANDARD; k++)
+        s = check_stride(what, standard_names[k], all[k]->data, all[k]->stride, element_size(all[k]), a->n, err);
+    for (int k = 0; !s && k < a->nfields; k++)
+        s = check_stride(what, a->field_names[k], a->fields[k].data, a->fields[k].stride,
+                         element_size(&a->fields[k]), a->n, err);
+    if (!s)
+        s = check_stride(what, "id", a->id, a->id_stride, sizeof(uint64_t), a->n, err);
+    if (!s)
+        s = check_stride(what, "type", a->type, a->type_stride, sizeof(uint8_t), a->n, err);
+    return s;
+}
+
 /* Checks the arrays and lists the extra fields: velocities, then the named ones. */
 static orr_status collect_fields(arrays_state *st, const char *what, const char **names, int *nextra,
                                  orr_error *err)
@@ -169,12 +226,12 @@ static orr_status collect_fields(arrays_state *st, const char *what, const char 
     const orr_particle_arrays *a = &st->a;
     if (!a->x.data || !a->y.data || !a->z.data)
         return orr_fail(err, ORR_ERR_USAGE, "%s: the positions x, y, z are required", what);
-    const orr_array *all[] = {&a->x, &a->y, &a->z, &a->mass, &a->h, &a->vx, &a->vy, &a->vz};
-    static const char *const all_names[] = {"x", "y", "z", "mass", "h", "vx", "vy", "vz"};
-    for (size_t k = 0; k < sizeof all / sizeof all[0]; k++)
+    const orr_array *all[NSTANDARD];
+    standard_arrays(a, all);
+    for (int k = 0; k < NSTANDARD; k++)
         if (all[k]->data && !valid_array(all[k]))
             return orr_fail(err, ORR_ERR_USAGE, "%s: array %s has an unknown element type %d (ORR_F32 or ORR_F64)",
-                            what, all_names[k], (int)all[k]->type);
+                            what, standard_names[k], (int)all[k]->type);
     if (a->nfields < 0 || a->nfields > ORR_ARRAYS_MAX_FIELDS)
         return orr_fail(err, ORR_ERR_USAGE, "%s: %d named fields; at most %d", what, a->nfields,
                         ORR_ARRAYS_MAX_FIELDS);
@@ -182,7 +239,7 @@ static orr_status collect_fields(arrays_state *st, const char *what, const char 
     const orr_array *vel[3] = {&a->vx, &a->vy, &a->vz};
     for (int k = 0; k < 3; k++)
         if (vel[k]->data) {
-            names[n] = all_names[5 + k];
+            names[n] = standard_names[5 + k];
             st->extra_from[n++] = vel[k];
         }
     for (int k = 0; k < a->nfields; k++) {
@@ -196,7 +253,7 @@ static orr_status collect_fields(arrays_state *st, const char *what, const char 
         st->extra_from[n++] = &a->fields[k];
     }
     *nextra = n;
-    return ORR_OK;
+    return check_strides(a, what, err);
 }
 
 /* The caller's struct_size (orrery.h): 0 or this library's size. A

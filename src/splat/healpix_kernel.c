@@ -3,6 +3,7 @@
 #include <chealpix.h>
 #include <math.h>
 #include <stdlib.h>
+#include <time.h>
 
 #include "core/vecmath.h"
 
@@ -159,6 +160,84 @@ static void point_deposit(const orr_healpix_target *t, const double dir[3], floa
     t->data[pix] += w;
 }
 
+static int64_t now_ms(void);
+
+void orr_healpix_budget_start(orr_healpix_budget *b, uint64_t limit, int64_t expected)
+{
+    b->limit = limit;
+    b->expected = expected > 0 ? expected : 0;
+    atomic_store(&b->samples, 0);
+    atomic_store(&b->particles, 0);
+    atomic_store(&b->foreseen, 0);
+    atomic_store(&b->foreseen_particles, 0);
+    atomic_store(&b->exceeded, 0);
+    atomic_store(&b->reporting, 0);
+    atomic_store(&b->next_report, now_ms() + 1000);
+}
+
+/* The sub-pixel centres a support of angular radius `radius` holds, about:
+ * its cap's solid angle over a sub-pixel's (4 pi / (12 nside_f^2)). */
+static uint64_t kernel_samples(int64_t nside_f, double radius)
+{
+    const double cap = radius >= ORR_PI ? 2.0 : 1.0 - cos(radius); /* solid angle / 2 pi */
+    return (uint64_t)(6.0 * cap * (double)nside_f * (double)nside_f) + 1;
+}
+
+/* The support's angular radius: a chord of 2 theta (u < 4), an angle of
+ * 2 asin(theta); the whole sphere from theta = 1. */
+static double support_radius(double theta) { return theta >= 1.0 ? ORR_PI : 2.0 * asin(theta); }
+
+static int sub_level(int64_t nside, double theta);
+
+uint64_t orr_healpix_kernel_cost(int64_t nside, double theta)
+{
+    return kernel_samples(nside << sub_level(nside, theta), support_radius(theta));
+}
+
+int orr_healpix_budget_foresee(orr_healpix_budget *b, uint64_t samples, size_t n)
+{
+    double seen = (double)(atomic_fetch_add(&b->foreseen_particles, n) + n);
+    double cost = (double)(atomic_fetch_add(&b->foreseen, samples) + samples);
+    if (b->expected > 0 && cost / seen * (double)b->expected > 4.0 * (double)b->limit)
+        atomic_store(&b->exceeded, 1);
+    return !atomic_load(&b->exceeded);
+}
+
+static int64_t now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * 1000 + ts.tv_nsec / 1000000;
+}
+
+/* Calls the progress function when a second has passed since the last
+ * call, from whichever thread gets there first (the others go on). */
+static void report_progress(orr_healpix_budget *b, uint64_t done)
+{
+    int idle = 0;
+    if (!b->progress || now_ms() < atomic_load(&b->next_report) ||
+        !atomic_compare_exchange_strong(&b->reporting, &idle, 1))
+        return;
+    atomic_store(&b->next_report, now_ms() + 1000);
+    b->progress(b->progress_user, done, b->expected > 0 ? b->expected : -1);
+    atomic_store(&b->reporting, 0);
+}
+
+/* Takes the kernel's samples from the budget: 0 when they go beyond it. */
+static int take_budget(orr_healpix_budget *b, uint64_t samples)
+{
+    if (!b)
+        return 1;
+    if (atomic_load(&b->exceeded) || atomic_fetch_add(&b->samples, samples) + samples > b->limit) {
+        atomic_store(&b->exceeded, 1);
+        return 0;
+    }
+    uint64_t done = atomic_fetch_add(&b->particles, 1) + 1;
+    if (done % 16 == 0)
+        report_progress(b, done);
+    return 1;
+}
+
 int orr_healpix_kernel_deposit(const orr_healpix_target *t, const double dir[3], double theta, float w,
                                orr_healpix_scratch *scratch)
 {
@@ -171,9 +250,10 @@ int orr_healpix_kernel_deposit(const orr_healpix_target *t, const double dir[3],
     c.z = fmax(-1.0, fmin(1.0, dir[2]));
     c.sin_t = hypot(dir[0], dir[1]);
     c.phi = atan2(dir[1], dir[0]);
-    /* The support is a chord of 2 theta (u < 4): an angle of 2 asin(theta). */
-    const double radius = theta >= 1.0 ? ORR_PI : 2.0 * asin(theta);
+    const double radius = support_radius(theta);
     c.cos_r = theta >= 1.0 ? -1.0 : cos(radius);
+    if (!take_budget(t->budget, kernel_samples(c.nside_f, radius)))
+        return -1;
     /* The rings the support can reach, from its colatitude range. */
     const double colat = acos(c.z);
     const double z_top = cos(fmax(0.0, colat - radius)), z_bottom = cos(fmin(ORR_PI, colat + radius));

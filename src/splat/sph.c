@@ -1624,7 +1624,13 @@ orr_status orr_sph_init(orr_sph *s, const orr_kernel *k, const orr_projection *p
     s->kernel = k;
     s->proj = *proj;
     s->sky = orr_projection_is_sky(proj);
-    if (!s->sky || orr_projection_traits_of(proj->kind).pixel_table) /* HEALPix has its own search: healpix_deposit */
+    if (orr_projection_traits_of(proj->kind).pixel_table) { /* HEALPix has its own search: healpix_deposit */
+        s->healpix_budget = orr_calloc(1, sizeof *s->healpix_budget, "HEALPix work limit", err);
+        if (s->healpix_budget)
+            orr_healpix_budget_start(s->healpix_budget, UINT64_MAX, 0);
+        return s->healpix_budget ? ORR_OK : ORR_ERR_NOMEM;
+    }
+    if (!s->sky)
         return ORR_OK;
     orr_status st = build_sky_index(s, err);
     if (st)
@@ -1644,6 +1650,8 @@ void orr_sph_free(orr_sph *s)
 {
     orr_sky_cores_free(s->cores);
     s->cores = NULL;
+    free(s->healpix_budget);
+    s->healpix_budget = NULL;
     free(s->tiles);
     free(s->groups);
     free(s->safe);
@@ -1690,25 +1698,52 @@ static void add_tally(orr_deposit_stats *stats, const block_tally *t, size_t n)
     stats->n_particles += n;
 }
 
+/* The camera-frame distance of a block's particle i (0 without positions). */
+static double particle_distance(const orr_sph_block *b, size_t i)
+{
+    return b->x && b->y && b->z
+               ? sqrt((double)b->x[i] * b->x[i] + (double)b->y[i] * b->y[i] + (double)b->z[i] * b->z[i])
+               : 0.0;
+}
+
+/* The block's kernel samples estimated before any is drawn, so that a
+ * frame far beyond the work limit is refused at its first block. */
+static int foresee_healpix_work(const orr_sph *s, const orr_sph_block *b)
+{
+    if (!s->healpix_budget)
+        return 1;
+    uint64_t samples = 0;
+    for (size_t i = 0; i < b->n; i++) {
+        const double h = b->h ? b->h[i] : 0.0, r = particle_distance(b, i);
+        if (b->visible[i] && h > 0 && isfinite(h) && r > 0)
+            samples += orr_healpix_kernel_cost(s->proj.healpix_nside, h / r);
+    }
+    return orr_healpix_budget_foresee(s->healpix_budget, samples, b->n);
+}
+
 /* A HEALPix map (splat/healpix_kernel.h): each kernel integrated over the
  * map's own pixels; a particle without a smoothing length goes whole into
  * its pixel, as deposit: ngp puts it. */
 static void healpix_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane, orr_deposit_stats *stats)
 {
-    const orr_healpix_target t = {s->kernel, s->proj.healpix_nside, s->proj.healpix_nested, plane->data};
+    const orr_healpix_target t = {s->kernel, s->proj.healpix_nside, s->proj.healpix_nested, plane->data,
+                                  s->healpix_budget};
     orr_healpix_scratch scratch = {0};
     block_tally tally = {0};
+    if (!foresee_healpix_work(s, b))
+        return; /* beyond the frame's work limit: it is refused */
     for (size_t i = 0; i < b->n; i++) {
         if (!tally_visible(b, i, &tally))
             continue;
         const double h = b->h ? b->h[i] : 0.0;
-        const double r = b->x && b->y && b->z ? sqrt((double)b->x[i] * b->x[i] + (double)b->y[i] * b->y[i] +
-                                                     (double)b->z[i] * b->z[i])
-                                              : 0.0;
+        const double r = particle_distance(b, i);
         if (h > 0 && isfinite(h) && r > 0) {
             /* HEALPix's frame (frame/projection.h): the pole the camera's up (-y), phi = 0 its view (+z). */
             const double dir[3] = {b->z[i] / r, -b->x[i] / r, -b->y[i] / r};
-            if (orr_healpix_kernel_deposit(&t, dir, h / r, b->w[i], &scratch))
+            int done = orr_healpix_kernel_deposit(&t, dir, h / r, b->w[i], &scratch);
+            if (done < 0)
+                break; /* beyond the frame's work limit: it is refused */
+            if (done)
                 continue;
         }
         orr_deposit_stats one_stats = {0};

@@ -69,6 +69,7 @@ typedef struct orr_sph {
     double *eq_lat;            /* per row: cos b and -sin b (2 * height) */
     double *eq_omega;          /* per pixel: its solid angle (width * height) */
     struct orr_sky_cores *cores; /* a sky map's PSF cores drawn from stamps (splat/sky_cores.h), or NULL */
+    struct orr_healpix_budget *healpix_budget; /* a HEALPix map's work limit (splat/healpix_kernel.h), or NULL */
 } orr_sph;
 
 /* One block of particles as the renderer holds it after orr_project_batch. */

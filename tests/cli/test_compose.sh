@@ -142,5 +142,5 @@ expect_fail 2 "--set psf.kind: the scene is a sky map" none -- compose dome.yaml
 expect_fail 1 "out/flat.raw.fits: holds 1 plane\(s\) of 120 x 90, but .*flat.yaml renders 1 of 64 x 90" none -- \
   compose flat.yaml --set image.width=64
 sed 's/name: flat/name: never/' flat.yaml >never.yaml
-expect_fail 1 "out/never.raw.fits: cannot open FITS file" none -- compose never.yaml
+expect_fail 1 "out/never.raw.fits: no such file: compose reads the raw planes that .orrery render. writes with output.raw: true" none -- compose never.yaml
 finish

@@ -154,6 +154,18 @@ expect_fail 2 "dust.kappa_v" bad -- render blob.yaml "${dust[@]}" --set dust.kap
 expect_fail 2 "dust.curve: file needs dust.curve_file" bad -- render sky.yaml "${dust[@]}" --set dust.curve=file
 expect_fail 1 "unsorted.txt:3: dust.curve: wavelength 380 nm after 400 nm" bad -- render sky.yaml "${dust[@]}" \
   --set dust.curve=file --set dust.curve_file=unsorted.txt
+# A curve file is read in single-band renders too, though only colour uses it.
+expect_fail 1 "blob.yaml: unsorted.txt:3: dust.curve: wavelength 380 nm after 400 nm" bad -- render blob.yaml \
+  "${dust[@]}" --set dust.curve=file --set dust.curve_file=unsorted.txt
+expect_fail 1 "blob.yaml: no-such-curve.txt: dust.curve: cannot open" bad -- render blob.yaml "${dust[@]}" \
+  --set dust.curve=file --set dust.curve_file=no-such-curve.txt
+# Opacities beyond single precision: refused by name, not found later as a
+# star's "non-finite weight".
+expect_fail 2 "dust.kappa_v \* dust.dust_to_gas = 1e\+300 \* 0.01 is beyond single precision" bad -- \
+  render blob.yaml "${dust[@]}" --set dust.kappa_v=1e300
+printf 'x y z mass h type\n0 0 -5 1 0.1 1\n0 0 0 1e10 0.5 0\n' >heavy.txt
+expect_fail 1 "heavy.txt: dust particle 1 \(id 1, type 0\): its opacity dust.kappa_v \* dust.dust_to_gas \* mass = 1e\+39 is beyond single precision" \
+  bad -- render blob.yaml "${dust[@]}" --set dust.kappa_v=1e31 --set input.file=heavy.txt
 expect_fail 1 "negmass.txt:3: column 'mass': particle 1: mass -1 is negative" bad -- render blob.yaml "${dust[@]}" \
   --set input.file=negmass.txt
 expect_fail 1 "zeroh.txt: dust particle 1 \(id 1, type 0\): smoothing length h = 0" bad -- render blob.yaml \

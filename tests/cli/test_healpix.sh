@@ -24,4 +24,12 @@ expect_fail 2 "camera.healpix_order: expected one of: ring nested" bad -- \
   render bad.yaml --set camera.healpix_order=nest
 expect_fail 2 "camera.healpix_nside: only with camera.projection: healpix" bad -- \
   render bad.yaml --set camera.projection=dome --set camera.healpix_nside=8
+# deposit: sph from among the particles at a fine nside would take hours
+# (each kernel covers the sky: 12 nside^2 samples): refused at once, with
+# the figures, instead of running silently past 300 s. Two threads, so the
+# limit (2e9 samples a thread) is the same on any machine.
+awk 'BEGIN { srand(5); print "x y z mass h"; for (i = 0; i < 50000; i++) print rand() - 0.5, rand() - 0.5, rand() - 0.5, 1, 5 }' >near.txt
+printf 'input:\n  file: near.txt\ncamera:\n  projection: healpix\n  position: [0, 0, 0]\n  healpix_nside: 1024\ndeposit: sph\noutput:\n  dir: bad\n' >near.yaml
+OMP_NUM_THREADS=2 expect_fail 2 "near.yaml: camera.healpix_nside 1024 with deposit: sph: the frame's kernels need more than the limit of 4e\+09 kernel samples .*6.29e\+11 foreseen from the first 50000 of 50000 particles" \
+  bad -- render near.yaml
 finish

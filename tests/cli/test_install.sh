@@ -97,4 +97,12 @@ for program in render_c render_cxx; do
   fi
 done
 
+# OpenImageIO is a module loaded on first use (liborrery-oiio.so, installed
+# beside the library): neither the library nor the CLI needs it to start,
+# and the installed CLI finds it for a TIFF.
+readelf -d "$so" "$WORK/prefix/bin/orrery" | grep -q "OpenImageIO" && fail "liborrery or the CLI links OpenImageIO"
+[ -f "$(dirname "$libdir")/liborrery-oiio.so" ] || fail "liborrery-oiio.so not installed beside the library"
+"$WORK/prefix/bin/orrery" render -q s.yaml --set output.image=tif -o tif >run.out 2>&1 || fail "installed CLI, TIFF: $(cat run.out)"
+[ -f tif/s.tif ] || fail "the installed CLI wrote no TIFF: $(ls tif)"
+
 finish

@@ -46,6 +46,11 @@ mkfifo fifo
 expect_fail 1 "fifo: no data \(a pipe or FIFO\): no program had it open for writing" none -- info fifo
 expect_fail 2 "fifo: hdf5 files are read with seeks, so the input must be a regular file, but this is a pipe or FIFO" none -- \
   info fifo --format hdf5
+# render too: its resume marker's checksum of the input must not open the
+# FIFO and wait for a writer (a still and an animation both).
+write_scene fifo.yaml fifo
+expect_fail 1 "^orrery: error: fifo: no data \(a pipe or FIFO\)" fifo-out -- render fifo.yaml -o fifo-out
+expect_fail 1 "^orrery: error: frame 0: fifo: no data \(a pipe or FIFO\)" fifo-out -- render fifo.yaml -o fifo-out --set animation.frames=2
 # With a writer waiting (it blocks in open until orrery opens the FIFO).
 cat table.txt >fifo &
 writer=$!

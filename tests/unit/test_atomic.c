@@ -1,5 +1,6 @@
 #include <dirent.h>
 #include <errno.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -237,6 +238,36 @@ static void test_batch_all_or_nothing(void)
     remove_tree(tmpdir);
 }
 
+/* A writer (PNG, FITS, ...) is atomic on its own, and a frame's batch
+ * hands it a temporary: it writes into that one, making no temporary of
+ * the temporary (".orrery-tmp-...-.orrery-tmp-...png", which a kill left). */
+static void test_no_temporary_of_a_temporary(void)
+{
+    make_tmpdir();
+    char final[512];
+    snprintf(final, sizeof final, "%s/s.png", tmpdir);
+    orr_output_batch batch;
+    orr_output_batch_init(&batch);
+    const char *w;
+    orr_error err;
+    CHECK(orr_output_batch_add(&batch, final, &w, &err) == ORR_OK);
+    orr_atomic_file inner;
+    CHECK(orr_atomic_begin(&inner, w, &err) == ORR_OK);
+    CHECK(strcmp(inner.temp_path, w) == 0);
+    CHECK(count_entries(tmpdir) == 1); /* the batch's temporary alone */
+    write_text(inner.temp_path, "picture");
+    CHECK(orr_atomic_commit(&inner, &err) == ORR_OK);
+    CHECK(orr_output_batch_commit(&batch, &err) == ORR_OK);
+    CHECK(file_equals(final, "picture") && count_entries(tmpdir) == 1);
+    /* A writer that fails removes it; the batch's abort then finds nothing. */
+    CHECK(orr_output_batch_add(&batch, final, &w, &err) == ORR_OK);
+    CHECK(orr_atomic_begin(&inner, w, &err) == ORR_OK);
+    orr_atomic_abort(&inner);
+    orr_output_batch_abort(&batch);
+    CHECK(file_equals(final, "picture") && count_entries(tmpdir) == 1);
+    remove_tree(tmpdir);
+}
+
 /* The name a temporary of process pid would have, from one of ours. */
 static void temp_name_of(const char *ours, long pid, char *out, size_t size)
 {
@@ -245,19 +276,33 @@ static void temp_name_of(const char *ours, long pid, char *out, size_t size)
     snprintf(out, size, "%.*s%ld%s", (int)(strchr(tag, '-') + 1 - ours), ours, pid, rest);
 }
 
+/* A fresh tmpdir with a temporary of this process in it, for frame.png. */
+static void begin_own_temporary(orr_atomic_file *af)
+{
+    make_tmpdir();
+    char final[512];
+    snprintf(final, sizeof final, "%s/frame.png", tmpdir);
+    orr_error err;
+    CHECK(orr_atomic_begin(af, final, &err) == ORR_OK);
+}
+
+/* A child process that exits at once (the caller reaps it). */
+static pid_t exiting_child(void)
+{
+    pid_t child = fork();
+    if (child == 0)
+        _exit(0);
+    return child;
+}
+
 /* A killed run's temporaries are removed by the next; a running one's, or
  * another host's, are kept. */
 static void test_stale_temporaries(void)
 {
-    make_tmpdir();
-    char final[512], dead[600], alive[600], other_host[600], other[600];
-    snprintf(final, sizeof final, "%s/frame.png", tmpdir);
+    char dead[600], alive[600], other_host[600], other[600];
     orr_atomic_file af;
-    orr_error err;
-    CHECK(orr_atomic_begin(&af, final, &err) == ORR_OK);
-    pid_t child = fork();
-    if (child == 0)
-        _exit(0);
+    begin_own_temporary(&af);
+    pid_t child = exiting_child();
     waitpid(child, NULL, 0); /* a process that is gone */
     temp_name_of(af.temp_path, (long)child, dead, sizeof dead);
     temp_name_of(af.temp_path, (long)getppid(), alive, sizeof alive);
@@ -272,6 +317,28 @@ static void test_stale_temporaries(void)
     CHECK(orr_remove_stale_temporaries(tmpdir) == 1);
     CHECK(!exists(dead) && exists(alive) && exists(other_host) && exists(other));
     CHECK(exists(af.temp_path)); /* this process's own */
+    orr_atomic_abort(&af);
+    remove_tree(tmpdir);
+}
+
+/* A job process killed with its run is a zombie until reaped, which
+ * kill(pid, 0) takes for alive: its temporaries are stale all the same. */
+static void test_zombie_temporaries(void)
+{
+    char zombie_temp[600];
+    orr_atomic_file af;
+    begin_own_temporary(&af);
+    pid_t child = exiting_child();
+    /* Not reaped: wait until it has exited and is a zombie. */
+    siginfo_t info;
+    memset(&info, 0, sizeof info);
+    CHECK(waitid(P_PID, (id_t)child, &info, WEXITED | WNOWAIT) == 0);
+    temp_name_of(af.temp_path, (long)child, zombie_temp, sizeof zombie_temp);
+    write_text(zombie_temp, "a killed job's frame");
+    CHECK(kill(child, 0) == 0); /* what the old check saw: alive */
+    CHECK(orr_remove_stale_temporaries(tmpdir) == 1);
+    CHECK(!exists(zombie_temp) && exists(af.temp_path));
+    waitpid(child, NULL, 0);
     orr_atomic_abort(&af);
     remove_tree(tmpdir);
 }
@@ -349,7 +416,9 @@ int main(void)
     RUN(test_failed_commit_removes_temp);
     RUN(test_check_output_dir);
     RUN(test_batch_all_or_nothing);
+    RUN(test_no_temporary_of_a_temporary);
     RUN(test_stale_temporaries);
+    RUN(test_zombie_temporaries);
     RUN(test_live_temporaries_removed);
     return check_summary();
 }

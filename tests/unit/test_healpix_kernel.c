@@ -66,7 +66,7 @@ static void test_mass_conserved(void)
     for (int nested = 0; nested < 2; nested++)
         for (double theta = 1e-7; theta < 3.0; theta *= 3.0) {
             float *m = new_map(nside);
-            orr_healpix_target t = {&g_kernel, nside, nested, m};
+            orr_healpix_target t = {&g_kernel, nside, nested, m, NULL};
             double d[3];
             for (int p = 0; p < 20; p++) {
                 random_dir(&seed, d);
@@ -87,7 +87,7 @@ static void test_tiny_kernel_stays_in_its_pixel(void)
     const int64_t nside = 8;
     float *m = new_map(nside);
     orr_healpix_scratch scratch = {0};
-    orr_healpix_target t = {&g_kernel, nside, 0, m};
+    orr_healpix_target t = {&g_kernel, nside, 0, m, NULL};
     double d[3];
     pix2vec_ring64(nside, 300, d); /* a pixel's centre: a kernel of 1e-4 rad is far from its edges */
     CHECK(orr_healpix_kernel_deposit(&t, d, 1e-4, 2.0f, &scratch));
@@ -104,7 +104,7 @@ static void test_symmetric(void)
     const int64_t nside = 8;
     float *m = new_map(nside), *n = new_map(nside);
     orr_healpix_scratch scratch = {0};
-    orr_healpix_target a = {&g_kernel, nside, 0, m}, b = {&g_kernel, nside, 0, n};
+    orr_healpix_target a = {&g_kernel, nside, 0, m, NULL}, b = {&g_kernel, nside, 0, n, NULL};
     double d[3] = {0.3, 0.2, 0.0};
     d[2] = sqrt(1.0 - d[0] * d[0] - d[1] * d[1]);
     double mirror[3] = {-d[1], d[0], -d[2]}; /* rotated by pi/2 and mirrored */
@@ -126,6 +126,61 @@ static void test_symmetric(void)
     free(n);
 }
 
+static int progress_calls;
+static uint64_t progress_done;
+static int64_t progress_total;
+
+static void count_progress(void *user, uint64_t done, int64_t total)
+{
+    (void)user;
+    progress_calls++;
+    progress_done = done;
+    progress_total = total;
+}
+
+/* A frame's work limit: a kernel's estimated samples (a whole-sky one's
+ * are the map's pixels, a small one's the 200 to 800 sub-pixel centres of
+ * healpix_kernel.h); a kernel beyond the limit is refused with nothing
+ * added, and a frame foreseen far beyond it is refused at once. */
+static void test_work_budget(void)
+{
+    const int64_t nside = 8;
+    CHECK(orr_healpix_kernel_cost(nside, 2.0) == 12 * nside * nside + 1);
+    uint64_t small = orr_healpix_kernel_cost(nside, 1e-3);
+    CHECK(small >= 150 && small <= 1000);
+    float *m = calloc((size_t)(12 * nside * nside), sizeof *m);
+    orr_healpix_budget budget;
+    orr_healpix_budget_start(&budget, 1000, 0);
+    orr_healpix_target t = {&g_kernel, nside, 0, m, &budget};
+    orr_healpix_scratch scratch = {0};
+    const double dir[3] = {0, 0, 1};
+    CHECK(orr_healpix_kernel_deposit(&t, dir, 2.0, 1.0f, &scratch) == 1);
+    CHECK(orr_healpix_kernel_deposit(&t, dir, 2.0, 1.0f, &scratch) == -1);
+    double sum = 0;
+    for (int64_t p = 0; p < 12 * nside * nside; p++)
+        sum += m[p];
+    CHECK_NEAR(sum, 1.0, 1e-5); /* the second kernel added nothing */
+    CHECK(atomic_load(&budget.exceeded) == 1 && atomic_load(&budget.particles) == 1);
+    /* 100 particles at 769 samples each: 76900, far beyond 4 x 1000. */
+    orr_healpix_budget_start(&budget, 1000, 100);
+    CHECK(orr_healpix_budget_foresee(&budget, 769, 1) == 0 && atomic_load(&budget.exceeded) == 1);
+    /* Within four times the limit: left to the limit itself. */
+    orr_healpix_budget_start(&budget, 100000, 100);
+    CHECK(orr_healpix_budget_foresee(&budget, 769, 1) == 1 && atomic_load(&budget.exceeded) == 0);
+    /* Progress: reported at most once a second, with the kernels done so
+     * far and the frame's particles (a long frame is one chunk, between
+     * whose ends the render reports nothing). */
+    progress_calls = 0;
+    orr_healpix_budget_start(&budget, UINT64_MAX, 40);
+    budget.progress = count_progress;
+    atomic_store(&budget.next_report, 0); /* the second has passed */
+    for (int i = 0; i < 32; i++)
+        CHECK(orr_healpix_kernel_deposit(&t, dir, 1e-2, 1.0f, &scratch) == 1);
+    CHECK(progress_calls == 1 && progress_done == 16 && progress_total == 40);
+    orr_healpix_scratch_free(&scratch);
+    free(m);
+}
+
 int main(void)
 {
     orr_error err = {0};
@@ -137,6 +192,7 @@ int main(void)
     RUN(test_mass_conserved);
     RUN(test_tiny_kernel_stays_in_its_pixel);
     RUN(test_symmetric);
+    RUN(test_work_budget);
     orr_kernel_free(&g_kernel);
     return check_summary();
 }

@@ -379,9 +379,9 @@ static void test_acs_fits(void)
     orr_image_kernel_free(&k);
 }
 
-/* A 33 x 33 Gaussian PSF of 0.02 arcsec pixels (PIXSCALE), written with
- * orrery's own FITS writer into the scratch folder. */
-static const char *write_gaussian_psf(const char *name)
+/* A 33 x 33 Gaussian PSF of peak `peak` and pixscale arcsec pixels
+ * (PIXSCALE), written with orrery's own FITS writer into the scratch folder. */
+static const char *write_psf(const char *name, double pixscale, double peak)
 {
     static char path[512];
     snprintf(path, sizeof path, "%s/%s", tmpdir, name);
@@ -390,12 +390,40 @@ static const char *write_gaussian_psf(const char *name)
     CHECK(orr_plane_alloc(&p, 33, 33, "PSF", "", &err) == ORR_OK);
     for (int y = 0; y < 33; y++)
         for (int x = 0; x < 33; x++)
-            p.data[y * 33 + x] = (float)exp(-((x - 16) * (x - 16) + (y - 16) * (y - 16)) / 8.0);
+            p.data[y * 33 + x] = (float)(peak * exp(-((x - 16) * (x - 16) + (y - 16) * (y - 16)) / 8.0));
     orr_fits_header h = {0};
-    orr_fits_add_double(&h, "PIXSCALE", 0.02, "arcsec per pixel");
+    orr_fits_add_double(&h, "PIXSCALE", pixscale, "arcsec per pixel");
     CHECK(orr_write_fits(path, &p, 1, &h, &err) == ORR_OK);
     orr_plane_free(&p);
     return path;
+}
+
+/* A 33 x 33 Gaussian PSF of 0.02 arcsec pixels. */
+static const char *write_gaussian_psf(const char *name) { return write_psf(name, 0.02, 1.0); }
+
+/* A PIXSCALE of 0 or below is told as what it is, not as a missing
+ * keyword; a kernel that overflows single precision names the element and
+ * its value (the message used to read as if the index were the value). */
+static void test_bad_pixscale_and_values(void)
+{
+    orr_image_kernel k;
+    orr_error err;
+    orr_psf_fits_options o = {.arcsec_per_pixel = 0.04};
+    const double scales[2] = {0, -1};
+    for (int i = 0; i < 2; i++) {
+        const char *path = write_psf("badscale.fits", scales[i], 1.0);
+        CHECK(orr_psf_load_fits(path, &o, &k, NULL, &err) == ORR_ERR_FORMAT);
+        CHECK_CONTAINS(err.msg, i == 0 ? "PIXSCALE = 0 is not a pixel scale" : "PIXSCALE = -1 is not a pixel scale");
+        CHECK(!strstr(err.msg, "no PIXSCALE"));
+    }
+    /* The file's own pixels need no scale. */
+    o.arcsec_per_pixel = 0;
+    CHECK(orr_psf_load_fits(write_psf("badscale.fits", 0, 1.0), &o, &k, NULL, &err) == ORR_OK);
+    orr_image_kernel_free(&k);
+    /* Peaks of 3e38: their sum is beyond a float. */
+    o.arcsec_per_pixel = 0.04;
+    CHECK(orr_psf_load_fits(write_psf("huge.fits", 0.02, 3e38), &o, &k, NULL, &err) != ORR_OK);
+    CHECK_CONTAINS(err.msg, "is inf, not a finite number");
 }
 
 /* psf.arcsec_per_pixel far beyond the PSF image (1e6 arcsec) used to reach
@@ -681,6 +709,7 @@ int main(void)
     RUN(test_acs_fits);
     RUN(test_fits_errors);
     RUN(test_scale_out_of_range);
+    RUN(test_bad_pixscale_and_values);
     RUN(test_file_name_with_brackets);
     RUN(test_star_cluster);
     int status = check_summary();

@@ -1,7 +1,10 @@
+#define _GNU_SOURCE /* memfd_create */
 #include "source/writers/hdf5_write.h"
 
 #include <errno.h>
 #include <string.h>
+#include <sys/mman.h>
+#include <unistd.h>
 
 #include "core/atomic.h"
 
@@ -11,8 +14,8 @@ int orr_h5w_attr(hid_t loc, const char *name, hid_t ftype, hid_t mtype, const vo
     hid_t space = n ? H5Screate_simple(1, dims, NULL) : H5Screate(H5S_SCALAR);
     hid_t a = space >= 0 ? H5Acreate2(loc, name, ftype, space, H5P_DEFAULT, H5P_DEFAULT) : -1;
     int bad = a < 0 || H5Awrite(a, mtype, v) < 0;
-    if (a >= 0)
-        H5Aclose(a);
+    if (a >= 0 && H5Aclose(a) < 0)
+        bad = 1;
     if (space >= 0)
         H5Sclose(space);
     return bad;
@@ -63,13 +66,35 @@ int orr_h5w_dataset(hid_t group, const char *name, hid_t ftype, hid_t mtype, con
     hid_t dcpl = untimed(H5P_DATASET_CREATE);
     hid_t ds = space >= 0 && dcpl >= 0 ? H5Dcreate2(group, name, ftype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT) : -1;
     int bad = ds < 0 || H5Dwrite(ds, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0;
-    if (ds >= 0)
-        H5Dclose(ds);
+    /* The close writes what HDF5 still holds of the data (a full disk
+     * fails here, not in H5Dwrite). */
+    if (ds >= 0 && H5Dclose(ds) < 0)
+        bad = 1;
     if (dcpl >= 0)
         H5Pclose(dcpl);
     if (space >= 0)
         H5Sclose(space);
     return bad;
+}
+
+int orr_h5w_close_group(hid_t group, int bad) { return H5Gclose(group) < 0 || bad; }
+
+/* HDF5 cannot close a file whose flush fails (a full disk): it keeps it
+ * half closed, and a second close, or the library's end at exit, crashes
+ * ("infinite loop closing library", then a segfault). So the file is
+ * flushed first, and when that or any write failed, the temporary file is
+ * given up before the close: HDF5's descriptor is pointed at an empty file
+ * in memory, where the close's own flush succeeds. */
+static void give_up_file(hid_t file)
+{
+    void *handle = NULL; /* the default (POSIX) driver's: an int descriptor */
+    if (H5Fget_vfd_handle(file, H5P_DEFAULT, &handle) < 0 || !handle)
+        return;
+    int scratch = memfd_create("orrery-hdf5-given-up", MFD_CLOEXEC);
+    if (scratch < 0)
+        return;
+    dup2(scratch, *(int *)handle);
+    close(scratch);
 }
 
 orr_status orr_h5w_write_file(const char *path, orr_h5w_body write_body, void *ctx, orr_error *err)
@@ -78,6 +103,11 @@ orr_status orr_h5w_write_file(const char *path, orr_h5w_body write_body, void *c
     orr_status st = orr_atomic_begin(&af, path, err);
     if (st)
         return st;
+    /* A file HDF5 could not close (give_up_file's own file full too, under
+     * `ulimit -f`) would crash the library's end at exit: when this is the
+     * process's first HDF5 call, it is told not to end itself at exit (a
+     * no-op once HDF5 is in use; the OS closes what is left). */
+    H5dont_atexit();
     /* HDF5 prints its error stack by default; the library never prints. */
     H5E_auto2_t old_fn;
     void *old_data;
@@ -91,8 +121,10 @@ orr_status orr_h5w_write_file(const char *path, orr_h5w_body write_body, void *c
      * errno is read right after the call that failed: the write, or the
      * close that flushes HDF5's cached metadata. */
     errno = 0;
-    int bad = file < 0 || write_body(file, ctx);
+    int bad = file < 0 || write_body(file, ctx) || H5Fflush(file, H5F_SCOPE_GLOBAL) < 0;
     int sys_errno = bad ? errno : 0;
+    if (bad && file >= 0)
+        give_up_file(file);
     errno = 0;
     if (file >= 0 && H5Fclose(file) < 0) {
         bad = 1;

@@ -18,8 +18,11 @@ int orr_h5w_double(hid_t loc, const char *name, double v);
 /* A string attribute (scalar, fixed length). */
 int orr_h5w_string(hid_t loc, const char *name, const char *s);
 
-/* Creates group name in loc (close it with H5Gclose); < 0 when it failed. */
+/* Creates group name in loc (close it with H5Gclose or
+ * orr_h5w_close_group); < 0 when it failed. */
 hid_t orr_h5w_group(hid_t loc, const char *name);
+/* Closes a group: 1 when the close failed or bad was already set, else 0. */
+int orr_h5w_close_group(hid_t group, int bad);
 
 /* Writes a whole dataset of rows x cols values (1-D when cols == 1).
  * Returns 1 when it failed, else 0. */

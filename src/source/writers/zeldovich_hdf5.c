@@ -37,8 +37,7 @@ static int write_header(hid_t file, const orr_zeldovich *z)
     bad |= orr_h5w_double(h, "UnitLength_in_cm", 3.085678e24);
     bad |= orr_h5w_double(h, "UnitMass_in_g", 1.989e43);
     bad |= orr_h5w_double(h, "UnitVelocity_in_cm_per_s", 1e5);
-    H5Gclose(h);
-    return bad;
+    return orr_h5w_close_group(h, bad);
 }
 
 static int write_particles(hid_t file, const orr_zeldovich *z, const uint32_t *ids)
@@ -50,8 +49,7 @@ static int write_particles(hid_t file, const orr_zeldovich *z, const uint32_t *i
     int bad = orr_h5w_dataset(g, "Coordinates", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, z->pos, n, 3);
     bad |= orr_h5w_dataset(g, "Velocities", H5T_IEEE_F32LE, H5T_NATIVE_FLOAT, z->vel, n, 3);
     bad |= orr_h5w_dataset(g, "ParticleIDs", H5T_STD_U32LE, H5T_NATIVE_UINT32, ids, n, 1);
-    H5Gclose(g);
-    return bad;
+    return orr_h5w_close_group(g, bad);
 }
 
 typedef struct zel_write {
