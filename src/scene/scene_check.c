@@ -586,6 +586,10 @@ static orr_status check_stars(const orr_scene *s, orr_error *err)
     if (!st->types)
         return orr_fail(err, ORR_ERR_USAGE, "%s: stars.limit: give stars.types, the particle types that spawn "
                         "stars", s->path);
+    /* What the stars leave glows from each particle's neighbours on the sky. */
+    if (!s->psf.has_glow)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: stars.limit: what the stars leave of their particles' light is "
+                        "drawn as a glow: give glow.threshold (a sky map with a psf.kind)", s->path);
     if (st->types & ~s->input.type_mask)
         return orr_fail(err, ORR_ERR_USAGE, "%s: stars.types: every type that spawns stars must be drawn "
                         "(input.types)", s->path);

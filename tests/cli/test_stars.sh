@@ -80,6 +80,11 @@ PY
 
 expect_fail 2 "stars.limit: not with output.exr_population_layers" out -- render "$SRC/configs/futuresky.yaml" -o out \
   "${small[@]}" --set output.exr_population_layers=true
+"$py" -c "import sys, yaml; d = yaml.safe_load(open(sys.argv[1])); d.pop('glow'); yaml.safe_dump(d, open('noglow.yaml', 'w'))" \
+  "$SRC/configs/futuresky.yaml" || fail "a scene without glow"
+export ORRERY_DOMES="$SRC/domes"
+expect_fail 2 "stars.limit.*glow.threshold" out -- render noglow.yaml -o out "${small[@]}"
+unset ORRERY_DOMES
 expect_fail 2 "stars.types" out -- render "$SRC/configs/futuresky.yaml" -o out "${small[@]}" --set 'stars.types=[1]'
 expect_fail 2 "stars.limit" out -- render "$SRC/configs/futuresky.yaml" -o out "${small[@]}" --set stars.limit=nan
 finish
