@@ -125,14 +125,14 @@ static size_t stars_in_view(const frame_stars *fs, const view_state *v, unsigned
     return shown;
 }
 
-/* Copies the kept rows of src (n elements of size bytes) to the front. */
-static void compact(void *src, size_t size, const unsigned char *keep, size_t n)
+/* Copies the kept rows of column src (n elements of size bytes) to dst,
+ * in order. */
+static void kept_rows(void *dst, const void *src, size_t size, const unsigned char *keep, size_t n)
 {
-    char *a = src;
     size_t out = 0;
     for (size_t i = 0; i < n; i++)
         if (keep[i])
-            memmove(a + out++ * size, a + i * size, size);
+            memcpy((char *)dst + out++ * size, (const char *)src + i * size, size);
 }
 
 orr_status orr_frame_stars_view_table(const frame_stars *fs, const view_state *v, orr_star_table *t, void **scratch,
@@ -141,7 +141,7 @@ orr_status orr_frame_stars_view_table(const frame_stars *fs, const view_state *v
     const size_t n = fs->n;
     unsigned char *keep = malloc(n ? n : 1);
     float *buf = malloc((n ? n : 1) * 6 * sizeof(float));
-    /* The table's own copies: the list serves every view. */
+    /* The table's own columns: the list serves every view. */
     size_t rows = n ? n : 1;
     char *copy = malloc(rows * (2 * sizeof(double) + 4 * sizeof(float) + sizeof(int64_t) + sizeof(int32_t)));
     if (!keep || !buf || !copy) {
@@ -153,13 +153,10 @@ orr_status orr_frame_stars_view_table(const frame_stars *fs, const view_state *v
     float *vv = (float *)(b + rows), *bv = vv + rows, *mv = bv + rows, *dist = mv + rows;
     int64_t *parent = (int64_t *)(dist + rows);
     int32_t *index = (int32_t *)(parent + rows);
-    memcpy(l, fs->l, n * sizeof *l), memcpy(b, fs->b, n * sizeof *b);
-    memcpy(vv, fs->v, n * sizeof *vv), memcpy(bv, fs->bv, n * sizeof *bv);
-    memcpy(mv, fs->abs_v, n * sizeof *mv), memcpy(dist, fs->dist_pc, n * sizeof *dist);
-    memcpy(parent, fs->parent, n * sizeof *parent), memcpy(index, fs->index, n * sizeof *index);
-    compact(l, sizeof *l, keep, n), compact(b, sizeof *b, keep, n), compact(vv, sizeof *vv, keep, n);
-    compact(bv, sizeof *bv, keep, n), compact(mv, sizeof *mv, keep, n), compact(dist, sizeof *dist, keep, n);
-    compact(parent, sizeof *parent, keep, n), compact(index, sizeof *index, keep, n);
+    kept_rows(l, fs->l, sizeof *l, keep, n), kept_rows(b, fs->b, sizeof *b, keep, n);
+    kept_rows(vv, fs->v, sizeof *vv, keep, n), kept_rows(bv, fs->bv, sizeof *bv, keep, n);
+    kept_rows(mv, fs->abs_v, sizeof *mv, keep, n), kept_rows(dist, fs->dist_pc, sizeof *dist, keep, n);
+    kept_rows(parent, fs->parent, sizeof *parent, keep, n), kept_rows(index, fs->index, sizeof *index, keep, n);
     free(keep), free(buf);
     *t = (orr_star_table){shown, l, b, vv, bv, mv, dist, parent, index};
     *scratch = copy;
