@@ -27,8 +27,6 @@ static void free_list(frame_stars *fs)
 void orr_frame_stars_free(frame_stars *fs)
 {
     orr_star_batch_free(&fs->batch);
-    for (int k = 0; k < 3; k++)
-        free(fs->before[k]);
     free_list(fs);
     memset(fs, 0, sizeof *fs);
 }

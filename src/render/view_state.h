@@ -101,8 +101,6 @@ typedef struct frame_stars {
     uint64_t observer_id;   /* spawns no stars */
     orr_sky_frame sky;      /* the frame's sky frame, for the list's l, b */
     int whole_list;         /* the list holds every star of the frame: one process drew them all */
-    float *before[3];       /* a chunk's star weights before the dust, for the list's V */
-    size_t before_cap;
     /* The list */
     size_t n, cap;
     double *l, *b;

@@ -11,9 +11,10 @@
 /* The colour table's B-V range: O stars to late M dwarfs. */
 #define BV_FIRST (-0.35)
 #define BV_STEP (2.55 / 255.0)
-/* A star is drawn from no nearer than this to the observer's particle
- * search: parsecs (stars.h: a particle's faint stars nearer than this stay
- * in its glow). */
+/* A particle's stars are searched as if they were no nearer the observer
+ * than this, parsecs: its stars too faint to be seen from here stay in its
+ * glow even where one falls nearer (a red dwarf within 10 pc), which keeps
+ * the draws of a particle around the observer to those of M_V < limit. */
 #define NEAREST_SEARCH_PC 10.0
 /* Kernel sigmas a particle's stars are searched beyond its distance. */
 #define SEARCH_SIGMAS 3.0
@@ -182,7 +183,7 @@ static void star_colour(const orr_stars *st, double bv, float *x_over_y, float *
     *z_over_y = (float)(st->colour_xy[1][k] + t * (st->colour_xy[1][k + 1] - st->colour_xy[1][k]));
 }
 
-/* Draws particle i's stars into out; returns the light (Y) they took. */
+/* Draws particle i's stars into out, *taken the light (Y) they took. */
 static orr_status spawn_particle(orr_stars *st, orr_vec3 eye, const orr_chunk *c, size_t i, float y_light,
                                  orr_star_batch *out, double *taken, orr_error *err)
 {
