@@ -1208,12 +1208,20 @@ static orr_vec3 equirect_direction(const orr_sph *s, int i, int j)
 static double cap_pixel_weight(const orr_sph *s, const cap *c, int i, int j)
 {
     orr_vec3 d;
-    if (!orr_projection_pixel_in_map(&s->proj, i, j) || !orr_unproject(&s->proj, i + 0.5, j + 0.5, &d))
-        return 0.0;
+    double omega;
+    if (s->px_omega) {
+        const size_t k = (size_t)j * s->proj.width + i;
+        if (!((omega = s->px_omega[k]) > 0))
+            return 0.0;
+        d = orr_v3(s->px_dir[3 * k], s->px_dir[3 * k + 1], s->px_dir[3 * k + 2]);
+    } else {
+        if (!orr_projection_pixel_in_map(&s->proj, i, j) || !orr_unproject(&s->proj, i + 0.5, j + 0.5, &d))
+            return 0.0;
+        omega = pixel_solid_angle(s, d);
+    }
     double u = chord2(d, c->dir) / (c->theta * c->theta);
     if (!(u < ORR_KERNEL_SUPPORT * ORR_KERNEL_SUPPORT))
         return 0.0;
-    double omega = pixel_solid_angle(s, d);
     float lf;
     double f = orr_kernel_column_u(s->kernel, (float)u, &lf);
     return omega * (f + omega / (24.0 * c->theta * c->theta) * lf);
@@ -1588,6 +1596,30 @@ static orr_status build_equirect_tables(orr_sph *s, orr_error *err)
     return ORR_OK;
 }
 
+/* The pixel tables of a small sky map (orr_sph.px_*): what cap_pixel_weight
+ * would compute for each pixel, once. A pixel off the map, or whose centre
+ * maps to no direction, gets solid angle 0, which the weight reads as
+ * "nothing here", as it reads those tests. */
+static orr_status build_pixel_tables(orr_sph *s, orr_error *err)
+{
+    const orr_projection *p = &s->proj;
+    const int W = p->width, H = p->height;
+    s->px_dir = orr_malloc(3 * sizeof(double) * (size_t)W * H, "sky map pixel directions", err);
+    s->px_omega = s->px_dir ? orr_malloc(sizeof(double) * (size_t)W * H, "sky map pixel solid angles", err) : NULL;
+    if (!s->px_omega)
+        return ORR_ERR_NOMEM;
+#pragma omp parallel for schedule(static)
+    for (int j = 0; j < H; j++)
+        for (int i = 0; i < W; i++) {
+            const size_t k = (size_t)j * W + i;
+            orr_vec3 d = orr_v3(0, 0, 0);
+            int on = orr_projection_pixel_in_map(p, i, j) && orr_unproject(p, i + 0.5, j + 0.5, &d);
+            s->px_dir[3 * k] = d.x, s->px_dir[3 * k + 1] = d.y, s->px_dir[3 * k + 2] = d.z;
+            s->px_omega[k] = on ? pixel_solid_angle(s, d) : 0.0;
+        }
+    return ORR_OK;
+}
+
 static orr_status build_sky_index(orr_sph *s, orr_error *err)
 {
     const int T = ORR_SPH_TILE, G = ORR_SPH_GROUP, W = s->proj.width, H = s->proj.height;
@@ -1613,6 +1645,8 @@ static orr_status build_sky_index(orr_sph *s, orr_error *err)
     orr_status st = build_cells(s, err);
     if (!st && s->proj.kind == ORR_PROJ_EQUIRECTANGULAR)
         st = build_equirect_tables(s, err);
+    else if (!st && (size_t)W * H <= ORR_SPH_PIXEL_TABLE_MAX)
+        st = build_pixel_tables(s, err);
     return st;
 }
 
@@ -1658,6 +1692,9 @@ void orr_sph_free(orr_sph *s)
     free(s->eq_lon);
     free(s->eq_lat);
     free(s->eq_omega);
+    free(s->px_dir);
+    free(s->px_omega);
+    s->px_dir = s->px_omega = NULL;
     s->tiles = s->groups = NULL;
     s->safe = NULL;
     s->eq_lon = s->eq_lat = s->eq_omega = NULL;

@@ -52,6 +52,9 @@ typedef struct orr_sph_tile {
     float x, y, z, cos_r, sin_r;
 } orr_sph_tile;
 
+/* The largest sky map (pixels) given per-pixel tables: 32 bytes a pixel. */
+#define ORR_SPH_PIXEL_TABLE_MAX (1 << 21)
+
 typedef struct orr_sph {
     const orr_kernel *kernel;
     orr_projection proj;
@@ -68,6 +71,12 @@ typedef struct orr_sph {
     double *eq_lon;            /* per column: -sin l and cos l (2 * width) */
     double *eq_lat;            /* per row: cos b and -sin b (2 * height) */
     double *eq_omega;          /* per pixel: its solid angle (width * height) */
+    /* Other sky maps of at most ORR_SPH_PIXEL_TABLE_MAX pixels (the coarse
+     * glow's maps): every pixel centre's direction and solid angle (0 off
+     * the map), as orr_unproject and the projection's scale give them, for
+     * the exact path's kernels tens of degrees wide. */
+    double *px_dir;            /* per pixel: x, y, z (3 * width * height) */
+    double *px_omega;          /* per pixel: its solid angle, 0 off the map */
     struct orr_sky_cores *cores; /* a sky map's PSF cores drawn from stamps (splat/sky_cores.h), or NULL */
     struct orr_healpix_budget *healpix_budget; /* a HEALPix map's work limit (splat/healpix_kernel.h), or NULL */
 } orr_sph;
