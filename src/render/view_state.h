@@ -66,13 +66,25 @@ typedef struct view_state {
 
 /* ---- the widest glows on a coarser map (coarse_glow.c) ---- */
 
-/* A sky map's copy FACTOR times coarser each way, and its planes per lane. */
-typedef struct coarse_glow {
+/* The coarse maps: each the sky map's copy `factor` times coarser each
+ * way, with its planes per lane and what its interpolation gives the fine
+ * map (coarse_glow.c). */
+#define ORR_COARSE_LEVELS 2
+typedef struct coarse_level {
+    int factor;
     orr_projection proj;
     orr_sph sph;
     int sph_ready;
     orr_plane planes[ORR_MAX_LANES][3];
-    struct block_buffers *buffers; /* per lane: a block's wide kernels */
+    double *reach;  /* per coarse pixel: the fine map's measure its unit brightness reaches, interpolated */
+    int *col0;      /* per fine column: the left coarse column of its interpolation */
+    float *col_a;   /* per fine column: the right one's weight */
+} coarse_level;
+
+typedef struct coarse_glow {
+    int nlevels;
+    coarse_level level[ORR_COARSE_LEVELS]; /* coarsest first */
+    struct block_buffers *buffers;         /* per lane: a block's wide kernels */
 } coarse_glow;
 
 /* Plans the coarse map of a planned view (v->coarse; none where the view
