@@ -1,27 +1,53 @@
 #!/bin/bash
-# The production frame of issue 24, stage by stage, for one or more orrery
-# builds side by side in the same run (docs/performance.md, "A production
-# frame"):
+# A production frame, stage by stage, for one or more orrery builds side by
+# side in the same run (docs/performance.md, "The flagship as it ships"):
 #
 #   bench/bench_frame.sh build/orrery                       # this build
 #   bench/bench_frame.sh OLD/orrery build/orrery            # before and after
-#   N=2000000 SIZE=8192 REPEAT=3 bench/bench_frame.sh build/orrery
+#   FRAME=dome8k REPEAT=3 bench/bench_frame.sh OLD/orrery build/orrery
 #
-# It renders bench/production-dome.yaml (Future Sky's dome master from the
-# Sun: colour populations, CIC, the Hubble PSF with 200 spike stars, FITS +
-# PNG) with N particles (default 10^7) at SIZE^2 (3600: domes/flat-180;
-# 8192: domes/flat-180-8k), REPEAT times per build, the builds interleaved,
-# and prints for each build the best run's wall and CPU seconds per stage
-# (`orrery render --timings`), its total and its peak memory (GNU time's
-# maximum resident set size). OMP_NUM_THREADS is left to the caller.
+# FRAME picks the frame; all but `benchmark` render the shipped scene,
+# configs/futuresky.yaml, as it ships (dust, glow, spawned stars, the
+# Hubble PSF, FITS + PNG of each view):
+#   main      the README's main job: 2e6 particles, the 3600^2 dome master
+#             and the 4096x2048 panorama (the default)
+#   both3600  the same at N particles (default 10^7)
+#   dome8k    the 8192^2 dome master (domes/flat-180-8k) at N particles
+#             (default 10^7), the panorama shrunk to 64x32
+#   benchmark bench/production-dome.yaml, the lighter scene issue 24
+#             measured (no dust, glow or panorama) at N (10^7) and SIZE^2
+#             (3600 or 8192): a second line, not the shipped frame
+# DUST=off renders without the dust (dust=null). Each build renders REPEAT
+# times (default 1), the builds interleaved; printed: each build's best
+# run's wall and CPU seconds per stage (`orrery render --timings`), its
+# total and its peak memory (GNU time's maximum resident set size).
+# OMP_NUM_THREADS is left to the caller.
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n 2,16p "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n 2,26p "$0"; exit 2; }
 here=$(cd "$(dirname "$0")/.." && pwd)
-N=${N:-10000000} SIZE=${SIZE:-3600} REPEAT=${REPEAT:-1}
-case $SIZE in
-  3600) dome=flat-180 ;;
-  8192) dome=flat-180-8k ;;
-  *) echo "bench_frame.sh: SIZE must be 3600 or 8192, not '$SIZE'" >&2; exit 2 ;;
+FRAME=${FRAME:-main} REPEAT=${REPEAT:-1} DUST=${DUST:-on}
+scene=$here/configs/futuresky.yaml
+case $FRAME in
+  main) N=${N:-2000000} sets=() ;;
+  both3600) N=${N:-10000000} sets=(--set input.model.particles="$N") ;;
+  dome8k)
+    N=${N:-10000000}
+    sets=(--set input.model.particles="$N" --set views.dome.camera.dome=flat-180-8k
+          --set views.panorama.image.width=64 --set views.panorama.image.height=32) ;;
+  benchmark)
+    N=${N:-10000000} SIZE=${SIZE:-3600} scene=$here/bench/production-dome.yaml
+    case $SIZE in
+      3600) dome=flat-180 ;;
+      8192) dome=flat-180-8k ;;
+      *) echo "bench_frame.sh: SIZE must be 3600 or 8192, not '$SIZE'" >&2; exit 2 ;;
+    esac
+    sets=(--set input.model.particles="$N" --set views.dome.camera.dome=$dome) ;;
+  *) echo "bench_frame.sh: FRAME must be main, both3600, dome8k or benchmark, not '$FRAME'" >&2; exit 2 ;;
+esac
+case $DUST in
+  on) ;;
+  off) sets+=(--set dust=null) ;;
+  *) echo "bench_frame.sh: DUST must be on or off, not '$DUST'" >&2; exit 2 ;;
 esac
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -33,13 +59,13 @@ for r in $(seq "$REPEAT"); do
   for bin in "$@"; do
     k=$((k + 1))
     /usr/bin/time -f "peak %M KB" -o "$work/mem-$k-$r" \
-      "$bin" render "$here/bench/production-dome.yaml" -q --timings --force -o "$work/out-$k" \
-      --set input.model.particles="$N" --set views.dome.camera.dome=$dome >"$work/t-$k-$r" 2>&1
+      "$bin" render "$scene" -q --timings --force -o "$work/out-$k" "${sets[@]}" >"$work/t-$k-$r" 2>&1 ||
+      { echo "bench_frame.sh: $bin failed:" >&2; cat "$work/t-$k-$r" >&2; exit 1; }
   done
 done
-/usr/bin/python3 - "$work" "$REPEAT" "$N" "$SIZE" "$@" <<'PY'
+/usr/bin/python3 - "$work" "$REPEAT" "$N" "$FRAME $(basename "$scene") dust $DUST" "$@" <<'PY'
 import re, sys
-work, repeat, n, size, bins = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5:]
+work, repeat, n, frame, bins = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5:]
 def read(k, r):
     stages = {}
     for line in open(f"{work}/t-{k}-{r}"):
@@ -52,7 +78,7 @@ best = []
 for k in range(1, len(bins) + 1):
     runs = [read(k, r) for r in range(1, repeat + 1)]
     best.append(min(runs, key=lambda x: x[0]["total"][0]))
-print(f"production frame: {size}^2 dome master, {float(n):.0e} particles, best of {repeat}")
+print(f"production frame: {frame}, {float(n):.0e} particles, best of {repeat}")
 print("stage".ljust(16) + "".join(f"{'build ' + str(k + 1):>22}" for k in range(len(bins))))
 print(" " * 16 + "".join(f"{'wall s':>11}{'CPU s':>11}" for _ in bins))
 for name in best[0][0]:

@@ -15,10 +15,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Fine pixels per coarse pixel, each way, coarsest first: a 3600^2 dome
- * master's widest glows on a 450^2 map (0.4 degrees a pixel), the next
- * on a 900^2 one. */
-static const int FACTORS[ORR_COARSE_LEVELS] = {8, 4};
+/* Fine pixels per coarse pixel, each way, coarsest first (the ones that
+ * divide the map): a 3600^2 dome master's widest glows on a 225^2 map
+ * (0.8 degrees a pixel), the next on 450^2 and 900^2 ones. */
+static const int FACTORS[ORR_COARSE_LEVELS] = {32, 16, 8, 4};
+static const float MIN_PIXELS[ORR_COARSE_LEVELS] = {16, 16, 2, 2};
 /* Kernels whose h spans this many coarse pixels or more go coarse: their
  * support (2h) is then 8 coarse pixels across or more, sampled finely
  * enough that interpolating the coarse map is smooth to the eye. */
@@ -34,6 +35,7 @@ static void free_level(coarse_level *l)
     free(l->reach);
     free(l->col0);
     free(l->col_a);
+    free(l->on_map);
 }
 
 void orr_coarse_glow_free(view_state *v)
@@ -62,59 +64,116 @@ static int coarse_between(int k, int factor, int n, float *a)
     return i0;
 }
 
+/* Fine row j's measures, 0 off the map (its light would be lost there). */
+static void map_measure_row(const orr_projection *p, int j, double *m)
+{
+    orr_pixel_measure_row(p, j, m);
+    for (int i = 0; i < p->width; i++)
+        if (!orr_projection_pixel_in_map(p, i, j))
+            m[i] = 0.0;
+}
+
+/* The fine rows read together when the levels' reach is summed: a
+ * multiple of every factor, so a band's rows feed whole coarse rows. */
+#define BAND_ROWS 32
+
+/* Adds fine row j (its measure m) to what it reaches on level l, into
+ * out, whose first row is coarse row t_first. */
+static void reach_row(const coarse_level *l, int j, const double *m, int W, double *out, int t_first)
+{
+    float c;
+    const int cw = l->proj.width, t0 = coarse_between(j, l->factor, l->proj.height, &c);
+    double *r0 = out + (size_t)(t0 - t_first) * cw, *r1 = l->proj.height > 1 ? r0 + cw : r0;
+    for (int i = 0; i < W; i++)
+        if (m[i] > 0) {
+            const int i0 = l->col0[i], i1 = cw > 1 ? i0 + 1 : i0;
+            const double a = l->col_a[i], lo = m[i] * (1.0 - c), hi = m[i] * c;
+            r0[i0] += lo * (1.0 - a), r0[i1] += lo * a;
+            r1[i0] += hi * (1.0 - a), r1[i1] += hi * a;
+        }
+}
+
+/* The coarse rows a band of fine rows reaches on level l: [*first, last]. */
+static int band_rows(const coarse_level *l, int j0, int j1, int *first)
+{
+    float c;
+    *first = coarse_between(j0, l->factor, l->proj.height, &c);
+    int last = coarse_between(j1 - 1, l->factor, l->proj.height, &c) + 1;
+    return (last < l->proj.height ? last : l->proj.height - 1) - *first + 1;
+}
+
 /* The fine map's measure (solid angle) each coarse pixel's unit of
  * brightness reaches through the interpolation, summed over the fine
- * pixels on the map: what the coarse plane gives the fine one is then its
- * brightness dotted with these, without a pass over the fine map. Each
- * coarse row is summed by one thread in fine-row order: the same bits on
- * any number of threads. */
-static orr_status level_reach(const view_state *v, coarse_level *l, orr_error *err)
+ * pixels on the map, for every level at once: what a coarse plane gives
+ * the fine one is then its brightness dotted with these, without a pass
+ * over the fine map. Each band of fine rows is summed by one thread into
+ * its own rows, and the bands are added in order: the same bits on any
+ * number of threads. */
+static orr_status levels_reach(const view_state *v, coarse_glow *g, orr_error *err)
 {
-    const int cw = l->proj.width, ch = l->proj.height, W = v->proj.width, H = v->proj.height, F = l->factor;
-    l->reach = orr_calloc((size_t)cw * ch, sizeof *l->reach, "coarse glow", err);
-    l->col0 = orr_malloc(sizeof *l->col0 * (size_t)W, "coarse glow", err);
-    l->col_a = orr_malloc(sizeof *l->col_a * (size_t)W, "coarse glow", err);
-    if (!l->reach || !l->col0 || !l->col_a)
+    const int W = v->proj.width, H = v->proj.height, nbands = (H + BAND_ROWS - 1) / BAND_ROWS;
+    size_t per_band = 0; /* doubles a band's partial sums take, every level */
+    for (int L = 0; L < g->nlevels; L++) {
+        coarse_level *l = &g->level[L];
+        l->reach = orr_calloc((size_t)l->proj.width * l->proj.height, sizeof *l->reach, "coarse glow", err);
+        l->col0 = orr_malloc(sizeof *l->col0 * (size_t)W, "coarse glow", err);
+        l->col_a = orr_malloc(sizeof *l->col_a * (size_t)W, "coarse glow", err);
+        if (!l->reach || !l->col0 || !l->col_a)
+            return ORR_ERR_NOMEM;
+        for (int i = 0; i < W; i++)
+            l->col0[i] = coarse_between(i, l->factor, l->proj.width, &l->col_a[i]);
+        per_band += (size_t)(BAND_ROWS / l->factor + 2) * l->proj.width;
+    }
+    double *partial = orr_calloc(per_band * (size_t)nbands, sizeof *partial, "coarse glow", err);
+    if (!partial)
         return ORR_ERR_NOMEM;
-    for (int i = 0; i < W; i++)
-        l->col0[i] = coarse_between(i, F, cw, &l->col_a[i]);
     int fail = 0;
 #pragma omp parallel
     {
-        double *measure = malloc(sizeof *measure * (size_t)W);
-#pragma omp for schedule(dynamic, 4)
-        for (int t = 0; t < ch; t++) {
-            if (!measure) {
+        double *m = malloc(sizeof *m * (size_t)W);
+#pragma omp for schedule(dynamic, 1)
+        for (int b = 0; b < nbands; b++) {
+            if (!m) {
 #pragma omp atomic write
                 fail = 1;
                 continue;
             }
-            double *out = l->reach + (size_t)t * cw;
-            /* The fine rows whose interpolation reads coarse row t. */
-            int j_lo = (t - 1) * F, j_hi = (t + 2) * F;
-            for (int j = j_lo < 0 ? 0 : j_lo; j < H && j < j_hi; j++) {
-                float c;
-                int t0 = coarse_between(j, F, ch, &c);
-                double row_w = t0 == t ? 1.0 - c : t0 + 1 == t ? c : 0.0;
-                if (row_w == 0.0)
-                    continue;
-                orr_pixel_measure_row(&v->proj, j, measure);
-                for (int i = 0; i < W; i++)
-                    if (measure[i] > 0) {
-                        double m = row_w * measure[i];
-                        out[l->col0[i]] += m * (1.0 - l->col_a[i]);
-                        out[l->col0[i] + 1] += m * l->col_a[i];
-                    }
+            const int j0 = b * BAND_ROWS, j1 = j0 + BAND_ROWS < H ? j0 + BAND_ROWS : H;
+            for (int j = j0; j < j1; j++) {
+                map_measure_row(&v->proj, j, m);
+                double *out = partial + per_band * (size_t)b;
+                for (int L = 0; L < g->nlevels; L++) {
+                    const coarse_level *l = &g->level[L];
+                    int first;
+                    band_rows(l, j0, j1, &first);
+                    reach_row(l, j, m, W, out, first);
+                    out += (size_t)(BAND_ROWS / l->factor + 2) * l->proj.width;
+                }
             }
         }
-        free(measure);
+        free(m);
     }
+    for (int b = 0; b < nbands && !fail; b++) { /* the bands in order */
+        const int j0 = b * BAND_ROWS, j1 = j0 + BAND_ROWS < H ? j0 + BAND_ROWS : H;
+        const double *in = partial + per_band * (size_t)b;
+        for (int L = 0; L < g->nlevels; L++) {
+            coarse_level *l = &g->level[L];
+            int first, rows = band_rows(l, j0, j1, &first);
+            const size_t n = (size_t)rows * l->proj.width;
+            double *to = l->reach + (size_t)first * l->proj.width;
+            for (size_t k = 0; k < n; k++)
+                to[k] += in[k];
+            in += (size_t)(BAND_ROWS / l->factor + 2) * l->proj.width;
+        }
+    }
+    free(partial);
     return fail ? orr_fail(err, ORR_ERR_NOMEM, "out of memory for the coarse glow of a %d x %d map", W, H) : ORR_OK;
 }
 
-static orr_status plan_level(view_state *v, coarse_level *l, int factor, orr_error *err)
+static orr_status plan_level(view_state *v, coarse_level *l, int factor, float min_pixels, orr_error *err)
 {
     l->factor = factor;
+    l->min_pixels = min_pixels;
     l->proj = v->base_proj;
     l->proj.width = v->base_proj.width / factor;
     l->proj.height = v->base_proj.height / factor;
@@ -124,7 +183,12 @@ static orr_status plan_level(view_state *v, coarse_level *l, int factor, orr_err
     for (int lane = 0; lane < ORR_MAX_LANES && !st; lane++)
         for (int k = 0; k < 3 && !st; k++)
             st = orr_plane_alloc(&l->planes[lane][k], l->proj.width, l->proj.height, "glow", "", err);
-    return st ? st : level_reach(v, l, err);
+    if (!st && !(l->on_map = orr_malloc((size_t)l->proj.width * l->proj.height, "coarse glow", err)))
+        st = ORR_ERR_NOMEM;
+    for (int j = 0; j < l->proj.height && !st; j++)
+        for (int i = 0; i < l->proj.width; i++)
+            l->on_map[(size_t)j * l->proj.width + i] = (uint8_t)orr_projection_pixel_in_map(&l->proj, i, j);
+    return st;
 }
 
 orr_status orr_coarse_glow_plan(view_state *v, orr_error *err)
@@ -136,10 +200,10 @@ orr_status orr_coarse_glow_plan(view_state *v, orr_error *err)
      * or more. Else the view draws every glow itself. */
     if (!traits.sky || traits.pixel_table || !v->use_sph || v->nplanes != 3 || v->scene->stereo.mode)
         return ORR_OK;
-    int factors[ORR_COARSE_LEVELS], n = 0;
+    int levels[ORR_COARSE_LEVELS], n = 0;
     for (int k = 0; k < ORR_COARSE_LEVELS; k++)
         if (w % FACTORS[k] == 0 && h % FACTORS[k] == 0 && w / FACTORS[k] >= 8 && h / FACTORS[k] >= 8)
-            factors[n++] = FACTORS[k];
+            levels[n++] = k;
     if (!n)
         return ORR_OK;
     coarse_glow *g = orr_calloc(1, sizeof *g, "coarse glow", err);
@@ -148,7 +212,9 @@ orr_status orr_coarse_glow_plan(view_state *v, orr_error *err)
     v->coarse = g;
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++, g->nlevels++)
-        st = plan_level(v, &g->level[k], factors[k], err);
+        st = plan_level(v, &g->level[k], FACTORS[levels[k]], MIN_PIXELS[levels[k]], err);
+    if (!st)
+        st = levels_reach(v, g, err);
     if (!st && !(g->buffers = orr_malloc(ORR_MAX_LANES * sizeof *g->buffers, "coarse glow blocks", err)))
         st = ORR_ERR_NOMEM;
     if (st)
@@ -177,7 +243,7 @@ void orr_coarse_glow_begin(view_state *v)
 static size_t take_wide(const view_state *v, const coarse_level *l, size_t n, block_buffers *b, block_buffers *cb,
                         double *moved)
 {
-    const float f = 1.0f / l->factor, min_hpix = MIN_COARSE_PIXELS * l->factor;
+    const float f = 1.0f / l->factor, min_hpix = l->min_pixels * l->factor;
     size_t m = 0;
     for (size_t i = 0; i < n; i++) {
         if (!b->visible[i] || !(b->h[i] * b->scale[i] >= min_hpix))
@@ -216,6 +282,32 @@ size_t orr_coarse_glow_split(const view_state *v, int lane, size_t n, block_buff
     return taken;
 }
 
+/* Off the map, a coarse pixel's brightness is its on-map neighbours'
+ * mean: the fine pixels just inside the map's edge interpolate towards it
+ * and so keep the edge's brightness, instead of fading towards the 0 of
+ * a pixel that holds no light (up to half of a coarse pixel, 16 fine
+ * pixels on the coarsest map). */
+static void extend_past_edge(const coarse_level *l, float *sb)
+{
+    const int w = l->proj.width, h = l->proj.height;
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            if (l->on_map[(size_t)j * w + i])
+                continue;
+            double sum = 0.0;
+            int n = 0;
+            for (int dj = -1; dj <= 1; dj++)
+                for (int di = -1; di <= 1; di++) {
+                    const int a = i + di, b = j + dj;
+                    if (a >= 0 && a < w && b >= 0 && b < h && l->on_map[(size_t)b * w + a]) {
+                        sum += sb[(size_t)b * w + a];
+                        n++;
+                    }
+                }
+            sb[(size_t)j * w + i] = n ? (float)(sum / n) : 0.0f;
+        }
+}
+
 /* Level l's plane k as surface brightness, scaled so that the fine map
  * gets the coarse plane's weight exactly (the lanes' planes added first,
  * in lane order). Returns NULL without memory. */
@@ -235,10 +327,12 @@ static float *level_brightness(coarse_level *l, int k)
         for (int i = 0; i < w; i++) {
             const size_t p = (size_t)j * w + i;
             double m = orr_pixel_measure(&l->proj, i, j);
-            sb[p] = m > 0 ? (float)(sum->data[p] / m) : 0.0f;
+            sb[p] = m > 0 && l->on_map[p] ? (float)(sum->data[p] / m) : 0.0f;
             want += sum->data[p];
-            got += sb[p] * l->reach[p];
         }
+    extend_past_edge(l, sb);
+    for (size_t p = 0; p < npix; p++)
+        got += sb[p] * l->reach[p];
     const float scale = got > 0 ? (float)(want / got) : 0.0f;
     for (size_t p = 0; p < npix; p++)
         sb[p] *= scale;
@@ -281,7 +375,7 @@ static orr_status add_plane(view_state *v, int k, orr_error *err)
                 fail = 1;
                 continue;
             }
-            orr_pixel_measure_row(&v->proj, j, measure);
+            map_measure_row(&v->proj, j, measure);
             memset(row, 0, sizeof *row * (size_t)W);
             for (int L = 0; L < g->nlevels; L++)
                 level_row(&g->level[L], sb[L], j, W, row);

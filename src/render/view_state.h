@@ -69,9 +69,10 @@ typedef struct view_state {
 /* The coarse maps: each the sky map's copy `factor` times coarser each
  * way, with its planes per lane and what its interpolation gives the fine
  * map (coarse_glow.c). */
-#define ORR_COARSE_LEVELS 2
+#define ORR_COARSE_LEVELS 4
 typedef struct coarse_level {
     int factor;
+    float min_pixels; /* the narrowest kernel it takes: h in its pixels */
     orr_projection proj;
     orr_sph sph;
     int sph_ready;
@@ -79,6 +80,7 @@ typedef struct coarse_level {
     double *reach;  /* per coarse pixel: the fine map's measure its unit brightness reaches, interpolated */
     int *col0;      /* per fine column: the left coarse column of its interpolation */
     float *col_a;   /* per fine column: the right one's weight */
+    uint8_t *on_map; /* per coarse pixel: whether its centre is on the map */
 } coarse_level;
 
 typedef struct coarse_glow {
