@@ -81,6 +81,8 @@ static void print_report(const orr_render_report *r, const char *view, double se
            r->has_sky_frame ? "outside the sky map" : "behind the camera");
     printf("  weight in the image %.9g, off the image %.9g, not drawn %.9g\n", r->deposit.deposited,
            r->deposit.outside, r->deposit.culled);
+    if (r->n_stars)
+        printf("  drew %llu stars spawned from the particles (stars.*)\n", (unsigned long long)r->n_stars);
     if (r->n_stereo_skipped)
         printf("  of those not drawn, %llu inside the stereo eye circle (closer to the viewer than half the eye "
                "separation, horizontally)\n",
@@ -405,6 +407,20 @@ static void print_run_summary(const frame_progress *fp, long nframes, double sec
     printf("\n");
 }
 
+/* A view whose frame reached stars.max, said even with --quiet: the
+ * picture lacks stars the scene asked for. (The last frame's reports.) */
+static void warn_stars_capped(const orr_scene_views *views, const orr_render_report *reports)
+{
+    for (int k = 0; k < views->n; k++)
+        if (reports[k].stars_capped)
+            fprintf(stderr,
+                    "orrery: warning: %s%s%sframe %ld reached stars.max: the stars past it were left in the glow "
+                    "(the sky's light is kept, but not all its brightest points are drawn); raise stars.max to "
+                    "draw them\n",
+                    views->name[k][0] ? "view " : "", views->name[k], views->name[k][0] ? ": " : "",
+                    reports[k].frame);
+}
+
 /* What was rendered: the run's summary and each view's report. */
 static void print_summary(const run_args *a, const orr_scene_views *views, const orr_render_report *reports,
                           const frame_progress *fp, long nframes, int compose)
@@ -484,6 +500,8 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
     }
     if (code != EXIT_OK)
         return code;
+    if (!compose)
+        warn_stars_capped(views, reports);
     if (!a->quiet)
         print_summary(a, views, reports, &fp, nframes, compose);
     /* With --jobs the frames' lines came from the jobs, which keep their sums. */

@@ -547,8 +547,10 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
             orr_lanes_merge(&views[k].lanes, views[k].planes,
                             (size_t)views[k].proj.width * (size_t)views[k].proj.height);
     }
-    for (int k = 0; k < nviews && !st; k++)
+    for (int k = 0; k < nviews && !st; k++) {
         st = orr_coarse_glow_finish(&views[k], err);
+        views[k].rep->stars_capped = views[0].stars && views[0].stars->stage.capped;
+    }
     for (int k = 0; k < nviews && !st; k++)
         if (views[k].psf.sky)
             st = orr_sky_psf_select(views[k].psf.sky, err);

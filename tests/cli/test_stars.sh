@@ -15,9 +15,14 @@ OMP_NUM_THREADS=1 "$ORRERY" render "$SRC/configs/futuresky.yaml" -o one -q "${sm
 # between a star and its particle, a view's light is the same whether the
 # particles' stars are drawn (stars.limit 8) or none is (-30).
 plain=("${small[@]}" --set input.model.dust_particles=0 --set observer.dim=false)
-"$ORRERY" render "$SRC/configs/futuresky.yaml" -o plain -q "${plain[@]}" || fail "render, no dimming"
+"$ORRERY" render "$SRC/configs/futuresky.yaml" -o plain -q "${plain[@]}" 2>plain.err || fail "render, no dimming"
 "$ORRERY" render "$SRC/configs/futuresky.yaml" -o none -q "${plain[@]}" --set stars.limit=-30 \
   || fail "render with no star drawn"
+# stars.max reached: said, even with --quiet, and the light still kept.
+"$ORRERY" render "$SRC/configs/futuresky.yaml" -o capped -q "${plain[@]}" --set stars.max=100 2>capped.err \
+  || fail "render with stars.max 100"
+grep -q "view panorama: frame 0 reached stars.max" capped.err || fail "no stars.max warning: $(cat capped.err)"
+grep -q "stars.max" plain.err 2>/dev/null && fail "stars.max warning without reaching it"
 # Every file of the run: the stars' lists beside the images.
 [ -s two/futuresky-dome.stars.fits ] && [ -s two/futuresky-panorama.stars.fits ] || fail "no star lists: $(ls two)"
 "$py" - <<'PY' || fail "1 and 2 threads differ"
@@ -66,6 +71,12 @@ def total(path):
 a, b = total("plain/futuresky-panorama.fits"), total("none/futuresky-panorama.fits")
 if abs(a / b - 1) > 1e-3:
     bad.append(f"light with stars {a:.6g}, without {b:.6g}")
+c = total("capped/futuresky-panorama.fits")
+if abs(c / b - 1) > 1e-3:
+    bad.append(f"light with stars.max 100 {c:.6g}, without stars {b:.6g}")
+t = Table.read("capped/futuresky-panorama.stars.fits")
+if not 0 < len(t) <= 100:
+    bad.append(f"stars.max 100: {len(t)} stars listed")
 t = Table.read("two/futuresky-panorama.stars.fits")
 # stars.limit is the V a star would have without dust; the list's V has it.
 v_dustless = np.asarray(t["MV"]) + 5 * np.log10(np.asarray(t["DIST"]) / 10)
