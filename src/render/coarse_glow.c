@@ -5,7 +5,7 @@
  * of them: drawn on a map F times coarser each way, it costs F^2 less, and
  * the coarse map's surface brightness, interpolated, is added to every
  * pixel of the view once a frame. Each kernel goes to the coarsest map on
- * which its h still spans MIN_COARSE_PIXELS pixels. A coarse map is the
+ * which its h still spans MIN_PIXELS of its pixels. A coarse map is the
  * same projection at 1/F of the size, so a point's coarse pixel
  * coordinates are its fine ones over F; each lane draws into planes of its
  * own, added in lane order, so the result does not depend on the threads. */
@@ -19,11 +19,19 @@
  * divide the map): a 3600^2 dome master's widest glows on a 225^2 map
  * (0.8 degrees a pixel), the next on 450^2 and 900^2 ones. */
 static const int FACTORS[ORR_COARSE_LEVELS] = {32, 16, 8, 4};
+/* The narrowest kernel each level takes, h in its pixels. At 2 a
+ * kernel's support (2h) is 8 coarse pixels across or more, sampled finely
+ * enough that interpolating the coarse map is smooth to the eye; the two
+ * coarsest maps take only the widest glows (16: a 3600^2 dome master's
+ * kernels of 13 degrees and more), which on the 8-times map cover tens of
+ * thousands of pixels each and are mapped pixel by pixel (too wide for the
+ * local affine model). */
 static const float MIN_PIXELS[ORR_COARSE_LEVELS] = {16, 16, 2, 2};
-/* Kernels whose h spans this many coarse pixels or more go coarse: their
- * support (2h) is then 8 coarse pixels across or more, sampled finely
- * enough that interpolating the coarse map is smooth to the eye. */
-#define MIN_COARSE_PIXELS 2.0f
+/* The most a level's planes may take (every lane's): a 3600^2 dome
+ * master's 4-times map takes 39 MB, an 8192^2 one's would take 201 MB,
+ * which the 8K frame's memory goal (2 GB) has no room for; there the
+ * glows of 8 to 16 pixels stay on the view's own map. */
+#define MAX_LEVEL_BYTES ((size_t)64 << 20)
 
 static void free_level(coarse_level *l)
 {
@@ -201,9 +209,12 @@ orr_status orr_coarse_glow_plan(view_state *v, orr_error *err)
     if (!traits.sky || traits.pixel_table || !v->use_sph || v->nplanes != 3 || v->scene->stereo.mode)
         return ORR_OK;
     int levels[ORR_COARSE_LEVELS], n = 0;
-    for (int k = 0; k < ORR_COARSE_LEVELS; k++)
-        if (w % FACTORS[k] == 0 && h % FACTORS[k] == 0 && w / FACTORS[k] >= 8 && h / FACTORS[k] >= 8)
+    for (int k = 0; k < ORR_COARSE_LEVELS; k++) {
+        const int cw = w / FACTORS[k], ch = h / FACTORS[k];
+        const size_t bytes = (size_t)cw * ch * sizeof(float) * 3 * ORR_MAX_LANES;
+        if (w % FACTORS[k] == 0 && h % FACTORS[k] == 0 && cw >= 8 && ch >= 8 && bytes <= MAX_LEVEL_BYTES)
             levels[n++] = k;
+    }
     if (!n)
         return ORR_OK;
     coarse_glow *g = orr_calloc(1, sizeof *g, "coarse glow", err);
@@ -237,7 +248,7 @@ void orr_coarse_glow_begin(view_state *v)
 }
 
 /* Moves the block's kernels wide enough for level l (visible, h at least
- * MIN_COARSE_PIXELS of its pixels) into cb, in its pixel coordinates, and
+ * the level's min_pixels of its pixels) into cb, in its pixel coordinates, and
  * out of b (not visible there); returns how many, and adds the weight of
  * each plane moved. */
 static size_t take_wide(const view_state *v, const coarse_level *l, size_t n, block_buffers *b, block_buffers *cb,
