@@ -391,8 +391,8 @@ static const char *write_psf(const char *name, double pixscale, double peak)
     for (int y = 0; y < 33; y++)
         for (int x = 0; x < 33; x++)
             p.data[y * 33 + x] = (float)(peak * exp(-((x - 16) * (x - 16) + (y - 16) * (y - 16)) / 8.0));
-    orr_fits_header h = {0};
-    orr_fits_add_double(&h, "PIXSCALE", pixscale, "arcsec per pixel");
+    orr_cards h = {0};
+    orr_cards_add_double(&h, "PIXSCALE", pixscale, "arcsec per pixel");
     CHECK(orr_write_fits(path, &p, 1, &h, &err) == ORR_OK);
     orr_plane_free(&p);
     return path;
