@@ -18,6 +18,21 @@ void orr_camera_settings_defaults(orr_camera_settings *d)
     d->dim_near = 0.01;
 }
 
+void orr_camera_dome_cards(const orr_camera_settings *c, orr_projection_kind kind, orr_cards *h)
+{
+    if (kind != ORR_PROJ_DOME)
+        return;
+    orr_cards_add_double(h, "DOMETILT", c->dome_tilt, "[deg] dome tilt toward the front");
+    if (c->dome[0])
+        orr_cards_add_string(h, "DOMEPROF", c->dome, "dome profile");
+}
+
+void orr_camera_dim_cards(const orr_camera_settings *c, orr_cards *h)
+{
+    if (c->dim)
+        orr_cards_add_bool(h, "DIMMED", 1, "weights divided by r^2 from the camera");
+}
+
 int orr_camera_settings_look_target(const orr_camera_settings *c, orr_vec3 *target)
 {
     const orr_camera_path *p = &c->path;

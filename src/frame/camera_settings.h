@@ -10,6 +10,7 @@
 #include "core/vecmath.h"
 #include "frame/camera.h"
 #include "frame/path.h"
+#include "frame/projection.h"
 
 typedef struct orr_camera_settings {
     /* Exactly one of look_at, direction, quaternion orients the camera;
@@ -52,6 +53,12 @@ typedef struct orr_camera_settings {
 
 /* Fills d with the defaults above. */
 void orr_camera_settings_defaults(orr_camera_settings *d);
+
+/* A dome master's orientation cards (DOMETILT, DOMEPROF), for a projection
+ * of that kind; none for the others. */
+void orr_camera_dome_cards(const orr_camera_settings *c, orr_projection_kind kind, orr_cards *h);
+/* DIMMED when camera.dim dims the weights with the distance from the camera. */
+void orr_camera_dim_cards(const orr_camera_settings *c, orr_cards *h);
 
 /* The point the camera keeps looking at, where there is one: camera.look_at,
  * an orbit's centre, an inspiral's target, a line's look_at. A stereo pair

@@ -15,6 +15,18 @@ void orr_observer_settings_defaults(orr_observer_settings *d)
     d->dim_near = 0.01;
 }
 
+void orr_observer_cards(const orr_observer_settings *o, orr_cards *h)
+{
+    if (!o->has_id)
+        return;
+    orr_cards_add_long(h, "OBSID", (long long)o->id, "observer particle id");
+    orr_cards_add_long(h, "REFID", (long long)o->reference_id, "reference particle id (l = 0)");
+    orr_cards_reserve(h, "NORMX", "disc normal n0 (b = 90) x");
+    orr_cards_reserve(h, "NORMY", "disc normal n0 (b = 90) y");
+    orr_cards_reserve(h, "NORMZ", "disc normal n0 (b = 90) z");
+    orr_cards_add_bool(h, "DIMMED", o->dim, "weights divided by r^2 from the observer");
+}
+
 orr_status orr_sky_frame_build(orr_sky_frame *f, orr_vec3 observer, orr_vec3 reference, orr_vec3 n0,
                                orr_error *err)
 {

@@ -11,6 +11,7 @@
 
 #include <stdint.h>
 
+#include "core/cards.h"
 #include "core/error.h"
 #include "core/names.h"
 #include "core/vecmath.h"
@@ -42,6 +43,10 @@ extern const orr_named orr_normal_sign_names[];
 
 /* Fills d with the defaults above. */
 void orr_observer_settings_defaults(orr_observer_settings *d);
+
+/* An observer's cards (OBSID, REFID, DIMMED and the disc normal NORMX..Z,
+ * which each frame gives: reserved); none without observer.id. */
+void orr_observer_cards(const orr_observer_settings *o, orr_cards *h);
 
 typedef struct orr_sky_frame {
     orr_vec3 origin;  /* the observer's position (the world origin without an observer) */

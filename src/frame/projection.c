@@ -18,6 +18,19 @@ const char *orr_projection_name(orr_projection_kind kind) { return orr_named_nam
 
 const orr_named orr_healpix_order_names[] = {{"ring", 0}, {"nested", 1}, {NULL, 0}};
 
+void orr_projection_cards(const orr_projection *p, orr_cards *h)
+{
+    orr_cards_add_string(h, "PROJTYPE", orr_projection_name(p->kind), "projection");
+    if (p->kind == ORR_PROJ_ORTHOGRAPHIC)
+        orr_cards_add_double(h, "ORTHOWID", p->ortho_width, "image width in simulation length units");
+    if (p->kind == ORR_PROJ_PERSPECTIVE) {
+        orr_cards_add_double(h, "FOV", p->fov_deg, "[deg] field of view along the wider axis");
+        orr_cards_add_double(h, "NEAR", p->near, "near plane distance");
+    }
+    if (p->kind == ORR_PROJ_DOME)
+        orr_cards_add_double(h, "DOMEFOV", p->dome_fov_deg, "[deg] dome field of view");
+}
+
 void orr_projection_defaults(orr_projection *p)
 {
     memset(p, 0, sizeof *p);

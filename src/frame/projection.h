@@ -9,6 +9,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/cards.h"
 #include "core/error.h"
 #include "core/names.h"
 #include "core/vecmath.h"
@@ -157,6 +158,9 @@ void orr_projection_fold(const orr_projection *p, int *i, int *j);
 orr_status orr_projection_setup(orr_projection *p, orr_error *err);
 
 extern const orr_named orr_projection_names[];
+/* The projection's cards: PROJTYPE and the parameters of its kind
+ * (ORTHOWID; FOV and NEAR; DOMEFOV). */
+void orr_projection_cards(const orr_projection *p, orr_cards *h);
 const char *orr_projection_name(orr_projection_kind kind);
 
 /* Projects one camera-frame point. Returns 1 and sets (px, py, scale) when the

@@ -20,6 +20,20 @@ void orr_stereo_settings_defaults(orr_stereo_settings *d)
     d->eye = 0;
 }
 
+void orr_stereo_cards(const orr_stereo_settings *st, orr_projection_kind kind, orr_cards *h)
+{
+    orr_cards_add_string(h, "STEREO", orr_stereo_mode_name(st->mode), "stereo mode");
+    if (st->mode == ORR_STEREO_SEPARATE && st->eye)
+        orr_cards_add_string(h, "EYE", orr_eye_name(st->eye), "the eye of this file");
+    else
+        orr_cards_add_string(h, "EYES", "left, right", "HDUs: the left eye's planes, then the right's");
+    orr_cards_add_double(h, "EYESEP", st->eye_separation, "interocular distance, scene units");
+    if (orr_projection_traits_of(kind).off_axis_stereo)
+        orr_cards_reserve(h, "CONVERG", "distance of zero parallax, scene units"); /* the frame's */
+    else
+        orr_cards_add_double(h, "ZENFADE", st->zenith_fade, "[deg] ODS separation fades to 0 at the pole");
+}
+
 const char *orr_stereo_mode_name(orr_stereo_mode mode) { return orr_named_name(orr_stereo_mode_names, (int)mode); }
 
 ORR_NAMED_PARSER(orr_stereo_mode_from_name, orr_stereo_mode, orr_stereo_mode_names)

@@ -65,6 +65,11 @@ typedef struct orr_stereo_settings {
 /* Fills d with the defaults above. */
 void orr_stereo_settings_defaults(orr_stereo_settings *d);
 
+/* A stereo view's cards (STEREO, EYE or EYES, EYESEP; a pair's CONVERG,
+ * which each frame gives: reserved, or ODS's ZENFADE); the anaglyph's
+ * is the picture's (orr_picture_stereo_cards). */
+void orr_stereo_cards(const orr_stereo_settings *st, orr_projection_kind kind, orr_cards *h);
+
 /* Moves a perspective camera to one eye (ORR_EYE_LEFT or ORR_EYE_RIGHT):
  * its position by eye * separation / 2 along its right axis, and the
  * projection's principal point by eye * focal * separation / (2 convergence)

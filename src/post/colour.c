@@ -36,6 +36,15 @@ void orr_colour_synth_defaults(orr_colour_synth *s)
     };
 }
 
+void orr_colour_cards(const orr_colour_settings *d, orr_cards *h)
+{
+    if (!d->has_populations)
+        return;
+    orr_cards_add_long(h, "NPOPS", d->populations.n, "colour populations");
+    orr_cards_reserve(h, "YIMAGE", "luminance Y deposited in the image");
+    orr_cards_reserve(h, "YOUTSIDE", "luminance Y that fell off the image");
+}
+
 void orr_colour_settings_defaults(orr_colour_settings *d)
 {
     memset(d, 0, sizeof *d);

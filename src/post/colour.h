@@ -19,6 +19,7 @@
 
 #include <stddef.h>
 
+#include "core/cards.h"
 #include "core/colourimetry.h"
 #include "core/error.h"
 #include "core/plane.h"
@@ -106,6 +107,10 @@ typedef struct orr_colour_settings {
 
 /* Fills d with the defaults above. */
 void orr_colour_settings_defaults(orr_colour_settings *d);
+
+/* With colour populations: NPOPS, and the luminance Y deposited in and off
+ * the image (YIMAGE, YOUTSIDE), which each frame gives: reserved. */
+void orr_colour_cards(const orr_colour_settings *d, orr_cards *h);
 
 /* The stretched, brightness- and contrast-adjusted luminance of a pixel
  * with luminance y, for white level y0 > 0; 0 for y NaN or <= 0. Not clipped

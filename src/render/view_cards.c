@@ -1,12 +1,13 @@
-/* A view's FITS cards (encode/fits.h), made once by the plan and filled in
- * each frame: what depends on the scene, the projection and the PSF is
- * written when the view is planned, and the cards whose values each frame
- * gives (the camera, the counts, the time, the frame number) are reserved
- * in their places; each frame copies them, sets those, drops the ones the
- * frame has none for (a periodic box's when it draws no copies, the frame
- * number of a still), and adds the world coordinates, which follow the
- * camera, and the stereo cards. Every FITS file of the frame (and an
- * in-situ keeper) gets that copy. */
+/* A view's FITS cards (core/cards.h), made once by the plan and filled in
+ * each frame: each stage's own cards (orr_projection_cards,
+ * orr_view_psf_cards, orr_observer_cards, ...), from its settings and what
+ * it prepared, are added when the view is planned, and the cards whose
+ * values each frame gives (the camera, the counts, the time, the frame
+ * number) are reserved in their places; each frame copies them, sets
+ * those, drops the ones the frame has none for (a periodic box's when it
+ * draws no copies, the frame number of a still), and adds the world
+ * coordinates, which follow the camera, and the stereo cards. Every FITS
+ * file of the frame (and an in-situ keeper) gets that copy. */
 #include "render/view_state.h"
 
 #include <string.h>
@@ -25,31 +26,11 @@ static void reserve(orr_cards *h, const reserved *cards, size_t n)
         orr_cards_reserve(h, cards[i].key, cards[i].comment);
 }
 
-/* The projection's cards: its kind and the parameters the scene gave it. */
-static void plan_projection_cards(const view_state *v, orr_cards *h)
-{
-    const orr_scene *s = v->scene;
-    const orr_projection *p = &v->base_proj; /* (a stereo eye's shift changes none of these) */
-    orr_cards_add_string(h, "PROJTYPE", orr_projection_name(p->kind), "projection");
-    if (p->kind == ORR_PROJ_ORTHOGRAPHIC)
-        orr_cards_add_double(h, "ORTHOWID", p->ortho_width, "image width in simulation length units");
-    if (p->kind == ORR_PROJ_PERSPECTIVE) {
-        orr_cards_add_double(h, "FOV", p->fov_deg, "[deg] field of view along the wider axis");
-        orr_cards_add_double(h, "NEAR", p->near, "near plane distance");
-    }
-    if (p->kind == ORR_PROJ_DOME) {
-        orr_cards_add_double(h, "DOMEFOV", p->dome_fov_deg, "[deg] dome field of view");
-        orr_cards_add_double(h, "DOMETILT", s->camera.dome_tilt, "[deg] dome tilt toward the front");
-        if (s->camera.dome[0])
-            orr_cards_add_string(h, "DOMEPROF", s->camera.dome, "dome profile");
-    }
-}
-
-/* The deposit's and the PSF's cards. */
+/* The deposit's cards: the one stage whose cards are still made here; they
+ * belong beside the deposit's settings in splat/deposit.h. */
 static void plan_deposit_cards(const view_state *v, orr_cards *h)
 {
     const orr_scene *s = v->scene;
-    const orr_projection *p = &v->base_proj;
     orr_cards_add_string(h, "DEPOSIT", orr_deposit_name(s->deposit.kind), "deposit method");
     if (v->use_sph) {
         orr_cards_add_string(h, "KERNEL", orr_kernel_name(s->deposit.kernel), "SPH kernel (support 2h)");
@@ -57,30 +38,13 @@ static void plan_deposit_cards(const view_state *v, orr_cards *h)
         orr_cards_reserve(h, "NNEIGH", "h = half the distance to this neighbour");
         orr_cards_add_double(h, "HSCALE", s->deposit.h_scale, "smoothing lengths multiplied by this");
     }
-    orr_cards_add_string(h, "PSF", orr_named_name(orr_psf_kind_names, (int)s->psf.kind), "point spread function");
-    if (s->psf.kind == ORR_PSF_GAUSSIAN && orr_projection_is_sky(p))
-        orr_cards_add_double(h, "PSFFWHM", v->psf.core_fwhm_arcmin, "[arcmin] PSF FWHM on the sky");
-    else if (s->psf.kind == ORR_PSF_GAUSSIAN)
-        orr_cards_add_double(h, "PSFFWHM", s->psf.fwhm, "[pixel] PSF FWHM");
-    else if (s->psf.kind != ORR_PSF_NONE)
-        orr_cards_add_double(h, "PSFSCALE", s->psf.arcsec_per_pixel, "[arcsec/pixel] image scale for the PSF");
-    if (v->psf.core) {
-        orr_cards_add_double(h, "PSFFWHM", s->psf.fwhm, "[pixel] the PSF core's FWHM");
-        orr_cards_add_double(h, "PSFMAG", v->psf.sky->rad_per_pixel, "image pixels per PSF pixel");
-        orr_cards_reserve(h, "PSFSTARS", "stars drawn with the whole PSF");
-    } else if (v->psf.sky) {
-        orr_cards_add_double(h, "PSFFWHM", v->psf.core_fwhm_arcmin, "[arcmin] the PSF core's FWHM on the sky");
-        orr_cards_add_double(h, "PSFSKYSC", v->psf.sky->rad_per_pixel * (180.0 * 3600.0 / ORR_PI),
-                            "[arcsec] one PSF pixel on the sky");
-        orr_cards_reserve(h, "PSFSTARS", "stars drawn with the whole PSF");
-    }
 }
 
 /* The counts of the frame's report, and its time and source. */
 static void plan_report_cards(const view_state *v, orr_cards *h)
 {
     const orr_scene *s = v->scene;
-    orr_cards_add_string(h, "WEIGHT", s->input.weight, "particle field deposited");
+    orr_input_cards(&s->input, h);
     static const reserved counts[] = {
         {"NPART", "particles read"},
         {"NSELECT", "particles of the selected types"},
@@ -99,37 +63,21 @@ static void plan_report_cards(const view_state *v, orr_cards *h)
         {"SOURCE", "particle source"},
     };
     reserve(h, counts, sizeof counts / sizeof counts[0]);
-    if (s->colour.has_populations) {
-        orr_cards_add_long(h, "NPOPS", s->colour.populations.n, "colour populations");
-        orr_cards_reserve(h, "YIMAGE", "luminance Y deposited in the image");
-        orr_cards_reserve(h, "YOUTSIDE", "luminance Y that fell off the image");
-    }
+    orr_colour_cards(&s->colour, h);
     reserve(h, when, sizeof when / sizeof when[0]);
 }
 
-/* The observer's frame, and the dimming with distance. */
-static void plan_observer_cards(const view_state *v, orr_cards *h)
-{
-    const orr_scene *s = v->scene;
-    if (s->observer.has_id) {
-        orr_cards_add_long(h, "OBSID", (long long)s->observer.id, "observer particle id");
-        orr_cards_add_long(h, "REFID", (long long)s->observer.reference_id, "reference particle id (l = 0)");
-        orr_cards_reserve(h, "NORMX", "disc normal n0 (b = 90) x");
-        orr_cards_reserve(h, "NORMY", "disc normal n0 (b = 90) y");
-        orr_cards_reserve(h, "NORMZ", "disc normal n0 (b = 90) z");
-        orr_cards_add_bool(h, "DIMMED", s->observer.dim, "weights divided by r^2 from the observer");
-    } else if (s->camera.dim) {
-        orr_cards_add_bool(h, "DIMMED", 1, "weights divided by r^2 from the camera");
-    }
-}
-
+/* Each stage's cards, in the order the files have always had them. */
 void orr_view_plan_cards(view_state *v)
 {
+    const orr_scene *s = v->scene;
     orr_cards *h = &v->cards;
     memset(h, 0, sizeof *h);
     orr_cards_add_string(h, "CREATOR", "orrery " ORRERY_VERSION, "software that made this file");
     orr_cards_add_string(h, "ORRVERS", ORRERY_VERSION, "orrery version");
-    plan_projection_cards(v, h);
+    /* (a stereo eye's shift changes none of the projection's cards) */
+    orr_projection_cards(&v->base_proj, h);
+    orr_camera_dome_cards(&s->camera, v->base_proj.kind, h);
     static const reserved camera[] = {
         {"CAMPOSX", "camera position x"},
         {"CAMPOSY", "camera position y"},
@@ -143,11 +91,18 @@ void orr_view_plan_cards(view_state *v)
     orr_cards_add_long(h, "IMGWIDTH", v->base_proj.width, "[pixel] image width");
     orr_cards_add_long(h, "IMGHEIGH", v->base_proj.height, "[pixel] image height");
     plan_deposit_cards(v, h);
+    orr_view_psf_cards(&v->psf, h);
     plan_report_cards(v, h);
-    plan_observer_cards(v, h);
+    if (s->observer.has_id) /* an observer's dimming is the observer's; without one, the camera's */
+        orr_observer_cards(&s->observer, h);
+    else
+        orr_camera_dim_cards(&s->camera, h);
     memset(&v->stereo_cards, 0, sizeof v->stereo_cards);
-    if (v->scene->stereo.mode)
-        orr_stereo_add_cards(&v->stereo_cards, v->scene);
+    if (s->stereo.mode) {
+        orr_stereo_cards(&s->stereo, s->projection.kind, &v->stereo_cards);
+        if (s->stereo.mode == ORR_STEREO_ANAGLYPH)
+            orr_picture_anaglyph_cards(&s->picture, &v->stereo_cards);
+    }
 }
 
 /* The frame's values of the reserved cards. */

@@ -5,6 +5,11 @@
 
 const orr_named orr_nonfinite_names[] = {{"error", 0}, {"skip", 1}, {NULL, 0}};
 
+void orr_input_cards(const orr_input_settings *d, orr_cards *h)
+{
+    orr_cards_add_string(h, "WEIGHT", d->weight, "particle field deposited");
+}
+
 void orr_input_settings_defaults(orr_input_settings *d)
 {
     memset(d, 0, sizeof *d);

@@ -7,6 +7,7 @@
 
 #include <stdint.h>
 
+#include "core/cards.h"
 #include "core/limits.h"
 #include "core/names.h"
 #include "particles/chunk.h"
@@ -68,5 +69,8 @@ extern const orr_named orr_nonfinite_names[];
 
 /* Fills d with the defaults above. */
 void orr_input_settings_defaults(orr_input_settings *d);
+
+/* WEIGHT: the particle field deposited (input.weight). */
+void orr_input_cards(const orr_input_settings *d, orr_cards *h);
 
 #endif
