@@ -159,7 +159,7 @@ static orr_status flat_setup(orr_view_psf *vp, const orr_psf_settings *ps, int c
         return orr_convolver_create_gaussian(&vp->conv, proj->width, proj->height, ps->fwhm, NULL, err);
     orr_image_kernel k = {0};
     orr_status st = orr_view_psf_kernel(ps, memo, &k, err);
-    if (!st && ps->flat_stars)
+    if (!st && orr_psf_flat_stars(ps, orr_projection_is_sky(proj)))
         st = flat_stars_setup(vp, ps, colour, proj, &k, err);
     else if (!st)
         st = orr_convolver_create(&vp->conv, proj->width, proj->height, &k, NULL, err);

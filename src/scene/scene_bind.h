@@ -5,6 +5,7 @@
 #ifndef ORR_SCENE_SCENE_BIND_H
 #define ORR_SCENE_SCENE_BIND_H
 
+#include "core/keys.h"
 #include "scene/scene.h"
 #include "scene/ytree.h"
 
@@ -46,6 +47,14 @@ void scene_loc_prefix(const char *origin, int line, char *buf, size_t size);
 /* Fails with ORR_ERR_USAGE and "origin:line: " (or "origin: ") before the formatted text. */
 orr_status scene_fail_at(orr_error *err, const char *origin, int line, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
+
+/* A scene's keys as the stages' checks see them (core/keys.h): whether
+ * each was given and where. s and m must outlive the result. */
+typedef struct scene_keyed {
+    const orr_scene *s;
+    const scene_marks *m;
+} scene_keyed;
+orr_keys scene_keys(const scene_keyed *k);
 
 /* Fails with ORR_ERR_USAGE and "origin:line: " of key (or the scene path
  * when the key was not set) before the formatted text. */

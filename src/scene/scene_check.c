@@ -330,46 +330,14 @@ static orr_status check_projection(const orr_scene *s, orr_error *err)
     return ORR_OK;
 }
 
-/* ---- smoothing and PSF ---- */
+/* ---- the PSF ---- */
 
-static orr_status check_psf(orr_scene *s, const scene_marks *m, orr_error *err)
+/* The PSF's keys are checked by the PSF (post/psf.h), given the map. */
+static orr_status check_psf(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    int sky = orr_projection_is_sky(&s->projection);
-    int whole = s->psf.kind == ORR_PSF_HST || s->psf.kind == ORR_PSF_FILE;
-    if (s->psf.kind == ORR_PSF_FILE && !s->psf.file[0])
-        return scene_fail_key(s, m, "psf.kind", err, "psf.kind: file needs psf.file, a FITS PSF image");
-    if (s->psf.kind != ORR_PSF_FILE && scene_mark(m, "psf.file"))
-        return scene_fail_key(s, m, "psf.file", err, "psf.file is used only with psf.kind: file");
-    /* A sky map draws the brightest stars with the whole PSF, the rest as
-     * its core (docs/psf.md); so does a flat view given the core's width
-     * (psf.fwhm), else it convolves every star with the whole PSF. */
-    const char *hst_keys[2] = {"psf.vane_width", "psf.spike_gain"};
-    for (int k = 0; k < 2; k++)
-        if (s->psf.kind != ORR_PSF_HST && scene_mark(m, hst_keys[k]))
-            return scene_fail_key(s, m, hst_keys[k], err, "%s is used only with psf.kind: hst", hst_keys[k]);
-    s->psf.flat_stars = !sky && whole && scene_mark(m, "psf.fwhm") != NULL;
-    const char *spike_keys[2] = {"psf.spike_stars", "psf.spike_min_flux"};
-    for (int k = 0; k < 2; k++)
-        if (scene_mark(m, spike_keys[k]) && !((sky && whole) || s->psf.flat_stars))
-            return scene_fail_key(s, m, spike_keys[k], err,
-                                  "%s is for psf.kind: hst or file on sky maps, or on flat views with psf.fwhm "
-                                  "(the core's width in pixels); a Gaussian has no spikes, and a flat view "
-                                  "without psf.fwhm convolves every star with the whole PSF",
-                                  spike_keys[k]);
-    if (sky && scene_mark(m, "psf.fwhm"))
-        return scene_fail_key(s, m, "psf.fwhm", err,
-                              "psf.fwhm is in pixels, for flat views; a sky map's PSF size is psf.fwhm_arcmin");
-    if (!sky && scene_mark(m, "psf.fwhm_arcmin"))
-        return scene_fail_key(s, m, "psf.fwhm_arcmin", err,
-                              "psf.fwhm_arcmin is for sky maps; a flat view's Gaussian PSF is psf.fwhm, in pixels");
-    if (s->psf.size % 2 == 0)
-        return scene_fail_key(s, m, "psf.size", err, "psf.size must be odd (the PSF's centre is a pixel), got %d",
-                              s->psf.size);
-    if (s->psf.has_glow && (!sky || s->psf.kind == ORR_PSF_NONE))
-        return scene_fail_key(s, m, "glow.threshold", err,
-                              "glow.threshold draws faint stars as a glow of angular kernels and bright ones as "
-                              "the PSF's core: it needs a sky map with a psf.kind");
-    return ORR_OK;
+    scene_keyed where = {s, m};
+    orr_keys keys = scene_keys(&where);
+    return orr_psf_prepare(&s->psf, orr_projection_is_sky(&s->projection), &keys, err);
 }
 
 /* Smoothing the automatic white over frames re-grades each frame's picture

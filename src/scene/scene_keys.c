@@ -150,7 +150,7 @@ static const key_spec KEYS[] = {
     {.key = "compose.layers", .type = K_LAYERS},
     {.key = "colour.tint.t", .type = K_RUN, FIELD(colour.tint_t), CLOSED(0, 1), RUN_FLAG(colour.tint_run)},
     {.key = "psf.kind", NAMED(orr_psf_kind_names, psf.kind)},
-    {.key = "psf.fwhm", .type = K_NUMBER, FIELD(psf.fwhm), CLOSED(0.1, 1000)},
+    {.key = "psf.fwhm", .type = K_NUMBER, FIELD(psf.fwhm), CLOSED(0.1, 1000), FLAG(psf.has_fwhm)},
     {.key = "psf.fwhm_arcmin", .type = K_AUTO, FIELD(psf.fwhm_arcmin), CLOSED(0.01, 3000)},
     {.key = "psf.file", .type = K_PATH, FIELD(psf.file)},
     {.key = "psf.file_subsample", .type = K_INT, FIELD(psf.file_subsample), IRANGE(1, 64)},
