@@ -16,148 +16,7 @@
 #include "scene/scene_path.h"
 #include "scene/ytree.h"
 
-/* ---- input ---- */
-
-static const char *const SEQUENCE_KEYS[] = {
-    "input.sequence.pattern", "input.sequence.first", "input.sequence.last", "input.sequence.step",
-    "input.sequence.files", "input.sequence.interpolation", "input.sequence.max_memory",
-};
-static const char *const RANGE_KEYS[] = {"input.sequence.first", "input.sequence.last", "input.sequence.step"};
-
 #define COUNT(a) (sizeof(a) / sizeof((a)[0]))
-
-/* Each built-in model has its own parameters: another model's are errors. */
-static orr_status check_model_keys(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const mw_m31_only[] = {"input.model.separation", "input.model.galaxies",
-                                              "input.model.disc_q", "input.model.dust_particles"};
-    static const char *const king_only[] = {"input.model.w0", "input.model.core_radius", "input.model.mass"};
-    const int king = strcmp(s->input.model.name, "king") == 0;
-    const char *const *foreign = king ? mw_m31_only : king_only;
-    size_t nforeign = king ? COUNT(mw_m31_only) : COUNT(king_only);
-    for (size_t i = 0; i < nforeign; i++)
-        if (scene_mark(m, foreign[i]))
-            return scene_fail_key(s, m, foreign[i], err, "%s does not apply to input.model.name: %s", foreign[i],
-                                  s->input.model.name);
-    return ORR_OK;
-}
-
-static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const model_keys[] = {"input.model.particles", "input.model.seed",
-                                             "input.model.separation", "input.model.w0",
-                                             "input.model.core_radius", "input.model.mass",
-                                             "input.model.galaxies", "input.model.disc_q"};
-    const int has_file = s->input.file[0] != '\0', has_model = s->input.model.name[0] != '\0';
-    const int has_sequence = orr_scene_has_sequence(s);
-    const char *sequence_key = s->input.sequence.pattern[0] ? "input.sequence.pattern" : "input.sequence.files";
-    if (has_file && has_model)
-        return scene_fail_key(s, m, "input.model.name", err,
-                        "input.file and input.model.name are both set; use one of them");
-    if (has_sequence && (has_file || has_model))
-        return scene_fail_key(s, m, sequence_key, err, "%s and %s are both set; use one of them", sequence_key,
-                              has_file ? "input.file" : "input.model.name");
-    if (!has_file && !has_model && !has_sequence && !s->input.insitu)
-        return orr_fail(err, ORR_ERR_USAGE,
-                        "%s: no input: set input.file or input.model.name, or a sequence (input.sequence.pattern or "
-                        "input.sequence.files)",
-                        s->path);
-    for (size_t i = 0; !has_model && i < COUNT(model_keys); i++)
-        if (scene_mark(m, model_keys[i]))
-            return scene_fail_key(s, m, model_keys[i], err, "%s applies to input.model.name, but the input is %s",
-                                  model_keys[i], has_file ? "input.file" : sequence_key);
-    return has_model ? check_model_keys(s, m, err) : ORR_OK;
-}
-
-/* The sphere of centre: camera (input.periodic.radius, .fade): only there,
- * only with copies, and when the box side is given, within the copies'
- * reach (else the render checks it against the file's BoxSize). */
-static orr_status check_periodic_sphere(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const keys[] = {"input.periodic.radius", "input.periodic.fade"};
-    for (int k = 0; k < 2; k++) {
-        if (!scene_mark(m, keys[k]))
-            continue;
-        if (!s->periodic.around_camera)
-            return scene_fail_key(s, m, keys[k], err,
-                                  "%s applies to input.periodic.centre: camera (the images within a sphere "
-                                  "around the camera), but the centre is origin",
-                                  keys[k]);
-        if (s->periodic.replicas < 3)
-            return scene_fail_key(s, m, keys[k], err,
-                                  "%s needs copies of the box around the camera: set input.periodic.replicas to "
-                                  "3 or more (it is %d)",
-                                  keys[k], s->periodic.replicas);
-    }
-    if (!s->periodic.around_camera || s->periodic.replicas < 3)
-        return ORR_OK;
-    /* The box's side stands in for an unknown one: a radius or fade that
-     * fails now fails whatever the side. */
-    orr_replica_sphere sp;
-    orr_error why;
-    double box = s->periodic.box > 0 ? s->periodic.box : HUGE_VAL;
-    if (orr_replica_sphere_resolve(&sp, box, s->periodic.replicas, s->periodic.radius,
-                                   s->periodic.has_fade ? s->periodic.fade : -1, &why) == ORR_OK)
-        return ORR_OK;
-    const char *key = strstr(why.msg, "input.periodic.fade") == why.msg ? keys[1] : keys[0];
-    return scene_fail_key(s, m, key, err, "%s", why.msg);
-}
-
-/* Replicas sit symmetrically around a middle one: an odd count per axis. */
-static orr_status check_periodic(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    if (s->periodic.replicas % 2 == 0)
-        return scene_fail_key(s, m, "input.periodic.replicas", err,
-                              "input.periodic.replicas is %d; it must be odd (1, 3, 5, ...): copies of the box "
-                              "sit symmetrically around the middle one",
-                              s->periodic.replicas);
-    return check_periodic_sphere(s, m, err);
-}
-
-/* The pattern: one integer conversion, and a range of at least 2 files. */
-static orr_status check_sequence_pattern(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    orr_error why;
-    if (orr_sequence_pattern_check(s->input.sequence.pattern, &why))
-        return scene_fail_key(s, m, "input.sequence.pattern", err, "input.sequence.pattern: %s", why.msg);
-    if (!scene_mark(m, "input.sequence.last"))
-        return scene_fail_key(s, m, "input.sequence.pattern", err,
-                              "input.sequence.pattern needs input.sequence.last, the number of the last snapshot");
-    if (s->input.sequence.last < s->input.sequence.first)
-        return scene_fail_key(s, m, "input.sequence.last", err,
-                              "input.sequence.last (%lld) is below input.sequence.first (%lld)", s->input.sequence.last,
-                              s->input.sequence.first);
-    if ((s->input.sequence.last - s->input.sequence.first) / s->input.sequence.step + 1 < 2)
-        return scene_fail_key(s, m, "input.sequence.last", err,
-                              "input.sequence.first %lld, last %lld, step %lld give one snapshot; a sequence needs "
-                              "at least 2 (use input.file for one)",
-                              s->input.sequence.first, s->input.sequence.last, s->input.sequence.step);
-    return ORR_OK;
-}
-
-static orr_status check_sequence(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    if (!orr_scene_has_sequence(s)) {
-        for (size_t i = 0; i < COUNT(SEQUENCE_KEYS); i++)
-            if (scene_mark(m, SEQUENCE_KEYS[i]))
-                return scene_fail_key(s, m, SEQUENCE_KEYS[i], err,
-                                      "%s applies to a sequence, but neither input.sequence.pattern nor "
-                                      "input.sequence.files is set",
-                                      SEQUENCE_KEYS[i]);
-        return ORR_OK;
-    }
-    if (s->input.sequence.pattern[0] && s->input.sequence.nfiles > 0)
-        return scene_fail_key(s, m, "input.sequence.files", err,
-                              "input.sequence.pattern and input.sequence.files are both set; list the snapshots "
-                              "one way");
-    for (size_t i = 0; s->input.sequence.nfiles > 0 && i < COUNT(RANGE_KEYS); i++)
-        if (scene_mark(m, RANGE_KEYS[i]))
-            return scene_fail_key(s, m, RANGE_KEYS[i], err,
-                                  "%s applies to input.sequence.pattern, but the snapshots are listed by "
-                                  "input.sequence.files",
-                                  RANGE_KEYS[i]);
-    return s->input.sequence.pattern[0] ? check_sequence_pattern(s, m, err) : ORR_OK;
-}
 
 /* ---- camera ---- */
 
@@ -571,12 +430,12 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
 {
     scene_marks marks;
     orr_status st = scene_bind(s, root, &marks, err);
+    scene_keyed where = {s, &marks};
+    orr_keys keys = scene_keys(&where);
     if (st == ORR_OK)
-        st = check_input(s, &marks, err);
+        st = orr_input_prepare(&s->input, &keys, err);
     if (st == ORR_OK)
-        st = check_periodic(s, &marks, err);
-    if (st == ORR_OK)
-        st = check_sequence(s, &marks, err);
+        st = orr_periodic_prepare(&s->periodic, &keys, err);
     if (st == ORR_OK) /* before the camera: its placement keys are not allowed with an observer */
         st = check_observer(s, &marks, err);
     if (st == ORR_OK) /* before the camera: a path excludes its placement keys */

@@ -8,6 +8,7 @@
 #include <stdint.h>
 
 #include "core/cards.h"
+#include "core/keys.h"
 #include "core/limits.h"
 #include "core/names.h"
 #include "particles/chunk.h"
@@ -44,7 +45,7 @@ typedef struct orr_sequence_settings {
     long long step;              /* input.sequence.step (default 1) */
     int nfiles;                  /* input.sequence.files: how many (0 when none) */
     char files[ORR_SEQ_FILES_BYTES]; /* ...the paths, resolved, one after another, each ending in NUL;
-                                  * read them with orr_scene_sequence_file */
+                                  * read them with orr_sequence_file */
     orr_interpolation interpolation; /* input.sequence.interpolation: auto | linear | hermite (default auto) */
     double max_memory;           /* input.sequence.max_memory: GiB two resident snapshots may take
                                   * (default 16) */
@@ -69,6 +70,16 @@ extern const orr_named orr_nonfinite_names[];
 
 /* Fills d with the defaults above. */
 void orr_input_settings_defaults(orr_input_settings *d);
+
+/* The input.* keys checked against each other: one input (a file, a
+ * model or a sequence), each model's own keys, a sequence's pattern or
+ * files; keys says which were given, and where (core/keys.h). */
+orr_status orr_input_prepare(const orr_input_settings *in, const orr_keys *keys, orr_error *err);
+
+/* Whether the input is a sequence of snapshots (a pattern or files). */
+int orr_input_has_sequence(const orr_input_settings *in);
+/* The i-th path of input.sequence.files. */
+const char *orr_sequence_file(const orr_sequence_settings *d, int i);
 
 /* WEIGHT: the particle field deposited (input.weight). */
 void orr_input_cards(const orr_input_settings *d, orr_cards *h);
