@@ -18,162 +18,37 @@
 
 #define COUNT(a) (sizeof(a) / sizeof((a)[0]))
 
-/* ---- camera ---- */
-
-static int is_zero(orr_vec3 v) { return v.x == 0 && v.y == 0 && v.z == 0; }
-
-/* True when a and b point along the same line (or either is zero). */
-static int parallel(orr_vec3 a, orr_vec3 b)
-{
-    return orr_v3_norm(orr_v3_cross(a, b)) <= 1e-12 * orr_v3_norm(a) * orr_v3_norm(b);
-}
-
-static orr_status check_orientation_count(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const keys[] = {"camera.look_at", "camera.direction", "camera.quaternion"};
-    const char *first = NULL;
-    for (int i = 0; i < 3; i++) {
-        if (!scene_mark(m, keys[i]))
-            continue;
-        if (first)
-            return scene_fail_key(s, m, keys[i], err,
-                            "%s and %s are both set; use at most one of camera.look_at, camera.direction, "
-                            "camera.quaternion",
-                            first, keys[i]);
-        first = keys[i];
-    }
-    return ORR_OK;
-}
-
-static orr_status check_camera(orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    orr_status st = check_orientation_count(s, m, err);
-    if (st != ORR_OK)
-        return st;
-    if (s->camera.has_quaternion) {
-        orr_quat q = s->camera.quaternion;
-        if (q.w == 0 && q.x == 0 && q.y == 0 && q.z == 0)
-            return scene_fail_key(s, m, "camera.quaternion", err,
-                            "camera.quaternion: [0, 0, 0, 0] is not a rotation (zero length)");
-        /* Users round their quaternions; the renderer wants a unit one. */
-        s->camera.quaternion = orr_quat_normalize(q);
-    }
-    if (s->camera.has_direction && is_zero(s->camera.direction))
-        return scene_fail_key(s, m, "camera.direction", err, "camera.direction: must not be [0, 0, 0]");
-    if (s->camera.has_up && is_zero(s->camera.up))
-        return scene_fail_key(s, m, "camera.up", err, "camera.up: must not be [0, 0, 0]");
-    orr_vec3 view = s->camera.has_look_at ? orr_v3_sub(s->camera.look_at, s->camera.position) : s->camera.direction;
-    if (s->camera.has_look_at && is_zero(view))
-        return scene_fail_key(s, m, "camera.look_at", err,
-                        "camera.look_at: equals camera.position, so there is no direction to look in");
-    if (s->camera.has_up && (s->camera.has_look_at || s->camera.has_direction) && parallel(view, s->camera.up))
-        return scene_fail_key(s, m, "camera.up", err, "camera.up: is parallel to the view direction (%s)",
-                        s->camera.has_look_at ? "camera.look_at - camera.position" : "camera.direction");
-    return ORR_OK;
-}
-
-/* ---- the dome's zenith and front ---- */
-
-static orr_vec3 lb_direction(const double lb[2])
-{
-    const double l = lb[0] * ORR_PI / 180.0, b = lb[1] * ORR_PI / 180.0;
-    return orr_v3(cos(b) * cos(l), cos(b) * sin(l), sin(b));
-}
-
-/* The front is projected perpendicular to the zenith; along the zenith (or
- * opposite it) nothing is left to project. */
-static orr_status check_zenith_front(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    const orr_vec3 zenith = lb_direction(s->camera.zenith_lb), front = lb_direction(s->camera.front_lb);
-    const double angle = atan2(orr_v3_norm(orr_v3_cross(zenith, front)), orr_v3_dot(zenith, front)) * 180.0 / ORR_PI;
-    if (angle >= 1e-6 && angle <= 180 - 1e-6)
-        return ORR_OK;
-    return scene_fail_key(s, m, scene_mark(m, "camera.front") ? "camera.front" : "camera.zenith", err,
-                    "camera.front [%g, %g] and camera.zenith [%g, %g] are %s: the front is projected "
-                    "perpendicular to the zenith, so it must point some other way",
-                    s->camera.front_lb[0], s->camera.front_lb[1], s->camera.zenith_lb[0], s->camera.zenith_lb[1],
-                    angle < 90 ? "the same direction" : "opposite directions");
-}
-
-/* ---- observer ---- */
-
-/* The observer.* keys that mean something only with observer.id. */
-static const char *const OBSERVER_KEYS[] = {
-    "observer.reference_id", "observer.normal", "observer.normal_from.types", "observer.normal_from.radius",
-    "observer.normal_from.sign", "observer.dim", "observer.dim_near",
-};
+/* ---- observer and camera ---- */
 
 /* The camera keys the observer particle replaces. */
 static const char *const PLACEMENT_KEYS[] = {"camera.position", "camera.look_at", "camera.direction",
                                              "camera.quaternion"};
 
-static orr_status check_without_observer(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    if (scene_mark(m, "observer.reference_id"))
-        return scene_fail_key(s, m, "observer.reference_id", err,
-                        "observer.reference_id is set but observer.id is not: set both (the observer particle, "
-                        "and the particle that fixes the frame's x axis)");
-    for (size_t i = 0; i < COUNT(OBSERVER_KEYS); i++)
-        if (scene_mark(m, OBSERVER_KEYS[i]))
-            return scene_fail_key(s, m, OBSERVER_KEYS[i], err, "%s applies to an observer-centred sky, but observer.id is not set",
-                            OBSERVER_KEYS[i]);
-    return ORR_OK;
-}
-
-static orr_status check_observer_normal(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const from_keys[] = {"observer.normal_from.types", "observer.normal_from.radius",
-                                            "observer.normal_from.sign"};
-    for (size_t i = 0; i < COUNT(from_keys); i++) {
-        if (!scene_mark(m, from_keys[i]))
-            continue;
-        if (s->observer.has_normal)
-            return scene_fail_key(s, m, from_keys[i], err,
-                            "observer.normal and %s are both set; give the normal, or say how to compute it",
-                            from_keys[i]);
-        if (!scene_mark(m, "observer.normal_from.types"))
-            return scene_fail_key(s, m, from_keys[i], err,
-                            "%s needs observer.normal_from.types: the particle types whose spin gives the normal",
-                            from_keys[i]);
-    }
-    if (s->observer.has_normal && is_zero(s->observer.normal))
-        return scene_fail_key(s, m, "observer.normal", err, "observer.normal: must not be [0, 0, 0]");
-    return ORR_OK;
-}
-
 /* camera.dim dims from any camera; with an observer, observer.dim does
- * that already, and two switches for one thing would only confuse. */
+ * that already, and two switches for one thing would only confuse (spans
+ * the camera and the observer). */
 static orr_status check_camera_dim(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     if (s->observer.has_id && scene_mark(m, "camera.dim"))
         return scene_fail_key(s, m, "camera.dim", err,
                               "camera.dim is not allowed with observer.id: use observer.dim for an observer's sky");
-    if (!s->camera.dim && scene_mark(m, "camera.dim_near"))
-        return scene_fail_key(s, m, "camera.dim_near", err,
-                              "camera.dim_near applies to camera.dim: true, but camera.dim is off");
     return ORR_OK;
 }
 
-static orr_status check_observer(const orr_scene *s, const scene_marks *m, orr_error *err)
+/* The observer's keys are the observer's (frame/observer.h); with an
+ * observer, the camera keys it replaces span the two. */
+static orr_status check_observer(const orr_scene *s, const scene_marks *m, const orr_keys *keys, orr_error *err)
 {
     orr_status st = check_camera_dim(s, m, err);
-    if (st)
-        return st;
-    if (!s->observer.has_id)
-        return check_without_observer(s, m, err);
-    if (!scene_mark(m, "observer.reference_id"))
-        return scene_fail_key(s, m, "observer.id", err,
-                        "observer.id needs observer.reference_id: the particle that fixes the frame's x axis");
-    if (s->observer.id == s->observer.reference_id)
-        return scene_fail_key(s, m, "observer.reference_id", err,
-                        "observer.reference_id equals observer.id (%llu); the reference must be another particle",
-                        (unsigned long long)s->observer.id);
-    for (size_t i = 0; i < COUNT(PLACEMENT_KEYS); i++)
+    if (!st)
+        st = orr_observer_prepare(&s->observer, keys, err);
+    for (size_t i = 0; !st && s->observer.has_id && i < COUNT(PLACEMENT_KEYS); i++)
         if (scene_mark(m, PLACEMENT_KEYS[i]))
             return scene_fail_key(s, m, PLACEMENT_KEYS[i], err,
-                            "%s is not allowed with observer.id: the observer particle places and orients the camera",
-                            PLACEMENT_KEYS[i]);
-    return check_observer_normal(s, m, err);
+                                  "%s is not allowed with observer.id: the observer particle places and orients "
+                                  "the camera",
+                                  PLACEMENT_KEYS[i]);
+    return st;
 }
 
 /* ---- projection ---- */
@@ -437,13 +312,11 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
     if (st == ORR_OK)
         st = orr_periodic_prepare(&s->periodic, &keys, err);
     if (st == ORR_OK) /* before the camera: its placement keys are not allowed with an observer */
-        st = check_observer(s, &marks, err);
+        st = check_observer(s, &marks, &keys, err);
     if (st == ORR_OK) /* before the camera: a path excludes its placement keys */
         st = scene_check_path(s, &marks, err);
     if (st == ORR_OK)
-        st = check_camera(s, &marks, err);
-    if (st == ORR_OK)
-        st = check_zenith_front(s, &marks, err);
+        st = orr_camera_settings_prepare(&s->camera, &keys, err);
     if (st == ORR_OK)
         st = scene_apply_dome_profile(s, &marks, err);
     if (st == ORR_OK)
