@@ -27,4 +27,8 @@ int orr_key_given(const orr_keys *keys, const char *key);
 orr_status orr_fail_key(const orr_keys *keys, const char *key, orr_error *err, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 
+/* Puts the place of key (or of the scene) and what before the message
+ * err already holds; returns its code. */
+orr_status orr_fail_key_prefix(const orr_keys *keys, const char *key, orr_error *err, const char *what);
+
 #endif

@@ -97,74 +97,16 @@ static orr_status check_white_smoothing(const orr_scene *s, const scene_marks *m
     return ORR_OK;
 }
 
-static orr_status check_output(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    for (const char *c = s->output.image_ext; *c; c++)
-        if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9')))
-            return scene_fail_key(s, m, "output.image", err,
-                                  "output.image: a file extension such as tif, jpg or exr (without the dot), got '%s'",
-                                  s->output.image_ext);
-    /* Both would be DIR/NAME.exr: the picture, written second, would
-     * replace the linear planes. */
-    if (s->output.write_exr && strcasecmp(s->output.image_ext, "exr") == 0)
-        return scene_fail_key(s, m, "output.image", err,
-                              "output.exr: true and output.image: %s both write NAME.exr, and the picture would "
-                              "replace the linear planes: keep output.exr for the planes, or give output.image "
-                              "another format (e.g. tif) for the picture",
-                              s->output.image_ext);
-    return ORR_OK;
-}
-
-static orr_status check_colour(orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const keys[] = {"colour.seed", "colour.only", "colour.synthesis.stretch",
-                                       "colour.synthesis.white"};
-    s->colour.populations.seed = s->colour.seed;
-    s->colour.only_index = s->colour.only[0] ? orr_population_find(&s->colour.populations, s->colour.only) : -1;
-    if (s->colour.has_populations && s->colour.only[0] && s->colour.only_index < 0)
-        return scene_fail_key(s, m, "colour.only", err, "colour.only: no population is called '%s'",
-                              s->colour.only);
-    for (size_t i = 0; !s->colour.has_populations && i < sizeof keys / sizeof keys[0]; i++) {
-        /* A tinted map is graded by colour.synthesis too (its stretch and
-         * white), though it has no populations. */
-        int synthesis_key = strncmp(keys[i], "colour.synthesis.", 17) == 0;
-        if (scene_mark(m, keys[i]) && !(synthesis_key && s->colour.has_tint))
-            return scene_fail_key(s, m, keys[i], err, "%s applies to colour.populations%s, which is not set",
-                                  keys[i], synthesis_key ? " or colour.tint" : "");
-    }
-    if (s->colour.has_populations && s->colour.has_tint)
-        return scene_fail_key(s, m, "colour.tint.path", err,
-                              "colour.tint is for single-channel maps; with colour.populations each population "
-                              "has its own colour");
-    if (!s->colour.has_tint && scene_mark(m, "colour.tint.t"))
-        return scene_fail_key(s, m, "colour.tint.t", err, "colour.tint.t needs colour.tint.path");
-    if (orr_colour_synth_check(&s->colour.synth, err))
-        return orr_fail_prefix(err, "%s: colour.synthesis: ", s->path);
-    return ORR_OK;
-}
-
 /* ---- stereo ---- */
 
-static orr_status check_without_stereo(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const keys[] = {"stereo.eye_separation", "stereo.convergence", "stereo.anaglyph",
-                                       "stereo.zenith_fade"};
-    for (size_t i = 0; i < COUNT(keys); i++)
-        if (scene_mark(m, keys[i]))
-            return scene_fail_key(s, m, keys[i], err, "%s applies to stereo, but stereo.mode is none", keys[i]);
-    return ORR_OK;
-}
-
 /* A perspective pair converges where stereo.convergence says, or by
- * default on camera.look_at. */
+ * default on the point the camera looks at (spans the stereo pair and the
+ * camera). */
 static orr_status check_convergence(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    if (scene_mark(m, "stereo.zenith_fade"))
-        return scene_fail_key(s, m, "stereo.zenith_fade", err,
-                              "stereo.zenith_fade is for omni-directional stereo (dome, equirectangular, "
-                              "hammer-aitoff), not a perspective camera");
     orr_vec3 target;
-    if (s->stereo.convergence > 0 || orr_scene_look_target(s, &target)) /* auto: at render time, to the target */
+    if (s->stereo.mode == ORR_STEREO_NONE || s->projection.kind != ORR_PROJ_PERSPECTIVE ||
+        s->stereo.convergence > 0 || orr_scene_look_target(s, &target)) /* auto: at render time, to the target */
         return ORR_OK;
     return scene_fail_key(s, m, "stereo.mode", err,
                           "stereo.mode: %s with a perspective camera needs stereo.convergence (the distance of "
@@ -173,37 +115,20 @@ static orr_status check_convergence(const orr_scene *s, const scene_marks *m, or
                           orr_stereo_mode_name(s->stereo.mode));
 }
 
-static orr_status check_stereo(orr_scene *s, const scene_marks *m, orr_error *err)
+/* The stereo pair's keys are the pair's (frame/stereo.h); what it cannot
+ * be combined with yet spans it and the outputs. */
+static orr_status check_stereo(const orr_scene *s, const scene_marks *m, const orr_keys *keys, orr_error *err)
 {
-    if (s->stereo.mode == ORR_STEREO_NONE)
-        return check_without_stereo(s, m, err);
-    const char *mode = orr_stereo_mode_name(s->stereo.mode);
-    if (s->projection.kind == ORR_PROJ_ORTHOGRAPHIC)
-        return scene_fail_key(s, m, "stereo.mode", err,
-                              "stereo.mode: %s needs parallax, which an orthographic camera has none of; use "
-                              "camera.projection: perspective (or a sky map for omni-directional stereo)",
-                              mode);
-    if (!scene_mark(m, "stereo.eye_separation"))
-        return scene_fail_key(s, m, "stereo.mode", err,
-                              "stereo.mode: %s needs stereo.eye_separation, the distance between the eyes in "
-                              "scene units",
-                              mode);
-    if (s->stereo.mode != ORR_STEREO_ANAGLYPH && scene_mark(m, "stereo.anaglyph"))
-        return scene_fail_key(s, m, "stereo.anaglyph", err,
-                              "stereo.anaglyph applies to stereo.mode: anaglyph, not %s", mode);
+    orr_status st = orr_stereo_prepare(&s->stereo, s->projection.kind, keys, err);
+    if (st || s->stereo.mode == ORR_STEREO_NONE)
+        return st;
     if (s->output.write_raw || s->compose.nlayers)
         return scene_fail_key(s, m, "stereo.mode", err,
                               "stereo.mode: %s cannot yet be combined with %s (orrery compose works on one "
                               "eye's planes)",
-                              mode, s->output.write_raw ? "output.raw" : "compose.layers");
-    if (s->projection.kind == ORR_PROJ_PERSPECTIVE)
-        return check_convergence(s, m, err);
-    if (scene_mark(m, "stereo.convergence"))
-        return scene_fail_key(s, m, "stereo.convergence", err,
-                              "stereo.convergence is for a perspective camera; omni-directional stereo (%s) has "
-                              "its zero parallax at infinity",
-                              orr_projection_name(s->projection.kind));
-    return ORR_OK;
+                              orr_stereo_mode_name(s->stereo.mode),
+                              s->output.write_raw ? "output.raw" : "compose.layers");
+    return check_convergence(s, m, err);
 }
 
 /* The settings text and its digest: the tree's keys, then what the dome
@@ -326,17 +251,17 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
     if (st == ORR_OK)
         st = check_psf(s, &marks, err);
     if (st == ORR_OK)
-        st = check_colour(s, &marks, err);
+        st = orr_colour_prepare(&s->colour, &keys, err);
     if (st == ORR_OK)
         st = check_dust(s, err);
     if (st == ORR_OK)
         st = check_stars(s, err);
     if (st == ORR_OK)
-        st = check_output(s, &marks, err);
+        st = orr_output_prepare(&s->output, &keys, err);
     if (st == ORR_OK)
         st = scene_check_output_keys(s, &marks, err);
     if (st == ORR_OK)
-        st = check_stereo(s, &marks, err);
+        st = check_stereo(s, &marks, &keys, err);
     if (st == ORR_OK)
         st = check_white_smoothing(s, &marks, err);
     if (st == ORR_OK)
