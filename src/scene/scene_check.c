@@ -51,19 +51,6 @@ static orr_status check_observer(const orr_scene *s, const scene_marks *m, const
     return st;
 }
 
-/* ---- projection ---- */
-
-/* The projection validates its own parameters (image size, width, field of
- * view); a copy keeps the derived fields out of the scene. */
-static orr_status check_projection(const orr_scene *s, orr_error *err)
-{
-    orr_projection copy = s->projection;
-    orr_status st = orr_projection_setup(&copy, err);
-    if (st != ORR_OK)
-        return orr_fail_prefix(err, "%s: ", s->path);
-    return ORR_OK;
-}
-
 /* ---- the PSF ---- */
 
 /* The PSF's keys are checked by the PSF (post/psf.h), given the map. */
@@ -247,7 +234,7 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
     if (st == ORR_OK)
         st = scene_check_healpix(s, &marks, err);
     if (st == ORR_OK)
-        st = check_projection(s, err);
+        st = orr_projection_prepare(&s->projection, &keys, err);
     if (st == ORR_OK)
         st = check_psf(s, &marks, err);
     if (st == ORR_OK)
