@@ -1,7 +1,9 @@
 /* Binding a YAML tree to an orr_scene (or a dome profile) through a table of
- * keys (internal to src/scene). The binder checks each value's type and range;
- * the checks that involve several keys are done afterwards in scene_check.c,
- * which uses the marks recorded here to say where each key was set. */
+ * keys (internal to src/scene). The binder checks each value's type and the
+ * ranges the table gives; the checks that involve several keys are done
+ * afterwards by each stage (orr_X_prepare) and, for those that span stages,
+ * by scene_check.c, which use the marks recorded here to say where each key
+ * was set. */
 #ifndef ORR_SCENE_SCENE_BIND_H
 #define ORR_SCENE_SCENE_BIND_H
 

@@ -1,14 +1,15 @@
+/* A bound scene checked: each stage checks its own keys (orr_X_prepare,
+ * given where each key was set, core/keys.h), called here in turn; what is
+ * left here are the rules that span stages, each saying which, and what
+ * the scene alone records (its settings' text and digest, its YAML). */
 #define _XOPEN_SOURCE 700 /* realpath (XSI) */
 #include "scene/scene_check.h"
 
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "core/digest.h"
-#include "frame/replicas.h"
 
 #include "scene/scene_bind.h"
 #include "scene/scene_dome.h"
@@ -51,18 +52,9 @@ static orr_status check_observer(const orr_scene *s, const scene_marks *m, const
     return st;
 }
 
-/* ---- the PSF ---- */
-
-/* The PSF's keys are checked by the PSF (post/psf.h), given the map. */
-static orr_status check_psf(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    scene_keyed where = {s, m};
-    orr_keys keys = scene_keys(&where);
-    return orr_psf_prepare(&s->psf, orr_projection_is_sky(&s->projection), &keys, err);
-}
-
 /* Smoothing the automatic white over frames re-grades each frame's picture
- * from its FITS planes once the run is rendered. */
+ * from its FITS planes once the run is rendered (spans the run, the
+ * grading, the outputs and stereo). */
 static orr_status check_white_smoothing(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     if (s->animation.white_smoothing == 0)
@@ -169,7 +161,9 @@ static orr_status record_scene_yaml(orr_scene *s, const yt_node *root, orr_error
     return ORR_OK;
 }
 
-/* Dust: the stage's own checks, and what it cannot do yet. */
+/* Dust: the stage's own checks (given the drawn types), and what it cannot
+ * do yet with a periodic box's copies and a HEALPix map (spans the dust,
+ * the frame and the outputs). */
 static orr_status check_dust(const orr_scene *s, orr_error *err)
 {
     orr_status st = orr_dust_settings_check(&s->dust, s->path, s->input.type_mask, err);
@@ -185,7 +179,8 @@ static orr_status check_dust(const orr_scene *s, orr_error *err)
 /* Stars spawned from the particles (stars.limit) need what they are
  * drawn from and seen by: the observer (their magnitudes are from its
  * place), colour populations (their light is split off the particles'
- * X, Y, Z), and particles of the spawning types drawn. */
+ * X, Y, Z), and particles of the spawning types drawn (spans the stars,
+ * the observer, the colours, the glow and the input). */
 static orr_status check_stars(const orr_scene *s, orr_error *err)
 {
     const orr_stars_settings *st = &s->stars;
@@ -235,8 +230,8 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
         st = scene_check_healpix(s, &marks, err);
     if (st == ORR_OK)
         st = orr_projection_prepare(&s->projection, &keys, err);
-    if (st == ORR_OK)
-        st = check_psf(s, &marks, err);
+    if (st == ORR_OK) /* the PSF's keys, given the map they are for */
+        st = orr_psf_prepare(&s->psf, orr_projection_is_sky(&s->projection), &keys, err);
     if (st == ORR_OK)
         st = orr_colour_prepare(&s->colour, &keys, err);
     if (st == ORR_OK)
