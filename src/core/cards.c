@@ -113,4 +113,3 @@ void orr_cards_append(orr_cards *h, const orr_cards *from)
     for (int i = 0; i < from->n && h->n < ORR_CARDS_MAX; i++)
         h->cards[h->n++] = from->cards[i];
 }
-
