@@ -383,7 +383,7 @@ static int check_compose_sets(const run_args *a, const orr_scene_views *views)
             const char *key = key_for_view(a->sets[i], views->name[k]);
             int sky = orr_projection_is_sky(&views->view[k].projection);
             if (!key || strncmp(key, "psf", 3) != 0 || (key[3] != '.' && key[3] != '=') ||
-                !(sky || views->view[k].psf.flat_stars))
+                !(sky || orr_psf_flat_stars(&views->view[k].psf, sky)))
                 continue;
             return cli_usage_error("compose",
                                    "--set %.*s: %s%s%s%s, whose PSF is drawn into the raw planes as it "

@@ -13,122 +13,11 @@
 
 const orr_named orr_fits_compression_names[] = {{"none", ORR_FITS_UNCOMPRESSED}, {"gzip", ORR_FITS_GZIP}, {NULL, 0}};
 
-/* ---- header cards ------------------------------------------------------ */
-
-/* Returns the next free card with its key set (upper case, as FITS wants),
- * or NULL for an unusable key or a full header. */
-static orr_fits_card *new_card(orr_fits_header *h, const char *key, orr_card_type type, const char *comment)
-{
-    size_t len = key ? strlen(key) : 0;
-    if (len == 0 || len > 8 || h->n >= ORR_FITS_MAX_CARDS)
-        return NULL;
-    orr_fits_card *c = &h->cards[h->n++];
-    memset(c, 0, sizeof *c);
-    for (size_t i = 0; i <= len; i++)
-        c->key[i] = (char)toupper((unsigned char)key[i]);
-    c->type = type;
-    snprintf(c->comment, sizeof c->comment, "%s", comment ? comment : "");
-    return c;
-}
-
-void orr_fits_add_string(orr_fits_header *h, const char *key, const char *value, const char *comment)
-{
-    orr_fits_card *c = new_card(h, key, ORR_CARD_STRING, comment);
-    if (c)
-        snprintf(c->str, sizeof c->str, "%s", value ? value : "");
-}
-
-void orr_fits_add_double(orr_fits_header *h, const char *key, double value, const char *comment)
-{
-    orr_fits_card *c = new_card(h, key, ORR_CARD_DOUBLE, comment);
-    if (c)
-        c->dbl = value;
-}
-
-void orr_fits_add_long(orr_fits_header *h, const char *key, long long value, const char *comment)
-{
-    orr_fits_card *c = new_card(h, key, ORR_CARD_LONG, comment);
-    if (c)
-        c->lng = value;
-}
-
-void orr_fits_add_bool(orr_fits_header *h, const char *key, int value, const char *comment)
-{
-    orr_fits_card *c = new_card(h, key, ORR_CARD_BOOL, comment);
-    if (c)
-        c->lng = value != 0;
-}
-
-void orr_fits_reserve(orr_fits_header *h, const char *key, const char *comment)
-{
-    new_card(h, key, ORR_CARD_UNSET, comment);
-}
-
-/* The first unset card of the key, or NULL. */
-static orr_fits_card *unset_card(orr_fits_header *h, const char *key)
-{
-    for (int i = 0; i < h->n; i++)
-        if (h->cards[i].type == ORR_CARD_UNSET && strcasecmp(h->cards[i].key, key) == 0)
-            return &h->cards[i];
-    return NULL;
-}
-
-void orr_fits_set_string(orr_fits_header *h, const char *key, const char *value)
-{
-    orr_fits_card *c = unset_card(h, key);
-    if (c) {
-        c->type = ORR_CARD_STRING;
-        snprintf(c->str, sizeof c->str, "%s", value ? value : "");
-    }
-}
-
-void orr_fits_set_double(orr_fits_header *h, const char *key, double value)
-{
-    orr_fits_card *c = unset_card(h, key);
-    if (c) {
-        c->type = ORR_CARD_DOUBLE;
-        c->dbl = value;
-    }
-}
-
-void orr_fits_set_long(orr_fits_header *h, const char *key, long long value)
-{
-    orr_fits_card *c = unset_card(h, key);
-    if (c) {
-        c->type = ORR_CARD_LONG;
-        c->lng = value;
-    }
-}
-
-void orr_fits_set_bool(orr_fits_header *h, const char *key, int value)
-{
-    orr_fits_card *c = unset_card(h, key);
-    if (c) {
-        c->type = ORR_CARD_BOOL;
-        c->lng = value != 0;
-    }
-}
-
-void orr_fits_drop_unset(orr_fits_header *h)
-{
-    int kept = 0;
-    for (int i = 0; i < h->n; i++)
-        if (h->cards[i].type != ORR_CARD_UNSET)
-            h->cards[kept++] = h->cards[i];
-    h->n = kept;
-}
-
-void orr_fits_append(orr_fits_header *h, const orr_fits_header *from)
-{
-    for (int i = 0; i < from->n && h->n < ORR_FITS_MAX_CARDS; i++)
-        h->cards[h->n++] = from->cards[i];
-}
-
 /* ---- writing ------------------------------------------------------------ */
 
 /* cfitsio takes non-const pointers for values it only reads, hence the
  * copies. update (not write) so a caller's card replaces ours of that name. */
-static int write_card(fitsfile *f, const orr_fits_card *c, int *status)
+static int write_card(fitsfile *f, const orr_card *c, int *status)
 {
     char key[sizeof c->key], comment[sizeof c->comment];
     memcpy(key, c->key, sizeof key);
@@ -202,7 +91,7 @@ static int write_datasum(fitsfile *f, unsigned long datasum, int *status)
 
 /* One image HDU: header, then the rows bottom-up, because FITS pixel (1,1)
  * is the lower left corner while plane row 0 is the top of the picture. */
-static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_fits_header *header, int *status)
+static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_cards *header, int *status)
 {
     long naxes[2] = {p->width, p->height};
     fits_create_img(f, FLOAT_IMG, 2, naxes, status);
@@ -231,7 +120,7 @@ static int write_plane_hdu(fitsfile *f, const orr_plane *p, const orr_fits_heade
     return compressed ? fits_write_chksum(f, status) : fits_update_chksum(f, status);
 }
 
-/* The scene as the file's last HDU (orr_fits_header.scene): its bytes as
+/* The scene as the file's last HDU (orr_cards.scene): its bytes as
  * a one-dimensional image of unsigned bytes, so that any text (UTF-8, long
  * lines) is kept exactly and astropy gives it back with
  * fits.getdata(path, "SCENE").tobytes().decode(). Never compressed: it is
@@ -250,7 +139,7 @@ static int write_scene_hdu(fitsfile *f, const char *text, int *status)
     return fits_write_chksum(f, status);
 }
 
-static int has_scene(const orr_fits_header *h)
+static int has_scene(const orr_cards *h)
 {
     return h && h->scene && h->scene[0];
 }
@@ -301,7 +190,7 @@ static orr_status fits_failure(const char *path, int status, int sys_errno, orr_
 
 typedef struct star_body {
     const orr_star_table *table;
-    const orr_fits_header *header;
+    const orr_cards *header;
 } star_body;
 
 /* What goes into a FITS file between creating and closing it. */
@@ -347,7 +236,7 @@ static orr_status write_fits_file(const char *path, fits_body_fn body, const voi
 typedef struct image_body {
     const orr_plane *planes;
     int nplanes;
-    const orr_fits_header *header;
+    const orr_cards *header;
     orr_fits_compression compression;
 } image_body;
 
@@ -389,7 +278,7 @@ int orr_fits_thread_safe(void)
 }
 
 orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes,
-                          const orr_fits_header *header, orr_error *err)
+                          const orr_cards *header, orr_error *err)
 {
     orr_status st = check_planes(path, planes, nplanes, err);
     if (st != ORR_OK)
@@ -399,7 +288,7 @@ orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes
 }
 
 orr_status orr_write_fits_compressed(const char *path, const orr_plane *planes, int nplanes,
-                                     const orr_fits_header *header, orr_fits_compression compression,
+                                     const orr_cards *header, orr_fits_compression compression,
                                      orr_error *err)
 {
     orr_status st = check_planes(path, planes, nplanes, err);
@@ -415,27 +304,27 @@ typedef struct healpix_body {
     const orr_plane *planes;
     int nplanes;
     const orr_healpix_info *info;
-    const orr_fits_header *header;
+    const orr_cards *header;
 } healpix_body;
 
 /* The HEALPix keywords (the HEALPix FITS convention, as healpy and the
  * HEALPix libraries write and read them). */
-void orr_fits_add_healpix(orr_fits_header *h, const orr_healpix_info *info)
+void orr_fits_add_healpix(orr_cards *h, const orr_healpix_info *info)
 {
-    orr_fits_add_string(h, "PIXTYPE", "HEALPIX", "HEALPix pixelisation");
-    orr_fits_add_string(h, "ORDERING", info->nested ? "NESTED" : "RING", "pixel ordering scheme");
-    orr_fits_add_long(h, "NSIDE", info->nside, "resolution parameter");
-    orr_fits_add_long(h, "FIRSTPIX", 0, "first pixel number (0-based)");
-    orr_fits_add_long(h, "LASTPIX", 12LL * info->nside * info->nside - 1, "last pixel number (0-based)");
-    orr_fits_add_string(h, "INDXSCHM", "IMPLICIT", "indexing: implicit (every pixel, in order)");
-    orr_fits_add_string(h, "OBJECT", "FULLSKY", "sky coverage");
+    orr_cards_add_string(h, "PIXTYPE", "HEALPIX", "HEALPix pixelisation");
+    orr_cards_add_string(h, "ORDERING", info->nested ? "NESTED" : "RING", "pixel ordering scheme");
+    orr_cards_add_long(h, "NSIDE", info->nside, "resolution parameter");
+    orr_cards_add_long(h, "FIRSTPIX", 0, "first pixel number (0-based)");
+    orr_cards_add_long(h, "LASTPIX", 12LL * info->nside * info->nside - 1, "last pixel number (0-based)");
+    orr_cards_add_string(h, "INDXSCHM", "IMPLICIT", "indexing: implicit (every pixel, in order)");
+    orr_cards_add_string(h, "OBJECT", "FULLSKY", "sky coverage");
     if (info->coordsys && info->coordsys[0])
-        orr_fits_add_string(h, "COORDSYS", info->coordsys, "coordinate system");
+        orr_cards_add_string(h, "COORDSYS", info->coordsys, "coordinate system");
 }
 
 static void write_healpix_keys(fitsfile *f, const orr_healpix_info *info, int *status)
 {
-    orr_fits_header keys = {0};
+    orr_cards keys = {0};
     orr_fits_add_healpix(&keys, info);
     for (int i = 0; i < keys.n; i++)
         write_card(f, &keys.cards[i], status);
@@ -473,7 +362,7 @@ static int write_healpix_hdus(fitsfile *f, const void *ctx, int *status, int *sy
 }
 
 orr_status orr_write_healpix_fits(const char *path, const orr_plane *planes, int nplanes,
-                                  const orr_healpix_info *info, const orr_fits_header *header, orr_error *err)
+                                  const orr_healpix_info *info, const orr_cards *header, orr_error *err)
 {
     orr_status st = check_planes(path, planes, nplanes, err);
     if (st != ORR_OK)
@@ -491,7 +380,7 @@ orr_status orr_write_healpix_fits(const char *path, const orr_plane *planes, int
 static int write_star_hdus(fitsfile *f, const void *ctx, int *status, int *sys_errno)
 {
     const orr_star_table *t = ((const star_body *)ctx)->table;
-    const orr_fits_header *header = ((const star_body *)ctx)->header;
+    const orr_cards *header = ((const star_body *)ctx)->header;
     fits_create_img(f, FLOAT_IMG, 0, NULL, status);
     for (int i = 0; header && i < header->n; i++)
         write_card(f, &header->cards[i], status);
@@ -520,7 +409,7 @@ static int write_star_hdus(fitsfile *f, const void *ctx, int *status, int *sys_e
     return *status;
 }
 
-orr_status orr_write_star_table(const char *path, const orr_star_table *t, const orr_fits_header *header,
+orr_status orr_write_star_table(const char *path, const orr_star_table *t, const orr_cards *header,
                                 orr_error *err)
 {
     star_body b = {t, header};

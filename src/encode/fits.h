@@ -9,65 +9,15 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/cards.h"
 #include "core/error.h"
 #include "core/names.h"
 #include "core/plane.h"
 
-#define ORR_FITS_MAX_CARDS 160
-
-typedef enum {
-    ORR_CARD_STRING,
-    ORR_CARD_DOUBLE,
-    ORR_CARD_LONG,
-    ORR_CARD_BOOL,
-    ORR_CARD_UNSET, /* reserved, its value still to come (orr_fits_reserve); not written */
-} orr_card_type;
-
-typedef struct orr_fits_card {
-    char key[9];        /* at most 8 characters, upper case */
-    orr_card_type type;
-    char str[69];
-    double dbl;
-    long long lng;      /* also the BOOL value (0 or 1) */
-    char comment[48];
-} orr_fits_card;
-
-typedef struct orr_fits_header {
-    int n;
-    orr_fits_card cards[ORR_FITS_MAX_CARDS];
-    /* The text of the scene the planes were made from (YAML), written after
-     * them as the file's last HDU, EXTNAME 'SCENE': a one-dimensional image
-     * of bytes (BITPIX 8), the text exactly; NULL or "": none. Borrowed. */
-    const char *scene;
-} orr_fits_header;
-
-/* Append a card; keys longer than 8 characters or a full header are
- * programming errors and are ignored with the header left unchanged. */
-void orr_fits_add_string(orr_fits_header *h, const char *key, const char *value, const char *comment);
-void orr_fits_add_double(orr_fits_header *h, const char *key, double value, const char *comment);
-void orr_fits_add_long(orr_fits_header *h, const char *key, long long value, const char *comment);
-void orr_fits_add_bool(orr_fits_header *h, const char *key, int value, const char *comment);
-
-/* A header kept for a run of frames (a view's cards, made once by the
- * renderer's plan): a card whose value each frame gives is reserved in its
- * place, then each frame copies the header, sets those cards by key and
- * drops the ones it did not set, so the cards keep their order. */
-void orr_fits_reserve(orr_fits_header *h, const char *key, const char *comment);
-/* Gives the first unset card of that key its value (a key that is not
- * reserved is a programming error, ignored). */
-void orr_fits_set_string(orr_fits_header *h, const char *key, const char *value);
-void orr_fits_set_double(orr_fits_header *h, const char *key, double value);
-void orr_fits_set_long(orr_fits_header *h, const char *key, long long value);
-void orr_fits_set_bool(orr_fits_header *h, const char *key, int value);
-/* Removes the cards still unset, keeping the others' order. */
-void orr_fits_drop_unset(orr_fits_header *h);
-/* Appends from's cards to h's (as many as fit). */
-void orr_fits_append(orr_fits_header *h, const orr_fits_header *from);
-
 /* Writes the planes (all the same size) to path, atomically. The header cards
  * go into every HDU. */
 orr_status orr_write_fits(const char *path, const orr_plane *planes, int nplanes,
-                          const orr_fits_header *header, orr_error *err);
+                          const orr_cards *header, orr_error *err);
 
 /* Tile compression of the image HDUs (the FITS tiled-image convention, as
  * fpack writes it), lossless: GZIP_2 (each float's bytes shuffled, then
@@ -87,7 +37,7 @@ int orr_fits_thread_safe(void);
  * each plane a compressed image extension (astropy's CompImageHDU), with the
  * same cards and checksums. */
 orr_status orr_write_fits_compressed(const char *path, const orr_plane *planes, int nplanes,
-                                     const orr_fits_header *header, orr_fits_compression compression,
+                                     const orr_cards *header, orr_fits_compression compression,
                                      orr_error *err);
 
 /* A HEALPix map's description, for its FITS header. */
@@ -99,7 +49,7 @@ typedef struct orr_healpix_info {
 
 /* Appends a HEALPix map's keywords (PIXTYPE, ORDERING, NSIDE, FIRSTPIX,
  * LASTPIX, INDXSCHM, OBJECT and, when known, COORDSYS) to h. */
-void orr_fits_add_healpix(orr_fits_header *h, const orr_healpix_info *info);
+void orr_fits_add_healpix(orr_cards *h, const orr_healpix_info *info);
 
 /* Writes a HEALPix map (each plane 12 nside^2 pixels in pixel order, at most
  * 3) as a standard HEALPix FITS file, atomically: an empty primary HDU and a
@@ -108,7 +58,7 @@ void orr_fits_add_healpix(orr_fits_header *h, const orr_healpix_info *info);
  * ORDERING, NSIDE, FIRSTPIX, LASTPIX, INDXSCHM, OBJECT, COORDSYS) and the
  * caller's cards. healpy.read_map reads it. */
 orr_status orr_write_healpix_fits(const char *path, const orr_plane *planes, int nplanes,
-                                  const orr_healpix_info *info, const orr_fits_header *header, orr_error *err);
+                                  const orr_healpix_info *info, const orr_cards *header, orr_error *err);
 
 /* A sky map's star list (docs/sky.md, "The star list"): one row per star
  * drawn, as columns. */
@@ -126,7 +76,7 @@ typedef struct orr_star_table {
 /* Writes the star list atomically: an empty primary HDU with the caller's
  * cards, then a binary table STARS with columns L, B (deg), V, BV, MV
  * (mag), DIST (pc), PARTICLE and STAR. astropy.table.Table.read reads it. */
-orr_status orr_write_star_table(const char *path, const orr_star_table *t, const orr_fits_header *header,
+orr_status orr_write_star_table(const char *path, const orr_star_table *t, const orr_cards *header,
                                 orr_error *err);
 
 #endif

@@ -46,20 +46,20 @@ const char *orr_image_format_name(orr_image_format f)
 /* The metadata as FITS cards, with the names the renderer's FITS files use
  * (src/render/render.c); extra pairs whose key is a valid FITS keyword of
  * at most 8 characters (letters, digits, '_', '-') go in too. */
-static void meta_cards(const orr_image_meta *meta, orr_fits_header *h)
+static void meta_cards(const orr_image_meta *meta, orr_cards *h)
 {
     memset(h, 0, sizeof *h);
-    orr_fits_add_string(h, "CREATOR", orr_image_meta_software(meta), "software that made this file");
+    orr_cards_add_string(h, "CREATOR", orr_image_meta_software(meta), "software that made this file");
     if (!meta)
         return;
     if (meta->scene && meta->scene[0])
-        orr_fits_add_string(h, "OBJECT", meta->scene, "scene");
+        orr_cards_add_string(h, "OBJECT", meta->scene, "scene");
     if (meta->has_frame)
-        orr_fits_add_long(h, "FRAME", meta->frame, "frame number");
+        orr_cards_add_long(h, "FRAME", meta->frame, "frame number");
     if (meta->has_time)
-        orr_fits_add_double(h, "SIMTIME", meta->time, "simulation time of the frame");
+        orr_cards_add_double(h, "SIMTIME", meta->time, "simulation time of the frame");
     if (meta->projection && meta->projection[0])
-        orr_fits_add_string(h, "PROJTYPE", meta->projection, "projection");
+        orr_cards_add_string(h, "PROJTYPE", meta->projection, "projection");
     if (meta->has_camera) {
         static const char *const pos[3] = {"CAMPOSX", "CAMPOSY", "CAMPOSZ"};
         static const char *const quat[4] = {"CAMQW", "CAMQX", "CAMQY", "CAMQZ"};
@@ -67,15 +67,15 @@ static void meta_cards(const orr_image_meta *meta, orr_fits_header *h)
         static const char *const quat_c[4] = {"camera-to-world quaternion w", "camera-to-world quaternion x",
                                               "camera-to-world quaternion y", "camera-to-world quaternion z"};
         for (int i = 0; i < 3; i++)
-            orr_fits_add_double(h, pos[i], meta->cam_pos[i], pos_c[i]);
+            orr_cards_add_double(h, pos[i], meta->cam_pos[i], pos_c[i]);
         for (int i = 0; i < 4; i++)
-            orr_fits_add_double(h, quat[i], meta->cam_quat[i], quat_c[i]);
+            orr_cards_add_double(h, quat[i], meta->cam_quat[i], quat_c[i]);
     }
     for (int i = 0; i < meta->nextra; i++) {
         const char *k = meta->extra_key[i];
         if (strlen(k) > 8 || strchr(k, '.'))
             continue;
-        orr_fits_add_string(h, k, meta->extra_value[i], NULL);
+        orr_cards_add_string(h, k, meta->extra_value[i], NULL);
     }
 }
 
@@ -156,7 +156,7 @@ orr_status orr_write_image_rgb(const char *path, const float *rgb, int width, in
     if (st != ORR_OK)
         return st;
     if (f == ORR_IMAGE_FITS) {
-        orr_fits_header *h = orr_malloc(sizeof *h, "FITS header", err);
+        orr_cards *h = orr_malloc(sizeof *h, "FITS header", err);
         st = h ? ORR_OK : ORR_ERR_NOMEM;
         if (h) {
             meta_cards(meta, h);
@@ -215,7 +215,7 @@ orr_status orr_write_image_planes(const char *path, const orr_plane *planes, int
         return orr_fail(err, ORR_ERR_USAGE,
                         "%s: PNG holds display pictures, not linear planes: use .fits, .exr or .tif", path);
     if (f == ORR_IMAGE_FITS) {
-        orr_fits_header *h = orr_malloc(sizeof *h, "FITS header", err);
+        orr_cards *h = orr_malloc(sizeof *h, "FITS header", err);
         if (!h)
             return ORR_ERR_NOMEM;
         meta_cards(meta, h);

@@ -6,6 +6,7 @@
 #ifndef ORR_ENCODE_OUTPUT_SETTINGS_H
 #define ORR_ENCODE_OUTPUT_SETTINGS_H
 
+#include "core/keys.h"
 #include "core/limits.h"
 #include "core/names.h"
 
@@ -45,5 +46,12 @@ extern const orr_named orr_png_bits_names[];
 
 /* Fills d with the defaults above (the name is the scene's to give). */
 void orr_output_settings_defaults(orr_output_settings *d);
+
+/* The output.* keys checked: output.image an extension, not the EXR of
+ * output.exr; the frame separator, output.bunit and output.length_unit
+ * usable in file names and FITS units. keys says which were given, and
+ * where. (With the stereo pair and the colour populations:
+ * scene/scene_output.c.) */
+orr_status orr_output_prepare(const orr_output_settings *d, const orr_keys *keys, orr_error *err);
 
 #endif

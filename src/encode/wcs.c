@@ -23,27 +23,27 @@ static void axis_types(const orr_wcs_view *view, const char *code, char *c1, cha
     snprintf(c2, size, "%s-%s", view->observer_frame ? "GLAT" : "WDLT", code);
 }
 
-static void add_reference_pixel(orr_fits_header *h, const orr_projection *p)
+static void add_reference_pixel(orr_cards *h, const orr_projection *p)
 {
     /* Image coordinate cx is FITS pixel cx + 0.5; rows are stored bottom-up. */
-    orr_fits_add_double(h, "CRPIX1", p->cx + 0.5, "reference pixel: the map centre");
-    orr_fits_add_double(h, "CRPIX2", p->height - p->cy + 0.5, NULL);
+    orr_cards_add_double(h, "CRPIX1", p->cx + 0.5, "reference pixel: the map centre");
+    orr_cards_add_double(h, "CRPIX2", p->height - p->cy + 0.5, NULL);
 }
 
-static void add_common(orr_fits_header *h, const orr_wcs_view *view, const char *code, double l0, double b0)
+static void add_common(orr_cards *h, const orr_wcs_view *view, const char *code, double l0, double b0)
 {
     char c1[16], c2[16];
     axis_types(view, code, c1, c2, sizeof c1);
-    orr_fits_add_long(h, "WCSAXES", 2, "two world coordinate axes");
-    orr_fits_add_string(h, "CTYPE1", c1,
+    orr_cards_add_long(h, "WCSAXES", 2, "two world coordinate axes");
+    orr_cards_add_string(h, "CTYPE1", c1,
                         view->observer_frame ? "longitude in the observer frame" : "longitude in the scene's axes");
-    orr_fits_add_string(h, "CTYPE2", c2,
+    orr_cards_add_string(h, "CTYPE2", c2,
                         view->observer_frame ? "latitude in the observer frame" : "latitude in the scene's axes");
-    orr_fits_add_string(h, "CUNIT1", "deg", NULL);
-    orr_fits_add_string(h, "CUNIT2", "deg", NULL);
+    orr_cards_add_string(h, "CUNIT1", "deg", NULL);
+    orr_cards_add_string(h, "CUNIT2", "deg", NULL);
     add_reference_pixel(h, view->proj);
-    orr_fits_add_double(h, "CRVAL1", l0, "[deg] longitude at the reference pixel");
-    orr_fits_add_double(h, "CRVAL2", b0, "[deg] latitude at the reference pixel");
+    orr_cards_add_double(h, "CRVAL1", l0, "[deg] longitude at the reference pixel");
+    orr_cards_add_double(h, "CRVAL2", b0, "[deg] latitude at the reference pixel");
 }
 
 /* Hammer-Aitoff and equirectangular maps have a WCS without rotation only
@@ -80,7 +80,7 @@ static void zenithal_intermediate(int gnomonic, double l, double b, double l0, d
  * coordinates differ by a fixed linear map (rotation, scale, mirror). It is
  * found from two directions a little off the centre, and written as the CD
  * matrix. */
-static int add_zenithal(orr_fits_header *h, const orr_wcs_view *view, int gnomonic)
+static int add_zenithal(orr_cards *h, const orr_wcs_view *view, int gnomonic)
 {
     const orr_projection *p = view->proj;
     const orr_sky_frame *f = view->frame;
@@ -110,36 +110,36 @@ static int add_zenithal(orr_fits_header *h, const orr_wcs_view *view, int gnomon
         return 0;
     double inv[2][2] = {{P[1][1] / det, -P[0][1] / det}, {-P[1][0] / det, P[0][0] / det}};
     add_common(h, view, gnomonic ? "TAN" : "ARC", l0, b0);
-    orr_fits_add_double(h, "LONPOLE", 180.0, "[deg] native longitude of the frame's north pole");
+    orr_cards_add_double(h, "LONPOLE", 180.0, "[deg] native longitude of the frame's north pole");
     static const char *const names[2][2] = {{"CD1_1", "CD1_2"}, {"CD2_1", "CD2_2"}};
     for (int i = 0; i < 2; i++)
         for (int j = 0; j < 2; j++)
-            orr_fits_add_double(h, names[i][j], X[i][0] * inv[0][j] + X[i][1] * inv[1][j], "[deg/pixel]");
+            orr_cards_add_double(h, names[i][j], X[i][0] * inv[0][j] + X[i][1] * inv[1][j], "[deg/pixel]");
     return 1;
 }
 
 /* An orthographic view is a plane: linear axes along the camera's right and
  * up, 0 at the view centre (the camera position), in scene lengths. */
-static int add_linear(orr_fits_header *h, const orr_wcs_view *view)
+static int add_linear(orr_cards *h, const orr_wcs_view *view)
 {
     const orr_projection *p = view->proj;
     const char *unit = view->length_unit ? view->length_unit : "";
-    orr_fits_add_long(h, "WCSAXES", 2, "two world coordinate axes");
-    orr_fits_add_string(h, "CTYPE1", "CAMX", "offset along the camera's right");
-    orr_fits_add_string(h, "CTYPE2", "CAMY", "offset along the camera's up");
+    orr_cards_add_long(h, "WCSAXES", 2, "two world coordinate axes");
+    orr_cards_add_string(h, "CTYPE1", "CAMX", "offset along the camera's right");
+    orr_cards_add_string(h, "CTYPE2", "CAMY", "offset along the camera's up");
     if (unit[0]) {
-        orr_fits_add_string(h, "CUNIT1", unit, NULL);
-        orr_fits_add_string(h, "CUNIT2", unit, NULL);
+        orr_cards_add_string(h, "CUNIT1", unit, NULL);
+        orr_cards_add_string(h, "CUNIT2", unit, NULL);
     }
     add_reference_pixel(h, p);
-    orr_fits_add_double(h, "CRVAL1", 0.0, "the view centre");
-    orr_fits_add_double(h, "CRVAL2", 0.0, NULL);
-    orr_fits_add_double(h, "CDELT1", 1.0 / p->focal, "scene length per pixel");
-    orr_fits_add_double(h, "CDELT2", 1.0 / p->focal, "scene length per pixel");
+    orr_cards_add_double(h, "CRVAL1", 0.0, "the view centre");
+    orr_cards_add_double(h, "CRVAL2", 0.0, NULL);
+    orr_cards_add_double(h, "CDELT1", 1.0 / p->focal, "scene length per pixel");
+    orr_cards_add_double(h, "CDELT2", 1.0 / p->focal, "scene length per pixel");
     return 1;
 }
 
-int orr_wcs_add_cards(orr_fits_header *h, const orr_wcs_view *view)
+int orr_wcs_add_cards(orr_cards *h, const orr_wcs_view *view)
 {
     const orr_projection *p = view->proj;
     double l0;
@@ -150,15 +150,15 @@ int orr_wcs_add_cards(orr_fits_header *h, const orr_wcs_view *view)
         add_common(h, view, "AIT", l0, 0.0);
         /* x = (180/pi) X with X = 2 sqrt2 ... reaching 2 sqrt2 at the ellipse's
          * end, half_w pixels from the centre (likewise y: sqrt2 at half_h). */
-        orr_fits_add_double(h, "CDELT1", p->lon_sign * DEG * 2 * sqrt(2.0) / p->half_w, "[deg/pixel]");
-        orr_fits_add_double(h, "CDELT2", DEG * sqrt(2.0) / p->half_h, "[deg/pixel]");
+        orr_cards_add_double(h, "CDELT1", p->lon_sign * DEG * 2 * sqrt(2.0) / p->half_w, "[deg/pixel]");
+        orr_cards_add_double(h, "CDELT2", DEG * sqrt(2.0) / p->half_h, "[deg/pixel]");
         return 1;
     case ORR_PROJ_EQUIRECTANGULAR:
         if (!centred_on_equator(view->camera, view->frame, &l0))
             return 0;
         add_common(h, view, "CAR", l0, 0.0);
-        orr_fits_add_double(h, "CDELT1", p->lon_sign * 360.0 / p->width, "[deg/pixel]");
-        orr_fits_add_double(h, "CDELT2", 180.0 / p->height, "[deg/pixel]");
+        orr_cards_add_double(h, "CDELT1", p->lon_sign * 360.0 / p->width, "[deg/pixel]");
+        orr_cards_add_double(h, "CDELT2", 180.0 / p->height, "[deg/pixel]");
         return 1;
     case ORR_PROJ_DOME:
         return add_zenithal(h, view, 0);

@@ -27,7 +27,7 @@ typedef struct orr_wcs_view {
  * view has no standard WCS (a Hammer-Aitoff or equirectangular map whose
  * centre is off the equator or whose up is not north, which these
  * projections cannot describe without a rotation). */
-int orr_wcs_add_cards(orr_fits_header *h, const orr_wcs_view *view);
+int orr_wcs_add_cards(orr_cards *h, const orr_wcs_view *view);
 
 /* A HEALPix map's COORDSYS: "G" when its (theta, phi) are the observer
  * frame's (90 - b, l), i.e. an observer defines the frame and the camera is

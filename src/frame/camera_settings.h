@@ -6,10 +6,12 @@
 #ifndef ORR_FRAME_CAMERA_SETTINGS_H
 #define ORR_FRAME_CAMERA_SETTINGS_H
 
+#include "core/keys.h"
 #include "core/limits.h"
 #include "core/vecmath.h"
 #include "frame/camera.h"
 #include "frame/path.h"
+#include "frame/projection.h"
 
 typedef struct orr_camera_settings {
     /* Exactly one of look_at, direction, quaternion orients the camera;
@@ -52,6 +54,20 @@ typedef struct orr_camera_settings {
 
 /* Fills d with the defaults above. */
 void orr_camera_settings_defaults(orr_camera_settings *d);
+
+/* The camera.* keys checked against each other: at most one of look_at,
+ * direction and quaternion, none of them zero or looking nowhere, up not
+ * along the view; a dome's front not along its zenith; dim_near only with
+ * dim. Normalises the quaternion, which users round. keys says which were
+ * given, and where. The keys that span stages (a path's, an observer's) are
+ * the scene's checks. */
+orr_status orr_camera_settings_prepare(orr_camera_settings *c, const orr_keys *keys, orr_error *err);
+
+/* A dome master's orientation cards (DOMETILT, DOMEPROF), for a projection
+ * of that kind; none for the others. */
+void orr_camera_dome_cards(const orr_camera_settings *c, orr_projection_kind kind, orr_cards *h);
+/* DIMMED when camera.dim dims the weights with the distance from the camera. */
+void orr_camera_dim_cards(const orr_camera_settings *c, orr_cards *h);
 
 /* The point the camera keeps looking at, where there is one: camera.look_at,
  * an orbit's centre, an inspiral's target, a line's look_at. A stereo pair

@@ -15,6 +15,76 @@ void orr_observer_settings_defaults(orr_observer_settings *d)
     d->dim_near = 0.01;
 }
 
+#define COUNT(a) (sizeof(a) / sizeof((a)[0]))
+
+/* The observer.* keys that mean something only with observer.id. */
+static const char *const OBSERVER_KEYS[] = {
+    "observer.reference_id", "observer.normal", "observer.normal_from.types", "observer.normal_from.radius",
+    "observer.normal_from.sign", "observer.dim", "observer.dim_near",
+};
+
+static orr_status check_without_observer(const orr_keys *keys, orr_error *err)
+{
+    if (orr_key_given(keys, "observer.reference_id"))
+        return orr_fail_key(keys, "observer.reference_id", err,
+                            "observer.reference_id is set but observer.id is not: set both (the observer particle, "
+                            "and the particle that fixes the frame's x axis)");
+    for (size_t i = 0; i < COUNT(OBSERVER_KEYS); i++)
+        if (orr_key_given(keys, OBSERVER_KEYS[i]))
+            return orr_fail_key(keys, OBSERVER_KEYS[i], err,
+                                "%s applies to an observer-centred sky, but observer.id is not set", OBSERVER_KEYS[i]);
+    return ORR_OK;
+}
+
+static orr_status check_observer_normal(const orr_observer_settings *o, const orr_keys *keys, orr_error *err)
+{
+    static const char *const from_keys[] = {"observer.normal_from.types", "observer.normal_from.radius",
+                                            "observer.normal_from.sign"};
+    for (size_t i = 0; i < COUNT(from_keys); i++) {
+        if (!orr_key_given(keys, from_keys[i]))
+            continue;
+        if (o->has_normal)
+            return orr_fail_key(keys, from_keys[i], err,
+                                "observer.normal and %s are both set; give the normal, or say how to compute it",
+                                from_keys[i]);
+        if (!orr_key_given(keys, "observer.normal_from.types"))
+            return orr_fail_key(keys, from_keys[i], err,
+                                "%s needs observer.normal_from.types: the particle types whose spin gives the "
+                                "normal",
+                                from_keys[i]);
+    }
+    if (o->has_normal && o->normal.x == 0 && o->normal.y == 0 && o->normal.z == 0)
+        return orr_fail_key(keys, "observer.normal", err, "observer.normal: must not be [0, 0, 0]");
+    return ORR_OK;
+}
+
+orr_status orr_observer_prepare(const orr_observer_settings *o, const orr_keys *keys, orr_error *err)
+{
+    if (!o->has_id)
+        return check_without_observer(keys, err);
+    if (!orr_key_given(keys, "observer.reference_id"))
+        return orr_fail_key(keys, "observer.id", err,
+                            "observer.id needs observer.reference_id: the particle that fixes the frame's x axis");
+    if (o->id == o->reference_id)
+        return orr_fail_key(keys, "observer.reference_id", err,
+                            "observer.reference_id equals observer.id (%llu); the reference must be another "
+                            "particle",
+                            (unsigned long long)o->id);
+    return check_observer_normal(o, keys, err);
+}
+
+void orr_observer_cards(const orr_observer_settings *o, orr_cards *h)
+{
+    if (!o->has_id)
+        return;
+    orr_cards_add_long(h, "OBSID", (long long)o->id, "observer particle id");
+    orr_cards_add_long(h, "REFID", (long long)o->reference_id, "reference particle id (l = 0)");
+    orr_cards_reserve(h, "NORMX", "disc normal n0 (b = 90) x");
+    orr_cards_reserve(h, "NORMY", "disc normal n0 (b = 90) y");
+    orr_cards_reserve(h, "NORMZ", "disc normal n0 (b = 90) z");
+    orr_cards_add_bool(h, "DIMMED", o->dim, "weights divided by r^2 from the observer");
+}
+
 orr_status orr_sky_frame_build(orr_sky_frame *f, orr_vec3 observer, orr_vec3 reference, orr_vec3 n0,
                                orr_error *err)
 {

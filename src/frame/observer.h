@@ -11,7 +11,9 @@
 
 #include <stdint.h>
 
+#include "core/cards.h"
 #include "core/error.h"
+#include "core/keys.h"
 #include "core/names.h"
 #include "core/vecmath.h"
 #include "frame/camera.h"
@@ -42,6 +44,15 @@ extern const orr_named orr_normal_sign_names[];
 
 /* Fills d with the defaults above. */
 void orr_observer_settings_defaults(orr_observer_settings *d);
+
+/* The observer.* keys checked against each other: with observer.id its
+ * reference particle (another one), the normal given or computed, not
+ * both; without, none of its keys; keys says which were given, and where. */
+orr_status orr_observer_prepare(const orr_observer_settings *o, const orr_keys *keys, orr_error *err);
+
+/* An observer's cards (OBSID, REFID, DIMMED and the disc normal NORMX..Z,
+ * which each frame gives: reserved); none without observer.id. */
+void orr_observer_cards(const orr_observer_settings *o, orr_cards *h);
 
 typedef struct orr_sky_frame {
     orr_vec3 origin;  /* the observer's position (the world origin without an observer) */

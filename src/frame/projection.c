@@ -18,6 +18,19 @@ const char *orr_projection_name(orr_projection_kind kind) { return orr_named_nam
 
 const orr_named orr_healpix_order_names[] = {{"ring", 0}, {"nested", 1}, {NULL, 0}};
 
+void orr_projection_cards(const orr_projection *p, orr_cards *h)
+{
+    orr_cards_add_string(h, "PROJTYPE", orr_projection_name(p->kind), "projection");
+    if (p->kind == ORR_PROJ_ORTHOGRAPHIC)
+        orr_cards_add_double(h, "ORTHOWID", p->ortho_width, "image width in simulation length units");
+    if (p->kind == ORR_PROJ_PERSPECTIVE) {
+        orr_cards_add_double(h, "FOV", p->fov_deg, "[deg] field of view along the wider axis");
+        orr_cards_add_double(h, "NEAR", p->near, "near plane distance");
+    }
+    if (p->kind == ORR_PROJ_DOME)
+        orr_cards_add_double(h, "DOMEFOV", p->dome_fov_deg, "[deg] dome field of view");
+}
+
 void orr_projection_defaults(orr_projection *p)
 {
     memset(p, 0, sizeof *p);
@@ -60,28 +73,51 @@ long orr_healpix_pixel(const orr_projection *p, double x, double y, double z)
     return ipix;
 }
 
-orr_status orr_projection_setup(orr_projection *p, orr_error *err)
+/* The parameters within their ranges, each named by its key: those of
+ * p's kind, or with every set all of them (a scene's, which holds them all,
+ * used or not). */
+static orr_status check_ranges(const orr_projection *p, int every, const orr_keys *keys, orr_error *err)
 {
     if (p->width <= 0 || p->height <= 0 || p->width > ORR_IMAGE_SIDE_MAX || p->height > ORR_IMAGE_SIDE_MAX)
-        return orr_fail(err, ORR_ERR_USAGE, "image size %d x %d is out of range (1 to %d pixels a side)",
-                        p->width, p->height, ORR_IMAGE_SIDE_MAX);
+        return orr_fail_key(keys, NULL, err, "image size %d x %d is out of range (1 to %d pixels a side)",
+                            p->width, p->height, ORR_IMAGE_SIDE_MAX);
+    int ortho = every || p->kind == ORR_PROJ_ORTHOGRAPHIC, persp = every || p->kind == ORR_PROJ_PERSPECTIVE;
+    if (ortho && !(p->ortho_width > 0 && isfinite(p->ortho_width)))
+        return orr_fail_key(keys, "camera.width", err, "camera.width: %g is out of range (must be > 0)",
+                            p->ortho_width);
+    if (persp && !(p->fov_deg > 0 && p->fov_deg < 180))
+        return orr_fail_key(keys, "camera.fov", err, "camera.fov: %g is out of range (must be > 0 and < 180)",
+                            p->fov_deg);
+    if (persp && !(p->near >= 0 && isfinite(p->near)))
+        return orr_fail_key(keys, "camera.near", err, "camera.near: %g is out of range (must be >= 0)", p->near);
+    if ((every || p->kind == ORR_PROJ_DOME) && !(p->dome_fov_deg >= 90 && p->dome_fov_deg <= 360))
+        return orr_fail_key(keys, "camera.dome_fov", err, "camera.dome_fov: %g is out of range (90 to 360)",
+                            p->dome_fov_deg);
+    return ORR_OK;
+}
+
+orr_status orr_projection_prepare(const orr_projection *p, const orr_keys *keys, orr_error *err)
+{
+    orr_status st = check_ranges(p, 1, keys, err);
+    if (st)
+        return st;
+    orr_projection copy = *p; /* the derived values stay out of the settings */
+    return orr_projection_setup(&copy, err) ? orr_fail_key_prefix(keys, NULL, err, "") : ORR_OK;
+}
+
+orr_status orr_projection_setup(orr_projection *p, orr_error *err)
+{
+    orr_status st = check_ranges(p, 0, NULL, err);
+    if (st)
+        return st;
     p->cx = 0.5 * p->width;
     p->cy = 0.5 * p->height;
     int wider = p->width > p->height ? p->width : p->height;
     switch (p->kind) {
     case ORR_PROJ_ORTHOGRAPHIC:
-        if (!(p->ortho_width > 0) || !isfinite(p->ortho_width))
-            return orr_fail(err, ORR_ERR_USAGE, "orthographic width %g must be a positive number",
-                            p->ortho_width);
         p->focal = p->width / p->ortho_width;
         return ORR_OK;
     case ORR_PROJ_PERSPECTIVE:
-        if (!(p->fov_deg > 0 && p->fov_deg < 180))
-            return orr_fail(err, ORR_ERR_USAGE,
-                            "perspective field of view %g degrees must lie between 0 and 180", p->fov_deg);
-        if (!(p->near >= 0) || !isfinite(p->near))
-            return orr_fail(err, ORR_ERR_USAGE, "perspective near distance %g must be zero or positive",
-                            p->near);
         if (!isfinite(p->shift_x))
             return orr_fail(err, ORR_ERR_USAGE, "perspective principal-point shift %g is not a number",
                             p->shift_x);
@@ -103,9 +139,6 @@ orr_status orr_projection_setup(orr_projection *p, orr_error *err)
     case ORR_PROJ_HEALPIX:
         return setup_healpix(p, err);
     case ORR_PROJ_DOME:
-        if (!(p->dome_fov_deg >= 90 && p->dome_fov_deg <= 360))
-            return orr_fail(err, ORR_ERR_USAGE, "dome field of view %g degrees must lie between 90 and 360",
-                            p->dome_fov_deg);
         p->half_w = p->half_h = 0.5 * (p->width < p->height ? p->width : p->height);
         p->theta_max = 0.5 * p->dome_fov_deg * ORR_PI / 180.0;
         p->focal = p->half_w / p->theta_max;

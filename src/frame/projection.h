@@ -9,7 +9,9 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/cards.h"
 #include "core/error.h"
+#include "core/keys.h"
 #include "core/names.h"
 #include "core/vecmath.h"
 
@@ -156,7 +158,16 @@ void orr_projection_fold(const orr_projection *p, int *i, int *j);
  * (+y) at the bottom of the master, the dome's front. */
 orr_status orr_projection_setup(orr_projection *p, orr_error *err);
 
+/* A scene's projection checked, every parameter whether its kind uses it
+ * or not (camera.width, .fov, .near, .dome_fov: their ranges are the
+ * projection's, not the key table's), then set up on a copy; keys says
+ * where each was set (core/keys.h). */
+orr_status orr_projection_prepare(const orr_projection *p, const orr_keys *keys, orr_error *err);
+
 extern const orr_named orr_projection_names[];
+/* The projection's cards: PROJTYPE and the parameters of its kind
+ * (ORTHOWID; FOV and NEAR; DOMEFOV). */
+void orr_projection_cards(const orr_projection *p, orr_cards *h);
 const char *orr_projection_name(orr_projection_kind kind);
 
 /* Projects one camera-frame point. Returns 1 and sets (px, py, scale) when the

@@ -3,6 +3,49 @@
 #include <math.h>
 #include <string.h>
 
+/* The sphere of centre: camera (input.periodic.radius, .fade): only there,
+ * only with copies, and when the box side is given, within the copies'
+ * reach (else the render checks it against the file's BoxSize). */
+static orr_status check_sphere(const orr_periodic_settings *p, const orr_keys *keys, orr_error *err)
+{
+    static const char *const sphere_keys[] = {"input.periodic.radius", "input.periodic.fade"};
+    for (int k = 0; k < 2; k++) {
+        if (!orr_key_given(keys, sphere_keys[k]))
+            continue;
+        if (!p->around_camera)
+            return orr_fail_key(keys, sphere_keys[k], err,
+                                "%s applies to input.periodic.centre: camera (the images within a sphere "
+                                "around the camera), but the centre is origin",
+                                sphere_keys[k]);
+        if (p->replicas < 3)
+            return orr_fail_key(keys, sphere_keys[k], err,
+                                "%s needs copies of the box around the camera: set input.periodic.replicas to "
+                                "3 or more (it is %d)",
+                                sphere_keys[k], p->replicas);
+    }
+    if (!p->around_camera || p->replicas < 3)
+        return ORR_OK;
+    /* The box's side stands in for an unknown one: a radius or fade that
+     * fails now fails whatever the side. */
+    orr_replica_sphere sp;
+    orr_error why;
+    double box = p->box > 0 ? p->box : HUGE_VAL;
+    if (orr_replica_sphere_resolve(&sp, box, p->replicas, p->radius, p->has_fade ? p->fade : -1, &why) == ORR_OK)
+        return ORR_OK;
+    const char *key = strstr(why.msg, "input.periodic.fade") == why.msg ? sphere_keys[1] : sphere_keys[0];
+    return orr_fail_key(keys, key, err, "%s", why.msg);
+}
+
+orr_status orr_periodic_prepare(const orr_periodic_settings *p, const orr_keys *keys, orr_error *err)
+{
+    if (p->replicas % 2 == 0)
+        return orr_fail_key(keys, "input.periodic.replicas", err,
+                            "input.periodic.replicas is %d; it must be odd (1, 3, 5, ...): copies of the box "
+                            "sit symmetrically around the middle one",
+                            p->replicas);
+    return check_sphere(p, keys, err);
+}
+
 const orr_named orr_periodic_centre_names[] = {{"camera", 1}, {"origin", 0}, {NULL, 0}};
 
 void orr_periodic_settings_defaults(orr_periodic_settings *d)

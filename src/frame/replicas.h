@@ -6,6 +6,7 @@
 #define ORR_FRAME_REPLICAS_H
 
 #include "core/error.h"
+#include "core/keys.h"
 #include "core/names.h"
 #include "core/vecmath.h"
 #include "frame/camera.h"
@@ -33,6 +34,13 @@ extern const orr_named orr_periodic_centre_names[];
 
 /* Fills d with the defaults above. */
 void orr_periodic_settings_defaults(orr_periodic_settings *d);
+
+/* The input.periodic.* keys checked against each other: an odd count of
+ * copies per axis (they sit symmetrically around the middle one), and the
+ * sphere around the camera (.radius, .fade) only with copies around it,
+ * within their reach when the box's side is given (else the render checks
+ * it against the file's); keys says which were given, and where. */
+orr_status orr_periodic_prepare(const orr_periodic_settings *p, const orr_keys *keys, orr_error *err);
 
 /* The shifts of the copies: particle p is drawn at p + offset[k] for each k. */
 typedef struct orr_replicas {

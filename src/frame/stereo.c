@@ -20,6 +20,62 @@ void orr_stereo_settings_defaults(orr_stereo_settings *d)
     d->eye = 0;
 }
 
+static orr_status check_without_stereo(const orr_keys *keys, orr_error *err)
+{
+    static const char *const pair_keys[] = {"stereo.eye_separation", "stereo.convergence", "stereo.anaglyph",
+                                            "stereo.zenith_fade"};
+    for (size_t i = 0; i < sizeof pair_keys / sizeof pair_keys[0]; i++)
+        if (orr_key_given(keys, pair_keys[i]))
+            return orr_fail_key(keys, pair_keys[i], err, "%s applies to stereo, but stereo.mode is none",
+                                pair_keys[i]);
+    return ORR_OK;
+}
+
+orr_status orr_stereo_prepare(const orr_stereo_settings *st, orr_projection_kind kind, const orr_keys *keys,
+                              orr_error *err)
+{
+    if (st->mode == ORR_STEREO_NONE)
+        return check_without_stereo(keys, err);
+    const char *mode = orr_stereo_mode_name(st->mode);
+    if (kind == ORR_PROJ_ORTHOGRAPHIC)
+        return orr_fail_key(keys, "stereo.mode", err,
+                            "stereo.mode: %s needs parallax, which an orthographic camera has none of; use "
+                            "camera.projection: perspective (or a sky map for omni-directional stereo)",
+                            mode);
+    if (!orr_key_given(keys, "stereo.eye_separation"))
+        return orr_fail_key(keys, "stereo.mode", err,
+                            "stereo.mode: %s needs stereo.eye_separation, the distance between the eyes in "
+                            "scene units",
+                            mode);
+    if (st->mode != ORR_STEREO_ANAGLYPH && orr_key_given(keys, "stereo.anaglyph"))
+        return orr_fail_key(keys, "stereo.anaglyph", err, "stereo.anaglyph applies to stereo.mode: anaglyph, not %s",
+                            mode);
+    if (kind == ORR_PROJ_PERSPECTIVE && orr_key_given(keys, "stereo.zenith_fade"))
+        return orr_fail_key(keys, "stereo.zenith_fade", err,
+                            "stereo.zenith_fade is for omni-directional stereo (dome, equirectangular, "
+                            "hammer-aitoff), not a perspective camera");
+    if (kind != ORR_PROJ_PERSPECTIVE && orr_key_given(keys, "stereo.convergence"))
+        return orr_fail_key(keys, "stereo.convergence", err,
+                            "stereo.convergence is for a perspective camera; omni-directional stereo (%s) has "
+                            "its zero parallax at infinity",
+                            orr_projection_name(kind));
+    return ORR_OK;
+}
+
+void orr_stereo_cards(const orr_stereo_settings *st, orr_projection_kind kind, orr_cards *h)
+{
+    orr_cards_add_string(h, "STEREO", orr_stereo_mode_name(st->mode), "stereo mode");
+    if (st->mode == ORR_STEREO_SEPARATE && st->eye)
+        orr_cards_add_string(h, "EYE", orr_eye_name(st->eye), "the eye of this file");
+    else
+        orr_cards_add_string(h, "EYES", "left, right", "HDUs: the left eye's planes, then the right's");
+    orr_cards_add_double(h, "EYESEP", st->eye_separation, "interocular distance, scene units");
+    if (orr_projection_traits_of(kind).off_axis_stereo)
+        orr_cards_reserve(h, "CONVERG", "distance of zero parallax, scene units"); /* the frame's */
+    else
+        orr_cards_add_double(h, "ZENFADE", st->zenith_fade, "[deg] ODS separation fades to 0 at the pole");
+}
+
 const char *orr_stereo_mode_name(orr_stereo_mode mode) { return orr_named_name(orr_stereo_mode_names, (int)mode); }
 
 ORR_NAMED_PARSER(orr_stereo_mode_from_name, orr_stereo_mode, orr_stereo_mode_names)

@@ -22,6 +22,7 @@
 #include <stdint.h>
 
 #include "core/error.h"
+#include "core/keys.h"
 #include "core/names.h"
 #include "frame/camera.h"
 #include "frame/projection.h"
@@ -64,6 +65,18 @@ typedef struct orr_stereo_settings {
 
 /* Fills d with the defaults above. */
 void orr_stereo_settings_defaults(orr_stereo_settings *d);
+
+/* The stereo.* keys checked against each other and the projection (kind):
+ * a pair needs parallax and an eye separation; its anaglyph, zenith fade
+ * and convergence keys only with the mode or projection they are for;
+ * without a pair, none of its keys. keys says which were given, and where. */
+orr_status orr_stereo_prepare(const orr_stereo_settings *st, orr_projection_kind kind, const orr_keys *keys,
+                              orr_error *err);
+
+/* A stereo view's cards (STEREO, EYE or EYES, EYESEP; a pair's CONVERG,
+ * which each frame gives: reserved, or ODS's ZENFADE); the anaglyph's
+ * is the picture's (orr_picture_stereo_cards). */
+void orr_stereo_cards(const orr_stereo_settings *st, orr_projection_kind kind, orr_cards *h);
 
 /* Moves a perspective camera to one eye (ORR_EYE_LEFT or ORR_EYE_RIGHT):
  * its position by eye * separation / 2 along its right axis, and the

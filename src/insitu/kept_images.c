@@ -24,7 +24,7 @@ void orr_kept_clear(orr_kept_images *k)
 }
 
 /* One card's value as FITS writes it; returns the characters written. */
-static size_t card_value(const orr_fits_card *c, char *out, size_t size)
+static size_t card_value(const orr_card *c, char *out, size_t size)
 {
     if (c->type == ORR_CARD_DOUBLE) { /* "8.0", not "8": a reader keeps it a real number */
         size_t n = (size_t)orr_snprintf(out, size, "%.17g", c->dbl);
@@ -48,7 +48,7 @@ static size_t card_value(const orr_fits_card *c, char *out, size_t size)
     return n;
 }
 
-char *orr_kept_header_text(const orr_fits_header *cards, orr_error *err)
+char *orr_kept_header_text(const orr_cards *cards, orr_error *err)
 {
     /* A line is at most 8 + 3 + 2 * 68 + 2 + 1 characters (a string of quotes). */
     enum { LINE_MAX = 160 };
@@ -58,8 +58,8 @@ char *orr_kept_header_text(const orr_fits_header *cards, orr_error *err)
     size_t used = 0;
     text[0] = '\0';
     for (int i = 0; i < cards->n; i++) {
-        const orr_fits_card *c = &cards->cards[i];
-        if (c->type == ORR_CARD_UNSET) /* (a frame's header has none: orr_fits_drop_unset) */
+        const orr_card *c = &cards->cards[i];
+        if (c->type == ORR_CARD_UNSET) /* (a frame's header has none: orr_cards_drop_unset) */
             continue;
         used += (size_t)snprintf(text + used, LINE_MAX, "%s = ", c->key);
         used += card_value(c, text + used, LINE_MAX - 12);
@@ -83,7 +83,7 @@ static orr_status copy_planes(orr_kept_image *im, const orr_plane *planes, int n
 }
 
 orr_status orr_kept_add(void *user, int view, const orr_plane *planes, int nplanes, const float *rgb,
-                        const orr_fits_header *cards, orr_error *err)
+                        const orr_cards *cards, orr_error *err)
 {
     orr_kept_images *k = user;
     if (view != k->n || nplanes < 1 || nplanes > 3)

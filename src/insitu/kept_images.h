@@ -26,11 +26,11 @@ void orr_kept_clear(orr_kept_images *k);
 /* An orr_keep_fn (render/render.h): appends a copy of one view's images to
  * the orr_kept_images that user points at. */
 orr_status orr_kept_add(void *user, int view, const orr_plane *planes, int nplanes, const float *rgb,
-                        const orr_fits_header *cards, orr_error *err);
+                        const orr_cards *cards, orr_error *err);
 
 /* The FITS cards as text: one line per card, "KEY = VALUE", VALUE being a
  * quoted string ('' for a quote inside), T or F, an integer, or a number
  * in the shortest form that reads back exactly. A malloc'd string. */
-char *orr_kept_header_text(const orr_fits_header *cards, orr_error *err);
+char *orr_kept_header_text(const orr_cards *cards, orr_error *err);
 
 #endif

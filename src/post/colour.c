@@ -36,6 +36,43 @@ void orr_colour_synth_defaults(orr_colour_synth *s)
     };
 }
 
+orr_status orr_colour_prepare(orr_colour_settings *d, const orr_keys *keys, orr_error *err)
+{
+    static const char *const needing[] = {"colour.seed", "colour.only", "colour.synthesis.stretch",
+                                          "colour.synthesis.white"};
+    /* What the populations' draws and colour.only come to. */
+    d->populations.seed = d->seed;
+    d->only_index = d->only[0] ? orr_population_find(&d->populations, d->only) : -1;
+    if (d->has_populations && d->only[0] && d->only_index < 0)
+        return orr_fail_key(keys, "colour.only", err, "colour.only: no population is called '%s'", d->only);
+    for (size_t i = 0; !d->has_populations && i < sizeof needing / sizeof needing[0]; i++) {
+        /* A tinted map is graded by colour.synthesis too (its stretch and
+         * white), though it has no populations. */
+        int synthesis_key = strncmp(needing[i], "colour.synthesis.", 17) == 0;
+        if (orr_key_given(keys, needing[i]) && !(synthesis_key && d->has_tint))
+            return orr_fail_key(keys, needing[i], err, "%s applies to colour.populations%s, which is not set",
+                                needing[i], synthesis_key ? " or colour.tint" : "");
+    }
+    if (d->has_populations && d->has_tint)
+        return orr_fail_key(keys, "colour.tint.path", err,
+                            "colour.tint is for single-channel maps; with colour.populations each population "
+                            "has its own colour");
+    if (!d->has_tint && orr_key_given(keys, "colour.tint.t"))
+        return orr_fail_key(keys, "colour.tint.t", err, "colour.tint.t needs colour.tint.path");
+    if (orr_colour_synth_check(&d->synth, err))
+        return orr_fail_key_prefix(keys, NULL, err, "colour.synthesis: ");
+    return ORR_OK;
+}
+
+void orr_colour_cards(const orr_colour_settings *d, orr_cards *h)
+{
+    if (!d->has_populations)
+        return;
+    orr_cards_add_long(h, "NPOPS", d->populations.n, "colour populations");
+    orr_cards_reserve(h, "YIMAGE", "luminance Y deposited in the image");
+    orr_cards_reserve(h, "YOUTSIDE", "luminance Y that fell off the image");
+}
+
 void orr_colour_settings_defaults(orr_colour_settings *d)
 {
     memset(d, 0, sizeof *d);

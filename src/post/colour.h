@@ -19,8 +19,10 @@
 
 #include <stddef.h>
 
+#include "core/cards.h"
 #include "core/colourimetry.h"
 #include "core/error.h"
+#include "core/keys.h"
 #include "core/plane.h"
 #include "particles/population.h"
 
@@ -106,6 +108,17 @@ typedef struct orr_colour_settings {
 
 /* Fills d with the defaults above. */
 void orr_colour_settings_defaults(orr_colour_settings *d);
+
+/* The colour.* keys checked against each other: colour.only names a
+ * population, the populations' keys only with populations, a tint only
+ * without, the synthesis's parameters usable; keys says which were given,
+ * and where. Sets what they come to: the populations' seed and
+ * colour.only's index. */
+orr_status orr_colour_prepare(orr_colour_settings *d, const orr_keys *keys, orr_error *err);
+
+/* With colour populations: NPOPS, and the luminance Y deposited in and off
+ * the image (YIMAGE, YOUTSIDE), which each frame gives: reserved. */
+void orr_colour_cards(const orr_colour_settings *d, orr_cards *h);
 
 /* The stretched, brightness- and contrast-adjusted luminance of a pixel
  * with luminance y, for white level y0 > 0; 0 for y NaN or <= 0. Not clipped

@@ -2,6 +2,11 @@
 
 #include <string.h>
 
+void orr_picture_anaglyph_cards(const orr_picture_settings *d, orr_cards *h)
+{
+    orr_cards_add_string(h, "ANAGLYPH", orr_anaglyph_name(d->anaglyph), "anaglyph of the PNG");
+}
+
 void orr_picture_settings_defaults(orr_picture_settings *d)
 {
     memset(d, 0, sizeof *d);

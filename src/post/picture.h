@@ -6,6 +6,7 @@
 #ifndef ORR_POST_PICTURE_H
 #define ORR_POST_PICTURE_H
 
+#include "core/cards.h"
 #include "post/anaglyph.h"
 #include "post/colormap.h"
 #include "post/stretch.h"
@@ -21,5 +22,8 @@ typedef struct orr_picture_settings {
 
 /* Fills d with the defaults above. */
 void orr_picture_settings_defaults(orr_picture_settings *d);
+
+/* ANAGLYPH: how a stereo pair's picture was mixed (stereo.mode: anaglyph). */
+void orr_picture_anaglyph_cards(const orr_picture_settings *d, orr_cards *h);
 
 #endif

@@ -39,6 +39,58 @@ void orr_psf_settings_defaults(orr_psf_settings *d)
     d->glow_max_arcmin = 60;
 }
 
+int orr_psf_flat_stars(const orr_psf_settings *d, int sky)
+{
+    return !sky && (d->kind == ORR_PSF_HST || d->kind == ORR_PSF_FILE) && d->has_fwhm;
+}
+
+/* The keys of a PSF kind, or of a way of drawing stars, given without it. */
+static orr_status check_foreign_keys(const orr_psf_settings *d, int sky, const orr_keys *keys, orr_error *err)
+{
+    if (d->kind != ORR_PSF_FILE && orr_key_given(keys, "psf.file"))
+        return orr_fail_key(keys, "psf.file", err, "psf.file is used only with psf.kind: file");
+    /* A sky map draws the brightest stars with the whole PSF, the rest as
+     * its core (docs/psf.md); so does a flat view given the core's width
+     * (psf.fwhm), else it convolves every star with the whole PSF. */
+    const char *hst_keys[2] = {"psf.vane_width", "psf.spike_gain"};
+    for (int k = 0; k < 2; k++)
+        if (d->kind != ORR_PSF_HST && orr_key_given(keys, hst_keys[k]))
+            return orr_fail_key(keys, hst_keys[k], err, "%s is used only with psf.kind: hst", hst_keys[k]);
+    int whole = d->kind == ORR_PSF_HST || d->kind == ORR_PSF_FILE;
+    const char *spike_keys[2] = {"psf.spike_stars", "psf.spike_min_flux"};
+    for (int k = 0; k < 2; k++)
+        if (orr_key_given(keys, spike_keys[k]) && !((sky && whole) || orr_psf_flat_stars(d, sky)))
+            return orr_fail_key(keys, spike_keys[k], err,
+                                "%s is for psf.kind: hst or file on sky maps, or on flat views with psf.fwhm "
+                                "(the core's width in pixels); a Gaussian has no spikes, and a flat view "
+                                "without psf.fwhm convolves every star with the whole PSF",
+                                spike_keys[k]);
+    if (sky && orr_key_given(keys, "psf.fwhm"))
+        return orr_fail_key(keys, "psf.fwhm", err,
+                            "psf.fwhm is in pixels, for flat views; a sky map's PSF size is psf.fwhm_arcmin");
+    if (!sky && orr_key_given(keys, "psf.fwhm_arcmin"))
+        return orr_fail_key(keys, "psf.fwhm_arcmin", err,
+                            "psf.fwhm_arcmin is for sky maps; a flat view's Gaussian PSF is psf.fwhm, in pixels");
+    return ORR_OK;
+}
+
+orr_status orr_psf_prepare(const orr_psf_settings *d, int sky, const orr_keys *keys, orr_error *err)
+{
+    if (d->kind == ORR_PSF_FILE && !d->file[0])
+        return orr_fail_key(keys, "psf.kind", err, "psf.kind: file needs psf.file, a FITS PSF image");
+    orr_status st = check_foreign_keys(d, sky, keys, err);
+    if (st)
+        return st;
+    if (d->size % 2 == 0)
+        return orr_fail_key(keys, "psf.size", err, "psf.size must be odd (the PSF's centre is a pixel), got %d",
+                            d->size);
+    if (d->has_glow && (!sky || d->kind == ORR_PSF_NONE))
+        return orr_fail_key(keys, "glow.threshold", err,
+                            "glow.threshold draws faint stars as a glow of angular kernels and bright ones as "
+                            "the PSF's core: it needs a sky map with a psf.kind");
+    return ORR_OK;
+}
+
 #define ARCSEC_RAD (ORR_PI / (180.0 * 3600.0))
 #define PSF_MAX_FFT 4096
 #define PSF_MAX_SAMPLES 64

@@ -16,6 +16,7 @@
 #define ORR_POST_PSF_H
 
 #include "core/error.h"
+#include "core/keys.h"
 #include "core/limits.h"
 #include "core/names.h"
 #include "post/convolve.h"
@@ -37,6 +38,7 @@ extern const orr_named orr_psf_kind_names[];
  * (post/sky_psf.h). */
 typedef struct orr_psf_settings {
     orr_psf_kind kind;          /* psf.kind: none | gaussian | hst | file (default none) */
+    int has_fwhm;               /* psf.fwhm was given */
     double fwhm;                /* psf.fwhm: Gaussian FWHM in pixels, flat views (default 3.6) */
     double fwhm_arcmin;         /* psf.fwhm_arcmin: FWHM in arcminutes on sky maps (0: auto, ORR_SKY_CORE_PIXELS
                                  * pixels at the map's centre), of the Gaussian or of the hst/file PSF's
@@ -53,9 +55,6 @@ typedef struct orr_psf_settings {
     int size;                   /* psf.size: odd kernel side in pixels (default 129) */
     int spike_stars;            /* psf.spike_stars: sky maps, hst/file: at most this many of the brightest
                                  * stars are drawn with the whole PSF, the others as its core (default 200) */
-    int flat_stars;             /* not a key: a flat view with psf.kind hst or file and psf.fwhm: stars drawn
-                                 * as the core, the brightest with the whole PSF (post/flat_psf.h); set by
-                                 * the scene's checks */
     double spike_min_flux;      /* psf.spike_min_flux: and none fainter than this fraction of the
                                  * brightest star (default 0.001) */
     double spike_flux;          /* psf.spike_flux: sky maps: and none of less flux at the camera than this,
@@ -70,6 +69,17 @@ typedef struct orr_psf_settings {
 
 /* Fills d with the defaults above. */
 void orr_psf_settings_defaults(orr_psf_settings *d);
+
+/* The psf.* and glow.* keys checked against each other and against the
+ * map they are for (sky: a sky map); keys says which were given, and
+ * where (core/keys.h). */
+orr_status orr_psf_prepare(const orr_psf_settings *d, int sky, const orr_keys *keys, orr_error *err);
+
+/* Whether a view draws its stars one by one, in pixels: a flat view with
+ * psf.kind hst or file given psf.fwhm draws every star as the core of that
+ * width and the brightest with the whole PSF (post/flat_psf.h), where
+ * without psf.fwhm it convolves every star with the whole PSF. */
+int orr_psf_flat_stars(const orr_psf_settings *d, int sky);
 
 /* ---- the pupil ------------------------------------------------------------ */
 

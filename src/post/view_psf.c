@@ -159,7 +159,7 @@ static orr_status flat_setup(orr_view_psf *vp, const orr_psf_settings *ps, int c
         return orr_convolver_create_gaussian(&vp->conv, proj->width, proj->height, ps->fwhm, NULL, err);
     orr_image_kernel k = {0};
     orr_status st = orr_view_psf_kernel(ps, memo, &k, err);
-    if (!st && ps->flat_stars)
+    if (!st && orr_psf_flat_stars(ps, orr_projection_is_sky(proj)))
         st = flat_stars_setup(vp, ps, colour, proj, &k, err);
     else if (!st)
         st = orr_convolver_create(&vp->conv, proj->width, proj->height, &k, NULL, err);
@@ -189,6 +189,10 @@ orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_psf_settings *ps, int 
                               const orr_kernel *k, orr_psf_kernels *memo, orr_error *err)
 {
     memset(vp, 0, sizeof *vp);
+    vp->kind = ps->kind;
+    vp->on_sky = orr_projection_is_sky(proj);
+    vp->fwhm = ps->fwhm;
+    vp->arcsec_per_pixel = ps->arcsec_per_pixel;
     if (ps->kind == ORR_PSF_NONE)
         return ORR_OK;
     if (orr_projection_is_sky(proj)) {
@@ -205,6 +209,27 @@ orr_status orr_view_psf_setup(orr_view_psf *vp, const orr_psf_settings *ps, int 
 orr_status orr_view_psf_apply(orr_view_psf *vp, orr_plane *plane, orr_error *err)
 {
     return vp->conv ? orr_convolver_apply(vp->conv, plane, err) : ORR_OK;
+}
+
+void orr_view_psf_cards(const orr_view_psf *vp, orr_cards *h)
+{
+    orr_cards_add_string(h, "PSF", orr_named_name(orr_psf_kind_names, (int)vp->kind), "point spread function");
+    if (vp->kind == ORR_PSF_GAUSSIAN && vp->on_sky)
+        orr_cards_add_double(h, "PSFFWHM", vp->core_fwhm_arcmin, "[arcmin] PSF FWHM on the sky");
+    else if (vp->kind == ORR_PSF_GAUSSIAN)
+        orr_cards_add_double(h, "PSFFWHM", vp->fwhm, "[pixel] PSF FWHM");
+    else if (vp->kind != ORR_PSF_NONE)
+        orr_cards_add_double(h, "PSFSCALE", vp->arcsec_per_pixel, "[arcsec/pixel] image scale for the PSF");
+    if (vp->core) {
+        orr_cards_add_double(h, "PSFFWHM", vp->fwhm, "[pixel] the PSF core's FWHM");
+        orr_cards_add_double(h, "PSFMAG", vp->sky->rad_per_pixel, "image pixels per PSF pixel");
+        orr_cards_reserve(h, "PSFSTARS", "stars drawn with the whole PSF");
+    } else if (vp->sky) {
+        orr_cards_add_double(h, "PSFFWHM", vp->core_fwhm_arcmin, "[arcmin] the PSF core's FWHM on the sky");
+        orr_cards_add_double(h, "PSFSKYSC", vp->sky->rad_per_pixel * (180.0 * 3600.0 / ORR_PI),
+                             "[arcsec] one PSF pixel on the sky");
+        orr_cards_reserve(h, "PSFSTARS", "stars drawn with the whole PSF");
+    }
 }
 
 void orr_view_psf_free(orr_view_psf *vp)

@@ -35,6 +35,11 @@ typedef struct orr_view_psf {
     double core_fwhm_arcmin; /* sky maps: that FWHM, psf.fwhm_arcmin's or the automatic one */
     orr_sky_psf *sky;    /* sky maps with an hst or file PSF, and flat views with core: the bright stars'
                           * whole PSF; else NULL */
+    /* What the cards say (orr_view_psf_cards), from the settings and the map. */
+    orr_psf_kind kind;       /* psf.kind */
+    int on_sky;              /* made for a sky map */
+    double fwhm;             /* psf.fwhm: a flat view's FWHM (or its stars' core's), pixels */
+    double arcsec_per_pixel; /* psf.arcsec_per_pixel: an hst or file PSF's image scale */
 } orr_view_psf;
 
 /* The Hubble PSF kernels a plan has made (render/plan.h), each with the
@@ -65,6 +70,12 @@ orr_status orr_view_psf_kernel(const orr_psf_settings *ps, orr_psf_kernels *memo
 /* Convolves a flat view's plane (nothing for a sky map or no PSF). */
 orr_status orr_view_psf_apply(orr_view_psf *vp, orr_plane *plane, orr_error *err);
 void orr_view_psf_free(orr_view_psf *vp);
+
+/* The PSF's cards: PSF (its kind) and its width (PSFFWHM or PSFSCALE); with
+ * stars drawn one by one, the core's width, the whole PSF's scale (PSFMAG
+ * or PSFSKYSC) and the stars drawn so (PSFSTARS, which each frame gives:
+ * reserved). */
+void orr_view_psf_cards(const orr_view_psf *vp, orr_cards *h);
 
 /* The radius q (in units of h) where the kernel's column density falls to
  * half its central value. */

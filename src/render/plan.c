@@ -409,8 +409,8 @@ static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
     float *rgb = orr_malloc(npix * 3 * sizeof *rgb, "kept picture", err);
     orr_status st = rgb ? ORR_OK : ORR_ERR_NOMEM;
-    const orr_fits_header *cards = &v->frame_cards;
-    orr_fits_header *map_cards = NULL;
+    const orr_cards *cards = &v->frame_cards;
+    orr_cards *map_cards = NULL;
     if (!st && orr_projection_traits_of(v->proj.kind).pixel_table) {
         map_cards = orr_malloc(sizeof *map_cards, "HEALPix map cards", err);
         st = map_cards ? ORR_OK : ORR_ERR_NOMEM;

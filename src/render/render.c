@@ -1,17 +1,14 @@
-/* The renderer's entry points: the scene's particle source (a file, a
- * built-in model, a sequence's first snapshot), the fields a frame reads,
+/* The renderer's entry points: what the scene asks of its particle source
+ * (the types and fields its passes read; the source stage opens it,
+ * orr_input_open), the fields a frame reads,
  * and a still's render or compose as a plan made, executed once and
  * destroyed (render/plan.h; plan.c holds the frame). */
 #include "render/render.h"
 
-#include <stdio.h>
 #include <string.h>
 
 #include "render/motion_blur.h"
 #include "render/plan.h"
-#include "source/models/king.h"
-#include "source/models/model.h"
-#include "source/sequence.h"
 
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
                                  orr_error *err)
@@ -30,39 +27,13 @@ static unsigned reader_types(const orr_scene *s)
 orr_status orr_scene_open_share(const orr_scene *s, const char *const *fields, int nfields, int part, int nparts,
                                 orr_source **out, orr_error *err)
 {
-    if (orr_scene_has_sequence(s)) {
-        /* A sequence's frames come from orr_render_animation, which opens it
-         * once for the run; alone (a path overview), its first snapshot. */
-        char first[ORR_PATH_MAX];
-        orr_status st = ORR_OK;
-        if (s->input.sequence.nfiles > 0)
-            snprintf(first, sizeof first, "%s", orr_scene_sequence_file(s, 0));
-        else
-            st = orr_sequence_pattern_path(s->input.sequence.pattern, s->input.sequence.first, first, sizeof first, err);
-        orr_source_options opt = {s->input.format, (size_t)s->input.chunk_size, reader_types(s), fields, nfields, 0, 1};
-        return st ? st : orr_source_open_file(first, &opt, out, err);
-    }
-    if (!s->input.model.name[0] && !s->input.file[0])
-        return orr_fail(err, ORR_ERR_USAGE,
-                        "%s: an in-situ scene (input.insitu) has no particles of its own: a running simulation "
-                        "hands them over through orrery.h; set input.file or input.model.name to render it here",
-                        s->path);
-    if (strcmp(s->input.model.name, "king") == 0) {
-        orr_king_params kp = {s->input.model.particles, s->input.model.seed, s->input.model.w0, s->input.model.core_radius, s->input.model.mass};
-        return orr_king_source_open(&kp, (size_t)s->input.chunk_size, out, err);
-    }
-    if (s->input.model.name[0]) {
-        /* Only the types some pass reads are generated (the markers always
-         * are): the drawn stars, the dust, the particles whose spin gives
-         * the observer's normal. With input.types: [2, 3] that leaves out
-         * the dark halos, two thirds of the particles. */
-        unsigned types = s->input.type_mask | s->dust.types | s->observer.normal_types;
-        orr_model_params mp = {s->input.model.particles, s->input.model.seed, s->input.model.separation, s->input.model.galaxies,
-                               s->input.model.disc_q, types, s->input.model.dust_clumping};
-        return orr_model_source_open_dust(&mp, s->input.model.dust_particles, (size_t)s->input.chunk_size, out, err);
-    }
-    orr_source_options opt = {s->input.format, (size_t)s->input.chunk_size, reader_types(s), fields, nfields, part, nparts};
-    return orr_source_open_file(s->input.file, &opt, out, err);
+    /* A model generates only the types some pass reads (the markers always
+     * are): the drawn stars, the dust, the particles whose spin gives the
+     * observer's normal. With input.types: [2, 3] that leaves out the dark
+     * halos, two thirds of the particles. */
+    unsigned model_types = s->input.type_mask | s->dust.types | s->observer.normal_types;
+    orr_input_request req = {s->path, reader_types(s), model_types, fields, nfields, part, nparts};
+    return orr_input_open(&s->input, &req, out, err);
 }
 
 /* Appends name to fields[0..*n) unless it is empty, mass or h (never extra

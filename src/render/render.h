@@ -82,7 +82,7 @@ orr_status orr_scene_open_share(const orr_scene *scene, const char *const *field
 orr_status orr_render_views(const orr_scene *const *views, int n, orr_render_report *reports,
                             orr_progress_fn progress, void *progress_user, orr_error *err);
 
-struct orr_fits_header;
+struct orr_cards;
 
 /* A caller that wants each view's images in memory (the in-situ API's
  * orrery_keep_images): called once per view, each eye of a stereo view
@@ -91,7 +91,7 @@ struct orr_fits_header;
  * top, width * height * 3) and its FITS cards. Only on the process that
  * writes (rank 0). */
 typedef orr_status (*orr_keep_fn)(void *user, int view, const orr_plane *planes, int nplanes, const float *rgb,
-                                  const struct orr_fits_header *cards, orr_error *err);
+                                  const struct orr_cards *cards, orr_error *err);
 
 /* What one frame of a run is drawn from. */
 typedef struct orr_frame_input {

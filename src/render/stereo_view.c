@@ -136,22 +136,6 @@ void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep)
         visible[i] &= keep[i];
 }
 
-void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s)
-{
-    orr_fits_add_string(h, "STEREO", orr_stereo_mode_name(s->stereo.mode), "stereo mode");
-    if (s->stereo.mode == ORR_STEREO_SEPARATE && s->stereo.eye)
-        orr_fits_add_string(h, "EYE", orr_eye_name(s->stereo.eye), "the eye of this file");
-    else
-        orr_fits_add_string(h, "EYES", "left, right", "HDUs: the left eye's planes, then the right's");
-    orr_fits_add_double(h, "EYESEP", s->stereo.eye_separation, "interocular distance, scene units");
-    if (orr_projection_traits_of(s->projection.kind).off_axis_stereo)
-        orr_fits_reserve(h, "CONVERG", "distance of zero parallax, scene units"); /* the frame's */
-    else
-        orr_fits_add_double(h, "ZENFADE", s->stereo.zenith_fade, "[deg] ODS separation fades to 0 at the pole");
-    if (s->stereo.mode == ORR_STEREO_ANAGLYPH)
-        orr_fits_add_string(h, "ANAGLYPH", orr_anaglyph_name(s->picture.anaglyph), "anaglyph of the PNG");
-}
-
 /* ---- the picture of a pair ---- */
 
 static void decode_srgb(const float *in, float *out, size_t n)

@@ -63,11 +63,6 @@ orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_re
 /* visible[i] &= keep[i]: the particles inside an ODS eye circle are not drawn. */
 void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep);
 
-/* The stereo cards of a view's FITS header (mode, eye, separation), the
- * convergence (CONVERG, a perspective pair's) reserved for each frame to
- * set (encode/fits.h). */
-void orr_stereo_add_cards(orr_fits_header *h, const orr_scene *s);
-
 /* How the driver adds output NAME.EXT of scene s to the frame's outputs:
  * the final path goes to rep->outputs[rep->noutputs] (counted by the
  * caller once written) and *write_path is the file to write now. */
@@ -83,7 +78,7 @@ typedef struct orr_stereo_pair {
     const float *rgb[2];           /* each eye's picture as graded for display, or NULL when
                                     * neither output.png nor output.image is asked for */
     int rgb_linear;                /* rgb holds linear values (colour with output.png_transfer: linear) */
-    const orr_fits_header *cards;  /* the left eye's FITS cards */
+    const orr_cards *cards;  /* the left eye's FITS cards */
     const orr_image_meta *meta;    /* for output.image and EXR */
     const char *desc;              /* what the picture shows, for PNG's Description */
     orr_output_stage_fn stage;

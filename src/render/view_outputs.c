@@ -230,7 +230,7 @@ orr_healpix_info orr_view_healpix_info(const view_state *v)
  * run beside the pictures' encoding (fits_writer). */
 static orr_status write_planes_to(const view_state *v, const char *ext, const char *path, orr_error *err)
 {
-    const orr_fits_header *h = &v->frame_cards;
+    const orr_cards *h = &v->frame_cards;
     if (orr_projection_traits_of(v->proj.kind).pixel_table) {
         orr_healpix_info info = orr_view_healpix_info(v);
         return orr_write_healpix_fits(path, v->planes, fits_nplanes(v), &info, h, err);

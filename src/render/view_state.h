@@ -55,7 +55,7 @@ typedef struct view_state {
     /* The view's FITS cards (view_cards.c): made once by the plan, with the
      * frame's values reserved in place, and after the WCS the stereo ones;
      * the frame's own, filled in for its files. */
-    orr_fits_header cards, stereo_cards, frame_cards;
+    orr_cards cards, stereo_cards, frame_cards;
     orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
     struct frame_timer *timer;  /* the frame's stage timings (every view's), or NULL: not measured */
     struct orr_dust_frame *dust; /* dust.types: the frame's dust, which dims the weights (dust/dust.h), or NULL */

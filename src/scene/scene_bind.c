@@ -631,6 +631,16 @@ orr_status dome_profile_bind(dome_profile *p, const yt_node *root, orr_error *er
     return bind_mapping(&c, root, "");
 }
 
+static int locate_key(const void *ctx, const char *key, char *prefix, size_t size)
+{
+    const scene_keyed *k = ctx;
+    const scene_loc *loc = key ? scene_mark(k->m, key) : NULL;
+    scene_loc_prefix(loc ? loc->origin : k->s->path, loc ? loc->line : 0, prefix, size);
+    return loc != NULL;
+}
+
+orr_keys scene_keys(const scene_keyed *k) { return (orr_keys){k, locate_key}; }
+
 orr_status scene_fail_key(const orr_scene *s, const scene_marks *m, const char *key, orr_error *err,
                           const char *fmt, ...)
 {

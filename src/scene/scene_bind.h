@@ -1,10 +1,13 @@
 /* Binding a YAML tree to an orr_scene (or a dome profile) through a table of
- * keys (internal to src/scene). The binder checks each value's type and range;
- * the checks that involve several keys are done afterwards in scene_check.c,
- * which uses the marks recorded here to say where each key was set. */
+ * keys (internal to src/scene). The binder checks each value's type and the
+ * ranges the table gives; the checks that involve several keys are done
+ * afterwards by each stage (orr_X_prepare) and, for those that span stages,
+ * by scene_check.c, which use the marks recorded here to say where each key
+ * was set. */
 #ifndef ORR_SCENE_SCENE_BIND_H
 #define ORR_SCENE_SCENE_BIND_H
 
+#include "core/keys.h"
 #include "scene/scene.h"
 #include "scene/ytree.h"
 
@@ -46,6 +49,14 @@ void scene_loc_prefix(const char *origin, int line, char *buf, size_t size);
 /* Fails with ORR_ERR_USAGE and "origin:line: " (or "origin: ") before the formatted text. */
 orr_status scene_fail_at(orr_error *err, const char *origin, int line, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
+
+/* A scene's keys as the stages' checks see them (core/keys.h): whether
+ * each was given and where. s and m must outlive the result. */
+typedef struct scene_keyed {
+    const orr_scene *s;
+    const scene_marks *m;
+} scene_keyed;
+orr_keys scene_keys(const scene_keyed *k);
 
 /* Fails with ORR_ERR_USAGE and "origin:line: " of key (or the scene path
  * when the key was not set) before the formatted text. */

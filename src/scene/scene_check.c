@@ -1,14 +1,15 @@
+/* A bound scene checked: each stage checks its own keys (orr_X_prepare,
+ * given where each key was set, core/keys.h), called here in turn; what is
+ * left here are the rules that span stages, each saying which, and what
+ * the scene alone records (its settings' text and digest, its YAML). */
 #define _XOPEN_SOURCE 700 /* realpath (XSI) */
 #include "scene/scene_check.h"
 
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <strings.h>
 
 #include "core/digest.h"
-#include "frame/replicas.h"
 
 #include "scene/scene_bind.h"
 #include "scene/scene_dome.h"
@@ -16,364 +17,44 @@
 #include "scene/scene_path.h"
 #include "scene/ytree.h"
 
-/* ---- input ---- */
-
-static const char *const SEQUENCE_KEYS[] = {
-    "input.sequence.pattern", "input.sequence.first", "input.sequence.last", "input.sequence.step",
-    "input.sequence.files", "input.sequence.interpolation", "input.sequence.max_memory",
-};
-static const char *const RANGE_KEYS[] = {"input.sequence.first", "input.sequence.last", "input.sequence.step"};
-
 #define COUNT(a) (sizeof(a) / sizeof((a)[0]))
 
-/* Each built-in model has its own parameters: another model's are errors. */
-static orr_status check_model_keys(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const mw_m31_only[] = {"input.model.separation", "input.model.galaxies",
-                                              "input.model.disc_q", "input.model.dust_particles"};
-    static const char *const king_only[] = {"input.model.w0", "input.model.core_radius", "input.model.mass"};
-    const int king = strcmp(s->input.model.name, "king") == 0;
-    const char *const *foreign = king ? mw_m31_only : king_only;
-    size_t nforeign = king ? COUNT(mw_m31_only) : COUNT(king_only);
-    for (size_t i = 0; i < nforeign; i++)
-        if (scene_mark(m, foreign[i]))
-            return scene_fail_key(s, m, foreign[i], err, "%s does not apply to input.model.name: %s", foreign[i],
-                                  s->input.model.name);
-    return ORR_OK;
-}
-
-static orr_status check_input(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const model_keys[] = {"input.model.particles", "input.model.seed",
-                                             "input.model.separation", "input.model.w0",
-                                             "input.model.core_radius", "input.model.mass",
-                                             "input.model.galaxies", "input.model.disc_q"};
-    const int has_file = s->input.file[0] != '\0', has_model = s->input.model.name[0] != '\0';
-    const int has_sequence = orr_scene_has_sequence(s);
-    const char *sequence_key = s->input.sequence.pattern[0] ? "input.sequence.pattern" : "input.sequence.files";
-    if (has_file && has_model)
-        return scene_fail_key(s, m, "input.model.name", err,
-                        "input.file and input.model.name are both set; use one of them");
-    if (has_sequence && (has_file || has_model))
-        return scene_fail_key(s, m, sequence_key, err, "%s and %s are both set; use one of them", sequence_key,
-                              has_file ? "input.file" : "input.model.name");
-    if (!has_file && !has_model && !has_sequence && !s->input.insitu)
-        return orr_fail(err, ORR_ERR_USAGE,
-                        "%s: no input: set input.file or input.model.name, or a sequence (input.sequence.pattern or "
-                        "input.sequence.files)",
-                        s->path);
-    for (size_t i = 0; !has_model && i < COUNT(model_keys); i++)
-        if (scene_mark(m, model_keys[i]))
-            return scene_fail_key(s, m, model_keys[i], err, "%s applies to input.model.name, but the input is %s",
-                                  model_keys[i], has_file ? "input.file" : sequence_key);
-    return has_model ? check_model_keys(s, m, err) : ORR_OK;
-}
-
-/* The sphere of centre: camera (input.periodic.radius, .fade): only there,
- * only with copies, and when the box side is given, within the copies'
- * reach (else the render checks it against the file's BoxSize). */
-static orr_status check_periodic_sphere(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const keys[] = {"input.periodic.radius", "input.periodic.fade"};
-    for (int k = 0; k < 2; k++) {
-        if (!scene_mark(m, keys[k]))
-            continue;
-        if (!s->periodic.around_camera)
-            return scene_fail_key(s, m, keys[k], err,
-                                  "%s applies to input.periodic.centre: camera (the images within a sphere "
-                                  "around the camera), but the centre is origin",
-                                  keys[k]);
-        if (s->periodic.replicas < 3)
-            return scene_fail_key(s, m, keys[k], err,
-                                  "%s needs copies of the box around the camera: set input.periodic.replicas to "
-                                  "3 or more (it is %d)",
-                                  keys[k], s->periodic.replicas);
-    }
-    if (!s->periodic.around_camera || s->periodic.replicas < 3)
-        return ORR_OK;
-    /* The box's side stands in for an unknown one: a radius or fade that
-     * fails now fails whatever the side. */
-    orr_replica_sphere sp;
-    orr_error why;
-    double box = s->periodic.box > 0 ? s->periodic.box : HUGE_VAL;
-    if (orr_replica_sphere_resolve(&sp, box, s->periodic.replicas, s->periodic.radius,
-                                   s->periodic.has_fade ? s->periodic.fade : -1, &why) == ORR_OK)
-        return ORR_OK;
-    const char *key = strstr(why.msg, "input.periodic.fade") == why.msg ? keys[1] : keys[0];
-    return scene_fail_key(s, m, key, err, "%s", why.msg);
-}
-
-/* Replicas sit symmetrically around a middle one: an odd count per axis. */
-static orr_status check_periodic(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    if (s->periodic.replicas % 2 == 0)
-        return scene_fail_key(s, m, "input.periodic.replicas", err,
-                              "input.periodic.replicas is %d; it must be odd (1, 3, 5, ...): copies of the box "
-                              "sit symmetrically around the middle one",
-                              s->periodic.replicas);
-    return check_periodic_sphere(s, m, err);
-}
-
-/* The pattern: one integer conversion, and a range of at least 2 files. */
-static orr_status check_sequence_pattern(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    orr_error why;
-    if (orr_sequence_pattern_check(s->input.sequence.pattern, &why))
-        return scene_fail_key(s, m, "input.sequence.pattern", err, "input.sequence.pattern: %s", why.msg);
-    if (!scene_mark(m, "input.sequence.last"))
-        return scene_fail_key(s, m, "input.sequence.pattern", err,
-                              "input.sequence.pattern needs input.sequence.last, the number of the last snapshot");
-    if (s->input.sequence.last < s->input.sequence.first)
-        return scene_fail_key(s, m, "input.sequence.last", err,
-                              "input.sequence.last (%lld) is below input.sequence.first (%lld)", s->input.sequence.last,
-                              s->input.sequence.first);
-    if ((s->input.sequence.last - s->input.sequence.first) / s->input.sequence.step + 1 < 2)
-        return scene_fail_key(s, m, "input.sequence.last", err,
-                              "input.sequence.first %lld, last %lld, step %lld give one snapshot; a sequence needs "
-                              "at least 2 (use input.file for one)",
-                              s->input.sequence.first, s->input.sequence.last, s->input.sequence.step);
-    return ORR_OK;
-}
-
-static orr_status check_sequence(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    if (!orr_scene_has_sequence(s)) {
-        for (size_t i = 0; i < COUNT(SEQUENCE_KEYS); i++)
-            if (scene_mark(m, SEQUENCE_KEYS[i]))
-                return scene_fail_key(s, m, SEQUENCE_KEYS[i], err,
-                                      "%s applies to a sequence, but neither input.sequence.pattern nor "
-                                      "input.sequence.files is set",
-                                      SEQUENCE_KEYS[i]);
-        return ORR_OK;
-    }
-    if (s->input.sequence.pattern[0] && s->input.sequence.nfiles > 0)
-        return scene_fail_key(s, m, "input.sequence.files", err,
-                              "input.sequence.pattern and input.sequence.files are both set; list the snapshots "
-                              "one way");
-    for (size_t i = 0; s->input.sequence.nfiles > 0 && i < COUNT(RANGE_KEYS); i++)
-        if (scene_mark(m, RANGE_KEYS[i]))
-            return scene_fail_key(s, m, RANGE_KEYS[i], err,
-                                  "%s applies to input.sequence.pattern, but the snapshots are listed by "
-                                  "input.sequence.files",
-                                  RANGE_KEYS[i]);
-    return s->input.sequence.pattern[0] ? check_sequence_pattern(s, m, err) : ORR_OK;
-}
-
-/* ---- camera ---- */
-
-static int is_zero(orr_vec3 v) { return v.x == 0 && v.y == 0 && v.z == 0; }
-
-/* True when a and b point along the same line (or either is zero). */
-static int parallel(orr_vec3 a, orr_vec3 b)
-{
-    return orr_v3_norm(orr_v3_cross(a, b)) <= 1e-12 * orr_v3_norm(a) * orr_v3_norm(b);
-}
-
-static orr_status check_orientation_count(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const keys[] = {"camera.look_at", "camera.direction", "camera.quaternion"};
-    const char *first = NULL;
-    for (int i = 0; i < 3; i++) {
-        if (!scene_mark(m, keys[i]))
-            continue;
-        if (first)
-            return scene_fail_key(s, m, keys[i], err,
-                            "%s and %s are both set; use at most one of camera.look_at, camera.direction, "
-                            "camera.quaternion",
-                            first, keys[i]);
-        first = keys[i];
-    }
-    return ORR_OK;
-}
-
-static orr_status check_camera(orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    orr_status st = check_orientation_count(s, m, err);
-    if (st != ORR_OK)
-        return st;
-    if (s->camera.has_quaternion) {
-        orr_quat q = s->camera.quaternion;
-        if (q.w == 0 && q.x == 0 && q.y == 0 && q.z == 0)
-            return scene_fail_key(s, m, "camera.quaternion", err,
-                            "camera.quaternion: [0, 0, 0, 0] is not a rotation (zero length)");
-        /* Users round their quaternions; the renderer wants a unit one. */
-        s->camera.quaternion = orr_quat_normalize(q);
-    }
-    if (s->camera.has_direction && is_zero(s->camera.direction))
-        return scene_fail_key(s, m, "camera.direction", err, "camera.direction: must not be [0, 0, 0]");
-    if (s->camera.has_up && is_zero(s->camera.up))
-        return scene_fail_key(s, m, "camera.up", err, "camera.up: must not be [0, 0, 0]");
-    orr_vec3 view = s->camera.has_look_at ? orr_v3_sub(s->camera.look_at, s->camera.position) : s->camera.direction;
-    if (s->camera.has_look_at && is_zero(view))
-        return scene_fail_key(s, m, "camera.look_at", err,
-                        "camera.look_at: equals camera.position, so there is no direction to look in");
-    if (s->camera.has_up && (s->camera.has_look_at || s->camera.has_direction) && parallel(view, s->camera.up))
-        return scene_fail_key(s, m, "camera.up", err, "camera.up: is parallel to the view direction (%s)",
-                        s->camera.has_look_at ? "camera.look_at - camera.position" : "camera.direction");
-    return ORR_OK;
-}
-
-/* ---- the dome's zenith and front ---- */
-
-static orr_vec3 lb_direction(const double lb[2])
-{
-    const double l = lb[0] * ORR_PI / 180.0, b = lb[1] * ORR_PI / 180.0;
-    return orr_v3(cos(b) * cos(l), cos(b) * sin(l), sin(b));
-}
-
-/* The front is projected perpendicular to the zenith; along the zenith (or
- * opposite it) nothing is left to project. */
-static orr_status check_zenith_front(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    const orr_vec3 zenith = lb_direction(s->camera.zenith_lb), front = lb_direction(s->camera.front_lb);
-    const double angle = atan2(orr_v3_norm(orr_v3_cross(zenith, front)), orr_v3_dot(zenith, front)) * 180.0 / ORR_PI;
-    if (angle >= 1e-6 && angle <= 180 - 1e-6)
-        return ORR_OK;
-    return scene_fail_key(s, m, scene_mark(m, "camera.front") ? "camera.front" : "camera.zenith", err,
-                    "camera.front [%g, %g] and camera.zenith [%g, %g] are %s: the front is projected "
-                    "perpendicular to the zenith, so it must point some other way",
-                    s->camera.front_lb[0], s->camera.front_lb[1], s->camera.zenith_lb[0], s->camera.zenith_lb[1],
-                    angle < 90 ? "the same direction" : "opposite directions");
-}
-
-/* ---- observer ---- */
-
-/* The observer.* keys that mean something only with observer.id. */
-static const char *const OBSERVER_KEYS[] = {
-    "observer.reference_id", "observer.normal", "observer.normal_from.types", "observer.normal_from.radius",
-    "observer.normal_from.sign", "observer.dim", "observer.dim_near",
-};
+/* ---- observer and camera ---- */
 
 /* The camera keys the observer particle replaces. */
 static const char *const PLACEMENT_KEYS[] = {"camera.position", "camera.look_at", "camera.direction",
                                              "camera.quaternion"};
 
-static orr_status check_without_observer(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    if (scene_mark(m, "observer.reference_id"))
-        return scene_fail_key(s, m, "observer.reference_id", err,
-                        "observer.reference_id is set but observer.id is not: set both (the observer particle, "
-                        "and the particle that fixes the frame's x axis)");
-    for (size_t i = 0; i < COUNT(OBSERVER_KEYS); i++)
-        if (scene_mark(m, OBSERVER_KEYS[i]))
-            return scene_fail_key(s, m, OBSERVER_KEYS[i], err, "%s applies to an observer-centred sky, but observer.id is not set",
-                            OBSERVER_KEYS[i]);
-    return ORR_OK;
-}
-
-static orr_status check_observer_normal(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const from_keys[] = {"observer.normal_from.types", "observer.normal_from.radius",
-                                            "observer.normal_from.sign"};
-    for (size_t i = 0; i < COUNT(from_keys); i++) {
-        if (!scene_mark(m, from_keys[i]))
-            continue;
-        if (s->observer.has_normal)
-            return scene_fail_key(s, m, from_keys[i], err,
-                            "observer.normal and %s are both set; give the normal, or say how to compute it",
-                            from_keys[i]);
-        if (!scene_mark(m, "observer.normal_from.types"))
-            return scene_fail_key(s, m, from_keys[i], err,
-                            "%s needs observer.normal_from.types: the particle types whose spin gives the normal",
-                            from_keys[i]);
-    }
-    if (s->observer.has_normal && is_zero(s->observer.normal))
-        return scene_fail_key(s, m, "observer.normal", err, "observer.normal: must not be [0, 0, 0]");
-    return ORR_OK;
-}
-
 /* camera.dim dims from any camera; with an observer, observer.dim does
- * that already, and two switches for one thing would only confuse. */
+ * that already, and two switches for one thing would only confuse (spans
+ * the camera and the observer). */
 static orr_status check_camera_dim(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     if (s->observer.has_id && scene_mark(m, "camera.dim"))
         return scene_fail_key(s, m, "camera.dim", err,
                               "camera.dim is not allowed with observer.id: use observer.dim for an observer's sky");
-    if (!s->camera.dim && scene_mark(m, "camera.dim_near"))
-        return scene_fail_key(s, m, "camera.dim_near", err,
-                              "camera.dim_near applies to camera.dim: true, but camera.dim is off");
     return ORR_OK;
 }
 
-static orr_status check_observer(const orr_scene *s, const scene_marks *m, orr_error *err)
+/* The observer's keys are the observer's (frame/observer.h); with an
+ * observer, the camera keys it replaces span the two. */
+static orr_status check_observer(const orr_scene *s, const scene_marks *m, const orr_keys *keys, orr_error *err)
 {
     orr_status st = check_camera_dim(s, m, err);
-    if (st)
-        return st;
-    if (!s->observer.has_id)
-        return check_without_observer(s, m, err);
-    if (!scene_mark(m, "observer.reference_id"))
-        return scene_fail_key(s, m, "observer.id", err,
-                        "observer.id needs observer.reference_id: the particle that fixes the frame's x axis");
-    if (s->observer.id == s->observer.reference_id)
-        return scene_fail_key(s, m, "observer.reference_id", err,
-                        "observer.reference_id equals observer.id (%llu); the reference must be another particle",
-                        (unsigned long long)s->observer.id);
-    for (size_t i = 0; i < COUNT(PLACEMENT_KEYS); i++)
+    if (!st)
+        st = orr_observer_prepare(&s->observer, keys, err);
+    for (size_t i = 0; !st && s->observer.has_id && i < COUNT(PLACEMENT_KEYS); i++)
         if (scene_mark(m, PLACEMENT_KEYS[i]))
             return scene_fail_key(s, m, PLACEMENT_KEYS[i], err,
-                            "%s is not allowed with observer.id: the observer particle places and orients the camera",
-                            PLACEMENT_KEYS[i]);
-    return check_observer_normal(s, m, err);
-}
-
-/* ---- projection ---- */
-
-/* The projection validates its own parameters (image size, width, field of
- * view); a copy keeps the derived fields out of the scene. */
-static orr_status check_projection(const orr_scene *s, orr_error *err)
-{
-    orr_projection copy = s->projection;
-    orr_status st = orr_projection_setup(&copy, err);
-    if (st != ORR_OK)
-        return orr_fail_prefix(err, "%s: ", s->path);
-    return ORR_OK;
-}
-
-/* ---- smoothing and PSF ---- */
-
-static orr_status check_psf(orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    int sky = orr_projection_is_sky(&s->projection);
-    int whole = s->psf.kind == ORR_PSF_HST || s->psf.kind == ORR_PSF_FILE;
-    if (s->psf.kind == ORR_PSF_FILE && !s->psf.file[0])
-        return scene_fail_key(s, m, "psf.kind", err, "psf.kind: file needs psf.file, a FITS PSF image");
-    if (s->psf.kind != ORR_PSF_FILE && scene_mark(m, "psf.file"))
-        return scene_fail_key(s, m, "psf.file", err, "psf.file is used only with psf.kind: file");
-    /* A sky map draws the brightest stars with the whole PSF, the rest as
-     * its core (docs/psf.md); so does a flat view given the core's width
-     * (psf.fwhm), else it convolves every star with the whole PSF. */
-    const char *hst_keys[2] = {"psf.vane_width", "psf.spike_gain"};
-    for (int k = 0; k < 2; k++)
-        if (s->psf.kind != ORR_PSF_HST && scene_mark(m, hst_keys[k]))
-            return scene_fail_key(s, m, hst_keys[k], err, "%s is used only with psf.kind: hst", hst_keys[k]);
-    s->psf.flat_stars = !sky && whole && scene_mark(m, "psf.fwhm") != NULL;
-    const char *spike_keys[2] = {"psf.spike_stars", "psf.spike_min_flux"};
-    for (int k = 0; k < 2; k++)
-        if (scene_mark(m, spike_keys[k]) && !((sky && whole) || s->psf.flat_stars))
-            return scene_fail_key(s, m, spike_keys[k], err,
-                                  "%s is for psf.kind: hst or file on sky maps, or on flat views with psf.fwhm "
-                                  "(the core's width in pixels); a Gaussian has no spikes, and a flat view "
-                                  "without psf.fwhm convolves every star with the whole PSF",
-                                  spike_keys[k]);
-    if (sky && scene_mark(m, "psf.fwhm"))
-        return scene_fail_key(s, m, "psf.fwhm", err,
-                              "psf.fwhm is in pixels, for flat views; a sky map's PSF size is psf.fwhm_arcmin");
-    if (!sky && scene_mark(m, "psf.fwhm_arcmin"))
-        return scene_fail_key(s, m, "psf.fwhm_arcmin", err,
-                              "psf.fwhm_arcmin is for sky maps; a flat view's Gaussian PSF is psf.fwhm, in pixels");
-    if (s->psf.size % 2 == 0)
-        return scene_fail_key(s, m, "psf.size", err, "psf.size must be odd (the PSF's centre is a pixel), got %d",
-                              s->psf.size);
-    if (s->psf.has_glow && (!sky || s->psf.kind == ORR_PSF_NONE))
-        return scene_fail_key(s, m, "glow.threshold", err,
-                              "glow.threshold draws faint stars as a glow of angular kernels and bright ones as "
-                              "the PSF's core: it needs a sky map with a psf.kind");
-    return ORR_OK;
+                                  "%s is not allowed with observer.id: the observer particle places and orients "
+                                  "the camera",
+                                  PLACEMENT_KEYS[i]);
+    return st;
 }
 
 /* Smoothing the automatic white over frames re-grades each frame's picture
- * from its FITS planes once the run is rendered. */
+ * from its FITS planes once the run is rendered (spans the run, the
+ * grading, the outputs and stereo). */
 static orr_status check_white_smoothing(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     if (s->animation.white_smoothing == 0)
@@ -395,74 +76,16 @@ static orr_status check_white_smoothing(const orr_scene *s, const scene_marks *m
     return ORR_OK;
 }
 
-static orr_status check_output(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    for (const char *c = s->output.image_ext; *c; c++)
-        if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9')))
-            return scene_fail_key(s, m, "output.image", err,
-                                  "output.image: a file extension such as tif, jpg or exr (without the dot), got '%s'",
-                                  s->output.image_ext);
-    /* Both would be DIR/NAME.exr: the picture, written second, would
-     * replace the linear planes. */
-    if (s->output.write_exr && strcasecmp(s->output.image_ext, "exr") == 0)
-        return scene_fail_key(s, m, "output.image", err,
-                              "output.exr: true and output.image: %s both write NAME.exr, and the picture would "
-                              "replace the linear planes: keep output.exr for the planes, or give output.image "
-                              "another format (e.g. tif) for the picture",
-                              s->output.image_ext);
-    return ORR_OK;
-}
-
-static orr_status check_colour(orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const keys[] = {"colour.seed", "colour.only", "colour.synthesis.stretch",
-                                       "colour.synthesis.white"};
-    s->colour.populations.seed = s->colour.seed;
-    s->colour.only_index = s->colour.only[0] ? orr_population_find(&s->colour.populations, s->colour.only) : -1;
-    if (s->colour.has_populations && s->colour.only[0] && s->colour.only_index < 0)
-        return scene_fail_key(s, m, "colour.only", err, "colour.only: no population is called '%s'",
-                              s->colour.only);
-    for (size_t i = 0; !s->colour.has_populations && i < sizeof keys / sizeof keys[0]; i++) {
-        /* A tinted map is graded by colour.synthesis too (its stretch and
-         * white), though it has no populations. */
-        int synthesis_key = strncmp(keys[i], "colour.synthesis.", 17) == 0;
-        if (scene_mark(m, keys[i]) && !(synthesis_key && s->colour.has_tint))
-            return scene_fail_key(s, m, keys[i], err, "%s applies to colour.populations%s, which is not set",
-                                  keys[i], synthesis_key ? " or colour.tint" : "");
-    }
-    if (s->colour.has_populations && s->colour.has_tint)
-        return scene_fail_key(s, m, "colour.tint.path", err,
-                              "colour.tint is for single-channel maps; with colour.populations each population "
-                              "has its own colour");
-    if (!s->colour.has_tint && scene_mark(m, "colour.tint.t"))
-        return scene_fail_key(s, m, "colour.tint.t", err, "colour.tint.t needs colour.tint.path");
-    if (orr_colour_synth_check(&s->colour.synth, err))
-        return orr_fail_prefix(err, "%s: colour.synthesis: ", s->path);
-    return ORR_OK;
-}
-
 /* ---- stereo ---- */
 
-static orr_status check_without_stereo(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    static const char *const keys[] = {"stereo.eye_separation", "stereo.convergence", "stereo.anaglyph",
-                                       "stereo.zenith_fade"};
-    for (size_t i = 0; i < COUNT(keys); i++)
-        if (scene_mark(m, keys[i]))
-            return scene_fail_key(s, m, keys[i], err, "%s applies to stereo, but stereo.mode is none", keys[i]);
-    return ORR_OK;
-}
-
 /* A perspective pair converges where stereo.convergence says, or by
- * default on camera.look_at. */
+ * default on the point the camera looks at (spans the stereo pair and the
+ * camera). */
 static orr_status check_convergence(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    if (scene_mark(m, "stereo.zenith_fade"))
-        return scene_fail_key(s, m, "stereo.zenith_fade", err,
-                              "stereo.zenith_fade is for omni-directional stereo (dome, equirectangular, "
-                              "hammer-aitoff), not a perspective camera");
     orr_vec3 target;
-    if (s->stereo.convergence > 0 || orr_scene_look_target(s, &target)) /* auto: at render time, to the target */
+    if (s->stereo.mode == ORR_STEREO_NONE || s->projection.kind != ORR_PROJ_PERSPECTIVE ||
+        s->stereo.convergence > 0 || orr_scene_look_target(s, &target)) /* auto: at render time, to the target */
         return ORR_OK;
     return scene_fail_key(s, m, "stereo.mode", err,
                           "stereo.mode: %s with a perspective camera needs stereo.convergence (the distance of "
@@ -471,37 +94,20 @@ static orr_status check_convergence(const orr_scene *s, const scene_marks *m, or
                           orr_stereo_mode_name(s->stereo.mode));
 }
 
-static orr_status check_stereo(orr_scene *s, const scene_marks *m, orr_error *err)
+/* The stereo pair's keys are the pair's (frame/stereo.h); what it cannot
+ * be combined with yet spans it and the outputs. */
+static orr_status check_stereo(const orr_scene *s, const scene_marks *m, const orr_keys *keys, orr_error *err)
 {
-    if (s->stereo.mode == ORR_STEREO_NONE)
-        return check_without_stereo(s, m, err);
-    const char *mode = orr_stereo_mode_name(s->stereo.mode);
-    if (s->projection.kind == ORR_PROJ_ORTHOGRAPHIC)
-        return scene_fail_key(s, m, "stereo.mode", err,
-                              "stereo.mode: %s needs parallax, which an orthographic camera has none of; use "
-                              "camera.projection: perspective (or a sky map for omni-directional stereo)",
-                              mode);
-    if (!scene_mark(m, "stereo.eye_separation"))
-        return scene_fail_key(s, m, "stereo.mode", err,
-                              "stereo.mode: %s needs stereo.eye_separation, the distance between the eyes in "
-                              "scene units",
-                              mode);
-    if (s->stereo.mode != ORR_STEREO_ANAGLYPH && scene_mark(m, "stereo.anaglyph"))
-        return scene_fail_key(s, m, "stereo.anaglyph", err,
-                              "stereo.anaglyph applies to stereo.mode: anaglyph, not %s", mode);
+    orr_status st = orr_stereo_prepare(&s->stereo, s->projection.kind, keys, err);
+    if (st || s->stereo.mode == ORR_STEREO_NONE)
+        return st;
     if (s->output.write_raw || s->compose.nlayers)
         return scene_fail_key(s, m, "stereo.mode", err,
                               "stereo.mode: %s cannot yet be combined with %s (orrery compose works on one "
                               "eye's planes)",
-                              mode, s->output.write_raw ? "output.raw" : "compose.layers");
-    if (s->projection.kind == ORR_PROJ_PERSPECTIVE)
-        return check_convergence(s, m, err);
-    if (scene_mark(m, "stereo.convergence"))
-        return scene_fail_key(s, m, "stereo.convergence", err,
-                              "stereo.convergence is for a perspective camera; omni-directional stereo (%s) has "
-                              "its zero parallax at infinity",
-                              orr_projection_name(s->projection.kind));
-    return ORR_OK;
+                              orr_stereo_mode_name(s->stereo.mode),
+                              s->output.write_raw ? "output.raw" : "compose.layers");
+    return check_convergence(s, m, err);
 }
 
 /* The settings text and its digest: the tree's keys, then what the dome
@@ -555,7 +161,9 @@ static orr_status record_scene_yaml(orr_scene *s, const yt_node *root, orr_error
     return ORR_OK;
 }
 
-/* Dust: the stage's own checks, and what it cannot do yet. */
+/* Dust: the stage's own checks (given the drawn types), and what it cannot
+ * do yet with a periodic box's copies and a HEALPix map (spans the dust,
+ * the frame and the outputs). */
 static orr_status check_dust(const orr_scene *s, orr_error *err)
 {
     orr_status st = orr_dust_settings_check(&s->dust, s->path, s->input.type_mask, err);
@@ -571,7 +179,8 @@ static orr_status check_dust(const orr_scene *s, orr_error *err)
 /* Stars spawned from the particles (stars.limit) need what they are
  * drawn from and seen by: the observer (their magnitudes are from its
  * place), colour populations (their light is split off the particles'
- * X, Y, Z), and particles of the spawning types drawn. */
+ * X, Y, Z), and particles of the spawning types drawn (spans the stars,
+ * the observer, the colours, the glow and the input). */
 static orr_status check_stars(const orr_scene *s, orr_error *err)
 {
     const orr_stars_settings *st = &s->stars;
@@ -603,40 +212,38 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
 {
     scene_marks marks;
     orr_status st = scene_bind(s, root, &marks, err);
+    scene_keyed where = {s, &marks};
+    orr_keys keys = scene_keys(&where);
     if (st == ORR_OK)
-        st = check_input(s, &marks, err);
+        st = orr_input_prepare(&s->input, &keys, err);
     if (st == ORR_OK)
-        st = check_periodic(s, &marks, err);
-    if (st == ORR_OK)
-        st = check_sequence(s, &marks, err);
+        st = orr_periodic_prepare(&s->periodic, &keys, err);
     if (st == ORR_OK) /* before the camera: its placement keys are not allowed with an observer */
-        st = check_observer(s, &marks, err);
+        st = check_observer(s, &marks, &keys, err);
     if (st == ORR_OK) /* before the camera: a path excludes its placement keys */
         st = scene_check_path(s, &marks, err);
     if (st == ORR_OK)
-        st = check_camera(s, &marks, err);
-    if (st == ORR_OK)
-        st = check_zenith_front(s, &marks, err);
+        st = orr_camera_settings_prepare(&s->camera, &keys, err);
     if (st == ORR_OK)
         st = scene_apply_dome_profile(s, &marks, err);
     if (st == ORR_OK)
         st = scene_check_healpix(s, &marks, err);
     if (st == ORR_OK)
-        st = check_projection(s, err);
+        st = orr_projection_prepare(&s->projection, &keys, err);
+    if (st == ORR_OK) /* the PSF's keys, given the map they are for */
+        st = orr_psf_prepare(&s->psf, orr_projection_is_sky(&s->projection), &keys, err);
     if (st == ORR_OK)
-        st = check_psf(s, &marks, err);
-    if (st == ORR_OK)
-        st = check_colour(s, &marks, err);
+        st = orr_colour_prepare(&s->colour, &keys, err);
     if (st == ORR_OK)
         st = check_dust(s, err);
     if (st == ORR_OK)
         st = check_stars(s, err);
     if (st == ORR_OK)
-        st = check_output(s, &marks, err);
+        st = orr_output_prepare(&s->output, &keys, err);
     if (st == ORR_OK)
         st = scene_check_output_keys(s, &marks, err);
     if (st == ORR_OK)
-        st = check_stereo(s, &marks, err);
+        st = check_stereo(s, &marks, &keys, err);
     if (st == ORR_OK)
         st = check_white_smoothing(s, &marks, err);
     if (st == ORR_OK)

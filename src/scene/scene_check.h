@@ -6,8 +6,9 @@
 #include "scene/ytree.h"
 
 /* Binds root (a mapping) to s, which holds the defaults, s->path and s->dir,
- * then checks the keys against each other, applies the dome profile and
- * checks the projection. Errors name the key and where it was set. */
+ * then has each stage check its keys against each other, checks the rules
+ * that span stages and applies the dome profile. Errors name the key and
+ * where it was set. */
 orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err);
 
 #endif

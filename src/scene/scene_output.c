@@ -2,45 +2,9 @@
 
 #include <string.h>
 
-/* A weight unit is a product of FITS unit symbols with powers and a scale
- * ("solMass", "10**10 solMass", "erg s-1"): letters, digits, spaces and
- * "*", ".", "+", "-". A "/" is refused, since BUNIT appends " sr-1" and a
- * FITS "/" divides by everything after it. Returns the first bad character,
- * or 0. */
-static char bad_unit_char(const char *u)
-{
-    for (const char *c = u; *c; c++)
-        if (!strchr("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 *.+-", *c))
-            return *c;
-    return 0;
-}
-
-/* A length unit is one symbol ("kpc", "Mpc", "m", "AU"), since BUNIT squares
- * it as "kpc-2". */
-static int is_symbol(const char *u)
-{
-    if (!u[0])
-        return 0;
-    for (const char *c = u; *c; c++)
-        if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z')))
-            return 0;
-    return 1;
-}
-
-/* The separator stays in the file name, so it may not be a folder's '/' or
- * anything a shell or a playback system's file pattern would read. */
-static orr_status check_frame_separator(const orr_scene *s, const scene_marks *m, orr_error *err)
-{
-    if (strspn(s->output.frame_separator, "._-") != strlen(s->output.frame_separator))
-        return scene_fail_key(s, m, "output.frame_separator", err,
-                              "output.frame_separator: '%s' may hold only '.', '_' and '-' (e.g. '.' for "
-                              "NAME.00001.png)",
-                              s->output.frame_separator);
-    return ORR_OK;
-}
-
 /* A pair's picture (anaglyph, side by side, over-under) has no one map
- * outline to cut out; separate eyes are each a view's own picture. */
+ * outline to cut out; separate eyes are each a view's own picture (spans
+ * the output and the stereo pair). */
 static orr_status check_alpha_mask(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     int pair = s->stereo.mode != ORR_STEREO_NONE && s->stereo.mode != ORR_STEREO_SEPARATE;
@@ -63,7 +27,7 @@ static int is_layer_name(const char *name)
 
 /* output.exr_population_layers needs populations to split the Y plane
  * into, and the linear EXR to hold them; each population's name becomes
- * its layer's. */
+ * its layer's (spans the output, the colour populations and stereo). */
 static orr_status check_population_layers(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     static const char key[] = "output.exr_population_layers";
@@ -90,30 +54,10 @@ static orr_status check_population_layers(const orr_scene *s, const scene_marks 
 
 orr_status scene_check_output_keys(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
-    orr_status st = check_frame_separator(s, m, err);
-    if (!st)
-        st = check_alpha_mask(s, m, err);
-    if (!st)
-        st = check_population_layers(s, m, err);
-    if (st)
-        return st;
-    char bad = bad_unit_char(s->output.bunit);
-    if (bad == '/')
-        return scene_fail_key(s, m, "output.bunit", err,
-                              "output.bunit: '%s' divides with '/'; write a FITS unit with negative powers "
-                              "instead, e.g. 'solMass yr-1'",
-                              s->output.bunit);
-    if (bad)
-        return scene_fail_key(s, m, "output.bunit", err,
-                              "output.bunit: '%s' is not a FITS unit string (it has '%c'); e.g. 'solMass', "
-                              "'10**10 solMass' or 'solLum'",
-                              s->output.bunit, bad);
-    if (s->output.length_unit[0] && !is_symbol(s->output.length_unit))
-        return scene_fail_key(s, m, "output.length_unit", err,
-                              "output.length_unit: '%s' is not a single FITS unit symbol such as kpc, Mpc, pc or m",
-                              s->output.length_unit);
-    return ORR_OK;
+    orr_status st = check_alpha_mask(s, m, err);
+    return st ? st : check_population_layers(s, m, err);
 }
+
 
 const char *scene_weight_unit(const orr_scene *s)
 {

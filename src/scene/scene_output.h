@@ -9,8 +9,9 @@
 #include "scene/scene.h"
 #include "scene/scene_bind.h"
 
-/* Checks output.bunit, output.length_unit and output.frame_separator,
- * naming the key on error. */
+/* The output keys' checks that span stages (output.alpha_mask with a
+ * stereo pair, output.exr_population_layers with the colour populations);
+ * the output's own are orr_output_prepare's (encode/output_settings.h). */
 orr_status scene_check_output_keys(const orr_scene *s, const scene_marks *m, orr_error *err);
 
 /* A HEALPix map's requirements: NGP deposits, no PSF, no stereo, only

@@ -5,15 +5,9 @@
 
 #include "scene/scene_bind.h"
 
-int orr_scene_has_sequence(const orr_scene *s) { return s->input.sequence.pattern[0] != '\0' || s->input.sequence.nfiles > 0; }
+int orr_scene_has_sequence(const orr_scene *s) { return orr_input_has_sequence(&s->input); }
 
-const char *orr_scene_sequence_file(const orr_scene *s, int i)
-{
-    const char *p = s->input.sequence.files;
-    for (int k = 0; k < i && k < s->input.sequence.nfiles; k++)
-        p += strlen(p) + 1;
-    return p;
-}
+const char *orr_scene_sequence_file(const orr_scene *s, int i) { return orr_sequence_file(&s->input.sequence, i); }
 
 /* Appends one path, resolved as bind_text resolves input.file: relative to
  * the scene's folder when it comes from the scene file (line > 0), as typed

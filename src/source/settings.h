@@ -7,9 +7,12 @@
 
 #include <stdint.h>
 
+#include "core/cards.h"
+#include "core/keys.h"
 #include "core/limits.h"
 #include "core/names.h"
 #include "particles/chunk.h"
+#include "source/source.h"
 #include "source/sequence.h"
 
 /* Room for input.sequence.files: at most this many paths, in this many
@@ -43,7 +46,7 @@ typedef struct orr_sequence_settings {
     long long step;              /* input.sequence.step (default 1) */
     int nfiles;                  /* input.sequence.files: how many (0 when none) */
     char files[ORR_SEQ_FILES_BYTES]; /* ...the paths, resolved, one after another, each ending in NUL;
-                                  * read them with orr_scene_sequence_file */
+                                  * read them with orr_sequence_file */
     orr_interpolation interpolation; /* input.sequence.interpolation: auto | linear | hermite (default auto) */
     double max_memory;           /* input.sequence.max_memory: GiB two resident snapshots may take
                                   * (default 16) */
@@ -68,5 +71,37 @@ extern const orr_named orr_nonfinite_names[];
 
 /* Fills d with the defaults above. */
 void orr_input_settings_defaults(orr_input_settings *d);
+
+/* The input.* keys checked against each other: one input (a file, a
+ * model or a sequence), each model's own keys, a sequence's pattern or
+ * files; keys says which were given, and where (core/keys.h). */
+orr_status orr_input_prepare(const orr_input_settings *in, const orr_keys *keys, orr_error *err);
+
+/* Whether the input is a sequence of snapshots (a pattern or files). */
+int orr_input_has_sequence(const orr_input_settings *in);
+/* The i-th path of input.sequence.files. */
+const char *orr_sequence_file(const orr_sequence_settings *d, int i);
+
+/* What the renderer asks of the input besides its settings: which types
+ * and fields it reads (what the drawn particles, the observer, the dust
+ * need), and this process's share of a file. */
+typedef struct orr_input_request {
+    const char *scene_path;    /* for messages */
+    unsigned reader_types;     /* the types a reader keeps (0: all; orr_source_options.type_mask) */
+    unsigned model_types;      /* the types a built-in model generates (its markers always) */
+    const char *const *fields; /* the extra fields a reader loads (NULL: all) */
+    int nfields;
+    int part, nparts;          /* this process's share of a file (a sequence's snapshot is read whole) */
+} orr_input_request;
+
+/* Opens the input: a built-in model (input.model.*), a file (input.file),
+ * or a sequence's first snapshot (input.sequence.*, whose frames
+ * orr_sequence_open opens for a run). Defined beside the models
+ * (source/models/input.c). */
+orr_status orr_input_open(const orr_input_settings *in, const orr_input_request *req, orr_source **out,
+                          orr_error *err);
+
+/* WEIGHT: the particle field deposited (input.weight). */
+void orr_input_cards(const orr_input_settings *d, orr_cards *h);
 
 #endif

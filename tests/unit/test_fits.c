@@ -31,14 +31,14 @@ static void make_planes(orr_plane planes[2])
     planes[0].data[W + 2] = 1.0e30f; /* an extreme value survives too */
 }
 
-static void make_header(orr_fits_header *h)
+static void make_header(orr_cards *h)
 {
     memset(h, 0, sizeof *h);
-    orr_fits_add_string(h, "creator", "orrery test", "lower-case key is upper-cased");
-    orr_fits_add_double(h, "BOXSIZE", 62.5, "Mpc/h");
-    orr_fits_add_long(h, "NPART", 123456789012LL, "particles");
-    orr_fits_add_bool(h, "PERIODIC", 1, "");
-    orr_fits_add_string(h, "TOOLONGKEY", "x", "ignored: more than 8 characters");
+    orr_cards_add_string(h, "creator", "orrery test", "lower-case key is upper-cased");
+    orr_cards_add_double(h, "BOXSIZE", 62.5, "Mpc/h");
+    orr_cards_add_long(h, "NPART", 123456789012LL, "particles");
+    orr_cards_add_bool(h, "PERIODIC", 1, "");
+    orr_cards_add_string(h, "TOOLONGKEY", "x", "ignored: more than 8 characters");
 }
 
 static void check_key_string(fitsfile *f, const char *key, const char *expect)
@@ -103,7 +103,7 @@ static void test_round_trip(void)
     make_tmpdir();
     orr_plane planes[2];
     make_planes(planes);
-    orr_fits_header header;
+    orr_cards header;
     make_header(&header);
     CHECK(header.n == 4);
     char path[512];
@@ -180,9 +180,9 @@ static void test_cfitsio_failure_keeps_old_file(void)
     make_tmpdir();
     orr_plane planes[2];
     make_planes(planes);
-    orr_fits_header header;
+    orr_cards header;
     memset(&header, 0, sizeof header);
-    orr_fits_add_string(&header, "BAD=KEY", "x", "");
+    orr_cards_add_string(&header, "BAD=KEY", "x", "");
     CHECK(header.n == 1);
     char path[512];
     snprintf(path, sizeof path, "%s/keep.fits", tmpdir);
@@ -238,16 +238,16 @@ static void test_bad_arguments(void)
 
 static void test_header_limits(void)
 {
-    orr_fits_header h;
+    orr_cards h;
     memset(&h, 0, sizeof h);
-    for (int i = 0; i < ORR_FITS_MAX_CARDS + 5; i++)
-        orr_fits_add_long(&h, "K", i, "");
-    CHECK(h.n == ORR_FITS_MAX_CARDS);
+    for (int i = 0; i < ORR_CARDS_MAX + 5; i++)
+        orr_cards_add_long(&h, "K", i, "");
+    CHECK(h.n == ORR_CARDS_MAX);
     memset(&h, 0, sizeof h);
-    orr_fits_add_long(&h, "", 1, "");
-    orr_fits_add_long(&h, NULL, 1, "");
-    orr_fits_add_long(&h, "NINECHARS", 1, "");
-    orr_fits_add_long(&h, "EIGHTCHR", 1, "");
+    orr_cards_add_long(&h, "", 1, "");
+    orr_cards_add_long(&h, NULL, 1, "");
+    orr_cards_add_long(&h, "NINECHARS", 1, "");
+    orr_cards_add_long(&h, "EIGHTCHR", 1, "");
     CHECK(h.n == 1);
     CHECK(strcmp(h.cards[0].key, "EIGHTCHR") == 0);
 }
@@ -286,7 +286,7 @@ static void test_read_truncated(void)
     make_tmpdir();
     orr_plane planes[2], back[3];
     make_planes(planes);
-    orr_fits_header header;
+    orr_cards header;
     make_header(&header);
     char path[512], cut[600];
     snprintf(path, sizeof path, "%s/planes.fits", tmpdir);

@@ -160,8 +160,8 @@ static void test_fits_card(void)
     snprintf(path, sizeof path, "%s/card.fits", tmpdir);
     float pixels[4] = {1, 2, 3, 4};
     orr_plane plane = {.width = 2, .height = 2, .data = pixels};
-    orr_fits_header h = {0};
-    orr_fits_add_double(&h, "SCALE", 4.5, "a number");
+    orr_cards h = {0};
+    orr_cards_add_double(&h, "SCALE", 4.5, "a number");
     orr_error err = {0};
     CHECK(orr_write_fits(path, &plane, 1, &h, &err) == ORR_OK);
     fitsfile *f = NULL;

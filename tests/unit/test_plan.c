@@ -25,7 +25,7 @@ typedef struct kept {
 } kept;
 
 static orr_status keep_planes(void *user, int view, const orr_plane *planes, int nplanes, const float *rgb,
-                              const struct orr_fits_header *cards, orr_error *err)
+                              const struct orr_cards *cards, orr_error *err)
 {
     (void)view, (void)rgb, (void)cards, (void)err;
     kept *k = user;

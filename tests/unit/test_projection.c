@@ -111,17 +111,37 @@ static void test_setup_rejects_bad_parameters(void)
     CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
     p = (orr_projection){.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 10, .height = 10, .ortho_width = 0};
     CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
-    CHECK_CONTAINS(err.msg, "orthographic width");
+    CHECK(strcmp(err.msg, "camera.width: 0 is out of range (must be > 0)") == 0);
     p = (orr_projection){.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = 180};
     CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
-    CHECK_CONTAINS(err.msg, "field of view");
+    CHECK(strcmp(err.msg, "camera.fov: 180 is out of range (must be > 0 and < 180)") == 0);
     p = (orr_projection){.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = NAN};
     CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+}
+
+/* A scene's projection is checked whole, the parameters of other kinds
+ * too, each message naming its key; setup checks only its kind's. */
+static void test_prepare_checks_every_parameter(void)
+{
+    orr_error err = {0};
+    orr_projection p;
+    orr_projection_defaults(&p);
+    CHECK(orr_projection_prepare(&p, NULL, &err) == ORR_OK);
+    CHECK(p.focal == 0); /* the derived values are the plan's, not the settings' */
+    p.dome_fov_deg = 80;
+    CHECK(orr_projection_prepare(&p, NULL, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "camera.dome_fov: 80 is out of range (90 to 360)") == 0);
+    CHECK(orr_projection_setup(&p, &err) == ORR_OK); /* an orthographic one has no dome */
+    orr_projection_defaults(&p);
+    p.near = -1;
+    CHECK(orr_projection_prepare(&p, NULL, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "camera.near: -1 is out of range (must be >= 0)") == 0);
 }
 
 int main(void)
 {
     RUN(test_orthographic_known_points);
+    RUN(test_prepare_checks_every_parameter);
     RUN(test_perspective_known_points);
     RUN(test_perspective_rejects_behind_camera);
     RUN(test_batch_matches_single);

@@ -3,6 +3,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 #include "check.h"
@@ -391,8 +392,8 @@ static const char *write_psf(const char *name, double pixscale, double peak)
     for (int y = 0; y < 33; y++)
         for (int x = 0; x < 33; x++)
             p.data[y * 33 + x] = (float)(peak * exp(-((x - 16) * (x - 16) + (y - 16) * (y - 16)) / 8.0));
-    orr_fits_header h = {0};
-    orr_fits_add_double(&h, "PIXSCALE", pixscale, "arcsec per pixel");
+    orr_cards h = {0};
+    orr_cards_add_double(&h, "PIXSCALE", pixscale, "arcsec per pixel");
     CHECK(orr_write_fits(path, &p, 1, &h, &err) == ORR_OK);
     orr_plane_free(&p);
     return path;
@@ -697,10 +698,58 @@ static void test_star_cluster(void)
     }
 }
 
+/* The PSF's own checks (orr_psf_prepare), through a stand-in for the
+ * scene's keys: the keys it names as given, each "set" on line 7 of
+ * "s.yaml". */
+static int fake_locate(const void *ctx, const char *key, char *prefix, size_t size)
+{
+    for (const char *const *k = ctx; key && *k; k++)
+        if (strcmp(*k, key) == 0) {
+            snprintf(prefix, size, "s.yaml:7: ");
+            return 1;
+        }
+    snprintf(prefix, size, "s.yaml: ");
+    return 0;
+}
+
+static void test_prepare_checks_keys(void)
+{
+    orr_psf_settings ps;
+    orr_psf_settings_defaults(&ps);
+    orr_error err = {0};
+    CHECK(orr_psf_prepare(&ps, 0, NULL, &err) == ORR_OK);
+    ps.size = 32;
+    CHECK(orr_psf_prepare(&ps, 0, NULL, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "psf.size must be odd (the PSF's centre is a pixel), got 32") == 0);
+    const char *given[] = {"psf.size", NULL};
+    orr_keys keys = {given, fake_locate};
+    CHECK(orr_psf_prepare(&ps, 0, &keys, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "s.yaml:7: psf.size must be odd (the PSF's centre is a pixel), got 32") == 0);
+    ps.size = 31;
+    ps.kind = ORR_PSF_FILE;
+    CHECK(orr_psf_prepare(&ps, 0, &keys, &err) == ORR_ERR_USAGE);
+    CHECK(strcmp(err.msg, "s.yaml: psf.kind: file needs psf.file, a FITS PSF image") == 0);
+    /* A spike key is for stars drawn one by one: a sky map's, or a flat
+     * view's given psf.fwhm. */
+    ps.kind = ORR_PSF_HST;
+    const char *spikes[] = {"psf.spike_stars", NULL};
+    keys.ctx = spikes;
+    CHECK(orr_psf_prepare(&ps, 1, &keys, &err) == ORR_OK);
+    CHECK(orr_psf_prepare(&ps, 0, &keys, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "s.yaml:7: psf.spike_stars is for psf.kind: hst or file on sky maps");
+    CHECK(!orr_psf_flat_stars(&ps, 0));
+    ps.has_fwhm = 1;
+    CHECK(orr_psf_flat_stars(&ps, 0) && !orr_psf_flat_stars(&ps, 1));
+    CHECK(orr_psf_prepare(&ps, 0, &keys, &err) == ORR_OK);
+    ps.kind = ORR_PSF_GAUSSIAN;
+    CHECK(!orr_psf_flat_stars(&ps, 0));
+}
+
 int main(void)
 {
     make_tmpdir();
     RUN(test_pupil_geometry);
+    RUN(test_prepare_checks_keys);
     RUN(test_hst_psf);
     RUN(test_dark_ring_scales_with_wavelength);
     RUN(test_generate_errors);

@@ -87,7 +87,7 @@ static void test_dome_known_points(void)
     expect_pixel(&w, rim, 500, 1000, 1e-9);
     w.dome_fov_deg = 80;
     CHECK(orr_projection_setup(&w, &err) == ORR_ERR_USAGE);
-    CHECK_CONTAINS(err.msg, "dome field of view 80");
+    CHECK_CONTAINS(err.msg, "camera.dome_fov: 80 is out of range (90 to 360)");
 }
 
 static void test_equirectangular_known_points(void)
