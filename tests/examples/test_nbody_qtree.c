@@ -4,6 +4,7 @@
  * the particles of a galaxy-like mix are within 1%; a process's slice gets
  * the same accelerations bit for bit; potentials sum to the direct ones. */
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -106,6 +107,32 @@ int main(void)
     const size_t first = N / 3, count = N / 4;
     double inter_all = qt_accelerations_of(&t, G, 0.7, first, count, acc_direct, NULL);
     CHECK(memcmp(acc_direct, &acc_tree[3 * first], 3 * count * sizeof *acc_direct) == 0);
+
+    /* Super-groups walk the tree once for all their groups (qtree.c,
+     * multi_walk), and give every group the lists of its own walk from the
+     * root (the walk of commit f4e2010, kept behind root_walks): the same
+     * interactions, the same forces up to float round-off (the cells all of
+     * a super-group's groups take are summed apart); and the same bits on
+     * one thread and on two. */
+    CHECK(t.nsupers > 4 && t.nsupers < t.ngroups);
+    double inter_super = qt_accelerations_of(&t, G, 0.7, 0, N, acc_tree, NULL);
+    t.root_walks = 1;
+    double inter_root = qt_accelerations_of(&t, G, 0.7, 0, N, acc_direct, NULL);
+    t.root_walks = 0;
+    CHECK_NEAR(inter_super, inter_root, 0);
+    double worst = 0;
+    for (int i = 0; i < N; i++) {
+        const double *a = &acc_tree[3 * i], *b = &acc_direct[3 * i];
+        double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+        worst = fmax(worst, sqrt((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / (b[0] * b[0] + b[1] * b[1] + b[2] * b[2])));
+    }
+    fprintf(stderr, "super-group walks against root walks: largest relative difference %.2g\n", worst);
+    CHECK(worst > 0 && worst < 1e-5);
+    omp_set_num_threads(1);
+    qt_accelerations_of(&t, G, 0.7, 0, N, acc_direct, NULL);
+    omp_set_num_threads(2);
+    qt_accelerations_of(&t, G, 0.7, 0, N, acc_tree, NULL);
+    CHECK(memcmp(acc_direct, acc_tree, 3 * N * sizeof *acc_tree) == 0);
 
     /* Active particles only (a block time step): every third particle of
      * the slice gets the same numbers bit for bit, the others are left as
