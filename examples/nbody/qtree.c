@@ -462,7 +462,8 @@ static int make_lists(const qt_tree *t, const qt_node *g, double theta, qt_lists
 typedef struct qt_walkers {
     int n;
     size_t group[QT_WALKERS];
-    qt_lists own[QT_WALKERS], shared;
+    qt_lists own[QT_WALKERS], shared, far; /* far: shared cells beyond far_r (multi_walk), for the field */
+    qt_field field;
 } qt_walkers;
 
 /* The groups whose bits are set in mask that find cell w far enough. */
@@ -487,7 +488,7 @@ static uint64_t far_for(const qt_tree *t, const qt_walkers *wk, uint64_t mask, c
  * only some take goes to theirs, and the others walk on into it. The tree's
  * top levels and far cells, which all of a super-group's ~8 groups visit
  * alike, are so walked once, and each of them converted to float once. */
-static int multi_walk(const qt_tree *t, const qt_node *s, double theta, qt_walkers *wk)
+static int multi_walk(const qt_tree *t, const qt_node *s, double theta, double far_r, qt_walkers *wk)
 {
     const double inv_theta = 1.0 / theta;
     const uint64_t all = wk->n == 64 ? ~(uint64_t)0 : ((uint64_t)1 << wk->n) - 1;
@@ -497,7 +498,7 @@ static int multi_walk(const qt_tree *t, const qt_node *s, double theta, qt_walke
     } stack[MAX_DEPTH + 2];
     int top = 0;
     uint64_t mask = all;
-    wk->shared.ncell = wk->shared.npart = 0;
+    wk->shared.ncell = wk->shared.npart = wk->far.ncell = wk->far.npart = 0;
     for (int k = 0; k < wk->n; k++)
         wk->own[k].ncell = wk->own[k].npart = 0;
     for (size_t id = 0; id < t->nnodes;) {
@@ -506,7 +507,11 @@ static int multi_walk(const qt_tree *t, const qt_node *s, double theta, qt_walke
         const qt_walk_node *w = &t->walk[id];
         uint64_t far = far_for(t, wk, mask, w, inv_theta), near = mask & ~far;
         if (far == all) {
-            if (push_cell(&wk->shared, w, s->com) != 0)
+            /* Far: all its particles beyond far_r (their pull smooth over the super-group). */
+            double d[3] = {w->com[0] - s->com[0], w->com[1] - s->com[1], w->com[2] - s->com[2]};
+            double reach = far_r + w->bmax;
+            int beyond = far_r > 0 && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > reach * reach;
+            if (push_cell(beyond ? &wk->far : &wk->shared, w, s->com) != 0)
                 return -1;
             id = w->next;
             continue;
@@ -533,7 +538,7 @@ static int multi_walk(const qt_tree *t, const qt_node *s, double theta, qt_walke
         }
         id++;
     }
-    if (pad_lists(&wk->shared) != 0)
+    if (pad_lists(&wk->shared) != 0 || pad_lists(&wk->far) != 0)
         return -1;
     for (int k = 0; k < wk->n; k++)
         if (pad_lists(&wk->own[k]) != 0)
@@ -576,17 +581,20 @@ static int any_wanted(const qt_tree *t, const qt_node *nd, size_t first, size_t 
 }
 
 /* The gathered particles of a group (gather_targets) against its lists l
- * and, inside a super-group, the super-group's shared cells (ts: the same
- * particles as offsets from the super-group's centre of mass; shared NULL:
- * none). */
-static void apply_lists(const qt_tree *t, const qt_lists *shared, const qt_targets *ts, const qt_lists *l, double G,
-                        size_t first, const qt_targets *tg, const size_t *js, double *acc, double *pot)
+ * and, inside a super-group, the super-group's shared cells and the field
+ * of its far cells, if any (ts: the same particles as offsets from the
+ * super-group's centre of mass; shared NULL: none). */
+static void apply_lists(const qt_tree *t, const qt_lists *shared, const qt_field *field, const qt_targets *ts,
+                        const qt_lists *l, double G, size_t first, const qt_targets *tg, const size_t *js,
+                        double *acc, double *pot)
 {
     qt_sums cs, ps, ss;
     qt_cells_on(l, tg, &cs);
     qt_parts_on(l, tg, &ps);
     if (shared)
         qt_cells_on(shared, ts, &ss);
+    if (shared && field)
+        qt_field_on(field, ts, &ss);
     for (size_t n = 0; n < tg->n; n++) {
         size_t j = js[n], o = t->order[j] - first;
         double a[3] = {(double)cs.ax[n] + ps.ax[n], (double)cs.ay[n] + ps.ay[n], (double)cs.az[n] + ps.az[n]};
@@ -631,6 +639,7 @@ static void free_work(qt_work *w)
         for (int k = 0; k < QT_WALKERS; k++)
             free_lists(&w->walkers->own[k]);
         free_lists(&w->walkers->shared);
+        free_lists(&w->walkers->far);
         free(w->walkers);
     }
 }
@@ -648,8 +657,48 @@ static double group_from_root(const qt_tree *t, size_t k, double G, double theta
         return 0;
     if (make_lists(t, g, theta, &w->own) != 0)
         return -1;
-    apply_lists(t, NULL, NULL, &w->own, G, first, &tg, js, acc, pot);
+    apply_lists(t, NULL, NULL, NULL, &w->own, G, first, &tg, js, acc, pot);
     return (double)tg.n * (double)(w->own.ncell + w->own.npart);
+}
+
+/* The field of a super-group's far cells (qt_field): their pull at the 27
+ * points of its grid, with the least and the largest softening^2 of its
+ * particles (the same whatever particles are asked for); the interactions
+ * that took. */
+static double far_field(const qt_tree *t, const qt_node *sn, const qt_lists *far, qt_field *f)
+{
+    double e2lo = INFINITY, e2hi = -INFINITY;
+    for (size_t j = sn->first; j < sn->first + sn->count; j++) {
+        e2lo = fmin(e2lo, t->pe2[j]);
+        e2hi = fmax(e2hi, t->pe2[j]);
+    }
+    f->h = (float)sn->bmax;
+    f->e2lo = (float)e2lo;
+    f->inv_de2 = (float)e2hi > (float)e2lo ? 1.0f / ((float)e2hi - (float)e2lo) : 0.0f;
+    qt_targets grid;
+    grid.n = 27;
+    for (int k = 0; k < 27; k++) {
+        grid.x[k] = (float)(k % 3 - 1) * f->h;
+        grid.y[k] = (float)(k / 3 % 3 - 1) * f->h;
+        grid.z[k] = (float)(k / 9 - 1) * f->h;
+    }
+    qt_sums lo, hi;
+    for (int k = 0; k < 27; k++)
+        grid.e2[k] = (float)e2lo;
+    qt_cells_on(far, &grid, &lo);
+    hi = lo;
+    if (f->inv_de2 > 0) {
+        for (int k = 0; k < 27; k++)
+            grid.e2[k] = (float)e2hi;
+        qt_cells_on(far, &grid, &hi);
+    }
+    const float *l[4] = {lo.ax, lo.ay, lo.az, lo.phi}, *h[4] = {hi.ax, hi.ay, hi.az, hi.phi};
+    for (int q = 0; q < 4; q++)
+        for (int k = 0; k < 27; k++) {
+            f->f0[q][k] = l[q][k];
+            f->d[q][k] = h[q][k] - l[q][k];
+        }
+    return (f->inv_de2 > 0 ? 54.0 : 27.0) * (double)far->ncell;
 }
 
 /* The forces of the requested particles of super-group s's groups, their
@@ -680,8 +729,12 @@ static double super_group(const qt_tree *t, size_t s, double G, double theta, si
     wk->n = (int)(g1 - g0);
     for (size_t k = g0; k < g1; k++)
         wk->group[k - g0] = k;
-    if (multi_walk(t, sn, theta, wk) != 0)
+    const int with_field = sn->count >= QT_FIELD_MIN && sn->bmax > 0;
+    if (multi_walk(t, sn, theta, with_field ? QT_FAR / theta * sn->bmax : 0, wk) != 0)
         return -1;
+    const int field = wk->far.ncell > 0;
+    if (field)
+        total += far_field(t, sn, &wk->far, &wk->field);
     for (int k = 0; k < wk->n; k++) {
         const qt_node *g = &t->nodes[t->groups[wk->group[k]]];
         qt_targets tg, ts;
@@ -690,8 +743,8 @@ static double super_group(const qt_tree *t, size_t s, double G, double theta, si
         if (!tg.n)
             continue;
         gather_targets(t, g, sn->com, first, count, active, &ts, js);
-        apply_lists(t, &wk->shared, &ts, &wk->own[k], G, first, &tg, js, acc, pot);
-        total += (double)tg.n * (double)(wk->shared.ncell + wk->own[k].ncell + wk->own[k].npart);
+        apply_lists(t, &wk->shared, field ? &wk->field : NULL, &ts, &wk->own[k], G, first, &tg, js, acc, pot);
+        total += (double)tg.n * (double)(wk->shared.ncell + wk->own[k].ncell + wk->own[k].npart + field);
     }
     return total;
 }

@@ -69,6 +69,13 @@ typedef struct qt_tree {
 #ifndef QT_SUPER
 #define QT_SUPER 512
 #endif
+#ifndef QT_FAR
+#define QT_FAR 2.8 /* cells beyond QT_FAR / theta times a super-group's radius act through its field
+                      (qtree_kernels.h): 4 radii at theta = 0.7, none as theta -> 0 */
+#endif
+#ifndef QT_FIELD_MIN
+#define QT_FIELD_MIN 64 /* the least particles of a super-group with a field (its grid costs 27 or 54 targets) */
+#endif
 
 /* Builds the tree over n particles (pos: x, y, z of particle i at 3i;
  * eps: each particle's Plummer softening). Returns 0, or -1 when out of
