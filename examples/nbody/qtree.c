@@ -661,6 +661,8 @@ static double group_from_root(const qt_tree *t, size_t k, double G, double theta
     return (double)tg.n * (double)(w->own.ncell + w->own.npart);
 }
 
+_Static_assert(QT_GROUP >= 27, "a super-group's field grid is 27 targets");
+
 /* The field of a super-group's far cells (qt_field): their pull at the 27
  * points of its grid, with the least and the largest softening^2 of its
  * particles (the same whatever particles are asked for); the interactions
@@ -754,7 +756,11 @@ double qt_accelerations_masked(const qt_tree *t, double G, double theta, size_t 
 {
     double total = 0;
     int failed = 0;
-    const long n = (long)(t->root_walks ? t->ngroups : t->nsupers);
+    /* A block step's few active particles walk by group, as before
+     * super-groups: a super-group walks all its groups even for one active
+     * particle (so that its forces do not depend on which are asked for). */
+    const int root_walks = t->root_walks || active;
+    const long n = (long)(root_walks ? t->ngroups : t->nsupers);
 #pragma omp parallel reduction(+ : total) reduction(| : failed)
     {
         qt_work w = {0};
@@ -762,7 +768,7 @@ double qt_accelerations_masked(const qt_tree *t, double G, double theta, size_t 
         for (long k = 0; k < n; k++) {
             if (failed)
                 continue;
-            double done = t->root_walks ? group_from_root(t, (size_t)k, G, theta, first, count, active, &w, acc, pot)
+            double done = root_walks ? group_from_root(t, (size_t)k, G, theta, first, count, active, &w, acc, pot)
                                         : super_group(t, (size_t)k, G, theta, first, count, active, &w, acc, pot);
             if (done < 0)
                 failed = 1;
