@@ -148,6 +148,17 @@ static int same_bits(const qt_sums *a, const qt_sums *b, size_t n)
            memcmp(a->az, b->az, n * sizeof *a->az) == 0 && memcmp(a->phi, b->phi, n * sizeof *a->phi) == 0;
 }
 
+/* n targets at random within the cube of half-side half. */
+static void random_targets(qt_targets *g, size_t n, float half)
+{
+    g->n = n;
+    for (size_t i = 0; i < n; i++) {
+        g->x[i] = rnd(-half, half);
+        g->y[i] = rnd(-half, half);
+        g->z[i] = rnd(-half, half);
+    }
+}
+
 /* A tri-quadratic polynomial in the offset (x, y, z) / h, linear in the
  * softening^2 e2: what the far field's interpolation reproduces exactly. */
 static double quadratic(int q, double x, double y, double z, double e2)
@@ -173,11 +184,8 @@ static double field_error(void)
         }
     static qt_targets g;
     static qt_sums out;
-    g.n = QT_GROUP - 5;
+    random_targets(&g, QT_GROUP - 5, 0.55f);
     for (size_t i = 0; i < g.n; i++) {
-        g.x[i] = rnd(-0.55f, 0.55f);
-        g.y[i] = rnd(-0.55f, 0.55f);
-        g.z[i] = rnd(-0.55f, 0.55f);
         g.e2[i] = i % 3 ? 0.0025f : rnd(0.0025f, 0.01f);
         out.ax[i] = 1.0f; /* the field is added to what is there */
         out.ay[i] = out.az[i] = out.phi[i] = 0.0f;
@@ -198,13 +206,9 @@ int main(void)
 {
     srand(11);
     static qt_targets g;
-    g.n = QT_GROUP - 3;
-    for (size_t i = 0; i < g.n; i++) {
-        g.x[i] = rnd(-0.5f, 0.5f);
-        g.y[i] = rnd(-0.5f, 0.5f);
-        g.z[i] = rnd(-0.5f, 0.5f);
+    random_targets(&g, QT_GROUP - 3, 0.5f);
+    for (size_t i = 0; i < g.n; i++)
         g.e2[i] = i % 2 ? 0.0025f : 0.01f;
-    }
     qt_lists l;
     make_lists(&l, &g);
     static qt_sums kernel, scalar;
