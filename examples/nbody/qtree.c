@@ -454,9 +454,9 @@ static int make_lists(const qt_tree *t, const qt_node *g, double theta, qt_lists
     return pad_lists(l);
 }
 
-/* The groups of a super-group walking the tree together (multi_walk):
- * walking[k] is group number group[k], its lists own[k]; bit k of a mask
- * stands for it. */
+/* The groups of a super-group walking the tree together (multi_walk): the
+ * k-th is the tree's group number group[k], its lists own[k]; bit k of a
+ * mask stands for it. */
 #define QT_WALKERS 64
 
 typedef struct qt_walkers {
@@ -726,7 +726,7 @@ static double super_group(const qt_tree *t, size_t s, double G, double theta, si
         return 0;
     /* All its groups walk, wanted or not: which cells are shared, and so
      * the forces' round-off, must not depend on the particles asked for
-     * (an MPI rank's share, a block step's active ones). */
+     * (an MPI rank's share). */
     qt_walkers *wk = w->walkers;
     wk->n = (int)(g1 - g0);
     for (size_t k = g0; k < g1; k++)

@@ -54,7 +54,7 @@ typedef struct qt_tree {
     size_t *super_first_group; /* super s holds groups super_first_group[s] .. [s + 1] - 1 */
     size_t nsupers, supers_cap;
     int root_walks; /* set by the caller: every group walks the tree from its root, without its super-group's walk
-                       (the walk before super-groups, kept for bench/bench_nbody_steps.c to compare) */
+                       (the walk before super-groups, kept for `bench_nbody steps` to compare; block sub-steps use it) */
     double *px, *py, *pz, *pm, *pe2; /* particles in tree order (structure of arrays) */
     qt_walk_node *walk;              /* nnodes of them, for the walk */
     size_t walk_cap;
