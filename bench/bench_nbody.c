@@ -1,11 +1,15 @@
 /* Gravity for the example N-body code: today's monopole Barnes-Hut tree
  * (examples/nbody/tree.c, one walk per particle) side by side with the
  * quadrupole group tree that replaced it (examples/nbody/qtree.c), on the
- * built-in model, in one run.
+ * built-in model, in one run; or (`steps`) the quadrupole tree's walks
+ * from the root per group (as of commit f4e2010) side by side with its
+ * super-group walks, over a few leapfrog steps.
  *
- *   bench_nbody [N [CHECK [mw|pair [THETA]]]]
+ *   bench_nbody [N [CHECK [mw|pair [THETA [EPS]]]]]
  *       default: 100000 particles, 2000 checked, the Milky Way alone
- *       ("pair": both galaxies), the new tree's default opening angle 0.7
+ *       ("pair": both galaxies), the new tree's default opening angle 0.7,
+ *       its default softening 0.05 kpc for stars (the halo's twice it; the
+ *       films use 0.2)
  *
  * For each tree: seconds to build and to compute every particle's
  * acceleration once (wall clock; CPU seconds too, the machine may be
@@ -13,7 +17,19 @@
  * per particle, and the median and 99th-percentile relative error of the
  * acceleration against direct summation over all N for CHECK particles
  * spread evenly through the ids (every component), each tree against its
- * own softening rule. Threads: OMP_NUM_THREADS. */
+ * own softening rule. Threads: OMP_NUM_THREADS.
+ *
+ *   bench_nbody steps [N [STEPS [CHECK [THETA [EPS]]]]]
+ *       default: 200000 particles of the Milky Way alone, 5 steps, 300
+ *       checked, the films' settings (theta 0.7, softening 0.2 / 0.4 kpc,
+ *       dt 0.002)
+ *
+ * For each walk, from the same start: STEPS kick-drift-kick steps, each with
+ * a tree built anew and every particle's acceleration and potential (as
+ * orrery-nbody does); CPU seconds of the gravity per step, particle-steps
+ * per CPU second (the figure per core: run it with OMP_NUM_THREADS=1),
+ * interactions per particle, the errors of the first forces against
+ * direct summation and the energy error after the steps. */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -29,8 +45,7 @@
 #define OLD_THETA 0.6 /* orrery-nbody's default before the quadrupole tree */
 #define OLD_EPS 0.2
 #define NEW_THETA 0.7 /* orrery-nbody's default (docs/nbody.md) */
-#define NEW_EPS_STAR 0.05
-#define NEW_EPS_HALO 0.1 /* orrery-nbody's defaults */
+#define NEW_EPS_STAR 0.05 /* orrery-nbody's default; the halo's is twice it */
 
 typedef struct result {
     double build, force, cpu, interactions, median, p99;
@@ -42,7 +57,8 @@ static void die(const char *msg)
     exit(1);
 }
 
-static void load(long long n, int pair, double *pos, double *mass, unsigned char *type)
+/* The model's particles; their velocities too when vel is not NULL. */
+static void load(long long n, int pair, double *pos, double *vel, double *mass, unsigned char *type)
 {
     orr_model_params p = {n, 1, 780.0, pair ? ORR_MODEL_PAIR : ORR_MODEL_MW, 0, 0, 0};
     orr_source *src = NULL;
@@ -51,14 +67,20 @@ static void load(long long n, int pair, double *pos, double *mass, unsigned char
         die(err.msg);
     size_t k = 0;
     const orr_chunk *c;
-    while (orr_source_next(src, &c, &err) == ORR_OK && c->n > 0)
+    while (orr_source_next(src, &c, &err) == ORR_OK && c->n > 0) {
+        const float *v[3] = {orr_chunk_field(c, "vx"), orr_chunk_field(c, "vy"), orr_chunk_field(c, "vz")};
+        if (vel && (!v[0] || !v[1] || !v[2]))
+            die("the model gave no velocities");
         for (size_t i = 0; i < c->n; i++, k++) {
             pos[3 * k] = c->x[i];
             pos[3 * k + 1] = c->y[i];
             pos[3 * k + 2] = c->z[i];
+            for (int a = 0; vel && a < 3; a++)
+                vel[3 * k + a] = v[a][i];
             mass[k] = c->mass[i];
             type[k] = c->type[i];
         }
+    }
     orr_source_close(src);
 }
 
@@ -68,21 +90,36 @@ static int compare(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Errors of acc (all N) against direct summation for every stride-th particle. */
-static void errors(const double *pos, const double *mass, const double *eps, size_t n, size_t check,
-                   const double *acc, result *r)
+/* Direct summation's accelerations of every stride-th particle, into ref
+ * (3 a particle checked). */
+static void reference(const double *pos, const double *mass, const double *eps, size_t n, size_t check,
+                      double *ref)
 {
-    double *err = malloc(check * sizeof *err);
     size_t stride = n / check;
 #pragma omp parallel for schedule(dynamic, 8)
+    for (size_t c = 0; c < check; c++)
+        qt_direct(pos, mass, eps, n, G_KPC_KMS, c * stride, 1, &ref[3 * c], NULL);
+}
+
+/* Errors of acc (all N) against ref (reference) for every stride-th
+ * particle; ref NULL: computed here. */
+static void errors(const double *pos, const double *mass, const double *eps, size_t n, size_t check,
+                   const double *ref_given, const double *acc, result *r)
+{
+    double *err = malloc(check * sizeof *err), *ref = ref_given ? NULL : malloc(3 * check * sizeof *ref);
+    if (!err || (!ref_given && !ref))
+        die("out of memory");
+    if (!ref_given)
+        reference(pos, mass, eps, n, check, ref);
+    const double *refs = ref_given ? ref_given : ref;
+    size_t stride = n / check;
     for (size_t c = 0; c < check; c++) {
         size_t i = c * stride;
-        double ref[3];
-        qt_direct(pos, mass, eps, n, G_KPC_KMS, i, 1, ref, NULL);
         double d2 = 0, a2 = 0;
+        const double *rf = &refs[3 * c];
         for (int k = 0; k < 3; k++) {
-            d2 += (acc[3 * i + k] - ref[k]) * (acc[3 * i + k] - ref[k]);
-            a2 += ref[k] * ref[k];
+            d2 += (acc[3 * i + k] - rf[k]) * (acc[3 * i + k] - rf[k]);
+            a2 += rf[k] * rf[k];
         }
         err[c] = sqrt(d2 / a2);
     }
@@ -90,6 +127,7 @@ static void errors(const double *pos, const double *mass, const double *eps, siz
     r->median = err[check / 2];
     r->p99 = err[(size_t)(0.99 * (double)(check - 1))];
     free(err);
+    free(ref);
 }
 
 static void run_old(const double *pos, const double *mass, size_t n, double *acc, result *r)
@@ -121,37 +159,156 @@ static void run_new(const double *pos, const double *mass, const double *eps, si
     qt_free(&t);
 }
 
+/* ---- steps: the walks of f4e2010 and of now, over leapfrog steps -------- */
+
+#define FILM_DT 0.002
+
+typedef struct stepped {
+    double gravity_cpu, interactions, median, p99, de;
+} stepped;
+
+/* Builds the tree anew and computes every particle's acceleration and
+ * potential; the interactions. */
+static double forces(qt_tree *t, const double *pos, const double *mass, const double *eps, size_t n, double theta,
+                     double *acc, double *pot)
+{
+    if (qt_build(t, pos, mass, eps, n) != 0)
+        die("out of memory (tree)");
+    double inter = qt_accelerations_of(t, G_KPC_KMS, theta, 0, n, acc, pot);
+    if (inter < 0)
+        die("out of memory (walk)");
+    return inter;
+}
+
+static double energy(const double *vel, const double *mass, const double *pot, size_t n)
+{
+    double e = 0;
+    for (size_t i = 0; i < n; i++)
+        e += mass[i] * (0.5 * (vel[3 * i] * vel[3 * i] + vel[3 * i + 1] * vel[3 * i + 1] +
+                               vel[3 * i + 2] * vel[3 * i + 2]) +
+                        0.5 * pot[i]);
+    return e;
+}
+
+/* `steps` kick-drift-kick steps of one walk from pos0, vel0. */
+static void run_steps(int root_walks, const double *pos0, const double *vel0, const double *mass, const double *eps,
+                      size_t n, long steps, double theta, size_t check, const double *ref, stepped *r)
+{
+    double *pos = malloc(3 * n * sizeof *pos), *vel = malloc(3 * n * sizeof *vel);
+    double *acc = malloc(3 * n * sizeof *acc), *pot = malloc(n * sizeof *pot);
+    if (!pos || !vel || !acc || !pot)
+        die("out of memory");
+    memcpy(pos, pos0, 3 * n * sizeof *pos);
+    memcpy(vel, vel0, 3 * n * sizeof *vel);
+    qt_tree t = {0};
+    t.root_walks = root_walks;
+    double c0 = cpu_seconds();
+    r->interactions = forces(&t, pos, mass, eps, n, theta, acc, pot);
+    r->gravity_cpu = cpu_seconds() - c0;
+    result e;
+    errors(pos, mass, eps, n, check, ref, acc, &e);
+    r->median = e.median;
+    r->p99 = e.p99;
+    double e0 = energy(vel, mass, pot, n);
+    for (long s = 0; s < steps; s++) {
+        for (size_t i = 0; i < 3 * n; i++)
+            vel[i] += 0.5 * FILM_DT * acc[i];
+        for (size_t i = 0; i < 3 * n; i++)
+            pos[i] += FILM_DT * vel[i];
+        c0 = cpu_seconds();
+        r->interactions += forces(&t, pos, mass, eps, n, theta, acc, pot);
+        r->gravity_cpu += cpu_seconds() - c0;
+        for (size_t i = 0; i < 3 * n; i++)
+            vel[i] += 0.5 * FILM_DT * acc[i];
+    }
+    r->gravity_cpu /= (double)(steps + 1);
+    r->interactions /= (double)(steps + 1) * (double)n;
+    r->de = (energy(vel, mass, pot, n) - e0) / fabs(e0);
+    qt_free(&t);
+    free(pos);
+    free(vel);
+    free(acc);
+    free(pot);
+}
+
+static int bench_steps(int argc, char **argv)
+{
+    long long n = argc > 0 ? atoll(argv[0]) : 200000;
+    long steps = argc > 1 ? atol(argv[1]) : 5;
+    long long check = argc > 2 ? atoll(argv[2]) : 300;
+    double theta = argc > 3 ? atof(argv[3]) : NEW_THETA;
+    double eps_star = argc > 4 ? atof(argv[4]) : 0.2;
+    if (n < 1000 || steps < 0 || check < 10 || check > n || !(theta > 0 && theta <= 1) || !(eps_star > 0))
+        die("usage: bench_nbody steps [N >= 1000 [STEPS >= 0 [CHECK, 10 to N [THETA, 0 to 1 [EPS > 0]]]]]");
+    size_t nn = (size_t)n;
+    double *pos = malloc(3 * nn * sizeof *pos), *vel = malloc(3 * nn * sizeof *vel);
+    double *mass = malloc(nn * sizeof *mass), *eps = malloc(nn * sizeof *eps);
+    double *ref = malloc(3 * (size_t)check * sizeof *ref);
+    unsigned char *type = malloc(nn);
+    if (!pos || !vel || !mass || !eps || !ref || !type)
+        die("out of memory");
+    load(n, 0, pos, vel, mass, type);
+    for (size_t i = 0; i < nn; i++)
+        eps[i] = type[i] == ORR_MODEL_TYPE_HALO ? 2 * eps_star : eps_star;
+    reference(pos, mass, eps, nn, (size_t)check, ref);
+    stepped before, now;
+    run_steps(1, pos, vel, mass, eps, nn, steps, theta, (size_t)check, ref, &before);
+    run_steps(0, pos, vel, mass, eps, nn, steps, theta, (size_t)check, ref, &now);
+
+    printf("bench_nbody steps: N = %lld (Milky Way alone), %ld steps of %g, theta %g, softening %g / %g kpc, %d "
+           "threads; errors of the first forces against direct summation over all N for %lld particles\n",
+           n, steps, FILM_DT, theta, eps_star, 2 * eps_star, omp_get_max_threads(), check);
+    printf("%-34s %20s %20s\n", "", "f4e2010: root walks", "super-group walks");
+    printf("%-34s %20.3f %20.3f\n", "gravity CPU s per step", before.gravity_cpu, now.gravity_cpu);
+    printf("%-34s %20.3g %20.3g\n", "particle-steps per CPU second", n / before.gravity_cpu, n / now.gravity_cpu);
+    printf("%-34s %20.0f %20.0f\n", "interactions per particle", before.interactions, now.interactions);
+    printf("%-34s %20.2e %20.2e\n", "median relative error", before.median, now.median);
+    printf("%-34s %20.2e %20.2e\n", "99th percentile rel. error", before.p99, now.p99);
+    printf("%-34s %20.2e %20.2e\n", "dE/|E0| after the steps", before.de, now.de);
+    printf("speed-up %.2fx (CPU)\n", before.gravity_cpu / now.gravity_cpu);
+    free(pos);
+    free(vel);
+    free(mass);
+    free(eps);
+    free(ref);
+    free(type);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && strcmp(argv[1], "steps") == 0)
+        return bench_steps(argc - 2, argv + 2);
     long long n = argc > 1 ? atoll(argv[1]) : 100000;
     long long check = argc > 2 ? atoll(argv[2]) : 2000;
     int pair = argc > 3 && strcmp(argv[3], "pair") == 0;
     double theta = argc > 4 ? atof(argv[4]) : NEW_THETA;
-    if (n < 1000 || check < 10 || check > n || !(theta > 0 && theta <= 1))
-        die("usage: bench_nbody [N >= 1000 [CHECK, 10 to N [mw|pair [THETA, 0 to 1]]]]");
+    double eps_star = argc > 5 ? atof(argv[5]) : NEW_EPS_STAR;
+    if (n < 1000 || check < 10 || check > n || !(theta > 0 && theta <= 1) || !(eps_star > 0))
+        die("usage: bench_nbody [N >= 1000 [CHECK, 10 to N [mw|pair [THETA, 0 to 1 [EPS > 0]]]]]");
     double *pos = malloc(3 * (size_t)n * sizeof *pos), *mass = malloc((size_t)n * sizeof *mass);
     double *eps_old = malloc((size_t)n * sizeof *eps_old), *eps_new = malloc((size_t)n * sizeof *eps_new);
     double *acc = malloc(3 * (size_t)n * sizeof *acc);
     unsigned char *type = malloc((size_t)n);
     if (!pos || !mass || !eps_old || !eps_new || !acc || !type)
         die("out of memory");
-    load(n, pair, pos, mass, type);
+    load(n, pair, pos, NULL, mass, type);
     for (long long i = 0; i < n; i++) {
         eps_old[i] = OLD_EPS;
-        eps_new[i] = type[i] == ORR_MODEL_TYPE_HALO ? NEW_EPS_HALO : NEW_EPS_STAR;
+        eps_new[i] = type[i] == ORR_MODEL_TYPE_HALO ? 2 * eps_star : eps_star;
     }
     result old, neu;
     run_old(pos, mass, (size_t)n, acc, &old);
-    errors(pos, mass, eps_old, (size_t)n, (size_t)check, acc, &old);
+    errors(pos, mass, eps_old, (size_t)n, (size_t)check, NULL, acc, &old);
     run_new(pos, mass, eps_new, (size_t)n, theta, acc, &neu);
-    errors(pos, mass, eps_new, (size_t)n, (size_t)check, acc, &neu);
+    errors(pos, mass, eps_new, (size_t)n, (size_t)check, NULL, acc, &neu);
 
     printf("bench_nbody: N = %lld (%s), %d threads; errors against direct summation over all N for %lld "
            "particles\n",
            n, pair ? "Milky Way and M31" : "Milky Way alone", omp_get_max_threads(), check);
     printf("%-28s %22s %22s\n", "", "old: monopole", "new: quadrupole groups");
     char new_set[64];
-    snprintf(new_set, sizeof new_set, "%.2g, %.2g / %.2g kpc", theta, NEW_EPS_STAR, NEW_EPS_HALO);
+    snprintf(new_set, sizeof new_set, "%.2g, %.2g / %.2g kpc", theta, eps_star, 2 * eps_star);
     printf("%-28s %22s %22s\n", "opening angle, softening", "0.6, 0.2 kpc", new_set);
     printf("%-28s %22.3f %22.3f\n", "build (s)", old.build, neu.build);
     printf("%-28s %22.3f %22.3f\n", "forces (s)", old.force, neu.force);

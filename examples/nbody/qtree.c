@@ -2,6 +2,7 @@
 #include "qtree_kernels.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -35,6 +36,27 @@ static int add_group(qt_tree *t, int node)
         t->groups_cap = cap;
     }
     t->groups[t->ngroups++] = node;
+    return 0;
+}
+
+/* Records node as a super-group whose groups start at the next one added. */
+static int add_super(qt_tree *t, int node)
+{
+    if (t->nsupers + 1 >= t->supers_cap) {
+        size_t cap = t->supers_cap ? 2 * t->supers_cap : 64;
+        int *s = realloc(t->supers, cap * sizeof *s);
+        if (s)
+            t->supers = s;
+        size_t *f = realloc(t->super_first_group, cap * sizeof *f);
+        if (f)
+            t->super_first_group = f;
+        if (!s || !f)
+            return -1;
+        t->supers_cap = cap;
+    }
+    t->supers[t->nsupers] = node;
+    t->super_first_group[t->nsupers++] = t->ngroups;
+    t->super_first_group[t->nsupers] = t->ngroups; /* until the next super or the end of the build */
     return 0;
 }
 
@@ -123,7 +145,7 @@ static void sort_by_octant(qt_tree *t, size_t first, size_t count, const double 
 }
 
 static int build_node(qt_tree *t, size_t first, size_t count, const double centre[3], double half, int depth,
-                      int in_group)
+                      int in_group, int in_super)
 {
     int id = new_node(t);
     if (id < 0)
@@ -134,6 +156,11 @@ static int build_node(qt_tree *t, size_t first, size_t count, const double centr
     nd->first = first;
     nd->count = count;
     node_moments(t, nd);
+    if (!in_super && count <= QT_SUPER) {
+        if (add_super(t, id) != 0)
+            return -1;
+        in_super = 1;
+    }
     if (!in_group && count <= QT_GROUP) {
         if (add_group(t, id) != 0)
             return -1;
@@ -151,7 +178,7 @@ static int build_node(qt_tree *t, size_t first, size_t count, const double centr
         double cc[3];
         for (int a = 0; a < 3; a++)
             cc[a] = centre[a] + ((k >> a) & 1 ? 0.5 : -0.5) * half;
-        int child = build_node(t, starts[k], counts[k], cc, 0.5 * half, depth + 1, in_group);
+        int child = build_node(t, starts[k], counts[k], cc, 0.5 * half, depth + 1, in_group, in_super);
         if (child < 0)
             return -1;
         t->nodes[id].child[k] = child; /* the pool may have moved */
@@ -217,6 +244,7 @@ int qt_build(qt_tree *t, const double *pos, const double *mass, const double *ep
 {
     t->nnodes = 0;
     t->ngroups = 0;
+    t->nsupers = 0;
     if ((n != t->n || !t->order) && resize(t, n) != 0)
         return -1;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
@@ -238,8 +266,10 @@ int qt_build(qt_tree *t, const double *pos, const double *mass, const double *ep
         half = fmax(half, n ? 0.5 * (hi[k] - lo[k]) : 0.0);
     }
     half = half * 1.0001 + 1e-12;
-    if (build_node(t, 0, n, centre, half, 0, 0) < 0)
+    if (build_node(t, 0, n, centre, half, 0, 0, 0) < 0)
         return -1;
+    if (t->nsupers)
+        t->super_first_group[t->nsupers] = t->ngroups;
     /* The walk reads particles in tree order, contiguously: the build left them so. */
     for (size_t j = 0; j < n; j++)
         t->pe2[j] *= t->pe2[j];
@@ -387,22 +417,31 @@ static int pad_lists(qt_lists *l)
     return 0;
 }
 
-/* The interaction lists of group g: every cell passing the b_max criterion
- * for the group's bounding sphere (its centre of mass, radius b_max) is
- * taken whole; leaves that do not are taken particle by particle. theta <= 1
- * guarantees a cell holding the group is always opened (see qtree.h).
- * The walk runs through the compact depth-first copy (index_walk): forward
- * through memory, a cell taken whole skipping its subtree, with
- * |c - g| - r_g > b_max / theta tested squared (no square root). */
+/* Whether a cell w is far enough from the sphere (centre c, radius r) to be
+ * taken whole: |com - c| - r > b_max / theta, tested squared (no square
+ * root). Every point of the sphere is then at least b_max / theta from the
+ * cell's centre of mass. */
+static int far_enough(const qt_walk_node *w, const double c[3], double r, double inv_theta)
+{
+    double d[3] = {w->com[0] - c[0], w->com[1] - c[1], w->com[2] - c[2]};
+    double reach = r + w->bmax * inv_theta;
+    return d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > reach * reach;
+}
+
+/* The interaction lists of group g walked from the root: every cell
+ * passing the b_max criterion for the group's bounding sphere (its centre
+ * of mass, radius b_max) is taken whole; leaves that do not are taken
+ * particle by particle. theta <= 1 guarantees a cell holding the group is
+ * always opened (see qtree.h). The walk runs through the compact
+ * depth-first copy (index_walk): forward through memory, a cell taken whole
+ * skipping its subtree. */
 static int make_lists(const qt_tree *t, const qt_node *g, double theta, qt_lists *l)
 {
     l->ncell = l->npart = 0;
     const double inv_theta = 1.0 / theta;
     for (size_t id = 0; id < t->nnodes;) {
         const qt_walk_node *w = &t->walk[id];
-        double d[3] = {w->com[0] - g->com[0], w->com[1] - g->com[1], w->com[2] - g->com[2]};
-        double reach = g->bmax + w->bmax * inv_theta;
-        if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > reach * reach) {
+        if (far_enough(w, g->com, g->bmax, inv_theta)) {
             if (push_cell(l, w, g->com) != 0)
                 return -1;
             id = w->next;
@@ -415,6 +454,98 @@ static int make_lists(const qt_tree *t, const qt_node *g, double theta, qt_lists
     return pad_lists(l);
 }
 
+/* The groups of a super-group walking the tree together (multi_walk): the
+ * k-th is the tree's group number group[k], its lists own[k]; bit k of a
+ * mask stands for it. */
+#define QT_WALKERS 64
+
+typedef struct qt_walkers {
+    int n;
+    size_t group[QT_WALKERS];
+    qt_lists own[QT_WALKERS], shared, far; /* far: shared cells beyond far_r (multi_walk), for the field */
+    qt_field field;
+} qt_walkers;
+
+/* The groups whose bits are set in mask that find cell w far enough. */
+static uint64_t far_for(const qt_tree *t, const qt_walkers *wk, uint64_t mask, const qt_walk_node *w,
+                        double inv_theta)
+{
+    uint64_t far = 0;
+    for (uint64_t m = mask; m; m &= m - 1) {
+        int k = __builtin_ctzll(m);
+        const qt_node *g = &t->nodes[t->groups[wk->group[k]]];
+        if (far_enough(w, g->com, g->bmax, inv_theta))
+            far |= (uint64_t)1 << k;
+    }
+    return far;
+}
+
+/* Every walking group of a super-group s gets the lists its own walk from
+ * the root would give (make_lists), in one walk for all: a node is tested
+ * for the groups that opened all its ancestors, so each group tests the
+ * nodes it would test alone. A cell all of them take whole goes once to
+ * the shared list, relative to the super-group's centre of mass; a cell
+ * only some take goes to theirs, and the others walk on into it. The tree's
+ * top levels and far cells, which all of a super-group's ~8 groups visit
+ * alike, are so walked once, and each of them converted to float once. */
+static int multi_walk(const qt_tree *t, const qt_node *s, double theta, double far_r, qt_walkers *wk)
+{
+    const double inv_theta = 1.0 / theta;
+    const uint64_t all = wk->n == 64 ? ~(uint64_t)0 : ((uint64_t)1 << wk->n) - 1;
+    struct {
+        size_t end;
+        uint64_t mask;
+    } stack[MAX_DEPTH + 2];
+    int top = 0;
+    uint64_t mask = all;
+    wk->shared.ncell = wk->shared.npart = wk->far.ncell = wk->far.npart = 0;
+    for (int k = 0; k < wk->n; k++)
+        wk->own[k].ncell = wk->own[k].npart = 0;
+    for (size_t id = 0; id < t->nnodes;) {
+        while (top > 0 && id >= stack[top - 1].end) /* out of the subtree where some groups stopped */
+            mask = stack[--top].mask;
+        const qt_walk_node *w = &t->walk[id];
+        uint64_t far = far_for(t, wk, mask, w, inv_theta), near = mask & ~far;
+        if (far == all) {
+            /* Far: all its particles beyond far_r (their pull smooth over the super-group). */
+            double d[3] = {w->com[0] - s->com[0], w->com[1] - s->com[1], w->com[2] - s->com[2]};
+            double reach = far_r + w->bmax;
+            int beyond = far_r > 0 && d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > reach * reach;
+            if (push_cell(beyond ? &wk->far : &wk->shared, w, s->com) != 0)
+                return -1;
+            id = w->next;
+            continue;
+        }
+        for (uint64_t m = far; m; m &= m - 1) {
+            int k = __builtin_ctzll(m);
+            if (push_cell(&wk->own[k], w, t->nodes[t->groups[wk->group[k]]].com) != 0)
+                return -1;
+        }
+        if (!near) {
+            id = w->next;
+            continue;
+        }
+        if (w->next == id + 1) { /* a leaf: its particles, for those it is not far enough from */
+            for (uint64_t m = near; m; m &= m - 1) {
+                int k = __builtin_ctzll(m);
+                if (push_leaf(&wk->own[k], t, &t->nodes[id], t->nodes[t->groups[wk->group[k]]].com) != 0)
+                    return -1;
+            }
+        } else if (near != mask) { /* into its children for the groups that opened it */
+            stack[top].end = w->next;
+            stack[top++].mask = mask;
+            mask = near;
+        }
+        id++;
+    }
+    if (pad_lists(&wk->shared) != 0 || pad_lists(&wk->far) != 0)
+        return -1;
+    for (int k = 0; k < wk->n; k++)
+        if (pad_lists(&wk->own[k]) != 0)
+            return -1;
+    return 0;
+}
+
 /* Whether the caller asked for particle i (of the whole set). */
 static int wanted(size_t i, size_t first, size_t count, const unsigned char *active)
 {
@@ -422,8 +553,9 @@ static int wanted(size_t i, size_t first, size_t count, const unsigned char *act
 }
 
 /* The group's particles that the caller asked for, gathered for the
- * kernels (qtree_kernels.h); their tree-order indices into js. */
-static void gather_targets(const qt_tree *t, const qt_node *g, size_t first, size_t count,
+ * kernels (qtree_kernels.h) as offsets from centre c; their tree-order
+ * indices into js. */
+static void gather_targets(const qt_tree *t, const qt_node *g, const double c[3], size_t first, size_t count,
                            const unsigned char *active, qt_targets *tg, size_t *js)
 {
     tg->n = 0;
@@ -431,25 +563,48 @@ static void gather_targets(const qt_tree *t, const qt_node *g, size_t first, siz
         if (!wanted(t->order[j], first, count, active))
             continue;
         js[tg->n] = j;
-        tg->x[tg->n] = (float)(t->px[j] - g->com[0]);
-        tg->y[tg->n] = (float)(t->py[j] - g->com[1]);
-        tg->z[tg->n] = (float)(t->pz[j] - g->com[2]);
+        tg->x[tg->n] = (float)(t->px[j] - c[0]);
+        tg->y[tg->n] = (float)(t->py[j] - c[1]);
+        tg->z[tg->n] = (float)(t->pz[j] - c[2]);
         tg->e2[tg->n] = (float)t->pe2[j];
         tg->n++;
     }
 }
 
-/* The gathered particles of group g (gather_targets) against its lists. */
-static void apply_lists(const qt_tree *t, const qt_lists *l, double G, size_t first, const qt_targets *tg,
-                        const size_t *js, double *acc, double *pot)
+/* Whether node nd holds a particle the caller asked for. */
+static int any_wanted(const qt_tree *t, const qt_node *nd, size_t first, size_t count, const unsigned char *active)
 {
-    qt_sums cs, ps;
+    for (size_t j = nd->first; j < nd->first + nd->count; j++)
+        if (wanted(t->order[j], first, count, active))
+            return 1;
+    return 0;
+}
+
+/* The gathered particles of a group (gather_targets) against its lists l
+ * and, inside a super-group, the super-group's shared cells and the field
+ * of its far cells, if any (ts: the same particles as offsets from the
+ * super-group's centre of mass; shared NULL: none). */
+static void apply_lists(const qt_tree *t, const qt_lists *shared, const qt_field *field, const qt_targets *ts,
+                        const qt_lists *l, double G, size_t first, const qt_targets *tg, const size_t *js,
+                        double *acc, double *pot)
+{
+    qt_sums cs, ps, ss;
     qt_cells_on(l, tg, &cs);
     qt_parts_on(l, tg, &ps);
+    if (shared)
+        qt_cells_on(shared, ts, &ss);
+    if (shared && field)
+        qt_field_on(field, ts, &ss);
     for (size_t n = 0; n < tg->n; n++) {
         size_t j = js[n], o = t->order[j] - first;
         double a[3] = {(double)cs.ax[n] + ps.ax[n], (double)cs.ay[n] + ps.ay[n], (double)cs.az[n] + ps.az[n]};
         double phi = (double)cs.phi[n] + ps.phi[n];
+        if (shared) {
+            a[0] += ss.ax[n];
+            a[1] += ss.ay[n];
+            a[2] += ss.az[n];
+            phi += ss.phi[n];
+        }
         if (tg->e2[n] > 0)
             phi += t->pm[j] / sqrt((double)tg->e2[n]); /* its own term */
         for (int k = 0; k < 3; k++)
@@ -465,32 +620,162 @@ double qt_accelerations_of(const qt_tree *t, double G, double theta, size_t firs
     return qt_accelerations_masked(t, G, theta, first, count, NULL, acc, pot);
 }
 
+/* A thread's working lists. */
+typedef struct qt_work {
+    qt_lists own;
+    qt_walkers *walkers;
+} qt_work;
+
+static void free_lists(qt_lists *l)
+{
+    free(l->c);
+    free(l->p);
+}
+
+static void free_work(qt_work *w)
+{
+    free_lists(&w->own);
+    if (w->walkers) {
+        for (int k = 0; k < QT_WALKERS; k++)
+            free_lists(&w->walkers->own[k]);
+        free_lists(&w->walkers->shared);
+        free_lists(&w->walkers->far);
+        free(w->walkers);
+    }
+}
+
+/* The forces of the requested particles of group k, walked from the root;
+ * its interactions, or -1 when out of memory. */
+static double group_from_root(const qt_tree *t, size_t k, double G, double theta, size_t first, size_t count,
+                              const unsigned char *active, qt_work *w, double *acc, double *pot)
+{
+    const qt_node *g = &t->nodes[t->groups[k]];
+    qt_targets tg;
+    size_t js[QT_GROUP];
+    gather_targets(t, g, g->com, first, count, active, &tg, js);
+    if (!tg.n) /* a group with none of the requested particles costs nothing */
+        return 0;
+    if (make_lists(t, g, theta, &w->own) != 0)
+        return -1;
+    apply_lists(t, NULL, NULL, NULL, &w->own, G, first, &tg, js, acc, pot);
+    return (double)tg.n * (double)(w->own.ncell + w->own.npart);
+}
+
+_Static_assert(QT_GROUP >= 27, "a super-group's field grid is 27 targets");
+
+/* The field of a super-group's far cells (qt_field): their pull at the 27
+ * points of its grid, with the least and the largest softening^2 of its
+ * particles (the same whatever particles are asked for); the interactions
+ * that took. */
+static double far_field(const qt_tree *t, const qt_node *sn, const qt_lists *far, qt_field *f)
+{
+    double e2lo = INFINITY, e2hi = -INFINITY;
+    for (size_t j = sn->first; j < sn->first + sn->count; j++) {
+        e2lo = fmin(e2lo, t->pe2[j]);
+        e2hi = fmax(e2hi, t->pe2[j]);
+    }
+    f->h = (float)sn->bmax;
+    f->e2lo = (float)e2lo;
+    f->inv_de2 = (float)e2hi > (float)e2lo ? 1.0f / ((float)e2hi - (float)e2lo) : 0.0f;
+    qt_targets grid;
+    grid.n = 27;
+    for (int k = 0; k < 27; k++) {
+        grid.x[k] = (float)(k % 3 - 1) * f->h;
+        grid.y[k] = (float)(k / 3 % 3 - 1) * f->h;
+        grid.z[k] = (float)(k / 9 - 1) * f->h;
+    }
+    qt_sums lo, hi;
+    for (int k = 0; k < 27; k++)
+        grid.e2[k] = (float)e2lo;
+    qt_cells_on(far, &grid, &lo);
+    hi = lo;
+    if (f->inv_de2 > 0) {
+        for (int k = 0; k < 27; k++)
+            grid.e2[k] = (float)e2hi;
+        qt_cells_on(far, &grid, &hi);
+    }
+    const float *l[4] = {lo.ax, lo.ay, lo.az, lo.phi}, *h[4] = {hi.ax, hi.ay, hi.az, hi.phi};
+    for (int q = 0; q < 4; q++)
+        for (int k = 0; k < 27; k++) {
+            f->f0[q][k] = l[q][k];
+            f->d[q][k] = h[q][k] - l[q][k];
+        }
+    return (f->inv_de2 > 0 ? 54.0 : 27.0) * (double)far->ncell;
+}
+
+/* The forces of the requested particles of super-group s's groups, their
+ * lists made in one walk (multi_walk); the interactions, or -1 when out of
+ * memory. A super-group of more groups than a mask holds (a rare, uneven
+ * one) walks them one by one. */
+static double super_group(const qt_tree *t, size_t s, double G, double theta, size_t first, size_t count,
+                          const unsigned char *active, qt_work *w, double *acc, double *pot)
+{
+    const size_t g0 = t->super_first_group[s], g1 = t->super_first_group[s + 1];
+    double total = 0;
+    if (g1 - g0 > QT_WALKERS) {
+        for (size_t k = g0; k < g1 && total >= 0; k++) {
+            double done = group_from_root(t, k, G, theta, first, count, active, w, acc, pot);
+            total = done < 0 ? -1 : total + done;
+        }
+        return total;
+    }
+    if (!w->walkers && !(w->walkers = calloc(1, sizeof *w->walkers)))
+        return -1;
+    const qt_node *sn = &t->nodes[t->supers[s]];
+    if (!any_wanted(t, sn, first, count, active))
+        return 0;
+    /* All its groups walk, wanted or not: which cells are shared, and so
+     * the forces' round-off, must not depend on the particles asked for
+     * (an MPI rank's share). */
+    qt_walkers *wk = w->walkers;
+    wk->n = (int)(g1 - g0);
+    for (size_t k = g0; k < g1; k++)
+        wk->group[k - g0] = k;
+    const int with_field = sn->count >= QT_FIELD_MIN && sn->bmax > 0;
+    if (multi_walk(t, sn, theta, with_field ? QT_FAR / theta * sn->bmax : 0, wk) != 0)
+        return -1;
+    const int field = wk->far.ncell > 0;
+    if (field)
+        total += far_field(t, sn, &wk->far, &wk->field);
+    for (int k = 0; k < wk->n; k++) {
+        const qt_node *g = &t->nodes[t->groups[wk->group[k]]];
+        qt_targets tg, ts;
+        size_t js[QT_GROUP];
+        gather_targets(t, g, g->com, first, count, active, &tg, js);
+        if (!tg.n)
+            continue;
+        gather_targets(t, g, sn->com, first, count, active, &ts, js);
+        apply_lists(t, &wk->shared, field ? &wk->field : NULL, &ts, &wk->own[k], G, first, &tg, js, acc, pot);
+        total += (double)tg.n * (double)(wk->shared.ncell + wk->own[k].ncell + wk->own[k].npart + field);
+    }
+    return total;
+}
+
 double qt_accelerations_masked(const qt_tree *t, double G, double theta, size_t first, size_t count,
                                const unsigned char *active, double *acc, double *pot)
 {
     double total = 0;
     int failed = 0;
-    const long ng = (long)t->ngroups;
+    /* A block step's few active particles walk by group, as before
+     * super-groups: a super-group walks all its groups even for one active
+     * particle (so that its forces do not depend on which are asked for). */
+    const int root_walks = t->root_walks || active;
+    const long n = (long)(root_walks ? t->ngroups : t->nsupers);
 #pragma omp parallel reduction(+ : total) reduction(| : failed)
     {
-        qt_lists l = {0};
-#pragma omp for schedule(dynamic, 4)
-        for (long k = 0; k < ng; k++) {
-            const qt_node *g = &t->nodes[t->groups[k]];
-            qt_targets tg;
-            size_t js[QT_GROUP];
-            gather_targets(t, g, first, count, active, &tg, js);
-            if (!tg.n || failed) /* a group with none of the requested particles costs nothing */
+        qt_work w = {0};
+#pragma omp for schedule(dynamic, 1)
+        for (long k = 0; k < n; k++) {
+            if (failed)
                 continue;
-            if (make_lists(t, g, theta, &l) != 0) {
+            double done = root_walks ? group_from_root(t, (size_t)k, G, theta, first, count, active, &w, acc, pot)
+                                        : super_group(t, (size_t)k, G, theta, first, count, active, &w, acc, pot);
+            if (done < 0)
                 failed = 1;
-                continue;
-            }
-            apply_lists(t, &l, G, first, &tg, js, acc, pot);
-            total += (double)tg.n * (double)(l.ncell + l.npart);
+            else
+                total += done;
         }
-        free(l.c);
-        free(l.p);
+        free_work(&w);
     }
     return failed ? -1.0 : total;
 }
@@ -527,6 +812,8 @@ void qt_free(qt_tree *t)
     free(t->dest);
     free(t->sort_tmp);
     free(t->groups);
+    free(t->supers);
+    free(t->super_first_group);
     free(t->px);
     free(t->walk);
     memset(t, 0, sizeof *t);

@@ -7,7 +7,13 @@
  * of centre of mass c is taken whole for a group of centre g and radius
  * r_g when |c - g| - r_g > b_max / theta, b_max being the largest distance
  * from c to any of the cell's particles. Every particle of the group is then
- * at least b_max / theta from c, so the error bound holds for each of them. */
+ * at least b_max / theta from c, so the error bound holds for each of them.
+ *
+ * The groups of a super-group (the largest nodes with at most QT_SUPER
+ * particles, ~8 groups) walk the tree together, once: each node is tested
+ * for the groups that opened all its ancestors, so each group gets the
+ * lists of its own walk from the root, and the cells all of them take
+ * whole are listed (and their moments converted) once, for all. */
 #ifndef NBODY_QTREE_H
 #define NBODY_QTREE_H
 
@@ -44,6 +50,11 @@ typedef struct qt_tree {
     size_t n;
     int *groups; /* the nodes walked as groups: the largest with at most QT_GROUP particles */
     size_t ngroups, groups_cap;
+    int *supers;               /* super-groups: the largest nodes with at most QT_SUPER particles */
+    size_t *super_first_group; /* super s holds groups super_first_group[s] .. [s + 1] - 1 */
+    size_t nsupers, supers_cap;
+    int root_walks; /* set by the caller: every group walks the tree from its root, without its super-group's walk
+                       (the walk before super-groups, kept for `bench_nbody steps` to compare; block sub-steps use it) */
     double *px, *py, *pz, *pm, *pe2; /* particles in tree order (structure of arrays) */
     qt_walk_node *walk;              /* nnodes of them, for the walk */
     size_t walk_cap;
@@ -54,6 +65,16 @@ typedef struct qt_tree {
 #endif
 #ifndef QT_GROUP
 #define QT_GROUP 64
+#endif
+#ifndef QT_SUPER
+#define QT_SUPER 512
+#endif
+#ifndef QT_FAR
+#define QT_FAR 2.8 /* cells beyond QT_FAR / theta times a super-group's radius act through its field
+                      (qtree_kernels.h): 4 radii at theta = 0.7, none as theta -> 0 */
+#endif
+#ifndef QT_FIELD_MIN
+#define QT_FIELD_MIN 64 /* the least particles of a super-group with a field (its grid costs 27 or 54 targets) */
 #endif
 
 /* Builds the tree over n particles (pos: x, y, z of particle i at 3i;

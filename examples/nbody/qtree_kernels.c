@@ -110,3 +110,43 @@ void qt_parts_on(const qt_lists *l, const qt_targets *g, qt_sums *out)
 {
     parts_on_all(l, g, out);
 }
+
+/* The quadratic Lagrange polynomials through -1, 0 and 1, at u. */
+static ORR_ALWAYS_INLINE void lagrange3(float u, float w[3])
+{
+    w[0] = 0.5f * u * (u - 1.0f);
+    w[1] = 1.0f - u * u;
+    w[2] = 0.5f * u * (u + 1.0f);
+}
+
+/* One target a lane: the same operations in the same order on any width. */
+ORR_WIDE_VECTOR_CLONES
+static void field_on_all(const qt_field *f, const qt_targets *g, qt_sums *out)
+{
+    const float inv_h = 1.0f / f->h;
+#pragma omp simd
+    for (size_t i = 0; i < g->n; i++) {
+        float wx[3], wy[3], wz[3];
+        lagrange3(g->x[i] * inv_h, wx);
+        lagrange3(g->y[i] * inv_h, wy);
+        lagrange3(g->z[i] * inv_h, wz);
+        const float s = (g->e2[i] - f->e2lo) * f->inv_de2;
+        float ax = 0, ay = 0, az = 0, ph = 0;
+        for (int k = 0; k < 27; k++) {
+            const float w = wx[k % 3] * wy[k / 3 % 3] * wz[k / 9];
+            ax += w * (f->f0[0][k] + s * f->d[0][k]);
+            ay += w * (f->f0[1][k] + s * f->d[1][k]);
+            az += w * (f->f0[2][k] + s * f->d[2][k]);
+            ph += w * (f->f0[3][k] + s * f->d[3][k]);
+        }
+        out->ax[i] += ax;
+        out->ay[i] += ay;
+        out->az[i] += az;
+        out->phi[i] += ph;
+    }
+}
+
+void qt_field_on(const qt_field *f, const qt_targets *g, qt_sums *out)
+{
+    field_on_all(f, g, out);
+}

@@ -68,4 +68,27 @@ void qt_cells_on(const qt_lists *l, const qt_targets *g, qt_sums *out);
  * -m / eps in the potential, which the caller removes. */
 void qt_parts_on(const qt_lists *l, const qt_targets *g, qt_sums *out);
 
+/* The pull of a super-group's far cells (qtree.c: those farther than
+ * QT_FAR times its radius h from its centre of mass) as a field: their
+ * acceleration and potential computed at the 27 points of the grid
+ * {-h, 0, h}^3 about the centre (k = a + 3 b + 9 c for offsets (a - 1, b - 1,
+ * c - 1) h), once with the least softening^2 of the super-group's
+ * particles (f0) and once with the largest (d: that minus f0, 0 when they
+ * are the same). */
+typedef struct qt_field {
+    float h, e2lo, inv_de2; /* inv_de2: 1 / (largest - least softening^2), or 0 */
+    float f0[4][27], d[4][27]; /* ax, ay, az, phi */
+} qt_field;
+
+/* The field at each target (offsets from the super-group's centre, within
+ * h of it): interpolated by the tensor product of quadratic Lagrange
+ * polynomials through the grid, and linearly in the target's softening^2
+ * (the pair rule's eps^2 enters as r^2 + eps^2 / 2, and far cells are
+ * many softening lengths away). The far field is smooth over the
+ * super-group: for a cell at distance D the interpolation's error is of
+ * order (h / D)^3 of its pull. Vectorised over the targets, one a lane,
+ * with no sums across lanes: the same bits on every vector width. Adds to
+ * out. */
+void qt_field_on(const qt_field *f, const qt_targets *g, qt_sums *out);
+
 #endif

@@ -4,6 +4,7 @@
  * the particles of a galaxy-like mix are within 1%; a process's slice gets
  * the same accelerations bit for bit; potentials sum to the direct ones. */
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -107,9 +108,48 @@ int main(void)
     double inter_all = qt_accelerations_of(&t, G, 0.7, first, count, acc_direct, NULL);
     CHECK(memcmp(acc_direct, &acc_tree[3 * first], 3 * count * sizeof *acc_direct) == 0);
 
-    /* Active particles only (a block time step): every third particle of
-     * the slice gets the same numbers bit for bit, the others are left as
-     * they were (NaN here). */
+    /* Super-groups walk the tree once for all their groups (qtree.c,
+     * multi_walk), giving every group the lists of its own walk from the
+     * root (the walk of commit f4e2010, kept behind root_walks), except the
+     * cells far from the whole super-group, which act through its field
+     * (qt_field): fewer interactions, forces within 0.2% of the root walks'
+     * and as close to direct summation; and the same bits on one thread and
+     * on two. */
+    CHECK(t.nsupers > 4 && t.nsupers < t.ngroups);
+    static double acc_root[3 * N];
+    qt_direct(pos, mass, eps, N, G, 0, N, acc_direct, NULL);
+    t.root_walks = 1;
+    double inter_root = qt_accelerations_of(&t, G, 0.7, 0, N, acc_tree, NULL);
+    double p99_root = error_percentile(99);
+    memcpy(acc_root, acc_tree, sizeof acc_root);
+    t.root_walks = 0;
+    double inter_super = qt_accelerations_of(&t, G, 0.7, 0, N, acc_tree, NULL);
+    double p99_super = error_percentile(99);
+    CHECK(inter_super < 0.97 * inter_root);
+    double worst = 0;
+    for (int i = 0; i < N; i++) {
+        const double *a = &acc_tree[3 * i], *b = &acc_root[3 * i];
+        double d[3] = {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
+        worst = fmax(worst, sqrt((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / (b[0] * b[0] + b[1] * b[1] + b[2] * b[2])));
+    }
+    fprintf(stderr, "super-group walks: %.0f interactions (root walks %.0f), largest difference %.2g, 99th percentile "
+            "error %.3g (root walks %.3g)\n", inter_super, inter_root, worst, p99_super, p99_root);
+    CHECK(worst > 0 && worst < 2e-3);
+    CHECK(p99_super < 1.05 * p99_root);
+    omp_set_num_threads(1);
+    qt_accelerations_of(&t, G, 0.7, 0, N, acc_direct, NULL);
+    omp_set_num_threads(2);
+    qt_accelerations_of(&t, G, 0.7, 0, N, acc_tree, NULL);
+    CHECK(memcmp(acc_direct, acc_tree, 3 * N * sizeof *acc_tree) == 0);
+
+    /* Active particles only (a block time step's sub-steps, which walk by
+     * group from the root): every third particle of the slice gets the
+     * numbers of the root walks for all, bit for bit, the others are left
+     * as they were (NaN here). */
+    t.root_walks = 1;
+    qt_accelerations_of(&t, G, 0.7, 0, N, acc_tree, NULL);
+    inter_all = qt_accelerations_of(&t, G, 0.7, first, count, acc_direct, NULL);
+    t.root_walks = 0;
     unsigned char *active = malloc(count);
     for (size_t o = 0; o < count; o++) {
         active[o] = o % 3 == 0;
