@@ -34,6 +34,11 @@ typedef struct orr_source_info {
      * nparts) yields only part share_part of share_nparts, and count is
      * that part's; share_nparts 0: the whole source. */
     int share_part, share_nparts;
+    /* The FITS units of the masses and lengths as read, when the file states
+     * them as FITS can say them ("10**10 solMass", "kpc"; HDF5 snapshots:
+     * readers/hdf5_units.c); "" unknown. Renders take them for BUNIT and
+     * CUNIT where the scene names none (docs/output.md#units). */
+    char mass_unit[32], length_unit[16];
     int nheader;            /* header values and units, for `orrery info` */
     orr_header_entry header[ORR_SOURCE_MAX_HEADER];
 } orr_source_info;
