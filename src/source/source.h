@@ -4,6 +4,7 @@
 #ifndef ORR_SOURCE_SOURCE_H
 #define ORR_SOURCE_SOURCE_H
 
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -83,6 +84,9 @@ struct orr_source {
     orr_chunk chunk;
     const orr_source_ops *ops;
     void *state;
+    /* When set, orr_source_next fails with ORR_ERR_CANCELLED once *cancel
+     * is nonzero (orrery_cancel: the in-situ API's source). */
+    const atomic_int *cancel;
 };
 
 /* Allocates a source of the named format reading path, with ops and a
