@@ -38,7 +38,7 @@ typedef struct orr_source_info {
     /* The FITS units of the masses and lengths as read, when the file states
      * them as FITS can say them ("10**10 solMass", "kpc"; HDF5 snapshots:
      * readers/hdf5_units.c); "" unknown. Renders take them for BUNIT and
-     * CUNIT where the scene names none (docs/output.md#units). */
+     * CUNIT where the scene names none (docs/output.md). */
     char mass_unit[32], length_unit[16];
     int nheader;            /* header values and units, for `orrery info` */
     orr_header_entry header[ORR_SOURCE_MAX_HEADER];

@@ -1,6 +1,6 @@
 /* The units of an HDF5 snapshot's masses and lengths as FITS unit strings
  * (info->mass_unit, info->length_unit), so renders of it carry BUNIT and
- * CUNIT when the scene names no units (docs/output.md#units).
+ * CUNIT when the scene names no units (docs/output.md, What a pixel holds).
  *
  * SWIFT states its unit system in the group Units ("Unit mass in cgs
  * (U_M)", "Unit length in cgs (U_L)") and each dataset's cosmological
@@ -107,13 +107,14 @@ static int read_system(hid_t file, unit_system *u)
     hid_t params = open_quietly(file, "Parameters", 0);
     int found;
     if (units >= 0) {
-        found = read_number(units, "Unit mass in cgs (U_M)", &u->mass_g) &
+        found = read_number(units, "Unit mass in cgs (U_M)", &u->mass_g) &&
                 read_number(units, "Unit length in cgs (U_L)", &u->length_cm);
         u->h_exponent = "h-scale exponent";
         u->a_exponent = "a-scale exponent";
         u->has_a = read_number(header, "Scale-factor", &u->a);
     } else {
-        found = read_number(params, "UnitMass_in_g", &u->mass_g) & read_number(params, "UnitLength_in_cm", &u->length_cm);
+        found = read_number(params, "UnitMass_in_g", &u->mass_g) &&
+                read_number(params, "UnitLength_in_cm", &u->length_cm);
         u->h_exponent = "h_scaling";
         u->a_exponent = "a_scaling";
         double on = 0;
