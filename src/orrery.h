@@ -35,6 +35,7 @@ extern "C" {
 #define ORRERY_ERR_DATA 5   /* the particles are unusable (NaN, a missing observer particle, ...) */
 #define ORRERY_ERR_NOMEM 6
 #define ORRERY_ERR_INTERNAL 7
+#define ORRERY_ERR_CANCELLED 8 /* orrery_cancel stopped the render */
 
 typedef enum { ORR_F32 = 1, ORR_F64 = 2 } orr_dtype;
 
@@ -156,6 +157,14 @@ const char *orrery_image_header(const orrery_renderer *r, int i);
  * of total (-1 when unknown). NULL turns it off. Returns ORRERY_OK. */
 typedef void (*orrery_progress_fn)(void *user, uint64_t done, int64_t total);
 int orrery_set_progress(orrery_renderer *r, orrery_progress_fn fn, void *user);
+
+/* Asks the render running in r to stop: from its progress callback, or
+ * from another thread. The render stops before it reads its next chunk
+ * (a request after the last chunk still stops it), writes no file, keeps
+ * no image, and orrery_render returns ORRERY_ERR_CANCELLED; r renders the
+ * next frame as usual. orrery_render clears the request when it begins, so
+ * a request made while nothing renders is forgotten. Returns ORRERY_OK. */
+int orrery_cancel(orrery_renderer *r);
 
 /* ---- Particle files read with orrery's own readers (every format
  * `orrery render` reads: docs/input.md), one chunk at a time, for callers

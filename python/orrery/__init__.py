@@ -9,11 +9,11 @@ docs/python.md says more.
 """
 from . import _paths
 from ._reader import File, open
-from .scene import Image, OrreryError, Scene, parse_header, render
+from .scene import Cancelled, Image, OrreryError, Scene, parse_header, render
 
 # CMakeLists.txt's project() version, written into _paths.py by the build
 # (CMake's, or pip's: python/backend/orrery_build.py).
 __version__ = _paths.VERSION
 
 # (orrery.open is not in __all__: `from orrery import *` would hide the builtin open.)
-__all__ = ["__version__", "File", "Image", "OrreryError", "Scene", "parse_header", "render"]
+__all__ = ["__version__", "Cancelled", "File", "Image", "OrreryError", "Scene", "parse_header", "render"]

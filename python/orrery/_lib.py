@@ -89,6 +89,7 @@ _prototypes = {
     "orrery_image_header": (ctypes.c_char_p, [_renderer, ctypes.c_int]),
     "orrery_particle_arrays_size": (ctypes.c_size_t, []),
     "orrery_set_progress": (ctypes.c_int, [_renderer, PROGRESS_FN, ctypes.c_void_p]),
+    "orrery_cancel": (ctypes.c_int, [_renderer]),
     "orrery_reader_open": (ctypes.c_int, [_P(_reader), ctypes.c_char_p, ctypes.c_char_p, ctypes.c_size_t,
                                           _P(ctypes.c_char_p), ctypes.c_int, ctypes.c_char_p, ctypes.c_size_t]),
     "orrery_reader_format": (ctypes.c_char_p, [_reader]),

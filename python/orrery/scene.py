@@ -22,6 +22,13 @@ class OrreryError(Exception):
         self.code = code
 
 
+class Cancelled(BaseException):
+    """A render stopped by its progress callback returning False: nothing
+    was written and no image is returned. A BaseException, as
+    KeyboardInterrupt and asyncio.CancelledError are, so that an
+    `except Exception` meant for bad input does not swallow the stop."""
+
+
 LONG_MAX = 2 ** (8 * ctypes.sizeof(ctypes.c_long) - 1) - 1  # orrery_render's frame is a C long
 
 
@@ -213,8 +220,11 @@ class Scene:
         units (astropy, unyt) are converted to scene.units: lengths to
         output.length_unit, masses to output.bunit; refused (ValueError
         naming the unit) where the scene states none. progress(done, total)
-        is called between chunks of particles (in this thread); an exception
-        it raises is raised when the render ends.
+        is called between chunks of particles (in this thread). When it
+        returns False (not None) the render stops before its next chunk and
+        raises orrery.Cancelled; when it raises, the render stops the same
+        way and its exception is raised. A stopped render writes no file
+        and returns no image; the Scene renders again as usual.
 
         One Scene renders one thing at a time: a render started while it
         renders in another thread raises OrreryError (a Scene per thread
@@ -239,11 +249,16 @@ class Scene:
         raised = []
 
         def report(user, done, total):
-            if not raised:
-                try:
-                    progress(done, total)
-                except BaseException as e:  # not through C: raised when the render returns
-                    raised.append(e)
+            if raised:
+                return
+            try:
+                if progress(done, total) is False:
+                    raised.append(Cancelled(f"orrery: the progress callback stopped the render after {done} "
+                                            f"of {total} particles"))
+            except BaseException as e:  # not through C: raised when the render returns
+                raised.append(e)
+            if raised:
+                lib.orrery_cancel(self._r)  # stops before the next chunk
 
         callback = PROGRESS_FN(report) if progress else ctypes.cast(None, PROGRESS_FN)
         lib.orrery_set_progress(self._r, callback, None)
@@ -251,7 +266,7 @@ class Scene:
             st = lib.orrery_render(self._r, ctypes.byref(arrays.c), frame)
         finally:
             lib.orrery_set_progress(self._r, ctypes.cast(None, PROGRESS_FN), None)
-        if raised:
+        if raised:  # the render stopped (CANCELLED) at the chunk after the callback's
             raise raised[0]
         if st != 0:
             raise OrreryError(lib.orrery_error(self._r).decode(errors="replace"), st)

@@ -14,7 +14,8 @@ typedef enum {
     ORR_ERR_FORMAT = 4,  /* a file was read but its contents are wrong */
     ORR_ERR_DATA = 5,    /* the particles themselves are unusable (NaN, ...) */
     ORR_ERR_NOMEM = 6,
-    ORR_ERR_INTERNAL = 7
+    ORR_ERR_INTERNAL = 7,
+    ORR_ERR_CANCELLED = 8 /* the caller asked the work to stop (orrery_cancel) */
 } orr_status;
 
 #define ORR_ERROR_MSG_MAX 1024

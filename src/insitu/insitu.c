@@ -2,6 +2,7 @@
  * from a simulation's arrays at every call. */
 #include "orrery.h"
 
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -30,6 +31,7 @@ struct orrery_renderer {
     const char *outputs[ORR_SCENE_MAX_VIEWS * ORR_RENDER_MAX_OUTPUTS];
     orrery_progress_fn progress; /* orrery_set_progress */
     void *progress_user;
+    atomic_int cancel;           /* orrery_cancel: the frame's source stops at its next chunk */
     int keep;             /* orrery_keep_images */
     orr_kept_images kept; /* ... the last frame's images */
     /* Made by orrery_open, executed by every orrery_render: the views'
@@ -147,6 +149,7 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
     r->noutputs = 0;
     orr_kept_clear(&r->kept);
     orr_error_clear(&r->err);
+    atomic_store(&r->cancel, 0);
     if (!p || frame < 0)
         return (int)orr_fail(&r->err, ORR_ERR_USAGE, "orrery_render: %s", p ? "negative frame number" : "no particles");
     const orr_scene *s0 = &r->views.view[0];
@@ -162,6 +165,7 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
          * the scene does not draw (the renderer selects input.types). */
         st = orr_arrays_source_open(p, "in-situ particles", (size_t)s0->input.chunk_size, 0, &src, &r->err);
     if (!st) {
+        src->cancel = &r->cancel;
         const orr_scene *list[ORR_SCENE_MAX_VIEWS];
         for (int k = 0; k < r->views.n; k++)
             list[k] = &r->frame_views[k];
@@ -203,6 +207,14 @@ const char *orrery_output(const orrery_renderer *r, int i)
 }
 
 double orrery_render_seconds(const orrery_renderer *r) { return r ? r->seconds : 0; }
+
+int orrery_cancel(orrery_renderer *r)
+{
+    if (!r)
+        return ORRERY_ERR_USAGE;
+    atomic_store(&r->cancel, 1);
+    return ORRERY_OK;
+}
 
 int orrery_set_progress(orrery_renderer *r, orrery_progress_fn fn, void *user)
 {

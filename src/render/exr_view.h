@@ -16,7 +16,7 @@
 #include "core/plane.h"
 
 /* R, G, B, A, xyz.X, xyz.Y, xyz.Z, a pop.NAME.Y per population, and the
- * dust's extinction.A_V */
+ * dust's extinction.V (A_V) */
 #define ORR_EXR_VIEW_MAX (8 + ORR_POPULATION_LAYERS_MAX)
 
 typedef struct orr_exr_view {

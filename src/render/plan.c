@@ -78,7 +78,7 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     if (s->colour.has_populations && s->output.exr_population_layers)
         v->nplanes += s->colour.populations.n;
     char unit[ORR_PLANE_NAME_MAX];
-    orr_brightness_unit(&v->proj, scene_weight_unit(s), scene_length_unit(s), unit, sizeof unit);
+    orr_brightness_unit(&v->proj, scene_weight_unit(s, NULL), scene_length_unit(s, NULL), unit, sizeof unit);
     for (int k = 0; k < v->nplanes && !st; k++) {
         char name[ORR_PLANE_NAME_MAX];
         plane_name(s, k, name, sizeof name);
@@ -506,6 +506,23 @@ static orr_status frame_particles(const orr_scene *s0, orr_source *given, orr_so
     return orr_scene_open_source(s0, fields, nfields, src, err);
 }
 
+/* The units the scene leaves open are the frame's source's when it states
+ * them (an HDF5 snapshot's, source.h): each view's planes' BUNIT and the
+ * length unit of its WCS (view_cards.c). Set every frame, since a run's
+ * frames may read other files. */
+static void frame_units(orr_plan *plan, const orr_source *src)
+{
+    const char *mass = src ? src->info.mass_unit : "", *length = src ? src->info.length_unit : "";
+    for (int k = 0; k < plan->n; k++) {
+        view_state *v = &plan->views[k];
+        snprintf(v->length_unit, sizeof v->length_unit, "%s", scene_length_unit(v->scene, length));
+        char unit[ORR_PLANE_NAME_MAX];
+        orr_brightness_unit(&v->proj, scene_weight_unit(v->scene, mass), v->length_unit, unit, sizeof unit);
+        for (int j = 0; j < v->nplanes; j++)
+            snprintf(v->planes[j].unit, sizeof v->planes[j].unit, "%s", unit);
+    }
+}
+
 /* Sets up each view's frame; returns how many were begun (their outputs
  * belong to the frame's batch). */
 static orr_status begin_frame(orr_plan *plan, const orr_eye_views *eyes, const orr_sky_frame *observer,
@@ -657,6 +674,8 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     charge(&views[0], ORR_STAGE_SETUP);
     if (!st)
         st = frame_particles(s0, given, &src, err);
+    if (!st)
+        frame_units(plan, src);
     charge(&views[0], ORR_STAGE_SOURCE);
     orr_lengths own_lengths = {0};
     orr_lengths *lengths = frame_lengths_for(plan, s0, given, par, &own_lengths);

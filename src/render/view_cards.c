@@ -155,7 +155,7 @@ void orr_view_frame_cards(view_state *v)
     orr_cards *h = &v->frame_cards;
     *h = v->cards;
     set_frame_values(v, h);
-    orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, scene_length_unit(s)};
+    orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, v->length_unit};
     orr_wcs_add_cards(h, &wcs);
     orr_cards_append(h, &v->stereo_cards);
     orr_cards_set_double(h, "CONVERG", rep->stereo_convergence);

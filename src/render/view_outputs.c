@@ -182,7 +182,7 @@ static orr_status write_exr(view_state *v, const orr_plane *av, orr_error *err)
     orr_status st = view_output(v, "exr", &path, err);
     if (!st && !(st = orr_exr_view_build(&ev, v->planes, v->nplanes, &v->proj, "", err))) {
         if (av)
-            st = orr_exr_view_add(&ev, av, &v->proj, "extinction.A_V", err);
+            st = orr_exr_view_add(&ev, av, &v->proj, "extinction.V", err); /* A_V: V is the band */
         if (!st)
             st = orr_exr_view_write(path, ev.channels, ev.n, v->scene->output.exr_half, &meta, err);
         orr_exr_view_free(&ev);

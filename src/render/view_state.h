@@ -29,6 +29,7 @@ typedef struct view_state {
     orr_projection base_proj;   /* the scene's projection, set up */
     orr_projection proj;        /* this frame's: base_proj, with a stereo eye's principal point */
     orr_mat3 world_to_camera;
+    char length_unit[ORR_NAME_MAX]; /* the frame's unit of scene lengths: the scene's, else its file's, or "" */
     orr_plane planes[ORR_PLANES_MAX]; /* the weight plane, or CIE X, Y, Z with colour (then each
                                       * population's Y with output.exr_population_layers) */
     int nplanes;

@@ -59,19 +59,25 @@ orr_status scene_check_output_keys(const orr_scene *s, const scene_marks *m, orr
 }
 
 
-const char *scene_weight_unit(const orr_scene *s)
+const char *scene_weight_unit(const orr_scene *s, const char *file_mass)
 {
     if (s->output.bunit[0])
         return s->output.bunit;
     int weighs_mass = strcmp(s->input.weight, "mass") == 0 && !s->colour.has_populations && !s->compose.nlayers;
-    return s->input.model.name[0] && weighs_mass ? "10**10 solMass" : "";
+    if (!weighs_mass)
+        return "";
+    if (s->input.model.name[0])
+        return "10**10 solMass";
+    return file_mass ? file_mass : "";
 }
 
-const char *scene_length_unit(const orr_scene *s)
+const char *scene_length_unit(const orr_scene *s, const char *file_length)
 {
     if (s->output.length_unit[0])
         return s->output.length_unit;
-    return s->input.model.name[0] ? "kpc" : "";
+    if (s->input.model.name[0])
+        return "kpc";
+    return file_length ? file_length : "";
 }
 
 /* A key that a HEALPix map cannot honour, and why. */

@@ -22,11 +22,12 @@ orr_status scene_check_healpix(orr_scene *s, const scene_marks *m, orr_error *er
 
 /* The FITS unit of a particle's weight: output.bunit when given; for the
  * built-in model weighted by mass, its documented unit (10^10 solar masses,
- * docs/model.md); else "" (unknown). */
-const char *scene_weight_unit(const orr_scene *s);
+ * docs/model.md); weighted by mass, the file's mass unit file_mass (a
+ * source's info.mass_unit; NULL or "" unknown); else "" (unknown). */
+const char *scene_weight_unit(const orr_scene *s, const char *file_mass);
 
 /* The FITS unit of scene lengths: output.length_unit when given; kpc for the
- * built-in model; else "" (unknown). */
-const char *scene_length_unit(const orr_scene *s);
+ * built-in model; the file's file_length (NULL or "" unknown); else "". */
+const char *scene_length_unit(const orr_scene *s, const char *file_length);
 
 #endif

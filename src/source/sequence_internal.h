@@ -21,6 +21,7 @@ typedef struct snapshot {
     uint8_t *type;
     int has_id, has_type;
     double h_support;
+    char mass_unit[32], length_unit[16]; /* the file's FITS units (source.h), "" unknown */
     int nextra;
     char names[ORR_MAX_EXTRA_FIELDS][ORR_FIELD_NAME_MAX];
     float *extra[ORR_MAX_EXTRA_FIELDS];

@@ -57,6 +57,8 @@ static void snapshot_describe(snapshot *sn, const orr_source_info *info)
     sn->has_id = info->has_id;
     sn->has_type = info->has_type;
     sn->h_support = info->h_support;
+    snprintf(sn->mass_unit, sizeof sn->mass_unit, "%s", info->mass_unit);
+    snprintf(sn->length_unit, sizeof sn->length_unit, "%s", info->length_unit);
     sn->nextra = info->nextra;
     for (int v = 0; v < NVEL; v++)
         sn->vel[v] = -1;

@@ -239,6 +239,11 @@ static orr_status make_source(orr_sequence *seq, seq_cursor *proto, double time,
     info->has_id = a->has_id;
     info->has_type = a->has_type;
     info->h_support = a->h_support;
+    /* Units both snapshots agree on (a file's, unknown in the other: none). */
+    if (!b || strcmp(a->mass_unit, b->mass_unit) == 0)
+        snprintf(info->mass_unit, sizeof info->mass_unit, "%s", a->mass_unit);
+    if (!b || strcmp(a->length_unit, b->length_unit) == 0)
+        snprintf(info->length_unit, sizeof info->length_unit, "%s", a->length_unit);
     info->nextra = cur->nyield;
     const char *names[ORR_MAX_EXTRA_FIELDS];
     for (int e = 0; e < cur->nyield; e++) {

@@ -8,6 +8,11 @@
 orr_status orr_source_next(orr_source *src, const orr_chunk **out, orr_error *err)
 {
     src->chunk.n = 0;
+    *out = &src->chunk;
+    /* Checked here, between chunks, where every pass over the particles
+     * (the splat, smoothing lengths, the observer's frame) asks for more. */
+    if (src->cancel && atomic_load(src->cancel))
+        return orr_fail(err, ORR_ERR_CANCELLED, "%s: the render was cancelled (orrery_cancel)", src->info.path);
     orr_status st = src->ops->next(src, err);
     *out = &src->chunk;
     return st;

@@ -4,6 +4,7 @@
 #ifndef ORR_SOURCE_SOURCE_H
 #define ORR_SOURCE_SOURCE_H
 
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdio.h>
 
@@ -34,6 +35,11 @@ typedef struct orr_source_info {
      * nparts) yields only part share_part of share_nparts, and count is
      * that part's; share_nparts 0: the whole source. */
     int share_part, share_nparts;
+    /* The FITS units of the masses and lengths as read, when the file states
+     * them as FITS can say them ("10**10 solMass", "kpc"; HDF5 snapshots:
+     * readers/hdf5_units.c); "" unknown. Renders take them for BUNIT and
+     * CUNIT where the scene names none (docs/output.md). */
+    char mass_unit[32], length_unit[16];
     int nheader;            /* header values and units, for `orrery info` */
     orr_header_entry header[ORR_SOURCE_MAX_HEADER];
 } orr_source_info;
@@ -78,6 +84,9 @@ struct orr_source {
     orr_chunk chunk;
     const orr_source_ops *ops;
     void *state;
+    /* When set, orr_source_next fails with ORR_ERR_CANCELLED once *cancel
+     * is nonzero (orrery_cancel: the in-situ API's source). */
+    const atomic_int *cancel;
 };
 
 /* Allocates a source of the named format reading path, with ops and a

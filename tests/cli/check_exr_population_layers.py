@@ -14,7 +14,7 @@ import subprocess
 import numpy as np
 from astropy.io import fits
 
-from check_lib import Checks, read_exr
+from check_lib import Checks, blender_pass, read_exr
 
 check = Checks()
 orrery, work = check.orrery, check.work
@@ -83,6 +83,9 @@ def check_sum(name, ch, fft_psf=False):
 CIC = EDGE_ON + DUST + "deposit: cic\n"
 spec, ch = render("cic", CIC)
 check(set(spec.channelnames) == BASE_CHANNELS | set(LAYERS), f"channels {sorted(spec.channelnames)}")
+dropped = [name for name in spec.channelnames if blender_pass(name) is None]
+check(not dropped, f"Blender's multilayer reader would drop {dropped}")
+check(blender_pass("pop.young-disc.Y") == ("pop", "young-disc", "Y"), "pop.young-disc.Y: not Blender's pass young-disc")
 check_sum("cic", ch)
 with fits.open(f"{work}/out/cic.fits") as hdul:
     names = [h.name for h in hdul if h.name in ("X", "Y", "Z") or h.name.startswith("POP")]

@@ -32,6 +32,32 @@ def colour_dome_scene(size, output):
             "output:\n" + output)
 
 
+def blender_pass(name):
+    """How Blender's multilayer OpenEXR reader (3.4, imbuf's
+    imb_exr_split_channel_name) files a channel: (layer, pass, channel id),
+    or None where it drops the channel. A one-letter name is a pass of the
+    unnamed layer (R, G, B, A the Combined pass); otherwise, split at the
+    dots from the end: the channel (one letter, two letters whose second is
+    one of XYZRGBUVA, or red, green, blue, alpha, depth), the pass, then the
+    layer (all the rest, maybe empty). Written from the reader's rules, to
+    check names without Blender at hand."""
+    if len(name) == 1:
+        return "", "Combined" if name in "RGBA" else name, name.upper()
+    head, dot, channel = name.rpartition(".")
+    if not dot or not channel:
+        return None
+    if len(channel) == 2 and channel[1].upper() in "XYZRGBUVA":
+        chan_id = channel[1].upper()
+    elif len(channel) == 1:
+        chan_id = channel.upper()
+    else:
+        chan_id = {"red": "R", "green": "G", "blue": "B", "alpha": "A", "depth": "Z"}.get(channel.lower())
+    if chan_id is None:
+        return None
+    layer, _, pass_name = head.rpartition(".")
+    return (layer, pass_name, chan_id) if pass_name else None
+
+
 def read_exr(path):
     """An EXR's spec and its channels by name, as float arrays, read with
     OpenImageIO (imported here: only the EXR checks need it)."""

@@ -323,6 +323,37 @@ static void test_struct_size(void)
     remove_tmpdir();
 }
 
+static void cancel_at_first_call(void *user, uint64_t done, int64_t total)
+{
+    (void)done;
+    (void)total;
+    CHECK(orrery_cancel(user) == ORRERY_OK);
+}
+
+/* orrery_cancel from the progress callback (here after the only chunk):
+ * the frame stops with its own code, writes nothing, keeps nothing; the
+ * next frame renders. */
+static void test_cancel(void)
+{
+    char path[512];
+    orrery_renderer *r = open_in_tmpdir();
+    if (!r)
+        return;
+    orr_particle_arrays p = aos_arrays();
+    CHECK(orrery_keep_images(r, 1) == ORRERY_OK);
+    CHECK(orrery_set_progress(r, cancel_at_first_call, r) == ORRERY_OK);
+    CHECK(orrery_render(r, &p, 0) == ORRERY_ERR_CANCELLED);
+    CHECK_CONTAINS(orrery_error(r), "cancelled");
+    snprintf(path, sizeof path, "%s/step_0000.fits", tmpdir);
+    CHECK(access(path, F_OK) != 0 && orrery_output_count(r) == 0 && orrery_image_count(r) == 0);
+    CHECK(orrery_set_progress(r, NULL, NULL) == ORRERY_OK);
+    CHECK(orrery_cancel(r) == ORRERY_OK); /* while nothing renders: forgotten by the next render */
+    CHECK(orrery_render(r, &p, 0) == ORRERY_OK && access(path, F_OK) == 0 && orrery_image_count(r) == 1);
+    CHECK(orrery_cancel(NULL) == ORRERY_ERR_USAGE);
+    orrery_close(r);
+    remove_tmpdir();
+}
+
 int main(void)
 {
     make_bodies();
@@ -330,6 +361,7 @@ int main(void)
     test_render_steps();
     test_kept_images();
     test_struct_size();
+    test_cancel();
     test_bad_strides();
     test_misaligned_arrays();
     return check_summary();

@@ -688,12 +688,15 @@ static void test_observer_checks(void)
 static void test_output_units(void)
 {
     EXPECT_OK(MODEL, NULL, 0);
-    CHECK(strcmp(scene_weight_unit(&g_scene), "10**10 solMass") == 0);
-    CHECK(strcmp(scene_length_unit(&g_scene), "kpc") == 0);
+    CHECK(strcmp(scene_weight_unit(&g_scene, NULL), "10**10 solMass") == 0);
+    CHECK(strcmp(scene_length_unit(&g_scene, NULL), "kpc") == 0);
     const char *sets[] = {"output.bunit=solMass", "output.length_unit=Mpc"};
     EXPECT_OK(MODEL, sets, 2);
-    CHECK(strcmp(scene_weight_unit(&g_scene), "solMass") == 0);
-    CHECK(strcmp(scene_length_unit(&g_scene), "Mpc") == 0);
+    CHECK(strcmp(scene_weight_unit(&g_scene, NULL), "solMass") == 0);
+    CHECK(strcmp(scene_length_unit(&g_scene, NULL), "Mpc") == 0);
+    /* The scene's keys win over a file's units. */
+    CHECK(strcmp(scene_weight_unit(&g_scene, "g"), "solMass") == 0);
+    CHECK(strcmp(scene_length_unit(&g_scene, "pc"), "Mpc") == 0);
     EXPECT_ERROR(MODEL "output:\n  bunit: mass/sr\n", ORR_ERR_USAGE, "scene.yaml:5: output.bunit: 'mass/sr' divides");
     EXPECT_ERROR(MODEL "output:\n  bunit: 'a,b'\n", ORR_ERR_USAGE, "output.bunit: 'a,b' is not a FITS unit string");
     EXPECT_ERROR(MODEL "output:\n  length_unit: kpc2\n", ORR_ERR_USAGE,

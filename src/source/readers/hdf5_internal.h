@@ -1,6 +1,7 @@
 /* Shared between the HDF5 snapshot reader's files: hdf5_reader.c (opening,
  * streaming particles), hdf5_files.c (finding the files, checking them) and
- * hdf5_header.c (the header and unit entries shown by `orrery info`). */
+ * hdf5_header.c (the header and unit entries shown by `orrery info`),
+ * hdf5_units.c (the units renders write into FITS headers). */
 #ifndef ORR_SOURCE_HDF5_INTERNAL_H
 #define ORR_SOURCE_HDF5_INTERNAL_H
 
@@ -35,6 +36,12 @@ const char *h5r_dataset_name_in(hid_t group, h5r_dataset kind);
  * be read is left out rather than failing the open. */
 void h5r_describe(orr_source_info *info, hid_t file, int ntypes,
                   const char example_group[DS_COUNT][H5R_GROUP_NAME]);
+
+/* Sets info->mass_unit and info->length_unit from the file's unit system
+ * (SWIFT's Units, Gadget-4's Parameters) and the cosmological factors of
+ * the datasets in example_group (hdf5_units.c); leaves them "" when the file
+ * states no units or they are no FITS unit. */
+void h5r_find_units(orr_source_info *info, hid_t file, const char example_group[DS_COUNT][H5R_GROUP_NAME]);
 
 /* The extra fields the reader can load. */
 enum { EX_VX, EX_VY, EX_VZ, EX_U, EX_RHO, EX_POT, EX_COUNT };

@@ -372,6 +372,7 @@ static orr_status open_snapshot(hdf5_state *st, orr_source *src, const orr_sourc
             s = h5r_named_missing(&st->named[i], st->first, fid, st->type_mask, st->ntypes, err);
     if (!s) {
         h5r_describe(&src->info, fid, st->ntypes, (const char(*)[H5R_GROUP_NAME])example);
+        h5r_find_units(&src->info, fid, (const char(*)[H5R_GROUP_NAME])example);
         if (st->nfiles > 1)
             orr_source_add_header(&src->info, "files", "%d (%s.0%s .. %s.%d%s)", st->nfiles, st->base, st->ext,
                                   st->base, st->nfiles - 1, st->ext);
