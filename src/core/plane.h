@@ -7,11 +7,11 @@
 #include "core/error.h"
 
 #define ORR_PLANE_NAME_MAX 64
-/* The populations whose Y a view can keep as planes of their own
+/* The populations whose light a view can keep as planes of their own
  * (output.exr_population_layers), and so a view's planes at most: the
- * weight, or CIE X, Y, Z and then one Y per population. */
+ * weight, or CIE X, Y, Z and then each population's X, Y, Z. */
 #define ORR_POPULATION_LAYERS_MAX 8
-#define ORR_PLANES_MAX (3 + ORR_POPULATION_LAYERS_MAX)
+#define ORR_PLANES_MAX (3 + 3 * ORR_POPULATION_LAYERS_MAX)
 
 typedef struct orr_plane {
     int width, height;

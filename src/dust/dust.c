@@ -297,11 +297,15 @@ orr_status orr_dust_weights(orr_dust_frame *f, const orr_dust_eye *eye, const or
             f->out[1][i] = xyz[1];
             f->out[2][i] = xyz[2];
         }
-        /* A population's Y (output.exr_population_layers) is the
-         * particle's Y or 0: its reddened Y or 0. */
-        for (int k = 3; k < nplanes; k++)
-            for (long i = 0; i < n; i++)
-                f->out[k][i] = w[k][i] != 0.0f ? f->out[1][i] : 0.0f;
+        /* A population's X, Y, Z (output.exr_population_layers) are the
+         * particle's or 0: its reddened X, Y, Z or 0. */
+        for (int k = 3; k < nplanes; k++) {
+            const float *const *mine = w + 3 + (k - 3) / 3 * 3; /* the population's three */
+            for (long i = 0; i < n; i++) {
+                int member = mine[0][i] != 0.0f || mine[1][i] != 0.0f || mine[2][i] != 0.0f;
+                f->out[k][i] = member ? f->out[(k - 3) % 3][i] : 0.0f;
+            }
+        }
     } else {
         for (int k = 0; k < nplanes; k++)
             for (long i = 0; i < n; i++)

@@ -18,8 +18,9 @@ typedef struct orr_output_settings {
     int write_exr;                /* output.exr: also NAME.exr, the linear planes as float OpenEXR
                                    * (default false) */
     int exr_half;                 /* output.exr_half: that file's samples as half floats (default false) */
-    int exr_population_layers;    /* output.exr_population_layers: each colour population's Y kept as a
-                                   * plane of its own and written as layer pop.NAME.Y (default false) */
+    int exr_population_layers;    /* output.exr_population_layers: each colour population's X, Y, Z kept
+                                   * as planes of their own and written as the layer NAME.R, NAME.G,
+                                   * NAME.B, NAME.A (default false) */
     int fits_compress;            /* output.fits_compress: orr_fits_compression of NAME.fits (default none) */
     char image_ext[16];           /* output.image: also the picture as NAME.EXT in this format, e.g.
                                    * tif, jpg, exr (by OpenImageIO; default none) */

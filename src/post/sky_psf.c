@@ -108,10 +108,11 @@ void orr_sky_psf_begin_frame(orr_sky_psf *sp)
 /* A star's fields as doubles (exactly: they are floats), brightness first:
  * the order stars are ranked in (star_cmp, the first STAR_RANK_FIELDS) and
  * the slots they are shared between processes in (orr_sky_psf_share). The
- * populations' Y (output.exr_population_layers) come last: each is the
- * star's Y or 0, so they rank only stars alike in every other field. */
+ * populations' X, Y, Z (output.exr_population_layers) come last: each is
+ * the star's or 0, so they rank only stars alike in every other field. */
 #define STAR_RANK_FIELDS 11
-#define STAR_FIELDS (STAR_RANK_FIELDS + ORR_POPULATION_LAYERS_MAX)
+#define STAR_POP_FIELDS (ORR_PLANES_MAX - 3)
+#define STAR_FIELDS (STAR_RANK_FIELDS + STAR_POP_FIELDS)
 
 static void star_pack_ranked(const orr_sky_star *s, double *d)
 {
@@ -124,7 +125,7 @@ static void star_pack_ranked(const orr_sky_star *s, double *d)
 static void star_pack(const orr_sky_star *s, double *d)
 {
     star_pack_ranked(s, d);
-    for (int k = 0; k < ORR_POPULATION_LAYERS_MAX; k++)
+    for (int k = 0; k < STAR_POP_FIELDS; k++)
         d[STAR_RANK_FIELDS + k] = s->w[3 + k];
 }
 
@@ -133,7 +134,7 @@ static orr_sky_star star_unpack(const double *d)
     orr_sky_star s = {.key = (float)d[0], .x = (float)d[1], .y = (float)d[2], .z = (float)d[3],
                       .w = {(float)d[4], (float)d[5], (float)d[6]}, .h = (float)d[7], .px = (float)d[8],
                       .py = (float)d[9], .scale = (float)d[10]};
-    for (int k = 0; k < ORR_POPULATION_LAYERS_MAX; k++)
+    for (int k = 0; k < STAR_POP_FIELDS; k++)
         s.w[3 + k] = (float)d[STAR_RANK_FIELDS + k];
     return s;
 }

@@ -25,8 +25,9 @@ static orr_status add_channel(orr_exr_view *v, const orr_projection *p, const ch
  * and the alpha to say it is empty. */
 static float finite_or_zero(float x) { return isfinite(x) ? x : 0.0f; }
 
-/* R, G, B from X, Y, Z, unclipped and unstretched: the light itself. */
-static void fill_rgb(orr_exr_view *v, const orr_plane *xyz, size_t npix)
+/* R, G, B (rgb[0..2]) from X, Y, Z, unclipped and unstretched: the light
+ * itself. */
+static void fill_rgb(orr_plane *rgb_out, const orr_plane *xyz, size_t npix)
 {
     for (size_t i = 0; i < npix; i++) {
         double in[3], rgb[3];
@@ -34,7 +35,7 @@ static void fill_rgb(orr_exr_view *v, const orr_plane *xyz, size_t npix)
             in[k] = finite_or_zero(xyz[k].data[i]);
         orr_xyz_to_linear_srgb(in, rgb);
         for (int k = 0; k < 3; k++)
-            v->channels[k].data[i] = (float)rgb[k];
+            rgb_out[k].data[i] = (float)rgb[k];
     }
 }
 
@@ -54,6 +55,33 @@ static void premultiply(orr_plane *colour, int n, const orr_plane *alpha, size_t
             colour[k].data[i] *= alpha->data[i];
 }
 
+/* A population's layer NAME.R, NAME.G, NAME.B, NAME.A from its planes
+ * NAME.X, NAME.Y, NAME.Z (render/plan.c), as the beauty's R, G, B, A are
+ * made from X, Y, Z: the populations' R, G, B sum to the beauty's (the
+ * matrix is linear), and each layer's A is the map's coverage, the
+ * beauty's A. */
+static orr_status add_population_layer(orr_exr_view *v, const orr_plane *pop_xyz, const orr_projection *p,
+                                       const char *prefix, orr_error *err)
+{
+    static const char *const rgba[] = {"R", "G", "B", "A"};
+    size_t npix = (size_t)p->width * (size_t)p->height;
+    const char *name = pop_xyz[0].name; /* NAME.X */
+    int len = (int)strlen(name) - 2;
+    orr_plane *layer = &v->channels[v->n];
+    orr_status st = ORR_OK;
+    for (int c = 0; c < 4 && !st; c++) {
+        char full[ORR_PLANE_NAME_MAX];
+        snprintf(full, sizeof full, "%.*s.%s", len, name, rgba[c]);
+        st = add_channel(v, p, prefix, full, err);
+    }
+    if (st)
+        return st;
+    fill_rgb(layer, pop_xyz, npix);
+    copy_finite(&layer[3], &v->channels[3], npix); /* the beauty's A */
+    premultiply(layer, 3, &layer[3], npix);
+    return ORR_OK;
+}
+
 static orr_status build(orr_exr_view *v, const orr_plane *planes, int nplanes, const orr_projection *p,
                         const char *prefix, orr_error *err)
 {
@@ -66,33 +94,31 @@ static orr_status build(orr_exr_view *v, const orr_plane *planes, int nplanes, c
     orr_status st = ORR_OK;
     for (int k = 0; k < count && !st; k++)
         st = add_channel(v, p, prefix, names[k], err);
-    for (int k = 3; k < nplanes && !st; k++) /* a population's Y: its plane's name, pop.NAME.Y */
-        st = add_channel(v, p, prefix, planes[k].name, err);
     if (st)
         return st;
     if (colour) {
-        fill_rgb(v, planes, npix);
+        fill_rgb(v->channels, planes, npix);
         orr_map_alpha_fill(p, v->channels[3].data);
         premultiply(v->channels, 3, &v->channels[3], npix);
         for (int k = 0; k < 3; k++)
             copy_finite(&v->channels[4 + k], &planes[k], npix);
-        for (int k = 3; k < nplanes; k++)
-            copy_finite(&v->channels[4 + k], &planes[k], npix);
+        for (int k = 3; k + 2 < nplanes && !st; k += 3)
+            st = add_population_layer(v, &planes[k], p, prefix, err);
     } else {
         copy_finite(&v->channels[0], &planes[0], npix);
         orr_map_alpha_fill(p, v->channels[1].data);
         premultiply(v->channels, 1, &v->channels[1], npix);
     }
-    return ORR_OK;
+    return st;
 }
 
 orr_status orr_exr_view_build(orr_exr_view *out, const orr_plane *planes, int nplanes, const orr_projection *p,
                               const char *prefix, orr_error *err)
 {
     memset(out, 0, sizeof *out);
-    if (nplanes != 1 && (nplanes < 3 || nplanes > ORR_PLANES_MAX))
-        return orr_fail(err, ORR_ERR_INTERNAL, "OpenEXR view of %d planes (1, or X, Y, Z and a Y per population "
-                                               "expected)", nplanes);
+    if (nplanes != 1 && (nplanes < 3 || nplanes > ORR_PLANES_MAX || nplanes % 3 != 0))
+        return orr_fail(err, ORR_ERR_INTERNAL, "OpenEXR view of %d planes (1, or X, Y, Z and X, Y, Z per "
+                                               "population expected)", nplanes);
     orr_status st = build(out, planes, nplanes, p, prefix, err);
     if (st)
         orr_exr_view_free(out);

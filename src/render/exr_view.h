@@ -2,11 +2,13 @@
  * RGB (Rec. 709 primaries, D65) in R, G, B from the X, Y, Z planes, with
  * the CIE planes kept as the layer xyz.X, xyz.Y, xyz.Z (a bare "Z" is depth
  * to Nuke, Blender and After Effects); a single weight plane as luminance Y;
- * and an alpha A that is 1 on the map (inside a dome's circle, a
- * Hammer-Aitoff ellipse; everywhere on the others) and 0 off it, where every
- * colour is 0, not NaN. With output.exr_population_layers the planes after
- * X, Y, Z (each population's Y, named pop.NAME.Y) follow as layers of their
- * own. docs/formats-out.md. */
+ * and an alpha A, each pixel's coverage of the map (1 inside a dome's
+ * circle, a Hammer-Aitoff ellipse, everywhere on the others), 0 off it,
+ * where every colour is 0, not NaN; colour premultiplied by it. With
+ * output.exr_population_layers the planes after X, Y, Z (each population's
+ * X, Y, Z, named NAME.X, NAME.Y, NAME.Z) become the layers NAME.R, NAME.G,
+ * NAME.B, NAME.A, made as R, G, B, A are, so they sum to them.
+ * docs/formats-out.md. */
 #ifndef ORR_RENDER_EXR_VIEW_H
 #define ORR_RENDER_EXR_VIEW_H
 
@@ -15,9 +17,9 @@
 #include "frame/projection.h"
 #include "core/plane.h"
 
-/* R, G, B, A, xyz.X, xyz.Y, xyz.Z, a pop.NAME.Y per population, and the
- * dust's extinction.V (A_V) */
-#define ORR_EXR_VIEW_MAX (8 + ORR_POPULATION_LAYERS_MAX)
+/* R, G, B, A, xyz.X, xyz.Y, xyz.Z, NAME.R, .G, .B, .A per population, and
+ * the dust's extinction.V (A_V) */
+#define ORR_EXR_VIEW_MAX (8 + 4 * ORR_POPULATION_LAYERS_MAX)
 
 typedef struct orr_exr_view {
     int n;
@@ -25,7 +27,7 @@ typedef struct orr_exr_view {
 } orr_exr_view;
 
 /* Builds the channels of planes (1 weight plane, or X, Y, Z and each
- * population's Y, named as the plane is), each name
+ * population's X, Y, Z, named NAME.X, ...), each name
  * prefixed with prefix ("" or a stereo eye's "left."). p is the view's
  * projection, for the alpha. On failure nothing stays allocated. */
 orr_status orr_exr_view_build(orr_exr_view *out, const orr_plane *planes, int nplanes, const orr_projection *p,

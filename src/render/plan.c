@@ -45,8 +45,9 @@ struct orr_plan {
  * PSF takes 0.3-2 s; a convolver plans its FFTs; the bright stars' PSF), a
  * sky map's index (0.1 s for a 3600^2 dome) and PSF core stamps (made as
  * stars land, and kept: a cell's stamps depend on the cell alone). */
-/* Plane k's name: the weight, or X, Y, Z with colour, then pop.NAME.Y for
- * each population (output.exr_population_layers), as the EXR's layers. */
+/* Plane k's name: the weight, or X, Y, Z with colour, then NAME.X,
+ * NAME.Y, NAME.Z for each population (output.exr_population_layers; the
+ * EXR makes its layer NAME.R, NAME.G, NAME.B, NAME.A of them). */
 static void plane_name(const orr_scene *s, int k, char *name, size_t size)
 {
     static const char *const xyz_names[3] = {"X", "Y", "Z"};
@@ -55,7 +56,7 @@ static void plane_name(const orr_scene *s, int k, char *name, size_t size)
     else if (k < 3)
         orr_snprintf(name, size, "%s", xyz_names[k]);
     else
-        orr_snprintf(name, size, "pop.%s.Y", s->colour.populations.pop[k - 3].name);
+        orr_snprintf(name, size, "%s.%s", s->colour.populations.pop[(k - 3) / 3].name, xyz_names[(k - 3) % 3]);
 }
 
 /* The view's PSF (post/view_psf.h): made once per run. */
@@ -76,7 +77,7 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     v->proj = v->base_proj;
     v->nplanes = s->colour.has_populations || s->compose.nlayers ? 3 : 1;
     if (s->colour.has_populations && s->output.exr_population_layers)
-        v->nplanes += s->colour.populations.n;
+        v->nplanes += 3 * s->colour.populations.n;
     char unit[ORR_PLANE_NAME_MAX];
     orr_brightness_unit(&v->proj, scene_weight_unit(s, NULL), scene_length_unit(s, NULL), unit, sizeof unit);
     for (int k = 0; k < v->nplanes && !st; k++) {

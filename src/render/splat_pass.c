@@ -84,7 +84,7 @@ typedef struct splat_work {
      * (1): the threads interleave the two, so the chunk's splat time is
      * shared between the stages in this proportion (--timings). */
     double split[MAX_LANES][2];
-    /* output.exr_population_layers: the planes after X, Y, Z (one Y per
+    /* output.exr_population_layers: the planes after X, Y, Z (X, Y, Z per
      * population), and each particle's population; 0 and NULL without. */
     int npop_planes;
     int32_t *pop_of;
@@ -276,17 +276,19 @@ static orr_status splat_view(view_state *v, const orr_source *src, const orr_chu
     return v->banded ? splat_view_banded(v, src, c, wts, w, err) : splat_view_lanes(v, src, c, wts, w, err);
 }
 
-/* Each particle's Y into its population's plane (xyz[3 + p]) and 0 into
- * the others', particles [start, start + count). A particle of no
- * population (pop < 0) has X = Y = Z = 0 and is in none. So the planes
- * sum, pixel by pixel, to the Y plane. */
-static void split_y_by_population(float *const *xyz, int npop, const int32_t *pop, size_t start, size_t count)
+/* Each particle's X, Y, Z into its population's planes (xyz[3 + 3p + c])
+ * and 0 into the others', particles [start, start + count). A particle of
+ * no population (pop < 0) has X = Y = Z = 0 and is in none. So the
+ * populations' planes sum, pixel by pixel, to the X, Y, Z planes. */
+static void split_xyz_by_population(float *const *xyz, int npop_planes, const int32_t *pop, size_t start,
+                                    size_t count)
 {
-    for (int p = 0; p < npop; p++) {
-        const float *restrict y = xyz[1] + start;
-        float *restrict out = xyz[3 + p] + start;
+    for (int k = 0; k < npop_planes; k++) {
+        const int p = k / 3;
+        const float *restrict in = xyz[k % 3] + start;
+        float *restrict out = xyz[3 + k] + start;
         for (size_t i = 0; i < count; i++)
-            out[i] = pop[i] == p ? y[i] : 0.0f;
+            out[i] = pop[i] == p ? in[i] : 0.0f;
     }
 }
 
@@ -310,7 +312,7 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
                                                  xyz[0] + start, xyz[1] + start, xyz[2] + start,
                                                  &work->lane_err[part]);
         if (pop && !st_part[part])
-            split_y_by_population(xyz, work->npop_planes, pop, start, count);
+            split_xyz_by_population(xyz, work->npop_planes, pop, start, count);
     }
     for (int part = 0; part < MAX_LANES; part++)
         if (st_part[part]) {
@@ -431,7 +433,7 @@ static orr_status alloc_work(splat_work *w, size_t capacity, int blur, orr_error
 }
 
 /* Room for a chunk's colour weights: X, Y, Z, and with population planes
- * (nplanes > 3) each population's Y and each particle's population. */
+ * (nplanes > 3) each population's X, Y, Z and each particle's population. */
 static orr_status alloc_colour_weights(splat_work *w, int nplanes, size_t cap, float **xyz, orr_error *err)
 {
     for (int k = 0; k < nplanes; k++)
@@ -517,7 +519,7 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
     for (int k = 0; k < nviews; k++)
         blur |= views[k].blur.active;
     orr_status st = alloc_work(work, src->chunk.capacity, blur, err);
-    /* With colour, a chunk's X, Y, Z weights (and each population's Y). */
+    /* With colour, a chunk's X, Y, Z weights (and each population's). */
     float *xyz[ORR_PLANES_MAX] = {NULL};
     size_t cap = views[0].scene->colour.has_populations ? src->chunk.capacity : 0;
     if (!st && cap)

@@ -25,9 +25,10 @@ static int is_layer_name(const char *name)
                           strlen(name);
 }
 
-/* output.exr_population_layers needs populations to split the Y plane
- * into, and the linear EXR to hold them; each population's name becomes
- * its layer's (spans the output, the colour populations and stereo). */
+/* output.exr_population_layers needs populations to split the X, Y, Z
+ * planes into, and the linear EXR to hold them; each population's name
+ * becomes its layer's, NAME.R ..., which may not be the EXR's own layers
+ * (spans the output, the colour populations and stereo). */
 static orr_status check_population_layers(const orr_scene *s, const scene_marks *m, orr_error *err)
 {
     static const char key[] = "output.exr_population_layers";
@@ -43,12 +44,17 @@ static orr_status check_population_layers(const orr_scene *s, const scene_marks 
     if (s->colour.populations.n > ORR_POPULATION_LAYERS_MAX)
         return scene_fail_key(s, m, key, err, "%s: at most %d populations, the scene has %d", key,
                               ORR_POPULATION_LAYERS_MAX, s->colour.populations.n);
-    for (int i = 0; i < s->colour.populations.n; i++)
-        if (!is_layer_name(s->colour.populations.pop[i].name))
+    for (int i = 0; i < s->colour.populations.n; i++) {
+        const char *name = s->colour.populations.pop[i].name;
+        if (!is_layer_name(name))
             return scene_fail_key(s, m, key, err,
-                                  "%s: population '%s' cannot name the layer pop.%s.Y: a layer name holds only "
+                                  "%s: population '%s' cannot name the layer %s.R: a layer name holds only "
                                   "letters, digits, '_' and '-'",
-                                  key, s->colour.populations.pop[i].name, s->colour.populations.pop[i].name);
+                                  key, name, name);
+        if (strcmp(name, "xyz") == 0 || strcmp(name, "extinction") == 0)
+            return scene_fail_key(s, m, key, err, "%s: population '%s' would name its layer as the EXR's own "
+                                  "layer %s; rename the population", key, name, name);
+    }
     return ORR_OK;
 }
 

@@ -1,6 +1,6 @@
-# output.exr_population_layers: each colour population's Y as the EXR layer
-# pop.NAME.Y (tests/cli/check_exr_population_layers.py, through OpenImageIO's
-# Python bindings), and the scenes the key is refused for.
+# output.exr_population_layers: each colour population's light as the EXR
+# layer NAME.R, NAME.G, NAME.B, NAME.A (tests/cli/check_exr_population_layers.py,
+# through OpenImageIO's Python bindings), and the scenes the key is refused for.
 source "$(dirname "$0")/lib.sh"
 
 MODEL='input:
@@ -30,7 +30,11 @@ expect_fail 2 "output.exr_population_layers: needs output.exr: true" none -- ren
 
 for bad in "old.red" "old red" "é"; do
   scene bad.yaml true "$(pops disc "$bad")"
-  expect_fail 2 "population '$bad' cannot name the layer pop\\.$bad\\.Y" none -- render bad.yaml
+  expect_fail 2 "population '$bad' cannot name the layer $bad\\.R" none -- render bad.yaml
+done
+for own in xyz extinction; do
+  scene own.yaml true "$(pops disc "$own")"
+  expect_fail 2 "population '$own' would name its layer as the EXR's own layer $own" none -- render own.yaml
 done
 
 scene nine.yaml true "$(pops p1 p2 p3 p4 p5 p6 p7 p8 p9)"
