@@ -44,6 +44,7 @@ static void free_level(coarse_level *l)
     free(l->col0);
     free(l->col_a);
     free(l->on_map);
+    free(l->norm);
 }
 
 void orr_coarse_glow_free(view_state *v)
@@ -178,6 +179,61 @@ static orr_status levels_reach(const view_state *v, coarse_glow *g, orr_error *e
     return fail ? orr_fail(err, ORR_ERR_NOMEM, "out of memory for the coarse glow of a %d x %d map", W, H) : ORR_OK;
 }
 
+/* The on-map neighbours of coarse pixel (i, j) (its 3 x 3 block): calls
+ * visit(l, neighbour, user) for each and returns how many. */
+static int on_map_neighbours(const coarse_level *l, int i, int j, void (*visit)(size_t, double, void *), double share,
+                             void *user)
+{
+    const int w = l->proj.width, h = l->proj.height;
+    int n = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        if (pass == 1 && !visit)
+            break;
+        for (int dj = -1; dj <= 1; dj++)
+            for (int di = -1; di <= 1; di++) {
+                const int a = i + di, b = j + dj;
+                if (a < 0 || a >= w || b < 0 || b >= h || !l->on_map[(size_t)b * w + a])
+                    continue;
+                if (pass == 0)
+                    n++;
+                else
+                    visit((size_t)b * w + a, share / n, user);
+            }
+    }
+    return n;
+}
+
+static void add_share(size_t p, double share, void *user)
+{
+    ((double *)user)[p] += share;
+}
+
+/* Each coarse pixel's light reaches the fine map through a fixed linear
+ * map, the same for every frame and every process, so light is kept
+ * exactly and the processes' planes (MPI) add up to one process's: its
+ * brightness is its light over norm[p], the fine measure its unit
+ * brightness reaches (l->reach), and off the map (where no light is
+ * deposited) a coarse pixel takes its on-map neighbours' mean brightness,
+ * so the fine pixels just inside the map's edge keep the edge's
+ * brightness instead of fading towards 0 (up to half a coarse pixel, 16
+ * fine pixels on the coarsest map). norm[p] therefore also counts, for an
+ * on-map pixel, its share of what its off-map neighbours reach. */
+static orr_status level_norm(coarse_level *l, orr_error *err)
+{
+    const int w = l->proj.width, h = l->proj.height;
+    l->norm = orr_malloc(sizeof *l->norm * (size_t)w * h, "coarse glow", err);
+    if (!l->norm)
+        return ORR_ERR_NOMEM;
+    memcpy(l->norm, l->reach, sizeof *l->norm * (size_t)w * h);
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            const size_t p = (size_t)j * w + i;
+            if (!l->on_map[p] && l->reach[p] > 0)
+                on_map_neighbours(l, i, j, add_share, l->reach[p], l->norm);
+        }
+    return ORR_OK;
+}
+
 static orr_status plan_level(view_state *v, coarse_level *l, int factor, float min_pixels, orr_error *err)
 {
     l->factor = factor;
@@ -226,6 +282,8 @@ orr_status orr_coarse_glow_plan(view_state *v, orr_error *err)
         st = plan_level(v, &g->level[k], FACTORS[levels[k]], MIN_PIXELS[levels[k]], err);
     if (!st)
         st = levels_reach(v, g, err);
+    for (int k = 0; k < g->nlevels && !st; k++)
+        st = level_norm(&g->level[k], err);
     if (!st && !(g->buffers = orr_malloc(ORR_MAX_LANES * sizeof *g->buffers, "coarse glow blocks", err)))
         st = ORR_ERR_NOMEM;
     if (st)
@@ -293,35 +351,19 @@ size_t orr_coarse_glow_split(const view_state *v, int lane, size_t n, block_buff
     return taken;
 }
 
-/* Off the map, a coarse pixel's brightness is its on-map neighbours'
- * mean: the fine pixels just inside the map's edge interpolate towards it
- * and so keep the edge's brightness, instead of fading towards the 0 of
- * a pixel that holds no light (up to half of a coarse pixel, 16 fine
- * pixels on the coarsest map). */
-static void extend_past_edge(const coarse_level *l, float *sb)
+typedef struct extension {
+    const float *sb;
+    double sum;
+} extension;
+
+static void add_brightness(size_t p, double share, void *user)
 {
-    const int w = l->proj.width, h = l->proj.height;
-    for (int j = 0; j < h; j++)
-        for (int i = 0; i < w; i++) {
-            if (l->on_map[(size_t)j * w + i])
-                continue;
-            double sum = 0.0;
-            int n = 0;
-            for (int dj = -1; dj <= 1; dj++)
-                for (int di = -1; di <= 1; di++) {
-                    const int a = i + di, b = j + dj;
-                    if (a >= 0 && a < w && b >= 0 && b < h && l->on_map[(size_t)b * w + a]) {
-                        sum += sb[(size_t)b * w + a];
-                        n++;
-                    }
-                }
-            sb[(size_t)j * w + i] = n ? (float)(sum / n) : 0.0f;
-        }
+    extension *e = user;
+    e->sum += share * e->sb[p];
 }
 
-/* Level l's plane k as surface brightness, scaled so that the fine map
- * gets the coarse plane's weight exactly (the lanes' planes added first,
- * in lane order). Returns NULL without memory. */
+/* Level l's plane k as surface brightness (level_norm; the lanes' planes
+ * added first, in lane order). Returns NULL without memory. */
 static float *level_brightness(coarse_level *l, int k)
 {
     const int w = l->proj.width, h = l->proj.height;
@@ -333,20 +375,15 @@ static float *level_brightness(coarse_level *l, int k)
     float *sb = malloc(npix * sizeof *sb);
     if (!sb)
         return NULL;
-    double want = 0.0, got = 0.0;
+    for (size_t p = 0; p < npix; p++)
+        sb[p] = l->norm[p] > 0 ? (float)(sum->data[p] / l->norm[p]) : 0.0f;
     for (int j = 0; j < h; j++)
         for (int i = 0; i < w; i++) {
             const size_t p = (size_t)j * w + i;
-            double m = orr_pixel_measure(&l->proj, i, j);
-            sb[p] = m > 0 && l->on_map[p] ? (float)(sum->data[p] / m) : 0.0f;
-            want += sum->data[p];
+            extension e = {sb, 0.0};
+            if (!l->on_map[p] && on_map_neighbours(l, i, j, add_brightness, 1.0, &e))
+                sb[p] += (float)e.sum; /* (reads on-map pixels only, which this loop leaves alone) */
         }
-    extend_past_edge(l, sb);
-    for (size_t p = 0; p < npix; p++)
-        got += sb[p] * l->reach[p];
-    const float scale = got > 0 ? (float)(want / got) : 0.0f;
-    for (size_t p = 0; p < npix; p++)
-        sb[p] *= scale;
     return sb;
 }
 

@@ -82,6 +82,7 @@ typedef struct coarse_level {
     int *col0;      /* per fine column: the left coarse column of its interpolation */
     float *col_a;   /* per fine column: the right one's weight */
     uint8_t *on_map; /* per coarse pixel: whether its centre is on the map */
+    double *norm;   /* per coarse pixel: what its light is divided by to give its brightness (level_norm) */
 } coarse_level;
 
 typedef struct coarse_glow {
