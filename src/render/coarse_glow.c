@@ -400,17 +400,18 @@ static void level_row(const coarse_level *l, const float *sb, int j, int W, floa
     }
 }
 
-/* Adds every level's plane k to the view's plane: each fine pixel on the
- * map its measure times the levels' interpolated brightness. */
-static orr_status add_plane(view_state *v, int k, orr_error *err)
+/* Adds every level's planes to the view's planes (v->nplanes, 3): each
+ * fine pixel on the map its measure times the levels' interpolated
+ * brightness; a row's measures found once for all three planes. */
+static orr_status add_planes(view_state *v, orr_error *err)
 {
     coarse_glow *g = v->coarse;
-    const int W = v->proj.width, H = v->proj.height;
-    float *sb[ORR_COARSE_LEVELS] = {NULL};
+    const int W = v->proj.width, H = v->proj.height, np = v->nplanes;
+    float *sb[3][ORR_COARSE_LEVELS] = {{NULL}};
     int fail = 0;
-    for (int L = 0; L < g->nlevels; L++)
-        fail |= !(sb[L] = level_brightness(&g->level[L], k));
-    float *fine = v->planes[k].data;
+    for (int k = 0; k < np; k++)
+        for (int L = 0; L < g->nlevels; L++)
+            fail |= !(sb[k][L] = level_brightness(&g->level[L], k));
     if (!fail)
 #pragma omp parallel
     {
@@ -424,27 +425,26 @@ static orr_status add_plane(view_state *v, int k, orr_error *err)
                 continue;
             }
             map_measure_row(&v->proj, j, measure);
-            memset(row, 0, sizeof *row * (size_t)W);
-            for (int L = 0; L < g->nlevels; L++)
-                level_row(&g->level[L], sb[L], j, W, row);
-            for (int i = 0; i < W; i++)
-                if (measure[i] > 0)
-                    fine[(size_t)j * W + i] += (float)(measure[i] * row[i]);
+            for (int k = 0; k < np; k++) {
+                float *fine = v->planes[k].data + (size_t)j * W;
+                memset(row, 0, sizeof *row * (size_t)W);
+                for (int L = 0; L < g->nlevels; L++)
+                    level_row(&g->level[L], sb[k][L], j, W, row);
+                for (int i = 0; i < W; i++)
+                    if (measure[i] > 0)
+                        fine[i] += (float)(measure[i] * row[i]);
+            }
         }
         free(measure);
         free(row);
     }
-    for (int L = 0; L < g->nlevels; L++)
-        free(sb[L]);
+    for (int k = 0; k < np; k++)
+        for (int L = 0; L < g->nlevels; L++)
+            free(sb[k][L]);
     return fail ? orr_fail(err, ORR_ERR_NOMEM, "out of memory for the coarse glow of a %d x %d map", W, H) : ORR_OK;
 }
 
 orr_status orr_coarse_glow_finish(view_state *v, orr_error *err)
 {
-    if (!v->coarse)
-        return ORR_OK;
-    orr_status st = ORR_OK;
-    for (int k = 0; k < v->nplanes && !st; k++)
-        st = add_plane(v, k, err);
-    return st;
+    return v->coarse ? add_planes(v, err) : ORR_OK;
 }
