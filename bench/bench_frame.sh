@@ -9,8 +9,8 @@
 # FRAME picks the frame; all but `benchmark` render the shipped scene,
 # configs/futuresky.yaml, as it ships (dust, glow, spawned stars, the
 # Hubble PSF, FITS + PNG of each view):
-#   main      the README's main job: 2e6 particles, the 3600^2 dome master
-#             and the 4096x2048 panorama (the default)
+#   main      the README's main job: 2e6 particles (or N), the 3600^2 dome
+#             master and the 4096x2048 panorama (the default)
 #   both3600  the same at N particles (default 10^7)
 #   dome8k    the 8192^2 dome master (domes/flat-180-8k) at N particles
 #             (default 10^7), the panorama shrunk to 64x32
@@ -23,12 +23,13 @@
 # total and its peak memory (GNU time's maximum resident set size).
 # OMP_NUM_THREADS is left to the caller.
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n 2,26p "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n 2,23p "$0"; exit 2; }
 here=$(cd "$(dirname "$0")/.." && pwd)
 FRAME=${FRAME:-main} REPEAT=${REPEAT:-1} DUST=${DUST:-on}
 scene=$here/configs/futuresky.yaml
 case $FRAME in
-  main) N=${N:-2000000} sets=() ;;
+  main)
+    if [ -n "${N:-}" ]; then sets=(--set input.model.particles="$N"); else N=2000000 sets=(); fi ;;
   both3600) N=${N:-10000000} sets=(--set input.model.particles="$N") ;;
   dome8k)
     N=${N:-10000000}
