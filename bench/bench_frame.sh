@@ -23,7 +23,7 @@
 # total and its peak memory (GNU time's maximum resident set size).
 # OMP_NUM_THREADS is left to the caller.
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n 2,23p "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n 2,24p "$0"; exit 2; }
 here=$(cd "$(dirname "$0")/.." && pwd)
 FRAME=${FRAME:-main} REPEAT=${REPEAT:-1} DUST=${DUST:-on}
 scene=$here/configs/futuresky.yaml
