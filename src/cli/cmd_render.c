@@ -407,18 +407,24 @@ static void print_run_summary(const frame_progress *fp, long nframes, double sec
     printf("\n");
 }
 
-/* A view whose frame reached stars.max, said even with --quiet: the
- * picture lacks stars the scene asked for. (The last frame's reports.) */
-static void warn_stars_capped(const orr_scene_views *views, const orr_render_report *reports)
+/* A view whose frames reached stars.max, said even with --quiet: the
+ * picture lacks stars the scene asked for. */
+static void warn_stars_capped(const orr_scene_views *views, const orr_render_report *reports, long nframes)
 {
-    for (int k = 0; k < views->n; k++)
-        if (reports[k].stars_capped)
-            fprintf(stderr,
-                    "orrery: warning: %s%s%sframe %ld reached stars.max: the stars past it were left in the glow "
-                    "(the sky's light is kept, but not all its brightest points are drawn); raise stars.max to "
-                    "draw them\n",
-                    views->name[k][0] ? "view " : "", views->name[k], views->name[k][0] ? ": " : "",
-                    reports[k].frame);
+    for (int k = 0; k < views->n; k++) {
+        const orr_render_report *r = &reports[k];
+        if (!r->stars_capped_frames)
+            continue;
+        fprintf(stderr, "orrery: warning: %s%s%s", views->name[k][0] ? "view " : "", views->name[k],
+                views->name[k][0] ? ": " : "");
+        if (nframes > 1)
+            fprintf(stderr, "%ld of the frames rendered (the first: frame %ld) reached", r->stars_capped_frames,
+                    r->stars_capped_first);
+        else
+            fprintf(stderr, "the frame reached");
+        fprintf(stderr, " stars.max: the stars past it were left in the glow (the sky's light is kept, but not "
+                        "all its brightest points are drawn); raise stars.max to draw them\n");
+    }
 }
 
 /* What was rendered: the run's summary and each view's report. */
@@ -501,7 +507,7 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
     if (code != EXIT_OK)
         return code;
     if (!compose)
-        warn_stars_capped(views, reports);
+        warn_stars_capped(views, reports, nframes);
     if (!a->quiet)
         print_summary(a, views, reports, &fp, nframes, compose);
     /* With --jobs the frames' lines came from the jobs, which keep their sums. */

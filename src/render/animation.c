@@ -261,6 +261,9 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
         st = run_identities(views, n, &ri, opt->compose, ids, err);
     /* A still is always rendered; a compose always re-grades. */
     const int resumable = nframes > 1 && !opt->force && !opt->compose;
+    long capped[ORR_SCENE_MAX_VIEWS] = {0}, capped_first[ORR_SCENE_MAX_VIEWS];
+    for (int k = 0; k < n; k++)
+        capped_first[k] = -1;
     for (long f = first + opt->start; f <= last && !st; f += stride) {
         if ((st = frame_scenes(views, n, f, scenes, err)))
             break;
@@ -272,10 +275,17 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
             orr_fail_prefix(err, "frame %ld: ", f);
         if (!skip && !st)
             st = do_frame(plan, scenes, ids, n, f, &ri, opt, reports, err);
+        for (int k = 0; k < n && !skip && !st; k++)
+            if (reports[k].stars_capped && capped[k]++ == 0)
+                capped_first[k] = f;
         if (!st && !skip && !opt->compose && opt->timed)
             opt->timed(opt->timed_user, f, &reports[0].times);
         if (!st && opt->done)
             opt->done(opt->done_user, f, skip, skip || !why[0] ? NULL : why);
+    }
+    for (int k = 0; k < n; k++) {
+        reports[k].stars_capped_frames = capped[k];
+        reports[k].stars_capped_first = capped_first[k];
     }
     orr_plan_destroy(plan);
     free_identities(ids, n);

@@ -26,6 +26,9 @@ typedef struct orr_render_report {
     uint64_t n_read;             /* particles read from the source */
     uint64_t n_stars;            /* stars spawned from them and drawn (stars.*) */
     int stars_capped;            /* stars.max was reached: the stars past it were left in the glow */
+    long stars_capped_frames;    /* a run (orr_render_animation): how many of its frames rendered reached
+                                  * stars.max, and the first of them (-1: none) */
+    long stars_capped_first;
     uint64_t n_selected;         /* of those, of a selected type (the observer excluded) */
     uint64_t n_nonfinite;        /* skipped for a non-finite position or weight */
     uint64_t n_stereo_skipped;   /* omni-directional stereo: not drawn, inside the eye circle

@@ -21,8 +21,14 @@ plain=("${small[@]}" --set input.model.dust_particles=0 --set observer.dim=false
 # stars.max reached: said, even with --quiet, and the light still kept.
 "$ORRERY" render "$SRC/configs/futuresky.yaml" -o capped -q "${plain[@]}" --set stars.max=100 2>capped.err \
   || fail "render with stars.max 100"
-grep -q "view panorama: frame 0 reached stars.max" capped.err || fail "no stars.max warning: $(cat capped.err)"
+grep -q "view panorama: the frame reached stars.max" capped.err || fail "no stars.max warning: $(cat capped.err)"
 grep -q "stars.max" plain.err 2>/dev/null && fail "stars.max warning without reaching it"
+# ... and in a run, how many frames reached it and the first.
+"$ORRERY" render "$SRC/configs/futuresky.yaml" -o caprun -q --set input.model.particles=20000 --set stars.max=10 \
+  --set animation.frames=2 --set views.dome.image.width=64 --set views.dome.image.height=64 \
+  --set views.panorama.image.width=128 --set views.panorama.image.height=64 2>caprun.err || fail "run with stars.max 10"
+grep -q "view panorama: 2 of the frames rendered (the first: frame 0) reached stars.max" caprun.err \
+  || fail "no stars.max warning for the run: $(cat caprun.err)"
 # Every file of the run: the stars' lists beside the images.
 [ -s two/futuresky-dome.stars.fits ] && [ -s two/futuresky-panorama.stars.fits ] || fail "no star lists: $(ls two)"
 "$py" - <<'PY' || fail "1 and 2 threads differ"
