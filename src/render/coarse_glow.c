@@ -180,7 +180,8 @@ static orr_status levels_reach(const view_state *v, coarse_glow *g, orr_error *e
 }
 
 /* The on-map neighbours of coarse pixel (i, j) (its 3 x 3 block): calls
- * visit(l, neighbour, user) for each and returns how many. */
+ * visit(neighbour's index, share / their number, user) for each (visit may
+ * be NULL) and returns how many. */
 static int on_map_neighbours(const coarse_level *l, int i, int j, void (*visit)(size_t, double, void *), double share,
                              void *user)
 {
