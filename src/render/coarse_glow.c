@@ -40,7 +40,6 @@ static void free_level(coarse_level *l)
             orr_plane_free(&l->planes[lane][k]);
     if (l->sph_ready)
         orr_sph_free(&l->sph);
-    free(l->reach);
     free(l->col0);
     free(l->col_a);
     free(l->on_map);
@@ -113,9 +112,10 @@ static int band_rows(const coarse_level *l, int j0, int j1, int *first)
 
 /* The fine map's measure (solid angle) each coarse pixel's unit of
  * brightness reaches through the interpolation, summed over the fine
- * pixels on the map, for every level at once: what a coarse plane gives
- * the fine one is then its brightness dotted with these, without a pass
- * over the fine map. Each band of fine rows is summed by one thread into
+ * pixels on the map, for every level at once, into its norm (level_norm
+ * then adds the off-map neighbours' shares), found once a run, so each
+ * frame's brightness needs no pass over the fine map to keep the light.
+ * Each band of fine rows is summed by one thread into
  * its own rows, and the bands are added in order: the same bits on any
  * number of threads. */
 static orr_status levels_reach(const view_state *v, coarse_glow *g, orr_error *err)
@@ -124,10 +124,10 @@ static orr_status levels_reach(const view_state *v, coarse_glow *g, orr_error *e
     size_t per_band = 0; /* doubles a band's partial sums take, every level */
     for (int L = 0; L < g->nlevels; L++) {
         coarse_level *l = &g->level[L];
-        l->reach = orr_calloc((size_t)l->proj.width * l->proj.height, sizeof *l->reach, "coarse glow", err);
+        l->norm = orr_calloc((size_t)l->proj.width * l->proj.height, sizeof *l->norm, "coarse glow", err);
         l->col0 = orr_malloc(sizeof *l->col0 * (size_t)W, "coarse glow", err);
         l->col_a = orr_malloc(sizeof *l->col_a * (size_t)W, "coarse glow", err);
-        if (!l->reach || !l->col0 || !l->col_a)
+        if (!l->norm || !l->col0 || !l->col_a)
             return ORR_ERR_NOMEM;
         for (int i = 0; i < W; i++)
             l->col0[i] = coarse_between(i, l->factor, l->proj.width, &l->col_a[i]);
@@ -169,7 +169,7 @@ static orr_status levels_reach(const view_state *v, coarse_glow *g, orr_error *e
             coarse_level *l = &g->level[L];
             int first, rows = band_rows(l, j0, j1, &first);
             const size_t n = (size_t)rows * l->proj.width;
-            double *to = l->reach + (size_t)first * l->proj.width;
+            double *to = l->norm + (size_t)first * l->proj.width;
             for (size_t k = 0; k < n; k++)
                 to[k] += in[k];
             in += (size_t)(BAND_ROWS / l->factor + 2) * l->proj.width;
@@ -213,26 +213,22 @@ static void add_share(size_t p, double share, void *user)
  * map, the same for every frame and every process, so light is kept
  * exactly and the processes' planes (MPI) add up to one process's: its
  * brightness is its light over norm[p], the fine measure its unit
- * brightness reaches (l->reach), and off the map (where no light is
+ * brightness reaches (levels_reach, which leaves it in norm), and off the map (where no light is
  * deposited) a coarse pixel takes its on-map neighbours' mean brightness,
  * so the fine pixels just inside the map's edge keep the edge's
  * brightness instead of fading towards 0 (up to half a coarse pixel, 16
  * fine pixels on the coarsest map). norm[p] therefore also counts, for an
  * on-map pixel, its share of what its off-map neighbours reach. */
-static orr_status level_norm(coarse_level *l, orr_error *err)
+static void level_norm(coarse_level *l)
 {
     const int w = l->proj.width, h = l->proj.height;
-    l->norm = orr_malloc(sizeof *l->norm * (size_t)w * h, "coarse glow", err);
-    if (!l->norm)
-        return ORR_ERR_NOMEM;
-    memcpy(l->norm, l->reach, sizeof *l->norm * (size_t)w * h);
     for (int j = 0; j < h; j++)
         for (int i = 0; i < w; i++) {
             const size_t p = (size_t)j * w + i;
-            if (!l->on_map[p] && l->reach[p] > 0)
-                on_map_neighbours(l, i, j, add_share, l->reach[p], l->norm);
+            /* (only on-map entries grow: an off-map one still holds its reach) */
+            if (!l->on_map[p] && l->norm[p] > 0)
+                on_map_neighbours(l, i, j, add_share, l->norm[p], l->norm);
         }
-    return ORR_OK;
 }
 
 static orr_status plan_level(view_state *v, coarse_level *l, int factor, float min_pixels, orr_error *err)
@@ -284,7 +280,7 @@ orr_status orr_coarse_glow_plan(view_state *v, orr_error *err)
     if (!st)
         st = levels_reach(v, g, err);
     for (int k = 0; k < g->nlevels && !st; k++)
-        st = level_norm(&g->level[k], err);
+        level_norm(&g->level[k]);
     if (!st && !(g->buffers = orr_malloc(ORR_MAX_LANES * sizeof *g->buffers, "coarse glow blocks", err)))
         st = ORR_ERR_NOMEM;
     if (st)

@@ -78,7 +78,6 @@ typedef struct coarse_level {
     orr_sph sph;
     int sph_ready;
     orr_plane planes[ORR_MAX_LANES][3];
-    double *reach;  /* per coarse pixel: the fine map's measure its unit brightness reaches, interpolated */
     int *col0;      /* per fine column: the left coarse column of its interpolation */
     float *col_a;   /* per fine column: the right one's weight */
     uint8_t *on_map; /* per coarse pixel: whether its centre is on the map */
