@@ -3,7 +3,7 @@
 a sky map and the list of the stars drawn on it, beside the real sky's.
 
     scripts/sky_truth.py SKY.fits STARS.fits [--plane Y] [--band-map CAR.fits]
-                         [--reference TABLE.tsv] [--json OUT.json] [--check]
+                         [--reference TABLE.tsv] [--resolved TABLE.tsv] [--json OUT.json] [--check]
 
 SKY.fits: a sky map with a GLON/GLAT WCS (equirectangular or Hammer-Aitoff)
 whose plane (HDU named by --plane, default the one named Y, else the
@@ -20,7 +20,7 @@ Hipparcos/Tycho-2 catalogues by scripts/gen_sky_counts.py):
 - the share of that light in the 20 brightest listed stars, the number of
   stars brighter than V = 6.5 and their share, the share of those brighter
   than 10.5;
-- N(< V) for V = 0 .. 8 over the real sky's;
+- N(< V) for V = 0 .. 8 over the real sky's (to the list's own limit);
 - the band's smoothness (on an equirectangular map, the plane itself or
   --band-map): inside |b| < 8, 30 < |l| < 150 deg, each pixel over its
   Gaussian-smoothed mean (sigma 1 deg, wrapping in l), the median and the
@@ -29,7 +29,13 @@ Hipparcos/Tycho-2 catalogues by scripts/gen_sky_counts.py):
   (90, 0), (180, 0): the mean within --radius deg, without the listed
   stars brighter than --exclude-brighter (their light is taken off), in
   S10, V mag/arcsec^2 and W m^-2 sr^-1 um^-1, beside a reference table's
-  values if --reference gives one (columns name, l, b, S10).
+  values if --reference gives one (columns name, l, b, S10);
+- the resolved starlight: the light of the listed stars 6.5 <= V < 10.5
+  per square degree within 5 deg of the poles and of four points in the
+  plane, and in zones of |b|, over the real sky's (data/sky/resolved_light.tsv,
+  from the same catalogues; --resolved). It needs a list complete to
+  V = 10.5: one drawn with stars.limit >= 10.5 (the list's own limit is
+  its faintest MV + 5 log10(DIST / 10 pc), V before the dust).
 
 --check exits 1 if a measured figure is outside issue 40's bars (listed in
 BARS below); a figure that cannot be measured is said so and not checked.
@@ -46,10 +52,11 @@ from astropy.wcs import WCS
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 sys.path.insert(0, os.path.join(HERE, "..", "tests", "cli"))
-from gen_sky_counts import read_table  # noqa: E402
+from gen_sky_counts import RESOLVED_V, read_resolved, read_table, resolved_light  # noqa: E402
 from solid_angle import solid_angles  # noqa: E402
 
 DEFAULT_COUNTS = os.path.join(HERE, "..", "data", "sky", "star_counts.tsv")
+DEFAULT_RESOLVED = os.path.join(HERE, "..", "data", "sky", "resolved_light.tsv")
 DEG2_PER_SR = (180 / np.pi) ** 2
 # V = 0 in f_lambda: 363.1e-11 erg cm^-2 s^-1 A^-1 (Bessell, Castelli & Plez 1998, A&A 333, 231,
 # table A2) = 3.631e-8 W m^-2 um^-1; one S10 spreads a V = 10 star over a square degree.
@@ -69,6 +76,7 @@ BARS = {
     "band_median": (0.85, np.inf),
     "band_p90_p10": (0, 3.0),
     "reference_ratio": (0.5, 2.0),
+    "resolved_ratio": (0.5, 2.0),
 }
 
 
@@ -123,9 +131,40 @@ def read_stars(path):
             if col not in have:
                 raise InputError(f"{path}: the star table has no column {col} (it has {have})")
             stars[col] = np.asarray(data.field(have.index(col)))
+        for col in ("MV", "DIST"):  # orrery's lists have them; a catalogue need not
+            if col in have:
+                stars[col] = np.asarray(data.field(have.index(col)), dtype=float)
     if not np.all(np.isfinite(stars["V"])):
         raise InputError(f"{path}: column V holds a value that is not finite")
     return stars
+
+
+def list_limit(stars):
+    """The faintest V before the dust the list holds (orrery lists every
+    star to stars.limit, dimmed or not), or None when the list has no MV
+    and DIST (a catalogue: complete to its own limit)."""
+    if "MV" not in stars or "DIST" not in stars or len(stars["V"]) == 0:
+        return None
+    dist = np.maximum(stars["DIST"], 1e-3)
+    return float(np.max(stars["MV"] + 5 * np.log10(dist / 10.0)))
+
+
+def resolved_figures(stars, table_path):
+    """The listed stars' resolved light by region over the real sky's, or
+    (None, why) when the list stops short of RESOLVED_V[1]."""
+    limit = list_limit(stars)
+    if limit is not None and limit < RESOLVED_V[1] - 0.01:
+        return None, (f"the list stops at V = {limit:.2f} (before the dust); "
+                      f"render with stars.limit >= {RESOLVED_V[1]:g}")
+    real = read_resolved(table_path)
+    mine = resolved_light(stars["L"], stars["B"], stars["V"], stars["V"])
+    out = {}
+    for name, (s10, n) in mine.items():
+        if name not in real:
+            raise InputError(f"{table_path}: no row for region {name!r}")
+        out[name] = {"S10": s10, "stars": n, "real_S10": real[name],
+                     "ratio": s10 / real[name] if real[name] > 0 else None}
+    return out, None
 
 
 def pixel_areas_deg2(header):
@@ -175,13 +214,17 @@ def star_shares(v, total_v0):
     }
 
 
-def count_ratios(v, table):
-    """N(< V) of the list over the real sky's, V = 0 .. 8."""
+def count_ratios(v, table, limit=None):
+    """N(< V) of the list over the real sky's, V = 0 .. 8; None past the
+    list's own limit (it does not hold those stars)."""
     out = {}
     for m in COUNT_MAGS:
         real = table["N"][np.isclose(table["V_lim"], m)]
         if real.size == 0:
             raise InputError(f"the counts table has no row V_lim = {m}")
+        if limit is not None and m > limit + 0.01:
+            out[f"{m:g}"] = {"model": None, "real": int(real[0]), "ratio": None}
+            continue
         mine = int(np.sum(np.asarray(v) < m))
         out[f"{m:g}"] = {"model": mine, "real": int(real[0]), "ratio": mine / real[0] if real[0] else None}
     return out
@@ -246,7 +289,7 @@ def read_reference(path):
 
 
 def measure(sky, stars, counts, plane=None, scale=1.0, band_map=None, band_plane=None,
-            radius=3.0, cut=6.5, reference=None):
+            radius=3.0, cut=6.5, reference=None, resolved=DEFAULT_RESOLVED):
     """All the figures, as a dict."""
     data, header = read_plane(sky, plane)
     data = data * scale
@@ -260,7 +303,8 @@ def measure(sky, stars, counts, plane=None, scale=1.0, band_map=None, band_plane
     fig = {"sky": sky, "stars": stars, "BUNIT": str(header.get("BUNIT", "")), "scale": scale,
            "V_total": 10 - 2.5 * np.log10(total_s10), "n_stars": int(len(list_["V"]))}
     fig.update(star_shares(list_["V"], total_v0))
-    fig["counts"] = count_ratios(list_["V"], table)
+    fig["list_limit"] = list_limit(list_)
+    fig["counts"] = count_ratios(list_["V"], table, fig["list_limit"])
     if band_map:
         bdata, bheader = read_plane(band_map, band_plane)
         fig["band"], why = band_smoothness(bdata * scale, bheader)
@@ -270,6 +314,9 @@ def measure(sky, stars, counts, plane=None, scale=1.0, band_map=None, band_plane
         fig["band_not_measured"] = why
     fig["surface"] = surface_brightness(data, areas, header, list_, radius, cut)
     fig["surface_radius_deg"], fig["surface_exclude_brighter"] = radius, cut
+    fig["resolved"], why = resolved_figures(list_, resolved)
+    if why:
+        fig["resolved_not_measured"] = why
     if reference:
         ref = read_reference(reference)
         for name, s in fig["surface"].items():
@@ -291,14 +338,23 @@ def failures(fig):
     for key in ("V_total", "share_20_brightest", "n_brighter_6.5", "share_brighter_6.5", "share_brighter_10.5"):
         bar(key, fig[key])
     for m, c in fig["counts"].items():
-        bar("count_ratio", c["ratio"], f"N(<{m}) ratio")
+        if c["model"] is not None:
+            bar("count_ratio", c["ratio"], f"N(<{m}) ratio")
     if fig["band"]:
         bar("band_median", fig["band"]["median"])
         bar("band_p90_p10", fig["band"]["p90_p10"])
     for name, s in fig["surface"].items():
         if s and "ratio" in s:
             bar("reference_ratio", s["ratio"], f"{name} surface brightness over the reference")
+    for name, r in (fig["resolved"] or {}).items():
+        bar("resolved_ratio", r["ratio"], f"{name} resolved light over the real sky's")
     return bad
+
+
+def count_text(m, c):
+    if c["model"] is None:
+        return f"{m}: past the list"
+    return f"{m}: {c['model']}/{c['real']}" + (f"={c['ratio']:.2f}" if c["ratio"] is not None else "")
 
 
 def report(fig):
@@ -310,8 +366,7 @@ def report(fig):
              f"20 brightest: {100 * fig['share_20_brightest']:.2f} % of the light",
              f"brighter than 6.5: {fig['n_brighter_6.5']} stars, {100 * fig['share_brighter_6.5']:.2f} %",
              f"brighter than 10.5: {100 * fig['share_brighter_10.5']:.2f} %",
-             "N(<V): " + "  ".join(f"{m}: {c['model']}/{c['real']}" + (f"={c['ratio']:.2f}" if c["ratio"] is not None
-                                                                        else "") for m, c in fig["counts"].items())]
+             "N(<V): " + "  ".join(count_text(m, c) for m, c in fig["counts"].items())]
     if fig["band"]:
         lines.append(f"band: median {fig['band']['median']:.3f}, p90/p10 {fig['band']['p90_p10']:.2f}"
                      f" ({fig['band']['pixels']} pixels)")
@@ -325,6 +380,14 @@ def report(fig):
         ref = f", reference {s['reference_S10']:g}, ratio {s['ratio']:.2f}" if "ratio" in s else ""
         lines.append(f"{name}: {s['S10']:.1f} S10 = {mag} = {s['W_m2_sr_um']:.3g} W m^-2 sr^-1 um^-1"
                      f" ({s['stars_taken_off']} stars taken off{ref})")
+    lo, hi = RESOLVED_V
+    if fig["resolved"]:
+        lines.append(f"resolved light ({lo:g} <= V < {hi:g}), S10, listed / real sky = ratio:")
+        for name, r in fig["resolved"].items():
+            ratio = f"{r['ratio']:.2f}" if r["ratio"] is not None else "-"
+            lines.append(f"  {name}: {r['S10']:.2f} / {r['real_S10']:.2f} = {ratio}")
+    else:
+        lines.append(f"resolved light ({lo:g} <= V < {hi:g}): not measured ({fig['resolved_not_measured']})")
     return "\n".join(lines)
 
 
@@ -341,12 +404,15 @@ def main(argv=None):
     ap.add_argument("--exclude-brighter", type=float, default=6.5,
                     help="listed stars brighter than this are taken off the caps' light (default 6.5)")
     ap.add_argument("--reference", help="reference surface brightness: TSV name, l, b, S10")
+    ap.add_argument("--resolved", default=DEFAULT_RESOLVED,
+                    help="the real sky's resolved light by region (data/sky/resolved_light.tsv)")
     ap.add_argument("--json", help="also write the figures here")
     ap.add_argument("--check", action="store_true", help="exit 1 if a measured figure is outside issue 40's bars")
     args = ap.parse_args(argv)
     try:
         fig = measure(args.sky, args.stars, args.counts, args.plane, args.scale, args.band_map,
-                      args.band_plane or args.plane, args.radius, args.exclude_brighter, args.reference)
+                      args.band_plane or args.plane, args.radius, args.exclude_brighter, args.reference,
+                      args.resolved)
     except (InputError, OSError, ValueError) as e:
         sys.exit(f"sky_truth: {e}")
     print(report(fig))

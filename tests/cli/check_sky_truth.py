@@ -11,8 +11,11 @@
     list, a checkerboard band (median 1, p90/p10 = 4: --check fails), a
     star taken off a cap's surface brightness, a reference ratio, and bad
     input refused by name;
-(c) the committed counts table is what scripts/gen_sky_counts.py makes of
-    the catalogues (only when stellarium-data is installed).
+(c) the committed counts and resolved-light tables are what
+    scripts/gen_sky_counts.py makes of the catalogues (only when
+    stellarium-data is installed);
+(d) the resolved light by region: a known list's, the real sky's own
+    ratio of 1, and a list that stops short of V = 10.5 not measured.
 
 usage: check_sky_truth.py SOURCE_DIR WORK_DIR
 """
@@ -34,6 +37,7 @@ import stellarium_stars  # noqa: E402
 
 PY = sys.executable
 COUNTS = os.path.join(SRC, "data", "sky", "star_counts.tsv")
+RESOLVED = os.path.join(SRC, "data", "sky", "resolved_light.tsv")
 WHOLE_SKY_DEG2 = 4 * np.pi * (180 / np.pi) ** 2
 failures = []
 
@@ -63,10 +67,13 @@ def sky_map(path, data, projection="CAR", extname=None):
     fits.HDUList(hdus).writeto(path, overwrite=True)
 
 
-def star_list(path, l, b, v, columns=("L", "B", "V", "BV", "PARTICLE")):
+def star_list(path, l, b, v, columns=("L", "B", "V", "BV", "PARTICLE"), mv=None, dist=None):
     n = len(v)
-    arrays = {"L": l, "B": b, "V": v, "BV": np.full(n, 0.6), "PARTICLE": np.arange(n, dtype=np.int64)}
-    formats = {"L": "D", "B": "D", "V": "E", "BV": "E", "PARTICLE": "K"}
+    arrays = {"L": l, "B": b, "V": v, "BV": np.full(n, 0.6), "PARTICLE": np.arange(n, dtype=np.int64),
+              "MV": mv, "DIST": dist}
+    formats = {"L": "D", "B": "D", "V": "E", "BV": "E", "PARTICLE": "K", "MV": "E", "DIST": "E"}
+    if mv is not None:
+        columns = (*columns, "MV", "DIST")
     cols = [fits.Column(c, formats[c], array=arrays[c]) for c in columns]
     fits.BinTableHDU.from_columns(cols).writeto(path, overwrite=True)
 
@@ -110,7 +117,15 @@ def test_real_sky():
     star_list(os.path.join(WORK, "real.fits"), l, b, v)
     s10 = 10 ** (0.4 * (10 + 6.6)) / WHOLE_SKY_DEG2  # the real whole-sky V = -6.6, spread evenly
     sky_map(os.path.join(WORK, "even.fits"), np.full((720, 1440), s10))
-    code, text, fig = run(os.path.join(WORK, "even.fits"), os.path.join(WORK, "real.fits"), "--check")
+    resolved = RESOLVED
+    if source != "the catalogues":  # the stand-in list is scattered at random: its own regions' light
+        resolved = os.path.join(WORK, "resolved.tsv")
+        with open(resolved, "w") as f:
+            f.write("region\tkind\ta\tb\tS10\tstars\n")
+            for name, (light, n) in gen_sky_counts.resolved_light(l, b, v, v).items():
+                f.write(f"{name}\t-\t0\t0\t{light!r}\t{n}\n")
+    code, text, fig = run(os.path.join(WORK, "even.fits"), os.path.join(WORK, "real.fits"), "--check",
+                          "--resolved", resolved)
     print(f"real sky from {source}:\n{text}")
     check(code == 0, f"the real sky ({source}) is outside issue 40's bars: {text}")
     check(abs(fig["V_total"] + 6.6) < 1e-6, f"a sky of V = -6.6 measures V = {fig['V_total']}")
@@ -118,6 +133,44 @@ def test_real_sky():
         check(c["ratio"] == 1.0, f"the real sky's own N(<{m}) ratio is {c['ratio']}, not 1")
     check(0.03 < fig["share_20_brightest"] < 0.04, f"20 brightest carry {fig['share_20_brightest']}")
     check(8000 < fig["n_brighter_6.5"] < 9500, f"{fig['n_brighter_6.5']} stars brighter than 6.5")
+    for name, r in fig["resolved"].items():  # to the table's 5 digits
+        check(abs(r["ratio"] - 1) < 1e-4, f"the real sky's own resolved light in {name}: ratio {r['ratio']}, not 1")
+    if source == "the catalogues":  # the band is 3.7 times as bright as the poles in these stars
+        zones = fig["resolved"]
+        check(3 < zones["|b| 0-5"]["S10"] / zones["|b| 60-90"]["S10"] < 4.5, f"the real sky's resolved band: {zones}")
+
+
+def test_resolved_light():
+    """(d) A known list's resolved light by region: 12 stars of V = 7.5
+    within 5 deg of the north pole (one of them at b = 86, inside the cap
+    and the |b| 60-90 zone), one of V = 6.4 there (too bright), one of 10.6
+    (too faint); a list drawn to V = 8 only is not measured."""
+    l = np.concatenate([np.linspace(0, 330, 11), [0.0], [40.0, 80.0]])
+    b = np.concatenate([np.full(11, 88.0), [86.0], [88.0, 88.0]])
+    v = np.concatenate([np.full(12, 7.5), [6.4, 10.6]])
+    star_list(os.path.join(WORK, "pole.fits"), l, b, v)
+    sky_map(os.path.join(WORK, "car.fits"), np.full((180, 360), 50.0))
+    code, text, fig = run(os.path.join(WORK, "car.fits"), os.path.join(WORK, "pole.fits"))
+    cap = 2 * np.pi * (1 - np.cos(np.radians(5.0))) * (180 / np.pi) ** 2
+    zone = 2 * 2 * np.pi * (1 - np.sin(np.radians(60.0))) * (180 / np.pi) ** 2
+    light = 12 * 10 ** (-0.4 * (7.5 - 10))
+    r = fig["resolved"]
+    check(abs(r["NGP"]["S10"] - light / cap) < 1e-6 * light and r["NGP"]["stars"] == 12, f"NGP: {r['NGP']}")
+    check(abs(r["|b| 60-90"]["S10"] - light / zone) < 1e-6 * light, f"|b| 60-90: {r['|b| 60-90']}")
+    check(r["SGP"]["S10"] == 0 and r["l=0"]["S10"] == 0, "light where no star was put")
+    real = gen_sky_counts.read_resolved(RESOLVED)
+    check(abs(r["NGP"]["ratio"] - light / cap / real["NGP"]) < 1e-9, f"NGP ratio {r['NGP']['ratio']}")
+    # The same stars as orrery lists them, drawn to V = 8 before the dust: not measured, and said why.
+    star_list(os.path.join(WORK, "short.fits"), l, b, v, mv=np.full(v.size, 3.0), dist=np.full(v.size, 10 ** 1.0 * 10))
+    code, text, fig = run(os.path.join(WORK, "car.fits"), os.path.join(WORK, "short.fits"))
+    check(fig["resolved"] is None and "stops at V = 8.00" in fig["resolved_not_measured"],
+          f"a list to V = 8 measured for the resolved light: {fig.get('resolved_not_measured')}")
+    # ... and one drawn to 6.5: no counts past it.
+    star_list(os.path.join(WORK, "naked.fits"), l, b, v, mv=np.full(v.size, 3.0), dist=np.full(v.size, 10 ** 1.7))
+    code, text, fig = run(os.path.join(WORK, "car.fits"), os.path.join(WORK, "naked.fits"), "--check")
+    c = fig["counts"]
+    check(c["6"]["model"] == 0 and c["7"]["model"] is None and c["8"]["ratio"] is None and "7: past the list" in text,
+          f"counts past a list drawn to 6.5: {c}")
 
 
 def test_uniform_sky():
@@ -255,9 +308,12 @@ def test_table_matches_catalogues():
     p = subprocess.run([PY, os.path.join(SRC, "scripts", "gen_sky_counts.py"), "--check", COUNTS],
                        capture_output=True, text=True)
     check(p.returncode == 0, f"data/sky/star_counts.tsv differs from the catalogues: {p.stderr}")
+    p = subprocess.run([PY, os.path.join(SRC, "scripts", "gen_sky_counts.py"), "--resolved", "--check", RESOLVED],
+                       capture_output=True, text=True)
+    check(p.returncode == 0, f"data/sky/resolved_light.tsv differs from the catalogues: {p.stderr}")
 
 
-for test in (test_real_sky, test_uniform_sky, test_star_shares_and_caps, test_checkerboard_band, test_bad_input,
+for test in (test_real_sky, test_resolved_light, test_uniform_sky, test_star_shares_and_caps, test_checkerboard_band, test_bad_input,
              test_catalogue_reader, test_table_matches_catalogues):
     test()
 sys.exit(1 if failures else 0)
