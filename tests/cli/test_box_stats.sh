@@ -4,9 +4,5 @@
 . "$(dirname "$0")/lib.sh"
 python_with h5py python3-h5py
 python_with scipy python3-scipy
-if "$py" "$SRC/tests/cli/check_box_stats.py" "$SRC" "$WORK" >"$WORK/log" 2>&1; then
-  cat "$WORK/log"
-else
-  fail "box_stats: $(cat "$WORK/log")"
-fi
+run_checker "box_stats" check_box_stats.py
 finish

@@ -4,9 +4,5 @@
 # (check_collision_tails.py).
 . "$(dirname "$0")/lib.sh"
 python_with h5py python3-h5py
-if "$py" "$SRC/tests/cli/check_collision_tails.py" "$SRC" "$WORK" >"$WORK/log" 2>&1; then
-  cat "$WORK/log"
-else
-  fail "collision_tails: $(cat "$WORK/log")"
-fi
+run_checker "collision_tails" check_collision_tails.py
 finish

@@ -4,9 +4,5 @@
 # committed file byte for byte, and refuses bad input by name
 # (check_generated_tables.py).
 . "$(dirname "$0")/lib.sh"
-if "$py" "$SRC/tests/cli/check_generated_tables.py" "$SRC" "$WORK" >"$WORK/log" 2>&1; then
-  cat "$WORK/log"
-else
-  fail "generated tables: $(cat "$WORK/log")"
-fi
+run_checker "generated tables" check_generated_tables.py
 finish

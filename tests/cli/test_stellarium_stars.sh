@@ -5,9 +5,5 @@
 # test_sky_truth.sh where stellarium-data is installed.
 . "$(dirname "$0")/lib.sh"
 python_with numpy python3-numpy
-if "$py" "$SRC/tests/cli/check_stellarium_stars.py" "$SRC" "$WORK" >"$WORK/log" 2>&1; then
-  cat "$WORK/log"
-else
-  fail "stellarium_stars: $(cat "$WORK/log")"
-fi
+run_checker "stellarium_stars" check_stellarium_stars.py
 finish
