@@ -8,6 +8,12 @@ share of disc stars farther than R kpc (default 50) from both black holes:
 stars torn into tails and bridges (issue 21, docs/gallery.md).
 
 usage: scripts/collision_tails.py [--after GYR] [--r KPC] DIR
+
+A snapshot that cannot be read, or lacks the black holes (PartType5, ids 1
+and 2), the bulges (PartType3) or the disc (PartType2), is refused with a
+message naming the file and what is missing, exit status 1.
+tests/cli/test_collision_tails.sh runs it on synthetic snapshots with known
+answers (check_collision_tails.py).
 """
 import argparse
 import glob
@@ -55,7 +61,19 @@ def first_pericentre(sep):
 
 
 def snapshot(path):
-    with h5py.File(path, "r") as f:
+    """Time, both black holes, both bulges' density centres and the disc's
+    positions of one snapshot."""
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        raise SystemExit(f"{path}: cannot open as HDF5: {e}") from None
+    with f:
+        for name in ("PartType5/ParticleIDs", "PartType5/Coordinates", "PartType3/ParticleIDs",
+                     "PartType3/Coordinates", "PartType2/Coordinates"):
+            if name not in f:
+                raise SystemExit(f"{path}: no {name} dataset (not an orrery-nbody snapshot of two galaxies)")
+        if "Header" not in f or "Time" not in f["Header"].attrs:
+            raise SystemExit(f"{path}: no Header attribute Time")
         t = float(f["Header"].attrs["Time"])
         bh_ids = f["PartType5/ParticleIDs"][:]
         bh = f["PartType5/Coordinates"][:]
@@ -68,6 +86,26 @@ def snapshot(path):
     return t, bh[1], bh[2], density_centre(bulge[mw_b]), density_centre(bulge[m31_b]), disc
 
 
+def measure(directory, after=0.5, rcut=50.0):
+    """Per snapshot (path, t in Gyr, black holes' distance, bulge centres'
+    distance, share of disc stars farther than rcut from both), the index
+    of the first pericentre (None if none) and of the snapshot nearest to
+    after Gyr past it."""
+    paths = sorted(glob.glob(os.path.join(directory, "snapshot_*.hdf5")))
+    if not paths:
+        raise SystemExit(f"{directory}: no snapshot_*.hdf5")
+    rows = []
+    for p in paths:
+        t, b1, b2, c1, c2, disc = snapshot(p)
+        far = (np.linalg.norm(disc - b1, axis=1) > rcut) & (np.linalg.norm(disc - b2, axis=1) > rcut)
+        rows.append((p, t * GYR_PER_UNIT, np.linalg.norm(b1 - b2), np.linalg.norm(c1 - c2), far.mean()))
+    k = first_pericentre(np.array([r[3] for r in rows]))
+    if k is None:
+        return rows, None, None
+    times = np.array([r[1] for r in rows])
+    return rows, k, int(np.argmin(np.abs(times - (rows[k][1] + after))))
+
+
 def main(argv):
     ap = argparse.ArgumentParser(description="First pericentre and tidal tails from orrery-nbody snapshots.")
     ap.add_argument("--after", type=float, default=0.5, help="Gyr after first pericentre")
@@ -75,25 +113,16 @@ def main(argv):
     ap.add_argument("dir")
     args = ap.parse_args(argv)
     after, rcut = args.after, args.r
-    paths = sorted(glob.glob(os.path.join(args.dir, "snapshot_*.hdf5")))
-    if not paths:
-        raise SystemExit(f"{args.dir}: no snapshot_*.hdf5")
-    rows = []
-    for p in paths:
-        t, b1, b2, c1, c2, disc = snapshot(p)
-        far = (np.linalg.norm(disc - b1, axis=1) > rcut) & (np.linalg.norm(disc - b2, axis=1) > rcut)
-        rows.append((t * GYR_PER_UNIT, np.linalg.norm(b1 - b2), np.linalg.norm(c1 - c2), far.mean()))
-        print(f"{os.path.basename(p)}  t = {rows[-1][0]:.3f} Gyr  black holes {rows[-1][1]:7.1f} kpc apart, "
-              f"bulge centres {rows[-1][2]:7.1f} kpc  disc stars > {rcut:g} kpc from both: {rows[-1][3]:.3f}")
-    k = first_pericentre(np.array([r[2] for r in rows]))
+    rows, k, j = measure(args.dir, after, rcut)
+    for p, t, bh, bulges, share in rows:
+        print(f"{os.path.basename(p)}  t = {t:.3f} Gyr  black holes {bh:7.1f} kpc apart, "
+              f"bulge centres {bulges:7.1f} kpc  disc stars > {rcut:g} kpc from both: {share:.3f}")
     if k is None:
         print("no pericentre in these snapshots")
         return
-    print(f"first pericentre: t = {rows[k][0]:.3f} Gyr, bulge centres {rows[k][2]:.1f} kpc apart, black holes "
-          f"{rows[k][1]:.1f} kpc (snapshot spacing {rows[1][0] - rows[0][0]:.3f} Gyr)")
-    times = np.array([r[0] for r in rows])
-    j = int(np.argmin(np.abs(times - (rows[k][0] + after))))
-    print(f"{times[j] - rows[k][0]:.3f} Gyr after it (t = {times[j]:.3f}): {rows[j][3]:.3f} of the disc stars are "
+    print(f"first pericentre: t = {rows[k][1]:.3f} Gyr, bulge centres {rows[k][3]:.1f} kpc apart, black holes "
+          f"{rows[k][2]:.1f} kpc (snapshot spacing {rows[1][1] - rows[0][1]:.3f} Gyr)")
+    print(f"{rows[j][1] - rows[k][1]:.3f} Gyr after it (t = {rows[j][1]:.3f}): {rows[j][4]:.3f} of the disc stars are "
           f"farther than {rcut:g} kpc from both black holes")
 
 

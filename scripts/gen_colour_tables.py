@@ -18,16 +18,27 @@ import os
 import sys
 
 
+def lines_of(path):
+    """The file's lines, or an exit naming the file when it cannot be read."""
+    try:
+        with open(path, newline="") as f:
+            return f.readlines()
+    except OSError as e:
+        sys.exit(f"{path}: cannot read it: {e.strerror} (the shared colour data: shared/data/README.md)")
+
+
 def read_cmf(path, header):
     """Rows (wavelength_nm, xbar, ybar, zbar) of a CVRL-style CSV."""
     rows = []
-    with open(path, newline="") as f:
-        for line in f:
-            line = line.strip()
-            if not line or line.startswith("#") or line == header:
-                continue
+    for line in lines_of(path):
+        line = line.strip()
+        if not line or line.startswith("#") or line == header:
+            continue
+        try:
             wl, x, y, z = line.split(",")
             rows.append((int(float(wl)), float(x), float(y), float(z)))
+        except ValueError:
+            sys.exit(f"{path}: not a row of wavelength,x,y,z numbers: {line}")
     steps = {b[0] - a[0] for a, b in zip(rows, rows[1:])}
     if len(steps) != 1:
         sys.exit(f"{path}: wavelengths are not evenly spaced: {sorted(steps)}")
@@ -40,21 +51,22 @@ def read_mamajek(path):
     The table runs from the first '#SpT' header line to the next one; '...'
     marks a missing value. Teff is column 2 and B-V column 9."""
     rows, inside = [], False
-    with open(path) as f:
-        for line in f:
-            if line.startswith("#SpT"):
-                if inside:
-                    break
-                inside = True
-                continue
-            if not inside or not line.strip():
-                continue
-            cols = line.split()
-            try:
-                bv = float(cols[8])
-            except ValueError:
-                continue
-            rows.append((cols[0], bv, float(cols[1])))
+    for line in lines_of(path):
+        if line.startswith("#SpT"):
+            if inside:
+                break
+            inside = True
+            continue
+        if not inside or not line.strip():
+            continue
+        cols = line.split()
+        try:
+            bv = float(cols[8])
+        except (ValueError, IndexError):
+            continue
+        rows.append((cols[0], bv, float(cols[1])))
+    if not rows:
+        sys.exit(f"{path}: no rows with a B-V value between '#SpT' header lines (not Mamajek's table?)")
     for a, b in zip(rows, rows[1:]):
         if not (b[1] > a[1] and b[2] < a[2]):
             sys.exit(f"{path}: B-V not increasing / Teff not decreasing at {a} -> {b}")

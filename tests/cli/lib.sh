@@ -75,3 +75,14 @@ python_with() {
     exit 77
   fi
 }
+
+# run_checker LABEL CHECKER: runs tests/cli/CHECKER (a Python script taking
+# the source and work folders) with $py; its report is printed when it
+# passes and is the failure's message when it does not.
+run_checker() {
+  if "$py" "$SRC/tests/cli/$2" "$SRC" "$WORK" >"$WORK/log" 2>&1; then
+    cat "$WORK/log"
+  else
+    fail "$1: $(cat "$WORK/log")"
+  fi
+}
