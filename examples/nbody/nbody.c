@@ -21,6 +21,7 @@
  *
  * Units are those of the model and of GADGET-2's examples: kpc, 1e10 solar
  * masses, km/s, so G = 43007.1 and the time unit is 0.978 Gyr. */
+#include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -65,6 +66,11 @@ typedef struct bodies {
     int nfields;
     char field_name[ORR_ARRAYS_MAX_FIELDS][ORR_FIELD_NAME_MAX];
     float *field[ORR_ARRAYS_MAX_FIELDS];
+    /* With block steps (--eta), each particle's last step: dt / 2^level.
+     * It carries over from one step of --dt to the next (a step lengthens
+     * only with room to spare, open_step) and into snapshots, so a resume
+     * chooses the same steps. NULL without --eta. */
+    uint8_t *level;
     double time;
 } bodies;
 
@@ -332,6 +338,7 @@ static void free_bodies(bodies *b)
     free(b->mass);
     free(b->id);
     free(b->type);
+    free(b->level);
     for (int f = 0; f < b->nfields; f++)
         free(b->field[f]);
 }
@@ -909,25 +916,33 @@ static int drift(bodies *b, double dt)
 #define TICKS (1L << MAX_LEVEL)
 
 typedef struct blocks {
-    long *ticks, *end;     /* each particle's step, and the tick it ends at (within a step of --dt) */
+    long *end;             /* the tick each particle's step ends at (within a step of --dt) */
     unsigned char *active; /* whose step ends now: they get forces and kicks */
     double forces;         /* particle forces computed so far (every process) */
     long substeps;         /* force computations (tree builds) so far */
 } blocks;
 
-static int alloc_blocks(blocks *k, size_t n)
+/* The block steps' arrays; b->level is kept when a snapshot gave it, else
+ * every particle starts on the longest step (so its first step is the
+ * criterion's). */
+static int alloc_blocks(blocks *k, bodies *b)
 {
-    k->ticks = malloc((n + 1) * sizeof *k->ticks);
-    k->end = malloc((n + 1) * sizeof *k->end);
-    k->active = malloc(n + 1);
-    return k->ticks && k->end && k->active;
+    k->end = malloc((b->n + 1) * sizeof *k->end);
+    k->active = malloc(b->n + 1);
+    if (!b->level)
+        b->level = calloc(b->n + 1, 1);
+    return k->end && k->active && b->level;
 }
 
 static void free_blocks(blocks *k)
 {
-    free(k->ticks);
     free(k->end);
     free(k->active);
+}
+
+static long ticks_of(uint8_t level)
+{
+    return TICKS >> level;
 }
 
 /* The longest step of the hierarchy, in ticks, that is at most the wanted
@@ -941,23 +956,42 @@ static long step_ticks(double want, double dt, long T)
     return s;
 }
 
+/* The step a particle whose last step was `last` ticks takes at tick T
+ * when it wants `want`: shorter at once when it wants a shorter one, but
+ * longer only when it wants at least twice the longer step. A step chosen
+ * from the acceleration at its start only is not time-symmetric; without
+ * this margin a particle near a boundary between two steps flips between
+ * them and the energy error grows steadily (docs/nbody.md). */
+static long next_ticks(double want, double dt, long T, long last)
+{
+    long s = step_ticks(want, dt, T);
+    if (s <= last)
+        return s;
+    long longer = step_ticks(0.5 * want, dt, T);
+    return longer > last ? longer : last;
+}
+
 /* Opens the step of particle i at tick T: its length from its acceleration
- * now, and the first half kick. */
+ * now and its last step, and the first half kick. */
 static void open_step(bodies *b, blocks *k, size_t i, long T, const options *o)
 {
     const double tick = o->dt / TICKS;
-    k->ticks[i] = step_ticks(wanted_step(b, i, o->eta), o->dt, T);
-    k->end[i] = T + k->ticks[i];
+    long s = next_ticks(wanted_step(b, i, o->eta), o->dt, T, ticks_of(b->level[i]));
+    uint8_t level = 0;
+    while (ticks_of(level) > s)
+        level++;
+    b->level[i] = level;
+    k->end[i] = T + s;
     for (int c = 0; c < 3; c++)
-        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)k->ticks[i] * tick);
+        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)s * tick);
 }
 
 /* The second half kick of particle i's step, with its new acceleration. */
-static void close_step(bodies *b, const blocks *k, size_t i, const options *o)
+static void close_step(bodies *b, size_t i, const options *o)
 {
     const double tick = o->dt / TICKS;
     for (int c = 0; c < 3; c++)
-        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)k->ticks[i] * tick);
+        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)ticks_of(b->level[i]) * tick);
 }
 
 /* The next tick at which some particle's step ends, over every process. */
@@ -994,7 +1028,7 @@ static int block_step(qt_tree *tree, bodies *b, const options *o, blocks *k, int
         k->substeps++;
         for (size_t i = 0; i < b->n; i++)
             if (k->active[i]) {
-                close_step(b, k, i, o);
+                close_step(b, i, o);
                 if (T < TICKS)
                     open_step(b, k, i, T, o);
             }
@@ -1022,6 +1056,7 @@ static int adopt_particles(bodies *b, nb_particles *p)
     b->mass = p->mass;
     b->id = p->id;
     b->type = p->type;
+    b->level = p->level;
     b->nfields = p->nfields;
     memcpy(b->field_name, p->field_name, sizeof b->field_name);
     memcpy(b->field, p->field, sizeof b->field);
@@ -1066,6 +1101,8 @@ static void keep_slice(nb_particles *p, size_t first, size_t count)
     memmove(p->mass, p->mass + first, count * sizeof *p->mass);
     memmove(p->id, p->id + first, count * sizeof *p->id);
     memmove(p->type, p->type + first, count * sizeof *p->type);
+    if (p->level)
+        memmove(p->level, p->level + first, count * sizeof *p->level);
     for (int f = 0; f < p->nfields; f++)
         memmove(p->field[f], p->field[f] + first, count * sizeof *p->field[f]);
     p->n = count;
@@ -1086,6 +1123,13 @@ static int resume_bodies(options *o, bodies *b, nb_run_state *rs, int rank, int 
         fprintf(stderr, "orrery-nbody: --resume %s: %s\n", o->resume_dir, err.msg);
         return 0;
     }
+    for (size_t i = 0; p.level && i < p.n; i++)
+        if (p.level[i] > MAX_LEVEL) {
+            fprintf(stderr, "orrery-nbody: --resume %s: particle id %" PRIu64 ": OrreryNbodyStepLevel %d: above %d\n",
+                    path, p.id[i], p.level[i], MAX_LEVEL);
+            nb_particles_free(&p);
+            return 0;
+        }
     size_t share = p.n / (size_t)size, extra = p.n % (size_t)size, r = (size_t)rank;
     keep_slice(&p, r * share + (r < extra ? r : extra), share + (r < extra));
     if (!adopt_particles(b, &p)) {
@@ -1153,8 +1197,9 @@ static int gather_particles(const bodies *b, nb_particles *all)
     all->vel = malloc(3 * (n + 1) * sizeof *all->vel);
     all->id = malloc((n + 1) * sizeof *all->id);
     all->type = malloc(n + 1);
+    all->level = b->level ? malloc(n + 1) : NULL;
     double *rows = malloc(3 * (n + 1) * sizeof *rows);
-    int ok = all->vel && all->id && all->type && rows;
+    int ok = all->vel && all->id && all->type && rows && (all->level || !b->level);
     for (int f = 0; f < b->nfields; f++)
         ok &= (all->field[f] = malloc((n + 1) * sizeof(float))) != NULL;
     if (ranks_any(!ok)) {
@@ -1172,6 +1217,13 @@ static int gather_particles(const bodies *b, nb_particles *all)
     for (size_t i = 0; ok && i < n; i++) {
         all->id[i] = (uint64_t)rows[3 * i] << 32 | (uint64_t)rows[3 * i + 1];
         all->type[i] = (uint8_t)rows[3 * i + 2];
+    }
+    if (all->level) {
+        for (size_t i = 0; i < b->n; i++)
+            rows[mine + i] = b->level[i];
+        ok = ok && ranks_gather(rows, 1, b->counts) == 0;
+        for (size_t i = 0; ok && i < n; i++)
+            all->level[i] = (uint8_t)rows[i];
     }
     for (int f = 0; ok && f < b->nfields; f++) {
         for (size_t i = 0; i < b->n; i++)
@@ -1214,7 +1266,7 @@ static int write_snapshot(const bodies *b, const options *o, long step, long num
                           int rank, int size)
 {
     nb_particles p = {.n = b->n, .pos = b->pos, .vel = b->vel, .mass = b->mass, .id = b->id, .type = b->type,
-                      .nfields = b->nfields};
+                      .level = b->level, .nfields = b->nfields};
     memcpy(p.field_name, b->field_name, sizeof p.field_name);
     memcpy(p.field, b->field, sizeof p.field);
     int failed = size > 1 && !gather_particles(b, &p);
@@ -1369,7 +1421,11 @@ int main(int argc, char **argv)
     double interactions;
     run u = {0};
     blocks blk = {0};
-    if (o.eta > 0 && ranks_any(!alloc_blocks(&blk, b.n))) {
+    if (o.eta <= 0) { /* a resumed run's levels, when it goes on with one global step */
+        free(b.level);
+        b.level = NULL;
+    }
+    if (o.eta > 0 && ranks_any(!alloc_blocks(&blk, &b))) {
         fprintf(stderr, "orrery-nbody: out of memory for the block time steps\n");
         code = 1;
     }
