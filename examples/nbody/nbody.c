@@ -598,17 +598,20 @@ static orr_particle_arrays as_arrays(const bodies *b)
 }
 
 /* The accelerations and potentials of this process's particles, from a
- * tree over all: built anew for all (active NULL), or, for the particles
- * with active[i] set within a block step, the last one moved to the new
- * positions (qt_refresh: O(N), the short steps' particles move little). */
+ * tree built anew over all: for all (active NULL), or for the particles with
+ * active[i] set within a block step. The tree is built anew at every
+ * sub-step, not kept with its cells' moments moved to the new positions (as
+ * it was until issue 42): a group's particles drift apart over a long step,
+ * so a moved tree's interaction lists grew to 3 times a new one's within a
+ * step of 0.008 and the sub-steps cost far more than a build saves
+ * (docs/nbody.md). The tracers' softening is renewed with the full
+ * computations only. */
 static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned char *active, double *interactions)
 {
     double t0 = now();
-    if (active)
-        qt_refresh(t, b->pos_all);
-    else
+    if (!active)
         soften_tracers(b, o);
-    if ((!active && qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0) ||
+    if (qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0 ||
         (*interactions = qt_accelerations_masked(t, G_KPC_KMS, o->theta, b->first, b->n, active, b->acc, b->pot)) <
             0) {
         fprintf(stderr, "orrery-nbody: out of memory in the tree\n");
