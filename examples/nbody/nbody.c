@@ -1114,6 +1114,21 @@ static void keep_slice(nb_particles *p, size_t first, size_t count)
     p->n = count;
 }
 
+/* Whether every block-step level a snapshot keeps is one a run takes (at
+ * most MAX_LEVEL); the first that is not is an error naming it. */
+static int levels_valid(const nb_particles *p, const char *path)
+{
+    for (size_t i = 0; p->level && i < p->n; i++)
+        if (p->level[i] > MAX_LEVEL) {
+            fprintf(stderr,
+                    "orrery-nbody: --resume %s: particle id %" PRIu64
+                    ": OrreryNbodyStepLevel = %d: a block step's level is at most %d\n",
+                    path, p->id[i], p->level[i], MAX_LEVEL);
+            return 0;
+        }
+    return 1;
+}
+
 /* The particles and state of the newest snapshot in --resume's folder;
  * on MPI ranks every rank reads it and keeps an even slice of the run's
  * order (the forces do not depend on the slicing, only on that order). */
@@ -1129,13 +1144,10 @@ static int resume_bodies(options *o, bodies *b, nb_run_state *rs, int rank, int 
         fprintf(stderr, "orrery-nbody: --resume %s: %s\n", o->resume_dir, err.msg);
         return 0;
     }
-    for (size_t i = 0; p.level && i < p.n; i++)
-        if (p.level[i] > MAX_LEVEL) {
-            fprintf(stderr, "orrery-nbody: --resume %s: particle id %" PRIu64 ": OrreryNbodyStepLevel %d: above %d\n",
-                    path, p.id[i], p.level[i], MAX_LEVEL);
-            nb_particles_free(&p);
-            return 0;
-        }
+    if (!levels_valid(&p, path)) {
+        nb_particles_free(&p);
+        return 0;
+    }
     size_t share = p.n / (size_t)size, extra = p.n % (size_t)size, r = (size_t)rank;
     keep_slice(&p, r * share + (r < extra ? r : extra), share + (r < extra));
     if (!adopt_particles(b, &p)) {

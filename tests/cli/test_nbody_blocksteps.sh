@@ -57,6 +57,19 @@ PY
 "$NBODY" --resume nolevels --steps 15 >nolevels.log 2>&1 || fail "resume without levels: $(tail -3 nolevels.log)"
 ! cmp -s block/snapshot_0003.hdf5 nolevels/snapshot_0003.hdf5 || fail "the step levels made no difference"
 
+# A level no run writes (steps are dt / 2^k, k <= 10): an error naming it.
+mkdir badlevel
+cp block/snapshot_0002.hdf5 badlevel/
+"$py" -c "
+import h5py
+with h5py.File('badlevel/snapshot_0002.hdf5', 'r+') as f:
+    f['PartType2/OrreryNbodyStepLevel'][3] = 11
+    print(f['PartType2/ParticleIDs'][3])" >badid.txt || fail "h5py could not edit the level"
+got=0
+"$NBODY" --resume badlevel --steps 15 >badlevel.log 2>&1 || got=$?
+[ $got -eq 1 ] && grep -q "badlevel/snapshot_0002.hdf5: particle id $(cat badid.txt): OrreryNbodyStepLevel = 11: a block step's level is at most 10" badlevel.log &&
+  [ ! -e badlevel/snapshot_0003.hdf5 ] || fail "level 11: exit $got: $(cat badlevel.log)"
+
 "$py" - <<'PY' || fail "eta 1e9 against the global step"
 import h5py, numpy as np
 a, b = h5py.File("global/snapshot_0001.hdf5", "r"), h5py.File("one/snapshot_0001.hdf5", "r")
