@@ -86,6 +86,7 @@ typedef struct options {
     long steps;
     double dt, eps, eps_halo, theta;
     double eta;            /* block time steps' accuracy; 0: one global step --dt */
+    double dt_min;         /* block time steps are never shorter (0: down to dt / 2^MAX_LEVEL) */
     int eps_halo_given;    /* --eps-halo given; else it is 2 x --eps */
     long render_every, report_every;
     double progress;       /* seconds between progress lines on stderr; 0: none */
@@ -97,6 +98,7 @@ typedef struct options {
     const char *resume_dir;   /* NULL: a new run */
     /* Given on the command line; on a resume the others are the run's own. */
     int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given, tracer_neighbours_given;
+    int dt_min_given;
 } options;
 
 static const char usage[] =
@@ -128,6 +130,8 @@ static const char usage[] =
     "                     ends (default: one global step --dt for all; at the films'\n"
     "                     --eps 0.2, --dt 0.008 --eta 0.2 costs what --dt 0.002 does\n"
     "                     for a fifth of its energy error)\n"
+    "  --dt-min DT        with --eta, no step shorter than DT (the shortest dt / 2^k at\n"
+    "                     least DT; Gadget-2's MinSizeTimestep; default: none)\n"
     "  --eps EPS          Plummer softening of stars, black holes and gas, kpc (default 0.05)\n"
     "  --eps-halo EPS     Plummer softening of dark-matter (type 1) particles (default 2 x --eps)\n"
     "  --theta THETA      opening angle, 0 to 1 (default 0.7: 99% of forces within 1%)\n"
@@ -147,8 +151,8 @@ static const char usage[] =
     "                     temporary name and renamed when complete\n"
     "  --snapshot-dir DIR where snapshots go (created if missing; default: --resume's DIR)\n"
     "  --resume DIR       continue from DIR's newest snapshot, bit for bit as if never\n"
-    "                     stopped: its time and step, and its --dt, --eta, --eps,\n"
-    "                     --eps-halo, --theta and --snapshot-every unless given;\n"
+    "                     stopped: its time and step, and its --dt, --eta, --dt-min,\n"
+    "                     --eps, --eps-halo, --theta and --snapshot-every unless given;\n"
     "                     --steps counts from the start of the run, not of the resume\n"
     "On MPI ranks, rank 0 writes the snapshots (gathered from every rank), and on a\n"
     "resume every rank reads the snapshot and keeps an even share of it.\n";
@@ -197,6 +201,9 @@ static int check_options(const options *o)
     else if (o->eta_given && (!(o->eta > 0) || !isfinite(o->eta)))
         bad = "--eta", snprintf(why, sizeof why, "%g: the time-step accuracy must be a number above 0 (Gadget-2: 0.025)",
                                 o->eta);
+    else if (o->dt_min_given && (!(o->dt_min > 0) || !(o->dt_min <= o->dt)))
+        bad = "--dt-min", snprintf(why, sizeof why, "%g: the shortest block step must be above 0 and at most --dt %g",
+                                   o->dt_min, o->dt);
     else if (!(o->eps > 0) || !isfinite(o->eps))
         bad = "--eps", snprintf(why, sizeof why, "%g: the softening must be a length above 0 (kpc)", o->eps);
     else if (!(o->eps_halo > 0) || !isfinite(o->eps_halo))
@@ -288,6 +295,9 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--eta") == 0) {
             o->eta = parse_number(v);
             o->eta_given = 1;
+        } else if (strcmp(a, "--dt-min") == 0) {
+            o->dt_min = parse_number(v);
+            o->dt_min_given = 1;
         } else if (strcmp(a, "--eps") == 0) {
             o->eps = parse_number(v);
             o->eps_given = 1;
@@ -922,6 +932,7 @@ static int drift(bodies *b, double dt)
 #define TICKS (1L << MAX_LEVEL)
 
 typedef struct blocks {
+    long min_ticks;        /* the shortest step (--dt-min) */
     long *end;             /* the tick each particle's step ends at (within a step of --dt) */
     unsigned char *active; /* whose step ends now: they get forces and kicks */
     double forces;         /* particle forces computed so far (every process) */
@@ -931,8 +942,11 @@ typedef struct blocks {
 /* The block steps' arrays; b->level is kept when a snapshot gave it, else
  * every particle starts on the longest step (so its first step is the
  * criterion's). */
-static int alloc_blocks(blocks *k, bodies *b)
+static int alloc_blocks(blocks *k, bodies *b, const options *o)
 {
+    k->min_ticks = 1;
+    while (k->min_ticks < TICKS && (double)k->min_ticks * (o->dt / TICKS) < o->dt_min * (1 - 1e-12))
+        k->min_ticks *= 2;
     k->end = malloc((b->n + 1) * sizeof *k->end);
     k->active = malloc(b->n + 1);
     if (!b->level)
@@ -952,12 +966,12 @@ static long ticks_of(uint8_t level)
 }
 
 /* The longest step of the hierarchy, in ticks, that is at most the wanted
- * one and may start at tick T (T a multiple of it, so the steps stay
- * nested); at least one tick. */
-static long step_ticks(double want, double dt, long T)
+ * one (but not shorter than least) and may start at tick T (T a multiple
+ * of it, so the steps stay nested); at least one tick. */
+static long step_ticks(double want, double dt, long T, long least)
 {
     long s = TICKS;
-    while (s > 1 && ((double)s * (dt / TICKS) > want || T % s != 0))
+    while (s > 1 && (((double)s * (dt / TICKS) > want && s > least) || T % s != 0))
         s >>= 1;
     return s;
 }
@@ -968,12 +982,12 @@ static long step_ticks(double want, double dt, long T)
  * from the acceleration at its start only is not time-symmetric; without
  * this margin a particle near a boundary between two steps flips between
  * them and the energy error grows steadily (docs/nbody.md). */
-static long next_ticks(double want, double dt, long T, long last)
+static long next_ticks(double want, double dt, long T, long last, long least)
 {
-    long s = step_ticks(want, dt, T);
+    long s = step_ticks(want, dt, T, least);
     if (s <= last)
         return s;
-    long longer = step_ticks(0.5 * want, dt, T);
+    long longer = step_ticks(0.5 * want, dt, T, least);
     return longer > last ? longer : last;
 }
 
@@ -982,7 +996,7 @@ static long next_ticks(double want, double dt, long T, long last)
 static void open_step(bodies *b, blocks *k, size_t i, long T, const options *o)
 {
     const double tick = o->dt / TICKS;
-    long s = next_ticks(wanted_step(b, i, o->eta), o->dt, T, ticks_of(b->level[i]));
+    long s = next_ticks(wanted_step(b, i, o->eta), o->dt, T, ticks_of(b->level[i]), k->min_ticks);
     uint8_t level = 0;
     while (ticks_of(level) > s)
         level++;
@@ -1091,6 +1105,7 @@ static void take_run_settings(options *o, const nb_run_state *rs)
     take_setting("--eps-halo", o->eps_halo_given || o->eps_given, &o->eps_halo, rs->eps_halo, o->quiet);
     take_setting("--theta", o->theta_given, &o->theta, rs->theta, o->quiet);
     take_setting("--eta", o->eta_given, &o->eta, rs->eta, o->quiet);
+    take_setting("--dt-min", o->dt_min_given, &o->dt_min, rs->dt_min, o->quiet);
     double k = (double)o->tracer_neighbours;
     take_setting("--tracer-neighbours", o->tracer_neighbours_given, &k, (double)rs->tracer_neighbours, o->quiet);
     o->tracer_neighbours = (long)k;
@@ -1290,6 +1305,7 @@ static int write_snapshot(const bodies *b, const options *o, long step, long num
     int failed = size > 1 && !gather_particles(b, &p);
     nb_run_state s = {.time = b->time, .step = step, .number = number, .e0 = e0, .centre0 = {c0[0], c0[1], c0[2]},
                       .dt = o->dt, .eps = o->eps, .eps_halo = o->eps_halo, .theta = o->theta, .eta = o->eta,
+                      .dt_min = o->dt_min,
                       .snapshot_every = o->snapshot_every, .tracer_neighbours = o->tracer_neighbours};
     if (!failed && rank == 0)
         failed = write_file(&p, &s, o);
@@ -1443,7 +1459,7 @@ int main(int argc, char **argv)
         free(b.level);
         b.level = NULL;
     }
-    if (o.eta > 0 && ranks_any(!alloc_blocks(&blk, &b))) {
+    if (o.eta > 0 && ranks_any(!alloc_blocks(&blk, &b, &o))) {
         fprintf(stderr, "orrery-nbody: out of memory for the block time steps\n");
         code = 1;
     }

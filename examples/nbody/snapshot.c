@@ -99,6 +99,7 @@ static int write_run_group(hid_t file, const write_ctx *w)
     bad |= orr_h5w_double(g, "EpsHalo", s->eps_halo);
     bad |= orr_h5w_double(g, "Theta", s->theta);
     bad |= orr_h5w_double(g, "Eta", s->eta);
+    bad |= orr_h5w_double(g, "DtMin", s->dt_min);
     bad |= orr_h5w_string(g, "Fields", fields);
     H5Gclose(g);
     return bad;
@@ -375,6 +376,8 @@ static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_ru
                       path, RUN_GROUP);
     if (!st && !attr_double(run, "Eta", &s->eta))
         s->eta = 0; /* one global step */
+    if (!st && !attr_double(run, "DtMin", &s->dt_min))
+        s->dt_min = 0; /* no shortest block step */
     if (!st && !attr_long(run, "TracerNeighbours", &s->tracer_neighbours))
         s->tracer_neighbours = 0; /* written before tracers were softened apart */
     int ncentre = 0;

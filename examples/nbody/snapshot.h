@@ -45,6 +45,7 @@ typedef struct nb_run_state {
     int has_centre0;   /* read: the snapshot holds centre0 (older ones do not) */
     double dt, eps, eps_halo, theta;
     double eta;   /* block time steps' accuracy parameter; 0: one global step */
+    double dt_min; /* block time steps' shortest step; 0: none (what snapshots without it had) */
     long snapshot_every;
     long tracer_neighbours; /* tracers' softening (0: as stars, what snapshots without it had) */
 } nb_run_state;

@@ -5,8 +5,9 @@
 # global step of 0.001 while computing fewer particle forces (measured:
 # largest |dE/E0| 9.9e-4 against 5.1e-3, 3.9e5 forces against 5.0e5); a run
 # in block steps resumes bit for bit, owing it to each particle's step kept
-# in the snapshot, also on two MPI ranks; bad --eta values are errors
-# naming it.
+# in the snapshot, also on two MPI ranks; --dt-min bounds the steps from
+# below and is kept too; bad --eta and --dt-min values are errors naming
+# them.
 source "$(dirname "$0")/lib.sh"
 [ -x "$NBODY" ] || { fail "no $NBODY"; finish; }
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-2}
@@ -57,6 +58,23 @@ PY
 "$NBODY" --resume nolevels --steps 15 >nolevels.log 2>&1 || fail "resume without levels: $(tail -3 nolevels.log)"
 ! cmp -s block/snapshot_0003.hdf5 nolevels/snapshot_0003.hdf5 || fail "the step levels made no difference"
 
+# --dt-min: no step shorter (here 0.002 of dt 0.004: levels 0 and 1 only,
+# where the run above went down to level 4); kept in the snapshot, so a
+# resume takes it and gives the same bytes.
+"$NBODY" $mw --steps 4 --dt 0.004 --eta 0.2 --dt-min 0.002 --snapshot-every 2 --snapshot-dir dtmin >dtmin.log 2>&1 ||
+  fail "--dt-min: $(tail -3 dtmin.log)"
+mkdir dtminhalf
+cp dtmin/snapshot_0000.hdf5 dtmin/snapshot_0001.hdf5 dtminhalf/
+"$NBODY" --resume dtminhalf --steps 4 >dtminhalf.log 2>&1 || fail "--dt-min resume: $(tail -3 dtminhalf.log)"
+cmp -s dtmin/snapshot_0002.hdf5 dtminhalf/snapshot_0002.hdf5 || fail "a resumed --dt-min run differs"
+"$py" - <<'PY' || fail "--dt-min levels"
+import h5py, numpy as np
+f = h5py.File("dtmin/snapshot_0002.hdf5", "r")
+levels = np.concatenate([f[g]["OrreryNbodyStepLevel"][:] for g in f if g.startswith("PartType") and len(f[g]["ParticleIDs"])])
+print("levels with --dt-min", np.bincount(levels), "DtMin", f["OrreryNbody"].attrs["DtMin"])
+raise SystemExit(not (levels.max() == 1 and f["OrreryNbody"].attrs["DtMin"] == 0.002))
+PY
+
 # A level no run writes (steps are dt / 2^k, k <= 10): an error naming it.
 mkdir badlevel
 cp block/snapshot_0002.hdf5 badlevel/
@@ -99,6 +117,12 @@ raise SystemExit(bool(bad) or levels < 3)
 PY
 fi
 
+for bad in 0 -1 nan 0.005; do
+  got=0
+  "$NBODY" $mw --steps 1 --dt 0.004 --eta 0.2 --dt-min $bad >out.txt 2>err.txt || got=$?
+  [ $got -eq 2 ] && grep -q -- "--dt-min $bad: the shortest block step must be above 0 and at most --dt 0.004" err.txt &&
+    ! grep -q "^step" out.txt || fail "--dt-min $bad: exit $got: $(cat err.txt)"
+done
 for bad in 0 -1 nan; do
   got=0
   "$NBODY" $mw --steps 1 --eta $bad >out.txt 2>err.txt || got=$?
