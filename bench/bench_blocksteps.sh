@@ -3,13 +3,14 @@
 # side by side in one run (docs/nbody.md, "Block (individual) time steps").
 #
 #   bench/bench_blocksteps.sh [BUILD]        # BUILD: the build folder (default build)
-#   N=200000 BLOCKS="0.008:0.25 0.016:0.2" TIME=0.208 bench/bench_blocksteps.sh
+#   N=200000 BLOCKS="0.008:0.25 0.016:0.2:0.002" TIME=0.208 bench/bench_blocksteps.sh
 #
 # The isolated Milky Way of N particles (default 20000) at the films'
 # settings (softening EPS = 0.2 kpc, the halo's twice it), evolved for TIME
 # time units (default 0.2, 196 Myr) once with the global step GLOBAL_DT
-# (default 0.002, the films') and once for each DT:ETA of BLOCKS (block
-# steps of at most DT chosen by sqrt(2 ETA eps / |a|)). For each run: the
+# (default 0.002, the films') and once for each DT:ETA[:DTMIN] of BLOCKS
+# (block steps of at most DT chosen by sqrt(2 ETA eps / |a|), none shorter
+# than DTMIN when given: --dt-min). For each run: the
 # CPU seconds (user + system, bash's `time`), the particle forces, the
 # largest and the last |dE/E0| of reports every REPORT time units (default
 # 0.016), the disc's rms height and the bulge's half-mass radius at the
@@ -21,7 +22,7 @@ build=${1:-build}
 nbody="$build/examples/orrery-nbody"
 [ -x "$nbody" ] || { echo "bench_blocksteps: no $nbody (build first: scripts/build.sh $build)" >&2; exit 1; }
 N=${N:-20000} TIME=${TIME:-0.2} EPS=${EPS:-0.2} GLOBAL_DT=${GLOBAL_DT:-0.002} REPORT=${REPORT:-0.016}
-BLOCKS=${BLOCKS:-"0.004:0.2 0.008:0.2 0.008:0.3"}
+BLOCKS=${BLOCKS:-"0.008:0.2 0.008:0.2:0.002 0.008:0.3"}
 export OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -59,18 +60,19 @@ row() {
     /^block steps:/ { forces = $6 }
     END {
       if (forces == "") forces = sprintf("%.4g", n * t / dt)
-      printf "%-26s %8.2f %11s %12.2e %12.2e %8s %8s %8s\n", label, cpu, forces, most, last, z, r,
+      printf "%-38s %8.2f %11s %12.2e %12.2e %8s %8s %8s\n", label, cpu, forces, most, last, z, r,
              base == "" ? "1" : sprintf("%.2f", cpu / base)
     }' "$work/$1.log"
 }
 
 echo "isolated Milky Way, $N particles, eps $EPS, $TIME time units, one thread"
-printf "%-26s %8s %11s %12s %12s %8s %8s %8s\n" run "CPU s" forces "max|dE/E0|" "end|dE/E0|" z_rms r_bulge "/global"
+printf "%-38s %8s %11s %12s %12s %8s %8s %8s\n" run "CPU s" forces "max|dE/E0|" "end|dE/E0|" z_rms r_bulge "/global"
 run global "$GLOBAL_DT"
 row global "global dt = $GLOBAL_DT"
 base=$(cat "$work/global.cpu")
 for b in $BLOCKS; do
-  dt=${b%%:*} eta=${b##*:}
-  run "block_${dt}_${eta}" "$dt" --eta "$eta"
-  row "block_${dt}_${eta}" "block dt <= $dt eta = $eta" "$base"
+  IFS=: read -r dt eta dtmin <<<"$b"
+  name="block_${dt}_${eta}_${dtmin}" label="block ${dtmin:+$dtmin <= }dt <= $dt eta = $eta"
+  run "$name" "$dt" --eta "$eta" ${dtmin:+--dt-min "$dtmin"}
+  row "$name" "$label" "$base"
 done
