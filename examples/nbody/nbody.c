@@ -104,8 +104,8 @@ typedef struct options {
 static const char usage[] =
     "usage: orrery-nbody [--ic model|SNAPSHOT] [--particles N] [--separation KPC]\n"
     "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
-    "                    [--steps N] [--dt DT] [--eta ETA] [--eps EPS] [--eps-halo EPS]\n"
-    "                    [--theta THETA] [--tracer-neighbours K]\n"
+    "                    [--steps N] [--dt DT] [--eta ETA] [--dt-min DT] [--eps EPS]\n"
+    "                    [--eps-halo EPS] [--theta THETA] [--tracer-neighbours K]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
     "                    [--resume DIR] [--progress SECONDS] [--quiet]\n"
