@@ -21,6 +21,7 @@
  *
  * Units are those of the model and of GADGET-2's examples: kpc, 1e10 solar
  * masses, km/s, so G = 43007.1 and the time unit is 0.978 Gyr. */
+#include <inttypes.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -65,6 +66,11 @@ typedef struct bodies {
     int nfields;
     char field_name[ORR_ARRAYS_MAX_FIELDS][ORR_FIELD_NAME_MAX];
     float *field[ORR_ARRAYS_MAX_FIELDS];
+    /* With block steps (--eta), each particle's last step: dt / 2^level.
+     * It carries over from one step of --dt to the next (a step lengthens
+     * only with room to spare, open_step) and into snapshots, so a resume
+     * chooses the same steps. NULL without --eta. */
+    uint8_t *level;
     double time;
 } bodies;
 
@@ -80,6 +86,7 @@ typedef struct options {
     long steps;
     double dt, eps, eps_halo, theta;
     double eta;            /* block time steps' accuracy; 0: one global step --dt */
+    double dt_min;         /* block time steps are never shorter (0: down to dt / 2^MAX_LEVEL) */
     int eps_halo_given;    /* --eps-halo given; else it is 2 x --eps */
     long render_every, report_every;
     double progress;       /* seconds between progress lines on stderr; 0: none */
@@ -91,13 +98,14 @@ typedef struct options {
     const char *resume_dir;   /* NULL: a new run */
     /* Given on the command line; on a resume the others are the run's own. */
     int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given, tracer_neighbours_given;
+    int dt_min_given;
 } options;
 
 static const char usage[] =
     "usage: orrery-nbody [--ic model|SNAPSHOT] [--particles N] [--separation KPC]\n"
     "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
-    "                    [--steps N] [--dt DT] [--eta ETA] [--eps EPS] [--eps-halo EPS]\n"
-    "                    [--theta THETA] [--tracer-neighbours K]\n"
+    "                    [--steps N] [--dt DT] [--eta ETA] [--dt-min DT] [--eps EPS]\n"
+    "                    [--eps-halo EPS] [--theta THETA] [--tracer-neighbours K]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
     "                    [--resume DIR] [--progress SECONDS] [--quiet]\n"
@@ -117,8 +125,13 @@ static const char usage[] =
     "  --dt DT            time step (default 0.001, about 1 Myr; with --eta the longest)\n"
     "  --eta ETA          block time steps: particle i takes the longest step dt / 2^k\n"
     "                     (k <= 10) at most sqrt(2 ETA eps_i / |a_i|) (Gadget-2's\n"
-    "                     criterion; 0.025 there), and gets forces only when its step\n"
-    "                     ends (default: one global step --dt for all)\n"
+    "                     criterion; 0.025 there; a longer step than its last only\n"
+    "                     when it wants twice it), and gets forces only when its step\n"
+    "                     ends (default: one global step --dt for all; at the films'\n"
+    "                     --eps 0.2, --dt 0.008 --eta 0.2 --dt-min 0.002 takes 0.72 of\n"
+    "                     the CPU of --dt 0.002, for a smaller energy error)\n"
+    "  --dt-min DT        with --eta, no step shorter than DT (the shortest dt / 2^k at\n"
+    "                     least DT; Gadget-2's MinSizeTimestep; default: none)\n"
     "  --eps EPS          Plummer softening of stars, black holes and gas, kpc (default 0.05)\n"
     "  --eps-halo EPS     Plummer softening of dark-matter (type 1) particles (default 2 x --eps)\n"
     "  --theta THETA      opening angle, 0 to 1 (default 0.7: 99% of forces within 1%)\n"
@@ -138,8 +151,8 @@ static const char usage[] =
     "                     temporary name and renamed when complete\n"
     "  --snapshot-dir DIR where snapshots go (created if missing; default: --resume's DIR)\n"
     "  --resume DIR       continue from DIR's newest snapshot, bit for bit as if never\n"
-    "                     stopped: its time and step, and its --dt, --eta, --eps,\n"
-    "                     --eps-halo, --theta and --snapshot-every unless given;\n"
+    "                     stopped: its time and step, and its --dt, --eta, --dt-min,\n"
+    "                     --eps, --eps-halo, --theta and --snapshot-every unless given;\n"
     "                     --steps counts from the start of the run, not of the resume\n"
     "On MPI ranks, rank 0 writes the snapshots (gathered from every rank), and on a\n"
     "resume every rank reads the snapshot and keeps an even share of it.\n";
@@ -188,6 +201,9 @@ static int check_options(const options *o)
     else if (o->eta_given && (!(o->eta > 0) || !isfinite(o->eta)))
         bad = "--eta", snprintf(why, sizeof why, "%g: the time-step accuracy must be a number above 0 (Gadget-2: 0.025)",
                                 o->eta);
+    else if (o->dt_min_given && (!(o->dt_min > 0) || !(o->dt_min <= o->dt)))
+        bad = "--dt-min", snprintf(why, sizeof why, "%g: the shortest block step must be above 0 and at most --dt %g",
+                                   o->dt_min, o->dt);
     else if (!(o->eps > 0) || !isfinite(o->eps))
         bad = "--eps", snprintf(why, sizeof why, "%g: the softening must be a length above 0 (kpc)", o->eps);
     else if (!(o->eps_halo > 0) || !isfinite(o->eps_halo))
@@ -279,6 +295,9 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--eta") == 0) {
             o->eta = parse_number(v);
             o->eta_given = 1;
+        } else if (strcmp(a, "--dt-min") == 0) {
+            o->dt_min = parse_number(v);
+            o->dt_min_given = 1;
         } else if (strcmp(a, "--eps") == 0) {
             o->eps = parse_number(v);
             o->eps_given = 1;
@@ -332,6 +351,7 @@ static void free_bodies(bodies *b)
     free(b->mass);
     free(b->id);
     free(b->type);
+    free(b->level);
     for (int f = 0; f < b->nfields; f++)
         free(b->field[f]);
 }
@@ -591,17 +611,20 @@ static orr_particle_arrays as_arrays(const bodies *b)
 }
 
 /* The accelerations and potentials of this process's particles, from a
- * tree over all: built anew for all (active NULL), or, for the particles
- * with active[i] set within a block step, the last one moved to the new
- * positions (qt_refresh: O(N), the short steps' particles move little). */
+ * tree built anew over all: for all (active NULL), or for the particles with
+ * active[i] set within a block step. The tree is built anew at every
+ * sub-step, not kept with its cells' moments moved to the new positions (as
+ * it was until issue 42): a group's particles drift apart over a long step,
+ * so a moved tree's interaction lists grew to 3 times a new one's within a
+ * step of 0.008 and the sub-steps cost far more than a build saves
+ * (docs/nbody.md). The tracers' softening is renewed with the full
+ * computations only. */
 static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned char *active, double *interactions)
 {
     double t0 = now();
-    if (active)
-        qt_refresh(t, b->pos_all);
-    else
+    if (!active)
         soften_tracers(b, o);
-    if ((!active && qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0) ||
+    if (qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0 ||
         (*interactions = qt_accelerations_masked(t, G_KPC_KMS, o->theta, b->first, b->n, active, b->acc, b->pot)) <
             0) {
         fprintf(stderr, "orrery-nbody: out of memory in the tree\n");
@@ -909,55 +932,86 @@ static int drift(bodies *b, double dt)
 #define TICKS (1L << MAX_LEVEL)
 
 typedef struct blocks {
-    long *ticks, *end;     /* each particle's step, and the tick it ends at (within a step of --dt) */
+    long min_ticks;        /* the shortest step (--dt-min) */
+    long *end;             /* the tick each particle's step ends at (within a step of --dt) */
     unsigned char *active; /* whose step ends now: they get forces and kicks */
     double forces;         /* particle forces computed so far (every process) */
     long substeps;         /* force computations (tree builds) so far */
 } blocks;
 
-static int alloc_blocks(blocks *k, size_t n)
+/* The block steps' arrays; b->level is kept when a snapshot gave it, else
+ * every particle starts on the longest step (so its first step is the
+ * criterion's). */
+static int alloc_blocks(blocks *k, bodies *b, const options *o)
 {
-    k->ticks = malloc((n + 1) * sizeof *k->ticks);
-    k->end = malloc((n + 1) * sizeof *k->end);
-    k->active = malloc(n + 1);
-    return k->ticks && k->end && k->active;
+    k->min_ticks = 1;
+    while (k->min_ticks < TICKS && (double)k->min_ticks * (o->dt / TICKS) < o->dt_min * (1 - 1e-12))
+        k->min_ticks *= 2;
+    k->end = malloc((b->n + 1) * sizeof *k->end);
+    k->active = malloc(b->n + 1);
+    if (!b->level)
+        b->level = calloc(b->n + 1, 1);
+    return k->end && k->active && b->level;
 }
 
 static void free_blocks(blocks *k)
 {
-    free(k->ticks);
     free(k->end);
     free(k->active);
 }
 
+static long ticks_of(uint8_t level)
+{
+    return TICKS >> level;
+}
+
 /* The longest step of the hierarchy, in ticks, that is at most the wanted
- * one and may start at tick T (T a multiple of it, so the steps stay
- * nested); at least one tick. */
-static long step_ticks(double want, double dt, long T)
+ * one (but not shorter than least) and may start at tick T (T a multiple
+ * of it, so the steps stay nested); at least one tick. */
+static long step_ticks(double want, double dt, long T, long least)
 {
     long s = TICKS;
-    while (s > 1 && ((double)s * (dt / TICKS) > want || T % s != 0))
+    while (s > 1 && (((double)s * (dt / TICKS) > want && s > least) || T % s != 0))
         s >>= 1;
     return s;
 }
 
+/* The step a particle whose last step was `last` ticks takes at tick T
+ * when it wants `want`: shorter at once when it wants a shorter one, but
+ * longer only when it wants at least twice the longer step. A step chosen
+ * from the acceleration at its start only is not time-symmetric; without
+ * this margin a particle near a boundary between two steps flips between
+ * them and the energy error grows steadily (docs/nbody.md). */
+static long next_ticks(double want, double dt, long T, long last, long least)
+{
+    long s = step_ticks(want, dt, T, least);
+    if (s <= last)
+        return s;
+    long longer = step_ticks(0.5 * want, dt, T, least);
+    return longer > last ? longer : last;
+}
+
 /* Opens the step of particle i at tick T: its length from its acceleration
- * now, and the first half kick. */
+ * now and its last step, and the first half kick. */
 static void open_step(bodies *b, blocks *k, size_t i, long T, const options *o)
 {
     const double tick = o->dt / TICKS;
-    k->ticks[i] = step_ticks(wanted_step(b, i, o->eta), o->dt, T);
-    k->end[i] = T + k->ticks[i];
+    long s = next_ticks(wanted_step(b, i, o->eta), o->dt, T, ticks_of(b->level[i]), k->min_ticks);
+    uint8_t level = 0;
+    while (ticks_of(level) > s)
+        level++;
+    b->level[i] = level;
+    k->end[i] = T + s;
     for (int c = 0; c < 3; c++)
-        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)k->ticks[i] * tick);
+        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)s * tick);
 }
 
 /* The second half kick of particle i's step, with its new acceleration. */
-static void close_step(bodies *b, const blocks *k, size_t i, const options *o)
+static void close_step(bodies *b, size_t i, const options *o)
 {
     const double tick = o->dt / TICKS;
     for (int c = 0; c < 3; c++)
-        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)k->ticks[i] * tick);
+        b->vel[3 * i + c] += b->acc[3 * i + c] * (0.5 * (double)ticks_of(b->level[i]) * tick);
 }
 
 /* The next tick at which some particle's step ends, over every process. */
@@ -994,7 +1048,7 @@ static int block_step(qt_tree *tree, bodies *b, const options *o, blocks *k, int
         k->substeps++;
         for (size_t i = 0; i < b->n; i++)
             if (k->active[i]) {
-                close_step(b, k, i, o);
+                close_step(b, i, o);
                 if (T < TICKS)
                     open_step(b, k, i, T, o);
             }
@@ -1022,6 +1076,7 @@ static int adopt_particles(bodies *b, nb_particles *p)
     b->mass = p->mass;
     b->id = p->id;
     b->type = p->type;
+    b->level = p->level;
     b->nfields = p->nfields;
     memcpy(b->field_name, p->field_name, sizeof b->field_name);
     memcpy(b->field, p->field, sizeof b->field);
@@ -1050,6 +1105,7 @@ static void take_run_settings(options *o, const nb_run_state *rs)
     take_setting("--eps-halo", o->eps_halo_given || o->eps_given, &o->eps_halo, rs->eps_halo, o->quiet);
     take_setting("--theta", o->theta_given, &o->theta, rs->theta, o->quiet);
     take_setting("--eta", o->eta_given, &o->eta, rs->eta, o->quiet);
+    take_setting("--dt-min", o->dt_min_given, &o->dt_min, rs->dt_min, o->quiet);
     double k = (double)o->tracer_neighbours;
     take_setting("--tracer-neighbours", o->tracer_neighbours_given, &k, (double)rs->tracer_neighbours, o->quiet);
     o->tracer_neighbours = (long)k;
@@ -1066,9 +1122,26 @@ static void keep_slice(nb_particles *p, size_t first, size_t count)
     memmove(p->mass, p->mass + first, count * sizeof *p->mass);
     memmove(p->id, p->id + first, count * sizeof *p->id);
     memmove(p->type, p->type + first, count * sizeof *p->type);
+    if (p->level)
+        memmove(p->level, p->level + first, count * sizeof *p->level);
     for (int f = 0; f < p->nfields; f++)
         memmove(p->field[f], p->field[f] + first, count * sizeof *p->field[f]);
     p->n = count;
+}
+
+/* Whether every block-step level a snapshot keeps is one a run takes (at
+ * most MAX_LEVEL); the first that is not is an error naming it. */
+static int levels_valid(const nb_particles *p, const char *path)
+{
+    for (size_t i = 0; p->level && i < p->n; i++)
+        if (p->level[i] > MAX_LEVEL) {
+            fprintf(stderr,
+                    "orrery-nbody: --resume %s: particle id %" PRIu64
+                    ": OrreryNbodyStepLevel = %d: a block step's level is at most %d\n",
+                    path, p->id[i], p->level[i], MAX_LEVEL);
+            return 0;
+        }
+    return 1;
 }
 
 /* The particles and state of the newest snapshot in --resume's folder;
@@ -1084,6 +1157,10 @@ static int resume_bodies(options *o, bodies *b, nb_run_state *rs, int rank, int 
         newest = -1, snprintf(err.msg, sizeof err.msg, "the folder's name is too long");
     if (newest < 0 || nb_snapshot_read(path, &p, rs, &err) != ORR_OK) {
         fprintf(stderr, "orrery-nbody: --resume %s: %s\n", o->resume_dir, err.msg);
+        return 0;
+    }
+    if (!levels_valid(&p, path)) {
+        nb_particles_free(&p);
         return 0;
     }
     size_t share = p.n / (size_t)size, extra = p.n % (size_t)size, r = (size_t)rank;
@@ -1153,8 +1230,9 @@ static int gather_particles(const bodies *b, nb_particles *all)
     all->vel = malloc(3 * (n + 1) * sizeof *all->vel);
     all->id = malloc((n + 1) * sizeof *all->id);
     all->type = malloc(n + 1);
+    all->level = b->level ? malloc(n + 1) : NULL;
     double *rows = malloc(3 * (n + 1) * sizeof *rows);
-    int ok = all->vel && all->id && all->type && rows;
+    int ok = all->vel && all->id && all->type && rows && (all->level || !b->level);
     for (int f = 0; f < b->nfields; f++)
         ok &= (all->field[f] = malloc((n + 1) * sizeof(float))) != NULL;
     if (ranks_any(!ok)) {
@@ -1172,6 +1250,13 @@ static int gather_particles(const bodies *b, nb_particles *all)
     for (size_t i = 0; ok && i < n; i++) {
         all->id[i] = (uint64_t)rows[3 * i] << 32 | (uint64_t)rows[3 * i + 1];
         all->type[i] = (uint8_t)rows[3 * i + 2];
+    }
+    if (all->level) {
+        for (size_t i = 0; i < b->n; i++)
+            rows[mine + i] = b->level[i];
+        ok = ok && ranks_gather(rows, 1, b->counts) == 0;
+        for (size_t i = 0; ok && i < n; i++)
+            all->level[i] = (uint8_t)rows[i];
     }
     for (int f = 0; ok && f < b->nfields; f++) {
         for (size_t i = 0; i < b->n; i++)
@@ -1214,12 +1299,13 @@ static int write_snapshot(const bodies *b, const options *o, long step, long num
                           int rank, int size)
 {
     nb_particles p = {.n = b->n, .pos = b->pos, .vel = b->vel, .mass = b->mass, .id = b->id, .type = b->type,
-                      .nfields = b->nfields};
+                      .level = b->level, .nfields = b->nfields};
     memcpy(p.field_name, b->field_name, sizeof p.field_name);
     memcpy(p.field, b->field, sizeof p.field);
     int failed = size > 1 && !gather_particles(b, &p);
     nb_run_state s = {.time = b->time, .step = step, .number = number, .e0 = e0, .centre0 = {c0[0], c0[1], c0[2]},
                       .dt = o->dt, .eps = o->eps, .eps_halo = o->eps_halo, .theta = o->theta, .eta = o->eta,
+                      .dt_min = o->dt_min,
                       .snapshot_every = o->snapshot_every, .tracer_neighbours = o->tracer_neighbours};
     if (!failed && rank == 0)
         failed = write_file(&p, &s, o);
@@ -1369,7 +1455,11 @@ int main(int argc, char **argv)
     double interactions;
     run u = {0};
     blocks blk = {0};
-    if (o.eta > 0 && ranks_any(!alloc_blocks(&blk, b.n))) {
+    if (o.eta <= 0) { /* a resumed run's levels, when it goes on with one global step */
+        free(b.level);
+        b.level = NULL;
+    }
+    if (o.eta > 0 && ranks_any(!alloc_blocks(&blk, &b, &o))) {
         fprintf(stderr, "orrery-nbody: out of memory for the block time steps\n");
         code = 1;
     }

@@ -82,16 +82,6 @@ typedef struct qt_tree {
  * memory. */
 int qt_build(qt_tree *t, const double *pos, const double *mass, const double *eps, size_t n);
 
-/* Moves the tree built last with the same particles to their new positions
- * pos without building it again: the cells keep their particles, and their
- * moments are summed anew from their children's (leaves' from their
- * particles), b_max bounded from the children's (|com_c - com| + b_max_c,
- * never less than the true one, so the opening criterion's error bound
- * holds). O(N), against O(N log N) for a build: for the short steps of block
- * time steps, when particles have moved little; the forces are as accurate,
- * the walk a little longer. */
-void qt_refresh(qt_tree *t, const double *pos);
-
 /* Accelerations (and potentials, if pot is not NULL) of particles first ..
  * first + count - 1, into acc[0 .. 3 count) and pot[0 .. count): G times the
  * Plummer-softened sums, a pair i, j softened with eps^2 = (eps_i^2 + eps_j^2) / 2

@@ -12,6 +12,7 @@
 #define NB_TYPES_MIN 6  /* Gadget's PartType0..5, whichever are empty */
 #define NB_TYPES_MAX 16 /* orrery's reader reads at most 16 */
 #define ORDER_DATASET "OrreryNbodyOrder"
+#define LEVEL_DATASET "OrreryNbodyStepLevel"
 #define RUN_GROUP "OrreryNbody"
 
 /* The fields Gadget has names for are written under them, so orrery's
@@ -98,6 +99,7 @@ static int write_run_group(hid_t file, const write_ctx *w)
     bad |= orr_h5w_double(g, "EpsHalo", s->eps_halo);
     bad |= orr_h5w_double(g, "Theta", s->theta);
     bad |= orr_h5w_double(g, "Eta", s->eta);
+    bad |= orr_h5w_double(g, "DtMin", s->dt_min);
     bad |= orr_h5w_string(g, "Fields", fields);
     H5Gclose(g);
     return bad;
@@ -111,6 +113,7 @@ typedef struct rows {
     double *m;
     uint64_t *u;
     float *f;
+    uint8_t *l;
 } rows;
 
 /* Group PartType<t>: its particles in memory order, with their place in
@@ -142,6 +145,11 @@ static int write_type(hid_t file, const write_ctx *w, int t, rows *r)
     for (size_t k = 0; k < nt; k++)
         r->u[k] = r->at[k];
     bad |= orr_h5w_dataset(g, ORDER_DATASET, H5T_STD_U64LE, H5T_NATIVE_UINT64, r->u, nt, 1);
+    if (p->level) {
+        for (size_t k = 0; k < nt; k++)
+            r->l[k] = p->level[r->at[k]];
+        bad |= orr_h5w_dataset(g, LEVEL_DATASET, H5T_STD_U8LE, H5T_NATIVE_UINT8, r->l, nt, 1);
+    }
     for (int f = 0; f < p->nfields; f++) {
         for (size_t k = 0; k < nt; k++)
             r->f[k] = p->field[f][r->at[k]];
@@ -158,8 +166,8 @@ static int write_body(hid_t file, void *ctx)
     for (int t = 0; t < w->ntypes; t++)
         most = w->count[t] > most ? (size_t)w->count[t] : most;
     rows r = {malloc(most * sizeof *r.at), malloc(3 * most * sizeof *r.v3), malloc(most * sizeof *r.m),
-              malloc(most * sizeof *r.u), malloc(most * sizeof *r.f)};
-    int bad = !r.at || !r.v3 || !r.m || !r.u || !r.f || write_header(file, w) || write_run_group(file, w);
+              malloc(most * sizeof *r.u), malloc(most * sizeof *r.f), malloc(most)};
+    int bad = !r.at || !r.v3 || !r.m || !r.u || !r.f || !r.l || write_header(file, w) || write_run_group(file, w);
     for (int t = 0; t < w->ntypes && !bad; t++)
         if (w->count[t])
             bad |= write_type(file, w, t, &r);
@@ -168,6 +176,7 @@ static int write_body(hid_t file, void *ctx)
     free(r.m);
     free(r.u);
     free(r.f);
+    free(r.l);
     return bad;
 }
 
@@ -271,6 +280,17 @@ static void read_field_names(hid_t run, nb_particles *p)
         snprintf(p->field_name[p->nfields++], ORR_FIELD_NAME_MAX, "%s", tok);
 }
 
+/* The block-step levels of group g's nt particles into their places at[]. */
+static int read_levels(hid_t g, size_t nt, const uint64_t *at, uint8_t *level)
+{
+    uint8_t *l = malloc(nt ? nt : 1);
+    int ok = l && read_column(g, LEVEL_DATASET, nt, 1, H5T_NATIVE_UINT8, l);
+    for (size_t k = 0; ok && k < nt; k++)
+        level[at[k]] = l[k];
+    free(l);
+    return ok;
+}
+
 /* The nt particles of group g, each put back at its place in memory order
  * (every place taken once: seen[]). */
 static const char *read_type(hid_t g, int t, size_t nt, nb_particles *p, unsigned char *seen)
@@ -303,6 +323,8 @@ static const char *read_type(hid_t g, int t, size_t nt, nb_particles *p, unsigne
         p->id[i] = id[k];
         p->type[i] = (uint8_t)t;
     }
+    if (!bad && p->level && !read_levels(g, nt, at, p->level))
+        bad = LEVEL_DATASET;
     for (int fi = 0; fi < p->nfields && !bad; fi++) {
         if (!read_column(g, dataset_of(p->field_name[fi]), nt, 1, H5T_NATIVE_FLOAT, f))
             bad = dataset_of(p->field_name[fi]);
@@ -316,6 +338,22 @@ static const char *read_type(hid_t g, int t, size_t nt, nb_particles *p, unsigne
     free(at);
     free(f);
     return bad;
+}
+
+/* Whether the snapshot keeps block steps' levels: a run in block steps
+ * writes them for every type, others for none, so the first group with
+ * particles says. */
+static int has_levels(hid_t file, const uint64_t *count, int ntypes)
+{
+    int t = 0;
+    while (t < ntypes && !count[t])
+        t++;
+    char name[32];
+    snprintf(name, sizeof name, "PartType%d", t);
+    hid_t g = t < ntypes && orr_h5_has_link(file, name) ? H5Gopen2(file, name, H5P_DEFAULT) : -1;
+    int has = g >= 0 && orr_h5_has_link(g, LEVEL_DATASET);
+    orr_h5_close(g);
+    return has;
 }
 
 static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_run_state *s, orr_error *err)
@@ -338,6 +376,8 @@ static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_ru
                       path, RUN_GROUP);
     if (!st && !attr_double(run, "Eta", &s->eta))
         s->eta = 0; /* one global step */
+    if (!st && !attr_double(run, "DtMin", &s->dt_min))
+        s->dt_min = 0; /* no shortest block step */
     if (!st && !attr_long(run, "TracerNeighbours", &s->tracer_neighbours))
         s->tracer_neighbours = 0; /* written before tracers were softened apart */
     int ncentre = 0;
@@ -350,7 +390,7 @@ static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_ru
     if (!st) {
         read_field_names(run, p);
         seen = calloc(n ? n : 1, 1);
-        if (!seen || !alloc_particles(p, n))
+        if (!seen || !alloc_particles(p, n) || (has_levels(file, count, ntypes) && !(p->level = calloc(n ? n : 1, 1))))
             st = orr_fail(err, ORR_ERR_NOMEM, "%s: cannot hold %zu particles", path, n);
     }
     for (int t = 0; t < ntypes && !st; t++) {
@@ -391,6 +431,7 @@ void nb_particles_free(nb_particles *p)
     free(p->mass);
     free(p->id);
     free(p->type);
+    free(p->level);
     for (int f = 0; f < p->nfields; f++)
         free(p->field[f]);
     memset(p, 0, sizeof *p);

@@ -9,8 +9,9 @@
  * for rendering), each particle's place in the run's memory order
  * (OrreryNbodyOrder: the tree's sums, hence the forces to the last bit,
  * depend on that order, and the Gadget layout groups particles by type),
- * and in the group /OrreryNbody the step count, the energy at step 0 and
- * the integration settings. docs/nbody.md. */
+ * with block time steps each particle's step (OrreryNbodyStepLevel: the
+ * next steps are chosen from it), and in the group /OrreryNbody the step
+ * count, the energy at step 0 and the integration settings. docs/nbody.md. */
 #ifndef NBODY_SNAPSHOT_H
 #define NBODY_SNAPSHOT_H
 
@@ -28,6 +29,7 @@ typedef struct nb_particles {
     double *pos, *vel, *mass; /* x, y, z of particle i at 3i */
     uint64_t *id;
     uint8_t *type;
+    uint8_t *level; /* block time steps: particle i's last step is dt / 2^level[i]; NULL: none kept */
     int nfields;
     char field_name[ORR_ARRAYS_MAX_FIELDS][ORR_FIELD_NAME_MAX];
     float *field[ORR_ARRAYS_MAX_FIELDS];
@@ -43,6 +45,7 @@ typedef struct nb_run_state {
     int has_centre0;   /* read: the snapshot holds centre0 (older ones do not) */
     double dt, eps, eps_halo, theta;
     double eta;   /* block time steps' accuracy parameter; 0: one global step */
+    double dt_min; /* block time steps' shortest step; 0: none (what snapshots without it had) */
     long snapshot_every;
     long tracer_neighbours; /* tracers' softening (0: as stars, what snapshots without it had) */
 } nb_run_state;

@@ -3,8 +3,11 @@
 # a 5000-particle Milky Way over 0.1 time units, steps of up to 0.004 chosen
 # by sqrt(2 eta eps / |a|) (eta = 0.2) conserve energy better than one
 # global step of 0.001 while computing fewer particle forces (measured:
-# largest |dE/E0| 1.8e-3 against 3.3e-3, 3.0e5 forces against 5.0e5); a run
-# in block steps resumes bit for bit; bad --eta values are errors naming it.
+# largest |dE/E0| 9.9e-4 against 5.1e-3, 3.9e5 forces against 5.0e5); a run
+# in block steps resumes bit for bit, owing it to each particle's step kept
+# in the snapshot, also on two MPI ranks; --dt-min bounds the steps from
+# below and is kept too; bad --eta and --dt-min values are errors naming
+# them.
 source "$(dirname "$0")/lib.sh"
 [ -x "$NBODY" ] || { fail "no $NBODY"; finish; }
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-2}
@@ -37,6 +40,54 @@ cp block/snapshot_0000.hdf5 block/snapshot_0001.hdf5 block/snapshot_0002.hdf5 ha
 grep -q "^resumed at step 10," resume.log || fail "resume: $(head -3 resume.log)"
 cmp -s block/snapshot_0005.hdf5 half/snapshot_0005.hdf5 || fail "a resumed block-step run differs"
 
+# The resume owes that to each particle's step, kept in the snapshot (a
+# step lengthens only with room to spare, so it depends on the last one):
+# the levels span a range, and without them the resume differs.
+mkdir nolevels
+cp block/snapshot_0000.hdf5 block/snapshot_0001.hdf5 block/snapshot_0002.hdf5 nolevels/
+"$py" - <<'PY' || fail "step levels in the snapshot"
+import h5py, numpy as np
+with h5py.File("nolevels/snapshot_0002.hdf5", "r+") as f:
+    groups = [g for g in f if g.startswith("PartType") and len(f[g]["ParticleIDs"])]
+    levels = np.concatenate([f[g]["OrreryNbodyStepLevel"][:] for g in groups])
+    for g in groups:
+        del f[g]["OrreryNbodyStepLevel"]
+print("levels", np.bincount(levels))
+raise SystemExit(not (levels.min() >= 0 and levels.max() <= 10 and levels.max() - levels.min() >= 2))
+PY
+"$NBODY" --resume nolevels --steps 15 >nolevels.log 2>&1 || fail "resume without levels: $(tail -3 nolevels.log)"
+! cmp -s block/snapshot_0003.hdf5 nolevels/snapshot_0003.hdf5 || fail "the step levels made no difference"
+
+# --dt-min: no step shorter (here 0.002 of dt 0.004: levels 0 and 1 only,
+# where the run above went down to level 4); kept in the snapshot, so a
+# resume takes it and gives the same bytes.
+"$NBODY" $mw --steps 4 --dt 0.004 --eta 0.2 --dt-min 0.002 --snapshot-every 2 --snapshot-dir dtmin >dtmin.log 2>&1 ||
+  fail "--dt-min: $(tail -3 dtmin.log)"
+mkdir dtminhalf
+cp dtmin/snapshot_0000.hdf5 dtmin/snapshot_0001.hdf5 dtminhalf/
+"$NBODY" --resume dtminhalf --steps 4 >dtminhalf.log 2>&1 || fail "--dt-min resume: $(tail -3 dtminhalf.log)"
+cmp -s dtmin/snapshot_0002.hdf5 dtminhalf/snapshot_0002.hdf5 || fail "a resumed --dt-min run differs"
+"$py" - <<'PY' || fail "--dt-min levels"
+import h5py, numpy as np
+f = h5py.File("dtmin/snapshot_0002.hdf5", "r")
+levels = np.concatenate([f[g]["OrreryNbodyStepLevel"][:] for g in f if g.startswith("PartType") and len(f[g]["ParticleIDs"])])
+print("levels with --dt-min", np.bincount(levels), "DtMin", f["OrreryNbody"].attrs["DtMin"])
+raise SystemExit(not (levels.max() == 1 and f["OrreryNbody"].attrs["DtMin"] == 0.002))
+PY
+
+# A level no run writes (steps are dt / 2^k, k <= 10): an error naming it.
+mkdir badlevel
+cp block/snapshot_0002.hdf5 badlevel/
+"$py" -c "
+import h5py
+with h5py.File('badlevel/snapshot_0002.hdf5', 'r+') as f:
+    f['PartType2/OrreryNbodyStepLevel'][3] = 11
+    print(f['PartType2/ParticleIDs'][3])" >badid.txt || fail "h5py could not edit the level"
+got=0
+"$NBODY" --resume badlevel --steps 15 >badlevel.log 2>&1 || got=$?
+[ $got -eq 1 ] && grep -q "badlevel/snapshot_0002.hdf5: particle id $(cat badid.txt): OrreryNbodyStepLevel = 11: a block step's level is at most 10" badlevel.log &&
+  [ ! -e badlevel/snapshot_0003.hdf5 ] || fail "level 11: exit $got: $(cat badlevel.log)"
+
 "$py" - <<'PY' || fail "eta 1e9 against the global step"
 import h5py, numpy as np
 a, b = h5py.File("global/snapshot_0001.hdf5", "r"), h5py.File("one/snapshot_0001.hdf5", "r")
@@ -47,6 +98,31 @@ print("" if same and moved else f"same {same}, moved {moved}")
 raise SystemExit(not (same and moved))
 PY
 
+# On two MPI ranks (each resumes its share of the levels, rank 0 writes
+# them gathered from both): the serial run's datasets, levels among them.
+MPI_NBODY=$(dirname "$NBODY")/orrery-nbody-mpi
+if [ -x "$MPI_NBODY" ] && command -v mpirun >/dev/null; then
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+  export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0" # OpenMPI's own start-up allocations
+  mkdir mpi
+  cp block/snapshot_0000.hdf5 block/snapshot_0001.hdf5 block/snapshot_0002.hdf5 mpi/
+  OMP_NUM_THREADS=1 mpirun -np 2 "$MPI_NBODY" --resume mpi --steps 15 >mpi.log 2>&1 || fail "MPI resume: $(tail -5 mpi.log)"
+  "$py" - <<'PY' || fail "MPI block steps against the serial run's"
+import h5py, numpy as np
+a, b = h5py.File("block/snapshot_0003.hdf5", "r"), h5py.File("mpi/snapshot_0003.hdf5", "r")
+bad = [f"{g}/{n}" for g in a if g.startswith("PartType") for n in a[g] if not np.array_equal(a[g][n][:], b[g][n][:])]
+levels = sum("OrreryNbodyStepLevel" in b[g] for g in b if g.startswith("PartType") and len(b[g]["ParticleIDs"]))
+print(f"differ: {bad}" if bad else "", f"levels in {levels} groups")
+raise SystemExit(bool(bad) or levels < 3)
+PY
+fi
+
+for bad in 0 -1 nan 0.005; do
+  got=0
+  "$NBODY" $mw --steps 1 --dt 0.004 --eta 0.2 --dt-min $bad >out.txt 2>err.txt || got=$?
+  [ $got -eq 2 ] && grep -q -- "--dt-min $bad: the shortest block step must be above 0 and at most --dt 0.004" err.txt &&
+    ! grep -q "^step" out.txt || fail "--dt-min $bad: exit $got: $(cat err.txt)"
+done
 for bad in 0 -1 nan; do
   got=0
   "$NBODY" $mw --steps 1 --eta $bad >out.txt 2>err.txt || got=$?
