@@ -34,6 +34,7 @@
 #include "source/partition.h"
 #include "source/source.h"
 #include "core/atomic.h"
+#include "core/digest.h"
 #include "particles/kdtree.h"
 #include "qtree.h"
 #include "snapshot.h"
@@ -1314,6 +1315,91 @@ static int write_snapshot(const bodies *b, const options *o, long step, long num
     return ranks_any(failed) ? 1 : 0;
 }
 
+/* ---- the ranks agree on the run ---- */
+
+/* Bytes of a file read for its fingerprint: its size and its start, where
+ * a snapshot's header is (a scene is read whole). */
+#define FINGERPRINT_BYTES 65536
+
+/* The command line's fingerprint: each argument with its terminator. */
+static uint64_t args_fingerprint(int argc, char **argv)
+{
+    uint64_t h = ORR_DIGEST_START;
+    for (int i = 1; i < argc; i++)
+        h = orr_digest(h, argv[i], strlen(argv[i]) + 1);
+    return h;
+}
+
+/* A file's fingerprint: its size and its first FINGERPRINT_BYTES bytes; a
+ * file that cannot be read gets its own (the error is reported where it is
+ * read), and no file (NULL) 0. */
+static uint64_t file_fingerprint(const char *path)
+{
+    if (!path)
+        return 0;
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return orr_digest_text(ORR_DIGEST_START, "unreadable");
+    unsigned char *buf = malloc(FINGERPRINT_BYTES);
+    uint64_t h = ORR_DIGEST_START;
+    size_t got = buf ? fread(buf, 1, FINGERPRINT_BYTES, f) : 0;
+    h = orr_digest(h, buf, got);
+    long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
+    h = orr_digest(h, &size, sizeof size);
+    free(buf);
+    fclose(f);
+    return h;
+}
+
+/* Whether every rank's fingerprints mine[0 .. n) equal rank 0's; if not,
+ * rank 0 says which rank differs first in what[k], and it is an error on
+ * every rank. Ranks that ran different commands or read different files
+ * (a node with another copy of the scene) would otherwise simulate
+ * different particles together, or wait for each other forever. */
+static int ranks_agree(const uint64_t *mine, const char *const *what, int n, int rank, int size)
+{
+    uint64_t *all = malloc((size_t)size * (size_t)n * sizeof *all);
+    int ok = all != NULL;
+    if (ranks_any(!ok) || ranks_allgather_u64(mine, n, all) != 0) {
+        free(all);
+        return 0;
+    }
+    for (int r = 1; r < size && ok; r++)
+        for (int k = 0; k < n && ok; k++)
+            if (all[(size_t)r * n + k] != all[k]) {
+                if (rank == 0)
+                    fprintf(stderr,
+                            "orrery-nbody: rank %d's %s differs from rank 0's: every rank must run the same "
+                            "command on the same files\n",
+                            r, what[k]);
+                ok = 0;
+            }
+    free(all);
+    return ok;
+}
+
+/* The command lines agree: checked before they are parsed, so that a rank
+ * whose arguments are refused does not leave the others waiting. 0 or 2. */
+static int check_ranks_args(int argc, char **argv, int rank, int size)
+{
+    const uint64_t mine = args_fingerprint(argc, argv);
+    const char *what = "command line";
+    return size == 1 || ranks_agree(&mine, &what, 1, rank, size) ? 0 : 2;
+}
+
+/* The scene file and the initial conditions' file agree. 0 or 2. */
+static int check_ranks_files(const options *o, int rank, int size)
+{
+    if (size == 1)
+        return 0;
+    char scene[ORR_PATH_MAX + 32], ic[ORR_PATH_MAX + 32];
+    snprintf(scene, sizeof scene, "scene file %s", o->scene ? o->scene : "");
+    snprintf(ic, sizeof ic, "initial conditions %s", o->ic_given ? o->ic : "");
+    const uint64_t mine[2] = {file_fingerprint(o->scene), file_fingerprint(o->ic_given ? o->ic : NULL)};
+    const char *what[2] = {scene, ic};
+    return ranks_agree(mine, what, 2, rank, size) ? 0 : 2;
+}
+
 /* Opens the scene on every process, rendering together when there are
  * several; 0 (NULL renderer) without a scene, else an exit status. */
 static int open_renderer(const options *o, int size, orrery_renderer **r)
@@ -1427,7 +1513,8 @@ int main(int argc, char **argv)
     int rank, size;
     ranks_start(&argc, &argv, &rank, &size);
     options o;
-    if (!parse_args(argc, argv, &o)) {
+    if (check_ranks_args(argc, argv, rank, size) || !parse_args(argc, argv, &o) ||
+        check_ranks_files(&o, rank, size)) {
         ranks_finish();
         return 2;
     }

@@ -6,6 +6,7 @@
 #define NBODY_RANKS_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "orrery.h"
 
@@ -22,6 +23,10 @@ int ranks_counts(size_t mine, size_t *counts);
  * offset. Returns 0, or -1 when MPI fails or a slice is too large for an
  * MPI count. */
 int ranks_gather(double *all, size_t per, const size_t *counts);
+
+/* Every rank's n values, all[r * n + k] for rank r, on every rank.
+ * Returns 0, or -1 (a message on stderr) when MPI fails. */
+int ranks_allgather_u64(const uint64_t *mine, int n, uint64_t *all);
 
 /* Whether any rank failed (failed != 0 on it). */
 int ranks_any(int failed);

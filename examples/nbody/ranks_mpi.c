@@ -62,6 +62,15 @@ int ranks_gather(double *all, size_t per, const size_t *counts)
     return ok ? 0 : -1;
 }
 
+int ranks_allgather_u64(const uint64_t *mine, int n, uint64_t *all)
+{
+    if (MPI_Allgather(mine, n, MPI_UINT64_T, all, n, MPI_UINT64_T, MPI_COMM_WORLD) != MPI_SUCCESS) {
+        fprintf(stderr, "orrery-nbody-mpi: gathering the ranks' fingerprints failed\n");
+        return -1;
+    }
+    return 0;
+}
+
 int ranks_any(int failed)
 {
     int mine = failed != 0, any = 1;

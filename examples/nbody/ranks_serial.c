@@ -26,6 +26,13 @@ int ranks_gather(double *all, size_t per, const size_t *counts)
     return 0;
 }
 
+int ranks_allgather_u64(const uint64_t *mine, int n, uint64_t *all)
+{
+    for (int k = 0; k < n; k++)
+        all[k] = mine[k];
+    return 0;
+}
+
 int ranks_any(int failed)
 {
     return failed != 0;

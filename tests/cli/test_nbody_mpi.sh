@@ -62,4 +62,40 @@ if sys.argv[1] == "1":
     compare("merger1", "merger2", 3, False)
 raise SystemExit(bad)
 PY
+
+# Ranks that disagree on the run stop, every one, with one message from
+# rank 0 (exit 2): a different command line (checked before it is parsed:
+# a rank whose options are refused does not leave the others waiting), and
+# the same command reading a different scene or initial-conditions file
+# (each rank in its own folder, as on nodes with their own copies).
+disagree() { # EXPECTED_MESSAGE -- mpirun's arguments
+  local want=$1 n
+  shift 2
+  timeout 120 mpirun "$@" >dis.log 2>&1
+  local rc=$?
+  [ $rc -ne 0 ] && [ $rc -ne 124 ] || fail "ranks disagreeing on $want: exit $rc: $(tail -5 dis.log)"
+  n=$(grep -c "orrery-nbody: rank 1's $want differs from rank 0's: every rank must run the same command" dis.log)
+  [ "$n" = 1 ] || fail "ranks disagreeing on $want: $n messages: $(grep orrery-nbody dis.log)"
+}
+small="--particles 2000 --steps 2 --dt 0.01 --quiet"
+disagree "command line" -- -np 1 "$MPI_NBODY" $small : -np 1 "$MPI_NBODY" $small --eps 0.1
+disagree "command line" -- -np 1 "$MPI_NBODY" $small : -np 1 "$MPI_NBODY" $small --no-such-option 1
+mkdir -p rank0 rank1
+sed 's/width: 1200/width: 1100/' model.yaml >rank1/s.yaml
+cp model.yaml rank0/s.yaml
+disagree "scene file s.yaml" -- -np 1 -wdir rank0 "$MPI_NBODY" $small --scene s.yaml : \
+  -np 1 -wdir rank1 "$MPI_NBODY" $small --scene s.yaml
+for k in 1 2; do # two snapshots of 300 particles, one step of different lengths apart
+  "$NBODY" --particles 300 --steps 1 --dt 0.0$k --snapshot-every 1 --snapshot-dir snap$k --quiet >/dev/null \
+    || fail "snapshots for the initial conditions"
+done
+cp snap1/snapshot_0001.hdf5 rank0/ic.hdf5
+cp snap2/snapshot_0001.hdf5 rank1/ic.hdf5
+disagree "initial conditions ic.hdf5" -- -np 1 -wdir rank0 "$MPI_NBODY" --ic ic.hdf5 --steps 1 --dt 0.01 --quiet : \
+  -np 1 -wdir rank1 "$MPI_NBODY" --ic ic.hdf5 --steps 1 --dt 0.01 --quiet
+# ... and the same files on both: the run goes on.
+cp rank0/ic.hdf5 rank1/ic.hdf5
+timeout 120 mpirun -np 1 -wdir rank0 "$MPI_NBODY" --ic ic.hdf5 --steps 1 --dt 0.01 --quiet : \
+  -np 1 -wdir rank1 "$MPI_NBODY" --ic ic.hdf5 --steps 1 --dt 0.01 --quiet >agree.log 2>&1 \
+  || fail "ranks agreeing, each in its own folder: $(tail -5 agree.log)"
 finish
