@@ -98,4 +98,31 @@ cp rank0/ic.hdf5 rank1/ic.hdf5
 timeout 120 mpirun -np 1 -wdir rank0 "$MPI_NBODY" --ic ic.hdf5 --steps 1 --dt 0.01 --quiet : \
   -np 1 -wdir rank1 "$MPI_NBODY" --ic ic.hdf5 --steps 1 --dt 0.01 --quiet >agree.log 2>&1 \
   || fail "ranks agreeing, each in its own folder: $(tail -5 agree.log)"
+
+# A rank killed mid-run (SIGKILL to rank 1, not the one that writes): the
+# other stops too (mpirun ends the job, non-zero, well within the timeout),
+# every snapshot under its final name is complete, and two ranks resume
+# from the newest and go on.
+timeout 120 mpirun -np 2 "$MPI_NBODY" --galaxies mw --particles 3000 --dt 0.001 --steps 100000 --snapshot-every 1 \
+  --snapshot-dir mkilled --quiet >mkilled.log 2>&1 &
+job=$!
+for _ in $(seq 600); do [ -e mkilled/snapshot_0003.hdf5 ] && break; sleep 0.1; done
+victim=""
+for p in $(pgrep -f "orrery-nbody-mpi --galaxies mw --particles 3000"); do # rank 1's environment says so
+  tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 && victim=$p
+done
+[ -n "$victim" ] || fail "no rank 1 to kill: $(cat mkilled.log)"
+kill -KILL "$victim"
+rc=0
+wait $job || rc=$?
+[ $rc -ne 0 ] && [ $rc -ne 124 ] || fail "rank 1 killed: mpirun exit $rc (124: the other rank went on)"
+[ -e mkilled/snapshot_0003.hdf5 ] || fail "the run to kill wrote no snapshots: $(cat mkilled.log)"
+for f in mkilled/snapshot_*.hdf5; do
+  "$ORRERY" info "$f" >/dev/null 2>&1 || fail "$f is not a complete snapshot"
+done
+last=$(ls mkilled | grep -c '^snapshot_')
+timeout 120 mpirun -np 2 "$MPI_NBODY" --resume mkilled --steps $((last + 1)) --quiet >mresumed.log 2>&1 \
+  || fail "two ranks resuming after the kill: $(tail -5 mresumed.log)"
+[ -e "mkilled/snapshot_$(printf %04d $((last + 1))).hdf5" ] || fail "no snapshot after the resume: $(ls mkilled)"
+! ls -A mkilled | grep -q orrery-tmp || fail "temporary files left: $(ls -A mkilled)"
 finish
