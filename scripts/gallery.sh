@@ -263,9 +263,10 @@ echo "Future Sky (configs/futuresky.yaml), full size, downscaled, and a full-res
 render "$here/configs/futuresky.yaml" -o "$work/fs"
 shrink "$work/fs/futuresky-panorama.png" "$dest/futuresky-panorama.png" 640
 shrink "$work/fs/futuresky-dome.png" "$dest/futuresky-dome.png" 400
-# Pixels 1040-1680 x 1260-1620 of the master, at its own scale: bright
-# stars with spikes 20-35 degrees from the zenith, left of the Milky Way.
-"$py" -c "import sys; from PIL import Image; Image.open(sys.argv[1]).crop((1040, 1260, 1680, 1620)).save(sys.argv[2])" \
+# Pixels 2000-2640 x 1700-2060 of the master, at its own scale: the
+# brightest star of the shipped sky (V = -0.6) with its spikes, 26 degrees
+# from the zenith, right of the Milky Way, and a V = 1.4 star beside it.
+"$py" -c "import sys; from PIL import Image; Image.open(sys.argv[1]).crop((2000, 1700, 2640, 2060)).save(sys.argv[2])" \
   "$work/fs/futuresky-dome.png" "$work/fs/detail.png"
 shrink "$work/fs/detail.png" "$dest/futuresky-dome-detail.png" 640
 
