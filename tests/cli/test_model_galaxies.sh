@@ -17,7 +17,7 @@ PYTHONPATH="$SRC/tests/cli" "$py" - <<'PY' || fail "model tables"
 import numpy as np
 from expect import check, done
 def load(name):
-    return np.loadtxt(name, skiprows=1)  # x y z mass id type vx vy vz r E0
+    return np.loadtxt(name, skiprows=1)  # x y z mass id type vx vy vz r E0 ez
 markers = {"pair": {1, 2, 3}, "mw": {1, 3}, "m31": {2}}
 for g, want in markers.items():
     d = load(f"{g}.txt")
