@@ -130,6 +130,10 @@ echo "${thin/FIELD/ezz}" | cat insitu.yaml - >nothin.yaml
 [ -s thin/f_0001.fits ] || fail "in-situ populations by ez: $(ls thin)"
 ! "$NBODY" --galaxies mw --particles 2000 --steps 1 --scene nothin.yaml --set output.dir=nothin >nothin.log 2>&1 &&
   grep -q "no field 'ezz'" nothin.log || fail "a population's missing field: $(tail -3 nothin.log)"
+# ... and so do they from a snapshot file (orrery's reader reads ez by name).
+{ echo "input: {file: straight/snapshot_0004.hdf5}"; cat thin.yaml; } >thin-file.yaml
+"$ORRERY" render thin-file.yaml -o thin-file -q 2>thin-file.err && [ -s thin-file/f.fits ] ||
+  fail "populations by ez from a snapshot: $(cat thin-file.err)"
 
 # scripts/model_ez.py on the run (docs/model.md, "Vertical energy ez"): a
 # snapshot against itself gives the start's thickness of the selected stars;
