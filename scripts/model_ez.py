@@ -29,6 +29,8 @@ Z_BINS = np.array([0.0, 0.25, 0.5, 1.0, 1.5, 2.0, 3.0, np.inf])  # |z| / h
 
 
 def read_text(path):
+    """(ids, positions, v_z, ez) of the Milky Way's disc stars in a table of
+    `orrery model`."""
     try:
         with open(path) as f:
             names = f.readline().split()
@@ -46,27 +48,19 @@ def read_text(path):
 
 
 def read_snapshot(path):
-    import h5py
-    try:
-        f = h5py.File(path, "r")
-    except OSError as e:
-        sys.exit(f"model_ez: {path}: cannot read it as HDF5 ({e})")
-    with f:
-        g = f.get(f"PartType{DISC_TYPE}")
-        if g is None or "ez" not in g:
-            sys.exit(f"model_ez: {path}: no PartType{DISC_TYPE}/ez (the model's disc stars and their ez)")
-        ids = g["ParticleIDs"][:].astype(np.int64)
-        pos = g["Coordinates"][:].astype(float)
-        vz = g["Velocities"][:, 2].astype(float)
-        ez = g["ez"][:].astype(float)
-    order = np.argsort(ids)
-    pos = pos[order] - pos[order].mean(axis=0)
-    return ids[order], pos, vz[order] - vz.mean(), ez[order]
+    import snapshot_disc  # scripts/snapshot_disc.py (h5py only when a snapshot is read)
+    ids, (pos, vel, ez) = snapshot_disc.disc_datasets(path, "model_ez", ("Coordinates", "Velocities", "ez"))
+    return ids.astype(np.int64), pos - pos.mean(axis=0), vel[:, 2] - vel[:, 2].mean(), ez
 
 
 def read(path):
-    with open(path, "rb") as f:
-        hdf5 = f.read(8) == b"\x89HDF\r\n\x1a\n"
+    """(ids, positions, v_z, ez) of the disc stars, from a snapshot (by its
+    HDF5 signature) or a text table."""
+    try:
+        with open(path, "rb") as f:
+            hdf5 = f.read(8) == b"\x89HDF\r\n\x1a\n"
+    except OSError as e:
+        sys.exit(f"model_ez: {path}: cannot read it ({e.strerror})")
     return read_snapshot(path) if hdf5 else read_text(path)
 
 
