@@ -538,6 +538,11 @@ static void test_vertical_energy(void)
         return;
     }
     float *disc = malloc(c->n * sizeof *disc);
+    CHECK(disc != NULL);
+    if (!disc) {
+        orr_source_close(src);
+        return;
+    }
     size_t ndisc = 0, others = 0, others_zero = 0, below_height = 0;
     int galaxy = 0;
     double sum = 0.0;
