@@ -140,8 +140,8 @@ static volatile double sink;
  * batches (orr_model_galaxy_sample_batch), seed 42; the sum of their vx. */
 static double batches(const galaxy *g, int comp, long long m)
 {
-    float col[8][ORR_MODEL_BATCH];
-    particle_rows rows = {col[0], col[1], col[2], col[3], col[4], col[5], col[6], col[7]};
+    float col[9][ORR_MODEL_BATCH];
+    particle_rows rows = {col[0], col[1], col[2], col[3], col[4], col[5], col[6], col[7], col[8]};
     uint64_t key = orr_rng_seed_key(42);
     double sum = 0.0;
     for (long long i = 0; i < m; i += ORR_MODEL_BATCH) {

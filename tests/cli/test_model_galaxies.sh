@@ -3,7 +3,8 @@
 # Which markers each choice holds (model.h's ids: 1 the Milky Way's black
 # hole, 2 M31's, 3 the Sun), where its particles are, that Toomre's Q sets
 # the discs' radial dispersion (sigma_R proportional to Q, sigma_z not), that
-# the table renders exactly as the scene keys' model does, and bad values.
+# the table renders exactly as the scene keys' model does, and bad values;
+# scripts/model_ez.py on the table.
 source "$(dirname "$0")/lib.sh"
 
 "$ORRERY" model --help >help.txt || fail "model --help"
@@ -17,7 +18,7 @@ PYTHONPATH="$SRC/tests/cli" "$py" - <<'PY' || fail "model tables"
 import numpy as np
 from expect import check, done
 def load(name):
-    return np.loadtxt(name, skiprows=1)  # x y z mass id type vx vy vz r E0
+    return np.loadtxt(name, skiprows=1)  # x y z mass id type vx vy vz r E0 ez
 markers = {"pair": {1, 2, 3}, "mw": {1, 3}, "m31": {2}}
 for g, want in markers.items():
     d = load(f"{g}.txt")
@@ -61,6 +62,22 @@ ok = img["table"].max() > 0 and np.array_equal(img["table"], img["keys"]) and no
 print("" if ok else f"max |table - keys| {np.abs(img['table'] - img['keys']).max()}")
 raise SystemExit(not ok)
 PY
+
+# scripts/model_ez.py (docs/model.md, "Vertical energy ez") on the Milky
+# Way's 810 disc stars: the fraction the logistic weights keep and its mean
+# |z| near what the recipe predicts (binomial noise 0.017 and about 0.01
+# kpc); a bad --select and a table without ez refused by name.
+ez=$("$py" "$SRC/scripts/model_ez.py" mw.txt) || fail "model_ez.py: $ez"
+echo "$ez" | awk '/^[0-9]+ disc stars: ez mean/ { n = $1; m = $6 + 0; seen = 1 } END { exit !(seen && n > 700 && m > 1.35 && m < 1.65) }' ||
+  fail "model_ez.py, the distribution: $ez"
+echo "$ez" | awk '/^logistic/ { gsub(/[,()]/, ""); k = $7; z = $10; rk = $14; rz = $15
+  if (k - rk > 0.05 || rk - k > 0.05 || z - rz > 0.02 || rz - z > 0.02) bad = 1; n++ } END { exit !(n == 2 && !bad) }' ||
+  fail "model_ez.py, the selections against the recipe: $ez"
+"$py" "$SRC/scripts/model_ez.py" --select 1 mw.txt >/dev/null 2>err.txt && fail "model_ez.py took --select 1"
+grep -q "^model_ez: --select \['1'\]: expected V0,DV" err.txt || fail "model_ez.py --select 1: $(cat err.txt)"
+printf 'x y z mass id type vx vy vz r E0\n0 0 0 1 4 2 0 0 0 0 0\n' >old.txt
+"$py" "$SRC/scripts/model_ez.py" old.txt >/dev/null 2>err.txt && fail "model_ez.py read a table without ez"
+grep -q "^model_ez: old.txt: not a table of .orrery model. (no column ez" err.txt || fail "model_ez.py, no ez: $(cat err.txt)"
 
 expect_fail 2 "^orrery: error: --galaxies andromeda: expected pair, mw or m31" out -- model -o out/m.txt --galaxies andromeda
 expect_fail 2 "^orrery: error: --disc-q 0: expected the discs' Toomre Q, above 0" out -- model -o out/m.txt --disc-q 0

@@ -184,10 +184,11 @@ static void test_info(void)
     CHECK_CONTAINS(src->info.path, "separation=780 kpc");
     CHECK(src->info.count == 12345);
     CHECK(src->info.has_id == 1 && src->info.has_type == 1 && src->info.has_h == 0);
-    CHECK(src->info.nextra == 5);
+    CHECK(src->info.nextra == 6);
     CHECK(strcmp(src->info.extra_names[0], "vx") == 0 && strcmp(src->info.extra_names[2], "vz") == 0);
     CHECK(strcmp(src->info.extra_names[3], "r") == 0);
     CHECK(strcmp(src->info.extra_names[4], "E0") == 0);
+    CHECK(strcmp(src->info.extra_names[5], "ez") == 0);
     CHECK(src->chunk.capacity == 12345); /* min(chunk_size, N) */
     orr_source_close(src);
 }
@@ -500,6 +501,81 @@ static void test_binding_energy(void)
     CHECK(m0 < m1 && m1 < m2 && m2 < 0);
 }
 
+/* ---- vertical energy ez ------------------------------------------------- */
+
+static int compare_floats(const void *a, const void *b)
+{
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* The CDF of the Gamma(3/2) distribution: that of g^2 / 2 + e for a unit
+ * Gaussian g and an independent unit exponential e. */
+static double gamma_three_halves_cdf(double x)
+{
+    const double pi = 3.14159265358979323846;
+    return erf(sqrt(x)) - 2.0 * sqrt(x / pi) * exp(-x);
+}
+
+/* ez = gz^2 / 2 + |z| / h (docs/model.md, "Vertical energy ez"): the disc
+ * stars' values follow Gamma(3/2) (mean 1.5), none below the Milky Way
+ * star's own |z| / 0.3 kpc; 0 for the markers, bulges, halos and gas. */
+static void test_vertical_energy(void)
+{
+    const long long n = 40000, dust = 2000;
+    orr_model_params p = {n, 3, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_source *src = NULL;
+    orr_error err = {0};
+    CHECK(orr_model_source_open_dust(&p, dust, (size_t)(n + dust), &src, &err) == ORR_OK);
+    if (!src)
+        return;
+    const orr_chunk *c;
+    CHECK(orr_source_next(src, &c, &err) == ORR_OK && c->n == (size_t)(n + dust));
+    const float *ez = orr_chunk_field(c, "ez");
+    CHECK(ez != NULL && src->info.nextra == 6 && strcmp(src->info.extra_names[5], "ez") == 0);
+    if (c->n != (size_t)(n + dust) || !ez) {
+        orr_source_close(src);
+        return;
+    }
+    float *disc = malloc(c->n * sizeof *disc);
+    CHECK(disc != NULL);
+    if (!disc) {
+        orr_source_close(src);
+        return;
+    }
+    size_t ndisc = 0, others = 0, others_zero = 0, below_height = 0;
+    int galaxy = 0;
+    double sum = 0.0;
+    for (size_t k = 0; k < c->n; k++) {
+        if (k >= 4 && c->type[k] == ORR_MODEL_TYPE_DISC && c->type[k - 1] == ORR_MODEL_TYPE_HALO)
+            galaxy = 1; /* M31's disc: its plane is not z = 0 */
+        if (k < 3 || c->type[k] != ORR_MODEL_TYPE_DISC) {
+            others++;
+            others_zero += ez[k] == 0.0f;
+            continue;
+        }
+        disc[ndisc++] = ez[k];
+        sum += ez[k];
+        if (galaxy == 0) /* the Milky Way's disc lies in z = 0, h = 0.3 kpc */
+            below_height += ez[k] < fabs(c->z[k]) / 0.3 * (1.0 - 1e-6);
+    }
+    orr_source_close(src);
+    qsort(disc, ndisc, sizeof *disc, compare_floats);
+    double ks = 0.0;
+    for (size_t i = 0; i < ndisc; i++) {
+        double f = gamma_three_halves_cdf(disc[i]);
+        ks = fmax(ks, fmax(fabs(f - (double)i / ndisc), fabs(f - (double)(i + 1) / ndisc)));
+    }
+    fprintf(stderr, "  %zu disc stars: mean ez %.4f, median %.4f, KS distance to Gamma(3/2) %.4f\n", ndisc,
+            sum / ndisc, disc[ndisc / 2], ks);
+    CHECK(ndisc > 5000);
+    CHECK(others == others_zero);
+    CHECK(below_height == 0);
+    CHECK(fabs(sum / ndisc - 1.5) < 0.05); /* 4 standard errors: sqrt(1.5 / 10^4) = 0.012 */
+    CHECK(ks < 1.63 / sqrt((double)ndisc)); /* Kolmogorov's 1% point */
+    free(disc);
+}
+
 /* ---- one galaxy alone, and its equilibrium ----------------------------- */
 
 static void test_single_galaxy(void)
@@ -762,6 +838,7 @@ int main(void)
     RUN(test_momentum);
     RUN(test_bad_parameters);
     RUN(test_binding_energy);
+    RUN(test_vertical_energy);
     RUN(test_single_galaxy);
     RUN(test_disc_equilibrium);
     RUN(test_bulge_tensor_virial);

@@ -183,6 +183,17 @@ static void test_table_accuracy(void)
 
 /* ---- the particles against the exact recipe ----------------------------- */
 
+/* A disc star's ez from its definition, v_z^2 / (2 sigma_z^2(R, z)) + |z| / h,
+ * with v_z and z along the spin axis from its position and velocity and the
+ * exact sigma_z^2 (g centred at rest at the origin). */
+static double ez_by_definition(const galaxy *g, const particle *p)
+{
+    double z = orr_v3_dot(p->pos, g->spin), vz = orr_v3_dot(p->vel, g->spin);
+    double R = sqrt(fmax(0.0, orr_v3_dot(p->pos, p->pos) - z * z));
+    double sz2 = orr_model_galaxy_disc_sigma_z2(g, R > 1e-3 ? R : 1e-3, z);
+    return vz * vz / (2.0 * sz2) + fabs(z) / g->s.disc_hz;
+}
+
 static void test_particles_against_exact(void)
 {
     for (int which = 0; which < 2; which++) {
@@ -191,7 +202,7 @@ static void test_particles_against_exact(void)
         g->e2 = orr_v3(0, 1, 0);
         g->spin = orr_v3(0, 0, 1);
         for (int comp = 0; comp < COMP_COUNT; comp++) {
-            double dpos = 0, dv = 0, de0 = 0;
+            double dpos = 0, dv = 0, de0 = 0, dez = 0, dez_def = 0;
             for (uint64_t i = 0; i < 100000; i++) {
                 orr_rng r1 = orr_rng_seed(5, i, 0), r2 = r1;
                 particle a, b;
@@ -207,12 +218,21 @@ static void test_particles_against_exact(void)
                 dv = fmax(dv, orr_v3_norm(orr_v3_sub(a.vel, b.vel)));
                 double e0 = orr_model_galaxy_potential(g, rad) + 0.5 * orr_v3_dot(a.vel, a.vel);
                 de0 = fmax(de0, fabs(b.e0 - e0) / fabs(e0));
+                dez = fmax(dez, fabs(b.ez - a.ez) / (1.0 + a.ez));
+                if (comp == COMP_DISC)
+                    dez_def = fmax(dez_def, fabs(a.ez - ez_by_definition(g, &a)) / (1.0 + a.ez));
+                else
+                    CHECK(a.ez == 0.0f && b.ez == 0.0f);
             }
-            fprintf(stderr, "  galaxy %d component %d: positions within %.2g, velocities %.2g km/s, E0 %.2g\n", which,
-                    comp, dpos, dv, de0);
+            fprintf(stderr,
+                    "  galaxy %d component %d: positions within %.2g, velocities %.2g km/s, E0 %.2g, ez %.2g "
+                    "(%.2g from its definition)\n",
+                    which, comp, dpos, dv, de0, dez, dez_def);
             CHECK(dpos < 1e-14);
             CHECK(dv < (comp == COMP_DISC ? 0.5 : 1e-9));
             CHECK(de0 < (comp == COMP_DISC ? 2e-4 : 1e-6));
+            CHECK(dez < 2e-7);     /* the same Gaussian to 1e-15, then one float rounding */
+            CHECK(dez_def < 1e-6); /* one float rounding and sigma_z's square root */
         }
         free(g);
     }
@@ -236,8 +256,8 @@ static void test_batches_against_one_particle(void)
         g->velocity = orr_v3(-50, 80, 20);
         const uint64_t key = orr_rng_seed_key(9);
         for (int comp = 0; comp < COMP_COUNT; comp++) {
-            float col[8][ORR_MODEL_BATCH];
-            particle_rows rows = {col[0], col[1], col[2], col[3], col[4], col[5], col[6], col[7]};
+            float col[9][ORR_MODEL_BATCH];
+            particle_rows rows = {col[0], col[1], col[2], col[3], col[4], col[5], col[6], col[7], col[8]};
             double worst = 0.0;
             long differ = 0, total = 0;
             for (uint64_t first = 0; first < 60000; first += ORR_MODEL_BATCH - 1) { /* odd batch sizes too */
@@ -249,9 +269,9 @@ static void test_batches_against_one_particle(void)
                         orr_model_galaxy_sample_disc_fast(g, &r, &p);
                     else
                         orr_model_galaxy_sample_sphere_fast(g, comp, &r, &p);
-                    const float want[8] = {(float)p.pos.x, (float)p.pos.y, (float)p.pos.z, (float)p.vel.x,
-                                           (float)p.vel.y, (float)p.vel.z, p.r, p.e0};
-                    for (int f = 0; f < 8; f++) {
+                    const float want[9] = {(float)p.pos.x, (float)p.pos.y, (float)p.pos.z, (float)p.vel.x,
+                                           (float)p.vel.y, (float)p.vel.z, p.r, p.e0, p.ez};
+                    for (int f = 0; f < 9; f++) {
                         total++;
                         differ += col[f][i] != want[f];
                         worst = fmax(worst, fabs(col[f][i] - want[f]) / fmax(fabs(want[f]), 1e-30));

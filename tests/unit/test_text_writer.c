@@ -70,14 +70,15 @@ static int same_float(float a, float b)
     return memcmp(&a, &b, sizeof a) == 0;
 }
 
-/* Parses one data row (9 columns) and compares it with particle i of c. */
+/* Parses one data row (x y z mass id type and c's extra fields) and
+ * compares it with particle i of c. */
 static int row_matches(char *line, const orr_chunk *c, size_t i)
 {
-    char *tok[12];
+    char *tok[6 + ORR_MAX_EXTRA_FIELDS + 1];
     int n = 0;
-    for (char *s = strtok(line, " \n"); s && n < 12; s = strtok(NULL, " \n"))
+    for (char *s = strtok(line, " \n"); s && n < 6 + ORR_MAX_EXTRA_FIELDS + 1; s = strtok(NULL, " \n"))
         tok[n++] = s;
-    if (n != 11)
+    if (n != 6 + c->nextra)
         return 0;
     const float want[4] = {c->x[i], c->y[i], c->z[i], c->mass[i]};
     for (int k = 0; k < 4; k++)
@@ -85,7 +86,7 @@ static int row_matches(char *line, const orr_chunk *c, size_t i)
             return 0;
     if (strtoull(tok[4], NULL, 10) != c->id[i] || strtoul(tok[5], NULL, 10) != c->type[i])
         return 0;
-    for (int k = 0; k < 5; k++)
+    for (int k = 0; k < c->nextra; k++)
         if (!same_float(strtof(tok[6 + k], NULL), c->extra[k].data[i]))
             return 0;
     return 1;
@@ -112,7 +113,7 @@ static void test_model_round_trip_stdio(void)
         return;
     }
     char line[1024];
-    CHECK(fgets(line, sizeof line, f) && strcmp(line, "x y z mass id type vx vy vz r E0\n") == 0);
+    CHECK(fgets(line, sizeof line, f) && strcmp(line, "x y z mass id type vx vy vz r E0 ez\n") == 0);
     size_t rows = 0, good = 0;
     while (fgets(line, sizeof line, f)) {
         if (rows < c->n)
@@ -145,12 +146,12 @@ static void test_model_round_trip_reader(void)
         fprintf(stderr, "%s\n", err.msg);
     } else {
         CHECK(b->n == a->n);
-        CHECK(back->info.has_id && back->info.has_type && !back->info.has_h && back->info.nextra == 5);
+        CHECK(back->info.has_id && back->info.has_type && !back->info.has_h && back->info.nextra == 6);
         size_t fl = a->n * sizeof(float);
         CHECK(b->n == a->n && memcmp(a->x, b->x, fl) == 0 && memcmp(a->y, b->y, fl) == 0 &&
               memcmp(a->z, b->z, fl) == 0 && memcmp(a->mass, b->mass, fl) == 0 &&
               memcmp(a->id, b->id, a->n * sizeof(uint64_t)) == 0 && memcmp(a->type, b->type, a->n) == 0);
-        for (int k = 0; k < 4 && b->n == a->n; k++) {
+        for (int k = 0; k < a->nextra && b->n == a->n; k++) {
             const float *v = orr_chunk_field(b, a->extra[k].name);
             CHECK(v && memcmp(v, a->extra[k].data, fl) == 0);
         }

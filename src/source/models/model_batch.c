@@ -91,7 +91,8 @@ static void halo_batch(const galaxy *g, uint64_t seed_key, uint64_t first, int n
     const double *psi = g->sph.psi, *pot = g->pot;
     const orr_vec3 c0 = g->centre, v0 = g->velocity;
     float *restrict x = out->x, *restrict y = out->y, *restrict z = out->z, *restrict vx = out->vx,
-                    *restrict vy = out->vy, *restrict vz = out->vz, *restrict r = out->r, *restrict e0 = out->e0;
+                    *restrict vy = out->vy, *restrict vz = out->vz, *restrict r = out->r, *restrict e0 = out->e0,
+                    *restrict ez = out->ez;
 #pragma omp simd
     for (int i = 0; i < n; i++) {
         uint64_t key = key_of(seed_key, first + (uint64_t)i);
@@ -115,6 +116,7 @@ static void halo_batch(const galaxy *g, uint64_t seed_key, uint64_t first, int n
         vz[i] = (float)(v0.z + vcost * speed);
         r[i] = (float)rad;
         e0[i] = (float)(lerp_at(pot, i_pot, f_pot) + 0.5 * speed * speed);
+        ez[i] = 0.0f;
     }
 }
 
@@ -193,7 +195,8 @@ static void bulge_batch(const galaxy *g, uint64_t seed_key, uint64_t first, int 
     const double *psi = g->sph.psi, *pot = g->pot;
     const orr_vec3 c0 = g->centre, v0 = g->velocity, spin = g->spin;
     float *restrict x = out->x, *restrict y = out->y, *restrict z = out->z, *restrict vx = out->vx,
-                    *restrict vy = out->vy, *restrict vz = out->vz, *restrict r = out->r, *restrict e0 = out->e0;
+                    *restrict vy = out->vy, *restrict vz = out->vz, *restrict r = out->r, *restrict e0 = out->e0,
+                    *restrict ez = out->ez;
 #pragma omp simd
     for (int i = 0; i < n; i++) {
         uint64_t key = key_of(seed_key, first + (uint64_t)i);
@@ -222,6 +225,7 @@ static void bulge_batch(const galaxy *g, uint64_t seed_key, uint64_t first, int 
         vz[i] = (float)(v0.z + vcost * speed);
         r[i] = (float)rad;
         e0[i] = (float)(lerp_at(pot, i_pot, f_pot) + 0.5 * speed * speed);
+        ez[i] = 0.0f;
     }
 }
 
@@ -324,7 +328,8 @@ static void disc_batch(const galaxy *g, uint64_t seed_key, uint64_t first, int n
     const double h = s->disc_hz, *nodes = &g->disc.node[0].vc2, *pull = &g->disc.pull[0][0], *pot = g->pot;
     const spheroids sph = spheroids_of(g);
     float *restrict x = out->x, *restrict y = out->y, *restrict z = out->z, *restrict vx = out->vx,
-                    *restrict vy = out->vy, *restrict vz = out->vz, *restrict r = out->r, *restrict e0 = out->e0;
+                    *restrict vy = out->vy, *restrict vz = out->vz, *restrict r = out->r, *restrict e0 = out->e0,
+                    *restrict ez = out->ez;
 #pragma omp simd
     for (int i = 0; i < n; i++) {
         uint64_t key = key_of(seed_key, first + (uint64_t)i);
@@ -357,7 +362,6 @@ static void disc_batch(const galaxy *g, uint64_t seed_key, uint64_t first, int n
         double rad = sqrt(R * R + zz * zz), f_pot;
         int i_pot, in_pot = table_place(orr_log_poly(rad), pot_grid, POT_N, &i_pot, &f_pot);
         cell[i] = k;
-        cell[i] = k;
         odd[i] = !((R <= s->disc_rmax) & (R > 1e-3) & pull_inside & in_pot &
                    (rad > POT_R_MIN) & (rad < s->halo_rmax));
         x[i] = (float)pos.x;
@@ -368,6 +372,7 @@ static void disc_batch(const galaxy *g, uint64_t seed_key, uint64_t first, int n
         vz[i] = (float)vel.z;
         r[i] = (float)rad;
         e0[i] = (float)(lerp_at(pot, i_pot, f_pot) + 0.5 * (vr * vr + vphi * vphi + vzz * vzz));
+        ez[i] = orr_model_disc_ez(gz, az, h);
     }
 }
 
@@ -388,6 +393,7 @@ static void draw_one(const galaxy *g, int comp, uint64_t seed_key, uint64_t inde
     out->vz[i] = (float)p.vel.z;
     out->r[i] = p.r;
     out->e0[i] = p.e0;
+    out->ez[i] = p.ez;
 }
 
 void orr_model_galaxy_sample_batch(const galaxy *g, int comp, uint64_t seed_key, uint64_t first, int n,

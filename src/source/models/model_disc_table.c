@@ -234,4 +234,5 @@ void orr_model_galaxy_sample_disc_fast(const galaxy *g, orr_rng *r, particle *p)
     double rad = sqrt(R * R + z * z);
     p->r = (float)rad;
     p->e0 = (float)(orr_model_galaxy_potential(g, rad) + 0.5 * (vr * vr + vphi * vphi + vz * vz));
+    p->ez = orr_model_disc_ez(gz, fabs(z), s->disc_hz);
 }

@@ -375,6 +375,7 @@ void orr_model_galaxy_sample_disc(const galaxy *g, orr_rng *r, particle *p)
     orr_model_galaxy_disc_velocity(g, R, z, gr, gt, gz, &vr, &vphi, &vz);
     orr_vec3 v = orr_v3_add(orr_v3_scale(rhat, vr), orr_v3_scale(that, vphi));
     p->vel = orr_v3_add(g->velocity, orr_v3_add(v, orr_v3_scale(g->spin, vz)));
+    p->ez = orr_model_disc_ez(gz, fabs(z), s->disc_hz);
 }
 
 /* Hernquist sphere truncated at rmax: the inverse CDF r = a s / (1 - s),
@@ -445,6 +446,7 @@ void orr_model_galaxy_sample_sphere(const galaxy *g, int comp, orr_rng *r, parti
     p->pos = orr_v3_add(g->centre, orr_v3_scale(dir, rad));
     double speed = gdf_speed(&g->speeds[comp], &g->sph, req, orr_rng_uniform(r));
     p->vel = orr_v3_add(g->velocity, orr_v3_scale(isotropic_direction(r, 0), speed));
+    p->ez = 0.0f;
 }
 
 /* The same, each radius's logarithm taken once for the speed table, the
@@ -461,4 +463,5 @@ void orr_model_galaxy_sample_sphere_fast(const galaxy *g, int comp, orr_rng *r, 
     p->vel = orr_v3_add(g->velocity, orr_v3_scale(isotropic_direction(r, 1), speed));
     p->r = (float)rad;
     p->e0 = (float)(orr_model_galaxy_potential_ln(g, rad, ln_rad) + 0.5 * speed * speed);
+    p->ez = 0.0f;
 }

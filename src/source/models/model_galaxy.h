@@ -121,7 +121,18 @@ typedef struct particle {
     uint8_t type;
     float r;  /* distance from its galaxy's centre at generation (0 for markers) */
     float e0; /* specific binding energy in its galaxy at generation, (km/s)^2 (0 for markers) */
+    float ez; /* a disc star's vertical energy in its local sigma_z^2 (orr_model_disc_ez; 0 for the others) */
 } particle;
+
+/* A disc star's vertical energy in units of its local vertical dispersion,
+ * ez = v_z^2 / (2 sigma_z^2) + |z| / h = gz^2 / 2 + |z| / h, from the unit
+ * Gaussian gz that set v_z = sigma_z(R, z) gz and the height az = |z| drawn
+ * from the exponential layer of scale height h (docs/model.md, "Vertical
+ * energy ez"). One formula for the exact recipe, the tables and the batches. */
+static inline float orr_model_disc_ez(double gz, double az, double h)
+{
+    return (float)(0.5 * gz * gz + az / h);
+}
 
 /* The Catmull-Rom spline through p0..p3 at f (0 to 1) between p1 and p2:
  * continuous first derivatives across nodes. */
@@ -199,8 +210,8 @@ int orr_model_disc_at(const galaxy *g, double R, disc_node *out);
 double orr_model_disc_sigma_z2_at(const galaxy *g, const disc_node *n, double R, double az, double sheet,
                                   double layer);
 
-/* A disc particle's, a bulge or halo (comp) particle's position and
- * velocity drawn from r. */
+/* A disc particle's, a bulge or halo (comp) particle's position,
+ * velocity and ez drawn from r. */
 void orr_model_galaxy_sample_disc(const galaxy *g, orr_rng *r, particle *p);
 void orr_model_galaxy_sample_sphere(const galaxy *g, int comp, orr_rng *r, particle *p);
 /* The same from the tables (the disc) and with each radius's logarithm
@@ -212,7 +223,7 @@ void orr_model_galaxy_sample_sphere_fast(const galaxy *g, int comp, orr_rng *r, 
 /* Where a batch of particles goes: the chunk's columns from the batch's
  * first slot. */
 typedef struct particle_rows {
-    float *x, *y, *z, *vx, *vy, *vz, *r, *e0;
+    float *x, *y, *z, *vx, *vy, *vz, *r, *e0, *ez;
 } particle_rows;
 
 /* The most particles orr_model_galaxy_sample_batch draws at once. */
