@@ -67,9 +67,34 @@ static orr_status plan_psf(view_state *v, const orr_scene *s, orr_psf_kernels *k
     return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
 }
 
+/* What the splat pass reads of the view's scene (render/splat_settings.h). */
+static void splat_settings_of(const orr_scene *s, orr_splat_settings *set)
+{
+    snprintf(set->path, sizeof set->path, "%s", s->path);
+    set->type_mask = s->input.type_mask;
+    set->skip_nonfinite = s->input.skip_nonfinite;
+    snprintf(set->weight, sizeof set->weight, "%s", s->input.weight);
+    set->skip_observer = s->observer.has_id;
+    set->observer_id = s->observer.id;
+    set->dims_from_observer = s->observer.has_id && s->observer.dim;
+    set->dim = set->dims_from_observer || s->camera.dim;
+    set->dim_near = s->camera.dim ? s->camera.dim_near : s->observer.dim_near;
+    set->has_glow = s->psf.has_glow;
+    set->glow_max_arcmin = s->psf.glow_max_arcmin;
+    set->glow_threshold = s->psf.glow_threshold;
+    set->deposit = s->deposit;
+    set->periodic = s->periodic;
+    set->dust = s->dust;
+    set->has_populations = s->colour.has_populations;
+    set->populations = s->colour.populations;
+    set->only_index = s->colour.only_index;
+    set->stereo = s->stereo.mode != ORR_STEREO_NONE;
+}
+
 static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
     v->scene = s;
+    splat_settings_of(s, &v->splat);
     v->base_proj = s->projection;
     orr_status st = orr_projection_setup(&v->base_proj, err);
     if (st)
@@ -263,7 +288,7 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
     for (; !st && plan->planned < plan->n; plan->planned++)
         st = plan_view(&plan->views[plan->planned], plan->eyes.scene[plan->planned], &plan->kernels, err);
     if (!st && purpose == ORR_PLAN_RENDER && scenes[0]->stars.enabled &&
-        !(st = orr_frame_stars_prepare(&plan->stars, scenes[0], err)))
+        !(st = orr_frame_stars_prepare(&plan->stars, &scenes[0]->stars, scenes[0]->observer.id, scenes[0]->path, err)))
         plan->has_stars = 1;
     for (int k = 0; k < plan->n && !st && plan->has_stars; k++) /* the stars' glows span degrees */
         st = orr_coarse_glow_plan(&plan->views[k], err);
@@ -359,31 +384,31 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
     for (int k = 0; k < n; k++) {
         view_state *v = &views[k];
         int needed;
-        orr_status st = orr_lengths_needed(v->scene, src, &needed, err);
+        orr_status st = orr_lengths_needed(&v->splat, src, &needed, err);
         if (st)
             return st;
         /* orrery's h is half the kernel's support: convert the file's. */
         double support = src->info.h_support > 0 ? src->info.h_support : 2.0;
-        v->h_scale = (float)(v->scene->deposit.h_scale * support / 2.0);
+        v->h_scale = (float)(v->splat.deposit.h_scale * support / 2.0);
         if (!needed)
             continue;
         /* The glow's lengths are angles seen from the camera (glow_length). */
-        const orr_vec3 *centre = v->scene->psf.has_glow ? &v->rep->camera.position : NULL;
+        const orr_vec3 *centre = v->splat.has_glow ? &v->rep->camera.position : NULL;
         if (par && !centre)
             return orr_fail(err, ORR_ERR_USAGE,
                             "%s: smoothing lengths from the neighbours need every particle in one process; with "
                             "%d MPI ranks use lengths from the file (smoothing.lengths: file)",
-                            v->scene->path, par->nranks);
-        v->h_scale = (float)v->scene->deposit.h_scale;
+                            v->splat.path, par->nranks);
+        v->h_scale = (float)v->splat.deposit.h_scale;
         if (!lengths->h && !lengths->angular && /* (computed, but none here: a process's share may be empty) */
-            (st = orr_lengths_compute(v->scene, src, centre, par, lengths, err)))
+            (st = orr_lengths_compute(&v->splat, src, centre, par, lengths, err)))
             return st;
         if (lengths->angular != (centre != NULL) ||
             (centre && orr_v3_norm(orr_v3_sub(lengths->centre, *centre)) > 0))
             return orr_fail(err, ORR_ERR_USAGE,
                             "%s: the views of a frame share one set of smoothing lengths, but view %d %s; give "
                             "every view glow.threshold from the same place, or none of them",
-                            v->scene->path, k, centre ? "glows from another camera position" : "has no glow");
+                            v->splat.path, k, centre ? "glows from another camera position" : "has no glow");
         v->lengths = lengths;
     }
     return ORR_OK;
@@ -394,9 +419,8 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
  * stereo, a sky map's PSF widening kernels, or weights dimmed with distance. */
 static orr_status setup_periodic(view_state *v, const orr_source_info *info, orr_error *err)
 {
-    const orr_scene *s = v->scene;
-    int can_cull = !v->use_ods && !(v->psf.h_per_r > 0) && !(s->observer.has_id && s->observer.dim);
-    orr_status st = orr_periodic_view_setup(&v->periodic, s, info, &v->proj, &v->rep->camera, can_cull, err);
+    int can_cull = !v->use_ods && !(v->psf.h_per_r > 0) && !v->splat.dims_from_observer;
+    orr_status st = orr_periodic_view_setup(&v->periodic, &v->splat, info, &v->proj, &v->rep->camera, can_cull, err);
     v->rep->n_replicas = v->periodic.active ? v->periodic.replicas.n : 0;
     return st;
 }
@@ -547,6 +571,29 @@ static orr_status commit_outputs(orr_output_batch *outputs, orr_status st, orr_e
     return st;
 }
 
+/* The frame's dust (dust_view.c), shared by every view. Every process dims
+ * its share of the stars by all of the dust: on MPI ranks each reads the
+ * whole input for it (a simulation's in-situ share cannot be). */
+static orr_status prepare_dust(const orr_plan *plan, orr_source *src, const orr_parallel *par, orr_dust_frame *dust,
+                               orr_error *err)
+{
+    const orr_scene *s = plan->eyes.scene[0];
+    orr_source *whole = NULL;
+    if (par && s->input.insitu)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: dust.types: in situ on %d MPI ranks each process holds only its "
+                        "share of the dust (docs/dust.md#limitations)", s->path, par->nranks);
+    if (par) {
+        const char *fields[ORR_RENDER_MAX_FIELDS];
+        int nfields = orr_render_fields(s, fields);
+        orr_status st = orr_scene_open_source(s, fields, nfields, &whole, err);
+        if (st)
+            return st;
+    }
+    orr_status st = orr_dust_view_prepare(plan->views, plan->n, whole ? whole : src, dust, err);
+    orr_source_close(whole);
+    return st;
+}
+
 /* From the particles to the views' planes: the smoothing lengths, the dust,
  * a periodic box's copies around this frame's cameras, the splat, and the
  * sums over processes. st is how the frame went so far: with several
@@ -566,8 +613,8 @@ static orr_status splat_frame(orr_plan *plan, orr_status st, orr_source *src, co
         st = prepare_lengths(views, n, src, par, lengths, err);
         charge(&views[0], ORR_STAGE_LENGTHS);
     }
-    if (!st && views[0].scene->dust.types) {
-        st = orr_dust_view_prepare(views, n, src, par, dust, err);
+    if (!st && views[0].splat.dust.types) {
+        st = prepare_dust(plan, src, par, dust, err);
         *have_dust = !st;
     }
     for (int k = 0; k < n && !st; k++)

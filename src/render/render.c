@@ -7,13 +7,25 @@
 
 #include <string.h>
 
-#include "render/motion_blur.h"
 #include "render/plan.h"
 
 orr_status orr_scene_open_source(const orr_scene *s, const char *const *fields, int nfields, orr_source **out,
                                  orr_error *err)
 {
     return orr_scene_open_share(s, fields, nfields, 0, 1, out, err);
+}
+
+int orr_blur_moves_particles(const orr_scene *s)
+{
+    if (!(s->animation.shutter > 0))
+        return 0;
+    if (s->animation.has_frame_interval)
+        return s->animation.frame_interval > 0;
+    /* A single snapshot's particles stand still from frame to frame, so
+     * they do not move while the shutter is open either. */
+    if (orr_scene_has_sequence(s))
+        return 1;
+    return s->input.insitu && s->animation.has_time && s->animation.time[0] != s->animation.time[1];
 }
 
 /* The types a reader keeps. The observer and reference particles may be of

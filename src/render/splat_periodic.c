@@ -82,7 +82,7 @@ orr_status orr_splat_chunk_periodic(view_state *v, const orr_source *src, const 
     memset(&whole, 0, sizeof whole);
     for (size_t q = 0; q < nblocks; q++) {
         size_t end = (q + 1) * BLOCK < c->n ? (q + 1) * BLOCK : c->n;
-        orr_block_summarise(v->scene, c, q * BLOCK, end, &bl, w, v->nplanes, &sum[q]);
+        orr_block_summarise(&v->splat, c, q * BLOCK, end, &bl, w, v->nplanes, &sum[q]);
         bl.next += sum[q].lengths_used;
         orr_block_summary_merge(&whole, &sum[q]);
     }

@@ -14,6 +14,7 @@
 #include "render/motion_blur.h"
 #include "render/periodic_view.h"
 #include "render/render.h"
+#include "render/splat_settings.h"
 #include "render/stereo_view.h"
 #include "render/timings.h"
 #include "splat/bands.h"
@@ -26,6 +27,7 @@ typedef struct view_state {
      * the planes, the kernel, the PSF, the SPH deposit (a sky map's index
      * and core stamps). The rest is the frame's. */
     const orr_scene *scene;     /* the frame's (its output names); the plan's until the first frame */
+    orr_splat_settings splat;   /* what the splat pass reads of the scene's settings */
     orr_projection base_proj;   /* the scene's projection, set up */
     orr_projection proj;        /* this frame's: base_proj, with a stereo eye's principal point */
     orr_mat3 world_to_camera;
@@ -125,8 +127,10 @@ typedef struct frame_stars {
     int32_t *index;
 } frame_stars;
 
-/* Prepares the stars of a scene with stars.limit; frees what it holds. */
-orr_status orr_frame_stars_prepare(frame_stars *fs, const orr_scene *s, orr_error *err);
+/* Prepares the stars of stars.* (set; observer_id: the observer particle,
+ * which spawns none; scene_path for messages); frees what it holds. */
+orr_status orr_frame_stars_prepare(frame_stars *fs, const orr_stars_settings *set, uint64_t observer_id,
+                                   const char *scene_path, orr_error *err);
 void orr_frame_stars_free(frame_stars *fs);
 /* Starts a frame seen from the observer frame sky. */
 void orr_frame_stars_begin(frame_stars *fs, const orr_sky_frame *sky);
@@ -192,10 +196,11 @@ void orr_splat_free_lanes(view_state *v);
 
 /* ---- dust (dust_view.c) ---- */
 
-/* The frame's dust (dust.types) from src (on MPI ranks each process opens
- * the whole input for it), and views[0..n).dust set to it. */
-orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, const orr_parallel *par,
-                                 struct orr_dust_frame *dust, orr_error *err);
+/* The frame's dust (dust.types) from src (every particle of the input:
+ * on MPI ranks the whole input, not the process's share), and
+ * views[0..n).dust set to it. */
+orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, struct orr_dust_frame *dust,
+                                 orr_error *err);
 
 /* ---- the view's FITS cards (view_cards.c) ---- */
 
