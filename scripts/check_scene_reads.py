@@ -33,15 +33,14 @@ CEILINGS = {
     "cli/cmd_video.c": 5,
     "insitu/insitu.c": 14,
     "render/animation.c": 31,
-    "render/compose.c": 12,
+    "render/compose.c": 3,
     "render/frame_markers.c": 16,
     "render/path_overview.c": 9,
     "render/render.c": 23,
     "render/sequence_open.c": 27,
-    "render/stereo_view.c": 43,
+    "render/stereo_view.c": 23,
     "render/view_camera.c": 44,
-    "render/view_cards.c": 16,
-    "render/view_outputs.c": 49,
+    "render/view_cards.c": 11,
 }
 
 COMMENT_OR_STRING = re.compile(r'/\*.*?\*/|//[^\n]*|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\\n])*\'', re.S)

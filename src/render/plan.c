@@ -91,10 +91,35 @@ static void splat_settings_of(const orr_scene *s, orr_splat_settings *set)
     set->stereo = s->stereo.mode != ORR_STEREO_NONE;
 }
 
+/* What the view's files are (render/view_files.h): the plan's part; the
+ * frame's is frame_files'. */
+static void view_files_of(const orr_scene *s, view_files *f)
+{
+    snprintf(f->path, sizeof f->path, "%s", s->path);
+    snprintf(f->weight, sizeof f->weight, "%s", s->input.weight);
+    f->stereo_mode = s->stereo.mode;
+    f->eye = s->stereo.eye;
+    f->extinction_plane = s->dust.extinction_plane;
+    f->stars_list = s->stars.list;
+    f->compose = s->compose;
+    snprintf(f->scene_yaml, sizeof f->scene_yaml, "%s", s->scene_yaml);
+}
+
+/* The frame's part of the view's files, from the frame's scene s: its
+ * output names, and its grading (a compose re-grades with another white). */
+static void frame_files(const orr_scene *s, view_files *f)
+{
+    f->output = s->output;
+    f->picture = s->picture;
+    f->colour = s->colour;
+    f->regrade_final = s->regrade_final;
+}
+
 static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
-    v->scene = s;
     splat_settings_of(s, &v->splat);
+    view_files_of(s, &v->files);
+    frame_files(s, &v->files);
     v->base_proj = s->projection;
     orr_status st = orr_projection_setup(&v->base_proj, err);
     if (st)
@@ -130,7 +155,7 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     if (!st && v->use_sph && v->psf.h_per_r > 0)
         st = orr_sph_use_cores(&v->sph, (float)v->psf.h_per_r, err);
     if (!st)
-        orr_view_plan_cards(v); /* after the deposit and the PSF, which they describe */
+        orr_view_plan_cards(v, s); /* after the deposit and the PSF, which they describe */
     return st;
 }
 
@@ -174,7 +199,7 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     memset(rep, 0, sizeof *rep);
     rep->frame = when->frame;
     rep->nframes = when->nframes;
-    v->scene = s;
+    frame_files(s, &v->files);
     v->rep = rep;
     v->proj = v->base_proj; /* a stereo eye shifts its principal point below */
     v->tint_t = s->colour.tint_run ? when->u : s->colour.tint_t;
@@ -182,7 +207,7 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
     if ((st = orr_stereo_setup_eye(s, &v->proj, rep, &v->ods, &v->use_ods, err)) ||
-        (st = orr_view_plan_blur(v, observer, observer_velocity, when, err)))
+        (st = orr_view_plan_blur(v, s, observer, observer_velocity, when, err)))
         return st;
     rep->has_sky_frame = observer != NULL;
     v->world_to_camera = orr_camera_world_to_camera(&rep->camera);
@@ -326,12 +351,11 @@ static orr_status check_frame_views(const orr_plan *plan, const orr_eye_views *e
 
 /* ---- a frame ---- */
 
-/* After a frame, view k points at nothing of it: its scene (an eye's copy,
- * freed with the frame's views), report, lengths, dust and outputs. */
+/* After a frame, view k points at nothing of it: its report, lengths, dust
+ * and outputs. */
 static void forget_frame(orr_plan *plan, int k)
 {
     view_state *v = &plan->views[k];
-    v->scene = plan->eyes.scene[k];
     v->rep = NULL;
     v->lengths = NULL;
     v->dust = NULL;
@@ -464,7 +488,7 @@ static orr_status draw_bright_stars(view_state *v, orr_error *err)
         return ORR_OK;
     if (!v->psf.core)
         return orr_sky_psf_draw(v->psf.sky, &v->sph, v->planes, v->nplanes, err);
-    orr_flat_deposit dep = {v->scene->deposit.kind, &v->proj, v->use_sph ? &v->sph : NULL};
+    orr_flat_deposit dep = {v->splat.deposit.kind, &v->proj, v->use_sph ? &v->sph : NULL};
     return orr_flat_psf_draw(v->psf.sky, &dep, v->psf.core, v->planes, v->nplanes, err);
 }
 
@@ -482,7 +506,7 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
         orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);
     charge(&views[0], ORR_STAGE_POST);
     for (int k = 0; k < n && !st; k++)
-        if (views[k].scene->output.write_raw) {
+        if (views[k].files.output.write_raw) {
             orr_mask_outside_map(&views[k].proj, views[k].planes, views[k].nplanes);
             charge(&views[k], ORR_STAGE_POST);
             st = orr_view_write_fits_planes(&views[k], "raw.fits", err);
@@ -493,14 +517,15 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
     charge(&views[0], ORR_STAGE_PSF);
     for (int k = 0; k < n && !st; k++) {
         if (orr_eye_views_pair_at(eyes, k)) {
-            st = orr_view_write_stereo_pair(&views[k], &views[k + 1], eyes, k, err);
+            st = orr_view_write_stereo_pair(&views[k], &views[k + 1], err);
             if (!st && keep && !(st = keep_view(&views[k], k, in, err)))
                 st = keep_view(&views[k + 1], k + 1, in, err);
             k++; /* the right eye was written with the left */
             continue;
         }
         st = orr_view_write_outputs(&views[k], err);
-        orr_eye_views_share_white(eyes, k, views[k].rep->white); /* separate eyes: grade the right alike */
+        if (k + 1 < n) /* separate eyes: grade the right alike */
+            orr_view_share_white(&views[k], &views[k + 1]);
         if (!st && keep)
             st = keep_view(&views[k], k, in, err);
     }
@@ -540,9 +565,10 @@ static void frame_units(orr_plan *plan, const orr_source *src)
     const char *mass = src ? src->info.mass_unit : "", *length = src ? src->info.length_unit : "";
     for (int k = 0; k < plan->n; k++) {
         view_state *v = &plan->views[k];
-        snprintf(v->length_unit, sizeof v->length_unit, "%s", scene_length_unit(v->scene, length));
+        const orr_scene *s = plan->eyes.scene[k]; /* (the units are the same in every frame's) */
+        snprintf(v->length_unit, sizeof v->length_unit, "%s", scene_length_unit(s, length));
         char unit[ORR_PLANE_NAME_MAX];
-        orr_brightness_unit(&v->proj, scene_weight_unit(v->scene, mass), v->length_unit, unit, sizeof unit);
+        orr_brightness_unit(&v->proj, scene_weight_unit(s, mass), v->length_unit, unit, sizeof unit);
         for (int j = 0; j < v->nplanes; j++)
             snprintf(v->planes[j].unit, sizeof v->planes[j].unit, "%s", unit);
     }
@@ -640,7 +666,7 @@ static int lengths_key(const orr_plan *plan, const orr_scene *s0, const orr_sour
     if (given || par || !in->file[0] || in->sequence.pattern[0] || in->sequence.nfiles)
         return 0;
     for (int k = 0; k < plan->n; k++)
-        if (plan->views[k].scene->psf.has_glow)
+        if (plan->views[k].splat.has_glow)
             return 0;
     struct stat st;
     if (stat(in->file, &st) != 0)

@@ -16,6 +16,7 @@
 #include "encode/image_out.h"
 #include "frame/stereo.h"
 #include "render/render.h"
+#include "render/view_files.h"
 #include "scene/scene.h"
 
 /* The views as the driver renders them: a stereo view becomes its left eye
@@ -38,11 +39,6 @@ orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr
 /* Merges each right eye's outputs into its left eye's report, then frees. */
 void orr_eye_views_finish(orr_eye_views *ev);
 
-/* When view k of ev is a left eye, makes its white level (output.white,
- * colour.synthesis.white: automatic or given) its right eye's, so that the
- * eyes are graded alike; call after grading the left. */
-void orr_eye_views_share_white(orr_eye_views *ev, int k, double white);
-
 /* Whether view k of ev is the left eye of a pair written as one picture
  * (anaglyph, side-by-side, over-under); view k + 1 is then its right eye. */
 int orr_eye_views_pair_at(const orr_eye_views *ev, int k);
@@ -63,15 +59,15 @@ orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_re
 /* visible[i] &= keep[i]: the particles inside an ODS eye circle are not drawn. */
 void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep);
 
-/* How the driver adds output NAME.EXT of scene s to the frame's outputs:
- * the final path goes to rep->outputs[rep->noutputs] (counted by the
- * caller once written) and *write_path is the file to write now. */
-typedef orr_status (*orr_output_stage_fn)(void *outputs, const orr_scene *s, orr_render_report *rep,
+/* How the driver adds output NAME.EXT of a view's files f to the frame's
+ * outputs: the final path goes to rep->outputs[rep->noutputs] (counted by
+ * the caller once written) and *write_path is the file to write now. */
+typedef orr_status (*orr_output_stage_fn)(void *outputs, const view_files *f, orr_render_report *rep,
                                           const char *ext, const char **write_path, orr_error *err);
 
 /* One stereo pair, ready to write as one picture. */
 typedef struct orr_stereo_pair {
-    const orr_scene *scene;        /* the left eye's scene (its output.* keys apply) */
+    const view_files *files;       /* the left eye's (its output.* keys apply) */
     const orr_plane *planes[2];    /* each eye's planes (linear, after the PSF) */
     int nplanes;                   /* per eye: 1, or X, Y, Z */
     int width, height;             /* of one eye's image */

@@ -201,10 +201,10 @@ orr_status orr_view_camera(const orr_scene *s, const orr_sky_frame *observer, co
 /* The view's camera dframe frames from this one (motion blur's shutter
  * opening and closing): along the camera path, or from an observer moved
  * by observer_step; a perspective stereo eye set as in this frame. */
-static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, orr_vec3 observer_step,
-                            const orr_frame_time *when, double dframe, orr_camera *cam, orr_error *err)
+static orr_status camera_at(const view_state *v, const orr_scene *s, const orr_sky_frame *observer,
+                            orr_vec3 observer_step, const orr_frame_time *when, double dframe, orr_camera *cam,
+                            orr_error *err)
 {
-    const orr_scene *s = v->scene;
     orr_status st;
     if (s->camera.has_path) {
         double u = when->nframes > 1 ? when->u + dframe / (double)(when->nframes - 1) : when->u;
@@ -229,10 +229,9 @@ static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, 
 /* Motion blur's plan (animation.shutter): the cameras when the shutter
  * opens and closes, half a shutter before and after the frame, and the
  * simulation time the particles move over (the frame interval's share). */
-orr_status orr_view_plan_blur(view_state *v, const orr_sky_frame *observer, orr_vec3 observer_velocity,
-                              const orr_frame_time *when, orr_error *err)
+orr_status orr_view_plan_blur(view_state *v, const orr_scene *s, const orr_sky_frame *observer,
+                              orr_vec3 observer_velocity, const orr_frame_time *when, orr_error *err)
 {
-    const orr_scene *s = v->scene;
     if (!(s->animation.shutter > 0))
         return ORR_OK;
     const double interval = !orr_blur_moves_particles(s) ? 0 : s->animation.has_frame_interval ? s->animation.frame_interval
@@ -240,9 +239,9 @@ orr_status orr_view_plan_blur(view_state *v, const orr_sky_frame *observer, orr_
     const double half_time = 0.5 * s->animation.shutter * interval, half_frame = 0.5 * s->animation.shutter;
     const orr_vec3 step = orr_v3_scale(observer_velocity, half_time);
     orr_camera open, close;
-    orr_status st = camera_at(v, observer, orr_v3_scale(step, -1), when, -half_frame, &open, err);
+    orr_status st = camera_at(v, s, observer, orr_v3_scale(step, -1), when, -half_frame, &open, err);
     if (!st)
-        st = camera_at(v, observer, step, when, half_frame, &close, err);
+        st = camera_at(v, s, observer, step, when, half_frame, &close, err);
     if (!st)
         orr_motion_blur_plan(&v->blur, half_time, &open, &close, &v->proj);
     return st;

@@ -30,20 +30,19 @@ static void reserve(orr_cards *h, const reserved *cards, size_t n)
  * belong beside the deposit's settings in splat/deposit.h. */
 static void plan_deposit_cards(const view_state *v, orr_cards *h)
 {
-    const orr_scene *s = v->scene;
-    orr_cards_add_string(h, "DEPOSIT", orr_deposit_name(s->deposit.kind), "deposit method");
+    const orr_deposit_settings *d = &v->splat.deposit;
+    orr_cards_add_string(h, "DEPOSIT", orr_deposit_name(d->kind), "deposit method");
     if (v->use_sph) {
-        orr_cards_add_string(h, "KERNEL", orr_kernel_name(s->deposit.kernel), "SPH kernel (support 2h)");
+        orr_cards_add_string(h, "KERNEL", orr_kernel_name(d->kernel), "SPH kernel (support 2h)");
         orr_cards_reserve(h, "HSOURCE", "where smoothing lengths came from");
         orr_cards_reserve(h, "NNEIGH", "h = half the distance to this neighbour");
-        orr_cards_add_double(h, "HSCALE", s->deposit.h_scale, "smoothing lengths multiplied by this");
+        orr_cards_add_double(h, "HSCALE", d->h_scale, "smoothing lengths multiplied by this");
     }
 }
 
 /* The counts of the frame's report, and its time and source. */
-static void plan_report_cards(const view_state *v, orr_cards *h)
+static void plan_report_cards(const orr_scene *s, orr_cards *h)
 {
-    const orr_scene *s = v->scene;
     orr_input_cards(&s->input, h);
     static const reserved counts[] = {
         {"NPART", "particles read"},
@@ -68,9 +67,8 @@ static void plan_report_cards(const view_state *v, orr_cards *h)
 }
 
 /* Each stage's cards, in the order the files have always had them. */
-void orr_view_plan_cards(view_state *v)
+void orr_view_plan_cards(view_state *v, const orr_scene *s)
 {
-    const orr_scene *s = v->scene;
     orr_cards *h = &v->cards;
     memset(h, 0, sizeof *h);
     orr_cards_add_string(h, "CREATOR", "orrery " ORRERY_VERSION, "software that made this file");
@@ -92,7 +90,7 @@ void orr_view_plan_cards(view_state *v)
     orr_cards_add_long(h, "IMGHEIGH", v->base_proj.height, "[pixel] image height");
     plan_deposit_cards(v, h);
     orr_view_psf_cards(&v->psf, h);
-    plan_report_cards(v, h);
+    plan_report_cards(s, h);
     if (s->observer.has_id) /* an observer's dimming is the observer's; without one, the camera's */
         orr_observer_cards(&s->observer, h);
     else
@@ -108,7 +106,6 @@ void orr_view_plan_cards(view_state *v)
 /* The frame's values of the reserved cards. */
 static void set_frame_values(const view_state *v, orr_cards *h)
 {
-    const orr_scene *s = v->scene;
     const orr_render_report *rep = v->rep;
     const orr_camera *cam = &rep->camera;
     orr_cards_set_double(h, "CAMPOSX", cam->position.x);
@@ -120,7 +117,7 @@ static void set_frame_values(const view_state *v, orr_cards *h)
     orr_cards_set_double(h, "CAMQZ", cam->orientation.z);
     orr_cards_set_string(h, "HSOURCE", v->lengths ? "neighbours" : "file");
     if (v->lengths)
-        orr_cards_set_long(h, "NNEIGH", s->deposit.neighbours);
+        orr_cards_set_long(h, "NNEIGH", v->splat.deposit.neighbours);
     if (v->psf.sky)
         orr_cards_set_long(h, "PSFSTARS", v->psf.sky->stars_drawn);
     orr_cards_set_long(h, "NPART", (long long)rep->n_read);
@@ -150,7 +147,6 @@ static void set_frame_values(const view_state *v, orr_cards *h)
 
 void orr_view_frame_cards(view_state *v)
 {
-    const orr_scene *s = v->scene;
     const orr_render_report *rep = v->rep;
     orr_cards *h = &v->frame_cards;
     *h = v->cards;
@@ -160,5 +156,5 @@ void orr_view_frame_cards(view_state *v)
     orr_cards_append(h, &v->stereo_cards);
     orr_cards_set_double(h, "CONVERG", rep->stereo_convergence);
     orr_cards_drop_unset(h);
-    h->scene = s->scene_yaml; /* every FITS file says how it was made */
+    h->scene = v->files.scene_yaml; /* every FITS file says how it was made */
 }

@@ -17,6 +17,7 @@
 #include "render/splat_settings.h"
 #include "render/stereo_view.h"
 #include "render/timings.h"
+#include "render/view_files.h"
 #include "splat/bands.h"
 #include "splat/sph.h"
 #include "stars/stars.h"
@@ -26,8 +27,8 @@ typedef struct view_state {
     /* Planned once per run (plan.c: plan_view): the projection as set up,
      * the planes, the kernel, the PSF, the SPH deposit (a sky map's index
      * and core stamps). The rest is the frame's. */
-    const orr_scene *scene;     /* the frame's (its output names); the plan's until the first frame */
-    orr_splat_settings splat;   /* what the splat pass reads of the scene's settings */
+    orr_splat_settings splat;   /* what the splat pass reads of the view's settings */
+    view_files files;           /* what its files are and how its picture is graded */
     orr_projection base_proj;   /* the scene's projection, set up */
     orr_projection proj;        /* this frame's: base_proj, with a stereo eye's principal point */
     orr_mat3 world_to_camera;
@@ -179,9 +180,9 @@ orr_status orr_view_sky_frame(const orr_scene *s, orr_source *given, long frame,
 /* The camera of a view in this frame, and the sky frame it looks from. */
 orr_status orr_view_camera(const orr_scene *s, const orr_sky_frame *observer, const orr_frame_time *when,
                            orr_camera *cam, orr_sky_frame *sky, orr_error *err);
-/* Motion blur's shutter cameras for the view (animation.shutter; nothing
- * without a shutter); v->proj and v->scene must be the frame's. */
-orr_status orr_view_plan_blur(view_state *v, const orr_sky_frame *observer, orr_vec3 observer_velocity,
+/* Motion blur's shutter cameras for the view of scene s (animation.shutter;
+ * nothing without a shutter); v->proj must be the frame's. */
+orr_status orr_view_plan_blur(view_state *v, const orr_scene *s, const orr_sky_frame *observer, orr_vec3 observer_velocity,
                               const orr_frame_time *when, orr_error *err);
 
 /* ---- the splat pass (splat_pass.c) ---- */
@@ -204,9 +205,10 @@ orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, stru
 
 /* ---- the view's FITS cards (view_cards.c) ---- */
 
-/* The cards of the planned view (v->cards, v->stereo_cards): those that
- * depend on the scene, the projection and the PSF, the frame's reserved. */
-void orr_view_plan_cards(view_state *v);
+/* The cards of the view planned from scene s (v->cards, v->stereo_cards):
+ * those that depend on the scene, the projection and the PSF, the frame's
+ * reserved. */
+void orr_view_plan_cards(view_state *v, const orr_scene *s);
 /* The frame's cards (v->frame_cards): the plan's with the frame's camera,
  * counts, time and source, the WCS and the stereo cards; call when the
  * frame's planes are final (the reductions done, the bright stars drawn). */
@@ -219,7 +221,10 @@ orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size
 orr_status orr_view_write_pictures(view_state *v, orr_error *err);
 orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error *err);
 /* A stereo pair's two eyes (views l and r) into one set of files. */
-orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_views *eyes, int k, orr_error *err);
+orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_error *err);
+/* A left eye's white level (its report's) given to the right eye's
+ * grading, so that separate eyes and a pair's picture are graded alike. */
+void orr_view_share_white(const view_state *l, view_state *r);
 orr_status orr_view_write_outputs(view_state *v, orr_error *err);
 /* orrery compose for a view begun as a frame: its raw planes (or layers)
  * read back, the PSF (unless NAME.fits already has it), the pictures. */
@@ -231,7 +236,7 @@ orr_healpix_info orr_view_healpix_info(const view_state *v);
  * output.dir: fails, naming the folder and what compose reads, when the
  * folder is not there (it is not made empty). */
 orr_status orr_compose_check_raw_dir(const orr_scene *s, orr_error *err);
-/* DIR/NAME.ext of the scene's output. */
-orr_status orr_view_output_path(const orr_scene *s, const char *ext, char *path, orr_error *err);
+/* DIR/NAME.ext of output.* o. */
+orr_status orr_view_output_path(const orr_output_settings *o, const char *ext, char *path, orr_error *err);
 
 #endif
