@@ -16,13 +16,16 @@
 #include "dust/dust.h"
 #include "post/brightness.h"
 #include "post/grade.h"
+#include "render/frame_names.h"
 #include "scene/scene_output.h"
 #include "source/partition.h"
 
 struct orr_plan {
     orr_plan_purpose purpose;
     int nscenes;             /* the views as given */
+    const orr_scene **given; /* [nscenes] their scenes (the caller's, which outlive the plan) */
     int n;                   /* the views as rendered: a stereo view is two eyes (purpose render) */
+    int *origin;             /* [n] the view given that each renders */
     orr_eye_views eyes;      /* the planned views' eyes: their scenes live as long as the plan */
     orr_render_report *planning_reports; /* [nscenes] what the planned eyes report into (unused after) */
     view_state *views;       /* [n] */
@@ -244,6 +247,8 @@ void orr_plan_destroy(orr_plan *plan)
     for (int k = 0; k < plan->planned; k++)
         free_view(&plan->views[k]);
     free(plan->views);
+    free(plan->given);
+    free(plan->origin);
     orr_eye_views_finish(&plan->eyes);
     free(plan->planning_reports);
     orr_psf_kernels_free(&plan->kernels);
@@ -289,6 +294,23 @@ static orr_status check_output_dirs(orr_plan_purpose purpose, const orr_scene *c
             st = orr_check_output_dir(scenes[k]->output.dir, err);
     return st;
 }
+/* The views given (plan->given) and which of them each view rendered is
+ * (plan->origin: a stereo view's eyes are both its). */
+static orr_status keep_given(orr_plan *plan, const orr_scene *const *scenes, orr_error *err)
+{
+    plan->given = orr_calloc((size_t)plan->nscenes, sizeof *plan->given, "views", err);
+    plan->origin = orr_calloc((size_t)plan->n, sizeof *plan->origin, "views", err);
+    if (!plan->given || !plan->origin)
+        return ORR_ERR_NOMEM;
+    for (int i = 0, k = 0; i < plan->nscenes; i++) {
+        plan->given[i] = scenes[i];
+        plan->origin[k++] = i;
+        if (plan->purpose == ORR_PLAN_RENDER && scenes[i]->stereo.mode != ORR_STEREO_NONE)
+            plan->origin[k++] = i;
+    }
+    return ORR_OK;
+}
+
 orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n, orr_plan_purpose purpose,
                            orr_error *err)
 {
@@ -308,6 +330,8 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
     if (!st)
         st = expand_views(plan, scenes, plan->planning_reports, &plan->eyes, err);
     plan->n = plan->eyes.n;
+    if (!st)
+        st = keep_given(plan, scenes, err);
     if (!st && !(plan->views = orr_calloc((size_t)plan->n, sizeof *plan->views, "views", err)))
         st = ORR_ERR_NOMEM;
     for (; !st && plan->planned < plan->n; plan->planned++)
@@ -579,11 +603,30 @@ static void frame_units(orr_plan *plan, const orr_source *src)
 static orr_status begin_frame(orr_plan *plan, const orr_eye_views *eyes, const orr_sky_frame *observer,
                               orr_vec3 observer_velocity, const orr_frame_time *when, int *begun, orr_error *err)
 {
-    orr_status st = check_frame_views(plan, eyes, err);
+    orr_status st = ORR_OK;
     for (*begun = 0; !st && *begun < plan->n; (*begun)++)
         st = begin_view_frame(&plan->views[*begun], eyes->scene[*begun], observer, observer_velocity, when,
                               eyes->report[*begun], err);
     return st;
+}
+
+/* Each view's output name in this frame: its view's output.name with the
+ * frame's number (none in a still), then an eye's -left or -right. */
+static orr_status name_frame_outputs(orr_plan *plan, const orr_frame_time *when, orr_error *err)
+{
+    for (int k = 0; k < plan->n; k++) {
+        const orr_scene *s = plan->given[plan->origin[k]];
+        view_files *f = &plan->views[k].files;
+        char numbered[sizeof f->output.name];
+        const orr_frame_naming naming = orr_frame_naming_of(&s->output);
+        orr_status st = orr_frame_name(&naming, s->output.name, when->frame, when->nframes, numbered,
+                                       sizeof numbered, err);
+        if (!st)
+            st = orr_eye_output_name(s, numbered, f->eye, f->output.name, sizeof f->output.name, err);
+        if (st)
+            return st;
+    }
+    return ORR_OK;
 }
 
 /* Commits the frame's files, all of them or none. */
@@ -702,9 +745,8 @@ static orr_lengths *frame_lengths_for(orr_plan *plan, const orr_scene *s0, const
     return &plan->kept_lengths;
 }
 
-orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, const orr_frame_input *in,
-                            orr_render_report *reports, orr_progress_fn progress, void *progress_user,
-                            orr_error *err)
+orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_render_report *reports,
+                            orr_progress_fn progress, void *progress_user, orr_error *err)
 {
     if (plan->purpose != ORR_PLAN_RENDER)
         return orr_fail(err, ORR_ERR_INTERNAL, "a compose plan renders no particles");
@@ -715,7 +757,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     view_state *views = plan->views;
     for (int k = 0; k < plan->n; k++)
         views[k].timer = timer;
-    const orr_scene *s0 = scenes[0];
+    const orr_scene *s0 = plan->given[0];
     const orr_frame_time still = orr_frame_at(0, 1, s0->animation.fps, 0, 0);
     const orr_frame_time *when = in ? &in->time : &still;
     const orr_parallel *par = in && in->parallel && in->parallel->nranks > 1 ? in->parallel : NULL;
@@ -724,7 +766,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     /* Checked when planned; again each frame (a stat), in case a long run's
      * folder went away since, before any slow work. */
     for (int k = 0; k < plan->nscenes && !st; k++)
-        st = orr_check_output_dir(scenes[k]->output.dir, err);
+        st = orr_check_output_dir(plan->given[k]->output.dir, err);
     if (!st && par && !given && !(st = open_share(s0, par, &src, err)))
         given = src;
     /* The observer's frame moves with the particles: found every frame, by
@@ -734,11 +776,13 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     if (!st && s0->observer.has_id)
         st = orr_view_sky_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
     orr_stage_charge(&timer->times, ORR_STAGE_SOURCE, &timer->at);
-    /* A stereo view renders as two views, its eyes, named for this frame. */
+    /* A stereo view renders as two views, its eyes, each reporting into
+     * its view's report (the right eye's outputs added to the left's). */
     orr_eye_views eyes = {0};
     int begun = 0;
-    if (!st && !(st = orr_eye_views_expand(scenes, plan->nscenes, reports, &eyes, err)))
-        st = begin_frame(plan, &eyes, s0->observer.has_id ? &observer : NULL, observer_velocity, when, &begun, err);
+    if (!st && !(st = orr_eye_views_expand(plan->given, plan->nscenes, reports, &eyes, err)) &&
+        !(st = begin_frame(plan, &eyes, s0->observer.has_id ? &observer : NULL, observer_velocity, when, &begun, err)))
+        st = name_frame_outputs(plan, when, err);
     if (!st && plan->has_stars) { /* the stars are seen from the observer (scene_check.c) */
         orr_frame_stars_begin(&plan->stars, &observer);
         plan->stars.whole_list = par == NULL; /* on ranks, each has its own share's stars */
@@ -798,7 +842,7 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_
     int begun = 0;
     for (int k = 0; k < plan->n; k++)
         plan->views[k].timer = NULL;
-    if (!st && !(st = expand_views(plan, scenes, reports, &views, err)))
+    if (!st && !(st = expand_views(plan, scenes, reports, &views, err)) && !(st = check_frame_views(plan, &views, err)))
         st = begin_frame(plan, &views, scenes[0]->observer.has_id ? &observer : NULL, orr_v3(0, 0, 0), &still, &begun,
                          err);
     orr_output_batch outputs;

@@ -36,13 +36,12 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *views, int n,
                            orr_error *err);
 
 /* Renders one frame with the plan: gather, splat, reduce, post, encode.
- * frame_views[0..n) are the planned views as this frame names its outputs
- * (output.name with the frame number; the frame count): everything else
- * must be as planned (checked: the image and the projection). reports[i]
- * describes view i; in as for orr_render_frame (NULL: a still). */
-orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *frame_views, const orr_frame_input *in,
-                            orr_render_report *reports, orr_progress_fn progress, void *progress_user,
-                            orr_error *err);
+ * in is what moves from frame to frame: the frame's number and time (its
+ * camera, its output names: output.name with the frame's number, none in
+ * a still; orr_frame_name), its particles, the processes, a keeper; NULL:
+ * a still from the scene's input. reports[i] describes planned view i. */
+orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_render_report *reports,
+                            orr_progress_fn progress, void *progress_user, orr_error *err);
 
 /* Re-grades one frame's raw planes with a plan of purpose ORR_PLAN_COMPOSE
  * (orr_compose_views). frame_views as for orr_plan_execute; their grading

@@ -102,7 +102,7 @@ orr_status orr_render_frame(const orr_scene *const *scenes, int n, const orr_fra
     orr_plan *plan;
     orr_status st = orr_plan_create(&plan, scenes, n, ORR_PLAN_RENDER, err);
     if (!st)
-        st = orr_plan_execute(plan, scenes, in, reports, progress, progress_user, err);
+        st = orr_plan_execute(plan, in, reports, progress, progress_user, err);
     orr_plan_destroy(plan);
     return st;
 }

@@ -114,8 +114,8 @@ typedef struct orr_frame_input {
     void *keep_user;
 } orr_frame_input;
 
-/* orr_render_views for one frame of a run. The views' output names are used
- * as they are (the animation driver gives each frame its own). */
+/* orr_render_views for one frame of a run: the views' output names get the
+ * frame's number (in->time: output.name as it is in a still). */
 orr_status orr_render_frame(const orr_scene *const *views, int n, const orr_frame_input *in,
                             orr_render_report *reports, orr_progress_fn progress, void *progress_user,
                             orr_error *err);

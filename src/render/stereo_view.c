@@ -16,19 +16,24 @@ static int is_pair_mode(orr_stereo_mode m)
     return m == ORR_STEREO_ANAGLYPH || m == ORR_STEREO_SIDE_BY_SIDE || m == ORR_STEREO_OVER_UNDER;
 }
 
+orr_status orr_eye_output_name(const orr_scene *s, const char *name, int eye, char *out, size_t size,
+                               orr_error *err)
+{
+    const int separate = eye && s->stereo.mode == ORR_STEREO_SEPARATE;
+    int len = separate ? snprintf(out, size, "%s-%s", name, orr_eye_name(eye)) : snprintf(out, size, "%s", name);
+    if (len < 0 || (size_t)len >= size)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: output.name '%s' is too long to add -%s for stereo", s->path, name,
+                        orr_eye_name(eye));
+    return ORR_OK;
+}
+
 /* The scene of one eye: a copy that knows which eye it is, with its own
  * output name when the eyes are written separately. */
 static orr_status eye_scene(const orr_scene *s, int eye, orr_scene *out, orr_error *err)
 {
     *out = *s;
     out->stereo.eye = eye;
-    if (s->stereo.mode != ORR_STEREO_SEPARATE)
-        return ORR_OK;
-    int len = snprintf(out->output.name, sizeof out->output.name, "%s-%s", s->output.name, orr_eye_name(eye));
-    if (len < 0 || (size_t)len >= sizeof out->output.name)
-        return orr_fail(err, ORR_ERR_USAGE, "%s: output.name '%s' is too long to add -%s for stereo", s->path,
-                        s->output.name, orr_eye_name(eye));
-    return ORR_OK;
+    return orr_eye_output_name(s, s->output.name, eye, out->output.name, sizeof out->output.name, err);
 }
 
 orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,

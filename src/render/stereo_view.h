@@ -36,6 +36,11 @@ typedef struct orr_eye_views {
  * output.name-left and output.name-right. */
 orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,
                                 orr_eye_views *ev, orr_error *err);
+/* The output name of eye (0: not an eye) of scene s's view named name:
+ * name-left or name-right when the eyes are written separately, else name
+ * itself; an error when out (size bytes) cannot hold it. */
+orr_status orr_eye_output_name(const orr_scene *s, const char *name, int eye, char *out, size_t size,
+                               orr_error *err);
 /* Merges each right eye's outputs into its left eye's report, then frees. */
 void orr_eye_views_finish(orr_eye_views *ev);
 
