@@ -294,6 +294,7 @@ static orr_status check_output_dirs(orr_plan_purpose purpose, const orr_scene *c
             st = orr_check_output_dir(scenes[k]->output.dir, err);
     return st;
 }
+
 /* The views given (plan->given) and which of them each view rendered is
  * (plan->origin: a stereo view's eyes are both its). */
 static orr_status keep_given(orr_plan *plan, const orr_scene *const *scenes, orr_error *err)
