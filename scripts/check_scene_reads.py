@@ -2,7 +2,7 @@
 """Counts the reads of orr_scene's fields outside scene/ and render/plan.c.
 
 The plan is meant to be the only reader of the scene (issue 39): it compiles
-each view's settings into what the stages take (render/splat_settings.h for
+each view's settings into what the stages take (pass/splat_settings.h for
 the splat pass), and the stages read those, never the scene. This check
 finds every variable, parameter or struct field declared as an orr_scene
 (or a pointer or array of them) in a file, and counts the places where one

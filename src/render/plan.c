@@ -70,7 +70,7 @@ static orr_status plan_psf(view_state *v, const orr_scene *s, orr_psf_kernels *k
     return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
 }
 
-/* What the splat pass reads of the view's scene (render/splat_settings.h). */
+/* What the splat pass reads of the view's scene (pass/splat_settings.h). */
 static void splat_settings_of(const orr_scene *s, orr_splat_settings *set)
 {
     snprintf(set->path, sizeof set->path, "%s", s->path);

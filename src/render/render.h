@@ -72,7 +72,7 @@ int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIEL
  * renderer must read vx, vy, vz): a shutter, and simulation time that
  * passes between frames: animation.frame_interval, a sequence's snapshots,
  * or an in-situ run's animation.time. (A single snapshot's particles stand
- * still, and only the camera moves.) render/motion_blur.h draws the
+ * still, and only the camera moves.) pass/motion_blur.h draws the
  * streaks. */
 int orr_blur_moves_particles(const orr_scene *s);
 

@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "render/periodic_view.h"
+#include "pass/periodic_view.h"
 
 /* The side of a periodic box whose snapshots wrap: input.periodic.box, or
  * with copies (input.periodic.replicas) and box auto the first snapshot's

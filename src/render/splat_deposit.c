@@ -8,7 +8,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "render/motion_blur.h"
+#include "pass/motion_blur.h"
 #include "post/view_psf.h"
 #include "splat/sph.h"
 

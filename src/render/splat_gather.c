@@ -3,7 +3,7 @@
  * taper, the glow's lengths, motion blur's streaks), checked, and
  * projected. Blocks that take every particle go through straight loops
  * without a branch a particle, or for NGP the fused gather
- * (render/ngp_gather.h). */
+ * (pass/ngp_gather.h). */
 #include "render/splat_block.h"
 #include "core/fastmath.h"
 #include "core/numbers.h"
@@ -12,10 +12,10 @@
 #include <math.h>
 #include <string.h>
 
-#include "render/camera_transform.h"
-#include "render/lengths.h"
-#include "render/motion_blur.h"
-#include "render/ngp_gather.h"
+#include "pass/camera_transform.h"
+#include "pass/lengths.h"
+#include "pass/motion_blur.h"
+#include "pass/ngp_gather.h"
 #include "render/stereo_view.h"
 
 /* Names the value that is not finite: the position, the weight, or else
@@ -199,7 +199,7 @@ static size_t gather_all(const view_state *v, const orr_chunk *c, const float *c
     return n;
 }
 
-/* The fused gather (render/ngp_gather.h) of a block that takes every
+/* The fused gather (pass/ngp_gather.h) of a block that takes every
  * particle: indices into b->share_pixel. Returns 0 when the block has a
  * non-finite value (b->indexed 0). */
 static int ngp_gather_all(const view_state *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
@@ -270,7 +270,7 @@ static float stars_glow_length(const view_state *v, float h, float r2, float mas
     return length < widest ? length : widest;
 }
 
-/* ---- motion blur (render/motion_blur.h) ---- */
+/* ---- motion blur (pass/motion_blur.h) ---- */
 
 /* The velocities motion blur moves the chunk's particles by (NULLs when
  * the shutter holds them still), or an error naming the field missing. */

@@ -1,4 +1,4 @@
-/* A periodic box's copies in the splat (render/periodic_view.h): each
+/* A periodic box's copies in the splat (pass/periodic_view.h): each
  * block summarised once, then every copy of the chunk drawn on one thread
  * in block order, skipping whole copies and blocks out of view or beyond
  * the sphere of images before their particles are touched. */
@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/periodic_view.h"
+#include "pass/periodic_view.h"
 
 /* Gathers, projects and deposits particles [start, end) of c, moved by
  * shift (fading: across the copies' sphere), into the view's own planes,

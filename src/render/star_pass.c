@@ -9,7 +9,7 @@
 #include <string.h>
 
 #include "core/numbers.h"
-#include "render/camera_transform.h"
+#include "pass/camera_transform.h"
 
 orr_status orr_frame_stars_prepare(frame_stars *fs, const orr_stars_settings *set, uint64_t observer_id,
                                    const char *scene_path, orr_error *err)

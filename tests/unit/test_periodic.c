@@ -9,7 +9,7 @@
 #include "encode/fits_read.h"
 #include "frame/projection.h"
 #include "frame/replicas.h"
-#include "render/periodic_view.h"
+#include "pass/periodic_view.h"
 #include "render/render.h"
 #include "scene/scene.h"
 

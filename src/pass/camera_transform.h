@@ -4,8 +4,8 @@
  * for the renderer's gather loops (render.c, ngp_gather.c), which the
  * compiler vectorises; copy the transform into a local before such a loop,
  * so the compiler knows the loop's stores cannot change it. */
-#ifndef ORR_RENDER_CAMERA_TRANSFORM_H
-#define ORR_RENDER_CAMERA_TRANSFORM_H
+#ifndef ORR_PASS_CAMERA_TRANSFORM_H
+#define ORR_PASS_CAMERA_TRANSFORM_H
 
 #include <math.h>
 

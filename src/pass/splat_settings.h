@@ -3,8 +3,8 @@
  * compiled once per view by the plan (plan.c: splat_settings_of, the only
  * reader of the scene), so the pass reads no scene. Copies, not pointers
  * into the scene: the frame's scenes come and go, the plan's view stays. */
-#ifndef ORR_RENDER_SPLAT_SETTINGS_H
-#define ORR_RENDER_SPLAT_SETTINGS_H
+#ifndef ORR_PASS_SPLAT_SETTINGS_H
+#define ORR_PASS_SPLAT_SETTINGS_H
 
 #include <stdint.h>
 

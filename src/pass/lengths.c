@@ -1,11 +1,10 @@
-#include "render/lengths.h"
+#include "pass/lengths.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <time.h>
 
 #include "particles/smoothing.h"
-#include "render/render.h"
 
 orr_status orr_lengths_needed(const orr_splat_settings *set, const orr_source *src, int *needed, orr_error *err)
 {

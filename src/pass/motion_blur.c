@@ -1,4 +1,4 @@
-#include "render/motion_blur.h"
+#include "pass/motion_blur.h"
 
 #include <math.h>
 

@@ -1,4 +1,4 @@
-#include "render/periodic_view.h"
+#include "pass/periodic_view.h"
 
 #include <math.h>
 #include <stdlib.h>

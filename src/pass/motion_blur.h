@@ -17,14 +17,14 @@
  * streak), up to ORR_BLUR_MAX_SAMPLES samples. A particle that moves less
  * than a pixel stays one sample: the cost grows with the motion, not with
  * the particle count. docs/animation.md#motion-blur. */
-#ifndef ORR_RENDER_MOTION_BLUR_H
-#define ORR_RENDER_MOTION_BLUR_H
+#ifndef ORR_PASS_MOTION_BLUR_H
+#define ORR_PASS_MOTION_BLUR_H
 
 #include "core/vecmath.h"
 #include "frame/camera.h"
 #include "frame/project_point.h"
 #include "frame/projection.h"
-#include "render/camera_transform.h"
+#include "pass/camera_transform.h"
 
 /* Samples a streak gets: one per ORR_BLUR_STEP_PX of its length on the
  * image, at most ORR_BLUR_MAX_SAMPLES (streaks longer than 256 pixels a

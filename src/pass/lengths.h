@@ -4,15 +4,15 @@
  * and the source is rewound for the splat pass, which takes the lengths in
  * the same order. Memory: 12 bytes a particle for the positions and about
  * 20 for the tree while the lengths are computed, then 4 for the lengths. */
-#ifndef ORR_RENDER_LENGTHS_H
-#define ORR_RENDER_LENGTHS_H
+#ifndef ORR_PASS_LENGTHS_H
+#define ORR_PASS_LENGTHS_H
 
 #include <math.h>
 #include <stddef.h>
 
 #include "core/vecmath.h"
 #include "reduce/parallel.h"
-#include "render/splat_settings.h"
+#include "pass/splat_settings.h"
 #include "source/source.h"
 
 typedef struct orr_lengths {

@@ -2,13 +2,13 @@
  * a view draws, and per block of particles the summary (bounds, largest
  * kernel, weights) that lets the renderer skip a copy of the block, or a
  * whole copy of the chunk, the view cannot see (docs/periodic.md). */
-#ifndef ORR_RENDER_PERIODIC_VIEW_H
-#define ORR_RENDER_PERIODIC_VIEW_H
+#ifndef ORR_PASS_PERIODIC_VIEW_H
+#define ORR_PASS_PERIODIC_VIEW_H
 
 #include "frame/replicas.h"
 #include "particles/chunk.h"
-#include "render/lengths.h"
-#include "render/splat_settings.h"
+#include "pass/lengths.h"
+#include "pass/splat_settings.h"
 #include "source/source.h"
 
 typedef struct orr_periodic_view {
