@@ -36,7 +36,7 @@ CEILINGS = {
     "render/compose.c": 3,
     "render/frame_markers.c": 16,
     "render/path_overview.c": 9,
-    "render/render.c": 23,
+    "render/scene_source.c": 23,
     "render/sequence_open.c": 27,
     "render/stereo_view.c": 21,
     "render/view_camera.c": 44,
