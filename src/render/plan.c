@@ -630,6 +630,23 @@ static orr_status name_frame_outputs(orr_plan *plan, const orr_frame_time *when,
     return ORR_OK;
 }
 
+/* The frame's observer frame (view_camera.c), found in a pass of its own:
+ * over the given particles, rewound, or the scene's input opened with only
+ * the velocities the spin normal or motion blur needs. */
+static orr_status observer_frame(const orr_scene *s, orr_source *given, long frame, const orr_parallel *par,
+                                 orr_sky_frame *f, orr_vec3 *velocity, orr_error *err)
+{
+    static const char *const velocity_fields[3] = {"vx", "vy", "vz"};
+    const int want_velocities = s->observer.normal_types != 0 || orr_blur_moves_particles(s);
+    orr_source *src = given;
+    orr_status st = given ? orr_source_rewind(given, err)
+                          : orr_scene_open_source(s, velocity_fields, want_velocities ? 3 : 0, &src, err);
+    st = orr_view_sky_frame(&s->observer, s->path, src, st, frame, par, f, velocity, err);
+    if (src != given)
+        orr_source_close(src);
+    return st;
+}
+
 /* Commits the frame's files, all of them or none. */
 static orr_status commit_outputs(orr_output_batch *outputs, orr_status st, orr_error *err)
 {
@@ -775,7 +792,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
     orr_sky_frame observer;
     orr_vec3 observer_velocity = orr_v3(0, 0, 0);
     if (!st && s0->observer.has_id)
-        st = orr_view_sky_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
+        st = observer_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
     orr_stage_charge(&timer->times, ORR_STAGE_SOURCE, &timer->at);
     /* A stereo view renders as two views, its eyes, each reporting into
      * its view's report (the right eye's outputs added to the left's). */

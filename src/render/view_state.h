@@ -172,11 +172,14 @@ static inline void charge(const view_state *v, orr_stage s)
 
 /* ---- the observer frame and the cameras (view_camera.c) ---- */
 
-/* The observer frame of the frame (observer.*): the observer and reference
- * particles found among the particles (given, rewound; or the scene's input
- * opened), the spin normal when asked; *velocity the observer's. */
-orr_status orr_view_sky_frame(const orr_scene *s, orr_source *given, long frame, const orr_parallel *par,
-                              orr_sky_frame *f, orr_vec3 *velocity, orr_error *err);
+/* The observer frame of the frame (observer.*, o; scene_path for
+ * messages): the observer and reference particles found in a pass over src
+ * (from its start, with the velocities the spin normal needs), the spin
+ * normal when asked; *velocity the observer's. st is how opening src went:
+ * with several processes every one must reach the collective check. */
+orr_status orr_view_sky_frame(const orr_observer_settings *o, const char *scene_path, orr_source *src, orr_status st,
+                              long frame, const orr_parallel *par, orr_sky_frame *f, orr_vec3 *velocity,
+                              orr_error *err);
 /* The camera of a view in this frame, and the sky frame it looks from. */
 orr_status orr_view_camera(const orr_scene *s, const orr_sky_frame *observer, const orr_frame_time *when,
                            orr_camera *cam, orr_sky_frame *sky, orr_error *err);
