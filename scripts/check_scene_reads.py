@@ -39,7 +39,6 @@ CEILINGS = {
     "render/scene_source.c": 23,
     "render/sequence_open.c": 27,
     "render/stereo_view.c": 21,
-    "render/view_camera.c": 26,
     "render/view_cards.c": 11,
 }
 

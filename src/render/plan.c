@@ -118,11 +118,26 @@ static void frame_files(const orr_scene *s, view_files *f)
     f->regrade_final = s->regrade_final;
 }
 
+/* How the view's camera is found each frame (view_state.h). */
+static void camera_plan_of(const orr_scene *s, view_camera_plan *c)
+{
+    snprintf(c->path, sizeof c->path, "%s", s->path);
+    c->camera = s->camera;
+    c->kind = s->projection.kind;
+    c->eye = s->stereo.eye;
+    c->eye_separation = s->stereo.eye_separation;
+    c->shutter = s->animation.shutter;
+    c->has_frame_interval = s->animation.has_frame_interval;
+    c->frame_interval = s->animation.frame_interval;
+    c->blur_moves_particles = orr_blur_moves_particles(s);
+}
+
 static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
     splat_settings_of(s, &v->splat);
     view_files_of(s, &v->files);
     frame_files(s, &v->files);
+    camera_plan_of(s, &v->camera_plan);
     v->base_proj = s->projection;
     orr_status st = orr_projection_setup(&v->base_proj, err);
     if (st)
@@ -206,11 +221,11 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     v->rep = rep;
     v->proj = v->base_proj; /* a stereo eye shifts its principal point below */
     v->tint_t = s->colour.tint_run ? when->u : s->colour.tint_t;
-    orr_status st = orr_view_camera(s, observer, when, &rep->camera, &rep->sky, err);
+    orr_status st = orr_view_camera(&v->camera_plan, observer, when, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
     if ((st = orr_stereo_setup_eye(s, &v->proj, rep, &v->ods, &v->use_ods, err)) ||
-        (st = orr_view_plan_blur(v, s, observer, observer_velocity, when, err)))
+        (st = orr_view_plan_blur(v, observer, observer_velocity, when, err)))
         return st;
     rep->has_sky_frame = observer != NULL;
     v->world_to_camera = orr_camera_world_to_camera(&rep->camera);

@@ -150,88 +150,89 @@ orr_status orr_view_sky_frame(const orr_observer_settings *o, const char *scene_
 
 /* ---- cameras ---- */
 
-static int has_orientation(const orr_scene *s)
+static int has_orientation(const orr_camera_settings *c)
 {
-    return s->camera.has_quaternion || s->camera.has_look_at || s->camera.has_direction;
+    return c->has_quaternion || c->has_look_at || c->has_direction;
 }
 
-static orr_status scene_camera(const orr_scene *s, const orr_frame_time *when, orr_camera *cam, orr_error *err)
+static orr_status scene_camera(const orr_camera_settings *c, const orr_frame_time *when, orr_camera *cam,
+                               orr_error *err)
 {
-    if (s->camera.has_path)
-        return orr_path_camera(&s->camera.path, when, cam, err);
-    return orr_scene_static_camera(s, cam, err);
+    if (c->has_path)
+        return orr_path_camera(&c->path, when, cam, err);
+    return orr_camera_settings_static(c, cam, err);
 }
 
 /* The camera of a view. From an observer, or for a sky map without an
  * orientation of its own, the camera follows the sky frame: the map centred
  * on l = 0 with north up, or the dome's zenith and front. */
-orr_status orr_view_camera(const orr_scene *s, const orr_sky_frame *observer, const orr_frame_time *when,
+orr_status orr_view_camera(const view_camera_plan *c, const orr_sky_frame *observer, const orr_frame_time *when,
                            orr_camera *cam, orr_sky_frame *sky, orr_error *err)
 {
+    const orr_camera_settings *cs = &c->camera;
     /* A camera path moves and turns the camera frame by frame, sky maps
      * included (scenes with a path have no observer: scene_check). */
-    if (s->camera.has_path) {
-        orr_status st = scene_camera(s, when, cam, err);
+    if (cs->has_path) {
+        orr_status st = scene_camera(cs, when, cam, err);
         *sky = orr_sky_frame_world(cam->position);
         return st;
     }
-    int sky_map = orr_projection_is_sky(&s->projection);
-    if (!observer && (!sky_map || has_orientation(s))) {
-        *sky = orr_sky_frame_world(s->camera.position);
-        return scene_camera(s, when, cam, err);
+    const orr_projection_traits traits = orr_projection_traits_of(c->kind);
+    if (!observer && (!traits.sky || has_orientation(cs))) {
+        *sky = orr_sky_frame_world(cs->position);
+        return scene_camera(cs, when, cam, err);
     }
-    *sky = observer ? *observer : orr_sky_frame_world(s->camera.position);
-    if (orr_projection_traits_of(s->projection.kind).zenith_centred)
-        return orr_sky_camera_dome(cam, sky, s->camera.zenith_lb, s->camera.front_lb, s->camera.dome_tilt, err);
-    return orr_sky_camera_centre(cam, sky, s->camera.roll, err);
+    *sky = observer ? *observer : orr_sky_frame_world(cs->position);
+    if (traits.zenith_centred)
+        return orr_sky_camera_dome(cam, sky, cs->zenith_lb, cs->front_lb, cs->dome_tilt, err);
+    return orr_sky_camera_centre(cam, sky, cs->roll, err);
 }
 
 /* ---- motion blur ---- */
 
 /* The view's camera dframe frames from this one (motion blur's shutter
  * opening and closing): along the camera path, or from an observer moved
- * by observer_step; a perspective stereo eye set as in this frame. */
-static orr_status camera_at(const view_state *v, const orr_scene *s, const orr_sky_frame *observer,
-                            orr_vec3 observer_step, const orr_frame_time *when, double dframe, orr_camera *cam,
-                            orr_error *err)
+ * by observer_step; a perspective stereo eye set as in this frame (on the
+ * projection as planned, base_proj, which the eye's shift leaves alone). */
+static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, orr_vec3 observer_step,
+                            const orr_frame_time *when, double dframe, orr_camera *cam, orr_error *err)
 {
+    const view_camera_plan *c = &v->camera_plan;
     orr_status st;
-    if (s->camera.has_path) {
+    if (c->camera.has_path) {
         double u = when->nframes > 1 ? when->u + dframe / (double)(when->nframes - 1) : when->u;
-        st = orr_path_eval(&s->camera.path, (double)when->frame + dframe, u, cam, err);
+        st = orr_path_eval(&c->camera.path, (double)when->frame + dframe, u, cam, err);
     } else {
         orr_sky_frame moved, sky;
         if (observer) {
             moved = *observer;
             moved.origin = orr_v3_add(moved.origin, observer_step);
         }
-        st = orr_view_camera(s, observer ? &moved : NULL, when, cam, &sky, err);
+        st = orr_view_camera(c, observer ? &moved : NULL, when, cam, &sky, err);
     }
-    if (!st && s->stereo.eye && orr_projection_traits_of(v->proj.kind).off_axis_stereo) {
-        orr_projection p = s->projection;
-        if (!(st = orr_projection_setup(&p, err)))
-            st = orr_stereo_perspective_eye(cam, &p, s->stereo.eye, s->stereo.eye_separation, v->rep->stereo_convergence,
-                                            err);
+    if (!st && c->eye && orr_projection_traits_of(v->proj.kind).off_axis_stereo) {
+        orr_projection p = v->base_proj;
+        st = orr_stereo_perspective_eye(cam, &p, c->eye, c->eye_separation, v->rep->stereo_convergence, err);
     }
-    return st ? orr_fail_prefix(err, "%s: animation.shutter: ", s->path) : ORR_OK;
+    return st ? orr_fail_prefix(err, "%s: animation.shutter: ", c->path) : ORR_OK;
 }
 
 /* Motion blur's plan (animation.shutter): the cameras when the shutter
  * opens and closes, half a shutter before and after the frame, and the
  * simulation time the particles move over (the frame interval's share). */
-orr_status orr_view_plan_blur(view_state *v, const orr_scene *s, const orr_sky_frame *observer,
-                              orr_vec3 observer_velocity, const orr_frame_time *when, orr_error *err)
+orr_status orr_view_plan_blur(view_state *v, const orr_sky_frame *observer, orr_vec3 observer_velocity,
+                              const orr_frame_time *when, orr_error *err)
 {
-    if (!(s->animation.shutter > 0))
+    const view_camera_plan *c = &v->camera_plan;
+    if (!(c->shutter > 0))
         return ORR_OK;
-    const double interval = !orr_blur_moves_particles(s) ? 0 : s->animation.has_frame_interval ? s->animation.frame_interval
-                                                                                      : when->interval;
-    const double half_time = 0.5 * s->animation.shutter * interval, half_frame = 0.5 * s->animation.shutter;
+    const double interval = !c->blur_moves_particles ? 0 : c->has_frame_interval ? c->frame_interval : when->interval;
+    const double half_time = 0.5 * c->shutter * interval, half_frame = 0.5 * c->shutter;
     const orr_vec3 step = orr_v3_scale(observer_velocity, half_time);
     orr_camera open, close;
-    orr_status st = camera_at(v, s, observer, orr_v3_scale(step, -1), when, -half_frame, &open, err);
+    orr_status st = camera_at(v, observer, orr_v3_scale(step, -1), when, -half_frame, &open, err);
     if (!st)
-        st = camera_at(v, s, observer, step, when, half_frame, &close, err);
+        st = camera_at(v, observer, step, when, half_frame, &close, err);
     if (!st)
         orr_motion_blur_plan(&v->blur, half_time, &open, &close, &v->proj);
     return st;

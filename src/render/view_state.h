@@ -22,6 +22,20 @@
 #include "splat/sph.h"
 #include "stars/stars.h"
 
+/* How a view's camera is found each frame (view_camera.c): compiled by the
+ * plan from the view's scene (plan.c: camera_plan_of). */
+typedef struct view_camera_plan {
+    char path[ORR_PATH_MAX];     /* the scene file, for messages */
+    orr_camera_settings camera;  /* camera.*: a static camera, a path, a sky map's orientation */
+    orr_projection_kind kind;    /* camera.projection: a sky map follows the sky frame */
+    int eye;                     /* stereo.eye: 0, or the eye a perspective pair moves the camera to */
+    double eye_separation;       /* stereo.eye_separation */
+    double shutter;              /* animation.shutter: motion blur's share of the frame interval (0: none) */
+    int has_frame_interval;      /* animation.frame_interval given ... */
+    double frame_interval;       /* ... and its value */
+    int blur_moves_particles;    /* the shutter moves the particles too (orr_blur_moves_particles) */
+} view_camera_plan;
+
 /* One view being rendered. */
 typedef struct view_state {
     /* Planned once per run (plan.c: plan_view): the projection as set up,
@@ -29,6 +43,7 @@ typedef struct view_state {
      * and core stamps). The rest is the frame's. */
     orr_splat_settings splat;   /* what the splat pass reads of the view's settings */
     view_files files;           /* what its files are and how its picture is graded */
+    view_camera_plan camera_plan; /* how its camera is found each frame */
     orr_projection base_proj;   /* the scene's projection, set up */
     orr_projection proj;        /* this frame's: base_proj, with a stereo eye's principal point */
     orr_mat3 world_to_camera;
@@ -180,12 +195,12 @@ static inline void charge(const view_state *v, orr_stage s)
 orr_status orr_view_sky_frame(const orr_observer_settings *o, const char *scene_path, orr_source *src, orr_status st,
                               long frame, const orr_parallel *par, orr_sky_frame *f, orr_vec3 *velocity,
                               orr_error *err);
-/* The camera of a view in this frame, and the sky frame it looks from. */
-orr_status orr_view_camera(const orr_scene *s, const orr_sky_frame *observer, const orr_frame_time *when,
+/* The camera of a view (c) in this frame, and the sky frame it looks from. */
+orr_status orr_view_camera(const view_camera_plan *c, const orr_sky_frame *observer, const orr_frame_time *when,
                            orr_camera *cam, orr_sky_frame *sky, orr_error *err);
-/* Motion blur's shutter cameras for the view of scene s (animation.shutter;
- * nothing without a shutter); v->proj must be the frame's. */
-orr_status orr_view_plan_blur(view_state *v, const orr_scene *s, const orr_sky_frame *observer, orr_vec3 observer_velocity,
+/* Motion blur's shutter cameras for the view (animation.shutter; nothing
+ * without a shutter); v->proj must be the frame's. */
+orr_status orr_view_plan_blur(view_state *v, const orr_sky_frame *observer, orr_vec3 observer_velocity,
                               const orr_frame_time *when, orr_error *err);
 
 /* ---- the splat pass (splat_pass.c) ---- */
