@@ -124,8 +124,7 @@ static void camera_plan_of(const orr_scene *s, view_camera_plan *c)
     snprintf(c->path, sizeof c->path, "%s", s->path);
     c->camera = s->camera;
     c->kind = s->projection.kind;
-    c->eye = s->stereo.eye;
-    c->eye_separation = s->stereo.eye_separation;
+    c->stereo = s->stereo;
     c->shutter = s->animation.shutter;
     c->has_frame_interval = s->animation.has_frame_interval;
     c->frame_interval = s->animation.frame_interval;
@@ -221,10 +220,11 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     v->rep = rep;
     v->proj = v->base_proj; /* a stereo eye shifts its principal point below */
     v->tint_t = s->colour.tint_run ? when->u : s->colour.tint_t;
-    orr_status st = orr_view_camera(&v->camera_plan, observer, when, &rep->camera, &rep->sky, err);
+    const view_camera_plan *c = &v->camera_plan;
+    orr_status st = orr_view_camera(c, observer, when, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
-    if ((st = orr_stereo_setup_eye(s, &v->proj, rep, &v->ods, &v->use_ods, err)) ||
+    if ((st = orr_stereo_setup_eye(&c->stereo, &c->camera, c->path, &v->proj, rep, &v->ods, &v->use_ods, err)) ||
         (st = orr_view_plan_blur(v, observer, observer_velocity, when, err)))
         return st;
     rep->has_sky_frame = observer != NULL;

@@ -97,31 +97,33 @@ int orr_eye_views_pair_at(const orr_eye_views *ev, int k)
     return k + 1 < ev->n && ev->scene[k]->stereo.eye == ORR_EYE_LEFT && is_pair_mode(ev->scene[k]->stereo.mode);
 }
 
-double orr_stereo_convergence(const orr_scene *s, orr_vec3 position)
+double orr_stereo_convergence(const orr_stereo_settings *stereo, const orr_camera_settings *camera,
+                              orr_vec3 position)
 {
-    if (s->stereo.convergence > 0)
-        return s->stereo.convergence;
+    if (stereo->convergence > 0)
+        return stereo->convergence;
     orr_vec3 target;
-    return orr_scene_look_target(s, &target) ? orr_v3_norm(orr_v3_sub(target, position)) : 0.0;
+    return orr_camera_settings_look_target(camera, &target) ? orr_v3_norm(orr_v3_sub(target, position)) : 0.0;
 }
 
-orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_render_report *rep,
+orr_status orr_stereo_setup_eye(const orr_stereo_settings *stereo, const orr_camera_settings *camera,
+                                const char *scene_path, orr_projection *proj, orr_render_report *rep,
                                 orr_stereo_ods *ods, int *use_ods, orr_error *err)
 {
     *use_ods = 0;
-    if (!s->stereo.eye)
+    if (!stereo->eye)
         return ORR_OK;
     orr_status st;
     if (orr_projection_traits_of(proj->kind).off_axis_stereo) {
-        rep->stereo_convergence = orr_stereo_convergence(s, rep->camera.position);
-        st = orr_stereo_perspective_eye(&rep->camera, proj, s->stereo.eye, s->stereo.eye_separation,
+        rep->stereo_convergence = orr_stereo_convergence(stereo, camera, rep->camera.position);
+        st = orr_stereo_perspective_eye(&rep->camera, proj, stereo->eye, stereo->eye_separation,
                                         rep->stereo_convergence, err);
     } else {
-        st = orr_stereo_ods_setup(ods, proj, s->stereo.eye, s->stereo.eye_separation, s->stereo.zenith_fade, err);
+        st = orr_stereo_ods_setup(ods, proj, stereo->eye, stereo->eye_separation, stereo->zenith_fade, err);
         *use_ods = !st;
     }
     if (st)
-        return orr_fail_prefix(err, "%s: %s eye: ", s->path, orr_eye_name(s->stereo.eye));
+        return orr_fail_prefix(err, "%s: %s eye: ", scene_path, orr_eye_name(stereo->eye));
     return ORR_OK;
 }
 

@@ -51,14 +51,16 @@ int orr_eye_views_pair_at(const orr_eye_views *ev, int k);
 /* The convergence distance of a perspective pair whose centre camera is
  * at `position`: stereo.convergence, or with auto the distance to
  * camera.look_at. */
-double orr_stereo_convergence(const orr_scene *s, orr_vec3 position);
+double orr_stereo_convergence(const orr_stereo_settings *stereo, const orr_camera_settings *camera,
+                              orr_vec3 position);
 
-/* Places the camera and projection of one eye of scene s (a no-op when
- * s->stereo.eye is 0): a perspective eye moves rep->camera and the
+/* Places the camera and projection of one eye (stereo->eye; a no-op when
+ * 0; scene_path for messages): a perspective eye moves rep->camera and the
  * principal point (and sets rep->stereo_convergence); a sky map's eye sets
  * *use_ods and *ods for the per-block transform. proj must be set up and
  * rep->camera be the view's camera. */
-orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_render_report *rep,
+orr_status orr_stereo_setup_eye(const orr_stereo_settings *stereo, const orr_camera_settings *camera,
+                                const char *scene_path, orr_projection *proj, orr_render_report *rep,
                                 orr_stereo_ods *ods, int *use_ods, orr_error *err);
 
 /* visible[i] &= keep[i]: the particles inside an ODS eye circle are not drawn. */

@@ -210,9 +210,10 @@ static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, 
         }
         st = orr_view_camera(c, observer ? &moved : NULL, when, cam, &sky, err);
     }
-    if (!st && c->eye && orr_projection_traits_of(v->proj.kind).off_axis_stereo) {
+    if (!st && c->stereo.eye && orr_projection_traits_of(v->proj.kind).off_axis_stereo) {
         orr_projection p = v->base_proj;
-        st = orr_stereo_perspective_eye(cam, &p, c->eye, c->eye_separation, v->rep->stereo_convergence, err);
+        st = orr_stereo_perspective_eye(cam, &p, c->stereo.eye, c->stereo.eye_separation, v->rep->stereo_convergence,
+                                        err);
     }
     return st ? orr_fail_prefix(err, "%s: animation.shutter: ", c->path) : ORR_OK;
 }

@@ -28,8 +28,7 @@ typedef struct view_camera_plan {
     char path[ORR_PATH_MAX];     /* the scene file, for messages */
     orr_camera_settings camera;  /* camera.*: a static camera, a path, a sky map's orientation */
     orr_projection_kind kind;    /* camera.projection: a sky map follows the sky frame */
-    int eye;                     /* stereo.eye: 0, or the eye a perspective pair moves the camera to */
-    double eye_separation;       /* stereo.eye_separation */
+    orr_stereo_settings stereo;  /* stereo.*: the eye (0: none), its separation, convergence, fade */
     double shutter;              /* animation.shutter: motion blur's share of the frame interval (0: none) */
     int has_frame_interval;      /* animation.frame_interval given ... */
     double frame_interval;       /* ... and its value */
