@@ -33,7 +33,6 @@ CEILINGS = {
     "cli/cmd_video.c": 6,
     "insitu/insitu.c": 10,
     "render/animation.c": 27,
-    "render/compose.c": 3,
     "render/frame_markers.c": 16,
     "render/path_overview.c": 9,
     "render/scene_source.c": 23,

@@ -10,11 +10,11 @@
 #include "encode/fits_read.h"
 #include "post/grade.h"
 
-orr_status orr_compose_check_raw_dir(const orr_scene *s, orr_error *err)
+orr_status orr_compose_check_raw_dir(const char *output_dir, int nlayers, orr_error *err)
 {
-    const char *dir = s->output.dir[0] ? s->output.dir : ".";
+    const char *dir = output_dir[0] ? output_dir : ".";
     struct stat st;
-    if (s->compose.nlayers > 0 || stat(dir, &st) == 0 || errno != ENOENT)
+    if (nlayers > 0 || stat(dir, &st) == 0 || errno != ENOENT)
         return ORR_OK;
     return orr_fail(err, ORR_ERR_IO,
                     "%s: no such folder: compose reads the planes `orrery render` wrote from the output "

@@ -305,7 +305,7 @@ static orr_status check_output_dirs(orr_plan_purpose purpose, const orr_scene *c
 {
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++)
-        if (purpose != ORR_PLAN_COMPOSE || !(st = orr_compose_check_raw_dir(scenes[k], err)))
+        if (purpose != ORR_PLAN_COMPOSE || !(st = orr_compose_check_raw_dir(scenes[k]->output.dir, scenes[k]->compose.nlayers, err)))
             st = orr_check_output_dir(scenes[k]->output.dir, err);
     return st;
 }

@@ -249,10 +249,10 @@ orr_status orr_view_compose(view_state *v, orr_error *err);
 /* A HEALPix view's map description (nside, order, COORDSYS when known). */
 orr_healpix_info orr_view_healpix_info(const view_state *v);
 
-/* A compose that reads its raw planes (no compose.layers) reads them from
- * output.dir: fails, naming the folder and what compose reads, when the
- * folder is not there (it is not made empty). */
-orr_status orr_compose_check_raw_dir(const orr_scene *s, orr_error *err);
+/* A compose that reads its raw planes (no compose.layers: nlayers 0) reads
+ * them from output.dir: fails, naming the folder and what compose reads,
+ * when the folder is not there (it is not made empty). */
+orr_status orr_compose_check_raw_dir(const char *output_dir, int nlayers, orr_error *err);
 /* DIR/NAME.ext of output.* o. */
 orr_status orr_view_output_path(const orr_output_settings *o, const char *ext, char *path, orr_error *err);
 
