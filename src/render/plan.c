@@ -172,7 +172,7 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     if (!st && v->use_sph && v->psf.h_per_r > 0)
         st = orr_sph_use_cores(&v->sph, (float)v->psf.h_per_r, err);
     if (!st)
-        orr_view_plan_cards(v, s); /* after the deposit and the PSF, which they describe */
+        orr_view_plan_cards(v, &s->input, &s->observer); /* after the deposit and the PSF, which they describe */
     return st;
 }
 

@@ -41,9 +41,9 @@ static void plan_deposit_cards(const view_state *v, orr_cards *h)
 }
 
 /* The counts of the frame's report, and its time and source. */
-static void plan_report_cards(const orr_scene *s, orr_cards *h)
+static void plan_report_cards(const view_state *v, const orr_input_settings *input, orr_cards *h)
 {
-    orr_input_cards(&s->input, h);
+    orr_input_cards(input, h);
     static const reserved counts[] = {
         {"NPART", "particles read"},
         {"NSELECT", "particles of the selected types"},
@@ -62,20 +62,21 @@ static void plan_report_cards(const orr_scene *s, orr_cards *h)
         {"SOURCE", "particle source"},
     };
     reserve(h, counts, sizeof counts / sizeof counts[0]);
-    orr_colour_cards(&s->colour, h);
+    orr_colour_cards(&v->files.colour, h);
     reserve(h, when, sizeof when / sizeof when[0]);
 }
 
 /* Each stage's cards, in the order the files have always had them. */
-void orr_view_plan_cards(view_state *v, const orr_scene *s)
+void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const orr_observer_settings *observer)
 {
+    const view_camera_plan *c = &v->camera_plan;
     orr_cards *h = &v->cards;
     memset(h, 0, sizeof *h);
     orr_cards_add_string(h, "CREATOR", "orrery " ORRERY_VERSION, "software that made this file");
     orr_cards_add_string(h, "ORRVERS", ORRERY_VERSION, "orrery version");
     /* (a stereo eye's shift changes none of the projection's cards) */
     orr_projection_cards(&v->base_proj, h);
-    orr_camera_dome_cards(&s->camera, v->base_proj.kind, h);
+    orr_camera_dome_cards(&c->camera, v->base_proj.kind, h);
     static const reserved camera[] = {
         {"CAMPOSX", "camera position x"},
         {"CAMPOSY", "camera position y"},
@@ -90,16 +91,16 @@ void orr_view_plan_cards(view_state *v, const orr_scene *s)
     orr_cards_add_long(h, "IMGHEIGH", v->base_proj.height, "[pixel] image height");
     plan_deposit_cards(v, h);
     orr_view_psf_cards(&v->psf, h);
-    plan_report_cards(s, h);
-    if (s->observer.has_id) /* an observer's dimming is the observer's; without one, the camera's */
-        orr_observer_cards(&s->observer, h);
+    plan_report_cards(v, input, h);
+    if (observer->has_id) /* an observer's dimming is the observer's; without one, the camera's */
+        orr_observer_cards(observer, h);
     else
-        orr_camera_dim_cards(&s->camera, h);
+        orr_camera_dim_cards(&c->camera, h);
     memset(&v->stereo_cards, 0, sizeof v->stereo_cards);
-    if (s->stereo.mode) {
-        orr_stereo_cards(&s->stereo, s->projection.kind, &v->stereo_cards);
-        if (s->stereo.mode == ORR_STEREO_ANAGLYPH)
-            orr_picture_anaglyph_cards(&s->picture, &v->stereo_cards);
+    if (c->stereo.mode) {
+        orr_stereo_cards(&c->stereo, c->kind, &v->stereo_cards);
+        if (c->stereo.mode == ORR_STEREO_ANAGLYPH)
+            orr_picture_anaglyph_cards(&v->files.picture, &v->stereo_cards);
     }
 }
 

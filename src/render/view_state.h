@@ -222,10 +222,11 @@ orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, stru
 
 /* ---- the view's FITS cards (view_cards.c) ---- */
 
-/* The cards of the view planned from scene s (v->cards, v->stereo_cards):
- * those that depend on the scene, the projection and the PSF, the frame's
- * reserved. */
-void orr_view_plan_cards(view_state *v, const orr_scene *s);
+/* The cards of the planned view (v->cards, v->stereo_cards): each stage's,
+ * from the view's compiled settings and the input.* and observer.* the
+ * views share, the frame's reserved; after the camera plan, the files'
+ * grading, the deposit and the PSF are planned. */
+void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const orr_observer_settings *observer);
 /* The frame's cards (v->frame_cards): the plan's with the frame's camera,
  * counts, time and source, the WCS and the stereo cards; call when the
  * frame's planes are final (the reductions done, the bright stars drawn). */
