@@ -538,7 +538,7 @@ static orr_status prepare_view(const video_options *o, const orr_scene *view, co
     if (snprintf(fs->dir, sizeof fs->dir, "%s", dir) >= (int)sizeof fs->dir)
         return orr_fail(err, ORR_ERR_USAGE, "output directory name is too long");
     snprintf(fs->name, sizeof fs->name, "%s", view->output.name);
-    fs->naming = orr_frame_naming_of(view);
+    fs->naming = orr_frame_naming_of(&view->output);
     orr_status st = output_path(o, fs, job->output, sizeof job->output, err);
     if (st)
         return st;

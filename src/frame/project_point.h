@@ -1,6 +1,6 @@
 /* The projections of one camera-frame point in float, as inline functions:
  * orr_project_batch's loops are built from them, and so is the renderer's
- * fused gather for nearest-pixel deposits (render/ngp_gather.c), which
+ * fused gather for nearest-pixel deposits (pass/ngp_gather.c), which
  * projects each particle in the same loop that reads it. One definition of
  * each formula serves both, so the two give the same bits. Called with a
  * constant kind, orr_project_point_f reduces to that kind's formula and

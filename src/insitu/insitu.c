@@ -12,7 +12,6 @@
 #include "core/atomic.h"
 #include "insitu/insitu_internal.h"
 #include "insitu/kept_images.h"
-#include "render/animation.h"
 #include "render/plan.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -20,7 +19,6 @@
 
 struct orrery_renderer {
     orr_scene_views views;
-    orr_scene frame_views[ORR_SCENE_MAX_VIEWS]; /* the views with this frame's output names */
     orr_render_report reports[ORR_SCENE_MAX_VIEWS];
     orr_error err;
     double seconds;
@@ -124,23 +122,6 @@ int orrery_open_yaml(orrery_renderer **out, const char *yaml, const char *base_d
     return open_common(out, NULL, yaml, base_dir, overrides, noverrides, msg, msg_size);
 }
 
-/* Each view's scene for this frame: its output name carries the frame number
- * (in-situ runs are runs of frames however long animation.frames says). */
-static orr_status frame_views(orrery_renderer *r, long frame, long nframes)
-{
-    for (int k = 0; k < r->views.n; k++) {
-        orr_scene *s = &r->frame_views[k];
-        *s = r->views.view[k];
-        s->animation.frames = nframes;
-        orr_frame_naming naming = orr_frame_naming_of(&r->views.view[k]);
-        orr_status st = orr_frame_name(&naming, r->views.view[k].output.name, frame, nframes, s->output.name,
-                                       sizeof s->output.name, &r->err);
-        if (st)
-            return st;
-    }
-    return ORR_OK;
-}
-
 int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
 {
     if (!r)
@@ -154,26 +135,21 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
         return (int)orr_fail(&r->err, ORR_ERR_USAGE, "orrery_render: %s", p ? "negative frame number" : "no particles");
     const orr_scene *s0 = &r->views.view[0];
     /* A run at least as long as this frame, and never a still: every frame
-     * gets its own name. */
+     * gets its own name (the plan's: output.name with the frame number). */
     long nframes = s0->animation.frames > frame + 1 ? s0->animation.frames : frame + 1;
     if (nframes < 2)
         nframes = 2;
     orr_source *src = NULL;
-    orr_status st = frame_views(r, frame, nframes);
-    if (!st)
-        /* All types: the observer and reference particles may be of types
-         * the scene does not draw (the renderer selects input.types). */
-        st = orr_arrays_source_open(p, "in-situ particles", (size_t)s0->input.chunk_size, 0, &src, &r->err);
+    /* All types: the observer and reference particles may be of types the
+     * scene does not draw (the renderer selects input.types). */
+    orr_status st = orr_arrays_source_open(p, "in-situ particles", (size_t)s0->input.chunk_size, 0, &src, &r->err);
     if (!st) {
         src->cancel = &r->cancel;
-        const orr_scene *list[ORR_SCENE_MAX_VIEWS];
-        for (int k = 0; k < r->views.n; k++)
-            list[k] = &r->frame_views[k];
         double t_first = s0->animation.has_time ? s0->animation.time[0] : p->time;
         double t_last = s0->animation.has_time ? s0->animation.time[1] : p->time;
         orr_frame_input in = {orr_frame_at(frame, nframes, s0->animation.fps, t_first, t_last), src,
                               r->has_parallel ? &r->parallel : NULL, r->keep ? orr_kept_add : NULL, &r->kept};
-        st = orr_plan_execute(r->plan, list, &in, r->reports, r->progress, r->progress_user, &r->err);
+        st = orr_plan_execute(r->plan, &in, r->reports, r->progress, r->progress_user, &r->err);
     }
     orr_source_close(src);
     if (st) /* a failed frame keeps nothing, not half of its views */

@@ -46,54 +46,6 @@ long orr_animation_count(const orr_animation_options *opt, long nframes)
     return first > last ? 0 : (last - first) / stride + 1;
 }
 
-orr_frame_naming orr_frame_naming_of(const orr_scene *s)
-{
-    orr_frame_naming f = ORR_FRAME_NAMING_DEFAULT;
-    f.start = s->output.frame_start;
-    if (s->output.frame_digits > 0)
-        f.digits = s->output.frame_digits;
-    if (s->output.frame_separator[0])
-        f.separator = s->output.frame_separator;
-    return f;
-}
-
-int orr_frame_digits(const orr_frame_naming *f, long nframes)
-{
-    int digits = f->digits > 0 ? f->digits : 4;
-    long long last = f->start + (nframes > 0 ? nframes - 1 : 0), top = 1;
-    for (int k = 0; k < digits && top <= last; k++)
-        top *= 10;
-    /* Widened rather than refused: a name with one digit more still sorts
-     * and plays in order, a run stopped at its 10^digits-th frame does not. */
-    for (; last >= top && digits < 18; top *= 10)
-        digits++;
-    return digits;
-}
-
-orr_status orr_frame_name_fixed(const orr_frame_naming *f, const char *name, long frame, char *out, size_t size,
-                                orr_error *err)
-{
-    int n = snprintf(out, size, "%s%s%0*lld", name, f->separator ? f->separator : "_", f->digits,
-                     f->start + (long long)frame);
-    if (n < 0 || (size_t)n >= size)
-        return orr_fail(err, ORR_ERR_USAGE, "output name %s with a frame number is too long", name);
-    return ORR_OK;
-}
-
-orr_status orr_frame_name(const orr_frame_naming *f, const char *name, long frame, long nframes, char *out,
-                          size_t size, orr_error *err)
-{
-    if (nframes <= 1) {
-        int n = snprintf(out, size, "%s", name);
-        if (n < 0 || (size_t)n >= size)
-            return orr_fail(err, ORR_ERR_USAGE, "output name %s is too long", name);
-        return ORR_OK;
-    }
-    orr_frame_naming wide = *f;
-    wide.digits = orr_frame_digits(f, nframes);
-    return orr_frame_name_fixed(&wide, name, frame, out, size, err);
-}
-
 /* ---- the run ---- */
 
 /* Each view's scene for one frame: the view with its frame's output name. */
@@ -101,7 +53,7 @@ static orr_status frame_scenes(const orr_scene *const *views, int n, long frame,
 {
     for (int k = 0; k < n; k++) {
         out[k] = *views[k];
-        orr_frame_naming naming = orr_frame_naming_of(views[k]);
+        orr_frame_naming naming = orr_frame_naming_of(&views[k]->output);
         orr_status st = orr_frame_name(&naming, views[k]->output.name, frame, views[k]->animation.frames, out[k].output.name,
                                        sizeof out[k].output.name, err);
         if (st)
@@ -195,7 +147,7 @@ static orr_status do_frame(orr_plan *plan, const orr_scene *scenes, const orr_vi
     orr_status st = opt->compose ? ORR_OK : frame_source(ri, &in.time, opt->parallel, &in.source, err);
     if (!st)
         st = opt->compose ? orr_plan_compose(plan, list, reports, err)
-                          : orr_plan_execute(plan, list, &in, reports, opt->progress, opt->progress_user, err);
+                          : orr_plan_execute(plan, &in, reports, opt->progress, opt->progress_user, err);
     orr_source_close(in.source);
     if (st && s0->animation.frames > 1)
         return orr_fail_prefix(err, "frame %ld: ", frame);

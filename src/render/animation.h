@@ -4,6 +4,7 @@
 #ifndef ORR_RENDER_ANIMATION_H
 #define ORR_RENDER_ANIMATION_H
 
+#include "render/frame_names.h"
 #include "render/render.h"
 
 /* Told after each frame of the run: rendered (skipped = 0) or found complete
@@ -34,35 +35,6 @@ orr_animation_options orr_animation_defaults(void);
 
 /* The frames opt selects of a run of nframes: how many, and the first. */
 long orr_animation_count(const orr_animation_options *opt, long nframes);
-
-/* How frame numbers are written into output names: NAME, the separator,
- * then start + frame with at least `digits` digits, zero-padded
- * (output.frame_start, output.frame_digits, output.frame_separator). The
- * default, ORR_FRAME_NAMING_DEFAULT, gives NAME_0000 from 0; the fulldome
- * convention {1, 5, "."} gives NAME.00001 from 1. */
-typedef struct orr_frame_naming {
-    long long start;
-    int digits;
-    const char *separator;
-} orr_frame_naming;
-
-#define ORR_FRAME_NAMING_DEFAULT ((orr_frame_naming){.start = 0, .digits = 4, .separator = "_"})
-
-/* The naming a scene's output.frame_* keys ask for. */
-orr_frame_naming orr_frame_naming_of(const orr_scene *s);
-
-/* Digits of the frame numbers in a run of nframes: f's, more when the last
- * frame's number needs them. */
-int orr_frame_digits(const orr_frame_naming *f, long nframes);
-
-/* The output name of frame `frame` (0-based) of a run of `nframes`: NAME_%04ld
- * by default, as f says otherwise; NAME itself for a still. */
-orr_status orr_frame_name(const orr_frame_naming *f, const char *name, long frame, long nframes, char *out,
-                          size_t size, orr_error *err);
-
-/* The same with exactly f->digits digits (a run whose length is unknown). */
-orr_status orr_frame_name_fixed(const orr_frame_naming *f, const char *name, long frame, char *out, size_t size,
-                                orr_error *err);
 
 /* Renders (or composes) the frames of views[0..n) that opt selects. After
  * a frame's outputs are all written, a marker in DIR/.orrery-frames/

@@ -259,7 +259,7 @@ orr_status orr_coarse_glow_plan(view_state *v, orr_error *err)
     /* Sky maps in colour that glow with the kernel deposit, no stereo eye;
      * the levels that divide the map and leave it 8 coarse pixels across
      * or more. Else the view draws every glow itself. */
-    if (!traits.sky || traits.pixel_table || !v->use_sph || v->nplanes != 3 || v->scene->stereo.mode)
+    if (!traits.sky || traits.pixel_table || !v->use_sph || v->nplanes != 3 || v->splat.stereo)
         return ORR_OK;
     int levels[ORR_COARSE_LEVELS], n = 0;
     for (int k = 0; k < ORR_COARSE_LEVELS; k++) {

@@ -10,11 +10,11 @@
 #include "encode/fits_read.h"
 #include "post/grade.h"
 
-orr_status orr_compose_check_raw_dir(const orr_scene *s, orr_error *err)
+orr_status orr_compose_check_raw_dir(const char *output_dir, int nlayers, orr_error *err)
 {
-    const char *dir = s->output.dir[0] ? s->output.dir : ".";
+    const char *dir = output_dir[0] ? output_dir : ".";
     struct stat st;
-    if (s->compose.nlayers > 0 || stat(dir, &st) == 0 || errno != ENOENT)
+    if (nlayers > 0 || stat(dir, &st) == 0 || errno != ENOENT)
         return ORR_OK;
     return orr_fail(err, ORR_ERR_IO,
                     "%s: no such folder: compose reads the planes `orrery render` wrote from the output "
@@ -31,7 +31,7 @@ static orr_status missing_raw(const view_state *v, const char *path, orr_error *
     return orr_fail(err, ORR_ERR_IO,
                     "%s: no such file: compose reads %s; render the scene first, with the same output.dir and "
                     "output.name",
-                    path, v->scene->regrade_final ? "the FITS planes that `orrery render` wrote"
+                    path, v->files.regrade_final ? "the FITS planes that `orrery render` wrote"
                                                   : "the raw planes that `orrery render` writes with output.raw: true");
 }
 
@@ -41,7 +41,7 @@ static orr_status load_raw(view_state *v, orr_error *err)
 {
     orr_render_report *rep = v->rep;
     char path[ORR_PATH_MAX];
-    orr_status st = orr_view_output_path(v->scene, v->scene->regrade_final ? "fits" : "raw.fits", path, err);
+    orr_status st = orr_view_output_path(&v->files.output, v->files.regrade_final ? "fits" : "raw.fits", path, err);
     orr_plane raw[3];
     int n = 0;
     if (!st)
@@ -52,7 +52,7 @@ static orr_status load_raw(view_state *v, orr_error *err)
         st = orr_fail(err, ORR_ERR_DATA,
                       "%s: holds %d plane(s) of %d x %d, but %s renders %d of %d x %d (was it rendered from "
                       "another scene?)",
-                      path, n, raw[0].width, raw[0].height, v->scene->path, fits_nplanes(v), v->proj.width,
+                      path, n, raw[0].width, raw[0].height, v->files.path, fits_nplanes(v), v->proj.width,
                       v->proj.height);
     for (int k = 0; !st && k < n; k++)
         memcpy(v->planes[k].data, raw[k].data, (size_t)v->proj.width * (size_t)v->proj.height * sizeof(float));
@@ -95,19 +95,19 @@ static orr_status add_layer(view_state *v, const struct orr_compose_layer *l, or
 
 static orr_status load_layers(view_state *v, orr_error *err)
 {
-    const orr_scene *s = v->scene;
+    const orr_compose_settings *c = &v->files.compose;
     orr_status st = ORR_OK;
-    for (int k = 0; k < s->compose.nlayers && !st; k++)
-        st = add_layer(v, &s->compose.layers[k], err);
+    for (int k = 0; k < c->nlayers && !st; k++)
+        st = add_layer(v, &c->layers[k], err);
     if (!st)
-        snprintf(v->rep->source, sizeof v->rep->source, "%d layers (%.200s, ...)", s->compose.nlayers, s->compose.layers[0].file);
+        snprintf(v->rep->source, sizeof v->rep->source, "%d layers (%.200s, ...)", c->nlayers, c->layers[0].file);
     return st;
 }
 
 orr_status orr_view_compose(view_state *v, orr_error *err)
 {
-    orr_status st = v->scene->compose.nlayers ? load_layers(v, err) : load_raw(v, err);
-    for (int j = 0; j < v->nplanes && !st && !v->scene->regrade_final; j++) /* NAME.fits has its PSF */
+    orr_status st = v->files.compose.nlayers ? load_layers(v, err) : load_raw(v, err);
+    for (int j = 0; j < v->nplanes && !st && !v->files.regrade_final; j++) /* NAME.fits has its PSF */
         st = orr_view_psf_apply(&v->psf, &v->planes[j], err);
     if (!st) {
         orr_mask_outside_map(&v->proj, v->planes, v->nplanes);

@@ -16,13 +16,16 @@
 #include "dust/dust.h"
 #include "post/brightness.h"
 #include "post/grade.h"
+#include "render/frame_names.h"
 #include "scene/scene_output.h"
 #include "source/partition.h"
 
 struct orr_plan {
     orr_plan_purpose purpose;
     int nscenes;             /* the views as given */
+    const orr_scene **given; /* [nscenes] their scenes (the caller's, which outlive the plan) */
     int n;                   /* the views as rendered: a stereo view is two eyes (purpose render) */
+    int *origin;             /* [n] the view given that each renders */
     orr_eye_views eyes;      /* the planned views' eyes: their scenes live as long as the plan */
     orr_render_report *planning_reports; /* [nscenes] what the planned eyes report into (unused after) */
     view_state *views;       /* [n] */
@@ -67,9 +70,73 @@ static orr_status plan_psf(view_state *v, const orr_scene *s, orr_psf_kernels *k
     return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
 }
 
+/* What the splat pass reads of the view's scene (pass/splat_settings.h). */
+static void splat_settings_of(const orr_scene *s, orr_splat_settings *set)
+{
+    snprintf(set->path, sizeof set->path, "%s", s->path);
+    set->type_mask = s->input.type_mask;
+    set->skip_nonfinite = s->input.skip_nonfinite;
+    snprintf(set->weight, sizeof set->weight, "%s", s->input.weight);
+    set->skip_observer = s->observer.has_id;
+    set->observer_id = s->observer.id;
+    set->dims_from_observer = s->observer.has_id && s->observer.dim;
+    set->dim = set->dims_from_observer || s->camera.dim;
+    set->dim_near = s->camera.dim ? s->camera.dim_near : s->observer.dim_near;
+    set->has_glow = s->psf.has_glow;
+    set->glow_max_arcmin = s->psf.glow_max_arcmin;
+    set->glow_threshold = s->psf.glow_threshold;
+    set->deposit = s->deposit;
+    set->periodic = s->periodic;
+    set->dust = s->dust;
+    set->has_populations = s->colour.has_populations;
+    set->populations = s->colour.populations;
+    set->only_index = s->colour.only_index;
+    set->stereo = s->stereo.mode != ORR_STEREO_NONE;
+}
+
+/* What the view's files are (render/view_files.h): the plan's part; the
+ * frame's is frame_files'. */
+static void view_files_of(const orr_scene *s, view_files *f)
+{
+    snprintf(f->path, sizeof f->path, "%s", s->path);
+    snprintf(f->weight, sizeof f->weight, "%s", s->input.weight);
+    f->stereo_mode = s->stereo.mode;
+    f->eye = s->stereo.eye;
+    f->extinction_plane = s->dust.extinction_plane;
+    f->stars_list = s->stars.list;
+    f->compose = s->compose;
+    snprintf(f->scene_yaml, sizeof f->scene_yaml, "%s", s->scene_yaml);
+}
+
+/* The frame's part of the view's files, from the frame's scene s: its
+ * output names, and its grading (a compose re-grades with another white). */
+static void frame_files(const orr_scene *s, view_files *f)
+{
+    f->output = s->output;
+    f->picture = s->picture;
+    f->colour = s->colour;
+    f->regrade_final = s->regrade_final;
+}
+
+/* How the view's camera is found each frame (view_state.h). */
+static void camera_plan_of(const orr_scene *s, view_camera_plan *c)
+{
+    snprintf(c->path, sizeof c->path, "%s", s->path);
+    c->camera = s->camera;
+    c->kind = s->projection.kind;
+    c->stereo = s->stereo;
+    c->shutter = s->animation.shutter;
+    c->has_frame_interval = s->animation.has_frame_interval;
+    c->frame_interval = s->animation.frame_interval;
+    c->blur_moves_particles = orr_blur_moves_particles(s);
+}
+
 static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
-    v->scene = s;
+    splat_settings_of(s, &v->splat);
+    view_files_of(s, &v->files);
+    frame_files(s, &v->files);
+    camera_plan_of(s, &v->camera_plan);
     v->base_proj = s->projection;
     orr_status st = orr_projection_setup(&v->base_proj, err);
     if (st)
@@ -105,7 +172,7 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     if (!st && v->use_sph && v->psf.h_per_r > 0)
         st = orr_sph_use_cores(&v->sph, (float)v->psf.h_per_r, err);
     if (!st)
-        orr_view_plan_cards(v); /* after the deposit and the PSF, which they describe */
+        orr_view_plan_cards(v, &s->input, &s->observer); /* after the deposit and the PSF, which they describe */
     return st;
 }
 
@@ -149,14 +216,15 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     memset(rep, 0, sizeof *rep);
     rep->frame = when->frame;
     rep->nframes = when->nframes;
-    v->scene = s;
+    frame_files(s, &v->files);
     v->rep = rep;
     v->proj = v->base_proj; /* a stereo eye shifts its principal point below */
     v->tint_t = s->colour.tint_run ? when->u : s->colour.tint_t;
-    orr_status st = orr_view_camera(s, observer, when, &rep->camera, &rep->sky, err);
+    const view_camera_plan *c = &v->camera_plan;
+    orr_status st = orr_view_camera(c, observer, when, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
-    if ((st = orr_stereo_setup_eye(s, &v->proj, rep, &v->ods, &v->use_ods, err)) ||
+    if ((st = orr_stereo_setup_eye(&c->stereo, &c->camera, c->path, &v->proj, rep, &v->ods, &v->use_ods, err)) ||
         (st = orr_view_plan_blur(v, observer, observer_velocity, when, err)))
         return st;
     rep->has_sky_frame = observer != NULL;
@@ -194,6 +262,8 @@ void orr_plan_destroy(orr_plan *plan)
     for (int k = 0; k < plan->planned; k++)
         free_view(&plan->views[k]);
     free(plan->views);
+    free(plan->given);
+    free(plan->origin);
     orr_eye_views_finish(&plan->eyes);
     free(plan->planning_reports);
     orr_psf_kernels_free(&plan->kernels);
@@ -235,10 +305,28 @@ static orr_status check_output_dirs(orr_plan_purpose purpose, const orr_scene *c
 {
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++)
-        if (purpose != ORR_PLAN_COMPOSE || !(st = orr_compose_check_raw_dir(scenes[k], err)))
+        if (purpose != ORR_PLAN_COMPOSE || !(st = orr_compose_check_raw_dir(scenes[k]->output.dir, scenes[k]->compose.nlayers, err)))
             st = orr_check_output_dir(scenes[k]->output.dir, err);
     return st;
 }
+
+/* The views given (plan->given) and which of them each view rendered is
+ * (plan->origin: a stereo view's eyes are both its). */
+static orr_status keep_given(orr_plan *plan, const orr_scene *const *scenes, orr_error *err)
+{
+    plan->given = orr_calloc((size_t)plan->nscenes, sizeof *plan->given, "views", err);
+    plan->origin = orr_calloc((size_t)plan->n, sizeof *plan->origin, "views", err);
+    if (!plan->given || !plan->origin)
+        return ORR_ERR_NOMEM;
+    for (int i = 0, k = 0; i < plan->nscenes; i++) {
+        plan->given[i] = scenes[i];
+        plan->origin[k++] = i;
+        if (plan->purpose == ORR_PLAN_RENDER && scenes[i]->stereo.mode != ORR_STEREO_NONE)
+            plan->origin[k++] = i;
+    }
+    return ORR_OK;
+}
+
 orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n, orr_plan_purpose purpose,
                            orr_error *err)
 {
@@ -258,12 +346,14 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
     if (!st)
         st = expand_views(plan, scenes, plan->planning_reports, &plan->eyes, err);
     plan->n = plan->eyes.n;
+    if (!st)
+        st = keep_given(plan, scenes, err);
     if (!st && !(plan->views = orr_calloc((size_t)plan->n, sizeof *plan->views, "views", err)))
         st = ORR_ERR_NOMEM;
     for (; !st && plan->planned < plan->n; plan->planned++)
         st = plan_view(&plan->views[plan->planned], plan->eyes.scene[plan->planned], &plan->kernels, err);
     if (!st && purpose == ORR_PLAN_RENDER && scenes[0]->stars.enabled &&
-        !(st = orr_frame_stars_prepare(&plan->stars, scenes[0], err)))
+        !(st = orr_frame_stars_prepare(&plan->stars, &scenes[0]->stars, scenes[0]->observer.id, scenes[0]->path, err)))
         plan->has_stars = 1;
     for (int k = 0; k < plan->n && !st && plan->has_stars; k++) /* the stars' glows span degrees */
         st = orr_coarse_glow_plan(&plan->views[k], err);
@@ -301,12 +391,11 @@ static orr_status check_frame_views(const orr_plan *plan, const orr_eye_views *e
 
 /* ---- a frame ---- */
 
-/* After a frame, view k points at nothing of it: its scene (an eye's copy,
- * freed with the frame's views), report, lengths, dust and outputs. */
+/* After a frame, view k points at nothing of it: its report, lengths, dust
+ * and outputs. */
 static void forget_frame(orr_plan *plan, int k)
 {
     view_state *v = &plan->views[k];
-    v->scene = plan->eyes.scene[k];
     v->rep = NULL;
     v->lengths = NULL;
     v->dust = NULL;
@@ -359,31 +448,31 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
     for (int k = 0; k < n; k++) {
         view_state *v = &views[k];
         int needed;
-        orr_status st = orr_lengths_needed(v->scene, src, &needed, err);
+        orr_status st = orr_lengths_needed(&v->splat, src, &needed, err);
         if (st)
             return st;
         /* orrery's h is half the kernel's support: convert the file's. */
         double support = src->info.h_support > 0 ? src->info.h_support : 2.0;
-        v->h_scale = (float)(v->scene->deposit.h_scale * support / 2.0);
+        v->h_scale = (float)(v->splat.deposit.h_scale * support / 2.0);
         if (!needed)
             continue;
         /* The glow's lengths are angles seen from the camera (glow_length). */
-        const orr_vec3 *centre = v->scene->psf.has_glow ? &v->rep->camera.position : NULL;
+        const orr_vec3 *centre = v->splat.has_glow ? &v->rep->camera.position : NULL;
         if (par && !centre)
             return orr_fail(err, ORR_ERR_USAGE,
                             "%s: smoothing lengths from the neighbours need every particle in one process; with "
                             "%d MPI ranks use lengths from the file (smoothing.lengths: file)",
-                            v->scene->path, par->nranks);
-        v->h_scale = (float)v->scene->deposit.h_scale;
+                            v->splat.path, par->nranks);
+        v->h_scale = (float)v->splat.deposit.h_scale;
         if (!lengths->h && !lengths->angular && /* (computed, but none here: a process's share may be empty) */
-            (st = orr_lengths_compute(v->scene, src, centre, par, lengths, err)))
+            (st = orr_lengths_compute(&v->splat, src, centre, par, lengths, err)))
             return st;
         if (lengths->angular != (centre != NULL) ||
             (centre && orr_v3_norm(orr_v3_sub(lengths->centre, *centre)) > 0))
             return orr_fail(err, ORR_ERR_USAGE,
                             "%s: the views of a frame share one set of smoothing lengths, but view %d %s; give "
                             "every view glow.threshold from the same place, or none of them",
-                            v->scene->path, k, centre ? "glows from another camera position" : "has no glow");
+                            v->splat.path, k, centre ? "glows from another camera position" : "has no glow");
         v->lengths = lengths;
     }
     return ORR_OK;
@@ -394,9 +483,8 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
  * stereo, a sky map's PSF widening kernels, or weights dimmed with distance. */
 static orr_status setup_periodic(view_state *v, const orr_source_info *info, orr_error *err)
 {
-    const orr_scene *s = v->scene;
-    int can_cull = !v->use_ods && !(v->psf.h_per_r > 0) && !(s->observer.has_id && s->observer.dim);
-    orr_status st = orr_periodic_view_setup(&v->periodic, s, info, &v->proj, &v->rep->camera, can_cull, err);
+    int can_cull = !v->use_ods && !(v->psf.h_per_r > 0) && !v->splat.dims_from_observer;
+    orr_status st = orr_periodic_view_setup(&v->periodic, &v->splat, info, &v->proj, &v->rep->camera, can_cull, err);
     v->rep->n_replicas = v->periodic.active ? v->periodic.replicas.n : 0;
     return st;
 }
@@ -440,7 +528,7 @@ static orr_status draw_bright_stars(view_state *v, orr_error *err)
         return ORR_OK;
     if (!v->psf.core)
         return orr_sky_psf_draw(v->psf.sky, &v->sph, v->planes, v->nplanes, err);
-    orr_flat_deposit dep = {v->scene->deposit.kind, &v->proj, v->use_sph ? &v->sph : NULL};
+    orr_flat_deposit dep = {v->splat.deposit.kind, &v->proj, v->use_sph ? &v->sph : NULL};
     return orr_flat_psf_draw(v->psf.sky, &dep, v->psf.core, v->planes, v->nplanes, err);
 }
 
@@ -458,7 +546,7 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
         orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);
     charge(&views[0], ORR_STAGE_POST);
     for (int k = 0; k < n && !st; k++)
-        if (views[k].scene->output.write_raw) {
+        if (views[k].files.output.write_raw) {
             orr_mask_outside_map(&views[k].proj, views[k].planes, views[k].nplanes);
             charge(&views[k], ORR_STAGE_POST);
             st = orr_view_write_fits_planes(&views[k], "raw.fits", err);
@@ -469,14 +557,15 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
     charge(&views[0], ORR_STAGE_PSF);
     for (int k = 0; k < n && !st; k++) {
         if (orr_eye_views_pair_at(eyes, k)) {
-            st = orr_view_write_stereo_pair(&views[k], &views[k + 1], eyes, k, err);
+            st = orr_view_write_stereo_pair(&views[k], &views[k + 1], err);
             if (!st && keep && !(st = keep_view(&views[k], k, in, err)))
                 st = keep_view(&views[k + 1], k + 1, in, err);
             k++; /* the right eye was written with the left */
             continue;
         }
         st = orr_view_write_outputs(&views[k], err);
-        orr_eye_views_share_white(eyes, k, views[k].rep->white); /* separate eyes: grade the right alike */
+        if (k + 1 < n) /* separate eyes: grade the right alike */
+            orr_view_share_white(&views[k], &views[k + 1]);
         if (!st && keep)
             st = keep_view(&views[k], k, in, err);
     }
@@ -516,9 +605,10 @@ static void frame_units(orr_plan *plan, const orr_source *src)
     const char *mass = src ? src->info.mass_unit : "", *length = src ? src->info.length_unit : "";
     for (int k = 0; k < plan->n; k++) {
         view_state *v = &plan->views[k];
-        snprintf(v->length_unit, sizeof v->length_unit, "%s", scene_length_unit(v->scene, length));
+        const orr_scene *s = plan->eyes.scene[k]; /* (the units are the same in every frame's) */
+        snprintf(v->length_unit, sizeof v->length_unit, "%s", scene_length_unit(s, length));
         char unit[ORR_PLANE_NAME_MAX];
-        orr_brightness_unit(&v->proj, scene_weight_unit(v->scene, mass), v->length_unit, unit, sizeof unit);
+        orr_brightness_unit(&v->proj, scene_weight_unit(s, mass), v->length_unit, unit, sizeof unit);
         for (int j = 0; j < v->nplanes; j++)
             snprintf(v->planes[j].unit, sizeof v->planes[j].unit, "%s", unit);
     }
@@ -529,10 +619,46 @@ static void frame_units(orr_plan *plan, const orr_source *src)
 static orr_status begin_frame(orr_plan *plan, const orr_eye_views *eyes, const orr_sky_frame *observer,
                               orr_vec3 observer_velocity, const orr_frame_time *when, int *begun, orr_error *err)
 {
-    orr_status st = check_frame_views(plan, eyes, err);
+    orr_status st = ORR_OK;
     for (*begun = 0; !st && *begun < plan->n; (*begun)++)
         st = begin_view_frame(&plan->views[*begun], eyes->scene[*begun], observer, observer_velocity, when,
                               eyes->report[*begun], err);
+    return st;
+}
+
+/* Each view's output name in this frame: its view's output.name with the
+ * frame's number (none in a still), then an eye's -left or -right. */
+static orr_status name_frame_outputs(orr_plan *plan, const orr_frame_time *when, orr_error *err)
+{
+    for (int k = 0; k < plan->n; k++) {
+        const orr_scene *s = plan->given[plan->origin[k]];
+        view_files *f = &plan->views[k].files;
+        char numbered[sizeof f->output.name];
+        const orr_frame_naming naming = orr_frame_naming_of(&s->output);
+        orr_status st = orr_frame_name(&naming, s->output.name, when->frame, when->nframes, numbered,
+                                       sizeof numbered, err);
+        if (!st)
+            st = orr_eye_output_name(s, numbered, f->eye, f->output.name, sizeof f->output.name, err);
+        if (st)
+            return st;
+    }
+    return ORR_OK;
+}
+
+/* The frame's observer frame (view_camera.c), found in a pass of its own:
+ * over the given particles, rewound, or the scene's input opened with only
+ * the velocities the spin normal or motion blur needs. */
+static orr_status observer_frame(const orr_scene *s, orr_source *given, long frame, const orr_parallel *par,
+                                 orr_sky_frame *f, orr_vec3 *velocity, orr_error *err)
+{
+    static const char *const velocity_fields[3] = {"vx", "vy", "vz"};
+    const int want_velocities = s->observer.normal_types != 0 || orr_blur_moves_particles(s);
+    orr_source *src = given;
+    orr_status st = given ? orr_source_rewind(given, err)
+                          : orr_scene_open_source(s, velocity_fields, want_velocities ? 3 : 0, &src, err);
+    st = orr_view_sky_frame(&s->observer, s->path, src, st, frame, par, f, velocity, err);
+    if (src != given)
+        orr_source_close(src);
     return st;
 }
 
@@ -544,6 +670,29 @@ static orr_status commit_outputs(orr_output_batch *outputs, orr_status st, orr_e
     else
         orr_output_batch_name_finals(outputs, err);
     orr_output_batch_abort(outputs);
+    return st;
+}
+
+/* The frame's dust (dust_view.c), shared by every view. Every process dims
+ * its share of the stars by all of the dust: on MPI ranks each reads the
+ * whole input for it (a simulation's in-situ share cannot be). */
+static orr_status prepare_dust(const orr_plan *plan, orr_source *src, const orr_parallel *par, orr_dust_frame *dust,
+                               orr_error *err)
+{
+    const orr_scene *s = plan->eyes.scene[0];
+    orr_source *whole = NULL;
+    if (par && s->input.insitu)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: dust.types: in situ on %d MPI ranks each process holds only its "
+                        "share of the dust (docs/dust.md#limitations)", s->path, par->nranks);
+    if (par) {
+        const char *fields[ORR_RENDER_MAX_FIELDS];
+        int nfields = orr_render_fields(s, fields);
+        orr_status st = orr_scene_open_source(s, fields, nfields, &whole, err);
+        if (st)
+            return st;
+    }
+    orr_status st = orr_dust_view_prepare(plan->views, plan->n, whole ? whole : src, dust, err);
+    orr_source_close(whole);
     return st;
 }
 
@@ -566,8 +715,8 @@ static orr_status splat_frame(orr_plan *plan, orr_status st, orr_source *src, co
         st = prepare_lengths(views, n, src, par, lengths, err);
         charge(&views[0], ORR_STAGE_LENGTHS);
     }
-    if (!st && views[0].scene->dust.types) {
-        st = orr_dust_view_prepare(views, n, src, par, dust, err);
+    if (!st && views[0].splat.dust.types) {
+        st = prepare_dust(plan, src, par, dust, err);
         *have_dust = !st;
     }
     for (int k = 0; k < n && !st; k++)
@@ -593,7 +742,7 @@ static int lengths_key(const orr_plan *plan, const orr_scene *s0, const orr_sour
     if (given || par || !in->file[0] || in->sequence.pattern[0] || in->sequence.nfiles)
         return 0;
     for (int k = 0; k < plan->n; k++)
-        if (plan->views[k].scene->psf.has_glow)
+        if (plan->views[k].splat.has_glow)
             return 0;
     struct stat st;
     if (stat(in->file, &st) != 0)
@@ -629,9 +778,8 @@ static orr_lengths *frame_lengths_for(orr_plan *plan, const orr_scene *s0, const
     return &plan->kept_lengths;
 }
 
-orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, const orr_frame_input *in,
-                            orr_render_report *reports, orr_progress_fn progress, void *progress_user,
-                            orr_error *err)
+orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_render_report *reports,
+                            orr_progress_fn progress, void *progress_user, orr_error *err)
 {
     if (plan->purpose != ORR_PLAN_RENDER)
         return orr_fail(err, ORR_ERR_INTERNAL, "a compose plan renders no particles");
@@ -642,7 +790,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     view_state *views = plan->views;
     for (int k = 0; k < plan->n; k++)
         views[k].timer = timer;
-    const orr_scene *s0 = scenes[0];
+    const orr_scene *s0 = plan->given[0];
     const orr_frame_time still = orr_frame_at(0, 1, s0->animation.fps, 0, 0);
     const orr_frame_time *when = in ? &in->time : &still;
     const orr_parallel *par = in && in->parallel && in->parallel->nranks > 1 ? in->parallel : NULL;
@@ -651,7 +799,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     /* Checked when planned; again each frame (a stat), in case a long run's
      * folder went away since, before any slow work. */
     for (int k = 0; k < plan->nscenes && !st; k++)
-        st = orr_check_output_dir(scenes[k]->output.dir, err);
+        st = orr_check_output_dir(plan->given[k]->output.dir, err);
     if (!st && par && !given && !(st = open_share(s0, par, &src, err)))
         given = src;
     /* The observer's frame moves with the particles: found every frame, by
@@ -659,13 +807,15 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *scenes, cons
     orr_sky_frame observer;
     orr_vec3 observer_velocity = orr_v3(0, 0, 0);
     if (!st && s0->observer.has_id)
-        st = orr_view_sky_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
+        st = observer_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
     orr_stage_charge(&timer->times, ORR_STAGE_SOURCE, &timer->at);
-    /* A stereo view renders as two views, its eyes, named for this frame. */
+    /* A stereo view renders as two views, its eyes, each reporting into
+     * its view's report (the right eye's outputs added to the left's). */
     orr_eye_views eyes = {0};
     int begun = 0;
-    if (!st && !(st = orr_eye_views_expand(scenes, plan->nscenes, reports, &eyes, err)))
-        st = begin_frame(plan, &eyes, s0->observer.has_id ? &observer : NULL, observer_velocity, when, &begun, err);
+    if (!st && !(st = orr_eye_views_expand(plan->given, plan->nscenes, reports, &eyes, err)) &&
+        !(st = begin_frame(plan, &eyes, s0->observer.has_id ? &observer : NULL, observer_velocity, when, &begun, err)))
+        st = name_frame_outputs(plan, when, err);
     if (!st && plan->has_stars) { /* the stars are seen from the observer (scene_check.c) */
         orr_frame_stars_begin(&plan->stars, &observer);
         plan->stars.whole_list = par == NULL; /* on ranks, each has its own share's stars */
@@ -725,7 +875,7 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_
     int begun = 0;
     for (int k = 0; k < plan->n; k++)
         plan->views[k].timer = NULL;
-    if (!st && !(st = expand_views(plan, scenes, reports, &views, err)))
+    if (!st && !(st = expand_views(plan, scenes, reports, &views, err)) && !(st = check_frame_views(plan, &views, err)))
         st = begin_frame(plan, &views, scenes[0]->observer.has_id ? &observer : NULL, orr_v3(0, 0, 0), &still, &begun,
                          err);
     orr_output_batch outputs;

@@ -10,13 +10,16 @@
  * image planes (zeroed each frame, not allocated), the SPH kernel's tables,
  * a sky map's index and its PSF core stamps, the PSF (a Hubble or file
  * kernel made once for all the views that share it, the FFT convolvers with
- * their FFTW plans, the bright stars' PSF). What it redoes every frame is
+ * their FFTW plans, the bright stars' PSF), and what each view's stages read
+ * of its scene (the splat pass's settings, what its files are): the plan is
+ * the renderer's reader of the scenes. What it redoes every frame is
  * what moves: the observer frame (found among the particles), the cameras
  * (a camera path, an observer's sky frame, a stereo eye's convergence),
  * motion blur's shutter cameras, a periodic box's copies around the camera,
  * the smoothing lengths and the dust (both from the particles), the splat's
  * lanes and bands (sized by the source's count and chunk capacity), the
- * reports. docs/architecture.md has the plan's lifetime. */
+ * files' names (the frame's number), the reports. docs/architecture.md has
+ * the plan's lifetime. */
 #ifndef ORR_RENDER_PLAN_H
 #define ORR_RENDER_PLAN_H
 
@@ -36,17 +39,19 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *views, int n,
                            orr_error *err);
 
 /* Renders one frame with the plan: gather, splat, reduce, post, encode.
- * frame_views[0..n) are the planned views as this frame names its outputs
- * (output.name with the frame number; the frame count): everything else
- * must be as planned (checked: the image and the projection). reports[i]
- * describes view i; in as for orr_render_frame (NULL: a still). */
-orr_status orr_plan_execute(orr_plan *plan, const orr_scene *const *frame_views, const orr_frame_input *in,
-                            orr_render_report *reports, orr_progress_fn progress, void *progress_user,
-                            orr_error *err);
+ * in is what moves from frame to frame: the frame's number and time (its
+ * camera, its output names: output.name with the frame's number, none in
+ * a still; orr_frame_name), its particles, the processes, a keeper; NULL:
+ * a still from the scene's input. reports[i] describes planned view i. */
+orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_render_report *reports,
+                            orr_progress_fn progress, void *progress_user, orr_error *err);
 
 /* Re-grades one frame's raw planes with a plan of purpose ORR_PLAN_COMPOSE
- * (orr_compose_views). frame_views as for orr_plan_execute; their grading
- * keys (output.white, ...) may differ from the planned views'. */
+ * (orr_compose_views). frame_views[0..n) are the planned views as this
+ * frame names its files (output.name with the frame's number) and grades
+ * them: their grading keys (output.white, ...) may differ from the planned
+ * views'; everything else must be as planned (checked: the image and the
+ * projection). */
 orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *frame_views, orr_render_report *reports,
                             orr_error *err);
 

@@ -68,6 +68,14 @@ typedef void (*orr_progress_fn)(void *user, uint64_t done, int64_t total);
 #define ORR_RENDER_MAX_FIELDS ORR_MAX_EXTRA_FIELDS
 int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIELDS]);
 
+/* Whether the scene's shutter moves particles by their velocities (so the
+ * renderer must read vx, vy, vz): a shutter, and simulation time that
+ * passes between frames: animation.frame_interval, a sequence's snapshots,
+ * or an in-situ run's animation.time. (A single snapshot's particles stand
+ * still, and only the camera moves.) pass/motion_blur.h draws the
+ * streaks. */
+int orr_blur_moves_particles(const orr_scene *s);
+
 /* Opens the scene's particle source (file or built-in model), asking for
  * the given extra fields only (NULL: all). */
 orr_status orr_scene_open_source(const orr_scene *scene, const char *const *fields, int nfields,
@@ -106,8 +114,8 @@ typedef struct orr_frame_input {
     void *keep_user;
 } orr_frame_input;
 
-/* orr_render_views for one frame of a run. The views' output names are used
- * as they are (the animation driver gives each frame its own). */
+/* orr_render_views for one frame of a run: the views' output names get the
+ * frame's number (in->time: output.name as it is in a still). */
 orr_status orr_render_frame(const orr_scene *const *views, int n, const orr_frame_input *in,
                             orr_render_report *reports, orr_progress_fn progress, void *progress_user,
                             orr_error *err);

@@ -3,7 +3,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#include "render/periodic_view.h"
+#include "pass/periodic_view.h"
 
 /* The side of a periodic box whose snapshots wrap: input.periodic.box, or
  * with copies (input.periodic.replicas) and box auto the first snapshot's
@@ -24,7 +24,7 @@ static orr_status sequence_box(const orr_scene *s, double *box, orr_error *err)
     if (!st)
         st = orr_source_open_file(first, &o, &src, err);
     if (!st)
-        st = orr_periodic_box_side(s, &src->info, box, err);
+        st = orr_periodic_box_side(&s->periodic, s->path, &src->info, box, err);
     orr_source_close(src);
     return st;
 }

@@ -31,7 +31,7 @@ typedef struct block_buffers {
     /* The block's weights, as the deposits read them: the source's arrays
      * themselves for a block taken whole (take_weights), otherwise w. */
     const float *wp[ORR_PLANES_MAX];
-    /* A block of the fused NGP gather (render/ngp_gather.h): its pixel
+    /* A block of the fused NGP gather (pass/ngp_gather.h): its pixel
      * indices are in share_pixel. */
     int indexed;
     /* Motion blur: x, y, z hold where each streak starts and sx, sy, sz

@@ -8,7 +8,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "render/motion_blur.h"
+#include "pass/motion_blur.h"
 #include "post/view_psf.h"
 #include "splat/sph.h"
 
@@ -77,7 +77,7 @@ static void deposit_points(const view_state *v, orr_plane *planes, int lane, siz
         for (int k = 0; k < v->nplanes; k++) {
             orr_deposit_stats scratch = {0};
             orr_deposit_stats *st = k < 2 ? &t->deposit[k] : &scratch;
-            orr_deposit(v->scene->deposit.kind, &planes[k], n, b->px, b->py, b->wp[k], b->visible, &v->proj, st);
+            orr_deposit(v->splat.deposit.kind, &planes[k], n, b->px, b->py, b->wp[k], b->visible, &v->proj, st);
         }
     }
     /* A sky map's hst/file PSF: the brightest stars are redrawn with the

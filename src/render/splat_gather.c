@@ -3,7 +3,7 @@
  * taper, the glow's lengths, motion blur's streaks), checked, and
  * projected. Blocks that take every particle go through straight loops
  * without a branch a particle, or for NGP the fused gather
- * (render/ngp_gather.h). */
+ * (pass/ngp_gather.h). */
 #include "render/splat_block.h"
 #include "core/fastmath.h"
 #include "core/numbers.h"
@@ -12,10 +12,10 @@
 #include <math.h>
 #include <string.h>
 
-#include "render/camera_transform.h"
-#include "render/lengths.h"
-#include "render/motion_blur.h"
-#include "render/ngp_gather.h"
+#include "pass/camera_transform.h"
+#include "pass/lengths.h"
+#include "pass/motion_blur.h"
+#include "pass/ngp_gather.h"
 #include "render/stereo_view.h"
 
 /* Names the value that is not finite: the position, the weight, or else
@@ -54,7 +54,7 @@ static int all_finite(const float *a, size_t start, size_t end)
  * gather_all, or for NGP the fused gather. */
 static int block_selects_all(const view_state *v, const orr_chunk *c, size_t start, size_t end)
 {
-    const orr_scene *s = v->scene;
+    const orr_splat_settings *set = &v->splat;
     if (v->lengths)
         return 0;
     /* Blocks mostly hold one type: checked with a byte loop that vectorises;
@@ -64,17 +64,17 @@ static int block_selects_all(const view_state *v, const orr_chunk *c, size_t sta
     for (size_t i = start; i < end; i++)
         differ |= type[i] ^ first_type;
     if (!differ) {
-        if (first_type > 31 || !(s->input.type_mask & (1u << first_type)))
+        if (first_type > 31 || !(set->type_mask & (1u << first_type)))
             return 0;
     } else {
         uint32_t types = 0;
         for (size_t i = start; i < end; i++)
             types |= type[i] > 31 ? ~0u : 1u << type[i];
-        if (types & ~s->input.type_mask)
+        if (types & ~set->type_mask)
             return 0;
     }
-    if (s->observer.has_id) {
-        const uint64_t observer = s->observer.id;
+    if (set->skip_observer) {
+        const uint64_t observer = set->observer_id;
         int found = 0;
         for (size_t i = start; i < end; i++)
             found |= c->id[i] == observer;
@@ -97,7 +97,7 @@ static int block_all_finite(const orr_chunk *c, const float *wsrc, size_t start,
  * taper within the periodic sphere (the copy's block is across it). */
 static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift, int fading)
 {
-    const orr_scene *s = v->scene;
+    const orr_splat_settings *set = &v->splat;
     orr_camera_transform t = orr_camera_transform_at(v->rep->camera.position, &v->world_to_camera, shift);
     if (fading) {
         const orr_replica_sphere *sp = &v->periodic.sphere;
@@ -107,8 +107,8 @@ static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift, in
         t.inner2 = t.inner * t.inner;
         t.outer2 = t.outer * t.outer;
     }
-    t.dim = (s->observer.has_id && s->observer.dim) || s->camera.dim;
-    double near = s->camera.dim ? s->camera.dim_near : s->observer.dim_near;
+    t.dim = set->dim;
+    double near = set->dim_near;
     if (v->drawing_stars) /* a spawned star is a star: its flux is its own distance's */
         near = STAR_DIM_NEAR_PC / v->stars->stage.set.length_unit;
     t.near2 = (float)(near * near);
@@ -199,7 +199,7 @@ static size_t gather_all(const view_state *v, const orr_chunk *c, const float *c
     return n;
 }
 
-/* The fused gather (render/ngp_gather.h) of a block that takes every
+/* The fused gather (pass/ngp_gather.h) of a block that takes every
  * particle: indices into b->share_pixel. Returns 0 when the block has a
  * non-finite value (b->indexed 0). */
 static int ngp_gather_all(const view_state *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
@@ -250,10 +250,10 @@ static float glow_taper(float x, float limit)
  * kernel shrinks smoothly to the point, so no edge runs across the sky
  * between glow and points, and a star brightening as the camera nears it
  * draws in to a point instead of popping. */
-static float glow_length(const orr_scene *s, float h, float r2, float flux)
+static float glow_length(const orr_splat_settings *set, float h, float r2, float flux)
 {
-    const float max_h = (float)(0.5 * s->psf.glow_max_arcmin * ORR_PI / (180.0 * 60.0));
-    return h * glow_taper(h, max_h) * glow_taper(flux, (float)s->psf.glow_threshold) * sqrtf(r2);
+    const float max_h = (float)(0.5 * set->glow_max_arcmin * ORR_PI / (180.0 * 60.0));
+    return h * glow_taper(h, max_h) * glow_taper(flux, (float)set->glow_threshold) * sqrtf(r2);
 }
 
 /* The glow of a particle whose bright stars are drawn one by one: the
@@ -270,7 +270,7 @@ static float stars_glow_length(const view_state *v, float h, float r2, float mas
     return length < widest ? length : widest;
 }
 
-/* ---- motion blur (render/motion_blur.h) ---- */
+/* ---- motion blur (pass/motion_blur.h) ---- */
 
 /* The velocities motion blur moves the chunk's particles by (NULLs when
  * the shutter holds them still), or an error naming the field missing. */
@@ -288,7 +288,7 @@ static orr_status blur_velocities(const view_state *v, const orr_source *src, co
                             "%s: animation.shutter: the particles move by their velocities while the shutter "
                             "is open (%g of simulation time), but %s has no field %s; give velocities, or set "
                             "animation.frame_interval: 0 to blur only the camera's motion",
-                            v->scene->path, 2 * v->blur.half_time, src->info.path, names[a]);
+                            v->splat.path, 2 * v->blur.half_time, src->info.path, names[a]);
     return ORR_OK;
 }
 
@@ -315,8 +315,8 @@ static void put_streak(const orr_motion_blur *mb, const orr_camera_transform *op
  * shift (a periodic box's copy; fading: across its sphere, so each weight
  * tapers with the distance from the camera) and into the camera frame,
  * their smoothing lengths from the neighbours' starting at lengths_next;
- * returns how many, or -1 (err set) on a bad particle when the scene says
- * to fail. What it counts goes into *t. The observer particle is left out, and with
+ * returns how many, or -1 (err set) on a bad particle when input.nonfinite
+ * says to fail. What it counts goes into *t. The observer particle is left out, and with
  * observer.dim or camera.dim weights fall off as 1/r^2 from the camera. */
 static long gather_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wsrcs,
                          size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
@@ -327,7 +327,7 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
      * not finite, so a particle's X, Y and Z, and its population's Y, are
      * finite together) */
     const float *wsrc = wsrcs[checked_plane(v)];
-    const orr_scene *s = v->scene;
+    const orr_splat_settings *set = &v->splat;
     const orr_camera_transform tf = transform_of(v, shift, fading);
     for (int k = 0; k < ORR_PLANES_MAX; k++)
         b->wp[k] = b->w[k];
@@ -342,7 +342,7 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
             return (long)gather_all(v, c, wsrcs, start, end, &tf, b);
         }
     }
-    const int skip_observer = s->observer.has_id;
+    const int skip_observer = set->skip_observer;
     const float *vel[3] = {NULL, NULL, NULL};
     orr_camera_transform open, close;
     if (v->blur.active) {
@@ -354,17 +354,17 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
     for (size_t i = start; i < end; i++) {
         float h = 0.0f;
         if (v->lengths) { /* counted before any skip, as the neighbour pass counted them */
-            if (orr_lengths_counts(s, c, i) && lengths_next < v->lengths->n)
+            if (orr_lengths_counts(set->type_mask, c, i) && lengths_next < v->lengths->n)
                 h = v->lengths->h[lengths_next++] * v->h_scale;
         } else if (c->h) {
             h = c->h[i] * v->h_scale;
         }
-        if (!(s->input.type_mask & (1u << c->type[i])) || (skip_observer && c->id[i] == s->observer.id))
+        if (!(set->type_mask & (1u << c->type[i])) || (skip_observer && c->id[i] == set->observer_id))
             continue;
         t->n_selected++;
         if (!isfinite(c->x[i]) || !isfinite(c->y[i]) || !isfinite(c->z[i]) || !isfinite(wsrc[i]) ||
             (vel[0] && !velocity_finite(vel, i))) {
-            if (!s->input.skip_nonfinite) {
+            if (!set->skip_nonfinite) {
                 nonfinite_error(src, c, i, wsrc[i], vel[0] ? vel : NULL, err);
                 return -1;
             }
@@ -376,8 +376,8 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
         float fade = tf.fade ? orr_camera_fade(&tf, p.r2) : 1.0f;
         if (v->stars && !v->drawing_stars && orr_stars_spawns(&v->stars->stage, c->type[i])) /* what its stars left */
             h = stars_glow_length(v, h, p.r2, c->mass[i]);
-        else if (s->psf.has_glow) /* an angle from the lengths, a point when bright */
-            h = glow_length(s, h, p.r2, wsrcs[v->nplanes >= 3 ? 1 : 0][i] * dimming);
+        else if (set->has_glow) /* an angle from the lengths, a point when bright */
+            h = glow_length(set, h, p.r2, wsrcs[v->nplanes >= 3 ? 1 : 0][i] * dimming);
         if (fade < 1.0f)
             count_faded(v, wsrcs, i, dimming, fade, t);
         if (fade == 0.0f)

@@ -21,10 +21,10 @@
 _Static_assert(MAX_LANES <= ORR_SKY_PSF_LANES, "a sky PSF collects stars in every lane");
 
 /* The weight array of a chunk, or an error listing the fields there are. */
-static orr_status weight_field(const orr_scene *s, const orr_source *src, const orr_chunk *c,
+static orr_status weight_field(const orr_splat_settings *set, const orr_source *src, const orr_chunk *c,
                                const float **w, orr_error *err)
 {
-    *w = orr_chunk_field(c, s->input.weight);
+    *w = orr_chunk_field(c, set->weight);
     if (*w)
         return ORR_OK;
     char have[512] = "mass";
@@ -34,8 +34,8 @@ static orr_status weight_field(const orr_scene *s, const orr_source *src, const 
         strncat(have, ", ", sizeof have - strlen(have) - 1);
         strncat(have, c->extra[i].name, sizeof have - strlen(have) - 1);
     }
-    return orr_fail(err, ORR_ERR_USAGE, "%s: input.weight '%s' is not a field of %s (fields: %s)", s->path,
-                    s->input.weight, src->info.path, have);
+    return orr_fail(err, ORR_ERR_USAGE, "%s: input.weight '%s' is not a field of %s (fields: %s)", set->path,
+                    set->weight, src->info.path, have);
 }
 
 /* How many lanes the view splats in (reduce/lanes.h), for a source of
@@ -43,7 +43,7 @@ static orr_status weight_field(const orr_scene *s, const orr_source *src, const 
 static int lanes_for(const view_state *v, int64_t count)
 {
     int shares_per_particle = v->use_sph                                  ? 0
-                              : v->scene->deposit.kind == ORR_DEPOSIT_NGP ? 1
+                              : v->splat.deposit.kind == ORR_DEPOSIT_NGP ? 1
                                                                      : ORR_MAX_SHARES_PER_POINT;
     return orr_lanes_for(v->proj.width, v->proj.height, v->nplanes, shares_per_particle, count);
 }
@@ -60,7 +60,7 @@ static orr_status alloc_bands(view_state *v, size_t capacity, orr_error *err)
     v->lanes.n = 1;
     size_t nblocks = (capacity + BLOCK - 1) / BLOCK;
     size_t window = nblocks < ORR_BAND_WINDOW_BLOCKS ? nblocks : ORR_BAND_WINDOW_BLOCKS;
-    size_t per_point = v->scene->deposit.kind == ORR_DEPOSIT_NGP ? 1 : ORR_MAX_SHARES_PER_POINT;
+    size_t per_point = v->splat.deposit.kind == ORR_DEPOSIT_NGP ? 1 : ORR_MAX_SHARES_PER_POINT;
     size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
     return orr_bands_init(&v->bands, npix, v->nplanes, window ? window : 1, per_point * BLOCK, err);
 }
@@ -102,7 +102,7 @@ static void lengths_starts(view_state *v, const orr_chunk *c, size_t nblocks, si
             continue; /* the file's lengths, or none: nothing to count */
         size_t end = (blk + 1) * BLOCK < c->n ? (blk + 1) * BLOCK : c->n;
         for (size_t i = blk * BLOCK; i < end; i++)
-            if (orr_lengths_counts(v->scene, c, i) && next < v->lengths->n)
+            if (orr_lengths_counts(v->splat.type_mask, c, i) && next < v->lengths->n)
                 next++;
     }
     v->lengths_next = next;
@@ -230,7 +230,7 @@ static void window_shares(view_state *v, const orr_source *src, const orr_chunk 
                 orr_point_batch pb = {(size_t)n, b->px, b->py, b->visible, {NULL}, v->nplanes};
                 for (int k = 0; k < v->nplanes; k++)
                     pb.w[k] = b->wp[k];
-                orr_deposit_shares(v->scene->deposit.kind, &pb, &v->proj, W, H, &shares, st);
+                orr_deposit_shares(v->splat.deposit.kind, &pb, &v->proj, W, H, &shares, st);
                 t->deposit[0] = st[0];
                 t->deposit[1] = st[1];
             }
@@ -292,15 +292,15 @@ static void split_xyz_by_population(float *const *xyz, int npop_planes, const in
     }
 }
 
-/* The per-particle weights of a chunk: the scene's weight field, or with
+/* The per-particle weights of a chunk: input.weight's field, or with
  * colour the X, Y, Z of each particle's population (into xyz, room for the
  * chunk's capacity), assigned in MAX_LANES parallel stretches; an error is
  * the first stretch's that failed, as one thread would have met it. */
-static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const orr_chunk *c, float *const *xyz,
+static orr_status chunk_weights(const orr_splat_settings *set, const orr_source *src, const orr_chunk *c, float *const *xyz,
                                 const float **w, splat_work *work, orr_error *err)
 {
-    if (!s->colour.has_populations)
-        return weight_field(s, src, c, &w[0], err);
+    if (!set->has_populations)
+        return weight_field(set, src, c, &w[0], err);
     orr_status st_part[MAX_LANES];
     const size_t n = c->n, per = (n + MAX_LANES - 1) / MAX_LANES;
 #pragma omp parallel for schedule(static, 1)
@@ -308,7 +308,7 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
         size_t start = (size_t)part * per < n ? (size_t)part * per : n;
         size_t count = start + per < n ? per : n - start;
         int32_t *pop = work->pop_of ? work->pop_of + start : NULL;
-        st_part[part] = orr_population_assign_at(&s->colour.populations, src->info.time, c, start, count, s->colour.only_index, pop,
+        st_part[part] = orr_population_assign_at(&set->populations, src->info.time, c, start, count, set->only_index, pop,
                                                  xyz[0] + start, xyz[1] + start, xyz[2] + start,
                                                  &work->lane_err[part]);
         if (pop && !st_part[part])
@@ -318,7 +318,7 @@ static orr_status chunk_weights(const orr_scene *s, const orr_source *src, const
         if (st_part[part]) {
             if (err)
                 *err = work->lane_err[part];
-            orr_fail_prefix(err, "%s: colour.populations: ", s->path);
+            orr_fail_prefix(err, "%s: colour.populations: ", set->path);
             return st_part[part];
         }
     for (int k = 0; k < 3 + work->npop_planes; k++)
@@ -389,7 +389,7 @@ static orr_status splat_chunk(view_state *views, int nviews, const orr_source *s
                               splat_work *work, float *const *xyz, orr_error *err)
 {
     const float *w[ORR_PLANES_MAX] = {NULL};
-    orr_status st = chunk_weights(views[0].scene, src, c, xyz, w, work, err);
+    orr_status st = chunk_weights(&views[0].splat, src, c, xyz, w, work, err);
     if (!st && views[0].stars) /* the stars take their light from the weights */
         st = orr_frame_stars_spawn(views[0].stars, c, xyz, err);
     charge(&views[0], ORR_STAGE_GATHER);
@@ -498,7 +498,7 @@ static orr_status check_healpix_budgets(const view_state *views, int nviews, orr
                         "from the first %llu of %lld particles): kernels near the camera cover much of the sky, "
                         "at up to 12 nside^2 samples each. Use a smaller camera.healpix_nside (the work goes as "
                         "its square), deposit: ngp, or a camera farther from the particles",
-                        views[k].scene->path, (long long)views[k].proj.healpix_nside, (double)b->limit,
+                        views[k].splat.path, (long long)views[k].proj.healpix_nside, (double)b->limit,
                         (double)ORR_HEALPIX_SAMPLE_LIMIT_PER_THREAD,
                         (double)atomic_load(&b->foreseen) / (double)atomic_load(&b->foreseen_particles) *
                             (double)b->expected,
@@ -521,7 +521,7 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
     orr_status st = alloc_work(work, src->chunk.capacity, blur, err);
     /* With colour, a chunk's X, Y, Z weights (and each population's). */
     float *xyz[ORR_PLANES_MAX] = {NULL};
-    size_t cap = views[0].scene->colour.has_populations ? src->chunk.capacity : 0;
+    size_t cap = views[0].splat.has_populations ? src->chunk.capacity : 0;
     if (!st && cap)
         st = alloc_colour_weights(work, views[0].nplanes, cap, xyz, err);
     for (int k = 0; k < nviews && !st; k++)
@@ -569,8 +569,8 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
  * lanes; streaks are drawn as their samples are made: in lanes.) */
 void orr_splat_choose_path(view_state *v)
 {
-    const orr_scene *s = v->scene;
+    const orr_splat_settings *set = &v->splat;
     v->banded = !v->use_sph && !v->psf.sky && !v->blur.active &&
                 orr_lanes_use_bands((size_t)v->proj.width * (size_t)v->proj.height);
-    v->ngp_fused = s->deposit.kind == ORR_DEPOSIT_NGP && !v->use_sph && !v->psf.sky && !v->use_ods && !v->blur.active;
+    v->ngp_fused = set->deposit.kind == ORR_DEPOSIT_NGP && !v->use_sph && !v->psf.sky && !v->use_ods && !v->blur.active;
 }

@@ -1,4 +1,4 @@
-/* A periodic box's copies in the splat (render/periodic_view.h): each
+/* A periodic box's copies in the splat (pass/periodic_view.h): each
  * block summarised once, then every copy of the chunk drawn on one thread
  * in block order, skipping whole copies and blocks out of view or beyond
  * the sphere of images before their particles are touched. */
@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "render/periodic_view.h"
+#include "pass/periodic_view.h"
 
 /* Gathers, projects and deposits particles [start, end) of c, moved by
  * shift (fading: across the copies' sphere), into the view's own planes,
@@ -82,7 +82,7 @@ orr_status orr_splat_chunk_periodic(view_state *v, const orr_source *src, const 
     memset(&whole, 0, sizeof whole);
     for (size_t q = 0; q < nblocks; q++) {
         size_t end = (q + 1) * BLOCK < c->n ? (q + 1) * BLOCK : c->n;
-        orr_block_summarise(v->scene, c, q * BLOCK, end, &bl, w, v->nplanes, &sum[q]);
+        orr_block_summarise(&v->splat, c, q * BLOCK, end, &bl, w, v->nplanes, &sum[q]);
         bl.next += sum[q].lengths_used;
         orr_block_summary_merge(&whole, &sum[q]);
     }

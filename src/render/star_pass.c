@@ -9,13 +9,14 @@
 #include <string.h>
 
 #include "core/numbers.h"
-#include "render/camera_transform.h"
+#include "pass/camera_transform.h"
 
-orr_status orr_frame_stars_prepare(frame_stars *fs, const orr_scene *s, orr_error *err)
+orr_status orr_frame_stars_prepare(frame_stars *fs, const orr_stars_settings *set, uint64_t observer_id,
+                                   const char *scene_path, orr_error *err)
 {
     memset(fs, 0, sizeof *fs);
-    fs->observer_id = s->observer.id;
-    return orr_stars_prepare(&fs->stage, &s->stars, s->path, err);
+    fs->observer_id = observer_id;
+    return orr_stars_prepare(&fs->stage, set, scene_path, err);
 }
 
 static void free_list(frame_stars *fs)

@@ -16,19 +16,24 @@ static int is_pair_mode(orr_stereo_mode m)
     return m == ORR_STEREO_ANAGLYPH || m == ORR_STEREO_SIDE_BY_SIDE || m == ORR_STEREO_OVER_UNDER;
 }
 
+orr_status orr_eye_output_name(const orr_scene *s, const char *name, int eye, char *out, size_t size,
+                               orr_error *err)
+{
+    const int separate = eye && s->stereo.mode == ORR_STEREO_SEPARATE;
+    int len = separate ? snprintf(out, size, "%s-%s", name, orr_eye_name(eye)) : snprintf(out, size, "%s", name);
+    if (len < 0 || (size_t)len >= size)
+        return orr_fail(err, ORR_ERR_USAGE, "%s: output.name '%s' is too long to add -%s for stereo", s->path, name,
+                        orr_eye_name(eye));
+    return ORR_OK;
+}
+
 /* The scene of one eye: a copy that knows which eye it is, with its own
  * output name when the eyes are written separately. */
 static orr_status eye_scene(const orr_scene *s, int eye, orr_scene *out, orr_error *err)
 {
     *out = *s;
     out->stereo.eye = eye;
-    if (s->stereo.mode != ORR_STEREO_SEPARATE)
-        return ORR_OK;
-    int len = snprintf(out->output.name, sizeof out->output.name, "%s-%s", s->output.name, orr_eye_name(eye));
-    if (len < 0 || (size_t)len >= sizeof out->output.name)
-        return orr_fail(err, ORR_ERR_USAGE, "%s: output.name '%s' is too long to add -%s for stereo", s->path,
-                        s->output.name, orr_eye_name(eye));
-    return ORR_OK;
+    return orr_eye_output_name(s, s->output.name, eye, out->output.name, sizeof out->output.name, err);
 }
 
 orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,
@@ -87,46 +92,38 @@ void orr_eye_views_finish(orr_eye_views *ev)
     memset(ev, 0, sizeof *ev);
 }
 
-void orr_eye_views_share_white(orr_eye_views *ev, int k, double white)
-{
-    if (k + 1 >= ev->n || ev->scene[k]->stereo.eye != ORR_EYE_LEFT || !(white > 0))
-        return;
-    /* The right eye's scene is one of the copies this owns. */
-    orr_scene *right = &ev->copies[ev->scene[k + 1] - ev->copies];
-    right->picture.stretch.white = white;
-    right->colour.synth.y0 = white;
-}
-
 int orr_eye_views_pair_at(const orr_eye_views *ev, int k)
 {
     return k + 1 < ev->n && ev->scene[k]->stereo.eye == ORR_EYE_LEFT && is_pair_mode(ev->scene[k]->stereo.mode);
 }
 
-double orr_stereo_convergence(const orr_scene *s, orr_vec3 position)
+double orr_stereo_convergence(const orr_stereo_settings *stereo, const orr_camera_settings *camera,
+                              orr_vec3 position)
 {
-    if (s->stereo.convergence > 0)
-        return s->stereo.convergence;
+    if (stereo->convergence > 0)
+        return stereo->convergence;
     orr_vec3 target;
-    return orr_scene_look_target(s, &target) ? orr_v3_norm(orr_v3_sub(target, position)) : 0.0;
+    return orr_camera_settings_look_target(camera, &target) ? orr_v3_norm(orr_v3_sub(target, position)) : 0.0;
 }
 
-orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_render_report *rep,
+orr_status orr_stereo_setup_eye(const orr_stereo_settings *stereo, const orr_camera_settings *camera,
+                                const char *scene_path, orr_projection *proj, orr_render_report *rep,
                                 orr_stereo_ods *ods, int *use_ods, orr_error *err)
 {
     *use_ods = 0;
-    if (!s->stereo.eye)
+    if (!stereo->eye)
         return ORR_OK;
     orr_status st;
     if (orr_projection_traits_of(proj->kind).off_axis_stereo) {
-        rep->stereo_convergence = orr_stereo_convergence(s, rep->camera.position);
-        st = orr_stereo_perspective_eye(&rep->camera, proj, s->stereo.eye, s->stereo.eye_separation,
+        rep->stereo_convergence = orr_stereo_convergence(stereo, camera, rep->camera.position);
+        st = orr_stereo_perspective_eye(&rep->camera, proj, stereo->eye, stereo->eye_separation,
                                         rep->stereo_convergence, err);
     } else {
-        st = orr_stereo_ods_setup(ods, proj, s->stereo.eye, s->stereo.eye_separation, s->stereo.zenith_fade, err);
+        st = orr_stereo_ods_setup(ods, proj, stereo->eye, stereo->eye_separation, stereo->zenith_fade, err);
         *use_ods = !st;
     }
     if (st)
-        return orr_fail_prefix(err, "%s: %s eye: ", s->path, orr_eye_name(s->stereo.eye));
+        return orr_fail_prefix(err, "%s: %s eye: ", scene_path, orr_eye_name(stereo->eye));
     return ORR_OK;
 }
 
@@ -198,7 +195,7 @@ static void pair_planes(const orr_stereo_pair *p, orr_plane out[6])
 static orr_status add_output(const orr_stereo_pair *p, const char *ext, orr_render_report *rep, const char **path,
                              orr_error *err)
 {
-    return p->stage(p->outputs, p->scene, rep, ext, path, err);
+    return p->stage(p->outputs, p->files, rep, ext, path, err);
 }
 
 /* Both eyes' compositing channels (render/exr_view.h) in one file, each
@@ -214,7 +211,7 @@ static orr_status write_pair_exr(const orr_stereo_pair *p, const char *path, orr
         orr_plane all[2 * ORR_EXR_VIEW_MAX];
         for (int e = 0; e < 2; e++)
             memcpy(all + e * eyes[0].n, eyes[e].channels, (size_t)eyes[e].n * sizeof all[0]);
-        st = orr_exr_view_write(path, all, eyes[0].n + eyes[1].n, p->scene->output.exr_half, p->meta, err);
+        st = orr_exr_view_write(path, all, eyes[0].n + eyes[1].n, p->files->output.exr_half, p->meta, err);
         orr_exr_view_free(&eyes[1]);
     }
     orr_exr_view_free(&eyes[0]);
@@ -223,16 +220,16 @@ static orr_status write_pair_exr(const orr_stereo_pair *p, const char *path, orr
 
 static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report *rep, orr_error *err)
 {
-    const orr_scene *s = p->scene;
+    const view_files *f = p->files;
     orr_plane planes[6];
     pair_planes(p, planes);
     const char *path = NULL;
     orr_status st = ORR_OK;
-    if (s->output.write_fits && !(st = add_output(p, "fits", rep, &path, err)) &&
+    if (f->output.write_fits && !(st = add_output(p, "fits", rep, &path, err)) &&
         !(st = orr_write_fits_compressed(path, planes, 2 * p->nplanes, p->cards,
-                                         (orr_fits_compression)s->output.fits_compress, err)))
+                                         (orr_fits_compression)f->output.fits_compress, err)))
         rep->noutputs++;
-    if (!st && s->output.write_exr && !(st = add_output(p, "exr", rep, &path, err)) &&
+    if (!st && f->output.write_exr && !(st = add_output(p, "exr", rep, &path, err)) &&
         !(st = write_pair_exr(p, path, err)))
         rep->noutputs++;
     return st;
@@ -240,29 +237,29 @@ static orr_status write_pair_planes(const orr_stereo_pair *p, orr_render_report 
 
 static orr_status write_pair_picture(const orr_stereo_pair *p, orr_render_report *rep, orr_error *err)
 {
-    const orr_scene *s = p->scene;
-    if (!p->rgb[0] || !p->rgb[1] || (!s->output.write_png && !s->output.image_ext[0]))
+    const view_files *f = p->files;
+    if (!p->rgb[0] || !p->rgb[1] || (!f->output.write_png && !f->output.image_ext[0]))
         return ORR_OK;
     size_t npix = (size_t)p->width * (size_t)p->height;
     float *pic = orr_malloc(2 * npix * 3 * sizeof *pic, "stereo picture", err);
     if (!pic)
         return ORR_ERR_NOMEM;
     int w, h;
-    orr_stereo_picture(s->stereo.mode, s->picture.anaglyph, p->rgb[0], p->rgb[1], p->width, p->height, p->rgb_linear, pic, &w,
+    orr_stereo_picture(f->stereo_mode, f->picture.anaglyph, p->rgb[0], p->rgb[1], p->width, p->height, p->rgb_linear, pic, &w,
                        &h);
     char desc[ORR_PATH_MAX + 384];
-    snprintf(desc, sizeof desc, "stereo %s%s%s: %s", orr_stereo_mode_name(s->stereo.mode),
-             s->stereo.mode == ORR_STEREO_ANAGLYPH ? " " : "",
-             s->stereo.mode == ORR_STEREO_ANAGLYPH ? orr_anaglyph_name(s->picture.anaglyph) : "", p->desc);
+    snprintf(desc, sizeof desc, "stereo %s%s%s: %s", orr_stereo_mode_name(f->stereo_mode),
+             f->stereo_mode == ORR_STEREO_ANAGLYPH ? " " : "",
+             f->stereo_mode == ORR_STEREO_ANAGLYPH ? orr_anaglyph_name(f->picture.anaglyph) : "", p->desc);
     const char *path = NULL;
     orr_status st = ORR_OK;
-    if (s->output.write_png && !(st = add_output(p, "png", rep, &path, err))) {
+    if (f->output.write_png && !(st = add_output(p, "png", rep, &path, err))) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
-        if (!(st = orr_write_png_rgb(path, w, h, pic, s->output.png_bits, text, 2, err)))
+        if (!(st = orr_write_png_rgb(path, w, h, pic, f->output.png_bits, text, 2, err)))
             rep->noutputs++;
     }
-    if (!st && s->output.image_ext[0] && !(st = add_output(p, s->output.image_ext, rep, &path, err)) &&
-        !(st = orr_write_image_rgb(path, pic, w, h, s->output.png_bits, p->meta, err)))
+    if (!st && f->output.image_ext[0] && !(st = add_output(p, f->output.image_ext, rep, &path, err)) &&
+        !(st = orr_write_image_rgb(path, pic, w, h, f->output.png_bits, p->meta, err)))
         rep->noutputs++;
     free(pic);
     return st;

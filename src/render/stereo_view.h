@@ -16,6 +16,7 @@
 #include "encode/image_out.h"
 #include "frame/stereo.h"
 #include "render/render.h"
+#include "render/view_files.h"
 #include "scene/scene.h"
 
 /* The views as the driver renders them: a stereo view becomes its left eye
@@ -35,13 +36,13 @@ typedef struct orr_eye_views {
  * output.name-left and output.name-right. */
 orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,
                                 orr_eye_views *ev, orr_error *err);
+/* The output name of eye (0: not an eye) of scene s's view named name:
+ * name-left or name-right when the eyes are written separately, else name
+ * itself; an error when out (size bytes) cannot hold it. */
+orr_status orr_eye_output_name(const orr_scene *s, const char *name, int eye, char *out, size_t size,
+                               orr_error *err);
 /* Merges each right eye's outputs into its left eye's report, then frees. */
 void orr_eye_views_finish(orr_eye_views *ev);
-
-/* When view k of ev is a left eye, makes its white level (output.white,
- * colour.synthesis.white: automatic or given) its right eye's, so that the
- * eyes are graded alike; call after grading the left. */
-void orr_eye_views_share_white(orr_eye_views *ev, int k, double white);
 
 /* Whether view k of ev is the left eye of a pair written as one picture
  * (anaglyph, side-by-side, over-under); view k + 1 is then its right eye. */
@@ -50,28 +51,30 @@ int orr_eye_views_pair_at(const orr_eye_views *ev, int k);
 /* The convergence distance of a perspective pair whose centre camera is
  * at `position`: stereo.convergence, or with auto the distance to
  * camera.look_at. */
-double orr_stereo_convergence(const orr_scene *s, orr_vec3 position);
+double orr_stereo_convergence(const orr_stereo_settings *stereo, const orr_camera_settings *camera,
+                              orr_vec3 position);
 
-/* Places the camera and projection of one eye of scene s (a no-op when
- * s->stereo.eye is 0): a perspective eye moves rep->camera and the
+/* Places the camera and projection of one eye (stereo->eye; a no-op when
+ * 0; scene_path for messages): a perspective eye moves rep->camera and the
  * principal point (and sets rep->stereo_convergence); a sky map's eye sets
  * *use_ods and *ods for the per-block transform. proj must be set up and
  * rep->camera be the view's camera. */
-orr_status orr_stereo_setup_eye(const orr_scene *s, orr_projection *proj, orr_render_report *rep,
+orr_status orr_stereo_setup_eye(const orr_stereo_settings *stereo, const orr_camera_settings *camera,
+                                const char *scene_path, orr_projection *proj, orr_render_report *rep,
                                 orr_stereo_ods *ods, int *use_ods, orr_error *err);
 
 /* visible[i] &= keep[i]: the particles inside an ODS eye circle are not drawn. */
 void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep);
 
-/* How the driver adds output NAME.EXT of scene s to the frame's outputs:
- * the final path goes to rep->outputs[rep->noutputs] (counted by the
- * caller once written) and *write_path is the file to write now. */
-typedef orr_status (*orr_output_stage_fn)(void *outputs, const orr_scene *s, orr_render_report *rep,
+/* How the driver adds output NAME.EXT of a view's files f to the frame's
+ * outputs: the final path goes to rep->outputs[rep->noutputs] (counted by
+ * the caller once written) and *write_path is the file to write now. */
+typedef orr_status (*orr_output_stage_fn)(void *outputs, const view_files *f, orr_render_report *rep,
                                           const char *ext, const char **write_path, orr_error *err);
 
 /* One stereo pair, ready to write as one picture. */
 typedef struct orr_stereo_pair {
-    const orr_scene *scene;        /* the left eye's scene (its output.* keys apply) */
+    const view_files *files;       /* the left eye's (its output.* keys apply) */
     const orr_plane *planes[2];    /* each eye's planes (linear, after the PSF) */
     int nplanes;                   /* per eye: 1, or X, Y, Z */
     int width, height;             /* of one eye's image */

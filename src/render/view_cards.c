@@ -30,21 +30,20 @@ static void reserve(orr_cards *h, const reserved *cards, size_t n)
  * belong beside the deposit's settings in splat/deposit.h. */
 static void plan_deposit_cards(const view_state *v, orr_cards *h)
 {
-    const orr_scene *s = v->scene;
-    orr_cards_add_string(h, "DEPOSIT", orr_deposit_name(s->deposit.kind), "deposit method");
+    const orr_deposit_settings *d = &v->splat.deposit;
+    orr_cards_add_string(h, "DEPOSIT", orr_deposit_name(d->kind), "deposit method");
     if (v->use_sph) {
-        orr_cards_add_string(h, "KERNEL", orr_kernel_name(s->deposit.kernel), "SPH kernel (support 2h)");
+        orr_cards_add_string(h, "KERNEL", orr_kernel_name(d->kernel), "SPH kernel (support 2h)");
         orr_cards_reserve(h, "HSOURCE", "where smoothing lengths came from");
         orr_cards_reserve(h, "NNEIGH", "h = half the distance to this neighbour");
-        orr_cards_add_double(h, "HSCALE", s->deposit.h_scale, "smoothing lengths multiplied by this");
+        orr_cards_add_double(h, "HSCALE", d->h_scale, "smoothing lengths multiplied by this");
     }
 }
 
 /* The counts of the frame's report, and its time and source. */
-static void plan_report_cards(const view_state *v, orr_cards *h)
+static void plan_report_cards(const view_state *v, const orr_input_settings *input, orr_cards *h)
 {
-    const orr_scene *s = v->scene;
-    orr_input_cards(&s->input, h);
+    orr_input_cards(input, h);
     static const reserved counts[] = {
         {"NPART", "particles read"},
         {"NSELECT", "particles of the selected types"},
@@ -63,21 +62,21 @@ static void plan_report_cards(const view_state *v, orr_cards *h)
         {"SOURCE", "particle source"},
     };
     reserve(h, counts, sizeof counts / sizeof counts[0]);
-    orr_colour_cards(&s->colour, h);
+    orr_colour_cards(&v->files.colour, h);
     reserve(h, when, sizeof when / sizeof when[0]);
 }
 
 /* Each stage's cards, in the order the files have always had them. */
-void orr_view_plan_cards(view_state *v)
+void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const orr_observer_settings *observer)
 {
-    const orr_scene *s = v->scene;
+    const view_camera_plan *c = &v->camera_plan;
     orr_cards *h = &v->cards;
     memset(h, 0, sizeof *h);
     orr_cards_add_string(h, "CREATOR", "orrery " ORRERY_VERSION, "software that made this file");
     orr_cards_add_string(h, "ORRVERS", ORRERY_VERSION, "orrery version");
     /* (a stereo eye's shift changes none of the projection's cards) */
     orr_projection_cards(&v->base_proj, h);
-    orr_camera_dome_cards(&s->camera, v->base_proj.kind, h);
+    orr_camera_dome_cards(&c->camera, v->base_proj.kind, h);
     static const reserved camera[] = {
         {"CAMPOSX", "camera position x"},
         {"CAMPOSY", "camera position y"},
@@ -92,23 +91,22 @@ void orr_view_plan_cards(view_state *v)
     orr_cards_add_long(h, "IMGHEIGH", v->base_proj.height, "[pixel] image height");
     plan_deposit_cards(v, h);
     orr_view_psf_cards(&v->psf, h);
-    plan_report_cards(v, h);
-    if (s->observer.has_id) /* an observer's dimming is the observer's; without one, the camera's */
-        orr_observer_cards(&s->observer, h);
+    plan_report_cards(v, input, h);
+    if (observer->has_id) /* an observer's dimming is the observer's; without one, the camera's */
+        orr_observer_cards(observer, h);
     else
-        orr_camera_dim_cards(&s->camera, h);
+        orr_camera_dim_cards(&c->camera, h);
     memset(&v->stereo_cards, 0, sizeof v->stereo_cards);
-    if (s->stereo.mode) {
-        orr_stereo_cards(&s->stereo, s->projection.kind, &v->stereo_cards);
-        if (s->stereo.mode == ORR_STEREO_ANAGLYPH)
-            orr_picture_anaglyph_cards(&s->picture, &v->stereo_cards);
+    if (c->stereo.mode) {
+        orr_stereo_cards(&c->stereo, c->kind, &v->stereo_cards);
+        if (c->stereo.mode == ORR_STEREO_ANAGLYPH)
+            orr_picture_anaglyph_cards(&v->files.picture, &v->stereo_cards);
     }
 }
 
 /* The frame's values of the reserved cards. */
 static void set_frame_values(const view_state *v, orr_cards *h)
 {
-    const orr_scene *s = v->scene;
     const orr_render_report *rep = v->rep;
     const orr_camera *cam = &rep->camera;
     orr_cards_set_double(h, "CAMPOSX", cam->position.x);
@@ -120,7 +118,7 @@ static void set_frame_values(const view_state *v, orr_cards *h)
     orr_cards_set_double(h, "CAMQZ", cam->orientation.z);
     orr_cards_set_string(h, "HSOURCE", v->lengths ? "neighbours" : "file");
     if (v->lengths)
-        orr_cards_set_long(h, "NNEIGH", s->deposit.neighbours);
+        orr_cards_set_long(h, "NNEIGH", v->splat.deposit.neighbours);
     if (v->psf.sky)
         orr_cards_set_long(h, "PSFSTARS", v->psf.sky->stars_drawn);
     orr_cards_set_long(h, "NPART", (long long)rep->n_read);
@@ -150,7 +148,6 @@ static void set_frame_values(const view_state *v, orr_cards *h)
 
 void orr_view_frame_cards(view_state *v)
 {
-    const orr_scene *s = v->scene;
     const orr_render_report *rep = v->rep;
     orr_cards *h = &v->frame_cards;
     *h = v->cards;
@@ -160,5 +157,5 @@ void orr_view_frame_cards(view_state *v)
     orr_cards_append(h, &v->stereo_cards);
     orr_cards_set_double(h, "CONVERG", rep->stereo_convergence);
     orr_cards_drop_unset(h);
-    h->scene = s->scene_yaml; /* every FITS file says how it was made */
+    h->scene = v->files.scene_yaml; /* every FITS file says how it was made */
 }

@@ -36,9 +36,9 @@
  * colour-mapped. */
 static orr_grade view_grade(const view_state *v)
 {
-    const orr_scene *s = v->scene;
-    orr_grade g = {s->colour.has_populations || s->compose.nlayers ? ORR_GRADE_SYNTHESIS : s->colour.has_tint ? ORR_GRADE_TINT : ORR_GRADE_COLORMAP,
-                   &s->colour.synth, &s->colour.tint, v->tint_t, s->output.png_linear, &s->picture.stretch, s->picture.colormap};
+    const view_files *f = &v->files;
+    orr_grade g = {f->colour.has_populations || f->compose.nlayers ? ORR_GRADE_SYNTHESIS : f->colour.has_tint ? ORR_GRADE_TINT : ORR_GRADE_COLORMAP,
+                   &f->colour.synth, &f->colour.tint, v->tint_t, f->output.png_linear, &f->picture.stretch, f->picture.colormap};
     return g;
 }
 
@@ -46,29 +46,29 @@ static orr_grade view_grade(const view_state *v)
  * into the report, and desc says how the picture is made. */
 static orr_status begin_grade(const view_state *v, orr_graded *gr, char *desc, size_t size, orr_error *err)
 {
-    const orr_scene *s = v->scene;
+    const view_files *f = &v->files;
     orr_render_report *rep = v->rep;
     const orr_grade g = view_grade(v);
     orr_status st = orr_grade_begin(&g, v->planes, gr, err);
     if (st)
         return st;
     rep->white = gr->white;
-    if (s->compose.nlayers)
+    if (f->compose.nlayers)
         orr_snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
-                     s->compose.nlayers, orr_projection_name(v->proj.kind), orr_lum_stretch_name(s->colour.synth.stretch),
+                     f->compose.nlayers, orr_projection_name(v->proj.kind), orr_lum_stretch_name(f->colour.synth.stretch),
                      rep->white);
-    else if (s->colour.has_populations)
+    else if (f->colour.has_populations)
         orr_snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
-                     s->colour.populations.n, rep->source, orr_projection_name(v->proj.kind),
-                     orr_lum_stretch_name(s->colour.synth.stretch), rep->white);
-    else if (s->colour.has_tint)
+                     f->colour.populations.n, rep->source, orr_projection_name(v->proj.kind),
+                     orr_lum_stretch_name(f->colour.synth.stretch), rep->white);
+    else if (f->colour.has_tint)
         orr_snprintf(desc, size, "%s of %s tinted at t = %g of its colour path, %s projection, %s stretch, Y0 %g",
-                     s->input.weight, rep->source, v->tint_t, orr_projection_name(v->proj.kind),
-                     orr_lum_stretch_name(s->colour.synth.stretch), rep->white);
+                     f->weight, rep->source, v->tint_t, orr_projection_name(v->proj.kind),
+                     orr_lum_stretch_name(f->colour.synth.stretch), rep->white);
     else
-        orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", s->input.weight,
-                     rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(s->picture.stretch.kind), rep->white,
-                     orr_colormap_name(s->picture.colormap));
+        orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", f->weight,
+                     rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(f->picture.stretch.kind), rep->white,
+                     orr_colormap_name(f->picture.colormap));
     return ORR_OK;
 }
 
@@ -89,7 +89,7 @@ static orr_status view_output(view_state *v, const char *ext, const char **write
  * projection, time, camera, and desc. */
 static orr_image_meta view_meta(const view_state *v, const char *desc, orr_view_meta_text *t)
 {
-    return orr_view_image_meta(v->scene->output.name, &v->proj, v->rep->sim_time, &v->rep->camera, desc, t);
+    return orr_view_image_meta(v->files.output.name, &v->proj, v->rep->sim_time, &v->rep->camera, desc, t);
 }
 
 /* The PNG encoder's rows (encode/png_idat.h) graded as it asks for them,
@@ -128,40 +128,40 @@ static void picture_row(void *ctx, int y, float *scratch, uint16_t *codes)
  * float copy of its picture, 800 MB at 8192^2. */
 orr_status orr_view_write_pictures(view_state *v, orr_error *err)
 {
-    const orr_scene *s = v->scene;
+    const view_files *f = &v->files;
     orr_render_report *rep = v->rep;
-    if (!s->output.write_png && !s->output.image_ext[0])
+    if (!f->output.write_png && !f->output.image_ext[0])
         return ORR_OK;
     char desc[ORR_PATH_MAX + 256];
     orr_graded gr;
     orr_status st = begin_grade(v, &gr, desc, sizeof desc, err);
     float *rgb = NULL, *rgba = NULL; /* rgba: output.alpha_mask, transparent off the map */
-    if (!st && s->output.image_ext[0]) {
+    if (!st && f->output.image_ext[0]) {
         size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
         rgb = orr_malloc(npix * 3 * sizeof(float), "picture pixels", err);
         st = rgb ? ORR_OK : ORR_ERR_NOMEM;
         if (rgb)
             orr_graded_picture(&gr, rgb);
-        if (!st && s->output.alpha_mask)
+        if (!st && f->output.alpha_mask)
             st = orr_map_rgba(&v->proj, rgb, &rgba, err);
     }
     charge(v, ORR_STAGE_POST);
     const char *path;
-    if (!st && s->output.write_png) {
+    if (!st && f->output.write_png) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
-        picture_rows rows = {&gr, &v->proj, s->output.alpha_mask, s->output.png_bits};
-        int channels = s->output.alpha_mask ? 4 : 3;
-        orr_png_rows src = {v->proj.width, v->proj.height, channels, s->output.png_bits, rgba ? rgba : rgb,
+        picture_rows rows = {&gr, &v->proj, f->output.alpha_mask, f->output.png_bits};
+        int channels = f->output.alpha_mask ? 4 : 3;
+        orr_png_rows src = {v->proj.width, v->proj.height, channels, f->output.png_bits, rgba ? rgba : rgb,
                             picture_row, &rows};
         if (!(st = view_output(v, "png", &path, err)) && !(st = orr_write_png_rows(path, &src, text, 2, err)))
             rep->noutputs++;
         charge(v, ORR_STAGE_PNG);
     }
-    if (!st && s->output.image_ext[0]) {
+    if (!st && f->output.image_ext[0]) {
         orr_view_meta_text text;
         orr_image_meta meta = view_meta(v, desc, &text);
-        if (!(st = view_output(v, s->output.image_ext, &path, err)) &&
-            !(st = orr_write_image_picture(path, rgb, rgba, v->proj.width, v->proj.height, s->output.png_bits, &meta, err)))
+        if (!(st = view_output(v, f->output.image_ext, &path, err)) &&
+            !(st = orr_write_image_picture(path, rgb, rgba, v->proj.width, v->proj.height, f->output.png_bits, &meta, err)))
             rep->noutputs++;
         charge(v, ORR_STAGE_IMAGE);
     }
@@ -184,7 +184,7 @@ static orr_status write_exr(view_state *v, const orr_plane *av, orr_error *err)
         if (av)
             st = orr_exr_view_add(&ev, av, &v->proj, "extinction.V", err); /* A_V: V is the band */
         if (!st)
-            st = orr_exr_view_write(path, ev.channels, ev.n, v->scene->output.exr_half, &meta, err);
+            st = orr_exr_view_write(path, ev.channels, ev.n, v->files.output.exr_half, &meta, err);
         orr_exr_view_free(&ev);
     }
     if (!st)
@@ -193,30 +193,30 @@ static orr_status write_exr(view_state *v, const orr_plane *av, orr_error *err)
     return st;
 }
 
-orr_status orr_view_output_path(const orr_scene *s, const char *ext, char *path, orr_error *err)
+orr_status orr_view_output_path(const orr_output_settings *o, const char *ext, char *path, orr_error *err)
 {
-    int n = snprintf(path, ORR_PATH_MAX, "%s/%s.%s", s->output.dir, s->output.name, ext);
+    int n = snprintf(path, ORR_PATH_MAX, "%s/%s.%s", o->dir, o->name, ext);
     if (n < 0 || n >= ORR_PATH_MAX)
-        return orr_fail(err, ORR_ERR_USAGE, "output path %s/%s.%s is too long", s->output.dir, s->output.name, ext);
+        return orr_fail(err, ORR_ERR_USAGE, "output path %s/%s.%s is too long", o->dir, o->name, ext);
     return ORR_OK;
 }
 
-/* The output NAME.ext of scene s, added to the frame's outputs: its final
- * path goes into the report (not yet counted), and *write_path is where to
- * write it until the frame's outputs are all written. */
-static orr_status stage_output(void *outputs, const orr_scene *s, orr_render_report *rep, const char *ext,
+/* The output NAME.ext of a view's files f, added to the frame's outputs:
+ * its final path goes into the report (not yet counted), and *write_path
+ * is where to write it until the frame's outputs are all written. */
+static orr_status stage_output(void *outputs, const view_files *f, orr_render_report *rep, const char *ext,
                                const char **write_path, orr_error *err)
 {
     if (rep->noutputs >= ORR_RENDER_MAX_OUTPUTS)
         return orr_fail(err, ORR_ERR_INTERNAL, "too many outputs for one view");
     char *final_path = rep->outputs[rep->noutputs];
-    orr_status st = orr_view_output_path(s, ext, final_path, err);
+    orr_status st = orr_view_output_path(&f->output, ext, final_path, err);
     return st ? st : orr_output_batch_add(outputs, final_path, write_path, err);
 }
 
 static orr_status view_output(view_state *v, const char *ext, const char **write_path, orr_error *err)
 {
-    return stage_output(v->outputs, v->scene, v->rep, ext, write_path, err);
+    return stage_output(v->outputs, &v->files, v->rep, ext, write_path, err);
 }
 
 orr_healpix_info orr_view_healpix_info(const view_state *v)
@@ -236,7 +236,7 @@ static orr_status write_planes_to(const view_state *v, const char *ext, const ch
         return orr_write_healpix_fits(path, v->planes, fits_nplanes(v), &info, h, err);
     }
     /* The raw planes stay uncompressed: orrery compose reads them. */
-    orr_fits_compression c = strcmp(ext, "fits") == 0 ? (orr_fits_compression)v->scene->output.fits_compress
+    orr_fits_compression c = strcmp(ext, "fits") == 0 ? (orr_fits_compression)v->files.output.fits_compress
                                                        : ORR_FITS_UNCOMPRESSED;
     return orr_write_fits_compressed(path, v->planes, fits_nplanes(v), h, c, err);
 }
@@ -344,22 +344,31 @@ static orr_status write_extinction(view_state *v, const orr_plane *av, orr_error
     return st;
 }
 
-/* A stereo pair written as one picture (render/stereo_view.h): the right
- * eye (view k + 1 of eyes) is graded with the left eye's white level. */
-orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_views *eyes, int k, orr_error *err)
+void orr_view_share_white(const view_state *l, view_state *r)
 {
-    const orr_scene *s = l->scene;
+    const double white = l->rep->white;
+    if (l->files.eye != ORR_EYE_LEFT || !(white > 0))
+        return;
+    r->files.picture.stretch.white = white;
+    r->files.colour.synth.y0 = white;
+}
+
+/* A stereo pair written as one picture (render/stereo_view.h): the right
+ * eye is graded with the left eye's white level. */
+orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_error *err)
+{
+    const view_files *f = &l->files;
     orr_mask_outside_map(&l->proj, l->planes, l->nplanes);
     orr_mask_outside_map(&r->proj, r->planes, r->nplanes);
     size_t npix = (size_t)l->proj.width * (size_t)l->proj.height;
-    int want_rgb = s->output.write_png || s->output.image_ext[0];
+    int want_rgb = f->output.write_png || f->output.image_ext[0];
     float *rgb = want_rgb ? orr_malloc(2 * npix * 3 * sizeof *rgb, "stereo pictures", err) : NULL;
     orr_status st = want_rgb && !rgb ? ORR_ERR_NOMEM : ORR_OK;
     char desc[ORR_PATH_MAX + 256] = "stereo pair", rdesc[ORR_PATH_MAX + 256];
     if (!st && want_rgb)
         st = orr_view_graded_rgb(l, rgb, desc, sizeof desc, err);
     if (!st && want_rgb) {
-        orr_eye_views_share_white(eyes, k, l->rep->white);
+        orr_view_share_white(l, r);
         st = orr_view_graded_rgb(r, rgb + 3 * npix, rdesc, sizeof rdesc, err);
     }
     charge(l, ORR_STAGE_POST);
@@ -370,10 +379,10 @@ orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_view
          * screen window is right for it. */
         meta.has_screen_window = 0;
         orr_stereo_pair pair = {
-            .scene = s, .planes = {l->planes, r->planes}, .nplanes = l->nplanes,
+            .files = f, .planes = {l->planes, r->planes}, .nplanes = l->nplanes,
             .width = l->proj.width, .height = l->proj.height,
             .rgb = {want_rgb ? rgb : NULL, want_rgb ? rgb + 3 * npix : NULL},
-            .rgb_linear = (s->colour.has_populations || s->compose.nlayers || s->colour.has_tint) && s->output.png_linear,
+            .rgb_linear = (f->colour.has_populations || f->compose.nlayers || f->colour.has_tint) && f->output.png_linear,
             .cards = &l->frame_cards, .meta = &meta, .desc = desc, .stage = stage_output, .outputs = l->outputs,
             .proj = &l->proj,
         };
@@ -404,22 +413,22 @@ static orr_status write_star_list(view_state *v, orr_error *err)
 
 orr_status orr_view_write_outputs(view_state *v, orr_error *err)
 {
-    const orr_scene *s = v->scene;
+    const view_files *f = &v->files;
     orr_mask_outside_map(&v->proj, v->planes, v->nplanes);
     charge(v, ORR_STAGE_POST);
     orr_plane av = {0};
-    int want_av = v->dust && s->dust.extinction_plane;
+    int want_av = v->dust && f->extinction_plane;
     orr_status st = want_av ? extinction_plane(v, &av, err) : ORR_OK;
     fits_writer fits = {0};
-    if (!st && s->output.write_fits)
+    if (!st && f->output.write_fits)
         st = fits_writer_start(v, &fits, err);
-    if (!st && s->output.write_exr)
+    if (!st && f->output.write_exr)
         st = write_exr(v, want_av ? &av : NULL, err);
     if (!st && want_av)
         st = write_extinction(v, &av, err);
     if (!st)
         st = orr_view_write_pictures(v, err);
-    if (!st && v->stars && s->stars.list && v->stars->whole_list)
+    if (!st && v->stars && f->stars_list && v->stars->whole_list)
         st = write_star_list(v, err);
     st = fits_writer_finish(v, &fits, st, err);
     orr_plane_free(&av);

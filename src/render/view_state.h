@@ -10,22 +10,39 @@
 #include "encode/fits.h"
 #include "post/view_psf.h"
 #include "reduce/lanes.h"
-#include "render/lengths.h"
-#include "render/motion_blur.h"
-#include "render/periodic_view.h"
+#include "pass/lengths.h"
+#include "pass/motion_blur.h"
+#include "pass/periodic_view.h"
 #include "render/render.h"
+#include "pass/splat_settings.h"
 #include "render/stereo_view.h"
 #include "render/timings.h"
+#include "render/view_files.h"
 #include "splat/bands.h"
 #include "splat/sph.h"
 #include "stars/stars.h"
+
+/* How a view's camera is found each frame (view_camera.c): compiled by the
+ * plan from the view's scene (plan.c: camera_plan_of). */
+typedef struct view_camera_plan {
+    char path[ORR_PATH_MAX];     /* the scene file, for messages */
+    orr_camera_settings camera;  /* camera.*: a static camera, a path, a sky map's orientation */
+    orr_projection_kind kind;    /* camera.projection: a sky map follows the sky frame */
+    orr_stereo_settings stereo;  /* stereo.*: the eye (0: none), its separation, convergence, fade */
+    double shutter;              /* animation.shutter: motion blur's share of the frame interval (0: none) */
+    int has_frame_interval;      /* animation.frame_interval given ... */
+    double frame_interval;       /* ... and its value */
+    int blur_moves_particles;    /* the shutter moves the particles too (orr_blur_moves_particles) */
+} view_camera_plan;
 
 /* One view being rendered. */
 typedef struct view_state {
     /* Planned once per run (plan.c: plan_view): the projection as set up,
      * the planes, the kernel, the PSF, the SPH deposit (a sky map's index
      * and core stamps). The rest is the frame's. */
-    const orr_scene *scene;     /* the frame's (its output names); the plan's until the first frame */
+    orr_splat_settings splat;   /* what the splat pass reads of the view's settings */
+    view_files files;           /* what its files are and how its picture is graded */
+    view_camera_plan camera_plan; /* how its camera is found each frame */
     orr_projection base_proj;   /* the scene's projection, set up */
     orr_projection proj;        /* this frame's: base_proj, with a stereo eye's principal point */
     orr_mat3 world_to_camera;
@@ -125,8 +142,10 @@ typedef struct frame_stars {
     int32_t *index;
 } frame_stars;
 
-/* Prepares the stars of a scene with stars.limit; frees what it holds. */
-orr_status orr_frame_stars_prepare(frame_stars *fs, const orr_scene *s, orr_error *err);
+/* Prepares the stars of stars.* (set; observer_id: the observer particle,
+ * which spawns none; scene_path for messages); frees what it holds. */
+orr_status orr_frame_stars_prepare(frame_stars *fs, const orr_stars_settings *set, uint64_t observer_id,
+                                   const char *scene_path, orr_error *err);
 void orr_frame_stars_free(frame_stars *fs);
 /* Starts a frame seen from the observer frame sky. */
 void orr_frame_stars_begin(frame_stars *fs, const orr_sky_frame *sky);
@@ -167,16 +186,19 @@ static inline void charge(const view_state *v, orr_stage s)
 
 /* ---- the observer frame and the cameras (view_camera.c) ---- */
 
-/* The observer frame of the frame (observer.*): the observer and reference
- * particles found among the particles (given, rewound; or the scene's input
- * opened), the spin normal when asked; *velocity the observer's. */
-orr_status orr_view_sky_frame(const orr_scene *s, orr_source *given, long frame, const orr_parallel *par,
-                              orr_sky_frame *f, orr_vec3 *velocity, orr_error *err);
-/* The camera of a view in this frame, and the sky frame it looks from. */
-orr_status orr_view_camera(const orr_scene *s, const orr_sky_frame *observer, const orr_frame_time *when,
+/* The observer frame of the frame (observer.*, o; scene_path for
+ * messages): the observer and reference particles found in a pass over src
+ * (from its start, with the velocities the spin normal needs), the spin
+ * normal when asked; *velocity the observer's. st is how opening src went:
+ * with several processes every one must reach the collective check. */
+orr_status orr_view_sky_frame(const orr_observer_settings *o, const char *scene_path, orr_source *src, orr_status st,
+                              long frame, const orr_parallel *par, orr_sky_frame *f, orr_vec3 *velocity,
+                              orr_error *err);
+/* The camera of a view (c) in this frame, and the sky frame it looks from. */
+orr_status orr_view_camera(const view_camera_plan *c, const orr_sky_frame *observer, const orr_frame_time *when,
                            orr_camera *cam, orr_sky_frame *sky, orr_error *err);
 /* Motion blur's shutter cameras for the view (animation.shutter; nothing
- * without a shutter); v->proj and v->scene must be the frame's. */
+ * without a shutter); v->proj must be the frame's. */
 orr_status orr_view_plan_blur(view_state *v, const orr_sky_frame *observer, orr_vec3 observer_velocity,
                               const orr_frame_time *when, orr_error *err);
 
@@ -192,16 +214,19 @@ void orr_splat_free_lanes(view_state *v);
 
 /* ---- dust (dust_view.c) ---- */
 
-/* The frame's dust (dust.types) from src (on MPI ranks each process opens
- * the whole input for it), and views[0..n).dust set to it. */
-orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, const orr_parallel *par,
-                                 struct orr_dust_frame *dust, orr_error *err);
+/* The frame's dust (dust.types) from src (every particle of the input:
+ * on MPI ranks the whole input, not the process's share), and
+ * views[0..n).dust set to it. */
+orr_status orr_dust_view_prepare(view_state *views, int n, orr_source *src, struct orr_dust_frame *dust,
+                                 orr_error *err);
 
 /* ---- the view's FITS cards (view_cards.c) ---- */
 
-/* The cards of the planned view (v->cards, v->stereo_cards): those that
- * depend on the scene, the projection and the PSF, the frame's reserved. */
-void orr_view_plan_cards(view_state *v);
+/* The cards of the planned view (v->cards, v->stereo_cards): each stage's,
+ * from the view's compiled settings and the input.* and observer.* the
+ * views share, the frame's reserved; after the camera plan, the files'
+ * grading, the deposit and the PSF are planned. */
+void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const orr_observer_settings *observer);
 /* The frame's cards (v->frame_cards): the plan's with the frame's camera,
  * counts, time and source, the WCS and the stereo cards; call when the
  * frame's planes are final (the reductions done, the bright stars drawn). */
@@ -214,7 +239,10 @@ orr_status orr_view_graded_rgb(const view_state *v, float *rgb, char *desc, size
 orr_status orr_view_write_pictures(view_state *v, orr_error *err);
 orr_status orr_view_write_fits_planes(view_state *v, const char *ext, orr_error *err);
 /* A stereo pair's two eyes (views l and r) into one set of files. */
-orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_eye_views *eyes, int k, orr_error *err);
+orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_error *err);
+/* A left eye's white level (its report's) given to the right eye's
+ * grading, so that separate eyes and a pair's picture are graded alike. */
+void orr_view_share_white(const view_state *l, view_state *r);
 orr_status orr_view_write_outputs(view_state *v, orr_error *err);
 /* orrery compose for a view begun as a frame: its raw planes (or layers)
  * read back, the PSF (unless NAME.fits already has it), the pictures. */
@@ -222,11 +250,11 @@ orr_status orr_view_compose(view_state *v, orr_error *err);
 /* A HEALPix view's map description (nside, order, COORDSYS when known). */
 orr_healpix_info orr_view_healpix_info(const view_state *v);
 
-/* A compose that reads its raw planes (no compose.layers) reads them from
- * output.dir: fails, naming the folder and what compose reads, when the
- * folder is not there (it is not made empty). */
-orr_status orr_compose_check_raw_dir(const orr_scene *s, orr_error *err);
-/* DIR/NAME.ext of the scene's output. */
-orr_status orr_view_output_path(const orr_scene *s, const char *ext, char *path, orr_error *err);
+/* A compose that reads its raw planes (no compose.layers: nlayers 0) reads
+ * them from output.dir: fails, naming the folder and what compose reads,
+ * when the folder is not there (it is not made empty). */
+orr_status orr_compose_check_raw_dir(const char *output_dir, int nlayers, orr_error *err);
+/* DIR/NAME.ext of output.* o. */
+orr_status orr_view_output_path(const orr_output_settings *o, const char *ext, char *path, orr_error *err);
 
 #endif

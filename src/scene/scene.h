@@ -37,7 +37,7 @@ typedef struct orr_animation_settings {
                              * frame its own); render/animation.h orr_animation_smooth_whites */
     double shutter;         /* animation.shutter: the share of the frame interval the shutter is open,
                              * each particle drawn as its streak over it (default 0: no motion blur);
-                             * render/motion_blur.h */
+                             * pass/motion_blur.h */
     int has_frame_interval;
     double frame_interval;  /* animation.frame_interval: simulation time between frames, which the
                              * shutter moves particles over (default: from animation.time) */

@@ -1,4 +1,4 @@
-/* The fused NGP gather (render/ngp_gather.h) against the general passes
+/* The fused NGP gather (pass/ngp_gather.h) against the general passes
  * and against the projections in double: the same pixel for every
  * particle, on every projection, with and without dimming; and a
  * non-finite position or weight anywhere in a block is caught. */
@@ -7,7 +7,7 @@
 
 #include "check.h"
 #include "frame/project_point.h"
-#include "render/ngp_gather.h"
+#include "pass/ngp_gather.h"
 #include "splat/deposit.h"
 #include "test_random.h"
 

@@ -9,7 +9,7 @@
 #include "encode/fits_read.h"
 #include "frame/projection.h"
 #include "frame/replicas.h"
-#include "render/periodic_view.h"
+#include "pass/periodic_view.h"
 #include "render/render.h"
 #include "scene/scene.h"
 
@@ -168,16 +168,16 @@ static void test_box_side_from_header(void)
     snprintf(info.path, sizeof info.path, "snap.hdf5");
     orr_error err;
     double box = 0;
-    CHECK(orr_periodic_box_side(&s, &info, &box, &err) == ORR_ERR_USAGE);
+    CHECK(orr_periodic_box_side(&s.periodic, s.path, &info, &box, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "input.periodic.box");
     orr_source_add_header(&info, "BoxSize", "50000 50000 50000");
-    CHECK(orr_periodic_box_side(&s, &info, &box, &err) == ORR_OK);
+    CHECK(orr_periodic_box_side(&s.periodic, s.path, &info, &box, &err) == ORR_OK);
     CHECK_NEAR(box, 50000, 0);
     snprintf(info.header[0].value, sizeof info.header[0].value, "100 100 50");
-    CHECK(orr_periodic_box_side(&s, &info, &box, &err) == ORR_ERR_DATA);
+    CHECK(orr_periodic_box_side(&s.periodic, s.path, &info, &box, &err) == ORR_ERR_DATA);
     CHECK_CONTAINS(err.msg, "100 100 50");
     s.periodic.box = 7; /* the key wins over the header */
-    CHECK(orr_periodic_box_side(&s, &info, &box, &err) == ORR_OK);
+    CHECK(orr_periodic_box_side(&s.periodic, s.path, &info, &box, &err) == ORR_OK);
     CHECK_NEAR(box, 7, 0);
 }
 

@@ -89,7 +89,7 @@ static void check_run(const char *yaml, const char *name)
     CHECK(orr_plan_create(&plan, list, 1, ORR_PLAN_RENDER, &err) == ORR_OK);
     for (long f = 0; f < FRAMES && plan; f++) {
         orr_frame_input in = frame_input(s, f, &planned[f]);
-        orr_status st = orr_plan_execute(plan, list, &in, &rep, NULL, NULL, &err);
+        orr_status st = orr_plan_execute(plan, &in, &rep, NULL, NULL, &err);
         if (st)
             fprintf(stderr, "%s\n", err.msg);
         CHECK(st == ORR_OK);
@@ -153,7 +153,7 @@ static void test_fft_planned_once(void)
     for (long f = 0; f < FRAMES && plan; f++) {
         kept k = {0};
         orr_frame_input in = frame_input(s, f, &k);
-        CHECK(orr_plan_execute(plan, list, &in, &rep, NULL, NULL, &err) == ORR_OK);
+        CHECK(orr_plan_execute(plan, &in, &rep, NULL, NULL, &err) == ORR_OK);
         CHECK(k.n == 1);
         kept_free(&k);
     }
@@ -162,8 +162,8 @@ static void test_fft_planned_once(void)
     free(s);
 }
 
-/* A frame whose views are not the planned ones is refused, not drawn with
- * the wrong planes. */
+/* A compose of views that are not the planned ones is refused, not drawn
+ * with the wrong planes; a render plan does not compose. */
 static void test_other_views_refused(void)
 {
     orr_scene *s = load(MODEL "camera: {projection: orthographic, width: 100}\nimage: {width: 80, height: 60}\n",
@@ -174,13 +174,53 @@ static void test_other_views_refused(void)
     orr_render_report rep;
     orr_error err = {0};
     orr_plan *plan = NULL;
-    CHECK(orr_plan_create(&plan, planned, 1, ORR_PLAN_RENDER, &err) == ORR_OK);
-    CHECK(plan && orr_plan_execute(plan, other, NULL, &rep, NULL, NULL, &err) == ORR_ERR_INTERNAL);
+    CHECK(orr_plan_create(&plan, planned, 1, ORR_PLAN_COMPOSE, &err) == ORR_OK);
+    CHECK(plan && orr_plan_compose(plan, other, &rep, &err) == ORR_ERR_INTERNAL);
     CHECK_CONTAINS(err.msg, "not the view planned");
+    orr_plan_destroy(plan);
+    plan = NULL;
+    CHECK(orr_plan_create(&plan, planned, 1, ORR_PLAN_RENDER, &err) == ORR_OK);
     CHECK(plan && orr_plan_compose(plan, planned, &rep, &err) == ORR_ERR_INTERNAL);
     orr_plan_destroy(plan);
     free(s);
     free(t);
+}
+
+static int ends_with(const char *s, const char *end)
+{
+    size_t n = strlen(s), m = strlen(end);
+    return n >= m && strcmp(s + n - m, end) == 0;
+}
+
+/* The frame input names each frame's files: the view's output.name with
+ * the frame's number (output.frame_*), a separate eye's -left or -right
+ * after it (the right eye's files reported with the left's); a still keeps
+ * the name as it is. */
+static void test_frame_names(void)
+{
+    orr_scene *s = load(MODEL "camera:\n  projection: perspective\n  fov: 50\n  near: 0.1\n"
+                              "  position: [0, 0, 120]\n  look_at: [0, 0, 0]\n"
+                              "image: {width: 32, height: 24}\n"
+                              "stereo: {mode: separate, eye_separation: 2}\n"
+                              "output: {fits: true, png: false, frame_start: 1, frame_digits: 3}\n",
+                        "named");
+    const orr_scene *list[1] = {s};
+    orr_render_report rep;
+    orr_error err = {0};
+    orr_plan *plan = NULL;
+    CHECK(orr_plan_create(&plan, list, 1, ORR_PLAN_RENDER, &err) == ORR_OK);
+    orr_frame_input in = {orr_frame_at(2, 12, 25, 0, 0), NULL, NULL, NULL, NULL};
+    orr_status st = plan ? orr_plan_execute(plan, &in, &rep, NULL, NULL, &err) : ORR_ERR_INTERNAL;
+    if (st)
+        fprintf(stderr, "%s\n", err.msg);
+    CHECK(st == ORR_OK);
+    CHECK(rep.noutputs == 2);
+    CHECK(ends_with(rep.outputs[0], "/named_003-left.fits"));
+    CHECK(ends_with(rep.outputs[1], "/named_003-right.fits"));
+    CHECK(plan && orr_plan_execute(plan, NULL, &rep, NULL, NULL, &err) == ORR_OK);
+    CHECK(rep.noutputs == 2 && ends_with(rep.outputs[0], "/named-left.fits"));
+    orr_plan_destroy(plan);
+    free(s);
 }
 
 int main(void)
@@ -190,6 +230,7 @@ int main(void)
     RUN(test_dome_cores);
     RUN(test_fft_planned_once);
     RUN(test_other_views_refused);
+    RUN(test_frame_names);
     remove_tmpdir();
     return check_summary();
 }

@@ -372,13 +372,13 @@ static void test_scene_keys(void)
     CHECK(g_scene.stereo.mode == ORR_STEREO_SIDE_BY_SIDE);
     /* auto: the distance to look_at, taken from wherever the camera is. */
     CHECK(g_scene.stereo.convergence == 0);
-    CHECK_NEAR(orr_stereo_convergence(&g_scene, g_scene.camera.position), 50, 1e-12);
-    CHECK_NEAR(orr_stereo_convergence(&g_scene, orr_v3(0, 30, 40)), 50, 1e-12);
-    CHECK_NEAR(orr_stereo_convergence(&g_scene, orr_v3(0, 0, 20)), 20, 1e-12);
+    CHECK_NEAR(orr_stereo_convergence(&g_scene.stereo, &g_scene.camera, g_scene.camera.position), 50, 1e-12);
+    CHECK_NEAR(orr_stereo_convergence(&g_scene.stereo, &g_scene.camera, orr_v3(0, 30, 40)), 50, 1e-12);
+    CHECK_NEAR(orr_stereo_convergence(&g_scene.stereo, &g_scene.camera, orr_v3(0, 0, 20)), 20, 1e-12);
     CHECK(load(PERSP "stereo: {mode: anaglyph, eye_separation: 1, convergence: 20, anaglyph: grey}\n", &err) ==
           ORR_OK);
     CHECK(g_scene.picture.anaglyph == ORR_ANAGLYPH_GREY && g_scene.stereo.convergence == 20 && g_scene.stereo.eye_separation == 1);
-    CHECK(orr_stereo_convergence(&g_scene, orr_v3(0, 0, 7)) == 20);
+    CHECK(orr_stereo_convergence(&g_scene.stereo, &g_scene.camera, orr_v3(0, 0, 7)) == 20);
     CHECK(load(DOME "stereo: {mode: separate, eye_separation: 0.1, zenith_fade: 40}\n", &err) == ORR_OK);
     CHECK(g_scene.stereo.zenith_fade == 40);
 

@@ -1,27 +1,26 @@
-#include "render/lengths.h"
+#include "pass/lengths.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <time.h>
 
 #include "particles/smoothing.h"
-#include "render/render.h"
 
-orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *needed, orr_error *err)
+orr_status orr_lengths_needed(const orr_splat_settings *set, const orr_source *src, int *needed, orr_error *err)
 {
     *needed = 0;
-    if (s->psf.has_glow) {
+    if (set->has_glow) {
         *needed = 1;
         return ORR_OK;
     }
-    if (s->deposit.kind != ORR_DEPOSIT_SPH)
+    if (set->deposit.kind != ORR_DEPOSIT_SPH)
         return ORR_OK;
-    if (s->deposit.lengths == ORR_LENGTHS_FILE && !src->info.has_h)
+    if (set->deposit.lengths == ORR_LENGTHS_FILE && !src->info.has_h)
         return orr_fail(err, ORR_ERR_DATA,
                         "%s: smoothing.lengths is file, but %s has no smoothing lengths; use smoothing.lengths: "
                         "neighbours (or auto) to compute them",
-                        s->path, src->info.path);
-    *needed = s->deposit.lengths == ORR_LENGTHS_NEIGHBOURS || (s->deposit.lengths == ORR_LENGTHS_AUTO && !src->info.has_h);
+                        set->path, src->info.path);
+    *needed = set->deposit.lengths == ORR_LENGTHS_NEIGHBOURS || (set->deposit.lengths == ORR_LENGTHS_AUTO && !src->info.has_h);
     return ORR_OK;
 }
 
@@ -61,7 +60,7 @@ static void direction_from(const orr_vec3 *centre, float *x, float *y, float *z)
     *x = (float)(dx * k), *y = (float)(dy * k), *z = (float)(dz * k);
 }
 
-static orr_status gather_positions(const orr_scene *s, orr_source *src, const orr_vec3 *centre, positions *p,
+static orr_status gather_positions(const orr_splat_settings *set, orr_source *src, const orr_vec3 *centre, positions *p,
                                    orr_error *err)
 {
     for (;;) {
@@ -70,7 +69,7 @@ static orr_status gather_positions(const orr_scene *s, orr_source *src, const or
         if (st || c->n == 0)
             return st;
         for (size_t i = 0; i < c->n; i++) {
-            if (!orr_lengths_counts(s, c, i))
+            if (!orr_lengths_counts(set->type_mask, c, i))
                 continue;
             if (p->n == p->cap && (st = grow(p, err)))
                 return st;
@@ -139,7 +138,7 @@ static orr_status share_directions(const orr_parallel *par, const positions *min
 
 /* The lengths of this process's particles, mine (rewinds src): with
  * several processes, found among every process's (share_directions). */
-static orr_status find_lengths(const orr_scene *s, const orr_parallel *par, const positions *mine,
+static orr_status find_lengths(const orr_splat_settings *set, const orr_parallel *par, const positions *mine,
                                float *h_mine, orr_error *err)
 {
     positions shared = {0};
@@ -157,9 +156,9 @@ static orr_status find_lengths(const orr_scene *s, const orr_parallel *par, cons
      * (a bad row of a table) already names its file and line, and is the
      * same whichever pass over the particles meets it first. */
     if (!st && all->n &&
-        (st = orr_smoothing_lengths(all->n, all->x, all->y, all->z, s->deposit.neighbours, ORR_SMOOTHING_FACTOR_DEFAULT,
+        (st = orr_smoothing_lengths(all->n, all->x, all->y, all->z, set->deposit.neighbours, ORR_SMOOTHING_FACTOR_DEFAULT,
                                     h_all, err)))
-        orr_fail_prefix(err, "%s: smoothing lengths from the neighbours: ", s->path);
+        orr_fail_prefix(err, "%s: smoothing lengths from the neighbours: ", set->path);
     if (par) {
         for (size_t i = 0; i < mine->n && !st; i++)
             h_mine[i] = h_all[first + i];
@@ -169,20 +168,20 @@ static orr_status find_lengths(const orr_scene *s, const orr_parallel *par, cons
     return st;
 }
 
-orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, const orr_vec3 *centre,
+orr_status orr_lengths_compute(const orr_splat_settings *set, orr_source *src, const orr_vec3 *centre,
                                const orr_parallel *par, orr_lengths *out, orr_error *err)
 {
     *out = (orr_lengths){0};
     positions mine = {0};
     double t0 = seconds_now();
-    orr_status st = gather_positions(s, src, centre, &mine, err);
+    orr_status st = gather_positions(set, src, centre, &mine, err);
     /* Collective from here: every process takes part even if its own pass failed. */
     if (par)
         st = par->any_failed(par->user, st, err);
     if (!st && mine.n && !(out->h = malloc(mine.n * sizeof *out->h)))
         st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for %zu smoothing lengths", mine.n);
     if (!st && (mine.n || par))
-        st = find_lengths(s, par, &mine, out->h, err);
+        st = find_lengths(set, par, &mine, out->h, err);
     free(mine.x), free(mine.y), free(mine.z);
     if (!st)
         st = orr_source_rewind(src, err);

@@ -1,19 +1,6 @@
-#include "render/motion_blur.h"
+#include "pass/motion_blur.h"
 
 #include <math.h>
-
-int orr_blur_moves_particles(const orr_scene *s)
-{
-    if (!(s->animation.shutter > 0))
-        return 0;
-    if (s->animation.has_frame_interval)
-        return s->animation.frame_interval > 0;
-    /* A single snapshot's particles stand still from frame to frame, so
-     * they do not move while the shutter is open either. */
-    if (orr_scene_has_sequence(s))
-        return 1;
-    return s->input.insitu && s->animation.has_time && s->animation.time[0] != s->animation.time[1];
-}
 
 void orr_motion_blur_plan(orr_motion_blur *b, double half_time, const orr_camera *open, const orr_camera *close,
                           const orr_projection *proj)

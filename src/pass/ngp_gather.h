@@ -7,14 +7,14 @@
  * unless dimmed. It is the hot loop of nearest-pixel renders
  * (docs/performance.md), and gives the same indices, bit for bit, as the
  * general passes. */
-#ifndef ORR_RENDER_NGP_GATHER_H
-#define ORR_RENDER_NGP_GATHER_H
+#ifndef ORR_PASS_NGP_GATHER_H
+#define ORR_PASS_NGP_GATHER_H
 
 #include <stddef.h>
 #include <stdint.h>
 
 #include "frame/projection.h"
-#include "render/camera_transform.h"
+#include "pass/camera_transform.h"
 #include "splat/deposit.h"
 
 typedef struct orr_ngp_gather_out {

@@ -1,4 +1,4 @@
-#include "render/periodic_view.h"
+#include "pass/periodic_view.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -12,10 +12,11 @@
 /* A kernel's support is 2h; a little more covers round-off. */
 #define SUPPORT_PER_H 2.02
 
-orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info, double *box, orr_error *err)
+orr_status orr_periodic_box_side(const orr_periodic_settings *ps, const char *scene_path, const orr_source_info *info,
+                                 double *box, orr_error *err)
 {
-    if (s->periodic.box > 0) {
-        *box = s->periodic.box;
+    if (ps->box > 0) {
+        *box = ps->box;
         return ORR_OK;
     }
     for (int k = 0; k < info->nheader; k++) {
@@ -28,7 +29,7 @@ orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info
             return orr_fail(err, ORR_ERR_DATA,
                             "%s: input.periodic.replicas %d needs the box side, but the file's BoxSize is '%s'; "
                             "set input.periodic.box",
-                            info->path, s->periodic.replicas, text);
+                            info->path, ps->replicas, text);
         for (const char *p = end; *p;) {
             double next = orr_strtod(p, &end);
             if (end == p)
@@ -46,19 +47,19 @@ orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info
     return orr_fail(err, ORR_ERR_USAGE,
                     "%s: input.periodic.replicas %d needs the box side: %s has no BoxSize in its header; set "
                     "input.periodic.box",
-                    s->path, s->periodic.replicas, info->path);
+                    scene_path, ps->replicas, info->path);
 }
 
 /* The copies: n^3 around the box itself, or around the camera's copy,
  * and then only those reaching into the camera's sphere. */
-static orr_status place_copies(orr_periodic_view *pv, const orr_scene *s, orr_vec3 camera, orr_error *err)
+static orr_status place_copies(orr_periodic_view *pv, const orr_periodic_settings *ps, orr_vec3 camera,
+                               orr_error *err)
 {
-    orr_status st = orr_replicas_place(&pv->replicas, pv->box, s->periodic.replicas, s->periodic.around_camera,
-                                       camera, err);
-    if (st || !s->periodic.around_camera)
+    orr_status st = orr_replicas_place(&pv->replicas, pv->box, ps->replicas, ps->around_camera, camera, err);
+    if (st || !ps->around_camera)
         return st;
-    st = orr_replica_sphere_resolve(&pv->sphere, pv->box, s->periodic.replicas, s->periodic.radius,
-                                    s->periodic.has_fade ? s->periodic.fade : -1, err);
+    st = orr_replica_sphere_resolve(&pv->sphere, pv->box, ps->replicas, ps->radius, ps->has_fade ? ps->fade : -1,
+                                    err);
     if (st)
         return st;
     pv->sphere.camera = camera;
@@ -66,15 +67,15 @@ static orr_status place_copies(orr_periodic_view *pv, const orr_scene *s, orr_ve
     return ORR_OK;
 }
 
-orr_status orr_periodic_view_setup(orr_periodic_view *pv, const orr_scene *s, const orr_source_info *info,
+orr_status orr_periodic_view_setup(orr_periodic_view *pv, const orr_splat_settings *set, const orr_source_info *info,
                                    const orr_projection *p, const orr_camera *cam, int can_cull, orr_error *err)
 {
     memset(pv, 0, sizeof *pv);
-    if (s->periodic.replicas <= 1)
+    if (set->periodic.replicas <= 1)
         return ORR_OK;
-    orr_status st = orr_periodic_box_side(s, info, &pv->box, err);
-    if (!st && (st = place_copies(pv, s, cam->position, err)))
-        orr_fail_prefix(err, "%s: ", s->path);
+    orr_status st = orr_periodic_box_side(&set->periodic, set->path, info, &pv->box, err);
+    if (!st && (st = place_copies(pv, &set->periodic, cam->position, err)))
+        orr_fail_prefix(err, "%s: ", set->path);
     if (st)
         return st;
     const char *off = getenv("ORRERY_NO_CULL");
@@ -93,9 +94,9 @@ static int finite3(const orr_chunk *c, size_t i)
     return isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]);
 }
 
-/* Mirrors the renderer's gather (render.c): which particles are drawn,
+/* Mirrors the renderer's gather (render/splat_gather.c): which particles are drawn,
  * which smoothing length each takes. */
-void orr_block_summarise(const orr_scene *s, const orr_chunk *c, size_t start, size_t end,
+void orr_block_summarise(const orr_splat_settings *set, const orr_chunk *c, size_t start, size_t end,
                          const orr_block_lengths *bl, const float *const *w, int nw, orr_block_summary *out)
 {
     memset(out, 0, sizeof *out);
@@ -106,12 +107,12 @@ void orr_block_summarise(const orr_scene *s, const orr_chunk *c, size_t start, s
     for (size_t i = start; i < end; i++) {
         float h = 0.0f;
         if (bl->lengths) {
-            if (orr_lengths_counts(s, c, i) && next < bl->lengths->n)
+            if (orr_lengths_counts(set->type_mask, c, i) && next < bl->lengths->n)
                 h = bl->lengths->h[next++] * bl->h_scale;
         } else if (c->h) {
             h = c->h[i] * bl->h_scale;
         }
-        if (!(s->input.type_mask & (1u << c->type[i])) || (s->observer.has_id && c->id[i] == s->observer.id))
+        if (!(set->type_mask & (1u << c->type[i])) || (set->skip_observer && c->id[i] == set->observer_id))
             continue;
         int finite = finite3(c, i);
         for (int k = 0; k < nw; k++)

@@ -1,4 +1,4 @@
-#include "render/ngp_gather.h"
+#include "pass/ngp_gather.h"
 
 #include "core/fastmath.h"
 #include "core/simd.h"

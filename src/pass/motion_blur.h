@@ -17,15 +17,14 @@
  * streak), up to ORR_BLUR_MAX_SAMPLES samples. A particle that moves less
  * than a pixel stays one sample: the cost grows with the motion, not with
  * the particle count. docs/animation.md#motion-blur. */
-#ifndef ORR_RENDER_MOTION_BLUR_H
-#define ORR_RENDER_MOTION_BLUR_H
+#ifndef ORR_PASS_MOTION_BLUR_H
+#define ORR_PASS_MOTION_BLUR_H
 
 #include "core/vecmath.h"
 #include "frame/camera.h"
 #include "frame/project_point.h"
 #include "frame/projection.h"
-#include "render/camera_transform.h"
-#include "scene/scene.h"
+#include "pass/camera_transform.h"
 
 /* Samples a streak gets: one per ORR_BLUR_STEP_PX of its length on the
  * image, at most ORR_BLUR_MAX_SAMPLES (streaks longer than 256 pixels a
@@ -43,13 +42,6 @@ typedef struct orr_motion_blur {
     orr_proj_consts k;
     float px_per_radian;        /* sky and perspective: pixels per radian at the centre */
 } orr_motion_blur;
-
-/* Whether the scene's shutter moves particles by their velocities (so the
- * renderer must read vx, vy, vz): a shutter, and simulation time that
- * passes between frames: animation.frame_interval, a sequence's snapshots,
- * or an in-situ run's animation.time. (A single snapshot's particles stand
- * still, and only the camera moves.) */
-int orr_blur_moves_particles(const orr_scene *s);
 
 /* The plan of a view: cameras at shutter open and close, and the
  * particles' half shutter time. proj must be set up. */

@@ -4,15 +4,15 @@
  * and the source is rewound for the splat pass, which takes the lengths in
  * the same order. Memory: 12 bytes a particle for the positions and about
  * 20 for the tree while the lengths are computed, then 4 for the lengths. */
-#ifndef ORR_RENDER_LENGTHS_H
-#define ORR_RENDER_LENGTHS_H
+#ifndef ORR_PASS_LENGTHS_H
+#define ORR_PASS_LENGTHS_H
 
 #include <math.h>
 #include <stddef.h>
 
 #include "core/vecmath.h"
 #include "reduce/parallel.h"
-#include "scene/scene.h"
+#include "pass/splat_settings.h"
 #include "source/source.h"
 
 typedef struct orr_lengths {
@@ -28,7 +28,7 @@ typedef struct orr_lengths {
  * for them, or (lengths: auto) the source has none of its own, or the glow
  * (glow.threshold) needs their angular lengths. An error when it insists
  * on the file's and the source has none. */
-orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *needed, orr_error *err);
+orr_status orr_lengths_needed(const orr_splat_settings *s, const orr_source *src, int *needed, orr_error *err);
 
 /* Computes the lengths (smoothing.neighbours, half the k-th neighbour's
  * distance: the kernel's support reaches it) and rewinds src. With centre
@@ -39,15 +39,16 @@ orr_status orr_lengths_needed(const orr_scene *s, const orr_source *src, int *ne
  * bytes a particle, exchanged as sums of doubles) and finds the neighbours
  * among them, keeping its own particles' lengths, so they do not depend on
  * the number of processes; NULL: this process alone. */
-orr_status orr_lengths_compute(const orr_scene *s, orr_source *src, const orr_vec3 *centre,
+orr_status orr_lengths_compute(const orr_splat_settings *s, orr_source *src, const orr_vec3 *centre,
                                const orr_parallel *par, orr_lengths *out, orr_error *err);
 void orr_lengths_free(orr_lengths *l);
 
 /* Whether particle i of chunk c takes a length from the array: it is of a
- * type the scene draws and has a finite position. Both passes use it. */
-static inline int orr_lengths_counts(const orr_scene *s, const orr_chunk *c, size_t i)
+ * type drawn (type_mask: input.types) and has a finite position. Both
+ * passes use it. */
+static inline int orr_lengths_counts(unsigned type_mask, const orr_chunk *c, size_t i)
 {
-    return (s->input.type_mask & (1u << c->type[i])) && isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]);
+    return (type_mask & (1u << c->type[i])) && isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]);
 }
 
 #endif

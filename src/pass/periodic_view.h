@@ -2,13 +2,13 @@
  * a view draws, and per block of particles the summary (bounds, largest
  * kernel, weights) that lets the renderer skip a copy of the block, or a
  * whole copy of the chunk, the view cannot see (docs/periodic.md). */
-#ifndef ORR_RENDER_PERIODIC_VIEW_H
-#define ORR_RENDER_PERIODIC_VIEW_H
+#ifndef ORR_PASS_PERIODIC_VIEW_H
+#define ORR_PASS_PERIODIC_VIEW_H
 
 #include "frame/replicas.h"
 #include "particles/chunk.h"
-#include "render/lengths.h"
-#include "scene/scene.h"
+#include "pass/lengths.h"
+#include "pass/splat_settings.h"
 #include "source/source.h"
 
 typedef struct orr_periodic_view {
@@ -21,10 +21,12 @@ typedef struct orr_periodic_view {
     orr_replica_sphere sphere; /* centre: camera: the images within it are drawn (radius 0: all, centre: origin) */
 } orr_periodic_view;
 
-/* The side of the scene's box: input.periodic.box, or else the file's
- * BoxSize header (one number, or three equal ones). An error naming the
- * file when neither gives one. */
-orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info, double *box, orr_error *err);
+/* The side of the box: input.periodic.box (ps), or else the file's BoxSize
+ * header (one number, or three equal ones). An error naming the file (and
+ * the scene, scene_path, when the file has no BoxSize) when neither gives
+ * one. */
+orr_status orr_periodic_box_side(const orr_periodic_settings *ps, const char *scene_path, const orr_source_info *info,
+                                 double *box, orr_error *err);
 
 /* Sets up a view's copies around its camera: with centre: camera, those
  * whose cell reaches into the sphere of input.periodic.radius. can_cull is 0 when particles
@@ -32,7 +34,7 @@ orr_status orr_periodic_box_side(const orr_scene *s, const orr_source_info *info
  * map's PSF widening, observer.dim's weights): then nothing is skipped.
  * The environment variable ORRERY_NO_CULL=1 turns skipping off too (to
  * check that it changes nothing, and to time it). */
-orr_status orr_periodic_view_setup(orr_periodic_view *pv, const orr_scene *s, const orr_source_info *info,
+orr_status orr_periodic_view_setup(orr_periodic_view *pv, const orr_splat_settings *set, const orr_source_info *info,
                                    const orr_projection *p, const orr_camera *cam, int can_cull, orr_error *err);
 
 /* What the renderer needs to know of a block without touching its
@@ -58,7 +60,7 @@ typedef struct orr_block_lengths {
 } orr_block_lengths;
 
 /* Summarises particles [start, end) of c, with weights w[0..nw). */
-void orr_block_summarise(const orr_scene *s, const orr_chunk *c, size_t start, size_t end,
+void orr_block_summarise(const orr_splat_settings *set, const orr_chunk *c, size_t start, size_t end,
                          const orr_block_lengths *bl, const float *const *w, int nw, orr_block_summary *out);
 
 /* a grown to hold b as well. */

@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""Counts the reads of orr_scene's fields outside scene/ and render/plan.c.
+
+The plan is meant to be the only reader of the scene (issue 39): it compiles
+each view's settings into what the stages take (pass/splat_settings.h for
+the splat pass), and the stages read those, never the scene. This check
+finds every variable, parameter or struct field declared as an orr_scene
+(or a pointer or array of them) in a file, and counts the places where one
+is followed by -> or . and a member of struct orr_scene (read from
+src/scene/scene.h), comments and strings left out: `s->input.weight`,
+`v->scene->path`, `eyes->scene[k]->stereo`. A helper that takes the scene
+whole (`orr_scene_has_sequence(s)`) is not counted; the fields it reads are
+counted in its own file.
+
+Not every file reads none yet: CEILINGS holds what each file read when the
+count was last lowered. The check fails when a file reads more than its
+ceiling (or a file not listed reads any), and says which files now read
+fewer, so the ceilings can be lowered with them; it prints the total left.
+
+    python3 scripts/check_scene_reads.py [SRC_DIR]
+"""
+import os
+import re
+import sys
+
+# Where the scene may be read: its own stage, and the plan.
+ALLOWED = {"scene", os.path.join("render", "plan.c")}
+
+# Reads per file, as counted when they were last lowered (total 0 is the goal).
+CEILINGS = {
+    "cli/cmd_path.c": 7,
+    "cli/cmd_render.c": 6,
+    "cli/cmd_video.c": 6,
+    "insitu/insitu.c": 10,
+    "render/animation.c": 27,
+    "render/frame_markers.c": 16,
+    "render/path_overview.c": 9,
+    "render/scene_source.c": 23,
+    "render/sequence_open.c": 27,
+    "render/stereo_view.c": 11,
+}
+
+COMMENT_OR_STRING = re.compile(r'/\*.*?\*/|//[^\n]*|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\\n])*\'', re.S)
+DECLARED = re.compile(r'\borr_scene\b(?:\s|const\b|\*)*(\w+)\b(?!\s*\()')
+FIELD = re.compile(r'^\s+(?:const\s+)?orr_scene\b(?:\s|const\b|\*)*(\w+)\s*;', re.M)
+DECLARED_VIEWS = re.compile(r'\borr_scene_views\b(?:\s|const\b|\*)*(\w+)\b(?!\s*\()')
+
+
+def scene_members(src):
+    """The names of struct orr_scene's members, from scene/scene.h."""
+    with open(os.path.join(src, "scene", "scene.h"), encoding="utf-8") as f:
+        text = COMMENT_OR_STRING.sub(" ", f.read())
+    body = re.search(r'typedef struct orr_scene \{(.*?)\} orr_scene;', text, re.S).group(1)
+    return set(re.findall(r'(\w+)\s*(?:\[[^\]]*\])*\s*;', body))
+
+
+def scene_fields(texts):
+    """Struct members declared as scenes in any header (view_state.scene):
+    read through -> or . in every file."""
+    fields = set()
+    for text in texts:
+        fields |= set(FIELD.findall(text))
+    return fields
+
+
+def reads_in(text, members, fields):
+    """How many scene-field reads text (comments and strings gone) holds."""
+    scenes = {r'\b' + n for n in DECLARED.findall(text) if n != "const"}
+    # orr_scene_views: its scenes are .view[k]
+    scenes |= {r'\b' + n + r'\s*(?:->|\.)\s*view' for n in DECLARED_VIEWS.findall(text) if n != "const"}
+    scenes |= {r'(?:->|\.)\s*' + n for n in fields}
+    if not scenes:
+        return 0
+    read = re.compile(r'(?:' + "|".join(sorted(scenes)) + r')\b(?:\s*\[[^\]]*\])?\s*(?:->|\.)\s*(\w+)')
+    return sum(1 for m in read.finditer(text) if m.group(1) in members)
+
+
+def sources(src):
+    """(path relative to src, text without comments and strings) of every source."""
+    for root, _, files in os.walk(src):
+        for name in sorted(files):
+            if name.endswith((".c", ".h", ".cpp")):
+                path = os.path.join(root, name)
+                with open(path, encoding="utf-8") as f:
+                    yield os.path.relpath(path, src), COMMENT_OR_STRING.sub(" ", f.read())
+
+
+def count(src):
+    members = scene_members(src)
+    files = dict(sources(src))
+    fields = scene_fields(text for rel, text in files.items() if rel.endswith(".h"))
+    counts = {}
+    for rel, text in files.items():
+        if rel.split(os.sep)[0] in ALLOWED or rel in ALLOWED:
+            continue
+        n = reads_in(text, members, fields)
+        if n:
+            counts[rel.replace(os.sep, "/")] = n
+    return counts
+
+
+def main():
+    src = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "src")
+    counts = count(src)
+    problems = []
+    for rel, n in sorted(counts.items()):
+        ceiling = CEILINGS.get(rel, 0)
+        if n > ceiling:
+            problems.append(f"{rel}: reads the scene's fields {n} times, more than its {ceiling}: "
+                            "take them from the settings the plan compiles (render/plan.c)")
+        elif n < ceiling:
+            print(f"{rel}: {n} reads, below its ceiling of {ceiling}: lower CEILINGS in {__file__}")
+    for rel in sorted(set(CEILINGS) - set(counts)):
+        print(f"{rel}: no reads left: drop it from CEILINGS in {__file__}")
+    for p in problems:
+        print(p)
+    print(f"check_scene_reads: {sum(counts.values())} scene-field reads in {len(counts)} files outside scene/ "
+          f"and render/plan.c; {len(problems)} problem(s)")
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

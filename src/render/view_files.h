@@ -1,0 +1,33 @@
+/* What a view's files are and how its picture is graded, as the writers
+ * read them (view_outputs.c, view_cards.c, compose.c, stereo_view.c): the
+ * view's own copy, made by the plan (plan.c: the only reader of the scene).
+ * The frame's part (output.*, with the frame's output.name; the grading,
+ * which a compose's re-grade and a stereo pair's shared white level
+ * change) is copied from the frame's scene when the frame begins. */
+#ifndef ORR_RENDER_VIEW_FILES_H
+#define ORR_RENDER_VIEW_FILES_H
+
+#include "core/limits.h"
+#include "encode/output_settings.h"
+#include "post/colour.h"
+#include "post/picture.h"
+#include "scene/scene.h"
+
+typedef struct view_files {
+    /* The plan's. */
+    char path[ORR_PATH_MAX];         /* the scene file, for messages */
+    char weight[ORR_FIELD_NAME_MAX]; /* input.weight: what a weight plane's picture shows */
+    orr_stereo_mode stereo_mode;     /* stereo.mode: a pair's picture */
+    int eye;                         /* stereo.eye: 0, or which eye the view is */
+    int extinction_plane;            /* dust.extinction_plane */
+    int stars_list;                  /* stars.list: NAME.stars.fits */
+    orr_compose_settings compose;    /* compose.layers */
+    char scene_yaml[ORR_SETTINGS_MAX]; /* the scene as YAML: every FITS file's SCENE extension */
+    /* The frame's. */
+    orr_output_settings output;      /* output.*: output.name with the frame's number, an eye's name */
+    orr_picture_settings picture;    /* output.stretch, .white, ...; stereo.anaglyph */
+    orr_colour_settings colour;      /* colour.*: the synthesis, the tint, the populations */
+    int regrade_final;               /* a compose re-grades NAME.fits (orr_scene.regrade_final) */
+} view_files;
+
+#endif
