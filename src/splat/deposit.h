@@ -89,7 +89,7 @@ void orr_deposit(orr_deposit_kind kind, orr_plane *plane, size_t n, const float 
  * or one of these. The indices are made from projected positions
  * (orr_deposit, orr_deposit_shares) or, for the renderer's commonest
  * blocks, in the same loop that reads and projects the particles
- * (render/ngp_gather.c); both use the inline functions below. */
+ * (pass/ngp_gather.c); both use the inline functions below. */
 #define ORR_NGP_OFF (-1)    /* visible, but not surely on a pixel: off a flat image (its weight is \
                              * lost), or near a sky map's rim or seam (orr_ngp_place folds it on) */
 #define ORR_NGP_CULLED (-2) /* not drawn by the projection (ORR_NGP_OFF - 1) */
