@@ -147,10 +147,10 @@ static void group_cone(cone *c, const double eye[3], const float *x, const float
 /* Whether the ball of radius r about (bx, by, bz) may meet a segment in
  * the cone: it must start within the reach and lie within the half-angle
  * plus the angle the ball subtends. Errs on the side of yes. */
-static int cone_may_meet(const cone *c, double bx, double by, double bz, double r)
+static inline int cone_may_meet(const cone *c, double bx, double by, double bz, double r)
 {
     const double vx = bx - c->e[0], vy = by - c->e[1], vz = bz - c->e[2];
-    const double dist = sqrt(vx * vx + vy * vy + vz * vz);
+    const double d2 = vx * vx + vy * vy + vz * vz, dist = sqrt(d2);
     r += SLACK * (r + dist);
     if (dist <= r)
         return 1;
@@ -158,8 +158,10 @@ static int cone_may_meet(const cone *c, double bx, double by, double bz, double 
         return 0;
     if (c->wide)
         return 1;
-    const double sin_b = r / dist, cos_b = sqrt(1 - sin_b * sin_b);
-    return vx * c->a[0] + vy * c->a[1] + vz * c->a[2] >= dist * (c->cos_a * cos_b - c->sin_a * sin_b);
+    /* dist cos(half-angle + the ball's angle): with sin b = r / dist,
+     * dist (cos_a cos b - sin_a sin b) = cos_a sqrt(dist^2 - r^2) - sin_a r,
+     * no division. */
+    return vx * c->a[0] + vy * c->a[1] + vz * c->a[2] >= c->cos_a * sqrt(d2 - r * r) - c->sin_a * r;
 }
 
 static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
