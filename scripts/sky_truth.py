@@ -149,11 +149,17 @@ def list_limit(stars):
     return float(np.max(stars["MV"] + 5 * np.log10(dist / 10.0)))
 
 
+def list_reaches(limit, v):
+    """Whether a list drawn to limit (None: a catalogue) holds every star
+    brighter than v (to the 0.01 mag the limit is read to)."""
+    return limit is None or limit >= v - 0.01
+
+
 def resolved_figures(stars, table_path):
     """The listed stars' resolved light by region over the real sky's, or
     (None, why) when the list stops short of RESOLVED_V[1]."""
     limit = list_limit(stars)
-    if limit is not None and limit < RESOLVED_V[1] - 0.01:
+    if not list_reaches(limit, RESOLVED_V[1]):
         return None, (f"the list stops at V = {limit:.2f} (before the dust); "
                       f"render with stars.limit >= {RESOLVED_V[1]:g}")
     real = read_resolved(table_path)
@@ -201,8 +207,9 @@ def angular_distance(l1, b1, l2, b2):
     return np.degrees(np.arccos(np.clip(c, -1, 1)))
 
 
-def star_shares(v, total_v0):
-    """The star list's figures against the sky's total light (V = 0 units)."""
+def star_shares(v, total_v0, limit=None):
+    """The star list's figures against the sky's total light (V = 0 units);
+    the share brighter than 10.5 None when the list stops short of it."""
     v = np.sort(np.asarray(v, dtype=float))
     flux = v_flux(v)
     naked = v < 6.5
@@ -210,7 +217,7 @@ def star_shares(v, total_v0):
         "share_20_brightest": float(flux[:20].sum() / total_v0),
         "n_brighter_6.5": int(naked.sum()),
         "share_brighter_6.5": float(flux[naked].sum() / total_v0),
-        "share_brighter_10.5": float(flux[v < 10.5].sum() / total_v0),
+        "share_brighter_10.5": float(flux[v < 10.5].sum() / total_v0) if list_reaches(limit, 10.5) else None,
     }
 
 
@@ -222,7 +229,7 @@ def count_ratios(v, table, limit=None):
         real = table["N"][np.isclose(table["V_lim"], m)]
         if real.size == 0:
             raise InputError(f"the counts table has no row V_lim = {m}")
-        if limit is not None and m > limit + 0.01:
+        if not list_reaches(limit, m):
             out[f"{m:g}"] = {"model": None, "real": int(real[0]), "ratio": None}
             continue
         mine = int(np.sum(np.asarray(v) < m))
@@ -302,8 +309,8 @@ def measure(sky, stars, counts, plane=None, scale=1.0, band_map=None, band_plane
     table = read_table(counts)
     fig = {"sky": sky, "stars": stars, "BUNIT": str(header.get("BUNIT", "")), "scale": scale,
            "V_total": 10 - 2.5 * np.log10(total_s10), "n_stars": int(len(list_["V"]))}
-    fig.update(star_shares(list_["V"], total_v0))
     fig["list_limit"] = list_limit(list_)
+    fig.update(star_shares(list_["V"], total_v0, fig["list_limit"]))
     fig["counts"] = count_ratios(list_["V"], table, fig["list_limit"])
     if band_map:
         bdata, bheader = read_plane(band_map, band_plane)
@@ -336,7 +343,8 @@ def failures(fig):
             bad.append(f"{label or key} = {value} outside [{lo:g}, {hi:g}]")
 
     for key in ("V_total", "share_20_brightest", "n_brighter_6.5", "share_brighter_6.5", "share_brighter_10.5"):
-        bar(key, fig[key])
+        if fig[key] is not None:
+            bar(key, fig[key])
     for m, c in fig["counts"].items():
         if c["model"] is not None:
             bar("count_ratio", c["ratio"], f"N(<{m}) ratio")
@@ -365,7 +373,8 @@ def report(fig):
     lines += [f"whole sky: V = {fig['V_total']:.3f} (real {WHOLE_SKY_V})   stars listed: {fig['n_stars']}",
              f"20 brightest: {100 * fig['share_20_brightest']:.2f} % of the light",
              f"brighter than 6.5: {fig['n_brighter_6.5']} stars, {100 * fig['share_brighter_6.5']:.2f} %",
-             f"brighter than 10.5: {100 * fig['share_brighter_10.5']:.2f} %",
+             "brighter than 10.5: " + (f"{100 * fig['share_brighter_10.5']:.2f} %"
+                                       if fig["share_brighter_10.5"] is not None else "past the list"),
              "N(<V): " + "  ".join(count_text(m, c) for m, c in fig["counts"].items())]
     if fig["band"]:
         lines.append(f"band: median {fig['band']['median']:.3f}, p90/p10 {fig['band']['p90_p10']:.2f}"

@@ -171,6 +171,9 @@ def test_resolved_light():
     c = fig["counts"]
     check(c["6"]["model"] == 0 and c["7"]["model"] is None and c["8"]["ratio"] is None and "7: past the list" in text,
           f"counts past a list drawn to 6.5: {c}")
+    check(fig["share_brighter_10.5"] is None and "brighter than 10.5: past the list" in text
+          and "share_brighter_10.5" not in text.split("OUTSIDE", 1)[-1],
+          f"the share brighter than 10.5 of a list drawn to 6.5: {fig['share_brighter_10.5']}: {text}")
 
 
 def test_uniform_sky():
