@@ -1340,13 +1340,15 @@ static uint64_t file_fingerprint(const char *path)
     FILE *f = fopen(path, "rb");
     if (!f)
         return orr_digest_text(ORR_DIGEST_START, "unreadable");
-    unsigned char *buf = malloc(FINGERPRINT_BYTES);
+    unsigned char buf[4096]; /* read in pieces: no allocation that could fail on one rank only */
     uint64_t h = ORR_DIGEST_START;
-    size_t got = buf ? fread(buf, 1, FINGERPRINT_BYTES, f) : 0;
-    h = orr_digest(h, buf, got);
+    size_t got, total = 0;
+    while (total < FINGERPRINT_BYTES && (got = fread(buf, 1, sizeof buf, f)) > 0) {
+        h = orr_digest(h, buf, got);
+        total += got;
+    }
     long size = fseek(f, 0, SEEK_END) == 0 ? ftell(f) : -1;
     h = orr_digest(h, &size, sizeof size);
-    free(buf);
     fclose(f);
     return h;
 }
