@@ -17,7 +17,7 @@
 #include "splat/deposit.h"
 #include "core/plane.h"
 #include "reduce/parallel.h" /* orr_parallel: how several processes render a frame together */
-#include "render/timings.h"
+#include "core/timings.h"
 
 #define ORR_RENDER_MAX_OUTPUTS 10 /* stereo.mode: separate writes each format twice */
 
@@ -52,7 +52,7 @@ typedef struct orr_render_report {
     int noutputs;
     char outputs[ORR_RENDER_MAX_OUTPUTS][ORR_PATH_MAX];
     orr_stage_times times;       /* where the frame's time went: every view of the frame together, the same
-                                  * in each view's report (render/timings.h) */
+                                  * in each view's report (core/timings.h) */
 } orr_render_report;
 
 /* Called after each chunk with the particles read so far and the total

@@ -8,7 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "render/timings.h"
+#include "core/timings.h"
 #include "render/view_state.h"
 #include "splat/bands.h"
 #include "splat/deposit.h"

@@ -305,7 +305,7 @@ static orr_status fits_writer_start(view_state *v, fits_writer *w, orr_error *er
 }
 
 /* Waits for the thread; its time goes to the fits stage, its CPU taken
- * off the stages charged meanwhile (render/timings.h). st is the frame's
+ * off the stages charged meanwhile (core/timings.h). st is the frame's
  * status so far: the FITS file's failure is reported when nothing else
  * failed first. */
 static orr_status fits_writer_finish(view_state *v, fits_writer *w, orr_status st, orr_error *err)

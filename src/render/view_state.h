@@ -16,7 +16,7 @@
 #include "render/render.h"
 #include "pass/splat_settings.h"
 #include "render/stereo_view.h"
-#include "render/timings.h"
+#include "core/timings.h"
 #include "render/view_files.h"
 #include "splat/bands.h"
 #include "splat/sph.h"
@@ -163,7 +163,7 @@ orr_status orr_frame_stars_view_table(const frame_stars *fs, const view_state *v
 
 
 /* A frame's stage timings and the clock reading the last stage ended at:
- * each stage is charged the time since then (render/timings.h). */
+ * each stage is charged the time since then (core/timings.h). */
 typedef struct frame_timer {
     orr_stage_times times;
     orr_clock at;

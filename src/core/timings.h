@@ -1,8 +1,8 @@
 /* Where a frame's time goes: wall and CPU seconds per stage of the render
  * (orrery render --timings; docs/performance.md, "A production frame").
  * The library only measures; the command line prints. */
-#ifndef ORR_RENDER_TIMINGS_H
-#define ORR_RENDER_TIMINGS_H
+#ifndef ORR_CORE_TIMINGS_H
+#define ORR_CORE_TIMINGS_H
 
 typedef enum orr_stage {
     ORR_STAGE_SETUP,   /* the plan (projections, PSF generation, the sky maps' index: in the first frame a plan
