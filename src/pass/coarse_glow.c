@@ -9,7 +9,7 @@
  * same projection at 1/F of the size, so a point's coarse pixel
  * coordinates are its fine ones over F; each lane draws into planes of its
  * own, added in lane order, so the result does not depend on the threads. */
-#include "render/splat_block.h"
+#include "pass/splat_block.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,9 +1,9 @@
 /* A block of particles as the splat pass works on it: gathered into the
  * camera frame and projected (splat_gather.c), deposited (splat_deposit.c),
  * by lanes or bands (splat_pass.c) or, for a periodic box's copies, on one
- * thread (splat_periodic.c). Private to render/. */
-#ifndef ORR_RENDER_SPLAT_BLOCK_H
-#define ORR_RENDER_SPLAT_BLOCK_H
+ * thread (splat_periodic.c). Private to the splat pass. */
+#ifndef ORR_PASS_SPLAT_BLOCK_H
+#define ORR_PASS_SPLAT_BLOCK_H
 
 #include <stddef.h>
 #include <stdint.h>

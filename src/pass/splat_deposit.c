@@ -3,7 +3,7 @@
  * and collecting its brightest stars), as motion blur's streaks, or as
  * the fused gather's pixel indices; and what each block adds to the
  * tally. */
-#include "render/splat_block.h"
+#include "pass/splat_block.h"
 
 #include <math.h>
 #include <string.h>

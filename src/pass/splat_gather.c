@@ -4,7 +4,7 @@
  * projected. Blocks that take every particle go through straight loops
  * without a branch a particle, or for NGP the fused gather
  * (pass/ngp_gather.h). */
-#include "render/splat_block.h"
+#include "pass/splat_block.h"
 #include "core/fastmath.h"
 #include "core/numbers.h"
 #include "core/simd.h"

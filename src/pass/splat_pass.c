@@ -1,11 +1,11 @@
 /* The splat pass: every chunk of particles into each view's planes. A
  * chunk's weights are found once (colour populations), then each view
  * gathers its blocks of particles into the camera frame and deposits
- * them (render/splat_block.h), in lanes or bands whose order never
+ * them (splat_block.h), in lanes or bands whose order never
  * depends on the threads (reduce/lanes.h), or a periodic box's copies on
  * one thread. What each block adds to the tally and a bad particle's
  * error are taken in block order, as one thread would meet them. */
-#include "render/splat_block.h"
+#include "pass/splat_block.h"
 
 #include <omp.h>
 #include <stdlib.h>

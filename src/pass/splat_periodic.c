@@ -2,7 +2,7 @@
  * block summarised once, then every copy of the chunk drawn on one thread
  * in block order, skipping whole copies and blocks out of view or beyond
  * the sphere of images before their particles are touched. */
-#include "render/splat_block.h"
+#include "pass/splat_block.h"
 
 #include <stdlib.h>
 #include <string.h>

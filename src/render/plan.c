@@ -1,7 +1,7 @@
 /* The renderer's plan (render/plan.h): each view planned once for a run,
  * then each frame's observer frame, cameras, smoothing lengths (kept from
  * frame to frame when the particles are those of one file), dust and
- * periodic copies, the splat pass (splat_pass.c), the reduction over
+ * periodic copies, the splat pass (pass/splat_pass.c), the reduction over
  * processes and the views' files (view_outputs.c). */
 #include "render/plan.h"
 #include "render/view_state.h"
@@ -35,7 +35,7 @@ struct orr_plan {
     orr_frame_timer timer;       /* the frame being executed */
     orr_lengths kept_lengths; /* smoothing lengths kept from frame to frame (kept_lengths_key) */
     char kept_lengths_key[ORR_PATH_MAX + 128]; /* the particles they belong to; empty: none kept */
-    frame_stars stars;       /* stars.limit: the stars spawned from the particles (star_pass.c) */
+    frame_stars stars;       /* stars.limit: the stars spawned from the particles (pass/star_pass.c) */
     int has_stars;
     double seconds;          /* orr_plan_create's time */
     orr_clock planning;      /* ... wall and CPU, charged to the first frame executed (then zero) */
@@ -680,7 +680,7 @@ static orr_status commit_outputs(orr_output_batch *outputs, orr_status st, orr_e
     return st;
 }
 
-/* The frame's dust (dust_view.c), shared by every view. Every process dims
+/* The frame's dust (pass/dust_view.c), shared by every view. Every process dims
  * its share of the stars by all of the dust: on MPI ranks each reads the
  * whole input for it (a simulation's in-situ share cannot be). */
 static orr_status prepare_dust(const orr_plan *plan, orr_source *src, const orr_parallel *par, orr_dust_frame *dust,
