@@ -26,20 +26,6 @@ static void reserve(orr_cards *h, const reserved *cards, size_t n)
         orr_cards_reserve(h, cards[i].key, cards[i].comment);
 }
 
-/* The deposit's cards: the one stage whose cards are still made here; they
- * belong beside the deposit's settings in splat/deposit.h. */
-static void plan_deposit_cards(const view_state *v, orr_cards *h)
-{
-    const orr_deposit_settings *d = &v->pass.splat.deposit;
-    orr_cards_add_string(h, "DEPOSIT", orr_deposit_name(d->kind), "deposit method");
-    if (v->pass.use_sph) {
-        orr_cards_add_string(h, "KERNEL", orr_kernel_name(d->kernel), "SPH kernel (support 2h)");
-        orr_cards_reserve(h, "HSOURCE", "where smoothing lengths came from");
-        orr_cards_reserve(h, "NNEIGH", "h = half the distance to this neighbour");
-        orr_cards_add_double(h, "HSCALE", d->h_scale, "smoothing lengths multiplied by this");
-    }
-}
-
 /* The counts of the frame's report, and its time and source. */
 static void plan_report_cards(const view_state *v, const orr_input_settings *input, orr_cards *h)
 {
@@ -89,7 +75,7 @@ void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const o
     reserve(h, camera, sizeof camera / sizeof camera[0]);
     orr_cards_add_long(h, "IMGWIDTH", v->pass.base_proj.width, "[pixel] image width");
     orr_cards_add_long(h, "IMGHEIGH", v->pass.base_proj.height, "[pixel] image height");
-    plan_deposit_cards(v, h);
+    orr_deposit_cards(&v->pass.splat.deposit, v->pass.use_sph, h);
     orr_view_psf_cards(&v->pass.psf, h);
     plan_report_cards(v, input, h);
     if (observer->has_id) /* an observer's dimming is the observer's; without one, the camera's */
@@ -116,9 +102,7 @@ static void set_frame_values(const view_state *v, orr_cards *h)
     orr_cards_set_double(h, "CAMQX", cam->orientation.x);
     orr_cards_set_double(h, "CAMQY", cam->orientation.y);
     orr_cards_set_double(h, "CAMQZ", cam->orientation.z);
-    orr_cards_set_string(h, "HSOURCE", v->pass.lengths ? "neighbours" : "file");
-    if (v->pass.lengths)
-        orr_cards_set_long(h, "NNEIGH", v->pass.splat.deposit.neighbours);
+    orr_deposit_frame_cards(&v->pass.splat.deposit, v->pass.lengths != NULL, h);
     if (v->pass.psf.sky)
         orr_cards_set_long(h, "PSFSTARS", v->pass.psf.sky->stars_drawn);
     orr_cards_set_long(h, "NPART", (long long)rep->n_read);
