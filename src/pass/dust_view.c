@@ -4,7 +4,8 @@
 
 /* The frame's dust (dust.types), read in a pass of its own and shared by
  * every view; each view dims its stars from its own eye. */
-orr_status orr_dust_view_prepare(orr_splat_view *const *views, int n, orr_source *src, orr_dust_frame *dust, orr_error *err)
+orr_status orr_dust_view_prepare(orr_splat_view *const *views, int n, orr_source *src, orr_dust_frame *dust,
+                                 orr_error *err)
 {
     const orr_splat_settings *set = &views[0]->splat;
     double support = src->info.h_support > 0 ? src->info.h_support : 2.0;

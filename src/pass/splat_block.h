@@ -52,9 +52,9 @@ typedef struct block_tally {
  * projects them: positions in pixels and what the projection (and an eye
  * of omni-directional stereo) draws. Returns how many, or -1 (err set)
  * (splat_gather.c). */
-long orr_splat_project_block(const orr_splat_view *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
-                             size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
-                             block_buffers *b, block_tally *t, orr_error *err);
+long orr_splat_project_block(const orr_splat_view *v, const orr_source *src, const orr_chunk *c,
+                             const float *const *wts, size_t start, size_t end, orr_vec3 shift, int fading,
+                             size_t lengths_next, block_buffers *b, block_tally *t, orr_error *err);
 
 /* Projects the block's n points (camera frame): positions in pixels and
  * what the projection (and an eye of omni-directional stereo) draws

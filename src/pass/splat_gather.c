@@ -408,9 +408,9 @@ void orr_splat_project_points(const orr_splat_view *v, size_t n, block_buffers *
 /* Gathers particles [start, end) of c (moved by shift) into the block and
  * projects them: positions in pixels and what the projection (and an eye
  * of omni-directional stereo) draws. Returns how many, or -1 (err set). */
-long orr_splat_project_block(const orr_splat_view *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
-                             size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
-                             block_buffers *b, block_tally *t, orr_error *err)
+long orr_splat_project_block(const orr_splat_view *v, const orr_source *src, const orr_chunk *c,
+                             const float *const *wts, size_t start, size_t end, orr_vec3 shift, int fading,
+                             size_t lengths_next, block_buffers *b, block_tally *t, orr_error *err)
 {
     long n = gather_block(v, src, c, wts, start, end, shift, fading, lengths_next, b, t, err);
     if (n < 0 || b->indexed || v->blur.active) /* streaks: their samples are projected as drawn */

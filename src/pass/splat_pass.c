@@ -173,8 +173,8 @@ static void add_chunk_tally(orr_splat_view *v, const orr_chunk *c, const splat_w
 /* Splats the chunk into one view, its lanes in parallel; the tally's sums
  * are taken in block order afterwards. On a bad particle the error is that
  * of the first bad block, as a single thread would have found it. */
-static orr_status splat_view_lanes(orr_splat_view *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
-                                   splat_work *w, orr_error *err)
+static orr_status splat_view_lanes(orr_splat_view *v, const orr_source *src, const orr_chunk *c,
+                                   const float *const *wts, splat_work *w, orr_error *err)
 {
     size_t nblocks = (c->n + BLOCK - 1) / BLOCK;
     lengths_starts(v, c, nblocks, w->lengths_first);
@@ -456,8 +456,8 @@ static void free_work(splat_work *w)
 
 /* A HEALPix view's SPH work limit for this frame: so many kernel samples
  * per thread (splat/healpix_kernel.h). */
-static void start_healpix_budgets(orr_splat_view *const *views, int nviews, const orr_source *src, orr_progress_fn progress,
-                                  void *progress_user)
+static void start_healpix_budgets(orr_splat_view *const *views, int nviews, const orr_source *src,
+                                  orr_progress_fn progress, void *progress_user)
 {
     const uint64_t limit = ORR_HEALPIX_SAMPLE_LIMIT_PER_THREAD * (uint64_t)omp_get_max_threads();
     for (int k = 0; k < nviews; k++) {

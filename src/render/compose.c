@@ -55,7 +55,8 @@ static orr_status load_raw(view_state *v, orr_error *err)
                       path, n, raw[0].width, raw[0].height, v->files.path, fits_nplanes(v), v->pass.proj.width,
                       v->pass.proj.height);
     for (int k = 0; !st && k < n; k++)
-        memcpy(v->pass.planes[k].data, raw[k].data, (size_t)v->pass.proj.width * (size_t)v->pass.proj.height * sizeof(float));
+        memcpy(v->pass.planes[k].data, raw[k].data,
+               (size_t)v->pass.proj.width * (size_t)v->pass.proj.height * sizeof(float));
     for (int k = 0; k < n; k++)
         orr_plane_free(&raw[k]);
     if (!st)

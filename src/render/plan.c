@@ -32,7 +32,7 @@ struct orr_plan {
     orr_splat_view **passes; /* [n] each view's part for the splat pass: &views[k].pass */
     int planned;             /* views[0..planned) hold plan-time state, to free */
     orr_psf_kernels kernels; /* the Hubble PSFs made, shared by the views that ask for the same one */
-    orr_frame_timer timer;       /* the frame being executed */
+    orr_frame_timer timer;   /* the frame being executed */
     orr_lengths kept_lengths; /* smoothing lengths kept from frame to frame (kept_lengths_key) */
     char kept_lengths_key[ORR_PATH_MAX + 128]; /* the particles they belong to; empty: none kept */
     frame_stars stars;       /* stars.limit: the stars spawned from the particles (pass/star_pass.c) */
@@ -226,7 +226,8 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     orr_status st = orr_view_camera(c, observer, when, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
-    if ((st = orr_stereo_setup_eye(&c->stereo, &c->camera, c->path, &v->pass.proj, rep, &v->pass.ods, &v->pass.use_ods, err)) ||
+    if ((st = orr_stereo_setup_eye(&c->stereo, &c->camera, c->path, &v->pass.proj, rep, &v->pass.ods,
+                                   &v->pass.use_ods, err)) ||
         (st = orr_view_plan_blur(v, observer, observer_velocity, when, err)))
         return st;
     rep->has_sky_frame = observer != NULL;
@@ -491,7 +492,8 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
 static orr_status setup_periodic(view_state *v, const orr_source_info *info, orr_error *err)
 {
     int can_cull = !v->pass.use_ods && !(v->pass.psf.h_per_r > 0) && !v->pass.splat.dims_from_observer;
-    orr_status st = orr_periodic_view_setup(&v->pass.periodic, &v->pass.splat, info, &v->pass.proj, &v->rep->camera, can_cull, err);
+    orr_status st =
+        orr_periodic_view_setup(&v->pass.periodic, &v->pass.splat, info, &v->pass.proj, &v->rep->camera, can_cull, err);
     v->rep->n_replicas = v->pass.periodic.active ? v->pass.periodic.replicas.n : 0;
     return st;
 }

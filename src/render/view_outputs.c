@@ -55,8 +55,8 @@ static orr_status begin_grade(const view_state *v, orr_graded *gr, char *desc, s
     rep->white = gr->white;
     if (f->compose.nlayers)
         orr_snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
-                     f->compose.nlayers, orr_projection_name(v->pass.proj.kind), orr_lum_stretch_name(f->colour.synth.stretch),
-                     rep->white);
+                     f->compose.nlayers, orr_projection_name(v->pass.proj.kind),
+                     orr_lum_stretch_name(f->colour.synth.stretch), rep->white);
     else if (f->colour.has_populations)
         orr_snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
                      f->colour.populations.n, rep->source, orr_projection_name(v->pass.proj.kind),
@@ -66,8 +66,8 @@ static orr_status begin_grade(const view_state *v, orr_graded *gr, char *desc, s
                      f->weight, rep->source, v->tint_t, orr_projection_name(v->pass.proj.kind),
                      orr_lum_stretch_name(f->colour.synth.stretch), rep->white);
     else
-        orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", f->weight,
-                     rep->source, orr_projection_name(v->pass.proj.kind), orr_stretch_name(f->picture.stretch.kind), rep->white,
+        orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", f->weight, rep->source,
+                     orr_projection_name(v->pass.proj.kind), orr_stretch_name(f->picture.stretch.kind), rep->white,
                      orr_colormap_name(f->picture.colormap));
     return ORR_OK;
 }
@@ -161,7 +161,8 @@ orr_status orr_view_write_pictures(view_state *v, orr_error *err)
         orr_view_meta_text text;
         orr_image_meta meta = view_meta(v, desc, &text);
         if (!(st = view_output(v, f->output.image_ext, &path, err)) &&
-            !(st = orr_write_image_picture(path, rgb, rgba, v->pass.proj.width, v->pass.proj.height, f->output.png_bits, &meta, err)))
+            !(st = orr_write_image_picture(path, rgb, rgba, v->pass.proj.width, v->pass.proj.height, f->output.png_bits,
+                                           &meta, err)))
             rep->noutputs++;
         charge(v, ORR_STAGE_IMAGE);
     }
