@@ -21,7 +21,7 @@ import sys
 
 # The data flow, earliest first.
 STAGES = ["core", "particles", "source", "frame", "stars", "splat", "reduce", "dust", "post",
-          "pass", "encode", "scene", "render", "insitu", "mpi", "cli"]
+          "encode", "pass", "scene", "render", "insitu", "mpi", "cli"]
 # The sub-folders of a stage, each with the sibling sub-folders it may
 # include: source/'s readers, built-in models and writers share source.h;
 # a writer may write what a model makes (zeldovich_hdf5.c).

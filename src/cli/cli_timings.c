@@ -1,5 +1,5 @@
 /* orrery render --timings: where each frame's time went, and a run's total
- * (the numbers are the library's: render/timings.h). */
+ * (the numbers are the library's: core/timings.h). */
 #include <stdio.h>
 
 #include "cli/cli.h"

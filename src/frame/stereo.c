@@ -171,3 +171,9 @@ size_t orr_stereo_ods_apply(const orr_stereo_ods *ods, size_t n, float *x, float
 {
     return ods->pole_is_z ? ods_block(ods, n, x, y, z, keep) : ods_block(ods, n, x, z, y, keep);
 }
+
+void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep)
+{
+    for (size_t i = 0; i < n; i++)
+        visible[i] &= keep[i];
+}

@@ -114,5 +114,7 @@ orr_status orr_stereo_ods_setup(orr_stereo_ods *ods, const orr_projection *proj,
  * for them (1 for the others), their coordinates are left as they were, and
  * the count of them is returned. The arrays must not overlap. */
 size_t orr_stereo_ods_apply(const orr_stereo_ods *ods, size_t n, float *x, float *y, float *z, uint8_t *keep);
+/* visible[i] &= keep[i]: the particles inside an ODS eye circle are not drawn. */
+void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep);
 
 #endif

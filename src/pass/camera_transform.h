@@ -1,7 +1,7 @@
 /* Moving particles into the camera frame: position less the camera's (in
  * double, which keeps precision for cameras far from the coordinate origin,
  * inside a big box or at the Sun), turned by the view's rotation. Inline,
- * for the renderer's gather loops (render/splat_gather.c, ngp_gather.c), which the
+ * for the renderer's gather loops (splat_gather.c, ngp_gather.c), which the
  * compiler vectorises; copy the transform into a local before such a loop,
  * so the compiler knows the loop's stores cannot change it. */
 #ifndef ORR_PASS_CAMERA_TRANSFORM_H

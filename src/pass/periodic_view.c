@@ -94,7 +94,7 @@ static int finite3(const orr_chunk *c, size_t i)
     return isfinite(c->x[i]) && isfinite(c->y[i]) && isfinite(c->z[i]);
 }
 
-/* Mirrors the renderer's gather (render/splat_gather.c): which particles are drawn,
+/* Mirrors the splat pass's gather (splat_gather.c): which particles are drawn,
  * which smoothing length each takes. */
 void orr_block_summarise(const orr_splat_settings *set, const orr_chunk *c, size_t start, size_t end,
                          const orr_block_lengths *bl, const float *const *w, int nw, orr_block_summary *out)

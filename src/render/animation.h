@@ -25,7 +25,7 @@ typedef struct orr_animation_options {
     void *progress_user;
     const orr_parallel *parallel; /* several processes render each frame together (MPI); NULL: one */
     /* Told after each frame rendered (not skipped, not composed) where its
-     * time went (render/timings.h); NULL: not told. */
+     * time went (core/timings.h); NULL: not told. */
     void (*timed)(void *user, long frame, const orr_stage_times *times);
     void *timed_user;
 } orr_animation_options;

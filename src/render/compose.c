@@ -48,14 +48,15 @@ static orr_status load_raw(view_state *v, orr_error *err)
         st = missing_raw(v, path, err);
     if (!st)
         st = orr_read_fits_planes(path, raw, 3, &n, err);
-    if (!st && (n != fits_nplanes(v) || raw[0].width != v->proj.width || raw[0].height != v->proj.height))
+    if (!st && (n != fits_nplanes(v) || raw[0].width != v->pass.proj.width || raw[0].height != v->pass.proj.height))
         st = orr_fail(err, ORR_ERR_DATA,
                       "%s: holds %d plane(s) of %d x %d, but %s renders %d of %d x %d (was it rendered from "
                       "another scene?)",
-                      path, n, raw[0].width, raw[0].height, v->files.path, fits_nplanes(v), v->proj.width,
-                      v->proj.height);
+                      path, n, raw[0].width, raw[0].height, v->files.path, fits_nplanes(v), v->pass.proj.width,
+                      v->pass.proj.height);
     for (int k = 0; !st && k < n; k++)
-        memcpy(v->planes[k].data, raw[k].data, (size_t)v->proj.width * (size_t)v->proj.height * sizeof(float));
+        memcpy(v->pass.planes[k].data, raw[k].data,
+               (size_t)v->pass.proj.width * (size_t)v->pass.proj.height * sizeof(float));
     for (int k = 0; k < n; k++)
         orr_plane_free(&raw[k]);
     if (!st)
@@ -70,9 +71,9 @@ static orr_status add_layer(view_state *v, const struct orr_compose_layer *l, or
     orr_plane raw[3];
     int n = 0;
     orr_status st = orr_read_fits_planes(l->file, raw, 3, &n, err);
-    if (!st && (raw[0].width != v->proj.width || raw[0].height != v->proj.height))
+    if (!st && (raw[0].width != v->pass.proj.width || raw[0].height != v->pass.proj.height))
         st = orr_fail(err, ORR_ERR_DATA, "%s: compose.layers: the planes are %d x %d, the scene's image %d x %d",
-                      l->file, raw[0].width, raw[0].height, v->proj.width, v->proj.height);
+                      l->file, raw[0].width, raw[0].height, v->pass.proj.width, v->pass.proj.height);
     if (!st && n != 1 && n != 3)
         st = orr_fail(err, ORR_ERR_DATA, "%s: compose.layers: %d planes; a layer is one luminance plane or X, Y, Z",
                       l->file, n);
@@ -81,12 +82,12 @@ static orr_status add_layer(view_state *v, const struct orr_compose_layer *l, or
     double xyz[3] = {1, 1, 1};
     if (!st && n == 1 && (st = orr_colour_xyz(&l->colour, xyz, err)) == ORR_OK)
         orr_xyz_normalise(xyz);
-    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    size_t npix = (size_t)v->pass.proj.width * (size_t)v->pass.proj.height;
     for (int k = 0; !st && k < 3; k++) {
         const float *src = raw[n == 1 ? 0 : k].data;
         float f = (float)(l->gain * (n == 1 ? xyz[k] : 1.0));
         for (size_t i = 0; i < npix; i++)
-            v->planes[k].data[i] += f * src[i];
+            v->pass.planes[k].data[i] += f * src[i];
     }
     for (int k = 0; k < n; k++)
         orr_plane_free(&raw[k]);
@@ -107,10 +108,10 @@ static orr_status load_layers(view_state *v, orr_error *err)
 orr_status orr_view_compose(view_state *v, orr_error *err)
 {
     orr_status st = v->files.compose.nlayers ? load_layers(v, err) : load_raw(v, err);
-    for (int j = 0; j < v->nplanes && !st && !v->files.regrade_final; j++) /* NAME.fits has its PSF */
-        st = orr_view_psf_apply(&v->psf, &v->planes[j], err);
+    for (int j = 0; j < v->pass.nplanes && !st && !v->files.regrade_final; j++) /* NAME.fits has its PSF */
+        st = orr_view_psf_apply(&v->pass.psf, &v->pass.planes[j], err);
     if (!st) {
-        orr_mask_outside_map(&v->proj, v->planes, v->nplanes);
+        orr_mask_outside_map(&v->pass.proj, v->pass.planes, v->pass.nplanes);
         st = orr_view_write_pictures(v, err);
     }
     return st;

@@ -1,7 +1,7 @@
 /* The renderer's plan (render/plan.h): each view planned once for a run,
  * then each frame's observer frame, cameras, smoothing lengths (kept from
  * frame to frame when the particles are those of one file), dust and
- * periodic copies, the splat pass (splat_pass.c), the reduction over
+ * periodic copies, the splat pass (pass/splat_pass.c), the reduction over
  * processes and the views' files (view_outputs.c). */
 #include "render/plan.h"
 #include "render/view_state.h"
@@ -29,12 +29,13 @@ struct orr_plan {
     orr_eye_views eyes;      /* the planned views' eyes: their scenes live as long as the plan */
     orr_render_report *planning_reports; /* [nscenes] what the planned eyes report into (unused after) */
     view_state *views;       /* [n] */
+    orr_splat_view **passes; /* [n] each view's part for the splat pass: &views[k].pass */
     int planned;             /* views[0..planned) hold plan-time state, to free */
     orr_psf_kernels kernels; /* the Hubble PSFs made, shared by the views that ask for the same one */
-    frame_timer timer;       /* the frame being executed */
+    orr_frame_timer timer;   /* the frame being executed */
     orr_lengths kept_lengths; /* smoothing lengths kept from frame to frame (kept_lengths_key) */
     char kept_lengths_key[ORR_PATH_MAX + 128]; /* the particles they belong to; empty: none kept */
-    frame_stars stars;       /* stars.limit: the stars spawned from the particles (star_pass.c) */
+    frame_stars stars;       /* stars.limit: the stars spawned from the particles (pass/star_pass.c) */
     int has_stars;
     double seconds;          /* orr_plan_create's time */
     orr_clock planning;      /* ... wall and CPU, charged to the first frame executed (then zero) */
@@ -66,7 +67,7 @@ static void plane_name(const orr_scene *s, int k, char *name, size_t size)
 static orr_status plan_psf(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
     int colour = s->colour.has_populations || s->compose.nlayers;
-    orr_status st = orr_view_psf_setup(&v->psf, &s->psf, colour, &v->proj, &v->kernel, kernels, err);
+    orr_status st = orr_view_psf_setup(&v->pass.psf, &s->psf, colour, &v->pass.proj, &v->pass.kernel, kernels, err);
     return st ? orr_fail_prefix(err, "%s: psf: ", s->path) : ORR_OK;
 }
 
@@ -133,44 +134,44 @@ static void camera_plan_of(const orr_scene *s, view_camera_plan *c)
 
 static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
-    splat_settings_of(s, &v->splat);
+    splat_settings_of(s, &v->pass.splat);
     view_files_of(s, &v->files);
     frame_files(s, &v->files);
     camera_plan_of(s, &v->camera_plan);
-    v->base_proj = s->projection;
-    orr_status st = orr_projection_setup(&v->base_proj, err);
+    v->pass.base_proj = s->projection;
+    orr_status st = orr_projection_setup(&v->pass.base_proj, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
-    v->proj = v->base_proj;
-    v->nplanes = s->colour.has_populations || s->compose.nlayers ? 3 : 1;
+    v->pass.proj = v->pass.base_proj;
+    v->pass.nplanes = s->colour.has_populations || s->compose.nlayers ? 3 : 1;
     if (s->colour.has_populations && s->output.exr_population_layers)
-        v->nplanes += 3 * s->colour.populations.n;
+        v->pass.nplanes += 3 * s->colour.populations.n;
     char unit[ORR_PLANE_NAME_MAX];
-    orr_brightness_unit(&v->proj, scene_weight_unit(s, NULL), scene_length_unit(s, NULL), unit, sizeof unit);
-    for (int k = 0; k < v->nplanes && !st; k++) {
+    orr_brightness_unit(&v->pass.proj, scene_weight_unit(s, NULL), scene_length_unit(s, NULL), unit, sizeof unit);
+    for (int k = 0; k < v->pass.nplanes && !st; k++) {
         char name[ORR_PLANE_NAME_MAX];
         plane_name(s, k, name, sizeof name);
-        st = orr_plane_alloc(&v->planes[k], v->proj.width, v->proj.height, name, unit, err);
+        st = orr_plane_alloc(&v->pass.planes[k], v->pass.proj.width, v->pass.proj.height, name, unit, err);
     }
     /* The kernel's tables take milliseconds to build: only for kernel
      * deposits and PSFs (a sky map's is drawn with the kernel). */
     int needs_kernel = s->deposit.kind == ORR_DEPOSIT_SPH || s->psf.kind != ORR_PSF_NONE;
     if (!st && needs_kernel)
-        st = orr_kernel_init(&v->kernel, s->deposit.kernel, err);
-    v->kernel_ready = !st && needs_kernel;
+        st = orr_kernel_init(&v->pass.kernel, s->deposit.kernel, err);
+    v->pass.kernel_ready = !st && needs_kernel;
     /* The PSF needs the image's size and scale, which a stereo eye's
      * shifted principal point leaves as they are. */
     if (!st)
         st = plan_psf(v, s, kernels, err);
-    v->use_sph = s->deposit.kind == ORR_DEPOSIT_SPH || v->psf.h_per_r > 0;
-    if (!st && v->use_sph)
-        st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
-    v->sph_ready = !st && v->use_sph;
+    v->pass.use_sph = s->deposit.kind == ORR_DEPOSIT_SPH || v->pass.psf.h_per_r > 0;
+    if (!st && v->pass.use_sph)
+        st = orr_sph_init(&v->pass.sph, &v->pass.kernel, &v->pass.proj, err);
+    v->pass.sph_ready = !st && v->pass.use_sph;
     /* A sky map's PSF cores: stars are drawn from stamps (splat/sky_cores.h).
      * widen_for_psf gives a star without a length of its own h = k r, k the
      * float of h_per_r: its angle h / r. */
-    if (!st && v->use_sph && v->psf.h_per_r > 0)
-        st = orr_sph_use_cores(&v->sph, (float)v->psf.h_per_r, err);
+    if (!st && v->pass.use_sph && v->pass.psf.h_per_r > 0)
+        st = orr_sph_use_cores(&v->pass.sph, (float)v->pass.psf.h_per_r, err);
     if (!st)
         orr_view_plan_cards(v, &s->input, &s->observer); /* after the deposit and the PSF, which they describe */
     return st;
@@ -178,31 +179,32 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
 
 static void clear_planes(view_state *v)
 {
-    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
-    for (int k = 0; k < v->nplanes; k++)
-        memset(v->planes[k].data, 0, npix * sizeof *v->planes[k].data);
+    size_t npix = (size_t)v->pass.proj.width * (size_t)v->pass.proj.height;
+    for (int k = 0; k < v->pass.nplanes; k++)
+        memset(v->pass.planes[k].data, 0, npix * sizeof *v->pass.planes[k].data);
 }
 
 /* Forgets what the last frame left in the view (a failed frame may have
  * left lanes): each frame starts from the planned state. */
 static void reset_frame_state(view_state *v)
 {
-    orr_splat_free_lanes(v);
-    orr_bands_free(&v->bands);
-    v->lanes.n = 1;
-    memset(&v->blur, 0, sizeof v->blur);
-    memset(&v->periodic, 0, sizeof v->periodic);
-    v->use_ods = 0;
-    v->lengths = NULL;
-    v->lengths_next = 0;
-    v->h_scale = 0;
-    v->dust = NULL;
-    v->stars = NULL;
+    orr_splat_free_lanes(&v->pass);
+    orr_bands_free(&v->pass.bands);
+    v->pass.lanes.n = 1;
+    memset(&v->pass.blur, 0, sizeof v->pass.blur);
+    memset(&v->pass.periodic, 0, sizeof v->pass.periodic);
+    v->pass.use_ods = 0;
+    v->pass.lengths = NULL;
+    v->pass.lengths_next = 0;
+    v->pass.h_scale = 0;
+    v->pass.dust = NULL;
+    v->pass.stars = NULL;
+    memset(&v->pass.tally, 0, sizeof v->pass.tally);
     v->outputs = NULL;
-    if (v->psf.sky)
-        orr_sky_psf_begin_frame(v->psf.sky);
+    if (v->pass.psf.sky)
+        orr_sky_psf_begin_frame(v->pass.psf.sky);
     clear_planes(v);
-    orr_coarse_glow_begin(v);
+    orr_coarse_glow_begin(&v->pass);
 }
 
 /* The frame's part of a planned view: its report, the camera (a path, the
@@ -218,39 +220,41 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     rep->nframes = when->nframes;
     frame_files(s, &v->files);
     v->rep = rep;
-    v->proj = v->base_proj; /* a stereo eye shifts its principal point below */
+    v->pass.proj = v->pass.base_proj; /* a stereo eye shifts its principal point below */
     v->tint_t = s->colour.tint_run ? when->u : s->colour.tint_t;
     const view_camera_plan *c = &v->camera_plan;
     orr_status st = orr_view_camera(c, observer, when, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
-    if ((st = orr_stereo_setup_eye(&c->stereo, &c->camera, c->path, &v->proj, rep, &v->ods, &v->use_ods, err)) ||
+    if ((st = orr_stereo_setup_eye(&c->stereo, &c->camera, c->path, &v->pass.proj, rep, &v->pass.ods,
+                                   &v->pass.use_ods, err)) ||
         (st = orr_view_plan_blur(v, observer, observer_velocity, when, err)))
         return st;
     rep->has_sky_frame = observer != NULL;
-    v->world_to_camera = orr_camera_world_to_camera(&rep->camera);
+    v->pass.world_to_camera = orr_camera_world_to_camera(&rep->camera);
+    v->pass.camera_position = rep->camera.position;
     /* The deposit keeps a copy of the projection: this frame's (an eye's
      * principal point). A sky map's index depends on the map alone, which
      * no eye moves. */
-    if (v->sph_ready)
-        v->sph.proj = v->proj;
-    v->outline = orr_map_outline_of(&v->proj, v->proj.width, v->proj.height);
-    orr_splat_choose_path(v); /* after the eye and the shutter, which it asks about */
+    if (v->pass.sph_ready)
+        v->pass.sph.proj = v->pass.proj;
+    v->pass.outline = orr_map_outline_of(&v->pass.proj, v->pass.proj.width, v->pass.proj.height);
+    orr_splat_choose_path(&v->pass); /* after the eye and the shutter, which it asks about */
     return ORR_OK;
 }
 
 static void free_view(view_state *v)
 {
-    orr_coarse_glow_free(v);
-    orr_splat_free_lanes(v);
-    orr_bands_free(&v->bands);
+    orr_coarse_glow_free(&v->pass);
+    orr_splat_free_lanes(&v->pass);
+    orr_bands_free(&v->pass.bands);
     for (int k = 0; k < ORR_PLANES_MAX; k++)
-        orr_plane_free(&v->planes[k]);
-    orr_view_psf_free(&v->psf);
-    if (v->sph_ready)
-        orr_sph_free(&v->sph);
-    if (v->kernel_ready)
-        orr_kernel_free(&v->kernel);
+        orr_plane_free(&v->pass.planes[k]);
+    orr_view_psf_free(&v->pass.psf);
+    if (v->pass.sph_ready)
+        orr_sph_free(&v->pass.sph);
+    if (v->pass.kernel_ready)
+        orr_kernel_free(&v->pass.kernel);
 }
 
 /* ---- the plan ---- */
@@ -262,6 +266,7 @@ void orr_plan_destroy(orr_plan *plan)
     for (int k = 0; k < plan->planned; k++)
         free_view(&plan->views[k]);
     free(plan->views);
+    free(plan->passes);
     free(plan->given);
     free(plan->origin);
     orr_eye_views_finish(&plan->eyes);
@@ -348,15 +353,18 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
     plan->n = plan->eyes.n;
     if (!st)
         st = keep_given(plan, scenes, err);
-    if (!st && !(plan->views = orr_calloc((size_t)plan->n, sizeof *plan->views, "views", err)))
+    if (!st && (!(plan->views = orr_calloc((size_t)plan->n, sizeof *plan->views, "views", err)) ||
+                !(plan->passes = orr_calloc((size_t)plan->n, sizeof *plan->passes, "views", err))))
         st = ORR_ERR_NOMEM;
+    for (int k = 0; k < plan->n && !st; k++)
+        plan->passes[k] = &plan->views[k].pass;
     for (; !st && plan->planned < plan->n; plan->planned++)
         st = plan_view(&plan->views[plan->planned], plan->eyes.scene[plan->planned], &plan->kernels, err);
     if (!st && purpose == ORR_PLAN_RENDER && scenes[0]->stars.enabled &&
         !(st = orr_frame_stars_prepare(&plan->stars, &scenes[0]->stars, scenes[0]->observer.id, scenes[0]->path, err)))
         plan->has_stars = 1;
     for (int k = 0; k < plan->n && !st && plan->has_stars; k++) /* the stars' glows span degrees */
-        st = orr_coarse_glow_plan(&plan->views[k], err);
+        st = orr_coarse_glow_plan(&plan->views[k].pass, err);
     if (st) {
         orr_plan_destroy(plan);
         return st;
@@ -397,8 +405,8 @@ static void forget_frame(orr_plan *plan, int k)
 {
     view_state *v = &plan->views[k];
     v->rep = NULL;
-    v->lengths = NULL;
-    v->dust = NULL;
+    v->pass.lengths = NULL;
+    v->pass.dust = NULL;
     v->outputs = NULL;
 }
 
@@ -432,10 +440,10 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
         orr_sums_count(&sums, &r->n_replicas_culled); /* a periodic box's culled copies and blocks */
         orr_sums_count(&sums, &r->n_blocks);
         orr_sums_count(&sums, &r->n_blocks_culled);
-        if (!(st = orr_parallel_sum_planes(par, v->planes, v->nplanes, err)))
+        if (!(st = orr_parallel_sum_planes(par, v->pass.planes, v->pass.nplanes, err)))
             st = orr_parallel_sum(par, &sums, err);
-        if (!st && v->psf.sky) /* rank 0 draws the whole frame's brightest stars */
-            st = orr_sky_psf_share(v->psf.sky, par, err);
+        if (!st && v->pass.psf.sky) /* rank 0 draws the whole frame's brightest stars */
+            st = orr_sky_psf_share(v->pass.psf.sky, par, err);
     }
     return st;
 }
@@ -448,32 +456,32 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
     for (int k = 0; k < n; k++) {
         view_state *v = &views[k];
         int needed;
-        orr_status st = orr_lengths_needed(&v->splat, src, &needed, err);
+        orr_status st = orr_lengths_needed(&v->pass.splat, src, &needed, err);
         if (st)
             return st;
         /* orrery's h is half the kernel's support: convert the file's. */
         double support = src->info.h_support > 0 ? src->info.h_support : 2.0;
-        v->h_scale = (float)(v->splat.deposit.h_scale * support / 2.0);
+        v->pass.h_scale = (float)(v->pass.splat.deposit.h_scale * support / 2.0);
         if (!needed)
             continue;
         /* The glow's lengths are angles seen from the camera (glow_length). */
-        const orr_vec3 *centre = v->splat.has_glow ? &v->rep->camera.position : NULL;
+        const orr_vec3 *centre = v->pass.splat.has_glow ? &v->rep->camera.position : NULL;
         if (par && !centre)
             return orr_fail(err, ORR_ERR_USAGE,
                             "%s: smoothing lengths from the neighbours need every particle in one process; with "
                             "%d MPI ranks use lengths from the file (smoothing.lengths: file)",
-                            v->splat.path, par->nranks);
-        v->h_scale = (float)v->splat.deposit.h_scale;
+                            v->pass.splat.path, par->nranks);
+        v->pass.h_scale = (float)v->pass.splat.deposit.h_scale;
         if (!lengths->h && !lengths->angular && /* (computed, but none here: a process's share may be empty) */
-            (st = orr_lengths_compute(&v->splat, src, centre, par, lengths, err)))
+            (st = orr_lengths_compute(&v->pass.splat, src, centre, par, lengths, err)))
             return st;
         if (lengths->angular != (centre != NULL) ||
             (centre && orr_v3_norm(orr_v3_sub(lengths->centre, *centre)) > 0))
             return orr_fail(err, ORR_ERR_USAGE,
                             "%s: the views of a frame share one set of smoothing lengths, but view %d %s; give "
                             "every view glow.threshold from the same place, or none of them",
-                            v->splat.path, k, centre ? "glows from another camera position" : "has no glow");
-        v->lengths = lengths;
+                            v->pass.splat.path, k, centre ? "glows from another camera position" : "has no glow");
+        v->pass.lengths = lengths;
     }
     return ORR_OK;
 }
@@ -483,9 +491,10 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
  * stereo, a sky map's PSF widening kernels, or weights dimmed with distance. */
 static orr_status setup_periodic(view_state *v, const orr_source_info *info, orr_error *err)
 {
-    int can_cull = !v->use_ods && !(v->psf.h_per_r > 0) && !v->splat.dims_from_observer;
-    orr_status st = orr_periodic_view_setup(&v->periodic, &v->splat, info, &v->proj, &v->rep->camera, can_cull, err);
-    v->rep->n_replicas = v->periodic.active ? v->periodic.replicas.n : 0;
+    int can_cull = !v->pass.use_ods && !(v->pass.psf.h_per_r > 0) && !v->pass.splat.dims_from_observer;
+    orr_status st =
+        orr_periodic_view_setup(&v->pass.periodic, &v->pass.splat, info, &v->pass.proj, &v->rep->camera, can_cull, err);
+    v->rep->n_replicas = v->pass.periodic.active ? v->pass.periodic.replicas.n : 0;
     return st;
 }
 
@@ -495,12 +504,12 @@ static orr_status setup_periodic(view_state *v, const orr_source_info *info, orr
  * keywords its FITS table has (NSIDE, ORDERING, COORDSYS, ...). */
 static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr_error *err)
 {
-    size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+    size_t npix = (size_t)v->pass.proj.width * (size_t)v->pass.proj.height;
     float *rgb = orr_malloc(npix * 3 * sizeof *rgb, "kept picture", err);
     orr_status st = rgb ? ORR_OK : ORR_ERR_NOMEM;
     const orr_cards *cards = &v->frame_cards;
     orr_cards *map_cards = NULL;
-    if (!st && orr_projection_traits_of(v->proj.kind).pixel_table) {
+    if (!st && orr_projection_traits_of(v->pass.proj.kind).pixel_table) {
         map_cards = orr_malloc(sizeof *map_cards, "HEALPix map cards", err);
         st = map_cards ? ORR_OK : ORR_ERR_NOMEM;
         if (!st) {
@@ -514,7 +523,7 @@ static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr
     if (!st)
         st = orr_view_graded_rgb(v, rgb, desc, sizeof desc, err);
     if (!st)
-        st = in->keep(in->keep_user, k, v->planes, fits_nplanes(v), rgb, cards, err);
+        st = in->keep(in->keep_user, k, v->pass.planes, fits_nplanes(v), rgb, cards, err);
     free(map_cards);
     free(rgb);
     return st;
@@ -524,12 +533,12 @@ static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr
  * whole PSF (post/sky_psf.h, post/flat_psf.h). */
 static orr_status draw_bright_stars(view_state *v, orr_error *err)
 {
-    if (!v->psf.sky)
+    if (!v->pass.psf.sky)
         return ORR_OK;
-    if (!v->psf.core)
-        return orr_sky_psf_draw(v->psf.sky, &v->sph, v->planes, v->nplanes, err);
-    orr_flat_deposit dep = {v->splat.deposit.kind, &v->proj, v->use_sph ? &v->sph : NULL};
-    return orr_flat_psf_draw(v->psf.sky, &dep, v->psf.core, v->planes, v->nplanes, err);
+    if (!v->pass.psf.core)
+        return orr_sky_psf_draw(v->pass.psf.sky, &v->pass.sph, v->pass.planes, v->pass.nplanes, err);
+    orr_flat_deposit dep = {v->pass.splat.deposit.kind, &v->pass.proj, v->pass.use_sph ? &v->pass.sph : NULL};
+    return orr_flat_psf_draw(v->pass.psf.sky, &dep, v->pass.psf.core, v->pass.planes, v->pass.nplanes, err);
 }
 
 static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, const orr_frame_input *in,
@@ -543,17 +552,17 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
     for (int k = 0; k < n && !st; k++) /* the frame's cards: its counts, stars and camera are final */
         orr_view_frame_cards(&views[k]);
     for (int k = 0; k < n && !st; k++) /* flux per pixel to flux per steradian (or area) */
-        orr_to_surface_brightness(&views[k].proj, views[k].planes, views[k].nplanes);
+        orr_to_surface_brightness(&views[k].pass.proj, views[k].pass.planes, views[k].pass.nplanes);
     charge(&views[0], ORR_STAGE_POST);
     for (int k = 0; k < n && !st; k++)
         if (views[k].files.output.write_raw) {
-            orr_mask_outside_map(&views[k].proj, views[k].planes, views[k].nplanes);
+            orr_mask_outside_map(&views[k].pass.proj, views[k].pass.planes, views[k].pass.nplanes);
             charge(&views[k], ORR_STAGE_POST);
             st = orr_view_write_fits_planes(&views[k], "raw.fits", err);
         }
     for (int k = 0; k < n && !st; k++)
-        for (int j = 0; j < views[k].nplanes && !st; j++)
-            st = orr_view_psf_apply(&views[k].psf, &views[k].planes[j], err);
+        for (int j = 0; j < views[k].pass.nplanes && !st; j++)
+            st = orr_view_psf_apply(&views[k].pass.psf, &views[k].pass.planes[j], err);
     charge(&views[0], ORR_STAGE_PSF);
     for (int k = 0; k < n && !st; k++) {
         if (orr_eye_views_pair_at(eyes, k)) {
@@ -608,9 +617,9 @@ static void frame_units(orr_plan *plan, const orr_source *src)
         const orr_scene *s = plan->eyes.scene[k]; /* (the units are the same in every frame's) */
         snprintf(v->length_unit, sizeof v->length_unit, "%s", scene_length_unit(s, length));
         char unit[ORR_PLANE_NAME_MAX];
-        orr_brightness_unit(&v->proj, scene_weight_unit(s, mass), v->length_unit, unit, sizeof unit);
-        for (int j = 0; j < v->nplanes; j++)
-            snprintf(v->planes[j].unit, sizeof v->planes[j].unit, "%s", unit);
+        orr_brightness_unit(&v->pass.proj, scene_weight_unit(s, mass), v->length_unit, unit, sizeof unit);
+        for (int j = 0; j < v->pass.nplanes; j++)
+            snprintf(v->pass.planes[j].unit, sizeof v->pass.planes[j].unit, "%s", unit);
     }
 }
 
@@ -673,7 +682,7 @@ static orr_status commit_outputs(orr_output_batch *outputs, orr_status st, orr_e
     return st;
 }
 
-/* The frame's dust (dust_view.c), shared by every view. Every process dims
+/* The frame's dust (pass/dust_view.c), shared by every view. Every process dims
  * its share of the stars by all of the dust: on MPI ranks each reads the
  * whole input for it (a simulation's in-situ share cannot be). */
 static orr_status prepare_dust(const orr_plan *plan, orr_source *src, const orr_parallel *par, orr_dust_frame *dust,
@@ -691,9 +700,25 @@ static orr_status prepare_dust(const orr_plan *plan, orr_source *src, const orr_
         if (st)
             return st;
     }
-    orr_status st = orr_dust_view_prepare(plan->views, plan->n, whole ? whole : src, dust, err);
+    orr_status st = orr_dust_view_prepare(plan->passes, plan->n, whole ? whole : src, dust, err);
     orr_source_close(whole);
     return st;
+}
+
+/* What the splat pass counted, into the view's report. */
+static void tally_into_report(const orr_splat_tally *t, orr_render_report *r)
+{
+    r->n_read = t->n_read;
+    r->n_stars = t->n_stars;
+    r->stars_capped = t->stars_capped;
+    r->n_selected = t->n_selected;
+    r->n_nonfinite = t->n_nonfinite;
+    r->n_stereo_skipped = t->n_stereo_skipped;
+    r->n_replicas_culled = t->n_replicas_culled;
+    r->n_blocks = t->n_blocks;
+    r->n_blocks_culled = t->n_blocks_culled;
+    r->deposit = t->deposit;
+    r->deposit_y = t->deposit_y;
 }
 
 /* From the particles to the views' planes: the smoothing lengths, the dust,
@@ -715,14 +740,17 @@ static orr_status splat_frame(orr_plan *plan, orr_status st, orr_source *src, co
         st = prepare_lengths(views, n, src, par, lengths, err);
         charge(&views[0], ORR_STAGE_LENGTHS);
     }
-    if (!st && views[0].splat.dust.types) {
+    if (!st && views[0].pass.splat.dust.types) {
         st = prepare_dust(plan, src, par, dust, err);
         *have_dust = !st;
     }
     for (int k = 0; k < n && !st; k++)
         st = setup_periodic(&views[k], &src->info, err);
-    if (!st)
-        st = orr_splat_views(views, n, src, progress, progress_user, err);
+    if (!st) {
+        st = orr_splat_views(plan->passes, n, src, progress, progress_user, err);
+        for (int k = 0; k < n; k++) /* (a failed splat's counts too, as far as it went) */
+            tally_into_report(&views[k].pass.tally, views[k].rep);
+    }
     if (par && !(st = par->any_failed(par->user, st, err)))
         st = reduce_views(views, n, par, err);
     return st;
@@ -742,7 +770,7 @@ static int lengths_key(const orr_plan *plan, const orr_scene *s0, const orr_sour
     if (given || par || !in->file[0] || in->sequence.pattern[0] || in->sequence.nfiles)
         return 0;
     for (int k = 0; k < plan->n; k++)
-        if (plan->views[k].splat.has_glow)
+        if (plan->views[k].pass.splat.has_glow)
             return 0;
     struct stat st;
     if (stat(in->file, &st) != 0)
@@ -783,13 +811,13 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
 {
     if (plan->purpose != ORR_PLAN_RENDER)
         return orr_fail(err, ORR_ERR_INTERNAL, "a compose plan renders no particles");
-    frame_timer *timer = &plan->timer;
+    orr_frame_timer *timer = &plan->timer;
     memset(timer, 0, sizeof *timer);
     timer->at = orr_clock_now();
     const orr_clock start = timer->at;
     view_state *views = plan->views;
     for (int k = 0; k < plan->n; k++)
-        views[k].timer = timer;
+        views[k].pass.timer = timer;
     const orr_scene *s0 = plan->given[0];
     const orr_frame_time still = orr_frame_at(0, 1, s0->animation.fps, 0, 0);
     const orr_frame_time *when = in ? &in->time : &still;
@@ -820,7 +848,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
         orr_frame_stars_begin(&plan->stars, &observer);
         plan->stars.whole_list = par == NULL; /* on ranks, each has its own share's stars */
         for (int k = 0; k < plan->n; k++)
-            views[k].stars = &plan->stars;
+            views[k].pass.stars = &plan->stars;
     }
     charge(&views[0], ORR_STAGE_SETUP);
     if (!st)
@@ -874,7 +902,7 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_
     orr_eye_views views = {0};
     int begun = 0;
     for (int k = 0; k < plan->n; k++)
-        plan->views[k].timer = NULL;
+        plan->views[k].pass.timer = NULL;
     if (!st && !(st = expand_views(plan, scenes, reports, &views, err)) && !(st = check_frame_views(plan, &views, err)))
         st = begin_frame(plan, &views, scenes[0]->observer.has_id ? &observer : NULL, orr_v3(0, 0, 0), &still, &begun,
                          err);

@@ -17,7 +17,8 @@
 #include "splat/deposit.h"
 #include "core/plane.h"
 #include "reduce/parallel.h" /* orr_parallel: how several processes render a frame together */
-#include "render/timings.h"
+#include "core/timings.h"
+#include "pass/progress.h" /* orr_progress_fn */
 
 #define ORR_RENDER_MAX_OUTPUTS 10 /* stereo.mode: separate writes each format twice */
 
@@ -52,12 +53,8 @@ typedef struct orr_render_report {
     int noutputs;
     char outputs[ORR_RENDER_MAX_OUTPUTS][ORR_PATH_MAX];
     orr_stage_times times;       /* where the frame's time went: every view of the frame together, the same
-                                  * in each view's report (render/timings.h) */
+                                  * in each view's report (core/timings.h) */
 } orr_render_report;
-
-/* Called after each chunk with the particles read so far and the total
- * (-1 when the source does not know it). */
-typedef void (*orr_progress_fn)(void *user, uint64_t done, int64_t total);
 
 /* The extra fields a frame of the scene may ask its source for: the weight
  * (when not mass or h), the fields its colour populations select, colour

@@ -127,12 +127,6 @@ orr_status orr_stereo_setup_eye(const orr_stereo_settings *stereo, const orr_cam
     return ORR_OK;
 }
 
-void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep)
-{
-    for (size_t i = 0; i < n; i++)
-        visible[i] &= keep[i];
-}
-
 /* ---- the picture of a pair ---- */
 
 static void decode_srgb(const float *in, float *out, size_t n)

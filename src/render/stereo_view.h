@@ -63,9 +63,6 @@ orr_status orr_stereo_setup_eye(const orr_stereo_settings *stereo, const orr_cam
                                 const char *scene_path, orr_projection *proj, orr_render_report *rep,
                                 orr_stereo_ods *ods, int *use_ods, orr_error *err);
 
-/* visible[i] &= keep[i]: the particles inside an ODS eye circle are not drawn. */
-void orr_stereo_mask(size_t n, uint8_t *visible, const uint8_t *keep);
-
 /* How the driver adds output NAME.EXT of a view's files f to the frame's
  * outputs: the final path goes to rep->outputs[rep->noutputs] (counted by
  * the caller once written) and *write_path is the file to write now. */

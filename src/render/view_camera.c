@@ -210,8 +210,8 @@ static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, 
         }
         st = orr_view_camera(c, observer ? &moved : NULL, when, cam, &sky, err);
     }
-    if (!st && c->stereo.eye && orr_projection_traits_of(v->proj.kind).off_axis_stereo) {
-        orr_projection p = v->base_proj;
+    if (!st && c->stereo.eye && orr_projection_traits_of(v->pass.proj.kind).off_axis_stereo) {
+        orr_projection p = v->pass.base_proj;
         st = orr_stereo_perspective_eye(cam, &p, c->stereo.eye, c->stereo.eye_separation, v->rep->stereo_convergence,
                                         err);
     }
@@ -235,6 +235,6 @@ orr_status orr_view_plan_blur(view_state *v, const orr_sky_frame *observer, orr_
     if (!st)
         st = camera_at(v, observer, step, when, half_frame, &close, err);
     if (!st)
-        orr_motion_blur_plan(&v->blur, half_time, &open, &close, &v->proj);
+        orr_motion_blur_plan(&v->pass.blur, half_time, &open, &close, &v->pass.proj);
     return st;
 }

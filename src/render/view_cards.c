@@ -26,20 +26,6 @@ static void reserve(orr_cards *h, const reserved *cards, size_t n)
         orr_cards_reserve(h, cards[i].key, cards[i].comment);
 }
 
-/* The deposit's cards: the one stage whose cards are still made here; they
- * belong beside the deposit's settings in splat/deposit.h. */
-static void plan_deposit_cards(const view_state *v, orr_cards *h)
-{
-    const orr_deposit_settings *d = &v->splat.deposit;
-    orr_cards_add_string(h, "DEPOSIT", orr_deposit_name(d->kind), "deposit method");
-    if (v->use_sph) {
-        orr_cards_add_string(h, "KERNEL", orr_kernel_name(d->kernel), "SPH kernel (support 2h)");
-        orr_cards_reserve(h, "HSOURCE", "where smoothing lengths came from");
-        orr_cards_reserve(h, "NNEIGH", "h = half the distance to this neighbour");
-        orr_cards_add_double(h, "HSCALE", d->h_scale, "smoothing lengths multiplied by this");
-    }
-}
-
 /* The counts of the frame's report, and its time and source. */
 static void plan_report_cards(const view_state *v, const orr_input_settings *input, orr_cards *h)
 {
@@ -75,8 +61,8 @@ void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const o
     orr_cards_add_string(h, "CREATOR", "orrery " ORRERY_VERSION, "software that made this file");
     orr_cards_add_string(h, "ORRVERS", ORRERY_VERSION, "orrery version");
     /* (a stereo eye's shift changes none of the projection's cards) */
-    orr_projection_cards(&v->base_proj, h);
-    orr_camera_dome_cards(&c->camera, v->base_proj.kind, h);
+    orr_projection_cards(&v->pass.base_proj, h);
+    orr_camera_dome_cards(&c->camera, v->pass.base_proj.kind, h);
     static const reserved camera[] = {
         {"CAMPOSX", "camera position x"},
         {"CAMPOSY", "camera position y"},
@@ -87,10 +73,10 @@ void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const o
         {"CAMQZ", "camera-to-world quaternion z"},
     };
     reserve(h, camera, sizeof camera / sizeof camera[0]);
-    orr_cards_add_long(h, "IMGWIDTH", v->base_proj.width, "[pixel] image width");
-    orr_cards_add_long(h, "IMGHEIGH", v->base_proj.height, "[pixel] image height");
-    plan_deposit_cards(v, h);
-    orr_view_psf_cards(&v->psf, h);
+    orr_cards_add_long(h, "IMGWIDTH", v->pass.base_proj.width, "[pixel] image width");
+    orr_cards_add_long(h, "IMGHEIGH", v->pass.base_proj.height, "[pixel] image height");
+    orr_deposit_cards(&v->pass.splat.deposit, v->pass.use_sph, h);
+    orr_view_psf_cards(&v->pass.psf, h);
     plan_report_cards(v, input, h);
     if (observer->has_id) /* an observer's dimming is the observer's; without one, the camera's */
         orr_observer_cards(observer, h);
@@ -116,17 +102,15 @@ static void set_frame_values(const view_state *v, orr_cards *h)
     orr_cards_set_double(h, "CAMQX", cam->orientation.x);
     orr_cards_set_double(h, "CAMQY", cam->orientation.y);
     orr_cards_set_double(h, "CAMQZ", cam->orientation.z);
-    orr_cards_set_string(h, "HSOURCE", v->lengths ? "neighbours" : "file");
-    if (v->lengths)
-        orr_cards_set_long(h, "NNEIGH", v->splat.deposit.neighbours);
-    if (v->psf.sky)
-        orr_cards_set_long(h, "PSFSTARS", v->psf.sky->stars_drawn);
+    orr_deposit_frame_cards(&v->pass.splat.deposit, v->pass.lengths != NULL, h);
+    if (v->pass.psf.sky)
+        orr_cards_set_long(h, "PSFSTARS", v->pass.psf.sky->stars_drawn);
     orr_cards_set_long(h, "NPART", (long long)rep->n_read);
     orr_cards_set_long(h, "NSELECT", (long long)rep->n_selected);
     orr_cards_set_long(h, "NSKIPPED", (long long)rep->n_nonfinite);
     orr_cards_set_long(h, "NCULLED", (long long)rep->deposit.n_culled);
     if (rep->n_replicas) {
-        orr_cards_set_double(h, "PERBOX", v->periodic.box);
+        orr_cards_set_double(h, "PERBOX", v->pass.periodic.box);
         orr_cards_set_long(h, "NREPLIC", rep->n_replicas);
         orr_cards_set_long(h, "NBLKCULL", (long long)rep->n_blocks_culled);
     }
@@ -152,7 +136,7 @@ void orr_view_frame_cards(view_state *v)
     orr_cards *h = &v->frame_cards;
     *h = v->cards;
     set_frame_values(v, h);
-    orr_wcs_view wcs = {&v->proj, &rep->camera, &rep->sky, rep->has_sky_frame, v->length_unit};
+    orr_wcs_view wcs = {&v->pass.proj, &rep->camera, &rep->sky, rep->has_sky_frame, v->length_unit};
     orr_wcs_add_cards(h, &wcs);
     orr_cards_append(h, &v->stereo_cards);
     orr_cards_set_double(h, "CONVERG", rep->stereo_convergence);

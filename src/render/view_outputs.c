@@ -49,25 +49,25 @@ static orr_status begin_grade(const view_state *v, orr_graded *gr, char *desc, s
     const view_files *f = &v->files;
     orr_render_report *rep = v->rep;
     const orr_grade g = view_grade(v);
-    orr_status st = orr_grade_begin(&g, v->planes, gr, err);
+    orr_status st = orr_grade_begin(&g, v->pass.planes, gr, err);
     if (st)
         return st;
     rep->white = gr->white;
     if (f->compose.nlayers)
         orr_snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
-                     f->compose.nlayers, orr_projection_name(v->proj.kind), orr_lum_stretch_name(f->colour.synth.stretch),
-                     rep->white);
+                     f->compose.nlayers, orr_projection_name(v->pass.proj.kind),
+                     orr_lum_stretch_name(f->colour.synth.stretch), rep->white);
     else if (f->colour.has_populations)
         orr_snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
-                     f->colour.populations.n, rep->source, orr_projection_name(v->proj.kind),
+                     f->colour.populations.n, rep->source, orr_projection_name(v->pass.proj.kind),
                      orr_lum_stretch_name(f->colour.synth.stretch), rep->white);
     else if (f->colour.has_tint)
         orr_snprintf(desc, size, "%s of %s tinted at t = %g of its colour path, %s projection, %s stretch, Y0 %g",
-                     f->weight, rep->source, v->tint_t, orr_projection_name(v->proj.kind),
+                     f->weight, rep->source, v->tint_t, orr_projection_name(v->pass.proj.kind),
                      orr_lum_stretch_name(f->colour.synth.stretch), rep->white);
     else
-        orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", f->weight,
-                     rep->source, orr_projection_name(v->proj.kind), orr_stretch_name(f->picture.stretch.kind), rep->white,
+        orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", f->weight, rep->source,
+                     orr_projection_name(v->pass.proj.kind), orr_stretch_name(f->picture.stretch.kind), rep->white,
                      orr_colormap_name(f->picture.colormap));
     return ORR_OK;
 }
@@ -89,7 +89,7 @@ static orr_status view_output(view_state *v, const char *ext, const char **write
  * projection, time, camera, and desc. */
 static orr_image_meta view_meta(const view_state *v, const char *desc, orr_view_meta_text *t)
 {
-    return orr_view_image_meta(v->files.output.name, &v->proj, v->rep->sim_time, &v->rep->camera, desc, t);
+    return orr_view_image_meta(v->files.output.name, &v->pass.proj, v->rep->sim_time, &v->rep->camera, desc, t);
 }
 
 /* The PNG encoder's rows (encode/png_idat.h) graded as it asks for them,
@@ -137,21 +137,21 @@ orr_status orr_view_write_pictures(view_state *v, orr_error *err)
     orr_status st = begin_grade(v, &gr, desc, sizeof desc, err);
     float *rgb = NULL, *rgba = NULL; /* rgba: output.alpha_mask, transparent off the map */
     if (!st && f->output.image_ext[0]) {
-        size_t npix = (size_t)v->proj.width * (size_t)v->proj.height;
+        size_t npix = (size_t)v->pass.proj.width * (size_t)v->pass.proj.height;
         rgb = orr_malloc(npix * 3 * sizeof(float), "picture pixels", err);
         st = rgb ? ORR_OK : ORR_ERR_NOMEM;
         if (rgb)
             orr_graded_picture(&gr, rgb);
         if (!st && f->output.alpha_mask)
-            st = orr_map_rgba(&v->proj, rgb, &rgba, err);
+            st = orr_map_rgba(&v->pass.proj, rgb, &rgba, err);
     }
     charge(v, ORR_STAGE_POST);
     const char *path;
     if (!st && f->output.write_png) {
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
-        picture_rows rows = {&gr, &v->proj, f->output.alpha_mask, f->output.png_bits};
+        picture_rows rows = {&gr, &v->pass.proj, f->output.alpha_mask, f->output.png_bits};
         int channels = f->output.alpha_mask ? 4 : 3;
-        orr_png_rows src = {v->proj.width, v->proj.height, channels, f->output.png_bits, rgba ? rgba : rgb,
+        orr_png_rows src = {v->pass.proj.width, v->pass.proj.height, channels, f->output.png_bits, rgba ? rgba : rgb,
                             picture_row, &rows};
         if (!(st = view_output(v, "png", &path, err)) && !(st = orr_write_png_rows(path, &src, text, 2, err)))
             rep->noutputs++;
@@ -161,7 +161,8 @@ orr_status orr_view_write_pictures(view_state *v, orr_error *err)
         orr_view_meta_text text;
         orr_image_meta meta = view_meta(v, desc, &text);
         if (!(st = view_output(v, f->output.image_ext, &path, err)) &&
-            !(st = orr_write_image_picture(path, rgb, rgba, v->proj.width, v->proj.height, f->output.png_bits, &meta, err)))
+            !(st = orr_write_image_picture(path, rgb, rgba, v->pass.proj.width, v->pass.proj.height, f->output.png_bits,
+                                           &meta, err)))
             rep->noutputs++;
         charge(v, ORR_STAGE_IMAGE);
     }
@@ -180,9 +181,9 @@ static orr_status write_exr(view_state *v, const orr_plane *av, orr_error *err)
     orr_image_meta meta = view_meta(v, "linear planes", &text);
     orr_exr_view ev;
     orr_status st = view_output(v, "exr", &path, err);
-    if (!st && !(st = orr_exr_view_build(&ev, v->planes, v->nplanes, &v->proj, "", err))) {
+    if (!st && !(st = orr_exr_view_build(&ev, v->pass.planes, v->pass.nplanes, &v->pass.proj, "", err))) {
         if (av)
-            st = orr_exr_view_add(&ev, av, &v->proj, "extinction.V", err); /* A_V: V is the band */
+            st = orr_exr_view_add(&ev, av, &v->pass.proj, "extinction.V", err); /* A_V: V is the band */
         if (!st)
             st = orr_exr_view_write(path, ev.channels, ev.n, v->files.output.exr_half, &meta, err);
         orr_exr_view_free(&ev);
@@ -221,8 +222,8 @@ static orr_status view_output(view_state *v, const char *ext, const char **write
 
 orr_healpix_info orr_view_healpix_info(const view_state *v)
 {
-    orr_wcs_view wcs = {&v->proj, &v->rep->camera, &v->rep->sky, v->rep->has_sky_frame, ""};
-    return (orr_healpix_info){v->proj.healpix_nside, v->proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
+    orr_wcs_view wcs = {&v->pass.proj, &v->rep->camera, &v->rep->sky, v->rep->has_sky_frame, ""};
+    return (orr_healpix_info){v->pass.proj.healpix_nside, v->pass.proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
 }
 
 /* The view's planes, with the frame's cards, written to path: a HEALPix
@@ -231,14 +232,14 @@ orr_healpix_info orr_view_healpix_info(const view_state *v)
 static orr_status write_planes_to(const view_state *v, const char *ext, const char *path, orr_error *err)
 {
     const orr_cards *h = &v->frame_cards;
-    if (orr_projection_traits_of(v->proj.kind).pixel_table) {
+    if (orr_projection_traits_of(v->pass.proj.kind).pixel_table) {
         orr_healpix_info info = orr_view_healpix_info(v);
-        return orr_write_healpix_fits(path, v->planes, fits_nplanes(v), &info, h, err);
+        return orr_write_healpix_fits(path, v->pass.planes, fits_nplanes(v), &info, h, err);
     }
     /* The raw planes stay uncompressed: orrery compose reads them. */
     orr_fits_compression c = strcmp(ext, "fits") == 0 ? (orr_fits_compression)v->files.output.fits_compress
                                                        : ORR_FITS_UNCOMPRESSED;
-    return orr_write_fits_compressed(path, v->planes, fits_nplanes(v), h, c, err);
+    return orr_write_fits_compressed(path, v->pass.planes, fits_nplanes(v), h, c, err);
 }
 
 /* Writes the view's planes, with the frame's cards, to NAME.EXT. */
@@ -292,8 +293,8 @@ static orr_status fits_writer_start(view_state *v, fits_writer *w, orr_error *er
         return st;
     v->rep->noutputs++; /* its slot in the report, before the pictures take the next */
     snprintf(w->path, sizeof w->path, "%s", path);
-    if (v->timer)
-        w->before = v->timer->times;
+    if (v->pass.timer)
+        w->before = v->pass.timer->times;
     w->started = orr_fits_thread_safe() && pthread_create(&w->thread, NULL, fits_writer_run, w) == 0;
     if (w->started)
         return ORR_OK;
@@ -305,7 +306,7 @@ static orr_status fits_writer_start(view_state *v, fits_writer *w, orr_error *er
 }
 
 /* Waits for the thread; its time goes to the fits stage, its CPU taken
- * off the stages charged meanwhile (render/timings.h). st is the frame's
+ * off the stages charged meanwhile (core/timings.h). st is the frame's
  * status so far: the FITS file's failure is reported when nothing else
  * failed first. */
 static orr_status fits_writer_finish(view_state *v, fits_writer *w, orr_status st, orr_error *err)
@@ -314,8 +315,8 @@ static orr_status fits_writer_finish(view_state *v, fits_writer *w, orr_status s
         return st;
     pthread_join(w->thread, NULL);
     charge(v, ORR_STAGE_FITS); /* the wait */
-    if (v->timer)
-        orr_stage_charge_beside(&v->timer->times, &w->before, ORR_STAGE_FITS, w->cpu);
+    if (v->pass.timer)
+        orr_stage_charge_beside(&v->pass.timer->times, &w->before, ORR_STAGE_FITS, w->cpu);
     if (!st && w->st)
         *err = w->err;
     return st ? st : w->st;
@@ -325,10 +326,10 @@ static orr_status fits_writer_finish(view_state *v, fits_writer *w, orr_status s
  * for the FITS file and the EXR layer. */
 static orr_status extinction_plane(view_state *v, orr_plane *av, orr_error *err)
 {
-    const orr_mat3 *r = &v->world_to_camera;
-    orr_dust_eye eye = {v->rep->camera.position, orr_projection_traits_of(v->proj.kind).parallel,
+    const orr_mat3 *r = &v->pass.world_to_camera;
+    orr_dust_eye eye = {v->rep->camera.position, orr_projection_traits_of(v->pass.proj.kind).parallel,
                         orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
-    return orr_dust_av_plane(v->dust, &eye, &v->proj, r, av, err);
+    return orr_dust_av_plane(v->pass.dust, &eye, &v->pass.proj, r, av, err);
 }
 
 /* The extinction plane as NAME.extinction.fits beside the light planes,
@@ -358,9 +359,9 @@ void orr_view_share_white(const view_state *l, view_state *r)
 orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_error *err)
 {
     const view_files *f = &l->files;
-    orr_mask_outside_map(&l->proj, l->planes, l->nplanes);
-    orr_mask_outside_map(&r->proj, r->planes, r->nplanes);
-    size_t npix = (size_t)l->proj.width * (size_t)l->proj.height;
+    orr_mask_outside_map(&l->pass.proj, l->pass.planes, l->pass.nplanes);
+    orr_mask_outside_map(&r->pass.proj, r->pass.planes, r->pass.nplanes);
+    size_t npix = (size_t)l->pass.proj.width * (size_t)l->pass.proj.height;
     int want_rgb = f->output.write_png || f->output.image_ext[0];
     float *rgb = want_rgb ? orr_malloc(2 * npix * 3 * sizeof *rgb, "stereo pictures", err) : NULL;
     orr_status st = want_rgb && !rgb ? ORR_ERR_NOMEM : ORR_OK;
@@ -379,12 +380,12 @@ orr_status orr_view_write_stereo_pair(view_state *l, view_state *r, orr_error *e
          * screen window is right for it. */
         meta.has_screen_window = 0;
         orr_stereo_pair pair = {
-            .files = f, .planes = {l->planes, r->planes}, .nplanes = l->nplanes,
-            .width = l->proj.width, .height = l->proj.height,
+            .files = f, .planes = {l->pass.planes, r->pass.planes}, .nplanes = l->pass.nplanes,
+            .width = l->pass.proj.width, .height = l->pass.proj.height,
             .rgb = {want_rgb ? rgb : NULL, want_rgb ? rgb + 3 * npix : NULL},
             .rgb_linear = (f->colour.has_populations || f->compose.nlayers || f->colour.has_tint) && f->output.png_linear,
             .cards = &l->frame_cards, .meta = &meta, .desc = desc, .stage = stage_output, .outputs = l->outputs,
-            .proj = &l->proj,
+            .proj = &l->pass.proj,
         };
         st = orr_stereo_write_pair(&pair, l->rep, err);
         charge(l, ORR_STAGE_STEREO);
@@ -399,7 +400,7 @@ static orr_status write_star_list(view_state *v, orr_error *err)
     orr_star_table table;
     void *columns = NULL;
     const char *path;
-    orr_status st = orr_frame_stars_view_table(v->stars, v, &table, &columns, err);
+    orr_status st = orr_frame_stars_view_table(v->pass.stars, &v->pass, &table, &columns, err);
     if (!st)
         st = view_output(v, "stars.fits", &path, err);
     if (!st)
@@ -414,10 +415,10 @@ static orr_status write_star_list(view_state *v, orr_error *err)
 orr_status orr_view_write_outputs(view_state *v, orr_error *err)
 {
     const view_files *f = &v->files;
-    orr_mask_outside_map(&v->proj, v->planes, v->nplanes);
+    orr_mask_outside_map(&v->pass.proj, v->pass.planes, v->pass.nplanes);
     charge(v, ORR_STAGE_POST);
     orr_plane av = {0};
-    int want_av = v->dust && f->extinction_plane;
+    int want_av = v->pass.dust && f->extinction_plane;
     orr_status st = want_av ? extinction_plane(v, &av, err) : ORR_OK;
     fits_writer fits = {0};
     if (!st && f->output.write_fits)
@@ -428,7 +429,7 @@ orr_status orr_view_write_outputs(view_state *v, orr_error *err)
         st = write_extinction(v, &av, err);
     if (!st)
         st = orr_view_write_pictures(v, err);
-    if (!st && v->stars && f->stars_list && v->stars->whole_list)
+    if (!st && v->pass.stars && f->stars_list && v->pass.stars->whole_list)
         st = write_star_list(v, err);
     st = fits_writer_finish(v, &fits, st, err);
     orr_plane_free(&av);

@@ -19,6 +19,24 @@ void orr_deposit_settings_defaults(orr_deposit_settings *d)
     d->h_scale = 1.0;
 }
 
+void orr_deposit_cards(const orr_deposit_settings *d, int kernels, orr_cards *h)
+{
+    orr_cards_add_string(h, "DEPOSIT", orr_deposit_name(d->kind), "deposit method");
+    if (!kernels)
+        return;
+    orr_cards_add_string(h, "KERNEL", orr_kernel_name(d->kernel), "SPH kernel (support 2h)");
+    orr_cards_reserve(h, "HSOURCE", "where smoothing lengths came from");
+    orr_cards_reserve(h, "NNEIGH", "h = half the distance to this neighbour");
+    orr_cards_add_double(h, "HSCALE", d->h_scale, "smoothing lengths multiplied by this");
+}
+
+void orr_deposit_frame_cards(const orr_deposit_settings *d, int from_neighbours, orr_cards *h)
+{
+    orr_cards_set_string(h, "HSOURCE", from_neighbours ? "neighbours" : "file");
+    if (from_neighbours)
+        orr_cards_set_long(h, "NNEIGH", d->neighbours);
+}
+
 /* Points a stack batch of orr_deposit handles at once (its shares stay in
  * L1 cache). */
 #define POINT_BATCH 512

@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "frame/projection.h"
+#include "core/cards.h"
 #include "core/plane.h"
 #include "core/names.h"
 #include "particles/smoothing.h"
@@ -45,6 +46,16 @@ typedef struct orr_deposit_settings {
 
 /* Fills d with the defaults above. */
 void orr_deposit_settings_defaults(orr_deposit_settings *d);
+
+/* The deposit's cards for a view's files (core/cards.h): its method and,
+ * when the view draws kernels (deposit: sph, or a sky map's PSF that
+ * widens each particle into one), the kernel and smoothing.h_scale, with
+ * where the smoothing lengths come from reserved for each frame to give
+ * (orr_deposit_frame_cards). */
+void orr_deposit_cards(const orr_deposit_settings *d, int kernels, orr_cards *h);
+/* The frame's values of the cards reserved: the lengths came from the
+ * neighbours (from_neighbours; then smoothing.neighbours) or the file. */
+void orr_deposit_frame_cards(const orr_deposit_settings *d, int from_neighbours, orr_cards *h);
 
 /* Points to deposit: positions in pixels, whether the projection drew
  * each, and nw weights per point (the weight, or CIE X, Y, Z). */

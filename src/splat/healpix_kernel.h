@@ -62,7 +62,7 @@ void orr_healpix_scratch_free(orr_healpix_scratch *s);
  * nside_f^2 for a support of angular radius R, so a camera among the
  * particles, whose nearest kernels cover much of the sky, costs up to
  * 12 nside^2 per particle: at nside 4096 hours. The deposits stop once
- * `limit` samples are taken, and the frame is refused (render/splat_pass.c)
+ * `limit` samples are taken, and the frame is refused (pass/splat_pass.c)
  * rather than left to run for hours. */
 typedef struct orr_healpix_budget {
     uint64_t limit;              /* kernel samples a frame may take */

@@ -139,7 +139,7 @@ spec, ch = render("dome-sph", DOME + DUST + "deposit: sph\n")
 check_sum("dome-sph", ch)
 
 # An image above 2^22 pixels: point deposits sorted into bands
-# (render/splat_pass.c, reduce/lanes.h), the populations' weights with them.
+# (pass/splat_pass.c, reduce/lanes.h), the populations' weights with them.
 spec, ch = render("bands", EDGE_ON + "deposit: ngp\n", output="  exr_population_layers: true\n  fits: false\n",
                   image="image:\n  width: 2049\n  height: 2048\n")
 check_sum("bands", ch)

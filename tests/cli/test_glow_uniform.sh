@@ -1,6 +1,6 @@
 #!/bin/bash
 # A uniform sky stays uniform through the glow's coarse maps
-# (render/coarse_glow.c, docs/sky.md#stars-from-particles): 3 000 equal
+# (pass/coarse_glow.c, docs/sky.md#stars-from-particles): 3 000 equal
 # stars spread evenly over the sky at 1 kpc, every one a glow tens of
 # degrees wide (stars.limit -30: none drawn as a point), on a 512^2 dome
 # master and a 512 x 256 Hammer-Aitoff panorama. Against the truth, the

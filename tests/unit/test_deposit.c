@@ -1,6 +1,7 @@
 /* Deposits: weight is conserved, lands in the right pixels, and what falls
  * off the image is counted. */
 #include <stdlib.h>
+#include <string.h>
 
 #include "check.h"
 #include "splat/deposit.h"
@@ -131,6 +132,49 @@ static void test_plane_size_limit(void)
     orr_plane_free(&p);
 }
 
+/* The deposit's cards: the method alone for points; with kernels the
+ * kernel, h_scale and the frame's lengths source in their reserved places
+ * (NNEIGH only when the lengths came from the neighbours). */
+static const orr_card *card(const orr_cards *h, const char *key)
+{
+    static const orr_card missing = {"", ORR_CARD_STRING, "(missing)", 0, 0, ""};
+    for (int i = 0; i < h->n; i++)
+        if (strcmp(h->cards[i].key, key) == 0)
+            return &h->cards[i];
+    return &missing;
+}
+
+static void test_deposit_cards(void)
+{
+    orr_deposit_settings d;
+    orr_deposit_settings_defaults(&d);
+    orr_cards *h = calloc(1, sizeof *h);
+    CHECK(h != NULL);
+    orr_deposit_cards(&d, 0, h);
+    CHECK(h->n == 1 && strcmp(h->cards[0].key, "DEPOSIT") == 0 && strcmp(h->cards[0].str, "cic") == 0);
+
+    memset(h, 0, sizeof *h);
+    d.kind = ORR_DEPOSIT_SPH, d.kernel = ORR_KERNEL_WENDLAND_C4, d.neighbours = 16, d.h_scale = 1.5;
+    orr_deposit_cards(&d, 1, h);
+    const char *order[] = {"DEPOSIT", "KERNEL", "HSOURCE", "NNEIGH", "HSCALE"};
+    CHECK(h->n == 5);
+    for (int i = 0; i < 5 && i < h->n; i++)
+        CHECK(strcmp(h->cards[i].key, order[i]) == 0);
+    CHECK(strcmp(card(h, "KERNEL")->str, "wendland-c4") == 0);
+    CHECK(card(h, "HSCALE")->type == ORR_CARD_DOUBLE && card(h, "HSCALE")->dbl == 1.5);
+    CHECK(card(h, "HSOURCE")->type == ORR_CARD_UNSET && card(h, "NNEIGH")->type == ORR_CARD_UNSET);
+
+    orr_cards frame = *h;
+    orr_deposit_frame_cards(&d, 1, &frame);
+    CHECK(strcmp(card(&frame, "HSOURCE")->str, "neighbours") == 0);
+    CHECK(card(&frame, "NNEIGH")->type == ORR_CARD_LONG && card(&frame, "NNEIGH")->lng == 16);
+    frame = *h;
+    orr_deposit_frame_cards(&d, 0, &frame);
+    CHECK(strcmp(card(&frame, "HSOURCE")->str, "file") == 0);
+    CHECK(card(&frame, "NNEIGH")->type == ORR_CARD_UNSET); /* dropped from the frame's files */
+    free(h);
+}
+
 int main(void)
 {
     RUN(test_particle_at_pixel_centre);
@@ -138,5 +182,6 @@ int main(void)
     RUN(test_edges_count_outside_weight);
     RUN(test_mass_conserved_random);
     RUN(test_plane_size_limit);
+    RUN(test_deposit_cards);
     return check_summary();
 }

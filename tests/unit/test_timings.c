@@ -1,4 +1,4 @@
-/* Where a frame's time goes (render/timings.h, orrery render --timings):
+/* Where a frame's time goes (core/timings.h, orrery render --timings):
  * every stage a frame runs is reported, none is negative, and the stages
  * add up to the frame's own wall and CPU time. */
 #include <stdlib.h>

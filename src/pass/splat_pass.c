@@ -1,11 +1,11 @@
 /* The splat pass: every chunk of particles into each view's planes. A
  * chunk's weights are found once (colour populations), then each view
  * gathers its blocks of particles into the camera frame and deposits
- * them (render/splat_block.h), in lanes or bands whose order never
+ * them (splat_block.h), in lanes or bands whose order never
  * depends on the threads (reduce/lanes.h), or a periodic box's copies on
- * one thread. What each block adds to the report and a bad particle's
+ * one thread. What each block adds to the tally and a bad particle's
  * error are taken in block order, as one thread would meet them. */
-#include "render/splat_block.h"
+#include "pass/splat_block.h"
 
 #include <omp.h>
 #include <stdlib.h>
@@ -40,7 +40,7 @@ static orr_status weight_field(const orr_splat_settings *set, const orr_source *
 
 /* How many lanes the view splats in (reduce/lanes.h), for a source of
  * count particles (-1 when unknown). */
-static int lanes_for(const view_state *v, int64_t count)
+static int lanes_for(const orr_splat_view *v, int64_t count)
 {
     int shares_per_particle = v->use_sph                                  ? 0
                               : v->splat.deposit.kind == ORR_DEPOSIT_NGP ? 1
@@ -48,14 +48,14 @@ static int lanes_for(const view_state *v, int64_t count)
     return orr_lanes_for(v->proj.width, v->proj.height, v->nplanes, shares_per_particle, count);
 }
 
-static orr_status alloc_lanes(view_state *v, int64_t count, orr_error *err)
+static orr_status alloc_lanes(orr_splat_view *v, int64_t count, orr_error *err)
 {
     return orr_lanes_alloc(&v->lanes, lanes_for(v, count), v->nplanes, v->proj.width, v->proj.height, err);
 }
 
 /* The bands of a point deposit: a window of blocks of a chunk of up to
  * capacity particles, each block's shares in a region of its own. */
-static orr_status alloc_bands(view_state *v, size_t capacity, orr_error *err)
+static orr_status alloc_bands(orr_splat_view *v, size_t capacity, orr_error *err)
 {
     v->lanes.n = 1;
     size_t nblocks = (capacity + BLOCK - 1) / BLOCK;
@@ -65,7 +65,7 @@ static orr_status alloc_bands(view_state *v, size_t capacity, orr_error *err)
     return orr_bands_init(&v->bands, npix, v->nplanes, window ? window : 1, per_point * BLOCK, err);
 }
 
-void orr_splat_free_lanes(view_state *v)
+void orr_splat_free_lanes(orr_splat_view *v)
 {
     orr_lanes_free(&v->lanes);
 }
@@ -93,7 +93,7 @@ typedef struct splat_work {
 /* Where each block's neighbour smoothing lengths start: they are taken in
  * source order by the particles orr_lengths_counts counts, so each block's
  * start is the count before it (a serial pass, cheap beside the splat). */
-static void lengths_starts(view_state *v, const orr_chunk *c, size_t nblocks, size_t *first)
+static void lengths_starts(orr_splat_view *v, const orr_chunk *c, size_t nblocks, size_t *first)
 {
     size_t next = v->lengths_next;
     for (size_t blk = 0; blk < nblocks; blk++) {
@@ -112,7 +112,7 @@ static void lengths_starts(view_state *v, const orr_chunk *c, size_t nblocks, si
  * or a thread of the bands), its report in *t, freshly zeroed. Returns the
  * particles gathered, or -1 on a bad particle, recorded in w->failed[k]
  * and w->lane_err[k]. */
-static long take_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+static long take_block(const orr_splat_view *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
                        size_t blk, splat_work *w, int k, block_buffers *b, block_tally **t)
 {
     size_t start = blk * BLOCK, end = start + BLOCK < c->n ? start + BLOCK : c->n;
@@ -127,7 +127,7 @@ static long take_block(const view_state *v, const orr_source *src, const orr_chu
 
 /* One lane's blocks of the chunk, in order; stops at a bad particle,
  * recording the block in w->failed[lane] and the error in w->lane_err. */
-static void splat_lane(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+static void splat_lane(orr_splat_view *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
                        size_t nblocks, int lane, splat_work *w)
 {
     block_buffers *b = &w->buffers[lane];
@@ -159,22 +159,22 @@ static orr_status first_failure(const splat_work *w, int nworkers, orr_error *er
     return w->lane_err[bad].code ? w->lane_err[bad].code : ORR_ERR_DATA;
 }
 
-/* Adds the chunk's blocks to the report, in block order. */
-static void add_chunk_tally(view_state *v, const orr_chunk *c, const splat_work *w, size_t nblocks)
+/* Adds the chunk's blocks to the view's tally, in block order. */
+static void add_chunk_tally(orr_splat_view *v, const orr_chunk *c, const splat_work *w, size_t nblocks)
 {
     for (size_t blk = 0; blk < nblocks; blk++)
-        orr_splat_add_tally(v->rep, &w->tally[blk]);
+        orr_splat_add_tally(&v->tally, &w->tally[blk]);
     if (v->drawing_stars)
-        v->rep->n_stars += c->n;
+        v->tally.n_stars += c->n;
     else
-        v->rep->n_read += c->n;
+        v->tally.n_read += c->n;
 }
 
-/* Splats the chunk into one view, its lanes in parallel; the report's sums
+/* Splats the chunk into one view, its lanes in parallel; the tally's sums
  * are taken in block order afterwards. On a bad particle the error is that
  * of the first bad block, as a single thread would have found it. */
-static orr_status splat_view_lanes(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
-                                   splat_work *w, orr_error *err)
+static orr_status splat_view_lanes(orr_splat_view *v, const orr_source *src, const orr_chunk *c,
+                                   const float *const *wts, splat_work *w, orr_error *err)
 {
     size_t nblocks = (c->n + BLOCK - 1) / BLOCK;
     lengths_starts(v, c, nblocks, w->lengths_first);
@@ -202,7 +202,7 @@ static int splat_threads(void)
  * into regions 0 .. count-1, the blocks shared out among the threads. A
  * thread stops at a bad particle (w->failed); its later blocks are all
  * after it, so the first failure is the one a single thread would meet. */
-static void window_shares(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+static void window_shares(orr_splat_view *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
                           size_t first, size_t count, splat_work *w, int nthreads)
 {
     const int W = v->proj.width, H = v->proj.height;
@@ -242,7 +242,7 @@ static void window_shares(view_state *v, const orr_source *src, const orr_chunk 
 /* Splats the chunk into a view of point deposits: window by window, the
  * blocks' shares in parallel, then the bands in parallel (splat/bands.h:
  * the same sums in the same order whatever the threads). */
-static orr_status splat_view_banded(view_state *v, const orr_source *src, const orr_chunk *c,
+static orr_status splat_view_banded(orr_splat_view *v, const orr_source *src, const orr_chunk *c,
                                     const float *const *wts, splat_work *w, orr_error *err)
 {
     const size_t nblocks = (c->n + BLOCK - 1) / BLOCK, window = v->bands.nregions;
@@ -270,7 +270,7 @@ static orr_status splat_view_banded(view_state *v, const orr_source *src, const 
     return ORR_OK;
 }
 
-static orr_status splat_view(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
+static orr_status splat_view(orr_splat_view *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
                              splat_work *w, orr_error *err)
 {
     return v->banded ? splat_view_banded(v, src, c, wts, w, err) : splat_view_lanes(v, src, c, wts, w, err);
@@ -342,10 +342,10 @@ static orr_status reserve_blocks(splat_work *w, size_t n, orr_error *err)
 }
 
 /* The eye of view v, for its dust. */
-static orr_dust_eye dust_eye(const view_state *v)
+static orr_dust_eye dust_eye(const orr_splat_view *v)
 {
     const orr_mat3 *r = &v->world_to_camera; /* its third row: the view axis */
-    return (orr_dust_eye){v->rep->camera.position, orr_projection_traits_of(v->proj.kind).parallel,
+    return (orr_dust_eye){v->camera_position, orr_projection_traits_of(v->proj.kind).parallel,
                           orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
 }
 
@@ -354,30 +354,30 @@ static orr_dust_eye dust_eye(const view_state *v)
  * particles, so the dust's optical depths of the particles serve every
  * view before the stars' are found. The first view's dimmed weights give
  * the list's apparent V. */
-static orr_status splat_stars(view_state *views, int nviews, const orr_source *src, splat_work *work,
+static orr_status splat_stars(orr_splat_view *const *views, int nviews, const orr_source *src, splat_work *work,
                               orr_error *err)
 {
-    frame_stars *fs = views[0].stars;
+    frame_stars *fs = views[0]->stars;
     const orr_chunk *sc = &fs->batch.stars;
     orr_status st = reserve_blocks(work, sc->n, err);
     for (int k = 0; k < nviews && !st; k++) {
         const float *wv[ORR_PLANES_MAX] = {fs->batch.xyz[0], fs->batch.xyz[1], fs->batch.xyz[2]};
-        if (views[k].dust) {
-            orr_dust_eye eye = dust_eye(&views[k]);
-            st = orr_dust_weights(views[k].dust, &eye, sc, wv, views[k].nplanes, err);
+        if (views[k]->dust) {
+            orr_dust_eye eye = dust_eye(views[k]);
+            st = orr_dust_weights(views[k]->dust, &eye, sc, wv, views[k]->nplanes, err);
         }
         if (!st && k == 0)
-            st = orr_frame_stars_record(fs, views[k].dust ? wv[1] : NULL, err);
+            st = orr_frame_stars_record(fs, views[k]->dust ? wv[1] : NULL, err);
         if (st)
             break;
         /* Points: no lengths from the neighbours (the stars were not among
          * them), so no glow. */
-        const orr_lengths *lengths = views[k].lengths;
-        views[k].lengths = NULL;
-        views[k].drawing_stars = 1;
-        st = splat_view(&views[k], src, sc, wv, work, err);
-        views[k].lengths = lengths;
-        views[k].drawing_stars = 0;
+        const orr_lengths *lengths = views[k]->lengths;
+        views[k]->lengths = NULL;
+        views[k]->drawing_stars = 1;
+        st = splat_view(views[k], src, sc, wv, work, err);
+        views[k]->lengths = lengths;
+        views[k]->drawing_stars = 0;
     }
     return st;
 }
@@ -385,35 +385,35 @@ static orr_status splat_stars(view_state *views, int nviews, const orr_source *s
 /* Splats a chunk into every view; its time goes to the
  * gather and deposit stages (the weights to the gather; the splat shared
  * as the workers' own clocks say). */
-static orr_status splat_chunk(view_state *views, int nviews, const orr_source *src, const orr_chunk *c,
+static orr_status splat_chunk(orr_splat_view *const *views, int nviews, const orr_source *src, const orr_chunk *c,
                               splat_work *work, float *const *xyz, orr_error *err)
 {
     const float *w[ORR_PLANES_MAX] = {NULL};
-    orr_status st = chunk_weights(&views[0].splat, src, c, xyz, w, work, err);
-    if (!st && views[0].stars) /* the stars take their light from the weights */
-        st = orr_frame_stars_spawn(views[0].stars, c, xyz, err);
-    charge(&views[0], ORR_STAGE_GATHER);
+    orr_status st = chunk_weights(&views[0]->splat, src, c, xyz, w, work, err);
+    if (!st && views[0]->stars) /* the stars take their light from the weights */
+        st = orr_frame_stars_spawn(views[0]->stars, c, xyz, err);
+    orr_splat_charge(views[0], ORR_STAGE_GATHER);
     memset(work->split, 0, sizeof work->split);
     for (int k = 0; k < nviews && !st; k++) {
         const float *wv[ORR_PLANES_MAX];
         memcpy(wv, w, sizeof wv);
-        if (views[k].dust) { /* dimmed by the dust between the view's eye and each star (dust/dust.h) */
-            orr_dust_eye eye = dust_eye(&views[k]);
-            st = orr_dust_weights(views[k].dust, &eye, c, wv, views[k].nplanes, err);
+        if (views[k]->dust) { /* dimmed by the dust between the view's eye and each star (dust/dust.h) */
+            orr_dust_eye eye = dust_eye(views[k]);
+            st = orr_dust_weights(views[k]->dust, &eye, c, wv, views[k]->nplanes, err);
         }
         if (!st)
-            st = views[k].periodic.active
-                     ? orr_splat_chunk_periodic(&views[k], src, c, wv, &work->buffers[0], work->split[0], err)
-                     : splat_view(&views[k], src, c, wv, work, err);
+            st = views[k]->periodic.active
+                     ? orr_splat_chunk_periodic(views[k], src, c, wv, &work->buffers[0], work->split[0], err)
+                     : splat_view(views[k], src, c, wv, work, err);
     }
-    if (!st && views[0].stars && views[0].stars->batch.stars.n)
+    if (!st && views[0]->stars && views[0]->stars->batch.stars.n)
         st = splat_stars(views, nviews, src, work, err);
     double part[2] = {0.0, 0.0};
     for (int k = 0; k < MAX_LANES; k++)
         part[0] += work->split[k][0], part[1] += work->split[k][1];
-    if (views[0].timer)
-        orr_stage_charge_split(&views[0].timer->times, ORR_STAGE_GATHER, ORR_STAGE_DEPOSIT,
-                               part[0] / (part[0] + part[1]), &views[0].timer->at);
+    if (views[0]->timer)
+        orr_stage_charge_split(&views[0]->timer->times, ORR_STAGE_GATHER, ORR_STAGE_DEPOSIT,
+                               part[0] / (part[0] + part[1]), &views[0]->timer->at);
     return st;
 }
 
@@ -456,12 +456,12 @@ static void free_work(splat_work *w)
 
 /* A HEALPix view's SPH work limit for this frame: so many kernel samples
  * per thread (splat/healpix_kernel.h). */
-static void start_healpix_budgets(view_state *views, int nviews, const orr_source *src, orr_progress_fn progress,
-                                  void *progress_user)
+static void start_healpix_budgets(orr_splat_view *const *views, int nviews, const orr_source *src,
+                                  orr_progress_fn progress, void *progress_user)
 {
     const uint64_t limit = ORR_HEALPIX_SAMPLE_LIMIT_PER_THREAD * (uint64_t)omp_get_max_threads();
     for (int k = 0; k < nviews; k++) {
-        orr_healpix_budget *b = views[k].use_sph ? views[k].sph.healpix_budget : NULL;
+        orr_healpix_budget *b = views[k]->use_sph ? views[k]->sph.healpix_budget : NULL;
         if (!b)
             continue;
         orr_healpix_budget_start(b, limit, src->info.count);
@@ -475,10 +475,10 @@ static void start_healpix_budgets(view_state *views, int nviews, const orr_sourc
 
 /* The frame has at least the particles read so far (a count the source
  * does not know beforehand, a text table's, is then foreseen from them). */
-static void expect_at_least(view_state *views, int nviews, int64_t read)
+static void expect_at_least(orr_splat_view *const *views, int nviews, int64_t read)
 {
     for (int k = 0; k < nviews; k++) {
-        orr_healpix_budget *b = views[k].use_sph ? views[k].sph.healpix_budget : NULL;
+        orr_healpix_budget *b = views[k]->use_sph ? views[k]->sph.healpix_budget : NULL;
         if (b && b->expected < read)
             b->expected = read;
     }
@@ -486,10 +486,10 @@ static void expect_at_least(view_state *views, int nviews, int64_t read)
 
 /* A HEALPix view whose kernels went beyond the limit: refused, with the
  * figures and the ways to a frame that can be made. */
-static orr_status check_healpix_budgets(const view_state *views, int nviews, orr_error *err)
+static orr_status check_healpix_budgets(orr_splat_view *const *views, int nviews, orr_error *err)
 {
     for (int k = 0; k < nviews; k++) {
-        orr_healpix_budget *b = views[k].use_sph ? views[k].sph.healpix_budget : NULL;
+        orr_healpix_budget *b = views[k]->use_sph ? views[k]->sph.healpix_budget : NULL;
         if (!b || !atomic_load(&b->exceeded))
             continue;
         return orr_fail(err, ORR_ERR_USAGE,
@@ -498,7 +498,7 @@ static orr_status check_healpix_budgets(const view_state *views, int nviews, orr
                         "from the first %llu of %lld particles): kernels near the camera cover much of the sky, "
                         "at up to 12 nside^2 samples each. Use a smaller camera.healpix_nside (the work goes as "
                         "its square), deposit: ngp, or a camera farther from the particles",
-                        views[k].splat.path, (long long)views[k].proj.healpix_nside, (double)b->limit,
+                        views[k]->splat.path, (long long)views[k]->proj.healpix_nside, (double)b->limit,
                         (double)ORR_HEALPIX_SAMPLE_LIMIT_PER_THREAD,
                         (double)atomic_load(&b->foreseen) / (double)atomic_load(&b->foreseen_particles) *
                             (double)b->expected,
@@ -507,7 +507,7 @@ static orr_status check_healpix_budgets(const view_state *views, int nviews, orr
     return ORR_OK;
 }
 
-orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_progress_fn progress,
+orr_status orr_splat_views(orr_splat_view *const *views, int nviews, orr_source *src, orr_progress_fn progress,
                                void *progress_user, orr_error *err)
 {
     start_healpix_budgets(views, nviews, src, progress, progress_user);
@@ -517,21 +517,21 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
         return ORR_ERR_NOMEM;
     int blur = 0;
     for (int k = 0; k < nviews; k++)
-        blur |= views[k].blur.active;
+        blur |= views[k]->blur.active;
     orr_status st = alloc_work(work, src->chunk.capacity, blur, err);
     /* With colour, a chunk's X, Y, Z weights (and each population's). */
     float *xyz[ORR_PLANES_MAX] = {NULL};
-    size_t cap = views[0].splat.has_populations ? src->chunk.capacity : 0;
+    size_t cap = views[0]->splat.has_populations ? src->chunk.capacity : 0;
     if (!st && cap)
-        st = alloc_colour_weights(work, views[0].nplanes, cap, xyz, err);
+        st = alloc_colour_weights(work, views[0]->nplanes, cap, xyz, err);
     for (int k = 0; k < nviews && !st; k++)
-        st = views[k].banded && !views[k].periodic.active ? alloc_bands(&views[k], src->chunk.capacity, err)
-                             : alloc_lanes(&views[k], src->info.count, err);
-    charge(&views[0], ORR_STAGE_SETUP); /* the lanes' planes, zeroed */
+        st = views[k]->banded && !views[k]->periodic.active ? alloc_bands(views[k], src->chunk.capacity, err)
+                             : alloc_lanes(views[k], src->info.count, err);
+    orr_splat_charge(views[0], ORR_STAGE_SETUP); /* the lanes' planes, zeroed */
     while (!st) {
         const orr_chunk *c;
         st = orr_source_next(src, &c, err);
-        charge(&views[0], ORR_STAGE_SOURCE);
+        orr_splat_charge(views[0], ORR_STAGE_SOURCE);
         if (st || c->n == 0)
             break;
         read += (int64_t)c->n;
@@ -541,22 +541,22 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
             break;
         /* From this thread alone, between chunks. */
         if (progress)
-            progress(progress_user, views[0].rep->n_read, src->info.count);
+            progress(progress_user, views[0]->tally.n_read, src->info.count);
     }
     for (int k = 0; k < nviews; k++) {
-        orr_bands_free(&views[k].bands);
+        orr_bands_free(&views[k]->bands);
         if (!st)
-            orr_lanes_merge(&views[k].lanes, views[k].planes,
-                            (size_t)views[k].proj.width * (size_t)views[k].proj.height);
+            orr_lanes_merge(&views[k]->lanes, views[k]->planes,
+                            (size_t)views[k]->proj.width * (size_t)views[k]->proj.height);
     }
     for (int k = 0; k < nviews && !st; k++) {
-        st = orr_coarse_glow_finish(&views[k], err);
-        views[k].rep->stars_capped = views[0].stars && views[0].stars->stage.capped;
+        st = orr_coarse_glow_finish(views[k], err);
+        views[k]->tally.stars_capped = views[0]->stars && views[0]->stars->stage.capped;
     }
     for (int k = 0; k < nviews && !st; k++)
-        if (views[k].psf.sky)
-            st = orr_sky_psf_select(views[k].psf.sky, err);
-    charge(&views[0], ORR_STAGE_REDUCE);
+        if (views[k]->psf.sky)
+            st = orr_sky_psf_select(views[k]->psf.sky, err);
+    orr_splat_charge(views[0], ORR_STAGE_REDUCE);
     for (int k = 0; k < ORR_PLANES_MAX; k++)
         free(xyz[k]);
     free_work(work);
@@ -567,7 +567,7 @@ orr_status orr_splat_views(view_state *views, int nviews, orr_source *src, orr_p
 /* How the view is splatted: in bands or lanes, and whether NGP blocks take
  * the fused gather. (A sky PSF collects its stars per lane: it keeps
  * lanes; streaks are drawn as their samples are made: in lanes.) */
-void orr_splat_choose_path(view_state *v)
+void orr_splat_choose_path(orr_splat_view *v)
 {
     const orr_splat_settings *set = &v->splat;
     v->banded = !v->use_sph && !v->psf.sky && !v->blur.active &&

@@ -1,4 +1,4 @@
-/* The wide glows on coarser copies of a sky map (view_state.h,
+/* The wide glows on coarser copies of a sky map (splat_view.h,
  * "coarse_glow"). A glow many pixels wide (the faint stars a nearby
  * particle leaves, stars.*; the glow of a near particle) covers thousands
  * to hundreds of thousands of a dome master's pixels, yet varies over few
@@ -9,7 +9,7 @@
  * same projection at 1/F of the size, so a point's coarse pixel
  * coordinates are its fine ones over F; each lane draws into planes of its
  * own, added in lane order, so the result does not depend on the threads. */
-#include "render/splat_block.h"
+#include "pass/splat_block.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -46,7 +46,7 @@ static void free_level(coarse_level *l)
     free(l->norm);
 }
 
-void orr_coarse_glow_free(view_state *v)
+void orr_coarse_glow_free(orr_splat_view *v)
 {
     coarse_glow *g = v->coarse;
     if (!g)
@@ -118,7 +118,7 @@ static int band_rows(const coarse_level *l, int j0, int j1, int *first)
  * Each band of fine rows is summed by one thread into
  * its own rows, and the bands are added in order: the same bits on any
  * number of threads. */
-static orr_status levels_reach(const view_state *v, coarse_glow *g, orr_error *err)
+static orr_status levels_reach(const orr_splat_view *v, coarse_glow *g, orr_error *err)
 {
     const int W = v->proj.width, H = v->proj.height, nbands = (H + BAND_ROWS - 1) / BAND_ROWS;
     size_t per_band = 0; /* doubles a band's partial sums take, every level */
@@ -231,7 +231,7 @@ static void level_norm(coarse_level *l)
         }
 }
 
-static orr_status plan_level(view_state *v, coarse_level *l, int factor, float min_pixels, orr_error *err)
+static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, float min_pixels, orr_error *err)
 {
     l->factor = factor;
     l->min_pixels = min_pixels;
@@ -252,7 +252,7 @@ static orr_status plan_level(view_state *v, coarse_level *l, int factor, float m
     return st;
 }
 
-orr_status orr_coarse_glow_plan(view_state *v, orr_error *err)
+orr_status orr_coarse_glow_plan(orr_splat_view *v, orr_error *err)
 {
     const orr_projection_traits traits = orr_projection_traits_of(v->base_proj.kind);
     const int w = v->base_proj.width, h = v->base_proj.height;
@@ -288,7 +288,7 @@ orr_status orr_coarse_glow_plan(view_state *v, orr_error *err)
     return st;
 }
 
-void orr_coarse_glow_begin(view_state *v)
+void orr_coarse_glow_begin(orr_splat_view *v)
 {
     coarse_glow *g = v->coarse;
     if (!g)
@@ -306,7 +306,7 @@ void orr_coarse_glow_begin(view_state *v)
  * the level's min_pixels of its pixels) into cb, in its pixel coordinates, and
  * out of b (not visible there); returns how many, and adds the weight of
  * each plane moved. */
-static size_t take_wide(const view_state *v, const coarse_level *l, size_t n, block_buffers *b, block_buffers *cb,
+static size_t take_wide(const orr_splat_view *v, const coarse_level *l, size_t n, block_buffers *b, block_buffers *cb,
                         double *moved)
 {
     const float f = 1.0f / l->factor, min_hpix = l->min_pixels * l->factor;
@@ -327,7 +327,7 @@ static size_t take_wide(const view_state *v, const coarse_level *l, size_t n, bl
     return m;
 }
 
-size_t orr_coarse_glow_split(const view_state *v, int lane, size_t n, block_buffers *b, orr_deposit_stats *coarse,
+size_t orr_coarse_glow_split(const orr_splat_view *v, int lane, size_t n, block_buffers *b, orr_deposit_stats *coarse,
                              double *moved)
 {
     coarse_glow *g = v->coarse;
@@ -400,7 +400,7 @@ static void level_row(const coarse_level *l, const float *sb, int j, int W, floa
 /* Adds every level's planes to the view's planes (v->nplanes, 3): each
  * fine pixel on the map its measure times the levels' interpolated
  * brightness; a row's measures found once for all three planes. */
-static orr_status add_planes(view_state *v, orr_error *err)
+static orr_status add_planes(orr_splat_view *v, orr_error *err)
 {
     coarse_glow *g = v->coarse;
     const int W = v->proj.width, H = v->proj.height, np = v->nplanes;
@@ -441,7 +441,7 @@ static orr_status add_planes(view_state *v, orr_error *err)
     return fail ? orr_fail(err, ORR_ERR_NOMEM, "out of memory for the coarse glow of a %d x %d map", W, H) : ORR_OK;
 }
 
-orr_status orr_coarse_glow_finish(view_state *v, orr_error *err)
+orr_status orr_coarse_glow_finish(orr_splat_view *v, orr_error *err)
 {
     return v->coarse ? add_planes(v, err) : ORR_OK;
 }

@@ -2,7 +2,7 @@
  * stars spawned after its weights are found, splatted as points into every
  * view after the chunk's particles, and recorded in the frame's list, which
  * each sky map writes as NAME.stars.fits. */
-#include "render/view_state.h"
+#include "pass/splat_view.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -108,11 +108,11 @@ orr_status orr_frame_stars_record(frame_stars *fs, const float *dimmed_y, orr_er
 
 /* Which of the list's stars the view shows: keep[i] 1 for those its
  * projection draws. Returns how many. */
-static size_t stars_in_view(const frame_stars *fs, const view_state *v, unsigned char *keep, float *buf)
+static size_t stars_in_view(const frame_stars *fs, const orr_splat_view *v, unsigned char *keep, float *buf)
 {
     const size_t n = fs->n;
     float *x = buf, *y = buf + n, *z = buf + 2 * n, *ix = buf + 3 * n, *iy = buf + 4 * n, *scale = buf + 5 * n;
-    const orr_camera_transform t = orr_camera_transform_at(v->rep->camera.position, &v->world_to_camera, orr_v3(0, 0, 0));
+    const orr_camera_transform t = orr_camera_transform_at(v->camera_position, &v->world_to_camera, orr_v3(0, 0, 0));
     for (size_t i = 0; i < n; i++) {
         orr_camera_point p = orr_to_camera(&t, fs->px[i], fs->py[i], fs->pz[i]);
         x[i] = p.x, y[i] = p.y, z[i] = p.z;
@@ -134,7 +134,7 @@ static void kept_rows(void *dst, const void *src, size_t size, const unsigned ch
             memcpy((char *)dst + out++ * size, (const char *)src + i * size, size);
 }
 
-orr_status orr_frame_stars_view_table(const frame_stars *fs, const view_state *v, orr_star_table *t, void **scratch,
+orr_status orr_frame_stars_view_table(const frame_stars *fs, const orr_splat_view *v, orr_star_table *t, void **scratch,
                                       orr_error *err)
 {
     const size_t n = fs->n;

@@ -2,7 +2,7 @@
  * block summarised once, then every copy of the chunk drawn on one thread
  * in block order, skipping whole copies and blocks out of view or beyond
  * the sphere of images before their particles are touched. */
-#include "render/splat_block.h"
+#include "pass/splat_block.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -12,8 +12,8 @@
 /* Gathers, projects and deposits particles [start, end) of c, moved by
  * shift (fading: across the copies' sphere), into the view's own planes,
  * starting at smoothing length lengths_next; what the block added goes
- * into the report. */
-static orr_status draw_block(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *w,
+ * into the tally. */
+static orr_status draw_block(orr_splat_view *v, const orr_source *src, const orr_chunk *c, const float *const *w,
                              size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
                              block_buffers *b, double *split, orr_error *err)
 {
@@ -26,16 +26,16 @@ static orr_status draw_block(view_state *v, const orr_source *src, const orr_chu
     at = orr_splat_split_mark(split, 0, at);
     orr_splat_deposit_block(v, v->planes, 0, (size_t)n, b, &t);
     orr_splat_split_mark(split, 1, at);
-    orr_splat_add_tally(v->rep, &t);
+    orr_splat_add_tally(&v->tally, &t);
     return ORR_OK;
 }
 
 /* A copy of a block (or of a whole chunk) skipped out of view: its weight
  * counts as not drawn, as the projection would have counted it. */
-static void count_culled(view_state *v, const orr_block_summary *sum)
+static void count_culled(orr_splat_view *v, const orr_block_summary *sum)
 {
-    orr_deposit_stats *d[2] = {&v->rep->deposit, &v->rep->deposit_y};
-    v->rep->n_selected += sum->n;
+    orr_deposit_stats *d[2] = {&v->tally.deposit, &v->tally.deposit_y};
+    v->tally.n_selected += sum->n;
     for (int k = 0; k < v->nplanes && k < 2; k++) {
         d[k]->culled += sum->w[k];
         d[k]->n_culled += sum->n;
@@ -70,7 +70,7 @@ static int copy_fades(const orr_periodic_view *pv, const orr_block_summary *sum,
  * a block out of view, before their particles are touched. Drawn on one
  * thread into the view's own planes, in block order (in a fly-through the
  * culling, not threads, is what saves the time). */
-orr_status orr_splat_chunk_periodic(view_state *v, const orr_source *src, const orr_chunk *c, const float *const *w,
+orr_status orr_splat_chunk_periodic(orr_splat_view *v, const orr_source *src, const orr_chunk *c, const float *const *w,
                                     block_buffers *b, double *split, orr_error *err)
 {
     const orr_periodic_view *pv = &v->periodic;
@@ -89,11 +89,11 @@ orr_status orr_splat_chunk_periodic(view_state *v, const orr_source *src, const 
     orr_status st = ORR_OK;
     for (int r = 0; r < pv->replicas.n && !st; r++) {
         const orr_vec3 shift = pv->replicas.offset[r];
-        v->rep->n_blocks += nblocks;
+        v->tally.n_blocks += nblocks;
         if (copy_skipped(pv, &whole, shift)) {
             count_culled(v, &whole);
-            v->rep->n_replicas_culled++;
-            v->rep->n_blocks_culled += nblocks;
+            v->tally.n_replicas_culled++;
+            v->tally.n_blocks_culled += nblocks;
             continue;
         }
         size_t next = first_length; /* every copy takes the same lengths */
@@ -101,7 +101,7 @@ orr_status orr_splat_chunk_periodic(view_state *v, const orr_source *src, const 
             size_t end = (q + 1) * BLOCK < c->n ? (q + 1) * BLOCK : c->n;
             if (copy_skipped(pv, &sum[q], shift)) {
                 count_culled(v, &sum[q]);
-                v->rep->n_blocks_culled++;
+                v->tally.n_blocks_culled++;
             } else {
                 st = draw_block(v, src, c, w, q * BLOCK, end, shift, copy_fades(pv, &sum[q], shift), next, b, split,
                                 err);
@@ -110,7 +110,7 @@ orr_status orr_splat_chunk_periodic(view_state *v, const orr_source *src, const 
         }
     }
     v->lengths_next = first_length + whole.lengths_used;
-    v->rep->n_read += c->n;
+    v->tally.n_read += c->n;
     free(sum);
     return st;
 }

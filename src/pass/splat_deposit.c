@@ -2,8 +2,8 @@
  * as points (NGP, CIC, SPH kernels; a sky map's PSF widening the kernels
  * and collecting its brightest stars), as motion blur's streaks, or as
  * the fused gather's pixel indices; and what each block adds to the
- * report. */
-#include "render/splat_block.h"
+ * tally. */
+#include "pass/splat_block.h"
 
 #include <math.h>
 #include <string.h>
@@ -14,7 +14,7 @@
 
 /* A sky map's PSF widens every particle's kernel to the PSF's angular size
  * (in quadrature with its own smoothing length). */
-static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
+static void widen_for_psf(const orr_splat_view *v, size_t n, block_buffers *b)
 {
     const float k = (float)v->psf.h_per_r;
     if (k <= 0.0f)
@@ -27,7 +27,7 @@ static void widen_for_psf(const view_state *v, size_t n, block_buffers *b)
 
 /* A block of the fused gather as an NGP batch, its indices completed (a
  * sky map's rim folded) and its report in t. */
-orr_ngp_batch orr_splat_place_indexed(const view_state *v, size_t n, block_buffers *b, block_tally *t)
+orr_ngp_batch orr_splat_place_indexed(const orr_splat_view *v, size_t n, block_buffers *b, block_tally *t)
 {
     orr_deposit_stats st[ORR_PLANES_MAX];
     memset(st, 0, sizeof st);
@@ -52,7 +52,7 @@ static void add_stats(orr_deposit_stats *to, const orr_deposit_stats *from)
 /* Deposits the block's n projected points into planes (a lane's: the
  * view's own or a private copy). The report's statistics are of the first
  * plane's weights (with colour, X; Y's are in the FITS header). */
-static void deposit_points(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+static void deposit_points(const orr_splat_view *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
                            block_tally *t)
 {
     const orr_sph_block geom = {n, b->x, b->y, b->z, b->px, b->py, b->scale, b->visible, b->h, NULL};
@@ -88,7 +88,7 @@ static void deposit_points(const view_state *v, orr_plane *planes, int lane, siz
 
 /* Projects and deposits the ns samples gathered in sb; returns 0, the
  * samples left in it. */
-static size_t draw_samples(const view_state *v, orr_plane *planes, int lane, size_t ns, block_buffers *sb,
+static size_t draw_samples(const orr_splat_view *v, orr_plane *planes, int lane, size_t ns, block_buffers *sb,
                            block_tally *t)
 {
     if (ns) {
@@ -103,7 +103,7 @@ static size_t draw_samples(const view_state *v, orr_plane *planes, int lane, siz
  * the streak, each with an equal share of the weight and the particle's
  * smoothing length), projected and deposited a block of samples at a
  * time. */
-static void deposit_streaks(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+static void deposit_streaks(const orr_splat_view *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
                             block_tally *t)
 {
     block_buffers *sb = b->samples;
@@ -132,7 +132,7 @@ static void deposit_streaks(const view_state *v, orr_plane *planes, int lane, si
 
 /* Deposits the gathered block: as the fused gather's pixels, as streaks,
  * or as its projected points. */
-void orr_splat_deposit_block(const view_state *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
+void orr_splat_deposit_block(const orr_splat_view *v, orr_plane *planes, int lane, size_t n, block_buffers *b,
                              block_tally *t)
 {
     if (b->indexed) {
@@ -145,8 +145,8 @@ void orr_splat_deposit_block(const view_state *v, orr_plane *planes, int lane, s
     }
 }
 
-/* Adds what one block added to the report. */
-void orr_splat_add_tally(orr_render_report *r, const block_tally *t)
+/* Adds what one block added to the view's tally. */
+void orr_splat_add_tally(orr_splat_tally *r, const block_tally *t)
 {
     r->n_selected += t->n_selected;
     r->n_nonfinite += t->n_nonfinite;

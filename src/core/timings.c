@@ -1,4 +1,4 @@
-#include "render/timings.h"
+#include "core/timings.h"
 
 #include <time.h>
 

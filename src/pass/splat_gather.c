@@ -4,7 +4,7 @@
  * projected. Blocks that take every particle go through straight loops
  * without a branch a particle, or for NGP the fused gather
  * (pass/ngp_gather.h). */
-#include "render/splat_block.h"
+#include "pass/splat_block.h"
 #include "core/fastmath.h"
 #include "core/numbers.h"
 #include "core/simd.h"
@@ -16,7 +16,6 @@
 #include "pass/lengths.h"
 #include "pass/motion_blur.h"
 #include "pass/ngp_gather.h"
-#include "render/stereo_view.h"
 
 /* Names the value that is not finite: the position, the weight, or else
  * (vel: motion blur's, NULL without) the velocity. */
@@ -52,7 +51,7 @@ static int all_finite(const float *a, size_t start, size_t end)
  * This is by far the common block, and (when its particles are finite
  * too) its gather is a straight loop without a branch a particle:
  * gather_all, or for NGP the fused gather. */
-static int block_selects_all(const view_state *v, const orr_chunk *c, size_t start, size_t end)
+static int block_selects_all(const orr_splat_view *v, const orr_chunk *c, size_t start, size_t end)
 {
     const orr_splat_settings *set = &v->splat;
     if (v->lengths)
@@ -95,10 +94,10 @@ static int block_all_finite(const orr_chunk *c, const float *wsrc, size_t start,
 
 /* The camera transform of a copy moved by shift; fading: the weights
  * taper within the periodic sphere (the copy's block is across it). */
-static orr_camera_transform transform_of(const view_state *v, orr_vec3 shift, int fading)
+static orr_camera_transform transform_of(const orr_splat_view *v, orr_vec3 shift, int fading)
 {
     const orr_splat_settings *set = &v->splat;
-    orr_camera_transform t = orr_camera_transform_at(v->rep->camera.position, &v->world_to_camera, shift);
+    orr_camera_transform t = orr_camera_transform_at(v->camera_position, &v->world_to_camera, shift);
     if (fading) {
         const orr_replica_sphere *sp = &v->periodic.sphere;
         t.fade = 1;
@@ -151,7 +150,7 @@ static void transform_undimmed(const orr_chunk *c, size_t start, size_t n, const
 
 /* The plane whose weights are checked for finiteness: the weight, or
  * with colour Z. */
-static int checked_plane(const view_state *v)
+static int checked_plane(const orr_splat_view *v)
 {
     return v->nplanes >= 3 ? 2 : 0;
 }
@@ -159,7 +158,7 @@ static int checked_plane(const view_state *v)
 /* The weights of a block taken whole, particles [start, start + n): the
  * source's arrays themselves, or with dimming (observer.dim, camera.dim;
  * NULL without) the dimmed copies in b->w. */
-static void take_weights(const view_state *v, const float *const *wsrcs, size_t start, size_t n,
+static void take_weights(const orr_splat_view *v, const float *const *wsrcs, size_t start, size_t n,
                          const float *restrict dimming, block_buffers *b)
 {
     for (int k = 0; k < v->nplanes; k++) {
@@ -178,7 +177,7 @@ static void take_weights(const view_state *v, const float *const *wsrcs, size_t 
 /* The gather of a block that takes every particle (block_selects_all and
  * finite): positions, weights and the file's smoothing lengths, one
  * vectorised loop per array. */
-static size_t gather_all(const view_state *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
+static size_t gather_all(const orr_splat_view *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
                          size_t end, const orr_camera_transform *t, block_buffers *b)
 {
     const size_t n = end - start;
@@ -202,7 +201,7 @@ static size_t gather_all(const view_state *v, const orr_chunk *c, const float *c
 /* The fused gather (pass/ngp_gather.h) of a block that takes every
  * particle: indices into b->share_pixel. Returns 0 when the block has a
  * non-finite value (b->indexed 0). */
-static int ngp_gather_all(const view_state *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
+static int ngp_gather_all(const orr_splat_view *v, const orr_chunk *c, const float *const *wsrcs, size_t start,
                           size_t end, const orr_camera_transform *t, block_buffers *b)
 {
     const size_t n = end - start;
@@ -219,7 +218,7 @@ static int ngp_gather_all(const view_state *v, const orr_chunk *c, const float *
  * counted as not drawn, so that what is drawn, falls off and is not drawn
  * still adds up to every copy's weight; a particle beyond the radius
  * (fade 0) is not drawn at all. */
-static void count_faded(const view_state *v, const float *const *wsrcs, size_t i, float dimming, float fade,
+static void count_faded(const orr_splat_view *v, const float *const *wsrcs, size_t i, float dimming, float fade,
                         block_tally *t)
 {
     for (int k = 0; k < v->nplanes && k < 2; k++) {
@@ -262,7 +261,7 @@ static float glow_length(const orr_splat_settings *set, float h, float r2, float
  * particles' glow spreads wide over the sky instead of standing out as a
  * patch), nor than its neighbours' angle on the sky; no limits by flux or
  * width, which would make it a point. h: the angular length. */
-static float stars_glow_length(const view_state *v, float h, float r2, float mass)
+static float stars_glow_length(const orr_splat_view *v, float h, float r2, float mass)
 {
     const float r = sqrtf(r2), own = (float)orr_stars_kernel_length(&v->stars->stage, mass);
     const float widest = (float)(v->stars->stage.set.glow_max_deg * ORR_PI / 180.0) * r;
@@ -274,7 +273,7 @@ static float stars_glow_length(const view_state *v, float h, float r2, float mas
 
 /* The velocities motion blur moves the chunk's particles by (NULLs when
  * the shutter holds them still), or an error naming the field missing. */
-static orr_status blur_velocities(const view_state *v, const orr_source *src, const orr_chunk *c,
+static orr_status blur_velocities(const orr_splat_view *v, const orr_source *src, const orr_chunk *c,
                                   const float *vel[3], orr_error *err)
 {
     static const char *const names[3] = {"vx", "vy", "vz"};
@@ -318,7 +317,7 @@ static void put_streak(const orr_motion_blur *mb, const orr_camera_transform *op
  * returns how many, or -1 (err set) on a bad particle when input.nonfinite
  * says to fail. What it counts goes into *t. The observer particle is left out, and with
  * observer.dim or camera.dim weights fall off as 1/r^2 from the camera. */
-static long gather_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wsrcs,
+static long gather_block(const orr_splat_view *v, const orr_source *src, const orr_chunk *c, const float *const *wsrcs,
                          size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
                          block_buffers *b, block_tally *t, orr_error *err)
 {
@@ -397,7 +396,7 @@ static long gather_block(const view_state *v, const orr_source *src, const orr_c
 
 /* Projects the block's n points (camera frame): positions in pixels and
  * what the projection (and an eye of omni-directional stereo) draws. */
-void orr_splat_project_points(const view_state *v, size_t n, block_buffers *b, block_tally *t)
+void orr_splat_project_points(const orr_splat_view *v, size_t n, block_buffers *b, block_tally *t)
 {
     if (v->use_ods)
         t->n_stereo_skipped += orr_stereo_ods_apply(&v->ods, n, b->x, b->y, b->z, b->keep);
@@ -409,9 +408,9 @@ void orr_splat_project_points(const view_state *v, size_t n, block_buffers *b, b
 /* Gathers particles [start, end) of c (moved by shift) into the block and
  * projects them: positions in pixels and what the projection (and an eye
  * of omni-directional stereo) draws. Returns how many, or -1 (err set). */
-long orr_splat_project_block(const view_state *v, const orr_source *src, const orr_chunk *c, const float *const *wts,
-                             size_t start, size_t end, orr_vec3 shift, int fading, size_t lengths_next,
-                             block_buffers *b, block_tally *t, orr_error *err)
+long orr_splat_project_block(const orr_splat_view *v, const orr_source *src, const orr_chunk *c,
+                             const float *const *wts, size_t start, size_t end, orr_vec3 shift, int fading,
+                             size_t lengths_next, block_buffers *b, block_tally *t, orr_error *err)
 {
     long n = gather_block(v, src, c, wts, start, end, shift, fading, lengths_next, b, t, err);
     if (n < 0 || b->indexed || v->blur.active) /* streaks: their samples are projected as drawn */

@@ -1,8 +1,8 @@
 /* Where a frame's time goes: wall and CPU seconds per stage of the render
  * (orrery render --timings; docs/performance.md, "A production frame").
  * The library only measures; the command line prints. */
-#ifndef ORR_RENDER_TIMINGS_H
-#define ORR_RENDER_TIMINGS_H
+#ifndef ORR_CORE_TIMINGS_H
+#define ORR_CORE_TIMINGS_H
 
 typedef enum orr_stage {
     ORR_STAGE_SETUP,   /* the plan (projections, PSF generation, the sky maps' index: in the first frame a plan
@@ -63,5 +63,20 @@ void orr_stage_times_finish(orr_stage_times *t, orr_clock start);
 void orr_stage_times_add(orr_stage_times *to, const orr_stage_times *from);
 /* The stages' sums, to compare with the totals. */
 void orr_stage_times_sum(const orr_stage_times *t, double *wall, double *cpu);
+
+/* A frame's stage timings and the clock reading the last stage ended at:
+ * each stage is charged the time since then. */
+typedef struct orr_frame_timer {
+    orr_stage_times times;
+    orr_clock at;
+} orr_frame_timer;
+
+/* Charges stage s the time since the last stage ended (orr_stage_charge);
+ * nothing when t is NULL (not measured). */
+static inline void orr_frame_timer_charge(orr_frame_timer *t, orr_stage s)
+{
+    if (t)
+        orr_stage_charge(&t->times, s, &t->at);
+}
 
 #endif
