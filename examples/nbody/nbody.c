@@ -27,8 +27,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "orrery.h"
+#include "bodies.h"
+#include "domain.h"
 #include "ranks.h"
 #include "source/models/model.h"
 #include "source/partition.h"
@@ -47,33 +52,6 @@
 #define TRACER_MASS_FRACTION 1e-3
 #define TRACER_NEIGHBOURS_MAX 256
 
-/* The particles this process owns, n of them from number first on, and the
- * positions and masses of all n_all of them, which every process holds for
- * the tree (with one process, its slice is all of them). */
-typedef struct bodies {
-    size_t n, first, n_all;
-    double *pos_all, *mass_all; /* x, y, z of particle i at 3i */
-    double *pos, *mass;         /* this process's: pos_all + 3 first, mass_all + first */
-    size_t *counts;             /* every process's n, in rank order */
-    double *vel, *acc, *pot;
-    double *eps_all;            /* every particle's softening (all processes') */
-    size_t *tracers, ntracers;  /* the tracers' places in the run's order (find_tracers) */
-    double tracer_mass;         /* a tracer is lighter than this */
-    uint64_t *id;
-    uint8_t *type;
-    /* The initial conditions' other per-particle fields (the model's "r" and
-     * "E0", a snapshot's potential, ...), handed to orrery unchanged every
-     * frame so colours chosen by them stay with each particle for the run. */
-    int nfields;
-    char field_name[ORR_ARRAYS_MAX_FIELDS][ORR_FIELD_NAME_MAX];
-    float *field[ORR_ARRAYS_MAX_FIELDS];
-    /* With block steps (--eta), each particle's last step: dt / 2^level.
-     * It carries over from one step of --dt to the next (a step lengthens
-     * only with room to spare, open_step) and into snapshots, so a resume
-     * chooses the same steps. NULL without --eta. */
-    uint8_t *level;
-    double time;
-} bodies;
 
 typedef struct options {
     const char *ic;        /* "model" or a snapshot file */
@@ -100,6 +78,7 @@ typedef struct options {
     /* Given on the command line; on a resume the others are the run's own. */
     int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given, tracer_neighbours_given;
     int dt_min_given;
+    int decompose;         /* each MPI rank holds its own particles only (domain.h) */
 } options;
 
 static const char usage[] =
@@ -109,7 +88,7 @@ static const char usage[] =
     "                    [--eps-halo EPS] [--theta THETA] [--tracer-neighbours K]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
-    "                    [--resume DIR] [--progress SECONDS] [--quiet]\n"
+    "                    [--resume DIR] [--progress SECONDS] [--decompose] [--quiet]\n"
     "\n"
     "Evolves N bodies with a tree code (quadrupole moments, group walks) and renders\n"
     "SCENE in-situ every K steps (frame = step / K), reporting rendering time against\n"
@@ -155,8 +134,13 @@ static const char usage[] =
     "                     stopped: its time and step, and its --dt, --eta, --dt-min,\n"
     "                     --eps, --eps-halo, --theta and --snapshot-every unless given;\n"
     "                     --steps counts from the start of the run, not of the resume\n"
+    "  --decompose        each MPI rank holds only its own particles: a piece of a\n"
+    "                     Peano-Hilbert curve, the particles moved between ranks every\n"
+    "                     step; forces from each rank's tree and what the others send\n"
+    "                     of theirs; snapshots one file a rank (snapshot_NNNN.R.hdf5)\n"
     "On MPI ranks, rank 0 writes the snapshots (gathered from every rank), and on a\n"
-    "resume every rank reads the snapshot and keeps an even share of it.\n";
+    "resume every rank reads the snapshot and keeps an even share of it; with\n"
+    "--decompose each rank writes and reads its own files instead.\n";
 
 static double now(void)
 {
@@ -232,6 +216,8 @@ static int check_options(const options *o)
         snprintf(why, sizeof why, "%s: expected a whole number of steps, at least 1", o->snapshot_every_text);
     else if (o->snapshot_every > 0 && !o->snapshot_dir && !o->resume_dir)
         bad = "--snapshot-every", snprintf(why, sizeof why, "needs --snapshot-dir DIR (where to write them)");
+    else if (o->decompose && (o->snapshot_every || o->resume_dir))
+        bad = "--decompose", snprintf(why, sizeof why, "with --snapshot-every or --resume: not built yet");
     else if (o->resume_dir && o->ic_given)
         bad = "--resume", snprintf(why, sizeof why, "%s: the initial conditions are the snapshot's: not with --ic",
                                    o->resume_dir);
@@ -253,6 +239,9 @@ static int parse_args(int argc, char **argv, options *o)
             exit(0);
         } else if (strcmp(a, "--quiet") == 0) {
             o->quiet = 1;
+            has_value = 0;
+        } else if (strcmp(a, "--decompose") == 0) {
+            o->decompose = 1;
             has_value = 0;
         } else if (!v) {
             fprintf(stderr, "orrery-nbody: %s needs a value\n", a);
@@ -587,6 +576,32 @@ static int share_bodies(bodies *b, const options *o, int rank, int size)
            ranks_gather(b->eps_all, 1, b->counts) == 0 && find_tracers(b);
 }
 
+/* --decompose: each process keeps its own particles, which are moved to
+ * the ranks of their pieces of the Peano-Hilbert curve (domain.h); the
+ * tracers' mass limit from the exact total mass. */
+static int own_bodies(bodies *b, const options *o, int rank, int size)
+{
+#ifdef __GLIBC__
+    /* Large blocks mapped and unmapped, always: glibc otherwise raises its
+     * threshold after the first large free, and the exchanges' buffers,
+     * freed, stay in the process beside the tree (25 MB a rank at 10^6 on
+     * 4 ranks). */
+    mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
+    b->decomposed = 1;
+    b->counts = calloc((size_t)size, sizeof *b->counts);
+    if (!b->counts || ranks_counts(b->n, b->counts) != 0)
+        return 0;
+    b->n_all = b->first = 0;
+    for (int r = 0; r < size; r++)
+        b->n_all += b->counts[r];
+    double e[4];
+    if (domain_mass_momentum(b, e) != 0)
+        return 0;
+    b->tracer_mass = TRACER_MASS_FRACTION * e[0] / (double)(b->n_all ? b->n_all : 1);
+    return domain_migrate(b, o->eps, o->eps_halo, rank, size) == 0;
+}
+
 /* The particles as orrery reads them, in place: positions and velocities
  * are arrays of [x, y, z] doubles. */
 static orr_particle_arrays as_arrays(const bodies *b)
@@ -620,9 +635,22 @@ static orr_particle_arrays as_arrays(const bodies *b)
  * step of 0.008 and the sub-steps cost far more than a build saves
  * (docs/nbody.md). The tracers' softening is renewed with the full
  * computations only. */
-static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned char *active, double *interactions)
+static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned char *active, double *interactions,
+                      int rank, int size)
 {
     double t0 = now();
+    if (b->decomposed) {
+        int failed = !active && o->tracer_neighbours && domain_soften_tracers(b, (int)o->tracer_neighbours, o->eps,
+                                                                              rank, size) != 0;
+        domain_stats stats;
+        if (failed || (*interactions = domain_gravity(t, b, G_KPC_KMS, o->theta, active, rank, size, &stats)) < 0) {
+            fprintf(stderr, "orrery-nbody: out of memory in the tree\n");
+            exit(1);
+        }
+        if (!active)
+            b->imported_cells = stats.cells, b->imported_particles = stats.particles;
+        return now() - t0;
+    }
     if (!active)
         soften_tracers(b, o);
     if (qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0 ||
@@ -694,6 +722,15 @@ static int centre_of_mass(const bodies *b, int rank, int size, double c[3])
  * same to the last bit on any number of ranks; mass in *total. */
 static int mean_velocity(const bodies *b, double vmean[3], double *total)
 {
+    if (b->decomposed) { /* summed exactly in fixed point (domain.h): the same on any number of ranks */
+        double e[4];
+        if (domain_mass_momentum(b, e) != 0)
+            return 0;
+        for (int k = 0; k < 3; k++)
+            vmean[k] = e[0] > 0 ? e[1 + k] / e[0] : 0;
+        *total = e[0];
+        return 1;
+    }
     double *all = malloc((3 * b->n_all + 1) * sizeof *all);
     int ok = all != NULL;
     if (ranks_any(!ok)) {
@@ -846,6 +883,33 @@ static int structure_of(const bodies *b, structure *s)
     return 1;
 }
 
+/* The Sun's position into sun[0 .. 3) and sun[3] = 1, when some rank
+ * holds one (--decompose: each rank holds its own particles). */
+static int sun_position(const bodies *b, int rank, int size, double sun[4])
+{
+    for (size_t i = 0; i < b->n && !sun[3]; i++)
+        if (b->type[i] == ORR_MODEL_TYPE_SUN) {
+            memcpy(sun, &b->pos[3 * i], 3 * sizeof *sun);
+            sun[3] = 1;
+        }
+    return reduce_over_ranks(sun, 4, rank, size, 0);
+}
+
+/* --decompose: the least and most particles a rank holds, and imported at
+ * the last full force computation, over the ranks (rank 0 says). */
+static int say_domains(const bodies *b, int rank, int size)
+{
+    double least[3] = {(double)b->n, (double)b->imported_cells, (double)b->imported_particles};
+    double most[3] = {least[0], least[1], least[2]};
+    if (ranks_extreme(least, 3, 0) != 0 || ranks_extreme(most, 3, 1) != 0)
+        return 0;
+    if (rank == 0)
+        printf("domains: %d rank%s hold %.0f-%.0f particles each of %zu, and imported %.0f-%.0f cells and %.0f-%.0f "
+               "particles of the others at the last full force computation\n",
+               size, size > 1 ? "s" : "", least[0], most[0], b->n_all, least[1], most[1], least[2], most[2]);
+    return 1;
+}
+
 /* One line of figures: energy and its drift from the start, momentum, how
  * far the centre of mass has moved from c0 (where it was at step 0), and
  * (one process, a galaxy's discs) the structure. 0, or 1 when the energy
@@ -862,6 +926,9 @@ static int report(const bodies *b, int rank, int size, double e0, const double c
                     step, b->time, E);
         return 1;
     }
+    double sun[4] = {0, 0, 0, 0}; /* --decompose: the Sun's position, from the rank that holds it (all join) */
+    if (b->decomposed && !sun_position(b, rank, size, sun))
+        return 1;
     if (quiet)
         return 0;
     double d[3];
@@ -877,6 +944,8 @@ static int report(const bodies *b, int rank, int size, double e0, const double c
         if (s.has_sun)
             printf("  Sun R = %.3f z = %+.3f eps = %.3f", s.sun_R, s.sun_z, s.sun_eps);
     }
+    if (sun[3] > 0)
+        printf("  Sun at (%.4f, %.4f, %.4f)", sun[0], sun[1], sun[2]);
     printf("\n");
     fflush(stdout);
     return 0;
@@ -921,7 +990,7 @@ static int drift(bodies *b, double dt)
     for (size_t i = 0; i < 3 * b->n; i++)
         b->pos[i] += b->vel[i] * dt;
     b->time += dt;
-    return ranks_gather(b->pos_all, 3, b->counts);
+    return b->decomposed ? 0 : ranks_gather(b->pos_all, 3, b->counts);
 }
 
 /* ---- block time steps --------------------------------------------------- */
@@ -953,6 +1022,21 @@ static int alloc_blocks(blocks *k, bodies *b, const options *o)
     if (!b->level)
         b->level = calloc(b->n + 1, 1);
     return k->end && k->active && b->level;
+}
+
+/* The block steps' arrays for the particles a migration left on this
+ * rank, all at the end of their steps (TICKS). */
+static int resize_blocks(blocks *k, const bodies *b)
+{
+    long *end = realloc(k->end, (b->n + 1) * sizeof *end);
+    if (end)
+        k->end = end;
+    unsigned char *active = realloc(k->active, b->n + 1);
+    if (active)
+        k->active = active;
+    for (size_t i = 0; end && i < b->n; i++)
+        k->end[i] = TICKS;
+    return end && active;
 }
 
 static void free_blocks(blocks *k)
@@ -1041,10 +1125,15 @@ static int block_step(qt_tree *tree, bodies *b, const options *o, blocks *k, int
         if (next <= T || drift(b, (double)(next - T) * tick) != 0)
             return 1;
         T = next;
+        /* Every particle's step ends at the end of the step of --dt: the
+         * particles move to their ranks then, with their levels. */
+        if (T == TICKS && b->decomposed &&
+            (domain_migrate(b, o->eps, o->eps_halo, rank, size) != 0 || ranks_any(!resize_blocks(k, b))))
+            return 1;
         double active = 0, interactions;
         for (size_t i = 0; i < b->n; i++)
             active += (k->active[i] = k->end[i] == T);
-        *seconds += gravity(tree, b, o, T == TICKS ? NULL : k->active, &interactions);
+        *seconds += gravity(tree, b, o, T == TICKS ? NULL : k->active, &interactions, rank, size);
         k->forces += active; /* this process's; summed over processes when reported */
         k->substeps++;
         for (size_t i = 0; i < b->n; i++)
@@ -1188,7 +1277,7 @@ static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state 
         fprintf(stderr, "orrery-nbody: %s\n", err.msg);
     }
     ok = ok && check_bodies(b, o->ic);
-    if (ranks_any(!ok) || !share_bodies(b, o, rank, size))
+    if (ranks_any(!ok) || !(o->decompose ? own_bodies(b, o, rank, size) : share_bodies(b, o, rank, size)))
         return 0;
     if (b->n_all == 0) {
         if (rank == 0)
@@ -1500,7 +1589,9 @@ static int leapfrog_step(qt_tree *tree, bodies *b, const options *o, run *u, blo
     kick(b, 0.5 * o->dt);
     if (drift(b, o->dt) != 0)
         return 1;
-    double tg = gravity(tree, b, o, NULL, &interactions);
+    if (b->decomposed && domain_migrate(b, o->eps, o->eps_halo, rank, size) != 0)
+        return 1;
+    double tg = gravity(tree, b, o, NULL, &interactions, rank, size);
     u->t_gravity += tg;
     kick(b, 0.5 * o->dt);
     u->step++;
@@ -1554,7 +1645,7 @@ int main(int argc, char **argv)
     }
     if (!code && !o.resume_dir && !to_centre_of_mass_frame(&b, o.quiet))
         code = 1;
-    u.t_gravity = gravity(&tree, &b, &o, NULL, &interactions);
+    u.t_gravity = code ? 0 : gravity(&tree, &b, &o, NULL, &interactions, rank, size);
     if (!code && o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
         u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0,
                   {resumed.centre0[0], resumed.centre0[1], resumed.centre0[2]}, 0, 0, 0};
@@ -1593,6 +1684,8 @@ int main(int argc, char **argv)
         printf("block steps: %ld force computations, %.4g particle forces = %.3f per particle and step of dt\n",
                blk.substeps, forces, forces / (double)b.n_all / (double)(u.step - start > 0 ? u.step - start : 1));
     }
+    if (code == 0 && b.decomposed && !say_domains(&b, rank, size))
+        code = 1;
     free_blocks(&blk);
     orrery_close(r);
     qt_free(&tree);
