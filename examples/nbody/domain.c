@@ -343,15 +343,18 @@ typedef struct box {
  * would reach from the galaxy's centre to its halo, and every rank would
  * import most of the centre particle by particle). */
 #define BOXES 512
+#define RANK_BOXES (BOXES + 1) /* and the box about them all, tested first */
 
 static int box_empty(const box *x)
 {
     return !(x->lo[0] <= x->hi[0]);
 }
 
-/* The boxes about this rank's particles that forces are wanted for, into x[0 .. BOXES). */
+/* The boxes about this rank's particles that forces are wanted for, into
+ * x[0 .. BOXES), and the box about them all into x[BOXES]. */
 static void wanted_boxes(const bodies *b, const unsigned char *active, box *x)
 {
+    x[BOXES] = (box){{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
     for (int m = 0; m < BOXES; m++) {
         x[m] = (box){{INFINITY, INFINITY, INFINITY}, {-INFINITY, -INFINITY, -INFINITY}};
         for (size_t i = b->n * (size_t)m / BOXES; i < b->n * (size_t)(m + 1) / BOXES; i++)
@@ -360,25 +363,35 @@ static void wanted_boxes(const bodies *b, const unsigned char *active, box *x)
                     x[m].lo[k] = fmin(x[m].lo[k], b->pos[3 * i + k]);
                     x[m].hi[k] = fmax(x[m].hi[k], b->pos[3 * i + k]);
                 }
+        for (int k = 0; k < 3; k++) {
+            x[BOXES].lo[k] = fmin(x[BOXES].lo[k], x[m].lo[k]);
+            x[BOXES].hi[k] = fmax(x[BOXES].hi[k], x[m].hi[k]);
+        }
     }
 }
 
-/* Whether cell w may be taken whole by every point of the boxes x[0 ..
- * BOXES): its centre of mass farther than b_max / theta from all of them. */
+/* The squared distance from point c to box x. */
+static double distance2(const double c[3], const box *x)
+{
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        double d = fmax(fmax(x->lo[k] - c[k], c[k] - x->hi[k]), 0.0);
+        d2 += d * d;
+    }
+    return d2;
+}
+
+/* Whether cell w may be taken whole by every point of a rank's boxes x[0
+ * .. RANK_BOXES): its centre of mass farther than b_max / theta from all
+ * of them (at once when it is from the box about them all). */
 static int far_from_boxes(const qt_walk_node *w, const box *x, double inv_theta)
 {
     const double reach = w->bmax * inv_theta, reach2 = reach * reach;
-    for (int m = 0; m < BOXES; m++) {
-        if (box_empty(&x[m]))
-            continue;
-        double d2 = 0;
-        for (int k = 0; k < 3; k++) {
-            double d = fmax(fmax(x[m].lo[k] - w->com[k], w->com[k] - x[m].hi[k]), 0.0);
-            d2 += d * d;
-        }
-        if (!(d2 > reach2))
+    if (distance2(w->com, &x[BOXES]) > reach2)
+        return 1;
+    for (int m = 0; m < BOXES; m++)
+        if (!box_empty(&x[m]) && !(distance2(w->com, &x[m]) > reach2))
             return 0;
-    }
     return 1;
 }
 
@@ -393,10 +406,7 @@ static int far_from_boxes(const qt_walk_node *w, const box *x, double inv_theta)
 static size_t essential(const qt_tree *t, const box *x, double theta, double *out)
 {
     size_t cells = 0, parts = 0;
-    int any = 0;
-    for (int m = 0; m < BOXES; m++)
-        any |= !box_empty(&x[m]);
-    if (!any) /* no particle wants forces there */
+    if (box_empty(&x[BOXES])) /* no particle wants forces there */
         return 0;
     const double inv_theta = 1.0 / theta;
     for (size_t id = 0; id < t->nnodes;) { /* cells first */
@@ -444,7 +454,7 @@ static size_t essential(const qt_tree *t, const box *x, double theta, double *ou
     return 2 + CELL_DOUBLES * cells + PART_DOUBLES * parts;
 }
 
-/* Every rank's boxes of wanted particles (all[r BOXES ..]). */
+/* Every rank's boxes of wanted particles (all[r RANK_BOXES ..]). */
 static int gather_boxes(const bodies *b, const unsigned char *active, int rank, int size, box *all)
 {
     size_t *ones = malloc((size_t)size * sizeof *ones);
@@ -452,8 +462,8 @@ static int gather_boxes(const bodies *b, const unsigned char *active, int rank, 
         return -1;
     for (int r = 0; r < size; r++)
         ones[r] = 1;
-    wanted_boxes(b, active, &all[(size_t)rank * BOXES]);
-    int st = ranks_gather((double *)all, 6 * BOXES, ones);
+    wanted_boxes(b, active, &all[(size_t)rank * RANK_BOXES]);
+    int st = ranks_gather((double *)all, 6 * RANK_BOXES, ones);
     free(ones);
     return st;
 }
@@ -465,13 +475,13 @@ static double *export_essentials(const qt_tree *t, const box *boxes, double thet
 {
     size_t total = 0;
     for (int r = 0; r < size; r++) {
-        send_bytes[r] = r == rank ? 0 : essential(t, &boxes[(size_t)r * BOXES], theta, NULL) * sizeof(double);
+        send_bytes[r] = r == rank ? 0 : essential(t, &boxes[(size_t)r * RANK_BOXES], theta, NULL) * sizeof(double);
         total += send_bytes[r];
     }
     double *send = malloc(total + 1);
     for (int r = 0, at = 0; send && r < size; r++)
         if (send_bytes[r]) {
-            essential(t, &boxes[(size_t)r * BOXES], theta, send + at);
+            essential(t, &boxes[(size_t)r * RANK_BOXES], theta, send + at);
             at += (int)(send_bytes[r] / sizeof(double));
         }
     return send;
@@ -547,7 +557,7 @@ double domain_gravity(qt_tree *t, bodies *b, double G, double theta, const unsig
                       domain_stats *stats)
 {
     qt_free(t); /* the last step's tree: not kept while this rank's own is built */
-    box *boxes = malloc((size_t)size * BOXES * sizeof *boxes);
+    box *boxes = malloc((size_t)size * RANK_BOXES * sizeof *boxes);
     size_t *bytes = malloc(2 * (size_t)size * sizeof *bytes);
     int failed = !boxes || !bytes;
     failed = ranks_any(failed) || gather_boxes(b, active, rank, size, boxes) != 0;

@@ -216,8 +216,6 @@ static int check_options(const options *o)
         snprintf(why, sizeof why, "%s: expected a whole number of steps, at least 1", o->snapshot_every_text);
     else if (o->snapshot_every > 0 && !o->snapshot_dir && !o->resume_dir)
         bad = "--snapshot-every", snprintf(why, sizeof why, "needs --snapshot-dir DIR (where to write them)");
-    else if (o->decompose && (o->snapshot_every || o->resume_dir))
-        bad = "--decompose", snprintf(why, sizeof why, "with --snapshot-every or --resume: not built yet");
     else if (o->resume_dir && o->ic_given)
         bad = "--resume", snprintf(why, sizeof why, "%s: the initial conditions are the snapshot's: not with --ic",
                                    o->resume_dir);
@@ -599,6 +597,8 @@ static int own_bodies(bodies *b, const options *o, int rank, int size)
     if (domain_mass_momentum(b, e) != 0)
         return 0;
     b->tracer_mass = TRACER_MASS_FRACTION * e[0] / (double)(b->n_all ? b->n_all : 1);
+    if (ranks_any(b->level != NULL) && !b->level && !(b->level = calloc(b->n + 1, 1))) /* records alike on every rank */
+        return 0;
     return domain_migrate(b, o->eps, o->eps_halo, rank, size) == 0;
 }
 
@@ -1265,6 +1265,58 @@ static int resume_bodies(options *o, bodies *b, nb_run_state *rs, int rank, int 
     return 1;
 }
 
+/* --decompose: the newest complete set of snapshot files in --resume's
+ * folder, rank r reading files r, r + size, ... (any number of files on
+ * any number of ranks: the particles then move to their ranks' pieces of
+ * the curve, domain_migrate). A rank with no file reads the state only. */
+static int resume_own(options *o, bodies *b, nb_run_state *rs, int rank, int size)
+{
+    static char path[4096];
+    orr_error err = {0};
+    nb_particles mine = {0};
+    int nfiles = 0, ok = 1;
+    long newest = nb_snapshot_newest_set(o->resume_dir, &nfiles, &err);
+    if (newest < 0 || nb_snapshot_part_path(path, sizeof path, o->resume_dir, newest, 0, nfiles) != 0 ||
+        (rank >= nfiles && nb_snapshot_read_state(path, rs, &mine, &err) != ORR_OK)) {
+        fprintf(stderr, "orrery-nbody: --resume %s: %s\n", o->resume_dir, err.msg[0] ? err.msg : "no snapshot");
+        return 0;
+    }
+    for (int part = rank; ok && part < nfiles; part += size) {
+        nb_particles p;
+        nb_run_state s;
+        ok = nb_snapshot_part_path(path, sizeof path, o->resume_dir, newest, part, nfiles) == 0 &&
+             nb_snapshot_read(path, &p, &s, &err) == ORR_OK;
+        if (!ok) {
+            fprintf(stderr, "orrery-nbody: --resume %s: %s\n", o->resume_dir, err.msg);
+        } else if (s.nfiles != nfiles || (part != rank && s.step != rs->step)) {
+            fprintf(stderr, "orrery-nbody: --resume %s: %s: step %ld of a snapshot in %d files, not step %ld of %d: "
+                            "files of different runs\n", o->resume_dir, path, s.step, s.nfiles, rs->step, nfiles);
+            nb_particles_free(&p);
+            ok = 0;
+        } else {
+            ok = levels_valid(&p, path);
+            if (part == rank)
+                *rs = s;
+            if (!ok || nb_particles_append(&mine, &p) != 0) {
+                if (ok)
+                    fprintf(stderr, "orrery-nbody: %s: out of memory, or fields unlike the set's first file's\n", path);
+                ok = 0;
+            }
+        }
+    }
+    if (ok && !adopt_particles(b, &mine)) { /* a rank with no file: none, but the set's fields (records alike) */
+        fprintf(stderr, "orrery-nbody: %s: out of memory\n", path);
+        ok = 0;
+    }
+    nb_particles_free(&mine);
+    if (!ok)
+        return 0;
+    b->time = rs->time;
+    o->ic = path;
+    take_run_settings(o, rs);
+    return 1;
+}
+
 /* Loads this process's particles (or a resumed run's) and shares the
  * positions; whether every process succeeded (each prints its own error). */
 static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state *rs)
@@ -1272,7 +1324,7 @@ static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state 
     orr_error err = {0};
     int ok;
     if (o->resume_dir) {
-        ok = resume_bodies(o, b, rs, rank, size);
+        ok = o->decompose ? resume_own(o, b, rs, rank, size) : resume_bodies(o, b, rs, rank, size);
     } else if (!(ok = load_bodies(o, rank, size, b, &err) == ORR_OK)) {
         fprintf(stderr, "orrery-nbody: %s\n", err.msg);
     }
@@ -1282,6 +1334,12 @@ static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state 
     if (b->n_all == 0) {
         if (rank == 0)
             fprintf(stderr, "orrery-nbody: %s: no particles\n", o->ic);
+        return 0;
+    }
+    if (o->resume_dir && o->decompose && rs->total && rs->total != b->n_all) {
+        if (rank == 0)
+            fprintf(stderr, "orrery-nbody: --resume %s: the files hold %zu particles, their headers %llu\n",
+                    o->resume_dir, b->n_all, (unsigned long long)rs->total);
         return 0;
     }
     return 1;
@@ -1382,6 +1440,38 @@ static int write_file(const nb_particles *p, const nb_run_state *s, const option
     return 1;
 }
 
+/* --decompose: each rank writes its own particles as file `rank` of the
+ * snapshot's set (snapshot_NNNN.R.hdf5; one file on one rank), the
+ * header's totals over all. Each file is renamed when complete; a run
+ * killed mid-way may leave some of a set's files, which a resume passes
+ * over (nb_snapshot_newest_set). 0 or 1, on every rank. */
+static int write_own_snapshot(const bodies *b, nb_run_state *s, const options *o, int rank, int size)
+{
+    uint64_t totals[NB_SNAPSHOT_TYPES] = {0};
+    for (size_t i = 0; i < b->n; i++)
+        totals[b->type[i] < NB_SNAPSHOT_TYPES ? b->type[i] : 0]++;
+    if (ranks_sum_u64(totals, NB_SNAPSHOT_TYPES) != 0)
+        return 1;
+    nb_particles p = {.n = b->n, .pos = b->pos, .vel = b->vel, .mass = b->mass, .id = b->id, .type = b->type,
+                      .level = b->level, .nfields = b->nfields};
+    memcpy(p.field_name, b->field_name, sizeof p.field_name);
+    memcpy(p.field, b->field, sizeof p.field);
+    s->nfiles = size;
+    s->type_totals = totals;
+    char path[4096];
+    orr_error err = {0};
+    int failed = 0;
+    if (nb_snapshot_part_path(path, sizeof path, snapshot_dir(o), s->number, rank, size) != 0)
+        failed = 1, snprintf(err.msg, sizeof err.msg, "%s: the folder's name is too long", snapshot_dir(o));
+    else
+        failed = nb_snapshot_write(path, &p, s, &err) != ORR_OK;
+    if (failed)
+        fprintf(stderr, "orrery-nbody: %s\n", err.msg);
+    else if (!o->quiet)
+        printf("snapshot %s (and the other ranks' files)  step %ld  t = %.4f\n", path, s->step, s->time);
+    return ranks_any(failed) ? 1 : 0;
+}
+
 /* Snapshot number of the run at step (and time b->time), written by rank
  * 0 (gathered from every rank first when there are several); 0 or 1, on
  * every rank. */
@@ -1392,11 +1482,13 @@ static int write_snapshot(const bodies *b, const options *o, long step, long num
                       .level = b->level, .nfields = b->nfields};
     memcpy(p.field_name, b->field_name, sizeof p.field_name);
     memcpy(p.field, b->field, sizeof p.field);
-    int failed = size > 1 && !gather_particles(b, &p);
+    int failed = size > 1 && !b->decomposed && !gather_particles(b, &p);
     nb_run_state s = {.time = b->time, .step = step, .number = number, .e0 = e0, .centre0 = {c0[0], c0[1], c0[2]},
                       .dt = o->dt, .eps = o->eps, .eps_halo = o->eps_halo, .theta = o->theta, .eta = o->eta,
                       .dt_min = o->dt_min,
                       .snapshot_every = o->snapshot_every, .tracer_neighbours = o->tracer_neighbours};
+    if (b->decomposed)
+        return write_own_snapshot(b, &s, o, rank, size);
     if (!failed && rank == 0)
         failed = write_file(&p, &s, o);
     if (size > 1)
