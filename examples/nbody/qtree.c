@@ -273,6 +273,19 @@ void qt_drop_build_scratch(qt_tree *t)
     free(t->sort_tmp);
     t->scratch = t->dest = NULL;
     t->sort_tmp = NULL;
+    /* The node pools' room to grow (up to as much again as they hold) given
+     * back: the walk reads only the nodes built, and with --decompose this
+     * is a rank's largest block of memory (bench/bench_decompose.sh). */
+    qt_node *nodes = t->nnodes ? realloc(t->nodes, t->nnodes * sizeof *nodes) : NULL;
+    qt_walk_node *walk = t->nnodes ? realloc(t->walk, t->nnodes * sizeof *walk) : NULL;
+    if (nodes) {
+        t->nodes = nodes;
+        t->cap = t->nnodes;
+    }
+    if (walk) {
+        t->walk = walk;
+        t->walk_cap = t->nnodes;
+    }
 }
 
 int qt_build_with_moments(qt_tree *t, const double *pos, const double *mass, const double *eps, const double *quad,
