@@ -1,7 +1,7 @@
 #!/bin/bash
 # orrery-nbody-mpi's memory per rank before and after the domain
 # decomposition (--decompose), side by side in one run (docs/nbody.md,
-# "MPI: domain decomposition").
+# "Domain decomposition: --decompose").
 #
 #   bench/bench_decompose.sh [BUILD]          # BUILD: the build folder (default build)
 #   N=200000 STEPS=4 RANKS="2 4" bench/bench_decompose.sh

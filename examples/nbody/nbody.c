@@ -15,9 +15,10 @@
  * reads and owns a contiguous slice of the particles, every rank builds the
  * tree over all positions (gathered from every rank each step) and computes
  * the forces on its own slice, and the ranks render together, each handing
- * over only its own particles (orrery_use_mpi). The replicated tree is for
- * demonstration: every rank holds every position, so it does not scale to
- * billions of particles.
+ * over only its own particles (orrery_use_mpi). That replicated tree holds
+ * every position on every rank; with --decompose each rank holds only its
+ * own particles, a piece of a Peano-Hilbert curve, and exchanges the parts
+ * of the trees the others need (domain.h).
  *
  * Units are those of the model and of GADGET-2's examples: kpc, 1e10 solar
  * masses, km/s, so G = 43007.1 and the time unit is 0.978 Gyr. */
@@ -904,9 +905,9 @@ static int say_domains(const bodies *b, int rank, int size)
     if (ranks_extreme(least, 3, 0) != 0 || ranks_extreme(most, 3, 1) != 0)
         return 0;
     if (rank == 0)
-        printf("domains: %d rank%s hold %.0f-%.0f particles each of %zu, and imported %.0f-%.0f cells and %.0f-%.0f "
+        printf("domains: %d rank%s %.0f-%.0f particles each of %zu, and imported %.0f-%.0f cells and %.0f-%.0f "
                "particles of the others at the last full force computation\n",
-               size, size > 1 ? "s" : "", least[0], most[0], b->n_all, least[1], most[1], least[2], most[2]);
+               size, size > 1 ? "s hold" : " holds", least[0], most[0], b->n_all, least[1], most[1], least[2], most[2]);
     return 1;
 }
 

@@ -1,4 +1,4 @@
-# orrery-nbody-mpi --decompose (docs/nbody.md, "MPI: domain decomposition"):
+# orrery-nbody-mpi --decompose (docs/nbody.md, "Domain decomposition: --decompose"):
 # each rank holds only its own particles, a piece of a Peano-Hilbert curve,
 # and writes them as its own file of each snapshot.
 # - Each rank's file holds a third of the particles on 3 ranks, the files'
