@@ -15,9 +15,10 @@
  * reads and owns a contiguous slice of the particles, every rank builds the
  * tree over all positions (gathered from every rank each step) and computes
  * the forces on its own slice, and the ranks render together, each handing
- * over only its own particles (orrery_use_mpi). The replicated tree is for
- * demonstration: every rank holds every position, so it does not scale to
- * billions of particles.
+ * over only its own particles (orrery_use_mpi). That replicated tree holds
+ * every position on every rank; with --decompose each rank holds only its
+ * own particles, a piece of a Peano-Hilbert curve, and exchanges the parts
+ * of the trees the others need (domain.h).
  *
  * Units are those of the model and of GADGET-2's examples: kpc, 1e10 solar
  * masses, km/s, so G = 43007.1 and the time unit is 0.978 Gyr. */
@@ -27,8 +28,13 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#ifdef __GLIBC__
+#include <malloc.h>
+#endif
 
 #include "orrery.h"
+#include "bodies.h"
+#include "domain.h"
 #include "ranks.h"
 #include "source/models/model.h"
 #include "source/partition.h"
@@ -47,33 +53,6 @@
 #define TRACER_MASS_FRACTION 1e-3
 #define TRACER_NEIGHBOURS_MAX 256
 
-/* The particles this process owns, n of them from number first on, and the
- * positions and masses of all n_all of them, which every process holds for
- * the tree (with one process, its slice is all of them). */
-typedef struct bodies {
-    size_t n, first, n_all;
-    double *pos_all, *mass_all; /* x, y, z of particle i at 3i */
-    double *pos, *mass;         /* this process's: pos_all + 3 first, mass_all + first */
-    size_t *counts;             /* every process's n, in rank order */
-    double *vel, *acc, *pot;
-    double *eps_all;            /* every particle's softening (all processes') */
-    size_t *tracers, ntracers;  /* the tracers' places in the run's order (find_tracers) */
-    double tracer_mass;         /* a tracer is lighter than this */
-    uint64_t *id;
-    uint8_t *type;
-    /* The initial conditions' other per-particle fields (the model's "r" and
-     * "E0", a snapshot's potential, ...), handed to orrery unchanged every
-     * frame so colours chosen by them stay with each particle for the run. */
-    int nfields;
-    char field_name[ORR_ARRAYS_MAX_FIELDS][ORR_FIELD_NAME_MAX];
-    float *field[ORR_ARRAYS_MAX_FIELDS];
-    /* With block steps (--eta), each particle's last step: dt / 2^level.
-     * It carries over from one step of --dt to the next (a step lengthens
-     * only with room to spare, open_step) and into snapshots, so a resume
-     * chooses the same steps. NULL without --eta. */
-    uint8_t *level;
-    double time;
-} bodies;
 
 typedef struct options {
     const char *ic;        /* "model" or a snapshot file */
@@ -100,6 +79,7 @@ typedef struct options {
     /* Given on the command line; on a resume the others are the run's own. */
     int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given, tracer_neighbours_given;
     int dt_min_given;
+    int decompose;         /* each MPI rank holds its own particles only (domain.h) */
 } options;
 
 static const char usage[] =
@@ -109,7 +89,7 @@ static const char usage[] =
     "                    [--eps-halo EPS] [--theta THETA] [--tracer-neighbours K]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
-    "                    [--resume DIR] [--progress SECONDS] [--quiet]\n"
+    "                    [--resume DIR] [--progress SECONDS] [--decompose] [--quiet]\n"
     "\n"
     "Evolves N bodies with a tree code (quadrupole moments, group walks) and renders\n"
     "SCENE in-situ every K steps (frame = step / K), reporting rendering time against\n"
@@ -155,8 +135,13 @@ static const char usage[] =
     "                     stopped: its time and step, and its --dt, --eta, --dt-min,\n"
     "                     --eps, --eps-halo, --theta and --snapshot-every unless given;\n"
     "                     --steps counts from the start of the run, not of the resume\n"
+    "  --decompose        each MPI rank holds only its own particles: a piece of a\n"
+    "                     Peano-Hilbert curve, the particles moved between ranks every\n"
+    "                     step; forces from each rank's tree and what the others send\n"
+    "                     of theirs; snapshots one file a rank (snapshot_NNNN.R.hdf5)\n"
     "On MPI ranks, rank 0 writes the snapshots (gathered from every rank), and on a\n"
-    "resume every rank reads the snapshot and keeps an even share of it.\n";
+    "resume every rank reads the snapshot and keeps an even share of it; with\n"
+    "--decompose each rank writes and reads its own files instead.\n";
 
 static double now(void)
 {
@@ -253,6 +238,9 @@ static int parse_args(int argc, char **argv, options *o)
             exit(0);
         } else if (strcmp(a, "--quiet") == 0) {
             o->quiet = 1;
+            has_value = 0;
+        } else if (strcmp(a, "--decompose") == 0) {
+            o->decompose = 1;
             has_value = 0;
         } else if (!v) {
             fprintf(stderr, "orrery-nbody: %s needs a value\n", a);
@@ -587,6 +575,34 @@ static int share_bodies(bodies *b, const options *o, int rank, int size)
            ranks_gather(b->eps_all, 1, b->counts) == 0 && find_tracers(b);
 }
 
+/* --decompose: each process keeps its own particles, which are moved to
+ * the ranks of their pieces of the Peano-Hilbert curve (domain.h); the
+ * tracers' mass limit from the exact total mass. */
+static int own_bodies(bodies *b, const options *o, int rank, int size)
+{
+#ifdef __GLIBC__
+    /* Large blocks mapped and unmapped, always: glibc otherwise raises its
+     * threshold after the first large free, and the exchanges' buffers,
+     * freed, stay in the process beside the tree (25 MB a rank at 10^6 on
+     * 4 ranks). */
+    mallopt(M_MMAP_THRESHOLD, 1 << 20);
+#endif
+    b->decomposed = 1;
+    b->counts = calloc((size_t)size, sizeof *b->counts);
+    if (!b->counts || ranks_counts(b->n, b->counts) != 0)
+        return 0;
+    b->n_all = b->first = 0;
+    for (int r = 0; r < size; r++)
+        b->n_all += b->counts[r];
+    double e[4];
+    if (domain_mass_momentum(b, e) != 0)
+        return 0;
+    b->tracer_mass = TRACER_MASS_FRACTION * e[0] / (double)(b->n_all ? b->n_all : 1);
+    if (ranks_any(b->level != NULL) && !b->level && !(b->level = calloc(b->n + 1, 1))) /* records alike on every rank */
+        return 0;
+    return domain_migrate(b, o->eps, o->eps_halo, rank, size) == 0;
+}
+
 /* The particles as orrery reads them, in place: positions and velocities
  * are arrays of [x, y, z] doubles. */
 static orr_particle_arrays as_arrays(const bodies *b)
@@ -620,9 +636,22 @@ static orr_particle_arrays as_arrays(const bodies *b)
  * step of 0.008 and the sub-steps cost far more than a build saves
  * (docs/nbody.md). The tracers' softening is renewed with the full
  * computations only. */
-static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned char *active, double *interactions)
+static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned char *active, double *interactions,
+                      int rank, int size)
 {
     double t0 = now();
+    if (b->decomposed) {
+        int failed = !active && o->tracer_neighbours && domain_soften_tracers(b, (int)o->tracer_neighbours, o->eps,
+                                                                              rank, size) != 0;
+        domain_stats stats;
+        if (failed || (*interactions = domain_gravity(t, b, G_KPC_KMS, o->theta, active, rank, size, &stats)) < 0) {
+            fprintf(stderr, "orrery-nbody: out of memory in the tree\n");
+            exit(1);
+        }
+        if (!active)
+            b->imported_cells = stats.cells, b->imported_particles = stats.particles;
+        return now() - t0;
+    }
     if (!active)
         soften_tracers(b, o);
     if (qt_build(t, b->pos_all, b->mass_all, b->eps_all, b->n_all) != 0 ||
@@ -694,6 +723,15 @@ static int centre_of_mass(const bodies *b, int rank, int size, double c[3])
  * same to the last bit on any number of ranks; mass in *total. */
 static int mean_velocity(const bodies *b, double vmean[3], double *total)
 {
+    if (b->decomposed) { /* summed exactly in fixed point (domain.h): the same on any number of ranks */
+        double e[4];
+        if (domain_mass_momentum(b, e) != 0)
+            return 0;
+        for (int k = 0; k < 3; k++)
+            vmean[k] = e[0] > 0 ? e[1 + k] / e[0] : 0;
+        *total = e[0];
+        return 1;
+    }
     double *all = malloc((3 * b->n_all + 1) * sizeof *all);
     int ok = all != NULL;
     if (ranks_any(!ok)) {
@@ -846,6 +884,33 @@ static int structure_of(const bodies *b, structure *s)
     return 1;
 }
 
+/* The Sun's position into sun[0 .. 3) and sun[3] = 1, when some rank
+ * holds one (--decompose: each rank holds its own particles). */
+static int sun_position(const bodies *b, int rank, int size, double sun[4])
+{
+    for (size_t i = 0; i < b->n && !sun[3]; i++)
+        if (b->type[i] == ORR_MODEL_TYPE_SUN) {
+            memcpy(sun, &b->pos[3 * i], 3 * sizeof *sun);
+            sun[3] = 1;
+        }
+    return reduce_over_ranks(sun, 4, rank, size, 0);
+}
+
+/* --decompose: the least and most particles a rank holds, and imported at
+ * the last full force computation, over the ranks (rank 0 says). */
+static int say_domains(const bodies *b, int rank, int size)
+{
+    double least[3] = {(double)b->n, (double)b->imported_cells, (double)b->imported_particles};
+    double most[3] = {least[0], least[1], least[2]};
+    if (ranks_extreme(least, 3, 0) != 0 || ranks_extreme(most, 3, 1) != 0)
+        return 0;
+    if (rank == 0)
+        printf("domains: %d rank%s %.0f-%.0f particles each of %zu, and imported %.0f-%.0f cells and %.0f-%.0f "
+               "particles of the others at the last full force computation\n",
+               size, size > 1 ? "s hold" : " holds", least[0], most[0], b->n_all, least[1], most[1], least[2], most[2]);
+    return 1;
+}
+
 /* One line of figures: energy and its drift from the start, momentum, how
  * far the centre of mass has moved from c0 (where it was at step 0), and
  * (one process, a galaxy's discs) the structure. 0, or 1 when the energy
@@ -862,6 +927,9 @@ static int report(const bodies *b, int rank, int size, double e0, const double c
                     step, b->time, E);
         return 1;
     }
+    double sun[4] = {0, 0, 0, 0}; /* --decompose: the Sun's position, from the rank that holds it (all join) */
+    if (b->decomposed && !sun_position(b, rank, size, sun))
+        return 1;
     if (quiet)
         return 0;
     double d[3];
@@ -877,6 +945,8 @@ static int report(const bodies *b, int rank, int size, double e0, const double c
         if (s.has_sun)
             printf("  Sun R = %.3f z = %+.3f eps = %.3f", s.sun_R, s.sun_z, s.sun_eps);
     }
+    if (sun[3] > 0)
+        printf("  Sun at (%.4f, %.4f, %.4f)", sun[0], sun[1], sun[2]);
     printf("\n");
     fflush(stdout);
     return 0;
@@ -921,7 +991,7 @@ static int drift(bodies *b, double dt)
     for (size_t i = 0; i < 3 * b->n; i++)
         b->pos[i] += b->vel[i] * dt;
     b->time += dt;
-    return ranks_gather(b->pos_all, 3, b->counts);
+    return b->decomposed ? 0 : ranks_gather(b->pos_all, 3, b->counts);
 }
 
 /* ---- block time steps --------------------------------------------------- */
@@ -953,6 +1023,21 @@ static int alloc_blocks(blocks *k, bodies *b, const options *o)
     if (!b->level)
         b->level = calloc(b->n + 1, 1);
     return k->end && k->active && b->level;
+}
+
+/* The block steps' arrays for the particles a migration left on this
+ * rank, all at the end of their steps (TICKS). */
+static int resize_blocks(blocks *k, const bodies *b)
+{
+    long *end = realloc(k->end, (b->n + 1) * sizeof *end);
+    if (end)
+        k->end = end;
+    unsigned char *active = realloc(k->active, b->n + 1);
+    if (active)
+        k->active = active;
+    for (size_t i = 0; end && i < b->n; i++)
+        k->end[i] = TICKS;
+    return end && active;
 }
 
 static void free_blocks(blocks *k)
@@ -1041,10 +1126,15 @@ static int block_step(qt_tree *tree, bodies *b, const options *o, blocks *k, int
         if (next <= T || drift(b, (double)(next - T) * tick) != 0)
             return 1;
         T = next;
+        /* Every particle's step ends at the end of the step of --dt: the
+         * particles move to their ranks then, with their levels. */
+        if (T == TICKS && b->decomposed &&
+            (domain_migrate(b, o->eps, o->eps_halo, rank, size) != 0 || ranks_any(!resize_blocks(k, b))))
+            return 1;
         double active = 0, interactions;
         for (size_t i = 0; i < b->n; i++)
             active += (k->active[i] = k->end[i] == T);
-        *seconds += gravity(tree, b, o, T == TICKS ? NULL : k->active, &interactions);
+        *seconds += gravity(tree, b, o, T == TICKS ? NULL : k->active, &interactions, rank, size);
         k->forces += active; /* this process's; summed over processes when reported */
         k->substeps++;
         for (size_t i = 0; i < b->n; i++)
@@ -1176,6 +1266,58 @@ static int resume_bodies(options *o, bodies *b, nb_run_state *rs, int rank, int 
     return 1;
 }
 
+/* --decompose: the newest complete set of snapshot files in --resume's
+ * folder, rank r reading files r, r + size, ... (any number of files on
+ * any number of ranks: the particles then move to their ranks' pieces of
+ * the curve, domain_migrate). A rank with no file reads the state only. */
+static int resume_own(options *o, bodies *b, nb_run_state *rs, int rank, int size)
+{
+    static char path[4096];
+    orr_error err = {0};
+    nb_particles mine = {0};
+    int nfiles = 0, ok = 1;
+    long newest = nb_snapshot_newest_set(o->resume_dir, &nfiles, &err);
+    if (newest < 0 || nb_snapshot_part_path(path, sizeof path, o->resume_dir, newest, 0, nfiles) != 0 ||
+        (rank >= nfiles && nb_snapshot_read_state(path, rs, &mine, &err) != ORR_OK)) {
+        fprintf(stderr, "orrery-nbody: --resume %s: %s\n", o->resume_dir, err.msg[0] ? err.msg : "no snapshot");
+        return 0;
+    }
+    for (int part = rank; ok && part < nfiles; part += size) {
+        nb_particles p;
+        nb_run_state s;
+        ok = nb_snapshot_part_path(path, sizeof path, o->resume_dir, newest, part, nfiles) == 0 &&
+             nb_snapshot_read(path, &p, &s, &err) == ORR_OK;
+        if (!ok) {
+            fprintf(stderr, "orrery-nbody: --resume %s: %s\n", o->resume_dir, err.msg);
+        } else if (s.nfiles != nfiles || (part != rank && s.step != rs->step)) {
+            fprintf(stderr, "orrery-nbody: --resume %s: %s: step %ld of a snapshot in %d files, not step %ld of %d: "
+                            "files of different runs\n", o->resume_dir, path, s.step, s.nfiles, rs->step, nfiles);
+            nb_particles_free(&p);
+            ok = 0;
+        } else {
+            ok = levels_valid(&p, path);
+            if (part == rank)
+                *rs = s;
+            if (!ok || nb_particles_append(&mine, &p) != 0) {
+                if (ok)
+                    fprintf(stderr, "orrery-nbody: %s: out of memory, or fields unlike the set's first file's\n", path);
+                ok = 0;
+            }
+        }
+    }
+    if (ok && !adopt_particles(b, &mine)) { /* a rank with no file: none, but the set's fields (records alike) */
+        fprintf(stderr, "orrery-nbody: %s: out of memory\n", path);
+        ok = 0;
+    }
+    nb_particles_free(&mine);
+    if (!ok)
+        return 0;
+    b->time = rs->time;
+    o->ic = path;
+    take_run_settings(o, rs);
+    return 1;
+}
+
 /* Loads this process's particles (or a resumed run's) and shares the
  * positions; whether every process succeeded (each prints its own error). */
 static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state *rs)
@@ -1183,16 +1325,22 @@ static int start_bodies(options *o, int rank, int size, bodies *b, nb_run_state 
     orr_error err = {0};
     int ok;
     if (o->resume_dir) {
-        ok = resume_bodies(o, b, rs, rank, size);
+        ok = o->decompose ? resume_own(o, b, rs, rank, size) : resume_bodies(o, b, rs, rank, size);
     } else if (!(ok = load_bodies(o, rank, size, b, &err) == ORR_OK)) {
         fprintf(stderr, "orrery-nbody: %s\n", err.msg);
     }
     ok = ok && check_bodies(b, o->ic);
-    if (ranks_any(!ok) || !share_bodies(b, o, rank, size))
+    if (ranks_any(!ok) || !(o->decompose ? own_bodies(b, o, rank, size) : share_bodies(b, o, rank, size)))
         return 0;
     if (b->n_all == 0) {
         if (rank == 0)
             fprintf(stderr, "orrery-nbody: %s: no particles\n", o->ic);
+        return 0;
+    }
+    if (o->resume_dir && o->decompose && rs->total && rs->total != b->n_all) {
+        if (rank == 0)
+            fprintf(stderr, "orrery-nbody: --resume %s: the files hold %zu particles, their headers %llu\n",
+                    o->resume_dir, b->n_all, (unsigned long long)rs->total);
         return 0;
     }
     return 1;
@@ -1293,6 +1441,38 @@ static int write_file(const nb_particles *p, const nb_run_state *s, const option
     return 1;
 }
 
+/* --decompose: each rank writes its own particles as file `rank` of the
+ * snapshot's set (snapshot_NNNN.R.hdf5; one file on one rank), the
+ * header's totals over all. Each file is renamed when complete; a run
+ * killed mid-way may leave some of a set's files, which a resume passes
+ * over (nb_snapshot_newest_set). 0 or 1, on every rank. */
+static int write_own_snapshot(const bodies *b, nb_run_state *s, const options *o, int rank, int size)
+{
+    uint64_t totals[NB_SNAPSHOT_TYPES] = {0};
+    for (size_t i = 0; i < b->n; i++)
+        totals[b->type[i] < NB_SNAPSHOT_TYPES ? b->type[i] : 0]++;
+    if (ranks_sum_u64(totals, NB_SNAPSHOT_TYPES) != 0)
+        return 1;
+    nb_particles p = {.n = b->n, .pos = b->pos, .vel = b->vel, .mass = b->mass, .id = b->id, .type = b->type,
+                      .level = b->level, .nfields = b->nfields};
+    memcpy(p.field_name, b->field_name, sizeof p.field_name);
+    memcpy(p.field, b->field, sizeof p.field);
+    s->nfiles = size;
+    s->type_totals = totals;
+    char path[4096];
+    orr_error err = {0};
+    int failed = 0;
+    if (nb_snapshot_part_path(path, sizeof path, snapshot_dir(o), s->number, rank, size) != 0)
+        failed = 1, snprintf(err.msg, sizeof err.msg, "%s: the folder's name is too long", snapshot_dir(o));
+    else
+        failed = nb_snapshot_write(path, &p, s, &err) != ORR_OK;
+    if (failed)
+        fprintf(stderr, "orrery-nbody: %s\n", err.msg);
+    else if (!o->quiet)
+        printf("snapshot %s (and the other ranks' files)  step %ld  t = %.4f\n", path, s->step, s->time);
+    return ranks_any(failed) ? 1 : 0;
+}
+
 /* Snapshot number of the run at step (and time b->time), written by rank
  * 0 (gathered from every rank first when there are several); 0 or 1, on
  * every rank. */
@@ -1303,11 +1483,13 @@ static int write_snapshot(const bodies *b, const options *o, long step, long num
                       .level = b->level, .nfields = b->nfields};
     memcpy(p.field_name, b->field_name, sizeof p.field_name);
     memcpy(p.field, b->field, sizeof p.field);
-    int failed = size > 1 && !gather_particles(b, &p);
+    int failed = size > 1 && !b->decomposed && !gather_particles(b, &p);
     nb_run_state s = {.time = b->time, .step = step, .number = number, .e0 = e0, .centre0 = {c0[0], c0[1], c0[2]},
                       .dt = o->dt, .eps = o->eps, .eps_halo = o->eps_halo, .theta = o->theta, .eta = o->eta,
                       .dt_min = o->dt_min,
                       .snapshot_every = o->snapshot_every, .tracer_neighbours = o->tracer_neighbours};
+    if (b->decomposed)
+        return write_own_snapshot(b, &s, o, rank, size);
     if (!failed && rank == 0)
         failed = write_file(&p, &s, o);
     if (size > 1)
@@ -1500,7 +1682,9 @@ static int leapfrog_step(qt_tree *tree, bodies *b, const options *o, run *u, blo
     kick(b, 0.5 * o->dt);
     if (drift(b, o->dt) != 0)
         return 1;
-    double tg = gravity(tree, b, o, NULL, &interactions);
+    if (b->decomposed && domain_migrate(b, o->eps, o->eps_halo, rank, size) != 0)
+        return 1;
+    double tg = gravity(tree, b, o, NULL, &interactions, rank, size);
     u->t_gravity += tg;
     kick(b, 0.5 * o->dt);
     u->step++;
@@ -1554,7 +1738,7 @@ int main(int argc, char **argv)
     }
     if (!code && !o.resume_dir && !to_centre_of_mass_frame(&b, o.quiet))
         code = 1;
-    u.t_gravity = gravity(&tree, &b, &o, NULL, &interactions);
+    u.t_gravity = code ? 0 : gravity(&tree, &b, &o, NULL, &interactions, rank, size);
     if (!code && o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
         u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0,
                   {resumed.centre0[0], resumed.centre0[1], resumed.centre0[2]}, 0, 0, 0};
@@ -1593,6 +1777,8 @@ int main(int argc, char **argv)
         printf("block steps: %ld force computations, %.4g particle forces = %.3f per particle and step of dt\n",
                blk.substeps, forces, forces / (double)b.n_all / (double)(u.step - start > 0 ? u.step - start : 1));
     }
+    if (code == 0 && b.decomposed && !say_domains(&b, rank, size))
+        code = 1;
     free_blocks(&blk);
     orrery_close(r);
     qt_free(&tree);

@@ -87,6 +87,25 @@ static void add_quad(double q[6], double m, const double y[3])
     q[5] += m * 3 * y[1] * y[2];
 }
 
+/* A node holding cells of another rank's tree (qt_build_with_moments):
+ * their own quadrupoles add to its (the shift from each cell's centre to
+ * the node's is already in, as for a particle), and its b_max reaches past
+ * each cell's centre by the cell's own b_max. */
+static void add_cells_moments(const qt_tree *t, qt_node *nd)
+{
+    double b = nd->bmax;
+    for (size_t j = nd->first; j < nd->first + nd->count; j++) {
+        size_t c = t->order[j] - t->cells_first; /* wraps round for particles before the cells */
+        if (c >= t->ncells)
+            continue;
+        for (int k = 0; k < 6; k++)
+            nd->quad[k] += t->xquad[6 * c + k];
+        double y[3] = {t->px[j] - nd->com[0], t->py[j] - nd->com[1], t->pz[j] - nd->com[2]};
+        b = fmax(b, sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) + t->xbmax[c]);
+    }
+    nd->bmax = b;
+}
+
 /* Mass, centre of mass, traceless quadrupole, b_max and mean softening^2
  * of a node, from its particles directly (each particle is visited once per
  * level: N log N in all). During the build the tree-order arrays hold the
@@ -110,6 +129,8 @@ static void node_moments(const qt_tree *t, qt_node *nd)
     }
     memcpy(nd->quad, q, sizeof q);
     nd->bmax = sqrt(b2);
+    if (t->ncells)
+        add_cells_moments(t, nd);
 }
 
 /* Moves the entries first .. first + count - 1 of a to the places dest
@@ -242,10 +263,42 @@ static int index_walk(qt_tree *t)
 
 int qt_build(qt_tree *t, const double *pos, const double *mass, const double *eps, size_t n)
 {
+    return qt_build_with_moments(t, pos, mass, eps, NULL, NULL, 0, 0, n);
+}
+
+void qt_drop_build_scratch(qt_tree *t)
+{
+    free(t->scratch);
+    free(t->dest);
+    free(t->sort_tmp);
+    t->scratch = t->dest = NULL;
+    t->sort_tmp = NULL;
+    /* The node pools' room to grow (up to as much again as they hold) given
+     * back: the walk reads only the nodes built, and with --decompose this
+     * is a rank's largest block of memory (bench/bench_decompose.sh). */
+    qt_node *nodes = t->nnodes ? realloc(t->nodes, t->nnodes * sizeof *nodes) : NULL;
+    qt_walk_node *walk = t->nnodes ? realloc(t->walk, t->nnodes * sizeof *walk) : NULL;
+    if (nodes) {
+        t->nodes = nodes;
+        t->cap = t->nnodes;
+    }
+    if (walk) {
+        t->walk = walk;
+        t->walk_cap = t->nnodes;
+    }
+}
+
+int qt_build_with_moments(qt_tree *t, const double *pos, const double *mass, const double *eps, const double *quad,
+                          const double *bmax, size_t cells_first, size_t ncells, size_t n)
+{
+    t->xquad = quad;
+    t->xbmax = bmax;
+    t->cells_first = cells_first;
+    t->ncells = quad && bmax ? ncells : 0;
     t->nnodes = 0;
     t->ngroups = 0;
     t->nsupers = 0;
-    if ((n != t->n || !t->order) && resize(t, n) != 0)
+    if ((n != t->n || !t->order || !t->scratch) && resize(t, n) != 0)
         return -1;
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
     for (size_t i = 0; i < n; i++) {
@@ -312,12 +365,37 @@ static int push_cell(qt_lists *l, const qt_walk_node *w, const double g[3])
     return 0;
 }
 
+/* Particle j (tree order) of a tree with cells among its particles
+ * (qt_build_with_moments), when it is one, as a cell to push. */
+static int cell_particle(const qt_tree *t, size_t j, qt_walk_node *w)
+{
+    size_t c = t->order[j] - t->cells_first; /* wraps round for particles before the cells */
+    if (c >= t->ncells)
+        return 0;
+    w->com[0] = t->px[j];
+    w->com[1] = t->py[j];
+    w->com[2] = t->pz[j];
+    w->bmax = t->xbmax[c];
+    w->moments[0] = (float)t->pm[j];
+    for (int q = 0; q < 6; q++)
+        w->moments[1 + q] = (float)t->xquad[6 * c + q];
+    w->moments[7] = (float)t->pe2[j];
+    return 1;
+}
+
 static int push_leaf(qt_lists *l, const qt_tree *t, const qt_node *nd, const double g[3])
 {
     if (grow(&l->p, &l->cap_part, l->npart, l->npart + nd->count, QT_PART_FIELDS) != 0)
         return -1;
     size_t cap = l->cap_part;
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
+        qt_walk_node cell;
+        if (cell_particle(t, j, &cell)) { /* another rank's cell: its quadrupole too */
+            if (push_cell(l, &cell, g) != 0)
+                return -1;
+            cap = l->cap_part;
+            continue;
+        }
         float *p = l->p + l->npart++;
         p[QT_PX * cap] = (float)(t->px[j] - g[0]);
         p[QT_PY * cap] = (float)(t->py[j] - g[1]);

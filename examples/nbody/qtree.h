@@ -57,6 +57,12 @@ typedef struct qt_tree {
                        (the walk before super-groups, kept for `bench_nbody steps` to compare; block sub-steps use it) */
     double *px, *py, *pz, *pm, *pe2; /* particles in tree order (structure of arrays) */
     qt_walk_node *walk;              /* nnodes of them, for the walk */
+    /* qt_build_with_moments: particles cells_first + c, c < ncells (in the
+     * caller's order) are cells of their own with quadrupole xquad[6 c ..] and
+     * b_max xbmax[c] (an MPI rank's imported cells, domain.c); ncells 0 in
+     * qt_build. Read by the walk too. */
+    const double *xquad, *xbmax;
+    size_t cells_first, ncells;
     size_t walk_cap;
 } qt_tree;
 
@@ -81,6 +87,19 @@ typedef struct qt_tree {
  * eps: each particle's Plummer softening). Returns 0, or -1 when out of
  * memory. */
 int qt_build(qt_tree *t, const double *pos, const double *mass, const double *eps, size_t n);
+
+/* The same over particles of which ncells from cells_first on are cells
+ * of another rank's tree (domain.c): particle cells_first + c has its own
+ * traceless quadrupole quad[6 c .. 6 c + 6) about its position (its centre
+ * of mass) and b_max bmax[c], which the cells holding it add up, and which
+ * a leaf opened near a group passes on to the group's lists as a cell. quad
+ * and bmax must stay valid while the tree is walked. */
+int qt_build_with_moments(qt_tree *t, const double *pos, const double *mass, const double *eps, const double *quad,
+                          const double *bmax, size_t cells_first, size_t ncells, size_t n);
+
+/* Frees what only a build uses (its sorts' scratch arrays), until the
+ * next build: less memory while the tree is walked. */
+void qt_drop_build_scratch(qt_tree *t);
 
 /* Accelerations (and potentials, if pot is not NULL) of particles first ..
  * first + count - 1, into acc[0 .. 3 count) and pot[0 .. count): G times the

@@ -28,6 +28,21 @@ int ranks_gather(double *all, size_t per, const size_t *counts);
  * Returns 0, or -1 (a message on stderr) when MPI fails. */
 int ranks_allgather_u64(const uint64_t *mine, int n, uint64_t *all);
 
+/* Every rank sends send_bytes[r] bytes to rank r, the pieces one after the
+ * other in send (rank order), and receives what every rank sends it into
+ * *recv (allocated, rank order; free() it), recv_bytes[r] from rank r: the
+ * domain decomposition's all-to-all (domain.c). Returns 0, or -1 (a message
+ * on stderr) when MPI fails, memory runs out or a piece is too large for an
+ * MPI count, on every rank alike. */
+int ranks_exchange(const void *send, const size_t *send_bytes, void **recv, size_t *recv_bytes);
+
+/* Exact sums of every rank's v[0 .. n) into v, on every rank. 0 or -1. */
+int ranks_sum_u64(uint64_t *v, int n);
+
+/* The least (take_max 0) or largest of every rank's v[0 .. n), on every
+ * rank. 0 or -1. */
+int ranks_extreme(double *v, int n, int take_max);
+
 /* Whether any rank failed (failed != 0 on it). */
 int ranks_any(int failed);
 

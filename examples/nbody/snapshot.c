@@ -5,12 +5,13 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "source/readers/hdf5_util.h"
 #include "source/writers/hdf5_write.h"
 
 #define NB_TYPES_MIN 6  /* Gadget's PartType0..5, whichever are empty */
-#define NB_TYPES_MAX 16 /* orrery's reader reads at most 16 */
+#define NB_TYPES_MAX NB_SNAPSHOT_TYPES /* orrery's reader reads at most 16 */
 #define ORDER_DATASET "OrreryNbodyOrder"
 #define LEVEL_DATASET "OrreryNbodyStepLevel"
 #define RUN_GROUP "OrreryNbody"
@@ -49,11 +50,12 @@ static int write_header(hid_t file, const write_ctx *w)
         return 1;
     uint32_t low[NB_TYPES_MAX], high[NB_TYPES_MAX];
     double mass_table[NB_TYPES_MAX] = {0}; /* 0: every group has Masses */
+    const uint64_t *total = w->s->type_totals ? w->s->type_totals : w->count;
     for (int t = 0; t < w->ntypes; t++) {
-        low[t] = (uint32_t)w->count[t];
-        high[t] = (uint32_t)(w->count[t] >> 32);
+        low[t] = (uint32_t)total[t];
+        high[t] = (uint32_t)(total[t] >> 32);
     }
-    int n = w->ntypes, nfiles = 1;
+    int n = w->ntypes, nfiles = w->s->nfiles > 1 ? w->s->nfiles : 1;
     int bad = orr_h5w_attr(h, "NumPart_ThisFile", H5T_STD_U64LE, H5T_NATIVE_UINT64, w->count, n);
     bad |= orr_h5w_attr(h, "NumPart_Total", H5T_STD_U32LE, H5T_NATIVE_UINT32, low, n);
     bad |= orr_h5w_attr(h, "NumPart_Total_HighWord", H5T_STD_U32LE, H5T_NATIVE_UINT32, high, n);
@@ -190,7 +192,17 @@ orr_status nb_snapshot_write(const char *path, const nb_particles *p, const nb_r
         w.count[p->type[i]]++;
         w.ntypes = p->type[i] >= w.ntypes ? p->type[i] + 1 : w.ntypes;
     }
+    for (int t = 0; s->type_totals && t < NB_TYPES_MAX; t++) /* every file of a set: all the set's types */
+        w.ntypes = s->type_totals[t] && t >= w.ntypes ? t + 1 : w.ntypes;
     return orr_h5w_write_file(path, write_body, &w, err);
+}
+
+int nb_snapshot_part_path(char *buf, size_t size, const char *dir, long number, int part, int nfiles)
+{
+    if (nfiles <= 1)
+        return nb_snapshot_path(buf, size, dir, number);
+    int n = snprintf(buf, size, "%s/snapshot_%04ld.%d.hdf5", dir, number, part);
+    return n < 0 || (size_t)n >= size ? -1 : 0;
 }
 
 /* ---- finding the newest ------------------------------------------------- */
@@ -205,6 +217,63 @@ static long number_in(const char *name)
         strncmp(name, "snapshot_", 9) != 0 || name[9] < '0' || name[9] > '9')
         return -1;
     return number;
+}
+
+/* The NNNN of "snapshot_NNNN.hdf5" or of a part "snapshot_NNNN.P.hdf5", or -1. */
+static long set_number_in(const char *name)
+{
+    long number;
+    int part, end = 0;
+    if (strncmp(name, "snapshot_", 9) != 0 || name[9] < '0' || name[9] > '9')
+        return -1;
+    if (sscanf(name, "snapshot_%ld.%d.hdf5%n", &number, &part, &end) == 2 && name[end] == '\0' && number >= 0 &&
+        part >= 0)
+        return number;
+    return number_in(name);
+}
+
+static int exists(const char *path)
+{
+    return access(path, F_OK) == 0;
+}
+
+/* Snapshot number's files in dir, when all are there: 1 for a single
+ * file, NumFilesPerSnapshot of its part 0 for a set; 0 when some are not. */
+static int complete_files(const char *dir, long number)
+{
+    char path[4096];
+    if (nb_snapshot_path(path, sizeof path, dir, number) == 0 && exists(path))
+        return 1;
+    nb_run_state s = {0};
+    orr_error err = {0};
+    if (nb_snapshot_part_path(path, sizeof path, dir, number, 0, 2) != 0 || !exists(path) ||
+        nb_snapshot_read_state(path, &s, NULL, &err) != ORR_OK || s.nfiles < 2)
+        return 0;
+    for (int part = 1; part < s.nfiles; part++)
+        if (nb_snapshot_part_path(path, sizeof path, dir, number, part, s.nfiles) != 0 || !exists(path))
+            return 0;
+    return s.nfiles;
+}
+
+long nb_snapshot_newest_set(const char *dir, int *nfiles, orr_error *err)
+{
+    DIR *d = opendir(dir);
+    if (!d) {
+        orr_fail(err, ORR_ERR_IO, "%s: cannot read the folder", dir);
+        return -1;
+    }
+    long newest = -1;
+    for (struct dirent *e; (e = readdir(d));) {
+        long k = set_number_in(e->d_name);
+        newest = k > newest ? k : newest;
+    }
+    closedir(d);
+    for (long k = newest; k >= 0; k--)
+        if ((*nfiles = complete_files(dir, k)) > 0)
+            return k;
+    orr_fail(err, ORR_ERR_USAGE, "%s: holds no complete snapshot_NNNN.hdf5 or set of snapshot_NNNN.P.hdf5 to resume from",
+             dir);
+    return -1;
 }
 
 long nb_snapshot_newest(const char *dir, orr_error *err)
@@ -356,7 +425,24 @@ static int has_levels(hid_t file, const uint64_t *count, int ntypes)
     return has;
 }
 
-static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_run_state *s, orr_error *err)
+/* The header's files (NumFilesPerSnapshot: 1 when absent) and total count. */
+static void read_set_header(hid_t h, nb_run_state *s)
+{
+    int64_t nfiles = 1;
+    uint32_t low[NB_TYPES_MAX] = {0}, high[NB_TYPES_MAX] = {0};
+    int n = 0, nl = 0, nh = 0;
+    if (orr_h5_attr_numbers(h, "NumFilesPerSnapshot", H5T_NATIVE_INT64, &nfiles, 1, &n) != ORR_H5_FOUND || n != 1)
+        nfiles = 1;
+    s->nfiles = nfiles > 1 && nfiles < 1 << 20 ? (int)nfiles : 1;
+    orr_h5_attr_numbers(h, "NumPart_Total", H5T_NATIVE_UINT32, low, NB_TYPES_MAX, &nl);
+    orr_h5_attr_numbers(h, "NumPart_Total_HighWord", H5T_NATIVE_UINT32, high, NB_TYPES_MAX, &nh);
+    s->total = 0;
+    for (int t = 0; t < nl; t++)
+        s->total += (uint64_t)low[t] | (t < nh ? (uint64_t)high[t] << 32 : 0);
+}
+
+static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_run_state *s, nb_particles *names,
+                            orr_error *err)
 {
     hid_t h = H5Gopen2(file, "Header", H5P_DEFAULT), run = -1;
     uint64_t count[NB_TYPES_MAX] = {0};
@@ -383,10 +469,19 @@ static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_ru
     int ncentre = 0;
     s->has_centre0 = !st && orr_h5_attr_numbers(run, "Centre0", H5T_NATIVE_DOUBLE, s->centre0, 3, &ncentre) ==
                                 ORR_H5_FOUND && ncentre == 3;
+    if (!st)
+        read_set_header(h, s);
     size_t n = 0;
     for (int t = 0; t < ntypes; t++)
         n += (size_t)count[t];
     unsigned char *seen = NULL;
+    if (!p) { /* the state only, and the fields' names */
+        if (!st && names)
+            read_field_names(run, names);
+        orr_h5_close(run);
+        orr_h5_close(h);
+        return st;
+    }
     if (!st) {
         read_field_names(run, p);
         seen = calloc(n ? n : 1, 1);
@@ -410,6 +505,19 @@ static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_ru
     return st;
 }
 
+orr_status nb_snapshot_read_state(const char *path, nb_run_state *s, nb_particles *names, orr_error *err)
+{
+    orr_h5_quiet();
+    hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
+    if (file < 0)
+        return orr_fail(err, ORR_ERR_IO, "%s: cannot open it as an HDF5 file", path);
+    if (names)
+        memset(names, 0, sizeof *names);
+    orr_status st = read_file(file, path, NULL, s, names, err);
+    H5Fclose(file);
+    return st;
+}
+
 orr_status nb_snapshot_read(const char *path, nb_particles *p, nb_run_state *s, orr_error *err)
 {
     orr_h5_quiet();
@@ -417,11 +525,58 @@ orr_status nb_snapshot_read(const char *path, nb_particles *p, nb_run_state *s, 
     hid_t file = H5Fopen(path, H5F_ACC_RDONLY, H5P_DEFAULT);
     if (file < 0)
         return orr_fail(err, ORR_ERR_IO, "%s: cannot open it as an HDF5 file", path);
-    orr_status st = read_file(file, path, p, s, err);
+    orr_status st = read_file(file, path, p, s, NULL, err);
     H5Fclose(file);
     if (st)
         nb_particles_free(p);
     return st;
+}
+
+/* Grows *a (n entries of `size` bytes) by q's m, appended; frees q's. */
+static int append_array(void **a, void **q, size_t n, size_t m, size_t size)
+{
+    unsigned char *g = realloc(*a, (n + m) * size + 1);
+    if (g) {
+        memcpy(g + n * size, *q, m * size);
+        *a = g;
+    }
+    free(*q);
+    *q = NULL;
+    return g != NULL;
+}
+
+int nb_particles_append(nb_particles *p, nb_particles *q)
+{
+    if (!p->pos) { /* the first */
+        nb_particles_free(p);
+        *p = *q;
+        memset(q, 0, sizeof *q);
+        return 0;
+    }
+    int ok = p->nfields == q->nfields;
+    for (int f = 0; ok && f < p->nfields; f++)
+        ok = strcmp(p->field_name[f], q->field_name[f]) == 0;
+    if (!ok) {
+        nb_particles_free(q);
+        return -1;
+    }
+    size_t n = p->n, m = q->n;
+    ok &= append_array((void **)&p->pos, (void **)&q->pos, n, m, 3 * sizeof(double));
+    ok &= append_array((void **)&p->vel, (void **)&q->vel, n, m, 3 * sizeof(double));
+    ok &= append_array((void **)&p->mass, (void **)&q->mass, n, m, sizeof(double));
+    ok &= append_array((void **)&p->id, (void **)&q->id, n, m, sizeof(uint64_t));
+    ok &= append_array((void **)&p->type, (void **)&q->type, n, m, 1);
+    if (p->level && q->level) {
+        ok &= append_array((void **)&p->level, (void **)&q->level, n, m, 1);
+    } else {
+        free(p->level);
+        p->level = NULL;
+    }
+    for (int f = 0; f < p->nfields; f++)
+        ok &= append_array((void **)&p->field[f], (void **)&q->field[f], n, m, sizeof(float));
+    p->n = n + m;
+    nb_particles_free(q);
+    return ok ? 0 : -1;
 }
 
 void nb_particles_free(nb_particles *p)

@@ -48,10 +48,39 @@ typedef struct nb_run_state {
     double dt_min; /* block time steps' shortest step; 0: none (what snapshots without it had) */
     long snapshot_every;
     long tracer_neighbours; /* tracers' softening (0: as stars, what snapshots without it had) */
+    /* A snapshot in several files, one an MPI rank (--decompose): written,
+     * the files (0 or 1: one) and every type's count over all of them
+     * (NULL: this file's); read, the files and the count over all. */
+    int nfiles;
+    const uint64_t *type_totals;
+    uint64_t total;
 } nb_run_state;
+
+/* The most particle types a snapshot holds (orrery's reader reads 16). */
+#define NB_SNAPSHOT_TYPES 16
 
 /* "DIR/snapshot_NNNN.hdf5"; 0, or -1 when it does not fit. */
 int nb_snapshot_path(char *buf, size_t size, const char *dir, long number);
+
+/* File `part` of snapshot `number` in nfiles files: "DIR/snapshot_NNNN.hdf5"
+ * for one (nfiles <= 1), else "DIR/snapshot_NNNN.part.hdf5" (Gadget's
+ * layout of a snapshot in several files, which orrery reads); 0 or -1. */
+int nb_snapshot_part_path(char *buf, size_t size, const char *dir, long number, int part, int nfiles);
+
+/* The newest snapshot in dir whose files are all there (a run killed
+ * while its ranks wrote theirs may leave some of the newest): its number,
+ * its files in *nfiles; or -1 with err. */
+long nb_snapshot_newest_set(const char *dir, int *nfiles, orr_error *err);
+
+/* The run state of a snapshot's file, without its particles; and into
+ * names (when not NULL; no particles, nothing to free) the names of their
+ * fields. */
+orr_status nb_snapshot_read_state(const char *path, nb_run_state *s, nb_particles *names, orr_error *err);
+
+/* Appends q's particles to p's (q's arrays are freed; p keeps block-step
+ * levels only when both have them). 0, or -1 when out of memory or their
+ * fields differ. */
+int nb_particles_append(nb_particles *p, nb_particles *q);
 
 /* Writes a snapshot to a temporary name beside path and renames it to path
  * once complete, so a run killed while writing leaves no partial file
