@@ -255,19 +255,29 @@ static int complete_files(const char *dir, long number)
     return s.nfiles;
 }
 
-long nb_snapshot_newest_set(const char *dir, int *nfiles, orr_error *err)
+/* The largest number that number_of finds in a name in dir: -1 when
+ * none, -2 when the folder cannot be read (said in err). */
+static long largest_number_in(const char *dir, long (*number_of)(const char *), orr_error *err)
 {
     DIR *d = opendir(dir);
     if (!d) {
         orr_fail(err, ORR_ERR_IO, "%s: cannot read the folder", dir);
-        return -1;
+        return -2;
     }
     long newest = -1;
     for (struct dirent *e; (e = readdir(d));) {
-        long k = set_number_in(e->d_name);
+        long k = number_of(e->d_name);
         newest = k > newest ? k : newest;
     }
     closedir(d);
+    return newest;
+}
+
+long nb_snapshot_newest_set(const char *dir, int *nfiles, orr_error *err)
+{
+    long newest = largest_number_in(dir, set_number_in, err);
+    if (newest < -1)
+        return -1;
     for (long k = newest; k >= 0; k--)
         if ((*nfiles = complete_files(dir, k)) > 0)
             return k;
@@ -278,17 +288,9 @@ long nb_snapshot_newest_set(const char *dir, int *nfiles, orr_error *err)
 
 long nb_snapshot_newest(const char *dir, orr_error *err)
 {
-    DIR *d = opendir(dir);
-    if (!d) {
-        orr_fail(err, ORR_ERR_IO, "%s: cannot read the folder", dir);
+    long newest = largest_number_in(dir, number_in, err);
+    if (newest < -1)
         return -1;
-    }
-    long newest = -1;
-    for (struct dirent *e; (e = readdir(d));) {
-        long k = number_in(e->d_name);
-        newest = k > newest ? k : newest;
-    }
-    closedir(d);
     if (newest < 0)
         orr_fail(err, ORR_ERR_USAGE, "%s: holds no snapshot_NNNN.hdf5 to resume from", dir);
     return newest;
