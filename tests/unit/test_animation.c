@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "core/owned.h"
 #include "render/animation.h"
 #include "scene/scene.h"
 #include "tmpdir.h"
@@ -137,7 +138,7 @@ static void test_resume(void)
     orr_scene *s = calloc(1, sizeof *s);
     orr_error err = {0};
     CHECK(orr_scene_load_string(s, yaml, "clip.yaml", ".", NULL, 0, &err) == ORR_OK);
-    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    orr_owned_set(&s->output.dir, tmpdir, NULL);
     tally t;
     CHECK(run(s, 0, &t) == ORR_OK);
     CHECK(t.rendered == 3 && t.skipped == 0);
@@ -191,7 +192,7 @@ static orr_scene *load_clip(const char *yaml, const char *const *sets, int nsets
         fprintf(stderr, "scene: %s\n", err.msg);
         exit(1);
     }
-    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    orr_owned_set(&s->output.dir, tmpdir, NULL);
     return s;
 }
 

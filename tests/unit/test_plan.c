@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "core/owned.h"
 #include "post/convolve.h"
 #include "render/plan.h"
 #include "render/render.h"
@@ -64,7 +65,7 @@ static orr_scene *load(const char *yaml, const char *name)
     if (st)
         fprintf(stderr, "%s\n", err.msg);
     CHECK(st == ORR_OK);
-    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    orr_owned_set(&s->output.dir, tmpdir, NULL);
     snprintf(s->output.name, sizeof s->output.name, "%s", name);
     return s;
 }

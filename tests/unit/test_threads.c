@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "core/owned.h"
 #include "encode/fits_read.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -41,7 +42,7 @@ static void render_with(const char *yaml, const char *name, int threads, renderi
         free(s);
         return;
     }
-    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    orr_owned_set(&s->output.dir, tmpdir, NULL);
     snprintf(s->output.name, sizeof s->output.name, "%s_t%d", name, threads);
     s->output.write_png = 0;
     omp_set_num_threads(threads);
