@@ -179,6 +179,7 @@ static void test_resume(void)
     CHECK(access(path, F_OK) == 0);
     snprintf(path, sizeof path, "%s/.orrery-frames/still.done", tmpdir);
     CHECK(access(path, F_OK) != 0);
+    orr_scene_free(s);
     free(s);
     remove_tmpdir();
 }
@@ -225,6 +226,7 @@ static void test_resume_checks_what_made_the_frame(void)
     const orr_scene *list[1] = {s};
     CHECK(orr_render_animation(list, 1, &o, &rep, &err) == ORR_OK);
     CHECK(t.rendered == 2);
+    orr_scene_free(s);
     free(s);
 
     /* ...then the whole run at another: every frame is this run's. */
@@ -241,6 +243,7 @@ static void test_resume_checks_what_made_the_frame(void)
     CHECK(run(s5, 0, &t) == ORR_OK);
     CHECK(t.rendered == 5 && t.redone == 4);
     CHECK(strstr(t.why, "animation.frames changed from 4 to 5") != NULL);
+    orr_scene_free(s5);
     free(s5);
 
     /* An output changed in place, same size: caught by its checksum. */
@@ -276,6 +279,7 @@ static void test_resume_checks_what_made_the_frame(void)
     fclose(f);
     CHECK(run(s, 0, &t) == ORR_OK);
     CHECK(t.rendered == 1 && strstr(t.why, "older") != NULL);
+    orr_scene_free(s);
     free(s);
     remove_tmpdir();
 }
@@ -302,6 +306,7 @@ static void test_failed_frame_writes_nothing(void)
         CHECK(access(path, F_OK) != 0);
     }
     CHECK(count_entries() == 1); /* the folder alone: no temporary file either */
+    orr_scene_free(s);
     free(s);
     remove_tmpdir();
 }

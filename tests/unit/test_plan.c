@@ -106,6 +106,7 @@ static void check_run(const char *yaml, const char *name)
         kept_free(&planned[f]);
         kept_free(&alone[f]);
     }
+    orr_scene_free(s);
     free(s);
 }
 
@@ -160,6 +161,7 @@ static void test_fft_planned_once(void)
     }
     CHECK(orr_convolve_plans_created() == before + 1);
     orr_plan_destroy(plan);
+    orr_scene_free(s);
     free(s);
 }
 
@@ -183,7 +185,9 @@ static void test_other_views_refused(void)
     CHECK(orr_plan_create(&plan, planned, 1, ORR_PLAN_RENDER, &err) == ORR_OK);
     CHECK(plan && orr_plan_compose(plan, planned, &rep, &err) == ORR_ERR_INTERNAL);
     orr_plan_destroy(plan);
+    orr_scene_free(s);
     free(s);
+    orr_scene_free(t);
     free(t);
 }
 
@@ -221,6 +225,7 @@ static void test_frame_names(void)
     CHECK(plan && orr_plan_execute(plan, NULL, &rep, NULL, NULL, &err) == ORR_OK);
     CHECK(rep.noutputs == 2 && ends_with(rep.outputs[0], "/named-left.fits"));
     orr_plan_destroy(plan);
+    orr_scene_free(s);
     free(s);
 }
 

@@ -39,6 +39,7 @@ static void render_with(const char *yaml, const char *name, int threads, renderi
     CHECK(out->st == ORR_OK);
     if (out->st) {
         fprintf(stderr, "%s: %s\n", name, err.msg);
+        orr_scene_free(s);
         free(s);
         return;
     }
@@ -53,6 +54,7 @@ static void render_with(const char *yaml, const char *name, int threads, renderi
         snprintf(path, sizeof path, "%s/%s_t%d.fits", tmpdir, name, threads);
         CHECK(orr_read_fits_planes(path, out->planes, 3, &out->nplanes, &err) == ORR_OK);
     }
+    orr_scene_free(s);
     free(s);
 }
 

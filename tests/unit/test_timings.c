@@ -22,6 +22,7 @@ static orr_status render_yaml(const char *yaml, const char *name, orr_render_rep
         snprintf(s->output.name, sizeof s->output.name, "%s", name);
         st = orr_render_scene(s, rep, NULL, NULL, err);
     }
+    orr_scene_free(s);
     free(s);
     return st;
 }
@@ -136,6 +137,7 @@ static void test_run(void)
     memset(&got, 0, sizeof got);
     CHECK(orr_render_animation(list, 1, &opt, &rep, &err) == ORR_OK);
     CHECK(got.calls == 0);
+    orr_scene_free(s);
     free(s);
 }
 
