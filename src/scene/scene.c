@@ -45,15 +45,15 @@ orr_status orr_scene_defaults(orr_scene *s, orr_error *err)
 /* ---- the scene's strings ---- */
 
 /* compose.layers' files, every layer's (unused ones are NULL). */
+#define COMPOSE_STRINGS (sizeof ((orr_compose_settings *)0)->layers / sizeof ((orr_compose_settings *)0)->layers[0])
+
 static int compose_strings(orr_compose_settings *c, char **fields[])
 {
     int n = 0;
-    for (size_t i = 0; i < sizeof c->layers / sizeof c->layers[0]; i++)
+    for (size_t i = 0; i < COMPOSE_STRINGS; i++)
         fields[n++] = &c->layers[i].file;
     return n;
 }
-
-#define COMPOSE_STRINGS 8
 
 void orr_compose_settings_free(orr_compose_settings *c)
 {
