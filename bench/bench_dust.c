@@ -94,6 +94,7 @@ static void frame(const options *o, int with_dust, double *wall, double *cpu)
         die(&err);
     *wall = wall_seconds() - w0;
     *cpu = cpu_seconds() - c0;
+    orr_scene_views_free(v);
     free(v);
 }
 

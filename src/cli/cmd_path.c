@@ -185,6 +185,8 @@ int cmd_path(int argc, char **argv)
     }
     code = st ? cli_report_error(&err) : EXIT_OK;
     free(cams);
+    if (s)
+        orr_scene_free(s);
     free(s);
     free(pa.sets);
     return code;

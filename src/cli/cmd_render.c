@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
+#include "core/owned.h"
 #include "frame/projection.h"
 #include "render/animation.h"
 
@@ -449,10 +450,12 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
     const orr_scene *list[ORR_SCENE_MAX_VIEWS];
     orr_error err = {0};
     for (int k = 0; k < views->n; k++) {
-        if (a->out_dir && strlen(a->out_dir) >= sizeof views->view[k].output.dir)
+        if (a->out_dir && strlen(a->out_dir) >= ORR_PATH_MAX)
             return cli_report_error(&(orr_error){ORR_ERR_USAGE, "output directory name is too long"});
-        if (a->out_dir)
-            snprintf(views->view[k].output.dir, sizeof views->view[k].output.dir, "%s", a->out_dir);
+        /* -o "" is the current directory, as orr_check_output_dir takes it
+         * (an owned string is never "", core/owned.h). */
+        if (a->out_dir && orr_owned_set(&views->view[k].output.dir, a->out_dir[0] ? a->out_dir : ".", &err))
+            return cli_report_error(&err);
         list[k] = &views->view[k];
     }
     const long nframes = views->view[0].animation.frames;
@@ -535,6 +538,8 @@ static int run_scene_command(int argc, char **argv, int compose)
         else if (!compose || (code = check_compose_sets(&a, views)) == EXIT_OK)
             code = run_loaded(&a, views, reports, compose);
     }
+    if (views)
+        orr_scene_views_free(views);
     free(views);
     free(reports);
     free(a.sets);

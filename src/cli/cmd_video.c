@@ -629,6 +629,8 @@ int cmd_video(int argc, char **argv)
         st = make_video(&o, ffmpeg, &jobs[j], &err);
     code = st ? cli_report_error(&err) : EXIT_OK;
     free(jobs);
+    if (views)
+        orr_scene_views_free(views);
     free(views);
     free(o.sets);
     return code;

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/owned.h"
 #include "particles/smoothing.h"
 
 const orr_named orr_dust_curve_names[] = {
@@ -19,6 +20,26 @@ void orr_dust_settings_defaults(orr_dust_settings *d)
     d->z_sun = 0.0134;
     d->curve = ORR_DUST_CCM89;
     d->r_v = ORR_DUST_RV_DEFAULT;
+}
+
+int orr_dust_settings_strings(orr_dust_settings *d, char **fields[])
+{
+    fields[0] = &d->curve_file;
+    return ORR_DUST_STRINGS;
+}
+
+void orr_dust_settings_free(orr_dust_settings *d)
+{
+    char **fields[ORR_DUST_STRINGS];
+    orr_owned_free_all(fields, orr_dust_settings_strings(d, fields));
+}
+
+orr_status orr_dust_settings_copy(orr_dust_settings *dst, const orr_dust_settings *src, orr_error *err)
+{
+    orr_dust_settings_free(dst);
+    *dst = *src;
+    char **fields[ORR_DUST_STRINGS];
+    return orr_owned_dup_all(fields, orr_dust_settings_strings(dst, fields), err);
 }
 
 static void types_text(unsigned mask, char *buf, size_t size)
@@ -44,9 +65,9 @@ orr_status orr_dust_settings_check(const orr_dust_settings *d, const char *path,
     if (!(d->kappa_v > 0))
         return orr_fail(err, ORR_ERR_USAGE, "%s: dust.kappa_v is required with dust.types: the V-band opacity per "
                         "unit dust mass, in the scene's area per mass (docs/dust.md#units)", path);
-    if (d->curve == ORR_DUST_CURVE_FILE && !d->curve_file[0])
+    if (d->curve == ORR_DUST_CURVE_FILE && !d->curve_file)
         return orr_fail(err, ORR_ERR_USAGE, "%s: dust.curve: file needs dust.curve_file", path);
-    if (d->curve != ORR_DUST_CURVE_FILE && d->curve_file[0])
+    if (d->curve != ORR_DUST_CURVE_FILE && d->curve_file)
         return orr_fail(err, ORR_ERR_USAGE, "%s: dust.curve_file is given but dust.curve is not file", path);
     /* The opacities are floats: a product beyond them would make every
      * column infinite and its shadow's edge NaN. */

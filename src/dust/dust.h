@@ -43,12 +43,21 @@ typedef struct orr_dust_settings {
                            * al. 2009) */
     orr_dust_curve_kind curve; /* dust.curve: ccm89 (default) | f99 | file */
     double r_v;           /* dust.r_v: R_V of ccm89 and f99 (default 3.1) */
-    char curve_file[ORR_PATH_MAX]; /* dust.curve_file: two columns, nm and A_lambda/A_V (curve: file) */
+    char *curve_file;     /* dust.curve_file: two columns, nm and A_lambda/A_V (curve: file); owned,
+                           * NULL when unset (core/owned.h) */
     int extinction_plane; /* dust.extinction_plane: also write A_V to infinity per pixel as a plane of
                            * the FITS / EXR files (default false) */
 } orr_dust_settings;
 
+/* Fills d, which holds no strings (zeroed or freed), with the defaults above. */
 void orr_dust_settings_defaults(orr_dust_settings *d);
+/* d's owned strings (core/owned.h), at most ORR_DUST_STRINGS, into fields; returns how many. */
+#define ORR_DUST_STRINGS 1
+int orr_dust_settings_strings(orr_dust_settings *d, char **fields[]);
+/* Frees d's strings. */
+void orr_dust_settings_free(orr_dust_settings *d);
+/* dst (its strings freed first) becomes a copy of src with strings of its own. */
+orr_status orr_dust_settings_copy(orr_dust_settings *dst, const orr_dust_settings *src, orr_error *err);
 /* Cross-key checks; messages name the scene and the key. */
 orr_status orr_dust_settings_check(const orr_dust_settings *d, const char *scene_path, unsigned drawn_types,
                                    orr_error *err);

@@ -4,18 +4,39 @@
 #include <string.h>
 #include <strings.h>
 
+#include "core/owned.h"
+
 const orr_named orr_png_transfer_names[] = {{"srgb", 0}, {"linear", 1}, {NULL, 0}};
 const orr_named orr_png_bits_names[] = {{"8", 8}, {"16", 16}, {NULL, 0}};
 
 void orr_output_settings_defaults(orr_output_settings *d)
 {
     memset(d, 0, sizeof *d);
-    snprintf(d->dir, sizeof d->dir, ".");
     d->write_fits = 1;
     d->write_png = 1;
     d->png_bits = 8;
     d->frame_digits = 4;
     snprintf(d->frame_separator, sizeof d->frame_separator, "_");
+}
+
+int orr_output_settings_strings(orr_output_settings *d, char **fields[])
+{
+    fields[0] = &d->dir;
+    return ORR_OUTPUT_STRINGS;
+}
+
+void orr_output_settings_free(orr_output_settings *d)
+{
+    char **fields[ORR_OUTPUT_STRINGS];
+    orr_owned_free_all(fields, orr_output_settings_strings(d, fields));
+}
+
+orr_status orr_output_settings_copy(orr_output_settings *dst, const orr_output_settings *src, orr_error *err)
+{
+    orr_output_settings_free(dst);
+    *dst = *src;
+    char **fields[ORR_OUTPUT_STRINGS];
+    return orr_owned_dup_all(fields, orr_output_settings_strings(dst, fields), err);
 }
 
 /* A weight unit is a product of FITS unit symbols with powers and a scale

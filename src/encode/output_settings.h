@@ -11,7 +11,8 @@
 #include "core/names.h"
 
 typedef struct orr_output_settings {
-    char dir[ORR_PATH_MAX];       /* output.dir, resolved against the current directory (default ".") */
+    char *dir;                    /* output.dir, resolved against the current directory (default ".", which
+                                   * the scene sets: these defaults allocate nothing); owned (core/owned.h) */
     char name[ORR_NAME_MAX];      /* output.name: base file name (default: the scene file's stem) */
     int write_fits;               /* output.fits (default true) */
     int write_png;                /* output.png (default true) */
@@ -45,8 +46,16 @@ typedef struct orr_output_settings {
 extern const orr_named orr_png_transfer_names[];
 extern const orr_named orr_png_bits_names[];
 
-/* Fills d with the defaults above (the name is the scene's to give). */
+/* Fills d, which holds no strings (zeroed or freed), with the defaults
+ * above (the name and the folder are the scene's to give). */
 void orr_output_settings_defaults(orr_output_settings *d);
+/* d's owned strings (core/owned.h), at most ORR_OUTPUT_STRINGS, into fields; returns how many. */
+#define ORR_OUTPUT_STRINGS 1
+int orr_output_settings_strings(orr_output_settings *d, char **fields[]);
+/* Frees d's strings. */
+void orr_output_settings_free(orr_output_settings *d);
+/* dst (its strings freed first) becomes a copy of src with strings of its own. */
+orr_status orr_output_settings_copy(orr_output_settings *dst, const orr_output_settings *src, orr_error *err);
 
 /* The output.* keys checked: output.image an extension, not the EXR of
  * output.exr; the frame separator, output.bunit and output.length_unit

@@ -3,6 +3,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/owned.h"
+
 static int is_zero(orr_vec3 v) { return v.x == 0 && v.y == 0 && v.z == 0; }
 
 /* True when a and b point along the same line (or either is zero). */
@@ -150,4 +152,24 @@ orr_status orr_camera_settings_static(const orr_camera_settings *c, orr_camera *
         return orr_camera_look_along_roll(cam, c->position, c->direction, c->roll, err);
     orr_vec3 dir = c->has_direction ? c->direction : orr_v3(0, 0, -1);
     return orr_camera_look_along(cam, c->position, dir, c->up, c->roll, err);
+}
+
+int orr_camera_settings_strings(orr_camera_settings *d, char **fields[])
+{
+    fields[0] = &d->path_file;
+    return ORR_CAMERA_STRINGS;
+}
+
+void orr_camera_settings_free(orr_camera_settings *d)
+{
+    char **fields[ORR_CAMERA_STRINGS];
+    orr_owned_free_all(fields, orr_camera_settings_strings(d, fields));
+}
+
+orr_status orr_camera_settings_copy(orr_camera_settings *dst, const orr_camera_settings *src, orr_error *err)
+{
+    orr_camera_settings_free(dst);
+    *dst = *src;
+    char **fields[ORR_CAMERA_STRINGS];
+    return orr_owned_dup_all(fields, orr_camera_settings_strings(dst, fields), err);
 }

@@ -33,7 +33,8 @@ typedef struct orr_camera_settings {
     int has_path;                 /* camera.path.kind was given */
     orr_camera_path path;         /* camera.path.kind: keyframes | orbit | line | inspiral | rotate,
                                    * and the keys of each kind */
-    char path_file[ORR_PATH_MAX]; /* camera.path.file: keyframes from CSV, resolved */
+    char *path_file;              /* camera.path.file: keyframes from CSV, resolved; owned, NULL when
+                                   * unset (core/owned.h) */
     int has_path_start;
     orr_vec3 path_start;          /* camera.path.start: an orbit's first point */
 
@@ -52,8 +53,15 @@ typedef struct orr_camera_settings {
     double dim_near;         /* camera.dim_near: r below this counts as this (default 0.01) */
 } orr_camera_settings;
 
-/* Fills d with the defaults above. */
+/* Fills d, which holds no strings (zeroed or freed), with the defaults above. */
 void orr_camera_settings_defaults(orr_camera_settings *d);
+/* d's owned strings (core/owned.h), at most ORR_CAMERA_STRINGS, into fields; returns how many. */
+#define ORR_CAMERA_STRINGS 1
+int orr_camera_settings_strings(orr_camera_settings *d, char **fields[]);
+/* Frees d's strings. */
+void orr_camera_settings_free(orr_camera_settings *d);
+/* dst (its strings freed first) becomes a copy of src with strings of its own. */
+orr_status orr_camera_settings_copy(orr_camera_settings *dst, const orr_camera_settings *src, orr_error *err);
 
 /* The camera.* keys checked against each other: at most one of look_at,
  * direction and quaternion, none of them zero or looking nowhere, up not

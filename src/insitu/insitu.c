@@ -63,6 +63,7 @@ static int finish_open(orrery_renderer *r, orr_status st, orrery_renderer **out,
         snprintf(msg, msg_size, "%s", st ? r->err.msg : "");
     if (st) {
         orr_plan_destroy(r->plan);
+        orr_scene_views_free(&r->views); /* after the plan, which points into them */
         free(r);
         return (int)st;
     }
@@ -206,6 +207,7 @@ void orrery_close(orrery_renderer *r)
     if (r) {
         orr_kept_clear(&r->kept);
         orr_plan_destroy(r->plan);
+        orr_scene_views_free(&r->views); /* after the plan, which points into them */
     }
     free(r);
 }

@@ -2,7 +2,10 @@
  * star_pass.c, coarse_glow.c, lengths.c, periodic_view.c, dust_view.c):
  * compiled once per view by the plan (plan.c: splat_settings_of, the only
  * reader of the scene), so the pass reads no scene. Copies, not pointers
- * into the scene: the frame's scenes come and go, the plan's view stays. */
+ * into the scene: the frame's scenes come and go, the plan's view stays
+ * (the dust's curve file is the copy's own string, freed with the plan's
+ * view); only the path for messages points into the planned scene, which
+ * outlives the plan (render/plan.h). */
 #ifndef ORR_PASS_SPLAT_SETTINGS_H
 #define ORR_PASS_SPLAT_SETTINGS_H
 
@@ -15,7 +18,7 @@
 #include "splat/deposit.h"
 
 typedef struct orr_splat_settings {
-    char path[ORR_PATH_MAX];   /* the scene file, for messages */
+    const char *path;          /* the scene file, for messages: the planned scene's string */
     /* The particles drawn and their weight (input.*). */
     unsigned type_mask;        /* input.types: bit t set for a type drawn */
     int skip_nonfinite;        /* input.nonfinite: skip (else a particle not finite is an error) */

@@ -17,6 +17,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/owned.h"
 #include "core/vecmath.h"
 
 const orr_named orr_psf_kind_names[] = {
@@ -37,6 +38,18 @@ void orr_psf_settings_defaults(orr_psf_settings *d)
     d->spike_stars = 200;
     d->spike_min_flux = 0.001;
     d->glow_max_arcmin = 60;
+}
+
+int orr_psf_settings_strings(orr_psf_settings *d, char **fields[])
+{
+    fields[0] = &d->file;
+    return ORR_PSF_STRINGS;
+}
+
+void orr_psf_settings_free(orr_psf_settings *d)
+{
+    char **fields[ORR_PSF_STRINGS];
+    orr_owned_free_all(fields, orr_psf_settings_strings(d, fields));
 }
 
 int orr_psf_flat_stars(const orr_psf_settings *d, int sky)
@@ -76,7 +89,7 @@ static orr_status check_foreign_keys(const orr_psf_settings *d, int sky, const o
 
 orr_status orr_psf_prepare(const orr_psf_settings *d, int sky, const orr_keys *keys, orr_error *err)
 {
-    if (d->kind == ORR_PSF_FILE && !d->file[0])
+    if (d->kind == ORR_PSF_FILE && !d->file)
         return orr_fail_key(keys, "psf.kind", err, "psf.kind: file needs psf.file, a FITS PSF image");
     orr_status st = check_foreign_keys(d, sky, keys, err);
     if (st)

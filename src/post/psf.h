@@ -43,7 +43,8 @@ typedef struct orr_psf_settings {
     double fwhm_arcmin;         /* psf.fwhm_arcmin: FWHM in arcminutes on sky maps (0: auto, ORR_SKY_CORE_PIXELS
                                  * pixels at the map's centre), of the Gaussian or of the hst/file PSF's
                                  * core, which scales the whole PSF (default auto) */
-    char file[ORR_PATH_MAX];    /* psf.file: a FITS PSF image (psf.kind: file) */
+    char *file;                 /* psf.file: a FITS PSF image (psf.kind: file); owned, NULL when unset
+                                 * (core/owned.h) */
     int file_subsample;         /* psf.file_subsample: file pixels per detector pixel (default 1) */
     double arcsec_per_pixel;    /* psf.arcsec_per_pixel: the image's pixel scale for hst and file PSFs
                                  * (default 0.04, near Hubble ACS/WFC; 0 for a file: its own pixels) */
@@ -69,6 +70,11 @@ typedef struct orr_psf_settings {
 
 /* Fills d with the defaults above. */
 void orr_psf_settings_defaults(orr_psf_settings *d);
+/* d's owned strings (core/owned.h), at most ORR_PSF_STRINGS, into fields; returns how many. */
+#define ORR_PSF_STRINGS 1
+int orr_psf_settings_strings(orr_psf_settings *d, char **fields[]);
+/* Frees d's strings. */
+void orr_psf_settings_free(orr_psf_settings *d);
 
 /* The psf.* and glow.* keys checked against each other and against the
  * map they are for (sky: a sky map); keys says which were given, and

@@ -52,9 +52,11 @@ long orr_animation_count(const orr_animation_options *opt, long nframes)
 static orr_status frame_scenes(const orr_scene *const *views, int n, long frame, orr_scene *out, orr_error *err)
 {
     for (int k = 0; k < n; k++) {
-        out[k] = *views[k];
+        orr_status st = orr_scene_copy(&out[k], views[k], err); /* frees the last frame's */
+        if (st)
+            return st;
         orr_frame_naming naming = orr_frame_naming_of(&views[k]->output);
-        orr_status st = orr_frame_name(&naming, views[k]->output.name, frame, views[k]->animation.frames, out[k].output.name,
+        st = orr_frame_name(&naming, views[k]->output.name, frame, views[k]->animation.frames, out[k].output.name,
                                        sizeof out[k].output.name, err);
         if (st)
             return st;
@@ -242,6 +244,8 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
     orr_plan_destroy(plan);
     free_identities(ids, n);
     orr_sequence_close(ri.seq);
+    for (int k = 0; k < n; k++)
+        orr_scene_free(&scenes[k]);
     free(scenes);
     return st;
 }
@@ -282,7 +286,7 @@ static double smoothed_white(const double *whites, long nframes, long f, int win
 static orr_status regrade_frame(orr_plan *plan, const orr_scene *s, long f, double white, orr_render_report *rep,
                                 orr_error *err)
 {
-    orr_scene *frame = malloc(sizeof *frame);
+    orr_scene *frame = calloc(1, sizeof *frame); /* zeroed: frame_scenes frees what it holds */
     if (!frame)
         return orr_fail(err, ORR_ERR_NOMEM, "out of memory for a frame's scene");
     orr_status st = frame_scenes(&s, 1, f, frame, err);
@@ -295,6 +299,7 @@ static orr_status regrade_frame(orr_plan *plan, const orr_scene *s, long f, doub
     orr_view_identity unused = {NULL, NULL};
     if (!st)
         st = orr_marker_write(frame, &unused, rep, 1, err);
+    orr_scene_free(frame);
     free(frame);
     return st ? orr_fail_prefix(err, "frame %ld: smoothing the white level: ", f) : ORR_OK;
 }
@@ -309,7 +314,7 @@ orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr
         if (s->animation.white_smoothing <= 1 || nframes <= 1)
             continue;
         double *whites = orr_calloc((size_t)nframes, sizeof *whites, "white levels", err);
-        orr_scene *frame = malloc(sizeof *frame);
+        orr_scene *frame = calloc(1, sizeof *frame); /* zeroed: frame_scenes frees what it holds */
         if (!whites || !frame)
             st = ORR_ERR_NOMEM;
         for (long f = 0; f < nframes && !st; f++)
@@ -323,6 +328,8 @@ orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr
                 st = regrade_frame(plan, s, f, smoothed_white(whites, nframes, f, s->animation.white_smoothing), &reports[k],
                                    err);
         orr_plan_destroy(plan);
+        if (frame)
+            orr_scene_free(frame);
         free(frame);
         free(whites);
     }

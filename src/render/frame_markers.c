@@ -164,13 +164,13 @@ orr_status orr_view_identity_make(const orr_scene *s, const orr_sequence *seq, o
     id->settings = s->settings;
     orr_status st = append(&id->head, err, "version %s\nsettings %016llx\n", ORRERY_VERSION,
                            (unsigned long long)s->settings_digest);
-    if (!st && s->input.file[0] && !seq)
+    if (!st && s->input.file && !seq)
         st = add_input(&id->head, "input.file", s->input.file, err);
     if (!st && seq)
         st = add_input_set(&id->head, "input.sequence", seq, err);
-    if (!st && s->psf.kind == ORR_PSF_FILE && s->psf.file[0])
+    if (!st && s->psf.kind == ORR_PSF_FILE && s->psf.file)
         st = add_input(&id->head, "psf.file", s->psf.file, err);
-    if (!st && s->camera.path_file[0])
+    if (!st && s->camera.path_file)
         st = add_input(&id->head, "camera.path.file", s->camera.path_file, err);
     return st;
 }

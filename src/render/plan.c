@@ -72,9 +72,9 @@ static orr_status plan_psf(view_state *v, const orr_scene *s, orr_psf_kernels *k
 }
 
 /* What the splat pass reads of the view's scene (pass/splat_settings.h). */
-static void splat_settings_of(const orr_scene *s, orr_splat_settings *set)
+static orr_status splat_settings_of(const orr_scene *s, orr_splat_settings *set, orr_error *err)
 {
-    snprintf(set->path, sizeof set->path, "%s", s->path);
+    set->path = s->path;
     set->type_mask = s->input.type_mask;
     set->skip_nonfinite = s->input.skip_nonfinite;
     snprintf(set->weight, sizeof set->weight, "%s", s->input.weight);
@@ -88,58 +88,64 @@ static void splat_settings_of(const orr_scene *s, orr_splat_settings *set)
     set->glow_threshold = s->psf.glow_threshold;
     set->deposit = s->deposit;
     set->periodic = s->periodic;
-    set->dust = s->dust;
+    orr_status st = orr_dust_settings_copy(&set->dust, &s->dust, err);
     set->has_populations = s->colour.has_populations;
     set->populations = s->colour.populations;
     set->only_index = s->colour.only_index;
     set->stereo = s->stereo.mode != ORR_STEREO_NONE;
+    return st;
 }
 
 /* What the view's files are (render/view_files.h): the plan's part; the
  * frame's is frame_files'. */
-static void view_files_of(const orr_scene *s, view_files *f)
+static orr_status view_files_of(const orr_scene *s, view_files *f, orr_error *err)
 {
-    snprintf(f->path, sizeof f->path, "%s", s->path);
+    f->path = s->path;
     snprintf(f->weight, sizeof f->weight, "%s", s->input.weight);
     f->stereo_mode = s->stereo.mode;
     f->eye = s->stereo.eye;
     f->extinction_plane = s->dust.extinction_plane;
     f->stars_list = s->stars.list;
-    f->compose = s->compose;
     snprintf(f->scene_yaml, sizeof f->scene_yaml, "%s", s->scene_yaml);
+    return orr_compose_settings_copy(&f->compose, &s->compose, err);
 }
 
 /* The frame's part of the view's files, from the frame's scene s: its
  * output names, and its grading (a compose re-grades with another white). */
-static void frame_files(const orr_scene *s, view_files *f)
+static orr_status frame_files(const orr_scene *s, view_files *f, orr_error *err)
 {
-    f->output = s->output;
     f->picture = s->picture;
     f->colour = s->colour;
     f->regrade_final = s->regrade_final;
+    return orr_output_settings_copy(&f->output, &s->output, err); /* the frame's scene goes, the view stays */
 }
 
 /* How the view's camera is found each frame (view_state.h). */
-static void camera_plan_of(const orr_scene *s, view_camera_plan *c)
+static orr_status camera_plan_of(const orr_scene *s, view_camera_plan *c, orr_error *err)
 {
-    snprintf(c->path, sizeof c->path, "%s", s->path);
-    c->camera = s->camera;
+    c->path = s->path;
     c->kind = s->projection.kind;
     c->stereo = s->stereo;
     c->shutter = s->animation.shutter;
     c->has_frame_interval = s->animation.has_frame_interval;
     c->frame_interval = s->animation.frame_interval;
     c->blur_moves_particles = orr_blur_moves_particles(s);
+    return orr_camera_settings_copy(&c->camera, &s->camera, err);
 }
 
 static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
-    splat_settings_of(s, &v->pass.splat);
-    view_files_of(s, &v->files);
-    frame_files(s, &v->files);
-    camera_plan_of(s, &v->camera_plan);
+    orr_status st = splat_settings_of(s, &v->pass.splat, err);
+    if (!st)
+        st = view_files_of(s, &v->files, err);
+    if (!st)
+        st = frame_files(s, &v->files, err);
+    if (!st)
+        st = camera_plan_of(s, &v->camera_plan, err);
+    if (st)
+        return st; /* out of memory */
     v->pass.base_proj = s->projection;
-    orr_status st = orr_projection_setup(&v->pass.base_proj, err);
+    st = orr_projection_setup(&v->pass.base_proj, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
     v->pass.proj = v->pass.base_proj;
@@ -218,12 +224,14 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     memset(rep, 0, sizeof *rep);
     rep->frame = when->frame;
     rep->nframes = when->nframes;
-    frame_files(s, &v->files);
     v->rep = rep;
+    orr_status st = frame_files(s, &v->files, err);
+    if (st)
+        return st;
     v->pass.proj = v->pass.base_proj; /* a stereo eye shifts its principal point below */
     v->tint_t = s->colour.tint_run ? when->u : s->colour.tint_t;
     const view_camera_plan *c = &v->camera_plan;
-    orr_status st = orr_view_camera(c, observer, when, &rep->camera, &rep->sky, err);
+    st = orr_view_camera(c, observer, when, &rep->camera, &rep->sky, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
     if ((st = orr_stereo_setup_eye(&c->stereo, &c->camera, c->path, &v->pass.proj, rep, &v->pass.ods,
@@ -255,6 +263,11 @@ static void free_view(view_state *v)
         orr_sph_free(&v->pass.sph);
     if (v->pass.kernel_ready)
         orr_kernel_free(&v->pass.kernel);
+    /* The copies of the scene's settings, with their strings. */
+    orr_dust_settings_free(&v->pass.splat.dust);
+    orr_compose_settings_free(&v->files.compose);
+    orr_output_settings_free(&v->files.output);
+    orr_camera_settings_free(&v->camera_plan.camera);
 }
 
 /* ---- the plan ---- */
@@ -767,7 +780,7 @@ static int lengths_key(const orr_plan *plan, const orr_scene *s0, const orr_sour
                        char *key, size_t cap)
 {
     const orr_input_settings *in = &s0->input;
-    if (given || par || !in->file[0] || in->sequence.pattern[0] || in->sequence.nfiles)
+    if (given || par || !in->file || in->sequence.pattern || in->sequence.nfiles)
         return 0;
     for (int k = 0; k < plan->n; k++)
         if (plan->views[k].pass.splat.has_glow)

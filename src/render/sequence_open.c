@@ -14,10 +14,10 @@ static orr_status sequence_box(const orr_scene *s, double *box, orr_error *err)
     if (s->periodic.box > 0 || s->periodic.replicas <= 1)
         return ORR_OK;
     char first[ORR_PATH_MAX];
-    orr_status st = s->input.sequence.pattern[0] ? orr_sequence_pattern_path(s->input.sequence.pattern, (long)s->input.sequence.first, first,
+    orr_status st = s->input.sequence.pattern ? orr_sequence_pattern_path(s->input.sequence.pattern, (long)s->input.sequence.first, first,
                                                                    sizeof first, err)
                                       : ORR_OK;
-    if (!s->input.sequence.pattern[0])
+    if (!s->input.sequence.pattern)
         snprintf(first, sizeof first, "%s", orr_scene_sequence_file(s, 0));
     orr_source_options o = {.format = s->input.format, .chunk_size = 1};
     orr_source *src = NULL;
@@ -51,7 +51,7 @@ orr_status orr_sequence_open_scene(const orr_scene *s, const char *const *fields
         orr_fail_prefix(err, "%s: ", s->path);
         return st;
     }
-    if (s->input.sequence.pattern[0]) {
+    if (s->input.sequence.pattern) {
         st = orr_sequence_open_pattern(s->input.sequence.pattern, (long)s->input.sequence.first, (long)s->input.sequence.last, (long)s->input.sequence.step,
                                        &opt, out, err);
     } else {

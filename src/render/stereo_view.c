@@ -31,7 +31,9 @@ orr_status orr_eye_output_name(const orr_scene *s, const char *name, int eye, ch
  * output name when the eyes are written separately. */
 static orr_status eye_scene(const orr_scene *s, int eye, orr_scene *out, orr_error *err)
 {
-    *out = *s;
+    orr_status st = orr_scene_copy(out, s, err);
+    if (st)
+        return st;
     out->stereo.eye = eye;
     return orr_eye_output_name(s, s->output.name, eye, out->output.name, sizeof out->output.name, err);
 }
@@ -47,6 +49,7 @@ orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr
     ev->scene = orr_calloc(n, sizeof *ev->scene, "stereo views", err);
     ev->report = orr_calloc(n, sizeof *ev->report, "stereo views", err);
     ev->copies = pairs ? orr_calloc(2 * (size_t)pairs, sizeof *ev->copies, "stereo eye scenes", err) : NULL;
+    ev->ncopies = ev->copies ? 2 * pairs : 0;
     ev->right = pairs ? orr_calloc((size_t)pairs, sizeof *ev->right, "stereo eye reports", err) : NULL;
     if (!ev->scene || !ev->report || (pairs && (!ev->copies || !ev->right))) {
         orr_eye_views_finish(ev);
@@ -87,6 +90,8 @@ void orr_eye_views_finish(orr_eye_views *ev)
     }
     free(ev->scene);
     free(ev->report);
+    for (int k = 0; k < ev->ncopies; k++)
+        orr_scene_free(&ev->copies[k]);
     free(ev->copies);
     free(ev->right);
     memset(ev, 0, sizeof *ev);

@@ -27,7 +27,8 @@ typedef struct orr_eye_views {
     int n;                       /* views to render */
     const orr_scene **scene;     /* [n] the scene of each (the caller's, or an eye's copy) */
     orr_render_report **report;  /* [n] where each reports */
-    orr_scene *copies;           /* the eyes' scenes */
+    orr_scene *copies;           /* the eyes' scenes, copies with strings of their own */
+    int ncopies;                 /* ... how many (zeroed until copied: freed whole) */
     orr_render_report *right;    /* the right eyes' reports */
 } orr_eye_views;
 

@@ -15,16 +15,18 @@
 
 typedef struct view_files {
     /* The plan's. */
-    char path[ORR_PATH_MAX];         /* the scene file, for messages */
+    const char *path;                /* the scene file, for messages: the planned scene's string, which
+                                      * outlives the plan (render/plan.h) */
     char weight[ORR_FIELD_NAME_MAX]; /* input.weight: what a weight plane's picture shows */
     orr_stereo_mode stereo_mode;     /* stereo.mode: a pair's picture */
     int eye;                         /* stereo.eye: 0, or which eye the view is */
     int extinction_plane;            /* dust.extinction_plane */
     int stars_list;                  /* stars.list: NAME.stars.fits */
-    orr_compose_settings compose;    /* compose.layers */
+    orr_compose_settings compose;    /* compose.layers: a copy with its own strings (freed with the plan) */
     char scene_yaml[ORR_SETTINGS_MAX]; /* the scene as YAML: every FITS file's SCENE extension */
     /* The frame's. */
-    orr_output_settings output;      /* output.*: output.name with the frame's number, an eye's name */
+    orr_output_settings output;      /* output.*: output.name with the frame's number, an eye's name; a copy
+                                      * with its own strings, made again each frame */
     orr_picture_settings picture;    /* output.stretch, .white, ...; stereo.anaglyph */
     orr_colour_settings colour;      /* colour.*: the synthesis, the tint, the populations */
     int regrade_final;               /* a compose re-grades NAME.fits (orr_scene.regrade_final) */

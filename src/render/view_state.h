@@ -17,8 +17,10 @@
 /* How a view's camera is found each frame (view_camera.c): compiled by the
  * plan from the view's scene (plan.c: camera_plan_of). */
 typedef struct view_camera_plan {
-    char path[ORR_PATH_MAX];     /* the scene file, for messages */
-    orr_camera_settings camera;  /* camera.*: a static camera, a path, a sky map's orientation */
+    const char *path;            /* the scene file, for messages: the planned scene's string, which
+                                  * outlives the plan (render/plan.h) */
+    orr_camera_settings camera;  /* camera.*: a static camera, a path, a sky map's orientation; a copy
+                                  * with its own strings (freed with the plan) */
     orr_projection_kind kind;    /* camera.projection: a sky map follows the sky frame */
     orr_stereo_settings stereo;  /* stereo.*: the eye (0: none), its separation, convergence, fade */
     double shutter;              /* animation.shutter: motion blur's share of the frame interval (0: none) */

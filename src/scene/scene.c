@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/owned.h"
 #include "scene/scene_file.h"
 #include "scene/scene_views.h"
 #include "scene/ytree.h"
@@ -15,11 +16,9 @@ static void animation_defaults(orr_animation_settings *a)
     a->fps = 30;
 }
 
-void orr_scene_defaults(orr_scene *s)
+orr_status orr_scene_defaults(orr_scene *s, orr_error *err)
 {
     memset(s, 0, sizeof *s);
-    snprintf(s->path, sizeof s->path, "<built-in>");
-    snprintf(s->dir, sizeof s->dir, ".");
     /* Each stage's defaults live with the stage. */
     orr_input_settings_defaults(&s->input);
     orr_periodic_settings_defaults(&s->periodic);
@@ -35,6 +34,80 @@ void orr_scene_defaults(orr_scene *s)
     orr_picture_settings_defaults(&s->picture);
     orr_output_settings_defaults(&s->output);
     animation_defaults(&s->animation);
+    orr_status st = orr_owned_set(&s->path, "<built-in>", err);
+    if (!st)
+        st = orr_owned_set(&s->dir, ".", err);
+    if (!st)
+        st = orr_owned_set(&s->output.dir, ".", err);
+    return st;
+}
+
+/* ---- the scene's strings ---- */
+
+/* compose.layers' files, every layer's (unused ones are NULL). */
+#define COMPOSE_STRINGS (sizeof ((orr_compose_settings *)0)->layers / sizeof ((orr_compose_settings *)0)->layers[0])
+
+static int compose_strings(orr_compose_settings *c, char **fields[])
+{
+    int n = 0;
+    for (size_t i = 0; i < COMPOSE_STRINGS; i++)
+        fields[n++] = &c->layers[i].file;
+    return n;
+}
+
+void orr_compose_settings_free(orr_compose_settings *c)
+{
+    char **fields[COMPOSE_STRINGS];
+    orr_owned_free_all(fields, compose_strings(c, fields));
+}
+
+orr_status orr_compose_settings_copy(orr_compose_settings *dst, const orr_compose_settings *src, orr_error *err)
+{
+    orr_compose_settings_free(dst);
+    *dst = *src;
+    char **fields[COMPOSE_STRINGS];
+    return orr_owned_dup_all(fields, compose_strings(dst, fields), err);
+}
+
+/* Every owned string of the scene, its own and its stages'. */
+#define SCENE_STRINGS (2 + ORR_INPUT_STRINGS + ORR_CAMERA_STRINGS + ORR_DUST_STRINGS + ORR_PSF_STRINGS + \
+                       ORR_OUTPUT_STRINGS + COMPOSE_STRINGS)
+
+static int scene_strings(orr_scene *s, char **fields[SCENE_STRINGS])
+{
+    int n = 0;
+    fields[n++] = &s->path;
+    fields[n++] = &s->dir;
+    n += orr_input_settings_strings(&s->input, fields + n);
+    n += orr_camera_settings_strings(&s->camera, fields + n);
+    n += orr_dust_settings_strings(&s->dust, fields + n);
+    n += orr_psf_settings_strings(&s->psf, fields + n);
+    n += orr_output_settings_strings(&s->output, fields + n);
+    n += compose_strings(&s->compose, fields + n);
+    return n;
+}
+
+void orr_scene_free(orr_scene *s)
+{
+    char **fields[SCENE_STRINGS];
+    orr_owned_free_all(fields, scene_strings(s, fields));
+}
+
+orr_status orr_scene_copy(orr_scene *dst, const orr_scene *src, orr_error *err)
+{
+    if (dst == src)
+        return ORR_OK;
+    orr_scene_free(dst);
+    *dst = *src; /* shares src's strings until each is duplicated */
+    char **fields[SCENE_STRINGS];
+    return orr_owned_dup_all(fields, scene_strings(dst, fields), err);
+}
+
+void orr_scene_views_free(orr_scene_views *views)
+{
+    for (int i = 0; i < views->n; i++)
+        orr_scene_free(&views->view[i]);
+    views->n = 0;
 }
 
 /* ---- overrides ---- */
@@ -148,6 +221,8 @@ static orr_status load_text(orr_scene_views *out, const char *text, const scene_
     orr_status st = build_tree(&root, text, src->path, origins, overrides, noverrides, err);
     if (st == ORR_OK)
         st = scene_views_from_tree(out, root, src, err);
+    if (st != ORR_OK)
+        orr_scene_views_free(out); /* the views bound before the failure */
     yt_free(root); /* before the origins: its nodes point at them */
     free_origins(origins, noverrides);
     return st;
@@ -198,10 +273,12 @@ orr_status orr_scene_load_views_string(orr_scene_views *out, const char *yaml, c
 
 /* The single-scene loaders return the one view there is; a scene with
  * several views needs the views loaders. */
-static orr_status take_single(orr_scene *s, const orr_scene_views *views, orr_error *err)
+static orr_status take_single(orr_scene *s, orr_scene_views *views, orr_error *err)
 {
     if (views->n == 1) {
-        *s = views->view[0];
+        orr_scene_free(s); /* its defaults */
+        *s = views->view[0]; /* moved: the strings are s's now */
+        views->n = 0;
         return ORR_OK;
     }
     char names[ORR_ERROR_MSG_MAX / 2] = "";
@@ -215,24 +292,34 @@ static orr_status take_single(orr_scene *s, const orr_scene_views *views, orr_er
                     views->view[0].path, views->n, names);
 }
 
-/* A failed load leaves s with the defaults and its name, as it always has. */
-static void start_single(orr_scene *s, const char *path)
+/* take_single, and the views freed after it (the ones not taken). */
+static orr_status take_single_free(orr_scene *s, orr_scene_views *views, orr_error *err)
 {
-    orr_scene_defaults(s);
-    if (path && strlen(path) < sizeof s->path)
-        snprintf(s->path, sizeof s->path, "%s", path);
+    orr_status st = take_single(s, views, err);
+    orr_scene_views_free(views);
+    return st;
+}
+
+/* A failed load leaves s with the defaults and its name, as it always has. */
+static orr_status start_single(orr_scene *s, const char *path, orr_error *err)
+{
+    orr_status st = orr_scene_defaults(s, err);
+    if (!st && path && strlen(path) < ORR_PATH_MAX)
+        st = orr_owned_set(&s->path, path, err);
+    return st;
 }
 
 orr_status orr_scene_load(orr_scene *s, const char *path, const char *const *overrides, int noverrides,
                           orr_error *err)
 {
-    start_single(s, path);
+    if (start_single(s, path, err))
+        return ORR_ERR_NOMEM;
     orr_scene_views *views = orr_malloc(sizeof *views, "the views of a scene", err);
     if (!views)
         return ORR_ERR_NOMEM;
     orr_status st = orr_scene_load_views(views, path, overrides, noverrides, err);
     if (st == ORR_OK)
-        st = take_single(s, views, err);
+        st = take_single_free(s, views, err);
     free(views);
     return st;
 }
@@ -240,13 +327,14 @@ orr_status orr_scene_load(orr_scene *s, const char *path, const char *const *ove
 orr_status orr_scene_load_string(orr_scene *s, const char *yaml, const char *origin, const char *base_dir,
                                  const char *const *overrides, int noverrides, orr_error *err)
 {
-    start_single(s, origin);
+    if (start_single(s, origin, err))
+        return ORR_ERR_NOMEM;
     orr_scene_views *views = orr_malloc(sizeof *views, "the views of a scene", err);
     if (!views)
         return ORR_ERR_NOMEM;
     orr_status st = orr_scene_load_views_string(views, yaml, origin, base_dir, overrides, noverrides, err);
     if (st == ORR_OK)
-        st = take_single(s, views, err);
+        st = take_single_free(s, views, err);
     free(views);
     return st;
 }

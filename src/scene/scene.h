@@ -51,7 +51,7 @@ typedef struct orr_animation_settings {
  * several renders (e.g. one per population, or single-channel maps of
  * different particle types) with colours assigned there, then synthesises. */
 typedef struct orr_compose_layer {
-    char file[ORR_PATH_MAX]; /* a raw FITS file: one luminance plane, or X, Y, Z */
+    char *file;              /* a raw FITS file: one luminance plane, or X, Y, Z; owned (core/owned.h) */
     int has_colour;
     orr_colour colour;       /* required for a luminance plane */
     double gain;             /* multiplies the layer (default 1) */
@@ -62,14 +62,23 @@ typedef struct orr_compose_settings {
     orr_compose_layer layers[8];
 } orr_compose_settings;
 
+/* Frees c's strings (core/owned.h). */
+void orr_compose_settings_free(orr_compose_settings *c);
+/* dst (its strings freed first) becomes a copy of src with strings of its own. */
+orr_status orr_compose_settings_copy(orr_compose_settings *dst, const orr_compose_settings *src, orr_error *err);
+
 /* A scene is the settings of every stage, each stage's in a struct of its
  * own that the stage declares and gives defaults to (docs/architecture.md
  * has the table of stages, structs and keys); the scene binds the YAML keys
  * into them (scene_bind.c) and checks the keys against each other
  * (scene_check.c). */
 typedef struct orr_scene {
-    char path[ORR_PATH_MAX]; /* the scene file, for messages ("<built-in>" when none) */
-    char dir[ORR_PATH_MAX];  /* its folder: relative paths in the scene are resolved against it */
+    /* The scene's strings (these two, and the file and folder names in the
+     * stages' settings) are owned heap strings (core/owned.h): a scene is
+     * freed with orr_scene_free and copied with orr_scene_copy, never by
+     * assignment alone. */
+    char *path; /* the scene file, for messages ("<built-in>" when none) */
+    char *dir;  /* its folder: relative paths in the scene are resolved against it */
 
     orr_input_settings input;       /* source: input.* (source/settings.h) */
     orr_periodic_settings periodic; /* frame: input.periodic.* (frame/replicas.h) */
@@ -116,8 +125,20 @@ typedef struct orr_scene_views {
     char name[ORR_SCENE_MAX_VIEWS][ORR_NAME_MAX]; /* "" for a scene without views */
 } orr_scene_views;
 
-/* Fills s with the defaults above. */
-void orr_scene_defaults(orr_scene *s);
+/* Fills s, which holds no strings (zeroed or freed), with the defaults
+ * above; its path, folder and output.dir are allocated, so free s with
+ * orr_scene_free even when this fails (out of memory). */
+orr_status orr_scene_defaults(orr_scene *s, orr_error *err);
+
+/* Frees the scene's strings (a zeroed scene holds none), leaving them NULL. */
+void orr_scene_free(orr_scene *s);
+
+/* dst (its strings freed first; zeroed or a scene) becomes a copy of src
+ * with strings of its own. */
+orr_status orr_scene_copy(orr_scene *dst, const orr_scene *src, orr_error *err);
+
+/* Frees the strings of views->view[0..n) and sets n to 0. */
+void orr_scene_views_free(orr_scene_views *views);
 
 /* Whether the scene's input is a sequence (input.sequence.pattern or .files). */
 int orr_scene_has_sequence(const orr_scene *s);
@@ -134,6 +155,8 @@ const char *orr_scene_sequence_file(const orr_scene *s, int i);
 
 /* Reads a scene file, then applies the overrides ("key=value", value in YAML
  * flow syntax, e.g. "camera.position=[0,0,10]") in order, then validates.
+ * s is overwritten: it must hold no strings (zeroed, or freed with
+ * orr_scene_free); free it with orr_scene_free after, failed or not.
  * Errors name the file and line (or the --set argument) and the key. A file
  * with `views:` gives its view when it has exactly one, and is an error
  * when it has several (load those with orr_scene_load_views). */
@@ -141,6 +164,8 @@ orr_status orr_scene_load(orr_scene *s, const char *path, const char *const *ove
                           orr_error *err);
 
 /* Loads every view of a scene file (one, unnamed, when it has no `views:`).
+ * out is overwritten (it must hold no strings); on success free it with
+ * orr_scene_views_free; a failed load frees what it made.
  * Overrides apply to the scene before the views are merged in, so a view's
  * own keys win; "views.NAME.KEY=VALUE" overrides one view. Views may not
  * change input.* or observer.*: all views are rendered from one pass over

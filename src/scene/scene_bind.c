@@ -1,5 +1,6 @@
 #include "scene/scene_bind.h"
 #include "core/numbers.h"
+#include "core/owned.h"
 
 #include "scene/scene_colour.h"
 #include "scene/scene_keys.h"
@@ -256,15 +257,18 @@ static orr_status bind_text(const bind_ctx *c, const key_spec *k, const value_at
      * stays relative to the working directory like any other argument. "-"
      * (standard input) is no path. */
     const int from_scene = at->line > 0;
+    char path[ORR_PATH_MAX]; /* an owned field's text before it is copied */
+    char *out = k->owned ? path : field(c, k);
+    size_t size = k->owned ? sizeof path : k->size;
     int len;
     if (k->type == K_PATH && from_scene && t[0] != '/' && strcmp(c->dir, ".") != 0 && strcmp(t, "-") != 0)
-        len = snprintf(field(c, k), k->size, "%s/%s", c->dir, t);
+        len = snprintf(out, size, "%s/%s", c->dir, t);
     else
-        len = snprintf(field(c, k), k->size, "%s", t);
+        len = snprintf(out, size, "%s", t);
     if (len < 0 || (size_t)len >= k->size)
         return fail_at(c->err, at->origin, at->line, "%s: '%.60s...' is too long (at most %zu characters)",
                        at->path, t, k->size - 1);
-    return ORR_OK;
+    return k->owned ? orr_owned_set((char **)field(c, k), path, c->err) : ORR_OK;
 }
 
 static orr_status bind_enum(const bind_ctx *c, const key_spec *k, const value_at *at, const yt_node *n)

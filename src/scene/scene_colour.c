@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/owned.h"
 #include "scene/scene_bind.h"
 #include "scene/scene_value.h"
 
@@ -327,7 +328,10 @@ static orr_status bind_layer(const scene_at *at, const yt_node *n, struct orr_co
         const yt_entry *e = &n->entries[i];
         scene_at c = scene_child_at(at, e);
         if (strcmp(e->key, "file") == 0) {
-            st = get_name(&c, e->value, l->file, sizeof l->file);
+            char file[ORR_PATH_MAX];
+            st = get_name(&c, e->value, file, sizeof file);
+            if (!st)
+                st = orr_owned_set(&l->file, file, at->err);
         } else if (strcmp(e->key, "gain") == 0) {
             st = scene_get_number(&c, e->value, &l->gain);
             if (!st && !(l->gain > 0))
@@ -344,7 +348,7 @@ static orr_status bind_layer(const scene_at *at, const yt_node *n, struct orr_co
             st = unknown(at, e, "file colour gain");
         }
     }
-    if (!st && !l->file[0])
+    if (!st && !l->file)
         st = scene_fail_at(at->err, at->origin, at->line, "%s: a layer needs a file", at->path);
     return st;
 }
@@ -360,6 +364,7 @@ orr_status scene_bind_layers(orr_scene *s, const char *origin, int line, const c
     for (size_t i = 0; i < n->n; i++) {
         scene_at at = {n->items[i]->origin, n->items[i]->line ? n->items[i]->line : line, "", err};
         snprintf(at.path, sizeof at.path, "%.100s[%zu]", path, i);
+        orr_owned_free(&s->compose.layers[i].file);
         memset(&s->compose.layers[i], 0, sizeof s->compose.layers[i]);
         orr_status st = bind_layer(&at, n->items[i], &s->compose.layers[i]);
         if (st)

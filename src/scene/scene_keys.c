@@ -15,6 +15,8 @@
 #define FIELD_OF(type, m) .offset = offsetof(type, m), .size = sizeof(((type *)0)->m)
 #define FLAG_OF(type, m) .has_flag = 1, .flag_offset = offsetof(type, m)
 #define FIELD(m) FIELD_OF(orr_scene, m)
+/* A file or folder name: an owned string of at most ORR_PATH_MAX - 1 characters. */
+#define OWNED_PATH(m) .offset = offsetof(orr_scene, m), .size = ORR_PATH_MAX, .owned = 1
 #define FLAG(m) FLAG_OF(orr_scene, m)
 /* K_RUN: the int field set to 1 for the word run, 0 for a number. */
 #define RUN_FLAG(m) .flag_offset = offsetof(orr_scene, m)
@@ -56,7 +58,7 @@ static const char *names_model_name(void) { return "mw-m31 king"; }
 #define SKY_MAPS_NOTED .names_shown = 2, .names_note = "sky maps"
 
 static const key_spec KEYS[] = {
-    {.key = "input.file", .type = K_PATH, FIELD(input.file)},
+    {.key = "input.file", .type = K_PATH, OWNED_PATH(input.file)},
     {.key = "input.format", ENUM(input_format)},
     {.key = "input.model.name", ENUM(model_name)},
     {.key = "input.model.particles", .type = K_LLONG, FIELD(input.model.particles), IRANGE(100, 2000000000LL)},
@@ -80,7 +82,7 @@ static const key_spec KEYS[] = {
     {.key = "input.periodic.fade", .type = K_NUMBER, FIELD(periodic.fade), .lo = 0, .bounds = HAS_LO,
      FLAG(periodic.has_fade)},
     {.key = "input.insitu", .type = K_BOOL, FIELD(input.insitu)},
-    {.key = "input.sequence.pattern", .type = K_PATH, FIELD(input.sequence.pattern)},
+    {.key = "input.sequence.pattern", .type = K_PATH, OWNED_PATH(input.sequence.pattern)},
     {.key = "input.sequence.first", .type = K_LLONG, FIELD(input.sequence.first), IRANGE(0, 1000000000LL)},
     {.key = "input.sequence.last", .type = K_LLONG, FIELD(input.sequence.last), IRANGE(0, 1000000000LL)},
     {.key = "input.sequence.step", .type = K_LLONG, FIELD(input.sequence.step), IRANGE(1, 1000000000LL)},
@@ -95,7 +97,7 @@ static const key_spec KEYS[] = {
     {.key = "camera.quaternion", .type = K_QUAT, FIELD(camera.quaternion), FLAG(camera.has_quaternion)},
     {.key = "camera.path.kind", NAMED(orr_path_kind_names, camera.path.kind), FLAG(camera.has_path)},
     {.key = "camera.path.keyframes", .type = K_KEYFRAMES},
-    {.key = "camera.path.file", .type = K_PATH, FIELD(camera.path_file)},
+    {.key = "camera.path.file", .type = K_PATH, OWNED_PATH(camera.path_file)},
     {.key = "camera.path.interpolation", NAMED(orr_path_interp_names, camera.path.interpolation)},
     {.key = "camera.path.orientation", NAMED(orr_path_orient_names, camera.path.orientation)},
     {.key = "camera.path.ease", NAMED(orr_ease_names, camera.path.ease)},
@@ -151,7 +153,7 @@ static const key_spec KEYS[] = {
     {.key = "psf.kind", NAMED(orr_psf_kind_names, psf.kind)},
     {.key = "psf.fwhm", .type = K_NUMBER, FIELD(psf.fwhm), CLOSED(0.1, 1000), FLAG(psf.has_fwhm)},
     {.key = "psf.fwhm_arcmin", .type = K_AUTO, FIELD(psf.fwhm_arcmin), CLOSED(0.01, 3000)},
-    {.key = "psf.file", .type = K_PATH, FIELD(psf.file)},
+    {.key = "psf.file", .type = K_PATH, OWNED_PATH(psf.file)},
     {.key = "psf.file_subsample", .type = K_INT, FIELD(psf.file_subsample), IRANGE(1, 64)},
     {.key = "psf.arcsec_per_pixel", .type = K_NUMBER, FIELD(psf.arcsec_per_pixel), .lo = 0, .bounds = HAS_LO},
     {.key = "psf.angle", .type = K_NUMBER, FIELD(psf.angle)},
@@ -191,7 +193,7 @@ static const key_spec KEYS[] = {
     {.key = "dust.z_sun", .type = K_NUMBER, FIELD(dust.z_sun), ABOVE(0)},
     {.key = "dust.curve", NAMED(orr_dust_curve_names, dust.curve)},
     {.key = "dust.r_v", .type = K_NUMBER, FIELD(dust.r_v), CLOSED(1, 10)},
-    {.key = "dust.curve_file", .type = K_PATH, FIELD(dust.curve_file)},
+    {.key = "dust.curve_file", .type = K_PATH, OWNED_PATH(dust.curve_file)},
     {.key = "dust.extinction_plane", .type = K_BOOL, FIELD(dust.extinction_plane)},
     {.key = "animation.frames", .type = K_LLONG, FIELD(animation.frames), IRANGE(1, 10000000)},
     {.key = "animation.fps", .type = K_NUMBER, FIELD(animation.fps), CLOSED(0.001, 1000)},
@@ -206,7 +208,7 @@ static const key_spec KEYS[] = {
     {.key = "stereo.convergence", .type = K_AUTO, FIELD(stereo.convergence), ABOVE(0)},
     {.key = "stereo.anaglyph", NAMED(orr_anaglyph_names, picture.anaglyph)},
     {.key = "stereo.zenith_fade", .type = K_NUMBER, FIELD(stereo.zenith_fade), CLOSED(0, 90)},
-    {.key = "output.dir", .type = K_STRING, FIELD(output.dir)},
+    {.key = "output.dir", .type = K_STRING, OWNED_PATH(output.dir)},
     {.key = "output.name", .type = K_FILENAME, FIELD(output.name)},
     {.key = "output.fits", .type = K_BOOL, FIELD(output.write_fits)},
     {.key = "output.png", .type = K_BOOL, FIELD(output.write_png)},

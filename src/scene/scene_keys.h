@@ -49,6 +49,8 @@ typedef struct key_spec {
     const char *key;
     key_type type;
     size_t offset, size;          /* the field in the target (orr_scene or dome_profile) */
+    int owned;                    /* K_STRING, K_PATH: the field is an owned char * (core/owned.h) holding at
+                                   * most size - 1 characters, not a char[size] */
     double lo, hi;                /* K_NUMBER, K_AUTO, K_RUN: with the bounds flags */
     unsigned bounds;
     long long ilo, ihi;           /* integers: inclusive range */

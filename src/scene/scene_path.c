@@ -233,7 +233,7 @@ static orr_status check_placement(const orr_scene *s, const scene_marks *m, orr_
 static orr_status read_keyframes(orr_scene *s, const scene_marks *m, orr_error *err)
 {
     orr_camera_path *p = &s->camera.path;
-    const int from_list = scene_mark(m, "camera.path.keyframes") != NULL, from_file = s->camera.path_file[0] != '\0';
+    const int from_list = scene_mark(m, "camera.path.keyframes") != NULL, from_file = s->camera.path_file != NULL;
     if (from_list && from_file)
         return scene_fail_key(s, m, "camera.path.file", err,
                               "camera.path.keyframes and camera.path.file are both set; give the keyframes one way");

@@ -3,6 +3,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/owned.h"
 #include "scene/scene_bind.h"
 #include "scene/scene_check.h"
 
@@ -125,11 +126,16 @@ static orr_status check_views(const yt_node *views, const scene_loc *at, orr_err
 
 /* ---- building each view ---- */
 
-static void scene_start(orr_scene *s, const scene_source *src)
+/* s holds no strings before; after, it is freed by its loader's caller,
+ * or by the loader when the load fails. */
+static orr_status scene_start(orr_scene *s, const scene_source *src, orr_error *err)
 {
-    orr_scene_defaults(s);
-    snprintf(s->path, sizeof s->path, "%s", src->path);
-    snprintf(s->dir, sizeof s->dir, "%s", src->dir);
+    orr_status st = orr_scene_defaults(s, err);
+    if (!st)
+        st = orr_owned_set(&s->path, src->path, err);
+    if (!st)
+        st = orr_owned_set(&s->dir, src->dir, err);
+    return st;
 }
 
 /* Whether the view's own keys set output.name. */
@@ -180,14 +186,18 @@ static orr_status load_view(orr_scene_views *out, size_t i, const yt_node *base,
     if (!tree)
         return ORR_ERR_NOMEM;
     orr_status st = yt_is_null(view->value) ? ORR_OK : yt_merge(tree, view->value, err);
-    scene_start(s, src);
+    orr_status started = scene_start(s, src, err);
+    if (st == ORR_OK)
+        st = started;
     if (st == ORR_OK)
         st = scene_bind_checked(s, tree, err);
     yt_free(tree);
     if (st == ORR_OK)
         st = name_output(s, view, src, views->n, err);
-    if (st != ORR_OK)
+    if (st != ORR_OK) {
+        orr_scene_free(s); /* not counted in out->n yet */
         return st == ORR_ERR_NOMEM ? st : in_view(err, st, view->key);
+    }
     snprintf(out->name[i], sizeof out->name[i], "%s", view->key);
     return ORR_OK;
 }
@@ -209,10 +219,13 @@ static orr_status load_single(orr_scene_views *out, const yt_node *root, const s
                               orr_error *err)
 {
     orr_scene *s = &out->view[0];
-    scene_start(s, src);
-    orr_status st = scene_bind_checked(s, root, err);
+    orr_status st = scene_start(s, src, err);
+    if (st == ORR_OK)
+        st = scene_bind_checked(s, root, err);
     if (st == ORR_OK && s->output.name[0] == '\0')
         snprintf(s->output.name, sizeof s->output.name, "%s", src->stem);
+    if (st != ORR_OK)
+        orr_scene_free(s);
     out->n = st == ORR_OK;
     return st;
 }

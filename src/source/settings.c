@@ -3,6 +3,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "core/owned.h"
+
 #define COUNT(a) (sizeof(a) / sizeof((a)[0]))
 
 const orr_named orr_nonfinite_names[] = {{"error", 0}, {"skip", 1}, {NULL, 0}};
@@ -35,9 +37,9 @@ static orr_status check_source(const orr_input_settings *in, const orr_keys *key
                                              "input.model.separation", "input.model.w0",
                                              "input.model.core_radius", "input.model.mass",
                                              "input.model.galaxies", "input.model.disc_q"};
-    const int has_file = in->file[0] != '\0', has_model = in->model.name[0] != '\0';
+    const int has_file = in->file != NULL, has_model = in->model.name[0] != '\0';
     const int has_sequence = orr_input_has_sequence(in);
-    const char *sequence_key = in->sequence.pattern[0] ? "input.sequence.pattern" : "input.sequence.files";
+    const char *sequence_key = in->sequence.pattern ? "input.sequence.pattern" : "input.sequence.files";
     if (has_file && has_model)
         return orr_fail_key(keys, "input.model.name", err,
                             "input.file and input.model.name are both set; use one of them");
@@ -87,7 +89,7 @@ static orr_status check_sequence(const orr_input_settings *in, const orr_keys *k
                                     SEQUENCE_KEYS[i]);
         return ORR_OK;
     }
-    if (in->sequence.pattern[0] && in->sequence.nfiles > 0)
+    if (in->sequence.pattern && in->sequence.nfiles > 0)
         return orr_fail_key(keys, "input.sequence.files", err,
                             "input.sequence.pattern and input.sequence.files are both set; list the snapshots "
                             "one way");
@@ -97,7 +99,7 @@ static orr_status check_sequence(const orr_input_settings *in, const orr_keys *k
                                 "%s applies to input.sequence.pattern, but the snapshots are listed by "
                                 "input.sequence.files",
                                 RANGE_KEYS[i]);
-    return in->sequence.pattern[0] ? check_sequence_pattern(in, keys, err) : ORR_OK;
+    return in->sequence.pattern ? check_sequence_pattern(in, keys, err) : ORR_OK;
 }
 
 orr_status orr_input_prepare(const orr_input_settings *in, const orr_keys *keys, orr_error *err)
@@ -108,7 +110,7 @@ orr_status orr_input_prepare(const orr_input_settings *in, const orr_keys *keys,
 
 int orr_input_has_sequence(const orr_input_settings *in)
 {
-    return in->sequence.pattern[0] != '\0' || in->sequence.nfiles > 0;
+    return in->sequence.pattern != NULL || in->sequence.nfiles > 0;
 }
 
 const char *orr_sequence_file(const orr_sequence_settings *d, int i)
@@ -144,4 +146,17 @@ void orr_input_settings_defaults(orr_input_settings *d)
     d->sequence.step = 1;
     d->sequence.interpolation = ORR_INTERP_AUTO;
     d->sequence.max_memory = 16;
+}
+
+int orr_input_settings_strings(orr_input_settings *d, char **fields[])
+{
+    fields[0] = &d->file;
+    fields[1] = &d->sequence.pattern;
+    return ORR_INPUT_STRINGS;
+}
+
+void orr_input_settings_free(orr_input_settings *d)
+{
+    char **fields[ORR_INPUT_STRINGS];
+    orr_owned_free_all(fields, orr_input_settings_strings(d, fields));
 }

@@ -40,7 +40,8 @@ typedef struct orr_model_settings {
 /* input.sequence.*: snapshots interpolated in time (docs/sequences.md),
  * instead of input.file; listed by a pattern and a range, or by files. */
 typedef struct orr_sequence_settings {
-    char pattern[ORR_PATH_MAX];  /* input.sequence.pattern: "snap_%03d.hdf5", resolved; empty when none */
+    char *pattern;               /* input.sequence.pattern: "snap_%03d.hdf5", resolved; owned, NULL when
+                                  * none (core/owned.h) */
     long long first;             /* input.sequence.first (default 0) */
     long long last;              /* input.sequence.last (required with a pattern) */
     long long step;              /* input.sequence.step (default 1) */
@@ -53,7 +54,7 @@ typedef struct orr_sequence_settings {
 } orr_sequence_settings;
 
 typedef struct orr_input_settings {
-    char file[ORR_PATH_MAX];  /* input.file, resolved; empty when a model is used */
+    char *file;               /* input.file, resolved; owned, NULL when a model is used (core/owned.h) */
     char format[32];          /* input.format: auto | a reader's name (default auto) */
     orr_model_settings model; /* input.model.* */
     char weight[ORR_FIELD_NAME_MAX]; /* input.weight: "mass" or a field name (default mass) */
@@ -69,8 +70,13 @@ typedef struct orr_input_settings {
 /* The words of input.nonfinite (skip_nonfinite's 0 and 1). */
 extern const orr_named orr_nonfinite_names[];
 
-/* Fills d with the defaults above. */
+/* Fills d, which holds no strings (zeroed or freed), with the defaults above. */
 void orr_input_settings_defaults(orr_input_settings *d);
+/* d's owned strings (core/owned.h), at most ORR_INPUT_STRINGS, into fields; returns how many. */
+#define ORR_INPUT_STRINGS 2
+int orr_input_settings_strings(orr_input_settings *d, char **fields[]);
+/* Frees d's strings. */
+void orr_input_settings_free(orr_input_settings *d);
 
 /* The input.* keys checked against each other: one input (a file, a
  * model or a sequence), each model's own keys, a sequence's pattern or

@@ -97,6 +97,16 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             orr_error cam_err = {0};
             (void)orr_scene_static_camera(s, &cam, &cam_err);
             (void)orr_scene_look_target(s, &target);
+            /* The owned strings' convention (core/owned.h): a loaded scene
+             * always has its path, folder and output folder; a string set
+             * is never "". */
+            const char *const owned[] = {s->input.file, s->input.sequence.pattern, s->camera.path_file,
+                                         s->dust.curve_file, s->psf.file};
+            if (!s->path || !s->dir || !s->output.dir || !s->path[0] || !s->dir[0] || !s->output.dir[0])
+                abort();
+            for (size_t i = 0; i < sizeof owned / sizeof owned[0]; i++)
+                if (owned[i] && !owned[i][0])
+                    abort();
             const char *end = s->input.sequence.files + sizeof s->input.sequence.files;
             for (int i = 0; i < s->input.sequence.nfiles; i++) {
                 const char *p = orr_scene_sequence_file(s, i);
@@ -107,6 +117,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     } else if (err.msg[0] == '\0') {
         abort(); /* an error must say what was wrong */
     }
+    orr_scene_views_free(views); /* a failed load has freed its own */
     free(views);
     bind_as_dome_profile(text);
     free(text);

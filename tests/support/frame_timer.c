@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include "core/owned.h"
 #include "render/render.h"
 #include "scene/scene.h"
 #include "source/arrays.h"
@@ -30,7 +31,10 @@ double frame_timer_best(const char *yaml, const orr_particle_arrays *a, int repe
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }
-    snprintf(s->output.dir, sizeof s->output.dir, "%s", "/tmp");
+    if (orr_owned_set(&s->output.dir, "/tmp", &err)) {
+        fprintf(stderr, "%s\n", err.msg);
+        exit(1);
+    }
     s->output.write_png = 0;
     double best = 1e300;
     for (int r = 0; r < repeats; r++) {
@@ -53,6 +57,7 @@ double frame_timer_best(const char *yaml, const orr_particle_arrays *a, int repe
             *cpu = m.cpu_end - m.cpu_start;
         }
     }
+    orr_scene_free(s);
     free(s);
     return best;
 }

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "core/owned.h"
 #include "render/animation.h"
 #include "scene/scene.h"
 #include "tmpdir.h"
@@ -137,7 +138,7 @@ static void test_resume(void)
     orr_scene *s = calloc(1, sizeof *s);
     orr_error err = {0};
     CHECK(orr_scene_load_string(s, yaml, "clip.yaml", ".", NULL, 0, &err) == ORR_OK);
-    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    orr_owned_set(&s->output.dir, tmpdir, NULL);
     tally t;
     CHECK(run(s, 0, &t) == ORR_OK);
     CHECK(t.rendered == 3 && t.skipped == 0);
@@ -178,6 +179,7 @@ static void test_resume(void)
     CHECK(access(path, F_OK) == 0);
     snprintf(path, sizeof path, "%s/.orrery-frames/still.done", tmpdir);
     CHECK(access(path, F_OK) != 0);
+    orr_scene_free(s);
     free(s);
     remove_tmpdir();
 }
@@ -191,7 +193,7 @@ static orr_scene *load_clip(const char *yaml, const char *const *sets, int nsets
         fprintf(stderr, "scene: %s\n", err.msg);
         exit(1);
     }
-    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    orr_owned_set(&s->output.dir, tmpdir, NULL);
     return s;
 }
 
@@ -224,6 +226,7 @@ static void test_resume_checks_what_made_the_frame(void)
     const orr_scene *list[1] = {s};
     CHECK(orr_render_animation(list, 1, &o, &rep, &err) == ORR_OK);
     CHECK(t.rendered == 2);
+    orr_scene_free(s);
     free(s);
 
     /* ...then the whole run at another: every frame is this run's. */
@@ -240,6 +243,7 @@ static void test_resume_checks_what_made_the_frame(void)
     CHECK(run(s5, 0, &t) == ORR_OK);
     CHECK(t.rendered == 5 && t.redone == 4);
     CHECK(strstr(t.why, "animation.frames changed from 4 to 5") != NULL);
+    orr_scene_free(s5);
     free(s5);
 
     /* An output changed in place, same size: caught by its checksum. */
@@ -275,6 +279,7 @@ static void test_resume_checks_what_made_the_frame(void)
     fclose(f);
     CHECK(run(s, 0, &t) == ORR_OK);
     CHECK(t.rendered == 1 && strstr(t.why, "older") != NULL);
+    orr_scene_free(s);
     free(s);
     remove_tmpdir();
 }
@@ -301,6 +306,7 @@ static void test_failed_frame_writes_nothing(void)
         CHECK(access(path, F_OK) != 0);
     }
     CHECK(count_entries() == 1); /* the folder alone: no temporary file either */
+    orr_scene_free(s);
     free(s);
     remove_tmpdir();
 }

@@ -317,19 +317,24 @@ static void test_scene_keys(void)
     orr_error err;
     const char *ok = "input: {model: {name: king, w0: 8, core_radius: 0.5, mass: 1e6, particles: 1000}}\n"
                      "camera: {projection: perspective, position: [0, 0, 30], look_at: [0, 0, 0], dim: true}\n";
+    orr_scene_free(&scene);
     CHECK(orr_scene_load_string(&scene, ok, "ok.yaml", "/", NULL, 0, &err) == ORR_OK);
     CHECK(scene.input.model.w0 == 8 && scene.input.model.core_radius == 0.5 && scene.input.model.mass == 1e6);
     CHECK(scene.camera.dim == 1);
     const char *sep = "input: {model: {name: king, separation: 100}}\n";
+    orr_scene_free(&scene);
     CHECK(orr_scene_load_string(&scene, sep, "sep.yaml", "/", NULL, 0, &err) != ORR_OK);
     CHECK_CONTAINS(err.msg, "input.model.separation");
     const char *w0 = "input: {model: {name: mw-m31, w0: 5}}\n";
+    orr_scene_free(&scene);
     CHECK(orr_scene_load_string(&scene, w0, "w0.yaml", "/", NULL, 0, &err) != ORR_OK);
     CHECK_CONTAINS(err.msg, "input.model.w0");
     const char *big = "input: {model: {name: king, w0: 40}}\n";
+    orr_scene_free(&scene);
     CHECK(orr_scene_load_string(&scene, big, "big.yaml", "/", NULL, 0, &err) != ORR_OK);
     CHECK_CONTAINS(err.msg, "input.model.w0");
     const char *near = "input: {model: {name: king}}\ncamera: {dim_near: 0.1}\n";
+    orr_scene_free(&scene);
     CHECK(orr_scene_load_string(&scene, near, "near.yaml", "/", NULL, 0, &err) != ORR_OK);
     CHECK_CONTAINS(err.msg, "camera.dim_near");
 }

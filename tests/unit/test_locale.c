@@ -95,6 +95,7 @@ static void test_scene(void)
 {
     orr_error err = {0};
     const char *sets[] = {"camera.fov=60.5"};
+    orr_scene_free(&g_scene);
     orr_status st = orr_scene_load_string(&g_scene,
                                           "input: {file: a.txt}\ncamera: {projection: perspective, fov: 4.5}\n"
                                           "image: {width: 64, height: 48}\n",
@@ -103,6 +104,7 @@ static void test_scene(void)
     if (st)
         fprintf(stderr, "  %s\n", err.msg);
     CHECK(g_scene.projection.fov_deg == 60.5);
+    orr_scene_free(&g_scene);
     st = orr_scene_load_string(&g_scene, "input: {file: a.txt}\ncamera: {projection: orthographic, width: 4.5}\n",
                                "scene.yaml", tmpdir, NULL, 0, &err);
     CHECK(st == ORR_OK);

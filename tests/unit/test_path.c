@@ -385,6 +385,7 @@ static void test_csv_errors(void)
 static orr_status load(const char *yaml, orr_error *err)
 {
     orr_error_clear(err);
+    orr_scene_free(&g_scene);
     return orr_scene_load_string(&g_scene, yaml, "scene.yaml", tmpdir, NULL, 0, err);
 }
 

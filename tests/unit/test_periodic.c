@@ -161,7 +161,7 @@ static void test_orthographic_and_sky(void)
 static void test_box_side_from_header(void)
 {
     orr_scene s;
-    orr_scene_defaults(&s);
+    orr_scene_defaults(&s, NULL);
     s.periodic.replicas = 3;
     orr_source_info info;
     memset(&info, 0, sizeof info);
@@ -179,24 +179,30 @@ static void test_box_side_from_header(void)
     s.periodic.box = 7; /* the key wins over the header */
     CHECK(orr_periodic_box_side(&s.periodic, s.path, &info, &box, &err) == ORR_OK);
     CHECK_NEAR(box, 7, 0);
+    orr_scene_free(&s);
 }
 
 static void test_scene_keys(void)
 {
-    orr_scene s;
+    static orr_scene s; /* zeroed: freed before each load */
     orr_error err;
     const char *ok = "input: {file: x.txt, periodic: {box: 2, replicas: 5, centre: origin}}\n";
+    orr_scene_free(&s);
     CHECK(orr_scene_load_string(&s, ok, "ok.yaml", "/tmp", NULL, 0, &err) == ORR_OK);
     CHECK_NEAR(s.periodic.box, 2, 0);
     CHECK(s.periodic.replicas == 5 && s.periodic.around_camera == 0);
+    orr_scene_free(&s);
     CHECK(orr_scene_load_string(&s, "input: {file: x.txt}\n", "d.yaml", "/tmp", NULL, 0, &err) == ORR_OK);
     CHECK(s.periodic.box == 0 && s.periodic.replicas == 1 && s.periodic.around_camera == 1);
+    orr_scene_free(&s);
     CHECK(orr_scene_load_string(&s, "input: {file: x.txt, periodic: {replicas: 4}}\n", "e.yaml", "/tmp", NULL, 0,
                                 &err) != ORR_OK);
     CHECK_CONTAINS(err.msg, "input.periodic.replicas");
+    orr_scene_free(&s);
     CHECK(orr_scene_load_string(&s, "input: {file: x.txt, periodic: {centre: middle}}\n", "f.yaml", "/tmp", NULL, 0,
                                 &err) != ORR_OK);
     CHECK_CONTAINS(err.msg, "middle");
+    orr_scene_free(&s);
     CHECK(orr_scene_load_string(&s, "input: {file: x.txt, periodic: {replicas: 5, radius: 1.5, fade: 0}}\n",
                                 "g.yaml", "/tmp", NULL, 0, &err) == ORR_OK);
     CHECK(s.periodic.radius == 1.5 && s.periodic.fade == 0 && s.periodic.has_fade);
@@ -219,9 +225,11 @@ static void test_scene_keys(void)
     for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++) {
         char yaml[256];
         snprintf(yaml, sizeof yaml, "input: {file: x.txt, periodic: %s}\n", bad[k].periodic);
+        orr_scene_free(&s);
         CHECK(orr_scene_load_string(&s, yaml, "bad.yaml", "/tmp", NULL, 0, &err) == ORR_ERR_USAGE);
         CHECK_CONTAINS(err.msg, bad[k].message);
     }
+    orr_scene_free(&s);
 }
 
 /* ---- renders of a uniform box ---- */
@@ -262,6 +270,7 @@ static orr_status render_yaml(const char *body, const char *name, orr_render_rep
     orr_status st = orr_scene_load_string(&s, yaml, name, tmpdir, NULL, 0, &err);
     if (!st)
         st = orr_render_scene(&s, rep, NULL, NULL, &err);
+    orr_scene_free(&s);
     if (st) {
         fprintf(stderr, "%s\n", err.msg);
         return st;

@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "core/owned.h"
 #include "post/convolve.h"
 #include "render/plan.h"
 #include "render/render.h"
@@ -64,7 +65,7 @@ static orr_scene *load(const char *yaml, const char *name)
     if (st)
         fprintf(stderr, "%s\n", err.msg);
     CHECK(st == ORR_OK);
-    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    orr_owned_set(&s->output.dir, tmpdir, NULL);
     snprintf(s->output.name, sizeof s->output.name, "%s", name);
     return s;
 }
@@ -105,6 +106,7 @@ static void check_run(const char *yaml, const char *name)
         kept_free(&planned[f]);
         kept_free(&alone[f]);
     }
+    orr_scene_free(s);
     free(s);
 }
 
@@ -159,6 +161,7 @@ static void test_fft_planned_once(void)
     }
     CHECK(orr_convolve_plans_created() == before + 1);
     orr_plan_destroy(plan);
+    orr_scene_free(s);
     free(s);
 }
 
@@ -182,7 +185,9 @@ static void test_other_views_refused(void)
     CHECK(orr_plan_create(&plan, planned, 1, ORR_PLAN_RENDER, &err) == ORR_OK);
     CHECK(plan && orr_plan_compose(plan, planned, &rep, &err) == ORR_ERR_INTERNAL);
     orr_plan_destroy(plan);
+    orr_scene_free(s);
     free(s);
+    orr_scene_free(t);
     free(t);
 }
 
@@ -220,6 +225,7 @@ static void test_frame_names(void)
     CHECK(plan && orr_plan_execute(plan, NULL, &rep, NULL, NULL, &err) == ORR_OK);
     CHECK(rep.noutputs == 2 && ends_with(rep.outputs[0], "/named-left.fits"));
     orr_plan_destroy(plan);
+    orr_scene_free(s);
     free(s);
 }
 

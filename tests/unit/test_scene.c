@@ -21,6 +21,7 @@ static orr_scene g_scene;
 static orr_status load(const char *yaml, const char *const *sets, int nsets, orr_error *err)
 {
     orr_error_clear(err);
+    orr_scene_free(&g_scene);
     return orr_scene_load_string(&g_scene, yaml, "scene.yaml", "/base", sets, nsets, err);
 }
 
@@ -52,10 +53,11 @@ static orr_status load(const char *yaml, const char *const *sets, int nsets, orr
 static void test_defaults(void)
 {
     orr_scene *s = &g_scene;
-    orr_scene_defaults(s);
+    orr_scene_free(s);
+    CHECK(orr_scene_defaults(s, NULL) == ORR_OK);
     CHECK(strcmp(s->path, "<built-in>") == 0);
     CHECK(strcmp(s->dir, ".") == 0);
-    CHECK(s->input.file[0] == '\0');
+    CHECK(s->input.file == NULL); /* unset: NULL (core/owned.h) */
     CHECK(strcmp(s->input.format, "auto") == 0);
     CHECK(s->input.model.name[0] == '\0');
     CHECK(s->input.model.particles == 200000);
@@ -215,6 +217,7 @@ static void test_file_paths(void)
     CHECK(write_text(bad, "input:\n  file: snap.txt\n\ncamera:\n  fov: sixty\n"));
 
     orr_error err;
+    orr_scene_free(&g_scene);
     orr_status st = orr_scene_load(&g_scene, scene, NULL, 0, &err);
     CHECK(st == ORR_OK);
     char want[512];
@@ -226,11 +229,14 @@ static void test_file_paths(void)
     CHECK(strcmp(g_scene.output.name, "face-on.view") == 0); /* the stem drops only the last extension */
     CHECK(g_scene.input.model.name[0] == '\0');
 
+    orr_scene_free(&g_scene);
+
     st = orr_scene_load(&g_scene, abs_scene, NULL, 0, &err);
     CHECK(st == ORR_OK);
     CHECK(strcmp(g_scene.input.file, "/data/snap.txt") == 0);
 
     /* Errors from a file name the file as given and the line. */
+    orr_scene_free(&g_scene);
     st = orr_scene_load(&g_scene, bad, NULL, 0, &err);
     CHECK(st == ORR_ERR_USAGE);
     snprintf(want, sizeof want, "%s:5: camera.fov: expected a number, got 'sixty'", bad);
@@ -238,6 +244,7 @@ static void test_file_paths(void)
 
     /* A --set path was typed in a shell: it stays relative to the working directory. */
     const char *sets[] = {"input.file=other.txt"};
+    orr_scene_free(&g_scene);
     st = orr_scene_load(&g_scene, scene, sets, 1, &err);
     CHECK(st == ORR_OK);
     CHECK(strcmp(g_scene.input.file, "other.txt") == 0);
@@ -251,6 +258,7 @@ static void test_file_paths(void)
 static void test_missing_file(void)
 {
     orr_error err;
+    orr_scene_free(&g_scene);
     orr_status st = orr_scene_load(&g_scene, "/nonexistent/dir/scene.yaml", NULL, 0, &err);
     CHECK(st == ORR_ERR_IO);
     CHECK(strcmp(err.msg, "/nonexistent/dir/scene.yaml: cannot open scene file: No such file or directory") == 0);
@@ -260,20 +268,24 @@ static void test_load_string_names(void)
 {
     orr_error err;
     /* A relative file in a scene from memory is resolved against base_dir. */
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load_string(&g_scene, "input: {file: a.txt}", "builtin/ortho.yaml", "/srv/data", NULL, 0,
                                 &err) == ORR_OK);
     CHECK(strcmp(g_scene.input.file, "/srv/data/a.txt") == 0);
     CHECK(strcmp(g_scene.output.name, "ortho") == 0);
     /* No base folder: the path stays as written; no origin: output "orrery". */
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load_string(&g_scene, "input: {file: a.txt}", NULL, NULL, NULL, 0, &err) == ORR_OK);
     CHECK(strcmp(g_scene.input.file, "a.txt") == 0);
     CHECK(strcmp(g_scene.output.name, "orrery") == 0);
     CHECK(strcmp(g_scene.path, "<built-in>") == 0);
     /* "-" is standard input, not a file beside the scene. */
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load_string(&g_scene, "input: {file: \"-\"}", "builtin/ortho.yaml", "/srv/data", NULL, 0,
                                 &err) == ORR_OK);
     CHECK(strcmp(g_scene.input.file, "-") == 0);
     /* Messages name the origin given. */
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load_string(&g_scene, "deposit: tsc\n", "face-on", NULL, NULL, 0, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "face-on:1: deposit: expected one of: ngp cic sph, got 'tsc'") == 0);
 }
@@ -495,7 +507,8 @@ static void test_cross_checks(void)
 static void test_sky_defaults(void)
 {
     orr_scene *s = &g_scene;
-    orr_scene_defaults(s);
+    orr_scene_free(s);
+    CHECK(orr_scene_defaults(s, NULL) == ORR_OK);
     CHECK(s->projection.lon_flip == 0);
     CHECK(s->projection.dome_fov_deg == 180);
     CHECK(s->camera.dome[0] == '\0');

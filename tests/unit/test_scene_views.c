@@ -82,12 +82,14 @@ static void set_domes(const char *value)
 static orr_status load_views(const char *yaml, const char *const *sets, int nsets, orr_error *err)
 {
     orr_error_clear(err);
+    orr_scene_views_free(g_views);
     return orr_scene_load_views_string(g_views, yaml, "sky.yaml", "/nonexistent/scenes", sets, nsets, err);
 }
 
 static orr_status load_one(const char *yaml, const char *const *sets, int nsets, orr_error *err)
 {
     orr_error_clear(err);
+    orr_scene_free(&g_scene);
     return orr_scene_load_string(&g_scene, yaml, "sky.yaml", "/nonexistent/scenes", sets, nsets, err);
 }
 
@@ -167,27 +169,32 @@ static void test_profile_search(void)
      * empty entries are skipped. */
     snprintf(env, sizeof env, ":%s::%s:", tmp_path(e1, sizeof e1, "env1"), tmp_path(e2, sizeof e2, "env2"));
     set_domes(env);
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load(&g_scene, scene, NULL, 0, &err) == ORR_OK);
     CHECK(g_scene.projection.dome_fov_deg == 200 && g_scene.camera.dome_tilt == 10);
     CHECK(g_scene.projection.width == 64 && g_scene.projection.height == 64);
 
     /* Without it, <scene folder>/../domes; keys the profile leaves out keep their defaults. */
     set_domes(NULL);
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load(&g_scene, scene, NULL, 0, &err) == ORR_OK);
     CHECK(g_scene.projection.dome_fov_deg == 220 && g_scene.camera.dome_tilt == 0);
     CHECK(g_scene.projection.width == 1024);
     const char *q[] = {"camera.dome=q"};
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load(&g_scene, scene, q, 1, &err) == ORR_OK);
     CHECK(g_scene.projection.width == 32 && g_scene.projection.dome_fov_deg == 180);
 
     /* Then <scene folder>/domes. */
     const char *r[] = {"camera.dome=r"};
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load(&g_scene, scene, r, 1, &err) == ORR_OK);
     CHECK(g_scene.camera.dome_tilt == 45);
 
     /* A name found nowhere lists every folder searched. */
     set_domes(e1);
     const char *none[] = {"camera.dome=nope"};
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load(&g_scene, scene, none, 1, &err) == ORR_ERR_USAGE);
     char want[600];
     snprintf(want, sizeof want, "--set camera.dome=nope: camera.dome: no dome profile 'nope': looked for nope.yaml in %s, "
@@ -454,11 +461,14 @@ static void test_single_loaders(void)
     /* From a file. */
     char path[256];
     write_tmp("future.yaml", MODEL "views:\n  a: {deposit: ngp}\n  b: {image: {width: 64}}\n");
+    orr_scene_views_free(g_views);
     CHECK(orr_scene_load_views(g_views, tmp_path(path, sizeof path, "future.yaml"), NULL, 0, &err) == ORR_OK);
     CHECK(g_views->n == 2 && strcmp(g_views->view[1].output.name, "future-b") == 0);
     CHECK(g_views->view[1].projection.width == 64 && strcmp(g_views->view[0].dir, g_tmp) == 0);
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load(&g_scene, path, NULL, 0, &err) == ORR_ERR_USAGE);
     remove_tmp("future.yaml");
+    orr_scene_views_free(g_views);
     CHECK(orr_scene_load_views(g_views, path, NULL, 0, &err) == ORR_ERR_IO);
     CHECK_CONTAINS(err.msg, "cannot open scene file");
 }
@@ -483,6 +493,7 @@ int main(void)
     RUN(test_no_views);
     RUN(test_single_loaders);
     CHECK(rmdir(g_tmp) == 0);
+    orr_scene_views_free(g_views);
     free(g_views);
     return check_summary();
 }

@@ -95,10 +95,12 @@ static void test_scene_keeps_overrides(void)
     orr_error err = {0};
     const char *text = "input:\n  model:\n    name: mw-m31\n    particles: 1000\nimage:\n  width: 32\n";
     const char *sets[] = {"image.height=24", "output.bunit=10**10 solMass"};
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load_string(&g_scene, text, "s.yaml", "/tmp", sets, 2, &err) == ORR_OK);
     CHECK_CONTAINS(g_scene.scene_yaml, "# are relative to /tmp\n");
     CHECK_CONTAINS(g_scene.scene_yaml, "  height: 24\n");
     CHECK_CONTAINS(g_scene.scene_yaml, "  bunit: \"10**10 solMass\"\n");
+    orr_scene_free(&g_again);
     CHECK(orr_scene_load_string(&g_again, g_scene.scene_yaml, "s.yaml", "/tmp", NULL, 0, &err) == ORR_OK);
     CHECK(g_again.projection.width == 32 && g_again.projection.height == 24);
     CHECK(strcmp(g_again.output.bunit, "10**10 solMass") == 0);

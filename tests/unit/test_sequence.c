@@ -614,6 +614,7 @@ static orr_scene g_scene;
 
 static orr_status load(const char *yaml, orr_error *err)
 {
+    orr_scene_free(&g_scene);
     return orr_scene_load_string(&g_scene, yaml, "scene.yaml", "/base", NULL, 0, err);
 }
 
@@ -627,7 +628,7 @@ static void test_scene_keys(void)
     CHECK(g_scene.input.sequence.first == 2 && g_scene.input.sequence.last == 40 && g_scene.input.sequence.step == 2);
     CHECK(g_scene.input.sequence.interpolation == ORR_INTERP_HERMITE);
     CHECK(g_scene.input.sequence.max_memory == 2.5);
-    CHECK(g_scene.input.file[0] == '\0');
+    CHECK(g_scene.input.file == NULL);
 
     CHECK(load("input: {sequence: {files: [a.dat, /abs/b.dat, c.dat]}}", &err) == ORR_OK);
     CHECK(g_scene.input.sequence.nfiles == 3);
@@ -670,6 +671,7 @@ static void test_open_from_scene(void)
     write_snap("scn_030.g2", 4.0, &a, 1);
     orr_error err;
     orr_sequence *seq = NULL;
+    orr_scene_free(&g_scene);
     CHECK(orr_scene_load_string(&g_scene,
                                 "input: {sequence: {pattern: scn_%03d.g2, first: 10, last: 30, step: 10}, "
                                 "types: [1]}",
@@ -682,16 +684,22 @@ static void test_open_from_scene(void)
     CHECK(t0 == 0.5 && t1 == 4.0);
     orr_sequence_close(seq);
 
+    orr_scene_free(&g_scene);
+
     CHECK(orr_scene_load_string(&g_scene, "input: {sequence: {files: [scn_030.g2, scn_010.g2]}}", "seq.yaml",
                                 tmpdir, NULL, 0, &err) == ORR_OK);
     CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "seq.yaml: sequence: snapshot times must strictly increase");
     CHECK_CONTAINS(err.msg, "scn_030.g2 has time 4");
 
+    orr_scene_free(&g_scene);
+
     CHECK(orr_scene_load_string(&g_scene, "input: {sequence: {pattern: scn_%03d.g2, first: 10, last: 40, step: 10}}",
                                 "seq.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
     CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_ERR_IO);
     CHECK_CONTAINS(err.msg, "scn_040.g2: cannot open");
+
+    orr_scene_free(&g_scene);
 
     CHECK(orr_scene_load_string(&g_scene, "input: {file: x}", "seq.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
     CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_ERR_USAGE);
@@ -801,6 +809,7 @@ static void test_periodic_wrap_from_scene(void)
                  cases[k].periodic);
         orr_error err;
         orr_sequence *seq = NULL;
+        orr_scene_free(&g_scene);
         CHECK(orr_scene_load_string(&g_scene, yaml, "wrap.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
         CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_OK);
         double x[3] = {NAN, NAN, NAN};

@@ -360,6 +360,7 @@ static orr_scene g_scene;
 static orr_status load(const char *yaml, orr_error *err)
 {
     orr_error_clear(err);
+    orr_scene_free(&g_scene);
     return orr_scene_load_string(&g_scene, yaml, "scene.yaml", "/base", NULL, 0, err);
 }
 

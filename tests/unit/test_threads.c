@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "core/owned.h"
 #include "encode/fits_read.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -38,10 +39,11 @@ static void render_with(const char *yaml, const char *name, int threads, renderi
     CHECK(out->st == ORR_OK);
     if (out->st) {
         fprintf(stderr, "%s: %s\n", name, err.msg);
+        orr_scene_free(s);
         free(s);
         return;
     }
-    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    orr_owned_set(&s->output.dir, tmpdir, NULL);
     snprintf(s->output.name, sizeof s->output.name, "%s_t%d", name, threads);
     s->output.write_png = 0;
     omp_set_num_threads(threads);
@@ -52,6 +54,7 @@ static void render_with(const char *yaml, const char *name, int threads, renderi
         snprintf(path, sizeof path, "%s/%s_t%d.fits", tmpdir, name, threads);
         CHECK(orr_read_fits_planes(path, out->planes, 3, &out->nplanes, &err) == ORR_OK);
     }
+    orr_scene_free(s);
     free(s);
 }
 

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "core/owned.h"
 #include "render/animation.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -17,10 +18,11 @@ static orr_status render_yaml(const char *yaml, const char *name, orr_render_rep
     CHECK(s != NULL);
     orr_status st = orr_scene_load_string(s, yaml, name, ".", NULL, 0, err);
     if (!st) {
-        snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+        orr_owned_set(&s->output.dir, tmpdir, NULL);
         snprintf(s->output.name, sizeof s->output.name, "%s", name);
         st = orr_render_scene(s, rep, NULL, NULL, err);
     }
+    orr_scene_free(s);
     free(s);
     return st;
 }
@@ -115,7 +117,7 @@ static void test_run(void)
     CHECK(orr_scene_load_string(s, MODEL "camera: {projection: orthographic, width: 60}\n"
                                          "image: {width: 64, height: 48}\ndeposit: ngp\nanimation: {frames: 3}\n",
                                 "run", ".", NULL, 0, &err) == ORR_OK);
-    snprintf(s->output.dir, sizeof s->output.dir, "%s", tmpdir);
+    orr_owned_set(&s->output.dir, tmpdir, NULL);
     snprintf(s->output.name, sizeof s->output.name, "run");
     const orr_scene *list[1] = {s};
     orr_render_report rep;
@@ -135,6 +137,7 @@ static void test_run(void)
     memset(&got, 0, sizeof got);
     CHECK(orr_render_animation(list, 1, &opt, &rep, &err) == ORR_OK);
     CHECK(got.calls == 0);
+    orr_scene_free(s);
     free(s);
 }
 

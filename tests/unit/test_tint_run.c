@@ -16,6 +16,7 @@ static orr_status load(const char *yaml, const char *set, orr_error *err)
 {
     orr_error_clear(err);
     const char *sets[1] = {set};
+    orr_scene_free(&g_scene);
     return orr_scene_load_string(&g_scene, yaml, "scene.yaml", ".", set ? sets : NULL, set ? 1 : 0, err);
 }
 

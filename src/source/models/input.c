@@ -28,7 +28,7 @@ orr_status orr_input_open(const orr_input_settings *in, const orr_input_request 
 {
     if (orr_input_has_sequence(in))
         return open_first_snapshot(in, req, out, err);
-    if (!in->model.name[0] && !in->file[0])
+    if (!in->model.name[0] && !in->file)
         return orr_fail(err, ORR_ERR_USAGE,
                         "%s: an in-situ scene (input.insitu) has no particles of its own: a running simulation "
                         "hands them over through orrery.h; set input.file or input.model.name to render it here",
