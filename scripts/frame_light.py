@@ -56,8 +56,13 @@ def frame_light(path, percentile):
     """The light of the first plane of a FITS frame, and the percentile of
     its luminance (the Y plane with colour)."""
     with fits.open(path) as hdul:
-        header = hdul[0].header
-        data = np.nan_to_num(hdul[0].data.astype(np.float64))
+        # The first plane: the primary's, or with an empty primary (a colour
+        # frame's X, Y, Z planes as extensions) the first extension's.
+        first = next((h for h in hdul if h.is_image and h.data is not None), None)
+        if first is None:
+            sys.exit(f"frame_light: {path}: no image plane")
+        header = first.header
+        data = np.nan_to_num(first.data.astype(np.float64))
         light = float((data * pixel_measures(header)).sum())
         y = next((np.nan_to_num(h.data) for h in hdul if h.name == "Y"), data)
         lit = y[y > 0]
