@@ -192,43 +192,54 @@ __attribute__((target("avx512f"))) static void spans_avx512(const orr_sample_pol
         row_avx512(p, a, sp[g].bdy, sp[g].cdy, dx0, sp[g].m0, sp[g].m1, sp[g].out, ORR_SAMPLES_DRAW, scale);
 }
 
-/* Eight samples an iteration with AVX2: each lane's coefficient from four
- * registers, by one permute of each and two blends on bits 3 and 4 of the
- * piece. */
+/* Eight samples with AVX2, at columns m .. m + 7: each lane's coefficient
+ * from four registers, by one permute of each and two blends on bits 3 and
+ * 4 of the piece. */
+__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256 samples8(const orr_sample_poly *p, __m256 va,
+                                                                        __m256 vbdy, __m256 vcdy, __m256 vdx0, int m)
+{
+    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i last = _mm256_set1_epi32(ORR_KERNEL_POLY_LAST), one = _mm256_set1_epi32(1);
+    const __m256 vt = _mm256_set1_ps(ORR_KERNEL_POLY_T);
+    const __m256 dx = _mm256_add_ps(vdx0, _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(m), lanes)));
+    const __m256 t = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(va, dx), vbdy), dx), vcdy), vt);
+    const __m256i below_last = _mm256_castps_si256(_mm256_cmp_ps(t, _mm256_set1_ps((float)ORR_KERNEL_POLY_LAST), _CMP_LT_OQ));
+    const __m256i ti = _mm256_blendv_epi8(last, _mm256_cvttps_epi32(t), below_last);
+    const __m256 x = _mm256_sub_ps(t, _mm256_cvtepi32_ps(ti));
+    const __m256i below_1 = _mm256_castps_si256(_mm256_cmp_ps(t, _mm256_set1_ps(1.0f), _CMP_LT_OQ));
+    const __m256i below_q = _mm256_castps_si256(_mm256_cmp_ps(t, _mm256_set1_ps(0.25f), _CMP_LT_OQ));
+    const __m256i centre = _mm256_andnot_si256(below_q, one);
+    const __m256i piece = _mm256_blendv_epi8(_mm256_add_epi32(ti, one), centre, below_1);
+    const __m256 bit3 = _mm256_castsi256_ps(_mm256_slli_epi32(piece, 28));
+    const __m256 bit4 = _mm256_castsi256_ps(_mm256_slli_epi32(piece, 27));
+    __m256 c[DEGREE + 1];
+    for (int d = 0; d <= DEGREE; d++) {
+        const float *row = p->c[d];
+        const __m256 r0 = _mm256_permutevar8x32_ps(_mm256_load_ps(row), piece);
+        const __m256 r1 = _mm256_permutevar8x32_ps(_mm256_load_ps(row + 8), piece);
+        const __m256 r2 = _mm256_permutevar8x32_ps(_mm256_load_ps(row + 16), piece);
+        const __m256 r3 = _mm256_permutevar8x32_ps(_mm256_load_ps(row + 24), piece);
+        c[d] = _mm256_blendv_ps(_mm256_blendv_ps(r0, r1, bit3), _mm256_blendv_ps(r2, r3, bit3), bit4);
+    }
+    __m256 s = c[DEGREE];
+    for (int d = DEGREE - 1; d >= 0; d--)
+        s = _mm256_add_ps(_mm256_mul_ps(s, x), c[d]);
+    return _mm256_and_ps(s, _mm256_cmp_ps(t, _mm256_set1_ps(T_EDGE), _CMP_LT_OQ));
+}
+
+/* Eight samples an iteration; the last, short one under a mask (the
+ * kernels of 2 to 10 pixels have rows of a few to a few tens of samples,
+ * and a plain tail of up to seven cost as much as the vector part). A
+ * masked load or store touches no column outside the row. */
 __attribute__((target("avx2"))) static void row_avx2(const orr_sample_poly *p, float a, float bdy, float cdy,
                                                      float dx0, int m0, int m1, float *out, orr_sample_mode mode,
                                                      float scale)
 {
     const __m256 va = _mm256_set1_ps(a), vbdy = _mm256_set1_ps(bdy), vcdy = _mm256_set1_ps(cdy);
-    const __m256 vt = _mm256_set1_ps(ORR_KERNEL_POLY_T), vdx0 = _mm256_set1_ps(dx0), vscale = _mm256_set1_ps(scale);
-    const __m256i lanes = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    const __m256i last = _mm256_set1_epi32(ORR_KERNEL_POLY_LAST), one = _mm256_set1_epi32(1);
+    const __m256 vdx0 = _mm256_set1_ps(dx0), vscale = _mm256_set1_ps(scale);
     int m = m0;
     for (; m + 8 <= m1; m += 8) {
-        const __m256 dx = _mm256_add_ps(vdx0, _mm256_cvtepi32_ps(_mm256_add_epi32(_mm256_set1_epi32(m), lanes)));
-        const __m256 t = _mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(_mm256_add_ps(_mm256_mul_ps(va, dx), vbdy), dx), vcdy), vt);
-        const __m256i below_last = _mm256_castps_si256(_mm256_cmp_ps(t, _mm256_set1_ps((float)ORR_KERNEL_POLY_LAST), _CMP_LT_OQ));
-        const __m256i ti = _mm256_blendv_epi8(last, _mm256_cvttps_epi32(t), below_last);
-        const __m256 x = _mm256_sub_ps(t, _mm256_cvtepi32_ps(ti));
-        const __m256i below_1 = _mm256_castps_si256(_mm256_cmp_ps(t, _mm256_set1_ps(1.0f), _CMP_LT_OQ));
-        const __m256i below_q = _mm256_castps_si256(_mm256_cmp_ps(t, _mm256_set1_ps(0.25f), _CMP_LT_OQ));
-        const __m256i centre = _mm256_andnot_si256(below_q, one);
-        const __m256i piece = _mm256_blendv_epi8(_mm256_add_epi32(ti, one), centre, below_1);
-        const __m256 bit3 = _mm256_castsi256_ps(_mm256_slli_epi32(piece, 28));
-        const __m256 bit4 = _mm256_castsi256_ps(_mm256_slli_epi32(piece, 27));
-        __m256 c[DEGREE + 1];
-        for (int d = 0; d <= DEGREE; d++) {
-            const float *row = p->c[d];
-            const __m256 r0 = _mm256_permutevar8x32_ps(_mm256_load_ps(row), piece);
-            const __m256 r1 = _mm256_permutevar8x32_ps(_mm256_load_ps(row + 8), piece);
-            const __m256 r2 = _mm256_permutevar8x32_ps(_mm256_load_ps(row + 16), piece);
-            const __m256 r3 = _mm256_permutevar8x32_ps(_mm256_load_ps(row + 24), piece);
-            c[d] = _mm256_blendv_ps(_mm256_blendv_ps(r0, r1, bit3), _mm256_blendv_ps(r2, r3, bit3), bit4);
-        }
-        __m256 s = c[DEGREE];
-        for (int d = DEGREE - 1; d >= 0; d--)
-            s = _mm256_add_ps(_mm256_mul_ps(s, x), c[d]);
-        s = _mm256_and_ps(s, _mm256_cmp_ps(t, _mm256_set1_ps(T_EDGE), _CMP_LT_OQ));
+        const __m256 s = samples8(p, va, vbdy, vcdy, vdx0, m);
         if (mode == ORR_SAMPLES_SET) {
             _mm256_storeu_ps(out + m, s);
             continue;
@@ -236,7 +247,12 @@ __attribute__((target("avx2"))) static void row_avx2(const orr_sample_poly *p, f
         const __m256 add = mode == ORR_SAMPLES_DRAW ? _mm256_mul_ps(vscale, s) : s;
         _mm256_storeu_ps(out + m, _mm256_add_ps(_mm256_loadu_ps(out + m), add));
     }
-    orr_sample_row_plain(p, a, bdy, cdy, dx0, m, m1, out, mode, scale);
+    if (m == m1)
+        return;
+    const __m256i live = _mm256_cmpgt_epi32(_mm256_set1_epi32(m1 - m), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    const __m256 s = samples8(p, va, vbdy, vcdy, vdx0, m);
+    const __m256 add = mode == ORR_SAMPLES_DRAW ? _mm256_mul_ps(vscale, s) : s;
+    _mm256_maskstore_ps(out + m, live, mode == ORR_SAMPLES_SET ? s : _mm256_add_ps(_mm256_maskload_ps(out + m, live), add));
 }
 
 orr_sample_rows orr_sample_rows_best(void)
