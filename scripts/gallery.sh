@@ -263,10 +263,10 @@ echo "Future Sky (configs/futuresky.yaml), full size, downscaled, and a full-res
 render "$here/configs/futuresky.yaml" -o "$work/fs"
 shrink "$work/fs/futuresky-panorama.png" "$dest/futuresky-panorama.png" 640
 shrink "$work/fs/futuresky-dome.png" "$dest/futuresky-dome.png" 400
-# Pixels 2000-2640 x 1700-2060 of the master, at its own scale: the
-# brightest star of the shipped sky (V = -0.6) with its spikes, 26 degrees
-# from the zenith, right of the Milky Way, and a V = 1.4 star beside it.
-"$py" -c "import sys; from PIL import Image; Image.open(sys.argv[1]).crop((2000, 1700, 2640, 2060)).save(sys.argv[2])" \
+# Pixels 2594-3234 x 1681-2041 of the master, at its own scale: the
+# brightest star of the shipped sky (seed 3: V = -0.4, l = 85, b = 56) with
+# its spikes, 56 degrees from the zenith, among the naked-eye stars.
+"$py" -c "import sys; from PIL import Image; Image.open(sys.argv[1]).crop((2594, 1681, 3234, 2041)).save(sys.argv[2])" \
   "$work/fs/futuresky-dome.png" "$work/fs/detail.png"
 shrink "$work/fs/detail.png" "$dest/futuresky-dome-detail.png" 640
 
