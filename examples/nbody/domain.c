@@ -627,16 +627,15 @@ int domain_mass_momentum(const bodies *b, double e[4])
     return 0;
 }
 
-/* The k least squared distances from point x to this rank's non-tracer
- * particles, into d2[0 .. k) (a max-heap; infinite where there are fewer). */
-static void nearest_here(const bodies *b, const double x[3], int k, double *d2)
+void nearest_non_tracers(const double *pos, const double *mass, size_t n, double light, const double x[3], int k,
+                         double *d2)
 {
     for (int j = 0; j < k; j++)
         d2[j] = INFINITY;
-    for (size_t i = 0; i < b->n; i++) {
-        if (b->mass[i] < b->tracer_mass)
+    for (size_t i = 0; i < n; i++) {
+        if (mass[i] < light)
             continue;
-        const double *y = &b->pos[3 * i];
+        const double *y = &pos[3 * i];
         double dx = y[0] - x[0], dy = y[1] - x[1], dz = y[2] - x[2], r2 = dx * dx + dy * dy + dz * dz;
         if (r2 < d2[0])
             orr_kd_heap_replace_top(d2, (size_t)k, r2);
@@ -674,7 +673,8 @@ int domain_soften_tracers(bodies *b, int k, double eps, int rank, int size)
     failed = ranks_gather(where, 3, counts) != 0;
     /* Each rank's k nearest to every tracer, then every rank's merged. */
     for (size_t t = 0; !failed && t < all; t++)
-        nearest_here(b, &where[3 * t], k, &d2[((size_t)rank * all + t) * (size_t)k]);
+        nearest_non_tracers(b->pos, b->mass, b->n, b->tracer_mass, &where[3 * t], k,
+                            &d2[((size_t)rank * all + t) * (size_t)k]);
     for (int r = 0; r < size; r++)
         ones[r] = 1;
     failed = failed || ranks_gather(d2, all * (size_t)k, ones) != 0;

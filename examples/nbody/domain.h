@@ -56,6 +56,14 @@ double domain_gravity(qt_tree *t, bodies *b, double G, double theta, const unsig
  * ranks, in any order. Collective; 0 or -1. */
 int domain_mass_momentum(const bodies *b, double e[4]);
 
+/* The k least squared distances from x to the particles among pos, mass
+ * (n of them) that are not tracers (lighter than light), into d2[0 .. k) as
+ * a max-heap (d2[0] the k-th); infinite where there are fewer. A tracer's
+ * softening comes from it, over every position (nbody.c) or over a rank's
+ * own (domain_soften_tracers). */
+void nearest_non_tracers(const double *pos, const double *mass, size_t n, double light, const double x[3], int k,
+                         double *d2);
+
 /* Softens each tracer at sqrt(2) times the distance of its k-th nearest
  * non-tracer particle, searched on every rank (never less than eps).
  * Collective; 0 or -1. */

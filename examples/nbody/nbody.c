@@ -41,7 +41,6 @@
 #include "source/source.h"
 #include "core/atomic.h"
 #include "core/digest.h"
-#include "particles/kdtree.h"
 #include "qtree.h"
 #include "snapshot.h"
 
@@ -466,19 +465,8 @@ static int find_tracers(bodies *b)
  * tracer (every particle looked at: O(N) for each of the few tracers). */
 static double neighbour_distance(const bodies *b, size_t t, int k)
 {
-    const double light = b->tracer_mass;
     double heap[TRACER_NEIGHBOURS_MAX];
-    for (int j = 0; j < k; j++)
-        heap[j] = INFINITY;
-    const double *x = &b->pos_all[3 * t];
-    for (size_t i = 0; i < b->n_all; i++) {
-        if (b->mass_all[i] < light)
-            continue;
-        const double *y = &b->pos_all[3 * i];
-        double dx = y[0] - x[0], dy = y[1] - x[1], dz = y[2] - x[2], d2 = dx * dx + dy * dy + dz * dz;
-        if (d2 < heap[0])
-            orr_kd_heap_replace_top(heap, (size_t)k, d2);
-    }
+    nearest_non_tracers(b->pos_all, b->mass_all, b->n_all, b->tracer_mass, &b->pos_all[3 * t], k, heap);
     return isfinite(heap[0]) ? sqrt(heap[0]) : 0; /* fewer than k others: as stars */
 }
 
