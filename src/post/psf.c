@@ -46,12 +46,6 @@ int orr_psf_settings_strings(orr_psf_settings *d, char **fields[])
     return ORR_PSF_STRINGS;
 }
 
-void orr_psf_settings_free(orr_psf_settings *d)
-{
-    char **fields[ORR_PSF_STRINGS];
-    orr_owned_free_all(fields, orr_psf_settings_strings(d, fields));
-}
-
 int orr_psf_flat_stars(const orr_psf_settings *d, int sky)
 {
     return !sky && (d->kind == ORR_PSF_HST || d->kind == ORR_PSF_FILE) && d->has_fwhm;

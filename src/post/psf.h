@@ -73,8 +73,6 @@ void orr_psf_settings_defaults(orr_psf_settings *d);
 /* d's owned strings (core/owned.h), at most ORR_PSF_STRINGS, into fields; returns how many. */
 #define ORR_PSF_STRINGS 1
 int orr_psf_settings_strings(orr_psf_settings *d, char **fields[]);
-/* Frees d's strings. */
-void orr_psf_settings_free(orr_psf_settings *d);
 
 /* The psf.* and glow.* keys checked against each other and against the
  * map they are for (sky: a sky map); keys says which were given, and

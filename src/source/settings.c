@@ -154,9 +154,3 @@ int orr_input_settings_strings(orr_input_settings *d, char **fields[])
     fields[1] = &d->sequence.pattern;
     return ORR_INPUT_STRINGS;
 }
-
-void orr_input_settings_free(orr_input_settings *d)
-{
-    char **fields[ORR_INPUT_STRINGS];
-    orr_owned_free_all(fields, orr_input_settings_strings(d, fields));
-}
