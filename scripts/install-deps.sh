@@ -29,6 +29,7 @@ packages=(
   splash                             # tests and benchmark: SPLASH, the reference SPH renderer
   ffmpeg                             # orrery video: encodes frame sequences (ffmpeg; ffprobe for its tests)
   locales                            # tests: localedef makes the ','-decimal locale of test_locale
+  procps                             # tests: pgrep finds the MPI rank the N-body tests kill
 )
 
 missing=()

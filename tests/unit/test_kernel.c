@@ -303,7 +303,7 @@ static void test_polynomial_integral(void)
 
 /* Every vector loop this CPU runs (AVX2, AVX-512) against the plain loop,
  * bit for bit, for every mode and every row length 0 .. 40 at odd offsets
- * (the vector loops' masked or plain tails), for tilted ellipses whose
+ * (the vector loops' masked tails), for tilted ellipses whose
  * rows cross every piece, including samples past the support's edge. */
 static void test_sample_rows(void)
 {
