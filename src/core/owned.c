@@ -41,6 +41,15 @@ orr_status orr_owned_dup_all(char **const *fields, int n, orr_error *err)
     return st;
 }
 
+orr_status orr_owned_copy(void *dst, const void *src, size_t size, char **const *fields, int n, orr_error *err)
+{
+    if (dst == src)
+        return ORR_OK;
+    orr_owned_free_all(fields, n);
+    memcpy(dst, src, size); /* shares src's strings until each is duplicated */
+    return orr_owned_dup_all(fields, n, err);
+}
+
 void orr_owned_free_all(char **const *fields, int n)
 {
     for (int i = 0; i < n; i++)

@@ -36,10 +36,8 @@ void orr_dust_settings_free(orr_dust_settings *d)
 
 orr_status orr_dust_settings_copy(orr_dust_settings *dst, const orr_dust_settings *src, orr_error *err)
 {
-    orr_dust_settings_free(dst);
-    *dst = *src;
     char **fields[ORR_DUST_STRINGS];
-    return orr_owned_dup_all(fields, orr_dust_settings_strings(dst, fields), err);
+    return orr_owned_copy(dst, src, sizeof *dst, fields, orr_dust_settings_strings(dst, fields), err);
 }
 
 static void types_text(unsigned mask, char *buf, size_t size)

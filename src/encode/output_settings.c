@@ -33,10 +33,8 @@ void orr_output_settings_free(orr_output_settings *d)
 
 orr_status orr_output_settings_copy(orr_output_settings *dst, const orr_output_settings *src, orr_error *err)
 {
-    orr_output_settings_free(dst);
-    *dst = *src;
     char **fields[ORR_OUTPUT_STRINGS];
-    return orr_owned_dup_all(fields, orr_output_settings_strings(dst, fields), err);
+    return orr_owned_copy(dst, src, sizeof *dst, fields, orr_output_settings_strings(dst, fields), err);
 }
 
 /* A weight unit is a product of FITS unit symbols with powers and a scale

@@ -168,8 +168,6 @@ void orr_camera_settings_free(orr_camera_settings *d)
 
 orr_status orr_camera_settings_copy(orr_camera_settings *dst, const orr_camera_settings *src, orr_error *err)
 {
-    orr_camera_settings_free(dst);
-    *dst = *src;
     char **fields[ORR_CAMERA_STRINGS];
-    return orr_owned_dup_all(fields, orr_camera_settings_strings(dst, fields), err);
+    return orr_owned_copy(dst, src, sizeof *dst, fields, orr_camera_settings_strings(dst, fields), err);
 }

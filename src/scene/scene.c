@@ -63,10 +63,8 @@ void orr_compose_settings_free(orr_compose_settings *c)
 
 orr_status orr_compose_settings_copy(orr_compose_settings *dst, const orr_compose_settings *src, orr_error *err)
 {
-    orr_compose_settings_free(dst);
-    *dst = *src;
     char **fields[COMPOSE_STRINGS];
-    return orr_owned_dup_all(fields, compose_strings(dst, fields), err);
+    return orr_owned_copy(dst, src, sizeof *dst, fields, compose_strings(dst, fields), err);
 }
 
 /* Every owned string of the scene, its own and its stages'. */
@@ -95,12 +93,8 @@ void orr_scene_free(orr_scene *s)
 
 orr_status orr_scene_copy(orr_scene *dst, const orr_scene *src, orr_error *err)
 {
-    if (dst == src)
-        return ORR_OK;
-    orr_scene_free(dst);
-    *dst = *src; /* shares src's strings until each is duplicated */
     char **fields[SCENE_STRINGS];
-    return orr_owned_dup_all(fields, scene_strings(dst, fields), err);
+    return orr_owned_copy(dst, src, sizeof *dst, fields, scene_strings(dst, fields), err);
 }
 
 void orr_scene_views_free(orr_scene_views *views)
