@@ -16,6 +16,19 @@ py=/usr/bin/python3
 
 fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
 
+# need_mpi PROGRAM: skips the test (exit 77) when PROGRAM, built only where
+# MPI was found, is not there; else sets mpirun up as the MPI tests run it:
+# as root (CI), more ranks than cores, and no leak checks in the ranks
+# (OpenMPI's own start-up allocations are not freed at exit: not ours).
+need_mpi() {
+  if [ ! -x "$1" ]; then
+    echo "$(basename "$1") was not built (MPI not found): skipping"
+    exit 77
+  fi
+  export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+  export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
+}
+
 # expect_fail CODE PATTERN OUTDIR -- orrery args...
 # Runs orrery, expects exit CODE, a stderr line matching PATTERN (grep -E),
 # and no file at all in OUTDIR afterwards (no output, no temporary file).

@@ -5,15 +5,7 @@
 # a run's frames among the ranks.
 source "$(dirname "$0")/lib.sh"
 MPI=$(dirname "$ORRERY")/orrery-mpi
-if [ ! -x "$MPI" ]; then
-  echo "orrery-mpi was not built (MPI not found): skipping"
-  exit 77
-fi
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-# OpenMPI's own start-up allocations are not freed at exit: not ours to find.
-export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
-py=/usr/bin/python3
-[ -x "$py" ] || py=python3
+need_mpi "$MPI"
 
 small="--set input.model.particles=60000 --set input.model.dust_particles=3000 --set input.chunk=5000 -q"
 small="$small --set views.dome.image.width=120 --set views.dome.image.height=120"

@@ -12,14 +12,7 @@
 #   the run, every complete set reads, the run resumes.
 source "$(dirname "$0")/lib.sh"
 MPI_NBODY=$(dirname "$ORRERY")/examples/orrery-nbody-mpi
-if [ ! -x "$MPI_NBODY" ]; then
-  echo "orrery-nbody-mpi was not built (MPI not found): skipping"
-  exit 77
-fi
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0" # OpenMPI's own start-up allocations
-py=/usr/bin/python3
-[ -x "$py" ] || py=python3
+need_mpi "$MPI_NBODY"
 
 run="--galaxies mw --particles 3000 --dt 0.002 --eps 0.2 --progress 0 --decompose"
 mrun() { # NP LOG -- arguments

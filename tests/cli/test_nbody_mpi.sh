@@ -7,16 +7,8 @@
 # summed: within 10^-5 of the image maximum per pixel over 8 steps. The
 # GADGET-2 merger ICs are read as each rank's share of the file.
 source "$(dirname "$0")/lib.sh"
-NBODY=$(dirname "$ORRERY")/examples/orrery-nbody
 MPI_NBODY=$(dirname "$ORRERY")/examples/orrery-nbody-mpi
-if [ ! -x "$MPI_NBODY" ]; then
-  echo "orrery-nbody-mpi was not built (MPI not found): skipping"
-  exit 77
-fi
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
-export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0" # OpenMPI's own start-up allocations
-py=/usr/bin/python3
-[ -x "$py" ] || py=python3
+need_mpi "$MPI_NBODY"
 
 printf 'camera: {projection: orthographic, width: 1200, position: [0, 0, 3000]}\nimage: {width: 96, height: 96}\noutput: {png: false, name: nb}\n' >model.yaml
 run="--particles 4000 --steps 8 --dt 0.01 --scene model.yaml"
