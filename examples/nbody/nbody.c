@@ -43,6 +43,7 @@
 #include "core/digest.h"
 #include "qtree.h"
 #include "snapshot.h"
+#include "tracer_ring.h"
 
 #define G_KPC_KMS 43007.1
 /* The longest --dt accepted: one time unit, 0.978 Gyr, nearly five times
@@ -70,6 +71,7 @@ typedef struct options {
     long render_every, report_every;
     double progress;       /* seconds between progress lines on stderr; 0: none */
     long tracer_neighbours; /* tracers' softening: their k-th neighbour's distance; 0: as stars */
+    long tracer_ring;      /* tracers' pull averaged over this many points around their galaxy; 0: off */
     int quiet;
     long snapshot_every;      /* 0: no snapshots */
     const char *snapshot_every_text; /* as given */
@@ -77,7 +79,7 @@ typedef struct options {
     const char *resume_dir;   /* NULL: a new run */
     /* Given on the command line; on a resume the others are the run's own. */
     int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given, tracer_neighbours_given;
-    int dt_min_given;
+    int dt_min_given, tracer_ring_given;
     int decompose;         /* each MPI rank holds its own particles only (domain.h) */
 } options;
 
@@ -86,6 +88,7 @@ static const char usage[] =
     "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
     "                    [--steps N] [--dt DT] [--eta ETA] [--dt-min DT] [--eps EPS]\n"
     "                    [--eps-halo EPS] [--theta THETA] [--tracer-neighbours K]\n"
+    "                    [--tracer-ring K]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
     "                    [--resume DIR] [--progress SECONDS] [--decompose] [--quiet]\n"
@@ -119,6 +122,11 @@ static const char usage[] =
     "                     the model's Sun) feel forces softened at the distance of their\n"
     "                     K-th nearest other particle, found anew every step (default\n"
     "                     32; 0: softened as stars)\n"
+    "  --tracer-ring K    tracers feel their galaxy's pull averaged over K points on the\n"
+    "                     ring through them about its axis (centred on the nearest black\n"
+    "                     hole's stars), plus its centre's own acceleration: no torque\n"
+    "                     from spirals or bar, so they keep their radius (default 0: off;\n"
+    "                     2 to 256; docs/nbody.md)\n"
     "  --report-every K   energy, momentum and structure every K steps (default 10)\n"
     "  --progress SECONDS a progress line on stderr at most every SECONDS (default 10;\n"
     "                     0: none), also with --quiet: step, time, energy error,\n"
@@ -207,6 +215,9 @@ static int check_options(const options *o)
     else if (o->tracer_neighbours < 0 || o->tracer_neighbours > TRACER_NEIGHBOURS_MAX)
         bad = "--tracer-neighbours", snprintf(why, sizeof why, "%ld: expected 0 (off) to %d", o->tracer_neighbours,
                                               TRACER_NEIGHBOURS_MAX);
+    else if (o->tracer_ring != 0 && (o->tracer_ring < 2 || o->tracer_ring > RING_POINTS_MAX))
+        bad = "--tracer-ring", snprintf(why, sizeof why, "%ld: expected 0 (off) or 2 to %d points", o->tracer_ring,
+                                        RING_POINTS_MAX);
     else if (o->report_every < 1)
         bad = "--report-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->report_every);
     else if (o->particles < 100)
@@ -271,6 +282,9 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--tracer-neighbours") == 0) {
             o->tracer_neighbours = parse_count(v);
             o->tracer_neighbours_given = 1;
+        } else if (strcmp(a, "--tracer-ring") == 0) {
+            o->tracer_ring = parse_count(v);
+            o->tracer_ring_given = 1;
         } else if (strcmp(a, "--progress") == 0) {
             o->progress = parse_number(v);
         } else if (strcmp(a, "--report-every") == 0) {
@@ -624,6 +638,8 @@ static orr_particle_arrays as_arrays(const bodies *b)
  * step of 0.008 and the sub-steps cost far more than a build saves
  * (docs/nbody.md). The tracers' softening is renewed with the full
  * computations only. */
+static void ring_tracers(bodies *b, const options *o, const unsigned char *active, int rank, int size);
+
 static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned char *active, double *interactions,
                       int rank, int size)
 {
@@ -638,6 +654,7 @@ static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned ch
         }
         if (!active)
             b->imported_cells = stats.cells, b->imported_particles = stats.particles;
+        ring_tracers(b, o, active, rank, size);
         return now() - t0;
     }
     if (!active)
@@ -648,6 +665,7 @@ static double gravity(qt_tree *t, bodies *b, const options *o, const unsigned ch
         fprintf(stderr, "orrery-nbody: out of memory in the tree\n");
         exit(1);
     }
+    ring_tracers(b, o, active, rank, size);
     return now() - t0;
 }
 
@@ -673,6 +691,183 @@ static int reduce_over_ranks(double *v, int k, int rank, int size, int take_min)
     free(all);
     free(counts);
     return ok;
+}
+
+/* ---- tracers' rings: no torque from spirals or bar (tracer_ring.h) ------ */
+
+/* A host's stars lie within RING_SPIN_TIMES the tracer's distance from its
+ * black hole (at least RING_SPIN_MIN kpc). */
+#define RING_SPIN_TIMES 2.0
+#define RING_SPIN_MIN 5.0
+#define RING_ROW 6
+
+/* Every process's rows (per doubles each; this process's nown of them in
+ * own) on every process, in rank order, into *all (allocated; *nall rows). */
+static int gather_rows(const double *own, size_t nown, int per, int rank, int size, double **all, size_t *nall)
+{
+    size_t *counts = malloc((size_t)size * sizeof *counts), before = 0;
+    *all = NULL;
+    if (!counts || ranks_counts(nown, counts) != 0) {
+        free(counts);
+        return 0;
+    }
+    *nall = 0;
+    for (int r = 0; r < size; r++) {
+        before += r < rank ? counts[r] : 0;
+        *nall += counts[r];
+    }
+    free(counts);
+    *all = calloc(*nall * (size_t)per + 1, sizeof **all);
+    if (!*all)
+        return 0;
+    memcpy(*all + before * (size_t)per, own, nown * (size_t)per * sizeof *own);
+    return *nall == 0 || reduce_over_ranks(*all, (int)(*nall * (size_t)per), rank, size, 0);
+}
+
+/* This process's index of the j-th tracer it knows (b->tracers holds every
+ * process's tracers in the run's order unless decomposed), or SIZE_MAX
+ * when another process owns it. */
+static size_t own_tracer(const bodies *b, size_t j)
+{
+    size_t t = b->tracers[j];
+    if (b->decomposed)
+        return t;
+    return t >= b->first && t < b->first + b->n ? t - b->first : SIZE_MAX;
+}
+
+/* The tracers this process owns (x, y, z, eps, rank, its index here: RING_ROW
+ * doubles) and its black holes (x, y, z), each list then gathered over every process. */
+static int ring_lists(const bodies *b, int rank, int size, double **tracers, size_t *nt, double **holes, size_t *nh)
+{
+    const double *eps = b->eps_all + (b->decomposed ? 0 : b->first);
+    double *mine = malloc((b->ntracers + b->n + 1) * RING_ROW * sizeof *mine);
+    size_t nmine = 0, nholes = 0;
+    *tracers = *holes = NULL;
+    if (ranks_any(!mine)) {
+        free(mine);
+        return 0;
+    }
+    for (size_t j = 0; j < b->ntracers; j++) {
+        size_t i = own_tracer(b, j);
+        if (i == SIZE_MAX)
+            continue;
+        double row[RING_ROW] = {b->pos[3 * i], b->pos[3 * i + 1], b->pos[3 * i + 2], eps[i], (double)rank, (double)i};
+        memcpy(&mine[RING_ROW * nmine++], row, sizeof row);
+    }
+    int ok = gather_rows(mine, nmine, RING_ROW, rank, size, tracers, nt);
+    for (size_t i = 0; i < b->n; i++)
+        if (b->type[i] == ORR_MODEL_TYPE_BH)
+            memcpy(&mine[3 * nholes++], &b->pos[3 * i], 3 * sizeof *mine);
+    ok = ok && gather_rows(mine, nholes, 3, rank, size, holes, nh);
+    free(mine);
+    return ok;
+}
+
+/* The black hole in holes (nh of them) nearest x. */
+static const double *nearest_hole(const double *holes, size_t nh, const double x[3])
+{
+    const double *best = holes;
+    double best2 = INFINITY;
+    for (size_t h = 0; h < nh; h++) {
+        const double *p = &holes[3 * h];
+        double d2 = (p[0] - x[0]) * (p[0] - x[0]) + (p[1] - x[1]) * (p[1] - x[1]) + (p[2] - x[2]) * (p[2] - x[2]);
+        if (d2 < best2)
+            best2 = d2, best = p;
+    }
+    return best;
+}
+
+/* Stars' sums (ring_star_sums) within radius of about, over every process. */
+static int star_sums(const bodies *b, const double about[3], double radius, int rank, int size,
+                     double s[RING_SUMS])
+{
+    memset(s, 0, RING_SUMS * sizeof *s);
+    ring_star_sums(b->pos, b->vel, b->acc, b->mass, b->type, b->n, b->tracer_mass, about, radius, s);
+    return reduce_over_ranks(s, RING_SUMS, rank, size, 0);
+}
+
+/* The host of a tracer at x (tracer_ring.h): the stars within a sphere
+ * reaching past it, centred twice on their centre of mass from the black
+ * hole start; its axis n the spin of its disc (of its stars when it has no
+ * disc particles). Returns 0 when a sum failed; *found 0 when no stars
+ * were there. */
+static int ring_frame(const bodies *b, const double start[3], const double x[3], int rank, int size, double c[3],
+                      double n[3], double a_host[3], int *found)
+{
+    double s[RING_SUMS], v[3], centre[3] = {start[0], start[1], start[2]};
+    double r = sqrt((x[0] - start[0]) * (x[0] - start[0]) + (x[1] - start[1]) * (x[1] - start[1]) +
+                    (x[2] - start[2]) * (x[2] - start[2]));
+    double radius = fmax(RING_SPIN_MIN, RING_SPIN_TIMES * r);
+    *found = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        if (!star_sums(b, centre, radius, rank, size, s))
+            return 0;
+        if (!ring_host(s, c, v, a_host))
+            return 1;
+        memcpy(centre, c, sizeof centre);
+    }
+    double spin[3] = {0, 0, 0};
+    for (uint8_t which = ORR_MODEL_TYPE_DISC; which <= ORR_MODEL_TYPE_BULGE; which++) {
+        ring_spin_sum(b->pos, b->vel, b->mass, b->type, b->n, which, c, v, radius, spin);
+        if (!reduce_over_ranks(spin, 3, rank, size, 0))
+            return 0;
+        double len = sqrt(spin[0] * spin[0] + spin[1] * spin[1] + spin[2] * spin[2]);
+        if (len > 0) {
+            for (int k = 0; k < 3; k++)
+                n[k] = spin[k] / len;
+            *found = 1;
+            return 1;
+        }
+    }
+    return 1;
+}
+
+/* The ring's pull on one tracer (row: ring_lists'), set on the process
+ * that owns it when it is active (active NULL: all are). */
+static int ring_one(bodies *b, const options *o, const double *row, const double *holes, size_t nh,
+                    const unsigned char *active, int rank, int size)
+{
+    double c[3], n[3], a_host[3], pts[3 * RING_POINTS_MAX], acc[3 * RING_POINTS_MAX] = {0};
+    int found, k = (int)o->tracer_ring;
+    if (!ring_frame(b, nearest_hole(holes, nh, row), row, rank, size, c, n, a_host, &found))
+        return 0;
+    if (!found)
+        return 1; /* no stars about its black hole: the tree's pull stays */
+    ring_points(c, n, row, k, pts);
+    const double *eps = b->eps_all + (b->decomposed ? 0 : b->first);
+    ring_pulls(b->pos, b->mass, eps, b->n, b->tracer_mass, row[3], pts, k, G_KPC_KMS, acc);
+    if (!reduce_over_ranks(acc, 3 * k, rank, size, 0))
+        return 0;
+    size_t i = (size_t)row[5];
+    if ((int)row[4] == rank && (!active || active[i]))
+        ring_average(n, a_host, acc, k, &b->acc[3 * i]);
+    return 1;
+}
+
+/* With --tracer-ring: every tracer's pull replaced by its ring's, after the
+ * tree's forces. Collective; exits when a sum fails or there is no black
+ * hole to centre a ring on. */
+static void ring_tracers(bodies *b, const options *o, const unsigned char *active, int rank, int size)
+{
+    double *tracers, *holes;
+    size_t nt, nh;
+    if (!o->tracer_ring)
+        return;
+    int ok = ring_lists(b, rank, size, &tracers, &nt, &holes, &nh);
+    if (ok && nt && !nh) {
+        if (rank == 0)
+            fprintf(stderr, "orrery-nbody: --tracer-ring %ld: no black hole (type %d particle) to centre a "
+                            "tracer's ring on\n", o->tracer_ring, ORR_MODEL_TYPE_BH);
+        exit(1);
+    }
+    for (size_t t = 0; ok && t < nt; t++)
+        ok = ring_one(b, o, &tracers[RING_ROW * t], holes, nh, active, rank, size);
+    free(tracers);
+    free(holes);
+    if (!ok) {
+        fprintf(stderr, "orrery-nbody: --tracer-ring: out of memory or MPI failed\n");
+        exit(1);
+    }
 }
 
 /* Kinetic and potential energy (W = 1/2 sum m phi), momentum and the
@@ -1188,6 +1383,9 @@ static void take_run_settings(options *o, const nb_run_state *rs)
     double k = (double)o->tracer_neighbours;
     take_setting("--tracer-neighbours", o->tracer_neighbours_given, &k, (double)rs->tracer_neighbours, o->quiet);
     o->tracer_neighbours = (long)k;
+    double ring = (double)o->tracer_ring;
+    take_setting("--tracer-ring", o->tracer_ring_given, &ring, (double)rs->tracer_ring, o->quiet);
+    o->tracer_ring = (long)ring;
     take_setting("--snapshot-every", o->snapshot_every_given, &every, (double)rs->snapshot_every, o->quiet);
     o->snapshot_every = (long)every;
 }
@@ -1475,7 +1673,8 @@ static int write_snapshot(const bodies *b, const options *o, long step, long num
     nb_run_state s = {.time = b->time, .step = step, .number = number, .e0 = e0, .centre0 = {c0[0], c0[1], c0[2]},
                       .dt = o->dt, .eps = o->eps, .eps_halo = o->eps_halo, .theta = o->theta, .eta = o->eta,
                       .dt_min = o->dt_min,
-                      .snapshot_every = o->snapshot_every, .tracer_neighbours = o->tracer_neighbours};
+                      .snapshot_every = o->snapshot_every, .tracer_neighbours = o->tracer_neighbours,
+                      .tracer_ring = o->tracer_ring};
     if (b->decomposed)
         return write_own_snapshot(b, &s, o, rank, size);
     if (!failed && rank == 0)

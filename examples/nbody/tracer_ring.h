@@ -1,0 +1,66 @@
+/* A tracer's pull averaged around its galaxy (--tracer-ring K).
+ *
+ * Why: the model's Sun is a massless tracer whose path the in-situ camera
+ * rides on. In a disc of 10^5 particles, the spirals and bar that particle
+ * noise amplifies (kiloparsecs across, far above any softening) torque it,
+ * and it migrates 1-2 kpc in radius within 0.2 Gyr, so the sky's light
+ * swings with the density around it from frame to frame. The torque is the
+ * non-axisymmetric part of the field: its mean around a ring about the
+ * galaxy's axis is zero. So a ring tracer feels
+ *
+ *     a = a_host + < R(-phi_k) (a(x_k) - a_host) >_k
+ *
+ * where x_k = c + R(phi_k)(x - c), k = 0 .. K-1, are K points on the ring
+ * through the tracer about the axis n of its host galaxy through its centre
+ * c, R(phi) the rotation about n, and a_host the host's own acceleration
+ * (its central stars' mean): the galaxy's axisymmetric pull (radial and
+ * vertical), and the uniform pull of everything else (Andromeda), which
+ * moves host and tracer alike. Its angular momentum about the axis is then
+ * kept but for tides. The host: the stars within a sphere reaching well
+ * past the tracer, centred (twice) on their centre of mass from the black
+ * hole nearest the tracer; its axis the spin of its disc's particles. (A
+ * bulge's stars have a random spin that tilts the axis by a degree; its
+ * core sloshes, so the whole sphere's mean acceleration is the host's.)
+ *
+ * The functions here are the local parts: sums over this process's own
+ * particles, which nbody.c adds over the ranks. */
+#ifndef NBODY_TRACER_RING_H
+#define NBODY_TRACER_RING_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#define RING_POINTS_MAX 256
+
+/* Sums over the stars (types 2 and 3) of pos/vel/acc/mass not lighter
+ * than light within radius of centre: s[0] mass, s[1..3] m x, s[4..6] m v,
+ * s[7..9] m a. Added to s. */
+#define RING_SUMS 10
+void ring_star_sums(const double *pos, const double *vel, const double *acc, const double *mass, const uint8_t *type,
+                    size_t n, double light, const double centre[3], double radius, double s[RING_SUMS]);
+
+/* The spin sum m (x - c) x (v - v_c) of the particles of type `which`
+ * within radius of c: added to spin. */
+void ring_spin_sum(const double *pos, const double *vel, const double *mass, const uint8_t *type, size_t n,
+                   uint8_t which, const double c[3], const double v_c[3], double radius, double spin[3]);
+
+/* The stars' centre, mean velocity and mean acceleration from summed
+ * ring_star_sums. Returns 0 when the sums hold no mass. */
+int ring_host(const double s[RING_SUMS], double c[3], double v[3], double a[3]);
+
+/* The K points of the ring through x about the axis n through c into
+ * pts[0 .. 3K), point k turned by 2 pi k / K (point 0 is x). */
+void ring_points(const double c[3], const double n[3], const double x[3], int k, double *pts);
+
+/* G times the softened pulls of particles pos/mass/eps (n of them, those
+ * lighter than light left out) at the npts points, the pair softened as
+ * (eps_j^2 + eps_t^2) / 2: added to acc[0 .. 3 npts). Direct sums, each
+ * point's in the particles' order: the same bits on any thread count. */
+void ring_pulls(const double *pos, const double *mass, const double *eps, size_t n, double light, double eps_t,
+                const double *pts, int npts, double G, double *acc);
+
+/* a_host + the mean of the K pulls at the ring's points (acc, 3K), each
+ * less a_host and turned back to the tracer's place about n, into out. */
+void ring_average(const double n[3], const double a_host[3], const double *acc, int k, double out[3]);
+
+#endif

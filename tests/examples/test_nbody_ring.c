@@ -1,0 +1,203 @@
+/* A tracer's ring (examples/nbody/tracer_ring.c) against independent truths:
+ * for a galaxy symmetric under the ring's rotations, the ring's pull is the
+ * direct sum at the tracer; for a bar, it is the bar's pull averaged over
+ * the whole circle by a fine quadrature, with no torque; a host's axis is
+ * recovered from a tilted rotating disc; a uniform pull passes unchanged. */
+#include <stdlib.h>
+
+#include "check.h"
+#include "tracer_ring.h"
+
+#define TWO_PI 6.283185307179586
+#define G 43007.1
+#define K 32
+
+/* An axis tilted off z, and two unit vectors e1, e2 spanning its plane. */
+static const double axis[3] = {0.28, -0.15, 0.948156};
+static double nrm[3], e1[3], e2[3];
+
+static void make_frame(void)
+{
+    double len = sqrt(axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]);
+    for (int k = 0; k < 3; k++)
+        nrm[k] = axis[k] / len;
+    double t[3] = {1, 0, 0}, d = nrm[0];
+    for (int k = 0; k < 3; k++)
+        e1[k] = t[k] - d * nrm[k];
+    len = sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
+    for (int k = 0; k < 3; k++)
+        e1[k] /= len;
+    e2[0] = nrm[1] * e1[2] - nrm[2] * e1[1];
+    e2[1] = nrm[2] * e1[0] - nrm[0] * e1[2];
+    e2[2] = nrm[0] * e1[1] - nrm[1] * e1[0];
+}
+
+/* The point c + R (cos phi e1 + sin phi e2) + z n. */
+static void at(const double c[3], double R, double phi, double z, double out[3])
+{
+    for (int k = 0; k < 3; k++)
+        out[k] = c[k] + R * (cos(phi) * e1[k] + sin(phi) * e2[k]) + z * nrm[k];
+}
+
+/* G m d / (d^2 + e2)^1.5 from x towards p, added to a. */
+static void pull(const double x[3], const double p[3], double m, double e2s, double a[3])
+{
+    double d[3] = {p[0] - x[0], p[1] - x[1], p[2] - x[2]};
+    double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + e2s;
+    for (int k = 0; k < 3; k++)
+        a[k] += G * m * d[k] / (r2 * sqrt(r2));
+}
+
+static void ring_of(const double *pos, const double *mass, const double *eps, size_t n, const double c[3],
+                    const double x[3], double eps_t, double out[3])
+{
+    double pts[3 * K], acc[3 * K] = {0}, zero[3] = {0, 0, 0};
+    ring_points(c, nrm, x, K, pts);
+    CHECK_NEAR(pts[0], x[0], 1e-12); /* point 0 is the tracer */
+    ring_pulls(pos, mass, eps, n, 0.0, eps_t, pts, K, G, acc);
+    ring_average(nrm, zero, acc, K, out);
+}
+
+/* Masses in rings of K about the tilted axis (invariant under the ring's
+ * turns): the ring's pull is the direct sum at the tracer. */
+static void test_symmetric_galaxy(void)
+{
+    enum { RINGS = 6, N = RINGS * K };
+    static double pos[3 * N], mass[N], eps[N];
+    const double c[3] = {1.0, -2.0, 0.5};
+    for (int r = 0; r < RINGS; r++)
+        for (int j = 0; j < K; j++) {
+            int i = r * K + j;
+            at(c, 1.5 + 2.0 * r, TWO_PI * j / K + 0.1 * r, 0.3 * (r % 3 - 1), &pos[3 * i]);
+            mass[i] = 1e-3 * (1 + r);
+            eps[i] = 0.2;
+        }
+    double x[3], ring[3], direct[3] = {0, 0, 0};
+    at(c, 8.0, 0.37, -0.05, x);
+    ring_of(pos, mass, eps, N, c, x, 0.6, ring);
+    for (int i = 0; i < N; i++)
+        pull(x, &pos[3 * i], mass[i], 0.5 * (eps[i] * eps[i] + 0.36), direct);
+    for (int k = 0; k < 3; k++)
+        CHECK_NEAR(ring[k], direct[k], 1e-10 * fabs(direct[0]) + 1e-10);
+}
+
+/* A bar (two masses) and a lighter clump off the plane: the ring's pull is
+ * the circle's mean of theirs (a 4096-point quadrature of the radial,
+ * tangential and axial parts), and its tangential part, the torque, is 0. */
+static void test_bar(void)
+{
+    const double c[3] = {0, 0, 0};
+    double pos[9], mass[3] = {0.5, 0.5, 0.1}, eps[3] = {0.3, 0.3, 0.3};
+    at(c, 3.0, 0.2, 0.0, &pos[0]);
+    at(c, 3.0, 0.2 + TWO_PI / 2, 0.0, &pos[3]);
+    at(c, 2.0, 1.3, 0.8, &pos[6]);
+    const double R = 8.0, z = 0.1, phi0 = 0.9;
+    double x[3], ring[3];
+    at(c, R, phi0, z, x);
+    ring_of(pos, mass, eps, 3, c, x, 0.5, ring);
+    double mean[3] = {0, 0, 0}; /* radial, tangential, axial */
+    const int Q = 4096;
+    for (int q = 0; q < Q; q++) {
+        double phi = TWO_PI * q / Q, p[3], a[3] = {0, 0, 0};
+        at(c, R, phi, z, p);
+        for (int j = 0; j < 3; j++)
+            pull(p, &pos[3 * j], mass[j], 0.5 * (eps[j] * eps[j] + 0.25), a);
+        double er[3], et[3];
+        for (int k = 0; k < 3; k++) {
+            er[k] = cos(phi) * e1[k] + sin(phi) * e2[k];
+            et[k] = -sin(phi) * e1[k] + cos(phi) * e2[k];
+        }
+        for (int k = 0; k < 3; k++) {
+            mean[0] += a[k] * er[k] / Q;
+            mean[1] += a[k] * et[k] / Q;
+            mean[2] += a[k] * nrm[k] / Q;
+        }
+    }
+    double er[3], et[3], got[3] = {0, 0, 0};
+    for (int k = 0; k < 3; k++) {
+        er[k] = cos(phi0) * e1[k] + sin(phi0) * e2[k];
+        et[k] = -sin(phi0) * e1[k] + cos(phi0) * e2[k];
+        got[0] += ring[k] * er[k];
+        got[1] += ring[k] * et[k];
+        got[2] += ring[k] * nrm[k];
+    }
+    double scale = fabs(mean[0]);
+    CHECK(scale > 0);
+    CHECK_NEAR(got[0], mean[0], 1e-9 * scale);
+    CHECK_NEAR(got[1], 0.0, 1e-9 * scale);
+    CHECK_NEAR(mean[1], 0.0, 1e-9 * scale);
+    CHECK_NEAR(got[2], mean[2], 1e-9 * scale);
+    /* The bar's own pull at the tracer has a torque the ring removes. */
+    double here[3] = {0, 0, 0}, tangential = 0;
+    for (int j = 0; j < 3; j++)
+        pull(x, &pos[3 * j], mass[j], 0.5 * (eps[j] * eps[j] + 0.25), here);
+    for (int k = 0; k < 3; k++)
+        tangential += here[k] * et[k];
+    CHECK(fabs(tangential) > 1e-3 * scale);
+}
+
+/* A uniform pull (Andromeda's, far away) that the host feels too: the ring
+ * gives it back whole, in every direction. */
+static void test_uniform_pull(void)
+{
+    double acc[3 * K], g[3] = {12.0, -7.0, 3.0}, out[3];
+    for (int p = 0; p < K; p++)
+        for (int k = 0; k < 3; k++)
+            acc[3 * p + k] = g[k];
+    ring_average(nrm, g, acc, K, out);
+    for (int k = 0; k < 3; k++)
+        CHECK_NEAR(out[k], g[k], 1e-12);
+}
+
+/* A host: a disc of particles rotating about the tilted axis, moving and
+ * accelerating as a whole, and a non-rotating bulge. The sums give the
+ * centre, velocity and acceleration; the disc's spin, the axis; particles
+ * outside the sphere, halo particles and tracers are left out. */
+static void test_host(void)
+{
+    enum { N = 401 }; /* the last a tracer in the disc */
+    static double pos[3 * N], vel[3 * N], acc[3 * N], mass[N];
+    static uint8_t type[N];
+    const double c[3] = {3, 4, -1}, v0[3] = {100, -50, 20}, a0[3] = {5, 6, -7};
+    srand(3);
+    for (int i = 0; i < N; i++) {
+        double R = 1 + 9.0 * rand() / RAND_MAX, phi = TWO_PI * i / 100.0;
+        type[i] = i < 300 || i == 400 ? 2 : i < 360 ? 3 : 1;
+        mass[i] = i == 400 ? 1e-12 : 1e-4;
+        at(c, R, phi, 0.0, &pos[3 * i]);
+        for (int k = 0; k < 3; k++) {
+            double t = -sin(phi) * e1[k] + cos(phi) * e2[k];
+            vel[3 * i + k] = v0[k] + (type[i] == 2 ? 200.0 * t : 0.0) + (i == 400 ? 50.0 * nrm[k] : 0.0);
+            acc[3 * i + k] = a0[k];
+        }
+        if (type[i] == 3) /* a bulge star's random motion: along the axis, so no net spin */
+            for (int k = 0; k < 3; k++)
+                vel[3 * i + k] += (i % 2 ? 80.0 : -80.0) * nrm[k];
+    }
+    at(c, 40.0, 0.0, 0.0, &pos[3 * 399]); /* a halo particle far out */
+    double s[RING_SUMS] = {0}, got_c[3], got_v[3], got_a[3], spin[3] = {0, 0, 0};
+    ring_star_sums(pos, vel, acc, mass, type, N, 1e-8, c, 12.0, s);
+    CHECK_NEAR(s[0], 360 * 1e-4, 1e-12); /* 300 disc + 60 bulge: not the halo, nor the tracer */
+    CHECK(ring_host(s, got_c, got_v, got_a));
+    for (int k = 0; k < 3; k++) {
+        CHECK_NEAR(got_v[k], v0[k], 1e-9);
+        CHECK_NEAR(got_a[k], a0[k], 1e-9);
+    }
+    ring_spin_sum(pos, vel, mass, type, N, 2, got_c, got_v, 12.0, spin);
+    double len = sqrt(spin[0] * spin[0] + spin[1] * spin[1] + spin[2] * spin[2]);
+    for (int k = 0; k < 3; k++)
+        CHECK_NEAR(spin[k] / len, nrm[k], 1e-9);
+    double none[RING_SUMS] = {0};
+    CHECK(!ring_host(none, got_c, got_v, got_a));
+}
+
+int main(void)
+{
+    make_frame();
+    test_symmetric_galaxy();
+    test_bar();
+    test_uniform_pull();
+    test_host();
+    printf("%d checks, %d failed\n", check_count, check_failures);
+    return check_failures != 0;
+}
