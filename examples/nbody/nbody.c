@@ -736,12 +736,15 @@ static size_t own_tracer(const bodies *b, size_t j)
 }
 
 /* The tracers this process owns (x, y, z, eps, rank, its index here: RING_ROW
- * doubles) and its black holes (x, y, z), each list then gathered over every process. */
+ * doubles) and its black holes (x, y, z), each list then gathered over every
+ * process. */
 static int ring_lists(const bodies *b, int rank, int size, double **tracers, size_t *nt, double **holes, size_t *nh)
 {
     const double *eps = b->eps_all + (b->decomposed ? 0 : b->first);
-    double *mine = malloc((b->ntracers + b->n + 1) * RING_ROW * sizeof *mine);
     size_t nmine = 0, nholes = 0;
+    for (size_t i = 0; i < b->n; i++)
+        nholes += b->type[i] == ORR_MODEL_TYPE_BH;
+    double *mine = malloc((b->ntracers + nholes + 1) * RING_ROW * sizeof *mine);
     *tracers = *holes = NULL;
     if (ranks_any(!mine)) {
         free(mine);
@@ -755,12 +758,24 @@ static int ring_lists(const bodies *b, int rank, int size, double **tracers, siz
         memcpy(&mine[RING_ROW * nmine++], row, sizeof row);
     }
     int ok = gather_rows(mine, nmine, RING_ROW, rank, size, tracers, nt);
+    nholes = 0;
     for (size_t i = 0; i < b->n; i++)
         if (b->type[i] == ORR_MODEL_TYPE_BH)
             memcpy(&mine[3 * nholes++], &b->pos[3 * i], 3 * sizeof *mine);
     ok = ok && gather_rows(mine, nholes, 3, rank, size, holes, nh);
     free(mine);
     return ok;
+}
+
+/* Whether some process's tracer gets forces now (active NULL: all do). */
+static int tracer_active(const bodies *b, const unsigned char *active)
+{
+    int any = !active;
+    for (size_t j = 0; !any && j < b->ntracers; j++) {
+        size_t i = own_tracer(b, j);
+        any = i != SIZE_MAX && active[i];
+    }
+    return ranks_any(any);
 }
 
 /* The black hole in holes (nh of them) nearest x. */
@@ -851,7 +866,7 @@ static void ring_tracers(bodies *b, const options *o, const unsigned char *activ
 {
     double *tracers, *holes;
     size_t nt, nh;
-    if (!o->tracer_ring)
+    if (!o->tracer_ring || !tracer_active(b, active)) /* a block sub-step without a tracer's step ending */
         return;
     int ok = ring_lists(b, rank, size, &tracers, &nt, &holes, &nh);
     if (ok && nt && !nh) {

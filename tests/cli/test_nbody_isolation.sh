@@ -136,6 +136,19 @@ with h5py.File("snaps/snapshot_0000.hdf5", "r") as src, h5py.File("no_hole.hdf5"
         counts[5] = 0
         dst["Header"].attrs[name] = counts
 PY
+# The ring's sums are each in the particles' order: the same bits on one
+# thread and two, in global and in block steps.
+for t in 1 2; do
+  OMP_NUM_THREADS=$t "$NBODY" --galaxies mw --particles 5000 --steps 2 --dt 0.004 --eta 0.2 --tracer-ring 16 \
+    --snapshot-every 2 --snapshot-dir threads$t >threads$t.out 2>&1 || fail "--tracer-ring on $t threads: $(cat threads$t.out)"
+done
+"$py" - <<'PY' || fail "--tracer-ring: 1 and 2 threads differ"
+import h5py, numpy as np
+a, b = h5py.File("threads1/snapshot_0001.hdf5", "r"), h5py.File("threads2/snapshot_0001.hdf5", "r")
+same = all(np.array_equal(a[k][f][:], b[k][f][:]) for k in a if k.startswith("PartType")
+           for f in ("Coordinates", "Velocities"))
+raise SystemExit(0 if same else 1)
+PY
 got=0
 "$NBODY" --ic no_hole.hdf5 --steps 1 --tracer-ring 8 >hole.out 2>hole.err || got=$?
 [ "$got" -eq 1 ] || fail "--tracer-ring without a black hole exited $got, expected 1"
