@@ -35,8 +35,6 @@ CEILINGS = {
     "render/animation.c": 27,
     "render/frame_markers.c": 16,
     "render/path_overview.c": 9,
-    "render/scene_source.c": 23,
-    "render/sequence_open.c": 27,
     "render/stereo_view.c": 11,
 }
 

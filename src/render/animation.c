@@ -89,9 +89,9 @@ static orr_status open_run_input(const orr_scene *s, int compose, run_input *ri,
     }
     if (compose || !orr_scene_has_sequence(s))
         return ORR_OK;
-    const char *fields[ORR_RENDER_MAX_FIELDS];
-    int nfields = orr_render_fields(s, fields);
-    orr_status st = orr_sequence_open_scene(s, fields, nfields, &ri->seq, err);
+    orr_source_request req;
+    orr_plan_source_request(s, &req);
+    orr_status st = orr_sequence_open_request(&req, req.fields, req.nfields, &ri->seq, err);
     if (st)
         return st;
     double first, last;

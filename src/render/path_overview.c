@@ -9,7 +9,7 @@
 #include "encode/png.h"
 #include "post/colormap.h"
 #include "post/stretch.h"
-#include "render/render.h"
+#include "render/plan.h"
 #include "splat/deposit.h"
 
 /* Particles moved into the view per pass: as the renderer's blocks. */
@@ -343,7 +343,9 @@ orr_status orr_path_overview_write(const orr_scene *s, const orr_camera *cams, l
     orr_projection proj;
     orr_plane plane = {0};
     float *rgb = NULL;
-    orr_status st = orr_scene_open_source(s, NULL, 0, &src, err);
+    orr_source_request req;
+    orr_plan_source_request(s, &req);
+    orr_status st = orr_source_request_open(&req, NULL, 0, &src, err);
     if (!st)
         st = choose_view(s, src, cams, n, ov, &proj, err);
     if (!st)

@@ -27,6 +27,7 @@ struct orr_plan {
     int n;                   /* the views as rendered: a stereo view is two eyes (purpose render) */
     int *origin;             /* [n] the view given that each renders */
     orr_eye_views eyes;      /* the planned views' eyes: their scenes live as long as the plan */
+    orr_source_request source; /* what the frames ask of the particles: view 0's (views share input.*) */
     orr_render_report *planning_reports; /* [nscenes] what the planned eyes report into (unused after) */
     view_state *views;       /* [n] */
     orr_splat_view **passes; /* [n] each view's part for the splat pass: &views[k].pass */
@@ -40,6 +41,88 @@ struct orr_plan {
     double seconds;          /* orr_plan_create's time */
     orr_clock planning;      /* ... wall and CPU, charged to the first frame executed (then zero) */
 };
+
+/* ---- what the frames ask of the particle source ---- */
+
+/* Whether the scene's shutter moves particles by their velocities (so the
+ * renderer must read vx, vy, vz): a shutter, and simulation time that
+ * passes between frames: animation.frame_interval, a sequence's snapshots,
+ * or an in-situ run's animation.time. (A single snapshot's particles stand
+ * still, and only the camera moves.) pass/motion_blur.h draws the
+ * streaks. */
+static int blur_moves_particles(const orr_scene *s)
+{
+    if (!(s->animation.shutter > 0))
+        return 0;
+    if (s->animation.has_frame_interval)
+        return s->animation.frame_interval > 0;
+    /* A single snapshot's particles stand still from frame to frame, so
+     * they do not move while the shutter is open either. */
+    if (orr_scene_has_sequence(s))
+        return 1;
+    return s->input.insitu && s->animation.has_time && s->animation.time[0] != s->animation.time[1];
+}
+
+/* Appends name to r's fields unless it is empty, mass or h (never extra
+ * fields), already there, or there is no room. */
+static void add_field(orr_source_request *r, const char *name)
+{
+    if (!name[0] || strcmp(name, "mass") == 0 || strcmp(name, "h") == 0 || r->nfields >= ORR_RENDER_MAX_FIELDS)
+        return;
+    for (int i = 0; i < r->nfields; i++)
+        if (strcmp(r->fields[i], name) == 0)
+            return;
+    r->fields[r->nfields++] = name;
+}
+
+/* The fields a colour population reads besides positions and weights:
+ * readers that load only the fields asked for (HDF5) must load these, or a
+ * population choosing by stellar age would find no ages. */
+static void add_population_fields(orr_source_request *r, const orr_population *p)
+{
+    add_field(r, p->select.range_field);
+    add_field(r, p->select.prob_field);
+    if (p->colour.kind != ORR_POPCOLOUR_FIXED)
+        add_field(r, p->colour.field);
+    if (p->colour.kind == ORR_POPCOLOUR_SSP)
+        add_field(r, p->colour.ssp.metallicity_field);
+    if (p->lum.kind == ORR_POPLUM_FIELD || p->lum.kind == ORR_POPLUM_MAGNITUDE)
+        add_field(r, p->lum.field);
+}
+
+/* The extra fields a frame of the scene asks its source for (orr_source_request.fields). */
+static void add_frame_fields(orr_source_request *r, const orr_scene *s)
+{
+    add_field(r, s->input.weight);
+    for (int i = 0; s->colour.has_populations && i < s->colour.populations.n; i++)
+        add_population_fields(r, &s->colour.populations.pop[i]);
+    if (s->dust.types)
+        add_field(r, s->dust.metallicity);
+    if ((s->observer.has_id && s->observer.normal_types) || blur_moves_particles(s)) {
+        add_field(r, "vx");
+        add_field(r, "vy");
+        add_field(r, "vz");
+    }
+}
+
+void orr_plan_source_request(const orr_scene *s, orr_source_request *r)
+{
+    memset(r, 0, sizeof *r);
+    r->scene_path = s->path;
+    r->input = &s->input;
+    r->periodic = &s->periodic;
+    /* The observer and reference particles may be of types the scene does
+     * not draw: then the reader must not drop them (the splat selects
+     * input.types itself); nor the dust (dust.types). */
+    r->reader_types = s->observer.has_id ? 0 : s->input.type_mask | s->dust.types;
+    /* A model generates only the types some pass reads (the markers always
+     * are): the drawn stars, the dust, the particles whose spin gives the
+     * observer's normal. With input.types: [2, 3] that leaves out the dark
+     * halos, two thirds of the particles. */
+    r->model_types = s->input.type_mask | s->dust.types | s->observer.normal_types;
+    r->sequence_types = s->observer.has_id ? 0 : s->input.type_mask;
+    add_frame_fields(r, s);
+}
 
 /* ---- a view: planned once, begun every frame ---- */
 
@@ -129,7 +212,7 @@ static orr_status camera_plan_of(const orr_scene *s, view_camera_plan *c, orr_er
     c->shutter = s->animation.shutter;
     c->has_frame_interval = s->animation.has_frame_interval;
     c->frame_interval = s->animation.frame_interval;
-    c->blur_moves_particles = orr_blur_moves_particles(s);
+    c->blur_moves_particles = blur_moves_particles(s);
     return orr_camera_settings_copy(&c->camera, &s->camera, err);
 }
 
@@ -357,6 +440,7 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
         return ORR_ERR_NOMEM;
     plan->purpose = purpose;
     plan->nscenes = n;
+    orr_plan_source_request(scenes[0], &plan->source);
     /* Fail on an unwritable output folder before any slow work. */
     orr_status st = check_output_dirs(purpose, scenes, n, err);
     if (!st && !(plan->planning_reports = orr_calloc((size_t)n, sizeof *plan->planning_reports, "reports", err)))
@@ -425,14 +509,12 @@ static void forget_frame(orr_plan *plan, int k)
 
 /* This process's share of the scene's input, when several processes render
  * the frame: with the fields the sky frame and the weight need. */
-static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_source **out, orr_error *err)
+static orr_status open_share(const orr_source_request *r, const orr_parallel *par, orr_source **out, orr_error *err)
 {
-    const char *fields[ORR_RENDER_MAX_FIELDS];
-    int nfields = orr_render_fields(s, fields);
     orr_source *whole = NULL;
     /* File readers that can seek read only this rank's share; the others,
      * and the generators, are dealt out by chunks. */
-    orr_status st = orr_scene_open_share(s, fields, nfields, par->rank, par->nranks, &whole, err);
+    orr_status st = orr_source_request_open_share(r, r->fields, r->nfields, par->rank, par->nranks, &whole, err);
     return st ? st : orr_source_partition(whole, par->rank, par->nranks, out, err);
 }
 
@@ -607,15 +689,13 @@ static void charge_planning(orr_plan *plan)
 
 /* The frame's particles: the caller's (rewound), or the scene's input
  * opened with the fields the frame needs. */
-static orr_status frame_particles(const orr_scene *s0, orr_source *given, orr_source **src, orr_error *err)
+static orr_status frame_particles(const orr_source_request *r, orr_source *given, orr_source **src, orr_error *err)
 {
     if (given) {
         *src = given;
         return orr_source_rewind(given, err);
     }
-    const char *fields[ORR_RENDER_MAX_FIELDS];
-    int nfields = orr_render_fields(s0, fields);
-    return orr_scene_open_source(s0, fields, nfields, src, err);
+    return orr_source_request_open(r, r->fields, r->nfields, src, err);
 }
 
 /* The units the scene leaves open are the frame's source's when it states
@@ -670,14 +750,14 @@ static orr_status name_frame_outputs(orr_plan *plan, const orr_frame_time *when,
 /* The frame's observer frame (view_camera.c), found in a pass of its own:
  * over the given particles, rewound, or the scene's input opened with only
  * the velocities the spin normal or motion blur needs. */
-static orr_status observer_frame(const orr_scene *s, orr_source *given, long frame, const orr_parallel *par,
-                                 orr_sky_frame *f, orr_vec3 *velocity, orr_error *err)
+static orr_status observer_frame(const orr_scene *s, const orr_source_request *r, orr_source *given, long frame,
+                                 const orr_parallel *par, orr_sky_frame *f, orr_vec3 *velocity, orr_error *err)
 {
     static const char *const velocity_fields[3] = {"vx", "vy", "vz"};
-    const int want_velocities = s->observer.normal_types != 0 || orr_blur_moves_particles(s);
+    const int want_velocities = s->observer.normal_types != 0 || blur_moves_particles(s);
     orr_source *src = given;
     orr_status st = given ? orr_source_rewind(given, err)
-                          : orr_scene_open_source(s, velocity_fields, want_velocities ? 3 : 0, &src, err);
+                          : orr_source_request_open(r, velocity_fields, want_velocities ? 3 : 0, &src, err);
     st = orr_view_sky_frame(&s->observer, s->path, src, st, frame, par, f, velocity, err);
     if (src != given)
         orr_source_close(src);
@@ -707,9 +787,7 @@ static orr_status prepare_dust(const orr_plan *plan, orr_source *src, const orr_
         return orr_fail(err, ORR_ERR_USAGE, "%s: dust.types: in situ on %d MPI ranks each process holds only its "
                         "share of the dust (docs/dust.md#limitations)", s->path, par->nranks);
     if (par) {
-        const char *fields[ORR_RENDER_MAX_FIELDS];
-        int nfields = orr_render_fields(s, fields);
-        orr_status st = orr_scene_open_source(s, fields, nfields, &whole, err);
+        orr_status st = orr_source_request_open(&plan->source, plan->source.fields, plan->source.nfields, &whole, err);
         if (st)
             return st;
     }
@@ -841,14 +919,14 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
      * folder went away since, before any slow work. */
     for (int k = 0; k < plan->nscenes && !st; k++)
         st = orr_check_output_dir(plan->given[k]->output.dir, err);
-    if (!st && par && !given && !(st = open_share(s0, par, &src, err)))
+    if (!st && par && !given && !(st = open_share(&plan->source, par, &src, err)))
         given = src;
     /* The observer's frame moves with the particles: found every frame, by
      * a pass over them (reading, as the splat's). */
     orr_sky_frame observer;
     orr_vec3 observer_velocity = orr_v3(0, 0, 0);
     if (!st && s0->observer.has_id)
-        st = observer_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
+        st = observer_frame(s0, &plan->source, given, when->frame, par, &observer, &observer_velocity, err);
     orr_stage_charge(&timer->times, ORR_STAGE_SOURCE, &timer->at);
     /* A stereo view renders as two views, its eyes, each reporting into
      * its view's report (the right eye's outputs added to the left's). */
@@ -865,7 +943,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
     }
     charge(&views[0], ORR_STAGE_SETUP);
     if (!st)
-        st = frame_particles(s0, given, &src, err);
+        st = frame_particles(&plan->source, given, &src, err);
     if (!st)
         frame_units(plan, src);
     charge(&views[0], ORR_STAGE_SOURCE);

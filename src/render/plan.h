@@ -24,6 +24,7 @@
 #define ORR_RENDER_PLAN_H
 
 #include "render/render.h"
+#include "render/source_request.h"
 
 typedef struct orr_plan orr_plan;
 
@@ -59,5 +60,14 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *frame_views,
 double orr_plan_seconds(const orr_plan *plan);
 
 void orr_plan_destroy(orr_plan *plan);
+
+/* ---- what the stages outside the plan read of a scene ----
+ * The plan is the renderer's only reader of the scenes: the stages that
+ * work before a plan is made, or without one (a run opening its sequence,
+ * the path overview), take what these compile instead. */
+
+/* What a render of scene s asks of its particle source (render/source_request.h);
+ * it points into s, which must outlive it. */
+void orr_plan_source_request(const orr_scene *s, orr_source_request *r);
 
 #endif

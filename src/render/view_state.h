@@ -26,7 +26,7 @@ typedef struct view_camera_plan {
     double shutter;              /* animation.shutter: motion blur's share of the frame interval (0: none) */
     int has_frame_interval;      /* animation.frame_interval given ... */
     double frame_interval;       /* ... and its value */
-    int blur_moves_particles;    /* the shutter moves the particles too (orr_blur_moves_particles) */
+    int blur_moves_particles;    /* the shutter moves the particles too (plan.c blur_moves_particles) */
 } view_camera_plan;
 
 /* One view being rendered. */
