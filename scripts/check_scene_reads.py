@@ -32,8 +32,7 @@ CEILINGS = {
     "cli/cmd_render.c": 4,
     "cli/cmd_video.c": 6,
     "insitu/insitu.c": 10,
-    "render/animation.c": 27,
-    "render/frame_markers.c": 16,
+    "render/animation.c": 25,
     "render/path_overview.c": 9,
     "render/stereo_view.c": 11,
 }

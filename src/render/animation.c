@@ -67,9 +67,11 @@ static orr_status frame_scenes(const orr_scene *const *views, int n, long frame,
 /* Whether every view's frame is complete; else why (empty: never rendered). */
 static int frame_complete(const orr_scene *scenes, const orr_view_identity *ids, int n, char *why, size_t size)
 {
-    for (int k = 0; k < n; k++)
-        if (!orr_marker_frame_complete(&scenes[k], &ids[k], why, size))
+    for (int k = 0; k < n; k++) {
+        const orr_marker_place at = orr_plan_marker_place(&scenes[k]);
+        if (!orr_marker_frame_complete(&at, &ids[k], why, size))
             return 0;
+    }
     return 1;
 }
 
@@ -141,8 +143,9 @@ static orr_status do_frame(orr_plan *plan, const orr_scene *scenes, const orr_vi
     int writer = !opt->parallel || opt->parallel->rank == 0; /* rank 0 of several processes writes */
     for (int k = 0; k < n; k++) {
         list[k] = &scenes[k];
+        const orr_marker_place at = orr_plan_marker_place(&scenes[k]);
         if (writer && !opt->compose && s0->animation.frames > 1)
-            orr_marker_remove(&scenes[k]);
+            orr_marker_remove(&at);
     }
     orr_frame_input in = {.time = orr_frame_at(frame, s0->animation.frames, s0->animation.fps, ri->t0, ri->t1),
                           .parallel = opt->parallel};
@@ -153,8 +156,10 @@ static orr_status do_frame(orr_plan *plan, const orr_scene *scenes, const orr_vi
     orr_source_close(in.source);
     if (st && s0->animation.frames > 1)
         return orr_fail_prefix(err, "frame %ld: ", frame);
-    for (int k = 0; k < n && !st && s0->animation.frames > 1 && writer; k++)
-        st = orr_marker_write(&scenes[k], &ids[k], &reports[k], opt->compose, err);
+    for (int k = 0; k < n && !st && s0->animation.frames > 1 && writer; k++) {
+        const orr_marker_place at = orr_plan_marker_place(&scenes[k]);
+        st = orr_marker_write(&at, &ids[k], &reports[k], opt->compose, err);
+    }
     return st;
 }
 
@@ -178,10 +183,12 @@ static orr_status run_identities(const orr_scene *const *views, int n, const run
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++) {
         char markers[ORR_PATH_MAX];
-        orr_remove_stale_temporaries(views[k]->output.dir);
-        if (snprintf(markers, sizeof markers, "%s/" MARKER_DIR, views[k]->output.dir) < (int)sizeof markers)
+        const char *dir = orr_plan_marker_place(views[k]).dir;
+        orr_remove_stale_temporaries(dir);
+        if (snprintf(markers, sizeof markers, "%s/" MARKER_DIR, dir) < (int)sizeof markers)
             orr_remove_stale_temporaries(markers);
-        st = compose ? ORR_OK : orr_view_identity_make(views[k], ri->seq, &ids[k], err);
+        const orr_view_making making = orr_plan_view_making(views[k]);
+        st = compose ? ORR_OK : orr_view_identity_make(&making, ri->seq, &ids[k], err);
     }
     return st;
 }
@@ -258,7 +265,8 @@ static double rendered_white(const orr_scene *frame)
 {
     char path[ORR_PATH_MAX];
     orr_error ignored;
-    char *marker = orr_marker_path(frame, path, &ignored) ? NULL : orr_marker_read(path);
+    const orr_marker_place at = orr_plan_marker_place(frame);
+    char *marker = orr_marker_path(&at, path, &ignored) ? NULL : orr_marker_read(path);
     size_t len;
     const char *line = marker ? orr_marker_find_line(marker, "white ", &len) : NULL;
     double white = line ? orr_strtod(line + 6, NULL) : NAN;
@@ -297,8 +305,9 @@ static orr_status regrade_frame(orr_plan *plan, const orr_scene *s, long f, doub
     if (!st)
         st = orr_plan_compose(plan, list, rep, err);
     orr_view_identity unused = {NULL, NULL};
+    const orr_marker_place at = orr_plan_marker_place(frame);
     if (!st)
-        st = orr_marker_write(frame, &unused, rep, 1, err);
+        st = orr_marker_write(&at, &unused, rep, 1, err);
     orr_scene_free(frame);
     free(frame);
     return st ? orr_fail_prefix(err, "frame %ld: smoothing the white level: ", f) : ORR_OK;

@@ -124,6 +124,24 @@ void orr_plan_source_request(const orr_scene *s, orr_source_request *r)
     add_frame_fields(r, s);
 }
 
+/* ---- what a run's frame markers read of a view ---- */
+
+orr_marker_place orr_plan_marker_place(const orr_scene *s)
+{
+    return (orr_marker_place){s->output.dir, s->output.name};
+}
+
+orr_view_making orr_plan_view_making(const orr_scene *s)
+{
+    return (orr_view_making){
+        .settings = s->settings,
+        .settings_digest = s->settings_digest,
+        .input_file = s->input.file,
+        .psf_file = s->psf.kind == ORR_PSF_FILE ? s->psf.file : NULL, /* the other PSFs read no file */
+        .camera_path_file = s->camera.path_file,
+    };
+}
+
 /* ---- a view: planned once, begun every frame ---- */
 
 /* Everything about a view that depends on its scene alone: the projection

@@ -23,6 +23,7 @@
 #ifndef ORR_RENDER_PLAN_H
 #define ORR_RENDER_PLAN_H
 
+#include "render/frame_markers.h"
 #include "render/render.h"
 #include "render/source_request.h"
 
@@ -69,5 +70,13 @@ void orr_plan_destroy(orr_plan *plan);
 /* What a render of scene s asks of its particle source (render/source_request.h);
  * it points into s, which must outlive it. */
 void orr_plan_source_request(const orr_scene *s, orr_source_request *r);
+
+/* Where frame scene s (a view with its frame's output name) keeps its
+ * marker (render/frame_markers.h); it points into s. */
+orr_marker_place orr_plan_marker_place(const orr_scene *s);
+
+/* What view s's frames are made from, as their markers record it
+ * (render/frame_markers.h); it points into s. */
+orr_view_making orr_plan_view_making(const orr_scene *s);
 
 #endif
