@@ -142,6 +142,18 @@ orr_view_making orr_plan_view_making(const orr_scene *s)
     };
 }
 
+/* ---- what a camera path's table and overview read of a scene ---- */
+
+void orr_plan_path_scene(const orr_scene *s, orr_path_scene *ps)
+{
+    ps->scene_path = s->path;
+    ps->frames = s->animation.frames;
+    ps->has_camera_path = s->camera.has_path;
+    ps->camera_path = &s->camera.path;
+    orr_plan_source_request(s, &ps->source);
+    ps->stretch = &s->picture.stretch;
+}
+
 /* ---- a view: planned once, begun every frame ---- */
 
 /* Everything about a view that depends on its scene alone: the projection

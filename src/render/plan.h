@@ -24,6 +24,7 @@
 #define ORR_RENDER_PLAN_H
 
 #include "render/frame_markers.h"
+#include "render/path_overview.h"
 #include "render/render.h"
 #include "render/source_request.h"
 
@@ -78,5 +79,9 @@ orr_marker_place orr_plan_marker_place(const orr_scene *s);
 /* What view s's frames are made from, as their markers record it
  * (render/frame_markers.h); it points into s. */
 orr_view_making orr_plan_view_making(const orr_scene *s);
+
+/* What `orrery path` and its overview read of scene s
+ * (render/path_overview.h); it points into s. */
+void orr_plan_path_scene(const orr_scene *s, orr_path_scene *ps);
 
 #endif
