@@ -32,7 +32,6 @@ CEILINGS = {
     "cli/cmd_video.c": 6,
     "insitu/insitu.c": 10,
     "render/animation.c": 25,
-    "render/stereo_view.c": 11,
 }
 
 COMMENT_OR_STRING = re.compile(r'/\*.*?\*/|//[^\n]*|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\\n])*\'', re.S)

@@ -20,6 +20,110 @@
 #include "scene/scene_output.h"
 #include "source/partition.h"
 
+/* ---- the views as rendered: a stereo view's two eyes ---- */
+
+/* The views as the plan renders them: a stereo view becomes its left eye
+ * followed by its right eye, each a copy of the scene that knows which eye
+ * it is. The left eye reports into the caller's report; the right eye into
+ * one of its own, whose outputs eye_views_finish appends to the left's. */
+typedef struct orr_eye_views {
+    int n;                       /* views to render */
+    const orr_scene **scene;     /* [n] the scene of each (the caller's, or an eye's copy) */
+    orr_render_report **report;  /* [n] where each reports */
+    orr_scene *copies;           /* the eyes' scenes, copies with strings of their own */
+    int ncopies;                 /* ... how many (zeroed until copied: freed whole) */
+    orr_render_report *right;    /* the right eyes' reports */
+} orr_eye_views;
+
+/* Merges each right eye's outputs into its left eye's report, then frees. */
+static void eye_views_finish(orr_eye_views *ev)
+{
+    for (int k = 0; ev->report && k + 1 < ev->n; k++) {
+        if (ev->scene[k]->stereo.eye != ORR_EYE_LEFT)
+            continue;
+        orr_render_report *l = ev->report[k];
+        const orr_render_report *r = ev->report[k + 1];
+        for (int i = 0; i < r->noutputs && l->noutputs < ORR_RENDER_MAX_OUTPUTS; i++)
+            memcpy(l->outputs[l->noutputs++], r->outputs[i], ORR_PATH_MAX);
+    }
+    free(ev->scene);
+    free(ev->report);
+    for (int k = 0; k < ev->ncopies; k++)
+        orr_scene_free(&ev->copies[k]);
+    free(ev->copies);
+    free(ev->right);
+    memset(ev, 0, sizeof *ev);
+}
+
+/* The scene of one eye: a copy that knows which eye it is, with its own
+ * output name when the eyes are written separately. */
+static orr_status eye_scene(const orr_scene *s, int eye, orr_scene *out, orr_error *err)
+{
+    orr_status st = orr_scene_copy(out, s, err);
+    if (st)
+        return st;
+    out->stereo.eye = eye;
+    return orr_eye_output_name(s->stereo.mode, s->path, s->output.name, eye, out->output.name,
+                               sizeof out->output.name, err);
+}
+
+/* Room in ev for n views, of which `pairs` stereo views' eye copies and
+ * right eyes' reports. */
+static orr_status eye_views_alloc(orr_eye_views *ev, int n, int pairs, orr_error *err)
+{
+    ev->scene = orr_calloc((size_t)n, sizeof *ev->scene, "stereo views", err);
+    ev->report = orr_calloc((size_t)n, sizeof *ev->report, "stereo views", err);
+    ev->copies = pairs ? orr_calloc(2 * (size_t)pairs, sizeof *ev->copies, "stereo eye scenes", err) : NULL;
+    ev->ncopies = ev->copies ? 2 * pairs : 0;
+    ev->right = pairs ? orr_calloc((size_t)pairs, sizeof *ev->right, "stereo eye reports", err) : NULL;
+    if (!ev->scene || !ev->report || (pairs && (!ev->copies || !ev->right))) {
+        eye_views_finish(ev);
+        return ORR_ERR_NOMEM;
+    }
+    return ORR_OK;
+}
+
+/* Expands scenes[0..nscenes) (reports[i] for scene i) into eyes. For
+ * stereo.mode: separate each eye writes its own files, named
+ * output.name-left and output.name-right. */
+static orr_status eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,
+                                   orr_eye_views *ev, orr_error *err)
+{
+    memset(ev, 0, sizeof *ev);
+    int pairs = 0;
+    for (int k = 0; k < nscenes; k++)
+        pairs += scenes[k]->stereo.mode != ORR_STEREO_NONE;
+    orr_status st = eye_views_alloc(ev, nscenes + pairs, pairs, err);
+    for (int k = 0, pair = 0; k < nscenes && !st; k++) {
+        if (scenes[k]->stereo.mode == ORR_STEREO_NONE) {
+            ev->scene[ev->n] = scenes[k];
+            ev->report[ev->n++] = &reports[k];
+            continue;
+        }
+        orr_scene *left = &ev->copies[2 * pair], *right = left + 1;
+        st = eye_scene(scenes[k], ORR_EYE_LEFT, left, err);
+        if (!st)
+            st = eye_scene(scenes[k], ORR_EYE_RIGHT, right, err);
+        if (st) {
+            eye_views_finish(ev);
+            return st;
+        }
+        ev->scene[ev->n] = left;
+        ev->report[ev->n++] = &reports[k];
+        ev->scene[ev->n] = right;
+        ev->report[ev->n++] = &ev->right[pair++];
+    }
+    return st;
+}
+
+/* Whether view k of ev is the left eye of a pair written as one picture
+ * (anaglyph, side-by-side, over-under); view k + 1 is then its right eye. */
+static int eye_views_pair_at(const orr_eye_views *ev, int k)
+{
+    return k + 1 < ev->n && ev->scene[k]->stereo.eye == ORR_EYE_LEFT &&
+           orr_stereo_is_pair_mode(ev->scene[k]->stereo.mode);
+}
+
 struct orr_plan {
     orr_plan_purpose purpose;
     int nscenes;             /* the views as given */
@@ -395,7 +499,7 @@ void orr_plan_destroy(orr_plan *plan)
     free(plan->passes);
     free(plan->given);
     free(plan->origin);
-    orr_eye_views_finish(&plan->eyes);
+    eye_views_finish(&plan->eyes);
     free(plan->planning_reports);
     orr_psf_kernels_free(&plan->kernels);
     orr_lengths_free(&plan->kept_lengths);
@@ -411,12 +515,12 @@ static orr_status expand_views(const orr_plan *plan, const orr_scene *const *sce
                                orr_eye_views *eyes, orr_error *err)
 {
     if (plan->purpose == ORR_PLAN_RENDER)
-        return orr_eye_views_expand(scenes, plan->nscenes, reports, eyes, err);
+        return eye_views_expand(scenes, plan->nscenes, reports, eyes, err);
     memset(eyes, 0, sizeof *eyes);
     eyes->scene = orr_calloc((size_t)plan->nscenes, sizeof *eyes->scene, "views", err);
     eyes->report = orr_calloc((size_t)plan->nscenes, sizeof *eyes->report, "views", err);
     if (!eyes->scene || !eyes->report) {
-        orr_eye_views_finish(eyes);
+        eye_views_finish(eyes);
         return ORR_ERR_NOMEM;
     }
     for (int k = 0; k < plan->nscenes; k++) {
@@ -690,7 +794,7 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
             st = orr_view_psf_apply(&views[k].pass.psf, &views[k].pass.planes[j], err);
     charge(&views[0], ORR_STAGE_PSF);
     for (int k = 0; k < n && !st; k++) {
-        if (orr_eye_views_pair_at(eyes, k)) {
+        if (eye_views_pair_at(eyes, k)) {
             st = orr_view_write_stereo_pair(&views[k], &views[k + 1], err);
             if (!st && keep && !(st = keep_view(&views[k], k, in, err)))
                 st = keep_view(&views[k + 1], k + 1, in, err);
@@ -770,7 +874,8 @@ static orr_status name_frame_outputs(orr_plan *plan, const orr_frame_time *when,
         orr_status st = orr_frame_name(&naming, s->output.name, when->frame, when->nframes, numbered,
                                        sizeof numbered, err);
         if (!st)
-            st = orr_eye_output_name(s, numbered, f->eye, f->output.name, sizeof f->output.name, err);
+            st = orr_eye_output_name(s->stereo.mode, s->path, numbered, f->eye, f->output.name,
+                                     sizeof f->output.name, err);
         if (st)
             return st;
     }
@@ -962,7 +1067,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
      * its view's report (the right eye's outputs added to the left's). */
     orr_eye_views eyes = {0};
     int begun = 0;
-    if (!st && !(st = orr_eye_views_expand(plan->given, plan->nscenes, reports, &eyes, err)) &&
+    if (!st && !(st = eye_views_expand(plan->given, plan->nscenes, reports, &eyes, err)) &&
         !(st = begin_frame(plan, &eyes, s0->observer.has_id ? &observer : NULL, observer_velocity, when, &begun, err)))
         st = name_frame_outputs(plan, when, err);
     if (!st && plan->has_stars) { /* the stars are seen from the observer (scene_check.c) */
@@ -1000,7 +1105,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
         orr_dust_frame_free(&dust);
     for (int k = 0; k < plan->n; k++) /* the frame's, freed above and below */
         forget_frame(plan, k);
-    orr_eye_views_finish(&eyes);
+    eye_views_finish(&eyes);
     orr_stage_times_finish(&timer->times, start);
     charge_planning(plan);
     for (int k = 0; k < plan->nscenes && !st; k++)
@@ -1036,6 +1141,6 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_
     st = commit_outputs(&outputs, st, err);
     for (int k = 0; k < plan->n; k++)
         forget_frame(plan, k);
-    orr_eye_views_finish(&views);
+    eye_views_finish(&views);
     return st;
 }
