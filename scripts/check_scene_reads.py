@@ -31,7 +31,6 @@ CEILINGS = {
     "cli/cmd_render.c": 4,
     "cli/cmd_video.c": 6,
     "insitu/insitu.c": 10,
-    "render/animation.c": 25,
 }
 
 COMMENT_OR_STRING = re.compile(r'/\*.*?\*/|//[^\n]*|"(?:\\.|[^"\\\n])*"|\'(?:\\.|[^\'\\\n])*\'', re.S)

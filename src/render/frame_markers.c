@@ -176,7 +176,7 @@ orr_status orr_view_identity_make(const orr_view_making *m, const orr_sequence *
     return st;
 }
 
-orr_status orr_marker_path(const orr_marker_place *at, char *path, orr_error *err)
+orr_status orr_marker_path(const orr_output_place *at, char *path, orr_error *err)
 {
     int n = snprintf(path, ORR_PATH_MAX, "%s/" MARKER_DIR "/%s.done", at->dir, at->name);
     if (n < 0 || n >= ORR_PATH_MAX)
@@ -329,7 +329,7 @@ static int outputs_hold(const char *marker, const char *dir, char *why, size_t s
 
 /* Whether the view's frame is complete and made as this run would make it.
  * why is "" when there is no marker (never rendered), else the reason. */
-int orr_marker_frame_complete(const orr_marker_place *at, const orr_view_identity *id, char *why, size_t size)
+int orr_marker_frame_complete(const orr_output_place *at, const orr_view_identity *id, char *why, size_t size)
 {
     char path[ORR_PATH_MAX];
     orr_error ignored;
@@ -413,7 +413,7 @@ static orr_status compose_marker_text(const char *old, const orr_render_report *
 
 /* The marker's text: a render's whole, or a compose's update of the
  * render's (NULL when the frame has no marker: nothing to update). */
-static orr_status marker_text(const orr_marker_place *at, const orr_view_identity *id, const orr_render_report *rep,
+static orr_status marker_text(const orr_output_place *at, const orr_view_identity *id, const orr_render_report *rep,
                               int compose, char **text, orr_error *err)
 {
     *text = NULL;
@@ -434,7 +434,7 @@ static orr_status marker_text(const orr_marker_place *at, const orr_view_identit
     return st ? st : add_settings(text, id->settings, err);
 }
 
-static orr_status marker_folder(const orr_marker_place *at, orr_error *err)
+static orr_status marker_folder(const orr_output_place *at, orr_error *err)
 {
     char dir[ORR_PATH_MAX];
     if (snprintf(dir, sizeof dir, "%s/" MARKER_DIR, at->dir) >= (int)sizeof dir)
@@ -445,7 +445,7 @@ static orr_status marker_folder(const orr_marker_place *at, orr_error *err)
 }
 
 /* Records the view's outputs of this frame. */
-orr_status orr_marker_write(const orr_marker_place *at, const orr_view_identity *id, const orr_render_report *rep,
+orr_status orr_marker_write(const orr_output_place *at, const orr_view_identity *id, const orr_render_report *rep,
                             int compose, orr_error *err)
 {
     char path[ORR_PATH_MAX], *text = NULL;
@@ -478,7 +478,7 @@ orr_status orr_marker_write(const orr_marker_place *at, const orr_view_identity 
 /* A frame about to be rendered is not complete until its new marker is
  * written, whatever an old marker said: should the run stop part-way, the
  * next one must not take the old files for this frame's. */
-void orr_marker_remove(const orr_marker_place *at)
+void orr_marker_remove(const orr_output_place *at)
 {
     char path[ORR_PATH_MAX];
     orr_error ignored;

@@ -8,21 +8,13 @@
 #include <stddef.h>
 
 #include "core/error.h"
+#include "render/frame_names.h"
 #include "render/render.h"
 #include "source/sequence.h"
 
 /* Markers live in DIR/.orrery-frames/NAME.done and begin with the magic. */
 #define MARKER_DIR ".orrery-frames"
 #define MARKER_MAGIC "orrery-frame"
-
-/* Where a view's frame keeps its marker: the view's output folder and the
- * frame's output name (output.name with the frame's number). The plan
- * compiles it from the frame's scene (orr_plan_marker_place, render/plan.h);
- * it points into that scene. */
-typedef struct orr_marker_place {
-    const char *dir;  /* output.dir */
-    const char *name; /* the frame's output name */
-} orr_marker_place;
 
 /* What a view's frames are made from, as its markers record it: compiled
  * by the plan from the view's scene (orr_plan_view_making, render/plan.h),
@@ -42,7 +34,7 @@ typedef struct orr_view_identity {
 } orr_view_identity;
 
 /* DIR/.orrery-frames/NAME.done for the frame's output folder and name. */
-orr_status orr_marker_path(const orr_marker_place *at, char *path, orr_error *err);
+orr_status orr_marker_path(const orr_output_place *at, char *path, orr_error *err);
 /* The marker's text (allocated; at most 1 MiB), or NULL when it cannot be read whole. */
 char *orr_marker_read(const char *path);
 /* The line of text starting with prefix (its length in *len), or NULL. */
@@ -52,11 +44,11 @@ orr_status orr_view_identity_make(const orr_view_making *m, const orr_sequence *
                                   orr_error *err);
 /* 1 when the view's frame is complete (marker agrees and outputs intact);
  * else 0 and why (empty: never rendered). */
-int orr_marker_frame_complete(const orr_marker_place *at, const orr_view_identity *id, char *why, size_t size);
+int orr_marker_frame_complete(const orr_output_place *at, const orr_view_identity *id, char *why, size_t size);
 /* Records the view's outputs of this frame (compose: orrery compose updates the render's marker with its outputs). */
-orr_status orr_marker_write(const orr_marker_place *at, const orr_view_identity *id, const orr_render_report *rep,
+orr_status orr_marker_write(const orr_output_place *at, const orr_view_identity *id, const orr_render_report *rep,
                             int compose, orr_error *err);
 /* Removes the frame's marker before its outputs are redone. */
-void orr_marker_remove(const orr_marker_place *at);
+void orr_marker_remove(const orr_output_place *at);
 
 #endif

@@ -228,11 +228,11 @@ void orr_plan_source_request(const orr_scene *s, orr_source_request *r)
     add_frame_fields(r, s);
 }
 
-/* ---- what a run's frame markers read of a view ---- */
+/* ---- what a run's frames and their markers read of a view ---- */
 
-orr_marker_place orr_plan_marker_place(const orr_scene *s)
+orr_output_place orr_plan_output_place(const orr_scene *s)
 {
-    return (orr_marker_place){s->output.dir, s->output.name};
+    return (orr_output_place){s->output.dir, s->output.name, orr_frame_naming_of(&s->output)};
 }
 
 orr_view_making orr_plan_view_making(const orr_scene *s)
@@ -244,6 +244,44 @@ orr_view_making orr_plan_view_making(const orr_scene *s)
         .psf_file = s->psf.kind == ORR_PSF_FILE ? s->psf.file : NULL, /* the other PSFs read no file */
         .camera_path_file = s->camera.path_file,
     };
+}
+
+/* ---- what a run of frames reads of its views ---- */
+
+orr_run_settings orr_plan_run_settings(const orr_scene *s)
+{
+    const orr_animation_settings *a = &s->animation;
+    return (orr_run_settings){
+        .scene_path = s->path,
+        .frames = a->frames,
+        .fps = a->fps,
+        .has_time = a->has_time,
+        .time = {a->time[0], a->time[1]},
+        .white_smoothing = a->white_smoothing,
+    };
+}
+
+orr_status orr_plan_frame_scene(const orr_scene *view, long frame, orr_scene *out, orr_error *err)
+{
+    orr_status st = orr_scene_copy(out, view, err);
+    if (st)
+        return st;
+    const orr_frame_naming naming = orr_frame_naming_of(&view->output);
+    return orr_frame_name(&naming, view->output.name, frame, view->animation.frames, out->output.name,
+                          sizeof out->output.name, err);
+}
+
+void orr_plan_regrade_scene(orr_scene *frame, double white)
+{
+    frame->regrade_final = 1;
+    frame->colour.synth.y0 = white;
+    frame->picture.stretch.white = white;
+}
+
+int orr_plan_psf_in_raw_planes(const orr_scene *s, int *sky)
+{
+    *sky = orr_projection_is_sky(&s->projection);
+    return *sky || orr_psf_flat_stars(&s->psf, *sky);
 }
 
 /* ---- what a camera path's table and overview read of a scene ---- */

@@ -23,6 +23,7 @@
 #ifndef ORR_RENDER_PLAN_H
 #define ORR_RENDER_PLAN_H
 
+#include "render/animation.h"
 #include "render/frame_markers.h"
 #include "render/path_overview.h"
 #include "render/render.h"
@@ -72,13 +73,32 @@ void orr_plan_destroy(orr_plan *plan);
  * it points into s, which must outlive it. */
 void orr_plan_source_request(const orr_scene *s, orr_source_request *r);
 
-/* Where frame scene s (a view with its frame's output name) keeps its
- * marker (render/frame_markers.h); it points into s. */
-orr_marker_place orr_plan_marker_place(const orr_scene *s);
+/* Where view s (or a frame's scene: a view with its frame's output name)
+ * writes its files and keeps its markers (render/frame_names.h); it points
+ * into s. */
+orr_output_place orr_plan_output_place(const orr_scene *s);
 
 /* What view s's frames are made from, as their markers record it
  * (render/frame_markers.h); it points into s. */
 orr_view_making orr_plan_view_making(const orr_scene *s);
+
+/* What a run of frames of scene s reads of it (render/animation.h); it
+ * points into s. */
+orr_run_settings orr_plan_run_settings(const orr_scene *s);
+
+/* The scene of one frame of view's run: a copy (out: zeroed or a scene,
+ * whose strings are freed first) with the frame's output name (output.name
+ * with its number, orr_frame_name). */
+orr_status orr_plan_frame_scene(const orr_scene *view, long frame, orr_scene *out, orr_error *err);
+
+/* Sets a frame's scene to re-grade its final planes (NAME.fits, after the
+ * PSF) with the white level white, as animation.white_smoothing does. */
+void orr_plan_regrade_scene(orr_scene *frame, double white);
+
+/* Whether view s's PSF is drawn into its raw planes as it renders (a sky
+ * map's; a flat view's that draws its stars one by one), so that orrery
+ * compose cannot change it; *sky says whether s is a sky map. */
+int orr_plan_psf_in_raw_planes(const orr_scene *s, int *sky);
 
 /* What `orrery path` and its overview read of scene s
  * (render/path_overview.h); it points into s. */
