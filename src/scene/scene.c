@@ -97,6 +97,11 @@ orr_status orr_scene_copy(orr_scene *dst, const orr_scene *src, orr_error *err)
     return orr_owned_copy(dst, src, sizeof *dst, fields, scene_strings(dst, fields), err);
 }
 
+orr_status orr_scene_set_output_dir(orr_scene *s, const char *dir, orr_error *err)
+{
+    return orr_owned_set(&s->output.dir, dir, err);
+}
+
 void orr_scene_views_free(orr_scene_views *views)
 {
     for (int i = 0; i < views->n; i++)

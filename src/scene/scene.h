@@ -137,6 +137,9 @@ void orr_scene_free(orr_scene *s);
  * with strings of its own. */
 orr_status orr_scene_copy(orr_scene *dst, const orr_scene *src, orr_error *err);
 
+/* Sets output.dir to dir (the command line's -o), a string of s's own. */
+orr_status orr_scene_set_output_dir(orr_scene *s, const char *dir, orr_error *err);
+
 /* Frees the strings of views->view[0..n) and sets n to 0. */
 void orr_scene_views_free(orr_scene_views *views);
 
