@@ -9,6 +9,7 @@
 #include "cli/cli.h"
 #include "frame/path.h"
 #include "render/plan.h"
+#include "scene/scene.h"
 
 static const char path_help[] =
     "usage: orrery path SCENE.yaml [--set KEY=VALUE ...] [--frames N] [--every K]\n"

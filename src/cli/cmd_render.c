@@ -13,6 +13,7 @@
 #include "cli/cli.h"
 #include "render/animation.h"
 #include "render/plan.h"
+#include "scene/scene.h"
 
 static const char render_help[] =
     "usage: orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--force]\n"

@@ -23,6 +23,7 @@
 #include "core/numbers.h"
 #include "core/atomic.h"
 #include "render/plan.h"
+#include "scene/scene.h"
 
 extern char **environ;
 

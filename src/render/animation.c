@@ -16,6 +16,7 @@
 #include "render/frame_markers.h"
 #include "render/plan.h"
 #include "render/sequence_open.h"
+#include "scene/scene.h" /* the frame scenes it holds (copies it makes and frees; the plan reads them) */
 #include "source/partition.h"
 
 /* Where frame markers live, inside each view's output folder. */

@@ -17,6 +17,7 @@
 #include "post/brightness.h"
 #include "post/grade.h"
 #include "render/frame_names.h"
+#include "scene/scene.h"
 #include "scene/scene_output.h"
 #include "source/partition.h"
 

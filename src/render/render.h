@@ -13,12 +13,16 @@
 #include "frame/camera.h"
 #include "frame/observer.h"
 #include "frame/timeline.h"
-#include "scene/scene.h"
+#include "source/source.h"
 #include "splat/deposit.h"
 #include "core/plane.h"
 #include "reduce/parallel.h" /* orr_parallel: how several processes render a frame together */
 #include "core/timings.h"
 #include "pass/progress.h" /* orr_progress_fn */
+
+/* The scenes the entry points below render: only plan.c reads them
+ * (scene/scene.h declares them; their callers load them from there). */
+typedef struct orr_scene orr_scene;
 
 #define ORR_RENDER_MAX_OUTPUTS 10 /* stereo.mode: separate writes each format twice */
 

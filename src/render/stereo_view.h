@@ -15,6 +15,7 @@
 
 #include "encode/fits.h"
 #include "encode/image_out.h"
+#include "frame/camera_settings.h"
 #include "frame/stereo.h"
 #include "render/render.h"
 #include "render/view_files.h"

@@ -9,10 +9,13 @@
 #include "core/atomic.h"
 #include "core/cards.h"
 #include "encode/fits.h"
+#include "frame/camera_settings.h"
+#include "frame/observer.h"
 #include "pass/splat_view.h"
 #include "render/render.h"
 #include "render/stereo_view.h"
 #include "render/view_files.h"
+#include "source/settings.h"
 
 /* How a view's camera is found each frame (view_camera.c): compiled by the
  * plan from the view's scene (plan.c: camera_plan_of). */
