@@ -7,9 +7,9 @@
 #include "render/frame_names.h"
 #include "render/render.h"
 
-/* What a run of frames reads of its scene (animation.*, the same in every
- * view), compiled by the plan (orr_plan_run_settings, render/plan.h); it
- * points into the scene. */
+/* What a run of frames reads of a view's scene (animation.*: a run takes
+ * its length, rate and times from its first view), compiled by the plan
+ * (orr_plan_run_settings, render/plan.h); it points into the scene. */
 typedef struct orr_run_settings {
     const char *scene_path; /* for messages */
     long long frames;       /* animation.frames: frames in the run (1: a still) */

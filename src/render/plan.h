@@ -65,9 +65,10 @@ double orr_plan_seconds(const orr_plan *plan);
 void orr_plan_destroy(orr_plan *plan);
 
 /* ---- what the stages outside the plan read of a scene ----
- * The plan is the renderer's only reader of the scenes: the stages that
- * work before a plan is made, or without one (a run opening its sequence,
- * the path overview), take what these compile instead. */
+ * The plan is the renderer's only reader of the scenes: what works before
+ * a plan is made, or without one (a run of frames, its sequence and its
+ * markers, the path overview, the commands and the in-situ API that load
+ * the scenes), takes what these compile instead. */
 
 /* What a render of scene s asks of its particle source (render/source_request.h);
  * it points into s, which must outlive it. */

@@ -21,7 +21,8 @@ typedef struct orr_source_request {
     unsigned model_types;    /* the types a built-in model generates: the drawn ones, the dust's, the
                               * spinning ones that give the observer's normal */
     unsigned sequence_types; /* the types a sequence's snapshots keep (0: all): the drawn ones, all when
-                              * there is an observer (the dust's are not added, as they never were) */
+                              * there is an observer; unlike reader_types, not the dust's (as
+                              * sequence_open.c has always asked) */
     /* The extra fields a frame asks its source for: the weight (when not
      * mass or h), the fields the colour populations select, colour and
      * weigh by, the dust's metallicity, and velocities for the observer's
