@@ -8,7 +8,7 @@
 
 #include "cli/cli.h"
 #include "frame/path.h"
-#include "render/path_overview.h"
+#include "render/plan.h"
 #include "scene/scene.h"
 
 static const char path_help[] =
@@ -116,20 +116,20 @@ static int parse_args(int argc, char **argv, path_args *pa, int *help)
     return EXIT_OK;
 }
 
-static orr_status eval_frames(const orr_scene *s, long n, orr_camera *cams, orr_error *err)
+static orr_status eval_frames(const orr_path_scene *ps, long n, orr_camera *cams, orr_error *err)
 {
     for (long f = 0; f < n; f++) {
         orr_frame_time t = orr_frame_at(f, n, 30, 0, 0);
-        orr_status st = orr_path_camera(&s->camera.path, &t, &cams[f], err);
+        orr_status st = orr_path_camera(ps->camera_path, &t, &cams[f], err);
         if (st)
             return st;
     }
     return ORR_OK;
 }
 
-static void print_table(const orr_scene *s, const orr_camera *cams, long n, long every)
+static void print_table(const orr_path_scene *ps, const orr_camera *cams, long n, long every)
 {
-    printf("camera path of %s: %s, %ld frames\n", s->path, orr_path_kind_name(s->camera.path.kind), n);
+    printf("camera path of %s: %s, %ld frames\n", ps->scene_path, orr_path_kind_name(ps->camera_path->kind), n);
     printf("%7s %8s  %12s %12s %12s  %9s %9s %9s\n", "frame", "u", "x", "y", "z", "dir_x", "dir_y", "dir_z");
     for (long f = 0; f < n; f++) {
         if (f % every != 0 && f != n - 1)
@@ -160,25 +160,29 @@ int cmd_path(int argc, char **argv)
     orr_error err = {0};
     orr_scene *s = calloc(1, sizeof *s);
     orr_camera *cams = NULL;
+    orr_path_scene ps;
     orr_status st = s ? ORR_OK : orr_fail(&err, ORR_ERR_NOMEM, "out of memory");
     if (!st)
         st = orr_scene_load(s, pa.scene, pa.sets, pa.nsets, &err);
+    if (!st)
+        orr_plan_path_scene(s, &ps);
     /* The run's length: --frames, or the scene's animation.frames, or 100. */
     if (!st && pa.frames == 0)
-        pa.frames = s->animation.frames > 1 ? s->animation.frames : 100;
+        pa.frames = ps.frames > 1 ? ps.frames : 100;
     if (!st && !(cams = calloc((size_t)pa.frames, sizeof *cams)))
         st = orr_fail(&err, ORR_ERR_NOMEM, "out of memory for %lld cameras", pa.frames);
-    if (!st && !s->camera.has_path)
-        st = orr_fail(&err, ORR_ERR_USAGE, "%s: no camera path: set camera.path.kind (docs/paths.md)", s->path);
+    if (!st && !ps.has_camera_path)
+        st = orr_fail(&err, ORR_ERR_USAGE, "%s: no camera path: set camera.path.kind (docs/paths.md)",
+                      ps.scene_path);
     if (!st)
-        st = eval_frames(s, (long)pa.frames, cams, &err);
+        st = eval_frames(&ps, (long)pa.frames, cams, &err);
     if (!st) {
         long every = pa.every ? (long)pa.every : (long)((pa.frames + 49) / 50);
-        print_table(s, cams, (long)pa.frames, every);
+        print_table(&ps, cams, (long)pa.frames, every);
     }
     if (!st && pa.png) {
         orr_path_overview ov = {.width = pa.width, .height = pa.height, .fit_path = pa.fit_path};
-        st = orr_path_overview_write(s, cams, (long)pa.frames, &ov, pa.png, &err);
+        st = orr_path_overview_write(&ps, cams, (long)pa.frames, &ov, pa.png, &err);
         if (!st)
             printf("wrote %s: %dx%d, %.6g units across, seen down (%.4f, %.4f, %.4f), %llu particles\n", pa.png,
                    ov.width, ov.height, ov.view_width, ov.normal.x, ov.normal.y, ov.normal.z, ov.n_particles);

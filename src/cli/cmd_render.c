@@ -11,9 +11,9 @@
 #include <unistd.h>
 
 #include "cli/cli.h"
-#include "core/owned.h"
-#include "frame/projection.h"
 #include "render/animation.h"
+#include "render/plan.h"
+#include "scene/scene.h"
 
 static const char render_help[] =
     "usage: orrery render SCENE.yaml [--set KEY=VALUE ...] [-o DIR] [--frames A:B] [--force]\n"
@@ -382,9 +382,9 @@ static int check_compose_sets(const run_args *a, const orr_scene_views *views)
     for (int i = 0; i < a->nsets; i++)
         for (int k = 0; k < views->n; k++) {
             const char *key = key_for_view(a->sets[i], views->name[k]);
-            int sky = orr_projection_is_sky(&views->view[k].projection);
-            if (!key || strncmp(key, "psf", 3) != 0 || (key[3] != '.' && key[3] != '=') ||
-                !(sky || orr_psf_flat_stars(&views->view[k].psf, sky)))
+            int sky;
+            const int psf_in_raw_planes = orr_plan_psf_in_raw_planes(&views->view[k], &sky);
+            if (!key || strncmp(key, "psf", 3) != 0 || (key[3] != '.' && key[3] != '=') || !psf_in_raw_planes)
                 continue;
             return cli_usage_error("compose",
                                    "--set %.*s: %s%s%s%s, whose PSF is drawn into the raw planes as it "
@@ -454,11 +454,11 @@ static int run_loaded(const run_args *a, orr_scene_views *views, orr_render_repo
             return cli_report_error(&(orr_error){ORR_ERR_USAGE, "output directory name is too long"});
         /* -o "" is the current directory, as orr_check_output_dir takes it
          * (an owned string is never "", core/owned.h). */
-        if (a->out_dir && orr_owned_set(&views->view[k].output.dir, a->out_dir[0] ? a->out_dir : ".", &err))
+        if (a->out_dir && orr_scene_set_output_dir(&views->view[k], a->out_dir[0] ? a->out_dir : ".", &err))
             return cli_report_error(&err);
         list[k] = &views->view[k];
     }
-    const long nframes = views->view[0].animation.frames;
+    const long nframes = orr_plan_run_settings(&views->view[0]).frames;
     orr_animation_options opt = orr_animation_defaults();
     opt.first = a->first;
     opt.last = a->last;

@@ -22,6 +22,7 @@
 #include "cli/video_command.h"
 #include "core/numbers.h"
 #include "core/atomic.h"
+#include "render/plan.h"
 #include "scene/scene.h"
 
 extern char **environ;
@@ -529,16 +530,16 @@ typedef struct view_job {
 
 /* Finds a view's frames and names its video, checking everything that can
  * be checked before ffmpeg runs. */
-static orr_status prepare_view(const video_options *o, const orr_scene *view, const char *view_name, view_job *job,
-                               orr_error *err)
+static orr_status prepare_view(const video_options *o, const orr_output_place *view, const char *view_name,
+                               view_job *job, orr_error *err)
 {
     frame_set *fs = &job->frames;
     job->view_name = view_name;
-    const char *dir = o->out_dir ? o->out_dir : view->output.dir;
+    const char *dir = o->out_dir ? o->out_dir : view->dir;
     if (snprintf(fs->dir, sizeof fs->dir, "%s", dir) >= (int)sizeof fs->dir)
         return orr_fail(err, ORR_ERR_USAGE, "output directory name is too long");
-    snprintf(fs->name, sizeof fs->name, "%s", view->output.name);
-    fs->naming = orr_frame_naming_of(&view->output);
+    snprintf(fs->name, sizeof fs->name, "%s", view->name);
+    fs->naming = view->naming;
     orr_status st = output_path(o, fs, job->output, sizeof job->output, err);
     if (st)
         return st;
@@ -599,10 +600,13 @@ int cmd_video(int argc, char **argv)
     if (!st)
         st = orr_scene_load_views(views, o.scene_path, o.sets, o.nsets, &err);
     /* The scene's run: its frame rate and length, unless given here. */
+    orr_run_settings run = {0};
+    if (!st)
+        run = orr_plan_run_settings(&views->view[0]);
     if (!st && !o.fps_given)
-        orr_snprintf(o.fps, sizeof o.fps, "%.10g", views->view[0].animation.fps);
-    if (!st && o.frames == 0 && views->view[0].animation.frames > 1)
-        o.frames = views->view[0].animation.frames;
+        orr_snprintf(o.fps, sizeof o.fps, "%.10g", run.fps);
+    if (!st && o.frames == 0 && run.frames > 1)
+        o.frames = run.frames;
     int chosen = -1; /* the --view, or -1 for all */
     for (int k = 0; !st && o.view && k < views->n; k++)
         if (strcmp(views->name[k], o.view) == 0)
@@ -622,9 +626,12 @@ int cmd_video(int argc, char **argv)
     /* Every view's frames are checked before any video is made, so a view
      * with missing frames does not leave the others half done. */
     int njobs = 0;
-    for (int k = 0; !st && k < views->n; k++)
-        if (chosen < 0 || k == chosen)
-            st = prepare_view(&o, &views->view[k], views->name[k], &jobs[njobs++], &err);
+    for (int k = 0; !st && k < views->n; k++) {
+        if (chosen >= 0 && k != chosen)
+            continue;
+        const orr_output_place place = orr_plan_output_place(&views->view[k]);
+        st = prepare_view(&o, &place, views->name[k], &jobs[njobs++], &err);
+    }
     for (int j = 0; !st && j < njobs; j++)
         st = make_video(&o, ffmpeg, &jobs[j], &err);
     code = st ? cli_report_error(&err) : EXIT_OK;

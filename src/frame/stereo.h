@@ -60,7 +60,7 @@ typedef struct orr_stereo_settings {
     double zenith_fade;    /* stereo.zenith_fade: degrees from the pole over which an ODS eye
                             * separation falls to zero (0..90, default 0: no fade) */
     int eye;               /* not a key: 0, or ORR_EYE_LEFT / ORR_EYE_RIGHT in the copy of the
-                            * scene the renderer makes for each eye (render/stereo_view.h) */
+                            * scene the renderer makes for each eye (render/plan.c) */
 } orr_stereo_settings;
 
 /* Fills d with the defaults above. */

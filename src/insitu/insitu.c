@@ -19,6 +19,8 @@
 
 struct orrery_renderer {
     orr_scene_views views;
+    orr_run_settings run;      /* what each frame reads of the run (view 0's animation.*; the plan's) */
+    orr_source_request source; /* ... and of the input (its chunk size) */
     orr_render_report reports[ORR_SCENE_MAX_VIEWS];
     orr_error err;
     double seconds;
@@ -89,10 +91,15 @@ static int open_common(orrery_renderer **out, const char *path, const char *yaml
                          : orr_scene_load_views_string(&r->views, yaml, "insitu", base_dir ? base_dir : ".",
                                                        all, n, &r->err);
     for (int k = 0; k < r->views.n && !st; k++) {
-        st = orr_check_output_dir(r->views.view[k].output.dir, &r->err);
-        orr_remove_stale_temporaries(r->views.view[k].output.dir); /* a killed simulation's last frame */
+        const char *dir = orr_plan_output_place(&r->views.view[k]).dir;
+        st = orr_check_output_dir(dir, &r->err);
+        orr_remove_stale_temporaries(dir); /* a killed simulation's last frame */
     }
     free(all);
+    if (!st) {
+        r->run = orr_plan_run_settings(&r->views.view[0]);
+        orr_plan_source_request(&r->views.view[0], &r->source);
+    }
     const orr_scene *list[ORR_SCENE_MAX_VIEWS];
     for (int k = 0; k < r->views.n; k++)
         list[k] = &r->views.view[k];
@@ -134,21 +141,22 @@ int orrery_render(orrery_renderer *r, const orr_particle_arrays *p, long frame)
     atomic_store(&r->cancel, 0);
     if (!p || frame < 0)
         return (int)orr_fail(&r->err, ORR_ERR_USAGE, "orrery_render: %s", p ? "negative frame number" : "no particles");
-    const orr_scene *s0 = &r->views.view[0];
+    const orr_run_settings *run = &r->run;
     /* A run at least as long as this frame, and never a still: every frame
      * gets its own name (the plan's: output.name with the frame number). */
-    long nframes = s0->animation.frames > frame + 1 ? s0->animation.frames : frame + 1;
+    long nframes = run->frames > frame + 1 ? run->frames : frame + 1;
     if (nframes < 2)
         nframes = 2;
     orr_source *src = NULL;
     /* All types: the observer and reference particles may be of types the
      * scene does not draw (the renderer selects input.types). */
-    orr_status st = orr_arrays_source_open(p, "in-situ particles", (size_t)s0->input.chunk_size, 0, &src, &r->err);
+    orr_status st =
+        orr_arrays_source_open(p, "in-situ particles", (size_t)r->source.input->chunk_size, 0, &src, &r->err);
     if (!st) {
         src->cancel = &r->cancel;
-        double t_first = s0->animation.has_time ? s0->animation.time[0] : p->time;
-        double t_last = s0->animation.has_time ? s0->animation.time[1] : p->time;
-        orr_frame_input in = {orr_frame_at(frame, nframes, s0->animation.fps, t_first, t_last), src,
+        double t_first = run->has_time ? run->time[0] : p->time;
+        double t_last = run->has_time ? run->time[1] : p->time;
+        orr_frame_input in = {orr_frame_at(frame, nframes, run->fps, t_first, t_last), src,
                               r->has_parallel ? &r->parallel : NULL, r->keep ? orr_kept_add : NULL, &r->kept};
         st = orr_plan_execute(r->plan, &in, r->reports, r->progress, r->progress_user, &r->err);
     }

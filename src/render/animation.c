@@ -16,6 +16,7 @@
 #include "render/frame_markers.h"
 #include "render/plan.h"
 #include "render/sequence_open.h"
+#include "scene/scene.h" /* the frame scenes it holds (copies it makes and frees; the plan reads them) */
 #include "source/partition.h"
 
 /* Where frame markers live, inside each view's output folder. */
@@ -52,12 +53,7 @@ long orr_animation_count(const orr_animation_options *opt, long nframes)
 static orr_status frame_scenes(const orr_scene *const *views, int n, long frame, orr_scene *out, orr_error *err)
 {
     for (int k = 0; k < n; k++) {
-        orr_status st = orr_scene_copy(&out[k], views[k], err); /* frees the last frame's */
-        if (st)
-            return st;
-        orr_frame_naming naming = orr_frame_naming_of(&views[k]->output);
-        st = orr_frame_name(&naming, views[k]->output.name, frame, views[k]->animation.frames, out[k].output.name,
-                                       sizeof out[k].output.name, err);
+        orr_status st = orr_plan_frame_scene(views[k], frame, &out[k], err); /* frees the last frame's */
         if (st)
             return st;
     }
@@ -67,9 +63,11 @@ static orr_status frame_scenes(const orr_scene *const *views, int n, long frame,
 /* Whether every view's frame is complete; else why (empty: never rendered). */
 static int frame_complete(const orr_scene *scenes, const orr_view_identity *ids, int n, char *why, size_t size)
 {
-    for (int k = 0; k < n; k++)
-        if (!orr_marker_frame_complete(&scenes[k], &ids[k], why, size))
+    for (int k = 0; k < n; k++) {
+        const orr_output_place at = orr_plan_output_place(&scenes[k]);
+        if (!orr_marker_frame_complete(&at, &ids[k], why, size))
             return 0;
+    }
     return 1;
 }
 
@@ -80,30 +78,29 @@ typedef struct run_input {
     double t0, t1; /* simulation time at the first and last frame */
 } run_input;
 
-static orr_status open_run_input(const orr_scene *s, int compose, run_input *ri, orr_error *err)
+static orr_status open_run_input(const orr_run_settings *run, const orr_source_request *req, int compose,
+                                 run_input *ri, orr_error *err)
 {
     memset(ri, 0, sizeof *ri);
-    if (s->animation.has_time) {
-        ri->t0 = s->animation.time[0];
-        ri->t1 = s->animation.time[1];
+    if (run->has_time) {
+        ri->t0 = run->time[0];
+        ri->t1 = run->time[1];
     }
-    if (compose || !orr_scene_has_sequence(s))
+    if (compose || !orr_input_has_sequence(req->input))
         return ORR_OK;
-    const char *fields[ORR_RENDER_MAX_FIELDS];
-    int nfields = orr_render_fields(s, fields);
-    orr_status st = orr_sequence_open_scene(s, fields, nfields, &ri->seq, err);
+    orr_status st = orr_sequence_open_request(req, req->fields, req->nfields, &ri->seq, err);
     if (st)
         return st;
     double first, last;
     orr_sequence_time_range(ri->seq, &first, &last);
-    if (!s->animation.has_time) {
+    if (!run->has_time) {
         ri->t0 = first;
         ri->t1 = last;
     } else if (!(fmin(ri->t0, ri->t1) >= first && fmax(ri->t0, ri->t1) <= last)) {
         /* Said before any frame is drawn, not at the first frame outside. */
         return orr_fail(err, ORR_ERR_USAGE,
                         "%s: animation.time [%g, %g] reaches outside the sequence's snapshots, times %g to %g",
-                        s->path, s->animation.time[0], s->animation.time[1], first, last);
+                        run->scene_path, run->time[0], run->time[1], first, last);
     }
     return ORR_OK;
 }
@@ -133,28 +130,30 @@ static orr_status run_plan(orr_plan **plan, const orr_scene *const *views, int n
 }
 
 static orr_status do_frame(orr_plan *plan, const orr_scene *scenes, const orr_view_identity *ids, int n,
-                           long frame, const run_input *ri, const orr_animation_options *opt,
-                           orr_render_report *reports, orr_error *err)
+                           long frame, const orr_run_settings *run, const run_input *ri,
+                           const orr_animation_options *opt, orr_render_report *reports, orr_error *err)
 {
-    const orr_scene *s0 = &scenes[0];
     const orr_scene *list[ORR_SCENE_MAX_VIEWS];
     int writer = !opt->parallel || opt->parallel->rank == 0; /* rank 0 of several processes writes */
     for (int k = 0; k < n; k++) {
         list[k] = &scenes[k];
-        if (writer && !opt->compose && s0->animation.frames > 1)
-            orr_marker_remove(&scenes[k]);
+        const orr_output_place at = orr_plan_output_place(&scenes[k]);
+        if (writer && !opt->compose && run->frames > 1)
+            orr_marker_remove(&at);
     }
-    orr_frame_input in = {.time = orr_frame_at(frame, s0->animation.frames, s0->animation.fps, ri->t0, ri->t1),
+    orr_frame_input in = {.time = orr_frame_at(frame, run->frames, run->fps, ri->t0, ri->t1),
                           .parallel = opt->parallel};
     orr_status st = opt->compose ? ORR_OK : frame_source(ri, &in.time, opt->parallel, &in.source, err);
     if (!st)
         st = opt->compose ? orr_plan_compose(plan, list, reports, err)
                           : orr_plan_execute(plan, &in, reports, opt->progress, opt->progress_user, err);
     orr_source_close(in.source);
-    if (st && s0->animation.frames > 1)
+    if (st && run->frames > 1)
         return orr_fail_prefix(err, "frame %ld: ", frame);
-    for (int k = 0; k < n && !st && s0->animation.frames > 1 && writer; k++)
-        st = orr_marker_write(&scenes[k], &ids[k], &reports[k], opt->compose, err);
+    for (int k = 0; k < n && !st && run->frames > 1 && writer; k++) {
+        const orr_output_place at = orr_plan_output_place(&scenes[k]);
+        st = orr_marker_write(&at, &ids[k], &reports[k], opt->compose, err);
+    }
     return st;
 }
 
@@ -178,10 +177,12 @@ static orr_status run_identities(const orr_scene *const *views, int n, const run
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++) {
         char markers[ORR_PATH_MAX];
-        orr_remove_stale_temporaries(views[k]->output.dir);
-        if (snprintf(markers, sizeof markers, "%s/" MARKER_DIR, views[k]->output.dir) < (int)sizeof markers)
+        const char *dir = orr_plan_output_place(views[k]).dir;
+        orr_remove_stale_temporaries(dir);
+        if (snprintf(markers, sizeof markers, "%s/" MARKER_DIR, dir) < (int)sizeof markers)
             orr_remove_stale_temporaries(markers);
-        st = compose ? ORR_OK : orr_view_identity_make(views[k], ri->seq, &ids[k], err);
+        const orr_view_making making = orr_plan_view_making(views[k]);
+        st = compose ? ORR_OK : orr_view_identity_make(&making, ri->seq, &ids[k], err);
     }
     return st;
 }
@@ -197,12 +198,13 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
 {
     if (n < 1 || n > ORR_SCENE_MAX_VIEWS)
         return orr_fail(err, ORR_ERR_USAGE, "%d views: expected 1 to %d", n, ORR_SCENE_MAX_VIEWS);
-    const long nframes = views[0]->animation.frames;
+    const orr_run_settings run = orr_plan_run_settings(views[0]);
+    const long nframes = run.frames;
     long first, last;
     frame_range(opt, nframes, &first, &last);
     if (opt->first >= nframes)
         return orr_fail(err, ORR_ERR_USAGE, "%s: frame %ld asked for, but the run has %ld frames (0 to %ld)",
-                        views[0]->path, opt->first, nframes, nframes - 1);
+                        run.scene_path, opt->first, nframes, nframes - 1);
     const long stride = opt->stride > 0 ? opt->stride : 1;
     orr_scene *scenes = orr_calloc((size_t)n, sizeof *scenes, "frame scenes", err);
     if (!scenes)
@@ -210,7 +212,9 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
     orr_view_identity ids[ORR_SCENE_MAX_VIEWS] = {{0}};
     orr_plan *plan = NULL;
     run_input ri;
-    orr_status st = open_run_input(views[0], opt->compose, &ri, err);
+    orr_source_request source;
+    orr_plan_source_request(views[0], &source);
+    orr_status st = open_run_input(&run, &source, opt->compose, &ri, err);
     if (!st)
         st = run_identities(views, n, &ri, opt->compose, ids, err);
     /* A still is always rendered; a compose always re-grades. */
@@ -228,7 +232,7 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
         if (!skip && (st = run_plan(&plan, views, n, opt->compose, err)) && nframes > 1)
             orr_fail_prefix(err, "frame %ld: ", f);
         if (!skip && !st)
-            st = do_frame(plan, scenes, ids, n, f, &ri, opt, reports, err);
+            st = do_frame(plan, scenes, ids, n, f, &run, &ri, opt, reports, err);
         for (int k = 0; k < n && !skip && !st; k++)
             if (reports[k].stars_capped && capped[k]++ == 0)
                 capped_first[k] = f;
@@ -258,7 +262,8 @@ static double rendered_white(const orr_scene *frame)
 {
     char path[ORR_PATH_MAX];
     orr_error ignored;
-    char *marker = orr_marker_path(frame, path, &ignored) ? NULL : orr_marker_read(path);
+    const orr_output_place at = orr_plan_output_place(frame);
+    char *marker = orr_marker_path(&at, path, &ignored) ? NULL : orr_marker_read(path);
     size_t len;
     const char *line = marker ? orr_marker_find_line(marker, "white ", &len) : NULL;
     double white = line ? orr_strtod(line + 6, NULL) : NAN;
@@ -290,15 +295,14 @@ static orr_status regrade_frame(orr_plan *plan, const orr_scene *s, long f, doub
     if (!frame)
         return orr_fail(err, ORR_ERR_NOMEM, "out of memory for a frame's scene");
     orr_status st = frame_scenes(&s, 1, f, frame, err);
-    frame->regrade_final = 1;
-    frame->colour.synth.y0 = white;
-    frame->picture.stretch.white = white;
+    orr_plan_regrade_scene(frame, white);
     const orr_scene *list[1] = {frame};
     if (!st)
         st = orr_plan_compose(plan, list, rep, err);
     orr_view_identity unused = {NULL, NULL};
+    const orr_output_place at = orr_plan_output_place(frame);
     if (!st)
-        st = orr_marker_write(frame, &unused, rep, 1, err);
+        st = orr_marker_write(&at, &unused, rep, 1, err);
     orr_scene_free(frame);
     free(frame);
     return st ? orr_fail_prefix(err, "frame %ld: smoothing the white level: ", f) : ORR_OK;
@@ -310,8 +314,9 @@ orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++) {
         const orr_scene *s = views[k];
-        const long nframes = s->animation.frames;
-        if (s->animation.white_smoothing <= 1 || nframes <= 1)
+        const orr_run_settings run = orr_plan_run_settings(s);
+        const long nframes = run.frames;
+        if (run.white_smoothing <= 1 || nframes <= 1)
             continue;
         double *whites = orr_calloc((size_t)nframes, sizeof *whites, "white levels", err);
         orr_scene *frame = calloc(1, sizeof *frame); /* zeroed: frame_scenes frees what it holds */
@@ -325,7 +330,7 @@ orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr
         orr_plan *plan = NULL;
         for (long f = 0; f < nframes && !st; f++)
             if (isfinite(whites[f]) && !(st = run_plan(&plan, &s, 1, 1, err)))
-                st = regrade_frame(plan, s, f, smoothed_white(whites, nframes, f, s->animation.white_smoothing), &reports[k],
+                st = regrade_frame(plan, s, f, smoothed_white(whites, nframes, f, run.white_smoothing), &reports[k],
                                    err);
         orr_plan_destroy(plan);
         if (frame)

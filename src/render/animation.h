@@ -7,6 +7,18 @@
 #include "render/frame_names.h"
 #include "render/render.h"
 
+/* What a run of frames reads of a view's scene (animation.*: a run takes
+ * its length, rate and times from its first view), compiled by the plan
+ * (orr_plan_run_settings, render/plan.h); it points into the scene. */
+typedef struct orr_run_settings {
+    const char *scene_path; /* for messages */
+    long long frames;       /* animation.frames: frames in the run (1: a still) */
+    double fps;             /* animation.fps */
+    int has_time;
+    double time[2];         /* animation.time: the simulation time at the first and the last frame */
+    int white_smoothing;    /* animation.white_smoothing: frames the white level is averaged over */
+} orr_run_settings;
+
 /* Told after each frame of the run: rendered (skipped = 0) or found complete
  * from an earlier run (skipped = 1). redone is NULL, or why an earlier
  * run's frame was not taken: its scene settings, an input or an output

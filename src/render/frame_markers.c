@@ -158,28 +158,29 @@ static orr_status add_input_set(char **head, const char *label, const orr_sequen
     return append(head, err, "inputs %s %d %016llx\n", label, n, (unsigned long long)h);
 }
 
-orr_status orr_view_identity_make(const orr_scene *s, const orr_sequence *seq, orr_view_identity *id, orr_error *err)
+orr_status orr_view_identity_make(const orr_view_making *m, const orr_sequence *seq, orr_view_identity *id,
+                                  orr_error *err)
 {
     id->head = NULL;
-    id->settings = s->settings;
+    id->settings = m->settings;
     orr_status st = append(&id->head, err, "version %s\nsettings %016llx\n", ORRERY_VERSION,
-                           (unsigned long long)s->settings_digest);
-    if (!st && s->input.file && !seq)
-        st = add_input(&id->head, "input.file", s->input.file, err);
+                           (unsigned long long)m->settings_digest);
+    if (!st && m->input_file && !seq)
+        st = add_input(&id->head, "input.file", m->input_file, err);
     if (!st && seq)
         st = add_input_set(&id->head, "input.sequence", seq, err);
-    if (!st && s->psf.kind == ORR_PSF_FILE && s->psf.file)
-        st = add_input(&id->head, "psf.file", s->psf.file, err);
-    if (!st && s->camera.path_file)
-        st = add_input(&id->head, "camera.path.file", s->camera.path_file, err);
+    if (!st && m->psf_file)
+        st = add_input(&id->head, "psf.file", m->psf_file, err);
+    if (!st && m->camera_path_file)
+        st = add_input(&id->head, "camera.path.file", m->camera_path_file, err);
     return st;
 }
 
-orr_status orr_marker_path(const orr_scene *s, char *path, orr_error *err)
+orr_status orr_marker_path(const orr_output_place *at, char *path, orr_error *err)
 {
-    int n = snprintf(path, ORR_PATH_MAX, "%s/" MARKER_DIR "/%s.done", s->output.dir, s->output.name);
+    int n = snprintf(path, ORR_PATH_MAX, "%s/" MARKER_DIR "/%s.done", at->dir, at->name);
     if (n < 0 || n >= ORR_PATH_MAX)
-        return orr_fail(err, ORR_ERR_USAGE, "frame marker path for %s/%s is too long", s->output.dir, s->output.name);
+        return orr_fail(err, ORR_ERR_USAGE, "frame marker path for %s/%s is too long", at->dir, at->name);
     return ORR_OK;
 }
 
@@ -328,12 +329,12 @@ static int outputs_hold(const char *marker, const char *dir, char *why, size_t s
 
 /* Whether the view's frame is complete and made as this run would make it.
  * why is "" when there is no marker (never rendered), else the reason. */
-int orr_marker_frame_complete(const orr_scene *s, const orr_view_identity *id, char *why, size_t size)
+int orr_marker_frame_complete(const orr_output_place *at, const orr_view_identity *id, char *why, size_t size)
 {
     char path[ORR_PATH_MAX];
     orr_error ignored;
     why[0] = '\0';
-    char *marker = orr_marker_path(s, path, &ignored) ? NULL : orr_marker_read(path);
+    char *marker = orr_marker_path(at, path, &ignored) ? NULL : orr_marker_read(path);
     if (!marker)
         return 0;
     char magic[32];
@@ -344,7 +345,7 @@ int orr_marker_frame_complete(const orr_scene *s, const orr_view_identity *id, c
     else if (!strstr(marker, id->head))
         name_head_change(marker, id, why, size);
     else
-        ok = outputs_hold(marker, s->output.dir, why, size);
+        ok = outputs_hold(marker, at->dir, why, size);
     free(marker);
     return ok;
 }
@@ -412,12 +413,12 @@ static orr_status compose_marker_text(const char *old, const orr_render_report *
 
 /* The marker's text: a render's whole, or a compose's update of the
  * render's (NULL when the frame has no marker: nothing to update). */
-static orr_status marker_text(const orr_scene *s, const orr_view_identity *id, const orr_render_report *rep,
+static orr_status marker_text(const orr_output_place *at, const orr_view_identity *id, const orr_render_report *rep,
                               int compose, char **text, orr_error *err)
 {
     *text = NULL;
     char path[ORR_PATH_MAX];
-    orr_status st = orr_marker_path(s, path, err);
+    orr_status st = orr_marker_path(at, path, err);
     if (!st && compose) {
         char *old = orr_marker_read(path);
         st = old ? compose_marker_text(old, rep, text, err) : ORR_OK;
@@ -433,26 +434,26 @@ static orr_status marker_text(const orr_scene *s, const orr_view_identity *id, c
     return st ? st : add_settings(text, id->settings, err);
 }
 
-static orr_status marker_folder(const orr_scene *s, orr_error *err)
+static orr_status marker_folder(const orr_output_place *at, orr_error *err)
 {
     char dir[ORR_PATH_MAX];
-    if (snprintf(dir, sizeof dir, "%s/" MARKER_DIR, s->output.dir) >= (int)sizeof dir)
-        return orr_fail(err, ORR_ERR_USAGE, "frame marker folder in %s: path too long", s->output.dir);
+    if (snprintf(dir, sizeof dir, "%s/" MARKER_DIR, at->dir) >= (int)sizeof dir)
+        return orr_fail(err, ORR_ERR_USAGE, "frame marker folder in %s: path too long", at->dir);
     if (mkdir(dir, 0777) != 0 && errno != EEXIST)
         return orr_fail(err, ORR_ERR_IO, "%s: cannot create the frame marker folder: %s", dir, strerror(errno));
     return ORR_OK;
 }
 
 /* Records the view's outputs of this frame. */
-orr_status orr_marker_write(const orr_scene *s, const orr_view_identity *id, const orr_render_report *rep,
-                          int compose, orr_error *err)
+orr_status orr_marker_write(const orr_output_place *at, const orr_view_identity *id, const orr_render_report *rep,
+                            int compose, orr_error *err)
 {
     char path[ORR_PATH_MAX], *text = NULL;
-    orr_status st = marker_folder(s, err);
+    orr_status st = marker_folder(at, err);
     if (!st)
-        st = orr_marker_path(s, path, err);
+        st = orr_marker_path(at, path, err);
     if (!st)
-        st = marker_text(s, id, rep, compose, &text, err);
+        st = marker_text(at, id, rep, compose, &text, err);
     orr_atomic_file af;
     if (!st && !text)
         return ORR_OK;
@@ -477,11 +478,11 @@ orr_status orr_marker_write(const orr_scene *s, const orr_view_identity *id, con
 /* A frame about to be rendered is not complete until its new marker is
  * written, whatever an old marker said: should the run stop part-way, the
  * next one must not take the old files for this frame's. */
-void orr_marker_remove(const orr_scene *s)
+void orr_marker_remove(const orr_output_place *at)
 {
     char path[ORR_PATH_MAX];
     orr_error ignored;
-    if (!orr_marker_path(s, path, &ignored))
+    if (!orr_marker_path(at, path, &ignored))
         unlink(path);
 }
 

@@ -25,6 +25,16 @@ typedef struct orr_frame_naming {
 /* The naming output.frame_* (o) ask for. */
 orr_frame_naming orr_frame_naming_of(const orr_output_settings *o);
 
+/* Where a view writes its files and its frames' markers: output.dir, its
+ * output.name (a frame's scene's: with the frame's number) and how frames
+ * are named. Compiled by the plan from a scene (orr_plan_output_place,
+ * render/plan.h); it points into that scene. */
+typedef struct orr_output_place {
+    const char *dir;         /* output.dir */
+    const char *name;        /* output.name */
+    orr_frame_naming naming; /* output.frame_* */
+} orr_output_place;
+
 /* Digits of the frame numbers in a run of nframes: f's, more when the last
  * frame's number needs them. */
 int orr_frame_digits(const orr_frame_naming *f, long nframes);

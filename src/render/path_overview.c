@@ -6,10 +6,11 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/plane.h"
 #include "encode/png.h"
+#include "frame/projection.h"
 #include "post/colormap.h"
 #include "post/stretch.h"
-#include "render/render.h"
 #include "splat/deposit.h"
 
 /* Particles moved into the view per pass: as the renderer's blocks. */
@@ -67,17 +68,20 @@ static void bounds_add(bounds *b, double x, double y)
 }
 
 /* The particles' weights, or an error naming the fields there are. */
-static const float *weights_of(const orr_scene *s, const orr_chunk *c) { return orr_chunk_field(c, s->input.weight); }
+static const float *weights_of(const orr_path_scene *ps, const orr_chunk *c)
+{
+    return orr_chunk_field(c, ps->source.input->weight);
+}
 
-static int selected(const orr_scene *s, const orr_chunk *c, size_t i)
+static int selected(const orr_path_scene *ps, const orr_chunk *c, size_t i)
 {
     /* input.types is a mask of types 0..5; a text table may hold others. */
-    return c->type[i] < 32 && (s->input.type_mask >> c->type[i] & 1u) && isfinite(c->x[i]) && isfinite(c->y[i]) &&
-           isfinite(c->z[i]);
+    return c->type[i] < 32 && (ps->source.input->type_mask >> c->type[i] & 1u) && isfinite(c->x[i]) &&
+           isfinite(c->y[i]) && isfinite(c->z[i]);
 }
 
 /* Pass 1: the particles' extent in the view's plane. */
-static orr_status particle_bounds(const orr_scene *s, orr_source *src, orr_mat3 to_view, bounds *b,
+static orr_status particle_bounds(const orr_path_scene *ps, orr_source *src, orr_mat3 to_view, bounds *b,
                                   orr_error *err)
 {
     for (;;) {
@@ -86,7 +90,7 @@ static orr_status particle_bounds(const orr_scene *s, orr_source *src, orr_mat3 
         if (st || c->n == 0)
             return st;
         for (size_t i = 0; i < c->n; i++) {
-            if (!selected(s, c, i))
+            if (!selected(ps, c, i))
                 continue;
             orr_vec3 p = orr_mat3_apply(to_view, orr_v3(c->x[i], c->y[i], c->z[i]));
             bounds_add(b, p.x, p.y);
@@ -102,7 +106,7 @@ typedef struct block {
 } block;
 
 /* Pass 2: every selected particle deposited (cloud in cell) into plane. */
-static orr_status splat_particles(const orr_scene *s, orr_source *src, const orr_projection *proj,
+static orr_status splat_particles(const orr_path_scene *ps, orr_source *src, const orr_projection *proj,
                                   const orr_camera *view, orr_plane *plane, orr_path_overview *ov, orr_error *err)
 {
     block *b = orr_malloc(sizeof *b, "overview block", err);
@@ -115,10 +119,10 @@ static orr_status splat_particles(const orr_scene *s, orr_source *src, const orr
         const orr_chunk *c;
         if ((st = orr_source_next(src, &c, err)) || c->n == 0)
             break;
-        const float *w = weights_of(s, c);
+        const float *w = weights_of(ps, c);
         if (!w) {
-            st = orr_fail(err, ORR_ERR_USAGE, "%s: input.weight '%s' is not a field of %s", s->path, s->input.weight,
-                          src->info.path);
+            st = orr_fail(err, ORR_ERR_USAGE, "%s: input.weight '%s' is not a field of %s", ps->scene_path,
+                          ps->source.input->weight, src->info.path);
             break;
         }
         size_t n = 0;
@@ -128,7 +132,7 @@ static orr_status splat_particles(const orr_scene *s, orr_source *src, const orr
                 orr_deposit(ORR_DEPOSIT_CIC, plane, n, b->px, b->py, b->w, b->visible, proj, &stats);
                 n = 0;
             }
-            if (i == c->n || !selected(s, c, i))
+            if (i == c->n || !selected(ps, c, i))
                 continue;
             orr_vec3 p = orr_mat3_apply(m, orr_v3_sub(orr_v3(c->x[i], c->y[i], c->z[i]), view->position));
             b->x[n] = (float)p.x;
@@ -275,10 +279,10 @@ static void draw_path(const canvas *cv, const orr_projection *proj, const orr_ca
 
 /* Chooses the view: down the main axis, centred on and holding the path
  * (and the particles, unless fit_path). */
-static orr_status choose_view(const orr_scene *s, orr_source *src, const orr_camera *cams, long n,
+static orr_status choose_view(const orr_path_scene *ps, orr_source *src, const orr_camera *cams, long n,
                               orr_path_overview *ov, orr_projection *proj, orr_error *err)
 {
-    ov->normal = orr_path_main_axis(&s->camera.path, cams, n);
+    ov->normal = orr_path_main_axis(ps->camera_path, cams, n);
     orr_camera at_origin;
     orr_status st = orr_camera_look_along(&at_origin, orr_v3(0, 0, 0), orr_v3_scale(ov->normal, -1),
                                           picture_up(ov->normal), 0, err);
@@ -290,7 +294,7 @@ static orr_status choose_view(const orr_scene *s, orr_source *src, const orr_cam
         orr_vec3 p = orr_mat3_apply(to_view, cams[i].position);
         bounds_add(&b, p.x, p.y);
     }
-    if (!ov->fit_path && (st = particle_bounds(s, src, to_view, &b, err)))
+    if (!ov->fit_path && (st = particle_bounds(ps, src, to_view, &b, err)))
         return st;
     const double aspect = (double)ov->width / ov->height;
     double span = fmax(b.hi[0] - b.lo[0], (b.hi[1] - b.lo[1]) * aspect);
@@ -309,7 +313,7 @@ static orr_status choose_view(const orr_scene *s, orr_source *src, const orr_cam
 }
 
 /* The particles in grey (the scene's stretch), dimmed so the path stands out. */
-static orr_status grade(const orr_scene *s, const orr_plane *plane, float *rgb, orr_error *err)
+static orr_status grade(const orr_stretch *stretch, const orr_plane *plane, float *rgb, orr_error *err)
 {
     const size_t npix = (size_t)plane->width * (size_t)plane->height;
     float *t = orr_malloc(npix * sizeof(float), "overview stretch", err);
@@ -318,7 +322,7 @@ static orr_status grade(const orr_scene *s, const orr_plane *plane, float *rgb, 
     double white;
     orr_status st = ORR_OK;
     if (orr_plane_sum(plane) > 0)
-        st = orr_stretch_apply(&s->picture.stretch, plane, t, &white, err);
+        st = orr_stretch_apply(stretch, plane, t, &white, err);
     else
         memset(t, 0, npix * sizeof(float));
     for (size_t i = 0; !st && i < npix; i++) {
@@ -330,7 +334,7 @@ static orr_status grade(const orr_scene *s, const orr_plane *plane, float *rgb, 
     return st;
 }
 
-orr_status orr_path_overview_write(const orr_scene *s, const orr_camera *cams, long n, orr_path_overview *ov,
+orr_status orr_path_overview_write(const orr_path_scene *ps, const orr_camera *cams, long n, orr_path_overview *ov,
                                    const char *png_path, orr_error *err)
 {
     if (n < 1)
@@ -343,24 +347,25 @@ orr_status orr_path_overview_write(const orr_scene *s, const orr_camera *cams, l
     orr_projection proj;
     orr_plane plane = {0};
     float *rgb = NULL;
-    orr_status st = orr_scene_open_source(s, NULL, 0, &src, err);
+    orr_status st = orr_source_request_open(&ps->source, NULL, 0, &src, err);
     if (!st)
-        st = choose_view(s, src, cams, n, ov, &proj, err);
+        st = choose_view(ps, src, cams, n, ov, &proj, err);
     if (!st)
-        st = orr_plane_alloc(&plane, ov->width, ov->height, s->input.weight, "", err);
+        st = orr_plane_alloc(&plane, ov->width, ov->height, ps->source.input->weight, "", err);
     if (!st)
-        st = splat_particles(s, src, &proj, &ov->view, &plane, ov, err);
+        st = splat_particles(ps, src, &proj, &ov->view, &plane, ov, err);
     if (!st && !(rgb = orr_malloc((size_t)ov->width * (size_t)ov->height * 3 * sizeof(float), "overview", err)))
         st = ORR_ERR_NOMEM;
     if (!st)
-        st = grade(s, &plane, rgb, err);
+        st = grade(ps->stretch, &plane, rgb, err);
     if (!st) {
         canvas cv = {rgb, ov->width, ov->height};
         draw_path(&cv, &proj, &ov->view, cams, n);
         char desc[ORR_PATH_MAX + 160];
         snprintf(desc, sizeof desc,
                  "camera path (%s, %ld frames) of %s over its particles, seen down (%.4g, %.4g, %.4g)",
-                 orr_path_kind_name(s->camera.path.kind), n, s->path, ov->normal.x, ov->normal.y, ov->normal.z);
+                 orr_path_kind_name(ps->camera_path->kind), n, ps->scene_path, ov->normal.x, ov->normal.y,
+                 ov->normal.z);
         orr_png_text text[] = {{"Software", "orrery " ORRERY_VERSION}, {"Description", desc}};
         st = orr_write_png_rgb(png_path, ov->width, ov->height, rgb, 8, text, 2, err);
     }

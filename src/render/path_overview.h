@@ -6,7 +6,20 @@
 #define ORR_RENDER_PATH_OVERVIEW_H
 
 #include "frame/camera.h"
-#include "scene/scene.h"
+#include "frame/path.h"
+#include "post/stretch.h"
+#include "render/source_request.h"
+
+/* What `orrery path` and its overview read of a scene, compiled by the
+ * plan (orr_plan_path_scene, render/plan.h); it points into the scene. */
+typedef struct orr_path_scene {
+    const char *scene_path;             /* for messages and the picture's description */
+    long long frames;                   /* animation.frames */
+    int has_camera_path;                /* camera.path.kind was given */
+    const orr_camera_path *camera_path; /* camera.path.* */
+    orr_source_request source;          /* the particles drawn under it: input.types, weighed by input.weight */
+    const orr_stretch *stretch;         /* output.stretch: how they are graded */
+} orr_path_scene;
 
 typedef struct orr_path_overview {
     int width, height;      /* the picture, pixels */
@@ -26,7 +39,7 @@ orr_vec3 orr_path_main_axis(const orr_camera_path *path, const orr_camera *cams,
 
 /* Draws the overview of the cameras cams[0..n) (one per frame) over the
  * scene's particles and writes it as a PNG to png_path (atomically). */
-orr_status orr_path_overview_write(const orr_scene *s, const orr_camera *cams, long n, orr_path_overview *ov,
+orr_status orr_path_overview_write(const orr_path_scene *ps, const orr_camera *cams, long n, orr_path_overview *ov,
                                    const char *png_path, orr_error *err);
 
 #endif

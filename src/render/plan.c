@@ -17,8 +17,113 @@
 #include "post/brightness.h"
 #include "post/grade.h"
 #include "render/frame_names.h"
+#include "scene/scene.h"
 #include "scene/scene_output.h"
 #include "source/partition.h"
+
+/* ---- the views as rendered: a stereo view's two eyes ---- */
+
+/* The views as the plan renders them: a stereo view becomes its left eye
+ * followed by its right eye, each a copy of the scene that knows which eye
+ * it is. The left eye reports into the caller's report; the right eye into
+ * one of its own, whose outputs eye_views_finish appends to the left's. */
+typedef struct orr_eye_views {
+    int n;                       /* views to render */
+    const orr_scene **scene;     /* [n] the scene of each (the caller's, or an eye's copy) */
+    orr_render_report **report;  /* [n] where each reports */
+    orr_scene *copies;           /* the eyes' scenes, copies with strings of their own */
+    int ncopies;                 /* ... how many (zeroed until copied: freed whole) */
+    orr_render_report *right;    /* the right eyes' reports */
+} orr_eye_views;
+
+/* Merges each right eye's outputs into its left eye's report, then frees. */
+static void eye_views_finish(orr_eye_views *ev)
+{
+    for (int k = 0; ev->report && k + 1 < ev->n; k++) {
+        if (ev->scene[k]->stereo.eye != ORR_EYE_LEFT)
+            continue;
+        orr_render_report *l = ev->report[k];
+        const orr_render_report *r = ev->report[k + 1];
+        for (int i = 0; i < r->noutputs && l->noutputs < ORR_RENDER_MAX_OUTPUTS; i++)
+            memcpy(l->outputs[l->noutputs++], r->outputs[i], ORR_PATH_MAX);
+    }
+    free(ev->scene);
+    free(ev->report);
+    for (int k = 0; k < ev->ncopies; k++)
+        orr_scene_free(&ev->copies[k]);
+    free(ev->copies);
+    free(ev->right);
+    memset(ev, 0, sizeof *ev);
+}
+
+/* The scene of one eye: a copy that knows which eye it is, with its own
+ * output name when the eyes are written separately. */
+static orr_status eye_scene(const orr_scene *s, int eye, orr_scene *out, orr_error *err)
+{
+    orr_status st = orr_scene_copy(out, s, err);
+    if (st)
+        return st;
+    out->stereo.eye = eye;
+    return orr_eye_output_name(s->stereo.mode, s->path, s->output.name, eye, out->output.name,
+                               sizeof out->output.name, err);
+}
+
+/* Room in ev for n views, of which `pairs` stereo views' eye copies and
+ * right eyes' reports. */
+static orr_status eye_views_alloc(orr_eye_views *ev, int n, int pairs, orr_error *err)
+{
+    ev->scene = orr_calloc((size_t)n, sizeof *ev->scene, "stereo views", err);
+    ev->report = orr_calloc((size_t)n, sizeof *ev->report, "stereo views", err);
+    ev->copies = pairs ? orr_calloc(2 * (size_t)pairs, sizeof *ev->copies, "stereo eye scenes", err) : NULL;
+    ev->ncopies = ev->copies ? 2 * pairs : 0;
+    ev->right = pairs ? orr_calloc((size_t)pairs, sizeof *ev->right, "stereo eye reports", err) : NULL;
+    if (!ev->scene || !ev->report || (pairs && (!ev->copies || !ev->right))) {
+        eye_views_finish(ev);
+        return ORR_ERR_NOMEM;
+    }
+    return ORR_OK;
+}
+
+/* Expands scenes[0..nscenes) (reports[i] for scene i) into eyes. For
+ * stereo.mode: separate each eye writes its own files, named
+ * output.name-left and output.name-right. */
+static orr_status eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,
+                                   orr_eye_views *ev, orr_error *err)
+{
+    memset(ev, 0, sizeof *ev);
+    int pairs = 0;
+    for (int k = 0; k < nscenes; k++)
+        pairs += scenes[k]->stereo.mode != ORR_STEREO_NONE;
+    orr_status st = eye_views_alloc(ev, nscenes + pairs, pairs, err);
+    for (int k = 0, pair = 0; k < nscenes && !st; k++) {
+        if (scenes[k]->stereo.mode == ORR_STEREO_NONE) {
+            ev->scene[ev->n] = scenes[k];
+            ev->report[ev->n++] = &reports[k];
+            continue;
+        }
+        orr_scene *left = &ev->copies[2 * pair], *right = left + 1;
+        st = eye_scene(scenes[k], ORR_EYE_LEFT, left, err);
+        if (!st)
+            st = eye_scene(scenes[k], ORR_EYE_RIGHT, right, err);
+        if (st) {
+            eye_views_finish(ev);
+            return st;
+        }
+        ev->scene[ev->n] = left;
+        ev->report[ev->n++] = &reports[k];
+        ev->scene[ev->n] = right;
+        ev->report[ev->n++] = &ev->right[pair++];
+    }
+    return st;
+}
+
+/* Whether view k of ev is the left eye of a pair written as one picture
+ * (anaglyph, side-by-side, over-under); view k + 1 is then its right eye. */
+static int eye_views_pair_at(const orr_eye_views *ev, int k)
+{
+    return k + 1 < ev->n && ev->scene[k]->stereo.eye == ORR_EYE_LEFT &&
+           orr_stereo_is_pair_mode(ev->scene[k]->stereo.mode);
+}
 
 struct orr_plan {
     orr_plan_purpose purpose;
@@ -27,6 +132,7 @@ struct orr_plan {
     int n;                   /* the views as rendered: a stereo view is two eyes (purpose render) */
     int *origin;             /* [n] the view given that each renders */
     orr_eye_views eyes;      /* the planned views' eyes: their scenes live as long as the plan */
+    orr_source_request source; /* what the frames ask of the particles: view 0's (views share input.*) */
     orr_render_report *planning_reports; /* [nscenes] what the planned eyes report into (unused after) */
     view_state *views;       /* [n] */
     orr_splat_view **passes; /* [n] each view's part for the splat pass: &views[k].pass */
@@ -40,6 +146,156 @@ struct orr_plan {
     double seconds;          /* orr_plan_create's time */
     orr_clock planning;      /* ... wall and CPU, charged to the first frame executed (then zero) */
 };
+
+/* ---- what the frames ask of the particle source ---- */
+
+/* Whether the scene's shutter moves particles by their velocities (so the
+ * renderer must read vx, vy, vz): a shutter, and simulation time that
+ * passes between frames: animation.frame_interval, a sequence's snapshots,
+ * or an in-situ run's animation.time. (A single snapshot's particles stand
+ * still, and only the camera moves.) pass/motion_blur.h draws the
+ * streaks. */
+static int blur_moves_particles(const orr_scene *s)
+{
+    if (!(s->animation.shutter > 0))
+        return 0;
+    if (s->animation.has_frame_interval)
+        return s->animation.frame_interval > 0;
+    /* A single snapshot's particles stand still from frame to frame, so
+     * they do not move while the shutter is open either. */
+    if (orr_scene_has_sequence(s))
+        return 1;
+    return s->input.insitu && s->animation.has_time && s->animation.time[0] != s->animation.time[1];
+}
+
+/* Appends name to r's fields unless it is empty, mass or h (never extra
+ * fields), already there, or there is no room. */
+static void add_field(orr_source_request *r, const char *name)
+{
+    if (!name[0] || strcmp(name, "mass") == 0 || strcmp(name, "h") == 0 || r->nfields >= ORR_RENDER_MAX_FIELDS)
+        return;
+    for (int i = 0; i < r->nfields; i++)
+        if (strcmp(r->fields[i], name) == 0)
+            return;
+    r->fields[r->nfields++] = name;
+}
+
+/* The fields a colour population reads besides positions and weights:
+ * readers that load only the fields asked for (HDF5) must load these, or a
+ * population choosing by stellar age would find no ages. */
+static void add_population_fields(orr_source_request *r, const orr_population *p)
+{
+    add_field(r, p->select.range_field);
+    add_field(r, p->select.prob_field);
+    if (p->colour.kind != ORR_POPCOLOUR_FIXED)
+        add_field(r, p->colour.field);
+    if (p->colour.kind == ORR_POPCOLOUR_SSP)
+        add_field(r, p->colour.ssp.metallicity_field);
+    if (p->lum.kind == ORR_POPLUM_FIELD || p->lum.kind == ORR_POPLUM_MAGNITUDE)
+        add_field(r, p->lum.field);
+}
+
+/* The extra fields a frame of the scene asks its source for (orr_source_request.fields). */
+static void add_frame_fields(orr_source_request *r, const orr_scene *s)
+{
+    add_field(r, s->input.weight);
+    for (int i = 0; s->colour.has_populations && i < s->colour.populations.n; i++)
+        add_population_fields(r, &s->colour.populations.pop[i]);
+    if (s->dust.types)
+        add_field(r, s->dust.metallicity);
+    if ((s->observer.has_id && s->observer.normal_types) || blur_moves_particles(s)) {
+        add_field(r, "vx");
+        add_field(r, "vy");
+        add_field(r, "vz");
+    }
+}
+
+void orr_plan_source_request(const orr_scene *s, orr_source_request *r)
+{
+    memset(r, 0, sizeof *r);
+    r->scene_path = s->path;
+    r->input = &s->input;
+    r->periodic = &s->periodic;
+    /* The observer and reference particles may be of types the scene does
+     * not draw: then the reader must not drop them (the splat selects
+     * input.types itself); nor the dust (dust.types). */
+    r->reader_types = s->observer.has_id ? 0 : s->input.type_mask | s->dust.types;
+    /* A model generates only the types some pass reads (the markers always
+     * are): the drawn stars, the dust, the particles whose spin gives the
+     * observer's normal. With input.types: [2, 3] that leaves out the dark
+     * halos, two thirds of the particles. */
+    r->model_types = s->input.type_mask | s->dust.types | s->observer.normal_types;
+    r->sequence_types = s->observer.has_id ? 0 : s->input.type_mask;
+    add_frame_fields(r, s);
+}
+
+/* ---- what a run's frames and their markers read of a view ---- */
+
+orr_output_place orr_plan_output_place(const orr_scene *s)
+{
+    return (orr_output_place){s->output.dir, s->output.name, orr_frame_naming_of(&s->output)};
+}
+
+orr_view_making orr_plan_view_making(const orr_scene *s)
+{
+    return (orr_view_making){
+        .settings = s->settings,
+        .settings_digest = s->settings_digest,
+        .input_file = s->input.file,
+        .psf_file = s->psf.kind == ORR_PSF_FILE ? s->psf.file : NULL, /* the other PSFs read no file */
+        .camera_path_file = s->camera.path_file,
+    };
+}
+
+/* ---- what a run of frames reads of its views ---- */
+
+orr_run_settings orr_plan_run_settings(const orr_scene *s)
+{
+    const orr_animation_settings *a = &s->animation;
+    return (orr_run_settings){
+        .scene_path = s->path,
+        .frames = a->frames,
+        .fps = a->fps,
+        .has_time = a->has_time,
+        .time = {a->time[0], a->time[1]},
+        .white_smoothing = a->white_smoothing,
+    };
+}
+
+orr_status orr_plan_frame_scene(const orr_scene *view, long frame, orr_scene *out, orr_error *err)
+{
+    orr_status st = orr_scene_copy(out, view, err);
+    if (st)
+        return st;
+    const orr_frame_naming naming = orr_frame_naming_of(&view->output);
+    return orr_frame_name(&naming, view->output.name, frame, view->animation.frames, out->output.name,
+                          sizeof out->output.name, err);
+}
+
+void orr_plan_regrade_scene(orr_scene *frame, double white)
+{
+    frame->regrade_final = 1;
+    frame->colour.synth.y0 = white;
+    frame->picture.stretch.white = white;
+}
+
+int orr_plan_psf_in_raw_planes(const orr_scene *s, int *sky)
+{
+    *sky = orr_projection_is_sky(&s->projection);
+    return *sky || orr_psf_flat_stars(&s->psf, *sky);
+}
+
+/* ---- what a camera path's table and overview read of a scene ---- */
+
+void orr_plan_path_scene(const orr_scene *s, orr_path_scene *ps)
+{
+    ps->scene_path = s->path;
+    ps->frames = s->animation.frames;
+    ps->has_camera_path = s->camera.has_path;
+    ps->camera_path = &s->camera.path;
+    orr_plan_source_request(s, &ps->source);
+    ps->stretch = &s->picture.stretch;
+}
 
 /* ---- a view: planned once, begun every frame ---- */
 
@@ -129,7 +385,7 @@ static orr_status camera_plan_of(const orr_scene *s, view_camera_plan *c, orr_er
     c->shutter = s->animation.shutter;
     c->has_frame_interval = s->animation.has_frame_interval;
     c->frame_interval = s->animation.frame_interval;
-    c->blur_moves_particles = orr_blur_moves_particles(s);
+    c->blur_moves_particles = blur_moves_particles(s);
     return orr_camera_settings_copy(&c->camera, &s->camera, err);
 }
 
@@ -282,7 +538,7 @@ void orr_plan_destroy(orr_plan *plan)
     free(plan->passes);
     free(plan->given);
     free(plan->origin);
-    orr_eye_views_finish(&plan->eyes);
+    eye_views_finish(&plan->eyes);
     free(plan->planning_reports);
     orr_psf_kernels_free(&plan->kernels);
     orr_lengths_free(&plan->kept_lengths);
@@ -298,12 +554,12 @@ static orr_status expand_views(const orr_plan *plan, const orr_scene *const *sce
                                orr_eye_views *eyes, orr_error *err)
 {
     if (plan->purpose == ORR_PLAN_RENDER)
-        return orr_eye_views_expand(scenes, plan->nscenes, reports, eyes, err);
+        return eye_views_expand(scenes, plan->nscenes, reports, eyes, err);
     memset(eyes, 0, sizeof *eyes);
     eyes->scene = orr_calloc((size_t)plan->nscenes, sizeof *eyes->scene, "views", err);
     eyes->report = orr_calloc((size_t)plan->nscenes, sizeof *eyes->report, "views", err);
     if (!eyes->scene || !eyes->report) {
-        orr_eye_views_finish(eyes);
+        eye_views_finish(eyes);
         return ORR_ERR_NOMEM;
     }
     for (int k = 0; k < plan->nscenes; k++) {
@@ -357,6 +613,7 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
         return ORR_ERR_NOMEM;
     plan->purpose = purpose;
     plan->nscenes = n;
+    orr_plan_source_request(scenes[0], &plan->source);
     /* Fail on an unwritable output folder before any slow work. */
     orr_status st = check_output_dirs(purpose, scenes, n, err);
     if (!st && !(plan->planning_reports = orr_calloc((size_t)n, sizeof *plan->planning_reports, "reports", err)))
@@ -425,14 +682,12 @@ static void forget_frame(orr_plan *plan, int k)
 
 /* This process's share of the scene's input, when several processes render
  * the frame: with the fields the sky frame and the weight need. */
-static orr_status open_share(const orr_scene *s, const orr_parallel *par, orr_source **out, orr_error *err)
+static orr_status open_share(const orr_source_request *r, const orr_parallel *par, orr_source **out, orr_error *err)
 {
-    const char *fields[ORR_RENDER_MAX_FIELDS];
-    int nfields = orr_render_fields(s, fields);
     orr_source *whole = NULL;
     /* File readers that can seek read only this rank's share; the others,
      * and the generators, are dealt out by chunks. */
-    orr_status st = orr_scene_open_share(s, fields, nfields, par->rank, par->nranks, &whole, err);
+    orr_status st = orr_source_request_open_share(r, r->fields, r->nfields, par->rank, par->nranks, &whole, err);
     return st ? st : orr_source_partition(whole, par->rank, par->nranks, out, err);
 }
 
@@ -578,7 +833,7 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
             st = orr_view_psf_apply(&views[k].pass.psf, &views[k].pass.planes[j], err);
     charge(&views[0], ORR_STAGE_PSF);
     for (int k = 0; k < n && !st; k++) {
-        if (orr_eye_views_pair_at(eyes, k)) {
+        if (eye_views_pair_at(eyes, k)) {
             st = orr_view_write_stereo_pair(&views[k], &views[k + 1], err);
             if (!st && keep && !(st = keep_view(&views[k], k, in, err)))
                 st = keep_view(&views[k + 1], k + 1, in, err);
@@ -607,15 +862,13 @@ static void charge_planning(orr_plan *plan)
 
 /* The frame's particles: the caller's (rewound), or the scene's input
  * opened with the fields the frame needs. */
-static orr_status frame_particles(const orr_scene *s0, orr_source *given, orr_source **src, orr_error *err)
+static orr_status frame_particles(const orr_source_request *r, orr_source *given, orr_source **src, orr_error *err)
 {
     if (given) {
         *src = given;
         return orr_source_rewind(given, err);
     }
-    const char *fields[ORR_RENDER_MAX_FIELDS];
-    int nfields = orr_render_fields(s0, fields);
-    return orr_scene_open_source(s0, fields, nfields, src, err);
+    return orr_source_request_open(r, r->fields, r->nfields, src, err);
 }
 
 /* The units the scene leaves open are the frame's source's when it states
@@ -660,7 +913,8 @@ static orr_status name_frame_outputs(orr_plan *plan, const orr_frame_time *when,
         orr_status st = orr_frame_name(&naming, s->output.name, when->frame, when->nframes, numbered,
                                        sizeof numbered, err);
         if (!st)
-            st = orr_eye_output_name(s, numbered, f->eye, f->output.name, sizeof f->output.name, err);
+            st = orr_eye_output_name(s->stereo.mode, s->path, numbered, f->eye, f->output.name,
+                                     sizeof f->output.name, err);
         if (st)
             return st;
     }
@@ -670,14 +924,14 @@ static orr_status name_frame_outputs(orr_plan *plan, const orr_frame_time *when,
 /* The frame's observer frame (view_camera.c), found in a pass of its own:
  * over the given particles, rewound, or the scene's input opened with only
  * the velocities the spin normal or motion blur needs. */
-static orr_status observer_frame(const orr_scene *s, orr_source *given, long frame, const orr_parallel *par,
-                                 orr_sky_frame *f, orr_vec3 *velocity, orr_error *err)
+static orr_status observer_frame(const orr_scene *s, const orr_source_request *r, orr_source *given, long frame,
+                                 const orr_parallel *par, orr_sky_frame *f, orr_vec3 *velocity, orr_error *err)
 {
     static const char *const velocity_fields[3] = {"vx", "vy", "vz"};
-    const int want_velocities = s->observer.normal_types != 0 || orr_blur_moves_particles(s);
+    const int want_velocities = s->observer.normal_types != 0 || blur_moves_particles(s);
     orr_source *src = given;
     orr_status st = given ? orr_source_rewind(given, err)
-                          : orr_scene_open_source(s, velocity_fields, want_velocities ? 3 : 0, &src, err);
+                          : orr_source_request_open(r, velocity_fields, want_velocities ? 3 : 0, &src, err);
     st = orr_view_sky_frame(&s->observer, s->path, src, st, frame, par, f, velocity, err);
     if (src != given)
         orr_source_close(src);
@@ -707,9 +961,7 @@ static orr_status prepare_dust(const orr_plan *plan, orr_source *src, const orr_
         return orr_fail(err, ORR_ERR_USAGE, "%s: dust.types: in situ on %d MPI ranks each process holds only its "
                         "share of the dust (docs/dust.md#limitations)", s->path, par->nranks);
     if (par) {
-        const char *fields[ORR_RENDER_MAX_FIELDS];
-        int nfields = orr_render_fields(s, fields);
-        orr_status st = orr_scene_open_source(s, fields, nfields, &whole, err);
+        orr_status st = orr_source_request_open(&plan->source, plan->source.fields, plan->source.nfields, &whole, err);
         if (st)
             return st;
     }
@@ -841,20 +1093,20 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
      * folder went away since, before any slow work. */
     for (int k = 0; k < plan->nscenes && !st; k++)
         st = orr_check_output_dir(plan->given[k]->output.dir, err);
-    if (!st && par && !given && !(st = open_share(s0, par, &src, err)))
+    if (!st && par && !given && !(st = open_share(&plan->source, par, &src, err)))
         given = src;
     /* The observer's frame moves with the particles: found every frame, by
      * a pass over them (reading, as the splat's). */
     orr_sky_frame observer;
     orr_vec3 observer_velocity = orr_v3(0, 0, 0);
     if (!st && s0->observer.has_id)
-        st = observer_frame(s0, given, when->frame, par, &observer, &observer_velocity, err);
+        st = observer_frame(s0, &plan->source, given, when->frame, par, &observer, &observer_velocity, err);
     orr_stage_charge(&timer->times, ORR_STAGE_SOURCE, &timer->at);
     /* A stereo view renders as two views, its eyes, each reporting into
      * its view's report (the right eye's outputs added to the left's). */
     orr_eye_views eyes = {0};
     int begun = 0;
-    if (!st && !(st = orr_eye_views_expand(plan->given, plan->nscenes, reports, &eyes, err)) &&
+    if (!st && !(st = eye_views_expand(plan->given, plan->nscenes, reports, &eyes, err)) &&
         !(st = begin_frame(plan, &eyes, s0->observer.has_id ? &observer : NULL, observer_velocity, when, &begun, err)))
         st = name_frame_outputs(plan, when, err);
     if (!st && plan->has_stars) { /* the stars are seen from the observer (scene_check.c) */
@@ -865,7 +1117,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
     }
     charge(&views[0], ORR_STAGE_SETUP);
     if (!st)
-        st = frame_particles(s0, given, &src, err);
+        st = frame_particles(&plan->source, given, &src, err);
     if (!st)
         frame_units(plan, src);
     charge(&views[0], ORR_STAGE_SOURCE);
@@ -892,7 +1144,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
         orr_dust_frame_free(&dust);
     for (int k = 0; k < plan->n; k++) /* the frame's, freed above and below */
         forget_frame(plan, k);
-    orr_eye_views_finish(&eyes);
+    eye_views_finish(&eyes);
     orr_stage_times_finish(&timer->times, start);
     charge_planning(plan);
     for (int k = 0; k < plan->nscenes && !st; k++)
@@ -928,6 +1180,6 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_
     st = commit_outputs(&outputs, st, err);
     for (int k = 0; k < plan->n; k++)
         forget_frame(plan, k);
-    orr_eye_views_finish(&views);
+    eye_views_finish(&views);
     return st;
 }

@@ -23,7 +23,11 @@
 #ifndef ORR_RENDER_PLAN_H
 #define ORR_RENDER_PLAN_H
 
+#include "render/animation.h"
+#include "render/frame_markers.h"
+#include "render/path_overview.h"
 #include "render/render.h"
+#include "render/source_request.h"
 
 typedef struct orr_plan orr_plan;
 
@@ -59,5 +63,46 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *frame_views,
 double orr_plan_seconds(const orr_plan *plan);
 
 void orr_plan_destroy(orr_plan *plan);
+
+/* ---- what the stages outside the plan read of a scene ----
+ * The plan is the renderer's only reader of the scenes: what works before
+ * a plan is made, or without one (a run of frames, its sequence and its
+ * markers, the path overview, the commands and the in-situ API that load
+ * the scenes), takes what these compile instead. */
+
+/* What a render of scene s asks of its particle source (render/source_request.h);
+ * it points into s, which must outlive it. */
+void orr_plan_source_request(const orr_scene *s, orr_source_request *r);
+
+/* Where view s (or a frame's scene: a view with its frame's output name)
+ * writes its files and keeps its markers (render/frame_names.h); it points
+ * into s. */
+orr_output_place orr_plan_output_place(const orr_scene *s);
+
+/* What view s's frames are made from, as their markers record it
+ * (render/frame_markers.h); it points into s. */
+orr_view_making orr_plan_view_making(const orr_scene *s);
+
+/* What a run of frames of scene s reads of it (render/animation.h); it
+ * points into s. */
+orr_run_settings orr_plan_run_settings(const orr_scene *s);
+
+/* The scene of one frame of view's run: a copy (out: zeroed or a scene,
+ * whose strings are freed first) with the frame's output name (output.name
+ * with its number, orr_frame_name). */
+orr_status orr_plan_frame_scene(const orr_scene *view, long frame, orr_scene *out, orr_error *err);
+
+/* Sets a frame's scene to re-grade its final planes (NAME.fits, after the
+ * PSF) with the white level white, as animation.white_smoothing does. */
+void orr_plan_regrade_scene(orr_scene *frame, double white);
+
+/* Whether view s's PSF is drawn into its raw planes as it renders (a sky
+ * map's; a flat view's that draws its stars one by one), so that orrery
+ * compose cannot change it; *sky says whether s is a sky map. */
+int orr_plan_psf_in_raw_planes(const orr_scene *s, int *sky);
+
+/* What `orrery path` and its overview read of scene s
+ * (render/path_overview.h); it points into s. */
+void orr_plan_path_scene(const orr_scene *s, orr_path_scene *ps);
 
 #endif

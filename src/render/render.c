@@ -1,6 +1,7 @@
 /* The renderer's entry points: a still's render or compose as a plan made,
  * executed once and destroyed (render/plan.h; plan.c holds the frame). What
- * the scene asks of its particle source is scene_source.c's. */
+ * the scene asks of its particle source the plan compiles
+ * (render/source_request.h); scene_source.c opens it. */
 #include "render/render.h"
 
 #include "render/plan.h"

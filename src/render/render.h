@@ -13,12 +13,16 @@
 #include "frame/camera.h"
 #include "frame/observer.h"
 #include "frame/timeline.h"
-#include "scene/scene.h"
+#include "source/source.h"
 #include "splat/deposit.h"
 #include "core/plane.h"
 #include "reduce/parallel.h" /* orr_parallel: how several processes render a frame together */
 #include "core/timings.h"
 #include "pass/progress.h" /* orr_progress_fn */
+
+/* The scenes the entry points below render: only plan.c reads them
+ * (scene/scene.h declares them; their callers load them from there). */
+typedef struct orr_scene orr_scene;
 
 #define ORR_RENDER_MAX_OUTPUTS 10 /* stereo.mode: separate writes each format twice */
 
@@ -55,34 +59,6 @@ typedef struct orr_render_report {
     orr_stage_times times;       /* where the frame's time went: every view of the frame together, the same
                                   * in each view's report (core/timings.h) */
 } orr_render_report;
-
-/* The extra fields a frame of the scene may ask its source for: the weight
- * (when not mass or h), the fields its colour populations select, colour
- * and weigh by, and velocities for the observer's spin normal and for a
- * motion blur that moves particles. Fills
- * fields[0..ORR_RENDER_MAX_FIELDS) (each name once; pointers into s) and
- * returns how many. */
-#define ORR_RENDER_MAX_FIELDS ORR_MAX_EXTRA_FIELDS
-int orr_render_fields(const orr_scene *s, const char *fields[ORR_RENDER_MAX_FIELDS]);
-
-/* Whether the scene's shutter moves particles by their velocities (so the
- * renderer must read vx, vy, vz): a shutter, and simulation time that
- * passes between frames: animation.frame_interval, a sequence's snapshots,
- * or an in-situ run's animation.time. (A single snapshot's particles stand
- * still, and only the camera moves.) pass/motion_blur.h draws the
- * streaks. */
-int orr_blur_moves_particles(const orr_scene *s);
-
-/* Opens the scene's particle source (file or built-in model), asking for
- * the given extra fields only (NULL: all). */
-orr_status orr_scene_open_source(const orr_scene *scene, const char *const *fields, int nfields,
-                                 orr_source **out, orr_error *err);
-/* The same, asking a file's reader for part `part` of `nparts` only
- * (orr_source_options): readers that can seek read just that share, the
- * others (and the generators) give everything, to be dealt out by
- * orr_source_partition. */
-orr_status orr_scene_open_share(const orr_scene *scene, const char *const *fields, int nfields, int part, int nparts,
-                                orr_source **out, orr_error *err);
 
 /* Renders views[0..n) of one scene (they share input.* and observer.*) and
  * writes their outputs; reports[i] describes view i. A still: the scene's

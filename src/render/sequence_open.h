@@ -4,16 +4,16 @@
 #ifndef ORR_RENDER_SEQUENCE_OPEN_H
 #define ORR_RENDER_SEQUENCE_OPEN_H
 
-#include "scene/scene.h"
+#include "render/source_request.h"
 #include "source/sequence.h"
 
-/* Opens the sequence the scene lists (by pattern and range, or by files),
- * reading only each file's header, with the scene's input.format,
- * input.chunk, input.types, input.sequence.interpolation and
- * .max_memory, asking the readers for the given extra fields as
- * orr_scene_open_source does (fields NULL: all of them). Errors are
- * prefixed with the scene's path. A scene without a sequence is an error. */
-orr_status orr_sequence_open_scene(const orr_scene *s, const char *const *fields, int nfields, orr_sequence **out,
-                                   orr_error *err);
+/* Opens the sequence the request's input lists (by pattern and range, or by
+ * files), reading only each file's header, with its input.format,
+ * input.chunk, the types r->sequence_types, input.sequence.interpolation
+ * and .max_memory, asking the readers for the given extra fields as
+ * orr_source_request_open does (fields NULL: all of them). Errors are
+ * prefixed with the scene's path. An input without a sequence is an error. */
+orr_status orr_sequence_open_request(const orr_source_request *r, const char *const *fields, int nfields,
+                                     orr_sequence **out, orr_error *err);
 
 #endif

@@ -11,95 +11,20 @@
 
 /* ---- the eyes ---- */
 
-static int is_pair_mode(orr_stereo_mode m)
+int orr_stereo_is_pair_mode(orr_stereo_mode m)
 {
     return m == ORR_STEREO_ANAGLYPH || m == ORR_STEREO_SIDE_BY_SIDE || m == ORR_STEREO_OVER_UNDER;
 }
 
-orr_status orr_eye_output_name(const orr_scene *s, const char *name, int eye, char *out, size_t size,
-                               orr_error *err)
+orr_status orr_eye_output_name(orr_stereo_mode mode, const char *scene_path, const char *name, int eye, char *out,
+                               size_t size, orr_error *err)
 {
-    const int separate = eye && s->stereo.mode == ORR_STEREO_SEPARATE;
+    const int separate = eye && mode == ORR_STEREO_SEPARATE;
     int len = separate ? snprintf(out, size, "%s-%s", name, orr_eye_name(eye)) : snprintf(out, size, "%s", name);
     if (len < 0 || (size_t)len >= size)
-        return orr_fail(err, ORR_ERR_USAGE, "%s: output.name '%s' is too long to add -%s for stereo", s->path, name,
-                        orr_eye_name(eye));
+        return orr_fail(err, ORR_ERR_USAGE, "%s: output.name '%s' is too long to add -%s for stereo", scene_path,
+                        name, orr_eye_name(eye));
     return ORR_OK;
-}
-
-/* The scene of one eye: a copy that knows which eye it is, with its own
- * output name when the eyes are written separately. */
-static orr_status eye_scene(const orr_scene *s, int eye, orr_scene *out, orr_error *err)
-{
-    orr_status st = orr_scene_copy(out, s, err);
-    if (st)
-        return st;
-    out->stereo.eye = eye;
-    return orr_eye_output_name(s, s->output.name, eye, out->output.name, sizeof out->output.name, err);
-}
-
-orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,
-                                orr_eye_views *ev, orr_error *err)
-{
-    memset(ev, 0, sizeof *ev);
-    int pairs = 0;
-    for (int k = 0; k < nscenes; k++)
-        pairs += scenes[k]->stereo.mode != ORR_STEREO_NONE;
-    size_t n = (size_t)(nscenes + pairs);
-    ev->scene = orr_calloc(n, sizeof *ev->scene, "stereo views", err);
-    ev->report = orr_calloc(n, sizeof *ev->report, "stereo views", err);
-    ev->copies = pairs ? orr_calloc(2 * (size_t)pairs, sizeof *ev->copies, "stereo eye scenes", err) : NULL;
-    ev->ncopies = ev->copies ? 2 * pairs : 0;
-    ev->right = pairs ? orr_calloc((size_t)pairs, sizeof *ev->right, "stereo eye reports", err) : NULL;
-    if (!ev->scene || !ev->report || (pairs && (!ev->copies || !ev->right))) {
-        orr_eye_views_finish(ev);
-        return ORR_ERR_NOMEM;
-    }
-    int pair = 0;
-    for (int k = 0; k < nscenes; k++) {
-        if (scenes[k]->stereo.mode == ORR_STEREO_NONE) {
-            ev->scene[ev->n] = scenes[k];
-            ev->report[ev->n++] = &reports[k];
-            continue;
-        }
-        orr_scene *left = &ev->copies[2 * pair], *right = left + 1;
-        orr_status st = eye_scene(scenes[k], ORR_EYE_LEFT, left, err);
-        if (!st)
-            st = eye_scene(scenes[k], ORR_EYE_RIGHT, right, err);
-        if (st) {
-            orr_eye_views_finish(ev);
-            return st;
-        }
-        ev->scene[ev->n] = left;
-        ev->report[ev->n++] = &reports[k];
-        ev->scene[ev->n] = right;
-        ev->report[ev->n++] = &ev->right[pair++];
-    }
-    return ORR_OK;
-}
-
-void orr_eye_views_finish(orr_eye_views *ev)
-{
-    for (int k = 0; ev->report && k + 1 < ev->n; k++) {
-        if (ev->scene[k]->stereo.eye != ORR_EYE_LEFT)
-            continue;
-        orr_render_report *l = ev->report[k];
-        const orr_render_report *r = ev->report[k + 1];
-        for (int i = 0; i < r->noutputs && l->noutputs < ORR_RENDER_MAX_OUTPUTS; i++)
-            memcpy(l->outputs[l->noutputs++], r->outputs[i], ORR_PATH_MAX);
-    }
-    free(ev->scene);
-    free(ev->report);
-    for (int k = 0; k < ev->ncopies; k++)
-        orr_scene_free(&ev->copies[k]);
-    free(ev->copies);
-    free(ev->right);
-    memset(ev, 0, sizeof *ev);
-}
-
-int orr_eye_views_pair_at(const orr_eye_views *ev, int k)
-{
-    return k + 1 < ev->n && ev->scene[k]->stereo.eye == ORR_EYE_LEFT && is_pair_mode(ev->scene[k]->stereo.mode);
 }
 
 double orr_stereo_convergence(const orr_stereo_settings *stereo, const orr_camera_settings *camera,

@@ -1,11 +1,12 @@
 /* Stereo in the renderer (docs/stereo.md). A view with stereo.mode is
- * rendered as two eyes from one pass over the particles: the driver treats
- * each eye as a view of its own (a copy of the scene with stereo.eye set),
- * so every chunk is splatted into both eyes' planes before the next is
- * read. This file holds what is particular to stereo: making the eyes,
- * placing each eye's camera, the omni-directional per-block transform's
- * mask, and writing a pair as one picture (side-by-side, over-under,
- * anaglyph) with both eyes' planes in FITS and EXR. */
+ * rendered as two eyes from one pass over the particles: the plan treats
+ * each eye as a view of its own (a copy of the scene with stereo.eye set,
+ * made by plan.c), so every chunk is splatted into both eyes' planes
+ * before the next is read. This file holds what is particular to stereo:
+ * naming the eyes' outputs, placing each eye's camera, the
+ * omni-directional per-block transform's mask, and writing a pair as one
+ * picture (side-by-side, over-under, anaglyph) with both eyes' planes in
+ * FITS and EXR. */
 #ifndef ORR_RENDER_STEREO_VIEW_H
 #define ORR_RENDER_STEREO_VIEW_H
 
@@ -14,40 +15,21 @@
 
 #include "encode/fits.h"
 #include "encode/image_out.h"
+#include "frame/camera_settings.h"
 #include "frame/stereo.h"
 #include "render/render.h"
 #include "render/view_files.h"
-#include "scene/scene.h"
 
-/* The views as the driver renders them: a stereo view becomes its left eye
- * followed by its right eye. The left eye reports into the caller's
- * report; the right eye into one of its own, whose outputs
- * orr_eye_views_finish appends to the left's. */
-typedef struct orr_eye_views {
-    int n;                       /* views to render */
-    const orr_scene **scene;     /* [n] the scene of each (the caller's, or an eye's copy) */
-    orr_render_report **report;  /* [n] where each reports */
-    orr_scene *copies;           /* the eyes' scenes, copies with strings of their own */
-    int ncopies;                 /* ... how many (zeroed until copied: freed whole) */
-    orr_render_report *right;    /* the right eyes' reports */
-} orr_eye_views;
+/* Whether stereo mode m writes a pair as one picture (anaglyph,
+ * side-by-side, over-under), not each eye as its own. */
+int orr_stereo_is_pair_mode(orr_stereo_mode m);
 
-/* Expands scenes[0..nscenes) (reports[i] for scene i) into eyes. For
- * stereo.mode: separate each eye writes its own files, named
- * output.name-left and output.name-right. */
-orr_status orr_eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,
-                                orr_eye_views *ev, orr_error *err);
-/* The output name of eye (0: not an eye) of scene s's view named name:
- * name-left or name-right when the eyes are written separately, else name
- * itself; an error when out (size bytes) cannot hold it. */
-orr_status orr_eye_output_name(const orr_scene *s, const char *name, int eye, char *out, size_t size,
-                               orr_error *err);
-/* Merges each right eye's outputs into its left eye's report, then frees. */
-void orr_eye_views_finish(orr_eye_views *ev);
-
-/* Whether view k of ev is the left eye of a pair written as one picture
- * (anaglyph, side-by-side, over-under); view k + 1 is then its right eye. */
-int orr_eye_views_pair_at(const orr_eye_views *ev, int k);
+/* The output name of eye (0: not an eye) of a view with stereo mode mode
+ * named name: name-left or name-right when the eyes are written separately,
+ * else name itself; an error (naming scene_path) when out (size bytes)
+ * cannot hold it. */
+orr_status orr_eye_output_name(orr_stereo_mode mode, const char *scene_path, const char *name, int eye, char *out,
+                               size_t size, orr_error *err);
 
 /* The convergence distance of a perspective pair whose centre camera is
  * at `position`: stereo.convergence, or with auto the distance to

@@ -11,7 +11,7 @@
 #include "encode/output_settings.h"
 #include "post/colour.h"
 #include "post/picture.h"
-#include "scene/scene.h"
+#include "scene/compose_settings.h"
 
 typedef struct view_files {
     /* The plan's. */

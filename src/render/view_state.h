@@ -9,10 +9,13 @@
 #include "core/atomic.h"
 #include "core/cards.h"
 #include "encode/fits.h"
+#include "frame/camera_settings.h"
+#include "frame/observer.h"
 #include "pass/splat_view.h"
 #include "render/render.h"
 #include "render/stereo_view.h"
 #include "render/view_files.h"
+#include "source/settings.h"
 
 /* How a view's camera is found each frame (view_camera.c): compiled by the
  * plan from the view's scene (plan.c: camera_plan_of). */
@@ -26,7 +29,7 @@ typedef struct view_camera_plan {
     double shutter;              /* animation.shutter: motion blur's share of the frame interval (0: none) */
     int has_frame_interval;      /* animation.frame_interval given ... */
     double frame_interval;       /* ... and its value */
-    int blur_moves_particles;    /* the shutter moves the particles too (orr_blur_moves_particles) */
+    int blur_moves_particles;    /* the shutter moves the particles too (plan.c blur_moves_particles) */
 } view_camera_plan;
 
 /* One view being rendered. */

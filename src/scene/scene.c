@@ -44,32 +44,9 @@ orr_status orr_scene_defaults(orr_scene *s, orr_error *err)
 
 /* ---- the scene's strings ---- */
 
-/* compose.layers' files, every layer's (unused ones are NULL). */
-#define COMPOSE_STRINGS (sizeof ((orr_compose_settings *)0)->layers / sizeof ((orr_compose_settings *)0)->layers[0])
-
-static int compose_strings(orr_compose_settings *c, char **fields[])
-{
-    int n = 0;
-    for (size_t i = 0; i < COMPOSE_STRINGS; i++)
-        fields[n++] = &c->layers[i].file;
-    return n;
-}
-
-void orr_compose_settings_free(orr_compose_settings *c)
-{
-    char **fields[COMPOSE_STRINGS];
-    orr_owned_free_all(fields, compose_strings(c, fields));
-}
-
-orr_status orr_compose_settings_copy(orr_compose_settings *dst, const orr_compose_settings *src, orr_error *err)
-{
-    char **fields[COMPOSE_STRINGS];
-    return orr_owned_copy(dst, src, sizeof *dst, fields, compose_strings(dst, fields), err);
-}
-
 /* Every owned string of the scene, its own and its stages'. */
 #define SCENE_STRINGS (2 + ORR_INPUT_STRINGS + ORR_CAMERA_STRINGS + ORR_DUST_STRINGS + ORR_PSF_STRINGS + \
-                       ORR_OUTPUT_STRINGS + COMPOSE_STRINGS)
+                       ORR_OUTPUT_STRINGS + ORR_COMPOSE_STRINGS)
 
 static int scene_strings(orr_scene *s, char **fields[SCENE_STRINGS])
 {
@@ -81,7 +58,7 @@ static int scene_strings(orr_scene *s, char **fields[SCENE_STRINGS])
     n += orr_dust_settings_strings(&s->dust, fields + n);
     n += orr_psf_settings_strings(&s->psf, fields + n);
     n += orr_output_settings_strings(&s->output, fields + n);
-    n += compose_strings(&s->compose, fields + n);
+    n += orr_compose_settings_strings(&s->compose, fields + n);
     return n;
 }
 
@@ -95,6 +72,11 @@ orr_status orr_scene_copy(orr_scene *dst, const orr_scene *src, orr_error *err)
 {
     char **fields[SCENE_STRINGS];
     return orr_owned_copy(dst, src, sizeof *dst, fields, scene_strings(dst, fields), err);
+}
+
+orr_status orr_scene_set_output_dir(orr_scene *s, const char *dir, orr_error *err)
+{
+    return orr_owned_set(&s->output.dir, dir, err);
 }
 
 void orr_scene_views_free(orr_scene_views *views)

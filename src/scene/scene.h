@@ -19,12 +19,11 @@
 #include "frame/stereo.h"
 #include "post/colour.h"
 #include "post/picture.h"
+#include "scene/compose_settings.h"
 #include "post/psf.h"
 #include "source/settings.h"
 #include "stars/stars.h"
 #include "splat/deposit.h"
-
-#define ORR_SETTINGS_MAX 16384
 
 /* animation.*: a run of frames (docs/animation.md), shared by every view.
  * The render stage drives runs, and it comes after the scene, so the scene
@@ -46,26 +45,6 @@ typedef struct orr_animation_settings {
                              * last frame, linear in between (default: a sequence's first and last
                              * snapshot; a single snapshot's own time) */
 } orr_animation_settings;
-
-/* compose.layers: `orrery compose` (render/compose.c) blends raw planes of
- * several renders (e.g. one per population, or single-channel maps of
- * different particle types) with colours assigned there, then synthesises. */
-typedef struct orr_compose_layer {
-    char *file;              /* a raw FITS file: one luminance plane, or X, Y, Z; owned (core/owned.h) */
-    int has_colour;
-    orr_colour colour;       /* required for a luminance plane */
-    double gain;             /* multiplies the layer (default 1) */
-} orr_compose_layer;
-
-typedef struct orr_compose_settings {
-    int nlayers;
-    orr_compose_layer layers[8];
-} orr_compose_settings;
-
-/* Frees c's strings (core/owned.h). */
-void orr_compose_settings_free(orr_compose_settings *c);
-/* dst (its strings freed first) becomes a copy of src with strings of its own. */
-orr_status orr_compose_settings_copy(orr_compose_settings *dst, const orr_compose_settings *src, orr_error *err);
 
 /* A scene is the settings of every stage, each stage's in a struct of its
  * own that the stage declares and gives defaults to (docs/architecture.md
@@ -136,6 +115,9 @@ void orr_scene_free(orr_scene *s);
 /* dst (its strings freed first; zeroed or a scene) becomes a copy of src
  * with strings of its own. */
 orr_status orr_scene_copy(orr_scene *dst, const orr_scene *src, orr_error *err);
+
+/* Sets output.dir to dir (the command line's -o), a string of s's own. */
+orr_status orr_scene_set_output_dir(orr_scene *s, const char *dir, orr_error *err);
 
 /* Frees the strings of views->view[0..n) and sets n to 0. */
 void orr_scene_views_free(orr_scene_views *views);

@@ -1,7 +1,8 @@
 /* The source stage's settings: the scene's input.* keys (docs/scenes.md#input),
  * except input.periodic.*, which the frame stage owns (frame/replicas.h).
  * The scene (scene/scene.h) holds one orr_input_settings; the renderer opens
- * the source they name (render/scene_source.c, render/sequence_open.c). */
+ * the source they name (render/source_request.h: render/scene_source.c,
+ * render/sequence_open.c). */
 #ifndef ORR_SOURCE_SETTINGS_H
 #define ORR_SOURCE_SETTINGS_H
 

@@ -8,6 +8,7 @@
 
 #include "check.h"
 #include "gadget_writer.h"
+#include "render/plan.h"
 #include "render/sequence_open.h"
 #include "scene/scene.h"
 #include "source/sequence.h"
@@ -662,6 +663,15 @@ static void test_scene_keys(void)
 }
 
 /* A scene's sequence, by pattern and by files, relative to the scene's folder. */
+/* The scene's sequence, as a run opens it: through the request the plan
+ * compiles (every field). */
+static orr_status open_scene_sequence(const orr_scene *s, orr_sequence **seq, orr_error *err)
+{
+    orr_source_request req;
+    orr_plan_source_request(s, &req);
+    return orr_sequence_open_request(&req, NULL, 0, seq, err);
+}
+
 static void test_open_from_scene(void)
 {
     static snap_def a;
@@ -676,7 +686,7 @@ static void test_open_from_scene(void)
                                 "input: {sequence: {pattern: scn_%03d.g2, first: 10, last: 30, step: 10}, "
                                 "types: [1]}",
                                 "seq.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
-    CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_OK);
+    CHECK(open_scene_sequence(&g_scene, &seq, &err) == ORR_OK);
     CHECK(seq && orr_sequence_count(seq) == 3);
     double t0 = 0, t1 = 0;
     if (seq)
@@ -688,7 +698,7 @@ static void test_open_from_scene(void)
 
     CHECK(orr_scene_load_string(&g_scene, "input: {sequence: {files: [scn_030.g2, scn_010.g2]}}", "seq.yaml",
                                 tmpdir, NULL, 0, &err) == ORR_OK);
-    CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_ERR_USAGE);
+    CHECK(open_scene_sequence(&g_scene, &seq, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "seq.yaml: sequence: snapshot times must strictly increase");
     CHECK_CONTAINS(err.msg, "scn_030.g2 has time 4");
 
@@ -696,13 +706,13 @@ static void test_open_from_scene(void)
 
     CHECK(orr_scene_load_string(&g_scene, "input: {sequence: {pattern: scn_%03d.g2, first: 10, last: 40, step: 10}}",
                                 "seq.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
-    CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_ERR_IO);
+    CHECK(open_scene_sequence(&g_scene, &seq, &err) == ORR_ERR_IO);
     CHECK_CONTAINS(err.msg, "scn_040.g2: cannot open");
 
     orr_scene_free(&g_scene);
 
     CHECK(orr_scene_load_string(&g_scene, "input: {file: x}", "seq.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
-    CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_ERR_USAGE);
+    CHECK(open_scene_sequence(&g_scene, &seq, &err) == ORR_ERR_USAGE);
 }
 
 /* ---- a periodic box ---- */
@@ -811,7 +821,7 @@ static void test_periodic_wrap_from_scene(void)
         orr_sequence *seq = NULL;
         orr_scene_free(&g_scene);
         CHECK(orr_scene_load_string(&g_scene, yaml, "wrap.yaml", tmpdir, NULL, 0, &err) == ORR_OK);
-        CHECK(orr_sequence_open_scene(&g_scene, NULL, 0, &seq, &err) == ORR_OK);
+        CHECK(open_scene_sequence(&g_scene, &seq, &err) == ORR_OK);
         double x[3] = {NAN, NAN, NAN};
         if (seq)
             wrap_xs(seq, 0.5, x);
