@@ -225,7 +225,7 @@ void orr_plan_source_request(const orr_scene *s, orr_source_request *r)
      * observer's normal. With input.types: [2, 3] that leaves out the dark
      * halos, two thirds of the particles. */
     r->model_types = s->input.type_mask | s->dust.types | s->observer.normal_types;
-    r->sequence_types = s->observer.has_id ? 0 : s->input.type_mask;
+    r->sequence_types = r->reader_types;
     add_frame_fields(r, s);
 }
 

@@ -20,9 +20,8 @@ typedef struct orr_source_request {
                               * all when there is an observer (its particle may be of any type) */
     unsigned model_types;    /* the types a built-in model generates: the drawn ones, the dust's, the
                               * spinning ones that give the observer's normal */
-    unsigned sequence_types; /* the types a sequence's snapshots keep (0: all): the drawn ones, all when
-                              * there is an observer; unlike reader_types, not the dust's (as
-                              * sequence_open.c has always asked) */
+    unsigned sequence_types; /* the types a sequence's snapshots keep (0: all): as reader_types, the
+                              * drawn ones and the dust's (a sequence without them drew no dust) */
     /* The extra fields a frame asks its source for: the weight (when not
      * mass or h), the fields the colour populations select, colour and
      * weigh by, the dust's metallicity, and velocities for the observer's

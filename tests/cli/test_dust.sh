@@ -5,6 +5,7 @@
 # writes nothing.
 source "$(dirname "$0")/lib.sh"
 python_with astropy python3-astropy
+python_with h5py python3-h5py
 
 # One star (type 1) 5 units behind a dust kernel (type 0) at the origin,
 # seen from a perspective camera on the +z axis.
@@ -181,6 +182,48 @@ expect_fail 1 "nanz.txt: dust particle 1 \(id 1, type 0\): Z = nan" bad -- rende
   --set input.file=nanz.txt --set dust.metallicity=Z
 expect_fail 2 "dust.types with input.periodic.replicas" bad -- render blob.yaml "${dust[@]}" \
   --set input.periodic.replicas=3 --set input.periodic.box=20
+# A snapshot sequence keeps the dust's types as a single file does: the
+# star behind the kernel, in two identical Gadget HDF5 snapshots (whose
+# units make tau another number than the text table's), is dimmed in every
+# frame as in the single-file render of the first (before, a sequence read
+# only input.types and drew no dust).
+"$py" - <<'PY' || fail "writing the blob as Gadget HDF5 snapshots"
+import h5py, numpy as np
+for i, t in enumerate([0.0, 1.0]):
+    with h5py.File(f"blob_{i}.hdf5", "w") as f:
+        h = f.create_group("Header")
+        h.attrs["NumPart_ThisFile"] = h.attrs["NumPart_Total"] = np.array([1, 1, 0, 0, 0, 0], dtype=np.uint32)
+        h.attrs["MassTable"] = np.zeros(6)
+        h.attrs["Time"], h.attrs["NumFilesPerSnapshot"] = t, 1
+        for part, z, pid in (("PartType0", 0.0, 2), ("PartType1", -5.0, 1)):
+            g = f.create_group(part)
+            g["Coordinates"] = np.array([[0, 0, z]], dtype=np.float32)
+            g["Velocities"] = np.zeros((1, 3), dtype=np.float32)
+            g["Masses"] = np.ones(1, dtype=np.float32)
+            g["ParticleIDs"] = np.array([pid], dtype=np.uint32)
+            g["SmoothingLength"] = np.array([0.5 if pid == 2 else 0.1], dtype=np.float32)
+PY
+sed 's/^  file: blob.txt/  sequence: {files: [blob_0.hdf5, blob_1.hdf5]}/' blob.yaml >blobseq.yaml
+echo "animation: {frames: 2}" >>blobseq.yaml
+sed 's/^  file: blob.txt/  file: blob_0.hdf5/' blob.yaml >blobh5.yaml
+for w in clear dusty; do
+  dust=()
+  [ $w = dusty ] && dust=(--set 'dust.types=[0]' --set dust.kappa_v=1 --set dust.dust_to_gas=0.25)
+  "$ORRERY" render blobh5.yaml -q --set output.name=h5$w "${dust[@]}" || fail "the first snapshot alone, $w"
+done
+"$ORRERY" render blobseq.yaml -q --set output.name=seqclear || fail "a sequence without dust"
+"$ORRERY" render blobseq.yaml -q --set output.name=seqdusty --set 'dust.types=[0]' --set dust.kappa_v=1 \
+  --set dust.dust_to_gas=0.25 || fail "a sequence with dust"
+"$py" - <<'PY' || fail "a sequence's frames dimmed as the single snapshot"
+from astropy.io import fits
+want = fits.getdata("out/h5dusty.fits").astype(float).sum() / fits.getdata("out/h5clear.fits").astype(float).sum()
+assert want < 0.99, f"the single snapshot's dust dims by {want}"
+for k in (0, 1):
+    clear, dusty = (fits.getdata(f"out/seq{w}_{k:04d}.fits").astype(float).sum() for w in ("clear", "dusty"))
+    print("frame", k, "ratio", dusty / clear, "expected", want)
+    assert abs(dusty / clear - want) < 1e-4 * want
+PY
+
 grep -v '^image:' sky.yaml >skyhp.yaml
 expect_fail 2 "dust.extinction_plane is not written for camera.projection: healpix" bad -- render skyhp.yaml \
   --set output.dir=bad --set dust.extinction_plane=true --set camera.projection=healpix --set deposit=ngp
