@@ -32,5 +32,5 @@ snapshots=()
   --set views.dome.image.width=1024 --set views.dome.image.height=1024 \
   --set views.panorama.image.width=1024 --set views.panorama.image.height=512 "${snapshots[@]}"
 if command -v ffmpeg >/dev/null; then
-  "$build/orrery" video "$scene" --set output.dir="$out" --set animation.frames=25
+  "$build/orrery" video "$scene" --force --set output.dir="$out" --set animation.frames=25
 fi

@@ -778,18 +778,29 @@ static int tracer_active(const bodies *b, const unsigned char *active)
     return ranks_any(any);
 }
 
+static double distance(const double a[3], const double b[3])
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+}
+
 /* The black hole in holes (nh of them) nearest x. */
 static const double *nearest_hole(const double *holes, size_t nh, const double x[3])
 {
     const double *best = holes;
-    double best2 = INFINITY;
-    for (size_t h = 0; h < nh; h++) {
-        const double *p = &holes[3 * h];
-        double d2 = (p[0] - x[0]) * (p[0] - x[0]) + (p[1] - x[1]) * (p[1] - x[1]) + (p[2] - x[2]) * (p[2] - x[2]);
-        if (d2 < best2)
-            best2 = d2, best = p;
-    }
+    for (size_t h = 1; h < nh; h++)
+        if (distance(&holes[3 * h], x) < distance(best, x))
+            best = &holes[3 * h];
     return best;
+}
+
+/* Whether a black hole other than host lies within radius of it: another
+ * galaxy passing through the tracer's own. */
+static int another_hole_within(const double *holes, size_t nh, const double *host, double radius)
+{
+    for (size_t h = 0; h < nh; h++)
+        if (&holes[3 * h] != host && distance(&holes[3 * h], host) < radius)
+            return 1;
+    return 0;
 }
 
 /* Stars' sums (ring_star_sums) within radius of about, over every process. */
@@ -801,18 +812,14 @@ static int star_sums(const bodies *b, const double about[3], double radius, int 
     return reduce_over_ranks(s, RING_SUMS, rank, size, 0);
 }
 
-/* The host of a tracer at x (tracer_ring.h): the stars within a sphere
- * reaching past it, centred twice on their centre of mass from the black
- * hole start; its axis n the spin of its disc (of its stars when it has no
+/* The host of a tracer (tracer_ring.h): the stars within radius, centred
+ * twice on their centre of mass from the black hole start; its axis n the spin of its disc (of its stars when it has no
  * disc particles). Returns 0 when a sum failed; *found 0 when no stars
  * were there. */
-static int ring_frame(const bodies *b, const double start[3], const double x[3], int rank, int size, double c[3],
+static int ring_frame(const bodies *b, const double start[3], double radius, int rank, int size, double c[3],
                       double n[3], double a_host[3], int *found)
 {
     double s[RING_SUMS], v[3], centre[3] = {start[0], start[1], start[2]};
-    double r = sqrt((x[0] - start[0]) * (x[0] - start[0]) + (x[1] - start[1]) * (x[1] - start[1]) +
-                    (x[2] - start[2]) * (x[2] - start[2]));
-    double radius = fmax(RING_SPIN_MIN, RING_SPIN_TIMES * r);
     *found = 0;
     for (int pass = 0; pass < 2; pass++) {
         if (!star_sums(b, centre, radius, rank, size, s))
@@ -838,13 +845,21 @@ static int ring_frame(const bodies *b, const double start[3], const double x[3],
 }
 
 /* The ring's pull on one tracer (row: ring_lists'), set on the process
- * that owns it when it is active (active NULL: all are). */
+ * that owns it when it is active (active NULL: all are). Its galaxy is
+ * the stars within RING_SPIN_TIMES its distance from the nearest black
+ * hole; while another black hole is inside that sphere (a galaxy passing
+ * through, or merging) there is no one axis to average about, and the
+ * tracer keeps the tree's pull: the true dynamics of the encounter. */
 static int ring_one(bodies *b, const options *o, const double *row, const double *holes, size_t nh,
                     const unsigned char *active, int rank, int size)
 {
     double c[3], n[3], a_host[3], pts[3 * RING_POINTS_MAX], acc[3 * RING_POINTS_MAX] = {0};
     int found, k = (int)o->tracer_ring;
-    if (!ring_frame(b, nearest_hole(holes, nh, row), row, rank, size, c, n, a_host, &found))
+    const double *host = nearest_hole(holes, nh, row);
+    double radius = fmax(RING_SPIN_MIN, RING_SPIN_TIMES * distance(row, host));
+    if (another_hole_within(holes, nh, host, radius))
+        return 1;
+    if (!ring_frame(b, host, radius, rank, size, c, n, a_host, &found))
         return 0;
     if (!found)
         return 1; /* no stars about its black hole: the tree's pull stays */

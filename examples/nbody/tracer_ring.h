@@ -18,7 +18,8 @@
  * moves host and tracer alike. Its angular momentum about the axis is then
  * kept but for tides. The host: the stars within a sphere reaching well
  * past the tracer, centred (twice) on their centre of mass from the black
- * hole nearest the tracer; its axis the spin of its disc's particles. (A
+ * hole nearest the tracer (while no other black hole is inside that
+ * sphere: see ring_one in nbody.c); its axis the spin of its disc's particles. (A
  * bulge's stars have a random spin that tilts the axis by a degree; its
  * core sloshes, so the whole sphere's mean acceleration is the host's.)
  *

@@ -149,6 +149,25 @@ same = all(np.array_equal(a[k][f][:], b[k][f][:]) for k in a if k.startswith("Pa
            for f in ("Coordinates", "Velocities"))
 raise SystemExit(0 if same else 1)
 PY
+# While another galaxy's black hole is inside the sphere that makes the
+# tracer's galaxy (2 x its distance from its own: 16 kpc for the Sun), the
+# tracer keeps the tree's pull: with Andromeda 15 kpc away the ring changes
+# no bit; 20 kpc away it does.
+for sep in 15 20; do
+  for k in 0 16; do
+    "$NBODY" --particles 5000 --separation $sep --steps 2 --dt 0.002 --tracer-ring $k --snapshot-every 2 \
+      --snapshot-dir pair$sep-$k >pair.out 2>&1 || fail "the pair $sep kpc apart, --tracer-ring $k: $(cat pair.out)"
+  done
+done
+"$py" - <<'PY' || fail "--tracer-ring with another black hole near"
+import h5py, numpy as np
+def same(x, y):
+    a, b = h5py.File(x + "/snapshot_0001.hdf5", "r"), h5py.File(y + "/snapshot_0001.hdf5", "r")
+    return all(np.array_equal(a[k][f][:], b[k][f][:]) for k in a if k.startswith("PartType")
+               for f in ("Coordinates", "Velocities"))
+assert same("pair15-0", "pair15-16"), "Andromeda 15 kpc away: the ring changed the run"
+assert not same("pair20-0", "pair20-16"), "Andromeda 20 kpc away: the ring changed nothing"
+PY
 got=0
 "$NBODY" --ic no_hole.hdf5 --steps 1 --tracer-ring 8 >hole.out 2>hole.err || got=$?
 [ "$got" -eq 1 ] || fail "--tracer-ring without a black hole exited $got, expected 1"
