@@ -400,11 +400,9 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
         st = camera_plan_of(s, &v->camera_plan, err);
     if (st)
         return st; /* out of memory */
-    v->pass.base_proj = s->projection;
-    st = orr_projection_setup(&v->pass.base_proj, err);
+    st = orr_projection_plan(&v->pass.proj, &s->projection, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
-    v->pass.proj = v->pass.base_proj;
     v->pass.nplanes = s->colour.has_populations || s->compose.nlayers ? 3 : 1;
     if (s->colour.has_populations && s->output.exr_population_layers)
         v->pass.nplanes += 3 * s->colour.populations.n;
@@ -484,7 +482,6 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     orr_status st = frame_files(s, &v->files, err);
     if (st)
         return st;
-    v->pass.proj = v->pass.base_proj; /* a stereo eye shifts its principal point below */
     v->tint_t = s->colour.tint_run ? when->u : s->colour.tint_t;
     const view_camera_plan *c = &v->camera_plan;
     st = orr_view_camera(c, observer, when, &rep->camera, &rep->sky, err);

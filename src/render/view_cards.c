@@ -61,8 +61,8 @@ void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const o
     orr_cards_add_string(h, "CREATOR", "orrery " ORRERY_VERSION, "software that made this file");
     orr_cards_add_string(h, "ORRVERS", ORRERY_VERSION, "orrery version");
     /* (a stereo eye's shift changes none of the projection's cards) */
-    orr_projection_cards(&v->pass.base_proj, h);
-    orr_camera_dome_cards(&c->camera, v->pass.base_proj.kind, h);
+    orr_projection_cards(&v->pass.proj, h);
+    orr_camera_dome_cards(&c->camera, v->pass.proj.kind, h);
     static const reserved camera[] = {
         {"CAMPOSX", "camera position x"},
         {"CAMPOSY", "camera position y"},
@@ -73,8 +73,8 @@ void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const o
         {"CAMQZ", "camera-to-world quaternion z"},
     };
     reserve(h, camera, sizeof camera / sizeof camera[0]);
-    orr_cards_add_long(h, "IMGWIDTH", v->pass.base_proj.width, "[pixel] image width");
-    orr_cards_add_long(h, "IMGHEIGH", v->pass.base_proj.height, "[pixel] image height");
+    orr_cards_add_long(h, "IMGWIDTH", v->pass.proj.width, "[pixel] image width");
+    orr_cards_add_long(h, "IMGHEIGH", v->pass.proj.height, "[pixel] image height");
     orr_deposit_cards(&v->pass.splat.deposit, v->pass.use_sph, h);
     orr_view_psf_cards(&v->pass.psf, h);
     plan_report_cards(v, input, h);
