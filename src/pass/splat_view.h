@@ -164,6 +164,20 @@ orr_status orr_frame_stars_record(frame_stars *fs, const float *dimmed_y, orr_er
 orr_status orr_frame_stars_view_table(const frame_stars *fs, const orr_splat_view *v, orr_star_table *t, void **scratch,
                                       orr_error *err);
 
+/* ---- a sky map's PSF widening the kernels (splat_deposit.c) ---- */
+
+/* The view's kernel deposit, planned once its PSF is (post/view_psf.h, which
+ * fixes psf.h_per_r): kernels are drawn for deposit: sph and wherever the
+ * PSF widens every particle; then the SPH deposit is set up, and a sky
+ * map's PSF core stamps (splat/sky_cores.h). v->kernel must be made. */
+orr_status orr_splat_plan_kernels(orr_splat_view *v, orr_error *err);
+
+/* Whether the frame may skip what is out of view (a periodic box's copies,
+ * pass/periodic_view.h): only while particles are drawn where they are,
+ * not with omni-directional stereo, a PSF widening kernels with distance,
+ * or weights dimmed with distance from the observer. */
+int orr_splat_can_cull(const orr_splat_view *v);
+
 /* ---- the splat pass (splat_pass.c) ---- */
 
 /* Chooses how the set-up view is splatted (bands, lanes, the fused NGP
