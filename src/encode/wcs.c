@@ -172,6 +172,12 @@ int orr_wcs_add_cards(orr_cards *h, const orr_wcs_view *view)
     return 0;
 }
 
+void orr_wcs_frame_cards(orr_cards *frame, const orr_cards *planned, const orr_wcs_view *view)
+{
+    *frame = *planned;
+    orr_wcs_add_cards(frame, view);
+}
+
 const char *orr_wcs_healpix_coordsys(const orr_wcs_view *view)
 {
     double l0;

@@ -29,6 +29,12 @@ typedef struct orr_wcs_view {
  * projections cannot describe without a rotation). */
 int orr_wcs_add_cards(orr_cards *h, const orr_wcs_view *view);
 
+/* A frame's header begun from its view's planned cards: planned (each
+ * stage's cards, with the places of the values each frame gives reserved)
+ * copied into frame and this frame's world coordinates added
+ * (orr_wcs_add_cards); the caller then sets the reserved values. */
+void orr_wcs_frame_cards(orr_cards *frame, const orr_cards *planned, const orr_wcs_view *view);
+
 /* A HEALPix map's COORDSYS: "G" when its (theta, phi) are the observer
  * frame's (90 - b, l), i.e. an observer defines the frame and the camera is
  * centred on l = b = 0 with north up (the default with an observer); NULL

@@ -101,8 +101,14 @@ orr_status orr_projection_prepare(const orr_projection *p, const orr_keys *keys,
     orr_status st = check_ranges(p, 1, keys, err);
     if (st)
         return st;
-    orr_projection copy = *p; /* the derived values stay out of the settings */
-    return orr_projection_setup(&copy, err) ? orr_fail_key_prefix(keys, NULL, err, "") : ORR_OK;
+    orr_projection planned; /* the derived values stay out of the settings */
+    return orr_projection_plan(&planned, p, err) ? orr_fail_key_prefix(keys, NULL, err, "") : ORR_OK;
+}
+
+orr_status orr_projection_plan(orr_projection *p, const orr_projection *settings, orr_error *err)
+{
+    *p = *settings;
+    return orr_projection_setup(p, err);
 }
 
 orr_status orr_projection_setup(orr_projection *p, orr_error *err)

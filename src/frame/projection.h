@@ -158,6 +158,12 @@ void orr_projection_fold(const orr_projection *p, int *i, int *j);
  * (+y) at the bottom of the master, the dome's front. */
 orr_status orr_projection_setup(orr_projection *p, orr_error *err);
 
+/* The projection a view renders with: the scene's settings (checked by
+ * orr_projection_prepare) copied into p and set up, so that the values the
+ * settings fix (theta_max, the focal length, the centre) are derived in one
+ * place, here, when the plan is made; the settings keep none of them. */
+orr_status orr_projection_plan(orr_projection *p, const orr_projection *settings, orr_error *err);
+
 /* A scene's projection checked, every parameter whether its kind uses it
  * or not (camera.width, .fov, .near, .dome_fov: their ranges are the
  * projection's, not the key table's), then set up on a copy; keys says

@@ -235,9 +235,9 @@ static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, flo
 {
     l->factor = factor;
     l->min_pixels = min_pixels;
-    l->proj = v->base_proj;
-    l->proj.width = v->base_proj.width / factor;
-    l->proj.height = v->base_proj.height / factor;
+    l->proj = v->proj;
+    l->proj.width = v->proj.width / factor;
+    l->proj.height = v->proj.height / factor;
     orr_status st = orr_projection_setup(&l->proj, err);
     if (!st && !(st = orr_sph_init(&l->sph, &v->kernel, &l->proj, err)))
         l->sph_ready = 1;
@@ -254,8 +254,8 @@ static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, flo
 
 orr_status orr_coarse_glow_plan(orr_splat_view *v, orr_error *err)
 {
-    const orr_projection_traits traits = orr_projection_traits_of(v->base_proj.kind);
-    const int w = v->base_proj.width, h = v->base_proj.height;
+    const orr_projection_traits traits = orr_projection_traits_of(v->proj.kind);
+    const int w = v->proj.width, h = v->proj.height;
     /* Sky maps in colour that glow with the kernel deposit, no stereo eye;
      * the levels that divide the map and leave it 8 coarse pixels across
      * or more. Else the view draws every glow itself. */

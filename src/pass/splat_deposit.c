@@ -12,6 +12,29 @@
 #include "post/view_psf.h"
 #include "splat/sph.h"
 
+/* The PSF's widening is planned here (orr_splat_plan_kernels), read here
+ * (orr_splat_can_cull) and applied here, each frame (widen_for_psf). */
+
+orr_status orr_splat_plan_kernels(orr_splat_view *v, orr_error *err)
+{
+    const int widens = v->psf.h_per_r > 0;
+    v->use_sph = v->splat.deposit.kind == ORR_DEPOSIT_SPH || widens;
+    if (!v->use_sph)
+        return ORR_OK;
+    orr_status st = orr_sph_init(&v->sph, &v->kernel, &v->proj, err);
+    v->sph_ready = !st;
+    /* Stars are drawn from stamps: widen_for_psf gives a star without a
+     * length of its own h = k r, k the float of h_per_r: its angle h / r. */
+    if (!st && widens)
+        st = orr_sph_use_cores(&v->sph, (float)v->psf.h_per_r, err);
+    return st;
+}
+
+int orr_splat_can_cull(const orr_splat_view *v)
+{
+    return !v->use_ods && !(v->psf.h_per_r > 0) && !v->splat.dims_from_observer;
+}
+
 /* A sky map's PSF widens every particle's kernel to the PSF's angular size
  * (in quadrature with its own smoothing length). */
 static void widen_for_psf(const orr_splat_view *v, size_t n, block_buffers *b)

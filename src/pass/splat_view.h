@@ -45,8 +45,9 @@ typedef struct orr_splat_view {
      * kernel, the PSF, the SPH deposit (a sky map's index and core stamps).
      * The rest is the frame's. */
     orr_splat_settings splat;   /* what the splat pass reads of the view's settings */
-    orr_projection base_proj;   /* the scene's projection, set up */
-    orr_projection proj;        /* this frame's: base_proj, with a stereo eye's principal point */
+    orr_projection proj;        /* set up once, when planned (orr_projection_plan); a perspective
+                                 * stereo eye's principal point is shifted each frame, in place,
+                                 * which sets up the rest again (frame/stereo.c) */
     orr_mat3 world_to_camera;
     orr_vec3 camera_position;   /* this frame's camera (a stereo eye's), where world_to_camera starts */
     orr_plane planes[ORR_PLANES_MAX]; /* the weight plane, or CIE X, Y, Z with colour (then each
@@ -162,6 +163,20 @@ orr_status orr_frame_stars_record(frame_stars *fs, const float *dimmed_y, orr_er
  * columns: free it after). */
 orr_status orr_frame_stars_view_table(const frame_stars *fs, const orr_splat_view *v, orr_star_table *t, void **scratch,
                                       orr_error *err);
+
+/* ---- a sky map's PSF widening the kernels (splat_deposit.c) ---- */
+
+/* The view's kernel deposit, planned once its PSF is (post/view_psf.h, which
+ * fixes psf.h_per_r): kernels are drawn for deposit: sph and wherever the
+ * PSF widens every particle; then the SPH deposit is set up, and a sky
+ * map's PSF core stamps (splat/sky_cores.h). v->kernel must be made. */
+orr_status orr_splat_plan_kernels(orr_splat_view *v, orr_error *err);
+
+/* Whether the frame may skip what is out of view (a periodic box's copies,
+ * pass/periodic_view.h): only while particles are drawn where they are,
+ * not with omni-directional stereo, a PSF widening kernels with distance,
+ * or weights dimmed with distance from the observer. */
+int orr_splat_can_cull(const orr_splat_view *v);
 
 /* ---- the splat pass (splat_pass.c) ---- */
 

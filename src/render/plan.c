@@ -400,11 +400,9 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
         st = camera_plan_of(s, &v->camera_plan, err);
     if (st)
         return st; /* out of memory */
-    v->pass.base_proj = s->projection;
-    st = orr_projection_setup(&v->pass.base_proj, err);
+    st = orr_projection_plan(&v->pass.proj, &s->projection, err);
     if (st)
         return orr_fail_prefix(err, "%s: ", s->path);
-    v->pass.proj = v->pass.base_proj;
     v->pass.nplanes = s->colour.has_populations || s->compose.nlayers ? 3 : 1;
     if (s->colour.has_populations && s->output.exr_population_layers)
         v->pass.nplanes += 3 * s->colour.populations.n;
@@ -425,15 +423,8 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
      * shifted principal point leaves as they are. */
     if (!st)
         st = plan_psf(v, s, kernels, err);
-    v->pass.use_sph = s->deposit.kind == ORR_DEPOSIT_SPH || v->pass.psf.h_per_r > 0;
-    if (!st && v->pass.use_sph)
-        st = orr_sph_init(&v->pass.sph, &v->pass.kernel, &v->pass.proj, err);
-    v->pass.sph_ready = !st && v->pass.use_sph;
-    /* A sky map's PSF cores: stars are drawn from stamps (splat/sky_cores.h).
-     * widen_for_psf gives a star without a length of its own h = k r, k the
-     * float of h_per_r: its angle h / r. */
-    if (!st && v->pass.use_sph && v->pass.psf.h_per_r > 0)
-        st = orr_sph_use_cores(&v->pass.sph, (float)v->pass.psf.h_per_r, err);
+    if (!st) /* the kernels the deposit and the PSF's widening draw */
+        st = orr_splat_plan_kernels(&v->pass, err);
     if (!st)
         orr_view_plan_cards(v, &s->input, &s->observer); /* after the deposit and the PSF, which they describe */
     return st;
@@ -484,7 +475,6 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     orr_status st = frame_files(s, &v->files, err);
     if (st)
         return st;
-    v->pass.proj = v->pass.base_proj; /* a stereo eye shifts its principal point below */
     v->tint_t = s->colour.tint_run ? when->u : s->colour.tint_t;
     const view_camera_plan *c = &v->camera_plan;
     st = orr_view_camera(c, observer, when, &rep->camera, &rep->sky, err);
@@ -754,14 +744,12 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
     return ORR_OK;
 }
 
-/* A periodic box's copies around the view's camera. Skipping what is out
- * of view needs particles drawn where they are: not with omni-directional
- * stereo, a sky map's PSF widening kernels, or weights dimmed with distance. */
+/* A periodic box's copies around the view's camera, those out of view
+ * skipped when the pass allows it (orr_splat_can_cull). */
 static orr_status setup_periodic(view_state *v, const orr_source_info *info, orr_error *err)
 {
-    int can_cull = !v->pass.use_ods && !(v->pass.psf.h_per_r > 0) && !v->pass.splat.dims_from_observer;
-    orr_status st =
-        orr_periodic_view_setup(&v->pass.periodic, &v->pass.splat, info, &v->pass.proj, &v->rep->camera, can_cull, err);
+    orr_status st = orr_periodic_view_setup(&v->pass.periodic, &v->pass.splat, info, &v->pass.proj, &v->rep->camera,
+                                            orr_splat_can_cull(&v->pass), err);
     v->rep->n_replicas = v->pass.periodic.active ? v->pass.periodic.replicas.n : 0;
     return st;
 }

@@ -193,7 +193,7 @@ orr_status orr_view_camera(const view_camera_plan *c, const orr_sky_frame *obser
 /* The view's camera dframe frames from this one (motion blur's shutter
  * opening and closing): along the camera path, or from an observer moved
  * by observer_step; a perspective stereo eye set as in this frame (on the
- * projection as planned, base_proj, which the eye's shift leaves alone). */
+ * view's projection, whose principal point the eye's shift sets anew). */
 static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, orr_vec3 observer_step,
                             const orr_frame_time *when, double dframe, orr_camera *cam, orr_error *err)
 {
@@ -211,7 +211,7 @@ static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, 
         st = orr_view_camera(c, observer ? &moved : NULL, when, cam, &sky, err);
     }
     if (!st && c->stereo.eye && orr_projection_traits_of(v->pass.proj.kind).off_axis_stereo) {
-        orr_projection p = v->pass.base_proj;
+        orr_projection p = v->pass.proj;
         st = orr_stereo_perspective_eye(cam, &p, c->stereo.eye, c->stereo.eye_separation, v->rep->stereo_convergence,
                                         err);
     }

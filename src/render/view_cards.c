@@ -3,11 +3,12 @@
  * orr_view_psf_cards, orr_observer_cards, ...), from its settings and what
  * it prepared, are added when the view is planned, and the cards whose
  * values each frame gives (the camera, the counts, the time, the frame
- * number) are reserved in their places; each frame copies them, sets
- * those, drops the ones the frame has none for (a periodic box's when it
- * draws no copies, the frame number of a still), and adds the world
- * coordinates, which follow the camera, and the stereo cards. Every FITS
- * file of the frame (and an in-situ keeper) gets that copy. */
+ * number) are reserved in their places. Each frame's header is begun from
+ * them by encode/ (orr_wcs_frame_cards), with the world coordinates, which
+ * follow the camera; here the frame then sets the reserved values, drops
+ * the ones it has none for (a periodic box's when it draws no copies, the
+ * frame number of a still) and adds the stereo cards. Every FITS file of
+ * the frame (and an in-situ keeper) gets that header. */
 #include "render/view_state.h"
 
 #include <string.h>
@@ -61,8 +62,8 @@ void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const o
     orr_cards_add_string(h, "CREATOR", "orrery " ORRERY_VERSION, "software that made this file");
     orr_cards_add_string(h, "ORRVERS", ORRERY_VERSION, "orrery version");
     /* (a stereo eye's shift changes none of the projection's cards) */
-    orr_projection_cards(&v->pass.base_proj, h);
-    orr_camera_dome_cards(&c->camera, v->pass.base_proj.kind, h);
+    orr_projection_cards(&v->pass.proj, h);
+    orr_camera_dome_cards(&c->camera, v->pass.proj.kind, h);
     static const reserved camera[] = {
         {"CAMPOSX", "camera position x"},
         {"CAMPOSY", "camera position y"},
@@ -73,8 +74,8 @@ void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const o
         {"CAMQZ", "camera-to-world quaternion z"},
     };
     reserve(h, camera, sizeof camera / sizeof camera[0]);
-    orr_cards_add_long(h, "IMGWIDTH", v->pass.base_proj.width, "[pixel] image width");
-    orr_cards_add_long(h, "IMGHEIGH", v->pass.base_proj.height, "[pixel] image height");
+    orr_cards_add_long(h, "IMGWIDTH", v->pass.proj.width, "[pixel] image width");
+    orr_cards_add_long(h, "IMGHEIGH", v->pass.proj.height, "[pixel] image height");
     orr_deposit_cards(&v->pass.splat.deposit, v->pass.use_sph, h);
     orr_view_psf_cards(&v->pass.psf, h);
     plan_report_cards(v, input, h);
@@ -134,10 +135,11 @@ void orr_view_frame_cards(view_state *v)
 {
     const orr_render_report *rep = v->rep;
     orr_cards *h = &v->frame_cards;
-    *h = v->cards;
-    set_frame_values(v, h);
     orr_wcs_view wcs = {&v->pass.proj, &rep->camera, &rep->sky, rep->has_sky_frame, v->length_unit};
-    orr_wcs_add_cards(h, &wcs);
+    /* The world coordinates' cards come with values: none is a place that
+     * set_frame_values fills, so they may go in first. */
+    orr_wcs_frame_cards(h, &v->cards, &wcs);
+    set_frame_values(v, h);
     orr_cards_append(h, &v->stereo_cards);
     orr_cards_set_double(h, "CONVERG", rep->stereo_convergence);
     orr_cards_drop_unset(h);
