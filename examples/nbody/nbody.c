@@ -809,38 +809,33 @@ static int star_sums(const bodies *b, const double about[3], double radius, int 
                      double s[RING_SUMS])
 {
     memset(s, 0, RING_SUMS * sizeof *s);
-    ring_star_sums(b->pos, b->vel, b->acc, b->mass, b->type, b->n, b->tracer_mass, about, radius, s);
+    ring_star_sums(b->pos, b->acc, b->mass, b->type, b->n, b->tracer_mass, about, radius, s);
     return reduce_over_ranks(s, RING_SUMS, rank, size, 0);
 }
 
 /* The host of a tracer (tracer_ring.h): the stars within radius, centred
- * twice on their centre of mass from the black hole start; its axis n the spin of its disc (of its stars when it has no
+ * twice on their centre of mass from the black hole start; its axis n the
+ * one its disc's particles are thinnest along (its bulge's when it has no
  * disc particles). Returns 0 when a sum failed; *found 0 when no stars
  * were there. */
 static int ring_frame(const bodies *b, const double start[3], double radius, int rank, int size, double c[3],
                       double n[3], double a_host[3], int *found)
 {
-    double s[RING_SUMS], v[3], centre[3] = {start[0], start[1], start[2]};
+    double s[RING_SUMS], centre[3] = {start[0], start[1], start[2]};
     *found = 0;
     for (int pass = 0; pass < 2; pass++) {
         if (!star_sums(b, centre, radius, rank, size, s))
             return 0;
-        if (!ring_host(s, c, v, a_host))
+        if (!ring_host(s, c, a_host))
             return 1;
         memcpy(centre, c, sizeof centre);
     }
-    double spin[3] = {0, 0, 0};
-    for (uint8_t which = ORR_MODEL_TYPE_DISC; which <= ORR_MODEL_TYPE_BULGE; which++) {
-        ring_spin_sum(b->pos, b->vel, b->mass, b->type, b->n, which, c, v, radius, spin);
-        if (!reduce_over_ranks(spin, 3, rank, size, 0))
+    for (uint8_t which = ORR_MODEL_TYPE_DISC; which <= ORR_MODEL_TYPE_BULGE && !*found; which++) {
+        double m2[6] = {0};
+        ring_shape_sum(b->pos, b->mass, b->type, b->n, which, c, radius, m2);
+        if (!reduce_over_ranks(m2, 6, rank, size, 0))
             return 0;
-        double len = sqrt(spin[0] * spin[0] + spin[1] * spin[1] + spin[2] * spin[2]);
-        if (len > 0) {
-            for (int k = 0; k < 3; k++)
-                n[k] = spin[k] / len;
-            *found = 1;
-            return 1;
-        }
+        *found = ring_axis(m2, n);
     }
     return 1;
 }

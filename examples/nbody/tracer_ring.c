@@ -20,8 +20,8 @@ static void cross(const double a[3], const double b[3], double out[3])
     out[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-void ring_star_sums(const double *pos, const double *vel, const double *acc, const double *mass, const uint8_t *type,
-                    size_t n, double light, const double centre[3], double radius, double s[RING_SUMS])
+void ring_star_sums(const double *pos, const double *acc, const double *mass, const uint8_t *type, size_t n,
+                    double light, const double centre[3], double radius, double s[RING_SUMS])
 {
     for (size_t i = 0; i < n; i++) {
         if (mass[i] < light || (type[i] != TYPE_DISC && type[i] != TYPE_BULGE) ||
@@ -30,37 +30,85 @@ void ring_star_sums(const double *pos, const double *vel, const double *acc, con
         s[0] += mass[i];
         for (int k = 0; k < 3; k++) {
             s[1 + k] += mass[i] * pos[3 * i + k];
-            s[4 + k] += mass[i] * vel[3 * i + k];
-            s[7 + k] += mass[i] * acc[3 * i + k];
+            s[4 + k] += mass[i] * acc[3 * i + k];
         }
     }
 }
 
-void ring_spin_sum(const double *pos, const double *vel, const double *mass, const uint8_t *type, size_t n,
-                   uint8_t which, const double c[3], const double v_c[3], double radius, double spin[3])
+void ring_shape_sum(const double *pos, const double *mass, const uint8_t *type, size_t n, uint8_t which,
+                    const double c[3], double radius, double m2[6])
 {
     for (size_t i = 0; i < n; i++) {
         if (type[i] != which || distance2(&pos[3 * i], c) > radius * radius)
             continue;
-        double d[3], u[3], l[3];
-        for (int k = 0; k < 3; k++) {
-            d[k] = pos[3 * i + k] - c[k];
-            u[k] = vel[3 * i + k] - v_c[k];
-        }
-        cross(d, u, l);
-        for (int k = 0; k < 3; k++)
-            spin[k] += mass[i] * l[k];
+        double d[3] = {pos[3 * i] - c[0], pos[3 * i + 1] - c[1], pos[3 * i + 2] - c[2]};
+        m2[0] += mass[i] * d[0] * d[0];
+        m2[1] += mass[i] * d[1] * d[1];
+        m2[2] += mass[i] * d[2] * d[2];
+        m2[3] += mass[i] * d[0] * d[1];
+        m2[4] += mass[i] * d[0] * d[2];
+        m2[5] += mass[i] * d[1] * d[2];
     }
 }
 
-int ring_host(const double s[RING_SUMS], double c[3], double v[3], double a[3])
+/* One Jacobi rotation of the symmetric a zeroing a[p][q], applied to the
+ * eigenvectors' columns v too. */
+static void jacobi_rotate(double a[3][3], double v[3][3], int p, int q)
+{
+    if (a[p][q] == 0.0)
+        return;
+    double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+    double t = (theta >= 0 ? 1.0 : -1.0) / (fabs(theta) + sqrt(theta * theta + 1.0));
+    double c = 1.0 / sqrt(t * t + 1.0), s = t * c;
+    for (int k = 0; k < 3; k++) { /* columns p, q */
+        double akp = a[k][p], akq = a[k][q];
+        a[k][p] = c * akp - s * akq;
+        a[k][q] = s * akp + c * akq;
+    }
+    for (int k = 0; k < 3; k++) { /* rows p, q */
+        double apk = a[p][k], aqk = a[q][k];
+        a[p][k] = c * apk - s * aqk;
+        a[q][k] = s * apk + c * aqk;
+    }
+    for (int k = 0; k < 3; k++) {
+        double vkp = v[k][p], vkq = v[k][q];
+        v[k][p] = c * vkp - s * vkq;
+        v[k][q] = s * vkp + c * vkq;
+    }
+}
+
+int ring_axis(const double m2[6], double n[3])
+{
+    double a[3][3] = {{m2[0], m2[3], m2[4]}, {m2[3], m2[1], m2[5]}, {m2[4], m2[5], m2[2]}};
+    double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    double scale = fabs(a[0][0]) + fabs(a[1][1]) + fabs(a[2][2]);
+    if (!(scale > 0))
+        return 0;
+    for (int sweep = 0; sweep < 50; sweep++) {
+        double off = fabs(a[0][1]) + fabs(a[0][2]) + fabs(a[1][2]);
+        if (off <= 1e-15 * scale)
+            break;
+        jacobi_rotate(a, v, 0, 1);
+        jacobi_rotate(a, v, 0, 2);
+        jacobi_rotate(a, v, 1, 2);
+    }
+    int least = 0;
+    for (int k = 1; k < 3; k++)
+        if (a[k][k] < a[least][least])
+            least = k;
+    double len = sqrt(v[0][least] * v[0][least] + v[1][least] * v[1][least] + v[2][least] * v[2][least]);
+    for (int k = 0; k < 3; k++)
+        n[k] = v[k][least] / len;
+    return 1;
+}
+
+int ring_host(const double s[RING_SUMS], double c[3], double a[3])
 {
     if (!(s[0] > 0))
         return 0;
     for (int k = 0; k < 3; k++) {
         c[k] = s[1 + k] / s[0];
-        v[k] = s[4 + k] / s[0];
-        a[k] = s[7 + k] / s[0];
+        a[k] = s[4 + k] / s[0];
     }
     return 1;
 }

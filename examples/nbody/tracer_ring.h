@@ -19,9 +19,12 @@
  * kept but for tides. The host: the stars within a sphere reaching well
  * past the tracer, centred (twice) on their centre of mass from the black
  * hole nearest the tracer (while no other black hole is inside that
- * sphere: see ring_one in nbody.c); its axis the spin of its disc's particles. (A
- * bulge's stars have a random spin that tilts the axis by a degree; its
- * core sloshes, so the whole sphere's mean acceleration is the host's.)
+ * sphere: see ring_one in nbody.c); its axis the one its disc's particles
+ * are thinnest along. The axis is taken from positions alone, not from the
+ * disc's spin: at a force computation the velocities are half a step
+ * behind, at a resume they are not, and a resume must give the same bits.
+ * (The bulge is left out of the axis: it is rounder. Its core sloshes in
+ * the halo, so the whole sphere's mean acceleration is the host's.)
  *
  * The functions here are the local parts: sums over this process's own
  * particles, which nbody.c adds over the ranks. */
@@ -33,21 +36,26 @@
 
 #define RING_POINTS_MAX 256
 
-/* Sums over the stars (types 2 and 3) of pos/vel/acc/mass not lighter
- * than light within radius of centre: s[0] mass, s[1..3] m x, s[4..6] m v,
- * s[7..9] m a. Added to s. */
-#define RING_SUMS 10
-void ring_star_sums(const double *pos, const double *vel, const double *acc, const double *mass, const uint8_t *type,
-                    size_t n, double light, const double centre[3], double radius, double s[RING_SUMS]);
+/* Sums over the stars (types 2 and 3) of pos/acc/mass not lighter than
+ * light within radius of centre: s[0] mass, s[1..3] m x, s[4..6] m a.
+ * Added to s. */
+#define RING_SUMS 7
+void ring_star_sums(const double *pos, const double *acc, const double *mass, const uint8_t *type, size_t n,
+                    double light, const double centre[3], double radius, double s[RING_SUMS]);
 
-/* The spin sum m (x - c) x (v - v_c) of the particles of type `which`
- * within radius of c: added to spin. */
-void ring_spin_sum(const double *pos, const double *vel, const double *mass, const uint8_t *type, size_t n,
-                   uint8_t which, const double c[3], const double v_c[3], double radius, double spin[3]);
+/* The second moments m (x - c)_a (x - c)_b (xx, yy, zz, xy, xz, yz) of the
+ * particles of type `which` within radius of c: added to m2. */
+void ring_shape_sum(const double *pos, const double *mass, const uint8_t *type, size_t n, uint8_t which,
+                    const double c[3], double radius, double m2[6]);
 
-/* The stars' centre, mean velocity and mean acceleration from summed
- * ring_star_sums. Returns 0 when the sums hold no mass. */
-int ring_host(const double s[RING_SUMS], double c[3], double v[3], double a[3]);
+/* The axis a flattened shape is thinnest along (the second moments' least
+ * eigenvector, by Jacobi rotations) into n, a unit vector of either sign.
+ * Returns 0 when the moments are 0. */
+int ring_axis(const double m2[6], double n[3]);
+
+/* The stars' centre and mean acceleration from summed ring_star_sums.
+ * Returns 0 when the sums hold no mass. */
+int ring_host(const double s[RING_SUMS], double c[3], double a[3]);
 
 /* The K points of the ring through x about the axis n through c into
  * pts[0 .. 3K), point k turned by 2 pi k / K (point 0 is x). */
