@@ -781,7 +781,7 @@ static int tracer_active(const bodies *b, const unsigned char *active)
 
 static double distance(const double a[3], const double b[3])
 {
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]));
+    return sqrt(ring_distance2(a, b));
 }
 
 /* The black hole in holes (nh of them) nearest x. */

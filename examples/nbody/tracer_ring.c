@@ -8,7 +8,7 @@
 #define TYPE_DISC 2
 #define TYPE_BULGE 3
 
-static double distance2(const double a[3], const double b[3])
+double ring_distance2(const double a[3], const double b[3])
 {
     return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
 }
@@ -25,7 +25,7 @@ void ring_star_sums(const double *pos, const double *acc, const double *mass, co
 {
     for (size_t i = 0; i < n; i++) {
         if (mass[i] < light || (type[i] != TYPE_DISC && type[i] != TYPE_BULGE) ||
-            distance2(&pos[3 * i], centre) > radius * radius)
+            ring_distance2(&pos[3 * i], centre) > radius * radius)
             continue;
         s[0] += mass[i];
         for (int k = 0; k < 3; k++) {
@@ -39,7 +39,7 @@ void ring_shape_sum(const double *pos, const double *mass, const uint8_t *type, 
                     const double c[3], double radius, double m2[6])
 {
     for (size_t i = 0; i < n; i++) {
-        if (type[i] != which || distance2(&pos[3 * i], c) > radius * radius)
+        if (type[i] != which || ring_distance2(&pos[3 * i], c) > radius * radius)
             continue;
         double d[3] = {pos[3 * i] - c[0], pos[3 * i + 1] - c[1], pos[3 * i + 2] - c[2]};
         m2[0] += mass[i] * d[0] * d[0];
