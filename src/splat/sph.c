@@ -51,24 +51,28 @@
 /* Pixels computed at once in a row of a large footprint. */
 #define ROW_SEGMENT 512
 
-/* Where shares go: the plane, and for sky maps the projection that folds
- * shares off the map back onto it. */
+/* Where shares go: the planes, and for sky maps the projection that folds
+ * shares off the map back onto it. A sky map's planes (a colour view's X,
+ * Y and Z) take the same footprint, each with its own weight: the pixels'
+ * weights are found once for all of them. Flat images draw one plane. */
 typedef struct target {
-    orr_plane *plane;
+    orr_plane *plane;           /* the first plane; the others follow it */
+    int nplanes;
     const orr_projection *proj; /* sky maps only */
     const orr_kernel *kernel;
     int fold;                   /* this footprint touches pixels off the map */
     int drop;                   /* ... and those get nothing (the rest is renormalised) */
-    double in;                  /* weight added to the plane */
+    double in;                  /* weight added to the first plane (the flat images' tally) */
 } target;
 
-/* Adds scale * wt[m] to pixels (i0 + m, j), m < n. The sums of what was
- * added are worked out by the callers, mostly without a pass over the
- * pixels, so this loop is a plain vectorised multiply-add. */
-static void emit_row(target *t, int j, int i0, int n, const float *restrict wt, float scale)
+/* Adds scale * wt[m] to pixels (i0 + m, j) of plane p, m < n. The sums of
+ * what was added are worked out by the callers, mostly without a pass over
+ * the pixels, so this loop is a plain vectorised multiply-add. */
+static void emit_plane_row(const target *t, orr_plane *p, int j, int i0, int n, const float *restrict wt,
+                           float scale)
 {
-    float *data = t->plane->data;
-    const int W = t->plane->width;
+    float *data = p->data;
+    const int W = p->width;
     if (!t->fold) {
         float *restrict row = data + (size_t)j * (size_t)W + (size_t)i0;
         for (int m = 0; m < n; m++)
@@ -87,6 +91,20 @@ static void emit_row(target *t, int j, int i0, int n, const float *restrict wt, 
         }
         data[(size_t)jj * (size_t)W + (size_t)i] += s;
     }
+}
+
+/* The same weights into every plane, plane k scaled by scale[k]. */
+static void emit_row(const target *t, int j, int i0, int n, const float *restrict wt, const float *scale)
+{
+    for (int k = 0; k < t->nplanes; k++)
+        emit_plane_row(t, &t->plane[k], j, i0, n, wt, scale[k]);
+}
+
+/* Each plane's scale: its weight over the footprint's sum of weights. */
+static void plane_scales(const target *t, const float *w, double sum, float *scale)
+{
+    for (int k = 0; k < t->nplanes; k++)
+        scale[k] = (float)(w[k] / sum);
 }
 
 /* A footprint's pixel range, [i0, i1] x [j0, j1]. */
@@ -184,8 +202,9 @@ static void corner_row(const orr_kernel *k, const corner_axis *ax, const corner_
     }
 }
 
-/* A disc kernel of h pixels (h < CUMULATIVE_MAX) at (cx, cy). */
-static void disc_cumulative(target *t, double cx, double cy, double h, float w)
+/* A disc kernel of h pixels (h < CUMULATIVE_MAX) at (cx, cy), weight w[k]
+ * into plane k. */
+static void disc_cumulative(target *t, double cx, double cy, double h, const float *w)
 {
     box b, full;
     const double r = ORR_KERNEL_SUPPORT * h;
@@ -214,7 +233,7 @@ static void disc_cumulative(target *t, double cx, double cy, double h, float w)
      * a whole kernel, the share on the image for a clipped one. On a sky
      * map everything lands (folded). */
     const float *top = grid, *bottom = grid + (ay.n - 1) * ax.n;
-    t->in += t->proj ? w : w * (((double)bottom[n] - bottom[0]) - ((double)top[n] - top[0]));
+    t->in += t->proj ? w[0] : w[0] * (((double)bottom[n] - bottom[0]) - ((double)top[n] - top[0]));
 }
 
 /* ---- small kernels on flat images: fixed-size corner grids ----
@@ -793,7 +812,7 @@ static void sum_row(row_visitor *v, int j, int i, int n, const float *wt)
 typedef struct drawer {
     row_visitor v;
     target *t;
-    float scale;
+    float scale[ORR_PLANES_MAX]; /* each plane's */
     int clipped;
     double drawn; /* sum of the weights drawn, kept only when clipped */
 } drawer;
@@ -832,8 +851,8 @@ static void buffer_row(row_visitor *v, int j, int i, int n, const float *wt)
     b->sum += row_sum(wt, n);
 }
 
-/* Deposits weight w over the ellipse, normalised so the whole footprint
- * carries exactly w. From 10 pixels per h the midpoint sum over the
+/* Deposits weight w[k] over the ellipse into plane k, normalised so the
+ * whole footprint carries exactly w[k]. From 10 pixels per h the midpoint sum over the
  * footprint equals the table's integral (exactly 1 per unit area, see
  * splat/kernel.c) to 3 parts in 10^8, below float round-off (measured over
  * random centres for each kernel, docs/smoothing.md), so it is used as is
@@ -841,7 +860,7 @@ static void buffer_row(row_visitor *v, int j, int i, int n, const float *wt)
  * clips it (a clipped one then costs only its pixels on the image). Others
  * are summed first: from a buffer when the footprint is small and whole,
  * else by computing the weights twice. */
-static int ellipse_deposit(target *t, const ellipse *e, float w)
+static int ellipse_deposit(target *t, const ellipse *e, const float *w)
 {
     box b, full;
     if (!footprint(t, e->cx, e->cy, e->ex, e->ey, &b, &full))
@@ -860,10 +879,11 @@ static int ellipse_deposit(target *t, const ellipse *e, float w)
         if (!buf.full) {
             if (!(buf.sum > 0))
                 return 0;
-            const float scale = (float)(w / buf.sum);
+            float scale[ORR_PLANES_MAX];
+            plane_scales(t, w, buf.sum, scale);
             for (int r = 0, at = 0; r < buf.rows; at += buf.row[r][2], r++)
                 emit_row(t, buf.row[r][0], buf.row[r][1], buf.row[r][2], buf.wt + at, scale);
-            t->in += w;
+            t->in += w[0];
             return 1;
         }
     }
@@ -874,9 +894,10 @@ static int ellipse_deposit(target *t, const ellipse *e, float w)
     }
     if (!(sum > 0))
         return 0;
-    drawer d = {{draw_row}, t, (float)(w / sum), clipped, 0.0};
+    drawer d = {{draw_row}, t, {0}, clipped, 0.0};
+    plane_scales(t, w, sum, d.scale);
     ellipse_visit(t, e, b, &d.v);
-    t->in += clipped ? d.drawn * d.scale : w;
+    t->in += clipped ? d.drawn * d.scale[0] : w[0];
     return 1;
 }
 
@@ -887,14 +908,16 @@ static void disc_ellipse(ellipse *e, double cx, double cy, double h)
     ellipse_setup(e, cx, cy, a, 0.0, a);
 }
 
-/* A disc kernel of h pixels by whichever method suits its size. */
-static void disc_deposit(target *t, double cx, double cy, double h, float w)
+/* A disc kernel of h pixels by whichever method suits its size, weight
+ * w[k] into plane k (the fixed grids and the separable expansion draw flat
+ * images, one plane). */
+static void disc_deposit(target *t, double cx, double cy, double h, const float *w)
 {
     if (h < CUMULATIVE_MAX) {
         const float fx = (float)cx, fy = (float)cy, fh = (float)h;
         flat_footprint f;
         if (!on_flat_image(t, fx, fy, fh, &f) ||
-            !(disc_small(t, fx, fy, fh, w, &f) || disc_separable(t, fx, fy, fh, w, &f)))
+            !(disc_small(t, fx, fy, fh, w[0], &f) || disc_separable(t, fx, fy, fh, w[0], &f)))
             disc_cumulative(t, cx, cy, h, w);
         return;
     }
@@ -951,9 +974,9 @@ static void draw_large_piece(target *t, const large_kernel *k, int j0, int j1)
         return;
     const float scale = (float)(k->w * sqrt(e.a * e.c - e.b * e.b));
     if (clipped) {
-        drawer d = {{draw_row}, t, scale, 1, 0.0};
+        drawer d = {{draw_row}, t, {scale}, 1, 0.0};
         ellipse_visit(t, &e, b, &d.v);
-        t->in += d.drawn * d.scale;
+        t->in += d.drawn * d.scale[0];
         return;
     }
     /* Whole: nothing to add up, so each row's samples go straight into the
@@ -1149,7 +1172,7 @@ double orr_sph_core_stamp(const orr_sph *s, const orr_sph_core_shape *shape, dou
 {
     ellipse e;
     ellipse_setup(&e, cx, cy, shape->a, shape->b, shape->c);
-    target t = {NULL, NULL, s->kernel, 0, 0, 0.0};
+    target t = {NULL, 1, NULL, s->kernel, 0, 0, 0.0};
     stamp_writer sw = {{stamp_row}, out, width};
     memset(out, 0, sizeof(float) * (size_t)width * (size_t)height);
     ellipse_visit(&t, &e, (box){0, width - 1, 0, height - 1}, &sw.v);
@@ -1330,7 +1353,7 @@ static double cap_pass(const orr_sph *s, const cap *c, cap_weights *cw, orr_plan
 /* The exact path: every pixel the cap can reach, mapped back to its
  * direction. Returns 0 (nothing deposited) when no pixel centre on the map
  * lies inside the support. */
-static int sky_exact(const orr_sph *s, target *t, orr_vec3 dir, double theta, float w)
+static int sky_exact(const orr_sph *s, target *t, orr_vec3 dir, double theta, const float *w)
 {
     cap c = {dir, theta, 0, 0, theta >= 1.0};
     double r = c.all ? ORR_PI : 2.0 * asin(theta);
@@ -1338,12 +1361,15 @@ static int sky_exact(const orr_sph *s, target *t, orr_vec3 dir, double theta, fl
     c.sin_r = sin(r);
     cap_weights cw = {NULL, NULL, 0, 0, 0};
     double sum = cap_pass(s, &c, &cw, NULL, 0.0);
-    if (sum > 0 && !cw.overflow) {
-        float scale = (float)(w / sum);
-        for (size_t k = 0; k < cw.n; k++)
-            t->plane->data[cw.pixel[k]] += scale * cw.weight[k];
-    } else if (sum > 0) {
-        cap_pass(s, &c, NULL, t->plane, w / sum);
+    for (int k = 0; k < t->nplanes && sum > 0; k++) {
+        if (cw.overflow) {
+            cap_pass(s, &c, NULL, &t->plane[k], w[k] / sum);
+            continue;
+        }
+        const float scale = (float)(w[k] / sum);
+        float *data = t->plane[k].data;
+        for (size_t m = 0; m < cw.n; m++)
+            data[cw.pixel[m]] += scale * cw.weight[m];
     }
     free(cw.pixel);
     free(cw.weight);
@@ -1358,11 +1384,11 @@ static int sky_exact(const orr_sph *s, target *t, orr_vec3 dir, double theta, fl
  * the equirectangular seam, where the map continues on the other side;
  * across the Hammer-Aitoff seam only while small (under 4 pixels per h),
  * folded to the other side, because the map's edge there is sheared
- * differently on the two sides. Everything else is mapped pixel by pixel. */
-static void sky_particle(const orr_sph *s, target *t, const orr_sph_block *b, size_t i, double hpix)
+ * differently on the two sides. Everything else is mapped pixel by pixel.
+ * Weight w[k] goes into plane k. */
+static void sky_particle(const orr_sph *s, target *t, const orr_sph_block *b, size_t i, double hpix, const float *w)
 {
     const double px = b->px[i], py = b->py[i];
-    const float w = b->w[i];
     t->fold = t->drop = 0;
     if (hpix < SKY_LOCAL_MIN || !b->x || !b->y || !b->z) {
         disc_deposit(t, px, py, hpix, w);
@@ -1371,7 +1397,7 @@ static void sky_particle(const orr_sph *s, target *t, const orr_sph_block *b, si
     orr_vec3 pos = orr_v3(b->x[i], b->y[i], b->z[i]);
     double r = orr_v3_norm(pos);
     double theta = b->h[i] / r;
-    if (s->cores && orr_sky_cores_draw(s->cores, s, px, py, theta, w, t->plane))
+    if (s->cores && orr_sky_cores_draw_planes(s->cores, s, px, py, theta, w, t->plane, t->nplanes))
         return;
     ellipse e;
     affine_fit fit = theta < 0.5 ? sky_affine(s, px, py, theta, &e) : AFFINE_NO;
@@ -1700,13 +1726,17 @@ void orr_sph_free(orr_sph *s)
     s->eq_lon = s->eq_lat = s->eq_omega = NULL;
 }
 
-/* Particles without a smoothing length: cloud-in-cell, as orr_deposit. */
-static void deposit_cic_one(const orr_sph *s, const orr_sph_block *b, size_t i, target *t)
+/* Particles without a smoothing length: cloud-in-cell, as orr_deposit;
+ * weight w[k] into plane k. */
+static void deposit_cic_one(const orr_sph *s, const orr_sph_block *b, size_t i, target *t, const float *w)
 {
-    orr_deposit_stats st = {0};
     uint8_t one = 1;
-    orr_deposit(ORR_DEPOSIT_CIC, t->plane, 1, b->px + i, b->py + i, b->w + i, &one, &s->proj, &st);
-    t->in += st.deposited;
+    for (int k = 0; k < t->nplanes; k++) {
+        orr_deposit_stats st = {0};
+        orr_deposit(ORR_DEPOSIT_CIC, &t->plane[k], 1, b->px + i, b->py + i, w + k, &one, &s->proj, &st);
+        if (k == 0)
+            t->in += st.deposited;
+    }
 }
 
 /* A block's weight as orr_deposit_stats counts it: the visible particles'
@@ -1825,7 +1855,7 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
         orr_deposit(ORR_DEPOSIT_CIC, plane, b->n, b->px, b->py, b->w, b->visible, &s->proj, stats);
         return;
     }
-    target t = {plane, s->sky ? &s->proj : NULL, s->kernel, 0, 0, 0.0};
+    target t = {plane, 1, s->sky ? &s->proj : NULL, s->kernel, 0, 0, 0.0};
     /* Without memory for the list, large kernels are drawn one by one. */
     large_list list = {s->sky || !b->n ? NULL : malloc(b->n * sizeof *list.k), 0};
     block_tally tally = {0};
@@ -1836,13 +1866,13 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
             continue;
         double hpix = (double)b->h[i] * b->scale[i];
         if (!(hpix > 0) || !isfinite(hpix))
-            deposit_cic_one(s, b, i, &t);
+            deposit_cic_one(s, b, i, &t, &b->w[i]);
         else if (s->sky)
-            sky_particle(s, &t, b, i, hpix);
+            sky_particle(s, &t, b, i, hpix, &b->w[i]);
         else if (list.k && hpix >= CUMULATIVE_MAX)
             defer_large(&t, &list, b->px[i], b->py[i], hpix, b->w[i]);
         else
-            disc_deposit(&t, b->px[i], b->py[i], hpix, b->w[i]);
+            disc_deposit(&t, b->px[i], b->py[i], hpix, &b->w[i]);
     }
     draw_large(&t, &list);
     free(list.k);
@@ -1876,21 +1906,6 @@ static void prefetch_core(float px, float py, orr_plane *planes, int nplanes)
         }
 }
 
-/* The table's look-up for every plane at once: a star the table may draw
- * (a kernel at least SKY_LOCAL_MIN pixels, as sky_particle decides, then
- * the table's own tests) is drawn into all planes from one look-up. */
-static int table_draws(const orr_sph *s, const orr_sph_block *b, size_t i, double hpix, const float *const *w,
-                       orr_plane *planes, int nplanes)
-{
-    if (hpix < SKY_LOCAL_MIN || !(hpix > 0) || !isfinite(hpix))
-        return 0;
-    float wi[ORR_PLANES_MAX];
-    for (int k = 0; k < nplanes; k++)
-        wi[k] = w[k][i];
-    const double theta = b->h[i] / orr_v3_norm(orr_v3(b->x[i], b->y[i], b->z[i])); /* as sky_particle */
-    return orr_sky_cores_draw_planes(s->cores, s, b->px[i], b->py[i], theta, wi, planes, nplanes);
-}
-
 void orr_sph_deposit_planes(const orr_sph *s, const orr_sph_block *b, const float *const *w, orr_plane *planes,
                             int nplanes, orr_deposit_stats *stats)
 {
@@ -1899,36 +1914,35 @@ void orr_sph_deposit_planes(const orr_sph *s, const orr_sph_block *b, const floa
         one[k] = *b;
         one[k].w = w[k];
     }
-    if (!s->sky || !s->cores || !b->h || !b->x || !b->y || !b->z || nplanes < 2 || nplanes > ORR_PLANES_MAX ||
+    if (!s->sky || !b->h || !b->x || !b->y || !b->z || nplanes < 2 || nplanes > ORR_PLANES_MAX ||
         orr_projection_traits_of(s->proj.kind).pixel_table) {
         for (int k = 0; k < nplanes; k++)
             orr_sph_deposit(s, &one[k], &planes[k], &stats[k]);
         return;
     }
-    /* Plane k sees the stars in the same order, drawn the same way, as
-     * orr_sph_deposit would draw them: the same bits. */
-    target t[ORR_PLANES_MAX];
+    /* Plane k sees the kernels in the same order, drawn the same way, as
+     * orr_sph_deposit would draw them: the same bits. Only the footprint's
+     * weights (the affine model, the kernel's samples, the exact path's
+     * pixels, the star table's look-up) are found once for all planes. */
+    target t = {planes, nplanes, &s->proj, s->kernel, 0, 0, 0.0};
     block_tally tally[ORR_PLANES_MAX];
     memset(tally, 0, sizeof tally);
-    for (int k = 0; k < nplanes; k++)
-        t[k] = (target){&planes[k], &s->proj, s->kernel, 0, 0, 0.0};
     for (size_t i = 0; i < b->n; i++) {
-        if (i + 1 < b->n && b->visible[i + 1])
+        if (s->cores && i + 1 < b->n && b->visible[i + 1])
             prefetch_core(b->px[i + 1], b->py[i + 1], planes, nplanes);
         int visible = 0;
         for (int k = 0; k < nplanes; k++)
             visible = tally_visible(&one[k], i, &tally[k]);
         if (!visible)
             continue;
+        float wi[ORR_PLANES_MAX];
+        for (int k = 0; k < nplanes; k++)
+            wi[k] = w[k][i];
         const double hpix = (double)b->h[i] * b->scale[i];
-        if (table_draws(s, b, i, hpix, w, planes, nplanes))
-            continue;
-        for (int k = 0; k < nplanes; k++) {
-            if (!(hpix > 0) || !isfinite(hpix))
-                deposit_cic_one(s, &one[k], i, &t[k]);
-            else
-                sky_particle(s, &t[k], &one[k], i, hpix);
-        }
+        if (!(hpix > 0) || !isfinite(hpix))
+            deposit_cic_one(s, b, i, &t, wi);
+        else
+            sky_particle(s, &t, b, i, hpix, wi);
     }
     for (int k = 0; k < nplanes; k++) {
         stats[k].deposited += tally[k].total; /* the whole sky: nothing falls off */

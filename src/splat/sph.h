@@ -132,8 +132,8 @@ void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane,
 
 /* orr_sph_deposit of the block into each of nplanes planes, with weights
  * w[k] for planes[k] (b->w unused) and statistics into stats[k]: the same
- * bits. A sky map drawing its stars from the core table
- * (orr_sph_use_cores) looks each star up once for every plane. */
+ * bits. On a sky map each kernel's footprint (its pixels' weights, or the
+ * core table's look-up, orr_sph_use_cores) is found once for every plane. */
 void orr_sph_deposit_planes(const orr_sph *s, const orr_sph_block *b, const float *const *w, orr_plane *planes,
                             int nplanes, orr_deposit_stats *stats);
 
