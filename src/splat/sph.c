@@ -645,8 +645,12 @@ static void ellipse_setup(ellipse *e, double cx, double cy, double a, double b, 
      * draw ellipses under 10 pixels per h (flat maps use the cumulative
      * table there), and their affine model holds to about 1 % (AFFINE_TOL):
      * the corrected midpoint rule, within 1.3e-3 of the peak pixel from 3
-     * pixels per h (docs/smoothing.md), is sub-sampled only below that. */
-    e->ns = e->hmin >= 3.0 ? 1 : e->hmin >= 1.5 ? 2 : e->hmin >= 0.75 ? 4 : 8;
+     * pixels per h and about 6e-3 at 2 (a dome's kernel against the pixel
+     * integral: 5.6e-3, sub-sampled 2 x 2 4.1e-3, test_sph's sky shapes),
+     * is sub-sampled only below 2, where it would not hold. (Sampled 2 x 2
+     * from 2 to 3 pixels per h, the glows' kernels cost four samples a
+     * pixel: a fifth of the main job's deposit.) */
+    e->ns = e->hmin >= 2.0 ? 1 : e->hmin >= 1.5 ? 2 : e->hmin >= 0.75 ? 4 : 8;
     e->lap = (float)(0.5 * (a + c) / (24.0 * e->ns * e->ns));
 }
 

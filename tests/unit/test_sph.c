@@ -750,6 +750,10 @@ static void test_sky_shapes(void)
         {&dome, {0.5, 0.5, 0.7071067811865476}, 0.05, 0.02},
         {&ait, {-0.6, -0.3, 0.7416198487095663}, 0.07, 0.02},
         {&eq, {0.2, -0.5, 0.8426149773176359}, 0.07, 0.02},
+        /* Small ones (2.1 pixels per h at the dome's 45 degrees and near its
+         * zenith), one sample a pixel. */
+        {&dome, {0.5, 0.5, 0.7071067811865476}, 0.027, 0.01},
+        {&dome, {0.1, 0.2, 0.97}, 0.027, 0.01},
         /* Large ones (20 degrees), mapped pixel by pixel. */
         {&dome, {0.6, 0.0, 0.8}, 0.35, 0.01},
         {&ait, {0.3, -0.2, -0.9327379053088815}, 0.35, 0.01},
