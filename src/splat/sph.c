@@ -856,14 +856,14 @@ static void buffer_row(row_visitor *v, int j, int i, int n, const float *wt)
 }
 
 /* Deposits weight w[k] over the ellipse into plane k, normalised so the
- * whole footprint carries exactly w[k]. From 10 pixels per h the midpoint sum over the
- * footprint equals the table's integral (exactly 1 per unit area, see
- * splat/kernel.c) to 3 parts in 10^8, below float round-off (measured over
- * random centres for each kernel, docs/smoothing.md), so it is used as is
- * for a footprint wholly on the map, whether or not the image's edge
- * clips it (a clipped one then costs only its pixels on the image). Others
- * are summed first: from a buffer when the footprint is small and whole,
- * else by computing the weights twice. */
+ * whole footprint carries exactly w[k]. From 10 pixels per h the midpoint
+ * sum over the footprint equals the table's integral (exactly 1 per unit
+ * area, see splat/kernel.c) to 3 parts in 10^8, below float round-off
+ * (measured over random centres for each kernel, docs/smoothing.md), so it
+ * is used as is for a footprint wholly on the map, whether or not the
+ * image's edge clips it (a clipped one then costs only its pixels on the
+ * image). Others are summed first: from a buffer when the footprint is
+ * small and whole, else by computing the weights twice. */
 static int ellipse_deposit(target *t, const ellipse *e, const float *w)
 {
     box b, full;
