@@ -1535,10 +1535,12 @@ static orr_status build_cells(orr_sph *s, orr_error *err)
     float *da = orr_calloc(ng, sizeof(float), "sky metric grid", err);
     uint8_t *ok = orr_malloc(ng, "sky metric grid", err);
     orr_status st = grid && dm && da && ok ? ORR_OK : ORR_ERR_NOMEM;
-    for (size_t g = 0; !st && g < ng; g++) {
-        double x = clamp((double)(g % nx) * C, 1.0, W - 1.0), y = clamp((double)(g / nx) * C, 1.0, H - 1.0);
-        ok[g] = (uint8_t)metric_at(&s->proj, x, y, grid + 4 * g);
-    }
+    if (!st) /* each grid point alone */
+#pragma omp parallel for schedule(static)
+        for (size_t g = 0; g < ng; g++) {
+            double x = clamp((double)(g % nx) * C, 1.0, W - 1.0), y = clamp((double)(g / nx) * C, 1.0, H - 1.0);
+            ok[g] = (uint8_t)metric_at(&s->proj, x, y, grid + 4 * g);
+        }
     /* Each grid point's changes toward its right and lower neighbours. */
     for (size_t g = 0; !st && g < ng; g++) {
         if (!ok[g])
@@ -1662,6 +1664,9 @@ static orr_status build_sky_index(orr_sph *s, orr_error *err)
     s->safe = orr_malloc(sizeof *s->safe * (size_t)s->cells_x * s->cells_y, "sky cell index", err);
     if (!s->tiles || !s->groups || !s->safe)
         return ORR_ERR_NOMEM;
+    /* Each tile alone (its edge tiles, crossing the map's outline, map every
+     * pixel): the threads share the rows of tiles, each writing its own. */
+#pragma omp parallel for schedule(dynamic, 4)
     for (int ty = 0; ty < s->tiles_y; ty++)
         for (int tx = 0; tx < s->tiles_x; tx++) {
             orr_sph_tile *t = &s->tiles[(size_t)ty * s->tiles_x + tx];
