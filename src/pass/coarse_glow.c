@@ -231,7 +231,8 @@ static void level_norm(coarse_level *l)
         }
 }
 
-static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, float min_pixels, orr_error *err)
+static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, float min_pixels, int nlanes,
+                             orr_error *err)
 {
     l->factor = factor;
     l->min_pixels = min_pixels;
@@ -241,7 +242,7 @@ static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, flo
     orr_status st = orr_projection_setup(&l->proj, err);
     if (!st && !(st = orr_sph_init(&l->sph, &v->kernel, &l->proj, err)))
         l->sph_ready = 1;
-    for (int lane = 0; lane < ORR_MAX_LANES && !st; lane++)
+    for (int lane = 0; lane < nlanes && !st; lane++) /* (the lanes the view never splats in, none) */
         for (int k = 0; k < 3 && !st; k++)
             st = orr_plane_alloc(&l->planes[lane][k], l->proj.width, l->proj.height, "glow", "", err);
     if (!st && !(l->on_map = orr_malloc((size_t)l->proj.width * l->proj.height, "coarse glow", err)))
@@ -274,9 +275,12 @@ orr_status orr_coarse_glow_plan(orr_splat_view *v, orr_error *err)
     if (!g)
         return ORR_ERR_NOMEM;
     v->coarse = g;
+    /* A kernel deposit's lanes: its share of the particles is 0, so the
+     * count does not matter (lanes_for in splat_pass.c). */
+    g->nlanes = orr_lanes_for(w, h, v->nplanes, 0, -1);
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++, g->nlevels++)
-        st = plan_level(v, &g->level[k], FACTORS[levels[k]], MIN_PIXELS[levels[k]], err);
+        st = plan_level(v, &g->level[k], FACTORS[levels[k]], MIN_PIXELS[levels[k]], g->nlanes, err);
     if (!st)
         st = levels_reach(v, g, err);
     for (int k = 0; k < g->nlevels && !st; k++)
@@ -296,7 +300,7 @@ void orr_coarse_glow_begin(orr_splat_view *v)
     for (int L = 0; L < g->nlevels; L++) {
         coarse_level *l = &g->level[L];
         const size_t npix = (size_t)l->proj.width * l->proj.height;
-        for (int lane = 0; lane < ORR_MAX_LANES; lane++)
+        for (int lane = 0; lane < g->nlanes; lane++)
             for (int k = 0; k < 3; k++)
                 memset(l->planes[lane][k].data, 0, npix * sizeof(float));
     }
@@ -359,16 +363,19 @@ static void add_brightness(size_t p, double share, void *user)
     e->sum += share * e->sb[p];
 }
 
-/* Level l's plane k as surface brightness (level_norm; the lanes' planes
- * added first, in lane order). Returns NULL without memory. */
-static float *level_brightness(coarse_level *l, int k)
+/* Level l's plane k as surface brightness (level_norm; the nlanes lanes'
+ * planes added first, in lane order). Returns NULL without memory. */
+static float *level_brightness(coarse_level *l, int nlanes, int k)
 {
     const int w = l->proj.width, h = l->proj.height;
     const size_t npix = (size_t)w * h;
     orr_plane *sum = &l->planes[0][k];
-    for (int lane = 1; lane < ORR_MAX_LANES; lane++)
+    for (int lane = 1; lane < nlanes; lane++)
         for (size_t p = 0; p < npix; p++)
             sum->data[p] += l->planes[lane][k].data[p];
+    if (nlanes < ORR_MAX_LANES) /* as the lanes of zeros once added were: a -0 turns +0, all else stays */
+        for (size_t p = 0; p < npix; p++)
+            sum->data[p] += 0.0f;
     float *sb = malloc(npix * sizeof *sb);
     if (!sb)
         return NULL;
@@ -408,7 +415,7 @@ static orr_status add_planes(orr_splat_view *v, orr_error *err)
     int fail = 0;
     for (int k = 0; k < np; k++)
         for (int L = 0; L < g->nlevels; L++)
-            fail |= !(sb[k][L] = level_brightness(&g->level[L], k));
+            fail |= !(sb[k][L] = level_brightness(&g->level[L], g->nlanes, k));
     if (!fail)
 #pragma omp parallel
     {

@@ -527,6 +527,10 @@ orr_status orr_splat_views(orr_splat_view *const *views, int nviews, orr_source 
     for (int k = 0; k < nviews && !st; k++)
         st = views[k]->banded && !views[k]->periodic.active ? alloc_bands(views[k], src->chunk.capacity, err)
                              : alloc_lanes(views[k], src->info.count, err);
+    for (int k = 0; k < nviews && !st; k++)
+        if (views[k]->coarse && views[k]->lanes.n > views[k]->coarse->nlanes)
+            st = orr_fail(err, ORR_ERR_INTERNAL, "%s: %d lanes, but the coarse glow was planned for %d",
+                          views[k]->splat.path, views[k]->lanes.n, views[k]->coarse->nlanes);
     orr_splat_charge(views[0], ORR_STAGE_SETUP); /* the lanes' planes, zeroed */
     while (!st) {
         const orr_chunk *c;
