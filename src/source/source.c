@@ -25,6 +25,12 @@ orr_status orr_source_rewind(orr_source *src, orr_error *err)
     return src->ops->rewind(src, err);
 }
 
+void orr_source_only_types(orr_source *src, unsigned mask)
+{
+    if (src->ops->only_types)
+        src->ops->only_types(src, mask);
+}
+
 void orr_source_close(orr_source *src)
 {
     if (!src)

@@ -82,6 +82,7 @@ typedef struct model_state {
     block blocks[GAL_COUNT * COMP_COUNT];
     int nblocks;
     uint64_t total, next_index;
+    unsigned pass_types;            /* this pass's types (orr_source_only_types; 0: all), until a rewind */
     uint64_t dust_first;            /* the first gas particle's index (= total without gas) */
     orr_model_dust dust;            /* the dusty gas discs (model_dust.h) */
     int exact;                      /* the per-particle recipe without tables (orr_model_source_open_exact) */
@@ -446,10 +447,12 @@ static void fill_slots(const model_state *m, uint64_t index, orr_chunk *c, size_
     }
 }
 
-/* Whether particles of this type are emitted (orr_model_params.types). */
+/* Whether particles of this type are emitted (orr_model_params.types, and
+ * in this pass pass_types). */
 static int type_kept(const model_state *m, uint8_t type)
 {
-    return m->params.types == 0 || (m->params.types >> type & 1u);
+    return (m->params.types == 0 || (m->params.types >> type & 1u)) &&
+           (m->pass_types == 0 || (type < 32 && (m->pass_types >> type & 1u)));
 }
 
 /* The end of the run of indices from `index` that share their fate: the
@@ -541,8 +544,19 @@ static orr_status model_next(orr_source *src, orr_error *err)
 static orr_status model_rewind(orr_source *src, orr_error *err)
 {
     (void)err;
-    ((model_state *)src->state)->next_index = 0;
+    model_state *m = src->state;
+    m->next_index = 0;
+    m->pass_types = 0;
     return ORR_OK;
+}
+
+/* Every particle is a pure function of its index, so leaving a type's runs
+ * out (next_range skips them as it skips those params.types leaves out)
+ * changes none of the others: a pass that drops the gas does not make it,
+ * 96 waves of the clumping field a particle (model_dust.c). */
+static void model_only_types(orr_source *src, unsigned mask)
+{
+    ((model_state *)src->state)->pass_types = mask;
 }
 
 static void model_close(orr_source *src)
@@ -563,7 +577,8 @@ static orr_status model_skip_chunk(orr_source *src, orr_error *err)
 }
 
 static const orr_source_ops MODEL_OPS = {
-    .next = model_next, .rewind = model_rewind, .close = model_close, .skip_chunk = model_skip_chunk};
+    .next = model_next, .rewind = model_rewind, .close = model_close, .skip_chunk = model_skip_chunk,
+    .only_types = model_only_types};
 
 static orr_status check_params(const orr_model_params *params, size_t chunk_size, orr_error *err)
 {
