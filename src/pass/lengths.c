@@ -1,5 +1,6 @@
 #include "pass/lengths.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <time.h>
@@ -59,7 +60,10 @@ static float glow_enough(const orr_lengths_bound *b, const orr_vec3 *centre, con
         return 0.0f;
     const double own = (float)orr_stars_kernel_length(b->stars, c->mass[i]); /* (rounded as the splat does) */
     const double dx = c->x[i] - centre->x, dy = c->y[i] - centre->y, dz = c->z[i] - centre->z;
-    const double limit = own / (sqrt(dx * dx + dy * dy + dz * dz) * b->h_scale) * (1.0 - 1e-5);
+    const double r2 = dx * dx + dy * dy + dz * dz;
+    if (!(r2 < 0.25 * FLT_MAX))
+        return 0.0f; /* (the splat's float r^2 could overflow: exact) */
+    const double limit = own / (sqrt(r2) * b->h_scale) * (1.0 - 1e-5);
     return limit > 0 ? (float)limit : 0.0f; /* (the observer, at r = 0: any) */
 }
 
