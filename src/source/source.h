@@ -92,6 +92,9 @@ struct orr_source {
     /* When set, orr_source_next fails with ORR_ERR_CANCELLED once *cancel
      * is nonzero (orrery_cancel: the in-situ API's source). */
     const atomic_int *cancel;
+    /* Particles this pass left out (orr_source_only_types) so far: those a
+     * source without the hook would have delivered. 0 after a rewind. */
+    uint64_t left_out;
 };
 
 /* Allocates a source of the named format reading path, with ops and a
