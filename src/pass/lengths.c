@@ -214,7 +214,7 @@ orr_status orr_lengths_compute_bounded(const orr_splat_settings *set, orr_source
     size_t skipped = 0;
     if (!centre || par || (bound && !bound->stars))
         bound = NULL; /* (its limits are angles seen from centre, for this process's particles alone) */
-    orr_source_only_types(src, set->type_mask); /* (a model makes no particle the lengths do not count) */
+    orr_source_only_types(src, set->type_mask); /* (a model then makes no gas the lengths do not count) */
     orr_status st = gather_positions(set, src, centre, bound, &mine, err);
     /* Collective from here: every process takes part even if its own pass failed. */
     if (par)

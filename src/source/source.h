@@ -77,10 +77,13 @@ typedef struct orr_source_ops {
      * skips the chunks other processes take). NULL: they are read and
      * dropped. */
     orr_status (*skip_chunk)(orr_source *src, orr_error *err);
-    /* Optional: until the next rewind, the particles of types outside mask
+    /* Optional: until the next rewind, particles of types outside mask
      * (bit t: type t; 0: every type) may be left out, for a pass that
-     * drops them anyway (a generator then skips making them). NULL: every
-     * particle is delivered. */
+     * drops them anyway (a generator then skips making them), counted in
+     * left_out; only where the chunks' other particles stay as they were
+     * (the built-in model: its gas, which comes after all the others), so a
+     * splat's blocks, and its sums, are the same. NULL: every particle is
+     * delivered. */
     void (*only_types)(orr_source *src, unsigned mask);
 } orr_source_ops;
 

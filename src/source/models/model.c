@@ -449,14 +449,17 @@ static void fill_slots(const model_state *m, uint64_t index, orr_chunk *c, size_
 
 /* What becomes of the particles of a type: emitted, never made
  * (orr_model_params.types), or left out of this pass alone (pass_types,
- * orr_source_only_types), which the source counts. */
+ * orr_source_only_types; only the gas, `gas`), which the source counts.
+ * The gas comes after every other particle, so leaving it out leaves the
+ * chunks of the others as they were (a splat's blocks, so its sums); the
+ * components' blocks lie between one another and are cheap to make. */
 enum { RUN_EMITTED, RUN_NOT_MADE, RUN_LEFT_OUT };
 
-static int type_fate(const model_state *m, uint8_t type)
+static int type_fate(const model_state *m, uint8_t type, int gas)
 {
     if (m->params.types != 0 && !(m->params.types >> type & 1u))
         return RUN_NOT_MADE;
-    return m->pass_types == 0 || (type < 32 && (m->pass_types >> type & 1u)) ? RUN_EMITTED : RUN_LEFT_OUT;
+    return !gas || m->pass_types == 0 || (type < 32 && (m->pass_types >> type & 1u)) ? RUN_EMITTED : RUN_LEFT_OUT;
 }
 
 /* The end of the run of indices from `index` that share their fate: the
@@ -469,11 +472,11 @@ static uint64_t run_end(const model_state *m, uint64_t index, int *fate)
         return (uint64_t)m->nmarkers;
     }
     if (index >= m->dust_first) {
-        *fate = type_fate(m, ORR_MODEL_TYPE_GAS);
+        *fate = type_fate(m, ORR_MODEL_TYPE_GAS, 1);
         return m->total;
     }
     const block *b = find_block(m, index);
-    *fate = type_fate(m, b->type);
+    *fate = type_fate(m, b->type, 0);
     return b->first + b->count;
 }
 
@@ -557,10 +560,10 @@ static orr_status model_rewind(orr_source *src, orr_error *err)
     return ORR_OK;
 }
 
-/* Every particle is a pure function of its index, so leaving a type's runs
- * out (next_range skips them as it skips those params.types leaves out)
- * changes none of the others: a pass that drops the gas does not make it,
- * 96 waves of the clumping field a particle (model_dust.c). */
+/* Every particle is a pure function of its index, so leaving the gas out
+ * (next_range skips it as it skips what params.types leaves out) changes
+ * none of the others: a pass that drops the gas does not make it, 96 waves
+ * of the clumping field a particle (model_dust.c). */
 static void model_only_types(orr_source *src, unsigned mask)
 {
     ((model_state *)src->state)->pass_types = mask;
