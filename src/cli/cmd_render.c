@@ -82,6 +82,9 @@ static void print_report(const orr_render_report *r, const char *view, double se
            r->has_sky_frame ? "outside the sky map" : "behind the camera");
     printf("  weight in the image %.9g, off the image %.9g, not drawn %.9g\n", r->deposit.deposited,
            r->deposit.outside, r->deposit.culled);
+    if (r->n_lengths_bounded)
+        printf("  the glow's lengths: %llu of %llu left at a bound, their own kernel the wider (no full neighbour "
+               "search)\n", (unsigned long long)r->n_lengths_bounded, (unsigned long long)r->n_lengths);
     if (r->n_stars)
         printf("  drew %llu stars spawned from the particles (stars.*)\n", (unsigned long long)r->n_stars);
     if (r->n_stereo_skipped)

@@ -1,5 +1,6 @@
 #include "particles/kdtree.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -229,6 +230,8 @@ typedef struct kd_search {
     const float *q;
     double *heap; /* max-heap of the k smallest squared distances so far */
     size_t k;
+    double enough; /* stop once the k-th distance so far is at most this (-1: never) */
+    int done;
 } kd_search;
 
 /* Squared distance from q to the box, a lower bound for its points. It is
@@ -277,8 +280,11 @@ static void kd_scan_leaf(kd_search *s, size_t b, size_t e)
  * exactly that distance would not change the k smallest). */
 static void kd_search_node(kd_search *s, size_t node, size_t b, size_t e, int level)
 {
+    if (s->done)
+        return;
     if (level == s->t->depth) {
         kd_scan_leaf(s, b, e);
+        s->done = s->heap[0] <= s->enough;
         return;
     }
     size_t m = orr_kd_mid(b, e), left = 2 * node + 1, right = left + 1;
@@ -304,7 +310,20 @@ double orr_kdtree_kth_dist2(const orr_kdtree *t, const float q[3], size_t k, dou
         return INFINITY;
     for (size_t i = 0; i < k; i++)
         heap[i] = INFINITY;
-    kd_search s = {t, q, heap, k};
+    kd_search s = {t, q, heap, k, -1.0, 0};
+    kd_search_node(&s, 0, 0, t->n, 0);
+    return heap[0];
+}
+
+double orr_kdtree_kth_dist2_within(const orr_kdtree *t, const float q[3], size_t k, double enough, double *heap)
+{
+    if (k == 0)
+        return 0.0;
+    if (k > t->n)
+        return INFINITY;
+    for (size_t i = 0; i < k; i++)
+        heap[i] = INFINITY;
+    kd_search s = {t, q, heap, k, enough < INFINITY ? enough : DBL_MAX, 0};
     kd_search_node(&s, 0, 0, t->n, 0);
     return heap[0];
 }

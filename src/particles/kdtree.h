@@ -81,4 +81,11 @@ void orr_kd_heap_replace_top(double *heap, size_t k, double v);
  * search, so it equals a brute-force sort of the same distances. */
 double orr_kdtree_kth_dist2(const orr_kdtree *t, const float q[3], size_t k, double *heap);
 
+/* The same search, stopped once the k smallest distances found so far are
+ * all at most `enough`: then it returns their largest, an upper bound on
+ * the k-th distance (any k of the points bound it) that is at most enough;
+ * otherwise the exact k-th distance, as above. For callers that need the
+ * distance only where it exceeds some limit. */
+double orr_kdtree_kth_dist2_within(const orr_kdtree *t, const float q[3], size_t k, double enough, double *heap);
+
 #endif

@@ -64,4 +64,17 @@ orr_status orr_smoothing_lengths(size_t n, const float *x, const float *y, const
 orr_status orr_smoothing_lengths_tree(const orr_kdtree *tree, int k, float factor, float *h_out,
                                       orr_error *err);
 
+/* The same, for callers that need some lengths only up to a limit: for
+ * point i (indexed like the arrays) with enough[i] > 0, any value from its
+ * length up to enough[i] will do (a glow as wide as the wider of two
+ * lengths, the other one already wider: pass/lengths.h). Where a cheap
+ * upper bound on the length is within enough[i] (the farthest corner, else
+ * the farthest point, of the deepest k-d node around it that holds at
+ * least k + 1 points), h_out[i] takes the bound and the neighbour search
+ * is skipped; *skipped (may be NULL) says how many. Every other length
+ * (enough NULL, or enough[i] 0, negative or NaN) is exact, as above; the
+ * skipped ones and the count are the same on any number of threads. */
+orr_status orr_smoothing_lengths_bounded(const orr_kdtree *tree, int k, float factor, const float *enough,
+                                         float *h_out, size_t *skipped, orr_error *err);
+
 #endif

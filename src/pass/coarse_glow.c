@@ -72,6 +72,17 @@ static int coarse_between(int k, int factor, int n, float *a)
     return i0;
 }
 
+/* The end of the run of fine columns from i that share their left coarse
+ * column. */
+static int column_run_end(const coarse_level *l, int i, int W)
+{
+    const int i0 = l->col0[i];
+    int end = i + 1;
+    while (end < W && l->col0[end] == i0)
+        end++;
+    return end;
+}
+
 /* Fine row j's measures, 0 off the map (its light would be lost there). */
 static void map_measure_row(const orr_projection *p, int j, double *m)
 {
@@ -92,13 +103,31 @@ static void reach_row(const coarse_level *l, int j, const double *m, int W, doub
     float c;
     const int cw = l->proj.width, t0 = coarse_between(j, l->factor, l->proj.height, &c);
     double *r0 = out + (size_t)(t0 - t_first) * cw, *r1 = l->proj.height > 1 ? r0 + cw : r0;
-    for (int i = 0; i < W; i++)
-        if (m[i] > 0) {
-            const int i0 = l->col0[i], i1 = cw > 1 ? i0 + 1 : i0;
-            const double a = l->col_a[i], lo = m[i] * (1.0 - c), hi = m[i] * c;
-            r0[i0] += lo * (1.0 - a), r0[i1] += lo * a;
-            r1[i0] += hi * (1.0 - a), r1[i1] += hi * a;
-        }
+    if (cw < 2 || r1 == r0) { /* (a map one coarse pixel wide or high: its four corners are not distinct) */
+        for (int i = 0; i < W; i++)
+            if (m[i] > 0) {
+                const int i0 = l->col0[i], i1 = cw > 1 ? i0 + 1 : i0;
+                const double a = l->col_a[i], lo = m[i] * (1.0 - c), hi = m[i] * c;
+                r0[i0] += lo * (1.0 - a), r0[i1] += lo * a;
+                r1[i0] += hi * (1.0 - a), r1[i1] += hi * a;
+            }
+        return;
+    }
+    /* A run of fine columns between the same two coarse ones adds to the
+     * same four sums, kept in registers over the run: each sum takes the
+     * same terms in the same order, so the same bits. */
+    for (int i = 0; i < W;) {
+        const int i0 = l->col0[i], end = column_run_end(l, i, W);
+        double s00 = r0[i0], s01 = r0[i0 + 1], s10 = r1[i0], s11 = r1[i0 + 1];
+        for (int k = i; k < end; k++)
+            if (m[k] > 0) {
+                const double a = l->col_a[k], lo = m[k] * (1.0 - c), hi = m[k] * c;
+                s00 += lo * (1.0 - a), s01 += lo * a;
+                s10 += hi * (1.0 - a), s11 += hi * a;
+            }
+        r0[i0] = s00, r0[i0 + 1] = s01, r1[i0] = s10, r1[i0 + 1] = s11;
+        i = end;
+    }
 }
 
 /* The coarse rows a band of fine rows reaches on level l: [*first, last]. */
@@ -231,7 +260,8 @@ static void level_norm(coarse_level *l)
         }
 }
 
-static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, float min_pixels, orr_error *err)
+static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, float min_pixels, int nlanes,
+                             orr_error *err)
 {
     l->factor = factor;
     l->min_pixels = min_pixels;
@@ -241,7 +271,7 @@ static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, flo
     orr_status st = orr_projection_setup(&l->proj, err);
     if (!st && !(st = orr_sph_init(&l->sph, &v->kernel, &l->proj, err)))
         l->sph_ready = 1;
-    for (int lane = 0; lane < ORR_MAX_LANES && !st; lane++)
+    for (int lane = 0; lane < nlanes && !st; lane++) /* (the lanes the view never splats in, none) */
         for (int k = 0; k < 3 && !st; k++)
             st = orr_plane_alloc(&l->planes[lane][k], l->proj.width, l->proj.height, "glow", "", err);
     if (!st && !(l->on_map = orr_malloc((size_t)l->proj.width * l->proj.height, "coarse glow", err)))
@@ -274,9 +304,12 @@ orr_status orr_coarse_glow_plan(orr_splat_view *v, orr_error *err)
     if (!g)
         return ORR_ERR_NOMEM;
     v->coarse = g;
+    /* A kernel deposit's lanes: its share of the particles is 0, so the
+     * count does not matter (lanes_for in splat_pass.c). */
+    g->nlanes = orr_lanes_for(w, h, v->nplanes, 0, -1);
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++, g->nlevels++)
-        st = plan_level(v, &g->level[k], FACTORS[levels[k]], MIN_PIXELS[levels[k]], err);
+        st = plan_level(v, &g->level[k], FACTORS[levels[k]], MIN_PIXELS[levels[k]], g->nlanes, err);
     if (!st)
         st = levels_reach(v, g, err);
     for (int k = 0; k < g->nlevels && !st; k++)
@@ -296,7 +329,7 @@ void orr_coarse_glow_begin(orr_splat_view *v)
     for (int L = 0; L < g->nlevels; L++) {
         coarse_level *l = &g->level[L];
         const size_t npix = (size_t)l->proj.width * l->proj.height;
-        for (int lane = 0; lane < ORR_MAX_LANES; lane++)
+        for (int lane = 0; lane < g->nlanes; lane++)
             for (int k = 0; k < 3; k++)
                 memset(l->planes[lane][k].data, 0, npix * sizeof(float));
     }
@@ -359,16 +392,19 @@ static void add_brightness(size_t p, double share, void *user)
     e->sum += share * e->sb[p];
 }
 
-/* Level l's plane k as surface brightness (level_norm; the lanes' planes
- * added first, in lane order). Returns NULL without memory. */
-static float *level_brightness(coarse_level *l, int k)
+/* Level l's plane k as surface brightness (level_norm; the nlanes lanes'
+ * planes added first, in lane order). Returns NULL without memory. */
+static float *level_brightness(coarse_level *l, int nlanes, int k)
 {
     const int w = l->proj.width, h = l->proj.height;
     const size_t npix = (size_t)w * h;
     orr_plane *sum = &l->planes[0][k];
-    for (int lane = 1; lane < ORR_MAX_LANES; lane++)
+    for (int lane = 1; lane < nlanes; lane++)
         for (size_t p = 0; p < npix; p++)
             sum->data[p] += l->planes[lane][k].data[p];
+    if (nlanes < ORR_MAX_LANES) /* as the lanes of zeros once added were: a -0 turns +0, all else stays */
+        for (size_t p = 0; p < npix; p++)
+            sum->data[p] += 0.0f;
     float *sb = malloc(npix * sizeof *sb);
     if (!sb)
         return NULL;
@@ -384,16 +420,25 @@ static float *level_brightness(coarse_level *l, int k)
     return sb;
 }
 
-/* Level l's brightness sb at the centres of fine row j, bilinear. */
-static void level_row(const coarse_level *l, const float *sb, int j, int W, float *out)
+/* Level l's brightness sb at the centres of fine row j, bilinear. A run
+ * of fine columns between the same two coarse ones reads the same four
+ * values: loaded once, and the run's loop vectorises (each pixel's
+ * expression as it was, so the same bits). */
+static void level_row(const coarse_level *l, const float *sb, int j, int W, float *restrict out)
 {
     float c;
     const int t0 = coarse_between(j, l->factor, l->proj.height, &c), cw = l->proj.width;
     const float *r0 = sb + (size_t)t0 * cw, *r1 = r0 + (l->proj.height > 1 ? cw : 0);
-    for (int i = 0; i < W; i++) {
-        const int i0 = l->col0[i], i1 = cw > 1 ? i0 + 1 : i0;
-        const float a = l->col_a[i];
-        out[i] += (1 - c) * ((1 - a) * r0[i0] + a * r0[i1]) + c * ((1 - a) * r1[i0] + a * r1[i1]);
+    const float *restrict col_a = l->col_a;
+    const float c0 = 1 - c;
+    for (int i = 0; i < W;) {
+        const int i0 = l->col0[i], i1 = cw > 1 ? i0 + 1 : i0, end = column_run_end(l, i, W);
+        const float p = r0[i0], q = r0[i1], u = r1[i0], w = r1[i1];
+        for (int k = i; k < end; k++) {
+            const float a = col_a[k];
+            out[k] += c0 * ((1 - a) * p + a * q) + c * ((1 - a) * u + a * w);
+        }
+        i = end;
     }
 }
 
@@ -408,7 +453,7 @@ static orr_status add_planes(orr_splat_view *v, orr_error *err)
     int fail = 0;
     for (int k = 0; k < np; k++)
         for (int L = 0; L < g->nlevels; L++)
-            fail |= !(sb[k][L] = level_brightness(&g->level[L], k));
+            fail |= !(sb[k][L] = level_brightness(&g->level[L], g->nlanes, k));
     if (!fail)
 #pragma omp parallel
     {

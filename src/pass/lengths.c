@@ -1,5 +1,6 @@
 #include "pass/lengths.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <time.h>
@@ -24,31 +25,46 @@ orr_status orr_lengths_needed(const orr_splat_settings *set, const orr_source *s
     return ORR_OK;
 }
 
-/* Positions of the particles that take a length, in source order. */
+/* Positions of the particles that take a length, in source order, and
+ * with a bound each one's limit (orr_lengths_bound; NULL without). */
 typedef struct positions {
-    float *x, *y, *z;
+    float *x, *y, *z, *enough;
     size_t n, cap;
 } positions;
 
-static orr_status grow(positions *p, orr_error *err)
+static orr_status grow(positions *p, int with_enough, orr_error *err)
 {
     size_t cap = p->cap ? 2 * p->cap : (size_t)1 << 16;
-    float *a[3] = {p->x, p->y, p->z};
-    for (int k = 0; k < 3; k++) {
-        float *g = realloc(a[k], cap * sizeof *g);
+    float **a[4] = {&p->x, &p->y, &p->z, &p->enough};
+    for (int k = 0; k < 3 + (with_enough != 0); k++) {
+        float *g = realloc(*a[k], cap * sizeof *g);
         if (!g)
             return orr_fail(err, ORR_ERR_NOMEM, "out of memory for the positions of %zu particles (smoothing "
                             "lengths from the neighbours need them all at once)", cap);
-        a[k] = g;
-        if (k == 0)
-            p->x = g;
-        else if (k == 1)
-            p->y = g;
-        else
-            p->z = g;
+        *a[k] = g;
     }
     p->cap = cap;
     return ORR_OK;
+}
+
+static void positions_free(positions *p)
+{
+    free(p->x), free(p->y), free(p->z), free(p->enough);
+}
+
+/* The largest angular length of particle i that leaves its glow as wide as
+ * its own kernel (orr_lengths_bound), or 0 when its length must be exact. */
+static float glow_enough(const orr_lengths_bound *b, const orr_vec3 *centre, const orr_chunk *c, size_t i)
+{
+    if (!orr_stars_spawns(b->stars, c->type[i]))
+        return 0.0f;
+    const double own = (float)orr_stars_kernel_length(b->stars, c->mass[i]); /* (rounded as the splat does) */
+    const double dx = c->x[i] - centre->x, dy = c->y[i] - centre->y, dz = c->z[i] - centre->z;
+    const double r2 = dx * dx + dy * dy + dz * dz;
+    if (!(r2 < 0.25 * FLT_MAX))
+        return 0.0f; /* (the splat's float r^2 could overflow: exact) */
+    const double limit = own / (sqrt(r2) * b->h_scale) * (1.0 - 1e-5);
+    return limit > 0 ? (float)limit : 0.0f; /* (the observer, at r = 0: any) */
 }
 
 /* The direction of (x, y, z) from centre, or 0 for a particle at the centre
@@ -60,8 +76,8 @@ static void direction_from(const orr_vec3 *centre, float *x, float *y, float *z)
     *x = (float)(dx * k), *y = (float)(dy * k), *z = (float)(dz * k);
 }
 
-static orr_status gather_positions(const orr_splat_settings *set, orr_source *src, const orr_vec3 *centre, positions *p,
-                                   orr_error *err)
+static orr_status gather_positions(const orr_splat_settings *set, orr_source *src, const orr_vec3 *centre,
+                                   const orr_lengths_bound *bound, positions *p, orr_error *err)
 {
     for (;;) {
         const orr_chunk *c;
@@ -71,8 +87,10 @@ static orr_status gather_positions(const orr_splat_settings *set, orr_source *sr
         for (size_t i = 0; i < c->n; i++) {
             if (!orr_lengths_counts(set->type_mask, c, i))
                 continue;
-            if (p->n == p->cap && (st = grow(p, err)))
+            if (p->n == p->cap && (st = grow(p, bound != NULL, err)))
                 return st;
+            if (bound)
+                p->enough[p->n] = glow_enough(bound, centre, c, i);
             p->x[p->n] = c->x[i];
             p->y[p->n] = c->y[i];
             p->z[p->n] = c->z[i];
@@ -125,7 +143,7 @@ static orr_status share_directions(const orr_parallel *par, const positions *min
     if (!st)
         st = par->allreduce_sum(par->user, xyz, 3 * n, err); /* each slot is one process's, the others add 0 */
     while (!st && all->cap < n)
-        st = grow(all, err);
+        st = grow(all, 0, err);
     for (size_t i = 0; i < n && !st; i++) {
         all->x[i] = (float)xyz[3 * i];
         all->y[i] = (float)xyz[3 * i + 1];
@@ -136,10 +154,24 @@ static orr_status share_directions(const orr_parallel *par, const positions *min
     return st;
 }
 
+/* The k-th neighbour's lengths of the points p, those with enough[i] > 0
+ * possibly at a bound (orr_smoothing_lengths_bounded). */
+static orr_status search(const positions *p, const float *enough, int k, float *h, size_t *skipped, orr_error *err)
+{
+    if (!enough)
+        return orr_smoothing_lengths(p->n, p->x, p->y, p->z, k, ORR_SMOOTHING_FACTOR_DEFAULT, h, err);
+    orr_kdtree tree;
+    orr_status st = orr_kdtree_build(&tree, p->n, p->x, p->y, p->z, err);
+    if (!st)
+        st = orr_smoothing_lengths_bounded(&tree, k, ORR_SMOOTHING_FACTOR_DEFAULT, enough, h, skipped, err);
+    orr_kdtree_free(&tree);
+    return st;
+}
+
 /* The lengths of this process's particles, mine (rewinds src): with
  * several processes, found among every process's (share_directions). */
 static orr_status find_lengths(const orr_splat_settings *set, const orr_parallel *par, const positions *mine,
-                               float *h_mine, orr_error *err)
+                               float *h_mine, size_t *skipped, orr_error *err)
 {
     positions shared = {0};
     const positions *all = mine;
@@ -155,15 +187,13 @@ static orr_status find_lengths(const orr_splat_settings *set, const orr_parallel
     /* Only the search's own errors get the step's name: a reader's error
      * (a bad row of a table) already names its file and line, and is the
      * same whichever pass over the particles meets it first. */
-    if (!st && all->n &&
-        (st = orr_smoothing_lengths(all->n, all->x, all->y, all->z, set->deposit.neighbours, ORR_SMOOTHING_FACTOR_DEFAULT,
-                                    h_all, err)))
+    if (!st && all->n && (st = search(all, par ? NULL : mine->enough, set->deposit.neighbours, h_all, skipped, err)))
         orr_fail_prefix(err, "%s: smoothing lengths from the neighbours: ", set->path);
     if (par) {
         for (size_t i = 0; i < mine->n && !st; i++)
             h_mine[i] = h_all[first + i];
         free(h_all);
-        free(shared.x), free(shared.y), free(shared.z);
+        positions_free(&shared);
     }
     return st;
 }
@@ -171,25 +201,38 @@ static orr_status find_lengths(const orr_splat_settings *set, const orr_parallel
 orr_status orr_lengths_compute(const orr_splat_settings *set, orr_source *src, const orr_vec3 *centre,
                                const orr_parallel *par, orr_lengths *out, orr_error *err)
 {
+    return orr_lengths_compute_bounded(set, src, centre, par, NULL, out, err);
+}
+
+orr_status orr_lengths_compute_bounded(const orr_splat_settings *set, orr_source *src, const orr_vec3 *centre,
+                                       const orr_parallel *par, const orr_lengths_bound *bound, orr_lengths *out,
+                                       orr_error *err)
+{
     *out = (orr_lengths){0};
     positions mine = {0};
     double t0 = seconds_now();
-    orr_status st = gather_positions(set, src, centre, &mine, err);
+    size_t skipped = 0;
+    if (!centre || par || (bound && !bound->stars))
+        bound = NULL; /* (its limits are angles seen from centre, for this process's particles alone) */
+    orr_source_only_types(src, set->type_mask); /* (a model then makes no gas the lengths do not count) */
+    orr_status st = gather_positions(set, src, centre, bound, &mine, err);
     /* Collective from here: every process takes part even if its own pass failed. */
     if (par)
         st = par->any_failed(par->user, st, err);
     if (!st && mine.n && !(out->h = malloc(mine.n * sizeof *out->h)))
         st = orr_fail(err, ORR_ERR_NOMEM, "out of memory for %zu smoothing lengths", mine.n);
     if (!st && (mine.n || par))
-        st = find_lengths(set, par, &mine, out->h, err);
-    free(mine.x), free(mine.y), free(mine.z);
+        st = find_lengths(set, par, &mine, out->h, &skipped, err);
+    positions_free(&mine);
     if (!st)
         st = orr_source_rewind(src, err);
     if (st) {
+        orr_source_only_types(src, 0); /* (the next pass takes every type, whatever happened to this one) */
         orr_lengths_free(out);
         return st;
     }
     out->n = mine.n;
+    out->skipped = skipped;
     out->seconds = seconds_now() - t0;
     out->angular = centre != NULL;
     out->centre = centre ? *centre : orr_v3(0, 0, 0);

@@ -14,15 +14,34 @@
 #include "reduce/parallel.h"
 #include "pass/splat_settings.h"
 #include "source/source.h"
+#include "stars/stars.h"
 
 typedef struct orr_lengths {
     float *h;   /* one per particle of a drawn type with a finite position, in source order */
     size_t n;
     double seconds; /* time the neighbour search took */
+    size_t skipped;  /* lengths left at a bound (orr_lengths_bound) instead of searched */
     int angular;     /* glow (glow.threshold): the neighbours are those in direction seen from
                       * centre, and h an angle (radians, as a chord of the unit sphere) */
     orr_vec3 centre;
 } orr_lengths;
+
+/* Which of the glow's lengths only need to be known up to a limit. A
+ * particle that spawns stars (stars.types) glows over the wider of its
+ * neighbours' angle times its distance r and its own kernel, own
+ * (splat_gather.c, stars_glow_length: h r > own ? h r : own, h the length
+ * times h_scale). Where own is the wider for any angle up to some limit,
+ * the neighbour search is skipped when a cheap upper bound on the angle is
+ * within it (particles/smoothing.h, orr_smoothing_lengths_bounded), and the
+ * bound stands in for the length: the glow is own either way, the same
+ * bits. The limit is own / (r h_scale) less a relative 1e-5, which covers
+ * the splat's float rounding of r and of the products (a few 1e-7). Only
+ * for views that all glow from centre, with these stars, no periodic
+ * copies (farther than the particle itself) and one process. */
+typedef struct orr_lengths_bound {
+    const orr_stars *stars; /* the frame's stars stage: which types spawn, their kernels */
+    float h_scale;          /* the largest of the views' (smoothing.h_scale) */
+} orr_lengths_bound;
 
 /* Whether the scene's SPH deposit needs lengths from the neighbours: it asks
  * for them, or (lengths: auto) the source has none of its own, or the glow
@@ -41,6 +60,13 @@ orr_status orr_lengths_needed(const orr_splat_settings *s, const orr_source *src
  * the number of processes; NULL: this process alone. */
 orr_status orr_lengths_compute(const orr_splat_settings *s, orr_source *src, const orr_vec3 *centre,
                                const orr_parallel *par, orr_lengths *out, orr_error *err);
+
+/* The same, with bound (NULL: every length exact; only with centre and no
+ * par) leaving the lengths that cannot change a glow at a bound
+ * (orr_lengths_bound); out->skipped says how many. */
+orr_status orr_lengths_compute_bounded(const orr_splat_settings *s, orr_source *src, const orr_vec3 *centre,
+                                       const orr_parallel *par, const orr_lengths_bound *bound, orr_lengths *out,
+                                       orr_error *err);
 void orr_lengths_free(orr_lengths *l);
 
 /* Whether particle i of chunk c takes a length from the array: it is of a

@@ -507,6 +507,20 @@ static orr_status check_healpix_budgets(orr_splat_view *const *views, int nviews
     return ORR_OK;
 }
 
+/* The types the splat takes anything from: those its views draw and those
+ * that spawn stars; a source may leave out the others (a model its gas,
+ * which the dust took in a pass of its own), counted as read. */
+static unsigned pass_types(orr_splat_view *const *views, int nviews)
+{
+    unsigned types = views[0]->stars ? views[0]->stars->stage.set.types : 0;
+    for (int k = 0; k < nviews; k++) {
+        if (!views[k]->splat.type_mask)
+            return 0; /* (every type) */
+        types |= views[k]->splat.type_mask;
+    }
+    return types;
+}
+
 orr_status orr_splat_views(orr_splat_view *const *views, int nviews, orr_source *src, orr_progress_fn progress,
                                void *progress_user, orr_error *err)
 {
@@ -527,7 +541,12 @@ orr_status orr_splat_views(orr_splat_view *const *views, int nviews, orr_source 
     for (int k = 0; k < nviews && !st; k++)
         st = views[k]->banded && !views[k]->periodic.active ? alloc_bands(views[k], src->chunk.capacity, err)
                              : alloc_lanes(views[k], src->info.count, err);
+    for (int k = 0; k < nviews && !st; k++)
+        if (views[k]->coarse && views[k]->lanes.n > views[k]->coarse->nlanes)
+            st = orr_fail(err, ORR_ERR_INTERNAL, "%s: %d lanes, but the coarse glow was planned for %d",
+                          views[k]->splat.path, views[k]->lanes.n, views[k]->coarse->nlanes);
     orr_splat_charge(views[0], ORR_STAGE_SETUP); /* the lanes' planes, zeroed */
+    orr_source_only_types(src, pass_types(views, nviews));
     while (!st) {
         const orr_chunk *c;
         st = orr_source_next(src, &c, err);
@@ -544,6 +563,7 @@ orr_status orr_splat_views(orr_splat_view *const *views, int nviews, orr_source 
             progress(progress_user, views[0]->tally.n_read, src->info.count);
     }
     for (int k = 0; k < nviews; k++) {
+        views[k]->tally.n_read += src->left_out; /* (read as far as the count goes: NPART) */
         orr_bands_free(&views[k]->bands);
         if (!st)
             orr_lanes_merge(&views[k]->lanes, views[k]->planes,

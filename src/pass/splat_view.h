@@ -97,7 +97,7 @@ typedef struct coarse_level {
     orr_projection proj;
     orr_sph sph;
     int sph_ready;
-    orr_plane planes[ORR_MAX_LANES][3];
+    orr_plane planes[ORR_MAX_LANES][3]; /* the first nlanes lanes' (coarse_glow.nlanes) */
     int *col0;      /* per fine column: the left coarse column of its interpolation */
     float *col_a;   /* per fine column: the right one's weight */
     uint8_t *on_map; /* per coarse pixel: whether its centre is on the map */
@@ -106,6 +106,7 @@ typedef struct coarse_level {
 
 typedef struct coarse_glow {
     int nlevels;
+    int nlanes; /* the view's lanes: a kernel deposit's depend on its image alone (reduce/lanes.h) */
     coarse_level level[ORR_COARSE_LEVELS]; /* coarsest first */
     struct block_buffers *buffers;         /* per lane: a block's wide kernels */
 } coarse_glow;

@@ -706,6 +706,28 @@ static orr_status reduce_views(view_state *views, int n, const orr_parallel *par
     return st;
 }
 
+/* The bound on the glow's lengths (pass/lengths.h) that lets the search
+ * skip the particles whose own kernel is the wider, when every view that
+ * takes the lengths glows with the frame's stars from centre with no
+ * periodic copies; else none (stars NULL). */
+static orr_lengths_bound lengths_bound(const view_state *views, int n, const orr_vec3 *centre)
+{
+    orr_lengths_bound b = {NULL, 0.0f};
+    const char *exact = getenv("ORRERY_EXACT_LENGTHS"); /* 1: every length searched (the tests compare) */
+    if (exact && strcmp(exact, "1") == 0)
+        return b;
+    for (int k = 0; k < n; k++) {
+        const orr_splat_view *p = &views[k].pass;
+        if (!p->stars || !p->splat.has_glow || p->splat.periodic.replicas > 1 ||
+            orr_v3_norm(orr_v3_sub(p->camera_position, *centre)) > 0 || (b.stars && b.stars != &p->stars->stage))
+            return (orr_lengths_bound){NULL, 0.0f};
+        b.stars = &p->stars->stage;
+        const float h_scale = (float)p->splat.deposit.h_scale; /* (as prepare_lengths sets it) */
+        b.h_scale = h_scale > b.h_scale ? h_scale : b.h_scale;
+    }
+    return b;
+}
+
 /* Smoothing lengths from the neighbours, computed once for every view that
  * needs them (views share input.*, so the same particles take them). */
 static orr_status prepare_lengths(view_state *views, int n, orr_source *src, const orr_parallel *par,
@@ -730,9 +752,11 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
                             "%d MPI ranks use lengths from the file (smoothing.lengths: file)",
                             v->pass.splat.path, par->nranks);
         v->pass.h_scale = (float)v->pass.splat.deposit.h_scale;
-        if (!lengths->h && !lengths->angular && /* (computed, but none here: a process's share may be empty) */
-            (st = orr_lengths_compute(&v->pass.splat, src, centre, par, lengths, err)))
-            return st;
+        if (!lengths->h && !lengths->angular) { /* (computed, but none here: a process's share may be empty) */
+            const orr_lengths_bound bound = centre ? lengths_bound(views, n, centre) : (orr_lengths_bound){0};
+            if ((st = orr_lengths_compute_bounded(&v->pass.splat, src, centre, par, &bound, lengths, err)))
+                return st;
+        }
         if (lengths->angular != (centre != NULL) ||
             (centre && orr_v3_norm(orr_v3_sub(lengths->centre, *centre)) > 0))
             return orr_fail(err, ORR_ERR_USAGE,
@@ -740,6 +764,8 @@ static orr_status prepare_lengths(view_state *views, int n, orr_source *src, con
                             "every view glow.threshold from the same place, or none of them",
                             v->pass.splat.path, k, centre ? "glows from another camera position" : "has no glow");
         v->pass.lengths = lengths;
+        v->rep->n_lengths = lengths->n;
+        v->rep->n_lengths_bounded = lengths->skipped;
     }
     return ORR_OK;
 }
@@ -1083,12 +1109,19 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
         st = orr_check_output_dir(plan->given[k]->output.dir, err);
     if (!st && par && !given && !(st = open_share(&plan->source, par, &src, err)))
         given = src;
+    /* A built-in model is opened once for the observer's pass and the
+     * frame's: opening one builds its tables (a quarter of a second of CPU
+     * for mw-m31), and it makes every field whichever are asked for. A
+     * file's observer pass opens its own, reading only the velocities. */
+    if (!st && !given && s0->observer.has_id && s0->input.model.name[0])
+        st = frame_particles(&plan->source, NULL, &src, err);
     /* The observer's frame moves with the particles: found every frame, by
      * a pass over them (reading, as the splat's). */
     orr_sky_frame observer;
     orr_vec3 observer_velocity = orr_v3(0, 0, 0);
     if (!st && s0->observer.has_id)
-        st = observer_frame(s0, &plan->source, given, when->frame, par, &observer, &observer_velocity, err);
+        st = observer_frame(s0, &plan->source, given ? given : src, when->frame, par, &observer, &observer_velocity,
+                            err);
     orr_stage_charge(&timer->times, ORR_STAGE_SOURCE, &timer->at);
     /* A stereo view renders as two views, its eyes, each reporting into
      * its view's report (the right eye's outputs added to the left's). */
@@ -1105,7 +1138,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
     }
     charge(&views[0], ORR_STAGE_SETUP);
     if (!st)
-        st = frame_particles(&plan->source, given, &src, err);
+        st = frame_particles(&plan->source, given ? given : src, &src, err); /* (src: the model opened above) */
     if (!st)
         frame_units(plan, src);
     charge(&views[0], ORR_STAGE_SOURCE);

@@ -34,6 +34,8 @@ typedef struct orr_render_report {
     long stars_capped_frames;    /* a run (orr_render_animation): how many of its frames rendered reached
                                   * stars.max, and the first of them (-1: none) */
     long stars_capped_first;
+    uint64_t n_lengths;          /* smoothing lengths from the neighbours the frame found */
+    uint64_t n_lengths_bounded;  /* of those, left at a bound without a search (pass/lengths.h) */
     uint64_t n_selected;         /* of those, of a selected type (the observer excluded) */
     uint64_t n_nonfinite;        /* skipped for a non-finite position or weight */
     uint64_t n_stereo_skipped;   /* omni-directional stereo: not drawn, inside the eye circle

@@ -22,7 +22,14 @@ orr_status orr_source_rewind(orr_source *src, orr_error *err)
 {
     if (!src->ops->rewind)
         return orr_fail(err, ORR_ERR_USAGE, "%s: this source cannot be read twice", src->info.path);
+    src->left_out = 0;
     return src->ops->rewind(src, err);
+}
+
+void orr_source_only_types(orr_source *src, unsigned mask)
+{
+    if (src->ops->only_types)
+        src->ops->only_types(src, mask);
 }
 
 void orr_source_close(orr_source *src)

@@ -77,6 +77,14 @@ typedef struct orr_source_ops {
      * skips the chunks other processes take). NULL: they are read and
      * dropped. */
     orr_status (*skip_chunk)(orr_source *src, orr_error *err);
+    /* Optional: until the next rewind, particles of types outside mask
+     * (bit t: type t; 0: every type) may be left out, for a pass that
+     * drops them anyway (a generator then skips making them), counted in
+     * left_out; only where the chunks' other particles stay as they were
+     * (the built-in model: its gas, which comes after all the others), so a
+     * splat's blocks, and its sums, are the same. NULL: every particle is
+     * delivered. */
+    void (*only_types)(orr_source *src, unsigned mask);
 } orr_source_ops;
 
 struct orr_source {
@@ -87,6 +95,9 @@ struct orr_source {
     /* When set, orr_source_next fails with ORR_ERR_CANCELLED once *cancel
      * is nonzero (orrery_cancel: the in-situ API's source). */
     const atomic_int *cancel;
+    /* Particles this pass left out (orr_source_only_types) so far: those a
+     * source without the hook would have delivered. 0 after a rewind. */
+    uint64_t left_out;
 };
 
 /* Allocates a source of the named format reading path, with ops and a
@@ -111,6 +122,11 @@ orr_status orr_source_alloc_chunk(orr_source *src, const orr_source_options *opt
  * at the end of the particles. */
 orr_status orr_source_next(orr_source *src, const orr_chunk **out, orr_error *err);
 orr_status orr_source_rewind(orr_source *src, orr_error *err);
+/* Tells the source that this pass, up to the next rewind, drops every
+ * particle whose type is outside mask (0: none dropped): it may leave them
+ * out (orr_source_ops.only_types), or deliver them as before. The pass
+ * must still test each particle's type. */
+void orr_source_only_types(orr_source *src, unsigned mask);
 /* Frees everything the source holds; src may be NULL. */
 void orr_source_close(orr_source *src);
 

@@ -97,6 +97,27 @@ one_cpu=$(cpu_of_lengths alone.txt)
 awk -v r="$run_cpu" -v o="$one_cpu" 'BEGIN { exit !(o > 0 && r < 2 * o) }' ||
   fail "the run's lengths took $run_cpu s of CPU for 3 frames, one frame's $one_cpu s: found again every frame?"
 
+# The glow's lengths left at a bound where a particle's own kernel is the
+# wider (pass/lengths.h) change no bit: Future Sky small, with the bound and
+# with every length searched (ORRERY_EXACT_LENGTHS=1).
+sky=(--set input.model.particles=20000 --set views.dome.image.width=128 --set views.dome.image.height=128
+     --set views.panorama.image.width=128 --set views.panorama.image.height=64 --set output.png=false)
+"$ORRERY" render "$SRC/configs/futuresky.yaml" "${sky[@]}" -o bounded >bounded.txt 2>&1 || fail "futuresky, bounded: $(cat bounded.txt)"
+ORRERY_EXACT_LENGTHS=1 "$ORRERY" render "$SRC/configs/futuresky.yaml" "${sky[@]}" -o exact >exact.txt 2>&1 ||
+  fail "futuresky, exact: $(cat exact.txt)"
+grep -q "the glow's lengths: [1-9][0-9]* of [0-9]* left at a bound" bounded.txt || fail "no lengths bounded: $(cat bounded.txt)"
+grep -q "left at a bound" exact.txt && fail "ORRERY_EXACT_LENGTHS=1 still bounded lengths"
+"$py" - <<'PY' || fail "the bounded lengths changed the images"
+import numpy as np
+from astropy.io import fits
+for view in ("dome", "panorama"):
+    with fits.open(f"bounded/futuresky-{view}.fits") as a, fits.open(f"exact/futuresky-{view}.fits") as b:
+        planes = [(x.data, y.data) for x, y in zip(a, b) if x.data is not None and x.data.ndim == 2]
+        assert len(planes) == 3 and len(a) == len(b), view
+        for x, y in planes: # (bit for bit; NaN off the map)
+            assert x.tobytes() == y.tobytes() and np.nansum(x) > 0, view
+PY
+
 # Errors: spike stars on a flat view without psf.fwhm (which convolves every star with the
 # whole PSF); lengths from a file without them.
 mkdir -p empty

@@ -8,6 +8,8 @@
 
 #include "check.h"
 #include "source/models/model.h"
+#include "source/models/model_dust.h"
+#include "source/source.h"
 
 /* All particles of a model, read into flat arrays. */
 typedef struct table {
@@ -826,6 +828,60 @@ static void test_type_mask(void)
     table_free(&all);
 }
 
+/* A pass that asks for the disc and bulge alone (orr_source_only_types)
+ * gets exactly the particles of a full pass of those types, the same
+ * values, without the gas it would have made, which it counts as left out
+ * (the halos, between the other blocks, still come); the rewind after it
+ * brings every type back. */
+static void test_only_types(void)
+{
+    const long long n = 6000, dust = 1500;
+    orr_model_params p = {n, 5, 780.0, ORR_MODEL_PAIR, 0, 0, 0.6};
+    orr_source *src = NULL;
+    orr_error err = {0};
+    CHECK(orr_model_source_open_dust(&p, dust, 1000, &src, &err) == ORR_OK);
+    if (!src)
+        return;
+    const unsigned mask = 1u << ORR_MODEL_TYPE_DISC | 1u << ORR_MODEL_TYPE_BULGE;
+    size_t cap = (size_t)(n + dust + 16), full_n = 0, kept_n = 0, gas = 0, bad = 0;
+    uint64_t *full_id = malloc(cap * sizeof *full_id);
+    float *full_x = malloc(cap * sizeof *full_x);
+    const orr_chunk *c;
+    while (full_id && full_x && orr_source_next(src, &c, &err) == ORR_OK && c->n > 0)
+        for (size_t q = 0; q < c->n; q++) {
+            gas += c->type[q] == ORR_MODEL_TYPE_GAS;
+            if (full_n < cap && (mask >> c->type[q] & 1u)) {
+                full_id[full_n] = c->id[q];
+                full_x[full_n++] = c->x[q];
+            }
+        }
+    CHECK(gas == (size_t)dust);
+    CHECK(orr_source_rewind(src, &err) == ORR_OK);
+    orr_source_only_types(src, mask);
+    size_t other = 0;
+    while (full_id && full_x && orr_source_next(src, &c, &err) == ORR_OK && c->n > 0)
+        for (size_t q = 0; q < c->n; q++) {
+            if (!(mask >> c->type[q] & 1u)) {
+                other += c->type[q] == ORR_MODEL_TYPE_GAS; /* (the halos and markers stay) */
+                continue;
+            }
+            bad += kept_n >= full_n || c->id[q] != full_id[kept_n] || c->x[q] != full_x[kept_n];
+            kept_n++;
+        }
+    CHECK(bad == 0 && kept_n == full_n && other == 0);
+    CHECK(src->left_out == (uint64_t)dust); /* (the gas alone: the halos lie between the other blocks) */
+    CHECK(orr_source_rewind(src, &err) == ORR_OK);
+    CHECK(src->left_out == 0);
+    gas = 0;
+    while (orr_source_next(src, &c, &err) == ORR_OK && c->n > 0)
+        for (size_t q = 0; q < c->n; q++)
+            gas += c->type[q] == ORR_MODEL_TYPE_GAS;
+    CHECK(gas == (size_t)dust);
+    free(full_id);
+    free(full_x);
+    orr_source_close(src);
+}
+
 int main(void)
 {
     RUN(test_markers);
@@ -844,5 +900,6 @@ int main(void)
     RUN(test_bulge_tensor_virial);
     RUN(test_bad_disc_q);
     RUN(test_type_mask);
+    RUN(test_only_types);
     return check_summary();
 }

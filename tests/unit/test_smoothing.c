@@ -347,6 +347,102 @@ static void test_thread_count_independence(void)
     cloud_free(&c);
 }
 
+/* orr_smoothing_lengths_bounded on one cloud, with each point's limit
+ * drawn around its exact length: below it (the search must find it
+ * exactly), equal to it (the boundary: only the exact length is within),
+ * one float below it, above it by up to 4 times, 0 and NaN (exact). A
+ * length within its limit may stand at a bound: at least the exact one,
+ * at most the limit. Returns the mismatches; *skipped the bounded count. */
+static int check_bounded(const cloud *c, int k, const float *exact, size_t *skipped)
+{
+    orr_error err = {0};
+    float *enough = malloc((c->n ? c->n : 1) * sizeof *enough), *h = malloc((c->n ? c->n : 1) * sizeof *h);
+    for (size_t i = 0; i < c->n; i++) {
+        switch (i % 7) {
+        case 0: enough[i] = exact[i]; break;
+        case 1: enough[i] = nextafterf(exact[i], 0.0f); break;
+        case 2: enough[i] = exact[i] * 0.5f; break;
+        case 3: enough[i] = 0.0f; break;
+        case 4: enough[i] = NAN; break;
+        default: enough[i] = exact[i] * (float)(1.0 + 3.0 * uniform01()); break;
+        }
+    }
+    orr_kdtree t;
+    int bad = orr_kdtree_build(&t, c->n, c->x, c->y, c->z, &err) != ORR_OK;
+    bad += !bad && orr_smoothing_lengths_bounded(&t, k, 0.5f, enough, h, skipped, &err) != ORR_OK;
+    size_t within = 0;
+    for (size_t i = 0; i < c->n && !bad; i++) {
+        int may_bound = enough[i] > 0 && exact[i] <= enough[i];
+        within += may_bound;
+        int ok = may_bound ? h[i] >= exact[i] && h[i] <= enough[i] : h[i] == exact[i];
+        if (!ok && bad++ < 3)
+            fprintf(stderr, "  particle %zu of %zu, k = %d: h %.9g, exact %.9g, limit %.9g\n", i, c->n, k,
+                    (double)h[i], (double)exact[i], (double)enough[i]);
+    }
+    bad += *skipped > within;
+    orr_kdtree_free(&t);
+    free(enough);
+    free(h);
+    return bad;
+}
+
+static void test_bounded_lengths(void)
+{
+    const int ks[] = {1, 8, 32};
+    size_t skipped_all = 0;
+    for (int kind = 0; kind < NKINDS; kind++)
+        for (int ki = 0; ki < 3; ki++) {
+            size_t sizes[] = {0, 1, 2, (size_t)ks[ki], (size_t)ks[ki] + 1, (size_t)ks[ki] + 2, 500, 5000};
+            for (size_t si = 0; si < sizeof sizes / sizeof sizes[0]; si++) {
+                cloud c = make_cloud(kind, sizes[si], 7000 + 17 * si + 3 * ki + kind);
+                float *exact = malloc((c.n ? c.n : 1) * sizeof *exact);
+                orr_error err = {0};
+                CHECK(orr_smoothing_lengths(c.n, c.x, c.y, c.z, ks[ki], 0.5f, exact, &err) == ORR_OK);
+                size_t skipped = 0;
+                int bad = check_bounded(&c, ks[ki], exact, &skipped);
+                if (bad)
+                    fprintf(stderr, "  %s, n = %zu, k = %d: %d mismatches\n", kind_names[kind], c.n, ks[ki], bad);
+                CHECK(bad == 0);
+                skipped_all += skipped;
+                free(exact);
+                cloud_free(&c);
+            }
+        }
+    CHECK(skipped_all > 0); /* (the limits above their lengths leave some at a bound) */
+}
+
+/* A limit far above every length: each is left at a bound (the node's), on
+ * 1 and 2 threads alike; with no limits the lengths are exact. */
+static void test_bounded_threads(void)
+{
+    enum { N = 120000 };
+    cloud c = make_cloud(UNIFORM, N, 99);
+    float *enough = malloc(N * sizeof *enough), *h1 = malloc(N * sizeof *h1), *h2 = malloc(N * sizeof *h2);
+    float *exact = malloc(N * sizeof *exact);
+    for (size_t i = 0; i < N; i++)
+        enough[i] = i % 2 ? 10.0f : 0.0f;
+    orr_error err = {0};
+    orr_kdtree t;
+    CHECK(orr_kdtree_build(&t, N, c.x, c.y, c.z, &err) == ORR_OK);
+    size_t s1 = 0, s2 = 0;
+    int saved = omp_get_max_threads();
+    omp_set_num_threads(1);
+    CHECK(orr_smoothing_lengths_bounded(&t, 32, 0.5f, enough, h1, &s1, &err) == ORR_OK);
+    omp_set_num_threads(2);
+    CHECK(orr_smoothing_lengths_bounded(&t, 32, 0.5f, enough, h2, &s2, &err) == ORR_OK);
+    omp_set_num_threads(saved);
+    CHECK(orr_smoothing_lengths_bounded(&t, 32, 0.5f, NULL, exact, NULL, &err) == ORR_OK);
+    CHECK(memcmp(h1, h2, N * sizeof *h1) == 0);
+    CHECK(s1 == N / 2 && s2 == N / 2);
+    int bad = 0;
+    for (size_t i = 0; i < N; i++)
+        bad += i % 2 ? !(h1[i] >= exact[i] && h1[i] <= 10.0f) : h1[i] != exact[i];
+    CHECK(bad == 0);
+    orr_kdtree_free(&t);
+    free(enough), free(h1), free(h2), free(exact);
+    cloud_free(&c);
+}
+
 static void test_errors(void)
 {
     float x[10], y[10], z[10], h[10];
@@ -383,6 +479,8 @@ int main(void)
     RUN(test_tree_structure);
     RUN(test_ordered_inputs);
     RUN(test_thread_count_independence);
+    RUN(test_bounded_lengths);
+    RUN(test_bounded_threads);
     RUN(test_errors);
     return check_summary();
 }

@@ -82,6 +82,7 @@ typedef struct model_state {
     block blocks[GAL_COUNT * COMP_COUNT];
     int nblocks;
     uint64_t total, next_index;
+    unsigned pass_types;            /* this pass's types (orr_source_only_types; 0: all), until a rewind */
     uint64_t dust_first;            /* the first gas particle's index (= total without gas) */
     orr_model_dust dust;            /* the dusty gas discs (model_dust.h) */
     int exact;                      /* the per-particle recipe without tables (orr_model_source_open_exact) */
@@ -446,50 +447,62 @@ static void fill_slots(const model_state *m, uint64_t index, orr_chunk *c, size_
     }
 }
 
-/* Whether particles of this type are emitted (orr_model_params.types). */
-static int type_kept(const model_state *m, uint8_t type)
+/* What becomes of the particles of a type: emitted, never made
+ * (orr_model_params.types), or left out of this pass alone (pass_types,
+ * orr_source_only_types; only the gas, `gas`), which the source counts.
+ * The gas comes after every other particle, so leaving it out leaves the
+ * chunks of the others as they were (a splat's blocks, so its sums); the
+ * components' blocks lie between one another and are cheap to make. */
+enum { RUN_EMITTED, RUN_NOT_MADE, RUN_LEFT_OUT };
+
+static int type_fate(const model_state *m, uint8_t type, int gas)
 {
-    return m->params.types == 0 || (m->params.types >> type & 1u);
+    if (m->params.types != 0 && !(m->params.types >> type & 1u))
+        return RUN_NOT_MADE;
+    return !gas || m->pass_types == 0 || (type < 32 && (m->pass_types >> type & 1u)) ? RUN_EMITTED : RUN_LEFT_OUT;
 }
 
 /* The end of the run of indices from `index` that share their fate: the
- * markers (always kept), one component's block, or the gas. *kept says
- * whether the run is emitted. */
-static uint64_t run_end(const model_state *m, uint64_t index, int *kept)
+ * markers (always emitted), one component's block, or the gas; *fate says
+ * what becomes of it. */
+static uint64_t run_end(const model_state *m, uint64_t index, int *fate)
 {
     if (index < (uint64_t)m->nmarkers) {
-        *kept = 1;
+        *fate = RUN_EMITTED;
         return (uint64_t)m->nmarkers;
     }
     if (index >= m->dust_first) {
-        *kept = type_kept(m, ORR_MODEL_TYPE_GAS);
+        *fate = type_fate(m, ORR_MODEL_TYPE_GAS, 1);
         return m->total;
     }
     const block *b = find_block(m, index);
-    *kept = type_kept(m, b->type);
+    *fate = type_fate(m, b->type, 0);
     return b->first + b->count;
 }
 
-/* The next chunk's indices, from next_index: past the runs not emitted,
- * then at most `capacity` of the kept runs that follow one another. A
- * chunk's indices stay contiguous (first_index names them), and with every
- * type kept the chunks are those of a model without a type mask. Returns
- * the count and sets *first. */
-static size_t next_range(const model_state *m, size_t capacity, uint64_t *first)
+/* The next chunk's indices, from next_index: past the runs not emitted
+ * (those this pass leaves out counted into *left_out), then at most
+ * `capacity` of the emitted runs that follow one another. A chunk's
+ * indices stay contiguous (first_index names them), and with every type
+ * emitted the chunks are those of a model without a type mask. Returns the
+ * count and sets *first. */
+static size_t next_range(const model_state *m, size_t capacity, uint64_t *first, uint64_t *left_out)
 {
     uint64_t i = m->next_index, end = i;
-    int kept = 0;
-    while (i < m->total && !kept) {
-        end = run_end(m, i, &kept);
-        if (!kept)
+    int fate = RUN_NOT_MADE;
+    while (i < m->total && fate != RUN_EMITTED) {
+        end = run_end(m, i, &fate);
+        if (fate == RUN_LEFT_OUT)
+            *left_out += end - i;
+        if (fate != RUN_EMITTED)
             i = end;
     }
     *first = i;
     if (i >= m->total)
         return 0;
     while (end < m->total) {
-        uint64_t more = run_end(m, end, &kept);
-        if (!kept)
+        uint64_t more = run_end(m, end, &fate);
+        if (fate != RUN_EMITTED)
             break;
         end = more;
     }
@@ -500,10 +513,10 @@ static size_t next_range(const model_state *m, size_t capacity, uint64_t *first)
 static uint64_t count_kept(const model_state *m)
 {
     uint64_t n = 0;
-    int kept;
+    int fate;
     for (uint64_t i = 0, end; i < m->total; i = end) {
-        end = run_end(m, i, &kept);
-        if (kept)
+        end = run_end(m, i, &fate);
+        if (fate == RUN_EMITTED)
             n += end - i;
     }
     return n;
@@ -525,7 +538,7 @@ static orr_status model_next(orr_source *src, orr_error *err)
     model_state *m = src->state;
     orr_chunk *c = &src->chunk;
     uint64_t first;
-    size_t n = next_range(m, c->capacity, &first);
+    size_t n = next_range(m, c->capacity, &first, &src->left_out);
     c->first_index = first;
     size_t shares = (n + MODEL_SHARE - 1) / MODEL_SHARE;
 #pragma omp parallel for schedule(dynamic, 1) if (n >= MODEL_PARALLEL_MIN)
@@ -541,8 +554,19 @@ static orr_status model_next(orr_source *src, orr_error *err)
 static orr_status model_rewind(orr_source *src, orr_error *err)
 {
     (void)err;
-    ((model_state *)src->state)->next_index = 0;
+    model_state *m = src->state;
+    m->next_index = 0;
+    m->pass_types = 0;
     return ORR_OK;
+}
+
+/* Every particle is a pure function of its index, so leaving the gas out
+ * (next_range skips it as it skips what params.types leaves out) changes
+ * none of the others: a pass that drops the gas does not make it, 96 waves
+ * of the clumping field a particle (model_dust.c). */
+static void model_only_types(orr_source *src, unsigned mask)
+{
+    ((model_state *)src->state)->pass_types = mask;
 }
 
 static void model_close(orr_source *src)
@@ -557,13 +581,14 @@ static orr_status model_skip_chunk(orr_source *src, orr_error *err)
     (void)err;
     model_state *m = src->state;
     uint64_t first;
-    size_t n = next_range(m, src->chunk.capacity, &first);
+    size_t n = next_range(m, src->chunk.capacity, &first, &src->left_out);
     m->next_index = first + n;
     return ORR_OK;
 }
 
 static const orr_source_ops MODEL_OPS = {
-    .next = model_next, .rewind = model_rewind, .close = model_close, .skip_chunk = model_skip_chunk};
+    .next = model_next, .rewind = model_rewind, .close = model_close, .skip_chunk = model_skip_chunk,
+    .only_types = model_only_types};
 
 static orr_status check_params(const orr_model_params *params, size_t chunk_size, orr_error *err)
 {
