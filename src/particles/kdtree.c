@@ -302,19 +302,6 @@ static void kd_search_node(kd_search *s, size_t node, size_t b, size_t e, int le
     }
 }
 
-double orr_kdtree_kth_dist2(const orr_kdtree *t, const float q[3], size_t k, double *heap)
-{
-    if (k == 0)
-        return 0.0;
-    if (k > t->n)
-        return INFINITY;
-    for (size_t i = 0; i < k; i++)
-        heap[i] = INFINITY;
-    kd_search s = {t, q, heap, k, -1.0, 0};
-    kd_search_node(&s, 0, 0, t->n, 0);
-    return heap[0];
-}
-
 double orr_kdtree_kth_dist2_within(const orr_kdtree *t, const float q[3], size_t k, double enough, double *heap)
 {
     if (k == 0)
@@ -326,4 +313,9 @@ double orr_kdtree_kth_dist2_within(const orr_kdtree *t, const float q[3], size_t
     kd_search s = {t, q, heap, k, enough < INFINITY ? enough : DBL_MAX, 0};
     kd_search_node(&s, 0, 0, t->n, 0);
     return heap[0];
+}
+
+double orr_kdtree_kth_dist2(const orr_kdtree *t, const float q[3], size_t k, double *heap)
+{
+    return orr_kdtree_kth_dist2_within(t, q, k, -1.0, heap); /* -1: never stops early */
 }
