@@ -102,20 +102,12 @@ static void reach_row(const coarse_level *l, int j, const double *m, int W, doub
 {
     float c;
     const int cw = l->proj.width, t0 = coarse_between(j, l->factor, l->proj.height, &c);
-    double *r0 = out + (size_t)(t0 - t_first) * cw, *r1 = l->proj.height > 1 ? r0 + cw : r0;
-    if (cw < 2 || r1 == r0) { /* (a map one coarse pixel wide or high: its four corners are not distinct) */
-        for (int i = 0; i < W; i++)
-            if (m[i] > 0) {
-                const int i0 = l->col0[i], i1 = cw > 1 ? i0 + 1 : i0;
-                const double a = l->col_a[i], lo = m[i] * (1.0 - c), hi = m[i] * c;
-                r0[i0] += lo * (1.0 - a), r0[i1] += lo * a;
-                r1[i0] += hi * (1.0 - a), r1[i1] += hi * a;
-            }
-        return;
-    }
+    double *r0 = out + (size_t)(t0 - t_first) * cw, *r1 = r0 + cw;
     /* A run of fine columns between the same two coarse ones adds to the
      * same four sums, kept in registers over the run: each sum takes the
-     * same terms in the same order, so the same bits. */
+     * same terms in the same order, so the same bits. (A level is at least
+     * 8 coarse pixels each way, orr_coarse_glow_plan: the four are
+     * distinct.) */
     for (int i = 0; i < W;) {
         const int i0 = l->col0[i], end = column_run_end(l, i, W);
         double s00 = r0[i0], s01 = r0[i0 + 1], s10 = r1[i0], s11 = r1[i0 + 1];

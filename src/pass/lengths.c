@@ -155,11 +155,10 @@ static orr_status share_directions(const orr_parallel *par, const positions *min
 }
 
 /* The k-th neighbour's lengths of the points p, those with enough[i] > 0
- * possibly at a bound (orr_smoothing_lengths_bounded). */
+ * possibly at a bound (orr_smoothing_lengths_bounded; enough NULL: every
+ * one exact). */
 static orr_status search(const positions *p, const float *enough, int k, float *h, size_t *skipped, orr_error *err)
 {
-    if (!enough)
-        return orr_smoothing_lengths(p->n, p->x, p->y, p->z, k, ORR_SMOOTHING_FACTOR_DEFAULT, h, err);
     orr_kdtree tree;
     orr_status st = orr_kdtree_build(&tree, p->n, p->x, p->y, p->z, err);
     if (!st)
@@ -196,12 +195,6 @@ static orr_status find_lengths(const orr_splat_settings *set, const orr_parallel
         positions_free(&shared);
     }
     return st;
-}
-
-orr_status orr_lengths_compute(const orr_splat_settings *set, orr_source *src, const orr_vec3 *centre,
-                               const orr_parallel *par, orr_lengths *out, orr_error *err)
-{
-    return orr_lengths_compute_bounded(set, src, centre, par, NULL, out, err);
 }
 
 orr_status orr_lengths_compute_bounded(const orr_splat_settings *set, orr_source *src, const orr_vec3 *centre,

@@ -57,13 +57,10 @@ orr_status orr_lengths_needed(const orr_splat_settings *s, const orr_source *src
  * particles; collective) every process gathers all the positions (12
  * bytes a particle, exchanged as sums of doubles) and finds the neighbours
  * among them, keeping its own particles' lengths, so they do not depend on
- * the number of processes; NULL: this process alone. */
-orr_status orr_lengths_compute(const orr_splat_settings *s, orr_source *src, const orr_vec3 *centre,
-                               const orr_parallel *par, orr_lengths *out, orr_error *err);
-
-/* The same, with bound (NULL: every length exact; only with centre and no
- * par) leaving the lengths that cannot change a glow at a bound
- * (orr_lengths_bound); out->skipped says how many. */
+ * the number of processes; NULL: this process alone. With bound (NULL:
+ * every length exact; used only with centre and no par) the lengths that
+ * cannot change a glow are left at a bound (orr_lengths_bound);
+ * out->skipped says how many. */
 orr_status orr_lengths_compute_bounded(const orr_splat_settings *s, orr_source *src, const orr_vec3 *centre,
                                        const orr_parallel *par, const orr_lengths_bound *bound, orr_lengths *out,
                                        orr_error *err);
