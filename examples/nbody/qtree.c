@@ -125,7 +125,8 @@ static void node_moments(const qt_tree *t, qt_node *nd)
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
         double y[3] = {t->px[j] - nd->com[0], t->py[j] - nd->com[1], t->pz[j] - nd->com[2]};
         add_quad(q, t->pm[j], y);
-        b2 = fmax(b2, y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+        const double r2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+        b2 = r2 > b2 ? r2 : b2; /* not fmax: a call into libm for every particle at every level */
     }
     memcpy(nd->quad, q, sizeof q);
     nd->bmax = sqrt(b2);
@@ -308,9 +309,11 @@ int qt_build_with_moments(qt_tree *t, const double *pos, const double *mass, con
         t->pz[i] = pos[3 * i + 2];
         t->pm[i] = mass[i];
         t->pe2[i] = eps[i]; /* squared once sorted */
-        for (int k = 0; k < 3; k++) {
-            lo[k] = fmin(lo[k], pos[3 * i + k]);
-            hi[k] = fmax(hi[k], pos[3 * i + k]);
+        for (int k = 0; k < 3; k++) { /* the positions are finite (nbody.c checks): fmin and fmax's NaN rules,
+                                          calls into libm, are not needed */
+            const double x = pos[3 * i + k];
+            lo[k] = x < lo[k] ? x : lo[k];
+            hi[k] = x > hi[k] ? x : hi[k];
         }
     }
     double centre[3], half = 0;
