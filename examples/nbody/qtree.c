@@ -694,8 +694,9 @@ static double far_field(const qt_tree *t, const qt_node *sn, const qt_lists *far
 {
     double e2lo = INFINITY, e2hi = -INFINITY;
     for (size_t j = sn->first; j < sn->first + sn->count; j++) {
-        e2lo = fmin(e2lo, t->pe2[j]);
-        e2hi = fmax(e2hi, t->pe2[j]);
+        const double e2 = t->pe2[j]; /* finite: comparisons, not fmin and fmax's calls into libm */
+        e2lo = e2 < e2lo ? e2 : e2lo;
+        e2hi = e2 > e2hi ? e2 : e2hi;
     }
     f->h = (float)sn->bmax;
     f->e2lo = (float)e2lo;
