@@ -29,7 +29,24 @@
  * orrery-nbody does); CPU seconds of the gravity per step, particle-steps
  * per CPU second (the figure per core: run it with OMP_NUM_THREADS=1),
  * interactions per particle, the errors of the first forces against
- * direct summation and the energy error after the steps. */
+ * direct summation and the energy error after the steps.
+ *
+ *   bench_nbody substeps [N [REPEAT [CHECK [ETA [EPS]]]]]
+ *       default: 200000 particles of the Milky Way alone, best of 3, 2000
+ *       checked, the
+ *       films' block steps (eta 0.2, softening 0.2 / 0.4 kpc, dt 0.008,
+ *       dt-min 0.002)
+ *
+ * What a block step's sub-step costs a force against a full step (every
+ * particle): from the start, the particles whose wanted step
+ * sqrt(2 eta eps / |a|) is under 0.004 (those on steps of 0.002, active at
+ * every sub-step) and under 0.008 (active at the step's middle), their
+ * forces alone (qt_accelerations_masked, no potentials), by root walks
+ * (before issue 42 item 1) and by super-groups (the full step's forces
+ * bit for bit); the best CPU seconds of REPEAT runs, a tree build's too,
+ * the interactions a force and the 99th percentile of the active
+ * particles' errors against direct summation (of CHECK spread through
+ * all). */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -275,10 +292,142 @@ static int bench_steps(int argc, char **argv)
     return 0;
 }
 
+/* ---- substeps: a block step's forces for its active particles -------- */
+
+/* The best CPU seconds of `repeat` force computations of the particles
+ * with active[i] set (NULL: all, with potentials), on tree t, walked by
+ * super-groups or (root_walks) by groups from the root. */
+static double masked_cpu(qt_tree *t, int root_walks, size_t n, double theta, const unsigned char *active,
+                         int repeat, double *acc, double *pot, double *interactions)
+{
+    double best = INFINITY;
+    t->root_walks = root_walks;
+    for (int r = 0; r < repeat; r++) {
+        double c0 = cpu_seconds();
+        double done = qt_accelerations_masked(t, G_KPC_KMS, theta, 0, n, active, acc, active ? NULL : pot);
+        if (done < 0)
+            die("out of memory (walk)");
+        *interactions = done;
+        best = fmin(best, cpu_seconds() - c0);
+    }
+    return best;
+}
+
+/* The 99th percentile of the relative errors of acc against ref
+ * (reference: every stride-th particle) over the checked particles that
+ * are active. */
+static double active_p99(const double *acc, const double *ref, size_t n, size_t check, const unsigned char *active)
+{
+    double *err = malloc(check * sizeof *err);
+    if (!err)
+        die("out of memory");
+    size_t stride = n / check, k = 0;
+    for (size_t c = 0; c < check; c++) {
+        size_t i = c * stride;
+        if (!active[i])
+            continue;
+        double d2 = 0, a2 = 0;
+        for (int a = 0; a < 3; a++) {
+            d2 += (acc[3 * i + a] - ref[3 * c + a]) * (acc[3 * i + a] - ref[3 * c + a]);
+            a2 += ref[3 * c + a] * ref[3 * c + a];
+        }
+        err[k++] = sqrt(d2 / a2);
+    }
+    qsort(err, k, sizeof *err, compare);
+    double p = k ? err[(size_t)(0.99 * (double)(k - 1))] : NAN;
+    free(err);
+    return p;
+}
+
+static int bench_substeps(int argc, char **argv)
+{
+    long long n = argc > 0 ? atoll(argv[0]) : 200000;
+    int repeat = argc > 1 ? atoi(argv[1]) : 3;
+    long long check = argc > 2 ? atoll(argv[2]) : 2000;
+    double eta = argc > 3 ? atof(argv[3]) : 0.2;
+    double eps_star = argc > 4 ? atof(argv[4]) : 0.2;
+    if (n < 1000 || repeat < 1 || check < 10 || check > n || !(eta > 0) || !(eps_star > 0))
+        die("usage: bench_nbody substeps [N >= 1000 [REPEAT >= 1 [CHECK, 10 to N [ETA > 0 [EPS > 0]]]]]");
+    size_t nn = (size_t)n;
+    double *pos = malloc(3 * nn * sizeof *pos), *mass = malloc(nn * sizeof *mass), *eps = malloc(nn * sizeof *eps);
+    double *acc = malloc(3 * nn * sizeof *acc), *pot = malloc(nn * sizeof *pot);
+    unsigned char *type = malloc(nn), *active = malloc(nn);
+    double *ref = malloc(3 * (size_t)check * sizeof *ref);
+    if (!pos || !mass || !eps || !acc || !pot || !type || !active || !ref)
+        die("out of memory");
+    double *vel = malloc(3 * nn * sizeof *vel);
+    if (!vel)
+        die("out of memory");
+    load(n, 0, pos, vel, mass, type);
+    for (size_t i = 0; i < nn; i++)
+        eps[i] = type[i] == ORR_MODEL_TYPE_HALO ? 2 * eps_star : eps_star;
+    qt_tree t = {0};
+    /* A build from the particles' own order, then builds after drifts of
+     * 0.002 (a sub-step), which start from the last build's order; the
+     * forces are then measured at the last positions. */
+    double build = INFINITY, first_build = cpu_seconds();
+    if (qt_build(&t, pos, mass, eps, nn) != 0)
+        die("out of memory (tree)");
+    first_build = cpu_seconds() - first_build;
+    for (int r = 0; r < repeat; r++) {
+        for (size_t i = 0; i < 3 * nn; i++)
+            pos[i] += FILM_DT * vel[i];
+        double c0 = cpu_seconds();
+        if (qt_build(&t, pos, mass, eps, nn) != 0)
+            die("out of memory (tree)");
+        build = fmin(build, cpu_seconds() - c0);
+    }
+    free(vel);
+    reference(pos, mass, eps, nn, (size_t)check, ref);
+    double inter_full, inter[2];
+    double full = masked_cpu(&t, 0, nn, NEW_THETA, NULL, repeat, acc, pot, &inter_full);
+    printf("bench_nbody substeps: N = %lld (Milky Way alone), eta %g, softening %g / %g kpc, %d threads, best of %d\n",
+           n, eta, eps_star, 2 * eps_star, omp_get_max_threads(), repeat);
+    printf("tree build %.3f CPU s (the first, from the particles' order: %.3f); every particle's force and potential "
+           "(super-groups) %.3f CPU s, %.0f interactions a particle\n", build, first_build, full, inter_full / (double)nn);
+    printf("%-26s %6s %22s %22s\n", "active: wanted step under", "share", "root walks: CPU s (/)",
+           "super-groups: CPU s (/)");
+    const double under[2] = {0.004, 0.008};
+    for (int u = 0; u < 2; u++) {
+        size_t on = 0;
+        for (size_t i = 0; i < nn; i++) {
+            const double *a = &acc[3 * i];
+            double amag = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+            active[i] = amag > 0 && sqrt(2 * eta * eps[i] / amag) < under[u];
+            on += active[i];
+        }
+        double share = (double)on / (double)nn, per = full * share; /* a full step's CPU for as many forces */
+        double *a2 = malloc(3 * nn * sizeof *a2), p99[2];
+        if (!a2)
+            die("out of memory");
+        double root = masked_cpu(&t, 1, nn, NEW_THETA, active, repeat, a2, NULL, &inter[0]);
+        p99[0] = active_p99(a2, ref, nn, (size_t)check, active);
+        double super = masked_cpu(&t, 0, nn, NEW_THETA, active, repeat, a2, NULL, &inter[1]);
+        p99[1] = active_p99(a2, ref, nn, (size_t)check, active);
+        printf("%-26g %6.3f %15.3f (%4.2f) %15.3f (%4.2f)\n", under[u], share, root, root / per, super, super / per);
+        printf("%-26s %6s %22.0f %22.0f\n", "  interactions a force", "", inter[0] / (double)on, inter[1] / (double)on);
+        printf("%-26s %6s %22.2e %22.2e\n", "  99th percentile error", "", p99[0], p99[1]);
+        free(a2);
+    }
+    printf("(/): CPU a force over the full step's\n");
+    qt_free(&t);
+    free(pos);
+    free(mass);
+    free(eps);
+    free(acc);
+    free(pot);
+    free(type);
+    free(active);
+    free(ref);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1 && strcmp(argv[1], "steps") == 0)
         return bench_steps(argc - 2, argv + 2);
+    if (argc > 1 && strcmp(argv[1], "substeps") == 0)
+        return bench_substeps(argc - 2, argv + 2);
     long long n = argc > 1 ? atoll(argv[1]) : 100000;
     long long check = argc > 2 ? atoll(argv[2]) : 2000;
     int pair = argc > 3 && strcmp(argv[3], "pair") == 0;

@@ -111,7 +111,7 @@ static const char usage[] =
     "                     criterion; 0.025 there; a longer step than its last only\n"
     "                     when it wants twice it), and gets forces only when its step\n"
     "                     ends (default: one global step --dt for all; at the films'\n"
-    "                     --eps 0.2, --dt 0.008 --eta 0.2 --dt-min 0.002 takes 0.72 of\n"
+    "                     --eps 0.2, --dt 0.008 --eta 0.25 --dt-min 0.002 takes 0.6 of\n"
     "                     the CPU of --dt 0.002, for a smaller energy error)\n"
     "  --dt-min DT        with --eta, no step shorter than DT (the shortest dt / 2^k at\n"
     "                     least DT; Gadget-2's MinSizeTimestep; default: none)\n"

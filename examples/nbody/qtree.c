@@ -125,7 +125,8 @@ static void node_moments(const qt_tree *t, qt_node *nd)
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
         double y[3] = {t->px[j] - nd->com[0], t->py[j] - nd->com[1], t->pz[j] - nd->com[2]};
         add_quad(q, t->pm[j], y);
-        b2 = fmax(b2, y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+        const double r2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+        b2 = r2 > b2 ? r2 : b2; /* not fmax: a call into libm for every particle at every level */
     }
     memcpy(nd->quad, q, sizeof q);
     nd->bmax = sqrt(b2);
@@ -308,9 +309,11 @@ int qt_build_with_moments(qt_tree *t, const double *pos, const double *mass, con
         t->pz[i] = pos[3 * i + 2];
         t->pm[i] = mass[i];
         t->pe2[i] = eps[i]; /* squared once sorted */
-        for (int k = 0; k < 3; k++) {
-            lo[k] = fmin(lo[k], pos[3 * i + k]);
-            hi[k] = fmax(hi[k], pos[3 * i + k]);
+        for (int k = 0; k < 3; k++) { /* the positions are finite (nbody.c checks): fmin and fmax's NaN rules,
+                                          calls into libm, are not needed */
+            const double x = pos[3 * i + k];
+            lo[k] = x < lo[k] ? x : lo[k];
+            hi[k] = x > hi[k] ? x : hi[k];
         }
     }
     double centre[3], half = 0;
@@ -498,8 +501,14 @@ static uint64_t far_for(const qt_tree *t, const qt_walkers *wk, uint64_t mask, c
  * the shared list, relative to the super-group's centre of mass; a cell
  * only some take goes to theirs, and the others walk on into it. The tree's
  * top levels and far cells, which all of a super-group's ~8 groups visit
- * alike, are so walked once, and each of them converted to float once. */
-static int multi_walk(const qt_tree *t, const qt_node *s, double theta, double far_r, qt_walkers *wk)
+ * alike, are so walked once, and each of them converted to float once.
+ * Only the groups whose bits are set in need get lists: the others are
+ * tested only while no group has taken a node whole (below such a node no
+ * cell can be shared), so a block step's sub-step pays little for a
+ * super-group's groups without active particles, and the needed groups'
+ * lists are those a walk of all would give them. */
+static int multi_walk(const qt_tree *t, const qt_node *s, double theta, double far_r, uint64_t need,
+                      qt_walkers *wk)
 {
     const double inv_theta = 1.0 / theta;
     const uint64_t all = wk->n == 64 ? ~(uint64_t)0 : ((uint64_t)1 << wk->n) - 1;
@@ -527,32 +536,35 @@ static int multi_walk(const qt_tree *t, const qt_node *s, double theta, double f
             id = w->next;
             continue;
         }
-        for (uint64_t m = far; m; m &= m - 1) {
+        for (uint64_t m = far & need; m; m &= m - 1) {
             int k = __builtin_ctzll(m);
             if (push_cell(&wk->own[k], w, t->nodes[t->groups[wk->group[k]]].com) != 0)
                 return -1;
         }
-        if (!near) {
+        /* Below a node some group took whole no cell can be shared, so
+         * there only the needed groups walk on. */
+        const uint64_t inside = near == all ? all : near & need;
+        if (!inside) {
             id = w->next;
             continue;
         }
         if (w->next == id + 1) { /* a leaf: its particles, for those it is not far enough from */
-            for (uint64_t m = near; m; m &= m - 1) {
+            for (uint64_t m = near & need; m; m &= m - 1) {
                 int k = __builtin_ctzll(m);
                 if (push_leaf(&wk->own[k], t, &t->nodes[id], t->nodes[t->groups[wk->group[k]]].com) != 0)
                     return -1;
             }
-        } else if (near != mask) { /* into its children for the groups that opened it */
+        } else if (inside != mask) { /* into its children for the groups that opened it */
             stack[top].end = w->next;
             stack[top++].mask = mask;
-            mask = near;
+            mask = inside;
         }
         id++;
     }
     if (pad_lists(&wk->shared) != 0 || pad_lists(&wk->far) != 0)
         return -1;
-    for (int k = 0; k < wk->n; k++)
-        if (pad_lists(&wk->own[k]) != 0)
+    for (uint64_t m = need; m; m &= m - 1)
+        if (pad_lists(&wk->own[__builtin_ctzll(m)]) != 0)
             return -1;
     return 0;
 }
@@ -682,8 +694,9 @@ static double far_field(const qt_tree *t, const qt_node *sn, const qt_lists *far
 {
     double e2lo = INFINITY, e2hi = -INFINITY;
     for (size_t j = sn->first; j < sn->first + sn->count; j++) {
-        e2lo = fmin(e2lo, t->pe2[j]);
-        e2hi = fmax(e2hi, t->pe2[j]);
+        const double e2 = t->pe2[j]; /* finite: comparisons, not fmin and fmax's calls into libm */
+        e2lo = e2 < e2lo ? e2 : e2lo;
+        e2hi = e2 > e2hi ? e2 : e2hi;
     }
     f->h = (float)sn->bmax;
     f->e2lo = (float)e2lo;
@@ -733,17 +746,22 @@ static double super_group(const qt_tree *t, size_t s, double G, double theta, si
     if (!w->walkers && !(w->walkers = calloc(1, sizeof *w->walkers)))
         return -1;
     const qt_node *sn = &t->nodes[t->supers[s]];
-    if (!any_wanted(t, sn, first, count, active))
-        return 0;
     /* All its groups walk, wanted or not: which cells are shared, and so
-     * the forces' round-off, must not depend on the particles asked for
-     * (an MPI rank's share). */
+     * the forces' round-off and the far field, must not depend on the
+     * particles asked for (an MPI rank's share, a block step's active
+     * ones). Only the groups with wanted particles get lists. */
     qt_walkers *wk = w->walkers;
     wk->n = (int)(g1 - g0);
-    for (size_t k = g0; k < g1; k++)
+    uint64_t need = 0;
+    for (size_t k = g0; k < g1; k++) {
         wk->group[k - g0] = k;
+        if (any_wanted(t, &t->nodes[t->groups[k]], first, count, active))
+            need |= (uint64_t)1 << (k - g0);
+    }
+    if (!need)
+        return 0;
     const int with_field = sn->count >= QT_FIELD_MIN && sn->bmax > 0;
-    if (multi_walk(t, sn, theta, with_field ? QT_FAR / theta * sn->bmax : 0, wk) != 0)
+    if (multi_walk(t, sn, theta, with_field ? QT_FAR / theta * sn->bmax : 0, need, wk) != 0)
         return -1;
     const int field = wk->far.ncell > 0;
     if (field)
@@ -767,10 +785,11 @@ double qt_accelerations_masked(const qt_tree *t, double G, double theta, size_t 
 {
     double total = 0;
     int failed = 0;
-    /* A block step's few active particles walk by group, as before
-     * super-groups: a super-group walks all its groups even for one active
-     * particle (so that its forces do not depend on which are asked for). */
-    const int root_walks = t->root_walks || active;
+    /* A block step's sub-steps walk by super-group too: the groups without
+     * active particles only test the nodes where their super-group may
+     * share cells (multi_walk), and the active particles get the forces the
+     * full step would give them, bit for bit. */
+    const int root_walks = t->root_walks;
     const long n = (long)(root_walks ? t->ngroups : t->nsupers);
 #pragma omp parallel reduction(+ : total) reduction(| : failed)
     {

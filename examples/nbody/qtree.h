@@ -54,7 +54,7 @@ typedef struct qt_tree {
     size_t *super_first_group; /* super s holds groups super_first_group[s] .. [s + 1] - 1 */
     size_t nsupers, supers_cap;
     int root_walks; /* set by the caller: every group walks the tree from its root, without its super-group's walk
-                       (the walk before super-groups, kept for `bench_nbody steps` to compare; block sub-steps use it) */
+                       (the walk before super-groups, kept for `bench_nbody steps` and `substeps` to compare) */
     double *px, *py, *pz, *pm, *pe2; /* particles in tree order (structure of arrays) */
     qt_walk_node *walk;              /* nnodes of them, for the walk */
     /* qt_build_with_moments: particles cells_first + c, c < ncells (in the
@@ -113,9 +113,11 @@ double qt_accelerations_of(const qt_tree *t, double G, double theta, size_t firs
 
 /* The same for the particles o of that range with active[o] != 0 only (the
  * others' acc and pot are left as they were): the forces of a block time
- * step, where only the particles whose step ends are kicked. A group with
- * no active particle costs nothing; one with some builds its lists once, as
- * for all. active NULL: every particle of the range. */
+ * step, where only the particles whose step ends are kicked. They are
+ * those of qt_accelerations_of, bit for bit. A super-group with no active
+ * particle costs nothing; in one with some, only the groups with active
+ * particles build lists (the others are tested only where the super-group
+ * may share a cell). active NULL: every particle of the range. */
 double qt_accelerations_masked(const qt_tree *t, double G, double theta, size_t first, size_t count,
                                const unsigned char *active, double *acc, double *pot);
 

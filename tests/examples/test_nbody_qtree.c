@@ -142,14 +142,13 @@ int main(void)
     qt_accelerations_of(&t, G, 0.7, 0, N, acc_tree, NULL);
     CHECK(memcmp(acc_direct, acc_tree, 3 * N * sizeof *acc_tree) == 0);
 
-    /* Active particles only (a block time step's sub-steps, which walk by
-     * group from the root): every third particle of the slice gets the
-     * numbers of the root walks for all, bit for bit, the others are left
-     * as they were (NaN here). */
-    t.root_walks = 1;
+    /* Active particles only (qt_accelerations_masked): every third particle
+     * of the slice gets the numbers of the super-group walks for all, bit
+     * for bit (the groups without active particles walk only where their
+     * super-group may share cells), the others are left as they were (NaN
+     * here). */
     qt_accelerations_of(&t, G, 0.7, 0, N, acc_tree, NULL);
     inter_all = qt_accelerations_of(&t, G, 0.7, first, count, acc_direct, NULL);
-    t.root_walks = 0;
     unsigned char *active = malloc(count);
     for (size_t o = 0; o < count; o++) {
         active[o] = o % 3 == 0;
