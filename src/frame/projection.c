@@ -48,19 +48,15 @@ void orr_projection_defaults(orr_projection_settings *p)
 
 /* The 12 nside^2 pixels, as a 4 nside x 3 nside image in pixel order: the
  * planes are then the map itself. Each covers 4 pi / npix sr. */
-static orr_status setup_healpix(orr_projection *p, orr_error *err)
+static void setup_healpix(orr_projection *p)
 {
     int n = p->settings.healpix_nside;
-    if (n < 1 || n > ORR_HEALPIX_NSIDE_MAX || (n & (n - 1)) != 0)
-        return orr_fail(err, ORR_ERR_USAGE, "HEALPix nside %d must be a power of 2 from 1 to %d", n,
-                        ORR_HEALPIX_NSIDE_MAX);
     p->width = 4 * n;
     p->height = 3 * n;
     p->cx = 0.5 * p->width;
     p->cy = 0.5 * p->height;
     p->focal = sqrt(12.0 * n * n / (4.0 * ORR_PI));
     p->lon_sign = -1.0;
-    return ORR_OK;
 }
 
 long orr_healpix_pixel(const orr_projection *p, double x, double y, double z)
@@ -74,9 +70,9 @@ long orr_healpix_pixel(const orr_projection *p, double x, double y, double z)
     return ipix;
 }
 
-/* The parameters within their ranges, each named by its key: those of
- * p's kind, or with every set all of them (a scene's, which holds them all,
- * used or not). */
+/* The parameters within their ranges, each message naming its key and
+ * value: those of p's kind, or with every set all of them (a scene's, which
+ * holds them all, used or not). The one place each range is checked. */
 static orr_status check_ranges(const orr_projection_settings *p, int every, const orr_keys *keys,
                                orr_error *err)
 {
@@ -92,38 +88,33 @@ static orr_status check_ranges(const orr_projection_settings *p, int every, cons
                             p->fov_deg);
     if (persp && !(p->near >= 0 && isfinite(p->near)))
         return orr_fail_key(keys, "camera.near", err, "camera.near: %g is out of range (must be >= 0)", p->near);
+    if (persp && !isfinite(p->shift_x)) /* a stereo eye's, which no key sets */
+        return orr_fail(err, ORR_ERR_USAGE, "perspective principal-point shift %g is not a number", p->shift_x);
     if ((every || p->kind == ORR_PROJ_DOME) && !(p->dome_fov_deg >= 90 && p->dome_fov_deg <= 360))
         return orr_fail_key(keys, "camera.dome_fov", err, "camera.dome_fov: %g is out of range (90 to 360)",
                             p->dome_fov_deg);
+    int n = p->healpix_nside; /* only HEALPix's: a scene's other projections ignore the key */
+    if (p->kind == ORR_PROJ_HEALPIX && (n < 1 || n > ORR_HEALPIX_NSIDE_MAX || (n & (n - 1)) != 0))
+        return orr_fail_key(keys, "camera.healpix_nside", err,
+                            "camera.healpix_nside: must be a power of 2 (1, 2, 4, ..., %d), got %d",
+                            ORR_HEALPIX_NSIDE_MAX, n);
     return ORR_OK;
 }
 
-static orr_status derive(orr_projection *p, orr_error *err);
-
 orr_status orr_projection_prepare(const orr_projection_settings *p, const orr_keys *keys, orr_error *err)
 {
-    orr_status st = check_ranges(p, 1, keys, err);
-    if (st)
-        return st;
-    /* Derived on a scratch copy for the checks only derivation makes (a
-     * HEALPix nside); the ranges, just checked, are not checked again. */
-    orr_projection planned = {.settings = *p};
-    return derive(&planned, err) ? orr_fail_key_prefix(keys, NULL, err, "") : ORR_OK;
+    return check_ranges(p, 1, keys, err);
+}
+
+orr_status orr_projection_check(const orr_projection_settings *p, orr_error *err)
+{
+    return check_ranges(p, 0, NULL, err);
 }
 
 orr_status orr_projection_plan(orr_projection *p, const orr_projection_settings *settings, orr_error *err)
 {
-    *p = (orr_projection){.settings = *settings};
-    orr_status st = check_ranges(settings, 0, NULL, err);
-    return st ? st : derive(p, err);
-}
-
-/* The derived fields of p from its settings, whose ranges are checked. */
-static orr_status derive(orr_projection *p, orr_error *err)
-{
+    *p = (orr_projection){.settings = *settings, .width = settings->width, .height = settings->height};
     const orr_projection_settings *s = &p->settings;
-    p->width = s->width;
-    p->height = s->height;
     p->cx = 0.5 * p->width;
     p->cy = 0.5 * p->height;
     int wider = p->width > p->height ? p->width : p->height;
@@ -132,9 +123,6 @@ static orr_status derive(orr_projection *p, orr_error *err)
         p->focal = p->width / s->ortho_width;
         return ORR_OK;
     case ORR_PROJ_PERSPECTIVE:
-        if (!isfinite(s->shift_x))
-            return orr_fail(err, ORR_ERR_USAGE, "perspective principal-point shift %g is not a number",
-                            s->shift_x);
         p->focal = 0.5 * wider / tan(0.5 * s->fov_deg * ORR_PI / 180.0);
         p->cx += s->shift_x;
         return ORR_OK;
@@ -151,7 +139,8 @@ static orr_status derive(orr_projection *p, orr_error *err)
         p->lon_sign = s->lon_flip ? 1.0 : -1.0;
         return ORR_OK;
     case ORR_PROJ_HEALPIX:
-        return setup_healpix(p, err);
+        setup_healpix(p);
+        return ORR_OK;
     case ORR_PROJ_DOME:
         p->half_w = p->half_h = 0.5 * (p->width < p->height ? p->width : p->height);
         p->theta_max = 0.5 * s->dome_fov_deg * ORR_PI / 180.0;

@@ -157,22 +157,30 @@ int orr_pixel_measure_twin_row(const orr_projection *p, int j);
  * nearest pixel of the map (past the poles, the dome's rim). */
 void orr_projection_fold(const orr_projection *p, int *i, int *j);
 
-/* The projection a view renders with: settings copied into p, the
- * parameters of their kind checked (each message names its key and value)
- * and the rest derived (the centre, the focal length, theta_max), in one
- * place, when the plan is made. The only way to make one. The sky
- * projections take their direction from the camera frame: Hammer-Aitoff and
- * equirectangular put the view direction (+z) at the centre, "up" (-y) at
- * b = +90 and, by default, longitude growing to the left (-x); the dome puts
- * the view direction at its zenith (the image centre) and the camera's down
- * (+y) at the bottom of the master, the dome's front. */
-orr_status orr_projection_plan(orr_projection *p, const orr_projection_settings *settings, orr_error *err);
-
 /* A scene's settings checked, every parameter whether its kind uses it or
  * not (camera.width, .fov, .near, .dome_fov: their ranges are the
- * projection's, not the key table's), then planned on a scratch copy; keys
- * says where each was set (core/keys.h), for the messages' "file:line: ". */
+ * projection's, not the key table's; .healpix_nside a power of 2 for
+ * HEALPix), each message naming its key, value and, through keys, the file
+ * and line where it was set (core/keys.h). The one check a scene's
+ * projection gets: the plan takes it as checked. */
 orr_status orr_projection_prepare(const orr_projection_settings *p, const orr_keys *keys, orr_error *err);
+
+/* The same for settings a program fills itself: the parameters of their
+ * kind, in the same words, with no place. */
+orr_status orr_projection_check(const orr_projection_settings *p, orr_error *err);
+
+/* The projection a view renders with, from settings that orr_projection_prepare
+ * or orr_projection_check passed (or a planned projection's, changed within
+ * their ranges): the settings copied into p and the rest derived (the image
+ * size, the centre, the focal length, theta_max) in one place, when the
+ * plan is made. The only way to make one; fails only on an unknown kind.
+ * The sky projections take their direction from the camera frame:
+ * Hammer-Aitoff and equirectangular put the view direction (+z) at the
+ * centre, "up" (-y) at b = +90 and, by default, longitude growing to the
+ * left (-x); the dome puts the view direction at its zenith (the image
+ * centre) and the camera's down (+y) at the bottom of the master, the
+ * dome's front. */
+orr_status orr_projection_plan(orr_projection *p, const orr_projection_settings *settings, orr_error *err);
 
 extern const orr_named orr_projection_names[];
 /* The projection's cards: PROJTYPE and the parameters of its kind

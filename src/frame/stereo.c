@@ -103,7 +103,8 @@ orr_status orr_stereo_perspective_eye(orr_camera *cam, orr_projection *proj, int
      * by the opposite brings it back to the image centre in both eyes. */
     orr_projection_settings shifted = proj->settings;
     shifted.shift_x = eye * proj->focal * 0.5 * separation / convergence;
-    return orr_projection_plan(proj, &shifted, err);
+    orr_status st = orr_projection_check(&shifted, err); /* a shift too large to be a number */
+    return st ? st : orr_projection_plan(proj, &shifted, err);
 }
 
 orr_status orr_stereo_ods_setup(orr_stereo_ods *ods, const orr_projection *proj, int eye, double separation,

@@ -306,7 +306,8 @@ static orr_status choose_view(const orr_path_scene *ps, orr_source *src, const o
     ov->view.position = orr_quat_rotate(at_origin.orientation, centre_view);
     const orr_projection_settings overview = {
         .kind = ORR_PROJ_ORTHOGRAPHIC, .width = ov->width, .height = ov->height, .ortho_width = ov->view_width};
-    return orr_projection_plan(proj, &overview, err);
+    st = orr_projection_check(&overview, err);
+    return st ? st : orr_projection_plan(proj, &overview, err);
 }
 
 /* The particles in grey (the scene's stretch), dimmed so the path stands out. */

@@ -1,12 +1,13 @@
 /* Projections for tests: made the one way there is (orr_projection_plan),
- * from settings the test knows to be good. */
+ * from settings checked (orr_projection_check) that the test knows to be
+ * good. */
 #ifndef ORR_TEST_PLANNED_H
 #define ORR_TEST_PLANNED_H
 
 #include "frame/projection.h"
 
-/* The projection planned from settings; a refusal is a broken test, so it
- * prints the message and exits. */
+/* The projection planned from settings, checked; a refusal is a broken
+ * test, so it prints the message and exits. */
 orr_projection test_projection_planned(orr_projection_settings settings);
 
 /* The same from designated initialisers, as a literal reads:

@@ -94,36 +94,32 @@ static void test_batch_matches_single(void)
     }
 }
 
-/* Plans refused, each for one setting out of range. */
-static orr_status plan_status(orr_projection_settings settings, orr_error *err)
-{
-    orr_projection p;
-    return orr_projection_plan(&p, &settings, err);
-}
-
-static void test_plan_rejects_bad_parameters(void)
+static void test_check_rejects_bad_parameters(void)
 {
     orr_error err = {0};
     orr_projection_settings s = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 0, .height = 10, .ortho_width = 1};
-    CHECK(plan_status(s, &err) == ORR_ERR_USAGE);
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "0 x 10");
     s.width = -5;
-    CHECK(plan_status(s, &err) == ORR_ERR_USAGE);
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
     s.width = 100000;
-    CHECK(plan_status(s, &err) == ORR_ERR_USAGE);
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
     s.width = 10;
     s.ortho_width = 0;
-    CHECK(plan_status(s, &err) == ORR_ERR_USAGE);
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "camera.width: 0 is out of range (must be > 0)") == 0);
     s = (orr_projection_settings){.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = 180};
-    CHECK(plan_status(s, &err) == ORR_ERR_USAGE);
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "camera.fov: 180 is out of range (must be > 0 and < 180)") == 0);
     s.fov_deg = NAN;
-    CHECK(plan_status(s, &err) == ORR_ERR_USAGE);
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
+    s = (orr_projection_settings){.kind = ORR_PROJ_HEALPIX, .width = 1, .height = 1, .healpix_nside = 12};
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "camera.healpix_nside: must be a power of 2 (1, 2, 4, ..., 4096), got 12");
 }
 
 /* A scene's projection is checked whole, the parameters of other kinds
- * too, each message naming its key; the plan checks only its kind's. */
+ * too, each message naming its key; a program's only its kind's. */
 static void test_prepare_checks_every_parameter(void)
 {
     orr_error err = {0};
@@ -133,7 +129,7 @@ static void test_prepare_checks_every_parameter(void)
     s.dome_fov_deg = 80;
     CHECK(orr_projection_prepare(&s, NULL, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "camera.dome_fov: 80 is out of range (90 to 360)") == 0);
-    CHECK(plan_status(s, &err) == ORR_OK); /* an orthographic one has no dome */
+    CHECK(orr_projection_check(&s, &err) == ORR_OK); /* an orthographic one has no dome */
     orr_projection_defaults(&s);
     s.near = -1;
     CHECK(orr_projection_prepare(&s, NULL, &err) == ORR_ERR_USAGE);
@@ -147,6 +143,6 @@ int main(void)
     RUN(test_perspective_known_points);
     RUN(test_perspective_rejects_behind_camera);
     RUN(test_batch_matches_single);
-    RUN(test_plan_rejects_bad_parameters);
+    RUN(test_check_rejects_bad_parameters);
     return check_summary();
 }

@@ -82,7 +82,7 @@ static void test_dome_known_points(void)
     expect_pixel(&w, rim, 500, 1000, 1e-9);
     orr_projection_settings narrow = w.settings;
     narrow.dome_fov_deg = 80;
-    CHECK(orr_projection_plan(&w, &narrow, &err) == ORR_ERR_USAGE);
+    CHECK(orr_projection_check(&narrow, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "camera.dome_fov: 80 is out of range (90 to 360)");
 }
 
