@@ -35,7 +35,7 @@ typedef enum {
  * the projection that renders with them. */
 typedef struct orr_projection_settings {
     orr_projection_kind kind;
-    int width, height;  /* image size in pixels (HEALPix: its own, 4 nside x 3 nside) */
+    int width, height;  /* image size in pixels (HEALPix's map is 4 nside x 3 nside whatever these say) */
     double ortho_width; /* orthographic: simulation units across the image width */
     double fov_deg;     /* perspective: field of view along the wider image axis */
     double near;        /* perspective: points with z <= near are not drawn */
