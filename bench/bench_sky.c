@@ -73,7 +73,7 @@ int main(int argc, char **argv)
     /* Each sky map is compared with an orthographic view of the same size:
      * scattered writes into a bigger plane miss the cache more, whatever
      * the projection. */
-    struct { const char *name; orr_projection p; int reference; } projs[] = {
+    struct { const char *name; orr_projection_settings settings; int reference; } projs[] = {
         {"orthographic 3600^2", {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 3600, .height = 3600, .ortho_width = 40}, 1},
         {"dome 3600^2", {.kind = ORR_PROJ_DOME, .width = 3600, .height = 3600, .dome_fov_deg = 180}, 0},
         {"orthographic 4096x2048", {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 4096, .height = 2048, .ortho_width = 40}, 1},
@@ -95,11 +95,12 @@ int main(int argc, char **argv)
         timing ortho = {0, 0};
         for (int j = 0; j < nprojs; j++) {
             orr_error err = {0};
-            if (orr_projection_setup(&projs[j].p, &err))
+            orr_projection p;
+            if (orr_projection_plan(&p, &projs[j].settings, &err))
                 return 1;
             timing best = {1e30, 1e30};
             for (int rep = 0; rep < 3; rep++) { /* best of three: the machine may be shared */
-                timing t = run(&projs[j].p, n, x, y, z, w);
+                timing t = run(&p, n, x, y, z, w);
                 best.total = t.total < best.total ? t.total : best.total;
                 best.project = t.project < best.project ? t.project : best.project;
             }

@@ -203,12 +203,15 @@ static void accuracy_of(orr_sph *exact, orr_sph *table, const stars *s, orr_plan
     acc->mean_worst /= acc->stars ? acc->stars : 1;
 }
 
-static void run_projection(const char *name, orr_projection *p, const orr_kernel *k, size_t n, double core_pixels)
+static void run_projection(const char *name, const orr_projection_settings *settings, const orr_kernel *k, size_t n,
+                           double core_pixels)
 {
     orr_error err = {0};
+    orr_projection planned, *p = &planned;
     orr_sph exact, table;
     orr_plane a, b;
-    if (orr_projection_setup(p, &err) || orr_sph_init(&exact, k, p, &err) || orr_sph_init(&table, k, p, &err) ||
+    if (orr_projection_plan(p, settings, &err) || orr_sph_init(&exact, k, p, &err) ||
+        orr_sph_init(&table, k, p, &err) ||
         orr_plane_alloc(&a, p->width, p->height, "w", "", &err) ||
         orr_plane_alloc(&b, p->width, p->height, "w", "", &err)) {
         fprintf(stderr, "%s\n", err.msg);
@@ -272,14 +275,14 @@ int main(int argc, char **argv)
     printf("PSF cores of %.2f pixels (FWHM at the map's centre), CPU seconds on one thread, best of 3\n", core);
     struct {
         const char *name;
-        orr_projection p;
+        orr_projection_settings settings;
     } projs[] = {
         {"dome 3600^2", {.kind = ORR_PROJ_DOME, .width = 3600, .height = 3600, .dome_fov_deg = 180}},
         {"hammer-aitoff 4096x2048", {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 4096, .height = 2048}},
         {"equirectangular 4096x2048", {.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 4096, .height = 2048}},
     };
     for (size_t j = 0; j < sizeof projs / sizeof projs[0]; j++)
-        run_projection(projs[j].name, &projs[j].p, &k, n, core);
+        run_projection(projs[j].name, &projs[j].settings, &k, n, core);
     orr_kernel_free(&k);
     return 0;
 }

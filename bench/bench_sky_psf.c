@@ -88,13 +88,14 @@ int main(int argc, char **argv)
         die(&err);
     printf("Hubble PSF generated: %.3f s wall, %.3f s CPU\n", wall_seconds() - w0, cpu_seconds() - c0);
 
-    orr_projection p = {.kind = ORR_PROJ_DOME, .width = side, .height = side, .dome_fov_deg = 180};
+    const orr_projection_settings dome = {.kind = ORR_PROJ_DOME, .width = side, .height = side, .dome_fov_deg = 180};
+    orr_projection p;
     orr_kernel k;
     orr_sph sph;
     orr_plane fast, exact;
     orr_sky_psf sp;
     const double fwhm = ORR_SKY_CORE_PIXELS / side * ORR_PI; /* the automatic core */
-    if (orr_kernel_init(&k, ORR_KERNEL_CUBIC, &err) || orr_projection_setup(&p, &err) ||
+    if (orr_kernel_init(&k, ORR_KERNEL_CUBIC, &err) || orr_projection_plan(&p, &dome, &err) ||
         orr_sph_init(&sph, &k, &p, &err) || orr_plane_alloc(&fast, side, side, "w", "", &err) ||
         orr_plane_alloc(&exact, side, side, "w", "", &err) ||
         orr_sky_psf_init(&sp, &psf, ORR_SKY_CORE_PIXELS / p.focal, nstars, 0.0, 0, &err))

@@ -37,7 +37,7 @@ static void make_particles(const orr_projection *p, size_t n, float *x, float *y
         }
         /* Uniform on the sphere, or on the hemisphere z > 0 for the dome. */
         double cz = 2.0 * test_uniform(&s) - 1.0, phi = 2.0 * ORR_PI * test_uniform(&s);
-        if (p->kind == ORR_PROJ_DOME)
+        if (p->settings.kind == ORR_PROJ_DOME)
             cz = fabs(cz);
         double sz = sqrt(1.0 - cz * cz);
         x[i] = (float)(sz * cos(phi));
@@ -82,10 +82,11 @@ static result run(const orr_sph *sph, const orr_projection *p, size_t n, const f
     return r;
 }
 
-static void bench_view(const char *name, orr_projection *p, const orr_kernel *k, size_t n)
+static void bench_view(const char *name, const orr_projection_settings *settings, const orr_kernel *k, size_t n)
 {
     orr_error err = {0};
-    if (orr_projection_setup(p, &err)) {
+    orr_projection planned, *p = &planned;
+    if (orr_projection_plan(p, settings, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }
@@ -141,9 +142,10 @@ int main(int argc, char **argv)
         return 1;
     }
     printf("kernel %s tabulated in %.3f s; %zu particles\n", orr_kernel_name(kind), wall_seconds() - t0, n);
-    orr_projection ortho = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 2048, .height = 2048, .ortho_width = 1.0};
-    orr_projection dome = {.kind = ORR_PROJ_DOME, .width = 3600, .height = 3600, .dome_fov_deg = 180};
-    orr_projection ait = {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 4096, .height = 2048};
+    const orr_projection_settings ortho = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 2048, .height = 2048,
+                                           .ortho_width = 1.0};
+    const orr_projection_settings dome = {.kind = ORR_PROJ_DOME, .width = 3600, .height = 3600, .dome_fov_deg = 180};
+    const orr_projection_settings ait = {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 4096, .height = 2048};
     const char *only = argc > 3 ? argv[3] : NULL;
     if (!only || strcmp(only, "orthographic") == 0)
         bench_view("orthographic", &ortho, &k, n);

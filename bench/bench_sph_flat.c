@@ -112,9 +112,11 @@ int main(int argc, char **argv)
     int threads = omp_get_max_threads();
     orr_error err = {0};
     orr_kernel k;
-    orr_projection proj = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = NPIX, .height = NPIX, .ortho_width = VIEW};
+    const orr_projection_settings view = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = NPIX, .height = NPIX,
+                                          .ortho_width = VIEW};
+    orr_projection proj;
     orr_sph sph;
-    if (orr_kernel_init(&k, ORR_KERNEL_CUBIC, &err) || orr_projection_setup(&proj, &err) ||
+    if (orr_kernel_init(&k, ORR_KERNEL_CUBIC, &err) || orr_projection_plan(&proj, &view, &err) ||
         orr_sph_init(&sph, &k, &proj, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         return 1;

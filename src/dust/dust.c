@@ -351,7 +351,7 @@ static int pixel_ray(const orr_dust_eye *eye, const orr_projection *p, const orr
         return 0;
     *dir = orr_mat3_apply(*to_world, d);
     *origin = eye->eye;
-    if (p->kind == ORR_PROJ_ORTHOGRAPHIC)
+    if (p->settings.kind == ORR_PROJ_ORTHOGRAPHIC)
         *origin = orr_v3_add(eye->eye, orr_mat3_apply(*to_world, orr_v3((px - p->cx) / p->focal,
                                                                           (py - p->cy) / p->focal, 0)));
     return 1;

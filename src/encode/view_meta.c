@@ -10,17 +10,17 @@ static void projection_meta(const orr_projection *p, orr_image_meta *m, orr_view
 {
     const char *key = NULL;
     double value = 0;
-    switch (p->kind) {
-    case ORR_PROJ_ORTHOGRAPHIC: key = "orthoWidth", value = p->ortho_width; break;
+    switch (p->settings.kind) {
+    case ORR_PROJ_ORTHOGRAPHIC: key = "orthoWidth", value = p->settings.ortho_width; break;
     case ORR_PROJ_PERSPECTIVE:
-        key = "fieldOfViewDeg", value = p->fov_deg;
+        key = "fieldOfViewDeg", value = p->settings.fov_deg;
         m->has_screen_window = 1;
         m->screen_window_width = p->width / p->focal;
-        m->screen_window_center[0] = -p->shift_x / p->focal;
+        m->screen_window_center[0] = -p->settings.shift_x / p->focal;
         m->screen_window_center[1] = 0;
         break;
-    case ORR_PROJ_DOME: key = "domeFieldOfViewDeg", value = p->dome_fov_deg; break;
-    case ORR_PROJ_HEALPIX: key = "healpixNside", value = p->healpix_nside; break;
+    case ORR_PROJ_DOME: key = "domeFieldOfViewDeg", value = p->settings.dome_fov_deg; break;
+    case ORR_PROJ_HEALPIX: key = "healpixNside", value = p->settings.healpix_nside; break;
     default: break;
     }
     if (key) {
@@ -39,7 +39,7 @@ orr_image_meta orr_view_image_meta(const char *name, const orr_projection *p, do
 {
     orr_image_meta m = {0};
     m.scene = name;
-    m.projection = orr_projection_name(p->kind);
+    m.projection = orr_projection_name(p->settings.kind);
     m.has_time = 1;
     m.time = time;
     m.has_camera = 1;

@@ -91,7 +91,7 @@ static int add_zenithal(orr_cards *h, const orr_wcs_view *view, int gnomonic)
     orr_mat3 w2c = orr_camera_world_to_camera(view->camera);
     /* Inside a narrow perspective frame, and beyond its near distance
      * (a direction's length does not change where it projects). */
-    double a = fmin(10.0, gnomonic ? p->fov_deg / 4 : 10.0) / DEG, reach = 1.0 + 2.0 * p->near;
+    double a = fmin(10.0, gnomonic ? p->settings.fov_deg / 4 : 10.0) / DEG, reach = 1.0 + 2.0 * p->settings.near;
     double P[2][2], X[2][2]; /* columns: the two test directions */
     orr_vec3 toward[2] = {right, down};
     for (int k = 0; k < 2; k++) {
@@ -143,7 +143,7 @@ int orr_wcs_add_cards(orr_cards *h, const orr_wcs_view *view)
 {
     const orr_projection *p = view->proj;
     double l0;
-    switch (p->kind) {
+    switch (p->settings.kind) {
     case ORR_PROJ_HAMMER_AITOFF:
         if (!centred_on_equator(view->camera, view->frame, &l0))
             return 0;

@@ -30,7 +30,7 @@ static inline orr_proj_consts orr_proj_consts_of(const orr_projection *p)
     k.f = (float)p->focal;
     k.cx = (float)p->cx;
     k.cy = (float)p->cy;
-    k.near = (float)p->near;
+    k.near = (float)p->settings.near;
     k.hw = (float)p->half_w;
     k.hh = (float)p->half_h;
     k.sgn = (float)p->lon_sign;

@@ -18,8 +18,9 @@ const char *orr_projection_name(orr_projection_kind kind) { return orr_named_nam
 
 const orr_named orr_healpix_order_names[] = {{"ring", 0}, {"nested", 1}, {NULL, 0}};
 
-void orr_projection_cards(const orr_projection *p, orr_cards *h)
+void orr_projection_cards(const orr_projection *proj, orr_cards *h)
 {
+    const orr_projection_settings *p = &proj->settings;
     orr_cards_add_string(h, "PROJTYPE", orr_projection_name(p->kind), "projection");
     if (p->kind == ORR_PROJ_ORTHOGRAPHIC)
         orr_cards_add_double(h, "ORTHOWID", p->ortho_width, "image width in simulation length units");
@@ -31,7 +32,7 @@ void orr_projection_cards(const orr_projection *p, orr_cards *h)
         orr_cards_add_double(h, "DOMEFOV", p->dome_fov_deg, "[deg] dome field of view");
 }
 
-void orr_projection_defaults(orr_projection *p)
+void orr_projection_defaults(orr_projection_settings *p)
 {
     memset(p, 0, sizeof *p);
     p->kind = ORR_PROJ_ORTHOGRAPHIC;
@@ -47,36 +48,33 @@ void orr_projection_defaults(orr_projection *p)
 
 /* The 12 nside^2 pixels, as a 4 nside x 3 nside image in pixel order: the
  * planes are then the map itself. Each covers 4 pi / npix sr. */
-static orr_status setup_healpix(orr_projection *p, orr_error *err)
+static void setup_healpix(orr_projection *p)
 {
-    int n = p->healpix_nside;
-    if (n < 1 || n > ORR_HEALPIX_NSIDE_MAX || (n & (n - 1)) != 0)
-        return orr_fail(err, ORR_ERR_USAGE, "HEALPix nside %d must be a power of 2 from 1 to %d", n,
-                        ORR_HEALPIX_NSIDE_MAX);
+    int n = p->settings.healpix_nside;
     p->width = 4 * n;
     p->height = 3 * n;
     p->cx = 0.5 * p->width;
     p->cy = 0.5 * p->height;
     p->focal = sqrt(12.0 * n * n / (4.0 * ORR_PI));
     p->lon_sign = -1.0;
-    return ORR_OK;
 }
 
 long orr_healpix_pixel(const orr_projection *p, double x, double y, double z)
 {
     double v[3] = {z, -x, -y}; /* HEALPix's x toward phi = 0, its z the pole */
     long ipix = 0;
-    if (p->healpix_nested)
-        vec2pix_nest(p->healpix_nside, v, &ipix);
+    if (p->settings.healpix_nested)
+        vec2pix_nest(p->settings.healpix_nside, v, &ipix);
     else
-        vec2pix_ring(p->healpix_nside, v, &ipix);
+        vec2pix_ring(p->settings.healpix_nside, v, &ipix);
     return ipix;
 }
 
-/* The parameters within their ranges, each named by its key: those of
- * p's kind, or with every set all of them (a scene's, which holds them all,
- * used or not). */
-static orr_status check_ranges(const orr_projection *p, int every, const orr_keys *keys, orr_error *err)
+/* The parameters within their ranges, each message naming its key and
+ * value: those of p's kind, or with every set all of them (a scene's, which
+ * holds them all, used or not). The one place each range is checked. */
+static orr_status check_ranges(const orr_projection_settings *p, int every, const orr_keys *keys,
+                               orr_error *err)
 {
     if (p->width <= 0 || p->height <= 0 || p->width > ORR_IMAGE_SIDE_MAX || p->height > ORR_IMAGE_SIDE_MAX)
         return orr_fail_key(keys, NULL, err, "image size %d x %d is out of range (1 to %d pixels a side)",
@@ -90,45 +88,43 @@ static orr_status check_ranges(const orr_projection *p, int every, const orr_key
                             p->fov_deg);
     if (persp && !(p->near >= 0 && isfinite(p->near)))
         return orr_fail_key(keys, "camera.near", err, "camera.near: %g is out of range (must be >= 0)", p->near);
+    if (persp && !isfinite(p->shift_x)) /* a stereo eye's, which no key sets */
+        return orr_fail(err, ORR_ERR_USAGE, "perspective principal-point shift %g is not a number", p->shift_x);
     if ((every || p->kind == ORR_PROJ_DOME) && !(p->dome_fov_deg >= 90 && p->dome_fov_deg <= 360))
         return orr_fail_key(keys, "camera.dome_fov", err, "camera.dome_fov: %g is out of range (90 to 360)",
                             p->dome_fov_deg);
+    int n = p->healpix_nside; /* only HEALPix's: a scene's other projections ignore the key */
+    if (p->kind == ORR_PROJ_HEALPIX && (n < 1 || n > ORR_HEALPIX_NSIDE_MAX || (n & (n - 1)) != 0))
+        return orr_fail_key(keys, "camera.healpix_nside", err,
+                            "camera.healpix_nside: must be a power of 2 (1, 2, 4, ..., %d), got %d",
+                            ORR_HEALPIX_NSIDE_MAX, n);
     return ORR_OK;
 }
 
-orr_status orr_projection_prepare(const orr_projection *p, const orr_keys *keys, orr_error *err)
+orr_status orr_projection_prepare(const orr_projection_settings *p, const orr_keys *keys, orr_error *err)
 {
-    orr_status st = check_ranges(p, 1, keys, err);
-    if (st)
-        return st;
-    orr_projection planned; /* the derived values stay out of the settings */
-    return orr_projection_plan(&planned, p, err) ? orr_fail_key_prefix(keys, NULL, err, "") : ORR_OK;
+    return check_ranges(p, 1, keys, err);
 }
 
-orr_status orr_projection_plan(orr_projection *p, const orr_projection *settings, orr_error *err)
+orr_status orr_projection_check(const orr_projection_settings *p, orr_error *err)
 {
-    *p = *settings;
-    return orr_projection_setup(p, err);
+    return check_ranges(p, 0, NULL, err);
 }
 
-orr_status orr_projection_setup(orr_projection *p, orr_error *err)
+orr_status orr_projection_plan(orr_projection *p, const orr_projection_settings *settings, orr_error *err)
 {
-    orr_status st = check_ranges(p, 0, NULL, err);
-    if (st)
-        return st;
+    *p = (orr_projection){.settings = *settings, .width = settings->width, .height = settings->height};
+    const orr_projection_settings *s = &p->settings;
     p->cx = 0.5 * p->width;
     p->cy = 0.5 * p->height;
     int wider = p->width > p->height ? p->width : p->height;
-    switch (p->kind) {
+    switch (s->kind) {
     case ORR_PROJ_ORTHOGRAPHIC:
-        p->focal = p->width / p->ortho_width;
+        p->focal = p->width / s->ortho_width;
         return ORR_OK;
     case ORR_PROJ_PERSPECTIVE:
-        if (!isfinite(p->shift_x))
-            return orr_fail(err, ORR_ERR_USAGE, "perspective principal-point shift %g is not a number",
-                            p->shift_x);
-        p->focal = 0.5 * wider / tan(0.5 * p->fov_deg * ORR_PI / 180.0);
-        p->cx += p->shift_x;
+        p->focal = 0.5 * wider / tan(0.5 * s->fov_deg * ORR_PI / 180.0);
+        p->cx += s->shift_x;
         return ORR_OK;
     case ORR_PROJ_HAMMER_AITOFF:
         /* The ellipse spans the image: semi-axes W/2 and H/2 (2:1 for true
@@ -136,21 +132,22 @@ orr_status orr_projection_setup(orr_projection *p, orr_error *err)
         p->half_w = 0.5 * p->width;
         p->half_h = 0.5 * p->height;
         p->focal = 0.25 * sqrt((double)p->width * p->height);
-        p->lon_sign = p->lon_flip ? 1.0 : -1.0;
+        p->lon_sign = s->lon_flip ? 1.0 : -1.0;
         return ORR_OK;
     case ORR_PROJ_EQUIRECTANGULAR:
         p->focal = sqrt((double)p->width * p->height / (2.0 * ORR_PI * ORR_PI));
-        p->lon_sign = p->lon_flip ? 1.0 : -1.0;
+        p->lon_sign = s->lon_flip ? 1.0 : -1.0;
         return ORR_OK;
     case ORR_PROJ_HEALPIX:
-        return setup_healpix(p, err);
+        setup_healpix(p);
+        return ORR_OK;
     case ORR_PROJ_DOME:
         p->half_w = p->half_h = 0.5 * (p->width < p->height ? p->width : p->height);
-        p->theta_max = 0.5 * p->dome_fov_deg * ORR_PI / 180.0;
+        p->theta_max = 0.5 * s->dome_fov_deg * ORR_PI / 180.0;
         p->focal = p->half_w / p->theta_max;
         return ORR_OK;
     }
-    return orr_fail(err, ORR_ERR_INTERNAL, "unknown projection kind %d", (int)p->kind);
+    return orr_fail(err, ORR_ERR_INTERNAL, "unknown projection kind %d", (int)s->kind);
 }
 
 /* Hammer-Aitoff from a direction given by its components toward the map
@@ -180,14 +177,14 @@ static inline void hammer_aitoff(double fwd, double left, double up, double r, d
 int orr_project_point(const orr_projection *p, orr_vec3 c, double *px, double *py, double *scale)
 {
     double r = orr_v3_norm(c);
-    switch (p->kind) {
+    switch (p->settings.kind) {
     case ORR_PROJ_ORTHOGRAPHIC:
         *px = p->cx + p->focal * c.x;
         *py = p->cy + p->focal * c.y;
         *scale = p->focal;
         return 1;
     case ORR_PROJ_PERSPECTIVE:
-        if (!(c.z > p->near) || c.z <= 0)
+        if (!(c.z > p->settings.near) || c.z <= 0)
             return 0;
         *scale = p->focal / c.z;
         *px = p->cx + *scale * c.x;
@@ -287,7 +284,7 @@ static void project_healpix(const orr_projection *p, size_t n, const float *x, c
 
 int orr_projection_is_sky(const orr_projection *p)
 {
-    return orr_projection_traits_of(p->kind).sky;
+    return orr_projection_traits_of(p->settings.kind).sky;
 }
 
 int orr_projection_pixel_in_map(const orr_projection *p, int i, int j)
@@ -300,7 +297,7 @@ int orr_projection_pixel_in_map(const orr_projection *p, int i, int j)
 int orr_projection_point_in_map(const orr_projection *p, double x, double y)
 {
     double u = x - p->cx, v = y - p->cy;
-    switch (p->kind) {
+    switch (p->settings.kind) {
     case ORR_PROJ_HAMMER_AITOFF:
         u /= p->half_w;
         v /= p->half_h;
@@ -379,7 +376,7 @@ static double rectangle_solid_angle(double x0, double x1, double y0, double y1, 
 
 double orr_pixel_measure(const orr_projection *p, int i, int j)
 {
-    switch (p->kind) {
+    switch (p->settings.kind) {
     case ORR_PROJ_ORTHOGRAPHIC:
         return 1.0 / (p->focal * p->focal);
     case ORR_PROJ_PERSPECTIVE: {
@@ -419,7 +416,7 @@ static long mirror_index(double c, int k)
 void orr_pixel_measure_row(const orr_projection *p, int j, double *measure)
 {
     const int W = p->width;
-    switch (p->kind) {
+    switch (p->settings.kind) {
     case ORR_PROJ_ORTHOGRAPHIC:
     case ORR_PROJ_HAMMER_AITOFF:
     case ORR_PROJ_HEALPIX:
@@ -444,7 +441,7 @@ void orr_pixel_measure_row(const orr_projection *p, int j, double *measure)
 
 int orr_pixel_measure_twin_row(const orr_projection *p, int j)
 {
-    if (p->kind != ORR_PROJ_DOME)
+    if (p->settings.kind != ORR_PROJ_DOME)
         return -1;
     long twin = mirror_index(p->cy, j);
     return twin >= 0 && twin < p->height && twin != j ? (int)twin : -1;
@@ -452,7 +449,7 @@ int orr_pixel_measure_twin_row(const orr_projection *p, int j)
 
 void orr_projection_fold(const orr_projection *p, int *i, int *j)
 {
-    switch (p->kind) {
+    switch (p->settings.kind) {
     case ORR_PROJ_HAMMER_AITOFF:
         fold_hammer_aitoff(p, i, j);
         return;
@@ -473,7 +470,7 @@ void orr_projection_fold(const orr_projection *p, int *i, int *j)
 void orr_project_batch(const orr_projection *p, size_t n, const float *x, const float *y,
                        const float *z, float *px, float *py, float *scale, uint8_t *visible)
 {
-    switch (p->kind) {
+    switch (p->settings.kind) {
     case ORR_PROJ_ORTHOGRAPHIC:
         project_orthographic(p, n, x, y, z, px, py, scale, visible);
         return;
@@ -544,17 +541,17 @@ static int unproject_healpix(const orr_projection *p, double px, double py, orr_
         return 0;
     long k = (long)py * p->width + (long)px;
     double v[3];
-    if (p->healpix_nested)
-        pix2vec_nest(p->healpix_nside, k, v);
+    if (p->settings.healpix_nested)
+        pix2vec_nest(p->settings.healpix_nside, k, v);
     else
-        pix2vec_ring(p->healpix_nside, k, v);
+        pix2vec_ring(p->settings.healpix_nside, k, v);
     *dir = orr_v3(-v[1], -v[2], v[0]);
     return 1;
 }
 
 int orr_unproject(const orr_projection *p, double px, double py, orr_vec3 *dir)
 {
-    switch (p->kind) {
+    switch (p->settings.kind) {
     case ORR_PROJ_ORTHOGRAPHIC:
         if (!isfinite(px) || !isfinite(py))
             return 0;

@@ -29,9 +29,13 @@ typedef enum {
 #define ORR_IMAGE_SIDE_MAX 65536
 #define ORR_HEALPIX_NSIDE_MAX 4096
 
-typedef struct orr_projection {
+/* What a projection is asked to be: the keys a scene gives (camera.projection,
+ * .width, .fov, .near, .dome_fov, .healpix_nside, .healpix_order, .lon_flip;
+ * image.width, .height), or what a program fills. orr_projection_plan makes
+ * the projection that renders with them. */
+typedef struct orr_projection_settings {
     orr_projection_kind kind;
-    int width, height;  /* image size in pixels */
+    int width, height;  /* image size in pixels (HEALPix's map is 4 nside x 3 nside whatever these say) */
     double ortho_width; /* orthographic: simulation units across the image width */
     double fov_deg;     /* perspective: field of view along the wider image axis */
     double near;        /* perspective: points with z <= near are not drawn */
@@ -43,8 +47,13 @@ typedef struct orr_projection {
     int healpix_nested; /* HEALPix: NESTED pixel order (else RING) */
     int lon_flip;       /* sky maps: longitude grows to the right ("outside looking in");
                          * by default it grows to the left, as on the sky seen from inside */
+} orr_projection_settings;
 
-    /* Derived by orr_projection_setup. */
+/* A projection ready to render: made only by orr_projection_plan, which
+ * copies the settings in and derives the rest; read, never written, after. */
+typedef struct orr_projection {
+    orr_projection_settings settings; /* as planned */
+    int width, height;  /* the image in pixels: the settings' (HEALPix: 4 nside x 3 nside) */
     double cx, cy;      /* image centre in pixel coordinates */
     double focal;       /* orthographic: pixels per unit; perspective: focal length in pixels;
                          * sky: pixels per radian (the isotropic equivalent at the centre) */
@@ -53,11 +62,9 @@ typedef struct orr_projection {
     double lon_sign;    /* sky: -1 when longitude grows to the left (the default), +1 when flipped */
 } orr_projection;
 
-/* The scene's defaults of the keys a projection holds (camera.projection,
- * .width, .fov, .near, .dome_fov, .healpix_nside, .healpix_order,
- * .lon_flip; image.width, .height): orthographic, 100 units across, or a
- * 60 degree perspective, 1024 x 1024 pixels. Clears the derived fields. */
-void orr_projection_defaults(orr_projection *p);
+/* The scene's defaults of the keys a projection holds: orthographic, 100
+ * units across, or a 60 degree perspective, 1024 x 1024 pixels. */
+void orr_projection_defaults(orr_projection_settings *p);
 
 /* The words of camera.healpix_order (healpix_nested's 0 and 1). */
 extern const orr_named orr_healpix_order_names[];
@@ -150,25 +157,30 @@ int orr_pixel_measure_twin_row(const orr_projection *p, int j);
  * nearest pixel of the map (past the poles, the dome's rim). */
 void orr_projection_fold(const orr_projection *p, int *i, int *j);
 
-/* Checks the parameters and computes the derived fields. The sky
- * projections take their direction from the camera frame: Hammer-Aitoff and
- * equirectangular put the view direction (+z) at the centre, "up" (-y) at
- * b = +90 and, by default, longitude growing to the left (-x); the dome puts
- * the view direction at its zenith (the image centre) and the camera's down
- * (+y) at the bottom of the master, the dome's front. */
-orr_status orr_projection_setup(orr_projection *p, orr_error *err);
+/* A scene's settings checked, every parameter whether its kind uses it or
+ * not (camera.width, .fov, .near, .dome_fov: their ranges are the
+ * projection's, not the key table's; .healpix_nside a power of 2 for
+ * HEALPix), each message naming its key, value and, through keys, the file
+ * and line where it was set (core/keys.h). The one check a scene's
+ * projection gets: the plan takes it as checked. */
+orr_status orr_projection_prepare(const orr_projection_settings *p, const orr_keys *keys, orr_error *err);
 
-/* The projection a view renders with: the scene's settings (checked by
- * orr_projection_prepare) copied into p and set up, so that the values the
- * settings fix (theta_max, the focal length, the centre) are derived in one
- * place, here, when the plan is made; the settings keep none of them. */
-orr_status orr_projection_plan(orr_projection *p, const orr_projection *settings, orr_error *err);
+/* The same for settings a program fills itself: the parameters of their
+ * kind, in the same words, with no place. */
+orr_status orr_projection_check(const orr_projection_settings *p, orr_error *err);
 
-/* A scene's projection checked, every parameter whether its kind uses it
- * or not (camera.width, .fov, .near, .dome_fov: their ranges are the
- * projection's, not the key table's), then set up on a copy; keys says
- * where each was set (core/keys.h). */
-orr_status orr_projection_prepare(const orr_projection *p, const orr_keys *keys, orr_error *err);
+/* The projection a view renders with, from settings that orr_projection_prepare
+ * or orr_projection_check passed (or a planned projection's, changed within
+ * their ranges): the settings copied into p and the rest derived (the image
+ * size, the centre, the focal length, theta_max) in one place, when the
+ * plan is made. The only way to make one; fails only on an unknown kind.
+ * The sky projections take their direction from the camera frame:
+ * Hammer-Aitoff and equirectangular put the view direction (+z) at the
+ * centre, "up" (-y) at b = +90 and, by default, longitude growing to the
+ * left (-x); the dome puts the view direction at its zenith (the image
+ * centre) and the camera's down (+y) at the bottom of the master, the
+ * dome's front. */
+orr_status orr_projection_plan(orr_projection *p, const orr_projection_settings *settings, orr_error *err);
 
 extern const orr_named orr_projection_names[];
 /* The projection's cards: PROJTYPE and the parameters of its kind

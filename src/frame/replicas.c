@@ -169,20 +169,20 @@ void orr_view_cull_setup(orr_view_cull *vc, const orr_projection *p, const orr_c
     vc->active = 0;
     vc->nplanes = 0;
     vc->camera = cam->position;
-    if (p->kind != ORR_PROJ_PERSPECTIVE && p->kind != ORR_PROJ_ORTHOGRAPHIC)
+    if (p->settings.kind != ORR_PROJ_PERSPECTIVE && p->settings.kind != ORR_PROJ_ORTHOGRAPHIC)
         return;
     const orr_mat3 R = orr_camera_world_to_camera(cam);
     const orr_vec3 c = cam->position;
     const double f = p->focal, m = margin;
     const double left = p->cx + m, right = p->width + m - p->cx, top = p->cy + m, bottom = p->height + m - p->cy;
-    if (p->kind == ORR_PROJ_PERSPECTIVE) {
+    if (p->settings.kind == ORR_PROJ_PERSPECTIVE) {
         /* px = cx + f x / z >= -m  <=>  f x + (cx + m) z >= 0 for z > 0; likewise the others. */
         add_plane(vc, &R, c, orr_v3(f, 0, left), 0, 1);
         add_plane(vc, &R, c, orr_v3(-f, 0, right), 0, 1);
         add_plane(vc, &R, c, orr_v3(0, f, top), 0, 1);
         add_plane(vc, &R, c, orr_v3(0, -f, bottom), 0, 1);
         /* Points with z <= near (and z <= 0) are not drawn at all, kernel or not. */
-        add_plane(vc, &R, c, orr_v3(0, 0, 1), -(p->near > 0 ? p->near : 0.0), 0);
+        add_plane(vc, &R, c, orr_v3(0, 0, 1), -(p->settings.near > 0 ? p->settings.near : 0.0), 0);
     } else {
         /* px = cx + f x >= -m  <=>  f x + (cx + m) >= 0; every depth is drawn. */
         add_plane(vc, &R, c, orr_v3(f, 0, 0), left, 1);

@@ -85,9 +85,9 @@ const char *orr_eye_name(int eye) { return eye < 0 ? "left" : "right"; }
 orr_status orr_stereo_perspective_eye(orr_camera *cam, orr_projection *proj, int eye, double separation,
                                       double convergence, orr_error *err)
 {
-    if (proj->kind != ORR_PROJ_PERSPECTIVE)
+    if (proj->settings.kind != ORR_PROJ_PERSPECTIVE)
         return orr_fail(err, ORR_ERR_USAGE, "a stereo pair of cameras needs the perspective projection, not %s",
-                        orr_projection_name(proj->kind));
+                        orr_projection_name(proj->settings.kind));
     if (!(separation > 0) || !isfinite(separation))
         return orr_fail(err, ORR_ERR_USAGE, "stereo eye separation %g must be a positive number", separation);
     if (!(convergence > 0) || !isfinite(convergence))
@@ -101,8 +101,10 @@ orr_status orr_stereo_perspective_eye(orr_camera *cam, orr_projection *proj, int
      * x = -eye * separation / 2, which projects -eye * focal * separation /
      * (2 C) pixels from the principal point: shifting the principal point
      * by the opposite brings it back to the image centre in both eyes. */
-    proj->shift_x = eye * proj->focal * 0.5 * separation / convergence;
-    return orr_projection_setup(proj, err);
+    orr_projection_settings shifted = proj->settings;
+    shifted.shift_x = eye * proj->focal * 0.5 * separation / convergence;
+    orr_status st = orr_projection_check(&shifted, err); /* a shift too large to be a number */
+    return st ? st : orr_projection_plan(proj, &shifted, err);
 }
 
 orr_status orr_stereo_ods_setup(orr_stereo_ods *ods, const orr_projection *proj, int eye, double separation,
@@ -110,15 +112,15 @@ orr_status orr_stereo_ods_setup(orr_stereo_ods *ods, const orr_projection *proj,
 {
     if (!orr_projection_is_sky(proj))
         return orr_fail(err, ORR_ERR_USAGE, "omni-directional stereo needs a sky projection, not %s",
-                        orr_projection_name(proj->kind));
+                        orr_projection_name(proj->settings.kind));
     if (!(separation > 0) || !isfinite(separation))
         return orr_fail(err, ORR_ERR_USAGE, "stereo eye separation %g must be a positive number", separation);
     if (!(zenith_fade_deg >= 0 && zenith_fade_deg <= 90))
         return orr_fail(err, ORR_ERR_USAGE, "stereo zenith fade %g degrees must lie between 0 and 90",
                         zenith_fade_deg);
     ods->eye = eye < 0 ? ORR_EYE_LEFT : ORR_EYE_RIGHT;
-    ods->side = proj->kind != ORR_PROJ_DOME && proj->lon_flip ? -ods->eye : ods->eye;
-    ods->pole_is_z = proj->kind == ORR_PROJ_DOME;
+    ods->side = proj->settings.kind != ORR_PROJ_DOME && proj->settings.lon_flip ? -ods->eye : ods->eye;
+    ods->pole_is_z = proj->settings.kind == ORR_PROJ_DOME;
     ods->radius = (float)(0.5 * separation);
     ods->inv_sin_fade = zenith_fade_deg > 0 ? (float)(1.0 / sin(zenith_fade_deg * ORR_PI / 180.0)) : 0.0f;
     return ORR_OK;

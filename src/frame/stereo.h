@@ -81,8 +81,9 @@ void orr_stereo_cards(const orr_stereo_settings *st, orr_projection_kind kind, o
 /* Moves a perspective camera to one eye (ORR_EYE_LEFT or ORR_EYE_RIGHT):
  * its position by eye * separation / 2 along its right axis, and the
  * projection's principal point by eye * focal * separation / (2 convergence)
- * pixels. proj must be a set-up perspective projection; it is set up again.
- * Fails when separation or convergence is not a positive number. */
+ * pixels. proj must be a planned perspective projection; it is planned
+ * again from its settings with that shift. Fails when separation or
+ * convergence is not a positive number. */
 orr_status orr_stereo_perspective_eye(orr_camera *cam, orr_projection *proj, int eye, double separation,
                                       double convergence, orr_error *err);
 

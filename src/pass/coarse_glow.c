@@ -257,10 +257,10 @@ static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, flo
 {
     l->factor = factor;
     l->min_pixels = min_pixels;
-    l->proj = v->proj;
-    l->proj.width = v->proj.width / factor;
-    l->proj.height = v->proj.height / factor;
-    orr_status st = orr_projection_setup(&l->proj, err);
+    orr_projection_settings coarse = v->proj.settings;
+    coarse.width = v->proj.width / factor;
+    coarse.height = v->proj.height / factor;
+    orr_status st = orr_projection_plan(&l->proj, &coarse, err);
     if (!st && !(st = orr_sph_init(&l->sph, &v->kernel, &l->proj, err)))
         l->sph_ready = 1;
     for (int lane = 0; lane < nlanes && !st; lane++) /* (the lanes the view never splats in, none) */
@@ -276,7 +276,7 @@ static orr_status plan_level(orr_splat_view *v, coarse_level *l, int factor, flo
 
 orr_status orr_coarse_glow_plan(orr_splat_view *v, orr_error *err)
 {
-    const orr_projection_traits traits = orr_projection_traits_of(v->proj.kind);
+    const orr_projection_traits traits = orr_projection_traits_of(v->proj.settings.kind);
     const int w = v->proj.width, h = v->proj.height;
     /* Sky maps in colour that glow with the kernel deposit, no stereo eye;
      * the levels that divide the map and leave it 8 coarse pixels across

@@ -11,7 +11,7 @@ void orr_motion_blur_plan(orr_motion_blur *b, double half_time, const orr_camera
     b->close = *close;
     b->open_rot = orr_camera_world_to_camera(open);
     b->close_rot = orr_camera_world_to_camera(close);
-    b->kind = proj->kind;
+    b->kind = proj->settings.kind;
     b->k = orr_proj_consts_of(proj);
     b->px_per_radian = (float)proj->focal;
 }

@@ -56,7 +56,7 @@ GATHER_KIND(gather_healpix, ORR_PROJ_HEALPIX, ) /* chealpix's pixel search: no v
 int orr_ngp_gather(const orr_projection *p, const orr_map_outline *m, const orr_camera_transform *t, size_t n,
                    const float *x, const float *y, const float *z, const float *w, const orr_ngp_gather_out *out)
 {
-    switch (p->kind) {
+    switch (p->settings.kind) {
     case ORR_PROJ_ORTHOGRAPHIC: return gather_orthographic(p, m, t, n, x, y, z, w, out);
     case ORR_PROJ_PERSPECTIVE: return gather_perspective(p, m, t, n, x, y, z, w, out);
     case ORR_PROJ_HAMMER_AITOFF: return gather_hammer_aitoff(p, m, t, n, x, y, z, w, out);

@@ -345,7 +345,7 @@ static orr_status reserve_blocks(splat_work *w, size_t n, orr_error *err)
 static orr_dust_eye dust_eye(const orr_splat_view *v)
 {
     const orr_mat3 *r = &v->world_to_camera; /* its third row: the view axis */
-    return (orr_dust_eye){v->camera_position, orr_projection_traits_of(v->proj.kind).parallel,
+    return (orr_dust_eye){v->camera_position, orr_projection_traits_of(v->proj.settings.kind).parallel,
                           orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
 }
 
@@ -498,7 +498,7 @@ static orr_status check_healpix_budgets(orr_splat_view *const *views, int nviews
                         "from the first %llu of %lld particles): kernels near the camera cover much of the sky, "
                         "at up to 12 nside^2 samples each. Use a smaller camera.healpix_nside (the work goes as "
                         "its square), deposit: ngp, or a camera farther from the particles",
-                        views[k]->splat.path, (long long)views[k]->proj.healpix_nside, (double)b->limit,
+                        views[k]->splat.path, (long long)views[k]->proj.settings.healpix_nside, (double)b->limit,
                         (double)ORR_HEALPIX_SAMPLE_LIMIT_PER_THREAD,
                         (double)atomic_load(&b->foreseen) / (double)atomic_load(&b->foreseen_particles) *
                             (double)b->expected,

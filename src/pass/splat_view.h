@@ -45,9 +45,9 @@ typedef struct orr_splat_view {
      * kernel, the PSF, the SPH deposit (a sky map's index and core stamps).
      * The rest is the frame's. */
     orr_splat_settings splat;   /* what the splat pass reads of the view's settings */
-    orr_projection proj;        /* set up once, when planned (orr_projection_plan); a perspective
-                                 * stereo eye's principal point is shifted each frame, in place,
-                                 * which sets up the rest again (frame/stereo.c) */
+    orr_projection proj;        /* planned once (orr_projection_plan); a perspective stereo eye
+                                 * plans it again each frame, its principal point shifted
+                                 * (frame/stereo.c) */
     orr_mat3 world_to_camera;
     orr_vec3 camera_position;   /* this frame's camera (a stereo eye's), where world_to_camera starts */
     orr_plane planes[ORR_PLANES_MAX]; /* the weight plane, or CIE X, Y, Z with colour (then each

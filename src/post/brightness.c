@@ -68,7 +68,7 @@ void orr_brightness_unit(const orr_projection *p, const char *weight_unit, const
     const char *l = length_unit ? length_unit : "";
     /* FITS unit strings multiply by juxtaposition and divide by negative
      * powers ("solMass sr-1"): a "/" would divide everything after it. */
-    if (p->kind != ORR_PROJ_ORTHOGRAPHIC)
+    if (p->settings.kind != ORR_PROJ_ORTHOGRAPHIC)
         snprintf(out, size, "%s%ssr-1", w, w[0] ? " " : "");
     else if (l[0])
         snprintf(out, size, "%s%s%s-2", w, w[0] ? " " : "", l);

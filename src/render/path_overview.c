@@ -304,12 +304,10 @@ static orr_status choose_view(const orr_path_scene *ps, orr_source *src, const o
     orr_vec3 centre_view = orr_v3(0.5 * (b.lo[0] + b.hi[0]), 0.5 * (b.lo[1] + b.hi[1]), 0);
     ov->view = at_origin;
     ov->view.position = orr_quat_rotate(at_origin.orientation, centre_view);
-    memset(proj, 0, sizeof *proj);
-    proj->kind = ORR_PROJ_ORTHOGRAPHIC;
-    proj->width = ov->width;
-    proj->height = ov->height;
-    proj->ortho_width = ov->view_width;
-    return orr_projection_setup(proj, err);
+    const orr_projection_settings overview = {
+        .kind = ORR_PROJ_ORTHOGRAPHIC, .width = ov->width, .height = ov->height, .ortho_width = ov->view_width};
+    st = orr_projection_check(&overview, err);
+    return st ? st : orr_projection_plan(proj, &overview, err);
 }
 
 /* The particles in grey (the scene's stretch), dimmed so the path stands out. */

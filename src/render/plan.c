@@ -281,7 +281,7 @@ void orr_plan_regrade_scene(orr_scene *frame, double white)
 
 int orr_plan_psf_in_raw_planes(const orr_scene *s, int *sky)
 {
-    *sky = orr_projection_is_sky(&s->projection);
+    *sky = orr_projection_traits_of(s->projection.kind).sky;
     return *sky || orr_psf_flat_stars(&s->psf, *sky);
 }
 
@@ -487,9 +487,13 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     rep->has_sky_frame = observer != NULL;
     v->pass.world_to_camera = orr_camera_world_to_camera(&rep->camera);
     v->pass.camera_position = rep->camera.position;
-    /* The deposit keeps a copy of the projection: this frame's (an eye's
-     * principal point). A sky map's index depends on the map alone, which
-     * no eye moves. */
+    /* The deposit keeps a copy of the projection, refreshed to this frame's:
+     * a perspective stereo eye is planned again each frame, its principal
+     * point shifted by a convergence distance that follows the camera when
+     * stereo.convergence is not given (render/stereo_view.c). The flat
+     * deposit reads no principal point today, so the copy is for
+     * consistency; a sky map's index depends on the map alone, which no eye
+     * moves. */
     if (v->pass.sph_ready)
         v->pass.sph.proj = v->pass.proj;
     v->pass.outline = orr_map_outline_of(&v->pass.proj, v->pass.proj.width, v->pass.proj.height);
@@ -791,7 +795,7 @@ static orr_status keep_view(view_state *v, int k, const orr_frame_input *in, orr
     orr_status st = rgb ? ORR_OK : ORR_ERR_NOMEM;
     const orr_cards *cards = &v->frame_cards;
     orr_cards *map_cards = NULL;
-    if (!st && orr_projection_traits_of(v->pass.proj.kind).pixel_table) {
+    if (!st && orr_projection_traits_of(v->pass.proj.settings.kind).pixel_table) {
         map_cards = orr_malloc(sizeof *map_cards, "HEALPix map cards", err);
         st = map_cards ? ORR_OK : ORR_ERR_NOMEM;
         if (!st) {

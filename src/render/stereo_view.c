@@ -44,7 +44,7 @@ orr_status orr_stereo_setup_eye(const orr_stereo_settings *stereo, const orr_cam
     if (!stereo->eye)
         return ORR_OK;
     orr_status st;
-    if (orr_projection_traits_of(proj->kind).off_axis_stereo) {
+    if (orr_projection_traits_of(proj->settings.kind).off_axis_stereo) {
         rep->stereo_convergence = orr_stereo_convergence(stereo, camera, rep->camera.position);
         st = orr_stereo_perspective_eye(&rep->camera, proj, stereo->eye, stereo->eye_separation,
                                         rep->stereo_convergence, err);

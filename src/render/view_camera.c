@@ -210,7 +210,7 @@ static orr_status camera_at(const view_state *v, const orr_sky_frame *observer, 
         }
         st = orr_view_camera(c, observer ? &moved : NULL, when, cam, &sky, err);
     }
-    if (!st && c->stereo.eye && orr_projection_traits_of(v->pass.proj.kind).off_axis_stereo) {
+    if (!st && c->stereo.eye && orr_projection_traits_of(v->pass.proj.settings.kind).off_axis_stereo) {
         orr_projection p = v->pass.proj;
         st = orr_stereo_perspective_eye(cam, &p, c->stereo.eye, c->stereo.eye_separation, v->rep->stereo_convergence,
                                         err);

@@ -63,7 +63,7 @@ void orr_view_plan_cards(view_state *v, const orr_input_settings *input, const o
     orr_cards_add_string(h, "ORRVERS", ORRERY_VERSION, "orrery version");
     /* (a stereo eye's shift changes none of the projection's cards) */
     orr_projection_cards(&v->pass.proj, h);
-    orr_camera_dome_cards(&c->camera, v->pass.proj.kind, h);
+    orr_camera_dome_cards(&c->camera, v->pass.proj.settings.kind, h);
     static const reserved camera[] = {
         {"CAMPOSX", "camera position x"},
         {"CAMPOSY", "camera position y"},

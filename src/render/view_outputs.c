@@ -55,20 +55,20 @@ static orr_status begin_grade(const view_state *v, orr_graded *gr, char *desc, s
     rep->white = gr->white;
     if (f->compose.nlayers)
         orr_snprintf(desc, size, "colour (CIE XYZ) blended from %d layers, %s projection, %s stretch, Y0 %g",
-                     f->compose.nlayers, orr_projection_name(v->pass.proj.kind),
+                     f->compose.nlayers, orr_projection_name(v->pass.proj.settings.kind),
                      orr_lum_stretch_name(f->colour.synth.stretch), rep->white);
     else if (f->colour.has_populations)
         orr_snprintf(desc, size, "colour (CIE XYZ, %d populations) of %s, %s projection, %s stretch, Y0 %g",
-                     f->colour.populations.n, rep->source, orr_projection_name(v->pass.proj.kind),
+                     f->colour.populations.n, rep->source, orr_projection_name(v->pass.proj.settings.kind),
                      orr_lum_stretch_name(f->colour.synth.stretch), rep->white);
     else if (f->colour.has_tint)
         orr_snprintf(desc, size, "%s of %s tinted at t = %g of its colour path, %s projection, %s stretch, Y0 %g",
-                     f->weight, rep->source, v->tint_t, orr_projection_name(v->pass.proj.kind),
+                     f->weight, rep->source, v->tint_t, orr_projection_name(v->pass.proj.settings.kind),
                      orr_lum_stretch_name(f->colour.synth.stretch), rep->white);
     else
         orr_snprintf(desc, size, "%s of %s, %s projection, %s stretch, white %g, colour map %s", f->weight, rep->source,
-                     orr_projection_name(v->pass.proj.kind), orr_stretch_name(f->picture.stretch.kind), rep->white,
-                     orr_colormap_name(f->picture.colormap));
+                     orr_projection_name(v->pass.proj.settings.kind), orr_stretch_name(f->picture.stretch.kind),
+                     rep->white, orr_colormap_name(f->picture.colormap));
     return ORR_OK;
 }
 
@@ -223,7 +223,8 @@ static orr_status view_output(view_state *v, const char *ext, const char **write
 orr_healpix_info orr_view_healpix_info(const view_state *v)
 {
     orr_wcs_view wcs = {&v->pass.proj, &v->rep->camera, &v->rep->sky, v->rep->has_sky_frame, ""};
-    return (orr_healpix_info){v->pass.proj.healpix_nside, v->pass.proj.healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
+    const orr_projection_settings *map = &v->pass.proj.settings;
+    return (orr_healpix_info){map->healpix_nside, map->healpix_nested, orr_wcs_healpix_coordsys(&wcs)};
 }
 
 /* The view's planes, with the frame's cards, written to path: a HEALPix
@@ -232,7 +233,7 @@ orr_healpix_info orr_view_healpix_info(const view_state *v)
 static orr_status write_planes_to(const view_state *v, const char *ext, const char *path, orr_error *err)
 {
     const orr_cards *h = &v->frame_cards;
-    if (orr_projection_traits_of(v->pass.proj.kind).pixel_table) {
+    if (orr_projection_traits_of(v->pass.proj.settings.kind).pixel_table) {
         orr_healpix_info info = orr_view_healpix_info(v);
         return orr_write_healpix_fits(path, v->pass.planes, fits_nplanes(v), &info, h, err);
     }
@@ -327,7 +328,7 @@ static orr_status fits_writer_finish(view_state *v, fits_writer *w, orr_status s
 static orr_status extinction_plane(view_state *v, orr_plane *av, orr_error *err)
 {
     const orr_mat3 *r = &v->pass.world_to_camera;
-    orr_dust_eye eye = {v->rep->camera.position, orr_projection_traits_of(v->pass.proj.kind).parallel,
+    orr_dust_eye eye = {v->rep->camera.position, orr_projection_traits_of(v->pass.proj.settings.kind).parallel,
                         orr_v3(r->m[2][0], r->m[2][1], r->m[2][2])};
     return orr_dust_av_plane(v->pass.dust, &eye, &v->pass.proj, r, av, err);
 }

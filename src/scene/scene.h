@@ -62,8 +62,8 @@ typedef struct orr_scene {
     orr_input_settings input;       /* source: input.* (source/settings.h) */
     orr_periodic_settings periodic; /* frame: input.periodic.* (frame/replicas.h) */
     orr_camera_settings camera;     /* frame: camera.* orientation, path, dome, dim (frame/camera_settings.h) */
-    orr_projection projection;      /* frame: camera.projection, .width, .fov, .near, .lon_flip, .healpix_*,
-                                     * .dome_fov; image.width, .height (frame/projection.h) */
+    orr_projection_settings projection; /* frame: camera.projection, .width, .fov, .near, .lon_flip,
+                                         * .healpix_*, .dome_fov; image.width, .height (frame/projection.h) */
     orr_observer_settings observer; /* frame: observer.* (frame/observer.h) */
     orr_stereo_settings stereo;     /* frame: stereo.* but anaglyph (frame/stereo.h) */
     orr_deposit_settings deposit;   /* splat: deposit, smoothing.* (splat/deposit.h) */

@@ -231,7 +231,7 @@ orr_status scene_bind_checked(orr_scene *s, const yt_node *root, orr_error *err)
     if (st == ORR_OK)
         st = orr_projection_prepare(&s->projection, &keys, err);
     if (st == ORR_OK) /* the PSF's keys, given the map they are for */
-        st = orr_psf_prepare(&s->psf, orr_projection_is_sky(&s->projection), &keys, err);
+        st = orr_psf_prepare(&s->psf, orr_projection_traits_of(s->projection.kind).sky, &keys, err);
     if (st == ORR_OK)
         st = orr_colour_prepare(&s->colour, &keys, err);
     if (st == ORR_OK)

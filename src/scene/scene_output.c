@@ -102,11 +102,8 @@ orr_status scene_check_healpix(orr_scene *s, const scene_marks *m, orr_error *er
                 return scene_fail_key(s, m, keys[i], err, "%s: only with camera.projection: healpix", keys[i]);
         return ORR_OK;
     }
-    int nside = s->projection.healpix_nside;
-    if ((nside & (nside - 1)) != 0)
-        return scene_fail_key(s, m, "camera.healpix_nside", err,
-                              "camera.healpix_nside: must be a power of 2 (1, 2, 4, ..., %d), got %d",
-                              ORR_HEALPIX_NSIDE_MAX, nside);
+    /* (camera.healpix_nside's power of 2 is the projection's to check:
+     * orr_projection_prepare) */
     if (s->deposit.kind != ORR_DEPOSIT_NGP && s->deposit.kind != ORR_DEPOSIT_SPH)
         return scene_fail_key(s, m, scene_mark(m, "deposit") ? "deposit" : "camera.projection", err,
                               "camera.projection: healpix takes deposit: ngp (each particle whole into the pixel "

@@ -127,7 +127,7 @@ static void cic_shares(const orr_point_batch *b, int W, int H, orr_shares *out, 
 orr_map_outline orr_map_outline_of(const orr_projection *p, int width, int height)
 {
     orr_map_outline m = {width, height, 0.5f * (float)width, 0.5f * (float)height, 0.0f, 0.0f};
-    if (p && orr_projection_traits_of(p->kind).elliptic_map) {
+    if (p && orr_projection_traits_of(p->settings.kind).elliptic_map) {
         m.cx = (float)p->cx;
         m.cy = (float)p->cy;
         m.ax = (float)(1.0 / (p->half_w * p->half_w));

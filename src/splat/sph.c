@@ -1101,7 +1101,7 @@ static affine_fit affine_check(const orr_sph *s, const ellipse *e, orr_vec3 cent
         double cs = cos(k * ORR_PI / 4), sn = sin(k * ORR_PI / 4);
         double vy = sn / r22, vx = (cs - r12 * vy) / r11;
         double x = e->cx + ORR_KERNEL_SUPPORT * vx, y = e->cy + ORR_KERNEL_SUPPORT * vy;
-        if (orr_projection_traits_of(p->kind).wraps_longitude)
+        if (orr_projection_traits_of(p->settings.kind).wraps_longitude)
             x = x < 0 ? x + p->width : x > p->width ? x - p->width : x;
         orr_vec3 d;
         if (!orr_unproject(p, x, y, &d)) {
@@ -1406,7 +1406,7 @@ static void sky_particle(const orr_sph *s, target *t, const orr_sph_block *b, si
     ellipse e;
     affine_fit fit = theta < 0.5 ? sky_affine(s, px, py, theta, &e) : AFFINE_NO;
     if (fit == AFFINE_CROSSING) {
-        const orr_projection_traits proj = orr_projection_traits_of(s->proj.kind);
+        const orr_projection_traits proj = orr_projection_traits_of(s->proj.settings.kind);
         if (proj.rim)
             t->drop = 1;
         else if (!(proj.sheared_seam && e.hmin < 4.0))
@@ -1678,7 +1678,7 @@ static orr_status build_sky_index(orr_sph *s, orr_error *err)
         for (int gx = 0; gx < s->groups_x; gx++)
             group_extent(s, gx, gy, &s->groups[(size_t)gy * s->groups_x + gx]);
     orr_status st = build_cells(s, err);
-    if (!st && s->proj.kind == ORR_PROJ_EQUIRECTANGULAR)
+    if (!st && s->proj.settings.kind == ORR_PROJ_EQUIRECTANGULAR)
         st = build_equirect_tables(s, err);
     else if (!st && (size_t)W * H <= ORR_SPH_PIXEL_TABLE_MAX)
         st = build_pixel_tables(s, err);
@@ -1693,7 +1693,7 @@ orr_status orr_sph_init(orr_sph *s, const orr_kernel *k, const orr_projection *p
     s->kernel = k;
     s->proj = *proj;
     s->sky = orr_projection_is_sky(proj);
-    if (orr_projection_traits_of(proj->kind).pixel_table) { /* HEALPix has its own search: healpix_deposit */
+    if (orr_projection_traits_of(proj->settings.kind).pixel_table) { /* HEALPix has its own search: healpix_deposit */
         s->healpix_budget = orr_calloc(1, sizeof *s->healpix_budget, "HEALPix work limit", err);
         if (s->healpix_budget)
             orr_healpix_budget_start(s->healpix_budget, UINT64_MAX, 0);
@@ -1792,7 +1792,7 @@ static int foresee_healpix_work(const orr_sph *s, const orr_sph_block *b)
     for (size_t i = 0; i < b->n; i++) {
         const double h = b->h ? b->h[i] : 0.0, r = particle_distance(b, i);
         if (b->visible[i] && h > 0 && isfinite(h) && r > 0)
-            samples += orr_healpix_kernel_cost(s->proj.healpix_nside, h / r);
+            samples += orr_healpix_kernel_cost(s->proj.settings.healpix_nside, h / r);
     }
     return orr_healpix_budget_foresee(s->healpix_budget, samples, b->n);
 }
@@ -1802,8 +1802,8 @@ static int foresee_healpix_work(const orr_sph *s, const orr_sph_block *b)
  * its pixel, as deposit: ngp puts it. */
 static void healpix_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane, orr_deposit_stats *stats)
 {
-    const orr_healpix_target t = {s->kernel, s->proj.healpix_nside, s->proj.healpix_nested, plane->data,
-                                  s->healpix_budget};
+    const orr_projection_settings *map = &s->proj.settings;
+    const orr_healpix_target t = {s->kernel, map->healpix_nside, map->healpix_nested, plane->data, s->healpix_budget};
     orr_healpix_scratch scratch = {0};
     block_tally tally = {0};
     if (!foresee_healpix_work(s, b))
@@ -1856,7 +1856,7 @@ static void prefetch_footprint(const orr_plane *plane, const orr_sph_block *b, s
 
 void orr_sph_deposit(const orr_sph *s, const orr_sph_block *b, orr_plane *plane, orr_deposit_stats *stats)
 {
-    if (orr_projection_traits_of(s->proj.kind).pixel_table) {
+    if (orr_projection_traits_of(s->proj.settings.kind).pixel_table) {
         healpix_deposit(s, b, plane, stats);
         return;
     }
@@ -1924,7 +1924,7 @@ void orr_sph_deposit_planes(const orr_sph *s, const orr_sph_block *b, const floa
         one[k].w = w[k];
     }
     if (!s->sky || !b->h || !b->x || !b->y || !b->z || nplanes < 2 || nplanes > ORR_PLANES_MAX ||
-        orr_projection_traits_of(s->proj.kind).pixel_table) {
+        orr_projection_traits_of(s->proj.settings.kind).pixel_table) {
         for (int k = 0; k < nplanes; k++)
             orr_sph_deposit(s, &one[k], &planes[k], &stats[k]);
         return;

@@ -11,6 +11,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "planned.h"
 #include "fits_image.h"
 #include "orrery.h"
 #include "post/brightness.h"
@@ -164,11 +165,9 @@ static void test_panoramas_are_uniform(void)
  * division uses adds up to the whole sphere on the full-sky maps. */
 static void test_measures_add_up(void)
 {
-    orr_projection maps[2] = {{.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 360, .height = 180},
-                              {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 360, .height = 180}};
+    const orr_projection maps[2] = {PLANNED(.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 360, .height = 180),
+                                    PLANNED(.kind = ORR_PROJ_HAMMER_AITOFF, .width = 360, .height = 180)};
     for (int m = 0; m < 2; m++) {
-        orr_error err;
-        CHECK(orr_projection_setup(&maps[m], &err) == ORR_OK);
         double sum = 0;
         for (int j = 0; j < maps[m].height; j++)
             for (int i = 0; i < maps[m].width; i++)
@@ -180,9 +179,7 @@ static void test_measures_add_up(void)
     }
     /* A perspective frame's pixels add up to the frame's solid angle:
      * 4 asin(sin a sin b) for half-angles a and b. */
-    orr_projection p = {.kind = ORR_PROJ_PERSPECTIVE, .width = 200, .height = 100, .fov_deg = 90, .near = 0.1};
-    orr_error err;
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
+    orr_projection p = PLANNED(.kind = ORR_PROJ_PERSPECTIVE, .width = 200, .height = 100, .fov_deg = 90, .near = 0.1);
     double sum = 0, a = atan(1.0), b = atan(0.5);
     for (int j = 0; j < p.height; j++)
         for (int i = 0; i < p.width; i++)
@@ -194,16 +191,15 @@ static void test_measures_add_up(void)
  * the division by rows gives the same planes as pixel by pixel. */
 static void test_measure_rows_are_exact(void)
 {
-    orr_projection maps[] = {{.kind = ORR_PROJ_DOME, .width = 101, .height = 101, .dome_fov_deg = 180},
-                             {.kind = ORR_PROJ_DOME, .width = 100, .height = 100, .dome_fov_deg = 210},
-                             {.kind = ORR_PROJ_DOME, .width = 120, .height = 90, .dome_fov_deg = 180},
-                             {.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 64, .height = 32},
-                             {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 64, .height = 32},
-                             {.kind = ORR_PROJ_PERSPECTIVE, .width = 40, .height = 30, .fov_deg = 60, .near = 0.1}};
+    const orr_projection maps[] = {
+        PLANNED(.kind = ORR_PROJ_DOME, .width = 101, .height = 101, .dome_fov_deg = 180),
+        PLANNED(.kind = ORR_PROJ_DOME, .width = 100, .height = 100, .dome_fov_deg = 210),
+        PLANNED(.kind = ORR_PROJ_DOME, .width = 120, .height = 90, .dome_fov_deg = 180),
+        PLANNED(.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 64, .height = 32),
+        PLANNED(.kind = ORR_PROJ_HAMMER_AITOFF, .width = 64, .height = 32),
+        PLANNED(.kind = ORR_PROJ_PERSPECTIVE, .width = 40, .height = 30, .fov_deg = 60, .near = 0.1)};
     int twins = 0;
     for (size_t m = 0; m < sizeof maps / sizeof maps[0]; m++) {
-        orr_error err;
-        CHECK(orr_projection_setup(&maps[m], &err) == ORR_OK);
         double row[128];
         int mismatches = 0;
         for (int j = 0; j < maps[m].height; j++) {

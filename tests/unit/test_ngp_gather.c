@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "planned.h"
 #include "frame/project_point.h"
 #include "pass/ngp_gather.h"
 #include "splat/deposit.h"
@@ -55,17 +56,9 @@ static orr_camera_transform make_transform(int dim)
 
 static orr_projection make_projection(orr_projection_kind kind)
 {
-    orr_projection p = {0};
-    p.kind = kind;
-    p.width = kind == ORR_PROJ_HAMMER_AITOFF || kind == ORR_PROJ_EQUIRECTANGULAR ? 160 : 97;
-    p.height = kind == ORR_PROJ_HAMMER_AITOFF || kind == ORR_PROJ_EQUIRECTANGULAR ? 80 : 83;
-    p.ortho_width = 30;
-    p.fov_deg = 70;
-    p.near = 0.5;
-    p.dome_fov_deg = 200;
-    orr_error err;
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
-    return p;
+    const int two_to_one = kind == ORR_PROJ_HAMMER_AITOFF || kind == ORR_PROJ_EQUIRECTANGULAR;
+    return PLANNED(.kind = kind, .width = two_to_one ? 160 : 97, .height = two_to_one ? 80 : 83, .ortho_width = 30,
+                   .fov_deg = 70, .near = 0.5, .dome_fov_deg = 200);
 }
 
 /* The general path: camera frame, projection batch, then the deposit's

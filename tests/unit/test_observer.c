@@ -4,6 +4,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "planned.h"
 #include "frame/observer.h"
 #include "frame/projection.h"
 
@@ -55,8 +56,7 @@ static void test_centre_camera_on_hammer_aitoff(void)
     CHECK(orr_sky_frame_build(&f, sun, centre, orr_v3(0, 0, 1), &err) == ORR_OK);
     orr_camera cam;
     CHECK(orr_sky_camera_centre(&cam, &f, 0, &err) == ORR_OK);
-    orr_projection p = {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 800, .height = 400};
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
+    orr_projection p = PLANNED(.kind = ORR_PROJ_HAMMER_AITOFF, .width = 800, .height = 400);
     orr_vec3 c = orr_mat3_apply(orr_camera_world_to_camera(&cam), orr_v3_sub(centre, sun));
     double px, py, s;
     CHECK(orr_project_point(&p, c, &px, &py, &s) == 1);
@@ -78,8 +78,7 @@ static void test_dome_camera(void)
     orr_error err = {0};
     double zenith[2] = {0, 90}, front[2] = {30, 0};
     CHECK(orr_sky_camera_dome(&cam, &f, zenith, front, 0, &err) == ORR_OK);
-    orr_projection p = {.kind = ORR_PROJ_DOME, .width = 1000, .height = 1000, .dome_fov_deg = 180};
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
+    orr_projection p = PLANNED(.kind = ORR_PROJ_DOME, .width = 1000, .height = 1000, .dome_fov_deg = 180);
     orr_mat3 R = orr_camera_world_to_camera(&cam);
     double px, py, s;
     /* The zenith at the centre, the front on the bottom of the rim. */

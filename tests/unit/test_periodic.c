@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include "check.h"
+#include "planned.h"
 #include "encode/fits_read.h"
 #include "frame/projection.h"
 #include "frame/replicas.h"
@@ -103,9 +104,8 @@ static void test_sphere_resolve(void)
  * +y up), 90 degrees across 100 x 100 pixels: the view is |x|, |y| <= -z. */
 static orr_view_cull perspective_view(void)
 {
-    orr_projection p = {.kind = ORR_PROJ_PERSPECTIVE, .width = 100, .height = 100, .fov_deg = 90, .near = 0.01};
+    orr_projection p = PLANNED(.kind = ORR_PROJ_PERSPECTIVE, .width = 100, .height = 100, .fov_deg = 90, .near = 0.01);
     orr_error err;
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
     orr_camera cam;
     CHECK(orr_camera_look_along(&cam, orr_v3(0, 0, 0), orr_v3(0, 0, -1), orr_v3(0, 1, 0), 0, &err) == ORR_OK);
     orr_view_cull vc;
@@ -139,8 +139,7 @@ static void test_perspective_culling(void)
 static void test_orthographic_and_sky(void)
 {
     orr_error err;
-    orr_projection p = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 100, .height = 50, .ortho_width = 10};
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
+    orr_projection p = PLANNED(.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 100, .height = 50, .ortho_width = 10);
     orr_camera cam;
     CHECK(orr_camera_look_along(&cam, orr_v3(0, 0, 0), orr_v3(0, 0, -1), orr_v3(0, 1, 0), 0, &err) == ORR_OK);
     orr_view_cull vc;
@@ -151,8 +150,7 @@ static void test_orthographic_and_sky(void)
     CHECK(!orr_view_cull_box(&vc, orr_v3(5, -1, -3), orr_v3(7, 1, -2), orr_v3(0, 0, 0), 0));
     CHECK(orr_view_cull_box(&vc, orr_v3(-1, 2.8, -3), orr_v3(1, 3, -2), orr_v3(0, 0, 0), 0));
     /* A sky map sees everything. */
-    orr_projection sky = {.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 100, .height = 50};
-    CHECK(orr_projection_setup(&sky, &err) == ORR_OK);
+    orr_projection sky = PLANNED(.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 100, .height = 50);
     orr_view_cull_setup(&vc, &sky, &cam, 1.0);
     CHECK(!vc.active);
     CHECK(!orr_view_cull_box(&vc, orr_v3(60, 60, 60), orr_v3(61, 61, 61), orr_v3(0, 0, 0), 0));
@@ -436,9 +434,7 @@ static double tapered_depth(double R, double F)
  * solid angle, summed. */
 static double frame_light(const orr_plane *p)
 {
-    orr_projection proj = {.kind = ORR_PROJ_PERSPECTIVE, .width = SPH_W, .height = SPH_H, .fov_deg = 60};
-    orr_error err;
-    CHECK(orr_projection_setup(&proj, &err) == ORR_OK);
+    orr_projection proj = PLANNED(.kind = ORR_PROJ_PERSPECTIVE, .width = SPH_W, .height = SPH_H, .fov_deg = 60);
     double sum = 0;
     for (int j = 0; j < p->height; j++)
         for (int i = 0; i < p->width; i++)

@@ -3,22 +3,17 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "planned.h"
 #include "frame/projection.h"
 
 static orr_projection ortho(int w, int h, double width)
 {
-    orr_projection p = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = w, .height = h, .ortho_width = width};
-    orr_error err = {0};
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
-    return p;
+    return PLANNED(.kind = ORR_PROJ_ORTHOGRAPHIC, .width = w, .height = h, .ortho_width = width);
 }
 
 static orr_projection persp(int w, int h, double fov, double near)
 {
-    orr_projection p = {.kind = ORR_PROJ_PERSPECTIVE, .width = w, .height = h, .fov_deg = fov, .near = near};
-    orr_error err = {0};
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
-    return p;
+    return PLANNED(.kind = ORR_PROJ_PERSPECTIVE, .width = w, .height = h, .fov_deg = fov, .near = near);
 }
 
 static void test_orthographic_known_points(void)
@@ -99,42 +94,45 @@ static void test_batch_matches_single(void)
     }
 }
 
-static void test_setup_rejects_bad_parameters(void)
+static void test_check_rejects_bad_parameters(void)
 {
     orr_error err = {0};
-    orr_projection p = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 0, .height = 10, .ortho_width = 1};
-    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+    orr_projection_settings s = {.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 0, .height = 10, .ortho_width = 1};
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "0 x 10");
-    p = (orr_projection){.kind = ORR_PROJ_ORTHOGRAPHIC, .width = -5, .height = 10, .ortho_width = 1};
-    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
-    p = (orr_projection){.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 100000, .height = 10, .ortho_width = 1};
-    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
-    p = (orr_projection){.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 10, .height = 10, .ortho_width = 0};
-    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+    s.width = -5;
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
+    s.width = 100000;
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
+    s.width = 10;
+    s.ortho_width = 0;
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "camera.width: 0 is out of range (must be > 0)") == 0);
-    p = (orr_projection){.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = 180};
-    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+    s = (orr_projection_settings){.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = 180};
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "camera.fov: 180 is out of range (must be > 0 and < 180)") == 0);
-    p = (orr_projection){.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = NAN};
-    CHECK(orr_projection_setup(&p, &err) == ORR_ERR_USAGE);
+    s.fov_deg = NAN;
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
+    s = (orr_projection_settings){.kind = ORR_PROJ_HEALPIX, .width = 1, .height = 1, .healpix_nside = 12};
+    CHECK(orr_projection_check(&s, &err) == ORR_ERR_USAGE);
+    CHECK_CONTAINS(err.msg, "camera.healpix_nside: must be a power of 2 (1, 2, 4, ..., 4096), got 12");
 }
 
 /* A scene's projection is checked whole, the parameters of other kinds
- * too, each message naming its key; setup checks only its kind's. */
+ * too, each message naming its key; a program's only its kind's. */
 static void test_prepare_checks_every_parameter(void)
 {
     orr_error err = {0};
-    orr_projection p;
-    orr_projection_defaults(&p);
-    CHECK(orr_projection_prepare(&p, NULL, &err) == ORR_OK);
-    CHECK(p.focal == 0); /* the derived values are the plan's, not the settings' */
-    p.dome_fov_deg = 80;
-    CHECK(orr_projection_prepare(&p, NULL, &err) == ORR_ERR_USAGE);
+    orr_projection_settings s;
+    orr_projection_defaults(&s);
+    CHECK(orr_projection_prepare(&s, NULL, &err) == ORR_OK);
+    s.dome_fov_deg = 80;
+    CHECK(orr_projection_prepare(&s, NULL, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "camera.dome_fov: 80 is out of range (90 to 360)") == 0);
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK); /* an orthographic one has no dome */
-    orr_projection_defaults(&p);
-    p.near = -1;
-    CHECK(orr_projection_prepare(&p, NULL, &err) == ORR_ERR_USAGE);
+    CHECK(orr_projection_check(&s, &err) == ORR_OK); /* an orthographic one has no dome */
+    orr_projection_defaults(&s);
+    s.near = -1;
+    CHECK(orr_projection_prepare(&s, NULL, &err) == ORR_ERR_USAGE);
     CHECK(strcmp(err.msg, "camera.near: -1 is out of range (must be >= 0)") == 0);
 }
 
@@ -145,6 +143,6 @@ int main(void)
     RUN(test_perspective_known_points);
     RUN(test_perspective_rejects_behind_camera);
     RUN(test_batch_matches_single);
-    RUN(test_setup_rejects_bad_parameters);
+    RUN(test_check_rejects_bad_parameters);
     return check_summary();
 }

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "planned.h"
 #include "core/fastmath.h"
 #include "splat/deposit.h"
 
@@ -16,10 +17,7 @@ static orr_vec3 dir_lb(double l_deg, double b_deg)
 
 static orr_projection make(orr_projection_kind kind, int w, int h)
 {
-    orr_projection p = {.kind = kind, .width = w, .height = h, .dome_fov_deg = 180};
-    orr_error err = {0};
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
-    return p;
+    return PLANNED(.kind = kind, .width = w, .height = h, .dome_fov_deg = 180);
 }
 
 static void expect_pixel(const orr_projection *p, orr_vec3 d, double x, double y, double tol)
@@ -52,9 +50,7 @@ static void test_hammer_aitoff_known_points(void)
     double X = 2 * sqrt(2) * cos(b) * sin(l / 2) / den, Y = sqrt(2) * sin(b) / den;
     expect_pixel(&p, dir_lb(123, -41), 400 - X / (2 * sqrt(2)) * 400, 200 - Y / sqrt(2) * 200, 1e-9);
     /* Flipped: longitude grows to the right. */
-    orr_projection f = {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 800, .height = 400, .lon_flip = 1};
-    orr_error err = {0};
-    CHECK(orr_projection_setup(&f, &err) == ORR_OK);
+    orr_projection f = PLANNED(.kind = ORR_PROJ_HAMMER_AITOFF, .width = 800, .height = 400, .lon_flip = 1);
     expect_pixel(&f, dir_lb(90, 0), 400 + x90 / (2 * sqrt(2)) * 400, 200, 1e-9);
     /* The observer's own position is not drawn. */
     double px, py, s;
@@ -78,15 +74,15 @@ static void test_dome_known_points(void)
     /* Below the horizon is not on a 180 degree dome, but is on a 230 degree one. */
     double px, py, s;
     CHECK(orr_project_point(&p, orr_v3(0, 1, -0.2), &px, &py, &s) == 0);
-    orr_projection w = {.kind = ORR_PROJ_DOME, .width = 1000, .height = 1000, .dome_fov_deg = 230};
+    orr_projection w = PLANNED(.kind = ORR_PROJ_DOME, .width = 1000, .height = 1000, .dome_fov_deg = 230);
     orr_error err = {0};
-    CHECK(orr_projection_setup(&w, &err) == ORR_OK);
     CHECK(orr_project_point(&w, orr_v3(0, 1, -0.2), &px, &py, &s) == 1);
     /* 115 degrees from the zenith is the rim of a 230 degree dome. */
     orr_vec3 rim = orr_v3(0, sin(115 * ORR_PI / 180), cos(115 * ORR_PI / 180));
     expect_pixel(&w, rim, 500, 1000, 1e-9);
-    w.dome_fov_deg = 80;
-    CHECK(orr_projection_setup(&w, &err) == ORR_ERR_USAGE);
+    orr_projection_settings narrow = w.settings;
+    narrow.dome_fov_deg = 80;
+    CHECK(orr_projection_check(&narrow, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "camera.dome_fov: 80 is out of range (90 to 360)");
 }
 

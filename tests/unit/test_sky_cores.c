@@ -6,6 +6,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "planned.h"
 #include "post/view_psf.h"
 #include "splat/sky_cores.h"
 #include "splat/sph.h"
@@ -25,7 +26,6 @@ static void sky_setup(sky *s, orr_projection p, double core_pixels)
 {
     orr_error err = {0};
     s->p = p;
-    CHECK(orr_projection_setup(&s->p, &err) == ORR_OK);
     CHECK(orr_kernel_init(&s->k, ORR_KERNEL_CUBIC, &err) == ORR_OK);
     CHECK(orr_sph_init(&s->exact, &s->k, &s->p, &err) == ORR_OK);
     CHECK(orr_sph_init(&s->table, &s->k, &s->p, &err) == ORR_OK);
@@ -118,8 +118,8 @@ static void test_against_exact(void)
     /* Large enough maps that a cell's ellipse holds across it: the table
      * is for production sizes (on a 601^2 dome a 64-pixel cell spans 19
      * degrees, and most cells are left to the exact path). */
-    const orr_projection maps[2] = {{.kind = ORR_PROJ_DOME, .width = 2001, .height = 2001, .dome_fov_deg = 180},
-                                    {.kind = ORR_PROJ_HAMMER_AITOFF, .width = 2400, .height = 1200}};
+    const orr_projection maps[2] = {PLANNED(.kind = ORR_PROJ_DOME, .width = 2001, .height = 2001, .dome_fov_deg = 180),
+                                    PLANNED(.kind = ORR_PROJ_HAMMER_AITOFF, .width = 2400, .height = 1200)};
     for (int k = 0; k < 2; k++) {
         sky s;
         sky_setup(&s, maps[k], ORR_SKY_CORE_PIXELS);
@@ -144,7 +144,7 @@ static void test_against_exact(void)
 static void test_left_to_the_exact_path(void)
 {
     sky s;
-    sky_setup(&s, (orr_projection){.kind = ORR_PROJ_DOME, .width = 601, .height = 601, .dome_fov_deg = 180},
+    sky_setup(&s, PLANNED(.kind = ORR_PROJ_DOME, .width = 601, .height = 601, .dome_fov_deg = 180),
               ORR_SKY_CORE_PIXELS);
     float px, py;
     orr_vec3 zenith = orr_v3(0.01, 0.02, 1.0);
@@ -163,7 +163,7 @@ static void test_left_to_the_exact_path(void)
     sky_free(&s);
 
     sky wide;
-    sky_setup(&wide, (orr_projection){.kind = ORR_PROJ_DOME, .width = 601, .height = 601, .dome_fov_deg = 180}, 30.0);
+    sky_setup(&wide, PLANNED(.kind = ORR_PROJ_DOME, .width = 601, .height = 601, .dome_fov_deg = 180), 30.0);
     CHECK(orr_sky_cores_draw(wide.table.cores, &wide.table, 300.5, 300.5, wide.theta, 1.0f, &wide.b) == 0);
     sky_free(&wide);
 }
@@ -173,7 +173,7 @@ static void test_left_to_the_exact_path(void)
 static void test_undo(void)
 {
     sky s;
-    sky_setup(&s, (orr_projection){.kind = ORR_PROJ_DOME, .width = 601, .height = 601, .dome_fov_deg = 180},
+    sky_setup(&s, PLANNED(.kind = ORR_PROJ_DOME, .width = 601, .height = 601, .dome_fov_deg = 180),
               ORR_SKY_CORE_PIXELS);
     orr_vec3 d = orr_v3_normalize(orr_v3(0.2, -0.1, 1.0));
     float px, py;
@@ -196,7 +196,7 @@ static void test_undo(void)
 static void test_planes_at_once(void)
 {
     sky s;
-    sky_setup(&s, (orr_projection){.kind = ORR_PROJ_DOME, .width = 601, .height = 601, .dome_fov_deg = 180},
+    sky_setup(&s, PLANNED(.kind = ORR_PROJ_DOME, .width = 601, .height = 601, .dome_fov_deg = 180),
               ORR_SKY_CORE_PIXELS);
     enum { N = 3000 };
     static float x[N], y[N], z[N], px[N], py[N], sc[N], h[N], w[3][N];

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "planned.h"
 #include "post/view_psf.h"
 #include "splat/sph.h"
 
@@ -37,7 +38,6 @@ static void sky_setup(sky *s, orr_projection p, const orr_image_kernel *psf, con
     orr_error err = {0};
     memset(s, 0, sizeof *s);
     s->p = p;
-    CHECK(orr_projection_setup(&s->p, &err) == ORR_OK);
     CHECK(orr_kernel_init(&s->k, ORR_KERNEL_CUBIC, &err) == ORR_OK);
     CHECK(orr_sph_init(&s->sph, &s->k, &s->p, &err) == ORR_OK);
     CHECK(orr_plane_alloc(&s->fast, s->p.width, s->p.height, "w", "", &err) == ORR_OK);
@@ -132,7 +132,7 @@ static void test_dome(void)
     const orr_vec3 dirs[] = {{0.001, 0.002, 1}, {0.5, 0, 0.866}, {0, -0.866, 0.5}, {-0.70, 0.70, 0.15},
                              {0.996, 0.03, 0.087}};
     sky s;
-    sky_setup(&s, (orr_projection){.kind = ORR_PROJ_DOME, .width = 1201, .height = 1201, .dome_fov_deg = 180},
+    sky_setup(&s, PLANNED(.kind = ORR_PROJ_DOME, .width = 1201, .height = 1201, .dome_fov_deg = 180),
               &psf, dirs, 5);
     compare(&s, "dome 1201^2", 2e-3, 0.05);
     sky_free(&s);
@@ -145,7 +145,7 @@ static void test_hammer_aitoff(void)
     /* The centre, by the l = 180 seam, and near a pole. */
     const orr_vec3 dirs[] = {{0.01, 0.02, 1}, {0.017, 0.1, -0.99}, {0.1, -0.98, 0.17}};
     sky s;
-    sky_setup(&s, (orr_projection){.kind = ORR_PROJ_HAMMER_AITOFF, .width = 1600, .height = 800}, &psf, dirs, 3);
+    sky_setup(&s, PLANNED(.kind = ORR_PROJ_HAMMER_AITOFF, .width = 1600, .height = 800), &psf, dirs, 3);
     compare(&s, "hammer-aitoff 1600x800", 2e-3, 0.05);
     sky_free(&s);
     orr_image_kernel_free(&psf);
@@ -160,7 +160,7 @@ static void test_threads(void)
     for (int i = 0; i < 40; i++) /* overlapping stars, more than one batch */
         dirs[i] = (orr_vec3){0.3 * cos(0.7 * i), 0.3 * sin(1.3 * i), 1};
     sky s;
-    sky_setup(&s, (orr_projection){.kind = ORR_PROJ_DOME, .width = 801, .height = 801, .dome_fov_deg = 180}, &psf,
+    sky_setup(&s, PLANNED(.kind = ORR_PROJ_DOME, .width = 801, .height = 801, .dome_fov_deg = 180), &psf,
               dirs, 40);
     const int threads = omp_get_max_threads();
     omp_set_num_threads(1);

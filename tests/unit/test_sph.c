@@ -7,6 +7,7 @@
 #include <stdlib.h>
 
 #include "check.h"
+#include "planned.h"
 #include "splat/sph.h"
 #include "test_random.h"
 
@@ -23,11 +24,7 @@ static orr_kernel make_kernel(orr_kernel_kind kind)
 static orr_projection make_proj(orr_projection_kind kind, int w, int h)
 {
     /* Orthographic with one unit per pixel, so h is in pixels. */
-    orr_projection p = {.kind = kind, .width = w, .height = h, .ortho_width = w, .fov_deg = 60,
-                        .dome_fov_deg = 180};
-    orr_error err = {0};
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
-    return p;
+    return PLANNED(.kind = kind, .width = w, .height = h, .ortho_width = w, .fov_deg = 60, .dome_fov_deg = 180);
 }
 
 static orr_plane make_plane(const orr_projection *p)
@@ -454,11 +451,8 @@ static void test_unproject(void)
     ps[1] = make_proj(ORR_PROJ_DOME, 400, 400);
     ps[2] = make_proj(ORR_PROJ_EQUIRECTANGULAR, 720, 360);
     ps[3] = make_proj(ORR_PROJ_PERSPECTIVE, 320, 200);
-    ps[4] = (orr_projection){.kind = ORR_PROJ_DOME, .width = 300, .height = 320, .dome_fov_deg = 230};
-    ps[5] = (orr_projection){.kind = ORR_PROJ_HAMMER_AITOFF, .width = 500, .height = 250, .lon_flip = 1};
-    orr_error err = {0};
-    CHECK(orr_projection_setup(&ps[4], &err) == ORR_OK);
-    CHECK(orr_projection_setup(&ps[5], &err) == ORR_OK);
+    ps[4] = PLANNED(.kind = ORR_PROJ_DOME, .width = 300, .height = 320, .dome_fov_deg = 230);
+    ps[5] = PLANNED(.kind = ORR_PROJ_HAMMER_AITOFF, .width = 500, .height = 250, .lon_flip = 1);
     uint64_t seed = 3;
     for (int k = 0; k < 6; k++) {
         const orr_projection *p = &ps[k];
@@ -473,7 +467,7 @@ static void test_unproject(void)
             if (!orr_project_point(p, orr_v3_scale(d, 2.5), &qx, &qy, &s) || fabs(qx - x) > 1e-6 ||
                 fabs(qy - y) > 1e-6) {
                 if (bad++ < 3)
-                    fprintf(stderr, "%s: (%g, %g) -> (%g, %g)\n", orr_projection_name(p->kind), x, y, qx, qy);
+                    fprintf(stderr, "%s: (%g, %g) -> (%g, %g)\n", orr_projection_name(p->settings.kind), x, y, qx, qy);
             }
         }
         CHECK(bad == 0);
@@ -576,7 +570,7 @@ static void test_sky_mass_conserved(void)
                 if (i == 3)
                     b = -89.9;
                 d[i] = dir_lb(l, b);
-                if (p->kind == ORR_PROJ_DOME) {
+                if (p->settings.kind == ORR_PROJ_DOME) {
                     /* Visible: within 90 degrees of +z; two at the rim. */
                     if (d[i].z < 0)
                         d[i].z = -d[i].z;
@@ -762,7 +756,7 @@ static void test_sky_shapes(void)
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
         double e = sky_shape_error(&k, cases[c].p, orr_v3_normalize(cases[c].d), cases[c].theta);
         fprintf(stderr, "  %s, h/r = %g: largest difference %.2g of the peak pixel\n",
-                orr_projection_name(cases[c].p->kind), cases[c].theta, e);
+                orr_projection_name(cases[c].p->settings.kind), cases[c].theta, e);
         CHECK(e < cases[c].tol);
     }
     orr_kernel_free(&k);

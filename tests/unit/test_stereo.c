@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "check.h"
+#include "planned.h"
 #include "frame/stereo.h"
 #include "post/anaglyph.h"
 #include "render/stereo_view.h"
@@ -30,8 +31,7 @@ static eye_view perspective_eye(int eye, double separation, double convergence)
 {
     eye_view v;
     orr_error err = {0};
-    v.proj = (orr_projection){.kind = ORR_PROJ_PERSPECTIVE, .width = 200, .height = 100, .fov_deg = 60, .near = 1e-3};
-    CHECK(orr_projection_setup(&v.proj, &err) == ORR_OK);
+    v.proj = PLANNED(.kind = ORR_PROJ_PERSPECTIVE, .width = 200, .height = 100, .fov_deg = 60, .near = 1e-3);
     CHECK(orr_camera_look_along(&v.cam, orr_v3(1, 2, 3), orr_v3(1, 0, 0), orr_v3(0, 0, 1), 0, &err) == ORR_OK);
     CHECK(orr_stereo_perspective_eye(&v.cam, &v.proj, eye, separation, convergence, &err) == ORR_OK);
     return v;
@@ -97,14 +97,12 @@ static void test_perspective_eye_rejects_bad_input(void)
 {
     orr_error err = {0};
     orr_camera cam = {orr_v3(0, 0, 0), {1, 0, 0, 0}};
-    orr_projection p = {.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = 60};
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
+    orr_projection p = PLANNED(.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = 60);
     CHECK(orr_stereo_perspective_eye(&cam, &p, ORR_EYE_LEFT, 0, 10, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "separation");
     CHECK(orr_stereo_perspective_eye(&cam, &p, ORR_EYE_LEFT, 1, NAN, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "convergence");
-    p.kind = ORR_PROJ_ORTHOGRAPHIC;
-    p.ortho_width = 1;
+    p = PLANNED(.kind = ORR_PROJ_ORTHOGRAPHIC, .width = 10, .height = 10, .ortho_width = 1);
     CHECK(orr_stereo_perspective_eye(&cam, &p, ORR_EYE_LEFT, 1, 10, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "orthographic");
 }
@@ -113,10 +111,7 @@ static void test_perspective_eye_rejects_bad_input(void)
 
 static orr_projection sky(orr_projection_kind kind, int w, int h)
 {
-    orr_projection p = {.kind = kind, .width = w, .height = h, .dome_fov_deg = 180};
-    orr_error err = {0};
-    CHECK(orr_projection_setup(&p, &err) == ORR_OK);
-    return p;
+    return PLANNED(.kind = kind, .width = w, .height = h, .dome_fov_deg = 180);
 }
 
 static orr_stereo_ods ods_eye(const orr_projection *p, int eye, double separation, double fade)
@@ -165,9 +160,7 @@ static void test_ods_equirectangular_ahead(void)
 static void test_ods_mirrored_map(void)
 {
     for (int flip = 0; flip <= 1; flip++) {
-        orr_projection p = {.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 360, .height = 180, .lon_flip = flip};
-        orr_error err = {0};
-        CHECK(orr_projection_setup(&p, &err) == ORR_OK);
+        orr_projection p = PLANNED(.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 360, .height = 180, .lon_flip = flip);
         orr_stereo_ods l = ods_eye(&p, ORR_EYE_LEFT, 1, 0);
         float x = 0, y = 0, z = 5;
         CHECK(ods_point(&l, &x, &y, &z) == 1);
@@ -252,8 +245,7 @@ static void test_ods_zenith_fade(void)
     orr_error err = {0};
     CHECK(orr_stereo_ods_setup(&o, &p, ORR_EYE_LEFT, 1, 91, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "zenith fade");
-    orr_projection persp = {.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = 60};
-    CHECK(orr_projection_setup(&persp, &err) == ORR_OK);
+    orr_projection persp = PLANNED(.kind = ORR_PROJ_PERSPECTIVE, .width = 10, .height = 10, .fov_deg = 60);
     CHECK(orr_stereo_ods_setup(&o, &persp, ORR_EYE_LEFT, 1, 0, &err) == ORR_ERR_USAGE);
     CHECK_CONTAINS(err.msg, "sky projection");
 }
