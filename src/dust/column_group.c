@@ -3,12 +3,15 @@
  *
  * The stars are sorted by their direction from the eye into the cells of a
  * cube map, each face's square split as a quadtree until a cell holds at
- * most GROUP_MAX stars; a cell's stars are a group. A group walks the tree
- * once, against the cone from the eye that holds all of its segments (its
- * axis, its half-angle, its reach: the farthest star's distance), and keeps
- * every kernel whose support the cone may meet: the candidates, in the
- * tree's order. Each star then sums its share of each candidate
- * (orr_dust_share, column_walk.h).
+ * most GROUP_MAX stars; a cell's stars are a group, and a cell of at most
+ * SUPER_MAX stars a super-group. A super-group walks the tree once, against
+ * the cone from the eye that holds all of its segments (its axis, its
+ * half-angle, its reach: the farthest star's distance), and keeps every
+ * kernel whose support the cone may meet, in the tree's order; each of its
+ * groups keeps those its own cone may meet: its candidates (a tree walk for
+ * each group cost three times the picking, measured with bench_dust). Each
+ * star then sums its share of each candidate (orr_dust_share,
+ * column_walk.h), four candidates at a time (terms_avx2).
  *
  * Why the result is each star's own walk's, bit for bit: a kernel adds
  * nonzero only if the star's segment passes through its support; the cone
@@ -32,6 +35,7 @@
 #endif
 
 #define GROUP_MAX 64  /* stars per group, unless its cell is at the finest level */
+#define SUPER_MAX 512 /* stars per super-group: its groups pick their candidates from its own */
 #define LEVELS 12     /* quadtree levels per cube face: cells down to 1/4096 of a face's side */
 #define STACK_MAX 128 /* as column.c: the tree's depth is about log2(n / 8) + 1 */
 #define SLACK 1e-6    /* relative widening of the cone's tests, far above double rounding */
@@ -78,10 +82,15 @@ static uint64_t direction_key(const double d[3])
 }
 
 /* Splits the sorted keys [lo, hi), which share their cell at `level`
- * (-1: the whole sky), into groups; their first indices go to starts. */
-static size_t split_groups(const star_key *k, size_t lo, size_t hi, int level, uint32_t *starts, size_t ng)
+ * (-1: the whole sky), into cells of at most max stars (unless at the
+ * finest level); their first indices go to starts, their levels to levels
+ * (if not NULL). */
+static size_t split_groups(const star_key *k, size_t lo, size_t hi, int level, size_t max, uint32_t *starts,
+                           int *levels, size_t ng)
 {
-    if ((level >= 0 && hi - lo <= GROUP_MAX) || level == LEVELS) {
+    if ((level >= 0 && hi - lo <= max) || level == LEVELS) {
+        if (levels)
+            levels[ng] = level;
         starts[ng++] = (uint32_t)lo;
         return ng;
     }
@@ -91,7 +100,7 @@ static size_t split_groups(const star_key *k, size_t lo, size_t hi, int level, u
         size_t b = a + 1;
         while (b < hi && k[b].key >> shift == cell)
             b++;
-        ng = split_groups(k, a, b, level + 1, starts, ng);
+        ng = split_groups(k, a, b, level + 1, max, starts, levels, ng);
         a = b;
     }
     return ng;
@@ -150,13 +159,12 @@ static void group_cone(cone *c, const double eye[3], const float *x, const float
     c->reach *= 1 + SLACK;
 }
 
-/* Whether the ball of radius r about (bx, by, bz) may meet a segment in
- * the cone: it must start within the reach and lie within the half-angle
- * plus the angle the ball subtends. Errs on the side of yes. */
-static inline int cone_may_meet(const cone *c, double bx, double by, double bz, double r)
+/* Whether the ball of radius r about the point v from the eye (d2 = |v|^2,
+ * dist = |v|) may meet a segment in the cone: it must start within the
+ * reach and lie within the half-angle plus the angle the ball subtends.
+ * Errs on the side of yes. */
+static inline int cone_may_meet_at(const cone *c, double vx, double vy, double vz, double d2, double dist, double r)
 {
-    const double vx = bx - c->e[0], vy = by - c->e[1], vz = bz - c->e[2];
-    const double d2 = vx * vx + vy * vy + vz * vz, dist = sqrt(d2);
     r += SLACK * (r + dist);
     if (dist <= r)
         return 1;
@@ -168,6 +176,14 @@ static inline int cone_may_meet(const cone *c, double bx, double by, double bz, 
      * dist (cos_a cos b - sin_a sin b) = cos_a sqrt(dist^2 - r^2) - sin_a r,
      * no division. */
     return vx * c->a[0] + vy * c->a[1] + vz * c->a[2] >= c->cos_a * sqrt(d2 - r * r) - c->sin_a * r;
+}
+
+/* The same for the ball about (bx, by, bz). */
+static inline int cone_may_meet(const cone *c, double bx, double by, double bz, double r)
+{
+    const double vx = bx - c->e[0], vy = by - c->e[1], vz = bz - c->e[2];
+    const double d2 = vx * vx + vy * vy + vz * vz;
+    return cone_may_meet_at(c, vx, vy, vz, d2, sqrt(d2), r);
 }
 
 static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
@@ -184,6 +200,7 @@ static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
 typedef struct candidates {
     size_t n, cap;
     double *vx, *vy, *vz, *v2; /* centre from the eye, and its square: as each star's walk computes them */
+    double *dist, *r;          /* |v|, and the support's radius 2h */
     double *near;              /* less than the distance from the eye to the support's nearest point */
     float *ih, *kih2;          /* the kernel's own 1/h and k/h^2 */
     double *term;              /* per star: each candidate's share of its column */
@@ -195,6 +212,8 @@ static void candidates_free(candidates *c)
     free(c->vy);
     free(c->vz);
     free(c->v2);
+    free(c->dist);
+    free(c->r);
     free(c->near);
     free(c->ih);
     free(c->kih2);
@@ -209,11 +228,13 @@ static int grow_array(void **a, size_t cap, size_t size)
     return p != NULL;
 }
 
-static int candidates_grow(candidates *c)
+static int candidates_grow(candidates *c, size_t need)
 {
-    const size_t cap = c->cap ? 2 * c->cap : 4096;
-    void **d[] = {(void **)&c->vx, (void **)&c->vy, (void **)&c->vz, (void **)&c->v2, (void **)&c->near,
-                  (void **)&c->term};
+    size_t cap = c->cap ? 2 * c->cap : 4096;
+    while (cap < need)
+        cap *= 2;
+    void **d[] = {(void **)&c->vx,   (void **)&c->vy, (void **)&c->vz,   (void **)&c->v2,
+                  (void **)&c->dist, (void **)&c->r,  (void **)&c->near, (void **)&c->term};
     for (size_t a = 0; a < sizeof d / sizeof *d; a++)
         if (!grow_array(d[a], cap, sizeof(double)))
             return 0;
@@ -246,7 +267,7 @@ static int gather(const orr_dust_set *s, const cone *cn, candidates *c)
             const double r = ORR_DUST_SUPPORT * s->h[i];
             if (!cone_may_meet(cn, s->x[i], s->y[i], s->z[i], r))
                 continue;
-            if (c->n == c->cap && !candidates_grow(c))
+            if (c->n == c->cap && !candidates_grow(c, c->n + 1))
                 return 0;
             const size_t j = c->n++;
             const double vx = s->x[i] - cn->e[0], vy = s->y[i] - cn->e[1], vz = s->z[i] - cn->e[2];
@@ -255,6 +276,8 @@ static int gather(const orr_dust_set *s, const cone *cn, candidates *c)
             c->vy[j] = vy;
             c->vz[j] = vz;
             c->v2[j] = v2;
+            c->dist[j] = dist;
+            c->r[j] = r;
             c->near[j] = dist - r - SLACK * (r + dist);
             c->ih[j] = s->ih[i];
             c->kih2[j] = s->kih2[i];
@@ -405,22 +428,47 @@ static double star_tau(const orr_dust_set *s, candidates *c, const orr_dust_segm
     return sum;
 }
 
+/* Candidate j of from as candidate k of to, as far as the stars' terms
+ * and drops need it (not dist and r, which only picking uses). */
+static inline void candidate_copy(candidates *to, size_t k, const candidates *from, size_t j)
+{
+    to->vx[k] = from->vx[j];
+    to->vy[k] = from->vy[j];
+    to->vz[k] = from->vz[j];
+    to->v2[k] = from->v2[j];
+    to->near[k] = from->near[j];
+    to->ih[k] = from->ih[j];
+    to->kih2[k] = from->kih2[j];
+}
+
 /* Drops, keeping the order, the candidates whose support begins beyond
  * len, which the group's stars nearer than len cannot meet. */
 static void drop_beyond(candidates *c, double len)
 {
     size_t kept = 0;
     for (size_t j = 0; j < c->n; j++) {
-        c->vx[kept] = c->vx[j];
-        c->vy[kept] = c->vy[j];
-        c->vz[kept] = c->vz[j];
-        c->v2[kept] = c->v2[j];
-        c->near[kept] = c->near[j];
-        c->ih[kept] = c->ih[j];
-        c->kih2[kept] = c->kih2[j];
+        candidate_copy(c, kept, c, j);
         kept += c->near[j] < len;
     }
     c->n = kept;
+}
+
+/* The candidates of a super-group that a group's cone may meet, in their
+ * order: the same test as the group's own walk of the tree would make of
+ * each kernel (the same eye), and the super-group's cone holds all of the
+ * group's segments, so every kernel a star meets is kept. 0 if out of
+ * memory. */
+static int pick_candidates(const candidates *from, const cone *cn, candidates *to)
+{
+    if (to->cap < from->n && !candidates_grow(to, from->n))
+        return 0;
+    size_t k = 0;
+    for (size_t j = 0; j < from->n; j++) {
+        candidate_copy(to, k, from, j);
+        k += cone_may_meet_at(cn, from->vx[j], from->vy[j], from->vz[j], from->v2[j], from->dist[j], from->r[j]);
+    }
+    to->n = k;
+    return 1;
 }
 
 static int farthest_first(const void *pa, const void *pb)
@@ -431,15 +479,12 @@ static int farthest_first(const void *pa, const void *pb)
     return (a->i > b->i) - (a->i < b->i);
 }
 
-/* tau_V of the group k[0, n): one traversal, then each star over the
- * candidates, farthest first (each star on its own walk if memory runs
- * out: the same values). */
+/* tau_V of the group k[0, n) over its candidates c (shared 0: memory ran
+ * out, each star on its own walk: the same values), its stars farthest
+ * first. */
 static void group_tau(const orr_dust_set *s, const double eye[3], const float *x, const float *y, const float *z,
-                      star_key *k, size_t n, candidates *c, double *tau)
+                      star_key *k, size_t n, candidates *c, int shared, double *tau)
 {
-    cone cn;
-    group_cone(&cn, eye, x, y, z, k, n);
-    const int shared = gather(s, &cn, c);
     qsort(k, n, sizeof *k, farthest_first);
     for (size_t q = 0; q < n; q++) {
         double p[3];
@@ -453,8 +498,39 @@ static void group_tau(const orr_dust_set *s, const double eye[3], const float *x
         if (orr_dust_star_segment(&g, eye, p)) /* (always: tau_many groups only such stars) */
             sum = star_tau(s, c, &g);
         tau[k[q].i] = sum;
-        if (q % 2 == 0 && q + 1 < n)
+        if (q % 4 == 0 && q + 1 < n) /* every fourth star: the copies cost as much as the tests they save */
             drop_beyond(c, k[q + 1].len);
+    }
+}
+
+/* The work of one thread: the candidates of a super-group and of its
+ * group. */
+typedef struct walker {
+    candidates super, group;
+} walker;
+
+/* tau_V of a super-group's stars, its groups' starts [first, last) of
+ * starts: one traversal of the tree for the super-group, each group
+ * picking its candidates from it (a super-group of one group walks the tree
+ * for itself). */
+static void super_group_tau(const orr_dust_set *s, const double eye[3], const float *x, const float *y,
+                            const float *z, star_key *keys, const uint32_t *starts, size_t first, size_t last,
+                            walker *w, double *tau)
+{
+    cone cn;
+    star_key *k = keys + starts[first];
+    group_cone(&cn, eye, x, y, z, k, starts[last] - starts[first]);
+    if (last - first == 1) {
+        const int shared = gather(s, &cn, &w->group);
+        group_tau(s, eye, x, y, z, k, starts[last] - starts[first], &w->group, shared, tau);
+        return;
+    }
+    const int shared = gather(s, &cn, &w->super);
+    for (size_t g = first; g < last; g++) {
+        const size_t n = starts[g + 1] - starts[g];
+        k = keys + starts[g];
+        group_cone(&cn, eye, x, y, z, k, n);
+        group_tau(s, eye, x, y, z, k, n, &w->group, shared && pick_candidates(&w->super, &cn, &w->group), tau);
     }
 }
 
@@ -465,8 +541,12 @@ orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t 
         return orr_fail(err, ORR_ERR_USAGE, "%zu stars at once: at most %u", n, UINT32_MAX - 1);
     star_key *keys = orr_malloc((n ? n : 1) * sizeof *keys, "dust star groups", err);
     uint32_t *starts = keys ? orr_malloc((n + 1) * sizeof *starts, "dust star groups", err) : NULL;
-    if (!starts) {
+    uint32_t *supers = starts ? orr_malloc((n + 1) * sizeof *supers, "dust star groups", err) : NULL;
+    int *levels = supers ? orr_malloc((n + 1) * sizeof *levels, "dust star groups", err) : NULL;
+    if (!levels) {
         free(keys);
+        free(starts);
+        free(supers);
         return ORR_ERR_NOMEM;
     }
     size_t m = 0;
@@ -479,17 +559,30 @@ orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t 
             keys[m++] = (star_key){direction_key(g.d), (uint32_t)i, g.len};
     }
     qsort(keys, m, sizeof *keys, key_order);
-    size_t ng = m ? split_groups(keys, 0, m, -1, starts, 0) : 0;
+    /* super-groups, then each one's groups: supers[q] becomes the index in
+     * starts of super-group q's first group */
+    const size_t ns = m ? split_groups(keys, 0, m, -1, SUPER_MAX, supers, levels, 0) : 0;
+    supers[ns] = (uint32_t)m;
+    size_t ng = 0;
+    for (size_t q = 0; q < ns; q++) {
+        const uint32_t lo = supers[q];
+        supers[q] = (uint32_t)ng;
+        ng = split_groups(keys, lo, supers[q + 1], levels[q], GROUP_MAX, starts, NULL, ng);
+    }
+    supers[ns] = (uint32_t)ng;
     starts[ng] = (uint32_t)m;
 #pragma omp parallel
     {
-        candidates c = {0};
+        walker w = {{0}, {0}};
 #pragma omp for schedule(dynamic, 1)
-        for (long q = 0; q < (long)ng; q++)
-            group_tau(s, eye, x, y, z, keys + starts[q], starts[q + 1] - starts[q], &c, tau);
-        candidates_free(&c);
+        for (long q = 0; q < (long)ns; q++)
+            super_group_tau(s, eye, x, y, z, keys, starts, supers[q], supers[q + 1], &w, tau);
+        candidates_free(&w.super);
+        candidates_free(&w.group);
     }
     free(keys);
     free(starts);
+    free(supers);
+    free(levels);
     return ORR_OK;
 }
