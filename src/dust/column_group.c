@@ -3,12 +3,15 @@
  *
  * The stars are sorted by their direction from the eye into the cells of a
  * cube map, each face's square split as a quadtree until a cell holds at
- * most GROUP_MAX stars; a cell's stars are a group. A group walks the tree
- * once, against the cone from the eye that holds all of its segments (its
- * axis, its half-angle, its reach: the farthest star's distance), and keeps
- * every kernel whose support the cone may meet: the candidates, in the
- * tree's order. Each star then sums its share of each candidate
- * (orr_dust_share, column_walk.h).
+ * most GROUP_MAX stars; a cell's stars are a group, and a cell of at most
+ * SUPER_MAX stars a super-group. A super-group walks the tree once, against
+ * the cone from the eye that holds all of its segments (its axis, its
+ * half-angle, its reach: the farthest star's distance), and keeps every
+ * kernel whose support the cone may meet, in the tree's order; each of its
+ * groups keeps those its own cone may meet: its candidates (a tree walk for
+ * each group cost three times the picking, measured with bench_dust). Each
+ * star then sums its share of each candidate (orr_dust_share,
+ * column_walk.h), four candidates at a time (terms_avx2).
  *
  * Why the result is each star's own walk's, bit for bit: a kernel adds
  * nonzero only if the star's segment passes through its support; the cone
@@ -22,10 +25,17 @@
 #include <stdint.h>
 #include <stdlib.h>
 
+#include "core/simd.h"
 #include "dust/column.h"
 #include "dust/column_walk.h"
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(ORR_NO_CLONES)
+#define HAVE_VECTOR_TERMS 1
+#include <immintrin.h>
+#endif
+
 #define GROUP_MAX 64  /* stars per group, unless its cell is at the finest level */
+#define SUPER_MAX 512 /* stars per super-group: its groups pick their candidates from its own */
 #define LEVELS 12     /* quadtree levels per cube face: cells down to 1/4096 of a face's side */
 #define STACK_MAX 128 /* as column.c: the tree's depth is about log2(n / 8) + 1 */
 #define SLACK 1e-6    /* relative widening of the cone's tests, far above double rounding */
@@ -72,10 +82,15 @@ static uint64_t direction_key(const double d[3])
 }
 
 /* Splits the sorted keys [lo, hi), which share their cell at `level`
- * (-1: the whole sky), into groups; their first indices go to starts. */
-static size_t split_groups(const star_key *k, size_t lo, size_t hi, int level, uint32_t *starts, size_t ng)
+ * (-1: the whole sky), into cells of at most max stars (unless at the
+ * finest level); their first indices go to starts, their levels to levels
+ * (if not NULL). */
+static size_t split_groups(const star_key *k, size_t lo, size_t hi, int level, size_t max, uint32_t *starts,
+                           int *levels, size_t ng)
 {
-    if ((level >= 0 && hi - lo <= GROUP_MAX) || level == LEVELS) {
+    if ((level >= 0 && hi - lo <= max) || level == LEVELS) {
+        if (levels)
+            levels[ng] = level;
         starts[ng++] = (uint32_t)lo;
         return ng;
     }
@@ -85,7 +100,7 @@ static size_t split_groups(const star_key *k, size_t lo, size_t hi, int level, u
         size_t b = a + 1;
         while (b < hi && k[b].key >> shift == cell)
             b++;
-        ng = split_groups(k, a, b, level + 1, starts, ng);
+        ng = split_groups(k, a, b, level + 1, max, starts, levels, ng);
         a = b;
     }
     return ng;
@@ -144,13 +159,12 @@ static void group_cone(cone *c, const double eye[3], const float *x, const float
     c->reach *= 1 + SLACK;
 }
 
-/* Whether the ball of radius r about (bx, by, bz) may meet a segment in
- * the cone: it must start within the reach and lie within the half-angle
- * plus the angle the ball subtends. Errs on the side of yes. */
-static inline int cone_may_meet(const cone *c, double bx, double by, double bz, double r)
+/* Whether the ball of radius r about the point v from the eye (d2 = |v|^2,
+ * dist = |v|) may meet a segment in the cone: it must start within the
+ * reach and lie within the half-angle plus the angle the ball subtends.
+ * Errs on the side of yes. */
+static inline int cone_may_meet_at(const cone *c, double vx, double vy, double vz, double d2, double dist, double r)
 {
-    const double vx = bx - c->e[0], vy = by - c->e[1], vz = bz - c->e[2];
-    const double d2 = vx * vx + vy * vy + vz * vz, dist = sqrt(d2);
     r += SLACK * (r + dist);
     if (dist <= r)
         return 1;
@@ -164,6 +178,14 @@ static inline int cone_may_meet(const cone *c, double bx, double by, double bz, 
     return vx * c->a[0] + vy * c->a[1] + vz * c->a[2] >= c->cos_a * sqrt(d2 - r * r) - c->sin_a * r;
 }
 
+/* The same for the ball about (bx, by, bz). */
+static inline int cone_may_meet(const cone *c, double bx, double by, double bz, double r)
+{
+    const double vx = bx - c->e[0], vy = by - c->e[1], vz = bz - c->e[2];
+    const double d2 = vx * vx + vy * vy + vz * vz;
+    return cone_may_meet_at(c, vx, vy, vz, d2, sqrt(d2), r);
+}
+
 static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
 {
     const double hx = 0.5 * ((double)nd->hi[0] - nd->lo[0]), hy = 0.5 * ((double)nd->hi[1] - nd->lo[1]),
@@ -173,32 +195,51 @@ static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
 
 /* ---- the candidates ---- */
 
-typedef struct candidate {
-    double vx, vy, vz, v2; /* centre from the eye, and its square: as each star's walk computes them */
-    double near;           /* less than the distance from the eye to the support's nearest point */
-    float ih, kih2;        /* the kernel's own 1/h and k/h^2 */
-} candidate;
-
-typedef struct met {
-    double u, s0, s1, kih2; /* where a star's segment meets a kernel (orr_dust_meet), and its k/h^2 */
-} met;
-
+/* The kernels a group's cone may meet, as arrays (one per field) so that a
+ * star's pass over them runs as vector loops. */
 typedef struct candidates {
     size_t n, cap;
-    candidate *c;
-    met *m; /* per star: the kernels it meets */
+    double *vx, *vy, *vz, *v2; /* centre from the eye, and its square: as each star's walk computes them */
+    double *dist, *r;          /* |v|, and the support's radius 2h */
+    double *near;              /* less than the distance from the eye to the support's nearest point */
+    float *ih, *kih2;          /* the kernel's own 1/h and k/h^2 */
+    double *term;              /* per star: each candidate's share of its column */
 } candidates;
 
-static int candidates_grow(candidates *c)
+static void candidates_free(candidates *c)
 {
-    const size_t cap = c->cap ? 2 * c->cap : 4096;
-    candidate *a = realloc(c->c, cap * sizeof *a);
-    if (a)
-        c->c = a;
-    met *m = a ? realloc(c->m, cap * sizeof *m) : NULL;
-    if (!m)
+    free(c->vx);
+    free(c->vy);
+    free(c->vz);
+    free(c->v2);
+    free(c->dist);
+    free(c->r);
+    free(c->near);
+    free(c->ih);
+    free(c->kih2);
+    free(c->term);
+}
+
+static int grow_array(void **a, size_t cap, size_t size)
+{
+    void *p = realloc(*a, cap * size);
+    if (p)
+        *a = p;
+    return p != NULL;
+}
+
+static int candidates_grow(candidates *c, size_t need)
+{
+    size_t cap = c->cap ? 2 * c->cap : 4096;
+    while (cap < need)
+        cap *= 2;
+    void **d[] = {(void **)&c->vx,   (void **)&c->vy, (void **)&c->vz,   (void **)&c->v2,
+                  (void **)&c->dist, (void **)&c->r,  (void **)&c->near, (void **)&c->term};
+    for (size_t a = 0; a < sizeof d / sizeof *d; a++)
+        if (!grow_array(d[a], cap, sizeof(double)))
+            return 0;
+    if (!grow_array((void **)&c->ih, cap, sizeof(float)) || !grow_array((void **)&c->kih2, cap, sizeof(float)))
         return 0;
-    c->m = m;
     c->cap = cap;
     return 1;
 }
@@ -226,53 +267,208 @@ static int gather(const orr_dust_set *s, const cone *cn, candidates *c)
             const double r = ORR_DUST_SUPPORT * s->h[i];
             if (!cone_may_meet(cn, s->x[i], s->y[i], s->z[i], r))
                 continue;
-            if (c->n == c->cap && !candidates_grow(c))
+            if (c->n == c->cap && !candidates_grow(c, c->n + 1))
                 return 0;
+            const size_t j = c->n++;
             const double vx = s->x[i] - cn->e[0], vy = s->y[i] - cn->e[1], vz = s->z[i] - cn->e[2];
             const double v2 = vx * vx + vy * vy + vz * vz, dist = sqrt(v2);
-            c->c[c->n++] = (candidate){vx, vy, vz, v2, dist - r - SLACK * (r + dist), s->ih[i], s->kih2[i]};
+            c->vx[j] = vx;
+            c->vy[j] = vy;
+            c->vz[j] = vz;
+            c->v2[j] = v2;
+            c->dist[j] = dist;
+            c->r[j] = r;
+            c->near[j] = dist - r - SLACK * (r + dist);
+            c->ih[j] = s->ih[i];
+            c->kih2[j] = s->kih2[i];
         }
     }
     return 1;
 }
 
-/* The candidates star g's segment meets, into c->m in the candidates'
- * order, picked out without a branch (whether it meets one is a coin toss
- * for the branch predictor); with drop, the same pass also drops, keeping
- * the order, the candidates whose support begins beyond next_len, which the
- * group's nearer stars cannot meet. Returns how many it meets. */
-static inline size_t pick_met(candidates *c, const orr_dust_segment *g, int drop, double next_len)
+/* Candidate j's term of star g's column: its share, as orr_dust_share
+ * makes it; 0 where the segment misses its support. */
+static inline double candidate_term(const orr_dust_set *s, const candidates *c, size_t j,
+                                    const orr_dust_segment *g)
 {
-    size_t nm = 0, kept = 0;
-    for (size_t j = 0; j < c->n; j++) {
-        const candidate *cj = &c->c[j];
-        double u, s0, s1;
-        const double m2 = orr_dust_meet(g, cj->vx, cj->vy, cj->vz, cj->v2, cj->ih, &u, &s0, &s1);
-        c->m[nm] = (met){u, s0, s1, cj->kih2};
-        nm += m2 < ORR_DUST_SUPPORT * ORR_DUST_SUPPORT;
-        if (drop) {
-            const int keep = cj->near < next_len;
-            c->c[kept] = *cj;
-            kept += keep;
-        }
-    }
-    if (drop)
-        c->n = kept;
-    return nm;
+    double u, s0, s1;
+    if (orr_dust_meet(g, c->vx[j], c->vy[j], c->vz[j], c->v2[j], c->ih[j], &u, &s0, &s1) >=
+        ORR_DUST_SUPPORT * ORR_DUST_SUPPORT)
+        return 0;
+    return c->kih2[j] * orr_dust_met_column(s, u, s0, s1);
 }
 
-/* A star's column over the group's candidates: the kernels its segment
- * meets, their columns summed in the candidates' order, each term as
- * orr_dust_share makes it. The group's stars come farthest first, and every
- * other star drops the candidates the nearer ones cannot meet (each time
- * costs stores; every other time measured best). */
-static double star_tau(const orr_dust_set *s, candidates *c, const orr_dust_segment *g, int drop, double next_len)
+#ifdef HAVE_VECTOR_TERMS
+/* Four floats of a table at the indices i (four loads: AVX2's gather was
+ * measured slower here). */
+__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m128 load4(const float *table, __m128i i)
 {
-    const size_t nm = drop ? pick_met(c, g, 1, next_len) : pick_met(c, g, 0, INFINITY);
+    int at[4];
+    _mm_storeu_si128((__m128i *)at, i);
+    return _mm_setr_ps(table[at[0]], table[at[1]], table[at[2]], table[at[3]]);
+}
+
+/* r0 + f (r1 - r0) as the scalar code computes it with r0 and r1 floats:
+ * their difference in single precision, the rest in double. */
+__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d lerp4(__m128 r0, __m128 r1, __m256d f)
+{
+    return _mm256_add_pd(_mm256_cvtps_pd(r0), _mm256_mul_pd(f, _mm256_cvtps_pd(_mm_sub_ps(r1, r0))));
+}
+
+/* orr_dust_half_column's operations, four at a time: I(beta, |sv|). */
+__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d half_columns4(const float *pcol, __m256d beta,
+                                                                            __m256d sv)
+{
+    const __m256d u = _mm256_mul_pd(beta, _mm256_set1_pd(ORR_DUST_PCOL_NB / ORR_DUST_SUPPORT));
+    __m256d v = _mm256_mul_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), sv),
+                              _mm256_set1_pd(ORR_DUST_PCOL_NS / ORR_DUST_SUPPORT));
+    v = _mm256_blendv_pd(v, _mm256_set1_pd(ORR_DUST_PCOL_NS - 1e-9),
+                         _mm256_cmp_pd(v, _mm256_set1_pd(ORR_DUST_PCOL_NS), _CMP_GE_OQ));
+    const __m128i i = _mm_min_epi32(_mm256_cvttpd_epi32(u), _mm_set1_epi32(ORR_DUST_PCOL_NB - 1));
+    const __m128i j = _mm256_cvttpd_epi32(v);
+    const __m256d fu = _mm256_sub_pd(u, _mm256_cvtepi32_pd(i)), fv = _mm256_sub_pd(v, _mm256_cvtepi32_pd(j));
+    const int cols = ORR_DUST_PCOL_NS + 1;
+    const __m128i at = _mm_add_epi32(_mm_mullo_epi32(i, _mm_set1_epi32(cols)), j);
+    const __m256d a = lerp4(load4(pcol, at), load4(pcol + 1, at), fv);
+    const __m256d b = lerp4(load4(pcol + cols, at), load4(pcol + cols + 1, at), fv);
+    return _mm256_add_pd(a, _mm256_mul_pd(fu, _mm256_sub_pd(b, a)));
+}
+
+/* orr_dust_pcol's operations, four at a time, given I(beta, 2). */
+__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d pcols4(const float *pcol, __m256d beta,
+                                                                     __m256d whole_half, __m256d sv)
+{
+    const __m256d h = half_columns4(pcol, beta, sv);
+    const __m256d negative = _mm256_cmp_pd(sv, _mm256_setzero_pd(), _CMP_LT_OQ);
+    return _mm256_add_pd(whole_half, _mm256_blendv_pd(h, _mm256_xor_pd(h, _mm256_set1_pd(-0.0)), negative));
+}
+
+/* orr_dust_met_column's partial branch, four at a time. */
+__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d partial_columns4(const float *pcol, __m256d u,
+                                                                               __m256d s0, __m256d s1)
+{
+    const __m256d beta = _mm256_sqrt_pd(u);
+    const __m256d whole_half = half_columns4(pcol, beta, _mm256_set1_pd(ORR_DUST_SUPPORT));
+    return _mm256_sub_pd(pcols4(pcol, beta, whole_half, s1), pcols4(pcol, beta, whole_half, s0));
+}
+
+/* orr_dust_meet and orr_dust_met_column's operations for candidates j ..
+ * j + 3 and one star's segment, without a branch where it can be helped
+ * (whether a candidate is met is a coin toss for the branch predictor): the
+ * same IEEE operations in the same order as each star's own walk, so the
+ * same bits. Terms of kernels not met are 0. A met kernel's u is below 4,
+ * so its whole column's index is inside the table; the others' are set to
+ * 0 before the look-up. Most met kernels are crossed whole (the eye and the
+ * star outside them); the partial columns are computed only for a block
+ * that holds one. */
+__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d terms4(const orr_dust_set *s, const candidates *c,
+                                                                     size_t j, __m256d d0, __m256d d1, __m256d d2,
+                                                                     __m256d len)
+{
+    const __m256d zero = _mm256_setzero_pd(), support = _mm256_set1_pd(ORR_DUST_SUPPORT);
+    const __m256d tc = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(c->vx + j), d0),
+                                                   _mm256_mul_pd(_mm256_loadu_pd(c->vy + j), d1)),
+                                     _mm256_mul_pd(_mm256_loadu_pd(c->vz + j), d2));
+    const __m256d b2 = _mm256_sub_pd(_mm256_loadu_pd(c->v2 + j), _mm256_mul_pd(tc, tc));
+    const __m256d ih = _mm256_cvtps_pd(_mm_loadu_ps(c->ih + j));
+    const __m256d u = _mm256_mul_pd(_mm256_mul_pd(_mm256_and_pd(b2, _mm256_cmp_pd(b2, zero, _CMP_GT_OQ)), ih), ih);
+    const __m256d s0 = _mm256_mul_pd(_mm256_xor_pd(tc, _mm256_set1_pd(-0.0)), ih);
+    const __m256d s1 = _mm256_mul_pd(_mm256_sub_pd(len, tc), ih);
+    const __m256d end = _mm256_blendv_pd(_mm256_and_pd(_mm256_mul_pd(s0, s0), _mm256_cmp_pd(s0, zero, _CMP_GT_OQ)),
+                                         _mm256_mul_pd(s1, s1), _mm256_cmp_pd(s1, zero, _CMP_LT_OQ));
+    const __m256d met = _mm256_cmp_pd(_mm256_add_pd(u, end), _mm256_mul_pd(support, support), _CMP_LT_OQ);
+    const __m256d x = _mm256_and_pd(_mm256_mul_pd(u, _mm256_set1_pd(ORR_DUST_FCOL_NU / (ORR_DUST_SUPPORT *
+                                                                                         ORR_DUST_SUPPORT))),
+                                    met);
+    const __m128i i = _mm256_cvttpd_epi32(x);
+    const __m256d f = _mm256_sub_pd(x, _mm256_cvtepi32_pd(i));
+    __m256d col = lerp4(load4(s->fcol, i), load4(s->fcol + 1, i), f);
+    const __m256d crossed = _mm256_and_pd(_mm256_cmp_pd(s0, _mm256_sub_pd(zero, support), _CMP_LE_OQ),
+                                          _mm256_cmp_pd(s1, support, _CMP_GE_OQ));
+    if (_mm256_movemask_pd(_mm256_andnot_pd(crossed, met)))
+        col = _mm256_blendv_pd(partial_columns4(s->pcol, _mm256_and_pd(u, met), s0, s1), col, crossed);
+    return _mm256_and_pd(_mm256_mul_pd(_mm256_cvtps_pd(_mm_loadu_ps(c->kih2 + j)), col), met);
+}
+
+/* The terms of the candidates [0, 4 * floor(n / 4)) into c->term; returns
+ * how many. */
+__attribute__((target("avx2"))) static size_t terms_avx2(const orr_dust_set *s, candidates *c, const double d[3],
+                                                         double len)
+{
+    const __m256d d0 = _mm256_set1_pd(d[0]), d1 = _mm256_set1_pd(d[1]), d2 = _mm256_set1_pd(d[2]);
+    const __m256d vlen = _mm256_set1_pd(len);
+    size_t j = 0;
+    for (; j + 4 <= c->n; j += 4)
+        _mm256_storeu_pd(c->term + j, terms4(s, c, j, d0, d1, d2, vlen));
+    return j;
+}
+#endif
+
+/* Every candidate's term of star g's column, into c->term. */
+static void candidate_terms(const orr_dust_set *s, candidates *c, const orr_dust_segment *g)
+{
+    size_t j = 0;
+#ifdef HAVE_VECTOR_TERMS
+    if (__builtin_cpu_supports("avx2"))
+        j = terms_avx2(s, c, g->d, g->len);
+#endif
+    for (; j < c->n; j++)
+        c->term[j] = candidate_term(s, c, j, g);
+}
+
+/* A star's column over the group's candidates: their terms summed in the
+ * candidates' order, each as orr_dust_share makes it (a term of 0 changes
+ * no bit of a sum of terms >= 0). */
+static double star_tau(const orr_dust_set *s, candidates *c, const orr_dust_segment *g)
+{
+    candidate_terms(s, c, g);
     double sum = 0;
-    for (size_t q = 0; q < nm; q++)
-        sum += c->m[q].kih2 * orr_dust_met_column(s, c->m[q].u, c->m[q].s0, c->m[q].s1);
+    for (size_t j = 0; j < c->n; j++)
+        sum += c->term[j];
     return sum;
+}
+
+/* Candidate j of from as candidate k of to, as far as the stars' terms
+ * and drops need it (not dist and r, which only picking uses). */
+static inline void candidate_copy(candidates *to, size_t k, const candidates *from, size_t j)
+{
+    to->vx[k] = from->vx[j];
+    to->vy[k] = from->vy[j];
+    to->vz[k] = from->vz[j];
+    to->v2[k] = from->v2[j];
+    to->near[k] = from->near[j];
+    to->ih[k] = from->ih[j];
+    to->kih2[k] = from->kih2[j];
+}
+
+/* Drops, keeping the order, the candidates whose support begins beyond
+ * len, which the group's stars nearer than len cannot meet. */
+static void drop_beyond(candidates *c, double len)
+{
+    size_t kept = 0;
+    for (size_t j = 0; j < c->n; j++) {
+        candidate_copy(c, kept, c, j);
+        kept += c->near[j] < len;
+    }
+    c->n = kept;
+}
+
+/* The candidates of a super-group that a group's cone may meet, in their
+ * order: the same test as the group's own walk of the tree would make of
+ * each kernel (the same eye), and the super-group's cone holds all of the
+ * group's segments, so every kernel a star meets is kept. 0 if out of
+ * memory. */
+static int pick_candidates(const candidates *from, const cone *cn, candidates *to)
+{
+    if (to->cap < from->n && !candidates_grow(to, from->n))
+        return 0;
+    size_t k = 0;
+    for (size_t j = 0; j < from->n; j++) {
+        candidate_copy(to, k, from, j);
+        k += cone_may_meet_at(cn, from->vx[j], from->vy[j], from->vz[j], from->v2[j], from->dist[j], from->r[j]);
+    }
+    to->n = k;
+    return 1;
 }
 
 static int farthest_first(const void *pa, const void *pb)
@@ -283,15 +479,12 @@ static int farthest_first(const void *pa, const void *pb)
     return (a->i > b->i) - (a->i < b->i);
 }
 
-/* tau_V of the group k[0, n): one traversal, then each star over the
- * candidates, farthest first (each star on its own walk if memory runs
- * out: the same values). */
+/* tau_V of the group k[0, n) over its candidates c (shared 0: memory ran
+ * out, each star on its own walk: the same values), its stars farthest
+ * first. */
 static void group_tau(const orr_dust_set *s, const double eye[3], const float *x, const float *y, const float *z,
-                      star_key *k, size_t n, candidates *c, double *tau)
+                      star_key *k, size_t n, candidates *c, int shared, double *tau)
 {
-    cone cn;
-    group_cone(&cn, eye, x, y, z, k, n);
-    const int shared = gather(s, &cn, c);
     qsort(k, n, sizeof *k, farthest_first);
     for (size_t q = 0; q < n; q++) {
         double p[3];
@@ -303,8 +496,41 @@ static void group_tau(const orr_dust_set *s, const double eye[3], const float *x
         orr_dust_segment g;
         double sum = 0;
         if (orr_dust_star_segment(&g, eye, p)) /* (always: tau_many groups only such stars) */
-            sum = star_tau(s, c, &g, q % 2 == 0 && q + 1 < n, q + 1 < n ? k[q + 1].len : 0);
+            sum = star_tau(s, c, &g);
         tau[k[q].i] = sum;
+        if (q % 4 == 0 && q + 1 < n) /* every fourth star: the copies cost as much as the tests they save */
+            drop_beyond(c, k[q + 1].len);
+    }
+}
+
+/* The work of one thread: the candidates of a super-group and of its
+ * group. */
+typedef struct walker {
+    candidates super, group;
+} walker;
+
+/* tau_V of a super-group's stars, its groups' starts [first, last) of
+ * starts: one traversal of the tree for the super-group, each group
+ * picking its candidates from it (a super-group of one group walks the tree
+ * for itself). */
+static void super_group_tau(const orr_dust_set *s, const double eye[3], const float *x, const float *y,
+                            const float *z, star_key *keys, const uint32_t *starts, size_t first, size_t last,
+                            walker *w, double *tau)
+{
+    cone cn;
+    star_key *k = keys + starts[first];
+    group_cone(&cn, eye, x, y, z, k, starts[last] - starts[first]);
+    if (last - first == 1) {
+        const int shared = gather(s, &cn, &w->group);
+        group_tau(s, eye, x, y, z, k, starts[last] - starts[first], &w->group, shared, tau);
+        return;
+    }
+    const int shared = gather(s, &cn, &w->super);
+    for (size_t g = first; g < last; g++) {
+        const size_t n = starts[g + 1] - starts[g];
+        k = keys + starts[g];
+        group_cone(&cn, eye, x, y, z, k, n);
+        group_tau(s, eye, x, y, z, k, n, &w->group, shared && pick_candidates(&w->super, &cn, &w->group), tau);
     }
 }
 
@@ -315,8 +541,12 @@ orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t 
         return orr_fail(err, ORR_ERR_USAGE, "%zu stars at once: at most %u", n, UINT32_MAX - 1);
     star_key *keys = orr_malloc((n ? n : 1) * sizeof *keys, "dust star groups", err);
     uint32_t *starts = keys ? orr_malloc((n + 1) * sizeof *starts, "dust star groups", err) : NULL;
-    if (!starts) {
+    uint32_t *supers = starts ? orr_malloc((n + 1) * sizeof *supers, "dust star groups", err) : NULL;
+    int *levels = supers ? orr_malloc((n + 1) * sizeof *levels, "dust star groups", err) : NULL;
+    if (!levels) {
         free(keys);
+        free(starts);
+        free(supers);
         return ORR_ERR_NOMEM;
     }
     size_t m = 0;
@@ -329,18 +559,30 @@ orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t 
             keys[m++] = (star_key){direction_key(g.d), (uint32_t)i, g.len};
     }
     qsort(keys, m, sizeof *keys, key_order);
-    size_t ng = m ? split_groups(keys, 0, m, -1, starts, 0) : 0;
+    /* super-groups, then each one's groups: supers[q] becomes the index in
+     * starts of super-group q's first group */
+    const size_t ns = m ? split_groups(keys, 0, m, -1, SUPER_MAX, supers, levels, 0) : 0;
+    supers[ns] = (uint32_t)m;
+    size_t ng = 0;
+    for (size_t q = 0; q < ns; q++) {
+        const uint32_t lo = supers[q];
+        supers[q] = (uint32_t)ng;
+        ng = split_groups(keys, lo, supers[q + 1], levels[q], GROUP_MAX, starts, NULL, ng);
+    }
+    supers[ns] = (uint32_t)ng;
     starts[ng] = (uint32_t)m;
 #pragma omp parallel
     {
-        candidates c = {0};
+        walker w = {{0}, {0}};
 #pragma omp for schedule(dynamic, 1)
-        for (long q = 0; q < (long)ng; q++)
-            group_tau(s, eye, x, y, z, keys + starts[q], starts[q + 1] - starts[q], &c, tau);
-        free(c.c);
-        free(c.m);
+        for (long q = 0; q < (long)ns; q++)
+            super_group_tau(s, eye, x, y, z, keys, starts, supers[q], supers[q + 1], &w, tau);
+        candidates_free(&w.super);
+        candidates_free(&w.group);
     }
     free(keys);
     free(starts);
+    free(supers);
+    free(levels);
     return ORR_OK;
 }

@@ -12,6 +12,10 @@
 /* The share of pixel (i, j) inside the map's outline, in steps of 1/256. */
 float orr_map_pixel_coverage(const orr_projection *p, int i, int j);
 
+/* Row j's coverages into out[width]: orr_map_pixel_coverage's values,
+ * sampled only along the outline. */
+void orr_map_row_coverage(const orr_projection *p, int j, float *out);
+
 /* Fills alpha[width * height] with the coverage (row 0 at the top). */
 void orr_map_alpha_fill(const orr_projection *p, float *alpha);
 

@@ -109,14 +109,16 @@ static void picture_row(void *ctx, int y, float *scratch, uint16_t *codes)
         return;
     /* From RGB to RGBA in place, from the end: pixel i's four codes start
      * at 4 i, after the three of every pixel before it, still unread. The
-     * alpha is the pixel's coverage of the map, coded as the colours are. */
+     * alpha is the pixel's coverage of the map, coded as the colours are
+     * (into scratch, which the grading is done with). */
+    float *coverage = scratch;
+    orr_map_row_coverage(p->proj, y, coverage);
     for (int i = p->proj->width - 1; i >= 0; i--) {
-        float coverage = orr_map_pixel_coverage(p->proj, i, y);
         uint16_t r = codes[3 * i], g = codes[3 * i + 1], b = codes[3 * i + 2], alpha;
-        orr_codes_of(&coverage, 1, p->bits, &alpha);
-        codes[4 * i] = coverage > 0 ? r : 0;
-        codes[4 * i + 1] = coverage > 0 ? g : 0;
-        codes[4 * i + 2] = coverage > 0 ? b : 0;
+        orr_codes_of(&coverage[i], 1, p->bits, &alpha);
+        codes[4 * i] = coverage[i] > 0 ? r : 0;
+        codes[4 * i + 1] = coverage[i] > 0 ? g : 0;
+        codes[4 * i + 2] = coverage[i] > 0 ? b : 0;
         codes[4 * i + 3] = alpha;
     }
 }

@@ -5,6 +5,7 @@
 #include "check.h"
 #include "planned.h"
 #include "frame/projection.h"
+#include "render/map_alpha.h"
 
 static orr_projection ortho(int w, int h, double width)
 {
@@ -136,6 +137,36 @@ static void test_prepare_checks_every_parameter(void)
     CHECK(strcmp(err.msg, "camera.near: -1 is out of range (must be >= 0)") == 0);
 }
 
+/* A row's coverages (sampled only along the outline) are every pixel's
+ * own, for domes and Hammer-Aitoff maps of odd and even sizes and fields,
+ * and 1 everywhere on a map without an outline. */
+static void test_row_coverage_matches_pixels(void)
+{
+    const struct { orr_projection_kind kind; int w, h; double fov; } maps[] = {
+        {ORR_PROJ_DOME, 64, 64, 180},         {ORR_PROJ_DOME, 101, 101, 180}, {ORR_PROJ_DOME, 97, 60, 220},
+        {ORR_PROJ_DOME, 7, 7, 90},            {ORR_PROJ_HAMMER_AITOFF, 128, 64, 0},
+        {ORR_PROJ_HAMMER_AITOFF, 257, 129, 0}, {ORR_PROJ_HAMMER_AITOFF, 9, 5, 0},
+        {ORR_PROJ_EQUIRECTANGULAR, 40, 20, 0},
+    };
+    for (size_t m = 0; m < sizeof maps / sizeof *maps; m++) {
+        const orr_projection p = PLANNED(.kind = maps[m].kind, .width = maps[m].w, .height = maps[m].h,
+                                         .dome_fov_deg = maps[m].fov > 0 ? maps[m].fov : 180);
+        float *row = malloc((size_t)p.width * sizeof *row);
+        int differ = 0, partial = 0;
+        for (int j = 0; j < p.height; j++) {
+            orr_map_row_coverage(&p, j, row);
+            for (int i = 0; i < p.width; i++) {
+                const float want = orr_map_pixel_coverage(&p, i, j);
+                differ += row[i] != want;
+                partial += want > 0 && want < 1;
+            }
+        }
+        CHECK(differ == 0);
+        CHECK(p.settings.kind == ORR_PROJ_EQUIRECTANGULAR ? partial == 0 : partial > 0);
+        free(row);
+    }
+}
+
 int main(void)
 {
     RUN(test_orthographic_known_points);
@@ -144,5 +175,6 @@ int main(void)
     RUN(test_perspective_rejects_behind_camera);
     RUN(test_batch_matches_single);
     RUN(test_check_rejects_bad_parameters);
+    RUN(test_row_coverage_matches_pixels);
     return check_summary();
 }
