@@ -13,6 +13,12 @@ sub-folder and of the sub-folders listed for it, never another's; a file in
 the top folder includes none of its sub-folders (they build on it). Later
 stages may include any of them.
 
+In the stages listed in NO_CIRCLES, no module (a .c file and its .h) may
+include another's header while that one, through any chain, includes its
+own: such a circle means neither can be read or changed without the other.
+The driver (render/) and the splat pass (pass/) are kept free of circles;
+a type several modules share goes in a header of its own (render/report.h).
+
     python3 scripts/check_includes.py [SRC_DIR]
 """
 import os
@@ -28,6 +34,8 @@ STAGES = ["core", "particles", "source", "frame", "stars", "splat", "reduce", "d
 SUBFOLDERS = {
     "source": {"readers": [], "models": [], "writers": ["models"]},
 }
+# Stages whose modules include one another in one direction only.
+NO_CIRCLES = ["pass", "render"]
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([A-Za-z0-9_]+)/([^"]+)"')
 
 
@@ -66,6 +74,61 @@ def stage_files(src, stage, problems):
             yield "", path
 
 
+def module_graph(src, stage):
+    """Each module of the stage (a file's name without .c or .h) -> the
+    stage's modules whose headers it includes."""
+    graph = {}
+    for _, path in stage_files(src, stage, []):
+        module = os.path.splitext(os.path.basename(path))[0]
+        with open(path, encoding="utf-8") as f:
+            for line in f:
+                m = INCLUDE.match(line)
+                if m and m.group(1) == stage:
+                    other = os.path.splitext(os.path.basename(m.group(2)))[0]
+                    if other != module:
+                        graph.setdefault(module, set()).add(other)
+    return graph
+
+
+def circles(graph):
+    """One circle of each strongly connected set of modules larger than one
+    (Tarjan's algorithm), as lists of module names."""
+    index, low, stack, on_stack, found = {}, {}, [], set(), []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on_stack.add(v)
+        for w in sorted(graph.get(v, ())):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on_stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            part = []
+            while True:
+                w = stack.pop()
+                on_stack.discard(w)
+                part.append(w)
+                if w == v:
+                    break
+            if len(part) > 1:
+                found.append(sorted(part))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return found
+
+
+def check_circles(src, problems):
+    for stage in NO_CIRCLES:
+        for part in circles(module_graph(src, stage)):
+            problems.append(f"{os.path.join(src, stage)}: its modules {', '.join(part)} include one another "
+                            f"in a circle (move what they share to a header of its own)")
+
+
 def check(src):
     rank = {s: i for i, s in enumerate(STAGES)}
     problems = []
@@ -94,6 +157,7 @@ def check(src):
                         p = check_within_stage(stage, part, part_of(stage, header), where, target, header)
                         if p:
                             problems.append(p)
+    check_circles(src, problems)
     return problems
 
 

@@ -4,20 +4,10 @@
 #ifndef ORR_RENDER_ANIMATION_H
 #define ORR_RENDER_ANIMATION_H
 
+#include "pass/progress.h"
 #include "render/frame_names.h"
-#include "render/render.h"
-
-/* What a run of frames reads of a view's scene (animation.*: a run takes
- * its length, rate and times from its first view), compiled by the plan
- * (orr_plan_run_settings, render/plan.h); it points into the scene. */
-typedef struct orr_run_settings {
-    const char *scene_path; /* for messages */
-    long long frames;       /* animation.frames: frames in the run (1: a still) */
-    double fps;             /* animation.fps */
-    int has_time;
-    double time[2];         /* animation.time: the simulation time at the first and the last frame */
-    int white_smoothing;    /* animation.white_smoothing: frames the white level is averaged over */
-} orr_run_settings;
+#include "render/report.h"
+#include "render/run_settings.h"
 
 /* Told after each frame of the run: rendered (skipped = 0) or found complete
  * from an earlier run (skipped = 1). redone is NULL, or why an earlier
@@ -70,14 +60,5 @@ orr_status orr_render_animation(const orr_scene *const *views, int n, const orr_
  * neighbours'. */
 orr_status orr_animation_smooth_whites(const orr_scene *const *views, int n, orr_render_report *reports,
                                        orr_error *err);
-
-/* Checks that the frames 0..count-1 of DIR/NAME (named as f says, with
- * exactly f->digits digits) were all made alike, by their markers: the same orrery, scene
- * settings and inputs. Fails naming the first frame made otherwise and
- * how, so that a video never mixes two runs (frames rendered in pieces
- * with --frames and other settings). Frames without a marker are not
- * compared. */
-orr_status orr_frames_agree(const char *dir, const char *name, const orr_frame_naming *f, long count,
-                            orr_error *err);
 
 #endif

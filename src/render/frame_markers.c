@@ -13,7 +13,6 @@
 #include "core/atomic.h"
 #include "core/digest.h"
 #include "core/numbers.h"
-#include "render/animation.h"
 
 /* ---- frame markers ----
  *

@@ -9,7 +9,7 @@
 
 #include "core/error.h"
 #include "render/frame_names.h"
-#include "render/render.h"
+#include "render/report.h"
 #include "source/sequence.h"
 
 /* Markers live in DIR/.orrery-frames/NAME.done and begin with the magic. */
@@ -50,5 +50,14 @@ orr_status orr_marker_write(const orr_output_place *at, const orr_view_identity 
                             int compose, orr_error *err);
 /* Removes the frame's marker before its outputs are redone. */
 void orr_marker_remove(const orr_output_place *at);
+
+/* Checks that the frames 0..count-1 of DIR/NAME (named as f says, with
+ * exactly f->digits digits) were all made alike, by their markers: the same orrery, scene
+ * settings and inputs. Fails naming the first frame made otherwise and
+ * how, so that a video never mixes two runs (frames rendered in pieces
+ * with --frames and other settings). Frames without a marker are not
+ * compared. */
+orr_status orr_frames_agree(const char *dir, const char *name, const orr_frame_naming *f, long count,
+                            orr_error *err);
 
 #endif

@@ -23,10 +23,11 @@
 #ifndef ORR_RENDER_PLAN_H
 #define ORR_RENDER_PLAN_H
 
-#include "render/animation.h"
+#include "pass/progress.h"
 #include "render/frame_markers.h"
 #include "render/path_overview.h"
-#include "render/render.h"
+#include "render/report.h"
+#include "render/run_settings.h"
 #include "render/source_request.h"
 
 typedef struct orr_plan orr_plan;

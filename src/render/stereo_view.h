@@ -17,7 +17,7 @@
 #include "encode/image_out.h"
 #include "frame/camera_settings.h"
 #include "frame/stereo.h"
-#include "render/render.h"
+#include "render/report.h"
 #include "render/view_files.h"
 
 /* Whether stereo mode m writes a pair as one picture (anaglyph,

@@ -12,7 +12,7 @@
 #include "frame/camera_settings.h"
 #include "frame/observer.h"
 #include "pass/splat_view.h"
-#include "render/render.h"
+#include "render/report.h"
 #include "render/stereo_view.h"
 #include "render/view_files.h"
 #include "source/settings.h"
