@@ -11,8 +11,10 @@ of the second pass). (Its acceleration, which is not in a snapshot, does
 not matter: turned back about the axis, a uniform pull has no radial
 part.)
 
-usage: ring_start.py SNAPSHOT [K]    prints "R z v_c v_phi v_R v_z" of the
-Sun (id 3), speeds about the galaxy (km/s), v_phi signed along n x R.
+usage: ring_start.py [--points K] SNAPSHOT_FILE...   (K = 32; the files of
+one snapshot: one, or a --decompose run's one a rank) prints
+"R z v_c v_phi v_R v_z" of the Sun (id 3), speeds about the galaxy (km/s),
+v_phi signed along n x R.
 """
 import sys
 
@@ -22,13 +24,13 @@ import numpy as np
 G = 43007.1
 
 
-def load(path):
-    f = h5py.File(path, "r")
-    groups = [(f[k], int(k[-1])) for k in f if k.startswith("PartType")]
+def load(paths):
+    files = [h5py.File(p, "r") for p in paths]
+    groups = [(f[k], int(k[-1])) for f in files for k in f if k.startswith("PartType")]
     cat = lambda name: np.concatenate([g[name][:].astype(float) for g, _ in groups])
     t = np.concatenate([np.full(len(g["Masses"]), k) for g, k in groups])
     ids = np.concatenate([g["ParticleIDs"][:] for g, _ in groups])
-    run = f["OrreryNbody"].attrs
+    run = files[0]["OrreryNbody"].attrs
     return cat("Coordinates"), cat("Velocities"), cat("Masses"), t, ids, run["Eps"], run["EpsHalo"]
 
 
@@ -38,8 +40,11 @@ def turn(n, phi, d):
 
 
 def main():
-    path, K = sys.argv[1], int(sys.argv[2]) if len(sys.argv) > 2 else 32
-    x, v, m, t, ids, eps, eps_halo = load(path)
+    args = sys.argv[1:]
+    K = 32
+    if args[:1] == ["--points"]:
+        K, args = int(args[1]), args[2:]
+    x, v, m, t, ids, eps, eps_halo = load(args)
     heavy = m >= 1e-3 * m.mean()
     sun = np.nonzero(ids == 3)[0][0]
     xs, vs = x[sun], v[sun]
