@@ -92,7 +92,8 @@ grep -q "^report .*Sun R = .* eps = 0.100$" k0.out || fail "--tracer-neighbours 
 # angular momentum about the disc's axis (h5py, about the stars' centre of
 # mass and the disc particles' spin) changes by less than 1% over the 60
 # Myr, where the same run without the ring changes it by over twice as much
-# (0.4% and 2.1% here). The snapshots record the setting for a resume. Ring
+# (0.5% and 2.1% here; 0.4% with the ring before the Sun started on its
+# circular orbit). The snapshots record the setting for a resume. Ring
 # tracers need a black hole to centre on: initial conditions without one
 # are refused by name.
 OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} "$NBODY" --galaxies mw --particles 20000 --steps 30 --dt 0.002 \
