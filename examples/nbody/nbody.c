@@ -72,6 +72,8 @@ typedef struct options {
     double progress;       /* seconds between progress lines on stderr; 0: none */
     long tracer_neighbours; /* tracers' softening: their k-th neighbour's distance; 0: as stars */
     long tracer_ring;      /* tracers' pull averaged over this many points around their galaxy; 0: off */
+    int tracer_start;      /* a new run's ring tracers started on the ring's circular orbit (1) or as given (0);
+                            * -1: not said (circular with --tracer-ring) */
     int quiet;
     long snapshot_every;      /* 0: no snapshots */
     const char *snapshot_every_text; /* as given */
@@ -88,7 +90,7 @@ static const char usage[] =
     "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
     "                    [--steps N] [--dt DT] [--eta ETA] [--dt-min DT] [--eps EPS]\n"
     "                    [--eps-halo EPS] [--theta THETA] [--tracer-neighbours K]\n"
-    "                    [--tracer-ring K]\n"
+    "                    [--tracer-ring K] [--tracer-start circular|given]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
     "                    [--resume DIR] [--progress SECONDS] [--decompose] [--quiet]\n"
@@ -128,6 +130,10 @@ static const char usage[] =
     "                     from spirals or bar, so they keep their radius; the tree's pull\n"
     "                     while another black hole is within twice their distance of\n"
     "                     their own (default 0: off; 2 to 256; docs/nbody.md)\n"
+    "  --tracer-start HOW a new run's ring tracers start on the circular orbit of the\n"
+    "                     ring's pull at their place, sqrt(R a_R) about their galaxy's\n"
+    "                     axis and its stars' mean velocity (circular: the default with\n"
+    "                     --tracer-ring), or as the initial conditions give them (given)\n"
     "  --report-every K   energy, momentum and structure every K steps (default 10)\n"
     "  --progress SECONDS a progress line on stderr at most every SECONDS (default 10;\n"
     "                     0: none), also with --quiet: step, time, energy error,\n"
@@ -182,6 +188,16 @@ static int parse_galaxies(const char *v, int *out)
     return 0;
 }
 
+static int parse_tracer_start(const char *v, int *out)
+{
+    if (strcmp(v, "circular") == 0 || strcmp(v, "given") == 0) {
+        *out = v[0] == 'c';
+        return 1;
+    }
+    fprintf(stderr, "orrery-nbody: --tracer-start %s: expected circular or given\n", v);
+    return 0;
+}
+
 /* Each bad value is named, with what it must be. */
 static int check_options(const options *o)
 {
@@ -219,6 +235,9 @@ static int check_options(const options *o)
     else if (o->tracer_ring != 0 && (o->tracer_ring < 2 || o->tracer_ring > RING_POINTS_MAX))
         bad = "--tracer-ring", snprintf(why, sizeof why, "%ld: expected 0 (off) or 2 to %d points", o->tracer_ring,
                                         RING_POINTS_MAX);
+    else if (o->tracer_start > 0 && !o->tracer_ring)
+        bad = "--tracer-start", snprintf(why, sizeof why, "circular: the circular speed is the ring's pull: needs "
+                                                          "--tracer-ring K");
     else if (o->report_every < 1)
         bad = "--report-every", snprintf(why, sizeof why, "%ld: must be at least 1", o->report_every);
     else if (o->particles < 100)
@@ -240,7 +259,7 @@ static int parse_args(int argc, char **argv, options *o)
 {
     *o = (options){.ic = "model", .particles = 100000, .separation = 780, .disc_q = ORR_MODEL_DISC_Q_DEFAULT,
                    .steps = 100, .dt = 0.001, .eps = 0.05, .theta = 0.7, .render_every = 1,
-                   .report_every = 10, .progress = 10, .tracer_neighbours = 32};
+                   .report_every = 10, .progress = 10, .tracer_neighbours = 32, .tracer_start = -1};
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         int has_value = 1;
@@ -286,6 +305,9 @@ static int parse_args(int argc, char **argv, options *o)
         } else if (strcmp(a, "--tracer-ring") == 0) {
             o->tracer_ring = parse_count(v);
             o->tracer_ring_given = 1;
+        } else if (strcmp(a, "--tracer-start") == 0) {
+            if (!parse_tracer_start(v, &o->tracer_start))
+                return 0;
         } else if (strcmp(a, "--progress") == 0) {
             o->progress = parse_number(v);
         } else if (strcmp(a, "--report-every") == 0) {
@@ -804,30 +826,35 @@ static int another_hole_within(const double *holes, size_t nh, const double *hos
     return 0;
 }
 
-/* Stars' sums (ring_star_sums) within radius of about, over every process. */
-static int star_sums(const bodies *b, const double about[3], double radius, int rank, int size,
+/* Stars' sums (ring_star_sums, of the per-particle vectors vec: the
+ * accelerations or the velocities) within radius of about, over every
+ * process. */
+static int star_sums(const bodies *b, const double *vec, const double about[3], double radius, int rank, int size,
                      double s[RING_SUMS])
 {
     memset(s, 0, RING_SUMS * sizeof *s);
-    ring_star_sums(b->pos, b->acc, b->mass, b->type, b->n, b->tracer_mass, about, radius, s);
+    ring_star_sums(b->pos, vec, b->mass, b->type, b->n, b->tracer_mass, about, radius, s);
     return reduce_over_ranks(s, RING_SUMS, rank, size, 0);
 }
 
 /* The host of a tracer (tracer_ring.h): the stars within radius, centred
  * twice on their centre of mass from the black hole start; its axis n the
  * one its disc's particles are thinnest along (its bulge's when it has no
- * disc particles). Returns 0 when a sum failed; *found 0 when no stars
- * were there. */
+ * disc particles); with v_host, the same stars' mean velocity too. Returns
+ * 0 when a sum failed; *found 0 when no stars were there. */
 static int ring_frame(const bodies *b, const double start[3], double radius, int rank, int size, double c[3],
-                      double n[3], double a_host[3], int *found)
+                      double n[3], double a_host[3], double *v_host, int *found)
 {
-    double s[RING_SUMS], centre[3] = {start[0], start[1], start[2]};
+    double s[RING_SUMS], centre[3] = {start[0], start[1], start[2]}, c_again[3];
     *found = 0;
     for (int pass = 0; pass < 2; pass++) {
-        if (!star_sums(b, centre, radius, rank, size, s))
+        if (!star_sums(b, b->acc, centre, radius, rank, size, s))
             return 0;
         if (!ring_host(s, c, a_host))
             return 1;
+        if (pass == 1 && v_host && (!star_sums(b, b->vel, centre, radius, rank, size, s) ||
+                                    !ring_host(s, c_again, v_host)))
+            return 0;
         memcpy(centre, c, sizeof centre);
     }
     for (uint8_t which = ORR_MODEL_TYPE_DISC; which <= ORR_MODEL_TYPE_BULGE && !*found; which++) {
@@ -840,25 +867,34 @@ static int ring_frame(const bodies *b, const double start[3], double radius, int
     return 1;
 }
 
+/* The galaxy of one tracer (row: ring_lists'): the stars within
+ * RING_SPIN_TIMES its distance from the nearest black hole (ring_frame;
+ * v_host as there). While another black hole is inside that sphere (a
+ * galaxy passing through, or merging) there is no one axis to average
+ * about: *found 0, as when there are no stars about its black hole. */
+static int tracer_host(const bodies *b, const double *row, const double *holes, size_t nh, int rank, int size,
+                       double c[3], double n[3], double a_host[3], double *v_host, int *found)
+{
+    const double *host = nearest_hole(holes, nh, row);
+    double radius = fmax(RING_SPIN_MIN, RING_SPIN_TIMES * distance(row, host));
+    *found = 0;
+    return another_hole_within(holes, nh, host, radius) ||
+           ring_frame(b, host, radius, rank, size, c, n, a_host, v_host, found);
+}
+
 /* The ring's pull on one tracer (row: ring_lists'), set on the process
- * that owns it when it is active (active NULL: all are). Its galaxy is
- * the stars within RING_SPIN_TIMES its distance from the nearest black
- * hole; while another black hole is inside that sphere (a galaxy passing
- * through, or merging) there is no one axis to average about, and the
- * tracer keeps the tree's pull: the true dynamics of the encounter. */
+ * that owns it when it is active (active NULL: all are). Without one
+ * galaxy about it (tracer_host) the tracer keeps the tree's pull: the true
+ * dynamics of an encounter. */
 static int ring_one(bodies *b, const options *o, const double *row, const double *holes, size_t nh,
                     const unsigned char *active, int rank, int size)
 {
     double c[3], n[3], a_host[3], pts[3 * RING_POINTS_MAX], acc[3 * RING_POINTS_MAX] = {0};
     int found, k = (int)o->tracer_ring;
-    const double *host = nearest_hole(holes, nh, row);
-    double radius = fmax(RING_SPIN_MIN, RING_SPIN_TIMES * distance(row, host));
-    if (another_hole_within(holes, nh, host, radius))
-        return 1;
-    if (!ring_frame(b, host, radius, rank, size, c, n, a_host, &found))
+    if (!tracer_host(b, row, holes, nh, rank, size, c, n, a_host, NULL, &found))
         return 0;
     if (!found)
-        return 1; /* no stars about its black hole: the tree's pull stays */
+        return 1; /* the tree's pull stays */
     ring_points(c, n, row, k, pts);
     const double *eps = b->eps_all + (b->decomposed ? 0 : b->first);
     ring_pulls(b->pos, b->mass, eps, b->n, b->tracer_mass, row[3], pts, k, G_KPC_KMS, acc);
@@ -894,6 +930,69 @@ static void ring_tracers(bodies *b, const options *o, const unsigned char *activ
         fprintf(stderr, "orrery-nbody: --tracer-ring: out of memory or MPI failed\n");
         exit(1);
     }
+}
+
+/* One tracer started on its ring's circular orbit (ring_circular_velocity)
+ * by the process that owns it, after a force computation gave it the
+ * ring's pull. Into said (summed over processes, as only the owner adds
+ * to it): 1 when started, its speed about its galaxy before and after,
+ * its distance from the axis and its height from the disc's plane. */
+#define START_SAID 5
+static int start_one(bodies *b, const double *row, const double *holes, size_t nh, int rank, int size,
+                     double said[START_SAID])
+{
+    double c[3], n[3], a_host[3], v_host[3];
+    int found;
+    memset(said, 0, START_SAID * sizeof *said);
+    if (!tracer_host(b, row, holes, nh, rank, size, c, n, a_host, v_host, &found))
+        return 0;
+    size_t i = (size_t)row[5];
+    if (found && (int)row[4] == rank) {
+        double *x = &b->pos[3 * i], *v = &b->vel[3 * i], was[3], now[3], d[3];
+        const double zero[3] = {0, 0, 0};
+        for (int k = 0; k < 3; k++)
+            was[k] = v[k] - v_host[k], d[k] = x[k] - c[k];
+        if (ring_circular_velocity(c, n, a_host, v_host, x, &b->acc[3 * i], v, v)) {
+            for (int k = 0; k < 3; k++)
+                now[k] = v[k] - v_host[k];
+            double z = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+            said[0] = 1;
+            said[1] = distance(was, zero);
+            said[2] = distance(now, zero);
+            said[3] = sqrt(fmax(0.0, ring_distance2(x, c) - z * z));
+            said[4] = z;
+        }
+    }
+    return reduce_over_ranks(said, START_SAID, rank, size, 0);
+}
+
+/* --tracer-start circular (the default with --tracer-ring), at the start of
+ * a new run, after the first force computation: every ring tracer moved
+ * onto the circular orbit of the pull it will feel, which the particles
+ * realise (softened at its spacing) rather than the smooth model the
+ * initial conditions were drawn from; its place is kept. Says so for each.
+ * Collective; 0 when a sum failed. */
+static int start_tracers(bodies *b, const options *o, int rank, int size)
+{
+    double *tracers, *holes;
+    size_t nt, nh;
+    if (!(o->tracer_start < 0 ? o->tracer_ring > 0 : o->tracer_start))
+        return 1;
+    int ok = ring_lists(b, rank, size, &tracers, &nt, &holes, &nh);
+    for (size_t t = 0; ok && nh && t < nt; t++) {
+        double said[START_SAID];
+        ok = start_one(b, &tracers[RING_ROW * t], holes, nh, rank, size, said);
+        if (ok && !o->quiet && said[0] > 0)
+            printf("tracer %zu started on its ring's circular orbit: %.2f km/s about its galaxy (was %.2f) at "
+                   "R = %.3f kpc, %+.3f kpc from its disc's plane\n",
+                   t, said[2], said[1], said[3], said[4]);
+        else if (ok && !o->quiet)
+            printf("tracer %zu kept as given: no one galaxy about it, no inward pull, or no turning about "
+                   "its galaxy's axis\n", t);
+    }
+    free(tracers);
+    free(holes);
+    return ok;
 }
 
 /* Kinetic and potential energy (W = 1/2 sum m phi), momentum and the
@@ -1952,6 +2051,10 @@ int main(int argc, char **argv)
     if (!code && !o.resume_dir && !to_centre_of_mass_frame(&b, o.quiet))
         code = 1;
     u.t_gravity = code ? 0 : gravity(&tree, &b, &o, NULL, &interactions, rank, size);
+    if (!code && !o.resume_dir && !start_tracers(&b, &o, rank, size)) {
+        fprintf(stderr, "orrery-nbody: --tracer-start: out of memory or MPI failed\n");
+        code = 1;
+    }
     if (!code && o.resume_dir) { /* the state after step resumed.step: its frame, report and snapshot are done */
         u = (run){resumed.step, resumed.step / o.render_every + 1, resumed.number + 1, resumed.e0, u.t_gravity, 0,
                   {resumed.centre0[0], resumed.centre0[1], resumed.centre0[2]}, 0, 0, 0};

@@ -169,3 +169,28 @@ void ring_average(const double n[3], const double a_host[3], const double *acc, 
     for (int j = 0; j < 3; j++)
         out[j] = a_host[j] + mean[j] / k;
 }
+
+int ring_circular_velocity(const double c[3], const double n[3], const double a_host[3], const double v_host[3],
+                           const double x[3], const double a[3], const double v[3], double out[3])
+{
+    double d[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
+    double height = n[0] * d[0] + n[1] * d[1] + n[2] * d[2], p[3], t[3];
+    for (int k = 0; k < 3; k++)
+        p[k] = d[k] - height * n[k]; /* from the axis to x, across it */
+    double R = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
+    if (!(R > 0))
+        return 0;
+    cross(n, p, t);
+    double inward = 0, turning = 0;
+    for (int k = 0; k < 3; k++) {
+        t[k] /= R;
+        inward -= (a[k] - a_host[k]) * p[k] / R;
+        turning += (v[k] - v_host[k]) * t[k];
+    }
+    if (!(inward > 0) || turning == 0)
+        return 0;
+    double speed = copysign(sqrt(R * inward), turning);
+    for (int k = 0; k < 3; k++)
+        out[k] = v_host[k] + speed * t[k];
+    return 1;
+}

@@ -92,7 +92,8 @@ grep -q "^report .*Sun R = .* eps = 0.100$" k0.out || fail "--tracer-neighbours 
 # angular momentum about the disc's axis (h5py, about the stars' centre of
 # mass and the disc particles' spin) changes by less than 1% over the 60
 # Myr, where the same run without the ring changes it by over twice as much
-# (0.4% and 2.1% here). The snapshots record the setting for a resume. Ring
+# (0.5% and 2.1% here; 0.4% with the ring before the Sun started on its
+# circular orbit). The snapshots record the setting for a resume. Ring
 # tracers need a black hole to centre on: initial conditions without one
 # are refused by name.
 OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} "$NBODY" --galaxies mw --particles 20000 --steps 30 --dt 0.002 \
@@ -125,6 +126,41 @@ check(change["snaps"] > 2 * change["ring"], f"L_z changed by {change['snaps']:.4
       f"{change['ring']:.4f} with it")
 done()
 PY
+# --tracer-start circular, the default with the ring (docs/nbody.md, "The
+# ring"): the run starts the Sun on the circular orbit of the ring's pull.
+# Independently (tests/cli/ring_start.py: h5py, a direct sum over snapshot
+# 0 at the ring's 32 points), its speed about the stars' mean velocity is
+# sqrt(R a_R), all of it along the circle, as the run says; with
+# --tracer-start given it keeps the model's speed (the smooth potential's
+# circular speed, some km/s faster at this softening).
+start() { "$py" "$SRC/tests/cli/ring_start.py" "$@"; }
+said=$(sed -n 's/^tracer 0 started on its ring.s circular orbit: \([0-9.]*\) km\/s.*/\1/p' ring.out)
+[ -n "$said" ] || fail "--tracer-ring: no 'tracer 0 started' line: $(head -5 ring.out)"
+"$NBODY" --galaxies mw --particles 20000 --steps 0 --eps 0.1 --tracer-ring 32 --tracer-start given \
+  --snapshot-every 1 --snapshot-dir given >given.out 2>&1 || fail "--tracer-start given: $(cat given.out)"
+! grep -q "^tracer 0 started" given.out || fail "--tracer-start given started the Sun: $(cat given.out)"
+read -r R z vc vphi vR vz <<<"$(start ring/snapshot_0000.hdf5)" || fail "ring_start.py failed"
+read -r _ _ vc_given vphi_given _ _ <<<"$(start given/snapshot_0000.hdf5)" || fail "ring_start.py failed (given)"
+awk -v R="$R" -v vc="$vc" -v vphi="$vphi" -v vR="$vR" -v vz="$vz" -v said="$said" -v vcg="$vc_given" -v vg="$vphi_given" '
+  function abs(x) { return x < 0 ? -x : x }
+  BEGIN { ok = R > 7.5 && R < 8.5 && abs(abs(vphi) - vc) < 1e-6 * vc && abs(vR) < 1e-6 && abs(vz) < 1e-6 &&
+               abs(said - vc) < 0.006 && abs(vcg - vc) < 1e-9 * vc && abs(vg) - vc > 2
+          exit !ok }' ||
+  fail "the Sun started at v_phi $vphi (v_R $vR, v_z $vz; said $said), direct sum: v_c $vc at R $R; as given $vphi_given"
+# So its radius keeps still: over 0.1 Gyr (half an epicycle) the Sun
+# started as given swings out by 1.3 kpc (its speed 15 km/s above the
+# ring's circular speed at this softening, 1.9 kpc), started circular by
+# under 0.4 (the disc's own churning: docs/nbody.md, "The ring").
+for how in circular given; do
+  OMP_NUM_THREADS=${OMP_NUM_THREADS:-2} "$NBODY" --galaxies mw --particles 20000 --steps 50 --dt 0.002 --eps 0.1 \
+    --tracer-ring 32 --tracer-start $how --report-every 5 >swing-$how.out 2>&1 || fail "--tracer-start $how, 50 steps"
+done
+swing() { awk '/^report/ { for (i = 1; i <= NF; i++) if ($i == "Sun") R = $(i + 3)
+                           if (!n++) R0 = R; d = R - R0; if (d < 0) d = -d; if (d > most) most = d }
+               END { print most + 0 }' "$1"; }
+awk -v c="$(swing swing-circular.out)" -v g="$(swing swing-given.out)" 'BEGIN { exit !(c < 0.5 && c < 0.5 * g) }' ||
+  fail "the Sun's radius swung by $(swing swing-circular.out) kpc started circular, $(swing swing-given.out) as given"
+
 "$py" - <<'PY' || fail "initial conditions without a black hole"
 import h5py, numpy as np
 with h5py.File("snaps/snapshot_0000.hdf5", "r") as src, h5py.File("no_hole.hdf5", "w") as dst:
@@ -136,6 +172,25 @@ with h5py.File("snaps/snapshot_0000.hdf5", "r") as src, h5py.File("no_hole.hdf5"
         counts[5] = 0
         dst["Header"].attrs[name] = counts
 PY
+"$py" - <<'PY' || fail "a snapshot without the Sun"
+import h5py
+with h5py.File("snaps/snapshot_0000.hdf5", "r") as src, h5py.File("no_sun.hdf5", "w") as dst:
+    for k in src:
+        if k != "PartType4":
+            src.copy(k, dst)
+PY
+# scripts/sun_path.py (docs/nbody.md, the short run's Sun): the Sun's R and
+# z about the Milky Way's stars within 16 kpc are the reports' (about all
+# its stars) within 0.05 kpc; a snapshot without the Sun is refused.
+"$py" "$SRC/scripts/sun_path.py" ring/snapshot_0000.hdf5 ring/snapshot_0001.hdf5 >path.out || fail "sun_path.py failed"
+grep "^report" ring.out | awk '{ for (i = 1; i <= NF; i++) if ($i == "Sun") print $(i + 3), $(i + 6) }' >path.reports
+awk 'NR == FNR { R[FNR] = $1; z[FNR] = $2; next }
+  FNR > 1 && FNR <= 3 { d = $3 - R[FNR - 1]; e = $4 - z[FNR - 1]; if (d * d > 0.0025 || e * e > 0.0025) bad = 1; n++ }
+  END { exit bad || n != 2 }' path.reports path.out || fail "sun_path.py against the reports: $(cat path.out path.reports)"
+grep -q "^all: 2 snapshots" path.out || fail "sun_path.py's summary: $(cat path.out)"
+"$py" "$SRC/scripts/sun_path.py" no_sun.hdf5 >/dev/null 2>path.err && fail "sun_path.py read a snapshot without the Sun"
+grep -q "no_sun.hdf5: no Sun (PartType4, id 3)" path.err || fail "sun_path.py's refusal: $(cat path.err)"
+
 # A run with rings resumes bit for bit (the ring's axis comes from the
 # positions alone: the velocities are half a step behind at a force
 # computation, but not at a resume).

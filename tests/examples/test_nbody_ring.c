@@ -2,7 +2,9 @@
  * for a galaxy symmetric under the ring's rotations, the ring's pull is the
  * direct sum at the tracer; for a bar, it is the bar's pull averaged over
  * the whole circle by a fine quadrature, with no torque; a host's axis is
- * recovered from a tilted thin disc; a uniform pull passes unchanged. */
+ * recovered from a tilted thin disc; a uniform pull passes unchanged; a
+ * tracer started on the ring's circular orbit about a point mass moves at
+ * Kepler's speed. */
 #include <stdlib.h>
 
 #include "check.h"
@@ -197,6 +199,48 @@ static void test_host(void)
     CHECK(!ring_axis(zero, n));
 }
 
+/* A tracer started on the circular orbit of the ring's pull: about one
+ * mass M at the host's centre (unsoftened, the host moving and
+ * accelerating as a whole), the speed is Kepler's sqrt(G M / R) whatever
+ * the tracer's given velocity, along the circle in the sense it turned,
+ * with the host's velocity added; no inward pull, or no turning given, and
+ * it is left alone. */
+static void test_circular_start(void)
+{
+    const double c[3] = {2, -1, 0.5}, M = 5.0, R = 8.0, mass[1] = {M}, eps[1] = {0};
+    const double a_host[3] = {30, -20, 10}, v_host[3] = {-110, 80, 35};
+    double x[3], pts[3 * K], acc[3 * K] = {0}, a[3];
+    at(c, R, 0.9, 0.0, x);
+    ring_points(c, nrm, x, K, pts);
+    ring_pulls(c, mass, eps, 1, 0.0, 0.0, pts, K, G, acc);
+    for (int p = 0; p < K; p++)
+        for (int k = 0; k < 3; k++)
+            acc[3 * p + k] += a_host[k];
+    ring_average(nrm, a_host, acc, K, a);
+    double t[3], inward[3], v[3], out[3];
+    at(c, 1.0, 0.9 + TWO_PI / 4, 0.0, t); /* the circle's direction, increasing phi: c + t */
+    at(c, 1.0, 0.9, 0.0, inward);
+    for (int k = 0; k < 3; k++) {
+        t[k] -= c[k];
+        inward[k] = c[k] - inward[k];
+    }
+    for (int sense = -1; sense <= 1; sense += 2) {
+        for (int k = 0; k < 3; k++) /* turning at 150 km/s, falling in at 40 and rising at 25 */
+            v[k] = v_host[k] + sense * 150.0 * t[k] + 40.0 * inward[k] + 25.0 * nrm[k];
+        CHECK(ring_circular_velocity(c, nrm, a_host, v_host, x, a, v, out));
+        for (int k = 0; k < 3; k++)
+            CHECK_NEAR(out[k], v_host[k] + sense * sqrt(G * M / R) * t[k], 1e-9);
+    }
+    double still[3] = {v_host[0], v_host[1], v_host[2]}, away[3];
+    for (int k = 0; k < 3; k++)
+        away[k] = 2 * a_host[k] - a[k]; /* pushed outward */
+    out[0] = out[1] = out[2] = -1;
+    CHECK(!ring_circular_velocity(c, nrm, a_host, v_host, x, a, still, out));
+    CHECK(!ring_circular_velocity(c, nrm, a_host, v_host, x, away, v, out));
+    CHECK(!ring_circular_velocity(c, nrm, a_host, v_host, c, a, v, out)); /* on the axis */
+    CHECK(out[0] == -1 && out[1] == -1 && out[2] == -1);
+}
+
 int main(void)
 {
     make_frame();
@@ -204,6 +248,7 @@ int main(void)
     test_bar();
     test_uniform_pull();
     test_host();
+    test_circular_start();
     printf("%d checks, %d failed\n", check_count, check_failures);
     return check_failures != 0;
 }
