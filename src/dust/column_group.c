@@ -204,6 +204,7 @@ typedef struct candidates {
     double *near;              /* less than the distance from the eye to the support's nearest point */
     float *ih, *kih2;          /* the kernel's own 1/h and k/h^2 */
     double *term;              /* per star: each candidate's share of its column */
+    int four_wide;             /* terms four at a time (terms_avx2) */
 } candidates;
 
 static void candidates_free(candidates *c)
@@ -409,7 +410,7 @@ static void candidate_terms(const orr_dust_set *s, candidates *c, const orr_dust
 {
     size_t j = 0;
 #ifdef HAVE_VECTOR_TERMS
-    if (__builtin_cpu_supports("avx2"))
+    if (c->four_wide)
         j = terms_avx2(s, c, g->d, g->len);
 #endif
     for (; j < c->n; j++)
@@ -534,8 +535,26 @@ static void super_group_tau(const orr_dust_set *s, const double eye[3], const fl
     }
 }
 
+/* Whether this CPU computes terms four at a time when asked for the best. */
+static int four_wide_terms(orr_dust_terms terms)
+{
+#ifdef HAVE_VECTOR_TERMS
+    return terms == ORR_DUST_TERMS_BEST && __builtin_cpu_supports("avx2");
+#else
+    (void)terms;
+    return 0;
+#endif
+}
+
 orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t n, const float *x, const float *y,
                              const float *z, const unsigned char *want, double *tau, orr_error *err)
+{
+    return orr_dust_tau_many_with(ORR_DUST_TERMS_BEST, s, eye, n, x, y, z, want, tau, err);
+}
+
+orr_status orr_dust_tau_many_with(orr_dust_terms terms, const orr_dust_set *s, const double eye[3], size_t n,
+                                  const float *x, const float *y, const float *z, const unsigned char *want,
+                                  double *tau, orr_error *err)
 {
     if (n > UINT32_MAX - 1)
         return orr_fail(err, ORR_ERR_USAGE, "%zu stars at once: at most %u", n, UINT32_MAX - 1);
@@ -574,6 +593,7 @@ orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t 
 #pragma omp parallel
     {
         walker w = {{0}, {0}};
+        w.group.four_wide = four_wide_terms(terms);
 #pragma omp for schedule(dynamic, 1)
         for (long q = 0; q < (long)ns; q++)
             super_group_tau(s, eye, x, y, z, keys, starts, supers[q], supers[q + 1], &w, tau);
