@@ -12,6 +12,11 @@ src/scene/scene.h), comments and strings left out: `s->input.weight`,
 whole (`orr_scene_has_sequence(s)`) is not counted; the fields it reads are
 counted in its own file.
 
+It also checks that the plan keeps no scene: struct orr_plan (render/plan.c)
+and the structs of render/'s and pass/'s headers, which the plan holds per
+view, declare no member that is a scene or points to one. The plan copies
+what it needs when it is made, so the caller's scenes may go.
+
 CEILINGS held what each file read while the reads were being moved into
 the plan; it is empty now. The check fails when a file reads more than its
 ceiling (or a file not listed reads any), and says which files now read
@@ -90,10 +95,24 @@ def count(src):
     return counts
 
 
+def scenes_kept(src):
+    """The members that are scenes (or point to them) in struct orr_plan and
+    in the structs of render/'s and pass/'s headers: "file: name" each."""
+    files = dict(sources(src))
+    kept = []
+    plan = re.search(r'struct orr_plan \{(.*?)\n\};', files[os.path.join("render", "plan.c")], re.S)
+    kept += [f"render/plan.c: struct orr_plan.{n}" for n in FIELD.findall(plan.group(1) if plan else "")]
+    for rel, text in sorted(files.items()):
+        if rel.split(os.sep)[0] in ("render", "pass") and rel.endswith(".h"):
+            kept += [f"{rel.replace(os.sep, '/')}: {n}" for n in FIELD.findall(text)]
+    return kept
+
+
 def main():
     src = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..", "src")
     counts = count(src)
-    problems = []
+    problems = [f"{k}: the plan keeps a scene; copy what the frames need when the plan is made"
+                for k in scenes_kept(src)]
     for rel, n in sorted(counts.items()):
         ceiling = CEILINGS.get(rel, 0)
         if n > ceiling:
@@ -106,7 +125,7 @@ def main():
     for p in problems:
         print(p)
     print(f"check_scene_reads: {sum(counts.values())} scene-field reads in {len(counts)} files outside scene/ "
-          f"and render/plan.c; {len(problems)} problem(s)")
+          f"and render/plan.c; scenes kept by the plan: {len(scenes_kept(src))}; {len(problems)} problem(s)")
     return 1 if problems else 0
 
 

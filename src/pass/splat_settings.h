@@ -4,8 +4,8 @@
  * reader of the scene), so the pass reads no scene. Copies, not pointers
  * into the scene: the frame's scenes come and go, the plan's view stays
  * (the dust's curve file is the copy's own string, freed with the plan's
- * view); only the path for messages points into the planned scene, which
- * outlives the plan (render/plan.h). */
+ * view); the path for messages is the view's own copy, which lives as long
+ * as the view. */
 #ifndef ORR_PASS_SPLAT_SETTINGS_H
 #define ORR_PASS_SPLAT_SETTINGS_H
 
@@ -18,7 +18,7 @@
 #include "splat/deposit.h"
 
 typedef struct orr_splat_settings {
-    const char *path;          /* the scene file, for messages: the planned scene's string */
+    const char *path;          /* the scene file, for messages: the view's own copy */
     /* The particles drawn and their weight (input.*). */
     unsigned type_mask;        /* input.types: bit t set for a type drawn */
     int skip_nonfinite;        /* input.nonfinite: skip (else a particle not finite is an error) */

@@ -133,19 +133,18 @@ static orr_status do_frame(orr_plan *plan, const orr_scene *scenes, const orr_vi
                            long frame, const orr_run_settings *run, const run_input *ri,
                            const orr_animation_options *opt, orr_render_report *reports, orr_error *err)
 {
-    const orr_scene *list[ORR_SCENE_MAX_VIEWS];
     int writer = !opt->parallel || opt->parallel->rank == 0; /* rank 0 of several processes writes */
     for (int k = 0; k < n; k++) {
-        list[k] = &scenes[k];
         const orr_output_place at = orr_plan_output_place(&scenes[k]);
         if (writer && !opt->compose && run->frames > 1)
             orr_marker_remove(&at);
     }
     orr_frame_input in = {.time = orr_frame_at(frame, run->frames, run->fps, ri->t0, ri->t1),
                           .parallel = opt->parallel};
+    const orr_compose_frame recompose = {.time = in.time, .white = NULL};
     orr_status st = opt->compose ? ORR_OK : frame_source(ri, &in.time, opt->parallel, &in.source, err);
     if (!st)
-        st = opt->compose ? orr_plan_compose(plan, list, reports, err)
+        st = opt->compose ? orr_plan_compose(plan, &recompose, reports, err)
                           : orr_plan_execute(plan, &in, reports, opt->progress, opt->progress_user, err);
     orr_source_close(in.source);
     if (st && run->frames > 1)
@@ -294,11 +293,11 @@ static orr_status regrade_frame(orr_plan *plan, const orr_scene *s, long f, doub
     orr_scene *frame = calloc(1, sizeof *frame); /* zeroed: frame_scenes frees what it holds */
     if (!frame)
         return orr_fail(err, ORR_ERR_NOMEM, "out of memory for a frame's scene");
-    orr_status st = frame_scenes(&s, 1, f, frame, err);
-    orr_plan_regrade_scene(frame, white);
-    const orr_scene *list[1] = {frame};
+    orr_status st = frame_scenes(&s, 1, f, frame, err); /* where its marker is */
+    const orr_run_settings run = orr_plan_run_settings(s);
+    const orr_compose_frame regrade = {.time = orr_frame_at(f, run.frames, run.fps, 0, 0), .white = &white};
     if (!st)
-        st = orr_plan_compose(plan, list, rep, err);
+        st = orr_plan_compose(plan, &regrade, rep, err);
     orr_view_identity unused = {NULL, NULL};
     const orr_output_place at = orr_plan_output_place(frame);
     if (!st)

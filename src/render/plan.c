@@ -6,6 +6,7 @@
 #include "render/plan.h"
 #include "render/view_state.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +14,7 @@
 
 #include "core/atomic.h"
 #include "core/numbers.h"
+#include "core/owned.h"
 #include "dust/dust.h"
 #include "post/brightness.h"
 #include "post/grade.h"
@@ -23,72 +25,49 @@
 
 /* ---- the views as rendered: a stereo view's two eyes ---- */
 
-/* The views as the plan renders them: a stereo view becomes its left eye
- * followed by its right eye, each a copy of the scene that knows which eye
- * it is. The left eye reports into the caller's report; the right eye into
- * one of its own, whose outputs eye_views_finish appends to the left's. */
+/* The scenes of the views as the plan renders them, while it plans them: a
+ * stereo view becomes its left eye followed by its right eye, each a copy
+ * of the scene that knows which eye it is. Freed once the plan is made:
+ * the plan keeps no scene. */
 typedef struct orr_eye_views {
-    int n;                       /* views to render */
-    const orr_scene **scene;     /* [n] the scene of each (the caller's, or an eye's copy) */
-    orr_render_report **report;  /* [n] where each reports */
-    orr_scene *copies;           /* the eyes' scenes, copies with strings of their own */
-    int ncopies;                 /* ... how many (zeroed until copied: freed whole) */
-    orr_render_report *right;    /* the right eyes' reports */
+    int n;                   /* views to plan */
+    const orr_scene **scene; /* [n] the scene of each (the caller's, or an eye's copy) */
+    orr_scene *copies;       /* the eyes' scenes, copies with strings of their own */
+    int ncopies;             /* ... how many (zeroed until copied: freed whole) */
 } orr_eye_views;
 
-/* Merges each right eye's outputs into its left eye's report, then frees. */
 static void eye_views_finish(orr_eye_views *ev)
 {
-    for (int k = 0; ev->report && k + 1 < ev->n; k++) {
-        if (ev->scene[k]->stereo.eye != ORR_EYE_LEFT)
-            continue;
-        orr_render_report *l = ev->report[k];
-        const orr_render_report *r = ev->report[k + 1];
-        for (int i = 0; i < r->noutputs && l->noutputs < ORR_RENDER_MAX_OUTPUTS; i++)
-            memcpy(l->outputs[l->noutputs++], r->outputs[i], ORR_PATH_MAX);
-    }
     free(ev->scene);
-    free(ev->report);
     for (int k = 0; k < ev->ncopies; k++)
         orr_scene_free(&ev->copies[k]);
     free(ev->copies);
-    free(ev->right);
     memset(ev, 0, sizeof *ev);
 }
 
-/* The scene of one eye: a copy that knows which eye it is, with its own
- * output name when the eyes are written separately. */
+/* The scene of one eye: a copy that knows which eye it is. */
 static orr_status eye_scene(const orr_scene *s, int eye, orr_scene *out, orr_error *err)
 {
     orr_status st = orr_scene_copy(out, s, err);
-    if (st)
-        return st;
     out->stereo.eye = eye;
-    return orr_eye_output_name(s->stereo.mode, s->path, s->output.name, eye, out->output.name,
-                               sizeof out->output.name, err);
+    return st;
 }
 
-/* Room in ev for n views, of which `pairs` stereo views' eye copies and
- * right eyes' reports. */
+/* Room in ev for n views, of which `pairs` stereo views' eye copies. */
 static orr_status eye_views_alloc(orr_eye_views *ev, int n, int pairs, orr_error *err)
 {
     ev->scene = orr_calloc((size_t)n, sizeof *ev->scene, "stereo views", err);
-    ev->report = orr_calloc((size_t)n, sizeof *ev->report, "stereo views", err);
     ev->copies = pairs ? orr_calloc(2 * (size_t)pairs, sizeof *ev->copies, "stereo eye scenes", err) : NULL;
     ev->ncopies = ev->copies ? 2 * pairs : 0;
-    ev->right = pairs ? orr_calloc((size_t)pairs, sizeof *ev->right, "stereo eye reports", err) : NULL;
-    if (!ev->scene || !ev->report || (pairs && (!ev->copies || !ev->right))) {
+    if (!ev->scene || (pairs && !ev->copies)) {
         eye_views_finish(ev);
         return ORR_ERR_NOMEM;
     }
     return ORR_OK;
 }
 
-/* Expands scenes[0..nscenes) (reports[i] for scene i) into eyes. For
- * stereo.mode: separate each eye writes its own files, named
- * output.name-left and output.name-right. */
-static orr_status eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_render_report *reports,
-                                   orr_eye_views *ev, orr_error *err)
+/* Expands scenes[0..nscenes) into eyes. */
+static orr_status eye_views_expand(const orr_scene *const *scenes, int nscenes, orr_eye_views *ev, orr_error *err)
 {
     memset(ev, 0, sizeof *ev);
     int pairs = 0;
@@ -97,11 +76,10 @@ static orr_status eye_views_expand(const orr_scene *const *scenes, int nscenes, 
     orr_status st = eye_views_alloc(ev, nscenes + pairs, pairs, err);
     for (int k = 0, pair = 0; k < nscenes && !st; k++) {
         if (scenes[k]->stereo.mode == ORR_STEREO_NONE) {
-            ev->scene[ev->n] = scenes[k];
-            ev->report[ev->n++] = &reports[k];
+            ev->scene[ev->n++] = scenes[k];
             continue;
         }
-        orr_scene *left = &ev->copies[2 * pair], *right = left + 1;
+        orr_scene *left = &ev->copies[2 * pair++], *right = left + 1;
         st = eye_scene(scenes[k], ORR_EYE_LEFT, left, err);
         if (!st)
             st = eye_scene(scenes[k], ORR_EYE_RIGHT, right, err);
@@ -109,31 +87,31 @@ static orr_status eye_views_expand(const orr_scene *const *scenes, int nscenes, 
             eye_views_finish(ev);
             return st;
         }
-        ev->scene[ev->n] = left;
-        ev->report[ev->n++] = &reports[k];
-        ev->scene[ev->n] = right;
-        ev->report[ev->n++] = &ev->right[pair++];
+        ev->scene[ev->n++] = left;
+        ev->scene[ev->n++] = right;
     }
     return st;
-}
-
-/* Whether view k of ev is the left eye of a pair written as one picture
- * (anaglyph, side-by-side, over-under); view k + 1 is then its right eye. */
-static int eye_views_pair_at(const orr_eye_views *ev, int k)
-{
-    return k + 1 < ev->n && ev->scene[k]->stereo.eye == ORR_EYE_LEFT &&
-           orr_stereo_is_pair_mode(ev->scene[k]->stereo.mode);
 }
 
 struct orr_plan {
     orr_plan_purpose purpose;
     int nscenes;             /* the views as given */
-    const orr_scene **given; /* [nscenes] their scenes (the caller's, which outlive the plan) */
     int n;                   /* the views as rendered: a stereo view is two eyes (purpose render) */
     int *origin;             /* [n] the view given that each renders */
-    orr_eye_views eyes;      /* the planned views' eyes: their scenes live as long as the plan */
-    orr_source_request source; /* what the frames ask of the particles: view 0's (views share input.*) */
-    orr_render_report *planning_reports; /* [nscenes] what the planned eyes report into (unused after) */
+    /* What the views share, view 0's input.* and observer.*: copies, with
+     * strings of their own. */
+    orr_input_settings input;
+    orr_periodic_settings periodic;
+    char fields[ORR_RENDER_MAX_FIELDS][ORR_FIELD_NAME_MAX]; /* the extra fields the frames read */
+    orr_source_request source; /* what the frames ask of the particles: points into the above */
+    orr_observer_settings observer;
+    int observer_velocities; /* the observer's pass reads velocities (its spin normal, a blur) */
+    double fps;              /* animation.fps: a still's time */
+    /* Where each view reports in a frame: a right eye into a report of its
+     * own, whose outputs go to its left eye's after the frame; every other
+     * view into the caller's report of the view given it renders. */
+    orr_render_report **report; /* [n] */
+    orr_render_report *right;   /* [n] the right eyes' own */
     view_state *views;       /* [n] */
     orr_splat_view **passes; /* [n] each view's part for the splat pass: &views[k].pass */
     int planned;             /* views[0..planned) hold plan-time state, to free */
@@ -146,6 +124,34 @@ struct orr_plan {
     double seconds;          /* orr_plan_create's time */
     orr_clock planning;      /* ... wall and CPU, charged to the first frame executed (then zero) */
 };
+
+/* Whether view k is the left eye of a pair written as one picture
+ * (anaglyph, side-by-side, over-under); view k + 1 is then its right eye. */
+static int pair_at(const orr_plan *plan, int k)
+{
+    const view_files *f = &plan->views[k].files;
+    return k + 1 < plan->n && f->eye == ORR_EYE_LEFT && orr_stereo_is_pair_mode(f->stereo_mode);
+}
+
+/* Where each view reports in this frame (orr_plan.report). */
+static void frame_reports_begin(orr_plan *plan, orr_render_report *reports)
+{
+    for (int k = 0; k < plan->n; k++)
+        plan->report[k] = plan->views[k].files.eye == ORR_EYE_RIGHT ? &plan->right[k] : &reports[plan->origin[k]];
+}
+
+/* Adds each right eye's outputs to its view's report, its left eye's. */
+static void frame_reports_finish(orr_plan *plan)
+{
+    for (int k = 1; k < plan->n; k++) {
+        if (plan->views[k].files.eye != ORR_EYE_RIGHT)
+            continue;
+        orr_render_report *l = plan->report[k - 1];
+        const orr_render_report *r = plan->report[k];
+        for (int i = 0; i < r->noutputs && l->noutputs < ORR_RENDER_MAX_OUTPUTS; i++)
+            memcpy(l->outputs[l->noutputs++], r->outputs[i], ORR_PATH_MAX);
+    }
+}
 
 /* ---- what the frames ask of the particle source ---- */
 
@@ -272,13 +278,6 @@ orr_status orr_plan_frame_scene(const orr_scene *view, long frame, orr_scene *ou
                           sizeof out->output.name, err);
 }
 
-void orr_plan_regrade_scene(orr_scene *frame, double white)
-{
-    frame->regrade_final = 1;
-    frame->colour.synth.y0 = white;
-    frame->picture.stretch.white = white;
-}
-
 int orr_plan_psf_in_raw_planes(const orr_scene *s, int *sky)
 {
     *sky = orr_projection_traits_of(s->projection.kind).sky;
@@ -328,9 +327,9 @@ static orr_status plan_psf(view_state *v, const orr_scene *s, orr_psf_kernels *k
 }
 
 /* What the splat pass reads of the view's scene (pass/splat_settings.h). */
-static orr_status splat_settings_of(const orr_scene *s, orr_splat_settings *set, orr_error *err)
+static orr_status splat_settings_of(const orr_scene *s, const char *path, orr_splat_settings *set, orr_error *err)
 {
-    set->path = s->path;
+    set->path = path;
     set->type_mask = s->input.type_mask;
     set->skip_nonfinite = s->input.skip_nonfinite;
     snprintf(set->weight, sizeof set->weight, "%s", s->input.weight);
@@ -352,34 +351,59 @@ static orr_status splat_settings_of(const orr_scene *s, orr_splat_settings *set,
     return st;
 }
 
-/* What the view's files are (render/view_files.h): the plan's part; the
- * frame's is frame_files'. */
+/* The frame's grading starts as planned (a compose's re-grade and a stereo
+ * pair's shared white level change it). */
+static void begin_frame_grading(view_files *f)
+{
+    f->picture = f->planned_picture;
+    f->colour = f->planned_colour;
+    f->regrade_final = 0;
+}
+
+/* What the view's files are (render/view_files.h), the frame's part as
+ * planned. */
 static orr_status view_files_of(const orr_scene *s, view_files *f, orr_error *err)
 {
-    f->path = s->path;
     snprintf(f->weight, sizeof f->weight, "%s", s->input.weight);
     f->stereo_mode = s->stereo.mode;
     f->eye = s->stereo.eye;
     f->extinction_plane = s->dust.extinction_plane;
     f->stars_list = s->stars.list;
     snprintf(f->scene_yaml, sizeof f->scene_yaml, "%s", s->scene_yaml);
-    return orr_compose_settings_copy(&f->compose, &s->compose, err);
+    snprintf(f->planned_name, sizeof f->planned_name, "%s", s->output.name);
+    f->planned_picture = s->picture;
+    f->planned_colour = s->colour;
+    begin_frame_grading(f); /* the cards the plan makes describe the planned picture */
+    orr_status st = orr_owned_set(&f->path, s->path, err);
+    if (!st)
+        st = orr_output_settings_copy(&f->output, &s->output, err);
+    return st ? st : orr_compose_settings_copy(&f->compose, &s->compose, err);
 }
 
-/* The frame's part of the view's files, from the frame's scene s: its
- * output names, and its grading (a compose re-grades with another white). */
-static orr_status frame_files(const orr_scene *s, view_files *f, orr_error *err)
+/* Re-grades the view's final planes (NAME.fits, after the PSF) with the
+ * white level white, as animation.white_smoothing does. */
+static void regrade_final(view_files *f, double white)
 {
-    f->picture = s->picture;
-    f->colour = s->colour;
-    f->regrade_final = s->regrade_final;
-    return orr_output_settings_copy(&f->output, &s->output, err); /* the frame's scene goes, the view stays */
+    f->regrade_final = 1;
+    f->colour.synth.y0 = white;
+    f->picture.stretch.white = white;
+}
+
+/* The units the scene states, or leaves to each frame's file (view_units). */
+static void units_of(const orr_scene *s, view_units *u)
+{
+    static const char from_file[] = ""; /* passed as the file's unit: returned when the scene states none */
+    const char *weight = scene_weight_unit(s, from_file), *length = scene_length_unit(s, from_file);
+    u->weight_from_file = weight == from_file;
+    u->length_from_file = length == from_file;
+    snprintf(u->weight, sizeof u->weight, "%s", weight);
+    snprintf(u->length, sizeof u->length, "%s", length);
 }
 
 /* How the view's camera is found each frame (view_state.h). */
-static orr_status camera_plan_of(const orr_scene *s, view_camera_plan *c, orr_error *err)
+static orr_status camera_plan_of(const orr_scene *s, const char *path, view_camera_plan *c, orr_error *err)
 {
-    c->path = s->path;
+    c->path = path;
     c->kind = s->projection.kind;
     c->stereo = s->stereo;
     c->shutter = s->animation.shutter;
@@ -391,13 +415,11 @@ static orr_status camera_plan_of(const orr_scene *s, view_camera_plan *c, orr_er
 
 static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *kernels, orr_error *err)
 {
-    orr_status st = splat_settings_of(s, &v->pass.splat, err);
+    orr_status st = view_files_of(s, &v->files, err);
     if (!st)
-        st = view_files_of(s, &v->files, err);
+        st = splat_settings_of(s, v->files.path, &v->pass.splat, err);
     if (!st)
-        st = frame_files(s, &v->files, err);
-    if (!st)
-        st = camera_plan_of(s, &v->camera_plan, err);
+        st = camera_plan_of(s, v->files.path, &v->camera_plan, err);
     if (st)
         return st; /* out of memory */
     st = orr_projection_plan(&v->pass.proj, &s->projection, err);
@@ -406,8 +428,9 @@ static orr_status plan_view(view_state *v, const orr_scene *s, orr_psf_kernels *
     v->pass.nplanes = s->colour.has_populations || s->compose.nlayers ? 3 : 1;
     if (s->colour.has_populations && s->output.exr_population_layers)
         v->pass.nplanes += 3 * s->colour.populations.n;
+    units_of(s, &v->units);
     char unit[ORR_PLANE_NAME_MAX];
-    orr_brightness_unit(&v->pass.proj, scene_weight_unit(s, NULL), scene_length_unit(s, NULL), unit, sizeof unit);
+    orr_brightness_unit(&v->pass.proj, v->units.weight, v->units.length, unit, sizeof unit);
     for (int k = 0; k < v->pass.nplanes && !st; k++) {
         char name[ORR_PLANE_NAME_MAX];
         plane_name(s, k, name, sizeof name);
@@ -463,7 +486,7 @@ static void reset_frame_state(view_state *v)
 /* The frame's part of a planned view: its report, the camera (a path, the
  * observer's sky frame), a stereo eye's camera and principal point (the
  * convergence may follow the camera), motion blur's shutter cameras. */
-static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_sky_frame *observer,
+static orr_status begin_view_frame(view_state *v, const orr_sky_frame *observer,
                                    orr_vec3 observer_velocity, const orr_frame_time *when, orr_render_report *rep,
                                    orr_error *err)
 {
@@ -472,14 +495,12 @@ static orr_status begin_view_frame(view_state *v, const orr_scene *s, const orr_
     rep->frame = when->frame;
     rep->nframes = when->nframes;
     v->rep = rep;
-    orr_status st = frame_files(s, &v->files, err);
-    if (st)
-        return st;
-    v->tint_t = s->colour.tint_run ? when->u : s->colour.tint_t;
+    begin_frame_grading(&v->files);
+    v->tint_t = v->files.colour.tint_run ? when->u : v->files.colour.tint_t;
     const view_camera_plan *c = &v->camera_plan;
-    st = orr_view_camera(c, observer, when, &rep->camera, &rep->sky, err);
+    orr_status st = orr_view_camera(c, observer, when, &rep->camera, &rep->sky, err);
     if (st)
-        return orr_fail_prefix(err, "%s: ", s->path);
+        return orr_fail_prefix(err, "%s: ", v->files.path);
     if ((st = orr_stereo_setup_eye(&c->stereo, &c->camera, c->path, &v->pass.proj, rep, &v->pass.ods,
                                    &v->pass.use_ods, err)) ||
         (st = orr_view_plan_blur(v, observer, observer_velocity, when, err)))
@@ -517,6 +538,7 @@ static void free_view(view_state *v)
     orr_dust_settings_free(&v->pass.splat.dust);
     orr_compose_settings_free(&v->files.compose);
     orr_output_settings_free(&v->files.output);
+    orr_owned_free(&v->files.path);
     orr_camera_settings_free(&v->camera_plan.camera);
 }
 
@@ -530,10 +552,10 @@ void orr_plan_destroy(orr_plan *plan)
         free_view(&plan->views[k]);
     free(plan->views);
     free(plan->passes);
-    free(plan->given);
     free(plan->origin);
-    eye_views_finish(&plan->eyes);
-    free(plan->planning_reports);
+    free(plan->report);
+    free(plan->right);
+    orr_input_settings_free(&plan->input);
     orr_psf_kernels_free(&plan->kernels);
     orr_lengths_free(&plan->kept_lengths);
     if (plan->has_stars)
@@ -541,58 +563,90 @@ void orr_plan_destroy(orr_plan *plan)
     free(plan);
 }
 
-/* The views a frame renders: for a render, each stereo view's two eyes
- * (copies of the scene, named for the frame); for a compose, the views as
- * given. */
-static orr_status expand_views(const orr_plan *plan, const orr_scene *const *scenes, orr_render_report *reports,
-                               orr_eye_views *eyes, orr_error *err)
+/* The views the plan renders: for a render, each stereo view's two eyes;
+ * for a compose, the views as given. */
+static orr_status expand_views(orr_plan_purpose purpose, const orr_scene *const *scenes, int n, orr_eye_views *eyes,
+                               orr_error *err)
 {
-    if (plan->purpose == ORR_PLAN_RENDER)
-        return eye_views_expand(scenes, plan->nscenes, reports, eyes, err);
+    if (purpose == ORR_PLAN_RENDER)
+        return eye_views_expand(scenes, n, eyes, err);
     memset(eyes, 0, sizeof *eyes);
-    eyes->scene = orr_calloc((size_t)plan->nscenes, sizeof *eyes->scene, "views", err);
-    eyes->report = orr_calloc((size_t)plan->nscenes, sizeof *eyes->report, "views", err);
-    if (!eyes->scene || !eyes->report) {
-        eye_views_finish(eyes);
+    if (!(eyes->scene = orr_calloc((size_t)n, sizeof *eyes->scene, "views", err)))
         return ORR_ERR_NOMEM;
-    }
-    for (int k = 0; k < plan->nscenes; k++) {
+    for (int k = 0; k < n; k++)
         eyes->scene[k] = scenes[k];
-        eyes->report[k] = &reports[k];
-    }
-    eyes->n = plan->nscenes;
+    eyes->n = n;
     return ORR_OK;
 }
 
-
-/* Each scene's output folder made, or found unwritable. A compose reads
- * its raw planes from there (its layers may be elsewhere): without layers
- * a folder that is not there is an error, not made empty. */
-static orr_status check_output_dirs(orr_plan_purpose purpose, const orr_scene *const *scenes, int n,
-                                    orr_error *err)
+/* A view's output folder made, or found unwritable. A compose reads the
+ * raw planes it re-grades from it: they must be there. */
+static orr_status check_output_dir(orr_plan_purpose purpose, const char *dir, int compose_layers, orr_error *err)
 {
     orr_status st = ORR_OK;
-    for (int k = 0; k < n && !st; k++)
-        if (purpose != ORR_PLAN_COMPOSE || !(st = orr_compose_check_raw_dir(scenes[k]->output.dir, scenes[k]->compose.nlayers, err)))
-            st = orr_check_output_dir(scenes[k]->output.dir, err);
+    if (purpose == ORR_PLAN_COMPOSE)
+        st = orr_compose_check_raw_dir(dir, compose_layers, err);
+    return st ? st : orr_check_output_dir(dir, err);
+}
+
+/* What the views share, copied from view 0's scene: the particles the
+ * frames read (input.*, the fields), the observer, a still's time. */
+static orr_status plan_shared(orr_plan *plan, const orr_scene *s, orr_error *err)
+{
+    orr_plan_source_request(s, &plan->source); /* (pointing into s until repointed below) */
+    orr_status st = orr_input_settings_copy(&plan->input, &s->input, err);
+    plan->periodic = s->periodic;
+    plan->source.input = &plan->input;
+    plan->source.periodic = &plan->periodic;
+    for (int i = 0; i < plan->source.nfields; i++) {
+        snprintf(plan->fields[i], sizeof plan->fields[i], "%s", plan->source.fields[i]);
+        plan->source.fields[i] = plan->fields[i];
+    }
+    plan->source.scene_path = NULL; /* view 0's own path, once it is planned (orr_plan_create) */
+    plan->observer = s->observer;
+    plan->observer_velocities = s->observer.normal_types != 0 || blur_moves_particles(s);
+    plan->fps = s->animation.fps;
     return st;
 }
 
-/* The views given (plan->given) and which of them each view rendered is
- * (plan->origin: a stereo view's eyes are both its). */
-static orr_status keep_given(orr_plan *plan, const orr_scene *const *scenes, orr_error *err)
+/* The plan's per-view arrays, and which view given each view renders. */
+static orr_status alloc_views(orr_plan *plan, const orr_scene *const *scenes, orr_error *err)
 {
-    plan->given = orr_calloc((size_t)plan->nscenes, sizeof *plan->given, "views", err);
-    plan->origin = orr_calloc((size_t)plan->n, sizeof *plan->origin, "views", err);
-    if (!plan->given || !plan->origin)
+    const size_t n = (size_t)plan->n;
+    plan->views = orr_calloc(n, sizeof *plan->views, "views", err);
+    plan->passes = orr_calloc(n, sizeof *plan->passes, "views", err);
+    plan->origin = orr_calloc(n, sizeof *plan->origin, "views", err);
+    plan->report = orr_calloc(n, sizeof *plan->report, "views", err);
+    plan->right = orr_calloc(n, sizeof *plan->right, "views", err);
+    if (!plan->views || !plan->passes || !plan->origin || !plan->report || !plan->right)
         return ORR_ERR_NOMEM;
     for (int i = 0, k = 0; i < plan->nscenes; i++) {
-        plan->given[i] = scenes[i];
         plan->origin[k++] = i;
         if (plan->purpose == ORR_PLAN_RENDER && scenes[i]->stereo.mode != ORR_STEREO_NONE)
             plan->origin[k++] = i;
     }
+    for (size_t k = 0; k < n; k++)
+        plan->passes[k] = &plan->views[k].pass;
     return ORR_OK;
+}
+
+/* Plans each view from its scene (an eye's copy for a stereo view), and
+ * the stars the views share. */
+static orr_status plan_views(orr_plan *plan, const orr_eye_views *eyes, orr_error *err)
+{
+    orr_status st = ORR_OK;
+    for (; !st && plan->planned < plan->n; plan->planned++)
+        st = plan_view(&plan->views[plan->planned], eyes->scene[plan->planned], &plan->kernels, err);
+    if (st)
+        return st;
+    const orr_scene *s0 = eyes->scene[0];
+    plan->source.scene_path = plan->views[0].files.path;
+    if (plan->purpose == ORR_PLAN_RENDER && s0->stars.enabled &&
+        !(st = orr_frame_stars_prepare(&plan->stars, &s0->stars, s0->observer.id, plan->views[0].files.path, err)))
+        plan->has_stars = 1;
+    for (int k = 0; k < plan->n && !st && plan->has_stars; k++) /* the stars' glows span degrees */
+        st = orr_coarse_glow_plan(&plan->views[k].pass, err);
+    return st;
 }
 
 orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n, orr_plan_purpose purpose,
@@ -607,28 +661,21 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *scenes, int n
         return ORR_ERR_NOMEM;
     plan->purpose = purpose;
     plan->nscenes = n;
-    orr_plan_source_request(scenes[0], &plan->source);
     /* Fail on an unwritable output folder before any slow work. */
-    orr_status st = check_output_dirs(purpose, scenes, n, err);
-    if (!st && !(plan->planning_reports = orr_calloc((size_t)n, sizeof *plan->planning_reports, "reports", err)))
-        st = ORR_ERR_NOMEM;
+    orr_status st = ORR_OK;
+    for (int k = 0; k < n && !st; k++)
+        st = check_output_dir(purpose, scenes[k]->output.dir, scenes[k]->compose.nlayers, err);
     if (!st)
-        st = expand_views(plan, scenes, plan->planning_reports, &plan->eyes, err);
-    plan->n = plan->eyes.n;
+        st = plan_shared(plan, scenes[0], err);
+    orr_eye_views eyes = {0};
     if (!st)
-        st = keep_given(plan, scenes, err);
-    if (!st && (!(plan->views = orr_calloc((size_t)plan->n, sizeof *plan->views, "views", err)) ||
-                !(plan->passes = orr_calloc((size_t)plan->n, sizeof *plan->passes, "views", err))))
-        st = ORR_ERR_NOMEM;
-    for (int k = 0; k < plan->n && !st; k++)
-        plan->passes[k] = &plan->views[k].pass;
-    for (; !st && plan->planned < plan->n; plan->planned++)
-        st = plan_view(&plan->views[plan->planned], plan->eyes.scene[plan->planned], &plan->kernels, err);
-    if (!st && purpose == ORR_PLAN_RENDER && scenes[0]->stars.enabled &&
-        !(st = orr_frame_stars_prepare(&plan->stars, &scenes[0]->stars, scenes[0]->observer.id, scenes[0]->path, err)))
-        plan->has_stars = 1;
-    for (int k = 0; k < plan->n && !st && plan->has_stars; k++) /* the stars' glows span degrees */
-        st = orr_coarse_glow_plan(&plan->views[k].pass, err);
+        st = expand_views(purpose, scenes, n, &eyes, err);
+    plan->n = eyes.n;
+    if (!st)
+        st = alloc_views(plan, scenes, err);
+    if (!st)
+        st = plan_views(plan, &eyes, err);
+    eye_views_finish(&eyes);
     if (st) {
         orr_plan_destroy(plan);
         return st;
@@ -645,20 +692,15 @@ double orr_plan_seconds(const orr_plan *plan)
     return plan ? plan->seconds : 0;
 }
 
-/* The frame's views must be the planned ones: the same image, projection
- * and deposit (their output names are the frame's own). */
-static orr_status check_frame_views(const orr_plan *plan, const orr_eye_views *eyes, orr_error *err)
+/* Each view's output folder, checked again each frame (a stat): a long
+ * run's folder may have gone since, and this is before any slow work. */
+static orr_status check_view_dirs(const orr_plan *plan, orr_error *err)
 {
-    if (eyes->n != plan->n)
-        return orr_fail(err, ORR_ERR_INTERNAL, "the frame has %d views, the plan %d", eyes->n, plan->n);
-    for (int k = 0; k < plan->n; k++) {
-        const orr_scene *a = eyes->scene[k], *b = plan->eyes.scene[k];
-        if (a->projection.kind != b->projection.kind || a->projection.width != b->projection.width ||
-            a->projection.height != b->projection.height || a->deposit.kind != b->deposit.kind || a->psf.kind != b->psf.kind ||
-            a->colour.has_populations != b->colour.has_populations || a->stereo.eye != b->stereo.eye)
-            return orr_fail(err, ORR_ERR_INTERNAL, "%s: view %d of the frame is not the view planned", a->path, k);
-    }
-    return ORR_OK;
+    orr_status st = ORR_OK;
+    for (int k = 0; k < plan->n && !st; k++)
+        st = check_output_dir(plan->purpose, plan->views[k].files.output.dir, plan->views[k].files.compose.nlayers,
+                              err);
+    return st;
 }
 
 /* ---- a frame ---- */
@@ -827,10 +869,10 @@ static orr_status draw_bright_stars(view_state *v, orr_error *err)
     return orr_flat_psf_draw(v->pass.psf.sky, &dep, v->pass.psf.core, v->pass.planes, v->pass.nplanes, err);
 }
 
-static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, const orr_frame_input *in,
-                               orr_error *err)
+static orr_status finish_views(const orr_plan *plan, const orr_frame_input *in, orr_error *err)
 {
-    int keep = in && in->keep;
+    view_state *views = plan->views;
+    const int n = plan->n, keep = in && in->keep;
     orr_status st = ORR_OK;
     for (int k = 0; k < n && !st; k++) /* bright stars' PSFs: part of the raw planes, as the cores */
         st = draw_bright_stars(&views[k], err);
@@ -851,7 +893,7 @@ static orr_status finish_views(view_state *views, int n, orr_eye_views *eyes, co
             st = orr_view_psf_apply(&views[k].pass.psf, &views[k].pass.planes[j], err);
     charge(&views[0], ORR_STAGE_PSF);
     for (int k = 0; k < n && !st; k++) {
-        if (eye_views_pair_at(eyes, k)) {
+        if (pair_at(plan, k)) {
             st = orr_view_write_stereo_pair(&views[k], &views[k + 1], err);
             if (!st && keep && !(st = keep_view(&views[k], k, in, err)))
                 st = keep_view(&views[k + 1], k + 1, in, err);
@@ -898,10 +940,10 @@ static void frame_units(orr_plan *plan, const orr_source *src)
     const char *mass = src ? src->info.mass_unit : "", *length = src ? src->info.length_unit : "";
     for (int k = 0; k < plan->n; k++) {
         view_state *v = &plan->views[k];
-        const orr_scene *s = plan->eyes.scene[k]; /* (the units are the same in every frame's) */
-        snprintf(v->length_unit, sizeof v->length_unit, "%s", scene_length_unit(s, length));
+        const view_units *u = &v->units;
+        snprintf(v->length_unit, sizeof v->length_unit, "%s", u->length_from_file ? length : u->length);
         char unit[ORR_PLANE_NAME_MAX];
-        orr_brightness_unit(&v->pass.proj, scene_weight_unit(s, mass), v->length_unit, unit, sizeof unit);
+        orr_brightness_unit(&v->pass.proj, u->weight_from_file ? mass : u->weight, v->length_unit, unit, sizeof unit);
         for (int j = 0; j < v->pass.nplanes; j++)
             snprintf(v->pass.planes[j].unit, sizeof v->pass.planes[j].unit, "%s", unit);
     }
@@ -909,13 +951,12 @@ static void frame_units(orr_plan *plan, const orr_source *src)
 
 /* Sets up each view's frame; returns how many were begun (their outputs
  * belong to the frame's batch). */
-static orr_status begin_frame(orr_plan *plan, const orr_eye_views *eyes, const orr_sky_frame *observer,
-                              orr_vec3 observer_velocity, const orr_frame_time *when, int *begun, orr_error *err)
+static orr_status begin_frame(orr_plan *plan, const orr_sky_frame *observer, orr_vec3 observer_velocity,
+                              const orr_frame_time *when, int *begun, orr_error *err)
 {
     orr_status st = ORR_OK;
     for (*begun = 0; !st && *begun < plan->n; (*begun)++)
-        st = begin_view_frame(&plan->views[*begun], eyes->scene[*begun], observer, observer_velocity, when,
-                              eyes->report[*begun], err);
+        st = begin_view_frame(&plan->views[*begun], observer, observer_velocity, when, plan->report[*begun], err);
     return st;
 }
 
@@ -924,14 +965,13 @@ static orr_status begin_frame(orr_plan *plan, const orr_eye_views *eyes, const o
 static orr_status name_frame_outputs(orr_plan *plan, const orr_frame_time *when, orr_error *err)
 {
     for (int k = 0; k < plan->n; k++) {
-        const orr_scene *s = plan->given[plan->origin[k]];
         view_files *f = &plan->views[k].files;
         char numbered[sizeof f->output.name];
-        const orr_frame_naming naming = orr_frame_naming_of(&s->output);
-        orr_status st = orr_frame_name(&naming, s->output.name, when->frame, when->nframes, numbered,
+        const orr_frame_naming naming = orr_frame_naming_of(&f->output);
+        orr_status st = orr_frame_name(&naming, f->planned_name, when->frame, when->nframes, numbered,
                                        sizeof numbered, err);
         if (!st)
-            st = orr_eye_output_name(s->stereo.mode, s->path, numbered, f->eye, f->output.name,
+            st = orr_eye_output_name(f->stereo_mode, f->path, numbered, f->eye, f->output.name,
                                      sizeof f->output.name, err);
         if (st)
             return st;
@@ -942,15 +982,15 @@ static orr_status name_frame_outputs(orr_plan *plan, const orr_frame_time *when,
 /* The frame's observer frame (view_camera.c), found in a pass of its own:
  * over the given particles, rewound, or the scene's input opened with only
  * the velocities the spin normal or motion blur needs. */
-static orr_status observer_frame(const orr_scene *s, const orr_source_request *r, orr_source *given, long frame,
-                                 const orr_parallel *par, orr_sky_frame *f, orr_vec3 *velocity, orr_error *err)
+static orr_status observer_frame(const orr_plan *plan, orr_source *given, long frame, const orr_parallel *par,
+                                 orr_sky_frame *f, orr_vec3 *velocity, orr_error *err)
 {
     static const char *const velocity_fields[3] = {"vx", "vy", "vz"};
-    const int want_velocities = s->observer.normal_types != 0 || blur_moves_particles(s);
     orr_source *src = given;
     orr_status st = given ? orr_source_rewind(given, err)
-                          : orr_source_request_open(r, velocity_fields, want_velocities ? 3 : 0, &src, err);
-    st = orr_view_sky_frame(&s->observer, s->path, src, st, frame, par, f, velocity, err);
+                          : orr_source_request_open(&plan->source, velocity_fields, plan->observer_velocities ? 3 : 0,
+                                                    &src, err);
+    st = orr_view_sky_frame(&plan->observer, plan->source.scene_path, src, st, frame, par, f, velocity, err);
     if (src != given)
         orr_source_close(src);
     return st;
@@ -973,11 +1013,10 @@ static orr_status commit_outputs(orr_output_batch *outputs, orr_status st, orr_e
 static orr_status prepare_dust(const orr_plan *plan, orr_source *src, const orr_parallel *par, orr_dust_frame *dust,
                                orr_error *err)
 {
-    const orr_scene *s = plan->eyes.scene[0];
     orr_source *whole = NULL;
-    if (par && s->input.insitu)
+    if (par && plan->input.insitu)
         return orr_fail(err, ORR_ERR_USAGE, "%s: dust.types: in situ on %d MPI ranks each process holds only its "
-                        "share of the dust (docs/dust.md#limitations)", s->path, par->nranks);
+                        "share of the dust (docs/dust.md#limitations)", plan->source.scene_path, par->nranks);
     if (par) {
         orr_status st = orr_source_request_open(&plan->source, plan->source.fields, plan->source.nfields, &whole, err);
         if (st)
@@ -1046,10 +1085,9 @@ static orr_status splat_frame(orr_plan *plan, orr_status st, orr_source *src, co
  * its camera. The file's size and modification time are part of it, so a
  * file rewritten during a run is searched again. Returns 0 (no key) when
  * the frame's lengths must be its own. */
-static int lengths_key(const orr_plan *plan, const orr_scene *s0, const orr_source *given, const orr_parallel *par,
-                       char *key, size_t cap)
+static int lengths_key(const orr_plan *plan, const orr_source *given, const orr_parallel *par, char *key, size_t cap)
 {
-    const orr_input_settings *in = &s0->input;
+    const orr_input_settings *in = &plan->input;
     if (given || par || !in->file || in->sequence.pattern || in->sequence.nfiles)
         return 0;
     for (int k = 0; k < plan->n; k++)
@@ -1059,7 +1097,7 @@ static int lengths_key(const orr_plan *plan, const orr_scene *s0, const orr_sour
     if (stat(in->file, &st) != 0)
         return 0;
     int n = snprintf(key, cap, "%s|%s|%u|%d|%d|%lld|%lld.%09ld", in->file, in->format, in->type_mask,
-                     in->skip_nonfinite, s0->deposit.neighbours, (long long)st.st_size, (long long)st.st_mtim.tv_sec,
+                     in->skip_nonfinite, plan->views[0].pass.splat.deposit.neighbours, (long long)st.st_size, (long long)st.st_mtim.tv_sec,
                      (long)st.st_mtim.tv_nsec);
     return n > 0 && (size_t)n < cap;
 }
@@ -1074,11 +1112,11 @@ static void forget_kept_lengths(orr_plan *plan)
 /* The lengths this frame splats with: the plan's kept ones when the frame
  * draws the same particles as the frame that found them (lengths_key),
  * else frame_lengths, the frame's own. */
-static orr_lengths *frame_lengths_for(orr_plan *plan, const orr_scene *s0, const orr_source *given,
-                                      const orr_parallel *par, orr_lengths *frame_lengths)
+static orr_lengths *frame_lengths_for(orr_plan *plan, const orr_source *given, const orr_parallel *par,
+                                      orr_lengths *frame_lengths)
 {
     char key[sizeof plan->kept_lengths_key];
-    if (!lengths_key(plan, s0, given, par, key, sizeof key)) {
+    if (!lengths_key(plan, given, par, key, sizeof key)) {
         forget_kept_lengths(plan);
         return frame_lengths;
     }
@@ -1101,38 +1139,31 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
     view_state *views = plan->views;
     for (int k = 0; k < plan->n; k++)
         views[k].pass.timer = timer;
-    const orr_scene *s0 = plan->given[0];
-    const orr_frame_time still = orr_frame_at(0, 1, s0->animation.fps, 0, 0);
+    const orr_frame_time still = orr_frame_at(0, 1, plan->fps, 0, 0);
     const orr_frame_time *when = in ? &in->time : &still;
     const orr_parallel *par = in && in->parallel && in->parallel->nranks > 1 ? in->parallel : NULL;
     orr_source *given = in ? in->source : NULL, *src = NULL;
-    orr_status st = ORR_OK;
-    /* Checked when planned; again each frame (a stat), in case a long run's
-     * folder went away since, before any slow work. */
-    for (int k = 0; k < plan->nscenes && !st; k++)
-        st = orr_check_output_dir(plan->given[k]->output.dir, err);
+    orr_status st = check_view_dirs(plan, err);
     if (!st && par && !given && !(st = open_share(&plan->source, par, &src, err)))
         given = src;
     /* A built-in model is opened once for the observer's pass and the
      * frame's: opening one builds its tables (a quarter of a second of CPU
      * for mw-m31), and it makes every field whichever are asked for. A
      * file's observer pass opens its own, reading only the velocities. */
-    if (!st && !given && s0->observer.has_id && s0->input.model.name[0])
+    if (!st && !given && plan->observer.has_id && plan->input.model.name[0])
         st = frame_particles(&plan->source, NULL, &src, err);
     /* The observer's frame moves with the particles: found every frame, by
      * a pass over them (reading, as the splat's). */
     orr_sky_frame observer;
     orr_vec3 observer_velocity = orr_v3(0, 0, 0);
-    if (!st && s0->observer.has_id)
-        st = observer_frame(s0, &plan->source, given ? given : src, when->frame, par, &observer, &observer_velocity,
-                            err);
+    if (!st && plan->observer.has_id)
+        st = observer_frame(plan, given ? given : src, when->frame, par, &observer, &observer_velocity, err);
     orr_stage_charge(&timer->times, ORR_STAGE_SOURCE, &timer->at);
     /* A stereo view renders as two views, its eyes, each reporting into
      * its view's report (the right eye's outputs added to the left's). */
-    orr_eye_views eyes = {0};
+    frame_reports_begin(plan, reports);
     int begun = 0;
-    if (!st && !(st = eye_views_expand(plan->given, plan->nscenes, reports, &eyes, err)) &&
-        !(st = begin_frame(plan, &eyes, s0->observer.has_id ? &observer : NULL, observer_velocity, when, &begun, err)))
+    if (!st && !(st = begin_frame(plan, plan->observer.has_id ? &observer : NULL, observer_velocity, when, &begun, err)))
         st = name_frame_outputs(plan, when, err);
     if (!st && plan->has_stars) { /* the stars are seen from the observer (scene_check.c) */
         orr_frame_stars_begin(&plan->stars, &observer);
@@ -1147,7 +1178,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
         frame_units(plan, src);
     charge(&views[0], ORR_STAGE_SOURCE);
     orr_lengths own_lengths = {0};
-    orr_lengths *lengths = frame_lengths_for(plan, s0, given, par, &own_lengths);
+    orr_lengths *lengths = frame_lengths_for(plan, given, par, &own_lengths);
     orr_dust_frame dust;
     int have_dust = 0;
     st = splat_frame(plan, st, src, par, lengths, &dust, &have_dust, progress, progress_user, err);
@@ -1159,7 +1190,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
     for (int k = 0; k < begun; k++)
         views[k].outputs = &outputs;
     if (!st && (!par || par->rank == 0))
-        st = finish_views(views, plan->n, &eyes, in, err);
+        st = finish_views(plan, in, err);
     st = commit_outputs(&outputs, st, err);
     charge(&views[0], ORR_STAGE_COMMIT);
     if (!in || src != in->source)
@@ -1169,7 +1200,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
         orr_dust_frame_free(&dust);
     for (int k = 0; k < plan->n; k++) /* the frame's, freed above and below */
         forget_frame(plan, k);
-    eye_views_finish(&eyes);
+    frame_reports_finish(plan);
     orr_stage_times_finish(&timer->times, start);
     charge_planning(plan);
     for (int k = 0; k < plan->nscenes && !st; k++)
@@ -1177,7 +1208,7 @@ orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_rende
     return st;
 }
 
-orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_render_report *reports,
+orr_status orr_plan_compose(orr_plan *plan, const orr_compose_frame *frame, orr_render_report *reports,
                             orr_error *err)
 {
     if (plan->purpose != ORR_PLAN_COMPOSE)
@@ -1185,17 +1216,20 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_
     /* No particles, so no observer frame: the world's stands in (the camera
      * matters only for FITS cards, and compose writes PNGs). */
     orr_sky_frame observer = orr_sky_frame_world(orr_v3(0, 0, 0));
-    const orr_frame_time still = orr_frame_at(0, 1, scenes[0]->animation.fps, 0, 0);
+    const orr_frame_time still = orr_frame_at(0, 1, plan->fps, 0, 0);
+    const orr_frame_time *when = frame ? &frame->time : &still;
     /* As a render does: the output folder is made, or found unwritable,
      * before any work. */
-    orr_status st = check_output_dirs(plan->purpose, scenes, plan->nscenes, err);
-    orr_eye_views views = {0};
+    orr_status st = check_view_dirs(plan, err);
     int begun = 0;
     for (int k = 0; k < plan->n; k++)
         plan->views[k].pass.timer = NULL;
-    if (!st && !(st = expand_views(plan, scenes, reports, &views, err)) && !(st = check_frame_views(plan, &views, err)))
-        st = begin_frame(plan, &views, scenes[0]->observer.has_id ? &observer : NULL, orr_v3(0, 0, 0), &still, &begun,
-                         err);
+    frame_reports_begin(plan, reports);
+    if (!st && !(st = begin_frame(plan, plan->observer.has_id ? &observer : NULL, orr_v3(0, 0, 0), when, &begun, err)))
+        st = name_frame_outputs(plan, when, err);
+    for (int k = 0; k < plan->n && frame && frame->white; k++)
+        if (isfinite(frame->white[plan->origin[k]]))
+            regrade_final(&plan->views[k].files, frame->white[plan->origin[k]]);
     orr_output_batch outputs;
     orr_output_batch_init(&outputs);
     for (int k = 0; k < begun; k++)
@@ -1205,6 +1239,6 @@ orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *scenes, orr_
     st = commit_outputs(&outputs, st, err);
     for (int k = 0; k < plan->n; k++)
         forget_frame(plan, k);
-    eye_views_finish(&views);
+    frame_reports_finish(plan);
     return st;
 }

@@ -39,7 +39,8 @@ typedef enum { ORR_PLAN_RENDER, ORR_PLAN_COMPOSE } orr_plan_purpose;
 
 /* Plans views[0..n) of one scene (they share input.* and observer.*), for
  * a run of frames: checks each output folder and makes everything the
- * frames share. The views must outlive the plan. */
+ * frames share. The plan keeps what it needs of the scenes as its own
+ * copies: it points into none of them, and they may go once it is made. */
 orr_status orr_plan_create(orr_plan **out, const orr_scene *const *views, int n, orr_plan_purpose purpose,
                            orr_error *err);
 
@@ -51,15 +52,19 @@ orr_status orr_plan_create(orr_plan **out, const orr_scene *const *views, int n,
 orr_status orr_plan_execute(orr_plan *plan, const orr_frame_input *in, orr_render_report *reports,
                             orr_progress_fn progress, void *progress_user, orr_error *err);
 
-/* Re-grades one frame's raw planes with a plan of purpose ORR_PLAN_COMPOSE
- * (orr_compose_views). frame_views[0..n) are the planned views as this
- * frame names its files (output.name with the frame's number) and grades
- * them: their grading keys (output.white, ...) may differ from the planned
- * views'; everything else must be as planned (checked: the image and the
- * projection). */
-orr_status orr_plan_compose(orr_plan *plan, const orr_scene *const *frame_views, orr_render_report *reports,
-                            orr_error *err);
+/* One frame of a compose: its place in the run (its files' names carry
+ * its number, none in a still; its camera and colour.tint's time), and the
+ * white level to re-grade each view given with (animation.white_smoothing:
+ * NAME.fits, after the PSF, re-graded with it), or none. */
+typedef struct orr_compose_frame {
+    orr_frame_time time;
+    const double *white; /* [views given], NAN for a view graded as planned; NULL: every view as planned */
+} orr_compose_frame;
 
+/* Re-grades one frame's raw planes with a plan of purpose ORR_PLAN_COMPOSE
+ * (orr_compose_views); frame NULL: a still. */
+orr_status orr_plan_compose(orr_plan *plan, const orr_compose_frame *frame, orr_render_report *reports,
+                            orr_error *err);
 /* Seconds orr_plan_create took (for benchmarks and --timings). */
 double orr_plan_seconds(const orr_plan *plan);
 
@@ -92,10 +97,6 @@ orr_run_settings orr_plan_run_settings(const orr_scene *s);
  * whose strings are freed first) with the frame's output name (output.name
  * with its number, orr_frame_name). */
 orr_status orr_plan_frame_scene(const orr_scene *view, long frame, orr_scene *out, orr_error *err);
-
-/* Sets a frame's scene to re-grade its final planes (NAME.fits, after the
- * PSF) with the white level white, as animation.white_smoothing does. */
-void orr_plan_regrade_scene(orr_scene *frame, double white);
 
 /* Whether view s's PSF is drawn into its raw planes as it renders (a sky
  * map's; a flat view's that draws its stars one by one), so that orrery

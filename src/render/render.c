@@ -31,7 +31,7 @@ orr_status orr_compose_views(const orr_scene *const *scenes, int n, orr_render_r
     orr_plan *plan;
     orr_status st = orr_plan_create(&plan, scenes, n, ORR_PLAN_COMPOSE, err);
     if (!st)
-        st = orr_plan_compose(plan, scenes, reports, err);
+        st = orr_plan_compose(plan, NULL, reports, err);
     orr_plan_destroy(plan);
     return st;
 }

@@ -14,7 +14,8 @@
 
 typedef struct orr_source_request {
     const char *scene_path;                /* for messages */
-    const orr_input_settings *input;       /* the scene's input.* (the scene outlives the request) */
+    const orr_input_settings *input;       /* input.*: the scene's (which outlives the request) or, in a
+                                            * plan, the plan's copy */
     const orr_periodic_settings *periodic; /* its input.periodic.*: the box a sequence's snapshots wrap in */
     unsigned reader_types;   /* the types a file's reader keeps (0: all): the drawn ones and the dust's,
                               * all when there is an observer (its particle may be of any type) */
@@ -26,7 +27,7 @@ typedef struct orr_source_request {
      * mass or h), the fields the colour populations select, colour and
      * weigh by, the dust's metallicity, and velocities for the observer's
      * spin normal and for a motion blur that moves particles. Each name
-     * once; pointers into the scene. */
+     * once; pointers into the scene, or into the plan's copies. */
     const char *fields[ORR_RENDER_MAX_FIELDS];
     int nfields;
 } orr_source_request;

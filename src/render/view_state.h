@@ -20,8 +20,7 @@
 /* How a view's camera is found each frame (view_camera.c): compiled by the
  * plan from the view's scene (plan.c: camera_plan_of). */
 typedef struct view_camera_plan {
-    const char *path;            /* the scene file, for messages: the planned scene's string, which
-                                  * outlives the plan (render/plan.h) */
+    const char *path;            /* the scene file, for messages: the view's own (view_files.path) */
     orr_camera_settings camera;  /* camera.*: a static camera, a path, a sky map's orientation; a copy
                                   * with its own strings (freed with the plan) */
     orr_projection_kind kind;    /* camera.projection: a sky map follows the sky frame */
@@ -32,11 +31,23 @@ typedef struct view_camera_plan {
     int blur_moves_particles;    /* the shutter moves the particles too (plan.c blur_moves_particles) */
 } view_camera_plan;
 
+/* The units a view's planes and WCS are in: the scene's, when it states
+ * them (output.bunit, output.length_unit, a built-in model's), else the
+ * frame's file's (an HDF5 snapshot's), found each frame (plan.c
+ * frame_units). */
+typedef struct view_units {
+    char weight[ORR_NAME_MAX]; /* the unit of a particle's weight, when the scene states it ... */
+    int weight_from_file;      /* ... else the frame's file's mass unit */
+    char length[ORR_NAME_MAX]; /* the unit of scene lengths, when the scene states it ... */
+    int length_from_file;      /* ... else the frame's file's length unit */
+} view_units;
+
 /* One view being rendered. */
 typedef struct view_state {
     orr_splat_view pass;        /* what the splat pass draws the view with (pass/splat_view.h) */
     view_files files;           /* what its files are and how its picture is graded */
     view_camera_plan camera_plan; /* how its camera is found each frame */
+    view_units units;           /* its units as planned */
     char length_unit[ORR_NAME_MAX]; /* the frame's unit of scene lengths: the scene's, else its file's, or "" */
     orr_render_report *rep;     /* the frame's report: the pass's tally copied in after the splat */
     double tint_t;      /* the position along colour.tint.path in this frame */

@@ -154,3 +154,15 @@ int orr_input_settings_strings(orr_input_settings *d, char **fields[])
     fields[1] = &d->sequence.pattern;
     return ORR_INPUT_STRINGS;
 }
+
+void orr_input_settings_free(orr_input_settings *d)
+{
+    char **fields[ORR_INPUT_STRINGS];
+    orr_owned_free_all(fields, orr_input_settings_strings(d, fields));
+}
+
+orr_status orr_input_settings_copy(orr_input_settings *dst, const orr_input_settings *src, orr_error *err)
+{
+    char **fields[ORR_INPUT_STRINGS];
+    return orr_owned_copy(dst, src, sizeof *dst, fields, orr_input_settings_strings(dst, fields), err);
+}

@@ -76,6 +76,10 @@ void orr_input_settings_defaults(orr_input_settings *d);
 /* d's owned strings (core/owned.h), at most ORR_INPUT_STRINGS, into fields; returns how many. */
 #define ORR_INPUT_STRINGS 2
 int orr_input_settings_strings(orr_input_settings *d, char **fields[]);
+/* Frees d's strings. */
+void orr_input_settings_free(orr_input_settings *d);
+/* dst (its strings freed first) becomes a copy of src with strings of its own. */
+orr_status orr_input_settings_copy(orr_input_settings *dst, const orr_input_settings *src, orr_error *err);
 
 /* The input.* keys checked against each other: one input (a file, a
  * model or a sequence), each model's own keys, a sequence's pattern or
