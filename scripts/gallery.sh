@@ -17,13 +17,21 @@
 #       spiral-full and futuresky-full make the strip and video of a
 #       full-length run made before, named by SPIRAL_FULL_RUN=DIR or
 #       FUTURESKY_FULL_RUN=DIR (those runs take an hour or more).
+# Knobs, for a test that runs it (tests/cli/test_gallery.sh) without touching
+# the source tree or taking minutes:
+#   GALLERY_DEST=DIR     write the pictures (and the films' videos) into DIR,
+#                        not docs/images/gallery (and docs/videos)
+#   GALLERY_ONLY="NAME..."  only these of the pictures: futuresky, spiral,
+#                        anaglyph, collision (also without --collision),
+#                        dark-universe, nightfall (default: all but collision)
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
 orrery=${ORRERY:-$here/build/orrery}
 py=/usr/bin/python3
 [ -x "$py" ] || py=python3
 [ -x "$orrery" ] || { echo "gallery.sh: no $orrery (build first: scripts/build.sh)" >&2; exit 1; }
-dest=$here/docs/images/gallery
+dest=${GALLERY_DEST:-$here/docs/images/gallery}
+videos=${GALLERY_DEST:-$here/docs/videos}
 work=$(mktemp -d /tmp/orrery-gallery-XXXXXX)
 trap 'rm -rf "$work"' EXIT
 mkdir -p "$dest"
@@ -131,8 +139,8 @@ frames_of() {
 # docs/videos/OUT.mp4, at --crf 30, or higher (lower quality) until it is
 # at most 1.5 MB (star fields that move every frame compress badly).
 video() {
-  local scene=$1 dir=$2 frames=$3 view=$4 out=$here/docs/videos/$5.mp4 crf size=0
-  mkdir -p "$here/docs/videos"
+  local scene=$1 dir=$2 frames=$3 view=$4 out=$videos/$5.mp4 crf size=0
+  mkdir -p "$videos"
   for crf in 30 34 38 42; do
     local args=("$scene" -o "$dir" --frames "$frames" --set animation.frames="$frames" --crf "$crf" --force -q
                 --out "$work/$5.mp4")
@@ -259,42 +267,65 @@ if [ "${1:-}" = "--films" ]; then
   exit 0
 fi
 
-echo "Future Sky (configs/futuresky.yaml), full size, downscaled, and a full-resolution detail of the dome"
-render "$here/configs/futuresky.yaml" -o "$work/fs"
-shrink "$work/fs/futuresky-panorama.png" "$dest/futuresky-panorama.png" 640
-shrink "$work/fs/futuresky-dome.png" "$dest/futuresky-dome.png" 400
-# Pixels 2594-3234 x 1681-2041 of the master, at its own scale: the
-# brightest star of the shipped sky (seed 3: V = -0.4, l = 85, b = 56) with
-# its spikes, 56 degrees from the zenith, among the naked-eye stars.
-"$py" -c "import sys; from PIL import Image; Image.open(sys.argv[1]).crop((2594, 1681, 3234, 2041)).save(sys.argv[2])" \
-  "$work/fs/futuresky-dome.png" "$work/fs/detail.png"
-shrink "$work/fs/detail.png" "$dest/futuresky-dome-detail.png" 640
+# The pictures: one function each.
+picture_futuresky() {
+  echo "Future Sky (configs/futuresky.yaml), full size, downscaled, and a full-resolution detail of the dome"
+  render "$here/configs/futuresky.yaml" -o "$work/fs"
+  shrink "$work/fs/futuresky-panorama.png" "$dest/futuresky-panorama.png" 640
+  shrink "$work/fs/futuresky-dome.png" "$dest/futuresky-dome.png" 400
+  # Pixels 2594-3234 x 1681-2041 of the master, at its own scale: the
+  # brightest star of the shipped sky (seed 3: V = -0.4, l = 85, b = 56) with
+  # its spikes, 56 degrees from the zenith, among the naked-eye stars.
+  "$py" -c "import sys; from PIL import Image; Image.open(sys.argv[1]).crop((2594, 1681, 3234, 2041)).save(sys.argv[2])" \
+    "$work/fs/futuresky-dome.png" "$work/fs/detail.png"
+  shrink "$work/fs/detail.png" "$dest/futuresky-dome-detail.png" 640
+}
 
-echo "Spiral Metamorphosis (configs/spiral-metamorphosis.yaml), the model today"
-render "$here/configs/spiral-metamorphosis.yaml" -o "$work/sp" --set image.width=400 --set image.height=400
-side_by_side "$work/sp/spiral-faceon.png" "$work/sp/spiral-edgeon.png" "$work/spiral.png"
-shrink "$work/spiral.png" "$dest/spiral-metamorphosis.png" 640
+picture_spiral() {
+  echo "Spiral Metamorphosis (configs/spiral-metamorphosis.yaml), the model today"
+  render "$here/configs/spiral-metamorphosis.yaml" -o "$work/sp" --set image.width=400 --set image.height=400
+  side_by_side "$work/sp/spiral-faceon.png" "$work/sp/spiral-edgeon.png" "$work/spiral.png"
+  shrink "$work/spiral.png" "$dest/spiral-metamorphosis.png" 640
+}
 
-echo "Spiral Metamorphosis anaglyph (configs/spiral-metamorphosis-anaglyph.yaml)"
-render "$here/configs/spiral-metamorphosis-anaglyph.yaml" -o "$work/an" --set image.width=640 --set image.height=360
-shrink "$work/an/spiral-anaglyph.png" "$dest/spiral-metamorphosis-anaglyph.png" 640
+picture_anaglyph() {
+  echo "Spiral Metamorphosis anaglyph (configs/spiral-metamorphosis-anaglyph.yaml)"
+  render "$here/configs/spiral-metamorphosis-anaglyph.yaml" -o "$work/an" --set image.width=640 --set image.height=360
+  shrink "$work/an/spiral-anaglyph.png" "$dest/spiral-metamorphosis-anaglyph.png" 640
+}
 
-if [ "${1:-}" = "--collision" ]; then
+picture_collision() {
   echo "Spiral Metamorphosis in-situ (orrery-nbody, 20000 particles, 240 steps), frame 27"
   nbody=$(dirname "$orrery")/examples/orrery-nbody
   "$nbody" --particles 20000 --steps 240 --dt 0.02 --render-every 8 --quiet \
     --scene "$here/configs/spiral-metamorphosis-insitu.yaml" --set output.dir="$work/run"
   side_by_side "$work/run/spiral-faceon_0027.png" "$work/run/spiral-edgeon_0027.png" "$work/collision.png"
   shrink "$work/collision.png" "$dest/spiral-metamorphosis-collision.png" 640
-fi
+}
 
-echo "Dark Universe (configs/dark-universe.yaml): a 64^3 box, frame 150 of 600"
-"$orrery" ics --zeldovich --grid 64 --box 100 --z 0 --truncate 1 --seed 1 -o "$work/box.hdf5" >"$work/log" 2>&1 ||
-  { cat "$work/log" >&2; exit 1; }
-render "$here/configs/dark-universe.yaml" -o "$work/du" --frames 150 --set input.file="$work/box.hdf5" \
-  --set image.width=1024 --set image.height=540 --set psf.fwhm=1 --set colour.synthesis.white=90
-shrink "$work/du/dark-universe_0150.png" "$dest/dark-universe.png" 480
+picture_dark_universe() {
+  echo "Dark Universe (configs/dark-universe.yaml): a 64^3 box, frame 150 of 600"
+  "$orrery" ics --zeldovich --grid 64 --box 100 --z 0 --truncate 1 --seed 1 -o "$work/box.hdf5" >"$work/log" 2>&1 ||
+    { cat "$work/log" >&2; exit 1; }
+  render "$here/configs/dark-universe.yaml" -o "$work/du" --frames 150 --set input.file="$work/box.hdf5" \
+    --set image.width=1024 --set image.height=540 --set psf.fwhm=1
+  shrink "$work/du/dark-universe_0150.png" "$dest/dark-universe.png" 480
+}
 
-echo "Nightfall (configs/nightfall.yaml): frame 0 of 36"
-render "$here/configs/nightfall.yaml" -o "$work/nf" --frames 0
-shrink "$work/nf/nightfall_0000.png" "$dest/nightfall.png" 480
+picture_nightfall() {
+  echo "Nightfall (configs/nightfall.yaml): frame 0 of 36"
+  render "$here/configs/nightfall.yaml" -o "$work/nf" --frames 0
+  shrink "$work/nf/nightfall_0000.png" "$dest/nightfall.png" 480
+}
+
+pictures="futuresky spiral anaglyph dark-universe nightfall"
+if [ "${1:-}" = "--collision" ]; then pictures="futuresky spiral anaglyph collision dark-universe nightfall"; fi
+pictures=${GALLERY_ONLY:-$pictures}
+for p in $pictures; do
+  case "$p" in
+    futuresky) picture_futuresky ;; spiral) picture_spiral ;; anaglyph) picture_anaglyph ;;
+    collision) picture_collision ;; dark-universe) picture_dark_universe ;; nightfall) picture_nightfall ;;
+    *) echo "gallery.sh: no picture $p in GALLERY_ONLY (futuresky, spiral, anaglyph, collision, dark-universe, nightfall)" >&2
+       exit 2 ;;
+  esac
+done

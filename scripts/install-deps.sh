@@ -30,6 +30,7 @@ packages=(
   ffmpeg                             # orrery video: encodes frame sequences (ffmpeg; ffprobe for its tests)
   locales                            # tests: localedef makes the ','-decimal locale of test_locale
   procps                             # tests: pgrep finds the MPI rank the N-body tests kill
+  strace                             # tests: scripts/measure-mpi-reads.sh counts each MPI rank's reads with it
 )
 
 missing=()

@@ -2,15 +2,18 @@
 # How many bytes of a snapshot each rank of orrery-mpi reads (docs/scale.md):
 # writes a Gadget snapshot of 4 files and one of a single file (2^21
 # particles each, POS VEL ID; written by the small numpy writer below), and
-# a single-file HDF5 box (orrery ics, 128^3), renders each with 1, 2 and 4
+# a single-file HDF5 box (orrery ics, 128^3 = 2^21), renders each with 1, 2 and 4
 # ranks under strace, and sums the bytes every rank's read() and pread64()
 # calls return for the snapshot's files (the counts of the calls themselves,
 # so the page cache and the machine's load do not matter).
 #
 #   scripts/measure-mpi-reads.sh            # build/ by default; BUILD=dir to change
+#   READS_GRID=64 scripts/measure-mpi-reads.sh   # GRID^3 particles in each
+#       snapshot instead of 128^3 = 2^21: the test's size (tests/cli/test_mpi_reads.sh)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 BUILD=${BUILD:-$root/build}
+grid=${READS_GRID:-128}
 work=$(mktemp -d /tmp/orrery-reads-XXXXXX)
 trap 'rm -rf "$work"' EXIT
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
@@ -19,7 +22,7 @@ py=/usr/bin/python3
 
 # A Gadget-2 SnapFormat 1 snapshot of n type-1 particles in nfiles files
 # (facts of the format: docs/formats.md).
-"$py" - "$work" <<'PY'
+"$py" - "$work" $((grid * grid * grid)) <<'PY'
 import struct, sys
 import numpy as np
 def write(base, n, nfiles):
@@ -40,10 +43,10 @@ def write(base, n, nfiles):
         with open(name, "wb") as out:
             for block in (head, pos.tobytes(), vel.tobytes(), ids.tobytes()):
                 out.write(struct.pack("<i", len(block)) + block + struct.pack("<i", len(block)))
-write(sys.argv[1] + "/multi", 1 << 21, 4)
-write(sys.argv[1] + "/single", 1 << 21, 1)
+write(sys.argv[1] + "/multi", int(sys.argv[2]), 4)
+write(sys.argv[1] + "/single", int(sys.argv[2]), 1)
 PY
-"$BUILD/orrery" ics --zeldovich -o "$work/box.hdf5" --grid 128 >/dev/null
+"$BUILD/orrery" ics --zeldovich -o "$work/box.hdf5" --grid "$grid" >/dev/null
 
 cat >"$work/scene.yaml" <<'Y'
 camera: {projection: orthographic, width: 100, position: [50, 50, 150]}
