@@ -140,6 +140,57 @@ static int band_rows(const coarse_level *l, int j0, int j1, int *first)
     return (last < l->proj.height ? last : l->proj.height - 1) - *first + 1;
 }
 
+/* Fine row j (its measures m over span sp), of the band of rows [j0, j1),
+ * into that band's partial sums `out`, every level's. */
+static void reach_band_row(const coarse_glow *g, int j0, int j1, int j, const double *m, fine_span sp, double *out)
+{
+    for (int L = 0; L < g->nlevels; L++) {
+        const coarse_level *l = &g->level[L];
+        int first;
+        band_rows(l, j0, j1, &first);
+        reach_row(l, j, m, sp, out, first);
+        out += (size_t)(BAND_ROWS / l->factor + 2) * l->proj.width;
+    }
+}
+
+/* Band b of fine rows into its partial sums, each row's measures found
+ * into rows (BAND_ROWS rows of the width) and kept there. */
+static void reach_band(const orr_projection *p, const coarse_glow *g, int b, double *rows, double *out)
+{
+    const int W = p->width, j0 = b * BAND_ROWS, j1 = j0 + BAND_ROWS < p->height ? j0 + BAND_ROWS : p->height;
+    for (int j = j0; j < j1; j++) {
+        double *m = rows + (size_t)(j - j0) * W;
+        reach_band_row(g, j0, j1, j, m, map_measure_row(p, j, m), out);
+    }
+}
+
+/* Band b's mirror band (rows H - 1 - j of band b's, in the order of their
+ * own rows) from the measures reach_band left in rows: a dome's mirror rows
+ * have the same measures bit for bit (orr_pixel_measure_twin_row), so the
+ * sines of half the map's rows are not computed again. */
+static void reach_mirror_band(const orr_projection *p, const coarse_glow *g, int b, double *rows, double *out)
+{
+    const int W = p->width, H = p->height, j0 = H - (b + 1) * BAND_ROWS, j1 = j0 + BAND_ROWS;
+    for (int j = j0; j < j1; j++) {
+        const int twin = H - 1 - j;
+        double *m = rows + (size_t)(twin - b * BAND_ROWS) * W;
+        fine_span sp;
+        orr_projection_row_in_map(p, j, &sp.i0, &sp.i1);
+        fine_span tw;
+        orr_projection_row_in_map(p, twin, &tw.i0, &tw.i1);
+        if (sp.i0 != tw.i0 || sp.i1 != tw.i1) /* (mirror rows: never, but then its own measures) */
+            sp = map_measure_row(p, j, m);
+        reach_band_row(g, j0, j1, j, m, sp, out);
+    }
+}
+
+/* Whether the bands of fine rows come in mirror pairs (band b and
+ * nbands - 1 - b, row j and H - 1 - j) whose rows share their measures. */
+static int bands_mirror(const orr_projection *p)
+{
+    return p->height % BAND_ROWS == 0 && p->height >= 2 && orr_pixel_measure_twin_row(p, 0) == p->height - 1;
+}
+
 /* The fine map's measure (solid angle) each coarse pixel's unit of
  * brightness reaches through the interpolation, summed over the fine
  * pixels on the map, for every level at once, into its norm (level_norm
@@ -167,30 +218,24 @@ static orr_status levels_reach(const orr_splat_view *v, coarse_glow *g, orr_erro
     if (!partial)
         return ORR_ERR_NOMEM;
     int fail = 0;
+    /* Mirror bands in pairs, from one band's measures; a middle band that
+     * is its own mirror, alone. */
+    const int mirror = bands_mirror(&v->proj), nwork = mirror ? (nbands + 1) / 2 : nbands;
 #pragma omp parallel
     {
-        double *m = malloc(sizeof *m * (size_t)W);
+        double *rows = malloc(sizeof *rows * (size_t)W * BAND_ROWS);
 #pragma omp for schedule(dynamic, 1)
-        for (int b = 0; b < nbands; b++) {
-            if (!m) {
+        for (int b = 0; b < nwork; b++) {
+            if (!rows) {
 #pragma omp atomic write
                 fail = 1;
                 continue;
             }
-            const int j0 = b * BAND_ROWS, j1 = j0 + BAND_ROWS < H ? j0 + BAND_ROWS : H;
-            for (int j = j0; j < j1; j++) {
-                const fine_span sp = map_measure_row(&v->proj, j, m);
-                double *out = partial + per_band * (size_t)b;
-                for (int L = 0; L < g->nlevels; L++) {
-                    const coarse_level *l = &g->level[L];
-                    int first;
-                    band_rows(l, j0, j1, &first);
-                    reach_row(l, j, m, sp, out, first);
-                    out += (size_t)(BAND_ROWS / l->factor + 2) * l->proj.width;
-                }
-            }
+            reach_band(&v->proj, g, b, rows, partial + per_band * (size_t)b);
+            if (mirror && nbands - 1 - b != b)
+                reach_mirror_band(&v->proj, g, b, rows, partial + per_band * (size_t)(nbands - 1 - b));
         }
-        free(m);
+        free(rows);
     }
     for (int b = 0; b < nbands && !fail; b++) { /* the bands in order */
         const int j0 = b * BAND_ROWS, j1 = j0 + BAND_ROWS < H ? j0 + BAND_ROWS : H;
