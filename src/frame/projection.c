@@ -294,6 +294,43 @@ int orr_projection_pixel_in_map(const orr_projection *p, int i, int j)
     return orr_projection_point_in_map(p, i + 0.5, j + 0.5);
 }
 
+/* Bisection over columns lo .. hi of row j, whose pixels are on the map
+ * and then off it (dir > 0: returns the last one on it, or lo - 1) or off
+ * and then on (dir < 0: the first one on it, or hi + 1); by the test
+ * itself, so the ends are its own answers. */
+static int run_end(const orr_projection *p, int j, int lo, int hi, int dir)
+{
+    while (lo <= hi) {
+        const int mid = lo + (hi - lo) / 2;
+        const int on = orr_projection_pixel_in_map(p, mid, j);
+        if (on == (dir > 0))
+            lo = mid + 1;
+        else
+            hi = mid - 1;
+    }
+    return dir > 0 ? hi : lo;
+}
+
+int orr_projection_row_in_map(const orr_projection *p, int j, int *i0, int *i1)
+{
+    *i0 = *i1 = 0;
+    if (j < 0 || j >= p->height || p->width <= 0)
+        return 0;
+    if (!orr_projection_traits_of(p->settings.kind).elliptic_map) {
+        *i1 = p->width;
+        return p->width;
+    }
+    /* The pixel centres nearest cx: if none of them is on the map, no
+     * pixel of the row is (the test only grows away from cx). */
+    const double c = floor(p->cx);
+    int mid = c < 0 ? 0 : c > p->width - 1 ? p->width - 1 : (int)c;
+    if (!orr_projection_pixel_in_map(p, mid, j) && !(mid > 0 && orr_projection_pixel_in_map(p, --mid, j)))
+        return 0;
+    *i0 = run_end(p, j, 0, mid, -1);
+    *i1 = run_end(p, j, mid, p->width - 1, 1) + 1;
+    return *i1 - *i0;
+}
+
 int orr_projection_point_in_map(const orr_projection *p, double x, double y)
 {
     double u = x - p->cx, v = y - p->cy;
@@ -415,25 +452,29 @@ static long mirror_index(double c, int k)
 
 void orr_pixel_measure_row(const orr_projection *p, int j, double *measure)
 {
-    const int W = p->width;
+    orr_pixel_measure_span(p, j, 0, p->width, measure);
+}
+
+void orr_pixel_measure_span(const orr_projection *p, int j, int i0, int i1, double *measure)
+{
     switch (p->settings.kind) {
     case ORR_PROJ_ORTHOGRAPHIC:
     case ORR_PROJ_HAMMER_AITOFF:
     case ORR_PROJ_HEALPIX:
     case ORR_PROJ_EQUIRECTANGULAR: { /* no dependence on i */
         double m = orr_pixel_measure(p, 0, j);
-        for (int i = 0; i < W; i++)
+        for (int i = i0; i < i1; i++)
             measure[i] = m;
         return;
     }
     case ORR_PROJ_DOME:
-        for (int i = 0; i < W; i++) {
+        for (int i = i0; i < i1; i++) {
             long twin = mirror_index(p->cx, i);
-            measure[i] = twin >= 0 && twin < i ? measure[twin] : orr_pixel_measure(p, i, j);
+            measure[i] = twin >= i0 && twin < i ? measure[twin] : orr_pixel_measure(p, i, j);
         }
         return;
     default:
-        for (int i = 0; i < W; i++)
+        for (int i = i0; i < i1; i++)
             measure[i] = orr_pixel_measure(p, i, j);
         return;
     }

@@ -124,6 +124,12 @@ int orr_projection_is_sky(const orr_projection *p);
  * whether its centre is (orr_projection_point_in_map). */
 int orr_projection_pixel_in_map(const orr_projection *p, int i, int j);
 
+/* The pixels of row j on the map (orr_projection_pixel_in_map), [*i0, *i1);
+ * returns their number (0, and both 0, for none). They are one run: the
+ * outlines are convex, and the test grows with the distance from the
+ * centre column on either side of it, rounding included. */
+int orr_projection_row_in_map(const orr_projection *p, int j, int *i0, int *i1);
+
 /* Whether the image point (x, y), in pixels from the image's top-left
  * corner, is inside the map's outline (the Hammer-Aitoff ellipse, the
  * dome's circle; everywhere for the others). */
@@ -146,6 +152,11 @@ double orr_pixel_measure(const orr_projection *p, int i, int j);
  * of a dome's row (its pixels i and 2 cx - 1 - i are as far from the
  * centre, exactly, when 2 cx is a whole number). */
 void orr_pixel_measure_row(const orr_projection *p, int j, double *measure);
+
+/* The same for pixels [i0, i1) of row j only (measure[i] for i in the
+ * range; the rest untouched), the same bits: a sky map's pixels off the
+ * map need none. */
+void orr_pixel_measure_span(const orr_projection *p, int j, int i0, int i1, double *measure);
 
 /* The other row whose measures are row j's bit for bit (a dome's mirror
  * row 2 cy - 1 - j, when 2 cy is a whole number), or -1. */

@@ -72,33 +72,42 @@ static int coarse_between(int k, int factor, int n, float *a)
     return i0;
 }
 
-/* The end of the run of fine columns from i that share their left coarse
- * column. */
-static int column_run_end(const coarse_level *l, int i, int W)
+/* The end of the run of fine columns from i, before `to`, that share
+ * their left coarse column. */
+static int column_run_end(const coarse_level *l, int i, int to)
 {
     const int i0 = l->col0[i];
     int end = i + 1;
-    while (end < W && l->col0[end] == i0)
+    while (end < to && l->col0[end] == i0)
         end++;
     return end;
 }
 
-/* Fine row j's measures, 0 off the map (its light would be lost there). */
-static void map_measure_row(const orr_projection *p, int j, double *m)
+/* A fine row's pixels on the map, [i0, i1): only they take light (off the
+ * map it would be lost), so the passes over the fine map visit only them:
+ * a dome master's corners, a fifth of its pixels, cost neither a measure
+ * (a sine) nor an on-map test each. */
+typedef struct fine_span {
+    int i0, i1;
+} fine_span;
+
+/* Fine row j's span on the map and the measures of its pixels, m[i] for i
+ * in the span. */
+static fine_span map_measure_row(const orr_projection *p, int j, double *m)
 {
-    orr_pixel_measure_row(p, j, m);
-    for (int i = 0; i < p->width; i++)
-        if (!orr_projection_pixel_in_map(p, i, j))
-            m[i] = 0.0;
+    fine_span s;
+    orr_projection_row_in_map(p, j, &s.i0, &s.i1);
+    orr_pixel_measure_span(p, j, s.i0, s.i1, m);
+    return s;
 }
 
 /* The fine rows read together when the levels' reach is summed: a
  * multiple of every factor, so a band's rows feed whole coarse rows. */
 #define BAND_ROWS 32
 
-/* Adds fine row j (its measure m) to what it reaches on level l, into
- * out, whose first row is coarse row t_first. */
-static void reach_row(const coarse_level *l, int j, const double *m, int W, double *out, int t_first)
+/* Adds fine row j (its measure m over span s) to what it reaches on level
+ * l, into out, whose first row is coarse row t_first. */
+static void reach_row(const coarse_level *l, int j, const double *m, fine_span sp, double *out, int t_first)
 {
     float c;
     const int cw = l->proj.width, t0 = coarse_between(j, l->factor, l->proj.height, &c);
@@ -108,8 +117,8 @@ static void reach_row(const coarse_level *l, int j, const double *m, int W, doub
      * same terms in the same order, so the same bits. (A level is at least
      * 8 coarse pixels each way, orr_coarse_glow_plan: the four are
      * distinct.) */
-    for (int i = 0; i < W;) {
-        const int i0 = l->col0[i], end = column_run_end(l, i, W);
+    for (int i = sp.i0; i < sp.i1;) {
+        const int i0 = l->col0[i], end = column_run_end(l, i, sp.i1);
         double s00 = r0[i0], s01 = r0[i0 + 1], s10 = r1[i0], s11 = r1[i0 + 1];
         for (int k = i; k < end; k++)
             if (m[k] > 0) {
@@ -129,6 +138,57 @@ static int band_rows(const coarse_level *l, int j0, int j1, int *first)
     *first = coarse_between(j0, l->factor, l->proj.height, &c);
     int last = coarse_between(j1 - 1, l->factor, l->proj.height, &c) + 1;
     return (last < l->proj.height ? last : l->proj.height - 1) - *first + 1;
+}
+
+/* Fine row j (its measures m over span sp), of the band of rows [j0, j1),
+ * into that band's partial sums `out`, every level's. */
+static void reach_band_row(const coarse_glow *g, int j0, int j1, int j, const double *m, fine_span sp, double *out)
+{
+    for (int L = 0; L < g->nlevels; L++) {
+        const coarse_level *l = &g->level[L];
+        int first;
+        band_rows(l, j0, j1, &first);
+        reach_row(l, j, m, sp, out, first);
+        out += (size_t)(BAND_ROWS / l->factor + 2) * l->proj.width;
+    }
+}
+
+/* Band b of fine rows into its partial sums, each row's measures found
+ * into rows (BAND_ROWS rows of the width) and kept there. */
+static void reach_band(const orr_projection *p, const coarse_glow *g, int b, double *rows, double *out)
+{
+    const int W = p->width, j0 = b * BAND_ROWS, j1 = j0 + BAND_ROWS < p->height ? j0 + BAND_ROWS : p->height;
+    for (int j = j0; j < j1; j++) {
+        double *m = rows + (size_t)(j - j0) * W;
+        reach_band_row(g, j0, j1, j, m, map_measure_row(p, j, m), out);
+    }
+}
+
+/* Band b's mirror band (rows H - 1 - j of band b's, in the order of their
+ * own rows) from the measures reach_band left in rows: a dome's mirror rows
+ * have the same measures bit for bit (orr_pixel_measure_twin_row), so the
+ * sines of half the map's rows are not computed again. */
+static void reach_mirror_band(const orr_projection *p, const coarse_glow *g, int b, double *rows, double *out)
+{
+    const int W = p->width, H = p->height, j0 = H - (b + 1) * BAND_ROWS, j1 = j0 + BAND_ROWS;
+    for (int j = j0; j < j1; j++) {
+        const int twin = H - 1 - j;
+        double *m = rows + (size_t)(twin - b * BAND_ROWS) * W;
+        fine_span sp;
+        orr_projection_row_in_map(p, j, &sp.i0, &sp.i1);
+        fine_span tw;
+        orr_projection_row_in_map(p, twin, &tw.i0, &tw.i1);
+        if (sp.i0 != tw.i0 || sp.i1 != tw.i1) /* (mirror rows: never, but then its own measures) */
+            sp = map_measure_row(p, j, m);
+        reach_band_row(g, j0, j1, j, m, sp, out);
+    }
+}
+
+/* Whether the bands of fine rows come in mirror pairs (band b and
+ * nbands - 1 - b, row j and H - 1 - j) whose rows share their measures. */
+static int bands_mirror(const orr_projection *p)
+{
+    return p->height % BAND_ROWS == 0 && p->height >= 2 && orr_pixel_measure_twin_row(p, 0) == p->height - 1;
 }
 
 /* The fine map's measure (solid angle) each coarse pixel's unit of
@@ -158,30 +218,24 @@ static orr_status levels_reach(const orr_splat_view *v, coarse_glow *g, orr_erro
     if (!partial)
         return ORR_ERR_NOMEM;
     int fail = 0;
+    /* Mirror bands in pairs, from one band's measures; a middle band that
+     * is its own mirror, alone. */
+    const int mirror = bands_mirror(&v->proj), nwork = mirror ? (nbands + 1) / 2 : nbands;
 #pragma omp parallel
     {
-        double *m = malloc(sizeof *m * (size_t)W);
+        double *rows = malloc(sizeof *rows * (size_t)W * BAND_ROWS);
 #pragma omp for schedule(dynamic, 1)
-        for (int b = 0; b < nbands; b++) {
-            if (!m) {
+        for (int b = 0; b < nwork; b++) {
+            if (!rows) {
 #pragma omp atomic write
                 fail = 1;
                 continue;
             }
-            const int j0 = b * BAND_ROWS, j1 = j0 + BAND_ROWS < H ? j0 + BAND_ROWS : H;
-            for (int j = j0; j < j1; j++) {
-                map_measure_row(&v->proj, j, m);
-                double *out = partial + per_band * (size_t)b;
-                for (int L = 0; L < g->nlevels; L++) {
-                    const coarse_level *l = &g->level[L];
-                    int first;
-                    band_rows(l, j0, j1, &first);
-                    reach_row(l, j, m, W, out, first);
-                    out += (size_t)(BAND_ROWS / l->factor + 2) * l->proj.width;
-                }
-            }
+            reach_band(&v->proj, g, b, rows, partial + per_band * (size_t)b);
+            if (mirror && nbands - 1 - b != b)
+                reach_mirror_band(&v->proj, g, b, rows, partial + per_band * (size_t)(nbands - 1 - b));
         }
-        free(m);
+        free(rows);
     }
     for (int b = 0; b < nbands && !fail; b++) { /* the bands in order */
         const int j0 = b * BAND_ROWS, j1 = j0 + BAND_ROWS < H ? j0 + BAND_ROWS : H;
@@ -412,19 +466,19 @@ static float *level_brightness(coarse_level *l, int nlanes, int k)
     return sb;
 }
 
-/* Level l's brightness sb at the centres of fine row j, bilinear. A run
- * of fine columns between the same two coarse ones reads the same four
- * values: loaded once, and the run's loop vectorises (each pixel's
- * expression as it was, so the same bits). */
-static void level_row(const coarse_level *l, const float *sb, int j, int W, float *restrict out)
+/* Level l's brightness sb at the centres of fine row j, bilinear, over
+ * span sp. A run of fine columns between the same two coarse ones reads
+ * the same four values: loaded once, and the run's loop vectorises (each
+ * pixel's expression as it was, so the same bits). */
+static void level_row(const coarse_level *l, const float *sb, int j, fine_span sp, float *restrict out)
 {
     float c;
     const int t0 = coarse_between(j, l->factor, l->proj.height, &c), cw = l->proj.width;
     const float *r0 = sb + (size_t)t0 * cw, *r1 = r0 + (l->proj.height > 1 ? cw : 0);
     const float *restrict col_a = l->col_a;
     const float c0 = 1 - c;
-    for (int i = 0; i < W;) {
-        const int i0 = l->col0[i], i1 = cw > 1 ? i0 + 1 : i0, end = column_run_end(l, i, W);
+    for (int i = sp.i0; i < sp.i1;) {
+        const int i0 = l->col0[i], i1 = cw > 1 ? i0 + 1 : i0, end = column_run_end(l, i, sp.i1);
         const float p = r0[i0], q = r0[i1], u = r1[i0], w = r1[i1];
         for (int k = i; k < end; k++) {
             const float a = col_a[k];
@@ -434,9 +488,28 @@ static void level_row(const coarse_level *l, const float *sb, int j, int W, floa
     }
 }
 
+/* Adds every level's brightness sb[k] to fine row j of plane k, each pixel
+ * of span sp its measure times the levels' interpolated brightness (row:
+ * scratch of the width). */
+static void add_fine_row(orr_splat_view *v, float *sb[3][ORR_COARSE_LEVELS], int j, fine_span sp,
+                         const double *measure, float *row)
+{
+    const int W = v->proj.width;
+    for (int k = 0; k < v->nplanes; k++) {
+        float *fine = v->planes[k].data + (size_t)j * W;
+        memset(row + sp.i0, 0, sizeof *row * (size_t)(sp.i1 - sp.i0));
+        for (int L = 0; L < v->coarse->nlevels; L++)
+            level_row(&v->coarse->level[L], sb[k][L], j, sp, row);
+        for (int i = sp.i0; i < sp.i1; i++)
+            if (measure[i] > 0)
+                fine[i] += (float)(measure[i] * row[i]);
+    }
+}
+
 /* Adds every level's planes to the view's planes (v->nplanes, 3): each
  * fine pixel on the map its measure times the levels' interpolated
- * brightness; a row's measures found once for all three planes. */
+ * brightness; a row's measures found once for all three planes, and for
+ * its mirror row (a dome's, orr_pixel_measure_twin_row) too. */
 static orr_status add_planes(orr_splat_view *v, orr_error *err)
 {
     coarse_glow *g = v->coarse;
@@ -451,23 +524,25 @@ static orr_status add_planes(orr_splat_view *v, orr_error *err)
     {
         double *measure = malloc(sizeof *measure * (size_t)W);
         float *row = malloc(sizeof *row * (size_t)W);
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 8)
         for (int j = 0; j < H; j++) {
+            const int twin = orr_pixel_measure_twin_row(&v->proj, j);
+            if (twin >= 0 && twin < j)
+                continue; /* drawn with its twin */
             if (!measure || !row) {
 #pragma omp atomic write
                 fail = 1;
                 continue;
             }
-            map_measure_row(&v->proj, j, measure);
-            for (int k = 0; k < np; k++) {
-                float *fine = v->planes[k].data + (size_t)j * W;
-                memset(row, 0, sizeof *row * (size_t)W);
-                for (int L = 0; L < g->nlevels; L++)
-                    level_row(&g->level[L], sb[k][L], j, W, row);
-                for (int i = 0; i < W; i++)
-                    if (measure[i] > 0)
-                        fine[i] += (float)(measure[i] * row[i]);
-            }
+            const fine_span sp = map_measure_row(&v->proj, j, measure);
+            add_fine_row(v, sb, j, sp, measure, row);
+            if (twin < 0)
+                continue;
+            fine_span tw;
+            orr_projection_row_in_map(&v->proj, twin, &tw.i0, &tw.i1);
+            if (tw.i0 != sp.i0 || tw.i1 != sp.i1) /* (mirror rows: never, but then its own measures) */
+                tw = map_measure_row(&v->proj, twin, measure);
+            add_fine_row(v, sb, twin, tw, measure, row);
         }
         free(measure);
         free(row);

@@ -77,6 +77,11 @@ typedef struct orr_sph {
      * the exact path's kernels tens of degrees wide. */
     double *px_dir;            /* per pixel: x, y, z (3 * width * height) */
     double *px_omega;          /* per pixel: its solid angle, 0 off the map */
+    /* Maps with an outline (the dome's circle, the Hammer-Aitoff ellipse):
+     * each row's run of pixels on the map, [2 j] to [2 j + 1] (exclusive),
+     * exactly orr_projection_pixel_in_map's answers, looked up where a
+     * footprint crosses the outline (a test per pixel there); else NULL. */
+    int *row_on_map;
     struct orr_sky_cores *cores; /* a sky map's PSF cores drawn from stamps (splat/sky_cores.h), or NULL */
     struct orr_healpix_budget *healpix_budget; /* a HEALPix map's work limit (splat/healpix_kernel.h), or NULL */
 } orr_sph;

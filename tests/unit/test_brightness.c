@@ -216,10 +216,50 @@ static void test_measure_rows_are_exact(void)
     CHECK(twins == 101 - 1 + 100 + 90); /* every dome row but the centre one has a twin */
 }
 
+/* A row's run of pixels on the map is exactly those the pixel test takes
+ * (the coarse glow's passes visit only it), and the measures of a span are
+ * the row's, bit for bit, with the pixels outside it left alone. */
+static void test_row_spans_are_the_pixel_test(void)
+{
+    const orr_projection maps[] = {
+        PLANNED(.kind = ORR_PROJ_DOME, .width = 101, .height = 101, .dome_fov_deg = 180),
+        PLANNED(.kind = ORR_PROJ_DOME, .width = 100, .height = 100, .dome_fov_deg = 210),
+        PLANNED(.kind = ORR_PROJ_DOME, .width = 120, .height = 90, .dome_fov_deg = 180),
+        PLANNED(.kind = ORR_PROJ_DOME, .width = 7, .height = 128, .dome_fov_deg = 180),
+        PLANNED(.kind = ORR_PROJ_HAMMER_AITOFF, .width = 64, .height = 32),
+        PLANNED(.kind = ORR_PROJ_HAMMER_AITOFF, .width = 127, .height = 61),
+        PLANNED(.kind = ORR_PROJ_EQUIRECTANGULAR, .width = 64, .height = 32),
+        PLANNED(.kind = ORR_PROJ_PERSPECTIVE, .width = 40, .height = 30, .fov_deg = 60, .near = 0.1)};
+    for (size_t m = 0; m < sizeof maps / sizeof maps[0]; m++) {
+        const orr_projection *p = &maps[m];
+        double row[128], span[128];
+        int wrong = 0, empty = 0;
+        for (int j = -1; j <= p->height; j++) {
+            int i0, i1;
+            const int n = orr_projection_row_in_map(p, j, &i0, &i1);
+            wrong += n != i1 - i0 || i0 < 0 || i1 > p->width;
+            empty += n == 0;
+            for (int i = -2; i < p->width + 2; i++)
+                wrong += orr_projection_pixel_in_map(p, i, j) != (i >= i0 && i < i1);
+            if (j < 0 || j >= p->height)
+                continue;
+            orr_pixel_measure_row(p, j, row);
+            for (int i = 0; i < p->width; i++)
+                span[i] = -1.0;
+            orr_pixel_measure_span(p, j, i0, i1, span);
+            for (int i = 0; i < p->width; i++)
+                wrong += span[i] != (i >= i0 && i < i1 ? row[i] : -1.0);
+        }
+        CHECK(wrong == 0);
+        CHECK(empty >= 2); /* the rows above and below the image */
+    }
+}
+
 int main(void)
 {
     make_tmpdir();
     test_measure_rows_are_exact();
+    test_row_spans_are_the_pixel_test();
     make_sky();
     test_measures_add_up();
     test_domes_are_uniform();
