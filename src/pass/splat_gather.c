@@ -54,7 +54,7 @@ static int all_finite(const float *a, size_t start, size_t end)
 static int block_selects_all(const orr_splat_view *v, const orr_chunk *c, size_t start, size_t end)
 {
     const orr_splat_settings *set = &v->splat;
-    if (v->lengths)
+    if (v->lengths || (v->stars && !v->drawing_stars)) /* (the stars' glows take their own dimming) */
         return 0;
     /* Blocks mostly hold one type: checked with a byte loop that vectorises;
      * otherwise each particle's type against the mask. */
@@ -373,9 +373,13 @@ static long gather_block(const orr_splat_view *v, const orr_source *src, const o
         orr_camera_point p = orr_to_camera(&tf, c->x[i], c->y[i], c->z[i]);
         float dimming = tf.dim ? orr_camera_dimming(&tf, p.r2) : 1.0f;
         float fade = tf.fade ? orr_camera_fade(&tf, p.r2) : 1.0f;
-        if (v->stars && !v->drawing_stars && orr_stars_spawns(&v->stars->stage, c->type[i])) /* what its stars left */
+        if (v->stars && !v->drawing_stars && orr_stars_spawns(&v->stars->stage, c->type[i])) { /* what its stars left */
             h = stars_glow_length(v, h, p.r2, c->mass[i]);
-        else if (set->has_glow) /* an angle from the lengths, a point when bright */
+            /* ... whose light is spread over the kernel: its flux the
+             * kernel's mean of 1/s^2 over the stars left, not 1/r^2 */
+            if (tf.dim)
+                dimming = v->stars->glow_dimming[i];
+        } else if (set->has_glow) /* an angle from the lengths, a point when bright */
             h = glow_length(set, h, p.r2, wsrcs[v->nplanes >= 3 ? 1 : 0][i] * dimming);
         if (fade < 1.0f)
             count_faded(v, wsrcs, i, dimming, fade, t);

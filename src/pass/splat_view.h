@@ -137,6 +137,10 @@ typedef struct frame_stars {
     uint64_t observer_id;   /* spawns no stars */
     orr_sky_frame sky;      /* the frame's sky frame, for the list's l, b */
     int whole_list;         /* the list holds every star of the frame: one process drew them all */
+    /* Per particle of the chunk, its glow's dimming (1/length^2: stars.h,
+     * orr_stars_glow_dimming), for the spawning types */
+    float *glow_dimming;
+    size_t glow_cap;
     /* The list */
     size_t n, cap;
     double *l, *b;

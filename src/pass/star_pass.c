@@ -28,6 +28,7 @@ static void free_list(frame_stars *fs)
 void orr_frame_stars_free(frame_stars *fs)
 {
     orr_star_batch_free(&fs->batch);
+    free(fs->glow_dimming);
     free_list(fs);
     memset(fs, 0, sizeof *fs);
 }
@@ -40,9 +41,26 @@ void orr_frame_stars_begin(frame_stars *fs, const orr_sky_frame *sky)
     fs->n = 0;
 }
 
+/* Room for the glow's dimming of n particles. */
+static orr_status reserve_glow(frame_stars *fs, size_t n, orr_error *err)
+{
+    if (n <= fs->glow_cap)
+        return ORR_OK;
+    float *d = realloc(fs->glow_dimming, n * sizeof *d);
+    if (!d)
+        return orr_fail(err, ORR_ERR_NOMEM, "stars: out of memory for the glow's dimming of %zu particles", n);
+    fs->glow_dimming = d;
+    fs->glow_cap = n;
+    return ORR_OK;
+}
+
 orr_status orr_frame_stars_spawn(frame_stars *fs, const orr_chunk *c, float *const *xyz, orr_error *err)
 {
-    orr_status st = orr_stars_spawn(&fs->stage, fs->eye, fs->observer_id, c, xyz, &fs->batch, err);
+    orr_status st = reserve_glow(fs, c->n ? c->n : 1, err);
+    if (st)
+        return st;
+    orr_stars_glow_dimming(&fs->stage, fs->eye, c, fs->glow_dimming);
+    st = orr_stars_spawn(&fs->stage, fs->eye, fs->observer_id, c, xyz, &fs->batch, err);
     /* The dust keeps a chunk's optical depths by its first index: the
      * stars' are their chunk's own. */
     fs->batch.stars.first_index = c->first_index;

@@ -7,6 +7,7 @@
 
 #include "core/colourimetry.h"
 #include "particles/population.h"
+#include "stars/kernel_flux.h"
 
 /* The colour table's B-V range: O stars to late M dwarfs. */
 #define BV_FIRST (-0.35)
@@ -183,6 +184,25 @@ static void star_colour(const orr_stars *st, double bv, float *x_over_y, float *
     *z_over_y = (float)(st->colour_xy[1][k] + t * (st->colour_xy[1][k + 1] - st->colour_xy[1][k]));
 }
 
+/* Particle i seen from eye: its distance and its kernel's sigma, parsecs,
+ * the distance its stars are searched from and the faintest absolute
+ * magnitude among them that could be seen one by one from there. */
+typedef struct particle_seen {
+    double r_pc, sigma_pc, nearest_pc, m_lim;
+} particle_seen;
+
+static particle_seen seen_from(const orr_stars *st, orr_vec3 eye, const orr_chunk *c, size_t i)
+{
+    particle_seen s;
+    const orr_vec3 p = orr_v3(c->x[i], c->y[i], c->z[i]);
+    s.r_pc = orr_v3_norm(orr_v3_sub(p, eye)) * st->set.length_unit;
+    s.sigma_pc = kernel_sigma_pc(st, (double)c->mass[i] * st->set.mass_unit);
+    const double nearest = s.r_pc - SEARCH_SIGMAS * s.sigma_pc;
+    s.nearest_pc = nearest > NEAREST_SEARCH_PC ? nearest : NEAREST_SEARCH_PC;
+    s.m_lim = st->set.limit - 5.0 * log10(s.nearest_pc / 10.0);
+    return s;
+}
+
 /* Draws particle i's stars into out, *taken the light (Y) they took. */
 static orr_status spawn_particle(orr_stars *st, orr_vec3 eye, const orr_chunk *c, size_t i, float y_light,
                                  orr_star_batch *out, double *taken, orr_error *err)
@@ -195,12 +215,10 @@ static orr_status spawn_particle(orr_stars *st, orr_vec3 eye, const orr_chunk *c
     if (!(m > 0) || !(c->mass[i] > 0))
         return ORR_OK;
     const orr_vec3 p = orr_v3(c->x[i], c->y[i], c->z[i]);
-    const double r_pc = orr_v3_norm(orr_v3_sub(p, eye)) * pc;
-    const double sigma = kernel_sigma_pc(st, (double)c->mass[i] * st->set.mass_unit);
-    double nearest = r_pc - SEARCH_SIGMAS * sigma;
-    nearest = nearest > NEAREST_SEARCH_PC ? nearest : NEAREST_SEARCH_PC;
+    const particle_seen seen = seen_from(st, eye, c, i);
+    const double sigma = seen.sigma_pc;
     /* The faintest star of the particle that could be seen one by one. */
-    const double m_lim = st->set.limit - 5.0 * log10(nearest / 10.0);
+    const double m_lim = seen.m_lim;
     if (m_lim <= ORR_LF_M_BRIGHT)
         return ORR_OK;
     const double lambda = m * orr_lf_count_brighter(&st->lf, m_lim);
@@ -276,4 +294,60 @@ orr_status orr_stars_spawn(orr_stars *st, orr_vec3 eye, uint64_t exclude_id, con
         xyz[1][i] = (float)(left > 0 ? left : 0.0);
     }
     return ORR_OK;
+}
+
+/* ---- the glow's flux (docs/sky.md, "The glow's flux") ---- */
+
+/* What w(s) needs: the faintest magnitude searched and the limit. */
+typedef struct drawn_share {
+    const orr_stars *st;
+    double m_lim;
+} drawn_share;
+
+/* The share of a particle's light in the stars drawn when they lie at s
+ * parsecs from the observer: those brighter than m_lim (the draw takes no
+ * others) whose apparent V from s reaches the limit. */
+static double drawn_at(double s, const void *user)
+{
+    const drawn_share *d = user;
+    if (!(s > 0))
+        return orr_lf_light_brighter(&d->st->lf, d->m_lim) / d->st->light_per_mass;
+    const double seen = d->st->set.limit - 5.0 * log10(s / 10.0);
+    return orr_lf_light_brighter(&d->st->lf, seen < d->m_lim ? seen : d->m_lim) / d->st->light_per_mass;
+}
+
+/* The flux per unit of light of what particle i's stars leave, 1/pc^2: the
+ * mean of 1/s^2 over its kernel of the stars not drawn. The stars drawn
+ * are those that fall near enough to be seen, so those left lie farther
+ * on average; with E[1/s^2] over the whole kernel the glow would count
+ * the near side twice, once as stars and once in the glow. */
+static double glow_inv_r2_pc(const orr_stars *st, const particle_seen *seen)
+{
+    const double all = orr_kernel_inv_r2(seen->r_pc, seen->sigma_pc);
+    if (seen->m_lim <= ORR_LF_M_BRIGHT)
+        return all; /* (no star of it is drawn) */
+    /* No star is seen beyond the distance at which the brightest would be
+     * at the limit; the share drawn has a kink where the search begins. */
+    const double farthest = 10.0 * pow(10.0, 0.2 * (st->set.limit - ORR_LF_M_BRIGHT));
+    const drawn_share d = {st, seen->m_lim};
+    const orr_kernel_part drawn =
+        orr_kernel_weighted(seen->r_pc, seen->sigma_pc, 0.0, farthest, seen->nearest_pc, drawn_at, &d);
+    const double light_left = 1.0 - drawn.light, flux_left = all - drawn.flux;
+    /* (When the stars take almost all of it the glow is nothing either way.) */
+    if (!(light_left > 1e-9))
+        return all;
+    return flux_left > 0 ? flux_left / light_left : 0.0;
+}
+
+void orr_stars_glow_dimming(const orr_stars *st, orr_vec3 eye, const orr_chunk *c, float *dimming)
+{
+    const double pc2 = st->set.length_unit * st->set.length_unit;
+    const long n = (long)c->n;
+#pragma omp parallel for schedule(dynamic, 256)
+    for (long i = 0; i < n; i++) {
+        if (!orr_stars_spawns(st, c->type[i]))
+            continue;
+        const particle_seen seen = seen_from(st, eye, c, (size_t)i);
+        dimming[i] = (float)(glow_inv_r2_pc(st, &seen) * pc2);
+    }
 }

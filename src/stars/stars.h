@@ -109,4 +109,15 @@ void orr_stars_begin_frame(orr_stars *st);
 orr_status orr_stars_spawn(orr_stars *st, orr_vec3 eye, uint64_t exclude_id, const orr_chunk *c,
                            float *const *xyz, orr_star_batch *out, orr_error *err);
 
+/* The glow's dimming (docs/sky.md, "The glow's flux"): for each of c's
+ * particles of the spawning types, dimming[i] (1 / length^2, scene units)
+ * is the flux at eye per unit of the light its stars leave, the mean of
+ * 1/s^2 over its kernel of the stars that the draw leaves in the glow
+ * (those too faint from where they fall). Far away it is 1/r^2; near the
+ * observer it stays below 1/sigma^2, so a particle passing the observer
+ * does not light the whole sky. Other particles' entries are left as they
+ * were. Parallel over the particles, each entry a function of its particle
+ * alone: the same bits on any number of threads. */
+void orr_stars_glow_dimming(const orr_stars *st, orr_vec3 eye, const orr_chunk *c, float *dimming);
+
 #endif
