@@ -11,6 +11,7 @@ Every group and dataset is copied as it is, but the particles of --type
 header's counts say so.
 """
 import argparse
+import os
 import sys
 
 import h5py
@@ -27,6 +28,23 @@ def observer_position(f, observer_id):
     sys.exit(f"snapshot_without_near: no particle has id {observer_id}")
 
 
+def copy_without(f, g, group_name, keep, ptype):
+    """f copied into g, but group_name's particles only where keep is set,
+    and the header's counts of type ptype saying so."""
+    for name in f:
+        if name != group_name:
+            f.copy(name, g)
+    out = g.create_group(group_name)
+    for key, value in f[group_name].attrs.items():
+        out.attrs[key] = value
+    for name, ds in f[group_name].items():
+        out.create_dataset(name, data=ds[:][keep])
+    for key in ("NumPart_ThisFile", "NumPart_Total"):
+        counts = np.array(g["Header"].attrs[key])
+        counts[ptype] = keep.sum()
+        g["Header"].attrs[key] = counts
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("snapshot")
@@ -38,25 +56,19 @@ def main():
     if not a.radius > 0:
         sys.exit(f"snapshot_without_near: --radius {a.radius}: give a distance > 0")
     group_name = f"PartType{a.type}"
-    with h5py.File(a.snapshot, "r") as f, h5py.File(a.out, "w") as g:
+    with h5py.File(a.snapshot, "r") as f:
         if group_name not in f:
             sys.exit(f"snapshot_without_near: {a.snapshot} has no {group_name}")
         eye = observer_position(f, a.observer_id)
         keep = np.linalg.norm(f[group_name]["Coordinates"][:] - eye, axis=1) >= a.radius
-        for name in f:
-            if name != group_name:
-                f.copy(name, g)
-        out = g.create_group(group_name)
-        for key, value in f[group_name].attrs.items():
-            out.attrs[key] = value
-        for name, ds in f[group_name].items():
-            out.create_dataset(name, data=ds[:][keep])
-        for key in ("NumPart_ThisFile", "NumPart_Total"):
-            counts = np.array(g["Header"].attrs[key])
-            counts[a.type] = keep.sum()
-            g["Header"].attrs[key] = counts
-        print(f"{a.out}: {int((~keep).sum())} of {keep.size} particles of type {a.type} within {a.radius} of "
-              f"particle {a.observer_id} left out")
+        # Written beside OUT and renamed into place: a run that stops
+        # half-way leaves no half-written snapshot under OUT's name.
+        partial = f"{a.out}.partial"
+        with h5py.File(partial, "w") as g:
+            copy_without(f, g, group_name, keep, a.type)
+    os.replace(partial, a.out)
+    print(f"{a.out}: {int((~keep).sum())} of {keep.size} particles of type {a.type} within {a.radius} of "
+          f"particle {a.observer_id} left out")
 
 
 if __name__ == "__main__":
