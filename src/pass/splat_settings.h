@@ -1,8 +1,8 @@
 /* What the splat pass reads of a view's settings (splat_*.c, ngp_gather.c,
  * star_pass.c, coarse_glow.c, lengths.c, periodic_view.c, dust_view.c):
- * compiled once per view by the plan (plan.c: splat_settings_of, the only
- * reader of the scene), so the pass reads no scene. Copies, not pointers
- * into the scene: the frame's scenes come and go, the plan's view stays
+ * compiled once per view by the plan (plan_view.c: splat_settings_of, the only
+ * reader of the scene, with plan.c), so the pass reads no scene. Copies,
+ * not pointers into the scene, which may go once the plan is made
  * (the dust's curve file is the copy's own string, freed with the plan's
  * view); the path for messages is the view's own copy, which lives as long
  * as the view. */

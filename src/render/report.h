@@ -17,8 +17,9 @@
 #include "reduce/parallel.h" /* orr_parallel: how several processes render a frame together */
 #include "core/timings.h"
 
-/* The scenes the entry points render: only plan.c reads them
- * (scene/scene.h declares them; their callers load them from there). */
+/* The scenes the entry points render: only the plan (plan.c, plan_view.c)
+ * reads them (scene/scene.h declares them; their callers load them from
+ * there). */
 typedef struct orr_scene orr_scene;
 
 #define ORR_RENDER_MAX_OUTPUTS 10 /* stereo.mode: separate writes each format twice */

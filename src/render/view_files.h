@@ -1,7 +1,7 @@
 /* What a view's files are and how its picture is graded, as the writers
  * read them (view_outputs.c, view_cards.c, compose.c, stereo_view.c): the
- * view's own copy, made by the plan (plan.c: the only reader of the scene),
- * which keeps no pointer into the scene. The frame's part (output.name with
+ * view's own copy, made by the plan (plan_view.c; with plan.c the only
+ * reader of the scene), which keeps no pointer into the scene. The frame's part (output.name with
  * the frame's number and an eye's name; the grading, which a compose's
  * re-grade and a stereo pair's shared white level change) is made again
  * from the planned part when each frame begins. */

@@ -1,8 +1,9 @@
-/* One view being rendered, as the parts of the renderer share it: plan.c
- * (the plan: each view planned once, then each frame), view_camera.c (the
- * observer frame, the cameras), view_outputs.c (the planes into the view's
- * files) and compose.c (raw planes re-graded); the splat pass (pass/) sees
- * only its part, view_state.pass. Private to render/. */
+/* One view being rendered, as the parts of the renderer share it: the plan
+ * (plan_view.c: each view planned once and begun each frame; plan.c: the
+ * frames), view_camera.c (the observer frame, the cameras), view_outputs.c
+ * (the planes into the view's files) and compose.c (raw planes re-graded);
+ * the splat pass (pass/) sees only its part, view_state.pass. Private to
+ * render/. */
 #ifndef ORR_RENDER_VIEW_STATE_H
 #define ORR_RENDER_VIEW_STATE_H
 
@@ -18,7 +19,7 @@
 #include "source/settings.h"
 
 /* How a view's camera is found each frame (view_camera.c): compiled by the
- * plan from the view's scene (plan.c: camera_plan_of). */
+ * plan from the view's scene (plan_view.c: camera_plan_of). */
 typedef struct view_camera_plan {
     const char *path;            /* the scene file, for messages: the view's own (view_files.path) */
     orr_camera_settings camera;  /* camera.*: a static camera, a path, a sky map's orientation; a copy
@@ -28,7 +29,7 @@ typedef struct view_camera_plan {
     double shutter;              /* animation.shutter: motion blur's share of the frame interval (0: none) */
     int has_frame_interval;      /* animation.frame_interval given ... */
     double frame_interval;       /* ... and its value */
-    int blur_moves_particles;    /* the shutter moves the particles too (plan.c blur_moves_particles) */
+    int blur_moves_particles;    /* the shutter moves the particles too (orr_scene_blur_moves_particles, plan_view.h) */
 } view_camera_plan;
 
 /* The units a view's planes and WCS are in: the scene's, when it states
