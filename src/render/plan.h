@@ -65,6 +65,7 @@ typedef struct orr_compose_frame {
  * (orr_compose_views); frame NULL: a still. */
 orr_status orr_plan_compose(orr_plan *plan, const orr_compose_frame *frame, orr_render_report *reports,
                             orr_error *err);
+
 /* Seconds orr_plan_create took (for benchmarks and --timings). */
 double orr_plan_seconds(const orr_plan *plan);
 
