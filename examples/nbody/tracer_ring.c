@@ -4,6 +4,8 @@
 #include <math.h>
 #include <string.h>
 
+#include "core/simd.h"
+
 #define TWO_PI 6.283185307179586
 #define TYPE_DISC 2
 #define TYPE_BULGE 3
@@ -133,25 +135,57 @@ void ring_points(const double c[3], const double n[3], const double x[3], int k,
     }
 }
 
+/* Points a pass over the particles serves: each particle read once for
+ * eight points, whose sums the vector lanes hold side by side. */
+#define RING_LANES 8
+
+/* One pass: the pulls at the RING_LANES points x/y/z, each point's sum in
+ * the particles' order, as one point alone would sum them. The lanes do
+ * the same IEEE operations one by one (no contraction: CMakeLists.txt), so
+ * every clone gives the same bits. */
+ORR_WIDE_VECTOR_CLONES
+static void ring_pass(const double *pos, const double *mass, const double *eps, size_t n, double light, double e2t,
+                      const double *x, const double *y, const double *z, double *sx, double *sy, double *sz)
+{
+    for (size_t i = 0; i < n; i++) {
+        if (mass[i] < light)
+            continue;
+        double soft = 0.5 * (eps[i] * eps[i] + e2t), m = mass[i];
+        double xi = pos[3 * i], yi = pos[3 * i + 1], zi = pos[3 * i + 2];
+        for (int p = 0; p < RING_LANES; p++) {
+            double dx = xi - x[p], dy = yi - y[p], dz = zi - z[p];
+            double r2 = dx * dx + dy * dy + dz * dz + soft;
+            double w = m / (r2 * sqrt(r2));
+            sx[p] += w * dx;
+            sy[p] += w * dy;
+            sz[p] += w * dz;
+        }
+    }
+}
+
 void ring_pulls(const double *pos, const double *mass, const double *eps, size_t n, double light, double eps_t,
                 const double *pts, int npts, double G, double *acc)
 {
     double e2t = eps_t * eps_t;
+    int passes = (npts + RING_LANES - 1) / RING_LANES;
 #pragma omp parallel for schedule(static)
-    for (int p = 0; p < npts; p++) {
-        const double *x = &pts[3 * p];
-        double sum[3] = {0, 0, 0};
-        for (size_t i = 0; i < n; i++) {
-            if (mass[i] < light)
-                continue;
-            double d[3] = {pos[3 * i] - x[0], pos[3 * i + 1] - x[1], pos[3 * i + 2] - x[2]};
-            double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 0.5 * (eps[i] * eps[i] + e2t);
-            double w = mass[i] / (r2 * sqrt(r2));
-            for (int k = 0; k < 3; k++)
-                sum[k] += w * d[k];
+    for (int pass = 0; pass < passes; pass++) {
+        double x[RING_LANES], y[RING_LANES], z[RING_LANES];
+        double sx[RING_LANES] = {0}, sy[RING_LANES] = {0}, sz[RING_LANES] = {0};
+        int first = pass * RING_LANES;
+        for (int p = 0; p < RING_LANES; p++) {
+            /* the last pass's spare lanes repeat its last point, and are dropped */
+            const double *at = &pts[3 * (first + p < npts ? first + p : npts - 1)];
+            x[p] = at[0];
+            y[p] = at[1];
+            z[p] = at[2];
         }
-        for (int k = 0; k < 3; k++)
-            acc[3 * p + k] += G * sum[k];
+        ring_pass(pos, mass, eps, n, light, e2t, x, y, z, sx, sy, sz);
+        for (int p = 0; p < RING_LANES && first + p < npts; p++) {
+            acc[3 * (first + p)] += G * sx[p];
+            acc[3 * (first + p) + 1] += G * sy[p];
+            acc[3 * (first + p) + 2] += G * sz[p];
+        }
     }
 }
 

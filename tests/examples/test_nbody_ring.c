@@ -4,8 +4,11 @@
  * the whole circle by a fine quadrature, with no torque; a host's axis is
  * recovered from a tilted thin disc; a uniform pull passes unchanged; a
  * tracer started on the ring's circular orbit about a point mass moves at
- * Kepler's speed. */
+ * Kepler's speed. The pulls summed eight points a pass are, bit for bit,
+ * each point's sum in the particles' order, on one thread and on two. */
+#include <omp.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "check.h"
 #include "tracer_ring.h"
@@ -241,6 +244,50 @@ static void test_circular_start(void)
     CHECK(out[0] == -1 && out[1] == -1 && out[2] == -1);
 }
 
+/* ring_pulls against the plain loop its comment states (each point's sum
+ * in the particles' order, the lighter ones left out): the same bits for
+ * 11 points (a pass of eight and one of three), on one thread and two. */
+static void test_pulls_bit_for_bit(void)
+{
+    enum { N = 997, P = 11 };
+    static double pos[3 * N], mass[N], eps[N], pts[3 * P];
+    unsigned s = 12345;
+    for (int i = 0; i < 3 * N; i++) {
+        s = s * 1103515245u + 12345u;
+        pos[i] = 20.0 * ((s >> 8) / 16777216.0) - 10.0;
+    }
+    for (int i = 0; i < N; i++) {
+        mass[i] = i % 7 == 0 ? 1e-9 : 1e-4 * (1 + i % 5); /* every 7th lighter than light */
+        eps[i] = i % 2 ? 0.2 : 0.4;
+    }
+    for (int i = 0; i < 3 * P; i++)
+        pts[i] = 3.0 * sin(1.7 * i + 0.3);
+    const double light = 1e-6, eps_t = 0.3, e2t = eps_t * eps_t;
+    double plain[3 * P];
+    for (int p = 0; p < P; p++) {
+        double sum[3] = {0, 0, 0};
+        for (int i = 0; i < N; i++) {
+            if (mass[i] < light)
+                continue;
+            double d[3] = {pos[3 * i] - pts[3 * p], pos[3 * i + 1] - pts[3 * p + 1], pos[3 * i + 2] - pts[3 * p + 2]};
+            double r2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2] + 0.5 * (eps[i] * eps[i] + e2t);
+            double w = mass[i] / (r2 * sqrt(r2));
+            for (int k = 0; k < 3; k++)
+                sum[k] += w * d[k];
+        }
+        for (int k = 0; k < 3; k++)
+            plain[3 * p + k] = 1.0 + G * sum[k]; /* added to acc's 1 */
+    }
+    for (int threads = 1; threads <= 2; threads++) {
+        double acc[3 * P];
+        for (int i = 0; i < 3 * P; i++)
+            acc[i] = 1.0;
+        omp_set_num_threads(threads);
+        ring_pulls(pos, mass, eps, N, light, eps_t, pts, P, G, acc);
+        CHECK(memcmp(acc, plain, sizeof acc) == 0);
+    }
+}
+
 int main(void)
 {
     make_frame();
@@ -249,6 +296,7 @@ int main(void)
     test_uniform_pull();
     test_host();
     test_circular_start();
+    test_pulls_bit_for_bit();
     printf("%d checks, %d failed\n", check_count, check_failures);
     return check_failures != 0;
 }
