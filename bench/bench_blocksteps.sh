@@ -34,11 +34,13 @@ export OMP_NUM_THREADS=1
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
+# steps DT: how many steps of DT make TIME (a whole number, else an error).
 steps() {
   awk -v t="$TIME" -v dt="$1" 'BEGIN { n = t / dt; r = int(n + 0.5); if (r < 1 || (n - r) * (n - r) > 1e-12) exit 1; print r }' ||
     { echo "bench_blocksteps: TIME $TIME is not a whole number of steps of $1" >&2; exit 1; }
 }
 
+# run NAME DT [--eta ETA ...]: one run, its output in NAME.log and its CPU in NAME.cpu.
 run() {
   local name=$1 dt=$2
   shift 2
@@ -52,7 +54,8 @@ run() {
   awk '{ print $1 + $2 }' "$work/$name.time" >"$work/$name.cpu"
 }
 
-# A run's figures, one line: cpu forces most last z_rms r_half sun_R sun_z sun_most_z.
+# figures NAME DT: a run's figures, one line in NAME.fig: cpu forces most
+# last z_rms r_half sun_R sun_z sun_most_z.
 figures() {
   awk -v cpu="$(cat "$work/$1.cpu")" -v n="$N" -v t="$TIME" -v dt="$2" '
     /^report/ {
@@ -70,22 +73,27 @@ figures() {
     }' "$work/$1.log" >"$work/$1.fig"
 }
 
-# The global runs' CPU at error e: log-log interpolation between the two
-# global runs whose largest errors bracket e; "-" when none do.
+# at_error E: the global runs' CPU at largest error E, interpolated
+# log-log between two global runs whose errors bracket E; of several such
+# pairs the cheapest answer (the least favourable to block steps); "-"
+# when none bracket it.
 at_error() {
   awk -v e="$1" '{ err[NR] = $2; cpu[NR] = $1 }
     END {
       for (i = 1; i <= NR; i++) for (j = 1; j <= NR; j++) {
-        if (err[i] >= e && err[j] <= e && err[i] > err[j]) {
+        c = ""
+        if (err[i] == e) c = cpu[i]
+        else if (err[i] > e && err[j] < e) {
           f = (log(e) - log(err[j])) / (log(err[i]) - log(err[j]))
           c = exp(log(cpu[j]) + f * (log(cpu[i]) - log(cpu[j])))
-          if (best == "" || c > best) best = c
-        } else if (err[i] == e) best = cpu[i]
+        }
+        if (c != "" && (best == "" || c < best)) best = c
       }
       print best == "" ? "-" : best
     }' "$work/globals"
 }
 
+# row LABEL FIG [/GLOBAL [/EQUAL]]: one line of the table.
 row() {
   local label=$1 fig=$2 base=${3:-} equal=${4:-}
   read -r cpu forces most last z r sr sz sm <"$fig"
