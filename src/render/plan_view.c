@@ -13,25 +13,6 @@
 #include "scene/scene.h"
 #include "scene/scene_output.h"
 
-/* Whether the scene's shutter moves particles by their velocities (so the
- * renderer must read vx, vy, vz): a shutter, and simulation time that
- * passes between frames: animation.frame_interval, a sequence's snapshots,
- * or an in-situ run's animation.time. (A single snapshot's particles stand
- * still, and only the camera moves.) pass/motion_blur.h draws the
- * streaks. */
-int orr_scene_blur_moves_particles(const orr_scene *s)
-{
-    if (!(s->animation.shutter > 0))
-        return 0;
-    if (s->animation.has_frame_interval)
-        return s->animation.frame_interval > 0;
-    /* A single snapshot's particles stand still from frame to frame, so
-     * they do not move while the shutter is open either. */
-    if (orr_scene_has_sequence(s))
-        return 1;
-    return s->input.insitu && s->animation.has_time && s->animation.time[0] != s->animation.time[1];
-}
-
 /* Plane k's name: the weight, or X, Y, Z with colour, then NAME.X,
  * NAME.Y, NAME.Z for each population (output.exr_population_layers; the
  * EXR makes its layer NAME.R, NAME.G, NAME.B, NAME.A of them). */
@@ -214,9 +195,8 @@ static void reset_frame_state(view_state *v)
 /* The frame's part of a planned view: its report, the camera (a path, the
  * observer's sky frame), a stereo eye's camera and principal point (the
  * convergence may follow the camera), motion blur's shutter cameras. */
-orr_status orr_view_begin_frame(view_state *v, const orr_sky_frame *observer,
-                                   orr_vec3 observer_velocity, const orr_frame_time *when, orr_render_report *rep,
-                                   orr_error *err)
+orr_status orr_view_begin_frame(view_state *v, const orr_sky_frame *observer, orr_vec3 observer_velocity,
+                                const orr_frame_time *when, orr_render_report *rep, orr_error *err)
 {
     reset_frame_state(v);
     memset(rep, 0, sizeof *rep);

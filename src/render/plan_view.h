@@ -33,8 +33,4 @@ void orr_view_regrade_final(view_files *f, double white);
 /* Frees what orr_plan_view made (a view zeroed or partly planned too). */
 void orr_view_free(view_state *v);
 
-/* Whether scene s's shutter moves the particles by their velocities, so
- * that the renderer must read vx, vy, vz. */
-int orr_scene_blur_moves_particles(const orr_scene *s);
-
 #endif

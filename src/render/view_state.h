@@ -29,7 +29,7 @@ typedef struct view_camera_plan {
     double shutter;              /* animation.shutter: motion blur's share of the frame interval (0: none) */
     int has_frame_interval;      /* animation.frame_interval given ... */
     double frame_interval;       /* ... and its value */
-    int blur_moves_particles;    /* the shutter moves the particles too (orr_scene_blur_moves_particles, plan_view.h) */
+    int blur_moves_particles;    /* the shutter moves the particles too (orr_scene_blur_moves_particles, scene/scene.h) */
 } view_camera_plan;
 
 /* The units a view's planes and WCS are in: the scene's, when it states

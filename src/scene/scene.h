@@ -125,6 +125,10 @@ void orr_scene_views_free(orr_scene_views *views);
 /* Whether the scene's input is a sequence (input.sequence.pattern or .files). */
 int orr_scene_has_sequence(const orr_scene *s);
 
+/* Whether the scene's shutter moves the particles by their velocities, so
+ * that the renderer must read vx, vy, vz (scene_sequence.c). */
+int orr_scene_blur_moves_particles(const orr_scene *s);
+
 /* The point the camera keeps looking at, where there is one
  * (orr_camera_settings_look_target, frame/camera_settings.h). */
 int orr_scene_look_target(const orr_scene *s, orr_vec3 *target);

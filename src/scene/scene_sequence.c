@@ -7,6 +7,25 @@
 
 int orr_scene_has_sequence(const orr_scene *s) { return orr_input_has_sequence(&s->input); }
 
+/* Whether the scene's shutter moves particles by their velocities (so the
+ * renderer must read vx, vy, vz): a shutter, and simulation time that
+ * passes between frames: animation.frame_interval, a sequence's snapshots,
+ * or an in-situ run's animation.time. (A single snapshot's particles stand
+ * still, and only the camera moves.) pass/motion_blur.h draws the
+ * streaks. */
+int orr_scene_blur_moves_particles(const orr_scene *s)
+{
+    if (!(s->animation.shutter > 0))
+        return 0;
+    if (s->animation.has_frame_interval)
+        return s->animation.frame_interval > 0;
+    /* A single snapshot's particles stand still from frame to frame, so
+     * they do not move while the shutter is open either. */
+    if (orr_scene_has_sequence(s))
+        return 1;
+    return s->input.insitu && s->animation.has_time && s->animation.time[0] != s->animation.time[1];
+}
+
 const char *orr_scene_sequence_file(const orr_scene *s, int i) { return orr_sequence_file(&s->input.sequence, i); }
 
 /* Appends one path, resolved as bind_text resolves input.file: relative to
