@@ -17,15 +17,20 @@
 #   benchmark bench/production-dome.yaml, the lighter scene issue 24
 #             measured (no dust, glow or panorama) at N (10^7) and SIZE^2
 #             (3600 or 8192): a second line, not the shipped frame
+# FRAMES=n renders the scene n times over as a film's frames
+# (animation.frames=n, the same particles each frame): the table is then a
+# frame's share of the run's stages, and two lines more give the first
+# frame's wall seconds and the later frames' mean, a film's steady cost
+# (what the first frame sets up, a film pays once).
 # DUST=off renders without the dust (dust=null). Each build renders REPEAT
 # times (default 1), the builds interleaved; printed: each build's best
 # run's wall and CPU seconds per stage (`orrery render --timings`), its
 # total and its peak memory (GNU time's maximum resident set size).
 # OMP_NUM_THREADS is left to the caller.
 set -euo pipefail
-[ $# -ge 1 ] || { sed -n 2,24p "$0"; exit 2; }
+[ $# -ge 1 ] || { sed -n '2,/^set /{/^#/p}' "$0"; exit 2; } # the comment above, whole
 here=$(cd "$(dirname "$0")/.." && pwd)
-FRAME=${FRAME:-main} REPEAT=${REPEAT:-1} DUST=${DUST:-on}
+FRAME=${FRAME:-main} REPEAT=${REPEAT:-1} DUST=${DUST:-on} FRAMES=${FRAMES:-1}
 scene=$here/configs/futuresky.yaml
 case $FRAME in
   main)
@@ -50,6 +55,10 @@ case $DUST in
   off) sets+=(--set dust=null) ;;
   *) echo "bench_frame.sh: DUST must be on or off, not '$DUST'" >&2; exit 2 ;;
 esac
+case $FRAMES in
+  '' | *[!0-9]* | 0) echo "bench_frame.sh: FRAMES must be a whole number of frames, 1 or more, not '$FRAMES'" >&2; exit 2 ;;
+esac
+[ "$FRAMES" = 1 ] || sets+=(--set animation.frames="$FRAMES")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 for bin in "$@"; do
@@ -64,33 +73,42 @@ for r in $(seq "$REPEAT"); do
       { echo "bench_frame.sh: $bin failed:" >&2; cat "$work/t-$k-$r" >&2; exit 1; }
   done
 done
-/usr/bin/python3 - "$work" "$REPEAT" "$N" "$FRAME $(basename "$scene") dust $DUST" "$@" <<'PY'
+/usr/bin/python3 - "$work" "$REPEAT" "$N" "$FRAME $(basename "$scene") dust $DUST" "$FRAMES" "$@" <<'PY'
 import re, sys
-work, repeat, n, frame, bins = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5:]
+work, repeat, n, frame, frames, bins = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], int(sys.argv[5]), sys.argv[6:]
 def read(k, r):
-    stages = {}
+    """A run's stages (wall, CPU: a frame's share), its frames' wall
+    seconds (with FRAMES) and its peak memory."""
+    stages, walls = {}, []
     for line in open(f"{work}/t-{k}-{r}"):
         m = re.match(r"\s+(\S[\w+/ ]*?)\s+([\d.]+)\s+([\d.]+)\s", line)
         if m:
-            stages[m.group(1)] = (float(m.group(2)), float(m.group(3)))
+            stages[m.group(1)] = (float(m.group(2)) / frames, float(m.group(3)) / frames)
+        m = re.match(r"timings: frame \d+: ([\d.]+) s wall", line)
+        if m:
+            walls.append(float(m.group(1)))
     mem = int(open(f"{work}/mem-{k}-{r}").read().split()[1])
-    return stages, mem
+    return stages, mem, walls
 best = []
 for k in range(1, len(bins) + 1):
     runs = [read(k, r) for r in range(1, repeat + 1)]
     best.append(min(runs, key=lambda x: x[0]["total"][0]))
-print(f"production frame: {frame}, {float(n):.0e} particles, best of {repeat}")
+print(f"production frame: {frame}, {float(n):.0e} particles, best of {repeat}"
+      + (f", a frame's share of a {frames}-frame film" if frames > 1 else ""))
 print("stage".ljust(16) + "".join(f"{'build ' + str(k + 1):>22}" for k in range(len(bins))))
 print(" " * 16 + "".join(f"{'wall s':>11}{'CPU s':>11}" for _ in bins))
 for name in best[0][0]:
     if name == "stages summed":
         continue
     row = name.ljust(16)
-    for stages, _ in best:
+    for stages, _, _ in best:
         w, c = stages.get(name, (float("nan"),) * 2)
         row += f"{w:11.3f}{c:11.3f}"
     print(row)
-print("peak memory".ljust(16) + "".join(f"{mem / 1024:19.0f} MB" for _, mem in best))
+if frames > 1:
+    print("first frame".ljust(16) + "".join(f"{walls[0]:11.3f}{'':11}" for _, _, walls in best))
+    print("later, mean".ljust(16) + "".join(f"{sum(walls[1:]) / len(walls[1:]):11.3f}{'':11}" for _, _, walls in best))
+print("peak memory".ljust(16) + "".join(f"{mem / 1024:19.0f} MB" for _, mem, _ in best))
 for k, b in enumerate(bins):
     print(f"build {k + 1}: {b}")
 PY

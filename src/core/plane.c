@@ -8,17 +8,20 @@
 #include <string.h>
 #include <sys/mman.h>
 
-/* Planes of at least this many bytes go on transparent huge pages where
- * the system offers them: a deposit adds to pixels all over the image, and
- * with 4 KiB pages a 52 MB dome master spans 13000 pages, far more than the
- * TLB holds (and as many page faults, taken by every thread at once). */
+/* Planes of at least LARGE_PLANE bytes go on transparent huge pages of
+ * HUGE_PAGE bytes where the system offers them: a deposit adds to pixels
+ * all over the image, and with 4 KiB pages a 52 MB dome master spans 13000
+ * pages, far more than the TLB holds (and as many page faults, taken by
+ * every thread at once). They are zeroed on every thread. */
 #define HUGE_PAGE ((size_t)2 << 20)
+#define LARGE_PLANE (2 * HUGE_PAGE)
 
-#ifdef MADV_HUGEPAGE
-/* Zeroes a fresh allocation a huge page at a time on every thread: the
- * first touch of each page is a fault in which the kernel clears it, and
- * one thread alone clearing an 8192^2 dome master's three planes (805 MB)
- * took most of a frame's set-up. */
+/* Zeroes memory a huge page at a time on every thread. On a fresh
+ * allocation the first touch of each page is a fault in which the kernel
+ * clears it, and one thread alone clearing an 8192^2 dome master's three
+ * planes (805 MB) took most of a frame's set-up; a plane cleared again for
+ * the next frame keeps the pages where the same threads first touched
+ * them. */
 static void zero_on_every_thread(unsigned char *mem, size_t bytes)
 {
     size_t pages = (bytes + HUGE_PAGE - 1) / HUGE_PAGE;
@@ -28,14 +31,13 @@ static void zero_on_every_thread(unsigned char *mem, size_t bytes)
         memset(mem + start, 0, len);
     }
 }
-#endif
 
 /* n zeroed floats. */
 static float *plane_memory(size_t n, orr_error *err)
 {
 #ifdef MADV_HUGEPAGE
     size_t bytes = n * sizeof(float);
-    if (bytes >= 2 * HUGE_PAGE) {
+    if (bytes >= LARGE_PLANE) {
         size_t rounded = (bytes + HUGE_PAGE - 1) / HUGE_PAGE * HUGE_PAGE;
         void *mem = NULL;
         if (posix_memalign(&mem, HUGE_PAGE, rounded) != 0) {
@@ -70,6 +72,15 @@ orr_status orr_plane_alloc(orr_plane *p, int width, int height, const char *name
     snprintf(p->name, sizeof p->name, "%s", name ? name : "");
     snprintf(p->unit, sizeof p->unit, "%s", unit ? unit : "");
     return ORR_OK;
+}
+
+void orr_plane_clear(orr_plane *p)
+{
+    size_t bytes = (size_t)p->width * (size_t)p->height * sizeof(float);
+    if (bytes >= LARGE_PLANE)
+        zero_on_every_thread((unsigned char *)p->data, bytes);
+    else
+        memset(p->data, 0, bytes);
 }
 
 void orr_plane_free(orr_plane *p)

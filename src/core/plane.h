@@ -23,6 +23,9 @@ typedef struct orr_plane {
 /* Allocates a zeroed plane; fails cleanly on absurd sizes. */
 orr_status orr_plane_alloc(orr_plane *p, int width, int height, const char *name, const char *unit,
                            orr_error *err);
+/* Zeroes an allocated plane again (a frame after the first), the large
+ * ones on every thread. */
+void orr_plane_clear(orr_plane *p);
 void orr_plane_free(orr_plane *p);
 /* Sum of all pixels, accumulated in double. */
 double orr_plane_sum(const orr_plane *p);

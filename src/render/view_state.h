@@ -57,6 +57,7 @@ typedef struct view_state {
      * the frame's own, filled in for its files. */
     orr_cards cards, stereo_cards, frame_cards;
     orr_output_batch *outputs;  /* the frame's outputs, renamed into place together */
+    int planes_zeroed;          /* the planes are as allocated, all zeros: the first frame need not clear them */
 } view_state;
 
 /* The planes a view's FITS files (and an in-situ keeper) get: the weight,

@@ -90,13 +90,19 @@ double orr_lf_count_brighter(const orr_lf *lf, double m) { return cumulative_at(
 double orr_lf_light_brighter(const orr_lf *lf, double m) { return cumulative_at(lf->light, m); }
 double orr_lf_light_per_mass(const orr_lf *lf) { return lf->light[ORR_LF_STEPS]; }
 
-double orr_lf_magnitude_at(const orr_lf *lf, double count)
+/* The magnitude within step lo, where count[lo] < count <= count[lo + 1]. */
+static double magnitude_in_step(const orr_lf *lf, int lo, double count)
 {
-    if (!(count > 0))
-        return ORR_LF_M_BRIGHT;
-    if (count >= lf->count[ORR_LF_STEPS])
-        return ORR_LF_M_FAINT;
-    int lo = 0, hi = ORR_LF_STEPS; /* count[lo] < count <= count[hi] */
+    double t = (count - lf->count[lo]) / (lf->count[lo + 1] - lf->count[lo]);
+    return ORR_LF_M_BRIGHT + (lo + t) * ORR_LF_STEP;
+}
+
+/* Bisection of count[lo .. hi] for the last step below count, given
+ * count[lo] < count <= count[hi]. That step is the one index k with
+ * count[k] < count <= count[k + 1] (the table never falls), so any search
+ * that finds it gives the same magnitude, bit for bit. */
+static int step_below(const orr_lf *lf, int lo, int hi, double count)
+{
     while (hi - lo > 1) {
         int mid = (lo + hi) / 2;
         if (lf->count[mid] < count)
@@ -104,8 +110,34 @@ double orr_lf_magnitude_at(const orr_lf *lf, double count)
         else
             hi = mid;
     }
-    double t = (count - lf->count[lo]) / (lf->count[hi] - lf->count[lo]);
-    return ORR_LF_M_BRIGHT + (lo + t) * ORR_LF_STEP;
+    return lo;
+}
+
+double orr_lf_magnitude_at(const orr_lf *lf, double count)
+{
+    if (!(count > 0))
+        return ORR_LF_M_BRIGHT;
+    if (count >= lf->count[ORR_LF_STEPS])
+        return ORR_LF_M_FAINT;
+    return magnitude_in_step(lf, step_below(lf, 0, ORR_LF_STEPS, count), count);
+}
+
+double orr_lf_magnitude_from(const orr_lf *lf, double count, int *step)
+{
+    if (!(count > 0))
+        return ORR_LF_M_BRIGHT;
+    if (count >= lf->count[ORR_LF_STEPS])
+        return ORR_LF_M_FAINT;
+    int lo = *step >= 0 && *step < ORR_LF_STEPS && lf->count[*step] < count ? *step : 0;
+    /* Gallop forward from the last step to bracket count, then bisect. */
+    int reach = 1;
+    while (lo + reach < ORR_LF_STEPS && lf->count[lo + reach] < count) {
+        lo += reach;
+        reach *= 2;
+    }
+    int hi = lo + reach < ORR_LF_STEPS ? lo + reach : ORR_LF_STEPS;
+    *step = step_below(lf, lo, hi, count);
+    return magnitude_in_step(lf, *step, count);
 }
 
 /* Giants by absolute magnitude: our approximation of the solar

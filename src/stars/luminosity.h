@@ -51,6 +51,12 @@ double orr_lf_light_per_mass(const orr_lf *lf);
  * (0 <= count <= the total): the inverse, linear between the steps. */
 double orr_lf_magnitude_at(const orr_lf *lf, double count);
 
+/* The same for counts that mostly grow from call to call (a particle's
+ * stars, drawn brightest first): *step (start it at 0) keeps where the
+ * last count fell and the search gallops on from there; the magnitude is
+ * orr_lf_magnitude_at's, bit for bit, whatever *step holds. */
+double orr_lf_magnitude_from(const orr_lf *lf, double count, int *step);
+
 /* The V luminosity, in solar units, of a star of absolute magnitude m. */
 double orr_lf_luminosity(double m);
 

@@ -2,6 +2,7 @@
 #include "stars/stars.h"
 
 #include <math.h>
+#include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -103,15 +104,57 @@ static double draw(uint64_t key, uint64_t slot)
  * one for its colour. */
 #define SLOTS_PER_STAR 8
 
-/* Two standard normal deviates from two uniforms (Box-Muller). */
+/* Two standard normal deviates from two uniforms (Box-Muller): the
+ * pair's length and angle. */
+static void normal_polar(double u1, double u2, double *r, double *phi)
+{
+    *r = sqrt(-2.0 * log(u1));
+    *phi = 2.0 * 3.14159265358979323846 * u2;
+}
+
 static void normal_pair(double u1, double u2, double *a, double *b)
 {
-    double r = sqrt(-2.0 * log(u1)), phi = 2.0 * 3.14159265358979323846 * u2;
+    double r, phi;
+    normal_polar(u1, u2, &r, &phi);
     *a = r * cos(phi);
     *b = r * sin(phi);
 }
 
+/* normal_pair's first deviate alone, the same bits. */
+static double normal_first(double u1, double u2)
+{
+    double r, phi;
+    normal_polar(u1, u2, &r, &phi);
+    return r * cos(phi);
+}
+
+/* Whether a star of absolute magnitude abs_v at least at_least_pc from the
+ * eye is surely fainter than the limit: with a margin of a millionth, far
+ * above the rounding of its distance, so a star this rejects is one the
+ * exact test would reject. */
+static int surely_too_faint(double abs_v, double at_least_pc, double limit)
+{
+    const double nearest = at_least_pc * (1.0 - 1e-6);
+    return nearest > 0.01 && abs_v + 5.0 * log10(nearest / 10.0) > limit + 1e-6;
+}
+
 /* ---- the batch ---- */
+
+/* Stars 0 .. n-1 of from into to, from star at on (to has room). */
+static void copy_stars(orr_star_batch *to, size_t at, const orr_star_batch *from, size_t n)
+{
+    if (n == 0)
+        return;
+    memcpy(to->stars.x + at, from->stars.x, n * sizeof(float));
+    memcpy(to->stars.y + at, from->stars.y, n * sizeof(float));
+    memcpy(to->stars.z + at, from->stars.z, n * sizeof(float));
+    memcpy(to->stars.mass + at, from->stars.mass, n * sizeof(float));
+    memcpy(to->stars.id + at, from->stars.id, n * sizeof(uint64_t));
+    memcpy(to->stars.type + at, from->stars.type, n);
+    memcpy(to->info + at, from->info, n * sizeof *from->info);
+    for (int k = 0; k < 3; k++)
+        memcpy(to->xyz[k] + at, from->xyz[k], n * sizeof(float));
+}
 
 static orr_status grow_batch(orr_star_batch *b, size_t need, orr_error *err)
 {
@@ -135,17 +178,8 @@ static orr_status grow_batch(orr_star_batch *b, size_t need, orr_error *err)
         return orr_fail(err, ORR_ERR_NOMEM, "stars: out of memory for %zu spawned stars", cap);
     }
     size_t n = b->stars.n;
-    if (n) {
-        memcpy(bigger.x, b->stars.x, n * sizeof(float));
-        memcpy(bigger.y, b->stars.y, n * sizeof(float));
-        memcpy(bigger.z, b->stars.z, n * sizeof(float));
-        memcpy(bigger.mass, b->stars.mass, n * sizeof(float));
-        memcpy(bigger.id, b->stars.id, n * sizeof(uint64_t));
-        memcpy(bigger.type, b->stars.type, n);
-        memcpy(info, b->info, n * sizeof *info);
-        for (int k = 0; k < 3; k++)
-            memcpy(xyz[k], b->xyz[k], n * sizeof(float));
-    }
+    orr_star_batch to = {bigger, {xyz[0], xyz[1], xyz[2]}, info, cap};
+    copy_stars(&to, 0, b, n);
     orr_star_batch_free(b);
     b->stars = bigger;
     b->stars.n = n;
@@ -203,9 +237,10 @@ static particle_seen seen_from(const orr_stars *st, orr_vec3 eye, const orr_chun
     return s;
 }
 
-/* Draws particle i's stars into out, *taken the light (Y) they took. */
-static orr_status spawn_particle(orr_stars *st, orr_vec3 eye, const orr_chunk *c, size_t i, float y_light,
-                                 orr_star_batch *out, double *taken, orr_error *err)
+/* Draws particle i's stars into out, at most room of them (*capped set
+ * when a further one was due), *taken the light (Y) they took. */
+static orr_status spawn_particle(const orr_stars *st, orr_vec3 eye, const orr_chunk *c, size_t i, float y_light,
+                                 long long room, orr_star_batch *out, double *taken, int *capped, orr_error *err)
 {
     const double pc = st->set.length_unit;
     /* The particle stands for the stars of m solar masses of the local
@@ -226,18 +261,27 @@ static orr_status spawn_particle(orr_stars *st, orr_vec3 eye, const orr_chunk *c
     const double per_light = 1.0 / st->set.light_unit; /* Y per solar luminosity */
     const size_t first = out->stars.n;
     double u = 0, given = 0;
+    int lf_step = 0; /* where u / m last fell in the function's table: it only grows */
     for (uint32_t k = 0;; k++) {
         const uint64_t slot = (uint64_t)k * SLOTS_PER_STAR;
         u -= log(draw(key, slot));
         if (u > lambda)
             break;
-        if (st->drawn >= st->set.max_stars) {
-            st->capped = 1;
+        if ((long long)(out->stars.n - first) >= room) {
+            *capped = 1;
             break;
         }
-        double abs_v = orr_lf_magnitude_at(&st->lf, u / m), ox, oy, oz, spare;
+        double abs_v = orr_lf_magnitude_from(&st->lf, u / m, &lf_step), ox, oy;
+        /* The height first: a star as far from the eye in z alone as would
+         * make it too faint is rejected before the rest of its offset (most
+         * of a heavy particle's candidates near the eye, each a sine, a
+         * cosine and a logarithm saved). Its distance is at least that
+         * height's, so the stars drawn are the same, bit for bit. */
+        const double oz = normal_first(draw(key, slot + 3), draw(key, slot + 4));
+        const double qz = p.z + oz * (sigma / pc);
+        if (surely_too_faint(abs_v, fabs(qz - eye.z) * pc, st->set.limit))
+            continue; /* its light stays in the glow, as below */
         normal_pair(draw(key, slot + 1), draw(key, slot + 2), &ox, &oy);
-        normal_pair(draw(key, slot + 3), draw(key, slot + 4), &oz, &spare);
         const orr_vec3 q = orr_v3_add(p, orr_v3_scale(orr_v3(ox, oy, oz), sigma / pc));
         double d_pc = orr_v3_norm(orr_v3_sub(q, eye)) * pc;
         d_pc = d_pc > 0.01 ? d_pc : 0.01;
@@ -258,7 +302,6 @@ static orr_status spawn_particle(orr_stars *st, orr_vec3 eye, const orr_chunk *c
         out->xyz[0][n] = (float)w * xy, out->xyz[1][n] = (float)w, out->xyz[2][n] = (float)w * zy;
         out->info[n] = (orr_star_info){abs_v, v, (float)bv, c->id[i], k};
         given += w;
-        st->drawn++;
     }
     /* Rarely a near particle's bright stars outshine it: they share its
      * light then, and nothing is left for its glow. */
@@ -273,27 +316,118 @@ static orr_status spawn_particle(orr_stars *st, orr_vec3 eye, const orr_chunk *c
     return ORR_OK;
 }
 
+/* What a particle's stars leave of its light: its light less theirs, in
+ * its own colour. */
+static void leave_light(float *const *xyz, size_t i, double taken)
+{
+    if (taken <= 0)
+        return;
+    const float y = xyz[1][i];
+    const double left = y - taken, keep = left > 0 ? left / y : 0.0;
+    xyz[0][i] = (float)(xyz[0][i] * keep);
+    xyz[2][i] = (float)(xyz[2][i] * keep);
+    xyz[1][i] = (float)(left > 0 ? left : 0.0);
+}
+
+static int spawns_here(const orr_stars *st, uint64_t exclude_id, const orr_chunk *c, size_t i)
+{
+    return orr_stars_spawns(st, c->type[i]) && c->id[i] != exclude_id;
+}
+
+/* The chunk's particles one after another, stars.max counted as they come. */
+static orr_status spawn_in_order(orr_stars *st, orr_vec3 eye, uint64_t exclude_id, const orr_chunk *c,
+                                 float *const *xyz, orr_star_batch *out, orr_error *err)
+{
+    for (size_t i = 0; i < c->n; i++) {
+        if (!spawns_here(st, exclude_id, c, i))
+            continue;
+        const size_t before = out->stars.n;
+        double taken;
+        int capped = 0;
+        if (spawn_particle(st, eye, c, i, xyz[1][i], st->set.max_stars - st->drawn, out, &taken, &capped, err))
+            return ORR_ERR_NOMEM;
+        st->drawn += (long long)(out->stars.n - before);
+        st->capped |= capped;
+        leave_light(xyz, i, taken);
+    }
+    return ORR_OK;
+}
+
+/* Below this many particles a chunk is drawn on one thread. */
+#define SPAWN_PARALLEL_MIN 4096
+
+/* The chunk's particles on every thread, each a contiguous share into a
+ * batch of its own, then the batches joined in the particles' order: the
+ * same stars, in the same order, as spawn_in_order. A share may draw what
+ * is left of stars.max; if the shares together reach it (*redo), nothing
+ * is kept and spawn_in_order counts it out instead (stars.max is a safety
+ * cap, two million by default, not a frame's usual count). */
+static orr_status spawn_on_threads(orr_stars *st, orr_vec3 eye, uint64_t exclude_id, const orr_chunk *c,
+                                   float *const *xyz, orr_star_batch *out, int *redo, orr_error *err)
+{
+    const int most = omp_get_max_threads();
+    orr_star_batch *share = calloc((size_t)most, sizeof *share);
+    double *taken = malloc(c->n * sizeof *taken);
+    orr_error *share_err = calloc((size_t)most, sizeof *share_err);
+    orr_status *share_st = calloc((size_t)most, sizeof *share_st);
+    const long long room = st->set.max_stars - st->drawn;
+    int nshares = 1;
+    orr_status status = share && taken && share_err && share_st
+                            ? ORR_OK
+                            : orr_fail(err, ORR_ERR_NOMEM, "stars: out of memory for the threads' shares of %zu particles",
+                                       c->n);
+    if (status == ORR_OK) {
+#pragma omp parallel num_threads(most)
+        {
+            const int t = omp_get_thread_num(), n = omp_get_num_threads();
+#pragma omp single
+            nshares = n;
+            const size_t lo = c->n * (size_t)t / (size_t)n, hi = c->n * (size_t)(t + 1) / (size_t)n;
+            int capped = 0; /* (a share that fills the room makes the whole chunk a redo) */
+            for (size_t i = lo; i < hi && !share_st[t]; i++) {
+                taken[i] = 0;
+                if (spawns_here(st, exclude_id, c, i))
+                    share_st[t] = spawn_particle(st, eye, c, i, xyz[1][i], room - (long long)share[t].stars.n,
+                                                 &share[t], &taken[i], &capped, &share_err[t]);
+            }
+        }
+        size_t total = 0;
+        for (int t = 0; t < nshares && status == ORR_OK; t++) {
+            if (share_st[t])
+                status = orr_fail(err, share_st[t], "%s", share_err[t].msg);
+            total += share[t].stars.n;
+        }
+        *redo = status == ORR_OK && (long long)total >= room;
+        if (status == ORR_OK && !*redo && (status = grow_batch(out, total, err)) == ORR_OK) {
+            for (int t = 0; t < nshares; t++) {
+                copy_stars(out, out->stars.n, &share[t], share[t].stars.n);
+                out->stars.n += share[t].stars.n;
+            }
+            st->drawn += (long long)total;
+            for (size_t i = 0; i < c->n; i++)
+                leave_light(xyz, i, taken[i]);
+        }
+    }
+    for (int t = 0; share && t < most; t++)
+        orr_star_batch_free(&share[t]);
+    free(share);
+    free(taken);
+    free(share_err);
+    free(share_st);
+    return status;
+}
+
 orr_status orr_stars_spawn(orr_stars *st, orr_vec3 eye, uint64_t exclude_id, const orr_chunk *c,
                            float *const *xyz, orr_star_batch *out, orr_error *err)
 {
     out->stars.n = 0;
-    for (size_t i = 0; i < c->n; i++) {
-        if (!orr_stars_spawns(st, c->type[i]) || c->id[i] == exclude_id)
-            continue;
-        double taken;
-        const float y = xyz[1][i];
-        if (spawn_particle(st, eye, c, i, y, out, &taken, err))
-            return ORR_ERR_NOMEM;
-        if (taken <= 0)
-            continue;
-        /* What is left: the particle's light less its stars', in the
-         * particle's own colour. */
-        const double left = y - taken, keep = left > 0 ? left / y : 0.0;
-        xyz[0][i] = (float)(xyz[0][i] * keep);
-        xyz[2][i] = (float)(xyz[2][i] * keep);
-        xyz[1][i] = (float)(left > 0 ? left : 0.0);
+    int redo = 1;
+    if (c->n >= SPAWN_PARALLEL_MIN && omp_get_max_threads() > 1) {
+        orr_status s = spawn_on_threads(st, eye, exclude_id, c, xyz, out, &redo, err);
+        if (s)
+            return s;
     }
-    return ORR_OK;
+    return redo ? spawn_in_order(st, eye, exclude_id, c, xyz, out, err) : ORR_OK;
 }
 
 /* ---- the glow's flux (docs/sky.md, "The glow's flux") ---- */

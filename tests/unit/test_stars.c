@@ -3,7 +3,10 @@
  * the expected number of stars against a Poisson count, stars that are the
  * same whatever the chunking, and the settings' errors. */
 #include <math.h>
+#include <omp.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "check.h"
 #include "test_chunk.h"
@@ -35,6 +38,43 @@ static void test_luminosity_function(void)
     CHECK(orr_lf_star_bv(0.8, 0.01) > 0.8);
     CHECK(orr_lf_star_bv(0.8, 0.99) < 0.1);
     CHECK(orr_lf_star_bv(10.0, 0.5) > 1.4);
+}
+
+/* The galloping inverse (a particle's stars, counts growing) gives the
+ * bisection's magnitude bit for bit: runs of growing counts as a particle
+ * draws them (exponential gaps, small and large), every table node and
+ * its neighbouring doubles, the ends, and counts that fall (a new
+ * particle) with a stale step. */
+static void test_magnitude_from_matches(void)
+{
+    static orr_lf lf;
+    orr_lf_solar_neighbourhood(&lf);
+    const double total = lf.count[ORR_LF_STEPS];
+    long differ = 0, tried = 0;
+    srand(7);
+    for (int run = 0; run < 200; run++) {
+        int step = run % 3 ? 0 : ORR_LF_STEPS / 2; /* stale or fresh */
+        double u = 0, m = pow(10.0, 2.0 + 4.0 * rand() / RAND_MAX), mean_gap = total * m * pow(10.0, -1.0 - 5.0 * rand() / RAND_MAX);
+        while (u / m < total * 1.01) {
+            u -= mean_gap * log((rand() + 1.0) / (RAND_MAX + 2.0));
+            double count = u / m;
+            differ += orr_lf_magnitude_from(&lf, count, &step) != orr_lf_magnitude_at(&lf, count), tried++;
+        }
+    }
+    int step = 0;
+    for (int k = 0; k <= ORR_LF_STEPS; k++)
+        for (int side = -1; side <= 1; side++) {
+            double count = side ? nextafter(lf.count[k], side * INFINITY) : lf.count[k];
+            differ += orr_lf_magnitude_from(&lf, count, &step) != orr_lf_magnitude_at(&lf, count), tried++;
+        }
+    const double odd[] = {0.0, -1.0, NAN, total, 2 * total, 1e-300, total * 0.5, total * 1e-9};
+    for (size_t k = 0; k < sizeof odd / sizeof *odd; k++) {
+        step = ORR_LF_STEPS; /* past the table: the search starts again */
+        double a = orr_lf_magnitude_from(&lf, odd[k], &step), b = orr_lf_magnitude_at(&lf, odd[k]);
+        differ += a != b, tried++;
+    }
+    printf("magnitude_from: %ld of %ld counts differ from the bisection\n", differ, tried);
+    CHECK(differ == 0 && tried > 10000);
 }
 
 static orr_stars prepared(double limit, double spread)
@@ -196,6 +236,72 @@ static void test_cap_and_observer(void)
         free(xyz[k]);
 }
 
+/* One chunk's spawn on threads (shares joined in order) against one
+ * thread: the same stars in the same order, the same glows, the same count
+ * and cap flag; with no cap, with stars.max falling inside the chunk (the
+ * threads' draw is done again in order), and exactly at the chunk's count. */
+static long long spawn_with(int threads, long long max_stars, size_t n, orr_star_batch *b, float *xyz[3], int *capped)
+{
+    orr_stars st = prepared(8.0, 0.0);
+    st.set.max_stars = max_stars;
+    orr_chunk c = ring(n, 0.25, 300.0f, xyz);
+    orr_error err = {0};
+    omp_set_num_threads(threads);
+    orr_stars_begin_frame(&st);
+    CHECK(orr_stars_spawn(&st, (orr_vec3){0, 0, 0}, c.id[7], &c, xyz, b, &err) == ORR_OK);
+    orr_chunk_free(&c);
+    *capped = st.capped;
+    return st.drawn;
+}
+
+/* Field by field: the struct has padding, which memcmp would read. */
+static int same_infos(const orr_star_info *a, const orr_star_info *b, size_t n)
+{
+    for (size_t k = 0; k < n; k++)
+        if (memcmp(&a[k].abs_v, &b[k].abs_v, sizeof a[k].abs_v) || memcmp(&a[k].v, &b[k].v, sizeof a[k].v) ||
+            memcmp(&a[k].bv, &b[k].bv, sizeof a[k].bv) || a[k].parent != b[k].parent || a[k].index != b[k].index)
+            return 0;
+    return 1;
+}
+
+static int same_batches(const orr_star_batch *a, const orr_star_batch *b)
+{
+    if (a->stars.n != b->stars.n)
+        return 0;
+    size_t n = a->stars.n;
+    return !memcmp(a->stars.x, b->stars.x, n * sizeof(float)) && !memcmp(a->stars.z, b->stars.z, n * sizeof(float)) &&
+           !memcmp(a->stars.id, b->stars.id, n * sizeof(uint64_t)) &&
+           !memcmp(a->xyz[0], b->xyz[0], n * sizeof(float)) && !memcmp(a->xyz[1], b->xyz[1], n * sizeof(float)) &&
+           same_infos(a->info, b->info, n);
+}
+
+static void test_threads_same_stars(void)
+{
+    const size_t n = 20000; /* past SPAWN_PARALLEL_MIN: drawn on the threads */
+    long long uncapped = 0;
+    for (int round = 0; round < 3; round++) {
+        long long cap = round == 0 ? 2000000 : round == 1 ? uncapped / 2 : uncapped;
+        orr_star_batch one = {0}, two = {0};
+        float *g1[3] = {floats(n), floats(n), floats(n)}, *g2[3] = {floats(n), floats(n), floats(n)};
+        int capped1, capped2;
+        long long d1 = spawn_with(1, cap, n, &one, g1, &capped1), d2 = spawn_with(2, cap, n, &two, g2, &capped2);
+        if (round == 0)
+            uncapped = d1;
+        printf("threads: max %lld: %lld stars on one thread, %lld on two, capped %d %d\n", cap, d1, d2, capped1, capped2);
+        CHECK(d1 == d2 && capped1 == capped2 && (long long)one.stars.n == d1);
+        CHECK(same_batches(&one, &two));
+        for (int k = 0; k < 3; k++)
+            CHECK(!memcmp(g1[k], g2[k], n * sizeof(float)));
+        CHECK(round != 1 || (capped1 && d1 == cap));
+        CHECK(round != 2 || d1 == cap);
+        orr_star_batch_free(&one), orr_star_batch_free(&two);
+        for (int k = 0; k < 3; k++)
+            free(g1[k]), free(g2[k]);
+    }
+    CHECK(uncapped > 1000);
+    omp_set_num_threads(omp_get_num_procs());
+}
+
 static void test_settings_errors(void)
 {
     orr_stars_settings set;
@@ -218,10 +324,12 @@ static void test_settings_errors(void)
 int main(void)
 {
     RUN(test_luminosity_function);
+    RUN(test_magnitude_from_matches);
     RUN(test_light_kept);
     RUN(test_expected_counts);
     RUN(test_same_stars_any_chunking);
     RUN(test_cap_and_observer);
+    RUN(test_threads_same_stars);
     RUN(test_settings_errors);
     return check_summary();
 }
