@@ -9,8 +9,10 @@
  * 4096 x 2048: pass --size 0 to keep them). Prints wall and CPU seconds of
  * each frame (on a shared machine CPU seconds say what the work cost) and
  * their ratio, then the walk's microseconds per star: the stars of each
- * chunk grouped by direction, as the renderer does (orr_dust_tau_many), or
- * with --single each star on its own walk (orr_dust_tau). */
+ * chunk grouped by direction, as the renderer does (orr_dust_tau_many),
+ * with the terms one and four (AVX2) at a time side by side on the same
+ * chunks (it fails if their bits differ), or with
+ * --single each star on its own walk (orr_dust_tau). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -117,39 +119,59 @@ static void walk(const options *o)
         die(&err);
     double prep_w = wall_seconds() - w0, prep_c = cpu_seconds() - c0;
     const double sun[3] = {-8.0, 0.0, 0.02};
-    long n = 0;
-    double walk_c = 0, walk_w = 0, sum = 0; /* the sum in the stars' order: the same on any thread count */
+    /* grouped: the terms one and four at a time side by side on the same
+     * chunks (four last, as the renderer runs it), their bits compared */
+    const orr_dust_terms widths[2] = {ORR_DUST_TERMS_PLAIN, ORR_DUST_TERMS_BEST};
+    const char *width_names[2] = {"one term at a time", "four at a time (AVX2, where there)"};
+    const int nwidths = o->single ? 1 : 2;
+    long n = 0, differ = 0;
+    double walk_c[2] = {0}, walk_w[2] = {0}, sum = 0; /* the sum in the stars' order: the same on any thread count */
     const orr_chunk *c;
     unsigned char *want = NULL;
-    double *tau = NULL;
+    double *tau = NULL, *first = NULL;
     while (!orr_source_next(src, &c, &err) && c->n > 0) {
-        if (!(want = realloc(want, c->n)) || !(tau = realloc(tau, c->n * sizeof *tau)))
+        if (!(want = realloc(want, c->n)) || !(tau = realloc(tau, c->n * sizeof *tau)) ||
+            !(first = realloc(first, c->n * sizeof *first)))
             exit(1);
         for (size_t i = 0; i < c->n; i++) {
             want[i] = c->type[i] == 2 || c->type[i] == 3;
             n += want[i];
         }
-        double a = wall_seconds(), b = cpu_seconds();
-        if (o->single) {
+        for (int w = 0; w < nwidths; w++) {
+            double a = wall_seconds(), b = cpu_seconds();
+            if (o->single) {
 #pragma omp parallel for schedule(dynamic, 1024)
-            for (long i = 0; i < (long)c->n; i++) {
-                const double p[3] = {c->x[i], c->y[i], c->z[i]};
-                tau[i] = want[i] ? orr_dust_tau(&f.set, sun, p) : 0;
+                for (long i = 0; i < (long)c->n; i++) {
+                    const double p[3] = {c->x[i], c->y[i], c->z[i]};
+                    tau[i] = want[i] ? orr_dust_tau(&f.set, sun, p) : 0;
+                }
+            } else if (orr_dust_tau_many_with(widths[w], &f.set, sun, c->n, c->x, c->y, c->z, want, tau, &err)) {
+                die(&err);
             }
-        } else if (orr_dust_tau_many(&f.set, sun, c->n, c->x, c->y, c->z, want, tau, &err)) {
-            die(&err);
+            walk_w[w] += wall_seconds() - a;
+            walk_c[w] += cpu_seconds() - b;
+            if (w == 0)
+                memcpy(first, tau, c->n * sizeof *tau);
+            else
+                differ += memcmp(first, tau, c->n * sizeof *tau) != 0;
         }
-        walk_w += wall_seconds() - a;
-        walk_c += cpu_seconds() - b;
         for (size_t i = 0; i < c->n; i++)
             sum += tau[i];
     }
     free(want);
     free(tau);
-    printf("walk: %zu dust kernels, read + lengths + tree + tables %.2f s wall %.2f s CPU; %ld stars in %.2f s wall "
-           "%.2f s CPU: %.2f us CPU per star (mean A_V %.2f mag, %s)\n",
-           f.set.n, prep_w, prep_c, n, walk_w, walk_c, 1e6 * walk_c / (double)n, 1.0857 * sum / (double)n,
-           o->single ? "each star on its own walk" : "grouped by direction");
+    free(first);
+    printf("walk: %zu dust kernels, read + lengths + tree + tables %.2f s wall %.2f s CPU; %ld stars, mean A_V %.2f "
+           "mag\n",
+           f.set.n, prep_w, prep_c, n, 1.0857 * sum / (double)n);
+    for (int w = 0; w < nwidths; w++)
+        printf("  %-36s %8.2f s wall %8.2f s CPU: %.3f us CPU per star\n",
+               o->single ? "each star on its own walk" : width_names[w], walk_w[w], walk_c[w],
+               1e6 * walk_c[w] / (double)n);
+    if (differ) {
+        fprintf(stderr, "bench_dust: the widths' optical depths differ in %ld chunks\n", differ);
+        exit(1);
+    }
     orr_dust_frame_free(&f);
     orr_source_close(src);
 }
