@@ -97,7 +97,7 @@ at_error() {
 row() {
   local label=$1 fig=$2 base=${3:-} equal=${4:-}
   read -r cpu forces most last z r sr sz sm <"$fig"
-  printf "%-34s %7.2f %10s %11.2e %11.2e %6s %6s %7s %7s %6s %7s %7s\n" "$label" "$cpu" "$forces" "$most" "$last" \
+  printf "%-34s %7.3f %10s %11.2e %11.2e %6s %6s %7s %7s %6s %7s %7s\n" "$label" "$cpu" "$forces" "$most" "$last" \
     "$z" "$r" "$sr" "$sz" "$sm" "${base:-1}" "${equal:--}"
 }
 
