@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/radix.h"
+
 void orr_seq_snapshot_free(snapshot *sn)
 {
     free(sn->x);
@@ -101,51 +103,8 @@ static orr_status snapshot_append(snapshot *sn, const orr_chunk *c, const orr_so
     return ORR_OK;
 }
 
-typedef struct id_key {
-    uint64_t id;
-    size_t index;
-} id_key;
-
-#define RADIX_BITS 11
-#define RADIX_SIZE (1u << RADIX_BITS)
-
-/* Sorts keys by id: a least-significant-digit radix sort, 11 bits a pass,
- * which is stable (so duplicate ids end up side by side) and several times
- * faster than qsort for millions of keys. Digits that are the same in every
- * id (the high bits of ids below 2^32, say) take no pass. tmp holds n keys.
- * Returns the array that holds the result (keys or tmp). */
-static id_key *radix_sort(id_key *keys, id_key *tmp, size_t n)
-{
-    uint64_t any = 0, every = ~(uint64_t)0;
-    for (size_t i = 0; i < n; i++) {
-        any |= keys[i].id;
-        every &= keys[i].id;
-    }
-    const uint64_t varying = any ^ every;
-    size_t count[RADIX_SIZE];
-    for (unsigned shift = 0; shift < 64; shift += RADIX_BITS) {
-        if (((varying >> shift) & (RADIX_SIZE - 1)) == 0)
-            continue;
-        memset(count, 0, sizeof count);
-        for (size_t i = 0; i < n; i++)
-            count[(keys[i].id >> shift) & (RADIX_SIZE - 1)]++;
-        size_t sum = 0;
-        for (size_t d = 0; d < RADIX_SIZE; d++) {
-            size_t c = count[d];
-            count[d] = sum;
-            sum += c;
-        }
-        for (size_t i = 0; i < n; i++)
-            tmp[count[(keys[i].id >> shift) & (RADIX_SIZE - 1)]++] = keys[i];
-        id_key *swap = keys;
-        keys = tmp;
-        tmp = swap;
-    }
-    return keys;
-}
-
 /* Reorders a float array by keys (scratch holds n floats). */
-static void permute_floats(float *v, float *scratch, const id_key *keys, size_t n)
+static void permute_floats(float *v, float *scratch, const orr_radix_item *keys, size_t n)
 {
     for (size_t i = 0; i < n; i++)
         scratch[i] = v[keys[i].index];
@@ -163,18 +122,18 @@ static orr_status snapshot_sort(snapshot *sn, const char *path, orr_error *err)
         sorted = sn->id[i - 1] < sn->id[i];
     if (sorted)
         return ORR_OK; /* snapshots are often written in id order */
-    id_key *buf = orr_malloc(2 * n * sizeof *buf, "sorting a snapshot by id", err);
+    orr_radix_item *buf = orr_malloc(2 * n * sizeof *buf, "sorting a snapshot by id", err);
     if (!buf)
         return ORR_ERR_NOMEM;
     for (size_t i = 0; i < n; i++)
-        buf[i] = (id_key){sn->id[i], i};
-    id_key *keys = radix_sort(buf, buf + n, n);
+        buf[i] = (orr_radix_item){sn->id[i], i};
+    orr_radix_item *keys = orr_radix_sort(buf, buf + n, n); /* stable: duplicate ids end side by side */
     void *scratch = keys == buf ? (void *)(buf + n) : (void *)buf;
     orr_status st = ORR_OK;
     for (size_t i = 1; i < n && !st; i++)
-        if (keys[i].id == keys[i - 1].id)
+        if (keys[i].key == keys[i - 1].key)
             st = orr_fail(err, ORR_ERR_DATA, "%s: particle id %llu appears more than once; a sequence matches "
-                          "particles by id, so ids must be unique", path, (unsigned long long)keys[i].id);
+                          "particles by id, so ids must be unique", path, (unsigned long long)keys[i].key);
     if (!st) {
         float *arrays[4 + 1 + ORR_MAX_EXTRA_FIELDS] = {sn->x, sn->y, sn->z, sn->mass, sn->h};
         for (int e = 0; e < sn->nextra; e++)
@@ -187,7 +146,7 @@ static orr_status snapshot_sort(snapshot *sn, const char *path, orr_error *err)
             ts[i] = sn->type[keys[i].index];
         memcpy(sn->type, ts, n);
         for (size_t i = 0; i < n; i++)
-            sn->id[i] = keys[i].id;
+            sn->id[i] = keys[i].key;
     }
     free(buf);
     return st;
