@@ -355,40 +355,54 @@ static orr_status spawn_in_order(orr_stars *st, orr_vec3 eye, uint64_t exclude_i
 
 /* Below this many particles a chunk is drawn on one thread. */
 #define SPAWN_PARALLEL_MIN 4096
+#define SPAWN_SHARES 64 /* a chunk's shares, each at least SPAWN_PARALLEL_MIN / SPAWN_SHARES particles */
 
-/* The chunk's particles on every thread, each a contiguous share into a
- * batch of its own, then the batches joined in the particles' order: the
- * same stars, in the same order, as spawn_in_order. A share may draw what
- * is left of stars.max; if the shares together reach it (*redo), nothing
- * is kept and spawn_in_order counts it out instead (stars.max is a safety
- * cap, two million by default, not a frame's usual count). */
+/* The chunk's particles in SPAWN_SHARES contiguous shares, each into a
+ * batch of its own, taken by the threads as they come free, then the
+ * batches joined in the particles' order: the same stars, in the same
+ * order, as spawn_in_order, whatever the threads. More shares than threads
+ * because the work is uneven: a particle near the eye draws many
+ * candidates, and the near particles of a chunk may sit together. If the
+ * shares together reach what is left of stars.max (*redo), nothing is kept
+ * and spawn_in_order counts it out instead (stars.max is a safety cap, two
+ * million by default, not a frame's usual count). */
 static orr_status spawn_on_threads(orr_stars *st, orr_vec3 eye, uint64_t exclude_id, const orr_chunk *c,
                                    float *const *xyz, orr_star_batch *out, int *redo, orr_error *err)
 {
-    const int most = omp_get_max_threads();
-    orr_star_batch *share = calloc((size_t)most, sizeof *share);
+    const int nshares = SPAWN_SHARES;
+    orr_star_batch *share = calloc((size_t)nshares, sizeof *share);
     double *taken = malloc(c->n * sizeof *taken);
-    orr_error *share_err = calloc((size_t)most, sizeof *share_err);
-    orr_status *share_st = calloc((size_t)most, sizeof *share_st);
+    orr_error *share_err = calloc((size_t)nshares, sizeof *share_err);
+    orr_status *share_st = calloc((size_t)nshares, sizeof *share_st);
     const long long room = st->set.max_stars - st->drawn;
-    int nshares = 1;
     orr_status status = share && taken && share_err && share_st
                             ? ORR_OK
                             : orr_fail(err, ORR_ERR_NOMEM, "stars: out of memory for the threads' shares of %zu particles",
                                        c->n);
+    /* The shares' stars so far. Once they fill the room the chunk is redone
+     * in order, so a share stops there: at most the room and one particle's
+     * stars a thread are held. */
+    long long drawn_all = 0;
     if (status == ORR_OK) {
-#pragma omp parallel num_threads(most)
-        {
-            const int t = omp_get_thread_num(), n = omp_get_num_threads();
-#pragma omp single
-            nshares = n;
-            const size_t lo = c->n * (size_t)t / (size_t)n, hi = c->n * (size_t)(t + 1) / (size_t)n;
-            int capped = 0; /* (a share that fills the room makes the whole chunk a redo) */
-            for (size_t i = lo; i < hi && !share_st[t]; i++) {
+#pragma omp parallel for schedule(dynamic, 1)
+        for (int t = 0; t < nshares; t++) {
+            const size_t lo = c->n * (size_t)t / (size_t)nshares, hi = c->n * (size_t)(t + 1) / (size_t)nshares;
+            int capped = 0;
+            for (size_t i = lo; i < hi && !share_st[t] && !capped; i++) {
+                long long so_far;
+#pragma omp atomic read
+                so_far = drawn_all;
+                if (so_far >= room)
+                    break;
                 taken[i] = 0;
-                if (spawns_here(st, exclude_id, c, i))
-                    share_st[t] = spawn_particle(st, eye, c, i, xyz[1][i], room - (long long)share[t].stars.n,
-                                                 &share[t], &taken[i], &capped, &share_err[t]);
+                if (!spawns_here(st, exclude_id, c, i))
+                    continue;
+                const size_t before = share[t].stars.n;
+                share_st[t] = spawn_particle(st, eye, c, i, xyz[1][i], room - so_far, &share[t], &taken[i], &capped,
+                                             &share_err[t]);
+                const long long added = (long long)(share[t].stars.n - before);
+#pragma omp atomic update
+                drawn_all += added;
             }
         }
         size_t total = 0;
@@ -408,7 +422,7 @@ static orr_status spawn_on_threads(orr_stars *st, orr_vec3 eye, uint64_t exclude
                 leave_light(xyz, i, taken[i]);
         }
     }
-    for (int t = 0; share && t < most; t++)
+    for (int t = 0; share && t < nshares; t++)
         orr_star_batch_free(&share[t]);
     free(share);
     free(taken);
