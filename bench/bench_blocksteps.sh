@@ -52,6 +52,11 @@ run() {
       --progress 0 "$@" >"$work/$name.log" 2>&1; } 2>"$work/$name.time" ||
     { echo "bench_blocksteps: $name failed: $(tail -3 "$work/$name.log")" >&2; exit 1; }
   awk '{ print $1 + $2 }' "$work/$name.time" >"$work/$name.cpu"
+  # it simulated TIME: orrery-nbody reports every $every steps and at the last
+  local ended
+  ended=$(awk '/^report t = / { last = $4 } END { print last }' "$work/$name.log")
+  awk -v a="$ended" -v t="$TIME" 'BEGIN { exit !(a != "" && (a - t) * (a - t) < 1e-12) }' ||
+    { echo "bench_blocksteps: $name ended at t = ${ended:-(no report)}, not TIME = $TIME" >&2; exit 1; }
 }
 
 # figures NAME DT: a run's figures, one line in NAME.fig: cpu forces most

@@ -7,7 +7,8 @@
 # error (the cheapest of the bracketing pairs; "-" when none bracket it),
 # block steps bounded below by 0.002 compute fewer forces than the global
 # step of 0.002, and the energy errors are finite and small. Bad settings
-# stop it with a message.
+# stop it with a message. (The script itself checks that each run reached
+# TIME, from its last report.)
 #   test_bench_blocksteps.sh BUILD_DIR SOURCE_DIR
 set -u
 BUILD=$1
