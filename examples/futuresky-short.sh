@@ -27,7 +27,7 @@ out=${1:-out/futuresky-short}
 scene=$here/configs/futuresky-sequence.yaml
 snapshots=()
 [ $# -ge 2 ] && snapshots=(--snapshot-every 25 --snapshot-dir "$2")
-"$build/examples/orrery-nbody" --particles 500000 --steps 2450 --render-every 100 --dt 0.002 --eps 0.2 --tracer-ring 32 --quiet \
+"$build/examples/orrery-nbody" --particles 500000 --steps 2450 --render-every 100 --dt 0.002 --eps 0.2 --tracer-ring 32 --tracer-mirror --quiet \
   --scene "$scene" --set output.dir="$out" --set animation.frames=25 \
   --set views.dome.image.width=1024 --set views.dome.image.height=1024 \
   --set views.panorama.image.width=1024 --set views.panorama.image.height=512 "${snapshots[@]}"

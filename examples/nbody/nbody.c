@@ -72,6 +72,7 @@ typedef struct options {
     double progress;       /* seconds between progress lines on stderr; 0: none */
     long tracer_neighbours; /* tracers' softening: their k-th neighbour's distance; 0: as stars */
     long tracer_ring;      /* tracers' pull averaged over this many points around their galaxy; 0: off */
+    long tracer_mirror;    /* 1: half the ring's points mirrored across the disc's plane (tracer_ring.h) */
     int tracer_start;      /* a new run's ring tracers started on the ring's circular orbit (1) or as given (0);
                             * -1: not said (circular with --tracer-ring) */
     int quiet;
@@ -81,7 +82,7 @@ typedef struct options {
     const char *resume_dir;   /* NULL: a new run */
     /* Given on the command line; on a resume the others are the run's own. */
     int ic_given, dt_given, eps_given, theta_given, snapshot_every_given, eta_given, tracer_neighbours_given;
-    int dt_min_given, tracer_ring_given;
+    int dt_min_given, tracer_ring_given, tracer_mirror_given;
     int decompose;         /* each MPI rank holds its own particles only (domain.h) */
 } options;
 
@@ -90,7 +91,7 @@ static const char usage[] =
     "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
     "                    [--steps N] [--dt DT] [--eta ETA] [--dt-min DT] [--eps EPS]\n"
     "                    [--eps-halo EPS] [--theta THETA] [--tracer-neighbours K]\n"
-    "                    [--tracer-ring K] [--tracer-start circular|given]\n"
+    "                    [--tracer-ring K [--tracer-mirror]] [--tracer-start circular|given]\n"
     "                    [--scene SCENE.yaml [--set KEY=VALUE ...] [--render-every K]]\n"
     "                    [--report-every K] [--snapshot-every K --snapshot-dir DIR]\n"
     "                    [--resume DIR] [--progress SECONDS] [--decompose] [--quiet]\n"
@@ -130,6 +131,10 @@ static const char usage[] =
     "                     from spirals or bar, so they keep their radius; the tree's pull\n"
     "                     while another black hole is within twice their distance of\n"
     "                     their own (default 0: off; 2 to 256; docs/nbody.md)\n"
+    "  --tracer-mirror    with --tracer-ring K (K even): every other point of the ring\n"
+    "                     is reflected across the galaxy's disc plane and its pull\n"
+    "                     reflected back, so tracers feel a galaxy the same above and\n"
+    "                     below its plane: its bending and warps do not lift them\n"
     "  --tracer-start HOW a new run's ring tracers start on the circular orbit of the\n"
     "                     ring's pull at their place, sqrt(R a_R) about their galaxy's\n"
     "                     axis and its stars' mean velocity (circular: the default with\n"
@@ -235,6 +240,9 @@ static int check_options(const options *o)
     else if (o->tracer_ring != 0 && (o->tracer_ring < 2 || o->tracer_ring > RING_POINTS_MAX))
         bad = "--tracer-ring", snprintf(why, sizeof why, "%ld: expected 0 (off) or 2 to %d points", o->tracer_ring,
                                         RING_POINTS_MAX);
+    else if (o->tracer_mirror && (!o->tracer_ring || o->tracer_ring % 2))
+        bad = "--tracer-mirror", snprintf(why, sizeof why, "needs --tracer-ring K with K even: it mirrors every other "
+                                                           "point (K = %ld)", o->tracer_ring);
     else if (o->tracer_start > 0 && !o->tracer_ring)
         bad = "--tracer-start", snprintf(why, sizeof why, "circular: the circular speed is the ring's pull: needs "
                                                           "--tracer-ring K");
@@ -271,6 +279,10 @@ static int parse_args(int argc, char **argv, options *o)
             has_value = 0;
         } else if (strcmp(a, "--decompose") == 0) {
             o->decompose = 1;
+            has_value = 0;
+        } else if (strcmp(a, "--tracer-mirror") == 0) {
+            o->tracer_mirror = 1;
+            o->tracer_mirror_given = 1;
             has_value = 0;
         } else if (!v) {
             fprintf(stderr, "orrery-nbody: %s needs a value\n", a);
@@ -895,14 +907,14 @@ static int ring_one(bodies *b, const options *o, const double *row, const double
         return 0;
     if (!found)
         return 1; /* the tree's pull stays */
-    ring_points(c, n, row, k, pts);
+    ring_points(c, n, row, k, (int)o->tracer_mirror, pts);
     const double *eps = b->eps_all + (b->decomposed ? 0 : b->first);
     ring_pulls(b->pos, b->mass, eps, b->n, b->tracer_mass, row[3], pts, k, G_KPC_KMS, acc);
     if (!reduce_over_ranks(acc, 3 * k, rank, size, 0))
         return 0;
     size_t i = (size_t)row[5];
     if ((int)row[4] == rank && (!active || active[i]))
-        ring_average(n, a_host, acc, k, &b->acc[3 * i]);
+        ring_average(n, a_host, acc, k, (int)o->tracer_mirror, &b->acc[3 * i]);
     return 1;
 }
 
@@ -1511,6 +1523,9 @@ static void take_run_settings(options *o, const nb_run_state *rs)
     double ring = (double)o->tracer_ring;
     take_setting("--tracer-ring", o->tracer_ring_given, &ring, (double)rs->tracer_ring, o->quiet);
     o->tracer_ring = (long)ring;
+    double mirror = (double)o->tracer_mirror;
+    take_setting("--tracer-mirror", o->tracer_mirror_given, &mirror, (double)rs->tracer_mirror, o->quiet);
+    o->tracer_mirror = (long)mirror;
     take_setting("--snapshot-every", o->snapshot_every_given, &every, (double)rs->snapshot_every, o->quiet);
     o->snapshot_every = (long)every;
 }
@@ -1799,7 +1814,7 @@ static int write_snapshot(const bodies *b, const options *o, long step, long num
                       .dt = o->dt, .eps = o->eps, .eps_halo = o->eps_halo, .theta = o->theta, .eta = o->eta,
                       .dt_min = o->dt_min,
                       .snapshot_every = o->snapshot_every, .tracer_neighbours = o->tracer_neighbours,
-                      .tracer_ring = o->tracer_ring};
+                      .tracer_ring = o->tracer_ring, .tracer_mirror = o->tracer_mirror};
     if (b->decomposed)
         return write_own_snapshot(b, &s, o, rank, size);
     if (!failed && rank == 0)

@@ -85,7 +85,7 @@ static int write_run_group(hid_t file, const write_ctx *w)
     if (g < 0)
         return 1;
     int64_t step = s->step, number = s->number, every = s->snapshot_every, neighbours = s->tracer_neighbours,
-            ring = s->tracer_ring;
+            ring = s->tracer_ring, mirror = s->tracer_mirror;
     char fields[ORR_ARRAYS_MAX_FIELDS * ORR_FIELD_NAME_MAX + 1] = "";
     for (int f = 0; f < w->p->nfields; f++) {
         strcat(fields, f ? " " : "");
@@ -96,6 +96,7 @@ static int write_run_group(hid_t file, const write_ctx *w)
     bad |= orr_h5w_attr(g, "SnapshotEvery", H5T_STD_I64LE, H5T_NATIVE_INT64, &every, 0);
     bad |= orr_h5w_attr(g, "TracerNeighbours", H5T_STD_I64LE, H5T_NATIVE_INT64, &neighbours, 0);
     bad |= orr_h5w_attr(g, "TracerRing", H5T_STD_I64LE, H5T_NATIVE_INT64, &ring, 0);
+    bad |= orr_h5w_attr(g, "TracerMirror", H5T_STD_I64LE, H5T_NATIVE_INT64, &mirror, 0);
     bad |= orr_h5w_double(g, "E0", s->e0);
     bad |= orr_h5w_attr(g, "Centre0", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, s->centre0, 3);
     bad |= orr_h5w_double(g, "Dt", s->dt);
@@ -472,6 +473,8 @@ static orr_status read_file(hid_t file, const char *path, nb_particles *p, nb_ru
         s->tracer_neighbours = 0; /* written before tracers were softened apart */
     if (!st && !attr_long(run, "TracerRing", &s->tracer_ring))
         s->tracer_ring = 0; /* written before tracers' rings */
+    if (!st && !attr_long(run, "TracerMirror", &s->tracer_mirror))
+        s->tracer_mirror = 0; /* written before mirrored rings */
     int ncentre = 0;
     s->has_centre0 = !st && orr_h5_attr_numbers(run, "Centre0", H5T_NATIVE_DOUBLE, s->centre0, 3, &ncentre) ==
                                 ORR_H5_FOUND && ncentre == 3;

@@ -49,6 +49,7 @@ typedef struct nb_run_state {
     long snapshot_every;
     long tracer_neighbours; /* tracers' softening (0: as stars, what snapshots without it had) */
     long tracer_ring;       /* tracers' ring points (0: off, what snapshots without it had) */
+    long tracer_mirror;     /* 1: half the ring's points mirrored (0: none, what snapshots without it had) */
     /* A snapshot in several files, one an MPI rank (--decompose): written,
      * the files (0 or 1: one) and every type's count over all of them
      * (NULL: this file's); read, the files and the count over all. */

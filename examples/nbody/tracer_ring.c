@@ -124,12 +124,28 @@ static void turn(const double n[3], double co, double si, const double v[3], dou
         out[k] = v[k] * co + nxv[k] * si + n[k] * along * (1.0 - co);
 }
 
-void ring_points(const double c[3], const double n[3], const double x[3], int k, double *pts)
+/* v reflected across the plane normal to the unit vector n. */
+static void reflect(const double n[3], const double v[3], double out[3])
+{
+    double along = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+    for (int k = 0; k < 3; k++)
+        out[k] = v[k] - 2.0 * along * n[k];
+}
+
+/* Point p of a mirrored ring is one of the reflected half: every odd one. */
+static int reflected(int mirror, int p)
+{
+    return mirror && (p & 1);
+}
+
+void ring_points(const double c[3], const double n[3], const double x[3], int k, int mirror, double *pts)
 {
     double d[3] = {x[0] - c[0], x[1] - c[1], x[2] - c[2]};
     for (int p = 0; p < k; p++) {
         double phi = TWO_PI * p / k, turned[3];
         turn(n, cos(phi), sin(phi), d, turned);
+        if (reflected(mirror, p))
+            reflect(n, turned, turned);
         for (int j = 0; j < 3; j++)
             pts[3 * p + j] = c[j] + turned[j];
     }
@@ -189,13 +205,15 @@ void ring_pulls(const double *pos, const double *mass, const double *eps, size_t
     }
 }
 
-void ring_average(const double n[3], const double a_host[3], const double *acc, int k, double out[3])
+void ring_average(const double n[3], const double a_host[3], const double *acc, int k, int mirror, double out[3])
 {
     double mean[3] = {0, 0, 0};
     for (int p = 0; p < k; p++) {
         double phi = TWO_PI * p / k, rel[3], back[3];
         for (int j = 0; j < 3; j++)
             rel[j] = acc[3 * p + j] - a_host[j];
+        if (reflected(mirror, p))
+            reflect(n, rel, rel);
         turn(n, cos(phi), -sin(phi), rel, back);
         for (int j = 0; j < 3; j++)
             mean[j] += back[j];

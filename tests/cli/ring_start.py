@@ -11,8 +11,12 @@ of the second pass). (Its acceleration, which is not in a snapshot, does
 not matter: turned back about the axis, a uniform pull has no radial
 part.)
 
-usage: ring_start.py [--points K] SNAPSHOT_FILE...   (K = 32; the files of
-one snapshot: one, or a --decompose run's one a rank) prints
+With --mirror (orrery-nbody's --tracer-mirror) every odd point is
+reflected across the disc's plane, to the tracer's -z (the inward part of
+its pull, across the axis, is the same reflected back or not).
+
+usage: ring_start.py [--points K] [--mirror] SNAPSHOT_FILE...   (K = 32; the
+files of one snapshot: one, or a --decompose run's one a rank) prints
 "R z v_c v_phi v_R v_z" of the Sun (id 3), speeds about the galaxy (km/s),
 v_phi signed along n x R.
 """
@@ -41,9 +45,12 @@ def turn(n, phi, d):
 
 def main():
     args = sys.argv[1:]
-    K = 32
-    if args[:1] == ["--points"]:
-        K, args = int(args[1]), args[2:]
+    K, mirror = 32, False
+    while args[:1] in (["--points"], ["--mirror"]):
+        if args[0] == "--mirror":
+            mirror, args = True, args[1:]
+        else:
+            K, args = int(args[1]), args[2:]
     x, v, m, t, ids, eps, eps_halo = load(args)
     heavy = m >= 1e-3 * m.mean()
     sun = np.nonzero(ids == 3)[0][0]
@@ -72,7 +79,10 @@ def main():
     inward = 0.0
     for k in range(K):
         phi = 2 * np.pi * k / K
-        pk = c + turn(n, phi, rel)
+        d = turn(n, phi, rel)
+        if mirror and k % 2:
+            d = d - 2 * (d @ n) * n
+        pk = c + d
         dd = xh - pk
         r2 = (dd * dd).sum(1) + e2
         a = G * ((mh / (r2 * np.sqrt(r2)))[:, None] * dd).sum(0)

@@ -147,6 +147,38 @@ awk -v R="$R" -v vc="$vc" -v vphi="$vphi" -v vR="$vR" -v vz="$vz" -v said="$said
                abs(said - vc) < 0.006 && abs(vcg - vc) < 1e-9 * vc && abs(vg) - vc > 2
           exit !ok }' ||
   fail "the Sun started at v_phi $vphi (v_R $vR, v_z $vz; said $said), direct sum: v_c $vc at R $R; as given $vphi_given"
+# --tracer-mirror (docs/nbody.md, "The mirror"): every other point of the
+# ring reflected to the tracer's -z, its pull reflected back. With the Sun
+# lifted 0.3 kpc off the disc, the run starts it at sqrt(R a_R) of the
+# mirrored ring by ring_start.py --mirror's direct sum (to 1e-6), which
+# differs from the plain ring's (by 4e-5 here, so a mirror left out, or
+# applied to the plain ring, fails this); the snapshot records it.
+"$py" - <<'PY' || fail "--tracer-mirror: lifting the Sun"
+import h5py, numpy as np, shutil
+shutil.copy("given/snapshot_0000.hdf5", "lifted.hdf5")
+with h5py.File("lifted.hdf5", "r+") as f:
+    g = f["PartType4"]
+    k = np.nonzero(g["ParticleIDs"][:] == 3)[0][0]
+    x = g["Coordinates"][:]
+    x[k, 2] += 0.3
+    g["Coordinates"][...] = x
+PY
+for how in mirror plain; do
+  flag=$([ $how = mirror ] && echo --tracer-mirror)
+  "$NBODY" --ic lifted.hdf5 --steps 0 --eps 0.1 --tracer-ring 32 $flag --snapshot-every 1 \
+    --snapshot-dir lifted-$how >lifted-$how.out 2>&1 || fail "--tracer-ring 32 $flag, lifted: $(cat lifted-$how.out)"
+done
+read -r _ z_m vc_m vphi_m _ _ <<<"$(start --mirror lifted-mirror/snapshot_0000.hdf5)" || fail "ring_start.py --mirror failed"
+read -r _ _ vc_p vphi_p _ _ <<<"$(start lifted-plain/snapshot_0000.hdf5)" || fail "ring_start.py failed (lifted)"
+read -r _ _ vc_pm _ _ _ <<<"$(start --mirror lifted-plain/snapshot_0000.hdf5)" || fail "ring_start.py --mirror failed (plain)"
+awk -v z="$z_m" -v vm="$vphi_m" -v cm="$vc_m" -v vp="$vphi_p" -v cp="$vc_p" -v cpm="$vc_pm" '
+  function abs(x) { return x < 0 ? -x : x }
+  BEGIN { ok = z > 0.25 && abs(abs(vm) - cm) < 1e-6 * cm && abs(abs(vp) - cp) < 1e-6 * cp && abs(cpm - cp) > 1e-5 * cp
+          exit !ok }' ||
+  fail "lifted 0.3 kpc (z $z_m): mirrored start $vphi_m against its direct sum $vc_m; plain $vphi_p against $vc_p (mirrored sum $vc_pm)"
+"$py" -c 'import h5py, sys; sys.exit(int(h5py.File("lifted-mirror/snapshot_0000.hdf5")["OrreryNbody"].attrs["TracerMirror"] != 1))' ||
+  fail "--tracer-mirror: the snapshot does not record it"
+
 # So its radius keeps still: over 0.1 Gyr (half an epicycle) the Sun
 # started as given swings out by 1.3 kpc (its speed 15 km/s above the
 # ring's circular speed at this softening, 1.9 kpc), started circular by
@@ -191,10 +223,10 @@ grep -q "^all: 2 snapshots" path.out || fail "sun_path.py's summary: $(cat path.
 "$py" "$SRC/scripts/sun_path.py" no_sun.hdf5 >/dev/null 2>path.err && fail "sun_path.py read a snapshot without the Sun"
 grep -q "no_sun.hdf5: no Sun (PartType4, id 3)" path.err || fail "sun_path.py's refusal: $(cat path.err)"
 
-# A run with rings resumes bit for bit (the ring's axis comes from the
-# positions alone: the velocities are half a step behind at a force
-# computation, but not at a resume).
-"$NBODY" --galaxies mw --particles 5000 --steps 4 --dt 0.002 --tracer-ring 16 --snapshot-every 2 \
+# A run with rings, mirrored, resumes bit for bit (the ring's axis comes
+# from the positions alone: the velocities are half a step behind at a
+# force computation, but not at a resume; the mirror is the run's own).
+"$NBODY" --galaxies mw --particles 5000 --steps 4 --dt 0.002 --tracer-ring 16 --tracer-mirror --snapshot-every 2 \
   --snapshot-dir ringfull >ringfull.out 2>&1 || fail "--tracer-ring, 4 steps: $(cat ringfull.out)"
 mkdir -p ringresume && cp ringfull/snapshot_0001.hdf5 ringresume/
 "$NBODY" --resume ringresume --steps 4 >ringresume.out 2>&1 || fail "--tracer-ring, resumed: $(cat ringresume.out)"
@@ -204,6 +236,7 @@ a, b = h5py.File("ringfull/snapshot_0002.hdf5", "r"), h5py.File("ringresume/snap
 same = all(np.array_equal(a[k][f][:], b[k][f][:]) for k in a if k.startswith("PartType")
            for f in ("Coordinates", "Velocities"))
 assert b["OrreryNbody"].attrs["TracerRing"] == 16
+assert b["OrreryNbody"].attrs["TracerMirror"] == 1
 raise SystemExit(0 if same else 1)
 PY
 
@@ -316,4 +349,8 @@ expect_nbody_error "--progress -1: expected seconds" --progress -1
 expect_nbody_error "--tracer-neighbours 300: expected 0 (off) to 256" --tracer-neighbours 300
 expect_nbody_error "--tracer-ring 1: expected 0 (off) or 2 to 256 points" --tracer-ring 1
 expect_nbody_error "--tracer-ring 257: expected 0 (off) or 2 to 256 points" --tracer-ring 257
+expect_nbody_error "--tracer-mirror needs --tracer-ring K with K even: it mirrors every other point (K = 0)" \
+  --tracer-mirror
+expect_nbody_error "--tracer-mirror needs --tracer-ring K with K even: it mirrors every other point (K = 15)" \
+  --tracer-ring 15 --tracer-mirror
 finish

@@ -4,7 +4,8 @@
  * the whole circle by a fine quadrature, with no torque; a host's axis is
  * recovered from a tilted thin disc; a uniform pull passes unchanged; a
  * tracer started on the ring's circular orbit about a point mass moves at
- * Kepler's speed. The pulls summed eight points a pass are, bit for bit,
+ * Kepler's speed; a mirrored ring gives the mean of the pulls above and below
+ * the plane (quadratures), none across the plane on it. The pulls summed eight points a pass are, bit for bit,
  * each point's sum in the particles' order, on one thread and on two. */
 #include <omp.h>
 #include <stdlib.h>
@@ -57,10 +58,10 @@ static void ring_of(const double *pos, const double *mass, const double *eps, si
                     const double x[3], double eps_t, double out[3])
 {
     double pts[3 * K], acc[3 * K] = {0}, zero[3] = {0, 0, 0};
-    ring_points(c, nrm, x, K, pts);
+    ring_points(c, nrm, x, K, 0, pts);
     CHECK_NEAR(pts[0], x[0], 1e-12); /* point 0 is the tracer */
     ring_pulls(pos, mass, eps, n, 0.0, eps_t, pts, K, G, acc);
-    ring_average(nrm, zero, acc, K, out);
+    ring_average(nrm, zero, acc, K, 0, out);
 }
 
 /* Masses in rings of K about the tilted axis (invariant under the ring's
@@ -141,6 +142,83 @@ static void test_bar(void)
     CHECK(fabs(tangential) > 1e-3 * scale);
 }
 
+/* The circle's mean (a 4096-point quadrature) of the pull of pos/mass/eps
+ * at radius R and height z about c, softened with eps_t, as radial,
+ * tangential and axial parts: of the pull at height z, and of that at -z
+ * reflected back across the plane. */
+static void circle_mean(const double *pos, const double *mass, const double *eps, int n, const double c[3], double R,
+                        double z, double eps_t, double at_z[3], double mirrored[3])
+{
+    const int Q = 4096;
+    for (int k = 0; k < 3; k++)
+        at_z[k] = mirrored[k] = 0;
+    for (int q = 0; q < Q; q++) {
+        double phi = TWO_PI * q / Q, er[3], et[3];
+        for (int k = 0; k < 3; k++) {
+            er[k] = cos(phi) * e1[k] + sin(phi) * e2[k];
+            et[k] = -sin(phi) * e1[k] + cos(phi) * e2[k];
+        }
+        for (int side = 0; side < 2; side++) {
+            double p[3], a[3] = {0, 0, 0}, *mean = side ? mirrored : at_z;
+            at(c, R, phi, side ? -z : z, p);
+            for (int j = 0; j < n; j++)
+                pull(p, &pos[3 * j], mass[j], 0.5 * (eps[j] * eps[j] + eps_t * eps_t), a);
+            for (int k = 0; k < 3; k++) {
+                mean[0] += a[k] * er[k] / Q;
+                mean[1] += a[k] * et[k] / Q;
+                mean[2] += (side ? -1 : 1) * a[k] * nrm[k] / Q; /* reflected back */
+            }
+        }
+    }
+}
+
+/* A mirrored ring (every odd point reflected across the plane): its odd
+ * points lie at -z; its pull is the mean of the circle's mean at z and the
+ * reflected one at -z (quadratures), with no torque; on the plane it has
+ * no part across it, where the plain ring has the off-plane clump's. */
+static void test_mirror(void)
+{
+    const double c[3] = {0.5, -1.0, 0.2};
+    double pos[9], mass[3] = {0.5, 0.5, 0.1}, eps[3] = {0.3, 0.3, 0.3};
+    at(c, 3.0, 0.2, 0.05, &pos[0]);
+    at(c, 3.0, 0.2 + TWO_PI / 2, -0.05, &pos[3]);
+    at(c, 2.0, 1.3, 0.8, &pos[6]);
+    const double R = 8.0, phi0 = 0.9, eps_t = 0.5;
+    for (int on_plane = 0; on_plane < 2; on_plane++) {
+        double z = on_plane ? 0.0 : 0.3, x[3], pts[3 * K], acc[3 * K] = {0}, zero[3] = {0, 0, 0}, ring[3];
+        at(c, R, phi0, z, x);
+        ring_points(c, nrm, x, K, 1, pts);
+        for (int p = 0; p < K; p++) {
+            double h = 0;
+            for (int k = 0; k < 3; k++)
+                h += (pts[3 * p + k] - c[k]) * nrm[k];
+            CHECK_NEAR(h, p % 2 ? -z : z, 1e-12);
+        }
+        ring_pulls(pos, mass, eps, 3, 0.0, eps_t, pts, K, G, acc);
+        ring_average(nrm, zero, acc, K, 1, ring);
+        double at_z[3], mirrored[3], got[3] = {0, 0, 0}, er[3], et[3];
+        circle_mean(pos, mass, eps, 3, c, R, z, eps_t, at_z, mirrored);
+        for (int k = 0; k < 3; k++) {
+            er[k] = cos(phi0) * e1[k] + sin(phi0) * e2[k];
+            et[k] = -sin(phi0) * e1[k] + cos(phi0) * e2[k];
+            got[0] += ring[k] * er[k];
+            got[1] += ring[k] * et[k];
+            got[2] += ring[k] * nrm[k];
+        }
+        double scale = fabs(at_z[0]);
+        CHECK(scale > 0);
+        CHECK_NEAR(got[0], 0.5 * (at_z[0] + mirrored[0]), 1e-6 * scale);
+        CHECK_NEAR(got[1], 0.0, 1e-9 * scale);
+        CHECK_NEAR(got[2], 0.5 * (at_z[2] + mirrored[2]), 1e-6 * scale);
+        if (on_plane) {
+            CHECK_NEAR(got[2], 0.0, 1e-9 * scale);
+            CHECK(fabs(at_z[2]) > 1e-3 * scale); /* what the plain ring would give */
+        } else {
+            CHECK(fabs(got[2] - at_z[2]) > 1e-3 * scale); /* the mirror changed it */
+        }
+    }
+}
+
 /* A uniform pull (Andromeda's, far away) that the host feels too: the ring
  * gives it back whole, in every direction. */
 static void test_uniform_pull(void)
@@ -149,7 +227,7 @@ static void test_uniform_pull(void)
     for (int p = 0; p < K; p++)
         for (int k = 0; k < 3; k++)
             acc[3 * p + k] = g[k];
-    ring_average(nrm, g, acc, K, out);
+    ring_average(nrm, g, acc, K, 0, out);
     for (int k = 0; k < 3; k++)
         CHECK_NEAR(out[k], g[k], 1e-12);
 }
@@ -214,12 +292,12 @@ static void test_circular_start(void)
     const double a_host[3] = {30, -20, 10}, v_host[3] = {-110, 80, 35};
     double x[3], pts[3 * K], acc[3 * K] = {0}, a[3];
     at(c, R, 0.9, 0.0, x);
-    ring_points(c, nrm, x, K, pts);
+    ring_points(c, nrm, x, K, 0, pts);
     ring_pulls(c, mass, eps, 1, 0.0, 0.0, pts, K, G, acc);
     for (int p = 0; p < K; p++)
         for (int k = 0; k < 3; k++)
             acc[3 * p + k] += a_host[k];
-    ring_average(nrm, a_host, acc, K, a);
+    ring_average(nrm, a_host, acc, K, 0, a);
     double t[3], inward[3], v[3], out[3];
     at(c, 1.0, 0.9 + TWO_PI / 4, 0.0, t); /* the circle's direction, increasing phi: c + t */
     at(c, 1.0, 0.9, 0.0, inward);
@@ -293,6 +371,7 @@ int main(void)
     make_frame();
     test_symmetric_galaxy();
     test_bar();
+    test_mirror();
     test_uniform_pull();
     test_host();
     test_circular_start();
