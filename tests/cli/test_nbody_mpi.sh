@@ -94,13 +94,15 @@ timeout 120 mpirun -np 1 -wdir rank0 "$MPI_NBODY" --ic ic.hdf5 --steps 1 --dt 0.
 # --tracer-start circular (the default with --tracer-ring) on two ranks, the
 # Sun owned by one and the sums over both, and with --decompose: the Sun
 # starts at the circular speed of a direct sum over snapshot 0
-# (tests/cli/ring_start.py, h5py), all of it along the circle.
+# (tests/cli/ring_start.py, h5py), all of it along the circle; decomposed,
+# with the ring mirrored (--tracer-mirror, ring_start.py --mirror).
 for mode in gathered decompose; do
-  flag=$([ $mode = decompose ] && echo --decompose || true)
+  flag=$([ $mode = decompose ] && echo --decompose --tracer-mirror || true)
+  mirror=$([ $mode = decompose ] && echo --mirror || true)
   mpirun -np 2 "$MPI_NBODY" --galaxies mw --particles 4000 --steps 0 --tracer-ring 16 $flag --snapshot-every 1 \
     --snapshot-dir start-$mode >start-$mode.log 2>&1 || fail "--tracer-start on 2 ranks, $mode: $(tail -5 start-$mode.log)"
   grep -q "^tracer 0 started on its ring's circular orbit" start-$mode.log || fail "$mode: $(cat start-$mode.log)"
-  read -r R _ vc vphi vR vz <<<"$("$py" "$SRC/tests/cli/ring_start.py" --points 16 start-$mode/snapshot_0000*.hdf5)" ||
+  read -r R _ vc vphi vR vz <<<"$("$py" "$SRC/tests/cli/ring_start.py" --points 16 $mirror start-$mode/snapshot_0000*.hdf5)" ||
     fail "ring_start.py on start-$mode"
   awk -v vc="$vc" -v vphi="$vphi" -v vR="$vR" -v vz="$vz" 'function abs(x) { return x < 0 ? -x : x }
     BEGIN { exit !(vc > 150 && abs(abs(vphi) - vc) < 1e-6 * vc && abs(vR) < 1e-6 && abs(vz) < 1e-6) }' ||
