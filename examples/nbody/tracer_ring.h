@@ -82,7 +82,7 @@ void ring_pulls(const double *pos, const double *mass, const double *eps, size_t
  * round its axis. The pull across the plane is zero on it and opposite at
  * z and -z, so a disc's bending waves, warps and clumps off its plane (in
  * a disc of 10^5 particles its local mid-plane wanders by 0.1-0.4 kpc)
- * cannot pump the tracer's height. */
+ * do not lift the tracer; the noise of the pulls still can. */
 void ring_average(const double n[3], const double a_host[3], const double *acc, int k, int mirror, double out[3]);
 
 /* The velocity of a circular orbit through x about the axis n through c,
