@@ -45,6 +45,17 @@ static void at(const double c[3], double R, double phi, double z, double out[3])
         out[k] = c[k] + R * (cos(phi) * e1[k] + sin(phi) * e2[k]) + z * nrm[k];
 }
 
+/* v's radial, tangential and axial parts at azimuth phi about the axis. */
+static void cylindrical(const double v[3], double phi, double out[3])
+{
+    out[0] = out[1] = out[2] = 0;
+    for (int k = 0; k < 3; k++) {
+        out[0] += v[k] * (cos(phi) * e1[k] + sin(phi) * e2[k]);
+        out[1] += v[k] * (-sin(phi) * e1[k] + cos(phi) * e2[k]);
+        out[2] += v[k] * nrm[k];
+    }
+}
+
 /* G m d / (d^2 + e2)^1.5 from x towards p, added to a. */
 static void pull(const double x[3], const double p[3], double m, double e2s, double a[3])
 {
@@ -108,25 +119,13 @@ static void test_bar(void)
         at(c, R, phi, z, p);
         for (int j = 0; j < 3; j++)
             pull(p, &pos[3 * j], mass[j], 0.5 * (eps[j] * eps[j] + 0.25), a);
-        double er[3], et[3];
-        for (int k = 0; k < 3; k++) {
-            er[k] = cos(phi) * e1[k] + sin(phi) * e2[k];
-            et[k] = -sin(phi) * e1[k] + cos(phi) * e2[k];
-        }
-        for (int k = 0; k < 3; k++) {
-            mean[0] += a[k] * er[k] / Q;
-            mean[1] += a[k] * et[k] / Q;
-            mean[2] += a[k] * nrm[k] / Q;
-        }
+        double parts[3];
+        cylindrical(a, phi, parts);
+        for (int k = 0; k < 3; k++)
+            mean[k] += parts[k] / Q;
     }
-    double er[3], et[3], got[3] = {0, 0, 0};
-    for (int k = 0; k < 3; k++) {
-        er[k] = cos(phi0) * e1[k] + sin(phi0) * e2[k];
-        et[k] = -sin(phi0) * e1[k] + cos(phi0) * e2[k];
-        got[0] += ring[k] * er[k];
-        got[1] += ring[k] * et[k];
-        got[2] += ring[k] * nrm[k];
-    }
+    double got[3];
+    cylindrical(ring, phi0, got);
     double scale = fabs(mean[0]);
     CHECK(scale > 0);
     CHECK_NEAR(got[0], mean[0], 1e-9 * scale);
@@ -134,12 +133,11 @@ static void test_bar(void)
     CHECK_NEAR(mean[1], 0.0, 1e-9 * scale);
     CHECK_NEAR(got[2], mean[2], 1e-9 * scale);
     /* The bar's own pull at the tracer has a torque the ring removes. */
-    double here[3] = {0, 0, 0}, tangential = 0;
+    double here[3] = {0, 0, 0}, parts[3];
     for (int j = 0; j < 3; j++)
         pull(x, &pos[3 * j], mass[j], 0.5 * (eps[j] * eps[j] + 0.25), here);
-    for (int k = 0; k < 3; k++)
-        tangential += here[k] * et[k];
-    CHECK(fabs(tangential) > 1e-3 * scale);
+    cylindrical(here, phi0, parts);
+    CHECK(fabs(parts[1]) > 1e-3 * scale);
 }
 
 /* The circle's mean (a 4096-point quadrature) of the pull of pos/mass/eps
@@ -153,21 +151,16 @@ static void circle_mean(const double *pos, const double *mass, const double *eps
     for (int k = 0; k < 3; k++)
         at_z[k] = mirrored[k] = 0;
     for (int q = 0; q < Q; q++) {
-        double phi = TWO_PI * q / Q, er[3], et[3];
-        for (int k = 0; k < 3; k++) {
-            er[k] = cos(phi) * e1[k] + sin(phi) * e2[k];
-            et[k] = -sin(phi) * e1[k] + cos(phi) * e2[k];
-        }
+        double phi = TWO_PI * q / Q;
         for (int side = 0; side < 2; side++) {
-            double p[3], a[3] = {0, 0, 0}, *mean = side ? mirrored : at_z;
+            double p[3], a[3] = {0, 0, 0}, parts[3], *mean = side ? mirrored : at_z;
             at(c, R, phi, side ? -z : z, p);
             for (int j = 0; j < n; j++)
                 pull(p, &pos[3 * j], mass[j], 0.5 * (eps[j] * eps[j] + eps_t * eps_t), a);
-            for (int k = 0; k < 3; k++) {
-                mean[0] += a[k] * er[k] / Q;
-                mean[1] += a[k] * et[k] / Q;
-                mean[2] += (side ? -1 : 1) * a[k] * nrm[k] / Q; /* reflected back */
-            }
+            cylindrical(a, phi, parts);
+            parts[2] *= side ? -1 : 1; /* reflected back */
+            for (int k = 0; k < 3; k++)
+                mean[k] += parts[k] / Q;
         }
     }
 }
@@ -196,15 +189,9 @@ static void test_mirror(void)
         }
         ring_pulls(pos, mass, eps, 3, 0.0, eps_t, pts, K, G, acc);
         ring_average(nrm, zero, acc, K, 1, ring);
-        double at_z[3], mirrored[3], got[3] = {0, 0, 0}, er[3], et[3];
+        double at_z[3], mirrored[3], got[3];
         circle_mean(pos, mass, eps, 3, c, R, z, eps_t, at_z, mirrored);
-        for (int k = 0; k < 3; k++) {
-            er[k] = cos(phi0) * e1[k] + sin(phi0) * e2[k];
-            et[k] = -sin(phi0) * e1[k] + cos(phi0) * e2[k];
-            got[0] += ring[k] * er[k];
-            got[1] += ring[k] * et[k];
-            got[2] += ring[k] * nrm[k];
-        }
+        cylindrical(ring, phi0, got);
         double scale = fabs(at_z[0]);
         CHECK(scale > 0);
         CHECK_NEAR(got[0], 0.5 * (at_z[0] + mirrored[0]), 1e-6 * scale);
