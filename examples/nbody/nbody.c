@@ -135,6 +135,7 @@ static const char usage[] =
     "                     is reflected across the galaxy's disc plane and its pull\n"
     "                     reflected back, so tracers feel a galaxy the same above and\n"
     "                     below its plane: its bending and warps do not lift them\n"
+    "                     (default: off; a resume keeps the run's own)\n"
     "  --tracer-start HOW a new run's ring tracers start on the circular orbit of the\n"
     "                     ring's pull at their place, sqrt(R a_R) about their galaxy's\n"
     "                     axis and its stars' mean velocity (circular: the default with\n"
