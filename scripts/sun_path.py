@@ -30,23 +30,41 @@ GYR_PER_UNIT = 0.9778  # the time unit kpc / (km/s)
 SUN_ID, MW_BH_ID, M31_BH_ID = 3, 1, 2
 
 
-def one(f, path, ptype, pid, what):
+def one(f, path, ptype, pid, what, who="sun_path"):
     """Position of particle pid of type ptype, or an exit naming what is missing."""
     g = f.get(f"PartType{ptype}")
     k = np.nonzero(g["ParticleIDs"][:] == pid)[0] if g is not None else []
     if len(k) == 0:
-        sys.exit(f"sun_path: {path}: no {what} (PartType{ptype}, id {pid})")
+        sys.exit(f"{who}: {path}: no {what} (PartType{ptype}, id {pid})")
     return g["Coordinates"][k[0]].astype(float)
 
 
-def stars(f, path):
+def stars(f, path, who="sun_path"):
     """(positions, velocities, masses, is-disc) of the disc and bulge stars."""
     parts = [(f[f"PartType{t}"], t) for t in (2, 3) if f"PartType{t}" in f]
     if not parts:
-        sys.exit(f"sun_path: {path}: no stars (PartType2 or 3)")
+        sys.exit(f"{who}: {path}: no stars (PartType2 or 3)")
     cat = lambda name: np.concatenate([g[name][:].astype(float) for g, _ in parts])
     disc = np.concatenate([np.full(len(g["Masses"]), t == 2) for g, t in parts])
     return cat("Coordinates"), cat("Velocities"), cat("Masses"), disc
+
+
+def milky_way_frame(path, x, v, m, disc, hole, radius, who="sun_path"):
+    """(centre, its velocity, the disc's unit normal) of the Milky Way: its
+    stars within radius of the black hole, centred twice on their centre of
+    mass; the normal along its disc stars' angular momentum there."""
+    c = hole
+    for _ in range(2):
+        inside = np.linalg.norm(x - c, axis=1) <= radius
+        if not inside.any():
+            sys.exit(f"{who}: {path}: no stars within {radius:.1f} kpc of the Milky Way's black hole")
+        w = m[inside] / m[inside].sum()
+        c_next = w @ x[inside]
+        vc = w @ v[inside]
+        last, c = inside, c_next
+    d = last & disc
+    spin = (m[d, None] * np.cross(x[d] - c, v[d] - vc)).sum(axis=0)
+    return c, vc, spin / np.linalg.norm(spin)
 
 
 def read(path):
@@ -63,19 +81,7 @@ def read(path):
         apart = np.linalg.norm(g5["Coordinates"][other[0]] - hole) if len(other) else np.nan
         x, v, m, disc = stars(f, path)
         time = float(f["Header"].attrs["Time"])
-    radius = max(5.0, 2.0 * np.linalg.norm(sun - hole))
-    c = hole
-    for _ in range(2):
-        inside = np.linalg.norm(x - c, axis=1) <= radius
-        if not inside.any():
-            sys.exit(f"sun_path: {path}: no stars within {radius:.1f} kpc of the Milky Way's black hole")
-        w = m[inside] / m[inside].sum()
-        c_next = w @ x[inside]
-        vc = w @ v[inside]
-        last, c = inside, c_next
-    d = last & disc
-    spin = (m[d, None] * np.cross(x[d] - c, v[d] - vc)).sum(axis=0)
-    n = spin / np.linalg.norm(spin)
+    c, _, n = milky_way_frame(path, x, v, m, disc, hole, max(5.0, 2.0 * np.linalg.norm(sun - hole)))
     z = (sun - c) @ n
     R = np.sqrt(max(0.0, np.sum((sun - c) ** 2) - z * z))
     return time, R, z, apart
