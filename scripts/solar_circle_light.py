@@ -6,7 +6,9 @@ N observers (--observers, 64) stand evenly round the solar circle, radius
 --radius (8 kpc) about the Milky Way's centre in its disc's plane, and ride
 round with the disc from one snapshot to the next. For each snapshot: the
 mean of the light they see and its spread round the circle (rms and the
-extremes, over the mean). For each step between snapshots: the change of
+extremes, over the mean), and the m = 2 Fourier amplitude of the Milky
+Way's disc stars at 1-4 kpc from its centre (the bar) and at 6-10 kpc
+(the spirals about the circle). For each step between snapshots: the change of
 each observer's light, its rms over the observers, the largest, and the
 share beyond --bar (0.15, issue 40's bar for a film's frames). Then, over
 the steps before Andromeda's black hole is within --near kpc (100): the
@@ -53,6 +55,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from sun_path import GYR_PER_UNIT, M31_BH_ID, MW_BH_ID, milky_way_frame, one, stars  # noqa: E402
 
 WHO = "solar_circle_light"
+# The Milky Way's disc rings whose m = 2 amplitude is printed: the bar's
+# (1-4 kpc) and the spirals' about the solar circle (6-10 kpc).
+M2_RINGS = ((1.0, 4.0), (6.0, 10.0))
 
 
 def in_plane_axes(n):
@@ -90,7 +95,20 @@ def read(path, radius):
     if not near.any():
         sys.exit(f"{WHO}: {path}: no disc stars within 0.5 kpc of the circle of radius {radius:g} kpc")
     v_phi = np.einsum("ij,ij->i", np.cross(n, in_plane[near]), v[near] - vc) / R[near]
-    return time, x, m, (c, e1, e2), float(np.median(v_phi)) / radius, apart
+    own = disc & (np.linalg.norm(r, axis=1) <= max(5.0, 2.0 * radius))
+    phi = np.arctan2(in_plane[own] @ e2, in_plane[own] @ e1)
+    m2 = [two_arm_amplitude(m[own], R[own], phi, lo, hi) for lo, hi in M2_RINGS]
+    return time, x, m, (c, e1, e2), float(np.median(v_phi)) / radius, apart, m2
+
+
+def two_arm_amplitude(m, R, phi, lo, hi):
+    """The m = 2 Fourier amplitude of the mass between radii lo and hi,
+    |sum m exp(2 i phi)| / sum m: 0 for a round disc, about 1/sqrt(n) for
+    n stars placed at random, the bar's or the spirals' strength else."""
+    ring = (R >= lo) & (R < hi)
+    if not ring.any():
+        return 0.0
+    return float(np.abs(np.sum(m[ring] * np.exp(2j * phi[ring]))) / np.sum(m[ring]))
 
 
 def light(x, m, frame, radius, azimuths, soften):
@@ -125,20 +143,21 @@ def main():
         sys.exit(f"{WHO}: --observers {a.observers}: expected at least 1")
 
     azimuths = 2.0 * np.pi * np.arange(a.observers) / a.observers
-    print("snapshot  t (Gyr)  light: mean  rms %  min  max  |  change: rms %  largest %  beyond bar %")
+    print("snapshot  t (Gyr)  light: mean  rms %  min  max  disc m=2: 1-4 kpc  6-10 kpc"
+          "  |  change: rms %  largest %  beyond bar %")
     largest = np.zeros(a.observers)
     squares = 0.0
     steps = 0
     before = None
     for path in a.snapshots:
-        time, x, m, frame, omega, apart = read(path, a.radius)
+        time, x, m, frame, omega, apart, m2 = read(path, a.radius)
         if before is not None:
             t0, omega0, seen0 = before
             azimuths = azimuths + 0.5 * (omega + omega0) * (time - t0)
         seen = light(x, m, frame, a.radius, azimuths, a.soften)
         mean = seen.mean()
         line = (f"{path}  {time * GYR_PER_UNIT:.3f}  {mean:.6g}  {percent(seen.std() / mean):.1f}"
-                f"  {seen.min() / mean:.2f}  {seen.max() / mean:.2f}")
+                f"  {seen.min() / mean:.2f}  {seen.max() / mean:.2f}  {m2[0]:.3f}  {m2[1]:.3f}")
         if before is not None:
             change = np.abs(seen / seen0 - 1.0)
             line += (f"  |  {percent(np.sqrt(np.mean(change ** 2))):.1f}  {percent(change.max()):.1f}"

@@ -5,7 +5,7 @@
 source "$(dirname "$0")/lib.sh"
 
 # rings.hdf5: rings of 3600 stars in the plane z = 0 (disc stars of radius
-# 4 and 8 kpc, bulge stars of radius 2) turning at 200 km/s about +z, and
+# 3.5 and 8 kpc, bulge stars of radius 2) turning at 200 km/s about +z, and
 # two heavy clumps of 50 stars at (9 kpc, 30 deg) and (9 kpc, 210 deg) turning
 # with the 8 kpc ring (25 km/s/kpc). turned.hdf5: the same 0.02 time units
 # later, everything turned by 0.5 rad; still.hdf5: turned, but at the first
@@ -31,7 +31,7 @@ def clump(phase):
 def write(path, time, turn):
     c, s = np.cos(turn), np.sin(turn)
     rot = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]])
-    parts = {2: [ring(4, 3600, 200), ring(8, 3600, 200), clump(np.pi / 6), clump(7 * np.pi / 6)],
+    parts = {2: [ring(3.5, 3600, 200), ring(8, 3600, 200), clump(np.pi / 6), clump(7 * np.pi / 6)],
              3: [ring(2, 3600, 200)]}
     masses = {2: [1e-5, 2e-5, 2e-4, 2e-4], 3: [3e-5]}
     with h5py.File(path, "w") as f:
@@ -66,7 +66,7 @@ import numpy as np
 # in its plane: 1 / sqrt((R^2 + a^2 + s^2)^2 - 4 R^2 a^2).
 R, s = 8.0, 0.25
 ring = lambda a: 1 / np.sqrt((R * R + a * a + s * s) ** 2 - 4 * R * R * a * a)
-rings = 3600 * (1e-5 * ring(4) + 2e-5 * ring(8) + 3e-5 * ring(2))
+rings = 3600 * (1e-5 * ring(3.5) + 2e-5 * ring(8) + 3e-5 * ring(2))
 
 def rows(path):
     lines = open(path).read().splitlines()
@@ -79,6 +79,17 @@ assert mean > rings and spread > 5, (mean, rings, spread)
 largest = float(turn[1][-2])
 assert largest < 0.05, f"observers riding with a rigid turn saw the light change by {largest} %"
 assert "64 of 64 within 15 % at every step" in summary, summary
+# The disc's m = 2 amplitudes: the ring of 3.5 kpc is round (0.000); at
+# 6-10 kpc the two clumps, opposite each other, against the 8 kpc ring.
+import h5py
+with h5py.File("rings.hdf5", "r") as f:
+    x, m = f["PartType2/Coordinates"][:], f["PartType2/Masses"][:]
+R, phi = np.hypot(x[:, 0], x[:, 1]), np.arctan2(x[:, 1], x[:, 0])
+ring = (R >= 6) & (R < 10)
+a2 = abs(np.sum(m[ring] * np.exp(2j * phi[ring]))) / np.sum(m[ring])
+assert 0.15 < a2 < 0.3, a2
+for row in turn:
+    assert row[6] == "0.000" and abs(float(row[7]) - a2) < 6e-4, (row, a2)
 still, summary = rows("still.out")
 assert float(still[1][-2]) > 10, f"observers left behind by the turn saw only {still[1][-2]} %"
 PY
@@ -101,7 +112,7 @@ PY
 import numpy as np
 R, s = 8.0, 0.25
 ring = lambda a: 1 / np.sqrt((R * R + a * a + s * s) ** 2 - 4 * R * R * a * a)
-rings = 3600 * (1e-5 * ring(4) + 2e-5 * ring(8) + 3e-5 * ring(2))
+rings = 3600 * (1e-5 * ring(3.5) + 2e-5 * ring(8) + 3e-5 * ring(2))
 row = open("bare.out").read().splitlines()[1].split()
 mean, spread, lo, hi = map(float, row[2:6])
 assert abs(mean / rings - 1) < 2e-4 and spread < 0.05 and lo == 1.0 and hi == 1.0, (mean, rings, row)
