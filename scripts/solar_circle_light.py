@@ -85,6 +85,8 @@ def read(path, radius):
         other = np.nonzero(g5["ParticleIDs"][:] == M31_BH_ID)[0]
         apart = np.linalg.norm(g5["Coordinates"][other[0]] - hole) if len(other) else np.nan
         x, v, m, disc = stars(f, path, WHO)
+        if "Header" not in f or "Time" not in f["Header"].attrs:
+            sys.exit(f"{WHO}: {path}: no Header/Time attribute (the snapshot's time)")
         time = float(f["Header"].attrs["Time"])
     c, vc, n = milky_way_frame(path, x, v, m, disc, hole, max(5.0, 2.0 * radius), WHO)
     e1, e2 = in_plane_axes(n)
@@ -148,6 +150,7 @@ def main():
     largest = np.zeros(a.observers)
     squares = 0.0
     steps = 0
+    near = False  # Andromeda within --near: the summary ends there
     before = None
     for path in a.snapshots:
         time, x, m, frame, omega, apart, m2 = read(path, a.radius)
@@ -162,7 +165,8 @@ def main():
             change = np.abs(seen / seen0 - 1.0)
             line += (f"  |  {percent(np.sqrt(np.mean(change ** 2))):.1f}  {percent(change.max()):.1f}"
                      f"  {percent(np.mean(change > a.bar)):.1f}")
-            if not apart < a.near:
+            near = near or apart < a.near
+            if not near:
                 largest = np.maximum(largest, change)
                 squares += np.sum(change ** 2)
                 steps += 1
@@ -171,8 +175,9 @@ def main():
     if steps:
         within = int(np.sum(largest <= a.bar))
         rms = np.sqrt(squares / (steps * a.observers))
-        print(f"{a.observers} observers, {steps} steps before Andromeda is within {a.near:g} kpc: rms change "
-              f"{percent(rms):.1f} %; largest change median {percent(np.median(largest)):.1f} %, 90th percentile {percent(np.percentile(largest, 90)):.1f} %; "
+        print(f"{a.observers} observers, {steps} steps before Andromeda is within {a.near:g} kpc: "
+              f"rms change {percent(rms):.1f} %; largest change median {percent(np.median(largest)):.1f} %, "
+              f"90th percentile {percent(np.percentile(largest, 90)):.1f} %; "
               f"{within} of {a.observers} within {percent(a.bar):g} % at every step")
 
 

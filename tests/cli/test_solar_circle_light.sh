@@ -9,7 +9,8 @@ source "$(dirname "$0")/lib.sh"
 # two heavy clumps of 50 stars at (9 kpc, 30 deg) and (9 kpc, 210 deg) turning
 # with the 8 kpc ring (25 km/s/kpc). turned.hdf5: the same 0.02 time units
 # later, everything turned by 0.5 rad; still.hdf5: turned, but at the first
-# snapshot's time.
+# snapshot's time. close.hdf5 and after.hdf5 turn on, Andromeda's black
+# hole 50 kpc away in the first, 500 again in the second.
 "$py" - <<'PY' || fail "making the snapshots"
 import h5py
 import numpy as np
@@ -28,7 +29,7 @@ def clump(phase):
     v = 25.0 * np.stack([-x[:, 1], x[:, 0], np.zeros(50)], 1)
     return x, v
 
-def write(path, time, turn):
+def write(path, time, turn, m31=500.0):
     c, s = np.cos(turn), np.sin(turn)
     rot = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]])
     parts = {2: [ring(3.5, 3600, 200), ring(8, 3600, 200), clump(np.pi / 6), clump(7 * np.pi / 6)],
@@ -46,7 +47,7 @@ def write(path, time, turn):
             g["ParticleIDs"] = np.arange(ids, ids + len(m))
             ids += len(m)
         g = f.create_group("PartType5")
-        g["Coordinates"] = np.array([[0, 0, 0], [500.0, 0, 0]])
+        g["Coordinates"] = np.array([[0, 0, 0], [m31, 0, 0]])
         g["Velocities"] = np.zeros((2, 3))
         g["Masses"] = np.array([1e-4, 1e-4])
         g["ParticleIDs"] = np.array([1, 2])
@@ -54,11 +55,17 @@ def write(path, time, turn):
 write("rings.hdf5", 1.0, 0.0)
 write("turned.hdf5", 1.02, 0.5)
 write("still.hdf5", 1.0, 0.5)
+write("close.hdf5", 1.04, 1.0, m31=50.0)
+write("after.hdf5", 1.06, 1.5)
 PY
 
 script="$SRC/scripts/solar_circle_light.py"
 "$py" "$script" rings.hdf5 turned.hdf5 >turn.out 2>turn.err || fail "two snapshots: $(cat turn.err)"
 "$py" "$script" rings.hdf5 still.hdf5 >still.out 2>still.err || fail "the still snapshot: $(cat still.err)"
+# The summary stops at the first snapshot with Andromeda within --near.
+"$py" "$script" rings.hdf5 turned.hdf5 close.hdf5 after.hdf5 >near.out 2>near.err || fail "Andromeda near: $(cat near.err)"
+grep -q "^64 observers, 1 steps before Andromeda is within 100 kpc" near.out || fail "the summary's steps: $(cat near.out)"
+[ "$(grep -c "hdf5 .*|" near.out)" -eq 3 ] || fail "every step's line: $(cat near.out)"
 "$py" - <<'PY' || fail "the light of the rings or the turn: $(cat turn.out still.out)"
 import numpy as np
 
@@ -130,6 +137,14 @@ echo "not HDF5" >text.hdf5
 refuses "text.hdf5: cannot read it as HDF5" text.hdf5
 "$py" -c 'import h5py; h5py.File("nohole.hdf5", "w").create_group("PartType2")' || fail "making nohole.hdf5"
 refuses "nohole.hdf5: no Milky Way black hole (PartType5, id 1)" nohole.hdf5
+"$py" - <<'PY' || fail "making notime.hdf5"
+import h5py
+with h5py.File("rings.hdf5", "r") as f, h5py.File("notime.hdf5", "w") as g:
+    for k in f:
+        if k != "Header":
+            f.copy(k, g)
+PY
+refuses "notime.hdf5: no Header/Time attribute" notime.hdf5
 refuses "rings.hdf5: no disc stars within 0.5 kpc of the circle of radius 20 kpc" --radius 20 rings.hdf5
 refuses "observers 0: expected at least 1" --observers 0 rings.hdf5
 refuses "soften nan: expected a number above 0" --soften nan rings.hdf5
