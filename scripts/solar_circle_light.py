@@ -33,8 +33,8 @@ max(5 kpc, 2 --radius) of its black hole (PartType5, id 1), centred twice;
 the plane normal to the disc stars' angular momentum there. Azimuths start
 from the direction of the snapshot's x axis in that plane. Between two
 snapshots an observer turns by the disc's angular speed at the circle (the
-median v_phi / R of the disc stars within 0.5 kpc of it, the mean of the
-two snapshots') times the time between them.
+median v_phi of the disc stars within 0.5 kpc of it over its radius, the
+mean of the two snapshots') times the time between them.
 
 usage: scripts/solar_circle_light.py [--radius KPC] [--observers N] [--soften KPC]
                                      [--bar FRACTION] [--near KPC] SNAPSHOT.hdf5...
@@ -52,6 +52,7 @@ import h5py
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from sun_like_stars import cylindrical  # noqa: E402
 from sun_path import GYR_PER_UNIT, M31_BH_ID, MW_BH_ID, milky_way_frame, one, stars  # noqa: E402
 
 WHO = "solar_circle_light"
@@ -90,17 +91,15 @@ def read(path, radius):
         time = float(f["Header"].attrs["Time"])
     c, vc, n = milky_way_frame(path, x, v, m, disc, hole, max(5.0, 2.0 * radius), WHO)
     e1, e2 = in_plane_axes(n)
-    r = x - c
-    in_plane = r - np.outer(r @ n, n)
-    R = np.linalg.norm(in_plane, axis=1)
+    R, _, _, _, v_phi = cylindrical(x, v, c, vc, n)
     near = disc & (np.abs(R - radius) < 0.5)
     if not near.any():
         sys.exit(f"{WHO}: {path}: no disc stars within 0.5 kpc of the circle of radius {radius:g} kpc")
-    v_phi = np.einsum("ij,ij->i", np.cross(n, in_plane[near]), v[near] - vc) / R[near]
+    r = x - c
     own = disc & (np.linalg.norm(r, axis=1) <= max(5.0, 2.0 * radius))
-    phi = np.arctan2(in_plane[own] @ e2, in_plane[own] @ e1)
+    phi = np.arctan2(r[own] @ e2, r[own] @ e1)
     m2 = [two_arm_amplitude(m[own], R[own], phi, lo, hi) for lo, hi in M2_RINGS]
-    return time, x, m, (c, e1, e2), float(np.median(v_phi)) / radius, apart, m2
+    return time, x, m, (c, e1, e2), float(np.median(v_phi[near])) / radius, apart, m2
 
 
 def two_arm_amplitude(m, R, phi, lo, hi):
@@ -150,7 +149,7 @@ def main():
     largest = np.zeros(a.observers)
     squares = 0.0
     steps = 0
-    near = False  # Andromeda within --near: the summary ends there
+    approached = False  # Andromeda within --near: the summary ends there
     before = None
     for path in a.snapshots:
         time, x, m, frame, omega, apart, m2 = read(path, a.radius)
@@ -165,8 +164,8 @@ def main():
             change = np.abs(seen / seen0 - 1.0)
             line += (f"  |  {percent(np.sqrt(np.mean(change ** 2))):.1f}  {percent(change.max()):.1f}"
                      f"  {percent(np.mean(change > a.bar)):.1f}")
-            near = near or apart < a.near
-            if not near:
+            approached = approached or apart < a.near
+            if not approached:
                 largest = np.maximum(largest, change)
                 squares += np.sum(change ** 2)
                 steps += 1
