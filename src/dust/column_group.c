@@ -11,8 +11,9 @@
  * groups keeps those its own cone may meet: its candidates (a tree walk for
  * each group cost three times the picking, measured with bench_dust). Each
  * star then sums its share of each candidate (orr_dust_share,
- * column_walk.h), four candidates at a time with AVX2 (sum_terms4), one at
- * a time elsewhere: the same bits.
+ * column_walk.h): eight stars at once, a star a lane, with AVX-512
+ * (column_lanes.c), four candidates at a time with AVX2 (sum_terms4), one
+ * at a time elsewhere: the same bits.
  *
  * Why the result is each star's own walk's, bit for bit: a kernel adds
  * nonzero only if the star's segment passes through its support; the cone
@@ -29,6 +30,7 @@
 #include "core/radix.h"
 #include "core/simd.h"
 #include "dust/column.h"
+#include "dust/column_lanes.h"
 #include "dust/column_walk.h"
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(ORR_NO_CLONES)
@@ -191,6 +193,10 @@ static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
 
 /* ---- the candidates ---- */
 
+/* How the stars' terms are summed: one at a time, four candidates at a
+ * time (sum_terms4), or eight stars at a time (column_lanes.h). */
+typedef enum { TERMS_ONE, TERMS_FOUR_CANDIDATES, TERMS_EIGHT_STARS } terms_way;
+
 /* The kernels a group's cone may meet, as arrays (one per field) so that a
  * star's pass over them runs as vector loops. */
 typedef struct candidates {
@@ -199,7 +205,7 @@ typedef struct candidates {
     double *dist, *r;          /* |v|, and the support's radius 2h */
     double *near;              /* less than the distance from the eye to the support's nearest point */
     float *ih, *kih2;          /* the kernel's own 1/h and k/h^2 */
-    int four_wide;             /* terms four at a time (sum_terms4) */
+    terms_way way;             /* how a star's terms are summed */
 } candidates;
 
 static void candidates_free(candidates *c)
@@ -414,7 +420,7 @@ static double star_tau(const orr_dust_set *s, const candidates *c, const orr_dus
     double sum = 0;
     size_t j = 0;
 #ifdef HAVE_VECTOR_TERMS
-    if (c->four_wide)
+    if (c->way == TERMS_FOUR_CANDIDATES)
         sum = sum_terms4(s, c, g, &j);
 #endif
     for (; j < c->n; j++)
@@ -473,6 +479,34 @@ static int farthest_first(const void *pa, const void *pb)
     return (a->i > b->i) - (a->i < b->i);
 }
 
+/* tau_V of the stars k[0, n), farthest first, over their candidates c,
+ * eight stars at a time (each lane a star; the last lanes of a short eight
+ * repeat its last star), after each eight dropping the candidates beyond
+ * the next star. */
+static void star_lanes_group_tau(const orr_dust_set *s, const double eye[3], const float *x, const float *y,
+                                 const float *z, const star_key *k, size_t n, candidates *c, double *tau)
+{
+    for (size_t q = 0; q < n; q += ORR_DUST_STAR_LANES) {
+        orr_dust_star_lanes lanes;
+        for (size_t l = 0; l < ORR_DUST_STAR_LANES; l++) {
+            double p[3];
+            orr_dust_segment g = {.len = 0};
+            star_point(x, y, z, k[q + l < n ? q + l : n - 1].i, p);
+            orr_dust_star_segment(&g, eye, p); /* (always a segment: tau_many groups only such stars) */
+            for (int a = 0; a < 3; a++)
+                lanes.d[a][l] = g.d[a];
+            lanes.len[l] = g.len;
+        }
+        const orr_dust_candidate_view view = {c->n, c->vx, c->vy, c->vz, c->v2, c->ih, c->kih2};
+        double sums[ORR_DUST_STAR_LANES];
+        orr_dust_star_lanes_tau(s, &view, &lanes, sums);
+        for (size_t l = 0; l < ORR_DUST_STAR_LANES && q + l < n; l++)
+            tau[k[q + l].i] = sums[l];
+        if (q + ORR_DUST_STAR_LANES < n)
+            drop_beyond(c, k[q + ORR_DUST_STAR_LANES].len);
+    }
+}
+
 /* tau_V of the group k[0, n) over its candidates c (shared 0: memory ran
  * out, each star on its own walk: the same values), its stars farthest
  * first. */
@@ -480,6 +514,10 @@ static void group_tau(const orr_dust_set *s, const double eye[3], const float *x
                       star_key *k, size_t n, candidates *c, int shared, double *tau)
 {
     qsort(k, n, sizeof *k, farthest_first);
+    if (shared && c->way == TERMS_EIGHT_STARS) {
+        star_lanes_group_tau(s, eye, x, y, z, k, n, c, tau);
+        return;
+    }
     for (size_t q = 0; q < n; q++) {
         double p[3];
         star_point(x, y, z, k[q].i, p);
@@ -528,15 +566,17 @@ static void super_group_tau(const orr_dust_set *s, const double eye[3], const fl
     }
 }
 
-/* Whether this CPU computes terms four at a time when asked for the best. */
-static int four_wide_terms(orr_dust_terms terms)
+/* How this CPU sums the terms, asked for `terms`: the fastest way it has
+ * among those allowed. */
+static terms_way terms_way_for(orr_dust_terms terms)
 {
+    if (terms == ORR_DUST_TERMS_BEST && orr_dust_star_lanes_available())
+        return TERMS_EIGHT_STARS;
 #ifdef HAVE_VECTOR_TERMS
-    return terms == ORR_DUST_TERMS_BEST && __builtin_cpu_supports("avx2");
-#else
-    (void)terms;
-    return 0;
+    if (terms != ORR_DUST_TERMS_PLAIN && __builtin_cpu_supports("avx2"))
+        return TERMS_FOUR_CANDIDATES;
 #endif
+    return TERMS_ONE;
 }
 
 /* The wanted stars with a column, keyed by direction (tau of the others
@@ -622,7 +662,7 @@ orr_status orr_dust_tau_many_with(orr_dust_terms terms, const orr_dust_set *s, c
 #pragma omp parallel
     {
         walker w = {{0}, {0}};
-        w.group.four_wide = four_wide_terms(terms);
+        w.group.way = terms_way_for(terms);
 #pragma omp for schedule(dynamic, 1)
         for (long q = 0; q < (long)ns; q++)
             super_group_tau(s, eye, x, y, z, keys, starts, supers[q], supers[q + 1], &w, tau);

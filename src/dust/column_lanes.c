@@ -1,0 +1,156 @@
+/* Eight stars' optical depths at once, a star a lane (column_lanes.h).
+ *
+ * Every lane does orr_dust_meet's and orr_dust_met_column's IEEE
+ * operations (column_walk.h) in their order, as sum_terms4 in
+ * column_group.c does four candidates at a time, so a lane's sum is its
+ * star's own walk's bit for bit (tests/unit/test_dust.c compares them). */
+#include "dust/column_lanes.h"
+
+#include "core/simd.h"
+#include "dust/column_walk.h"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(ORR_NO_CLONES)
+#define HAVE_STAR_LANES 1
+#include <immintrin.h>
+#endif
+
+#ifdef HAVE_STAR_LANES
+#define LANES_TARGET __attribute__((target("avx512f,avx2")))
+
+/* Eight floats of a table at the indices i, as doubles' worth of floats:
+ * eight loads (AVX2's gather was measured slower for four, column_group.c). */
+LANES_TARGET static ORR_ALWAYS_INLINE __m256 load8(const float *table, __m256i i)
+{
+    return _mm256_i32gather_ps(table, i, 4);
+}
+
+/* r0 + f (r1 - r0) with r0 and r1 floats: their difference in single
+ * precision, the rest in double (as the scalar code). */
+LANES_TARGET static ORR_ALWAYS_INLINE __m512d lerp8(__m256 r0, __m256 r1, __m512d f)
+{
+    return _mm512_add_pd(_mm512_cvtps_pd(r0), _mm512_mul_pd(f, _mm512_cvtps_pd(_mm256_sub_ps(r1, r0))));
+}
+
+/* -x, by its sign bit (AVX-512F has no floating-point xor). */
+LANES_TARGET static ORR_ALWAYS_INLINE __m512d negate8(__m512d x)
+{
+    return _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(x), _mm512_set1_epi64((long long)1 << 63)));
+}
+
+/* orr_dust_half_column: I(beta, |sv|). */
+LANES_TARGET static ORR_ALWAYS_INLINE __m512d half_columns8(const float *pcol, __m512d beta, __m512d sv)
+{
+    const __m512d u = _mm512_mul_pd(beta, _mm512_set1_pd(ORR_DUST_PCOL_NB / ORR_DUST_SUPPORT));
+    __m512d v = _mm512_mul_pd(_mm512_abs_pd(sv), _mm512_set1_pd(ORR_DUST_PCOL_NS / ORR_DUST_SUPPORT));
+    v = _mm512_mask_mov_pd(v, _mm512_cmp_pd_mask(v, _mm512_set1_pd(ORR_DUST_PCOL_NS), _CMP_GE_OQ),
+                           _mm512_set1_pd(ORR_DUST_PCOL_NS - 1e-9));
+    const __m256i i = _mm256_min_epi32(_mm512_cvttpd_epi32(u), _mm256_set1_epi32(ORR_DUST_PCOL_NB - 1));
+    const __m256i j = _mm512_cvttpd_epi32(v);
+    const __m512d fu = _mm512_sub_pd(u, _mm512_cvtepi32_pd(i)), fv = _mm512_sub_pd(v, _mm512_cvtepi32_pd(j));
+    const int cols = ORR_DUST_PCOL_NS + 1;
+    const __m256i at = _mm256_add_epi32(_mm256_mullo_epi32(i, _mm256_set1_epi32(cols)), j);
+    const __m512d a = lerp8(load8(pcol, at), load8(pcol + 1, at), fv);
+    const __m512d b = lerp8(load8(pcol + cols, at), load8(pcol + cols + 1, at), fv);
+    return _mm512_add_pd(a, _mm512_mul_pd(fu, _mm512_sub_pd(b, a)));
+}
+
+/* orr_dust_pcol, given I(beta, 2). */
+LANES_TARGET static ORR_ALWAYS_INLINE __m512d pcols8(const float *pcol, __m512d beta, __m512d whole_half, __m512d sv)
+{
+    const __m512d h = half_columns8(pcol, beta, sv);
+    const __mmask8 negative = _mm512_cmp_pd_mask(sv, _mm512_setzero_pd(), _CMP_LT_OQ);
+    return _mm512_add_pd(whole_half, _mm512_mask_mov_pd(h, negative, negate8(h)));
+}
+
+/* orr_dust_met_column's partial branch. */
+LANES_TARGET static ORR_ALWAYS_INLINE __m512d partial_columns8(const float *pcol, __m512d u, __m512d s0,
+                                                               __m512d s1)
+{
+    const __m512d beta = _mm512_sqrt_pd(u);
+    const __m512d whole_half = half_columns8(pcol, beta, _mm512_set1_pd(ORR_DUST_SUPPORT));
+    return _mm512_sub_pd(pcols8(pcol, beta, whole_half, s1), pcols8(pcol, beta, whole_half, s0));
+}
+
+/* Candidate j's terms on the eight segments, added to sum: 0 (and nothing
+ * added) where a segment misses its support. */
+LANES_TARGET static ORR_ALWAYS_INLINE __m512d add_terms8(const orr_dust_set *s, const orr_dust_candidate_view *c,
+                                                         size_t j, const __m512d d[3], __m512d len, __m512d sum)
+{
+    const __m512d zero = _mm512_setzero_pd(), support = _mm512_set1_pd(ORR_DUST_SUPPORT);
+    const __m512d tc = _mm512_add_pd(_mm512_add_pd(_mm512_mul_pd(_mm512_set1_pd(c->vx[j]), d[0]),
+                                                   _mm512_mul_pd(_mm512_set1_pd(c->vy[j]), d[1])),
+                                     _mm512_mul_pd(_mm512_set1_pd(c->vz[j]), d[2]));
+    const __m512d b2 = _mm512_sub_pd(_mm512_set1_pd(c->v2[j]), _mm512_mul_pd(tc, tc));
+    const __m512d ih = _mm512_set1_pd((double)c->ih[j]);
+    const __m512d u =
+        _mm512_mul_pd(_mm512_mul_pd(_mm512_maskz_mov_pd(_mm512_cmp_pd_mask(b2, zero, _CMP_GT_OQ), b2), ih), ih);
+    const __m512d s0 = _mm512_mul_pd(negate8(tc), ih);
+    const __m512d s1 = _mm512_mul_pd(_mm512_sub_pd(len, tc), ih);
+    const __m512d end =
+        _mm512_mask_mov_pd(_mm512_maskz_mov_pd(_mm512_cmp_pd_mask(s0, zero, _CMP_GT_OQ), _mm512_mul_pd(s0, s0)),
+                           _mm512_cmp_pd_mask(s1, zero, _CMP_LT_OQ), _mm512_mul_pd(s1, s1));
+    const __mmask8 met =
+        _mm512_cmp_pd_mask(_mm512_add_pd(u, end), _mm512_mul_pd(support, support), _CMP_LT_OQ);
+    if (!met)
+        return sum; /* adding 0 to a sum >= 0 changes no bit */
+    const __m512d x = _mm512_maskz_mov_pd(
+        met, _mm512_mul_pd(u, _mm512_set1_pd(ORR_DUST_FCOL_NU / (ORR_DUST_SUPPORT * ORR_DUST_SUPPORT))));
+    const __m256i i = _mm512_cvttpd_epi32(x);
+    const __m512d f = _mm512_sub_pd(x, _mm512_cvtepi32_pd(i));
+    __m512d col = lerp8(load8(s->fcol, i), load8(s->fcol + 1, i), f);
+    const __mmask8 crossed = _mm512_cmp_pd_mask(s0, _mm512_sub_pd(zero, support), _CMP_LE_OQ) &
+                             _mm512_cmp_pd_mask(s1, support, _CMP_GE_OQ);
+    if (met & ~crossed)
+        col = _mm512_mask_mov_pd(partial_columns8(s->pcol, _mm512_maskz_mov_pd(met, u), s0, s1), crossed, col);
+    const __m512d term = _mm512_mul_pd(_mm512_set1_pd((double)c->kih2[j]), col);
+    return _mm512_mask_add_pd(sum, met, sum, term);
+}
+
+LANES_TARGET static void lanes_tau_avx512(const orr_dust_set *s, const orr_dust_candidate_view *c,
+                                          const orr_dust_star_lanes *g, double tau[ORR_DUST_STAR_LANES])
+{
+    const __m512d d[3] = {_mm512_loadu_pd(g->d[0]), _mm512_loadu_pd(g->d[1]), _mm512_loadu_pd(g->d[2])};
+    const __m512d len = _mm512_loadu_pd(g->len);
+    __m512d sum = _mm512_setzero_pd();
+    for (size_t j = 0; j < c->n; j++)
+        sum = add_terms8(s, c, j, d, len, sum);
+    _mm512_storeu_pd(tau, sum);
+}
+#endif
+
+int orr_dust_star_lanes_available(void)
+{
+#ifdef HAVE_STAR_LANES
+    return __builtin_cpu_supports("avx512f");
+#else
+    return 0;
+#endif
+}
+
+/* Lane l's sum one term at a time (CPUs without AVX-512): the same bits. */
+static double lane_tau_plain(const orr_dust_set *s, const orr_dust_candidate_view *c, const orr_dust_star_lanes *g,
+                             int l)
+{
+    const orr_dust_segment seg = {.d = {g->d[0][l], g->d[1][l], g->d[2][l]}, .len = g->len[l]};
+    double sum = 0;
+    for (size_t j = 0; j < c->n; j++) {
+        double u, s0, s1;
+        if (orr_dust_meet(&seg, c->vx[j], c->vy[j], c->vz[j], c->v2[j], c->ih[j], &u, &s0, &s1) <
+            ORR_DUST_SUPPORT * ORR_DUST_SUPPORT)
+            sum += c->kih2[j] * orr_dust_met_column(s, u, s0, s1);
+    }
+    return sum;
+}
+
+void orr_dust_star_lanes_tau(const orr_dust_set *s, const orr_dust_candidate_view *c, const orr_dust_star_lanes *g,
+                             double tau[ORR_DUST_STAR_LANES])
+{
+#ifdef HAVE_STAR_LANES
+    if (orr_dust_star_lanes_available()) {
+        lanes_tau_avx512(s, c, g, tau);
+        return;
+    }
+#endif
+    for (int l = 0; l < ORR_DUST_STAR_LANES; l++)
+        tau[l] = lane_tau_plain(s, c, g, l);
+}
