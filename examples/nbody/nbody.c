@@ -41,6 +41,7 @@
 #include "source/source.h"
 #include "core/atomic.h"
 #include "core/digest.h"
+#include "phase_mix.h"
 #include "qtree.h"
 #include "snapshot.h"
 #include "tracer_ring.h"
@@ -52,6 +53,9 @@
 /* A tracer is lighter than this fraction of the mean particle mass. */
 #define TRACER_MASS_FRACTION 1e-3
 #define TRACER_NEIGHBOURS_MAX 256
+/* The longest --phase-mix accepted: two time units, 14 of the Sun's
+ * epicycles; mixing longer changes nothing more. */
+#define PHASE_MIX_MAX 2.0
 
 
 typedef struct options {
@@ -60,6 +64,7 @@ typedef struct options {
     double separation;     /* model separation, kpc */
     int galaxies;          /* model: ORR_MODEL_PAIR, _MW or _M31 */
     double disc_q;         /* model: the discs' Toomre Q */
+    double phase_mix;      /* a new run's disc stars moved along their orbits for up to this long (phase_mix.h) */
     const char *scene;     /* rendered in-situ; NULL: no rendering */
     const char *sets[32];
     int nsets;
@@ -88,7 +93,7 @@ typedef struct options {
 
 static const char usage[] =
     "usage: orrery-nbody [--ic model|SNAPSHOT] [--particles N] [--separation KPC]\n"
-    "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
+    "                    [--galaxies pair|mw|m31] [--disc-q Q] [--phase-mix T]\n"
     "                    [--steps N] [--dt DT] [--eta ETA] [--dt-min DT] [--eps EPS]\n"
     "                    [--eps-halo EPS] [--theta THETA] [--tracer-neighbours K]\n"
     "                    [--tracer-ring K [--tracer-mirror]] [--tracer-start circular|given]\n"
@@ -107,6 +112,11 @@ static const char usage[] =
     "  --separation KPC   model separation (default 780)\n"
     "  --galaxies WHICH   model: both (pair, default), or the Milky Way (mw) or M31 alone\n"
     "  --disc-q Q         model: the discs' Toomre Q (default 1.5)\n"
+    "  --phase-mix T      before a new run, move every disc star along its orbit in its\n"
+    "                     galaxy's axisymmetric pull for a time from 0 to T drawn from\n"
+    "                     its id, so the disc starts in a steady state instead of\n"
+    "                     breathing (default 0: off; at most 2; the films: 0.5;\n"
+    "                     docs/nbody.md)\n"
     "  --steps N          leapfrog steps of --dt (default 100)\n"
     "  --dt DT            time step (default 0.001, about 1 Myr; with --eta the longest)\n"
     "  --eta ETA          block time steps: particle i takes the longest step dt / 2^k\n"
@@ -228,6 +238,12 @@ static int check_options(const options *o)
         bad = "--theta", snprintf(why, sizeof why, "%g: the opening angle must be above 0 and at most 1", o->theta);
     else if (!(o->disc_q > 0) || !isfinite(o->disc_q))
         bad = "--disc-q", snprintf(why, sizeof why, "%g: Toomre's Q must be above 0", o->disc_q);
+    else if (!(o->phase_mix >= 0 && o->phase_mix <= PHASE_MIX_MAX))
+        bad = "--phase-mix", snprintf(why, sizeof why, "%g: expected a time from 0 (off) to %g time units", o->phase_mix,
+                                      PHASE_MIX_MAX);
+    else if (o->phase_mix > 0 && o->resume_dir)
+        bad = "--phase-mix", snprintf(why, sizeof why, "mixes a new run's discs before its first step: not with "
+                                                       "--resume (the snapshot's discs are as the run left them)");
     else if (o->steps < 0)
         bad = "--steps", snprintf(why, sizeof why, "%ld: must be at least 0", o->steps);
     else if (o->render_every < 1)
@@ -309,6 +325,8 @@ static int parse_args(int argc, char **argv, options *o)
                 return 0;
         } else if (strcmp(a, "--disc-q") == 0) {
             o->disc_q = parse_number(v);
+        } else if (strcmp(a, "--phase-mix") == 0) {
+            o->phase_mix = parse_number(v);
         } else if (strcmp(a, "--eps-halo") == 0) {
             o->eps_halo = parse_number(v);
             o->eps_halo_given = 1;
@@ -1005,6 +1023,143 @@ static int start_tracers(bodies *b, const options *o, int rank, int size)
     }
     free(tracers);
     free(holes);
+    return ok;
+}
+
+/* ---- discs phase-mixed before the run (--phase-mix, phase_mix.h) ------ */
+
+/* The stars within this distance of a black hole give its galaxy's centre,
+ * axis and velocity (ring_frame). */
+#define PHASE_MIX_FRAME_RADIUS 20.0
+
+/* A galaxy's frame: its centre, in-plane axes e[0], e[1], axis e[2], and
+ * its stars' mean velocity. */
+typedef struct galaxy_frame {
+    double c[3], e[3][3], v[3];
+    int found;
+} galaxy_frame;
+
+static int find_galaxy_frame(const bodies *b, const double hole[3], int rank, int size, galaxy_frame *g)
+{
+    double a_host[3], *n = g->e[2];
+    if (!ring_frame(b, hole, PHASE_MIX_FRAME_RADIUS, rank, size, g->c, n, a_host, g->v, &g->found))
+        return 0;
+    if (g->found) { /* any two unit vectors perpendicular to the axis and each other */
+        const double t[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+        double *e0 = g->e[0], *e1 = g->e[1];
+        e0[0] = t[1] * n[2] - t[2] * n[1], e0[1] = t[2] * n[0] - t[0] * n[2], e0[2] = t[0] * n[1] - t[1] * n[0];
+        const double len = sqrt(e0[0] * e0[0] + e0[1] * e0[1] + e0[2] * e0[2]);
+        for (int k = 0; k < 3; k++)
+            e0[k] /= len;
+        e1[0] = n[1] * e0[2] - n[2] * e0[1], e1[1] = n[2] * e0[0] - n[0] * e0[2], e1[2] = n[0] * e0[1] - n[1] * e0[0];
+    }
+    return 1;
+}
+
+/* x - origin in the frame's axes. */
+static void into_frame(const galaxy_frame *g, const double *x, const double origin[3], double out[3])
+{
+    for (int a = 0; a < 3; a++)
+        out[a] = g->e[a][0] * (x[0] - origin[0]) + g->e[a][1] * (x[1] - origin[1]) + g->e[a][2] * (x[2] - origin[2]);
+}
+
+static void out_of_frame(const galaxy_frame *g, const double in[3], const double origin[3], double *x)
+{
+    for (int k = 0; k < 3; k++)
+        x[k] = origin[k] + in[0] * g->e[0][k] + in[1] * g->e[1][k] + in[2] * g->e[2][k];
+}
+
+/* Which galaxy particle i belongs to: the nearest black hole's. */
+static size_t galaxy_of(const bodies *b, size_t i, const double *holes, size_t nh)
+{
+    return (size_t)(nearest_hole(holes, nh, &b->pos[3 * i]) - holes) / 3;
+}
+
+/* Every massive particle of every galaxy as rings about its axis, summed
+ * over the processes. */
+static int galaxy_rings(const bodies *b, const galaxy_frame *g, const double *holes, size_t nh, int rank, int size,
+                        pm_rings *rings)
+{
+    const double *eps = b->eps_all + (b->decomposed ? 0 : b->first);
+    for (size_t i = 0; i < b->n; i++) {
+        const size_t k = galaxy_of(b, i, holes, nh);
+        if (b->mass[i] < b->tracer_mass || !g[k].found)
+            continue;
+        double y[3];
+        into_frame(&g[k], &b->pos[3 * i], g[k].c, y);
+        pm_rings_add(&rings[k], sqrt(y[0] * y[0] + y[1] * y[1]), y[2], b->mass[i], eps[i]);
+    }
+    for (size_t k = 0; k < nh; k++)
+        if (!reduce_over_ranks(rings[k].sum, PM_BINS_U * PM_BINS_V * PM_BIN_SUMS, rank, size, 0))
+            return 0;
+    return 1;
+}
+
+/* This process's disc stars, each along its orbit in its galaxy's field
+ * for its own time (pm_mix_time). Returns how many moved. */
+static double mix_own_discs(bodies *b, const galaxy_frame *g, const pm_field *fields, const double *holes, size_t nh,
+                            double T)
+{
+    double moved = 0;
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : moved)
+    for (long li = 0; li < (long)b->n; li++) {
+        const size_t i = (size_t)li, k = galaxy_of(b, i, holes, nh);
+        if (b->type[i] != ORR_MODEL_TYPE_DISC || b->mass[i] < b->tracer_mass || !g[k].found)
+            continue;
+        double x[3], v[3];
+        into_frame(&g[k], &b->pos[3 * i], g[k].c, x);
+        into_frame(&g[k], &b->vel[3 * i], g[k].v, v);
+        pm_follow(&fields[k], x, v, pm_mix_time(b->id[i], T));
+        out_of_frame(&g[k], x, g[k].c, &b->pos[3 * i]);
+        out_of_frame(&g[k], v, g[k].v, &b->vel[3 * i]);
+        moved += 1;
+    }
+    return moved;
+}
+
+/* --phase-mix T: every galaxy's disc stars moved along their orbits in its
+ * axisymmetric pull (phase_mix.h), then every process's positions shared.
+ * Says why when it fails. */
+static int phase_mix_discs(bodies *b, const options *o, int rank, int size)
+{
+    double *tracers, *holes;
+    size_t nt, nh;
+    if (!(o->phase_mix > 0))
+        return 1;
+    if (!ring_lists(b, rank, size, &tracers, &nt, &holes, &nh)) {
+        fprintf(stderr, "orrery-nbody: --phase-mix: out of memory or MPI failed\n");
+        return 0;
+    }
+    free(tracers);
+    if (!nh) {
+        if (rank == 0)
+            fprintf(stderr, "orrery-nbody: --phase-mix %g: %s has no black hole (type %d particle) to centre a "
+                            "galaxy on\n", o->phase_mix, o->ic, ORR_MODEL_TYPE_BH);
+        free(holes);
+        return 0;
+    }
+    galaxy_frame *g = calloc(nh ? nh : 1, sizeof *g);
+    pm_rings *rings = calloc(nh ? nh : 1, sizeof *rings);
+    pm_field *fields = malloc((nh ? nh : 1) * sizeof *fields);
+    int ok = !ranks_any(!g || !rings || !fields);
+    for (size_t k = 0; ok && k < nh; k++)
+        ok = find_galaxy_frame(b, &holes[3 * k], rank, size, &g[k]);
+    ok = ok && galaxy_rings(b, g, holes, nh, rank, size, rings);
+    for (size_t k = 0; ok && k < nh; k++)
+        if (g[k].found)
+            pm_field_build(&fields[k], &rings[k], G_KPC_KMS, o->eps);
+    double moved = ok ? mix_own_discs(b, g, fields, holes, nh, o->phase_mix) : 0;
+    ok = ok && reduce_over_ranks(&moved, 1, rank, size, 0) &&
+         (b->decomposed || ranks_gather(b->pos_all, 3, b->counts) == 0);
+    if (!ok)
+        fprintf(stderr, "orrery-nbody: --phase-mix: out of memory or MPI failed\n");
+    if (ok && !o->quiet)
+        printf("phase mixing: %.0f disc stars moved along their orbits in their galaxy's axisymmetric pull for up to "
+               "%g (%.3g Gyr) each\n", moved, o->phase_mix, 0.978 * o->phase_mix);
+    free(holes);
+    free(g);
+    free(rings);
+    free(fields);
     return ok;
 }
 
@@ -2064,6 +2219,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "orrery-nbody: out of memory for the block time steps\n");
         code = 1;
     }
+    if (!code && !o.resume_dir && !phase_mix_discs(&b, &o, rank, size))
+        code = 1;
     if (!code && !o.resume_dir && !to_centre_of_mass_frame(&b, o.quiet))
         code = 1;
     u.t_gravity = code ? 0 : gravity(&tree, &b, &o, NULL, &interactions, rank, size);
