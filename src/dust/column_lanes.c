@@ -127,7 +127,7 @@ int orr_dust_star_lanes_available(void)
 #endif
 }
 
-/* Lane l's sum one term at a time (CPUs without AVX-512): the same bits. */
+/* Lane l's sum one term at a time: the same bits. */
 static double lane_tau_plain(const orr_dust_set *s, const orr_dust_candidate_view *c, const orr_dust_star_lanes *g,
                              int l)
 {
@@ -142,6 +142,13 @@ static double lane_tau_plain(const orr_dust_set *s, const orr_dust_candidate_vie
     return sum;
 }
 
+void orr_dust_star_lanes_tau_plain(const orr_dust_set *s, const orr_dust_candidate_view *c,
+                                   const orr_dust_star_lanes *g, double tau[ORR_DUST_STAR_LANES])
+{
+    for (int l = 0; l < ORR_DUST_STAR_LANES; l++)
+        tau[l] = lane_tau_plain(s, c, g, l);
+}
+
 void orr_dust_star_lanes_tau(const orr_dust_set *s, const orr_dust_candidate_view *c, const orr_dust_star_lanes *g,
                              double tau[ORR_DUST_STAR_LANES])
 {
@@ -151,6 +158,5 @@ void orr_dust_star_lanes_tau(const orr_dust_set *s, const orr_dust_candidate_vie
         return;
     }
 #endif
-    for (int l = 0; l < ORR_DUST_STAR_LANES; l++)
-        tau[l] = lane_tau_plain(s, c, g, l);
+    orr_dust_star_lanes_tau_plain(s, c, g, tau);
 }

@@ -44,4 +44,9 @@ int orr_dust_star_lanes_available(void);
 void orr_dust_star_lanes_tau(const orr_dust_set *s, const orr_dust_candidate_view *c, const orr_dust_star_lanes *g,
                              double tau[ORR_DUST_STAR_LANES]);
 
+/* The same one lane and one term at a time, what it does on CPUs without
+ * AVX-512 (and what the tests compare it with). */
+void orr_dust_star_lanes_tau_plain(const orr_dust_set *s, const orr_dust_candidate_view *c,
+                                   const orr_dust_star_lanes *g, double tau[ORR_DUST_STAR_LANES]);
+
 #endif

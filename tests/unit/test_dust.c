@@ -15,6 +15,8 @@
 
 #include "check.h"
 #include "dust/column.h"
+#include "dust/column_lanes.h"
+#include "dust/column_walk.h"
 #include "dust/dust.h"
 #include "dust/curve.h"
 #include "dust/redden.h"
@@ -198,6 +200,49 @@ static void check_tau_many(const orr_dust_set *s, const double eye[3], size_t n,
     free(want);
 }
 
+/* Eight stars at a time (dust/column_lanes.h), with every kernel of the
+ * set as the candidates in the set's order: each lane is its star's own
+ * walk bit for bit, with AVX-512 where the CPU has it, and one lane and
+ * one term at a time as CPUs without it take them. */
+static void check_star_lanes(const orr_dust_set *s, const double eye[3], size_t n, const float *x, const float *y,
+                             const float *z, const double *single)
+{
+    double *vx = malloc(s->n * sizeof *vx), *vy = malloc(s->n * sizeof *vy), *vz = malloc(s->n * sizeof *vz),
+           *v2 = malloc(s->n * sizeof *v2);
+    for (size_t j = 0; j < s->n; j++) {
+        vx[j] = s->x[j] - eye[0];
+        vy[j] = s->y[j] - eye[1];
+        vz[j] = s->z[j] - eye[2];
+        v2[j] = vx[j] * vx[j] + vy[j] * vy[j] + vz[j] * vz[j];
+    }
+    const orr_dust_candidate_view all = {s->n, vx, vy, vz, v2, s->ih, s->kih2};
+    size_t differ = 0, checked = 0;
+    for (size_t q = 0; q + ORR_DUST_STAR_LANES <= n && q < 512; q += ORR_DUST_STAR_LANES) {
+        orr_dust_star_lanes lanes;
+        for (int l = 0; l < ORR_DUST_STAR_LANES; l++) {
+            const double p[3] = {x[q + l], y[q + l], z[q + l]};
+            orr_dust_segment g = {.len = 0};
+            CHECK(orr_dust_star_segment(&g, eye, p));
+            for (int a = 0; a < 3; a++)
+                lanes.d[a][l] = g.d[a];
+            lanes.len[l] = g.len;
+        }
+        double tau[ORR_DUST_STAR_LANES], plain[ORR_DUST_STAR_LANES];
+        orr_dust_star_lanes_tau(s, &all, &lanes, tau);
+        orr_dust_star_lanes_tau_plain(s, &all, &lanes, plain);
+        for (int l = 0; l < ORR_DUST_STAR_LANES; l++, checked++)
+            differ += (memcmp(&tau[l], &single[q + l], sizeof tau[l]) != 0) +
+                      (memcmp(&plain[l], &single[q + l], sizeof plain[l]) != 0);
+    }
+    fprintf(stderr, "  eight stars at a time (%s, and one term at a time): %zu of %zu stars differ from their own "
+            "walk\n", orr_dust_star_lanes_available() ? "AVX-512" : "without AVX-512", differ, 2 * checked);
+    CHECK(checked == 512 && differ == 0);
+    free(vx);
+    free(vy);
+    free(vz);
+    free(v2);
+}
+
 /* Random kernels in a box, the eye inside one of them, stars anywhere
  * (many inside kernels): the tree against the brute force. */
 static void test_tau_random(void)
@@ -251,6 +296,7 @@ static void test_tau_random(void)
     CHECK(within_001 >= 0.99 * nstars);
     CHECK(worst < 0.05);
     check_tau_many(&s, eye, nstars, px, py, pz, NULL, single);
+    check_star_lanes(&s, eye, nstars, px, py, pz, single);
     /* a ray to infinity: the limit of ever farther stars */
     const double dir[3] = {0.3, -0.5, 0.8}, far[3] = {eye[0] + 30, eye[1] - 50, eye[2] + 80};
     CHECK_NEAR(orr_dust_tau_ray(&s, eye, dir), orr_dust_tau_exact(&s, eye, far), 1e-3);
