@@ -8,7 +8,7 @@
  * started on a circular orbit is then forced at resonance: its radial
  * swing grows steadily (0.5 kpc in 0.6 Gyr in the hot disc, Q = 3). The
  * same disc relaxed by the N-body code for 0.6 Gyr forces it five times
- * less (docs/nbody.md, "What drives the Sun's epicycle").
+ * less (docs/nbody.md, "What pumps the Sun's epicycle").
  *
  * So each disc star is first moved along its own orbit in its galaxy's
  * axisymmetric, Plummer-softened pull (as the tree softens it) for a time
@@ -21,7 +21,9 @@
  * (a lattice in u = R / (R + S_R), v = z / (|z| + S_Z), fine near the
  * centre and the plane, reaching to infinity), each bin's ring acting by
  * the exact field of a softened ring (complete elliptic integrals), on a
- * lattice of probe points in (R, |z|) read by bilinear interpolation. */
+ * lattice of probe points in (R, |z|) read by bilinear interpolation
+ * (beyond the probes, R > 40 kpc or |z| > 4 kpc, the pull at their edge:
+ * the model's discs hardly reach there). */
 #ifndef NBODY_PHASE_MIX_H
 #define NBODY_PHASE_MIX_H
 
