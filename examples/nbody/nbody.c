@@ -1138,9 +1138,9 @@ static int phase_mix_discs(bodies *b, const options *o, int rank, int size)
         free(holes);
         return 0;
     }
-    galaxy_frame *g = calloc(nh ? nh : 1, sizeof *g);
-    pm_rings *rings = calloc(nh ? nh : 1, sizeof *rings);
-    pm_field *fields = malloc((nh ? nh : 1) * sizeof *fields);
+    galaxy_frame *g = calloc(nh, sizeof *g);
+    pm_rings *rings = calloc(nh, sizeof *rings);
+    pm_field *fields = malloc(nh * sizeof *fields);
     int ok = !ranks_any(!g || !rings || !fields);
     for (size_t k = 0; ok && k < nh; k++)
         ok = find_galaxy_frame(b, &holes[3 * k], rank, size, &g[k]);
