@@ -31,10 +31,12 @@ LANES_TARGET static ORR_ALWAYS_INLINE __m512d lerp8(__m256 r0, __m256 r1, __m512
     return _mm512_add_pd(_mm512_cvtps_pd(r0), _mm512_mul_pd(f, _mm512_cvtps_pd(_mm256_sub_ps(r1, r0))));
 }
 
-/* -x, by its sign bit (AVX-512F has no floating-point xor). */
+/* -x, by its sign bit, the bits of -0.0 (AVX-512F has no floating-point
+ * xor). */
 LANES_TARGET static ORR_ALWAYS_INLINE __m512d negate8(__m512d x)
 {
-    return _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(x), _mm512_set1_epi64((long long)1 << 63)));
+    return _mm512_castsi512_pd(
+        _mm512_xor_si512(_mm512_castpd_si512(x), _mm512_castpd_si512(_mm512_set1_pd(-0.0))));
 }
 
 /* orr_dust_half_column: I(beta, |sv|). */
