@@ -1046,12 +1046,12 @@ static int find_galaxy_frame(const bodies *b, const double hole[3], int rank, in
         return 0;
     if (g->found) { /* any two unit vectors perpendicular to the axis and each other */
         const double t[3] = {fabs(n[0]) < 0.9 ? 1.0 : 0.0, fabs(n[0]) < 0.9 ? 0.0 : 1.0, 0.0};
-        double *e0 = g->e[0], *e1 = g->e[1];
-        e0[0] = t[1] * n[2] - t[2] * n[1], e0[1] = t[2] * n[0] - t[0] * n[2], e0[2] = t[0] * n[1] - t[1] * n[0];
+        double *e0 = g->e[0];
+        ring_cross(t, n, e0);
         const double len = sqrt(e0[0] * e0[0] + e0[1] * e0[1] + e0[2] * e0[2]);
         for (int k = 0; k < 3; k++)
             e0[k] /= len;
-        e1[0] = n[1] * e0[2] - n[2] * e0[1], e1[1] = n[2] * e0[0] - n[0] * e0[2], e1[2] = n[0] * e0[1] - n[1] * e0[0];
+        ring_cross(n, e0, g->e[1]);
     }
     return 1;
 }

@@ -15,7 +15,7 @@ double ring_distance2(const double a[3], const double b[3])
     return (a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) + (a[2] - b[2]) * (a[2] - b[2]);
 }
 
-static void cross(const double a[3], const double b[3], double out[3])
+void ring_cross(const double a[3], const double b[3], double out[3])
 {
     out[0] = a[1] * b[2] - a[2] * b[1];
     out[1] = a[2] * b[0] - a[0] * b[2];
@@ -119,7 +119,7 @@ int ring_host(const double s[RING_SUMS], double c[3], double a[3])
 static void turn(const double n[3], double co, double si, const double v[3], double out[3])
 {
     double nxv[3], along = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
-    cross(n, v, nxv);
+    ring_cross(n, v, nxv);
     for (int k = 0; k < 3; k++)
         out[k] = v[k] * co + nxv[k] * si + n[k] * along * (1.0 - co);
 }
@@ -232,7 +232,7 @@ int ring_circular_velocity(const double c[3], const double n[3], const double a_
     double R = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
     if (!(R > 0))
         return 0;
-    cross(n, p, t);
+    ring_cross(n, p, t);
     double inward = 0, turning = 0;
     for (int k = 0; k < 3; k++) {
         t[k] /= R;

@@ -39,6 +39,9 @@
 /* The squared distance between points a and b. */
 double ring_distance2(const double a[3], const double b[3]);
 
+/* out = a x b. */
+void ring_cross(const double a[3], const double b[3], double out[3]);
+
 /* Sums over the stars (types 2 and 3) of pos/acc/mass not lighter than
  * light within radius of centre: s[0] mass, s[1..3] m x, s[4..6] m a.
  * Added to s. */

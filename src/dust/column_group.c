@@ -287,18 +287,6 @@ static int gather(const orr_dust_set *s, const cone *cn, candidates *c)
     return 1;
 }
 
-/* Candidate j's term of star g's column: its share, as orr_dust_share
- * makes it; 0 where the segment misses its support. */
-static inline double candidate_term(const orr_dust_set *s, const candidates *c, size_t j,
-                                    const orr_dust_segment *g)
-{
-    double u, s0, s1;
-    if (orr_dust_meet(g, c->vx[j], c->vy[j], c->vz[j], c->v2[j], c->ih[j], &u, &s0, &s1) >=
-        ORR_DUST_SUPPORT * ORR_DUST_SUPPORT)
-        return 0;
-    return c->kih2[j] * orr_dust_met_column(s, u, s0, s1);
-}
-
 #ifdef HAVE_VECTOR_TERMS
 /* Four floats of a table at the indices i (four loads: AVX2's gather was
  * measured slower here). */
@@ -424,7 +412,7 @@ static double star_tau(const orr_dust_set *s, const candidates *c, const orr_dus
         sum = sum_terms4(s, c, g, &j);
 #endif
     for (; j < c->n; j++)
-        sum += candidate_term(s, c, j, g);
+        sum += orr_dust_term(s, g, c->vx[j], c->vy[j], c->vz[j], c->v2[j], c->ih[j], c->kih2[j]);
     return sum;
 }
 

@@ -135,12 +135,8 @@ static double lane_tau_plain(const orr_dust_set *s, const orr_dust_candidate_vie
 {
     const orr_dust_segment seg = {.d = {g->d[0][l], g->d[1][l], g->d[2][l]}, .len = g->len[l]};
     double sum = 0;
-    for (size_t j = 0; j < c->n; j++) {
-        double u, s0, s1;
-        if (orr_dust_meet(&seg, c->vx[j], c->vy[j], c->vz[j], c->v2[j], c->ih[j], &u, &s0, &s1) <
-            ORR_DUST_SUPPORT * ORR_DUST_SUPPORT)
-            sum += c->kih2[j] * orr_dust_met_column(s, u, s0, s1);
-    }
+    for (size_t j = 0; j < c->n; j++)
+        sum += orr_dust_term(s, &seg, c->vx[j], c->vy[j], c->vz[j], c->v2[j], c->ih[j], c->kih2[j]);
     return sum;
 }
 

@@ -102,17 +102,25 @@ static inline double orr_dust_met_column(const orr_dust_set *s, double u, double
     return orr_dust_pcol(s, beta, s1) - orr_dust_pcol(s, beta, s0);
 }
 
+/* The segment's optical depth through a kernel with 1/h = ih and
+ * k/h^2 = kih2 whose centre is v = (vx, vy, vz) from the segment's origin
+ * (v2 = |v|^2): 0 where the segment misses its support. */
+static inline double orr_dust_term(const orr_dust_set *s, const orr_dust_segment *g, double vx, double vy, double vz,
+                                   double v2, double ih, double kih2)
+{
+    double u, s0, s1;
+    if (orr_dust_meet(g, vx, vy, vz, v2, ih, &u, &s0, &s1) >= ORR_DUST_SUPPORT * ORR_DUST_SUPPORT)
+        return 0;
+    return kih2 * orr_dust_met_column(s, u, s0, s1);
+}
+
 /* The share of the segment's optical depth of a kernel at (x, y, z) with
  * 1/h = ih and k/h^2 = kih2. */
 static inline double orr_dust_share(const orr_dust_set *s, const orr_dust_segment *g, double x, double y, double z,
                                     double ih, double kih2)
 {
     const double vx = x - g->o[0], vy = y - g->o[1], vz = z - g->o[2];
-    double u, s0, s1;
-    if (orr_dust_meet(g, vx, vy, vz, vx * vx + vy * vy + vz * vz, ih, &u, &s0, &s1) >=
-        ORR_DUST_SUPPORT * ORR_DUST_SUPPORT)
-        return 0;
-    return kih2 * orr_dust_met_column(s, u, s0, s1);
+    return orr_dust_term(s, g, vx, vy, vz, vx * vx + vy * vy + vz * vz, ih, kih2);
 }
 
 #endif
