@@ -4,6 +4,21 @@
 
 #include <stdlib.h>
 
+/* The largest power of two not above n (n >= 1). The threads share a
+ * chunk's lanes out whole, so three lanes on two threads leave one thread
+ * two of them: the chunk takes two thirds of its one-thread time, where two
+ * lanes take a half (and one copy of the planes fewer is zeroed and
+ * merged). The README's main job's 4096 x 2048 panorama took three lanes
+ * before: on two threads its frame is 13 % faster on two
+ * (docs/performance.md, "Lanes in powers of two"). */
+static int power_of_two_at_most(int n)
+{
+    int p = 1;
+    while (p * 2 <= n)
+        p *= 2;
+    return p;
+}
+
 int orr_lanes_for(int width, int height, int nplanes, int shares_per_particle, int64_t count)
 {
     size_t npix = (size_t)width * (size_t)height;
@@ -31,7 +46,7 @@ int orr_lanes_for(int width, int height, int nplanes, int shares_per_particle, i
         if (by_count < lanes)
             lanes = by_count > 1 ? (int)by_count : 1;
     }
-    return lanes;
+    return power_of_two_at_most(lanes);
 }
 
 orr_status orr_lanes_alloc(orr_lanes *l, int nlanes, int nplanes, int width, int height, orr_error *err)

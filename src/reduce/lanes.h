@@ -58,9 +58,10 @@ typedef struct orr_lanes {
  * splats in: as many as ORR_MAX_LANES allows within ORR_LANE_BUDGET bytes
  * of extra planes, and for point deposits (shares_per_particle: NGP 1, CIC
  * ORR_MAX_SHARES_PER_POINT; 0 for kernels) no more than one for every
- * ORR_LANE_SHARES_PER_PIXEL shares a pixel; a function of the image and the
- * input (count: the source's particles, -1 when unknown), never of the
- * threads. */
+ * ORR_LANE_SHARES_PER_PIXEL shares a pixel, rounded down to a power of two
+ * (1, 2 or 4, which two or four threads share out evenly); a function of
+ * the image and the input (count: the source's particles, -1 when
+ * unknown), never of the threads. */
 int orr_lanes_for(int width, int height, int nplanes, int shares_per_particle, int64_t count);
 
 /* Whether a view of npix pixels whose deposit could go either way (a point
