@@ -6,8 +6,8 @@
 # largest |dE/E0| 9.9e-4 against 5.1e-3, 3.9e5 forces against 5.0e5); a run
 # in block steps resumes bit for bit, owing it to each particle's step kept
 # in the snapshot, also on two MPI ranks; --dt-min bounds the steps from
-# below and is kept too; bad --eta and --dt-min values are errors naming
-# them.
+# below and is kept too, and tracers take it; bad --eta and --dt-min
+# values are errors naming them.
 source "$(dirname "$0")/lib.sh"
 [ -x "$NBODY" ] || { fail "no $NBODY"; finish; }
 export OMP_NUM_THREADS=${OMP_NUM_THREADS:-2}
@@ -73,6 +73,29 @@ f = h5py.File("dtmin/snapshot_0002.hdf5", "r")
 levels = np.concatenate([f[g]["OrreryNbodyStepLevel"][:] for g in f if g.startswith("PartType") and len(f[g]["ParticleIDs"])])
 print("levels with --dt-min", np.bincount(levels), "DtMin", f["OrreryNbody"].attrs["DtMin"])
 raise SystemExit(not (levels.max() == 1 and f["OrreryNbody"].attrs["DtMin"] == 0.002))
+PY
+
+# A tracer (the model's Sun, id 3) takes the shortest step --dt-min allows,
+# whatever the criterion wants of it: with steps of up to 0.008 and at
+# least 0.002, level 2, where its own softening, the local spacing, would
+# give it a longer one (docs/nbody.md, "Tracers on the shortest step").
+# Without --dt-min it follows the criterion as any particle.
+for run in "tracer --dt-min 0.002" "tracerfree"; do
+  set -- $run
+  "$NBODY" $mw --steps 2 --dt 0.008 --eta 0.2 --tracer-ring 8 "${@:2}" --snapshot-every 1 --snapshot-dir "$1" >"$1.log" 2>&1 ||
+    fail "$1: $(tail -3 "$1.log")"
+done
+"$py" - <<'PY' || fail "the tracer's step"
+import h5py, numpy as np
+def sun_level(path):
+    f = h5py.File(path, "r")
+    ids, levels = f["PartType4/ParticleIDs"][:], f["PartType4/OrreryNbodyStepLevel"][:]
+    others = np.concatenate([f[g]["OrreryNbodyStepLevel"][:] for g in f if g.startswith("PartType") and g != "PartType4" and len(f[g]["ParticleIDs"])])
+    return int(levels[ids == 3][0]), np.bincount(others, minlength=3)
+pinned, others = sun_level("tracer/snapshot_0001.hdf5")
+free, _ = sun_level("tracerfree/snapshot_0001.hdf5")
+print("the Sun's level with --dt-min", pinned, "without", free, "the others'", others)
+raise SystemExit(not (pinned == 2 and free < 2 and others[:2].sum() > 0))
 PY
 
 # A level no run writes (steps are dt / 2^k, k <= 10): an error naming it.
