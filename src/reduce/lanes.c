@@ -9,7 +9,7 @@
  * two of them: the chunk takes two thirds of its one-thread time, where two
  * lanes take a half (and one copy of the planes fewer is zeroed and
  * merged). The README's main job's 4096 x 2048 panorama took three lanes
- * before: on two threads its frame is 13 % faster on two
+ * before: on two threads its frame is 4-13 % faster on two
  * (docs/performance.md, "Lanes in powers of two"). */
 static int power_of_two_at_most(int n)
 {
