@@ -39,4 +39,11 @@ typedef struct bodies {
                        mass_all NULL, first 0, eps_all this process's own */
 } bodies;
 
+/* Whether this process's particle i is a tracer: lighter than
+ * tracer_mass (the model's Sun), with no gravity of its own that matters. */
+static inline int bodies_is_tracer(const bodies *b, size_t i)
+{
+    return b->mass[i] < b->tracer_mass;
+}
+
 #endif

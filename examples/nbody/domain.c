@@ -253,7 +253,7 @@ static int settle(bodies *b, double eps, double eps_halo)
     b->ntracers = 0;
     for (size_t i = 0; i < b->n; i++) {
         b->eps_all[i] = b->type[i] == ORR_MODEL_TYPE_HALO ? eps_halo : eps;
-        if (b->mass[i] < b->tracer_mass)
+        if (bodies_is_tracer(b, i))
             b->tracers[b->ntracers++] = i;
     }
     return 0;

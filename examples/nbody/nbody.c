@@ -1084,7 +1084,7 @@ static int galaxy_rings(const bodies *b, const galaxy_frame *g, const double *ho
     const double *eps = b->eps_all + (b->decomposed ? 0 : b->first);
     for (size_t i = 0; i < b->n; i++) {
         const size_t k = galaxy_of(b, i, holes, nh);
-        if (b->mass[i] < b->tracer_mass || !g[k].found)
+        if (bodies_is_tracer(b, i) || !g[k].found)
             continue;
         double y[3];
         into_frame(&g[k], &b->pos[3 * i], g[k].c, y);
@@ -1105,7 +1105,7 @@ static double mix_own_discs(bodies *b, const galaxy_frame *g, const pm_field *fi
 #pragma omp parallel for schedule(dynamic, 256) reduction(+ : moved)
     for (long li = 0; li < (long)b->n; li++) {
         const size_t i = (size_t)li, k = galaxy_of(b, i, holes, nh);
-        if (b->type[i] != ORR_MODEL_TYPE_DISC || b->mass[i] < b->tracer_mass || !g[k].found)
+        if (b->type[i] != ORR_MODEL_TYPE_DISC || bodies_is_tracer(b, i) || !g[k].found)
             continue;
         double x[3], v[3];
         into_frame(&g[k], &b->pos[3 * i], g[k].c, x);
@@ -1563,7 +1563,7 @@ static long next_ticks(double want, double dt, long T, long last, long least)
  * gravity of its own. */
 static double step_wanted(const bodies *b, size_t i, const options *o)
 {
-    if (o->dt_min > 0 && b->mass[i] < b->tracer_mass)
+    if (o->dt_min > 0 && bodies_is_tracer(b, i))
         return 0;
     return wanted_step(b, i, o->eta);
 }
