@@ -29,6 +29,19 @@ need_mpi() {
   export ASAN_OPTIONS="${ASAN_OPTIONS:-}:detect_leaks=0"
 }
 
+# rank_pid PATTERN RANK: the process id of MPI rank RANK of a run started
+# from this test's own folder whose command line matches PATTERN (pgrep -f),
+# or nothing. The folder tells this test's run from another test's running
+# the same command at the same time (ctest runs tests in parallel): picking
+# by the command alone once killed the other test's rank.
+rank_pid() {
+  local p
+  for p in $(pgrep -f "$1"); do
+    [ "$(readlink "/proc/$p/cwd" 2>/dev/null)" = "$(pwd -P)" ] || continue
+    tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx "OMPI_COMM_WORLD_RANK=$2" && echo "$p"
+  done
+}
+
 # expect_fail CODE PATTERN OUTDIR -- orrery args...
 # Runs orrery, expects exit CODE, a stderr line matching PATTERN (grep -E),
 # and no file at all in OUTDIR afterwards (no output, no temporary file).

@@ -93,10 +93,7 @@ timeout 120 mpirun -np 2 "$MPI_NBODY" --galaxies mw --particles 3000 --dt 0.001 
   --snapshot-dir killed --decompose --quiet >killed.log 2>&1 &
 job=$!
 for _ in $(seq 600); do [ -e killed/snapshot_0003.1.hdf5 ] && break; sleep 0.1; done
-victim=""
-for p in $(pgrep -f "orrery-nbody-mpi --galaxies mw --particles 3000 --dt 0.001 --steps 100000"); do
-  tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 && victim=$p
-done
+victim=$(rank_pid "orrery-nbody-mpi --galaxies mw --particles 3000 --dt 0.001 --steps 100000" 1)
 [ -n "$victim" ] || fail "no rank 1 to kill: $(cat killed.log)"
 kill -KILL "$victim"
 rc=0

@@ -117,10 +117,7 @@ timeout 120 mpirun -np 2 "$MPI_NBODY" --galaxies mw --particles 3000 --dt 0.001 
   --snapshot-dir mkilled --quiet >mkilled.log 2>&1 &
 job=$!
 for _ in $(seq 600); do [ -e mkilled/snapshot_0003.hdf5 ] && break; sleep 0.1; done
-victim=""
-for p in $(pgrep -f "orrery-nbody-mpi --galaxies mw --particles 3000"); do # rank 1's environment says so
-  tr '\0' '\n' <"/proc/$p/environ" 2>/dev/null | grep -qx OMPI_COMM_WORLD_RANK=1 && victim=$p
-done
+victim=$(rank_pid "orrery-nbody-mpi --galaxies mw --particles 3000" 1)
 [ -n "$victim" ] || fail "no rank 1 to kill: $(cat mkilled.log)"
 kill -KILL "$victim"
 rc=0
