@@ -25,12 +25,9 @@ typedef struct qt_node {
     double quad[6];   /* traceless quadrupole sum m (3 y_a y_b - y^2 delta_ab): xx yy zz xy xz yz */
     double bmax;      /* largest distance from com to one of its particles */
     double eps2;      /* mass-weighted mean softening^2 of its particles */
-    double centre[3]; /* the cube's centre */
-    double half;      /* half its side */
     int child[8];     /* -1 where empty; all -1 in a leaf */
     size_t first, count; /* its particles: order[first .. first + count) */
-    int leaf;
-} qt_node;
+} qt_node; /* (its cube's centre and size only the build uses: not kept) */
 
 /* A node's centre of mass and b_max, the node after its subtree in the
  * depth-first order, and its mass, quadrupole and mean softening^2 in

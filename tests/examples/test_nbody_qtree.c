@@ -61,13 +61,44 @@ static double error_percentile(double pct)
     return err[(int)(pct / 100 * (N - 1))];
 }
 
+/* Whether two trees are the same, node for node, bit for bit. */
+static int same_tree(const qt_tree *a, const qt_tree *b)
+{
+    if (a->nnodes != b->nnodes || a->ngroups != b->ngroups || a->nsupers != b->nsupers || a->n != b->n)
+        return 0;
+    int same = 1;
+    for (size_t i = 0; i < a->nnodes; i++) {
+        const qt_node *x = &a->nodes[i], *y = &b->nodes[i];
+        same &= memcmp(x->com, y->com, sizeof x->com) == 0 && memcmp(&x->mass, &y->mass, sizeof x->mass) == 0 &&
+                memcmp(x->quad, y->quad, sizeof x->quad) == 0 && memcmp(&x->bmax, &y->bmax, sizeof x->bmax) == 0 &&
+                memcmp(&x->eps2, &y->eps2, sizeof x->eps2) == 0 && memcmp(x->child, y->child, sizeof x->child) == 0 &&
+                x->first == y->first && x->count == y->count && a->walk[i].next == b->walk[i].next;
+    }
+    same &= memcmp(a->groups, b->groups, a->ngroups * sizeof *a->groups) == 0;
+    same &= memcmp(a->supers, b->supers, a->nsupers * sizeof *a->supers) == 0;
+    same &= memcmp(a->super_first_group, b->super_first_group, (a->nsupers + 1) * sizeof *a->super_first_group) == 0;
+    same &= memcmp(a->order, b->order, a->n * sizeof *a->order) == 0;
+    same &= memcmp(a->px, b->px, 5 * a->n * sizeof *a->px) == 0; /* px, py, pz, pm, pe2 */
+    return same;
+}
+
 int main(void)
 {
     make_particles();
     const double G = 1.0;
     qt_direct(pos, mass, eps, N, G, 0, N, acc_direct, pot_direct);
-    qt_tree t = {0};
+    /* The build on every thread (qtree.c, build_part: here in parts of at
+     * most QT_PART_MIN = 600 particles, tests/CMakeLists.txt) makes the
+     * tree the build on one thread makes, node for node. */
+    qt_tree t = {0}, one = {0};
+    omp_set_num_threads(1);
+    CHECK(qt_build(&one, pos, mass, eps, N) == 0);
+    omp_set_num_threads(2);
     CHECK(qt_build(&t, pos, mass, eps, N) == 0);
+    CHECK(same_tree(&one, &t));
+    one.nodes[one.nnodes / 2].mass *= 1.5; /* ... and same_tree would see a difference */
+    CHECK(!same_tree(&one, &t));
+    qt_free(&one);
     double m = 0;
     for (int i = 0; i < N; i++)
         m += mass[i];
