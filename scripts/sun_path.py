@@ -2,14 +2,19 @@
 """The Sun's path through a run's snapshots (orrery-nbody --snapshot-every K
 --snapshot-dir DIR), about the Milky Way: for each snapshot its time, the
 Sun's distance from the Milky Way's axis (R) and height from its disc's
-plane (z), the change of R from the snapshot before, and the distance to
-Andromeda's black hole (when there is one). The Milky Way: its stars (disc
+plane (z), the change of R from the snapshot before, the distance to
+Andromeda's black hole (when there is one), and the surface density of the
+disc stars (PartType2) about the Sun, within 1 and 4 kpc of it across the
+Milky Way's plane (Msun/pc^2, the runs' units: 10^10 Msun, kpc), with the
+change of the 4 kpc one from the snapshot before. The Milky Way: its stars (disc
 and bulge, PartType2 and 3) within max(5 kpc, 2 x the Sun's distance) of
 its black hole (id 1), centred twice on their centre of mass (as
 orrery-nbody's --tracer-ring takes the Sun's galaxy, docs/nbody.md); its
 plane normal to its disc stars' angular momentum there (as the runs'
 reports take it). Then the largest |change of R| and |z| over the
-snapshots given, and over those before Andromeda is within --near kpc.
+snapshots given, and over those before Andromeda is within --near kpc,
+with the largest change of the surface density within 4 kpc: the sky's
+light follows it (docs/sky.md, "The glow's flux").
 
 usage: scripts/sun_path.py [--near KPC] SNAPSHOT.hdf5...
 
@@ -67,8 +72,22 @@ def milky_way_frame(path, x, v, m, disc, hole, radius, who="sun_path"):
     return c, vc, spin / np.linalg.norm(spin)
 
 
+SIGMA_RADII = (1.0, 4.0)  # kpc
+MSUN_PC2 = 1e10 / 1e6  # the runs' surface density unit, 10^10 Msun / kpc^2, in Msun / pc^2
+
+
+def surface_densities(x, m, disc, sun, n):
+    """The disc stars' surface density within each of SIGMA_RADII of the Sun
+    across the plane of normal n (a cylinder through the disc), Msun/pc^2."""
+    d = x[disc] - sun
+    across = d - np.outer(d @ n, n)
+    r2 = np.einsum("ij,ij->i", across, across)
+    return [m[disc][r2 < a * a].sum() * MSUN_PC2 / (np.pi * a * a) for a in SIGMA_RADII]
+
+
 def read(path):
-    """(time, the Sun's R and z about the Milky Way, the distance between the black holes or nan)."""
+    """(time, the Sun's R and z about the Milky Way, the distance between the
+    black holes or nan, the disc's surface densities about the Sun)."""
     try:
         f = h5py.File(path, "r")
     except OSError as e:
@@ -84,7 +103,7 @@ def read(path):
     c, _, n = milky_way_frame(path, x, v, m, disc, hole, max(5.0, 2.0 * np.linalg.norm(sun - hole)))
     z = (sun - c) @ n
     R = np.sqrt(max(0.0, np.sum((sun - c) ** 2) - z * z))
-    return time, R, z, apart
+    return time, R, z, apart, surface_densities(x, m, disc, sun, n)
 
 
 def main():
@@ -93,13 +112,14 @@ def main():
                     help="the summary's second part stops once the black holes are within this, kpc (100)")
     ap.add_argument("snapshots", nargs="+")
     a = ap.parse_args()
-    print("snapshot  t (Gyr)  R (kpc)  z (kpc)  dR (kpc)  M31 (kpc)")
+    print("snapshot  t (Gyr)  R (kpc)  z (kpc)  dR (kpc)  M31 (kpc)  Sigma1 Sigma4 (Msun/pc^2)  dSigma4 (%)")
     rows = []
     for path in a.snapshots:
-        t, R, z, apart = read(path)
+        t, R, z, apart, (s1, s4) = read(path)
         dR = R - rows[-1][1] if rows else 0.0
-        rows.append((t, R, z, dR, apart))
-        print(f"{path}  {t * GYR_PER_UNIT:.3f}  {R:.3f}  {z:+.3f}  {dR:+.3f}  {apart:.1f}")
+        ds4 = 100.0 * (s4 / rows[-1][5] - 1.0) if rows and rows[-1][5] > 0 else 0.0
+        rows.append((t, R, z, dR, apart, s4, ds4))
+        print(f"{path}  {t * GYR_PER_UNIT:.3f}  {R:.3f}  {z:+.3f}  {dR:+.3f}  {apart:.1f}  {s1:.1f} {s4:.1f}  {ds4:+.1f}")
     before = []
     for row in rows:
         if row[4] < a.near:
@@ -108,7 +128,8 @@ def main():
     for name, part in (("all", rows), (f"before M31 is within {a.near:g} kpc", before)):
         if part:
             print(f"{name}: {len(part)} snapshots, R {min(r[1] for r in part):.3f}-{max(r[1] for r in part):.3f} kpc, "
-                  f"largest |dR| {max(abs(r[3]) for r in part):.3f} kpc, largest |z| {max(abs(r[2]) for r in part):.3f} kpc")
+                  f"largest |dR| {max(abs(r[3]) for r in part):.3f} kpc, largest |z| {max(abs(r[2]) for r in part):.3f} kpc, "
+                  f"largest |dSigma4| {max(abs(r[6]) for r in part):.1f} %")
 
 
 if __name__ == "__main__":

@@ -220,6 +220,26 @@ awk 'NR == FNR { R[FNR] = $1; z[FNR] = $2; next }
   FNR > 1 && FNR <= 3 { d = $3 - R[FNR - 1]; e = $4 - z[FNR - 1]; if (d * d > 0.0025 || e * e > 0.0025) bad = 1; n++ }
   END { exit bad || n != 2 }' path.reports path.out || fail "sun_path.py against the reports: $(cat path.out path.reports)"
 grep -q "^all: 2 snapshots" path.out || fail "sun_path.py's summary: $(cat path.out)"
+# ... and the disc stars' surface density within 4 kpc of the Sun, at the
+# start: the mean over that circle of the model's exponential disc (5e10
+# Msun, scale length 3 kpc, cut at 25 kpc; docs/model.md), by quadrature
+# here, within 15 % (under three times the Poisson spread of the ~350 particles in
+# the circle).
+"$py" - path.out <<'PY' || fail "sun_path.py's surface density: $(cat path.out)"
+import sys
+import numpy as np
+row = open(sys.argv[1]).read().splitlines()[1].split()
+R, sigma4 = float(row[2]), float(row[7])
+Rd, M, Rmax, a = 3.0, 5e10, 25.0, 4.0
+x = Rmax / Rd
+sigma0 = M / (2 * np.pi * Rd**2 * (1 - (1 + x) * np.exp(-x))) / 1e6  # Msun / pc^2
+g = np.linspace(-a, a, 801)
+X, Y = np.meshgrid(g, g)
+inside = X**2 + Y**2 < a * a
+mean = (sigma0 * np.exp(-np.hypot(R + X, Y) / Rd))[inside].mean()
+print(f"surface density within 4 kpc of the Sun {sigma4:.1f}, the model's {mean:.1f} Msun/pc^2")
+sys.exit(0 if abs(sigma4 / mean - 1) <= 0.15 else 1)
+PY
 "$py" "$SRC/scripts/sun_path.py" no_sun.hdf5 >/dev/null 2>path.err && fail "sun_path.py read a snapshot without the Sun"
 grep -q "no_sun.hdf5: no Sun (PartType4, id 3)" path.err || fail "sun_path.py's refusal: $(cat path.err)"
 
