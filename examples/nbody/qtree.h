@@ -81,8 +81,9 @@ typedef struct qt_tree {
 #endif
 
 /* Builds the tree over n particles (pos: x, y, z of particle i at 3i;
- * eps: each particle's Plummer softening). Returns 0, or -1 when out of
- * memory. */
+ * eps: each particle's Plummer softening), on every OpenMP thread when
+ * there are several (qtree.c, build_part): the same tree, node for node,
+ * on any thread count. Returns 0, or -1 when out of memory. */
 int qt_build(qt_tree *t, const double *pos, const double *mass, const double *eps, size_t n);
 
 /* The same over particles of which ncells from cells_first on are cells
