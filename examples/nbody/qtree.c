@@ -52,16 +52,53 @@ static void set_tree_pool(qt_tree *t, const qt_pool *p)
     t->supers_cap = p->supers_cap;
 }
 
+/* Room in pool p for cap nodes, groups or super-groups (the super-groups'
+ * first groups with them, and the end mark): grown to cap if it held less;
+ * 0, or -1 when out of memory (the pool as it was). */
+static int room_for_nodes(qt_pool *p, size_t cap)
+{
+    if (cap <= p->cap)
+        return 0;
+    qt_node *nodes = realloc(p->nodes, cap * sizeof *nodes);
+    if (!nodes)
+        return -1;
+    p->nodes = nodes;
+    p->cap = cap;
+    return 0;
+}
+
+static int room_for_groups(qt_pool *p, size_t cap)
+{
+    if (cap <= p->groups_cap)
+        return 0;
+    int *g = realloc(p->groups, cap * sizeof *g);
+    if (!g)
+        return -1;
+    p->groups = g;
+    p->groups_cap = cap;
+    return 0;
+}
+
+static int room_for_supers(qt_pool *p, size_t cap)
+{
+    if (cap <= p->supers_cap)
+        return 0;
+    int *s = realloc(p->supers, cap * sizeof *s);
+    if (s)
+        p->supers = s;
+    size_t *f = realloc(p->super_first_group, cap * sizeof *f);
+    if (f)
+        p->super_first_group = f;
+    if (!s || !f)
+        return -1;
+    p->supers_cap = cap;
+    return 0;
+}
+
 static int new_node(qt_pool *p)
 {
-    if (p->nnodes == p->cap) {
-        size_t cap = p->cap ? 2 * p->cap : p->first_cap ? p->first_cap : 1024;
-        qt_node *nodes = realloc(p->nodes, cap * sizeof *nodes);
-        if (!nodes)
-            return -1;
-        p->nodes = nodes;
-        p->cap = cap;
-    }
+    if (p->nnodes == p->cap && room_for_nodes(p, p->cap ? 2 * p->cap : p->first_cap ? p->first_cap : 1024) != 0)
+        return -1;
     qt_node *nd = &p->nodes[p->nnodes];
     memset(nd, 0, sizeof *nd);
     for (int k = 0; k < 8; k++)
@@ -71,14 +108,8 @@ static int new_node(qt_pool *p)
 
 static int add_group(qt_pool *p, int node)
 {
-    if (p->ngroups == p->groups_cap) {
-        size_t cap = p->groups_cap ? 2 * p->groups_cap : 256;
-        int *g = realloc(p->groups, cap * sizeof *g);
-        if (!g)
-            return -1;
-        p->groups = g;
-        p->groups_cap = cap;
-    }
+    if (p->ngroups == p->groups_cap && room_for_groups(p, p->groups_cap ? 2 * p->groups_cap : 256) != 0)
+        return -1;
     p->groups[p->ngroups++] = node;
     return 0;
 }
@@ -86,18 +117,8 @@ static int add_group(qt_pool *p, int node)
 /* Records node as a super-group whose groups start at the next one added. */
 static int add_super(qt_pool *p, int node)
 {
-    if (p->nsupers + 1 >= p->supers_cap) {
-        size_t cap = p->supers_cap ? 2 * p->supers_cap : 64;
-        int *s = realloc(p->supers, cap * sizeof *s);
-        if (s)
-            p->supers = s;
-        size_t *f = realloc(p->super_first_group, cap * sizeof *f);
-        if (f)
-            p->super_first_group = f;
-        if (!s || !f)
-            return -1;
-        p->supers_cap = cap;
-    }
+    if (p->nsupers + 1 >= p->supers_cap && room_for_supers(p, p->supers_cap ? 2 * p->supers_cap : 64) != 0)
+        return -1;
     p->supers[p->nsupers] = node;
     p->super_first_group[p->nsupers++] = p->ngroups;
     p->super_first_group[p->nsupers] = p->ngroups; /* until the next super or the end of the build */
@@ -393,32 +414,10 @@ static void free_parts(qt_part *p)
  * super-groups (and the end mark after them); 0, or -1 when out of memory. */
 static int room_in_tree(qt_tree *t, size_t nodes, size_t groups, size_t supers)
 {
-    if (nodes > t->cap) {
-        qt_node *a = realloc(t->nodes, nodes * sizeof *a);
-        if (!a)
-            return -1;
-        t->nodes = a;
-        t->cap = nodes;
-    }
-    if (groups > t->groups_cap) {
-        int *g = realloc(t->groups, groups * sizeof *g);
-        if (!g)
-            return -1;
-        t->groups = g;
-        t->groups_cap = groups;
-    }
-    if (supers + 1 > t->supers_cap) {
-        int *s = realloc(t->supers, (supers + 1) * sizeof *s);
-        if (s)
-            t->supers = s;
-        size_t *f = realloc(t->super_first_group, (supers + 1) * sizeof *f);
-        if (f)
-            t->super_first_group = f;
-        if (!s || !f)
-            return -1;
-        t->supers_cap = supers + 1;
-    }
-    return 0;
+    qt_pool p = tree_pool(t);
+    int st = room_for_nodes(&p, nodes) || room_for_groups(&p, groups) || room_for_supers(&p, supers + 1) ? -1 : 0;
+    set_tree_pool(t, &p);
+    return st;
 }
 
 /* The parts, built, spliced into the tree's arrays (each part copied on
