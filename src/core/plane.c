@@ -8,13 +8,21 @@
 #include <string.h>
 #include <sys/mman.h>
 
-/* Planes of at least LARGE_PLANE bytes go on transparent huge pages of
- * HUGE_PAGE bytes where the system offers them: a deposit adds to pixels
- * all over the image, and with 4 KiB pages a 52 MB dome master spans 13000
- * pages, far more than the TLB holds (and as many page faults, taken by
- * every thread at once). They are zeroed on every thread. */
+/* Planes of at least LARGE_PLANE bytes are aligned to HUGE_PAGE bytes and
+ * zeroed on every thread, so their pages are faulted in during set-up by
+ * all threads at once, not by the deposit. Planes of at least HUGE_PLANE
+ * bytes (an 8192^2 plane, 268 MB) also go on transparent huge pages where
+ * the system offers them: a deposit adds to pixels all over the image, and
+ * with 4 KiB pages such a plane spans 65 000 pages, far more than the TLB
+ * holds (without them the 8K frame's deposit took 5 % longer). Smaller
+ * planes stay on 4 KiB pages: their deposits were no slower so (the 3600^2
+ * dome master and 4096 x 2048 panorama at 2 x 10^6 and 10^7 particles),
+ * while a huge page's first touch can cost several times as much as 512
+ * small ones (a virtual machine backing fresh memory on demand: the
+ * README's main job's set-up 2.1 -> 1.0 s, docs/performance.md). */
 #define HUGE_PAGE ((size_t)2 << 20)
 #define LARGE_PLANE (2 * HUGE_PAGE)
+#define HUGE_PLANE ((size_t)128 << 20)
 
 /* Zeroes memory a huge page at a time on every thread. On a fresh
  * allocation the first touch of each page is a fault in which the kernel
@@ -44,7 +52,8 @@ static float *plane_memory(size_t n, orr_error *err)
             orr_fail(err, ORR_ERR_NOMEM, "out of memory (%zu bytes for image plane)", rounded);
             return NULL;
         }
-        madvise(mem, rounded, MADV_HUGEPAGE); /* advice: no harm if refused */
+        if (bytes >= HUGE_PLANE)
+            madvise(mem, rounded, MADV_HUGEPAGE); /* advice: no harm if refused */
         zero_on_every_thread(mem, bytes);
         return mem;
     }
