@@ -104,7 +104,7 @@ static void frame(const options *o, int with_dust, double *wall, double *cpu)
 /* The walk alone: every star of the model's discs and bulges from the Sun. */
 static void walk(const options *o)
 {
-    orr_model_params mp = {o->particles, 1, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params mp = {o->particles, 1, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src;
     orr_error err = {0};
     if (orr_model_source_open_dust(&mp, o->dust, 1 << 20, &src, &err))

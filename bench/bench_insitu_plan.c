@@ -82,7 +82,7 @@ static void *take(size_t n, size_t size)
 
 static void load_model(long long n, model_arrays *m)
 {
-    orr_model_params p = {n, 1, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params p = {n, 1, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     if (orr_model_source_open(&p, 1 << 16, &src, &err) != ORR_OK)

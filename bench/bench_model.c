@@ -201,10 +201,10 @@ int main(int argc, char **argv)
            "opening (wall, cpu); particles per wall and per CPU second\n",
            o.chunk, o.seed, omp_get_num_procs());
     /* a small run first: the libraries' lazy symbol binding is not timed */
-    orr_model_params warm = {1000, o.seed, 780.0, ORR_MODEL_PAIR, 0.0, 0, 0};
+    orr_model_params warm = {1000, o.seed, 780.0, ORR_MODEL_PAIR, 0.0, 0, 0, 0};
     run(orr_model_source_open_dust, &warm, o.chunk, 1);
     for (int k = 0; k < 2; k++) {
-        orr_model_params params = {o.particles, o.seed, 780.0, MODELS[k].galaxies, 0.0, 0, 0};
+        orr_model_params params = {o.particles, o.seed, 780.0, MODELS[k].galaxies, 0.0, 0, 0, 0};
         bench_recipe(MODELS[k].name, "tabulated", orr_model_source_open_dust, params, o.chunk);
         if (o.reference >= 100) {
             params.particles = o.reference;

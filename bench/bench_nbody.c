@@ -77,7 +77,7 @@ static void die(const char *msg)
 /* The model's particles; their velocities too when vel is not NULL. */
 static void load(long long n, int pair, double *pos, double *vel, double *mass, unsigned char *type)
 {
-    orr_model_params p = {n, 1, 780.0, pair ? ORR_MODEL_PAIR : ORR_MODEL_MW, 0, 0, 0};
+    orr_model_params p = {n, 1, 780.0, pair ? ORR_MODEL_PAIR : ORR_MODEL_MW, 0, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     if (orr_model_source_open(&p, 1 << 16, &src, &err) != ORR_OK)

@@ -66,7 +66,7 @@ static void particles_free(particles *p)
 /* The built-in model, chunk by chunk, into the arrays. */
 static void make_pair(particles *p, uint64_t seed)
 {
-    orr_model_params params = {(long long)p->n, seed, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params params = {(long long)p->n, seed, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_error err = {0};
     orr_source *src = NULL;
     if (orr_model_source_open(&params, 1 << 20, &src, &err) != ORR_OK)

@@ -64,6 +64,7 @@ typedef struct options {
     double separation;     /* model separation, kpc */
     int galaxies;          /* model: ORR_MODEL_PAIR, _MW or _M31 */
     double disc_q;         /* model: the discs' Toomre Q */
+    double m31_weight;     /* model: M31's particles over the Milky Way's of the same kind */
     double phase_mix;      /* a new run's disc stars moved along their orbits for up to this long (phase_mix.h) */
     const char *scene;     /* rendered in-situ; NULL: no rendering */
     const char *sets[32];
@@ -93,7 +94,8 @@ typedef struct options {
 
 static const char usage[] =
     "usage: orrery-nbody [--ic model|SNAPSHOT] [--particles N] [--separation KPC]\n"
-    "                    [--galaxies pair|mw|m31] [--disc-q Q] [--phase-mix T]\n"
+    "                    [--galaxies pair|mw|m31] [--disc-q Q] [--m31-weight W]\n"
+    "                    [--phase-mix T]\n"
     "                    [--steps N] [--dt DT] [--eta ETA] [--dt-min DT] [--eps EPS]\n"
     "                    [--eps-halo EPS] [--theta THETA] [--tracer-neighbours K]\n"
     "                    [--tracer-ring K [--tracer-mirror]] [--tracer-start circular|given]\n"
@@ -112,6 +114,9 @@ static const char usage[] =
     "  --separation KPC   model separation (default 780)\n"
     "  --galaxies WHICH   model: both (pair, default), or the Milky Way (mw) or M31 alone\n"
     "  --disc-q Q         model: the discs' Toomre Q (default 1.5)\n"
+    "  --m31-weight W     model, pair: each of M31's particles weighs W times the Milky\n"
+    "                     Way's of the same kind, so the Milky Way gets more of the N\n"
+    "                     particles (default 1; from 1/64 to 64; docs/model.md)\n"
     "  --phase-mix T      before a new run, move every disc star along its orbit in its\n"
     "                     galaxy's axisymmetric pull for a time from 0 to T drawn from\n"
     "                     its id, so the disc starts in a steady state instead of\n"
@@ -239,6 +244,10 @@ static int check_options(const options *o)
         bad = "--theta", snprintf(why, sizeof why, "%g: the opening angle must be above 0 and at most 1", o->theta);
     else if (!(o->disc_q > 0) || !isfinite(o->disc_q))
         bad = "--disc-q", snprintf(why, sizeof why, "%g: Toomre's Q must be above 0", o->disc_q);
+    else if (!(o->m31_weight >= 1.0 / ORR_MODEL_M31_WEIGHT_MAX && o->m31_weight <= ORR_MODEL_M31_WEIGHT_MAX))
+        bad = "--m31-weight", snprintf(why, sizeof why, "%g: expected how many times the Milky Way's particles each "
+                                       "of M31's weighs, from %g to %g", o->m31_weight,
+                                       1.0 / ORR_MODEL_M31_WEIGHT_MAX, ORR_MODEL_M31_WEIGHT_MAX);
     else if (!(o->phase_mix >= 0 && o->phase_mix <= PHASE_MIX_MAX))
         bad = "--phase-mix", snprintf(why, sizeof why, "%g: expected a time from 0 (off) to %g time units", o->phase_mix,
                                       PHASE_MIX_MAX);
@@ -283,7 +292,7 @@ static int check_options(const options *o)
 
 static int parse_args(int argc, char **argv, options *o)
 {
-    *o = (options){.ic = "model", .particles = 100000, .separation = 780, .disc_q = ORR_MODEL_DISC_Q_DEFAULT,
+    *o = (options){.ic = "model", .particles = 100000, .separation = 780, .disc_q = ORR_MODEL_DISC_Q_DEFAULT, .m31_weight = 1,
                    .steps = 100, .dt = 0.001, .eps = 0.05, .theta = 0.7, .render_every = 1,
                    .report_every = 10, .progress = 10, .tracer_neighbours = 32, .tracer_start = -1};
     for (int i = 1; i < argc; i++) {
@@ -326,6 +335,8 @@ static int parse_args(int argc, char **argv, options *o)
                 return 0;
         } else if (strcmp(a, "--disc-q") == 0) {
             o->disc_q = parse_number(v);
+        } else if (strcmp(a, "--m31-weight") == 0) {
+            o->m31_weight = parse_number(v);
         } else if (strcmp(a, "--phase-mix") == 0) {
             o->phase_mix = parse_number(v);
         } else if (strcmp(a, "--eps-halo") == 0) {
@@ -440,7 +451,7 @@ static orr_status open_share(const options *o, int rank, int size, orr_source **
     orr_source *src = NULL;
     orr_status st;
     if (strcmp(o->ic, "model") == 0) {
-        orr_model_params mp = {o->particles, 1, o->separation, o->galaxies, o->disc_q, 0, 0};
+        orr_model_params mp = {o->particles, 1, o->separation, o->galaxies, o->disc_q, 0, 0, o->m31_weight};
         size_t chunk = size > 1 ? (size_t)((o->particles + size - 1) / size) : (size_t)1 << 20;
         st = orr_model_source_open(&mp, chunk, &src, err);
     } else {

@@ -1,4 +1,5 @@
-/* orrery model -o FILE [--particles N] [--seed S] [--separation KPC] [--galaxies pair|mw|m31] [--disc-q Q] */
+/* orrery model -o FILE [--particles N] [--seed S] [--separation KPC] [--galaxies pair|mw|m31] [--disc-q Q]
+ *               [--m31-weight W] */
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -11,7 +12,7 @@
 
 static const char model_help[] =
     "usage: orrery model -o FILE [--particles N] [--seed S] [--separation KPC]\n"
-    "                    [--galaxies pair|mw|m31] [--disc-q Q]\n"
+    "                    [--galaxies pair|mw|m31] [--disc-q Q] [--m31-weight W]\n"
     "\n"
     "Writes the built-in Milky Way-Andromeda model (or one galaxy alone) as a\n"
     "text table (columns x y z mass id type vx vy vz r E0 ez; kpc, 1e10 Msun, km/s;\n"
@@ -19,7 +20,8 @@ static const char model_help[] =
     "disc star's vertical energy over sigma_z^2 (0 off the discs), all at the start)\n"
     "that 'orrery render' and 'orrery info' read. Scenes can also use the model\n"
     "directly with input.model.name: mw-m31, without a file (the options below are\n"
-    "its keys input.model.particles, .seed, .separation, .galaxies, .disc_q).\n"
+    "its keys input.model.particles, .seed, .separation, .galaxies, .disc_q,\n"
+    ".m31_weight).\n"
     "See docs/model.md.\n"
     "\n"
     "  -o, --output FILE     where to write (required)\n"
@@ -32,14 +34,18 @@ static const char model_help[] =
     "                        at the origin)\n"
     "  --disc-q Q            the discs' Toomre Q at 2.43 scale lengths (default 1.5;\n"
     "                        above 0, at most 100; below 1 a disc is unstable)\n"
+    "  --m31-weight W        the pair: each of M31's particles weighs W times the Milky\n"
+    "                        Way's of the same kind, so the Milky Way gets more of the\n"
+    "                        particles (default 1; 1/64 to 64)\n"
     "  -h, --help            this text\n";
 
-enum { OPT_PARTICLES = 256, OPT_SEED, OPT_SEPARATION, OPT_GALAXIES, OPT_DISC_Q };
+enum { OPT_PARTICLES = 256, OPT_SEED, OPT_SEPARATION, OPT_GALAXIES, OPT_DISC_Q, OPT_M31_WEIGHT };
 
 static const struct option model_options[] = {
     {"output", required_argument, NULL, 'o'},        {"particles", required_argument, NULL, OPT_PARTICLES},
     {"seed", required_argument, NULL, OPT_SEED},     {"separation", required_argument, NULL, OPT_SEPARATION},
     {"galaxies", required_argument, NULL, OPT_GALAXIES},  {"disc-q", required_argument, NULL, OPT_DISC_Q},
+    {"m31-weight", required_argument, NULL, OPT_M31_WEIGHT},
     {"help", no_argument, NULL, 'h'},                {NULL, 0, NULL, 0},
 };
 
@@ -80,6 +86,13 @@ static int take_option(int code, const char *v, orr_model_params *params, const 
                                    ORR_MODEL_DISC_Q_MAX);
         params->disc_q = d;
         return EXIT_OK;
+    case OPT_M31_WEIGHT:
+        if (!orr_parse_double(v, &d) || !(d >= 1.0 / ORR_MODEL_M31_WEIGHT_MAX && d <= ORR_MODEL_M31_WEIGHT_MAX))
+            return cli_usage_error("model", "--m31-weight %s: expected how many times the Milky Way's particles each "
+                                   "of M31's weighs, from %g to %g", v, 1.0 / ORR_MODEL_M31_WEIGHT_MAX,
+                                   ORR_MODEL_M31_WEIGHT_MAX);
+        params->m31_weight = d;
+        return EXIT_OK;
     case CLI_OPERAND:
         return cli_usage_error("model", "unexpected argument '%s' (the output is -o FILE)", v);
     default:
@@ -89,7 +102,7 @@ static int take_option(int code, const char *v, orr_model_params *params, const 
 
 int cmd_model(int argc, char **argv)
 {
-    orr_model_params params = {200000, 1, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params params = {200000, 1, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     const char *out = NULL, *value;
     int code;
     cli_options_begin();

@@ -66,6 +66,8 @@ static const key_spec KEYS[] = {
     {.key = "input.model.separation", .type = K_NUMBER, FIELD(input.model.separation), ABOVE(0)},
     {.key = "input.model.galaxies", NAMED(orr_model_galaxies_names, input.model.galaxies)},
     {.key = "input.model.disc_q", .type = K_NUMBER, FIELD(input.model.disc_q), ABOVE(0)},
+    {.key = "input.model.m31_weight", .type = K_NUMBER, FIELD(input.model.m31_weight),
+     CLOSED(1.0 / ORR_MODEL_M31_WEIGHT_MAX, ORR_MODEL_M31_WEIGHT_MAX)},
     {.key = "input.model.w0", .type = K_NUMBER, FIELD(input.model.w0), CLOSED(0.5, 15)},
     {.key = "input.model.core_radius", .type = K_NUMBER, FIELD(input.model.core_radius), ABOVE(0)},
     {.key = "input.model.mass", .type = K_NUMBER, FIELD(input.model.mass), ABOVE(0)},

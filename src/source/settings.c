@@ -19,7 +19,8 @@ static const char *const RANGE_KEYS[] = {"input.sequence.first", "input.sequence
 static orr_status check_model_keys(const orr_input_settings *in, const orr_keys *keys, orr_error *err)
 {
     static const char *const mw_m31_only[] = {"input.model.separation", "input.model.galaxies",
-                                              "input.model.disc_q", "input.model.dust_particles"};
+                                              "input.model.disc_q", "input.model.m31_weight",
+                                              "input.model.dust_particles"};
     static const char *const king_only[] = {"input.model.w0", "input.model.core_radius", "input.model.mass"};
     const int king = strcmp(in->model.name, "king") == 0;
     const char *const *foreign = king ? mw_m31_only : king_only;
@@ -36,7 +37,8 @@ static orr_status check_source(const orr_input_settings *in, const orr_keys *key
     static const char *const model_keys[] = {"input.model.particles", "input.model.seed",
                                              "input.model.separation", "input.model.w0",
                                              "input.model.core_radius", "input.model.mass",
-                                             "input.model.galaxies", "input.model.disc_q"};
+                                             "input.model.galaxies", "input.model.disc_q",
+                                             "input.model.m31_weight"};
     const int has_file = in->file != NULL, has_model = in->model.name[0] != '\0';
     const int has_sequence = orr_input_has_sequence(in);
     const char *sequence_key = in->sequence.pattern ? "input.sequence.pattern" : "input.sequence.files";
@@ -135,6 +137,7 @@ void orr_input_settings_defaults(orr_input_settings *d)
     d->model.separation = 780;
     d->model.galaxies = 0; /* ORR_MODEL_PAIR */
     d->model.disc_q = 1.5;
+    d->model.m31_weight = 1;
     d->model.w0 = 7;
     d->model.core_radius = 1;
     d->model.mass = 5e5;

@@ -29,6 +29,7 @@ typedef struct orr_model_settings {
     double separation;        /* input.model.separation, kpc (default 780) */
     int galaxies;             /* input.model.galaxies: ORR_MODEL_PAIR (default), _MW, _M31 */
     double disc_q;            /* input.model.disc_q: the discs' Toomre Q (default 1.5) */
+    double m31_weight;        /* input.model.m31_weight: M31's particles over the Milky Way's (default 1) */
     double w0;                /* input.model.w0: king's central potential W0 (default 7) */
     double core_radius;       /* input.model.core_radius: king's r0, pc (default 1) */
     double mass;              /* input.model.mass: king's total mass, Msun (default 5e5) */

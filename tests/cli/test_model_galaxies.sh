@@ -1,5 +1,5 @@
-# `orrery model --galaxies pair|mw|m31 --disc-q Q` (docs/cli.md): the scene
-# keys input.model.galaxies and input.model.disc_q on the command line.
+# `orrery model --galaxies pair|mw|m31 --disc-q Q --m31-weight W` (docs/cli.md):
+# the scene keys input.model.galaxies, .disc_q and .m31_weight on the command line.
 # Which markers each choice holds (model.h's ids: 1 the Milky Way's black
 # hole, 2 M31's, 3 the Sun), where its particles are, that Toomre's Q sets
 # the discs' radial dispersion (sigma_R proportional to Q, sigma_z not), that
@@ -8,12 +8,14 @@
 source "$(dirname "$0")/lib.sh"
 
 "$ORRERY" model --help >help.txt || fail "model --help"
-grep -q -- "--galaxies WHICH" help.txt && grep -q -- "--disc-q Q" help.txt || fail "help: $(cat help.txt)"
+grep -q -- "--galaxies WHICH" help.txt && grep -q -- "--disc-q Q" help.txt && grep -q -- "--m31-weight W" help.txt ||
+  fail "help: $(cat help.txt)"
 
 for g in pair mw m31; do
   "$ORRERY" model -o $g.txt --particles 3000 --galaxies $g >out.txt 2>&1 || fail "--galaxies $g: $(cat out.txt)"
 done
 "$ORRERY" model -o q3.txt --particles 3000 --galaxies mw --disc-q 3 >out.txt 2>&1 || fail "--disc-q 3: $(cat out.txt)"
+"$ORRERY" model -o w4.txt --particles 3000 --m31-weight 4 >out.txt 2>&1 || fail "--m31-weight 4: $(cat out.txt)"
 PYTHONPATH="$SRC/tests/cli" "$py" - <<'PY' || fail "model tables"
 import numpy as np
 from expect import check, done
@@ -39,6 +41,18 @@ def dispersions(d):
 (sr1, sz1), (sr3, sz3) = dispersions(load("mw.txt")), dispersions(load("q3.txt"))
 check(abs(sr3 / sr1 - 2) < 0.02, f"sigma_R {sr1} at Q = 1.5, {sr3} at Q = 3: expected twice")
 check(abs(sz3 / sz1 - 1) < 0.02, f"sigma_z {sz1} at Q = 1.5, {sz3} at Q = 3: expected the same")
+# --m31-weight 4: M31's star particles (ids after the Milky Way's halo) weigh
+# four times the Milky Way's, each galaxy's stars keep their mass, and the
+# Milky Way gets more of the 3000 particles.
+def star_masses(d):
+    d = d[d[:, 4] > 3]
+    mw = np.arange(len(d)) < np.flatnonzero((d[1:, 5] == 2) & (d[:-1, 5] == 1))[0] + 1
+    stars = d[:, 5] != 1
+    return d[mw & stars, 3], d[~mw & stars, 3], mw.sum()
+(mw1, m311, n1), (mw4, m314, n4) = star_masses(load("pair.txt")), star_masses(load("w4.txt"))
+check(abs(np.median(m314) / np.median(mw4) - 4) < 0.02, f"--m31-weight 4: star masses {np.median(mw4)}, {np.median(m314)}")
+check(abs(mw4.sum() / mw1.sum() - 1) < 1e-5 and abs(m314.sum() / m311.sum() - 1) < 1e-5, "--m31-weight 4 moved stellar mass")
+check(n4 > 1.6 * n1, f"--m31-weight 4: the Milky Way has {n4} particles, {n1} without")
 done()
 PY
 
@@ -84,4 +98,10 @@ expect_fail 2 "^orrery: error: --disc-q 0: expected the discs' Toomre Q, above 0
 expect_fail 2 "^orrery: error: --disc-q -1: expected" out -- model -o out/m.txt --disc-q -1
 expect_fail 2 "^orrery: error: --disc-q nan: expected" out -- model -o out/m.txt --disc-q nan
 expect_fail 2 "^orrery: error: --disc-q 1000: expected .* at most 100" out -- model -o out/m.txt --disc-q 1000
+expect_fail 2 "^orrery: error: --m31-weight 65: expected .* from 0.015625 to 64" out -- model -o out/m.txt --m31-weight 65
+expect_fail 2 "^orrery: error: --m31-weight nan: expected" out -- model -o out/m.txt --m31-weight nan
+printf 'input: {model: {name: mw-m31, particles: 3000, m31_weight: 0}}\n%s\n' "$view" >w0.yaml
+expect_fail 2 "input.model.m31_weight" out -- render w0.yaml -o out/w0
+printf 'input: {model: {name: king, particles: 3000, m31_weight: 2}}\n%s\n' "$view" >kw.yaml
+expect_fail 2 "input.model.m31_weight does not apply to input.model.name: king" out -- render kw.yaml -o out/kw
 finish

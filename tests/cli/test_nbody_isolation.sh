@@ -365,6 +365,9 @@ expect_nbody_error "--theta" --theta 1.5
 expect_nbody_error "--disc-q" --disc-q 0
 expect_nbody_error "--disc-q" --disc-q -2
 expect_nbody_error "--galaxies" --galaxies andromeda
+expect_nbody_error "--m31-weight 0: expected how many times the Milky Way's particles each of M31's weighs, from 0.015625 to 64" \
+  --m31-weight 0
+expect_nbody_error "--m31-weight nan" --m31-weight nan
 expect_nbody_error "--progress -1: expected seconds" --progress -1
 expect_nbody_error "--tracer-neighbours 300: expected 0 (off) to 256" --tracer-neighbours 300
 expect_nbody_error "--tracer-ring 1: expected 0 (off) or 2 to 256 points" --tracer-ring 1

@@ -146,7 +146,7 @@ static void test_builtin_model_scene(void)
     fclose(fp);
     CHECK(run_orrery("render model.yaml") == 0);
 
-    orr_model_params mp = {20000, 1, 120.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params mp = {20000, 1, 120.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src;
     orr_error err = {0};
     double stars = 0;

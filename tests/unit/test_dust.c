@@ -416,7 +416,7 @@ static void test_ebv(void)
  * 0, with the galaxies' gas masses. */
 static void test_model_stream(void)
 {
-    orr_model_params mp = {3000, 7, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params mp = {3000, 7, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *plain = NULL, *off = NULL, *on = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open(&mp, 1000, &plain, &err) == ORR_OK);
@@ -463,7 +463,7 @@ static void test_model_stream(void)
  * clumping 0 the same bits as without. */
 static void test_model_clumping(void)
 {
-    orr_model_params smooth = {2000, 7, 780.0, ORR_MODEL_PAIR, 0, 0, 0}, clumped = smooth;
+    orr_model_params smooth = {2000, 7, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0}, clumped = smooth;
     clumped.dust_clumping = 1.0;
     orr_source *a = NULL, *b = NULL;
     orr_error err = {0};
@@ -501,7 +501,7 @@ static void test_model_clumping(void)
  * frame's optical depth to each drawn star against the brute force. */
 static void test_tau_model(void)
 {
-    orr_model_params mp = {20000, 1, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params mp = {20000, 1, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open_dust(&mp, 4000, 4096, &src, &err) == ORR_OK);

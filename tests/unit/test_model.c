@@ -80,7 +80,7 @@ static int load_model_params(const orr_model_params *params, size_t chunk, table
 
 static int load_model(long long n, uint64_t seed, double sep, size_t chunk, table *t)
 {
-    orr_model_params p = {n, seed, sep, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params p = {n, seed, sep, ORR_MODEL_PAIR, 0, 0, 0, 0};
     return load_model_params(&p, chunk, t);
 }
 
@@ -174,7 +174,7 @@ static void test_separation_parameter(void)
 
 static void test_info(void)
 {
-    orr_model_params p = {12345, 7, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params p = {12345, 7, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open(&p, 1 << 20, &src, &err) == ORR_OK);
@@ -277,7 +277,7 @@ static void test_chunk_size_independence(void)
 
 static void test_rewind(void)
 {
-    orr_model_params p = {3000, 5, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params p = {3000, 5, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open(&p, 512, &src, &err) == ORR_OK);
@@ -376,7 +376,7 @@ static void test_momentum(void)
 
 static void expect_usage(long long n, double sep, size_t chunk, const char *word)
 {
-    orr_model_params p = {n, 1, sep, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params p = {n, 1, sep, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src = (orr_source *)&p; /* must be reset to NULL */
     orr_error err = {0};
     CHECK(orr_model_source_open(&p, chunk, &src, &err) == ORR_ERR_USAGE);
@@ -471,7 +471,7 @@ static void energy_from_chunk(const orr_chunk *c, const float vbulk[3], int *gal
 static void test_binding_energy(void)
 {
     const long long n = 40000;
-    orr_model_params p = {n, 3, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params p = {n, 3, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open(&p, (size_t)n, &src, &err) == ORR_OK);
@@ -525,7 +525,7 @@ static double gamma_three_halves_cdf(double x)
 static void test_vertical_energy(void)
 {
     const long long n = 40000, dust = 2000;
-    orr_model_params p = {n, 3, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params p = {n, 3, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open_dust(&p, dust, (size_t)(n + dust), &src, &err) == ORR_OK);
@@ -583,7 +583,7 @@ static void test_vertical_energy(void)
 static void test_single_galaxy(void)
 {
     const long long n = 5000;
-    orr_model_params mw = {n, 4, 780.0, ORR_MODEL_MW, 0, 0, 0}, m31 = {n, 4, 0.0, ORR_MODEL_M31, 2.0, 0, 0};
+    orr_model_params mw = {n, 4, 780.0, ORR_MODEL_MW, 0, 0, 0, 0}, m31 = {n, 4, 0.0, ORR_MODEL_M31, 2.0, 0, 0, 0};
     table t;
     CHECK(load_model_params(&mw, 999, &t));
     if (t.n == (size_t)n) {
@@ -616,7 +616,7 @@ static void test_single_galaxy(void)
         CHECK_NEAR(m, 159.5, 1e-4 * 159.5);
         table_free(&t);
     }
-    orr_model_params bad = {n, 4, 780.0, 7, 0, 0, 0};
+    orr_model_params bad = {n, 4, 780.0, 7, 0, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open(&bad, 100, &src, &err) == ORR_ERR_USAGE);
@@ -703,7 +703,7 @@ static double ring_pressure(const table *t, double R)
 static void test_disc_equilibrium(void)
 {
     const long long n = 100000;
-    orr_model_params p = {n, 9, 780.0, ORR_MODEL_MW, 0, 0, 0};
+    orr_model_params p = {n, 9, 780.0, ORR_MODEL_MW, 0, 0, 0, 0};
     table t;
     CHECK(load_model_params(&p, 8192, &t));
     if (t.n != (size_t)n)
@@ -740,7 +740,7 @@ static void test_disc_equilibrium(void)
 static void test_bulge_tensor_virial(void)
 {
     const long long n = 100000;
-    orr_model_params p = {n, 5, 780.0, ORR_MODEL_MW, 0, 0, 0};
+    orr_model_params p = {n, 5, 780.0, ORR_MODEL_MW, 0, 0, 0, 0};
     table t;
     CHECK(load_model_params(&p, 8192, &t));
     if (t.n != (size_t)n)
@@ -777,12 +777,74 @@ static void test_bad_disc_q(void)
 {
     const double bad[] = {-1.0, NAN, INFINITY, 1e9};
     for (int i = 0; i < 4; i++) {
-        orr_model_params p = {1000, 1, 780.0, ORR_MODEL_PAIR, bad[i], 0, 0};
+        orr_model_params p = {1000, 1, 780.0, ORR_MODEL_PAIR, bad[i], 0, 0, 0};
         orr_source *src = NULL;
         orr_error err = {0};
         CHECK(orr_model_source_open(&p, 100, &src, &err) == ORR_ERR_USAGE);
         CHECK(src == NULL);
         CHECK_CONTAINS(err.msg, "disc_q");
+    }
+}
+
+/* input.model.m31_weight: in the pair each of M31's particles weighs w
+ * times the Milky Way's of the same kind, every component keeps its mass,
+ * and the particles split by the weights (mass over particle mass); w = 1
+ * is the default's particles exactly, and a galaxy alone ignores it. */
+static void check_m31_weight(double w)
+{
+    const long long n = 20000;
+    orr_model_params p = {n, 3, 780.0, ORR_MODEL_PAIR, 0, 0, 0, w};
+    table t;
+    CHECK(load_model_params(&p, 4096, &t));
+    if (t.n != (size_t)n)
+        return;
+    int *gal = malloc(t.n * sizeof(int));
+    galaxy_of(&t, gal);
+    double mass[2][3] = {{0}}, count[2] = {0};
+    double star = t.m[3]; /* the first MW disc particle */
+    int weights_ok = 1;
+    for (size_t i = 3; i < t.n; i++) {
+        mass[gal[i]][comp_index(t.type[i])] += t.m[i];
+        count[gal[i]] += 1;
+        double want = star * (t.type[i] == ORR_MODEL_TYPE_HALO ? 8.0 : 1.0) * (gal[i] == 1 ? w : 1.0);
+        weights_ok = weights_ok && fabs(t.m[i] / want - 1.0) < 2e-3;
+    }
+    CHECK(weights_ok);
+    for (int g = 0; g < 2; g++)
+        for (int c = 0; c < 3; c++)
+            CHECK_NEAR(mass[g][c] / COMP_MASS[g][c], 1.0, 1e-6);
+    double claim[2] = {0, 0};
+    for (int g = 0; g < 2; g++)
+        for (int c = 0; c < 3; c++)
+            claim[g] += COMP_MASS[g][c] / (c == 2 ? 8.0 : 1.0) / (g == 1 ? w : 1.0);
+    CHECK_NEAR(count[0] / (n - 3), claim[0] / (claim[0] + claim[1]), 1e-3);
+    free(gal);
+    table_free(&t);
+}
+
+static void test_m31_weight(void)
+{
+    check_m31_weight(4.0);
+    check_m31_weight(0.5);
+    table a, b;
+    orr_model_params p0 = {3000, 5, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0}, p1 = p0;
+    p1.m31_weight = 1.0;
+    CHECK(load_model_params(&p0, 1000, &a) && load_model_params(&p1, 1000, &b) && tables_equal(&a, &b));
+    table_free(&a);
+    table_free(&b);
+    orr_model_params mw0 = {3000, 5, 780.0, ORR_MODEL_MW, 0, 0, 0, 0}, mw4 = mw0;
+    mw4.m31_weight = 4.0;
+    CHECK(load_model_params(&mw0, 1000, &a) && load_model_params(&mw4, 1000, &b) && tables_equal(&a, &b));
+    table_free(&a);
+    table_free(&b);
+    const double bad[] = {-1.0, 0.01, 65.0, NAN, INFINITY};
+    for (int i = 0; i < 5; i++) {
+        orr_model_params q = {1000, 1, 780.0, ORR_MODEL_PAIR, 0, 0, 0, bad[i]};
+        orr_source *src = NULL;
+        orr_error err = {0};
+        CHECK(orr_model_source_open(&q, 100, &src, &err) == ORR_ERR_USAGE);
+        CHECK(src == NULL);
+        CHECK_CONTAINS(err.msg, "m31_weight");
     }
 }
 
@@ -802,7 +864,7 @@ static void test_type_mask(void)
     const size_t chunks[3] = {7, 1000, 4096};
     for (int k = 0; k < 3; k++) {
         orr_model_params p = {n, 11, 780.0, ORR_MODEL_PAIR, 0,
-                              1u << ORR_MODEL_TYPE_DISC | 1u << ORR_MODEL_TYPE_BULGE, 0};
+                              1u << ORR_MODEL_TYPE_DISC | 1u << ORR_MODEL_TYPE_BULGE, 0, 0};
         orr_source *src = NULL;
         orr_error err = {0};
         CHECK(orr_model_source_open(&p, chunks[k], &src, &err) == ORR_OK);
@@ -836,7 +898,7 @@ static void test_type_mask(void)
 static void test_only_types(void)
 {
     const long long n = 6000, dust = 1500;
-    orr_model_params p = {n, 5, 780.0, ORR_MODEL_PAIR, 0, 0, 0.6};
+    orr_model_params p = {n, 5, 780.0, ORR_MODEL_PAIR, 0, 0, 0.6, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open_dust(&p, dust, 1000, &src, &err) == ORR_OK);
@@ -899,6 +961,7 @@ int main(void)
     RUN(test_disc_equilibrium);
     RUN(test_bulge_tensor_virial);
     RUN(test_bad_disc_q);
+    RUN(test_m31_weight);
     RUN(test_type_mask);
     RUN(test_only_types);
     return check_summary();

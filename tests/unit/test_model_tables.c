@@ -50,7 +50,7 @@ static void append_chunk(bytes *b, const orr_chunk *c)
  * the chunk sizes agree; read_particles reorders by particle. */
 static int read_stream(long long n, long long dust, int galaxies, size_t chunk, int threads, bytes *out)
 {
-    orr_model_params params = {n, 7, 780.0, galaxies, 0.0, 0, 0};
+    orr_model_params params = {n, 7, 780.0, galaxies, 0.0, 0, 0, 0};
     orr_source *src;
     orr_error err = {0};
     memset(out, 0, sizeof *out);

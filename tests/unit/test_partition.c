@@ -11,7 +11,7 @@
 
 static orr_source *open_model(size_t chunk)
 {
-    orr_model_params mp = {10007, 3, 780, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params mp = {10007, 3, 780, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     CHECK(orr_model_source_open(&mp, chunk, &src, &err) == ORR_OK);

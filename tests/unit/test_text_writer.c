@@ -57,7 +57,7 @@ static void remove_tmpdir(void)
 
 static orr_source *open_model(long long n, size_t chunk)
 {
-    orr_model_params p = {n, 2024, 780.0, ORR_MODEL_PAIR, 0, 0, 0};
+    orr_model_params p = {n, 2024, 780.0, ORR_MODEL_PAIR, 0, 0, 0, 0};
     orr_source *src = NULL;
     orr_error err = {0};
     if (orr_model_source_open(&p, chunk, &src, &err) != ORR_OK)

@@ -40,7 +40,7 @@ orr_status orr_input_open(const orr_input_settings *in, const orr_input_request 
     }
     if (m->name[0]) {
         orr_model_params mp = {m->particles, m->seed,          m->separation, m->galaxies,
-                               m->disc_q,    req->model_types, m->dust_clumping};
+                               m->disc_q,    req->model_types, m->dust_clumping, m->m31_weight};
         return orr_model_source_open_dust(&mp, m->dust_particles, (size_t)in->chunk_size, out, err);
     }
     orr_source_options opt = {in->format,   (size_t)in->chunk_size, req->reader_types, req->fields,

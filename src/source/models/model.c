@@ -210,11 +210,21 @@ static uint8_t comp_type(int comp)
                                 : ORR_MODEL_TYPE_HALO;
 }
 
-/* A component's claim on particles: its mass in units of its particle
- * mass (star particles 1, halo particles HALO_MASS_RATIO). */
-static double comp_weight(const galaxy_spec *s, int comp)
+/* The pair's M31 particles weigh m31_weight times the Milky Way's of the
+ * same kind (1 alone or when not set). */
+static double galaxy_weight(const model_state *m, int gal)
 {
-    return comp_mass(s, comp) / (comp == COMP_HALO ? HALO_MASS_RATIO : 1.0);
+    double w = m->params.m31_weight;
+    return gal == GAL_M31 && m->ngal == 2 && w > 0 ? w : 1.0;
+}
+
+/* A component's claim on particles: its mass in units of its particle
+ * mass (the Milky Way's star particles 1, its halo particles
+ * HALO_MASS_RATIO, M31's those times galaxy_weight). */
+static double comp_weight(const model_state *m, int gal, int comp)
+{
+    const galaxy_spec *s = &orr_model_galaxy_specs[gal];
+    return comp_mass(s, comp) / (comp == COMP_HALO ? HALO_MASS_RATIO : 1.0) / galaxy_weight(m, gal);
 }
 
 /* Every block gets at least one particle: an empty one takes one from the
@@ -243,14 +253,14 @@ static void split_particles(model_state *m)
     double wsum = 0.0;
     for (int k = 0; k < m->ngal; k++)
         for (int c = 0; c < COMP_COUNT; c++)
-            wsum += comp_weight(&orr_model_galaxy_specs[m->gal_index[k]], c);
+            wsum += comp_weight(m, m->gal_index[k], c);
     double cum = 0.0;
     uint64_t prev = 0;
     m->nblocks = 0;
     for (int k = 0; k < m->ngal; k++) {
         for (int c = 0; c < COMP_COUNT; c++) {
             int gi = m->gal_index[k];
-            cum += comp_weight(&orr_model_galaxy_specs[gi], c);
+            cum += comp_weight(m, gi, c);
             uint64_t upto = (uint64_t)floor((double)rest * cum / wsum + 0.5);
             if (upto > rest)
                 upto = rest;
@@ -613,6 +623,13 @@ static orr_status check_params(const orr_model_params *params, size_t chunk_size
                         "model: disc_q (the discs' Toomre Q) is %g; it must be above 0 (stable discs "
                         "need Q > 1; at most %g)",
                         params->disc_q, DISC_Q_MAX);
+    /* 0 selects 1; a weight far from 1 would leave one galaxy a handful of particles. */
+    if (params->m31_weight != 0.0 &&
+        !(params->m31_weight >= 1.0 / ORR_MODEL_M31_WEIGHT_MAX && params->m31_weight <= ORR_MODEL_M31_WEIGHT_MAX))
+        return orr_fail(err, ORR_ERR_USAGE,
+                        "model: m31_weight (how many times the Milky Way's particles each of M31's weighs) is %g; "
+                        "it must be from %g to %g",
+                        params->m31_weight, 1.0 / ORR_MODEL_M31_WEIGHT_MAX, ORR_MODEL_M31_WEIGHT_MAX);
     if (chunk_size == 0)
         return orr_fail(err, ORR_ERR_USAGE, "model: chunk size must be at least 1 particle");
     return ORR_OK;
@@ -622,10 +639,13 @@ static void fill_info(orr_source_info *info, const orr_model_params *params)
 {
     snprintf(info->format, sizeof info->format, "model:mw-m31");
     double q = params->disc_q > 0 ? params->disc_q : ORR_MODEL_DISC_Q_DEFAULT;
+    char weight[64] = "";
+    if (params->m31_weight > 0 && params->m31_weight != 1.0)
+        snprintf(weight, sizeof weight, ", M31's particles %g x the Milky Way's", params->m31_weight);
     if (params->galaxies == ORR_MODEL_PAIR)
         snprintf(info->path, sizeof info->path,
-                 "built-in model mw-m31 (N=%lld, seed=%llu, separation=%g kpc, disc Q=%g)", params->particles,
-                 (unsigned long long)params->seed, params->separation_kpc, q);
+                 "built-in model mw-m31 (N=%lld, seed=%llu, separation=%g kpc, disc Q=%g%s)", params->particles,
+                 (unsigned long long)params->seed, params->separation_kpc, q, weight);
     else
         snprintf(info->path, sizeof info->path, "built-in model mw-m31 (N=%lld, seed=%llu, %s alone, disc Q=%g)",
                  params->particles, (unsigned long long)params->seed,

@@ -32,6 +32,7 @@
 
 #define ORR_MODEL_DISC_Q_DEFAULT 1.5
 #define ORR_MODEL_DISC_Q_MAX 100.0
+#define ORR_MODEL_M31_WEIGHT_MAX 64.0 /* the largest m31_weight accepted (and 1 / it the least) */
 
 /* The words for orr_model_params.galaxies (scene key input.model.galaxies,
  * the --galaxies options), in its order. */
@@ -52,6 +53,9 @@ typedef struct orr_model_params {
                             * the same particles as with 0, those of other types never drawn. */
     double dust_clumping;  /* the gas discs' clumping: sigma of the log of their density (0: smooth;
                             * source/models/model_dust.h) */
+    double m31_weight;     /* pair only: each of M31's particles weighs this many times the Milky Way's
+                            * of the same kind (disc, bulge or halo), so the Milky Way, where Future
+                            * Sky's observer is, gets more of the N particles; 0 selects 1 (docs/model.md) */
 } orr_model_params;
 
 orr_status orr_model_source_open(const orr_model_params *params, size_t chunk_size, orr_source **out,
