@@ -9,6 +9,15 @@
 # a film of each when ffmpeg is there. docs/gallery.md gives the time it
 # took here; the full-length run is the config's own command.
 #
+# For a sky whose light holds from frame to frame (frames are 196 Myr apart,
+# most of the Sun's orbit): M31's particles weigh 4 times the Milky Way's
+# (--m31-weight 4: 98 000 disc particles about the Sun instead of 53 500),
+# the discs start with Toomre's Q = 3, their stars spread along their orbits
+# (--disc-q 3 --phase-mix 0.5: quieter spirals, though twice the real old
+# disc's radial speeds), and each disc particle's stars and glow spread over
+# 0.2 kpc, about the particles' spacing at the Sun (stars.spread).
+# docs/nbody.md, "A quieter disc for the short film".
+#
 #   examples/futuresky-short.sh [OUT_DIR [SNAPSHOT_DIR]]   (default out/futuresky-short)
 #
 # With SNAPSHOT_DIR, a snapshot every 25 steps (49 Myr, 40 MB each) goes
@@ -27,8 +36,9 @@ out=${1:-out/futuresky-short}
 scene=$here/configs/futuresky-sequence.yaml
 snapshots=()
 [ $# -ge 2 ] && snapshots=(--snapshot-every 25 --snapshot-dir "$2")
-"$build/examples/orrery-nbody" --particles 500000 --steps 2450 --render-every 100 --dt 0.002 --eps 0.2 --tracer-ring 32 --tracer-mirror --quiet \
-  --scene "$scene" --set output.dir="$out" --set animation.frames=25 \
+"$build/examples/orrery-nbody" --particles 500000 --m31-weight 4 --disc-q 3 --phase-mix 0.5 \
+  --steps 2450 --render-every 100 --dt 0.002 --eps 0.2 --tracer-ring 32 --tracer-mirror --quiet \
+  --scene "$scene" --set output.dir="$out" --set animation.frames=25 --set stars.spread=0.2 \
   --set views.dome.image.width=1024 --set views.dome.image.height=1024 \
   --set views.panorama.image.width=1024 --set views.panorama.image.height=512 "${snapshots[@]}"
 if command -v ffmpeg >/dev/null; then
