@@ -18,8 +18,9 @@ light follows it (docs/sky.md, "The glow's flux").
 
 usage: scripts/sun_path.py [--near KPC] SNAPSHOT.hdf5...
 
-Pass every 4th snapshot of examples/futuresky-short.sh (a snapshot every
-25 steps, a frame every 100) for the frames' path. A snapshot that cannot
+Pass every 5th snapshot of examples/futuresky-short.sh (a snapshot every
+5 block steps, a frame every 25; every 4th before 7 December 2026, when it
+took global steps) for the frames' path. A snapshot that cannot
 be read or lacks the Sun (PartType4, id 3), the Milky Way's black hole
 (PartType5, id 1) or its stars is refused with a message naming the file
 and what is missing, exit status 1. tests/cli/test_nbody_isolation.sh
