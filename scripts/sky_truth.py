@@ -29,7 +29,8 @@ Hipparcos/Tycho-2 catalogues by scripts/gen_sky_counts.py):
   (90, 0), (180, 0): the mean within --radius deg, without the listed
   stars brighter than --exclude-brighter (their light is taken off), in
   S10, V mag/arcsec^2 and W m^-2 sr^-1 um^-1, beside a reference table's
-  values if --reference gives one (columns name, l, b, S10);
+  values if --reference gives one (columns name, l, b, S10; Leinert et
+  al. 1998's integrated starlight: data/sky/leinert1998_isl.tsv);
 - the resolved starlight: the light of the listed stars 6.5 <= V < 10.5
   per square degree within 5 deg of the poles and of four points in the
   plane, and in zones of |b|, over the real sky's (data/sky/resolved_light.tsv,
@@ -412,7 +413,8 @@ def main(argv=None):
     ap.add_argument("--radius", type=float, default=3.0, help="radius in deg of the surface-brightness caps")
     ap.add_argument("--exclude-brighter", type=float, default=6.5,
                     help="listed stars brighter than this are taken off the caps' light (default 6.5)")
-    ap.add_argument("--reference", help="reference surface brightness: TSV name, l, b, S10")
+    ap.add_argument("--reference", help="reference surface brightness: TSV name, l, b, S10 "
+                    "(Leinert et al. 1998: data/sky/leinert1998_isl.tsv)")
     ap.add_argument("--resolved", default=DEFAULT_RESOLVED,
                     help="the real sky's resolved light by region (data/sky/resolved_light.tsv)")
     ap.add_argument("--json", help="also write the figures here")

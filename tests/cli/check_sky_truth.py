@@ -15,7 +15,12 @@
     scripts/gen_sky_counts.py makes of the catalogues (only when
     stellarium-data is installed);
 (d) the resolved light by region: a known list's, the real sky's own
-    ratio of 1, and a list that stops short of V = 10.5 not measured.
+    ratio of 1, and a list that stops short of V = 10.5 not measured;
+(e) the committed integrated starlight of Leinert et al. 1998
+    (data/sky/leinert1998_isl.tsv, a transcription of a page scan) against
+    the catalogues' own light at the same points: it holds every star
+    fainter than 6.5 and the light dust scatters, so it must be brighter
+    than the stars 6.5 <= V < 10.5 alone, by less than a factor 8.
 
 usage: check_sky_truth.py SOURCE_DIR WORK_DIR
 """
@@ -38,6 +43,7 @@ import stellarium_stars  # noqa: E402
 PY = sys.executable
 COUNTS = os.path.join(SRC, "data", "sky", "star_counts.tsv")
 RESOLVED = os.path.join(SRC, "data", "sky", "resolved_light.tsv")
+LEINERT = os.path.join(SRC, "data", "sky", "leinert1998_isl.tsv")
 WHOLE_SKY_DEG2 = 4 * np.pi * (180 / np.pi) ** 2
 failures = []
 
@@ -316,7 +322,28 @@ def test_table_matches_catalogues():
     check(p.returncode == 0, f"data/sky/resolved_light.tsv differs from the catalogues: {p.stderr}")
 
 
+def test_leinert_table():
+    """(e) Leinert et al.'s integrated starlight, at each of sky_truth's
+    points, over the resolved light the catalogues give there: in the
+    real sky the stars 6.5 <= V < 10.5 carry about a third of the whole
+    sky's light and those past 10.5 about half, so all the stars fainter
+    than 6.5 give about 2.6 times the resolved light, more in the band
+    (its light is in faint, distant stars) than at the poles: a ratio of
+    1.5 to 8. A digit lost or doubled in the transcription falls out."""
+    isl = sky_truth.read_reference(LEINERT)
+    check(set(isl) == set(sky_truth.POINTS), f"{LEINERT}: points {sorted(isl)}, not {sorted(sky_truth.POINTS)}")
+    resolved = gen_sky_counts.read_resolved(RESOLVED)
+    for name, s10 in isl.items():
+        ratio = s10 / resolved[name]
+        print(f"{name}: Leinert et al. {s10} S10, the catalogues' 6.5 <= V < 10.5 {resolved[name]} S10, "
+              f"ratio {ratio:.2f}")
+        check(1.5 < ratio < 8, f"{name}: Leinert et al.'s {s10} S10 over the catalogues' resolved "
+              f"{resolved[name]} S10 is {ratio:.2f}")
+    check(isl["l=0"] > isl["l=90"] > isl["l=180"] > 4 * max(isl["NGP"], isl["SGP"]),
+          f"Leinert et al.'s band and poles: {isl}")
+
+
 for test in (test_real_sky, test_resolved_light, test_uniform_sky, test_star_shares_and_caps, test_checkerboard_band, test_bad_input,
-             test_catalogue_reader, test_table_matches_catalogues):
+             test_catalogue_reader, test_table_matches_catalogues, test_leinert_table):
     test()
 sys.exit(1 if failures else 0)

@@ -2,7 +2,8 @@
 # Stars from particles (stars.*, docs/sky.md#stars-from-particles) on the
 # shipped Future Sky scene, small: the whole sky's light, the star counts
 # to V = 8 and the band's smoothness against the real sky
-# (scripts/sky_truth.py); light kept with the stars drawn or not; the same
+# (scripts/sky_truth.py) and the integrated starlight of Leinert et al. 1998
+# at the poles and in the plane; light kept with the stars drawn or not; the same
 # bits on one thread and two; the star list astropy reads; bad settings.
 . "$(dirname "$0")/lib.sh"
 # Drawn to V = 8 (the scene ships 6.5, the naked eye's limit) so the list
@@ -51,7 +52,7 @@ PY
 # L_sun kpc^-2 sr^-1 to S10 (V = 10 stars per square degree): a solar
 # luminosity at 1 kpc is V = 14.83.
 "$py" "$SRC/scripts/sky_truth.py" two/futuresky-panorama.fits two/futuresky-panorama.stars.fits \
-  --scale 3.5625e-6 --json truth.json >truth.txt 2>&1 || fail "sky_truth: $(cat truth.txt)"
+  --scale 3.5625e-6 --reference "$SRC/data/sky/leinert1998_isl.tsv" --json truth.json >truth.txt 2>&1 || fail "sky_truth: $(cat truth.txt)"
 "$py" - <<'PY' >check.txt 2>&1 || fail "the sky against the real one: $(cat check.txt) (sky_truth: $(cat truth.txt))"
 import json, sys
 import numpy as np
@@ -69,6 +70,11 @@ for v in ("4", "5", "6", "7", "8"):
         bad.append(f"N(<{v}) {d['counts'][v]['model']} against {d['counts'][v]['real']}")
 if d["band"]["median"] < 0.85 or d["band"]["p90_p10"] > 3:
     bad.append(f"band {d['band']}")
+# The surface brightness at the poles and in the plane at l = 0, 90, 180,
+# against Leinert et al. (1998)'s integrated starlight: within a factor 2.
+for name, s in d["surface"].items():
+    if not 0.5 <= s["ratio"] <= 2:
+        bad.append(f"{name}: {s['S10']:.1f} S10 against Leinert et al.'s {s['reference_S10']}")
 # Light kept: each pixel's surface brightness times its solid angle on the
 # equirectangular map, summed.
 def total(path):
