@@ -2279,7 +2279,7 @@ int main(int argc, char **argv)
             code = after_step(r, &b, &o, &u, rank, size);
     if (!o.quiet && code == 0) {
         long frames = u.frame - frame0, steps = u.step - start;
-        printf("gravity %.2f s over %ld force evaluations; rendering %.2f s over %ld frames\n", u.t_gravity,
+        printf("gravity %.3f s over %ld force evaluations; rendering %.2f s over %ld frames\n", u.t_gravity,
                (o.eta > 0 ? blk.substeps : steps) + 1, u.t_render, frames);
         if (r && frames > 0)
             printf("rendering per frame = %.1f%% of gravity per step\n",
