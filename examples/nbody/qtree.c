@@ -52,52 +52,45 @@ static void set_tree_pool(qt_tree *t, const qt_pool *p)
     t->supers_cap = p->supers_cap;
 }
 
-/* Room in pool p for cap nodes, groups or super-groups (the super-groups'
- * first groups with them, and the end mark): grown to cap if it held less;
- * 0, or -1 when out of memory (the pool as it was). */
-static int room_for_nodes(qt_pool *p, size_t cap)
+/* Makes *array, of elements of size bytes, hold cap of them: 0, or -1
+ * when out of memory (the array as it was). */
+static int grow_array(void **array, size_t cap, size_t size)
 {
-    if (cap <= p->cap)
-        return 0;
-    qt_node *nodes = realloc(p->nodes, cap * sizeof *nodes);
-    if (!nodes)
+    void *a = realloc(*array, cap * size);
+    if (!a)
         return -1;
-    p->nodes = nodes;
-    p->cap = cap;
+    *array = a;
     return 0;
 }
 
-static int room_for_groups(qt_pool *p, size_t cap)
+/* Room in the pool for at least nodes nodes, groups groups and supers
+ * super-groups (the super-groups' first groups with them, and the end
+ * mark): each array grown if it held less; 0, or -1 when out of memory
+ * (what it held kept). */
+static int pool_room(qt_pool *p, size_t nodes, size_t groups, size_t supers)
 {
-    if (cap <= p->groups_cap)
-        return 0;
-    int *g = realloc(p->groups, cap * sizeof *g);
-    if (!g)
-        return -1;
-    p->groups = g;
-    p->groups_cap = cap;
-    return 0;
-}
-
-static int room_for_supers(qt_pool *p, size_t cap)
-{
-    if (cap <= p->supers_cap)
-        return 0;
-    int *s = realloc(p->supers, cap * sizeof *s);
-    if (s)
-        p->supers = s;
-    size_t *f = realloc(p->super_first_group, cap * sizeof *f);
-    if (f)
-        p->super_first_group = f;
-    if (!s || !f)
-        return -1;
-    p->supers_cap = cap;
+    if (nodes > p->cap) {
+        if (grow_array((void **)&p->nodes, nodes, sizeof *p->nodes) != 0)
+            return -1;
+        p->cap = nodes;
+    }
+    if (groups > p->groups_cap) {
+        if (grow_array((void **)&p->groups, groups, sizeof *p->groups) != 0)
+            return -1;
+        p->groups_cap = groups;
+    }
+    if (supers > p->supers_cap) {
+        if (grow_array((void **)&p->supers, supers, sizeof *p->supers) != 0 ||
+            grow_array((void **)&p->super_first_group, supers, sizeof *p->super_first_group) != 0)
+            return -1;
+        p->supers_cap = supers;
+    }
     return 0;
 }
 
 static int new_node(qt_pool *p)
 {
-    if (p->nnodes == p->cap && room_for_nodes(p, p->cap ? 2 * p->cap : p->first_cap ? p->first_cap : 1024) != 0)
+    if (p->nnodes == p->cap && pool_room(p, p->cap ? 2 * p->cap : p->first_cap ? p->first_cap : 1024, 0, 0) != 0)
         return -1;
     qt_node *nd = &p->nodes[p->nnodes];
     memset(nd, 0, sizeof *nd);
@@ -108,7 +101,7 @@ static int new_node(qt_pool *p)
 
 static int add_group(qt_pool *p, int node)
 {
-    if (p->ngroups == p->groups_cap && room_for_groups(p, p->groups_cap ? 2 * p->groups_cap : 256) != 0)
+    if (p->ngroups == p->groups_cap && pool_room(p, 0, p->groups_cap ? 2 * p->groups_cap : 256, 0) != 0)
         return -1;
     p->groups[p->ngroups++] = node;
     return 0;
@@ -117,7 +110,7 @@ static int add_group(qt_pool *p, int node)
 /* Records node as a super-group whose groups start at the next one added. */
 static int add_super(qt_pool *p, int node)
 {
-    if (p->nsupers + 1 >= p->supers_cap && room_for_supers(p, p->supers_cap ? 2 * p->supers_cap : 64) != 0)
+    if (p->nsupers + 1 >= p->supers_cap && pool_room(p, 0, 0, p->supers_cap ? 2 * p->supers_cap : 64) != 0)
         return -1;
     p->supers[p->nsupers] = node;
     p->super_first_group[p->nsupers++] = p->ngroups;
@@ -415,7 +408,7 @@ static void free_parts(qt_part *p)
 static int room_in_tree(qt_tree *t, size_t nodes, size_t groups, size_t supers)
 {
     qt_pool p = tree_pool(t);
-    int st = room_for_nodes(&p, nodes) || room_for_groups(&p, groups) || room_for_supers(&p, supers + 1) ? -1 : 0;
+    int st = pool_room(&p, nodes, groups, supers + 1);
     set_tree_pool(t, &p);
     return st;
 }
