@@ -10,6 +10,7 @@
 #endif
 
 #define MAX_DEPTH 48 /* beyond this a cell holds coincident particles: a leaf however many */
+#define KEY_LEVELS 21 /* levels of octants a particle's key holds (3 bits each, 63 in all) */
 
 /* Where a build puts the nodes, groups and super-groups it makes: the
  * tree's own arrays (tree_pool), or a part's (qt_part, below), numbered
@@ -118,9 +119,30 @@ static int add_super(qt_pool *p, int node)
     return 0;
 }
 
-static int octant(double x, double y, double z, const double *c)
+/* The 21 low bits of v spread to every third bit (bit i to bit 3 i). */
+static uint64_t spread_bits(uint64_t v)
 {
-    return (x >= c[0]) | (y >= c[1]) << 1 | (z >= c[2]) << 2;
+    v &= 0x1fffff;
+    v = (v | v << 32) & 0x1f00000000ffffULL;
+    v = (v | v << 16) & 0x1f0000ff0000ffULL;
+    v = (v | v << 8) & 0x100f00f00f00f00fULL;
+    v = (v | v << 4) & 0x10c30c30c30c30c3ULL;
+    v = (v | v << 2) & 0x1249249249249249ULL;
+    return v;
+}
+
+/* A point's key in the cube of side 1 / scale from corner lo: its octant
+ * at each level, 3 bits a level from the top (bit 0 of each x, 1 y, 2 z,
+ * as the build numbers octants), its coordinates cut to 2^21 steps. */
+static uint64_t point_key(const double x[3], const double lo[3], double scale)
+{
+    uint64_t key = 0;
+    for (int a = 0; a < 3; a++) {
+        double q = (x[a] - lo[a]) * scale;
+        uint64_t step = q <= 0 ? 0 : q >= (double)((1 << KEY_LEVELS) - 1) ? (1 << KEY_LEVELS) - 1 : (uint64_t)q;
+        key |= spread_bits(step) << a;
+    }
+    return key;
 }
 
 /* A node's mass, centre of mass and mean softening^2 from the sums of m,
@@ -145,30 +167,56 @@ static void add_quad(double q[6], double m, const double y[3])
     q[5] += m * 3 * y[1] * y[2];
 }
 
-/* A node holding cells of another rank's tree (qt_build_with_moments):
- * their own quadrupoles add to its (the shift from each cell's centre to
- * the node's is already in, as for a particle), and its b_max reaches past
- * each cell's centre by the cell's own b_max. */
-static void add_cells_moments(const qt_tree *t, qt_node *nd)
+/* Which of another rank's cells (qt_build_with_moments) particle j of the
+ * tree order is; t->ncells or more when it is a particle. */
+static size_t cell_of(const qt_tree *t, size_t j)
 {
-    double b = nd->bmax;
+    return t->order[j] - t->cells_first; /* wraps round for particles before the cells */
+}
+
+/* A leaf holding cells of another rank's tree: their own quadrupoles add
+ * to its (the shift from each cell's centre to the leaf's is already in,
+ * as for a particle; the nodes above take them from their children). */
+static void add_cells_quads(const qt_tree *t, const qt_node *nd, double q[6])
+{
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
-        size_t c = t->order[j] - t->cells_first; /* wraps round for particles before the cells */
+        const size_t c = cell_of(t, j);
+        for (int k = 0; c < t->ncells && k < 6; k++)
+            q[k] += t->xquad[6 * c + k];
+    }
+}
+
+/* b_max of a node holding such cells: reaching past each cell's centre by
+ * the cell's own b_max. */
+static double cells_reach(const qt_tree *t, const qt_node *nd, double b)
+{
+    for (size_t j = nd->first; j < nd->first + nd->count; j++) {
+        const size_t c = cell_of(t, j);
         if (c >= t->ncells)
             continue;
-        for (int k = 0; k < 6; k++)
-            nd->quad[k] += t->xquad[6 * c + k];
         double y[3] = {t->px[j] - nd->com[0], t->py[j] - nd->com[1], t->pz[j] - nd->com[2]};
         b = fmax(b, sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]) + t->xbmax[c]);
     }
-    nd->bmax = b;
+    return b;
 }
 
-/* Mass, centre of mass, traceless quadrupole, b_max and mean softening^2
- * of a node, from its particles directly (each particle is visited once per
- * level: N log N in all). During the build the tree-order arrays hold the
- * node's particles contiguously, pe2 still the softening itself. */
-static void node_moments(const qt_tree *t, qt_node *nd, const double centre[3])
+/* The largest squared distance from point c to one of particles first ..
+ * first + count - 1 (tree order). */
+static double farthest2(const qt_tree *t, const double c[3], size_t first, size_t count)
+{
+    double b2 = 0;
+    for (size_t j = first; j < first + count; j++) {
+        const double y[3] = {t->px[j] - c[0], t->py[j] - c[1], t->pz[j] - c[2]};
+        const double r2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
+        b2 = r2 > b2 ? r2 : b2; /* not fmax: a call into libm for every particle */
+    }
+    return b2;
+}
+
+/* Mass, centre of mass, traceless quadrupole and mean softening^2 of a
+ * leaf, from its particles (pe2 already squared). Its com holds its cube's
+ * centre until then, for a leaf without mass. */
+static void leaf_moments(const qt_tree *t, qt_node *nd)
 {
     double m = 0, c[3] = {0, 0, 0}, e2 = 0;
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
@@ -176,65 +224,112 @@ static void node_moments(const qt_tree *t, qt_node *nd, const double centre[3])
         c[0] += t->pm[j] * t->px[j];
         c[1] += t->pm[j] * t->py[j];
         c[2] += t->pm[j] * t->pz[j];
-        e2 += t->pm[j] * t->pe2[j] * t->pe2[j];
+        e2 += t->pm[j] * t->pe2[j];
     }
+    const double centre[3] = {nd->com[0], nd->com[1], nd->com[2]};
     set_mass_centre(nd, m, c, e2, centre);
-    double q[6] = {0}, b2 = 0;
+    double q[6] = {0};
     for (size_t j = nd->first; j < nd->first + nd->count; j++) {
         double y[3] = {t->px[j] - nd->com[0], t->py[j] - nd->com[1], t->pz[j] - nd->com[2]};
         add_quad(q, t->pm[j], y);
-        const double r2 = y[0] * y[0] + y[1] * y[1] + y[2] * y[2];
-        b2 = r2 > b2 ? r2 : b2; /* not fmax: a call into libm for every particle at every level */
+    }
+    if (t->ncells)
+        add_cells_quads(t, nd, q);
+    memcpy(nd->quad, q, sizeof q);
+}
+
+/* The same for a node above leaves, from its children's moments (its quadrupole theirs moved to its centre of mass: each
+ * particle's moments are summed once, not once a level). Its children's
+ * moments must be made. */
+static void moments_from_children(const qt_tree *t, qt_node *nd)
+{
+    double m = 0, c[3] = {0, 0, 0}, e2 = 0;
+    for (int k = 0; k < 8; k++) {
+        if (nd->child[k] < 0)
+            continue;
+        const qt_node *ch = &t->nodes[nd->child[k]];
+        m += ch->mass;
+        for (int a = 0; a < 3; a++)
+            c[a] += ch->mass * ch->com[a];
+        e2 += ch->mass * ch->eps2;
+    }
+    const double centre[3] = {nd->com[0], nd->com[1], nd->com[2]};
+    set_mass_centre(nd, m, c, e2, centre);
+    double q[6] = {0};
+    for (int k = 0; k < 8; k++) {
+        if (nd->child[k] < 0)
+            continue;
+        const qt_node *ch = &t->nodes[nd->child[k]];
+        const double y[3] = {ch->com[0] - nd->com[0], ch->com[1] - nd->com[1], ch->com[2] - nd->com[2]};
+        for (int i = 0; i < 6; i++)
+            q[i] += ch->quad[i];
+        add_quad(q, ch->mass, y);
     }
     memcpy(nd->quad, q, sizeof q);
-    nd->bmax = sqrt(b2);
+}
+
+/* A node's b_max once its centre of mass is known: from its particles, the
+ * exact value the opening criterion needs (a bound from its children's
+ * would open more cells). */
+static void finish_bmax(const qt_tree *t, qt_node *nd)
+{
+    nd->bmax = sqrt(farthest2(t, nd->com, nd->first, nd->count));
     if (t->ncells)
-        add_cells_moments(t, nd);
+        nd->bmax = cells_reach(t, nd, nd->bmax);
 }
 
-/* Moves the entries first .. first + count - 1 of a to the places dest
- * gives them (within the same range), through tmp. */
-static void permute(double *a, const size_t *dest, double *tmp, size_t first, size_t count)
+static int is_leaf(const qt_node *nd)
 {
-    for (size_t j = first; j < first + count; j++)
-        tmp[dest[j]] = a[j];
-    memcpy(&a[first], &tmp[first], count * sizeof *a);
+    for (int k = 0; k < 8; k++)
+        if (nd->child[k] >= 0)
+            return 0;
+    return 1;
 }
 
-/* Counting sort of a cell's particles by octant: order and the tree-order
- * arrays together, so that every level reads its particles contiguously
- * (reading them through order, at random, was most of the build's time). */
-static void sort_by_octant(qt_tree *t, size_t first, size_t count, const double centre[3], size_t counts[8],
-                           size_t starts[8])
+/* Splits a cell's particles (first .. first + count - 1, at depth depth)
+ * into its octants: a stable counting sort of their keys and order by the
+ * keys' 3 bits of that level (16 bytes a particle moved, where sorting the
+ * positions, masses and softenings with them moved 48). Below the keys'
+ * last level (particles closer than 2^-21 of the root's cube) the cell is
+ * cut into 8 runs of particles in their order: cells that overlap, but
+ * each with its exact moments and b_max, so coincident particles still
+ * come in groups. */
+static void split_cell(qt_tree *t, size_t first, size_t count, int depth, size_t counts[8], size_t starts[8])
 {
-    size_t fill[8];
-    for (size_t j = first; j < first + count; j++)
-        counts[octant(t->px[j], t->py[j], t->pz[j], centre)]++;
+    const int below_keys = depth >= KEY_LEVELS, shift = below_keys ? 0 : 3 * (KEY_LEVELS - 1 - depth);
+    for (int k = 0; below_keys && k < 8; k++)
+        counts[k] = count / 8 + ((size_t)k < count % 8);
+    for (size_t j = first; !below_keys && j < first + count; j++)
+        counts[t->key[j] >> shift & 7]++;
     starts[0] = first;
     for (int k = 1; k < 8; k++)
         starts[k] = starts[k - 1] + counts[k - 1];
+    if (below_keys)
+        return;
+    size_t fill[8];
     memcpy(fill, starts, sizeof fill);
-    for (size_t j = first; j < first + count; j++)
-        t->dest[j] = fill[octant(t->px[j], t->py[j], t->pz[j], centre)]++;
-    for (size_t j = first; j < first + count; j++)
-        t->scratch[t->dest[j]] = t->order[j];
+    for (size_t j = first; j < first + count; j++) {
+        const size_t to = fill[t->key[j] >> shift & 7]++;
+        t->key_tmp[to] = t->key[j];
+        t->scratch[to] = t->order[j];
+    }
+    memcpy(&t->key[first], &t->key_tmp[first], count * sizeof *t->key);
     memcpy(&t->order[first], &t->scratch[first], count * sizeof *t->order);
-    double *arrays[5] = {t->px, t->py, t->pz, t->pm, t->pe2};
-    for (int a = 0; a < 5; a++)
-        permute(arrays[a], t->dest, t->sort_tmp, first, count);
 }
 
-/* The centre of octant k of the cell (centre, half). */
-static void child_centre(const double centre[3], double half, int k, double cc[3])
+/* The centre of octant k of the cell (centre, half) at depth depth (below
+ * the keys' last level, split_cell's runs: the cell's own). */
+static void child_centre(const double centre[3], double half, int depth, int k, double cc[3])
 {
     for (int a = 0; a < 3; a++)
-        cc[a] = centre[a] + ((k >> a) & 1 ? 0.5 : -0.5) * half;
+        cc[a] = depth >= KEY_LEVELS ? centre[a] : centre[a] + ((k >> a) & 1 ? 0.5 : -0.5) * half;
 }
 
 /* A new node of pool p for the cell about centre over the particles
- * first .. first + count - 1 of the tree-order arrays, with its moments;
- * its index in p, or -1 when out of memory. */
-static int cell_node(qt_tree *t, qt_pool *p, size_t first, size_t count, const double centre[3])
+ * first .. first + count - 1 of the tree order, its com the cube's centre
+ * until its moments are made (tree_moments); its index in p, or -1 when
+ * out of memory. */
+static int cell_node(qt_pool *p, size_t first, size_t count, const double centre[3])
 {
     int id = new_node(p);
     if (id < 0)
@@ -242,7 +337,7 @@ static int cell_node(qt_tree *t, qt_pool *p, size_t first, size_t count, const d
     qt_node *nd = &p->nodes[id];
     nd->first = first;
     nd->count = count;
-    node_moments(t, nd, centre);
+    memcpy(nd->com, centre, sizeof nd->com);
     return id;
 }
 
@@ -253,7 +348,7 @@ static int cell_node(qt_tree *t, qt_pool *p, size_t first, size_t count, const d
 static int build_node(qt_tree *t, qt_pool *p, size_t first, size_t count, const double centre[3], double half,
                       int depth, int in_group, int in_super)
 {
-    int id = cell_node(t, p, first, count, centre);
+    int id = cell_node(p, first, count, centre);
     if (id < 0)
         return -1;
     if (!in_super && count <= QT_SUPER) {
@@ -269,12 +364,12 @@ static int build_node(qt_tree *t, qt_pool *p, size_t first, size_t count, const 
     if (count <= QT_LEAF || depth >= MAX_DEPTH)
         return id; /* a leaf */
     size_t counts[8] = {0}, starts[8];
-    sort_by_octant(t, first, count, centre, counts, starts);
+    split_cell(t, first, count, depth, counts, starts);
     for (int k = 0; k < 8; k++) {
         if (!counts[k])
             continue;
         double cc[3];
-        child_centre(centre, half, k, cc);
+        child_centre(centre, half, depth, k, cc);
         int child = build_node(t, p, starts[k], counts[k], cc, 0.5 * half, depth + 1, in_group, in_super);
         if (child < 0)
             return -1;
@@ -327,12 +422,12 @@ static void build_part(qt_tree *t, qt_part *part, size_t first, size_t count, co
         return;
     }
     part->pool.first_cap = 1;
-    if (cell_node(t, &part->pool, first, count, centre) < 0) {
+    if (cell_node(&part->pool, first, count, centre) < 0) {
         set_failed(failed);
         return;
     }
     size_t counts[8] = {0}, starts[8];
-    sort_by_octant(t, first, count, centre, counts, starts);
+    split_cell(t, first, count, depth, counts, starts);
     for (int k = 0; k < 8; k++) {
         if (!counts[k])
             continue;
@@ -343,7 +438,7 @@ static void build_part(qt_tree *t, qt_part *part, size_t first, size_t count, co
         }
         part->child[k] = c;
         double cc[3];
-        child_centre(centre, half, k, cc);
+        child_centre(centre, half, depth, k, cc);
         const size_t at = starts[k], n = counts[k];
 #pragma omp task firstprivate(c, cc, at, n)
         build_part(t, c, at, n, cc, 0.5 * half, depth + 1, failed);
@@ -468,20 +563,27 @@ static int build_nodes(qt_tree *t, size_t n, const double centre[3], double half
     return st;
 }
 
+static void free_build_scratch(qt_tree *t)
+{
+    free(t->scratch);
+    free(t->key);
+    free(t->key_tmp);
+    t->scratch = NULL;
+    t->key = t->key_tmp = NULL;
+}
+
 static int resize(qt_tree *t, size_t n)
 {
     free(t->order);
-    free(t->scratch);
-    free(t->dest);
     free(t->px);
-    free(t->sort_tmp);
+    free_build_scratch(t);
     t->order = malloc(n * sizeof *t->order);
     t->scratch = malloc(n * sizeof *t->scratch);
-    t->dest = malloc(n * sizeof *t->dest);
+    t->key = malloc(n * sizeof *t->key);
+    t->key_tmp = malloc(n * sizeof *t->key_tmp);
     t->px = malloc(5 * n * sizeof *t->px);
-    t->sort_tmp = malloc(n * sizeof *t->sort_tmp);
     t->n = n;
-    if (!t->order || !t->scratch || !t->dest || !t->px || !t->sort_tmp)
+    if (!t->order || !t->scratch || !t->key || !t->key_tmp || !t->px)
         return -1;
     t->py = t->px + n;
     t->pz = t->py + n;
@@ -495,8 +597,9 @@ static int resize(qt_tree *t, size_t n)
  * to its `next`; a leaf's next is the node after it. What the walk reads,
  * in 72 bytes a node instead of the node's 144, read forwards: a group
  * visits ~600 nodes and takes ~500 of them whole (the Milky Way model), so
- * the cells' moments are kept ready in float. */
-static int index_walk(qt_tree *t)
+ * the cells' moments are kept ready in float. First the subtrees' ends
+ * (tree_moments uses them), then the copy, once the moments are made. */
+static int subtree_ends(qt_tree *t)
 {
     if (t->walk_cap < t->nnodes) {
         free(t->walk);
@@ -507,6 +610,20 @@ static int index_walk(qt_tree *t)
     }
     for (size_t id = t->nnodes; id-- > 0;) {
         const qt_node *nd = &t->nodes[id];
+        size_t next = id + 1;
+        for (int k = 0; k < 8; k++) /* the last child's subtree ends the node's */
+            if (nd->child[k] >= 0)
+                next = t->walk[nd->child[k]].next;
+        t->walk[id].next = next;
+    }
+    return 0;
+}
+
+static void copy_to_walk(qt_tree *t)
+{
+#pragma omp parallel for schedule(static)
+    for (size_t id = 0; id < t->nnodes; id++) {
+        const qt_node *nd = &t->nodes[id];
         qt_walk_node *w = &t->walk[id];
         memcpy(w->com, nd->com, sizeof w->com);
         w->bmax = nd->bmax;
@@ -514,12 +631,79 @@ static int index_walk(qt_tree *t)
         for (int q = 0; q < 6; q++)
             w->moments[1 + q] = (float)nd->quad[q];
         w->moments[7] = (float)nd->eps2;
-        w->next = id + 1;
-        for (int k = 0; k < 8; k++) /* the last child's subtree ends the node's */
-            if (nd->child[k] >= 0)
-                w->next = t->walk[nd->child[k]].next;
     }
-    return 0;
+}
+
+/* The moments of every node of the subtree of node id (its nodes id ..
+ * next - 1, each parent before its children): from the last back. */
+static void subtree_moments(qt_tree *t, size_t id)
+{
+    for (size_t k = t->walk[id].next; k-- > id;) {
+        qt_node *nd = &t->nodes[k];
+        if (is_leaf(nd))
+            leaf_moments(t, nd);
+        else
+            moments_from_children(t, nd);
+        finish_bmax(t, nd);
+    }
+}
+
+/* The moments of node id's subtree, its octants' subtrees as tasks of
+ * their own while they hold more than QT_PART_MIN particles: each node's
+ * from its own children and particles, so the same on any thread count. */
+static void moments_task(qt_tree *t, size_t id)
+{
+    qt_node *nd = &t->nodes[id];
+    if (nd->count <= QT_PART_MIN || is_leaf(nd)) {
+        subtree_moments(t, id);
+        return;
+    }
+    for (int k = 0; k < 8; k++) {
+        const int child = nd->child[k];
+        if (child >= 0) {
+#pragma omp task firstprivate(child)
+            moments_task(t, (size_t)child);
+        }
+    }
+#pragma omp taskwait
+    moments_from_children(t, nd);
+    finish_bmax(t, nd);
+}
+
+static void tree_moments(qt_tree *t)
+{
+    if (!t->nnodes)
+        return;
+#pragma omp parallel
+#pragma omp single
+    moments_task(t, 0);
+}
+
+/* The cube about all n particles: its centre and half its side, a little
+ * more than the particles' extent (every key's coordinates below 2^21). */
+static void root_cube(const double *pos, size_t n, double centre[3], double *half)
+{
+    double lo0 = INFINITY, lo1 = INFINITY, lo2 = INFINITY, hi0 = -INFINITY, hi1 = -INFINITY, hi2 = -INFINITY;
+    /* The positions are finite (nbody.c checks): comparisons, not fmin and
+     * fmax's NaN rules in calls into libm. Least and largest are exact, so
+     * the same on any thread count. */
+#pragma omp parallel for schedule(static) reduction(min : lo0, lo1, lo2) reduction(max : hi0, hi1, hi2)
+    for (size_t i = 0; i < n; i++) {
+        const double *x = &pos[3 * i];
+        lo0 = x[0] < lo0 ? x[0] : lo0;
+        lo1 = x[1] < lo1 ? x[1] : lo1;
+        lo2 = x[2] < lo2 ? x[2] : lo2;
+        hi0 = x[0] > hi0 ? x[0] : hi0;
+        hi1 = x[1] > hi1 ? x[1] : hi1;
+        hi2 = x[2] > hi2 ? x[2] : hi2;
+    }
+    const double lo[3] = {lo0, lo1, lo2}, hi[3] = {hi0, hi1, hi2};
+    *half = 0;
+    for (int k = 0; k < 3; k++) {
+        centre[k] = n ? 0.5 * (lo[k] + hi[k]) : 0.0;
+        *half = fmax(*half, n ? 0.5 * (hi[k] - lo[k]) : 0.0);
+    }
+    *half = *half * 1.0001 + 1e-12;
 }
 
 int qt_build(qt_tree *t, const double *pos, const double *mass, const double *eps, size_t n)
@@ -529,11 +713,7 @@ int qt_build(qt_tree *t, const double *pos, const double *mass, const double *ep
 
 void qt_drop_build_scratch(qt_tree *t)
 {
-    free(t->scratch);
-    free(t->dest);
-    free(t->sort_tmp);
-    t->scratch = t->dest = NULL;
-    t->sort_tmp = NULL;
+    free_build_scratch(t);
     /* The node pools' room to grow (up to as much again as they hold) given
      * back: the walk reads only the nodes built, and with --decompose this
      * is a rank's largest block of memory (bench/bench_decompose.sh). */
@@ -559,37 +739,36 @@ int qt_build_with_moments(qt_tree *t, const double *pos, const double *mass, con
     t->nnodes = 0;
     t->ngroups = 0;
     t->nsupers = 0;
-    if ((n != t->n || !t->order || !t->scratch) && resize(t, n) != 0)
+    if ((n != t->n || !t->order || !t->scratch || !t->key) && resize(t, n) != 0)
         return -1;
-    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    double centre[3], half;
+    root_cube(pos, n, centre, &half);
+    const double corner[3] = {centre[0] - half, centre[1] - half, centre[2] - half};
+    const double scale = (double)(1 << KEY_LEVELS) / (2 * half);
+#pragma omp parallel for schedule(static)
     for (size_t i = 0; i < n; i++) {
         t->order[i] = i;
-        t->px[i] = pos[3 * i];
-        t->py[i] = pos[3 * i + 1];
-        t->pz[i] = pos[3 * i + 2];
-        t->pm[i] = mass[i];
-        t->pe2[i] = eps[i]; /* squared once sorted */
-        for (int k = 0; k < 3; k++) { /* the positions are finite (nbody.c checks): fmin and fmax's NaN rules,
-                                          calls into libm, are not needed */
-            const double x = pos[3 * i + k];
-            lo[k] = x < lo[k] ? x : lo[k];
-            hi[k] = x > hi[k] ? x : hi[k];
-        }
+        t->key[i] = point_key(&pos[3 * i], corner, scale);
     }
-    double centre[3], half = 0;
-    for (int k = 0; k < 3; k++) {
-        centre[k] = n ? 0.5 * (lo[k] + hi[k]) : 0.0;
-        half = fmax(half, n ? 0.5 * (hi[k] - lo[k]) : 0.0);
-    }
-    half = half * 1.0001 + 1e-12;
     if (build_nodes(t, n, centre, half) != 0)
         return -1;
     if (t->nsupers)
         t->super_first_group[t->nsupers] = t->ngroups;
-    /* The walk reads particles in tree order, contiguously: the build left them so. */
-    for (size_t j = 0; j < n; j++)
-        t->pe2[j] *= t->pe2[j];
-    return index_walk(t);
+    /* The walk reads particles in tree order, contiguously. */
+#pragma omp parallel for schedule(static)
+    for (size_t j = 0; j < n; j++) {
+        const size_t i = t->order[j];
+        t->px[j] = pos[3 * i];
+        t->py[j] = pos[3 * i + 1];
+        t->pz[j] = pos[3 * i + 2];
+        t->pm[j] = mass[i];
+        t->pe2[j] = eps[i] * eps[i];
+    }
+    if (subtree_ends(t) != 0)
+        return -1;
+    tree_moments(t);
+    copy_to_walk(t);
+    return 0;
 }
 
 /* ---- walk --------------------------------------------------------------- */
@@ -632,7 +811,7 @@ static int push_cell(qt_lists *l, const qt_walk_node *w, const double g[3])
  * (qt_build_with_moments), when it is one, as a cell to push. */
 static int cell_particle(const qt_tree *t, size_t j, qt_walk_node *w)
 {
-    size_t c = t->order[j] - t->cells_first; /* wraps round for particles before the cells */
+    const size_t c = cell_of(t, j);
     if (c >= t->ncells)
         return 0;
     w->com[0] = t->px[j];
@@ -1098,9 +1277,7 @@ void qt_free(qt_tree *t)
 {
     free(t->nodes);
     free(t->order);
-    free(t->scratch);
-    free(t->dest);
-    free(t->sort_tmp);
+    free_build_scratch(t);
     free(t->groups);
     free(t->supers);
     free(t->super_first_group);

@@ -18,6 +18,7 @@
 #define NBODY_QTREE_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 typedef struct qt_node {
     double com[3];
@@ -42,8 +43,9 @@ typedef struct qt_walk_node {
 typedef struct qt_tree {
     qt_node *nodes;
     size_t nnodes, cap;
-    size_t *order, *scratch, *dest; /* dest, scratch, sort_tmp: the build's counting sorts */
-    double *sort_tmp;
+    size_t *order;          /* tree position -> the caller's particle */
+    size_t *scratch;        /* scratch, key, key_tmp: the build's counting sorts */
+    uint64_t *key, *key_tmp; /* each particle's octant at every level (qtree.c, point_key) */
     size_t n;
     int *groups; /* the nodes walked as groups: the largest with at most QT_GROUP particles */
     size_t ngroups, groups_cap;
