@@ -238,9 +238,10 @@ static void leaf_moments(const qt_tree *t, qt_node *nd)
     memcpy(nd->quad, q, sizeof q);
 }
 
-/* The same for a node above leaves, from its children's moments (its quadrupole theirs moved to its centre of mass: each
- * particle's moments are summed once, not once a level). Its children's
- * moments must be made. */
+/* The same for a node above leaves, from its children's moments (their
+ * quadrupoles moved to its centre of mass: each particle's moments are
+ * summed once, in its leaf, not once a level). Its children's moments
+ * must be made. */
 static void moments_from_children(const qt_tree *t, qt_node *nd)
 {
     double m = 0, c[3] = {0, 0, 0}, e2 = 0;
