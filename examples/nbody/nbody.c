@@ -66,6 +66,7 @@ typedef struct options {
     double disc_q;         /* model: the discs' Toomre Q */
     double m31_weight;     /* model: M31's particles over the Milky Way's of the same kind */
     double phase_mix;      /* a new run's disc stars moved along their orbits for up to this long (phase_mix.h) */
+    const char *model_option; /* the first of the model's options given (--particles ... --m31-weight), or NULL */
     const char *scene;     /* rendered in-situ; NULL: no rendering */
     const char *sets[32];
     int nsets;
@@ -109,7 +110,9 @@ static const char usage[] =
     "Units: kpc, 1e10 Msun, km/s (time unit 0.978 Gyr). docs/nbody.md.\n"
     "\n"
     "  --ic model|FILE    initial conditions: the built-in MW-M31 model (default) or any\n"
-    "                     snapshot orrery reads (e.g. GADGET-2's galaxy_littleendian.dat)\n"
+    "                     snapshot orrery reads (e.g. GADGET-2's galaxy_littleendian.dat);\n"
+    "                     the model's options below (--particles to --m31-weight) are\n"
+    "                     errors with a FILE or --resume, which bring their own particles\n"
     "  --particles N      model particles (default 100000)\n"
     "  --separation KPC   model separation (default 780)\n"
     "  --galaxies WHICH   model: both (pair, default), or the Milky Way (mw) or M31 alone\n"
@@ -224,7 +227,7 @@ static int parse_tracer_start(const char *v, int *out)
 static int check_options(const options *o)
 {
     const char *bad = NULL;
-    char why[128] = "";
+    char why[512] = "";
     if (!(o->dt > 0) || !isfinite(o->dt))
         bad = "--dt", snprintf(why, sizeof why, "%g: the time step must be a number above 0", o->dt);
     else if (o->dt > DT_MAX)
@@ -285,9 +288,22 @@ static int check_options(const options *o)
     else if (o->resume_dir && o->ic_given)
         bad = "--resume", snprintf(why, sizeof why, "%s: the initial conditions are the snapshot's: not with --ic",
                                    o->resume_dir);
+    else if (o->model_option && (o->resume_dir || strcmp(o->ic, "model") != 0))
+        bad = o->model_option,
+        snprintf(why, sizeof why, "shapes the built-in model: not with %s %s, whose particles are the run's",
+                 o->resume_dir ? "--resume" : "--ic", o->resume_dir ? o->resume_dir : o->ic);
     if (bad)
         fprintf(stderr, "orrery-nbody: %s %s\n", bad, why);
     return bad == NULL;
+}
+
+/* The model's options shape the built-in model only: given with a file
+ * or a resumed run's snapshots they would change nothing, so they are an
+ * error there (check_options), named by the first given. */
+static void note_model_option(options *o, const char *name)
+{
+    if (!o->model_option)
+        o->model_option = name;
 }
 
 static int parse_args(int argc, char **argv, options *o)
@@ -328,15 +344,20 @@ static int parse_args(int argc, char **argv, options *o)
             o->resume_dir = v;
         } else if (strcmp(a, "--particles") == 0) {
             o->particles = atoll(v);
+            note_model_option(o, a);
         } else if (strcmp(a, "--separation") == 0) {
             o->separation = atof(v);
+            note_model_option(o, a);
         } else if (strcmp(a, "--galaxies") == 0) {
             if (!parse_galaxies(v, &o->galaxies))
                 return 0;
+            note_model_option(o, a);
         } else if (strcmp(a, "--disc-q") == 0) {
             o->disc_q = parse_number(v);
+            note_model_option(o, a);
         } else if (strcmp(a, "--m31-weight") == 0) {
             o->m31_weight = parse_number(v);
+            note_model_option(o, a);
         } else if (strcmp(a, "--phase-mix") == 0) {
             o->phase_mix = parse_number(v);
         } else if (strcmp(a, "--eps-halo") == 0) {

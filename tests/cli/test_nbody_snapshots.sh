@@ -203,10 +203,11 @@ PY
 done
 
 # Bad options and folders: an error naming them, before any step.
-expect_nbody_error() { # CODE PATTERN ARGS...
-  local code=$1 pattern=$2 got=0
+expect_nbody_error() { # CODE PATTERN ARGS... (a small model unless resumed)
+  local code=$1 pattern=$2 got=0 model=(--galaxies mw --particles 1000)
   shift 2
-  "$NBODY" --galaxies mw --particles 1000 --steps 1 "$@" >out.txt 2>err.txt || got=$?
+  case " $* " in *" --resume "*) model=() ;; esac
+  "$NBODY" "${model[@]}" --steps 1 "$@" >out.txt 2>err.txt || got=$?
   [ "$got" -eq "$code" ] || fail "orrery-nbody $* exited $got, expected $code"
   grep -q -- "$pattern" err.txt || fail "orrery-nbody $*: stderr does not say '$pattern': $(cat err.txt)"
   ! grep -q "^report\|^step" out.txt || fail "orrery-nbody $* ran anyway"
@@ -218,6 +219,10 @@ expect_nbody_error 2 "--snapshot-every 0: expected a whole number of steps" --sn
 expect_nbody_error 2 "--snapshot-every often: expected a whole number of steps" --snapshot-every often --snapshot-dir s
 expect_nbody_error 2 "--snapshot-every needs --snapshot-dir" --snapshot-every 2
 expect_nbody_error 2 "--resume half: .*not with --ic" --resume half --ic model
+# The model's options change nothing of a file's or a resumed run's particles.
+expect_nbody_error 2 "--galaxies shapes the built-in model: not with --ic half/snapshot_0002.hdf5" \
+  --ic half/snapshot_0002.hdf5
+expect_nbody_error 2 "--m31-weight shapes the built-in model: not with --resume half" --resume half --m31-weight 4
 mkdir empty
 expect_nbody_error 1 "--resume empty: empty: holds no snapshot_NNNN.hdf5" --resume empty
 expect_nbody_error 1 "--resume missing: missing: cannot read the folder" --resume missing
