@@ -138,8 +138,8 @@ static uint64_t point_key(const double x[3], const double lo[3], double scale)
 {
     uint64_t key = 0;
     for (int a = 0; a < 3; a++) {
-        double q = (x[a] - lo[a]) * scale;
-        uint64_t step = q <= 0 ? 0 : q >= (double)((1 << KEY_LEVELS) - 1) ? (1 << KEY_LEVELS) - 1 : (uint64_t)q;
+        const double q = (x[a] - lo[a]) * scale, top = (double)((1 << KEY_LEVELS) - 1);
+        const uint64_t step = !(q > 0) ? 0 : q >= top ? (uint64_t)top : (uint64_t)q; /* NaN: 0, not undefined */
         key |= spread_bits(step) << a;
     }
     return key;
