@@ -82,6 +82,15 @@ static int same_tree(const qt_tree *a, const qt_tree *b)
     return same;
 }
 
+/* How many particles the tree's groups hold in all. */
+static size_t particles_in_groups(const qt_tree *t)
+{
+    size_t n = 0;
+    for (size_t g = 0; g < t->ngroups; g++)
+        n += t->nodes[t->groups[g]].count;
+    return n;
+}
+
 int main(void)
 {
     make_particles();
@@ -104,10 +113,7 @@ int main(void)
         m += mass[i];
     CHECK_NEAR(t.nodes[0].mass, m, 1e-9);
     CHECK(t.ngroups > N / 32 / 2);
-    size_t in_groups = 0;
-    for (size_t g = 0; g < t.ngroups; g++)
-        in_groups += t.nodes[t.groups[g]].count;
-    CHECK(in_groups == N); /* the groups partition the particles */
+    CHECK(particles_in_groups(&t) == N); /* the groups partition the particles */
 
     /* theta -> 0 opens every cell: direct summation up to round-off. */
     double n0 = qt_accelerations_of(&t, G, 1e-9, 0, N, acc_tree, pot_tree);
@@ -207,10 +213,7 @@ int main(void)
         for (int k = 0; k < 3; k++)
             pos[3 * i + k] = 0.25;
     CHECK(qt_build(&t, pos, mass, eps, N) == 0);
-    in_groups = 0;
-    for (size_t g = 0; g < t.ngroups; g++)
-        in_groups += t.nodes[t.groups[g]].count;
-    CHECK(in_groups == N);
+    CHECK(particles_in_groups(&t) == N);
     for (int i = 0; i < 3 * N; i++)
         acc_tree[i] = NAN;
     qt_accelerations_of(&t, G, 0.7, 0, N, acc_tree, pot_tree);
