@@ -323,22 +323,36 @@ __attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d half_columns4(c
     return _mm256_add_pd(a, _mm256_mul_pd(fu, _mm256_sub_pd(b, a)));
 }
 
-/* orr_dust_pcol's operations, four at a time, given I(beta, 2). */
-__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d pcols4(const float *pcol, __m256d beta,
-                                                                     __m256d whole_half, __m256d sv)
+/* orr_dust_pcol_given's operations, four at a time, for the met lanes (the
+ * others' values are not used) at the segment's end s1 (start 0: the whole
+ * column where it lies beyond the support) or its start s0 (start 1: 0
+ * where it lies before it), F / 2 +- I(beta, |sv|) inside: looked up only
+ * if a met lane is inside. */
+__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d pcols_given4(const float *pcol, __m256d whole,
+                                                                           __m256d beta, __m256d sv, __m256d met,
+                                                                           int start)
 {
+    const __m256d support = _mm256_set1_pd(ORR_DUST_SUPPORT), zero = _mm256_setzero_pd();
+    const __m256d inside = start ? _mm256_cmp_pd(sv, _mm256_sub_pd(zero, support), _CMP_GT_OQ)
+                                 : _mm256_cmp_pd(sv, support, _CMP_LT_OQ);
+    const __m256d outside = start ? zero : whole;
+    if (!_mm256_movemask_pd(_mm256_and_pd(inside, met)))
+        return outside;
     const __m256d h = half_columns4(pcol, beta, sv);
-    const __m256d negative = _mm256_cmp_pd(sv, _mm256_setzero_pd(), _CMP_LT_OQ);
-    return _mm256_add_pd(whole_half, _mm256_blendv_pd(h, _mm256_xor_pd(h, _mm256_set1_pd(-0.0)), negative));
+    const __m256d negative = _mm256_cmp_pd(sv, zero, _CMP_LT_OQ);
+    const __m256d half = _mm256_add_pd(_mm256_mul_pd(whole, _mm256_set1_pd(0.5)),
+                                       _mm256_blendv_pd(h, _mm256_xor_pd(h, _mm256_set1_pd(-0.0)), negative));
+    return _mm256_blendv_pd(outside, half, inside);
 }
 
-/* orr_dust_met_column's partial branch, four at a time. */
-__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d partial_columns4(const float *pcol, __m256d u,
-                                                                               __m256d s0, __m256d s1)
+/* orr_dust_met_column's partial branch, four at a time, given the whole
+ * columns: P(s1) - P(s0). */
+__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d partial_columns4(const float *pcol, __m256d whole,
+                                                                               __m256d u, __m256d s0, __m256d s1,
+                                                                               __m256d met)
 {
     const __m256d beta = _mm256_sqrt_pd(u);
-    const __m256d whole_half = half_columns4(pcol, beta, _mm256_set1_pd(ORR_DUST_SUPPORT));
-    return _mm256_sub_pd(pcols4(pcol, beta, whole_half, s1), pcols4(pcol, beta, whole_half, s0));
+    return _mm256_sub_pd(pcols_given4(pcol, whole, beta, s1, met, 0), pcols_given4(pcol, whole, beta, s0, met, 1));
 }
 
 /* orr_dust_meet and orr_dust_met_column's operations for candidates j ..
@@ -375,7 +389,7 @@ __attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d terms4(const or
     const __m256d crossed = _mm256_and_pd(_mm256_cmp_pd(s0, _mm256_sub_pd(zero, support), _CMP_LE_OQ),
                                           _mm256_cmp_pd(s1, support, _CMP_GE_OQ));
     if (_mm256_movemask_pd(_mm256_andnot_pd(crossed, met)))
-        col = _mm256_blendv_pd(partial_columns4(s->pcol, _mm256_and_pd(u, met), s0, s1), col, crossed);
+        col = _mm256_blendv_pd(partial_columns4(s->pcol, col, _mm256_and_pd(u, met), s0, s1, met), col, crossed);
     return _mm256_and_pd(_mm256_mul_pd(_mm256_cvtps_pd(_mm_loadu_ps(c->kih2 + j)), col), met);
 }
 

@@ -56,21 +56,33 @@ LANES_TARGET static ORR_ALWAYS_INLINE __m512d half_columns8(const float *pcol, _
     return _mm512_add_pd(a, _mm512_mul_pd(fu, _mm512_sub_pd(b, a)));
 }
 
-/* orr_dust_pcol, given I(beta, 2). */
-LANES_TARGET static ORR_ALWAYS_INLINE __m512d pcols8(const float *pcol, __m512d beta, __m512d whole_half, __m512d sv)
+/* orr_dust_pcol_given's operations for the met lanes at the segment's end
+ * s1 (start 0: the whole column where it lies beyond the support) or its
+ * start s0 (start 1: 0 where it lies before it), F / 2 +- I(beta, |sv|)
+ * inside: looked up only if a met lane is inside. */
+LANES_TARGET static ORR_ALWAYS_INLINE __m512d pcols_given8(const float *pcol, __m512d whole, __m512d beta,
+                                                           __m512d sv, __mmask8 met, int start)
 {
+    const __m512d support = _mm512_set1_pd(ORR_DUST_SUPPORT), zero = _mm512_setzero_pd();
+    const __mmask8 inside = start ? _mm512_cmp_pd_mask(sv, _mm512_sub_pd(zero, support), _CMP_GT_OQ)
+                                  : _mm512_cmp_pd_mask(sv, support, _CMP_LT_OQ);
+    const __m512d outside = start ? zero : whole;
+    if (!(inside & met))
+        return outside;
     const __m512d h = half_columns8(pcol, beta, sv);
-    const __mmask8 negative = _mm512_cmp_pd_mask(sv, _mm512_setzero_pd(), _CMP_LT_OQ);
-    return _mm512_add_pd(whole_half, _mm512_mask_mov_pd(h, negative, negate8(h)));
+    const __mmask8 negative = _mm512_cmp_pd_mask(sv, zero, _CMP_LT_OQ);
+    const __m512d half =
+        _mm512_add_pd(_mm512_mul_pd(whole, _mm512_set1_pd(0.5)), _mm512_mask_mov_pd(h, negative, negate8(h)));
+    return _mm512_mask_mov_pd(outside, inside, half);
 }
 
-/* orr_dust_met_column's partial branch. */
-LANES_TARGET static ORR_ALWAYS_INLINE __m512d partial_columns8(const float *pcol, __m512d u, __m512d s0,
-                                                               __m512d s1)
+/* orr_dust_met_column's partial branch, given the whole columns: P(s1) -
+ * P(s0). */
+LANES_TARGET static ORR_ALWAYS_INLINE __m512d partial_columns8(const float *pcol, __m512d whole, __m512d u,
+                                                               __m512d s0, __m512d s1, __mmask8 met)
 {
     const __m512d beta = _mm512_sqrt_pd(u);
-    const __m512d whole_half = half_columns8(pcol, beta, _mm512_set1_pd(ORR_DUST_SUPPORT));
-    return _mm512_sub_pd(pcols8(pcol, beta, whole_half, s1), pcols8(pcol, beta, whole_half, s0));
+    return _mm512_sub_pd(pcols_given8(pcol, whole, beta, s1, met, 0), pcols_given8(pcol, whole, beta, s0, met, 1));
 }
 
 /* Candidate j's terms on the eight segments, added to sum: 0 (and nothing
@@ -103,7 +115,8 @@ LANES_TARGET static ORR_ALWAYS_INLINE __m512d add_terms8(const orr_dust_set *s, 
     const __mmask8 crossed = _mm512_cmp_pd_mask(s0, _mm512_sub_pd(zero, support), _CMP_LE_OQ) &
                              _mm512_cmp_pd_mask(s1, support, _CMP_GE_OQ);
     if (met & ~crossed)
-        col = _mm512_mask_mov_pd(partial_columns8(s->pcol, _mm512_maskz_mov_pd(met, u), s0, s1), crossed, col);
+        col = _mm512_mask_mov_pd(partial_columns8(s->pcol, col, _mm512_maskz_mov_pd(met, u), s0, s1, met), crossed,
+                                 col);
     const __m512d term = _mm512_mul_pd(_mm512_set1_pd((double)c->kih2[j]), col);
     return _mm512_mask_add_pd(sum, met, sum, term);
 }

@@ -61,6 +61,21 @@ static inline double orr_dust_pcol(const orr_dust_set *s, double beta, double sv
     return half + (sv < 0 ? -orr_dust_half_column(s, beta, sv) : orr_dust_half_column(s, beta, sv));
 }
 
+/* P(beta, sv) given the whole column F(beta^2) = whole: 0 before the
+ * support, F beyond it, F / 2 +- I(beta, |sv|) inside it. A segment that
+ * ends inside a kernel (a star in it) so takes one look-up in the partial
+ * table, not three (docs/dust.md#cost); F / 2 and I(beta, 2) agree to the
+ * tables' accuracy (column.c fills both by the same quadrature). */
+static inline double orr_dust_pcol_given(const orr_dust_set *s, double whole, double beta, double sv)
+{
+    if (sv <= -ORR_DUST_SUPPORT)
+        return 0;
+    if (sv >= ORR_DUST_SUPPORT)
+        return whole;
+    const double h = orr_dust_half_column(s, beta, sv);
+    return 0.5 * whole + (sv < 0 ? -h : h);
+}
+
 /* The whole column at u = beta^2 in [0, 4), linear in u. */
 static inline double orr_dust_whole_column(const orr_dust_set *s, double u)
 {
@@ -96,10 +111,11 @@ static inline double orr_dust_meet(const orr_dust_segment *g, double vx, double 
  * between its ends. */
 static inline double orr_dust_met_column(const orr_dust_set *s, double u, double s0, double s1)
 {
+    const double whole = orr_dust_whole_column(s, u);
     if (s0 <= -ORR_DUST_SUPPORT && s1 >= ORR_DUST_SUPPORT)
-        return orr_dust_whole_column(s, u);
+        return whole;
     const double beta = sqrt(u);
-    return orr_dust_pcol(s, beta, s1) - orr_dust_pcol(s, beta, s0);
+    return orr_dust_pcol_given(s, whole, beta, s1) - orr_dust_pcol_given(s, whole, beta, s0);
 }
 
 /* The segment's optical depth through a kernel with 1/h = ih and
