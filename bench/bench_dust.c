@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "clocks.h"
+#include "dust/column_lanes.h"
 #include "dust/dust.h"
 #include "render/render.h"
 #include "scene/scene.h"
@@ -123,12 +124,16 @@ static void walk(const options *o)
     /* grouped: the terms one at a time, four candidates at a time and
      * eight stars at a time side by side on the same chunks (the best
      * last, as the renderer runs it), their bits compared */
-    const orr_dust_terms widths[3] = {ORR_DUST_TERMS_PLAIN, ORR_DUST_TERMS_FOUR, ORR_DUST_TERMS_BEST};
-    const char *width_names[3] = {"one term at a time", "four candidates at a time (AVX2)",
-                                  "eight stars at a time (AVX-512)"};
-    const int nwidths = o->single ? 1 : 3;
+    const orr_dust_terms widths[4] = {ORR_DUST_TERMS_PLAIN, ORR_DUST_TERMS_FOUR, ORR_DUST_TERMS_EIGHT_AVX2,
+                                      ORR_DUST_TERMS_BEST};
+    const char *width_names[4] = {"one term at a time", "four candidates at a time (AVX2)",
+                                  "eight stars at a time (AVX2)",
+                                  orr_dust_star_lanes_best() == ORR_DUST_LANES_AVX512
+                                      ? "eight stars at a time (AVX-512)"
+                                      : "the best way (no AVX-512: AVX2)"};
+    const int nwidths = o->single ? 1 : 4;
     long n = 0, differ = 0;
-    double walk_c[3] = {0}, walk_w[3] = {0}, sum = 0; /* the sum in the stars' order: the same on any thread count */
+    double walk_c[4] = {0}, walk_w[4] = {0}, sum = 0; /* the sum in the stars' order: the same on any thread count */
     const orr_chunk *c;
     unsigned char *want = NULL;
     double *tau = NULL, *first = NULL;

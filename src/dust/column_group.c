@@ -35,7 +35,7 @@
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(ORR_NO_CLONES)
 #define HAVE_VECTOR_TERMS 1
-#include <immintrin.h>
+#include "dust/column_avx2.h"
 #endif
 
 #define GROUP_MAX 64  /* stars per group, unless its cell is at the finest level */
@@ -194,7 +194,8 @@ static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
 /* ---- the candidates ---- */
 
 /* How the stars' terms are summed: one at a time, four candidates at a
- * time (sum_terms4), or eight stars at a time (column_lanes.h). */
+ * time (sum_terms4), or eight stars at a time (column_lanes.h, each
+ * candidates' lanes way). */
 typedef enum { TERMS_ONE, TERMS_FOUR_CANDIDATES, TERMS_EIGHT_STARS } terms_way;
 
 /* The kernels a group's cone may meet, as arrays (one per field) so that a
@@ -206,6 +207,7 @@ typedef struct candidates {
     double *near;              /* less than the distance from the eye to the support's nearest point */
     float *ih, *kih2;          /* the kernel's own 1/h and k/h^2 */
     terms_way way;             /* how a star's terms are summed */
+    orr_dust_lanes_way lanes;  /* and, eight stars at a time, how */
 } candidates;
 
 static void candidates_free(candidates *c)
@@ -288,125 +290,24 @@ static int gather(const orr_dust_set *s, const cone *cn, candidates *c)
 }
 
 #ifdef HAVE_VECTOR_TERMS
-/* Four floats of a table at the indices i (four loads: AVX2's gather was
- * measured slower here). */
-__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m128 load4(const float *table, __m128i i)
-{
-    int at[4];
-    _mm_storeu_si128((__m128i *)at, i);
-    return _mm_setr_ps(table[at[0]], table[at[1]], table[at[2]], table[at[3]]);
-}
-
-/* r0 + f (r1 - r0) as the scalar code computes it with r0 and r1 floats:
- * their difference in single precision, the rest in double. */
-__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d lerp4(__m128 r0, __m128 r1, __m256d f)
-{
-    return _mm256_add_pd(_mm256_cvtps_pd(r0), _mm256_mul_pd(f, _mm256_cvtps_pd(_mm_sub_ps(r1, r0))));
-}
-
-/* orr_dust_half_column's operations, four at a time: I(beta, |sv|). */
-__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d half_columns4(const float *pcol, __m256d beta,
-                                                                            __m256d sv)
-{
-    const __m256d u = _mm256_mul_pd(beta, _mm256_set1_pd(ORR_DUST_PCOL_NB / ORR_DUST_SUPPORT));
-    __m256d v = _mm256_mul_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), sv),
-                              _mm256_set1_pd(ORR_DUST_PCOL_NS / ORR_DUST_SUPPORT));
-    v = _mm256_blendv_pd(v, _mm256_set1_pd(ORR_DUST_PCOL_NS - 1e-9),
-                         _mm256_cmp_pd(v, _mm256_set1_pd(ORR_DUST_PCOL_NS), _CMP_GE_OQ));
-    const __m128i i = _mm_min_epi32(_mm256_cvttpd_epi32(u), _mm_set1_epi32(ORR_DUST_PCOL_NB - 1));
-    const __m128i j = _mm256_cvttpd_epi32(v);
-    const __m256d fu = _mm256_sub_pd(u, _mm256_cvtepi32_pd(i)), fv = _mm256_sub_pd(v, _mm256_cvtepi32_pd(j));
-    const int cols = ORR_DUST_PCOL_NS + 1;
-    const __m128i at = _mm_add_epi32(_mm_mullo_epi32(i, _mm_set1_epi32(cols)), j);
-    const __m256d a = lerp4(load4(pcol, at), load4(pcol + 1, at), fv);
-    const __m256d b = lerp4(load4(pcol + cols, at), load4(pcol + cols + 1, at), fv);
-    return _mm256_add_pd(a, _mm256_mul_pd(fu, _mm256_sub_pd(b, a)));
-}
-
-/* orr_dust_pcol_given's operations, four at a time, for the met lanes (the
- * others' values are not used) at the segment's end s1 (start 0: the whole
- * column where it lies beyond the support) or its start s0 (start 1: 0
- * where it lies before it), F / 2 +- I(beta, |sv|) inside: looked up only
- * if a met lane is inside. */
-__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d pcols_given4(const float *pcol, __m256d whole,
-                                                                           __m256d beta, __m256d sv, __m256d met,
-                                                                           int start)
-{
-    const __m256d support = _mm256_set1_pd(ORR_DUST_SUPPORT), zero = _mm256_setzero_pd();
-    const __m256d inside = start ? _mm256_cmp_pd(sv, _mm256_sub_pd(zero, support), _CMP_GT_OQ)
-                                 : _mm256_cmp_pd(sv, support, _CMP_LT_OQ);
-    const __m256d outside = start ? zero : whole;
-    if (!_mm256_movemask_pd(_mm256_and_pd(inside, met)))
-        return outside;
-    const __m256d h = half_columns4(pcol, beta, sv);
-    const __m256d negative = _mm256_cmp_pd(sv, zero, _CMP_LT_OQ);
-    const __m256d half = _mm256_add_pd(_mm256_mul_pd(whole, _mm256_set1_pd(0.5)),
-                                       _mm256_blendv_pd(h, _mm256_xor_pd(h, _mm256_set1_pd(-0.0)), negative));
-    return _mm256_blendv_pd(outside, half, inside);
-}
-
-/* orr_dust_met_column's partial branch, four at a time, given the whole
- * columns: P(s1) - P(s0). */
-__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d partial_columns4(const float *pcol, __m256d whole,
-                                                                               __m256d u, __m256d s0, __m256d s1,
-                                                                               __m256d met)
-{
-    const __m256d beta = _mm256_sqrt_pd(u);
-    return _mm256_sub_pd(pcols_given4(pcol, whole, beta, s1, met, 0), pcols_given4(pcol, whole, beta, s0, met, 1));
-}
-
-/* orr_dust_meet and orr_dust_met_column's operations for candidates j ..
- * j + 3 and one star's segment, without a branch where it can be helped
- * (whether a candidate is met is a coin toss for the branch predictor): the
- * same IEEE operations in the same order as each star's own walk, so the
- * same bits. Terms of kernels not met are 0. A met kernel's u is below 4,
- * so its whole column's index is inside the table; the others' are set to
- * 0 before the look-up. Most met kernels are crossed whole (the eye and the
- * star outside them); the partial columns are computed only for a block
- * that holds one. */
-__attribute__((target("avx2"))) static ORR_ALWAYS_INLINE __m256d terms4(const orr_dust_set *s, const candidates *c,
-                                                                     size_t j, __m256d d0, __m256d d1, __m256d d2,
-                                                                     __m256d len)
-{
-    const __m256d zero = _mm256_setzero_pd(), support = _mm256_set1_pd(ORR_DUST_SUPPORT);
-    const __m256d tc = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(c->vx + j), d0),
-                                                   _mm256_mul_pd(_mm256_loadu_pd(c->vy + j), d1)),
-                                     _mm256_mul_pd(_mm256_loadu_pd(c->vz + j), d2));
-    const __m256d b2 = _mm256_sub_pd(_mm256_loadu_pd(c->v2 + j), _mm256_mul_pd(tc, tc));
-    const __m256d ih = _mm256_cvtps_pd(_mm_loadu_ps(c->ih + j));
-    const __m256d u = _mm256_mul_pd(_mm256_mul_pd(_mm256_and_pd(b2, _mm256_cmp_pd(b2, zero, _CMP_GT_OQ)), ih), ih);
-    const __m256d s0 = _mm256_mul_pd(_mm256_xor_pd(tc, _mm256_set1_pd(-0.0)), ih);
-    const __m256d s1 = _mm256_mul_pd(_mm256_sub_pd(len, tc), ih);
-    const __m256d end = _mm256_blendv_pd(_mm256_and_pd(_mm256_mul_pd(s0, s0), _mm256_cmp_pd(s0, zero, _CMP_GT_OQ)),
-                                         _mm256_mul_pd(s1, s1), _mm256_cmp_pd(s1, zero, _CMP_LT_OQ));
-    const __m256d met = _mm256_cmp_pd(_mm256_add_pd(u, end), _mm256_mul_pd(support, support), _CMP_LT_OQ);
-    const __m256d x = _mm256_and_pd(_mm256_mul_pd(u, _mm256_set1_pd(ORR_DUST_FCOL_NU / (ORR_DUST_SUPPORT *
-                                                                                         ORR_DUST_SUPPORT))),
-                                    met);
-    const __m128i i = _mm256_cvttpd_epi32(x);
-    const __m256d f = _mm256_sub_pd(x, _mm256_cvtepi32_pd(i));
-    __m256d col = lerp4(load4(s->fcol, i), load4(s->fcol + 1, i), f);
-    const __m256d crossed = _mm256_and_pd(_mm256_cmp_pd(s0, _mm256_sub_pd(zero, support), _CMP_LE_OQ),
-                                          _mm256_cmp_pd(s1, support, _CMP_GE_OQ));
-    if (_mm256_movemask_pd(_mm256_andnot_pd(crossed, met)))
-        col = _mm256_blendv_pd(partial_columns4(s->pcol, col, _mm256_and_pd(u, met), s0, s1, met), col, crossed);
-    return _mm256_and_pd(_mm256_mul_pd(_mm256_cvtps_pd(_mm_loadu_ps(c->kih2 + j)), col), met);
-}
-
 /* The sum of the terms of the candidates [0, 4 * floor(n / 4)), added in
  * the candidates' order as each block of four is made, so that the chain
  * of additions (each waits on the last) overlaps the next block's
  * arithmetic: a walk 8 % faster than a pass making the terms and another
  * summing them (bench_dust --walk-only). *done: how many. */
-__attribute__((target("avx2"))) static double sum_terms4(const orr_dust_set *s, const candidates *c,
-                                                          const orr_dust_segment *g, size_t *done)
+AVX2_TARGET static double sum_terms4(const orr_dust_set *s, const candidates *c, const orr_dust_segment *g,
+                                     size_t *done)
 {
-    const __m256d d0 = _mm256_set1_pd(g->d[0]), d1 = _mm256_set1_pd(g->d[1]), d2 = _mm256_set1_pd(g->d[2]);
+    const __m256d d[3] = {_mm256_set1_pd(g->d[0]), _mm256_set1_pd(g->d[1]), _mm256_set1_pd(g->d[2])};
     const __m256d len = _mm256_set1_pd(g->len);
     double sum = 0, t[4];
     size_t j = 0;
     for (; j + 4 <= c->n; j += 4) {
-        _mm256_storeu_pd(t, terms4(s, c, j, d0, d1, d2, len));
+        __m256d u, s0, s1;
+        const __m256d met = meet4(_mm256_loadu_pd(c->vx + j), _mm256_loadu_pd(c->vy + j), _mm256_loadu_pd(c->vz + j),
+                                  _mm256_loadu_pd(c->v2 + j), _mm256_cvtps_pd(_mm_loadu_ps(c->ih + j)), d, len, &u,
+                                  &s0, &s1);
+        _mm256_storeu_pd(t, met_terms4(s, u, s0, s1, met, _mm256_cvtps_pd(_mm_loadu_ps(c->kih2 + j))));
         sum = sum + t[0] + t[1] + t[2] + t[3];
     }
     *done = j;
@@ -501,7 +402,7 @@ static void star_lanes_group_tau(const orr_dust_set *s, const double eye[3], con
         }
         const orr_dust_candidate_view view = {c->n, c->vx, c->vy, c->vz, c->v2, c->ih, c->kih2};
         double sums[ORR_DUST_STAR_LANES];
-        orr_dust_star_lanes_tau(s, &view, &lanes, sums);
+        orr_dust_star_lanes_tau(c->lanes, s, &view, &lanes, sums);
         for (size_t l = 0; l < ORR_DUST_STAR_LANES && q + l < n; l++)
             tau[k[q + l].i] = sums[l];
         if (q + ORR_DUST_STAR_LANES < n)
@@ -570,15 +471,17 @@ static void super_group_tau(const orr_dust_set *s, const double eye[3], const fl
 
 /* How this CPU sums the terms, asked for `terms`: the fastest way it has
  * among those allowed. */
-static terms_way terms_way_for(orr_dust_terms terms)
+static void choose_terms_way(orr_dust_terms terms, candidates *c)
 {
-    if (terms == ORR_DUST_TERMS_BEST && orr_dust_star_lanes_available())
-        return TERMS_EIGHT_STARS;
+    c->way = TERMS_ONE;
+    c->lanes = terms == ORR_DUST_TERMS_BEST ? orr_dust_star_lanes_best() : ORR_DUST_LANES_AVX2;
+    if ((terms == ORR_DUST_TERMS_BEST || terms == ORR_DUST_TERMS_EIGHT_AVX2) && c->lanes != ORR_DUST_LANES_PLAIN &&
+        orr_dust_star_lanes_runs(c->lanes))
+        c->way = TERMS_EIGHT_STARS;
 #ifdef HAVE_VECTOR_TERMS
-    if (terms != ORR_DUST_TERMS_PLAIN && __builtin_cpu_supports("avx2"))
-        return TERMS_FOUR_CANDIDATES;
+    else if (terms != ORR_DUST_TERMS_PLAIN && __builtin_cpu_supports("avx2"))
+        c->way = TERMS_FOUR_CANDIDATES;
 #endif
-    return TERMS_ONE;
 }
 
 /* The wanted stars with a column, keyed by direction (tau of the others
@@ -664,7 +567,7 @@ orr_status orr_dust_tau_many_with(orr_dust_terms terms, const orr_dust_set *s, c
 #pragma omp parallel
     {
         walker w = {{0}, {0}};
-        w.group.way = terms_way_for(terms);
+        choose_terms_way(terms, &w.group);
 #pragma omp for schedule(dynamic, 1)
         for (long q = 0; q < (long)ns; q++)
             super_group_tau(s, eye, x, y, z, keys, starts, supers[q], supers[q + 1], &w, tau);

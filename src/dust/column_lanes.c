@@ -3,7 +3,9 @@
  * Every lane does orr_dust_meet's and orr_dust_met_column's IEEE
  * operations (column_walk.h) in their order, as sum_terms4 in
  * column_group.c does four candidates at a time, so a lane's sum is its
- * star's own walk's bit for bit (tests/unit/test_dust.c compares them). */
+ * star's own walk's bit for bit (tests/unit/test_dust.c compares them):
+ * in one AVX-512 register, or in two halves of four with AVX2
+ * (column_avx2.h, the same code as sum_terms4's). */
 #include "dust/column_lanes.h"
 
 #include "core/simd.h"
@@ -12,6 +14,8 @@
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(ORR_NO_CLONES)
 #define HAVE_STAR_LANES 1
 #include <immintrin.h>
+
+#include "dust/column_avx2.h"
 #endif
 
 #ifdef HAVE_STAR_LANES
@@ -131,15 +135,58 @@ LANES_TARGET static void lanes_tau_avx512(const orr_dust_set *s, const orr_dust_
         sum = add_terms8(s, c, j, d, len, sum);
     _mm512_storeu_pd(tau, sum);
 }
+/* Candidate j's terms on the eight segments, two halves of four lanes
+ * (d, len), added to sum: a half none of whose segments meets the kernel's
+ * support costs only the test. */
+AVX2_TARGET static ORR_ALWAYS_INLINE void add_terms_halves(const orr_dust_set *s, const orr_dust_candidate_view *c,
+                                                           size_t j, const __m256d d[2][3], const __m256d len[2],
+                                                           __m256d sum[2])
+{
+    const __m256d vx = _mm256_set1_pd(c->vx[j]), vy = _mm256_set1_pd(c->vy[j]), vz = _mm256_set1_pd(c->vz[j]);
+    const __m256d v2 = _mm256_set1_pd(c->v2[j]), ih = _mm256_set1_pd((double)c->ih[j]);
+    __m256d u[2], s0[2], s1[2], met[2];
+    for (int h = 0; h < 2; h++)
+        met[h] = meet4(vx, vy, vz, v2, ih, d[h], len[h], &u[h], &s0[h], &s1[h]);
+    if (!_mm256_movemask_pd(_mm256_or_pd(met[0], met[1])))
+        return;
+    const __m256d kih2 = _mm256_set1_pd((double)c->kih2[j]);
+    for (int h = 0; h < 2; h++)
+        sum[h] = _mm256_add_pd(sum[h], met_terms4(s, u[h], s0[h], s1[h], met[h], kih2));
+}
+
+AVX2_TARGET static void lanes_tau_avx2(const orr_dust_set *s, const orr_dust_candidate_view *c,
+                                       const orr_dust_star_lanes *g, double tau[ORR_DUST_STAR_LANES])
+{
+    __m256d d[2][3], len[2], sum[2];
+    for (int h = 0; h < 2; h++) {
+        for (int a = 0; a < 3; a++)
+            d[h][a] = _mm256_loadu_pd(g->d[a] + 4 * h);
+        len[h] = _mm256_loadu_pd(g->len + 4 * h);
+        sum[h] = _mm256_setzero_pd();
+    }
+    for (size_t j = 0; j < c->n; j++)
+        add_terms_halves(s, c, j, d, len, sum);
+    _mm256_storeu_pd(tau, sum[0]);
+    _mm256_storeu_pd(tau + 4, sum[1]);
+}
 #endif
 
-int orr_dust_star_lanes_available(void)
+int orr_dust_star_lanes_runs(orr_dust_lanes_way way)
 {
 #ifdef HAVE_STAR_LANES
-    return __builtin_cpu_supports("avx512f");
-#else
-    return 0;
+    if (way == ORR_DUST_LANES_AVX512)
+        return __builtin_cpu_supports("avx512f");
+    if (way == ORR_DUST_LANES_AVX2)
+        return __builtin_cpu_supports("avx2");
 #endif
+    return way == ORR_DUST_LANES_PLAIN;
+}
+
+orr_dust_lanes_way orr_dust_star_lanes_best(void)
+{
+    return orr_dust_star_lanes_runs(ORR_DUST_LANES_AVX512) ? ORR_DUST_LANES_AVX512
+           : orr_dust_star_lanes_runs(ORR_DUST_LANES_AVX2) ? ORR_DUST_LANES_AVX2
+                                                           : ORR_DUST_LANES_PLAIN;
 }
 
 /* Lane l's sum one term at a time: the same bits. */
@@ -153,21 +200,19 @@ static double lane_tau_plain(const orr_dust_set *s, const orr_dust_candidate_vie
     return sum;
 }
 
-void orr_dust_star_lanes_tau_plain(const orr_dust_set *s, const orr_dust_candidate_view *c,
-                                   const orr_dust_star_lanes *g, double tau[ORR_DUST_STAR_LANES])
-{
-    for (int l = 0; l < ORR_DUST_STAR_LANES; l++)
-        tau[l] = lane_tau_plain(s, c, g, l);
-}
-
-void orr_dust_star_lanes_tau(const orr_dust_set *s, const orr_dust_candidate_view *c, const orr_dust_star_lanes *g,
-                             double tau[ORR_DUST_STAR_LANES])
+void orr_dust_star_lanes_tau(orr_dust_lanes_way way, const orr_dust_set *s, const orr_dust_candidate_view *c,
+                             const orr_dust_star_lanes *g, double tau[ORR_DUST_STAR_LANES])
 {
 #ifdef HAVE_STAR_LANES
-    if (orr_dust_star_lanes_available()) {
+    if (way == ORR_DUST_LANES_AVX512 && orr_dust_star_lanes_runs(way)) {
         lanes_tau_avx512(s, c, g, tau);
         return;
     }
+    if (way == ORR_DUST_LANES_AVX2 && orr_dust_star_lanes_runs(way)) {
+        lanes_tau_avx2(s, c, g, tau);
+        return;
+    }
 #endif
-    orr_dust_star_lanes_tau_plain(s, c, g, tau);
+    for (int l = 0; l < ORR_DUST_STAR_LANES; l++)
+        tau[l] = lane_tau_plain(s, c, g, l);
 }

@@ -1,5 +1,6 @@
 /* Eight stars' optical depths at once over one list of candidate kernels,
- * a star a lane of an AVX-512 vector (docs/dust.md#method). Internal to
+ * a star a lane of an AVX-512 vector or of two AVX2 vectors
+ * (docs/dust.md#method). Internal to
  * dust/: column_group.c hands each group's stars here eight at a time.
  *
  * Why a star a lane: each star's column is a sum over the candidates in
@@ -33,20 +34,21 @@ typedef struct orr_dust_candidate_view {
     const float *ih, *kih2;
 } orr_dust_candidate_view;
 
-/* Whether this CPU runs orr_dust_star_lanes_tau with AVX-512F (else it
- * takes the lanes one after another, a term at a time). */
-int orr_dust_star_lanes_available(void);
+/* How the eight lanes are computed: in one AVX-512 register, in two AVX2
+ * registers of four, or one lane and one term at a time (PLAIN, what CPUs
+ * without AVX2 do); the same bits every way. */
+typedef enum { ORR_DUST_LANES_PLAIN, ORR_DUST_LANES_AVX2, ORR_DUST_LANES_AVX512 } orr_dust_lanes_way;
+
+/* Whether this CPU runs the way; the fastest way it runs. */
+int orr_dust_star_lanes_runs(orr_dust_lanes_way way);
+orr_dust_lanes_way orr_dust_star_lanes_best(void);
 
 /* tau[l] for each lane l: the sum of the candidates' terms along lane l's
  * segment, each term as orr_dust_share makes it, added in the candidates'
  * order: bit for bit what each star's own walk gives, provided the list
- * holds every kernel the segment meets. */
-void orr_dust_star_lanes_tau(const orr_dust_set *s, const orr_dust_candidate_view *c, const orr_dust_star_lanes *g,
-                             double tau[ORR_DUST_STAR_LANES]);
-
-/* The same one lane and one term at a time, what it does on CPUs without
- * AVX-512 (and what the tests compare it with). */
-void orr_dust_star_lanes_tau_plain(const orr_dust_set *s, const orr_dust_candidate_view *c,
-                                   const orr_dust_star_lanes *g, double tau[ORR_DUST_STAR_LANES]);
+ * holds every kernel the segment meets. A way this CPU does not run is
+ * done PLAIN. */
+void orr_dust_star_lanes_tau(orr_dust_lanes_way way, const orr_dust_set *s, const orr_dust_candidate_view *c,
+                             const orr_dust_star_lanes *g, double tau[ORR_DUST_STAR_LANES]);
 
 #endif
