@@ -2,8 +2,8 @@
  * operations in the same order as orr_dust_meet and orr_dust_met_column
  * (column_walk.h), so each lane's term is the scalar code's bit for bit.
  * The lanes are four candidates of one star (column_group.c) or one
- * candidate of four stars (column_lanes.c). Internal to dust/; include only
- * where HAVE_AVX2_TERMS is defined (x86-64 with GCC or Clang). */
+ * candidate of four stars (column_lanes.c). Internal to dust/; include it
+ * only on x86-64 with GCC or Clang and without ORR_NO_CLONES (as both do). */
 #ifndef ORR_DUST_COLUMN_AVX2_H
 #define ORR_DUST_COLUMN_AVX2_H
 
@@ -31,8 +31,7 @@ AVX2_TARGET static ORR_ALWAYS_INLINE __m256d lerp4(__m128 r0, __m128 r1, __m256d
 }
 
 /* orr_dust_half_column's operations, four at a time: I(beta, |sv|). */
-AVX2_TARGET static ORR_ALWAYS_INLINE __m256d half_columns4(const float *pcol, __m256d beta,
-                                                                            __m256d sv)
+AVX2_TARGET static ORR_ALWAYS_INLINE __m256d half_columns4(const float *pcol, __m256d beta, __m256d sv)
 {
     const __m256d u = _mm256_mul_pd(beta, _mm256_set1_pd(ORR_DUST_PCOL_NB / ORR_DUST_SUPPORT));
     __m256d v = _mm256_mul_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), sv),
@@ -54,9 +53,8 @@ AVX2_TARGET static ORR_ALWAYS_INLINE __m256d half_columns4(const float *pcol, __
  * column where it lies beyond the support) or its start s0 (start 1: 0
  * where it lies before it), F / 2 +- I(beta, |sv|) inside: looked up only
  * if a met lane is inside. */
-AVX2_TARGET static ORR_ALWAYS_INLINE __m256d pcols_given4(const float *pcol, __m256d whole,
-                                                                           __m256d beta, __m256d sv, __m256d met,
-                                                                           int start)
+AVX2_TARGET static ORR_ALWAYS_INLINE __m256d pcols_given4(const float *pcol, __m256d whole, __m256d beta,
+                                                          __m256d sv, __m256d met, int start)
 {
     const __m256d support = _mm256_set1_pd(ORR_DUST_SUPPORT), zero = _mm256_setzero_pd();
     const __m256d inside = start ? _mm256_cmp_pd(sv, _mm256_sub_pd(zero, support), _CMP_GT_OQ)
@@ -73,9 +71,8 @@ AVX2_TARGET static ORR_ALWAYS_INLINE __m256d pcols_given4(const float *pcol, __m
 
 /* orr_dust_met_column's partial branch, four at a time, given the whole
  * columns: P(s1) - P(s0). */
-AVX2_TARGET static ORR_ALWAYS_INLINE __m256d partial_columns4(const float *pcol, __m256d whole,
-                                                                               __m256d u, __m256d s0, __m256d s1,
-                                                                               __m256d met)
+AVX2_TARGET static ORR_ALWAYS_INLINE __m256d partial_columns4(const float *pcol, __m256d whole, __m256d u,
+                                                              __m256d s0, __m256d s1, __m256d met)
 {
     const __m256d beta = _mm256_sqrt_pd(u);
     return _mm256_sub_pd(pcols_given4(pcol, whole, beta, s1, met, 0), pcols_given4(pcol, whole, beta, s0, met, 1));

@@ -11,9 +11,9 @@
  * groups keeps those its own cone may meet: its candidates (a tree walk for
  * each group cost three times the picking, measured with bench_dust). Each
  * star then sums its share of each candidate (orr_dust_share,
- * column_walk.h): eight stars at once, a star a lane, with AVX-512
- * (column_lanes.c), four candidates at a time with AVX2 (sum_terms4), one
- * at a time elsewhere: the same bits.
+ * column_walk.h): eight stars at once, a star a lane, with AVX-512 or
+ * AVX2 (column_lanes.c), or four candidates at a time with AVX2
+ * (sum_terms4), one at a time elsewhere: the same bits.
  *
  * Why the result is each star's own walk's, bit for bit: a kernel adds
  * nonzero only if the star's segment passes through its support; the cone
