@@ -10,9 +10,9 @@
  * each frame (on a shared machine CPU seconds say what the work cost) and
  * their ratio, then the walk's microseconds per star: the stars of each
  * chunk grouped by direction, as the renderer does (orr_dust_tau_many),
- * with the terms one at a time, four candidates at a time (AVX2) and
- * eight stars at a time (AVX-512) side by side on the same chunks (it
- * fails if their bits differ), or with
+ * with the terms one at a time, eight stars at a time with AVX2 and the
+ * best way this CPU runs (AVX-512 where it has it) side by side on the
+ * same chunks (it fails if their bits differ), or with
  * --single each star on its own walk (orr_dust_tau). */
 #include <stdio.h>
 #include <stdlib.h>
@@ -121,19 +121,17 @@ static void walk(const options *o)
         die(&err);
     double prep_w = wall_seconds() - w0, prep_c = cpu_seconds() - c0;
     const double sun[3] = {-8.0, 0.0, 0.02};
-    /* grouped: the terms one at a time, four candidates at a time and
-     * eight stars at a time side by side on the same chunks (the best
-     * last, as the renderer runs it), their bits compared */
-    const orr_dust_terms widths[4] = {ORR_DUST_TERMS_PLAIN, ORR_DUST_TERMS_FOUR, ORR_DUST_TERMS_EIGHT_AVX2,
-                                      ORR_DUST_TERMS_BEST};
-    const char *width_names[4] = {"one term at a time", "four candidates at a time (AVX2)",
-                                  "eight stars at a time (AVX2)",
+    /* grouped: the terms one at a time, eight stars at a time with AVX2
+     * and the best way side by side on the same chunks (the best last, as
+     * the renderer runs it), their bits compared */
+    const orr_dust_terms widths[3] = {ORR_DUST_TERMS_PLAIN, ORR_DUST_TERMS_EIGHT_AVX2, ORR_DUST_TERMS_BEST};
+    const char *width_names[3] = {"one term at a time", "eight stars at a time (AVX2)",
                                   orr_dust_star_lanes_best() == ORR_DUST_LANES_AVX512
                                       ? "eight stars at a time (AVX-512)"
                                       : "the best way (no AVX-512: AVX2)"};
-    const int nwidths = o->single ? 1 : 4;
+    const int nwidths = o->single ? 1 : 3;
     long n = 0, differ = 0;
-    double walk_c[4] = {0}, walk_w[4] = {0}, sum = 0; /* the sum in the stars' order: the same on any thread count */
+    double walk_c[3] = {0}, walk_w[3] = {0}, sum = 0; /* the sum in the stars' order: the same on any thread count */
     const orr_chunk *c;
     unsigned char *want = NULL;
     double *tau = NULL, *first = NULL;

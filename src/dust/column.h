@@ -83,9 +83,9 @@ orr_status orr_dust_tau_many(const orr_dust_set *s, const double eye[3], size_t 
  * candidates: eight stars at once with AVX-512, else with AVX2, where the
  * CPU has them (BEST, what orr_dust_tau_many does); eight stars at once
  * with AVX2 where the CPU has it (EIGHT_AVX2, what CPUs without AVX-512
- * run); four candidates of a star at a time with AVX2 (FOUR); or one at a
- * time (PLAIN, what other CPUs run); the same bits every way. */
-typedef enum { ORR_DUST_TERMS_BEST, ORR_DUST_TERMS_EIGHT_AVX2, ORR_DUST_TERMS_FOUR, ORR_DUST_TERMS_PLAIN } orr_dust_terms;
+ * run); or one star and one term at a time (PLAIN, what other CPUs run);
+ * the same bits every way. */
+typedef enum { ORR_DUST_TERMS_BEST, ORR_DUST_TERMS_EIGHT_AVX2, ORR_DUST_TERMS_PLAIN } orr_dust_terms;
 orr_status orr_dust_tau_many_with(orr_dust_terms terms, const orr_dust_set *s, const double eye[3], size_t n,
                                   const float *x, const float *y, const float *z, const unsigned char *want,
                                   double *tau, orr_error *err);

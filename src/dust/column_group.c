@@ -12,8 +12,7 @@
  * each group cost three times the picking, measured with bench_dust). Each
  * star then sums its share of each candidate (orr_dust_share,
  * column_walk.h): eight stars at once, a star a lane, with AVX-512 or
- * AVX2 (column_lanes.c), or four candidates at a time with AVX2
- * (sum_terms4), one at a time elsewhere: the same bits.
+ * AVX2 (column_lanes.c), one term at a time elsewhere: the same bits.
  *
  * Why the result is each star's own walk's, bit for bit: a kernel adds
  * nonzero only if the star's segment passes through its support; the cone
@@ -32,11 +31,6 @@
 #include "dust/column.h"
 #include "dust/column_lanes.h"
 #include "dust/column_walk.h"
-
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && !defined(ORR_NO_CLONES)
-#define HAVE_VECTOR_TERMS 1
-#include "dust/column_avx2.h"
-#endif
 
 #define GROUP_MAX 64  /* stars per group, unless its cell is at the finest level */
 #define SUPER_MAX 512 /* stars per super-group: its groups pick their candidates from its own */
@@ -193,10 +187,9 @@ static int cone_may_meet_box(const cone *c, const orr_dust_node *nd)
 
 /* ---- the candidates ---- */
 
-/* How the stars' terms are summed: one at a time, four candidates at a
- * time (sum_terms4), or eight stars at a time (column_lanes.h, each
- * candidates' lanes way). */
-typedef enum { TERMS_ONE, TERMS_FOUR_CANDIDATES, TERMS_EIGHT_STARS } terms_way;
+/* How the stars' terms are summed: one star and one term at a time, or
+ * eight stars at a time (column_lanes.h, in the candidates' lanes way). */
+typedef enum { TERMS_ONE, TERMS_EIGHT_STARS } terms_way;
 
 /* The kernels a group's cone may meet, as arrays (one per field) so that a
  * star's pass over them runs as vector loops. */
@@ -289,44 +282,13 @@ static int gather(const orr_dust_set *s, const cone *cn, candidates *c)
     return 1;
 }
 
-#ifdef HAVE_VECTOR_TERMS
-/* The sum of the terms of the candidates [0, 4 * floor(n / 4)), added in
- * the candidates' order as each block of four is made, so that the chain
- * of additions (each waits on the last) overlaps the next block's
- * arithmetic: a walk 8 % faster than a pass making the terms and another
- * summing them (bench_dust --walk-only). *done: how many. */
-AVX2_TARGET static double sum_terms4(const orr_dust_set *s, const candidates *c, const orr_dust_segment *g,
-                                     size_t *done)
-{
-    const __m256d d[3] = {_mm256_set1_pd(g->d[0]), _mm256_set1_pd(g->d[1]), _mm256_set1_pd(g->d[2])};
-    const __m256d len = _mm256_set1_pd(g->len);
-    double sum = 0, t[4];
-    size_t j = 0;
-    for (; j + 4 <= c->n; j += 4) {
-        __m256d u, s0, s1;
-        const __m256d met = meet4(_mm256_loadu_pd(c->vx + j), _mm256_loadu_pd(c->vy + j), _mm256_loadu_pd(c->vz + j),
-                                  _mm256_loadu_pd(c->v2 + j), _mm256_cvtps_pd(_mm_loadu_ps(c->ih + j)), d, len, &u,
-                                  &s0, &s1);
-        _mm256_storeu_pd(t, met_terms4(s, u, s0, s1, met, _mm256_cvtps_pd(_mm_loadu_ps(c->kih2 + j))));
-        sum = sum + t[0] + t[1] + t[2] + t[3];
-    }
-    *done = j;
-    return sum;
-}
-#endif
-
 /* A star's column over the group's candidates: their terms summed in the
  * candidates' order, each as orr_dust_share makes it (a term of 0 changes
- * no bit of a sum of terms >= 0), four at a time where the CPU can. */
+ * no bit of a sum of terms >= 0). */
 static double star_tau(const orr_dust_set *s, const candidates *c, const orr_dust_segment *g)
 {
     double sum = 0;
-    size_t j = 0;
-#ifdef HAVE_VECTOR_TERMS
-    if (c->way == TERMS_FOUR_CANDIDATES)
-        sum = sum_terms4(s, c, g, &j);
-#endif
-    for (; j < c->n; j++)
+    for (size_t j = 0; j < c->n; j++)
         sum += orr_dust_term(s, g, c->vx[j], c->vy[j], c->vz[j], c->v2[j], c->ih[j], c->kih2[j]);
     return sum;
 }
@@ -469,19 +431,15 @@ static void super_group_tau(const orr_dust_set *s, const double eye[3], const fl
     }
 }
 
-/* How this CPU sums the terms, asked for `terms`: the fastest way it has
- * among those allowed. */
+/* How this CPU sums the terms, asked for `terms`: eight stars at a time
+ * in the lanes way asked for (BEST: the fastest this CPU runs), where the
+ * CPU runs it, else one star and one term at a time. */
 static void choose_terms_way(orr_dust_terms terms, candidates *c)
 {
-    c->way = TERMS_ONE;
     c->lanes = terms == ORR_DUST_TERMS_BEST ? orr_dust_star_lanes_best() : ORR_DUST_LANES_AVX2;
-    if ((terms == ORR_DUST_TERMS_BEST || terms == ORR_DUST_TERMS_EIGHT_AVX2) && c->lanes != ORR_DUST_LANES_PLAIN &&
-        orr_dust_star_lanes_runs(c->lanes))
-        c->way = TERMS_EIGHT_STARS;
-#ifdef HAVE_VECTOR_TERMS
-    else if (terms != ORR_DUST_TERMS_PLAIN && __builtin_cpu_supports("avx2"))
-        c->way = TERMS_FOUR_CANDIDATES;
-#endif
+    c->way = terms != ORR_DUST_TERMS_PLAIN && c->lanes != ORR_DUST_LANES_PLAIN && orr_dust_star_lanes_runs(c->lanes)
+                 ? TERMS_EIGHT_STARS
+                 : TERMS_ONE;
 }
 
 /* The wanted stars with a column, keyed by direction (tau of the others

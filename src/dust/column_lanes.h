@@ -5,11 +5,11 @@
  *
  * Why a star a lane: each star's column is a sum over the candidates in
  * their order, one addition after another (so that it is the star's own
- * walk's bit for bit, column_group.c). With four candidates a lane
- * (sum_terms4) the four terms still wait on each other to be added; with a
- * star a lane each lane adds its own star's terms in that same order, the
- * eight chains side by side, and a candidate that no lane's segment meets
- * is skipped whole. */
+ * walk's bit for bit, column_group.c). With four candidates of one star a
+ * lane (as the walk once went on AVX2) the four terms still wait on each
+ * other to be added; with a star a lane each lane adds its own star's
+ * terms in that same order, the eight chains side by side, and a candidate
+ * that no lane's segment meets is skipped whole. */
 #ifndef ORR_DUST_COLUMN_LANES_H
 #define ORR_DUST_COLUMN_LANES_H
 
