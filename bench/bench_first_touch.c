@@ -71,10 +71,10 @@ int main(int argc, char **argv)
         for (int k = 0; k < nplanes; k++)
             orr_plane_clear(&planes[k]);
         print_row("cleared again, warm", gb, since(t0));
-        /* a value read back, so that no clearing can be left out */
+        /* each plane's centre read back: a cleared plane is zero there */
         double sum = 0;
         for (int k = 0; k < nplanes; k++)
-            sum += planes[k].data[(size_t)(width / 2) * height / 2];
+            sum += planes[k].data[(size_t)(height / 2) * width + width / 2];
         if (sum != 0) {
             fprintf(stderr, "bench_first_touch: a cleared plane is not zero\n");
             return 1;
