@@ -46,7 +46,21 @@
  * bit for bit); the best CPU seconds of REPEAT runs, a tree build's too,
  * the interactions a force and the 99th percentile of the active
  * particles' errors against direct summation (of CHECK spread through
- * all). */
+ * all).
+ *
+ *   bench_nbody fmm [N [CHECK [REPEAT [FMM_THETA ...]]]]
+ *       default: 200000 particles of the pair, 1000 checked, best of 3;
+ *       the films' softening (0.2 / 0.4 kpc)
+ *
+ * Every particle's acceleration by the tree walk (theta 0.7, as the films
+ * run it) and by the fast multipole method of fmm.h at each FMM_THETA
+ * given, from the same particles, one after the other: CPU seconds (the
+ * tree's build included), interactions a particle (FMM: cell-cell pairs
+ * and particle pairs, each pair counted once though it acts both ways) and
+ * the median and 99th percentile of the errors against direct summation.
+ * The FMM is plain scalar code: its seconds are not what a tuned one would
+ * take; its counts at the tree's accuracy are what docs/nbody.md weighs
+ * ("A fast multipole method, measured"). */
 #include <math.h>
 #include <omp.h>
 #include <stdio.h>
@@ -54,6 +68,7 @@
 #include <string.h>
 
 #include "clocks.h"
+#include "fmm.h"
 #include "qtree.h"
 #include "source/models/model.h"
 #include "tree.h"
@@ -422,8 +437,90 @@ static int bench_substeps(int argc, char **argv)
     return 0;
 }
 
+/* ---- fmm: the tree walk against a fast multipole method -------------- */
+
+/* The CPU seconds of the best of `repeat` runs of one way of computing
+ * every particle's acceleration (the tree built anew each time, its
+ * build included): fmm_theta 0 the tree walk at theta, else the FMM at
+ * fmm_theta. The interactions a particle of the last run into *inter
+ * (tree: particle-cell and particle-particle; FMM: cell-cell and
+ * particle pairs, each counted once), its counts into *fc. */
+static double one_way(const double *pos, const double *mass, const double *eps, size_t n, double theta,
+                      double fmm_theta, int repeat, double *acc, double *inter, fmm_counts *fc)
+{
+    double best = INFINITY;
+    for (int r = 0; r < repeat; r++) {
+        qt_tree t = {0};
+        double c0 = cpu_seconds();
+        if (qt_build(&t, pos, mass, eps, n) != 0)
+            die("out of memory (tree)");
+        if (fmm_theta > 0) {
+            if (fmm_accelerations(&t, G_KPC_KMS, fmm_theta, acc, NULL, fc) != 0)
+                die("out of memory (fmm)");
+            *inter = (fc->cell_cell + fc->pair) / (double)n;
+        } else {
+            *inter = qt_accelerations_of(&t, G_KPC_KMS, theta, 0, n, acc, NULL) / (double)n;
+        }
+        double c = cpu_seconds() - c0;
+        best = c < best ? c : best;
+        qt_free(&t);
+    }
+    return best;
+}
+
+static int bench_fmm(int argc, char **argv)
+{
+    long long n = argc > 0 ? atoll(argv[0]) : 200000;
+    long long check = argc > 1 ? atoll(argv[1]) : 1000;
+    int repeat = argc > 2 ? atoi(argv[2]) : 3;
+    if (n < 1000 || check < 10 || check > n || repeat < 1)
+        die("usage: bench_nbody fmm [N >= 1000 [CHECK, 10 to N [REPEAT >= 1 [FMM_THETA ...]]]]");
+    size_t nn = (size_t)n;
+    double *pos = malloc(3 * nn * sizeof *pos), *mass = malloc(nn * sizeof *mass), *eps = malloc(nn * sizeof *eps);
+    double *acc = malloc(3 * nn * sizeof *acc), *ref = malloc(3 * (size_t)check * sizeof *ref);
+    unsigned char *type = malloc(nn);
+    if (!pos || !mass || !eps || !acc || !ref || !type)
+        die("out of memory");
+    load(n, 1, pos, NULL, mass, type);
+    for (size_t i = 0; i < nn; i++)
+        eps[i] = type[i] == ORR_MODEL_TYPE_HALO ? 0.4 : 0.2;
+    reference(pos, mass, eps, nn, (size_t)check, ref);
+    printf("bench_nbody fmm: N = %lld (Milky Way and M31), the films' softening 0.2 / 0.4 kpc, %d threads, "
+           "best of %d; errors against direct summation for %lld particles\n",
+           n, omp_get_max_threads(), repeat, check);
+    printf("%-26s %10s %12s %12s %12s %10s %10s\n", "", "CPU s", "interactions", "cell-cell", "pairs",
+           "median", "99th pct");
+    double inter;
+    fmm_counts fc = {0};
+    result e;
+    double cpu = one_way(pos, mass, eps, nn, NEW_THETA, 0, repeat, acc, &inter, &fc);
+    errors(pos, mass, eps, nn, (size_t)check, ref, acc, &e);
+    printf("%-26s %10.3f %12.0f %12s %12s %10.2e %10.2e\n", "tree walk, theta 0.7", cpu, inter, "", "", e.median,
+           e.p99);
+    for (int a = 3; a < argc; a++) {
+        double ft = atof(argv[a]);
+        if (!(ft > 0 && ft < 1))
+            die("an FMM theta must lie between 0 and 1");
+        double c = one_way(pos, mass, eps, nn, NEW_THETA, ft, repeat, acc, &inter, &fc);
+        errors(pos, mass, eps, nn, (size_t)check, ref, acc, &e);
+        char name[32];
+        snprintf(name, sizeof name, "FMM, theta %.2f", ft);
+        printf("%-26s %10.3f %12.0f %12.0f %12.0f %10.2e %10.2e\n", name, c, inter, fc.cell_cell / (double)n,
+               fc.pair / (double)n, e.median, e.p99);
+    }
+    free(pos);
+    free(mass);
+    free(eps);
+    free(acc);
+    free(ref);
+    free(type);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc > 1 && strcmp(argv[1], "fmm") == 0)
+        return bench_fmm(argc - 2, argv + 2);
     if (argc > 1 && strcmp(argv[1], "steps") == 0)
         return bench_steps(argc - 2, argv + 2);
     if (argc > 1 && strcmp(argv[1], "substeps") == 0)

@@ -9,36 +9,12 @@
 #include <string.h>
 
 #include "check.h"
+#include "galaxy_mix.h"
 #include "qtree.h"
 
 #define N 4000
 
 static double pos[3 * N], mass[N], eps[N], acc_tree[3 * N], acc_direct[3 * N], pot_tree[N], pot_direct[N];
-
-/* A flattened disc (Plummer softening 0.05) inside a rounder, heavier
- * halo of particles 8 times as massive (softening 0.1): the model's mix. */
-static void make_particles(void)
-{
-    srand(5);
-    for (int i = 0; i < N; i++) {
-        int disc = i < N / 2;
-        double u1 = (rand() + 1.0) / (RAND_MAX + 2.0), u2 = (rand() + 1.0) / (RAND_MAX + 2.0);
-        double phi = 6.283185307179586 * rand() / RAND_MAX;
-        if (disc) {
-            double R = -3.0 * log(u1 * u2), z = 0.3 * log(2.0 * rand() / RAND_MAX + 1e-9) * (rand() & 1 ? 1 : -1);
-            pos[3 * i] = R * cos(phi);
-            pos[3 * i + 1] = R * sin(phi);
-            pos[3 * i + 2] = z;
-        } else {
-            double s = sqrt(u1 * 0.6), r = 30.0 * s / (1.0 - s), c = 2.0 * u2 - 1.0, sn = sqrt(1.0 - c * c);
-            pos[3 * i] = r * sn * cos(phi);
-            pos[3 * i + 1] = r * sn * sin(phi);
-            pos[3 * i + 2] = r * c;
-        }
-        mass[i] = disc ? 1.0 : 8.0;
-        eps[i] = disc ? 0.05 : 0.1;
-    }
-}
 
 static double error_percentile(double pct)
 {
@@ -93,7 +69,7 @@ static size_t particles_in_groups(const qt_tree *t)
 
 int main(void)
 {
-    make_particles();
+    make_galaxy_mix(pos, mass, eps, N);
     const double G = 1.0;
     qt_direct(pos, mass, eps, N, G, 0, N, acc_direct, pot_direct);
     /* The build on every thread (qtree.c, build_part: here in parts of at
