@@ -29,8 +29,6 @@ typedef struct fmm_tables {
     int nshift[FMM_NLOCAL];
     int shift_q[FMM_NLOCAL][FMM_NLOCAL], shift_m[FMM_NLOCAL][FMM_NLOCAL];
     double shift_c[FMM_NLOCAL][FMM_NLOCAL];
-    /* evaluation: d/dx_i of r^p is p_i r^(p - e_i): the monomial's index, -1 where p_i = 0 */
-    int grad_m[FMM_NLOCAL][3];
 } fmm_tables;
 
 static double binom(int n, int k)
@@ -92,8 +90,6 @@ static void make_tables(fmm_tables *tb)
             tb->shift_m[p][s] = tb->index[m[0]][m[1]][m[2]];
             tb->shift_c[p][s] = c;
         }
-        for (int d = 0; d < 3; d++)
-            tb->grad_m[p][d] = tb->down1[p][d];
     }
 }
 
@@ -152,14 +148,6 @@ typedef struct fmm_run {
     fmm_counts counts;
 } fmm_run;
 
-static int is_leaf(const qt_node *nd)
-{
-    for (int c = 0; c < 8; c++)
-        if (nd->child[c] >= 0)
-            return 0;
-    return 1;
-}
-
 /* Adds to expansion l (of a node of mean softening^2 e2_sink) the pull of a
  * source of mass m and second moments sq, from its derivatives a and b
  * (by e2) at the pair's mean softening^2, negated for odd orders when flip
@@ -168,21 +156,21 @@ static void add_source(const fmm_tables *tb, double m, const double sq[6], const
                        double e2_sink, int flip, double *l)
 {
     for (int p = 0; p < FMM_NLOCAL; p++) {
-        double ta = m * a[p], tb_ = m * b[p];
+        double term = m * a[p], term_e2 = m * b[p]; /* the potential's, and its derivative by e2 */
         for (int j = 0; j < 6; j++) {
             const int up = tb->up_q[p][j];
             const double c = tb->binom_q[p][j] * sq[j];
-            ta += c * a[up];
-            tb_ += c * b[up];
+            term += c * a[up];
+            term_e2 += c * b[up];
         }
         if (flip && (tb->order[p] & 1)) {
-            ta = -ta;
-            tb_ = -tb_;
+            term = -term;
+            term_e2 = -term_e2;
         }
         /* a target of softening^2 e2 pairs at (e2 + e2_source) / 2, the
          * derivatives' e2 plus (e2 - e2_sink) / 2 */
-        l[p] += -ta + 0.5 * e2_sink * tb_;
-        l[FMM_NLOCAL + p] += -0.5 * tb_;
+        l[p] += -term + 0.5 * e2_sink * term_e2;
+        l[FMM_NLOCAL + p] += -0.5 * term_e2;
     }
 }
 
@@ -247,7 +235,7 @@ static void interact(fmm_run *run, int A, int B)
         cell_cell(run, A, B);
         return;
     }
-    const int leaf_a = is_leaf(na), leaf_b = is_leaf(nb);
+    const int leaf_a = qt_is_leaf(na), leaf_b = qt_is_leaf(nb);
     if ((leaf_a && leaf_b) || (double)na->count * (double)nb->count <= FMM_DIRECT) {
         direct(run, na, nb);
         return;
@@ -267,7 +255,7 @@ static void interact(fmm_run *run, int A, int B)
 static void interact_self(fmm_run *run, int A)
 {
     const qt_node *na = &run->t->nodes[A];
-    if (is_leaf(na) || 0.5 * (double)na->count * (double)na->count <= FMM_DIRECT) {
+    if (qt_is_leaf(na) || 0.5 * (double)na->count * (double)na->count <= FMM_DIRECT) {
         direct_self(run, na);
         return;
     }
@@ -306,7 +294,7 @@ static void pass_down(fmm_run *run, double G, double *acc, double *pot)
                     lc[h + p] += s;
                 }
         }
-        if (!is_leaf(nd))
+        if (!qt_is_leaf(nd))
             continue;
         for (size_t j = nd->first; j < nd->first + nd->count; j++) {
             const double r[3] = {t->px[j] - nd->com[0], t->py[j] - nd->com[1], t->pz[j] - nd->com[2]};
@@ -316,8 +304,8 @@ static void pass_down(fmm_run *run, double G, double *acc, double *pot)
                 const double lp = l[p] + l[FMM_NLOCAL + p] * t->pe2[j];
                 phi += lp * m[p];
                 for (int k = 0; k < 3; k++)
-                    if (tb->grad_m[p][k] >= 0)
-                        g[k] += lp * tb->k[p][k] * m[tb->grad_m[p][k]];
+                    if (tb->down1[p][k] >= 0) /* d/dx_k of r^p is p_k r^(p - e_k) */
+                        g[k] += lp * tb->k[p][k] * m[tb->down1[p][k]];
             }
             const size_t o = t->order[j];
             acc[3 * o] = G * (run->ax[j] - g[0]);

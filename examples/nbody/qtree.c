@@ -279,14 +279,6 @@ static void finish_bmax(const qt_tree *t, qt_node *nd)
         nd->bmax = cells_reach(t, nd, nd->bmax);
 }
 
-static int is_leaf(const qt_node *nd)
-{
-    for (int k = 0; k < 8; k++)
-        if (nd->child[k] >= 0)
-            return 0;
-    return 1;
-}
-
 /* Splits a cell's particles (first .. first + count - 1, at depth depth)
  * into its octants: a stable counting sort of their keys and order by the
  * keys' 3 bits of that level (16 bytes a particle moved, where sorting the
@@ -641,7 +633,7 @@ static void subtree_moments(qt_tree *t, size_t id)
 {
     for (size_t k = t->walk[id].next; k-- > id;) {
         qt_node *nd = &t->nodes[k];
-        if (is_leaf(nd))
+        if (qt_is_leaf(nd))
             leaf_moments(t, nd);
         else
             moments_from_children(t, nd);
@@ -655,7 +647,7 @@ static void subtree_moments(qt_tree *t, size_t id)
 static void moments_task(qt_tree *t, size_t id)
 {
     qt_node *nd = &t->nodes[id];
-    if (nd->count <= QT_PART_MIN || is_leaf(nd)) {
+    if (nd->count <= QT_PART_MIN || qt_is_leaf(nd)) {
         subtree_moments(t, id);
         return;
     }

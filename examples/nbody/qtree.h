@@ -30,6 +30,15 @@ typedef struct qt_node {
     size_t first, count; /* its particles: order[first .. first + count) */
 } qt_node; /* (its cube's centre and size only the build uses: not kept) */
 
+/* Whether a node is a leaf (no children). */
+static inline int qt_is_leaf(const qt_node *nd)
+{
+    for (int k = 0; k < 8; k++)
+        if (nd->child[k] >= 0)
+            return 0;
+    return 1;
+}
+
 /* A node's centre of mass and b_max, the node after its subtree in the
  * depth-first order, and its mass, quadrupole and mean softening^2 in
  * float: what the walk reads (qtree.c, index_walk). */
